@@ -1,0 +1,512 @@
+//! Reader for PEER AT2 ground-motion files (pure: bytes in, samples out).
+//!
+//! An AT2 file is four header lines followed by the acceleration samples:
+//!
+//! ```text
+//! line 1  free text (database, processing)
+//! line 2  free text (event, station, component)
+//! line 3  units line: must say acceleration in units of g
+//! line 4  NPTS and DT, in one of two layouts:
+//!           NPTS=   2999, DT=   .0100 SEC[, trailing text]   ("keyed": NGA-West2, PEER/CDMG)
+//!           2999    0.0100    NPTS, DT                        ("positional": old NGA)
+//! line 5… the NPTS values, any number per line, whitespace separated
+//! ```
+//!
+//! Numbers may lack a leading zero (`-.2483657E-03`) and may use a Fortran `D`
+//! exponent; line endings may be LF or CRLF; the last line may be short.
+//! Values are parsed with Rust's correctly rounded `f64` parser, so every
+//! decimal in the file maps to the nearest double, exactly as any other
+//! correct reader would.
+//!
+//! Refused, with the 1-based line number: an empty file, fewer than four
+//! header lines, a units line that is not acceleration in g (PEER puts velocity
+//! `.VT2` and displacement `.DT2` files of the same layout beside the `.AT2`
+//! files), a missing or unreadable NPTS or DT, NPTS = 0, DT ≤ 0, a token that is
+//! not a number, NaN or infinity, and fewer or more values than NPTS.
+//!
+//! This module does no I/O: the caller reads the file and adds its path to
+//! the error.
+
+use std::fmt;
+
+/// Number of header lines before the samples.
+pub const HEADER_LINES: usize = 4;
+
+/// Layout of the NPTS/DT line (line 4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HeaderLayout {
+    /// `NPTS=   2999, DT=   .0100 SEC` (NGA-West2 and PEER/CDMG downloads).
+    Keyed,
+    /// `  2999    0.0100    NPTS, DT` (old NGA flatfile downloads).
+    Positional,
+}
+
+impl HeaderLayout {
+    /// Name stored in the records table.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            HeaderLayout::Keyed => "keyed",
+            HeaderLayout::Positional => "positional",
+        }
+    }
+}
+
+/// A parsed AT2 file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct At2 {
+    /// The four header lines, without line terminators or trailing blanks.
+    pub header: [String; HEADER_LINES],
+    pub layout: HeaderLayout,
+    /// Time step (s), > 0.
+    pub dt_s: f64,
+    /// Ground acceleration samples in units of g; `accel_g.len()` is NPTS.
+    pub accel_g: Vec<f64>,
+}
+
+/// Why a file was refused, and on which line (1-based).
+#[derive(Debug, Clone, PartialEq)]
+pub struct At2Error {
+    pub line: usize,
+    pub kind: At2ErrorKind,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum At2ErrorKind {
+    Empty,
+    ShortHeader { lines: usize },
+    NotAcceleration { units_line: String },
+    MissingNpts { text: String },
+    MissingDt { text: String },
+    BadNpts { token: String },
+    BadDt { token: String },
+    NonPositiveDt { dt: f64 },
+    NotANumber { token: String },
+    NotFinite { token: String },
+    TooFewValues { npts: usize, found: usize },
+    TooManyValues { npts: usize },
+}
+
+impl fmt::Display for At2Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "line {}: {}", self.line, self.kind)
+    }
+}
+
+impl fmt::Display for At2ErrorKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        use At2ErrorKind::*;
+        match self {
+            Empty => write!(f, "the file is empty"),
+            ShortHeader { lines } => write!(
+                f,
+                "the file ends after {lines} line(s); an AT2 file has {HEADER_LINES} header lines before the samples"
+            ),
+            NotAcceleration { units_line } => write!(
+                f,
+                "the units line `{units_line}` does not describe an acceleration history in units of g \
+                 (velocity .VT2 and displacement .DT2 files share the AT2 layout; give the .AT2 file)"
+            ),
+            MissingNpts { text } => write!(
+                f,
+                "no NPTS in `{text}`; expected `NPTS=  2999, DT= .0100 SEC` or `2999  0.0100  NPTS, DT`"
+            ),
+            MissingDt { text } => write!(
+                f,
+                "no DT in `{text}`; expected `NPTS=  2999, DT= .0100 SEC` or `2999  0.0100  NPTS, DT`"
+            ),
+            BadNpts { token } => write!(f, "NPTS `{token}` is not a positive whole number"),
+            BadDt { token } => write!(f, "DT `{token}` is not a number"),
+            NonPositiveDt { dt } => write!(f, "DT = {dt} s; the time step must be positive"),
+            NotANumber { token } => write!(f, "`{token}` is not a number"),
+            NotFinite { token } => write!(f, "`{token}` is not a finite number"),
+            TooFewValues { npts, found } => {
+                write!(f, "the header says NPTS = {npts} but the file ends after {found} value(s)")
+            }
+            TooManyValues { npts } => write!(
+                f,
+                "more values than NPTS = {npts}: the header and the data disagree"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for At2Error {}
+
+fn err(line: usize, kind: At2ErrorKind) -> At2Error {
+    At2Error { line, kind }
+}
+
+/// Parses an AT2 file from its bytes. Non-UTF-8 bytes in the header (old
+/// files carry Latin-1 station names) are replaced, not refused.
+pub fn parse(bytes: &[u8]) -> Result<At2, At2Error> {
+    let text = String::from_utf8_lossy(bytes);
+    parse_str(&text)
+}
+
+/// Parses an AT2 file from text; see [`parse`].
+pub fn parse_str(text: &str) -> Result<At2, At2Error> {
+    if text.trim().is_empty() {
+        return Err(err(1, At2ErrorKind::Empty));
+    }
+    // `lines()` splits on '\n' and drops a '\r' before it, so CRLF files read alike.
+    let mut lines = text.lines();
+    let mut header: [String; HEADER_LINES] = Default::default();
+    for (i, slot) in header.iter_mut().enumerate() {
+        match lines.next() {
+            Some(l) => *slot = l.trim_end().to_string(),
+            None => return Err(err(i, At2ErrorKind::ShortHeader { lines: i })),
+        }
+    }
+    check_units(&header[2]).map_err(|kind| err(3, kind))?;
+    let (npts, dt_s, layout) = parse_npts_dt(&header[3]).map_err(|kind| err(4, kind))?;
+
+    let mut accel_g = Vec::with_capacity(npts);
+    let mut last_line = HEADER_LINES;
+    for (offset, line) in lines.enumerate() {
+        let line_no = HEADER_LINES + 1 + offset;
+        last_line = line_no;
+        for token in line
+            .split(|c: char| c.is_whitespace() || c == ',')
+            .filter(|t| !t.is_empty())
+        {
+            if accel_g.len() == npts {
+                return Err(err(line_no, At2ErrorKind::TooManyValues { npts }));
+            }
+            accel_g.push(parse_value(token).map_err(|kind| err(line_no, kind))?);
+        }
+    }
+    if accel_g.len() < npts {
+        return Err(err(
+            last_line,
+            At2ErrorKind::TooFewValues {
+                npts,
+                found: accel_g.len(),
+            },
+        ));
+    }
+    Ok(At2 {
+        header,
+        layout,
+        dt_s,
+        accel_g,
+    })
+}
+
+/// Parses one sample: a finite decimal, `D` accepted as exponent marker.
+fn parse_value(token: &str) -> Result<f64, At2ErrorKind> {
+    let value = if token.contains(['D', 'd']) {
+        token.replace(['D', 'd'], "E").parse::<f64>()
+    } else {
+        token.parse::<f64>()
+    };
+    match value {
+        // Rust also accepts "inf", "NaN" and overflowing exponents: refuse those.
+        Ok(v) if v.is_finite() => Ok(v),
+        Ok(_) => Err(At2ErrorKind::NotFinite {
+            token: token.to_string(),
+        }),
+        Err(_) => Err(At2ErrorKind::NotANumber {
+            token: token.to_string(),
+        }),
+    }
+}
+
+/// Line 3 must describe acceleration in units of g and nothing else.
+fn check_units(line: &str) -> Result<(), At2ErrorKind> {
+    let upper = line.to_ascii_uppercase();
+    let words: Vec<&str> = upper
+        .split(|c: char| !(c.is_ascii_alphanumeric() || c == '/' || c == '*' || c == '^'))
+        .filter(|w| !w.is_empty())
+        .collect();
+    let refused = || At2ErrorKind::NotAcceleration {
+        units_line: line.to_string(),
+    };
+    let mentions = |stem: &str| words.iter().any(|w| w.starts_with(stem));
+    if !mentions("ACCEL") || mentions("VELOC") || mentions("DISPL") {
+        return Err(refused());
+    }
+    // "… IN UNITS OF G": the word after "UNITS OF" is the unit.
+    let unit = words
+        .windows(3)
+        .find(|w| w[0] == "UNITS" && w[1] == "OF")
+        .map(|w| w[2])
+        .or_else(|| words.windows(2).find(|w| w[0] == "IN").map(|w| w[1]));
+    match unit {
+        Some("G") => Ok(()),
+        _ => Err(refused()),
+    }
+}
+
+/// Line 4: NPTS and DT in the keyed or positional layout.
+fn parse_npts_dt(line: &str) -> Result<(usize, f64, HeaderLayout), At2ErrorKind> {
+    let upper = line.to_ascii_uppercase();
+    let (npts_tok, dt_tok, layout) = if upper.contains('=') {
+        let npts = keyed_value(&upper, "NPTS").ok_or_else(|| At2ErrorKind::MissingNpts {
+            text: line.to_string(),
+        })?;
+        let dt = keyed_value(&upper, "DT").ok_or_else(|| At2ErrorKind::MissingDt {
+            text: line.to_string(),
+        })?;
+        (npts, dt, HeaderLayout::Keyed)
+    } else {
+        let npts_at = word_at(&upper, "NPTS").ok_or_else(|| At2ErrorKind::MissingNpts {
+            text: line.to_string(),
+        })?;
+        let dt_at = word_at(&upper, "DT").ok_or_else(|| At2ErrorKind::MissingDt {
+            text: line.to_string(),
+        })?;
+        let numbers: Vec<&str> = upper[..npts_at.min(dt_at)]
+            .split(|c: char| c.is_whitespace() || c == ',')
+            .filter(|t| !t.is_empty())
+            .collect();
+        if numbers.len() != 2 {
+            return Err(if npts_at < dt_at {
+                At2ErrorKind::MissingNpts {
+                    text: line.to_string(),
+                }
+            } else {
+                At2ErrorKind::MissingDt {
+                    text: line.to_string(),
+                }
+            });
+        }
+        // The labels give the order of the two numbers.
+        let (npts, dt) = if npts_at < dt_at {
+            (numbers[0], numbers[1])
+        } else {
+            (numbers[1], numbers[0])
+        };
+        (npts, dt, HeaderLayout::Positional)
+    };
+    let npts = match npts_tok.parse::<usize>() {
+        Ok(n) if n > 0 => n,
+        _ => {
+            return Err(At2ErrorKind::BadNpts {
+                token: npts_tok.to_string(),
+            })
+        }
+    };
+    // A unit glued to the number ("0.01SEC") is not part of it.
+    let dt_num = dt_tok
+        .strip_suffix("SEC")
+        .or_else(|| dt_tok.strip_suffix('S'))
+        .unwrap_or(dt_tok);
+    let dt = match parse_value(dt_num) {
+        Ok(v) => v,
+        Err(_) => {
+            return Err(At2ErrorKind::BadDt {
+                token: dt_tok.to_string(),
+            })
+        }
+    };
+    if dt <= 0.0 {
+        return Err(At2ErrorKind::NonPositiveDt { dt });
+    }
+    Ok((npts, dt, layout))
+}
+
+/// Byte offset of `word` standing alone (not inside a longer word).
+fn word_at(upper: &str, word: &str) -> Option<usize> {
+    upper.match_indices(word).map(|(i, _)| i).find(|&i| {
+        let before = upper[..i].chars().next_back();
+        let after = upper[i + word.len()..].chars().next();
+        !before.is_some_and(|c| c.is_ascii_alphanumeric())
+            && !after.is_some_and(|c| c.is_ascii_alphanumeric())
+    })
+}
+
+/// The token after `KEY =`, up to the next blank, comma or semicolon.
+fn keyed_value<'a>(upper: &'a str, key: &str) -> Option<&'a str> {
+    upper.match_indices(key).find_map(|(i, _)| {
+        if upper[..i]
+            .chars()
+            .next_back()
+            .is_some_and(|c| c.is_ascii_alphanumeric())
+        {
+            return None;
+        }
+        let rest = upper[i + key.len()..].trim_start();
+        let rest = rest.strip_prefix('=')?.trim_start();
+        let end = rest
+            .find(|c: char| c.is_whitespace() || c == ',' || c == ';')
+            .unwrap_or(rest.len());
+        Some(&rest[..end]).filter(|t| !t.is_empty() && *t != "SEC")
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TITLE: &str =
+        "PEER NGA STRONG MOTION DATABASE RECORD\nNORTHRIDGE 01/17/94, BEVERLY HILLS, 009\n";
+    const UNITS: &str = "ACCELERATION TIME SERIES IN UNITS OF G\n";
+
+    fn file(npts_line: &str, body: &str) -> String {
+        format!("{TITLE}{UNITS}{npts_line}\n{body}")
+    }
+
+    fn npts_dt(npts_line: &str) -> Result<(usize, f64, HeaderLayout), At2ErrorKind> {
+        parse_npts_dt(npts_line)
+    }
+
+    #[test]
+    fn npts_dt_layouts_seen_in_real_downloads() {
+        use HeaderLayout::*;
+        let cases = [
+            (
+                "NPTS=   2999, DT=   .0100 SEC,   0 POLE @    30.00000 HZ,  -5 POLE @      .12000",
+                (2999, 0.01, Keyed),
+            ),
+            ("NPTS=   2676, DT=   .0200 SEC   ", (2676, 0.02, Keyed)),
+            ("NPTS=   4531, DT=  0.01000 SEC", (4531, 0.01, Keyed)),
+            ("NPTS=   4531, DT=  0.00500 SEC,", (4531, 0.005, Keyed)),
+            ("NPTS=  1800, DT= .02000 SEC", (1800, 0.02, Keyed)),
+            ("  2999    0.0100    NPTS, DT", (2999, 0.01, Positional)),
+            ("npts=100,dt=0.005sec", (100, 0.005, Keyed)),
+            ("  0.0050  16000  DT, NPTS", (16000, 0.005, Positional)),
+        ];
+        for (line, want) in cases {
+            assert_eq!(npts_dt(line), Ok(want), "{line}");
+        }
+    }
+
+    #[test]
+    fn npts_dt_refusals() {
+        assert!(matches!(
+            npts_dt("DT= .01 SEC"),
+            Err(At2ErrorKind::MissingNpts { .. })
+        ));
+        assert!(matches!(
+            npts_dt("NPTS= 100"),
+            Err(At2ErrorKind::MissingDt { .. })
+        ));
+        assert!(matches!(
+            npts_dt("NPTS= 1x0, DT=.01"),
+            Err(At2ErrorKind::BadNpts { .. })
+        ));
+        assert!(matches!(
+            npts_dt("NPTS= 0, DT=.01"),
+            Err(At2ErrorKind::BadNpts { .. })
+        ));
+        assert!(matches!(
+            npts_dt("NPTS= -5, DT=.01"),
+            Err(At2ErrorKind::BadNpts { .. })
+        ));
+        assert!(matches!(
+            npts_dt("NPTS= 10, DT= SEC"),
+            Err(At2ErrorKind::MissingDt { .. })
+        ));
+        assert!(matches!(
+            npts_dt("NPTS= 10, DT=0"),
+            Err(At2ErrorKind::NonPositiveDt { .. })
+        ));
+        assert!(matches!(
+            npts_dt("NPTS= 10, DT=-.01"),
+            Err(At2ErrorKind::NonPositiveDt { .. })
+        ));
+        assert!(matches!(
+            npts_dt("2999 NPTS, DT"),
+            Err(At2ErrorKind::MissingNpts { .. })
+        ));
+        assert!(matches!(
+            npts_dt("2999 0.01"),
+            Err(At2ErrorKind::MissingNpts { .. })
+        ));
+        // WIDTH= must not be read as DT=.
+        assert!(matches!(
+            npts_dt("NPTS= 10, WIDTH=3"),
+            Err(At2ErrorKind::MissingDt { .. })
+        ));
+    }
+
+    #[test]
+    fn units_line() {
+        for ok in [
+            "ACCELERATION TIME SERIES IN UNITS OF G",
+            "ACCELERATION TIME HISTORY IN UNITS OF G. FILTER POINTS: HP=0.07 Hz LP=23.0 Hz",
+            "Acceleration in g",
+        ] {
+            assert_eq!(check_units(ok), Ok(()), "{ok}");
+        }
+        for bad in [
+            "VELOCITY TIME HISTORY IN UNITS OF CM/SEC",
+            "DISPLACEMENT TIME HISTORY IN UNITS OF CM",
+            "ACCELERATION TIME SERIES IN UNITS OF CM/S/S",
+            "ACCELERATION TIME SERIES IN UNITS OF M/S^2",
+            "TIME SERIES IN UNITS OF G",
+            "",
+        ] {
+            assert!(check_units(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn values_with_and_without_leading_zero_read_exactly() {
+        let body = "  -.2483657E-03 -2.4836570E-04   .1000000E+01\r\n 1.5D-02\r\n";
+        let at2 = parse_str(&file("NPTS=   4, DT=   .0100 SEC", body)).unwrap();
+        // The same decimal written two ways is the same double.
+        assert_eq!(at2.accel_g[0], at2.accel_g[1]);
+        assert_eq!(at2.accel_g, vec![-2.483657e-4, -2.483657e-4, 1.0, 1.5e-2]);
+        assert_eq!(at2.dt_s, 0.01);
+    }
+
+    #[test]
+    fn crlf_short_last_line_and_any_count_per_line() {
+        let text =
+            "A\r\nB\r\nACCELERATION TIME HISTORY IN UNITS OF G\r\nNPTS=  7, DT= .02000 SEC\r\n\
+                    1 2 3 4 5\r\n6\r\n7\r\n\r\n";
+        let at2 = parse_str(text).unwrap();
+        assert_eq!(at2.accel_g, vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
+        assert_eq!(at2.header[0], "A");
+        assert_eq!(at2.header[3], "NPTS=  7, DT= .02000 SEC");
+    }
+
+    #[test]
+    fn errors_name_the_line() {
+        let e = |text: &str| parse_str(text).unwrap_err();
+        assert_eq!(e("").kind, At2ErrorKind::Empty);
+        assert_eq!(e("  \n\n").kind, At2ErrorKind::Empty);
+        assert_eq!(e("A\nB\n").kind, At2ErrorKind::ShortHeader { lines: 2 });
+
+        let bad_token = e(&file("NPTS= 4, DT= .01 SEC", "1 2\n3 x4\n"));
+        assert_eq!(bad_token.line, 6);
+        assert_eq!(
+            bad_token.kind,
+            At2ErrorKind::NotANumber { token: "x4".into() }
+        );
+
+        for token in ["NaN", "inf", "-Infinity", "1e999"] {
+            let e = e(&file("NPTS= 2, DT= .01 SEC", &format!("1\n{token}\n")));
+            assert_eq!(e.line, 6);
+            assert_eq!(
+                e.kind,
+                At2ErrorKind::NotFinite {
+                    token: token.into()
+                }
+            );
+        }
+
+        let few = e(&file("NPTS= 5, DT= .01 SEC", "1 2\n3\n"));
+        assert_eq!(few.kind, At2ErrorKind::TooFewValues { npts: 5, found: 3 });
+        assert_eq!(few.line, 6);
+
+        let many = e(&file("NPTS= 3, DT= .01 SEC", "1 2\n3\n\n4\n"));
+        assert_eq!(many.kind, At2ErrorKind::TooManyValues { npts: 3 });
+        assert_eq!(many.line, 8);
+
+        let vel = e("A\nB\nVELOCITY TIME HISTORY IN UNITS OF CM/SEC\nNPTS= 1, DT= .01 SEC\n1\n");
+        assert_eq!(vel.line, 3);
+        assert!(vel.to_string().contains(".VT2"));
+
+        let no_dt = e(&file("NPTS= 3", "1 2 3\n"));
+        assert_eq!(no_dt.line, 4);
+    }
+
+    #[test]
+    fn header_only_file_has_too_few_values() {
+        let e = parse_str(&file("NPTS= 3, DT= .01 SEC", "")).unwrap_err();
+        assert_eq!(e.kind, At2ErrorKind::TooFewValues { npts: 3, found: 0 });
+        assert_eq!(e.line, 4);
+    }
+}

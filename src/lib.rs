@@ -1,0 +1,24 @@
+//! `rocking`: overturning capacity and fragility of free-standing rigid blocks.
+//!
+//! The tool follows Voyagaki, Psycharis, Mylonakis & Vamvatsikos,
+//! "Probabilistic characterization of overturning capacity for
+//! simply-supported rigid blocks", as a pipeline of stages over Parquet tables:
+//!
+//! 1. **ingest**: PEER AT2 files (+ manifest) → `records.parquet`;
+//! 2. **sweep**: rocking simulations over an IDA grid → IDA points, capacities;
+//! 3. **reduce**: fractile statistics with the resurrection rule;
+//! 4. **fit**: the two-step regression of the capacity against p and ε.
+//!
+//! Module map (see `ARCHITECTURE.md` for the invariants):
+//!
+//! - [`at2`], [`manifest`], [`motion`]: parsing and record summaries, no I/O;
+//! - [`tables`]: the only module that touches Parquet;
+//! - [`stages`]: glue, one module per stage;
+//! - [`cli`]: the only module that knows clap.
+
+pub mod at2;
+pub mod cli;
+pub mod manifest;
+pub mod motion;
+pub mod stages;
+pub mod tables;

@@ -1,0 +1,11 @@
+//! Pipeline stages: glue between the domain modules and the tables.
+//!
+//! A stage takes a typed configuration, reads its input tables or files,
+//! calls pure domain code and writes its output tables through
+//! [`crate::tables`]. Stages print nothing: they return a report that the CLI
+//! presents.
+//!
+//! Stages so far: [`ingest`] (AT2 files → records table). Sweep, reduce and
+//! fit follow the same shape.
+
+pub mod ingest;

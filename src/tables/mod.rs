@@ -1,0 +1,269 @@
+//! The one module that reads and writes Parquet.
+//!
+//! Every table the tool writes has its schema defined once, in a submodule
+//! here, and that schema is used by its writer, its reader and the docs.
+//! Every file carries key-value metadata: `rocking.table`,
+//! `rocking.schema_version`, `rocking.crate_version`, plus whatever settings the
+//! writing stage adds. Files are written to a temporary sibling, closed and
+//! then renamed into place, so a crash or an error never leaves a
+//! half-written table under the final name.
+//!
+//! Architecture invariant: nothing outside `tables` imports `parquet` or
+//! opens a Parquet file.
+
+pub mod records;
+
+use std::fs::{self, File};
+use std::io;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use arrow_array::RecordBatch;
+use arrow_schema::{ArrowError, Schema};
+use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+use parquet::arrow::ArrowWriter;
+use parquet::basic::{Compression, ZstdLevel};
+use parquet::errors::ParquetError;
+use parquet::file::metadata::KeyValue;
+use parquet::file::properties::WriterProperties;
+
+/// Key-value metadata keys written into every table.
+pub const META_TABLE: &str = "rocking.table";
+pub const META_SCHEMA_VERSION: &str = "rocking.schema_version";
+pub const META_CRATE_VERSION: &str = "rocking.crate_version";
+
+/// zstd level for every table: level 3 is zstd's default, a good
+/// speed/size balance for float columns.
+const ZSTD_LEVEL: i32 = 3;
+
+#[derive(Debug, thiserror::Error)]
+pub enum TableError {
+    #[error("{path}: {source}")]
+    Io { path: PathBuf, source: io::Error },
+    #[error("{path}: {source}")]
+    Parquet { path: PathBuf, source: ParquetError },
+    #[error("{path}: {source}")]
+    Arrow { path: PathBuf, source: ArrowError },
+    #[error(
+        "{path}: this is not a `{expected}` table (its metadata says `{found}`); \
+         give the file written by the matching stage"
+    )]
+    WrongTable {
+        path: PathBuf,
+        expected: &'static str,
+        found: String,
+    },
+    #[error(
+        "{path}: `{table}` schema version {found}, but this build of rocking reads version {expected}; \
+         rerun the stage that writes it"
+    )]
+    SchemaVersion {
+        path: PathBuf,
+        table: &'static str,
+        expected: u32,
+        found: String,
+    },
+    #[error("{path}: column `{column}`: {problem}")]
+    Column {
+        path: PathBuf,
+        column: &'static str,
+        problem: String,
+    },
+}
+
+/// Identity of a table: its name and schema version.
+#[derive(Debug, Clone, Copy)]
+pub struct TableKind {
+    pub name: &'static str,
+    pub schema_version: u32,
+}
+
+/// A Parquet file being written under a temporary name; [`commit`] makes it
+/// appear at its destination, dropping it without commit removes it.
+///
+/// [`commit`]: AtomicTableWriter::commit
+pub struct AtomicTableWriter {
+    dest: PathBuf,
+    tmp: PathBuf,
+    writer: Option<ArrowWriter<File>>,
+}
+
+impl AtomicTableWriter {
+    /// Starts writing `kind` with `schema` to a temporary file beside `dest`.
+    /// `settings` are extra key-value pairs recorded in the file's metadata.
+    pub fn create(
+        dest: &Path,
+        kind: TableKind,
+        schema: Arc<Schema>,
+        settings: &[(String, String)],
+    ) -> Result<Self, TableError> {
+        let io_err = |source| TableError::Io {
+            path: dest.to_path_buf(),
+            source,
+        };
+        if let Some(parent) = dest.parent().filter(|p| !p.as_os_str().is_empty()) {
+            fs::create_dir_all(parent).map_err(io_err)?;
+        }
+        let file_name = dest.file_name().ok_or_else(|| {
+            io_err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                "not a file path",
+            ))
+        })?;
+        let tmp = dest.with_file_name(format!(
+            ".{}.tmp-{}",
+            file_name.to_string_lossy(),
+            std::process::id()
+        ));
+        let file = File::create(&tmp).map_err(|source| TableError::Io {
+            path: tmp.clone(),
+            source,
+        })?;
+        let mut kv = vec![
+            KeyValue::new(META_TABLE.to_string(), kind.name.to_string()),
+            KeyValue::new(
+                META_SCHEMA_VERSION.to_string(),
+                kind.schema_version.to_string(),
+            ),
+            KeyValue::new(
+                META_CRATE_VERSION.to_string(),
+                env!("CARGO_PKG_VERSION").to_string(),
+            ),
+        ];
+        kv.extend(
+            settings
+                .iter()
+                .map(|(k, v)| KeyValue::new(k.clone(), v.clone())),
+        );
+        let props = WriterProperties::builder()
+            .set_compression(Compression::ZSTD(
+                ZstdLevel::try_new(ZSTD_LEVEL).expect("zstd level 3 is valid"),
+            ))
+            .set_key_value_metadata(Some(kv))
+            .build();
+        // Constructed before the writer so that a failure below removes the file.
+        let mut this = AtomicTableWriter {
+            dest: dest.to_path_buf(),
+            tmp,
+            writer: None,
+        };
+        let writer = ArrowWriter::try_new(file, schema, Some(props)).map_err(|source| {
+            TableError::Parquet {
+                path: this.tmp.clone(),
+                source,
+            }
+        })?;
+        this.writer = Some(writer);
+        Ok(this)
+    }
+
+    /// Appends a batch; each call of at most the writer's row-group size
+    /// keeps memory bounded by one row group.
+    pub fn write(&mut self, batch: &RecordBatch) -> Result<(), TableError> {
+        let writer = self.writer.as_mut().expect("writer is open until commit");
+        writer.write(batch).map_err(|source| TableError::Parquet {
+            path: self.tmp.clone(),
+            source,
+        })
+    }
+
+    /// Closes the file, syncs it and renames it to its destination.
+    pub fn commit(mut self) -> Result<(), TableError> {
+        let writer = self.writer.take().expect("writer is open until commit");
+        let file = writer.into_inner().map_err(|source| TableError::Parquet {
+            path: self.tmp.clone(),
+            source,
+        })?;
+        file.sync_all().map_err(|source| TableError::Io {
+            path: self.tmp.clone(),
+            source,
+        })?;
+        drop(file);
+        fs::rename(&self.tmp, &self.dest).map_err(|source| TableError::Io {
+            path: self.dest.clone(),
+            source,
+        })?;
+        self.tmp = PathBuf::new();
+        Ok(())
+    }
+}
+
+impl Drop for AtomicTableWriter {
+    fn drop(&mut self) {
+        // Not committed: remove the partial file. Errors here have nowhere to go.
+        if !self.tmp.as_os_str().is_empty() {
+            self.writer = None;
+            let _ = fs::remove_file(&self.tmp);
+        }
+    }
+}
+
+/// A table read back whole: its batches and its key-value metadata.
+pub struct TableContents {
+    pub batches: Vec<RecordBatch>,
+    pub metadata: Vec<(String, String)>,
+}
+
+impl TableContents {
+    pub fn meta(&self, key: &str) -> Option<&str> {
+        self.metadata
+            .iter()
+            .find(|(k, _)| k == key)
+            .map(|(_, v)| v.as_str())
+    }
+}
+
+/// Reads a whole table, checking that it is `kind` at the schema version
+/// this build understands.
+pub fn read_table(path: &Path, kind: TableKind) -> Result<TableContents, TableError> {
+    let file = File::open(path).map_err(|source| TableError::Io {
+        path: path.into(),
+        source,
+    })?;
+    let parquet_err = |source| TableError::Parquet {
+        path: path.into(),
+        source,
+    };
+    let builder = ParquetRecordBatchReaderBuilder::try_new(file).map_err(parquet_err)?;
+    let metadata: Vec<(String, String)> = builder
+        .metadata()
+        .file_metadata()
+        .key_value_metadata()
+        .map(|kv| {
+            kv.iter()
+                .map(|e| (e.key.clone(), e.value.clone().unwrap_or_default()))
+                .collect()
+        })
+        .unwrap_or_default();
+    let find = |key: &str| {
+        metadata
+            .iter()
+            .find(|(k, _)| k == key)
+            .map(|(_, v)| v.clone())
+    };
+    let table = find(META_TABLE).unwrap_or_else(|| "(none)".into());
+    if table != kind.name {
+        return Err(TableError::WrongTable {
+            path: path.into(),
+            expected: kind.name,
+            found: table,
+        });
+    }
+    let version = find(META_SCHEMA_VERSION).unwrap_or_else(|| "(none)".into());
+    if version != kind.schema_version.to_string() {
+        return Err(TableError::SchemaVersion {
+            path: path.into(),
+            table: kind.name,
+            expected: kind.schema_version,
+            found: version,
+        });
+    }
+    let reader = builder.build().map_err(parquet_err)?;
+    let batches = reader
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|source| TableError::Arrow {
+            path: path.into(),
+            source,
+        })?;
+    Ok(TableContents { batches, metadata })
+}
