@@ -12,13 +12,17 @@
 //! Module map (see `ARCHITECTURE.md` for the invariants):
 //!
 //! - [`at2`], [`manifest`], [`motion`]: parsing and record summaries, no I/O;
+//! - [`physics`]: the rocking equations, integrators and events, no I/O;
+//! - [`ida`]: capacity of one record by incremental dynamic analysis, no I/O;
 //! - [`tables`]: the only module that touches Parquet;
 //! - [`stages`]: glue, one module per stage;
 //! - [`cli`]: the only module that knows clap.
 
 pub mod at2;
 pub mod cli;
+pub mod ida;
 pub mod manifest;
 pub mod motion;
+pub mod physics;
 pub mod stages;
 pub mod tables;

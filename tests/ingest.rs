@@ -6,7 +6,9 @@ use std::fs;
 
 use rocking::tables::records;
 
-use crate::util::{at2_text, bundled_records, plain_at2_values, rocking, root, stderr};
+use crate::util::{
+    at2_text, bundled_records, plain_at2_values, rocking, root, stderr, tempdir, TempDir,
+};
 
 /// Manifest rows keyed by file stem, read with the csv crate by column name
 /// (independently of `rocking::manifest`).
@@ -35,7 +37,7 @@ fn manifest_by_stem() -> HashMap<String, HashMap<String, String>> {
 
 #[test]
 fn bundled_records_match_manifest_and_files() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tempdir();
     let out = dir.path().join("records.parquet");
     let run = rocking(
         &root(),
@@ -120,8 +122,8 @@ fn bundled_records_match_manifest_and_files() {
 }
 
 /// Writes `files` (name, text) into a fresh folder.
-fn folder(files: &[(&str, &str)]) -> tempfile::TempDir {
-    let dir = tempfile::tempdir().unwrap();
+fn folder(files: &[(&str, &str)]) -> TempDir {
+    let dir = tempdir();
     for (name, text) in files {
         let path = dir.path().join(name);
         fs::create_dir_all(path.parent().unwrap()).unwrap();
@@ -357,7 +359,7 @@ fn duplicate_stems_and_manifest_mismatches_are_refused() {
 
 #[test]
 fn missing_path_is_named() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tempdir();
     let run = rocking(
         dir.path(),
         &["ingest", "no-such-folder", "--out", "r.parquet"],

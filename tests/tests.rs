@@ -4,7 +4,12 @@
 //!
 //! - `ingest`: the records table from the bundled FEMA P695 files, checked
 //!   against the manifest and the files; bad input and atomic output.
+//! - `physics`: the solvers against closed forms, conservation laws,
+//!   symmetry and the hard cases of issue #3.
+//! - `tables`: Parquet round trips, atomic writes, foreign files refused.
 //! - `util`: helpers (running the binary, an independent AT2 reader).
 
 mod ingest;
+mod physics;
+mod tables;
 mod util;

@@ -46,3 +46,39 @@ pub fn at2_text(units: &str, npts_line: &str, values: &[&str]) -> String {
     }
     s
 }
+
+/// A fresh folder under the system temp dir, removed on drop. (Hand-rolled
+/// rather than the `tempfile` crate: a dev-dependency would change feature
+/// unification and make `cargo test` rebuild dependencies `cargo run` built.)
+pub struct TempDir(PathBuf);
+
+impl TempDir {
+    pub fn path(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+pub fn tempdir() -> TempDir {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.subsec_nanos());
+    let dir = std::env::temp_dir().join(format!("rocking-test-{}-{n}-{nanos}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    TempDir(dir)
+}
+
+/// A bundled record (`set/STEM`), normalised for the solvers.
+pub fn bundled(set_stem: &str) -> rocking::physics::Excitation {
+    let path = bundled_records().join(format!("{set_stem}.AT2"));
+    let at2 = rocking::at2::parse(&std::fs::read(&path).unwrap()).unwrap();
+    rocking::physics::Excitation::new(&at2.accel_g, at2.dt_s).unwrap()
+}
