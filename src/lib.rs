@@ -14,15 +14,19 @@
 //! - [`at2`], [`manifest`], [`motion`]: parsing and record summaries, no I/O;
 //! - [`physics`]: the rocking equations, integrators and events, no I/O;
 //! - [`ida`]: capacity of one record by incremental dynamic analysis, no I/O;
+//! - [`bench`]: speed-against-error measurements of the solvers (timing only);
+//! - [`plot`]: figures as SVG text;
 //! - [`tables`]: the only module that touches Parquet;
 //! - [`stages`]: glue, one module per stage;
 //! - [`cli`]: the only module that knows clap.
 
 pub mod at2;
+pub mod bench;
 pub mod cli;
 pub mod ida;
 pub mod manifest;
 pub mod motion;
 pub mod physics;
+pub mod plot;
 pub mod stages;
 pub mod tables;

@@ -2,6 +2,8 @@
 //! one command or stage end to end through the `rocking` binary or the
 //! library's public API.
 //!
+//! - `cli`: `simulate` and `capacity` through the binary: JSON, history
+//!   files, the definitions of η_c, bad input.
 //! - `ingest`: the records table from the bundled FEMA P695 files, checked
 //!   against the manifest and the files; bad input and atomic output.
 //! - `physics`: the solvers against closed forms, conservation laws,
@@ -9,6 +11,7 @@
 //! - `tables`: Parquet round trips, atomic writes, foreign files refused.
 //! - `util`: helpers (running the binary, an independent AT2 reader).
 
+mod cli;
 mod ingest;
 mod physics;
 mod tables;

@@ -218,11 +218,32 @@ impl Linear {
                 break;
             }
         }
-        // Newton may have converged from the near side: close the bracket by
-        // walking up from `lo` in steps that double from one ulp.
-        let mut step = f64::EPSILON * lo.max(f64::MIN_POSITIVE);
-        while lo + step < hi {
+        if hi - lo <= 4.0 * f64::EPSILON * hi {
+            return (hi, v_hi);
+        }
+        // Newton converged from one side only: close the bracket by walking
+        // away from the last iterate in steps doubling from one ulp, so that
+        // the returned point is within a few ulps of the crossing.
+        let mut step = f64::EPSILON * at.max(f64::MIN_POSITIVE);
+        if at == hi {
+            loop {
+                let probe = hi - step;
+                if probe <= lo {
+                    return (hi, v_hi);
+                }
+                let (x, v) = m.at(&Coeffs::new(self.p, probe));
+                if !reached(s * x) {
+                    return (hi, v_hi);
+                }
+                (hi, v_hi) = (probe, v);
+                step *= 2.0;
+            }
+        }
+        loop {
             let probe = lo + step;
+            if probe >= hi {
+                return (hi, v_hi);
+            }
             let (x, v) = m.at(&Coeffs::new(self.p, probe));
             if reached(s * x) {
                 return (probe, v);
@@ -230,7 +251,6 @@ impl Linear {
             lo = probe;
             step *= 2.0;
         }
-        (hi, v_hi)
     }
 }
 

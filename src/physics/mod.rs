@@ -61,6 +61,74 @@ pub enum Model {
     },
 }
 
+/// Median relative difference in η_c between the nonlinear and the
+/// linearised model, per α² (α in rad): measured as 0.43·α² (α from 0.025 to
+/// 0.4 rad, 11 far-field records × p ∈ {1, 3, 8} × ε ∈ {0.6, 0.9}; see
+/// docs/BENCHMARKS.md), rounded up. Single records can differ more, because a
+/// capacity is the first of possibly several overturning islands.
+pub const LINEARIZATION_ERROR_PER_ALPHA2: f64 = 0.45;
+
+/// The model as a user asks for it; [`ModelChoice::resolve`] makes it a [`Model`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ModelChoice {
+    Linearized,
+    Nonlinear,
+    /// The linearised model where its error for the block's α is within the
+    /// tolerance ([`LINEARIZATION_ERROR_PER_ALPHA2`]·α² ≤ tol), else the nonlinear one.
+    Auto,
+}
+
+impl ModelChoice {
+    /// The model to run and a sentence saying why.
+    pub fn resolve(
+        self,
+        alpha_rad: Option<f64>,
+        rtol: f64,
+        auto_tol: f64,
+    ) -> Result<(Model, String), PhysicsError> {
+        match (self, alpha_rad) {
+            (ModelChoice::Linearized, _) => {
+                Ok((Model::Linearized, "linearised model, as asked".into()))
+            }
+            (ModelChoice::Nonlinear, Some(a)) => Ok((
+                Model::Nonlinear { alpha_rad: a, rtol },
+                "nonlinear model, as asked".into(),
+            )),
+            (ModelChoice::Nonlinear, None) => Err(PhysicsError::BadInput(
+                "the nonlinear model needs the block's slenderness α (--alpha, in rad)".into(),
+            )),
+            (ModelChoice::Auto, None) => Ok((
+                Model::Linearized,
+                "linearised model: no α given, so the α → 0 limit".into(),
+            )),
+            (ModelChoice::Auto, Some(a)) => {
+                let err = LINEARIZATION_ERROR_PER_ALPHA2 * a * a;
+                if err <= auto_tol {
+                    Ok((
+                        Model::Linearized,
+                        format!("linearised model: its η_c error for α = {a} is about {err:.2e} ≤ {auto_tol:e}"),
+                    ))
+                } else {
+                    Ok((
+                        Model::Nonlinear { alpha_rad: a, rtol },
+                        format!("nonlinear model: the linearised one would err by about {err:.2e} > {auto_tol:e} for α = {a}"),
+                    ))
+                }
+            }
+        }
+    }
+}
+
+impl Model {
+    pub fn name(&self) -> &'static str {
+        match self {
+            Model::Linearized => "linearized",
+            Model::Nonlinear { .. } => "nonlinear",
+            Model::Rk4 { .. } => "rk4",
+        }
+    }
+}
+
 /// When a block counts as overturned.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Overturn {
@@ -87,6 +155,31 @@ impl Overturn {
                     "the `on-side` criterion (θ = π/2) needs the nonlinear model and α".into(),
                 )),
             },
+        }
+    }
+}
+
+impl std::str::FromStr for Overturn {
+    type Err = PhysicsError;
+
+    /// `static`, `cap:<c>` (c ≥ 1) or `on-side`.
+    fn from_str(text: &str) -> Result<Self, PhysicsError> {
+        let bad = || {
+            PhysicsError::BadInput(format!(
+                "unknown overturning criterion `{text}`; valid: static, cap:<c> (c ≥ 1, in units of α), on-side"
+            ))
+        };
+        match text {
+            "static" => Ok(Overturn::Static),
+            "on-side" => Ok(Overturn::OnSide),
+            _ => {
+                let c = text
+                    .strip_prefix("cap:")
+                    .ok_or_else(bad)?
+                    .parse::<f64>()
+                    .map_err(|_| bad())?;
+                Overturn::Cap(c).limit(None).map(|_| Overturn::Cap(c))
+            }
         }
     }
 }
@@ -281,6 +374,17 @@ pub struct Outcome {
 impl Outcome {
     pub fn overturned(&self) -> bool {
         self.stop == Stop::Overturned
+    }
+}
+
+impl Stop {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Stop::Survived => "survived",
+            Stop::Overturned => "overturned",
+            Stop::RestForGood => "rest_for_good",
+            Stop::EventLimit => "event_limit",
+        }
     }
 }
 

@@ -11,6 +11,7 @@
 //! Architecture invariant: nothing outside `tables` imports `parquet` or
 //! opens a Parquet file.
 
+pub mod history;
 pub mod records;
 
 use std::fs::{self, File};
@@ -196,6 +197,35 @@ impl Drop for AtomicTableWriter {
             let _ = fs::remove_file(&self.tmp);
         }
     }
+}
+
+/// Writes `bytes` to `dest` through a temporary sibling and a rename (for
+/// the few outputs that are not Parquet).
+pub fn atomic_write(dest: &Path, bytes: &[u8]) -> Result<(), TableError> {
+    use std::io::Write;
+    let io_err = |path: &Path, source| TableError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    if let Some(parent) = dest.parent().filter(|p| !p.as_os_str().is_empty()) {
+        fs::create_dir_all(parent).map_err(|e| io_err(dest, e))?;
+    }
+    let name = dest
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = dest.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
+    let result = (|| {
+        let mut f = File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        fs::rename(&tmp, dest)
+    })();
+    if let Err(e) = result {
+        let _ = fs::remove_file(&tmp);
+        return Err(io_err(dest, e));
+    }
+    Ok(())
 }
 
 /// A table read back whole: its batches and its key-value metadata.

@@ -1,0 +1,502 @@
+//! Command-line interface: the only module that knows clap.
+//!
+//! Parses the arguments into a stage configuration, runs the stage and
+//! presents its report. Errors are printed as `error: …` with their causes
+//! and give exit code 1; usage errors are clap's (exit code 2).
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use anyhow::{bail, Context};
+use clap::{Parser, Subcommand, ValueEnum};
+use serde::Serialize;
+
+use crate::at2;
+use crate::ida::{self, ImGrid, Spacing};
+use crate::physics::{self, Excitation, Model, ModelChoice, Overturn, Recorder, RunSpec};
+use crate::stages::ingest::{self, IngestConfig};
+use crate::tables;
+
+mod bench;
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "rocking",
+    version,
+    about = "Overturning capacity and fragility of free-standing rigid blocks under earthquake records",
+    long_about = "Overturning capacity and fragility of free-standing rigid blocks under earthquake records.\n\n\
+        A block (statue, cabinet, transformer, server rack) resting on a rigid base rocks about its \
+        corners when the ground shakes and may overturn. rocking runs incremental dynamic analysis \
+        over a suite of ground-motion records and reduces it to capacity fractiles, a regression \
+        and fragility curves, as a pipeline of stages over Parquet tables.",
+    after_help = "Each stage reads and writes Parquet tables documented in outputs/README.md."
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Read PEER AT2 ground-motion files into a records table (Parquet).
+    #[command(
+        long_about = "Read PEER AT2 ground-motion files into a records table (Parquet).\n\n\
+        Each PATH is an AT2 file or a folder searched recursively for *.AT2 (any case). The table \
+        has one row per record, sorted by record id (the file stem), with the samples, NPTS, DT, \
+        PGA, the header lines, the file's SHA-256 and, with --manifest, the manifest's metadata. \
+        Any bad file fails the command and nothing is written, unless --skip-bad is given."
+    )]
+    Ingest(IngestArgs),
+    /// Run one record at one intensity and report the block's response.
+    #[command(
+        long_about = "Run one record at one intensity and report the block's response.\n\n\
+        The record is normalised to unit peak and scaled to the intensity η = αg/A_g (smaller η is \
+        stronger shaking). Prints θmax/α, whether and when the block overturned, the number of \
+        impacts and the first uplift; --history writes the motion at every event and every \
+        --history-every-th sample."
+    )]
+    Simulate(SimulateArgs),
+    /// Find a record's overturning capacity η_c by incremental dynamic analysis.
+    #[command(
+        long_about = "Find a record's overturning capacity η_c by incremental dynamic analysis.\n\n\
+        The record is run at --levels intensity levels of decreasing η (log-spaced from 1 down to \
+        --eta-min by default) until the block first overturns; η_c is then refined by bisection \
+        between the last surviving and the first overturning level to --tol. η_c is the largest \
+        η known to overturn: the first overturning met as intensity rises, whatever happens at \
+        stronger shaking (the resurrection rule)."
+    )]
+    Capacity(CapacityArgs),
+    /// Measure the solvers' speed against their error; write docs/BENCHMARKS.md sections and a plot.
+    #[command(long_about = "Measure the solvers' speed against their error.\n\n\
+        Times the exact linearised stepper, fixed-step RK4 at several step sizes and the nonlinear \
+        Dormand–Prince integrator at several tolerances on bundled records and closed-form pulses, \
+        compares each with a tight reference, and measures the linearisation error against α \
+        (the basis of --model auto). Rewrites the marked sections of BENCHMARKS.md in --out-dir \
+        and writes the speed–error plot beside it. Takes a few minutes.")]
+    Bench(bench::BenchArgs),
+}
+
+/// The model as chosen on the command line.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum ModelArg {
+    /// Paper Eq. 8, exact stepping (depends on p, η, ε only).
+    Linearized,
+    /// Paper Eq. 7 by Dormand–Prince 5(4); needs --alpha.
+    Nonlinear,
+    /// Linearised where its error for --alpha is below --auto-tol, else nonlinear.
+    Auto,
+}
+
+impl From<ModelArg> for ModelChoice {
+    fn from(m: ModelArg) -> Self {
+        match m {
+            ModelArg::Linearized => ModelChoice::Linearized,
+            ModelArg::Nonlinear => ModelChoice::Nonlinear,
+            ModelArg::Auto => ModelChoice::Auto,
+        }
+    }
+}
+
+#[derive(Debug, clap::Args)]
+#[command(allow_negative_numbers = true)]
+struct BlockArgs {
+    /// The AT2 record (acceleration in g).
+    #[arg(long, value_name = "FILE.AT2")]
+    record: PathBuf,
+    /// Frequency parameter p = sqrt(3g/(4R)) of the block (1/s).
+    #[arg(long, value_name = "1/s")]
+    p: f64,
+    /// Coefficient of restitution ε in (0, 1].
+    #[arg(long, value_name = "ε")]
+    eps: f64,
+    /// Equation of motion.
+    #[arg(long, value_enum, default_value = "linearized")]
+    model: ModelArg,
+    /// Slenderness α = atan(b/h) of the block (rad), for the nonlinear model.
+    #[arg(long, value_name = "rad")]
+    alpha: Option<f64>,
+    /// Relative tolerance of the nonlinear integrator.
+    #[arg(long, default_value_t = 1e-8)]
+    rtol: f64,
+    /// For --model auto: the relative error in η_c accepted from the linearisation.
+    #[arg(long, default_value_t = 0.01)]
+    auto_tol: f64,
+    /// Overturning criterion: static (|θ| ≥ α), cap:<c> (|θ| ≥ cα), on-side (θ = π/2, nonlinear).
+    #[arg(long, default_value = "static", value_parser = parse_overturn)]
+    overturn: Overturn,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+fn parse_overturn(text: &str) -> Result<Overturn, String> {
+    text.parse::<Overturn>().map_err(|e| e.to_string())
+}
+
+#[derive(Debug, clap::Args)]
+struct SimulateArgs {
+    #[command(flatten)]
+    block: BlockArgs,
+    /// Uplift strength η = αg/A_g (> 0).
+    #[arg(long, value_name = "η")]
+    eta: f64,
+    /// Write the response history (t, x, ẋ, pivot, ψ̈, event) to a .parquet or .csv file.
+    #[arg(long, value_name = "FILE")]
+    history: Option<PathBuf>,
+    /// Keep every N-th sample in the history (events are always kept).
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    history_every: usize,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum SpacingArg {
+    Log,
+    Linear,
+}
+
+#[derive(Debug, clap::Args)]
+struct CapacityArgs {
+    #[command(flatten)]
+    block: BlockArgs,
+    /// Refine η_c until the bracket is at most this wide (in η).
+    #[arg(long, value_name = "Δη", default_value_t = 1e-4)]
+    tol: f64,
+    /// Number of intensity levels below η = 1.
+    #[arg(long, default_value_t = 200)]
+    levels: usize,
+    /// Smallest η (strongest shaking) tried.
+    #[arg(long, default_value_t = 1e-3)]
+    eta_min: f64,
+    /// Spacing of the levels in η.
+    #[arg(long, value_enum, default_value = "log")]
+    spacing: SpacingArg,
+}
+
+#[derive(Debug, clap::Args)]
+struct IngestArgs {
+    /// AT2 files, or folders to search recursively for *.AT2.
+    #[arg(required = true, value_name = "PATH")]
+    paths: Vec<PathBuf>,
+    /// Where to write the records table.
+    #[arg(
+        long,
+        value_name = "FILE.parquet",
+        default_value = "outputs/records.parquet"
+    )]
+    out: PathBuf,
+    /// CSV of per-record metadata with a `file` column (path relative to the CSV),
+    /// matched to the AT2 files by file stem; NPTS and DT are checked against it.
+    #[arg(long, value_name = "CSV")]
+    manifest: Option<PathBuf>,
+    /// Ingest the good files and list the bad ones instead of failing.
+    #[arg(long)]
+    skip_bad: bool,
+}
+
+/// Entry point of the binary.
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            for cause in e.chain().skip(1) {
+                eprintln!("  caused by: {cause}");
+            }
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Ingest(args) => run_ingest(args),
+        Command::Simulate(args) => run_simulate(args),
+        Command::Capacity(args) => run_capacity(args),
+        Command::Bench(args) => bench::run(args),
+    }
+}
+
+/// A record read for the solvers, with what the reports need.
+struct LoadedRecord {
+    record_id: String,
+    npts: usize,
+    pga_g: f64,
+    exc: Excitation,
+}
+
+fn load_record(path: &std::path::Path) -> anyhow::Result<LoadedRecord> {
+    let bytes = std::fs::read(path).with_context(|| format!("{}: cannot read", path.display()))?;
+    let parsed = at2::parse(&bytes)
+        .map_err(|e| anyhow::anyhow!("{}:{}: {}", path.display(), e.line, e.kind))?;
+    let pga_g = crate::motion::peak(&parsed.accel_g, parsed.dt_s).map_or(0.0, |p| p.pga_g);
+    let exc = Excitation::new(&parsed.accel_g, parsed.dt_s)
+        .with_context(|| path.display().to_string())?;
+    Ok(LoadedRecord {
+        record_id: path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        npts: parsed.accel_g.len(),
+        pga_g,
+        exc,
+    })
+}
+
+/// The run specification from the block arguments, and why that model.
+fn block_spec(b: &BlockArgs, eta: f64) -> anyhow::Result<(RunSpec, String)> {
+    let (model, why) = ModelChoice::from(b.model).resolve(b.alpha, b.rtol, b.auto_tol)?;
+    let spec = RunSpec {
+        overturn: b.overturn,
+        ..RunSpec::new(b.p, b.eps, eta, model)
+    };
+    spec.validate()?;
+    Ok((spec, why))
+}
+
+fn alpha_of(model: Model) -> Option<f64> {
+    match model {
+        Model::Nonlinear { alpha_rad, .. } => Some(alpha_rad),
+        Model::Rk4 { alpha_rad, .. } => alpha_rad,
+        Model::Linearized => None,
+    }
+}
+
+#[derive(Serialize)]
+struct SimulateReport<'a> {
+    record_id: &'a str,
+    p: f64,
+    eps: f64,
+    eta: f64,
+    model: &'static str,
+    alpha_rad: Option<f64>,
+    overturn: String,
+    theta_max_over_alpha: f64,
+    overturned: bool,
+    overturn_time_s: Option<f64>,
+    overturn_after_record: bool,
+    impacts: u64,
+    first_uplift_s: Option<f64>,
+    stop: &'static str,
+}
+
+fn run_simulate(args: SimulateArgs) -> anyhow::Result<()> {
+    let rec = load_record(&args.block.record)?;
+    let (spec, why) = block_spec(&args.block, args.eta)?;
+    let mut recorder = Recorder::new(args.history_every);
+    let out = if args.history.is_some() {
+        physics::simulate_observed(&rec.exc, &spec, &mut recorder)?
+    } else {
+        physics::simulate(&rec.exc, &spec)?
+    };
+    if let Some(path) = &args.history {
+        let settings = vec![
+            (
+                "rocking.simulate.record".to_string(),
+                args.block.record.display().to_string(),
+            ),
+            ("rocking.simulate.spec".to_string(), format!("{spec:?}")),
+        ];
+        tables::history::write(path, &recorder.points, &settings)?;
+    }
+    let report = SimulateReport {
+        record_id: &rec.record_id,
+        p: spec.p,
+        eps: spec.eps,
+        eta: spec.eta,
+        model: spec.model.name(),
+        alpha_rad: alpha_of(spec.model),
+        overturn: spec.overturn.to_string(),
+        theta_max_over_alpha: out.max_abs_x,
+        overturned: out.overturned(),
+        overturn_time_s: out.overturn_time_s,
+        overturn_after_record: out.overturn_after_record,
+        impacts: out.impacts,
+        first_uplift_s: out.first_uplift_s,
+        stop: out.stop.as_str(),
+    };
+    if args.block.json {
+        println!("{}", serde_json::to_string(&report)?);
+        return Ok(());
+    }
+    println!(
+        "record      {} ({} samples, dt {} s, PGA {:.4} g)",
+        rec.record_id, rec.npts, rec.exc.dt_s, rec.pga_g
+    );
+    println!(
+        "block       p = {} 1/s, ε = {}, η = {} ({why})",
+        spec.p, spec.eps, spec.eta
+    );
+    println!("overturning {}", spec.overturn);
+    println!("θmax/α      {:.12}", out.max_abs_x);
+    match out.overturn_time_s {
+        Some(t) if out.overturn_after_record => {
+            println!("overturned  yes, at {t:.6} s, after the record ended")
+        }
+        Some(t) => println!("overturned  yes, at {t:.6} s"),
+        None => println!("overturned  no ({})", out.stop.as_str().replace('_', " ")),
+    }
+    println!("impacts     {}", out.impacts);
+    match out.first_uplift_s {
+        Some(t) => println!("uplift      first at {t:.6} s"),
+        None => println!("uplift      never (the record stays below the uplift threshold)"),
+    }
+    if let Some(path) = &args.history {
+        println!(
+            "history     {} points in {}",
+            recorder.points.len(),
+            path.display()
+        );
+    }
+    Ok(())
+}
+
+#[derive(Serialize)]
+struct CapacityReport<'a> {
+    record_id: &'a str,
+    p: f64,
+    eps: f64,
+    model: &'static str,
+    alpha_rad: Option<f64>,
+    overturn: String,
+    eta_c: Option<f64>,
+    /// A_g at the capacity in units of αg (= 1/η_c).
+    pga_scale_c: Option<f64>,
+    eta_survived: f64,
+    level_survived: f64,
+    level_overturned: Option<f64>,
+    runs: usize,
+    refinement_runs: usize,
+    tol: f64,
+    levels: usize,
+    eta_min: f64,
+    spacing: &'static str,
+}
+
+fn run_capacity(args: CapacityArgs) -> anyhow::Result<()> {
+    let rec = load_record(&args.block.record)?;
+    let (spec, why) = block_spec(&args.block, 1.0)?;
+    let spacing = match args.spacing {
+        SpacingArg::Log => Spacing::Log,
+        SpacingArg::Linear => Spacing::Linear,
+    };
+    let grid = ImGrid {
+        eta_max: 1.0,
+        eta_min: args.eta_min,
+        count: args.levels,
+        spacing,
+    };
+    if !(args.eta_min > 0.0 && args.eta_min < 1.0) {
+        bail!("--eta-min {} must be in (0, 1)", args.eta_min);
+    }
+    let cap = ida::capacity(&rec.exc, &spec, &grid, args.tol)?;
+    let refinement_runs = cap
+        .points
+        .iter()
+        .filter(|q| q.kind == ida::RunKind::Refinement)
+        .count();
+    let report = CapacityReport {
+        record_id: &rec.record_id,
+        p: spec.p,
+        eps: spec.eps,
+        model: spec.model.name(),
+        alpha_rad: alpha_of(spec.model),
+        overturn: spec.overturn.to_string(),
+        eta_c: cap.eta_c,
+        pga_scale_c: cap.eta_c.map(|e| 1.0 / e),
+        eta_survived: cap.eta_survived,
+        level_survived: cap.level_survived,
+        level_overturned: cap.level_overturned,
+        runs: cap.runs(),
+        refinement_runs,
+        tol: args.tol,
+        levels: args.levels,
+        eta_min: args.eta_min,
+        spacing: match spacing {
+            Spacing::Log => "log",
+            Spacing::Linear => "linear",
+        },
+    };
+    if args.block.json {
+        println!("{}", serde_json::to_string(&report)?);
+        return Ok(());
+    }
+    println!(
+        "record      {} ({} samples, dt {} s)",
+        rec.record_id, rec.npts, rec.exc.dt_s
+    );
+    println!("block       p = {} 1/s, ε = {} ({why})", spec.p, spec.eps);
+    match cap.eta_c {
+        Some(c) => {
+            println!(
+                "η_c         {c:.6} (A_g = {:.4} αg), survives at η = {:.6}",
+                1.0 / c,
+                cap.eta_survived
+            );
+            println!(
+                "bracket     grid levels {:.6} (survived) → {:.6} (overturned), refined to {:e}",
+                cap.level_survived,
+                cap.level_overturned.unwrap_or(f64::NAN),
+                args.tol
+            );
+        }
+        None => println!(
+            "η_c         none: the block survives every level down to η = {}",
+            args.eta_min
+        ),
+    }
+    println!(
+        "runs        {} ({} levels, {} refinements)",
+        cap.runs(),
+        cap.runs() - refinement_runs,
+        refinement_runs
+    );
+    Ok(())
+}
+
+fn run_ingest(args: IngestArgs) -> anyhow::Result<()> {
+    let started = Instant::now();
+    let config = IngestConfig {
+        paths: args.paths,
+        manifest: args.manifest,
+        out: args.out,
+        skip_bad: args.skip_bad,
+    };
+    let report = ingest::run(&config)?;
+    for b in &report.skipped {
+        eprintln!("skipped: {b}");
+    }
+    if !report.ignored_manifest_columns.is_empty() {
+        eprintln!(
+            "warning: manifest columns not stored: {}",
+            report.ignored_manifest_columns.join(", ")
+        );
+    }
+    if !report.not_in_manifest.is_empty() {
+        eprintln!(
+            "warning: {} record(s) not in the manifest (their metadata columns are empty): {}",
+            report.not_in_manifest.len(),
+            report.not_in_manifest.join(", ")
+        );
+    }
+    let sets: Vec<String> = report
+        .per_set
+        .iter()
+        .map(|(s, n)| format!("{s} {n}"))
+        .collect();
+    println!(
+        "ingested {} records ({} samples; {}) into {} in {:.2} s{}",
+        report.records,
+        report.samples,
+        sets.join(", "),
+        report.out.display(),
+        started.elapsed().as_secs_f64(),
+        if report.skipped.is_empty() {
+            String::new()
+        } else {
+            format!("; skipped {} bad file(s)", report.skipped.len())
+        }
+    );
+    Ok(())
+}

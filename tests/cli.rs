@@ -1,0 +1,178 @@
+//! `rocking simulate` and `rocking capacity` end to end: JSON output, the
+//! definitions they promise (η_c overturns, the bracket's top survives),
+//! Housner's closed form through the CLI, history files and bad input.
+
+use serde_json::Value;
+
+use crate::util::{at2_text, bundled_records, rocking, root, stderr, tempdir};
+
+fn json(out: &std::process::Output) -> Value {
+    assert!(out.status.success(), "{}", stderr(out));
+    serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&out.stdout)))
+}
+
+const KOBE: &str = "records/fema-p695/far-field/RSN1111_KOBE_NIS000.AT2";
+
+#[test]
+fn capacity_is_the_first_overturning_and_its_bracket_survives() {
+    for (p, eps, model) in [("2", "0.8", "linearized"), ("5", "0.6", "nonlinear")] {
+        let mut args = vec![
+            "capacity", "--record", KOBE, "--p", p, "--eps", eps, "--model", model, "--json",
+        ];
+        if model == "nonlinear" {
+            args.extend(["--alpha", "0.2"]);
+        }
+        let cap = json(&rocking(&root(), &args));
+        let eta_c = cap["eta_c"].as_f64().unwrap();
+        let top = cap["eta_survived"].as_f64().unwrap();
+        assert!(top > eta_c && top - eta_c <= 1e-4, "{cap}");
+        assert_eq!(cap["record_id"], "RSN1111_KOBE_NIS000");
+        assert!(cap["runs"].as_u64().unwrap() > 5);
+        // Every grid level above the first overturning survived: check the
+        // definitions through `simulate`.
+        let sim = |eta: f64| {
+            let eta = eta.to_string();
+            let mut a = vec![
+                "simulate", "--record", KOBE, "--p", p, "--eps", eps, "--eta", &eta, "--model",
+                model, "--json",
+            ];
+            if model == "nonlinear" {
+                a.extend(["--alpha", "0.2"]);
+            }
+            json(&rocking(&root(), &a))
+        };
+        assert_eq!(sim(eta_c)["overturned"], true);
+        assert_eq!(sim(top)["overturned"], false);
+        assert_eq!(
+            sim(cap["level_survived"].as_f64().unwrap())["overturned"],
+            false
+        );
+    }
+}
+
+#[test]
+fn housner_through_the_command_line() {
+    // ψ̈ = 1 for the whole 1 s record: overturns iff η < 1 − e^{−p}.
+    let dir = tempdir();
+    let ones: Vec<&str> = vec![".1000000E+01"; 101];
+    std::fs::write(
+        dir.path().join("RECT.AT2"),
+        at2_text(
+            "ACCELERATION TIME SERIES IN UNITS OF G",
+            "NPTS=  101, DT=   .0100 SEC",
+            &ones,
+        ),
+    )
+    .unwrap();
+    let cap = json(&rocking(
+        dir.path(),
+        &[
+            "capacity", "--record", "RECT.AT2", "--p", "2", "--eps", "0.9", "--tol", "1e-11",
+            "--json",
+        ],
+    ));
+    let exact = 1.0 - (-2.0f64).exp();
+    assert!(
+        (cap["eta_c"].as_f64().unwrap() - exact).abs() < 2e-11,
+        "{cap}"
+    );
+}
+
+#[test]
+fn history_files_hold_every_event_in_time_order() {
+    let dir = tempdir();
+    let csv = dir.path().join("h.csv");
+    let pq = dir.path().join("h.parquet");
+    for (path, every) in [(&csv, "5"), (&pq, "1")] {
+        let out = rocking(
+            &root(),
+            &[
+                "simulate",
+                "--record",
+                KOBE,
+                "--p",
+                "2",
+                "--eps",
+                "0.8",
+                "--eta",
+                "0.3",
+                "--history",
+                path.to_str().unwrap(),
+                "--history-every",
+                every,
+                "--json",
+            ],
+        );
+        let report = json(&out);
+        assert!(path.exists());
+        if path == &csv {
+            let text = std::fs::read_to_string(path).unwrap();
+            let mut lines = text.lines();
+            assert_eq!(lines.next(), Some("t_s,x,v_per_s,pivot,psi,event"));
+            let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+            let times: Vec<f64> = rows.iter().map(|r| r[0].parse().unwrap()).collect();
+            assert!(
+                times.windows(2).all(|w| w[1] >= w[0]),
+                "time never goes back"
+            );
+            let impacts = rows
+                .iter()
+                .filter(|r| r[5] == "impact" || r[5] == "rest")
+                .count() as u64;
+            assert_eq!(impacts, report["impacts"].as_u64().unwrap());
+            assert_eq!(
+                rows.iter().filter(|r| r[5] == "uplift").count() as u64 >= 1,
+                true
+            );
+            let first_uplift: f64 = rows.iter().find(|r| r[5] == "uplift").unwrap()[0]
+                .parse()
+                .unwrap();
+            assert_eq!(first_uplift, report["first_uplift_s"].as_f64().unwrap());
+            // |x| never exceeds θmax/α at the recorded points, and x = 0 at impacts.
+            let max = report["theta_max_over_alpha"].as_f64().unwrap();
+            for r in &rows {
+                let x: f64 = r[1].parse().unwrap();
+                assert!(x.abs() <= max);
+                if r[5] == "impact" {
+                    assert_eq!(x, 0.0);
+                }
+            }
+        }
+    }
+    let table = rocking::tables::read_table(&pq, rocking::tables::history::KIND).unwrap();
+    assert!(table.batches.iter().map(|b| b.num_rows()).sum::<usize>() > 100);
+}
+
+#[test]
+fn bad_input_is_named() {
+    let cases: &[(&str, &str, &[&str], &str)] = &[
+        ("2", "1.5", &[], "ε = 1.5"),
+        ("-1", "0.8", &[], "p = -1"),
+        ("2", "0.8", &["--model", "nonlinear"], "--alpha"),
+        ("2", "0.8", &["--overturn", "cap:0.5"], "≥ 1"),
+        ("2", "0.8", &["--overturn", "sideways"], "valid: static"),
+        ("2", "0.8", &["--overturn", "on-side"], "nonlinear model"),
+    ];
+    for (p, eps, extra, expected) in cases {
+        let mut args = vec![
+            "simulate", "--record", KOBE, "--p", p, "--eps", eps, "--eta", "0.3",
+        ];
+        args.extend_from_slice(extra);
+        let out = rocking(&root(), &args);
+        assert!(!out.status.success(), "{args:?}");
+        assert!(
+            stderr(&out).contains(expected),
+            "{args:?}: {}",
+            stderr(&out)
+        );
+    }
+    let out = rocking(
+        &root(),
+        &[
+            "capacity", "--record", "nope.AT2", "--p", "2", "--eps", "0.8",
+        ],
+    );
+    assert!(!out.status.success() && stderr(&out).contains("nope.AT2"));
+    assert!(bundled_records().exists());
+}
