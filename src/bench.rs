@@ -133,8 +133,9 @@ pub fn run(
     reps: usize,
     mut progress: impl FnMut(&str),
 ) -> Result<Vec<Row>, PhysicsError> {
-    // References per (reference model, case), computed once.
-    let mut refs: Vec<(Model, Vec<(f64, f64, f64)>)> = Vec::new();
+    // References per (reference model, case), computed once: (η_c, probe η, θmax/α at the probe).
+    type CaseRefs = Vec<(f64, f64, f64)>;
+    let mut refs: Vec<(Model, CaseRefs)> = Vec::new();
     let mut rows = Vec::new();
     for solver in solvers {
         let ref_model = reference(solver);

@@ -29,11 +29,24 @@
 use super::energy::{self, Fate};
 use super::{Rocker, Rocking, Stretch, StretchEnd};
 
-/// `cosh z − 1`, without cancellation.
+/// `cosh z − 1`, without cancellation: its Taylor series (terms to z¹⁴) for
+/// |z| < 0.5, `2 sinh²(z/2)` above.
 #[inline]
 pub fn cosh_m1(z: f64) -> f64 {
-    let h = (0.5 * z).sinh();
-    2.0 * h * h
+    let z2 = z * z;
+    if z2 < 0.25 {
+        z2 / 2.0
+            * (1.0
+                + z2 / 12.0
+                    * (1.0
+                        + z2 / 30.0
+                            * (1.0
+                                + z2 / 56.0
+                                    * (1.0 + z2 / 90.0 * (1.0 + z2 / 132.0 * (1.0 + z2 / 182.0))))))
+    } else {
+        let h = (0.5 * z).sinh();
+        2.0 * h * h
+    }
 }
 
 /// `sinh(z)/z − 1`, by its Taylor series for |z| < 0.5 (terms to z¹⁴: the
@@ -73,13 +86,15 @@ struct Coeffs {
 impl Coeffs {
     #[inline]
     fn new(p: f64, sigma: f64) -> Self {
+        // Below |z| = 0.5 (every sample interval up to p·dt = 0.5) these are
+        // polynomials: no transcendental call in the hot loop.
         let z = p * sigma;
         let s1 = sinhc_m1(z);
         Coeffs {
             sigma,
-            sinh: z.sinh(),
+            sinh: z + z * s1,
             c: cosh_m1(z),
-            s_sigma: sigma * (1.0 + s1),
+            s_sigma: sigma + sigma * s1,
             s1_sigma: sigma * s1,
         }
     }
@@ -93,6 +108,8 @@ pub struct Linear {
     limit: f64,
     /// Coefficients of a whole sample interval, computed once.
     full: Coeffs,
+    /// e^{p·dt} − 1
+    full_expm1: f64,
 }
 
 /// The motion on one stretch, evaluable at any σ.
@@ -115,15 +132,32 @@ impl Motion {
         (x, v)
     }
 
+    /// The size of the largest term of x(σ): the scale of its rounding error.
+    #[inline]
+    fn scale(&self, c: &Coeffs) -> f64 {
+        self.x_a.abs()
+            + (self.u * c.c).abs()
+            + (self.v_a * c.s_sigma).abs()
+            + (self.g1e * c.s1_sigma).abs()
+    }
+
+    /// Acceleration at σ given x(σ): p²(x − s + ψ̈(σ)/η).
+    #[inline]
+    fn acc(&self, x: f64, sigma: f64) -> f64 {
+        self.p * self.p * (x - self.x_a + self.u + self.g1e * sigma)
+    }
+
     /// Turning points (v = 0) with 0 < σ < len, ascending.
-    fn turning_points(&self, len: f64) -> ([f64; 2], usize) {
+    /// `delta_max = e^{p·len} − 1` bounds δ, so roots outside the stretch
+    /// cost no logarithm.
+    fn turning_points(&self, len: f64, delta_max: f64) -> ([f64; 2], usize) {
         let b = self.p * self.u + self.v_a;
         let a = b + self.g1e;
         let c = 2.0 * self.v_a;
         let mut roots = [f64::NAN; 2];
         let mut n = 0;
         let mut push = |delta: f64| {
-            if delta > 0.0 && delta.is_finite() {
+            if delta > 0.0 && delta < delta_max {
                 let sigma = delta.ln_1p() / self.p;
                 if sigma > 0.0 && sigma < len {
                     roots[n] = sigma;
@@ -155,6 +189,26 @@ impl Motion {
     }
 }
 
+/// The smallest positive root of `a τ² + b τ + c = 0` (NaN if none).
+fn first_positive_root(a: f64, b: f64, c: f64) -> f64 {
+    if a == 0.0 {
+        let t = -c / b;
+        return if t > 0.0 { t } else { f64::NAN };
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 {
+        return f64::NAN;
+    }
+    let q = -0.5 * (b + b.signum() * disc.sqrt());
+    let (r1, r2) = (q / a, if q != 0.0 { c / q } else { f64::NAN });
+    match (r1 > 0.0, r2 > 0.0) {
+        (true, true) => r1.min(r2),
+        (true, false) => r1,
+        (false, true) => r2,
+        _ => f64::NAN,
+    }
+}
+
 impl Linear {
     pub fn new(p: f64, eta: f64, dt: f64, limit: f64) -> Self {
         Linear {
@@ -163,6 +217,7 @@ impl Linear {
             inv_eta: 1.0 / eta,
             limit,
             full: Coeffs::new(p, dt),
+            full_expm1: (p * dt).exp_m1(),
         }
     }
 
@@ -189,34 +244,58 @@ impl Linear {
         rising: bool,
     ) -> (f64, f64) {
         let reached = |y: f64| if rising { y >= target } else { y <= target };
-        let (x_hi, mut v_hi) = m.at(&Coeffs::new(self.p, hi));
-        let (mut x_at, mut v_at, mut at) = (x_hi, v_hi, hi);
-        // Safeguarded Newton: quadratic convergence, bisection if it leaves the bracket.
+        let c_hi = Coeffs::new(self.p, hi);
+        let (x_hi, mut v_hi) = m.at(&c_hi);
+        let mut g_hi = s * x_hi - target;
+        let c_lo = Coeffs::new(self.p, lo);
+        let (x_lo, v_lo) = m.at(&c_lo);
+        let mut g_lo = s * x_lo - target;
+        // First guess from the Taylor parabola at `lo`: a piece that starts at a
+        // turning point (a Zeno swing of 1e-9 s inside a 0.01 s interval, say)
+        // is found at once instead of by ~30 halvings.
+        let guess = lo + first_positive_root(0.5 * s * m.acc(x_lo, lo), s * v_lo, g_lo);
+        let mut at = if guess > lo && guess < hi {
+            guess
+        } else {
+            0.5 * (lo + hi)
+        };
+        let mut c_at = Coeffs::new(self.p, at);
+        let (mut x_at, mut v_at) = m.at(&c_at);
+        // Safeguarded Newton: quadratic convergence; when a step leaves the
+        // bracket, regula falsi between its ends, then bisection.
         for _ in 0..100 {
-            let dy = s * v_at;
-            let mut next = if dy != 0.0 {
-                at - (s * x_at - target) / dy
+            let g_at = s * x_at - target;
+            if reached(s * x_at) {
+                (hi, v_hi, g_hi) = (at, v_at, g_at);
             } else {
-                f64::NAN
-            };
-            if !(next > lo && next < hi) {
-                next = 0.5 * (lo + hi);
-                if !(next > lo && next < hi) {
-                    return (hi, v_hi);
-                }
+                (lo, g_lo) = (at, g_at);
             }
-            let (x, v) = m.at(&Coeffs::new(self.p, next));
-            let step = (next - at).abs();
-            if reached(s * x) {
-                hi = next;
-                v_hi = v;
-            } else {
-                lo = next;
-            }
-            (x_at, v_at, at) = (x, v, next);
-            if step <= 4.0 * f64::EPSILON * next || hi - lo <= 4.0 * f64::EPSILON * hi {
+            if hi - lo <= 4.0 * f64::EPSILON * hi {
                 break;
             }
+            let dy = s * v_at;
+            let newton = at - g_at / dy;
+            // Converged when the step is within the time equivalent of the
+            // rounding in x (a few ulps of its largest term): beyond that,
+            // Newton only chases noise.
+            let resolution =
+                4.0 * f64::EPSILON * (at + m.scale(&c_at) / dy.abs().max(f64::MIN_POSITIVE));
+            if (newton - at).abs() <= resolution {
+                break;
+            }
+            let mut next = newton;
+            if !(next > lo && next < hi) {
+                next = lo + (hi - lo) * (g_lo / (g_lo - g_hi));
+                if !(next > lo && next < hi) {
+                    next = 0.5 * (lo + hi);
+                }
+                if !(next > lo && next < hi) {
+                    break;
+                }
+            }
+            at = next;
+            c_at = Coeffs::new(self.p, at);
+            (x_at, v_at) = m.at(&c_at);
         }
         if hi - lo <= 4.0 * f64::EPSILON * hi {
             return (hi, v_hi);
@@ -269,7 +348,12 @@ impl Rocker for Linear {
             u: state.x + (st.g_a - s * self.eta) * self.inv_eta,
             g1e: st.g1 * self.inv_eta,
         };
-        let (turns, n_turns) = m.turning_points(st.len);
+        let delta_max = if st.len == self.full.sigma {
+            self.full_expm1
+        } else {
+            (self.p * st.len).exp_m1()
+        };
+        let (turns, n_turns) = m.turning_points(st.len, delta_max);
         // Walk the monotone pieces [0, t1], [t1, t2], [t2, len].
         let mut lo = 0.0;
         let mut y_lo = s * state.x;
@@ -418,7 +502,7 @@ mod tests {
             u: 0.1 + (0.1 - s * eta) / eta,
             g1e: -3.0 / eta,
         };
-        let (t, n) = m.turning_points(1.0);
+        let (t, n) = m.turning_points(1.0, 4.0f64.exp_m1());
         assert_eq!(n, 1);
         let (_, v) = m.at(&Coeffs::new(p, t[0]));
         assert!(v.abs() < 1e-14, "{v}");
