@@ -17,7 +17,8 @@
 use crate::physics::{simulate, Excitation, Outcome, PhysicsError, RunSpec};
 
 /// How the η levels are spaced.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Spacing {
     /// Equal ratios between levels.
     Log,
@@ -27,7 +28,7 @@ pub enum Spacing {
 
 /// A grid of intensity levels, from `eta_max` (exclusive) down to `eta_min`
 /// (inclusive), `count` levels.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct ImGrid {
     pub eta_max: f64,
     pub eta_min: f64,
@@ -114,6 +115,20 @@ pub struct Capacity {
     pub level_survived: f64,
     /// Every run, in the order run.
     pub points: Vec<IdaPoint>,
+    /// With [`Trace::AllLevels`]: how many grid levels stronger than the
+    /// first overturning the block survived (resurrections).
+    pub resurrections: Option<usize>,
+}
+
+/// How far to trace a record's IDA.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Trace {
+    /// Stop at the first overturning (and refine): all the capacity and the
+    /// horizontal statistics under the resurrection rule need.
+    StopAtFirst,
+    /// Also run every stronger level, to count resurrections.
+    AllLevels,
 }
 
 impl Capacity {
@@ -130,6 +145,17 @@ pub fn capacity(
     grid: &ImGrid,
     tol: f64,
 ) -> Result<Capacity, PhysicsError> {
+    capacity_traced(exc, run, grid, tol, Trace::StopAtFirst)
+}
+
+/// [`capacity`], optionally running every level past the first overturning.
+pub fn capacity_traced(
+    exc: &Excitation,
+    run: &RunSpec,
+    grid: &ImGrid,
+    tol: f64,
+    trace: Trace,
+) -> Result<Capacity, PhysicsError> {
     if !(tol > 0.0 && tol.is_finite()) {
         return Err(PhysicsError::BadInput(format!(
             "capacity tolerance {tol} must be positive"
@@ -139,7 +165,7 @@ pub fn capacity(
     let mut points = Vec::new();
     let at = |eta: f64| simulate(exc, &RunSpec { eta, ..*run });
     let mut survived = grid.eta_max;
-    for &eta in &levels {
+    for (j, &eta) in levels.iter().enumerate() {
         let outcome = at(eta)?;
         points.push(IdaPoint {
             eta,
@@ -169,12 +195,29 @@ pub fn capacity(
                 survived = mid;
             }
         }
+        let resurrections = match trace {
+            Trace::StopAtFirst => None,
+            Trace::AllLevels => {
+                let mut survived_after = 0;
+                for &eta in &levels[j + 1..] {
+                    let outcome = at(eta)?;
+                    points.push(IdaPoint {
+                        eta,
+                        kind: RunKind::Level,
+                        outcome,
+                    });
+                    survived_after += usize::from(!outcome.overturned());
+                }
+                Some(survived_after)
+            }
+        };
         return Ok(Capacity {
             eta_c: Some(over),
             eta_survived: survived,
             level_overturned: Some(level_overturned),
             level_survived,
             points,
+            resurrections,
         });
     }
     Ok(Capacity {
@@ -183,6 +226,10 @@ pub fn capacity(
         level_overturned: None,
         level_survived: survived,
         points,
+        resurrections: match trace {
+            Trace::StopAtFirst => None,
+            Trace::AllLevels => Some(0),
+        },
     })
 }
 

@@ -14,6 +14,7 @@
 //! - [`at2`], [`manifest`], [`motion`]: parsing and record summaries, no I/O;
 //! - [`physics`]: the rocking equations, integrators and events, no I/O;
 //! - [`ida`]: capacity of one record by incremental dynamic analysis, no I/O;
+//! - [`pipeline`]: pipeline files (TOML text) → a typed plan, no I/O;
 //! - [`bench`]: speed-against-error measurements of the solvers (timing only);
 //! - [`plot`]: figures as SVG text;
 //! - [`tables`]: the only module that touches Parquet;
@@ -27,6 +28,7 @@ pub mod ida;
 pub mod manifest;
 pub mod motion;
 pub mod physics;
+pub mod pipeline;
 pub mod plot;
 pub mod stages;
 pub mod tables;

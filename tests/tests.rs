@@ -8,11 +8,14 @@
 //!   against the manifest and the files; bad input and atomic output.
 //! - `physics`: the solvers against closed forms, conservation laws,
 //!   symmetry and the hard cases of issue #3.
+//! - `sweep`: pipelines load; bad ones fail first; capacities against direct
+//!   calls; byte-identical at 1 and 2 threads; shards; resume after a crash.
 //! - `tables`: Parquet round trips, atomic writes, foreign files refused.
 //! - `util`: helpers (running the binary, an independent AT2 reader).
 
 mod cli;
 mod ingest;
 mod physics;
+mod sweep;
 mod tables;
 mod util;

@@ -16,6 +16,7 @@ use crate::at2;
 use crate::ida::{self, ImGrid, Spacing};
 use crate::physics::{self, Excitation, Model, ModelChoice, Overturn, Recorder, RunSpec};
 use crate::stages::ingest::{self, IngestConfig};
+use crate::stages::sweep::{self, Shard, SweepConfig};
 use crate::tables;
 
 mod bench;
@@ -75,6 +76,32 @@ enum Command {
         (the basis of --model auto). Rewrites the marked sections of BENCHMARKS.md in --out-dir \
         and writes the speed–error plot beside it. Takes a few minutes.")]
     Bench(bench::BenchArgs),
+    /// Run a pipeline's IDA study: every record × block, written as Parquet tables.
+    #[command(
+        long_about = "Run a pipeline's IDA study: every record × block, written as Parquet tables.\n\n\
+        Reads pipelines/<name>.toml (keys in pipelines/README.md), traces each record's IDA up to the \
+        block's first overturning and refines the capacity, and writes ida_points.parquet and \
+        capacities.parquet under <outputs>/<name>/. Work is saved in parts as it goes: an interrupted \
+        sweep resumes where it stopped. --shard K/N runs a deterministic K-th of N parts (for batch \
+        arrays); the later stages read the N shard tables as one."
+    )]
+    Sweep(SweepArgs),
+}
+
+#[derive(Debug, clap::Args)]
+struct SweepArgs {
+    /// The pipeline file.
+    #[arg(value_name = "PIPELINE.toml")]
+    pipeline: PathBuf,
+    /// Root of the outputs; the tables go to <outputs>/<pipeline name>/.
+    #[arg(long, default_value = "outputs")]
+    outputs: PathBuf,
+    /// Run only the K-th of N deterministic parts (1 ≤ K ≤ N).
+    #[arg(long, value_name = "K/N")]
+    shard: Option<Shard>,
+    /// Worker threads (default: one per core).
+    #[arg(long)]
+    threads: Option<usize>,
 }
 
 /// The model as chosen on the command line.
@@ -215,6 +242,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Simulate(args) => run_simulate(args),
         Command::Capacity(args) => run_capacity(args),
         Command::Bench(args) => bench::run(args),
+        Command::Sweep(args) => run_sweep(args),
     }
 }
 
@@ -499,4 +527,121 @@ fn run_ingest(args: IngestArgs) -> anyhow::Result<()> {
         }
     );
     Ok(())
+}
+
+/// Reads and resolves a pipeline file.
+pub fn load_pipeline(path: &std::path::Path) -> anyhow::Result<crate::pipeline::Plan> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("{}: cannot read the pipeline", path.display()))?;
+    Ok(crate::pipeline::load_str(&text, path)?)
+}
+
+fn run_sweep(args: SweepArgs) -> anyhow::Result<()> {
+    let started = Instant::now();
+    let plan = load_pipeline(&args.pipeline)?;
+    if args.threads == Some(0) {
+        bail!("--threads must be at least 1");
+    }
+    let config = SweepConfig {
+        plan,
+        outputs: args.outputs,
+        shard: args.shard,
+        threads: args.threads,
+    };
+    let mut show = ProgressLine::new("sweep");
+    let report = sweep::run(&config, |p| {
+        show.update(p.cases_done, p.cases_total, p.cases_resumed, p.runs)
+    })?;
+    show.finish();
+    for m in &report.models {
+        eprintln!("model: {m}");
+    }
+    let secs = started.elapsed().as_secs_f64();
+    let threads = config.threads.unwrap_or_else(rayon::current_num_threads);
+    println!(
+        "swept {} records × {} blocks = {} cases{} ({} resumed from an earlier run): {} runs in {:.1} s \
+         ({:.0} runs/s; {} sample intervals, {:.0} ns each per thread)",
+        report.records,
+        report.blocks,
+        report.cases,
+        config.shard.map_or(String::new(), |s| format!(" in shard {s}")),
+        report.cases_resumed,
+        report.runs,
+        secs,
+        report.runs as f64 / secs.max(1e-9),
+        report.intervals,
+        secs * threads as f64 * 1e9 / (report.intervals.max(1) as f64)
+    );
+    println!(
+        "wrote {} and {}",
+        report.ida_path.display(),
+        report.capacities_path.display()
+    );
+    Ok(())
+}
+
+/// A progress bar with rate and ETA on a terminal, plain log lines otherwise.
+struct ProgressLine {
+    what: &'static str,
+    tty: bool,
+    started: Instant,
+    last_log: Option<Instant>,
+    drawn: bool,
+}
+
+impl ProgressLine {
+    fn new(what: &'static str) -> Self {
+        use std::io::IsTerminal;
+        ProgressLine {
+            what,
+            tty: std::io::stderr().is_terminal(),
+            started: Instant::now(),
+            last_log: None,
+            drawn: false,
+        }
+    }
+
+    fn update(&mut self, done: usize, total: usize, resumed: usize, runs: u64) {
+        let elapsed = self.started.elapsed().as_secs_f64();
+        let computed = done.saturating_sub(resumed);
+        let rate = computed as f64 / elapsed.max(1e-9);
+        let eta = if computed > 0 {
+            (total - done) as f64 / rate
+        } else {
+            f64::NAN
+        };
+        let eta_text = if eta.is_finite() {
+            format!("{eta:.0} s")
+        } else {
+            "?".into()
+        };
+        let runs_rate = runs as f64 / elapsed.max(1e-9);
+        if self.tty {
+            let width = 30;
+            let filled = (done * width).checked_div(total).unwrap_or(width);
+            eprint!(
+                "\r{} [{}{}] {done}/{total} cases, {runs_rate:.0} runs/s, ETA {eta_text}   ",
+                self.what,
+                "#".repeat(filled),
+                " ".repeat(width - filled)
+            );
+            self.drawn = true;
+        } else if self
+            .last_log
+            .is_none_or(|t| t.elapsed().as_secs_f64() >= 10.0)
+            || done == total
+        {
+            eprintln!(
+                "{}: {done}/{total} cases, {runs} runs, {runs_rate:.0} runs/s, ETA {eta_text}",
+                self.what
+            );
+            self.last_log = Some(Instant::now());
+        }
+    }
+
+    fn finish(&mut self) {
+        if self.drawn {
+            eprintln!();
+        }
+    }
 }

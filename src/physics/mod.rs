@@ -69,7 +69,8 @@ pub enum Model {
 pub const LINEARIZATION_ERROR_PER_ALPHA2: f64 = 0.45;
 
 /// The model as a user asks for it; [`ModelChoice::resolve`] makes it a [`Model`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum ModelChoice {
     Linearized,
     Nonlinear,
@@ -130,7 +131,8 @@ impl Model {
 }
 
 /// When a block counts as overturned.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Overturn {
     /// `|x| ≥ 1`: θ reaches α, the static stability limit (the paper's choice).
     Static,
@@ -369,6 +371,8 @@ pub struct Outcome {
     pub overturn_after_record: bool,
     pub impacts: u64,
     pub first_uplift_s: Option<f64>,
+    /// Sample intervals the run went through before it stopped (work done).
+    pub intervals: u64,
 }
 
 impl Outcome {
@@ -595,6 +599,7 @@ fn drive<R: Rocker>(
         overturn_after_record: false,
         impacts: 0,
         first_uplift_s: None,
+        intervals: 0,
     };
     let mut state: Option<Rocking> = start; // None = at rest
     let mut events: u64 = 0;
@@ -617,6 +622,7 @@ fn drive<R: Rocker>(
             out.stop = Stop::RestForGood;
             return out;
         }
+        out.intervals += 1;
         let (g0, g_end) = (psi[k], psi[k + 1]);
         let g1 = (g_end - g0) / dt;
         let t_k = k as f64 * dt;

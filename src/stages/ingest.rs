@@ -119,11 +119,25 @@ pub struct IngestReport {
     pub ignored_manifest_columns: Vec<String>,
 }
 
-/// Runs the ingest stage.
-pub fn run(config: &IngestConfig) -> Result<IngestReport, IngestError> {
-    let files = discover(&config.paths)?;
-    let manifest = match &config.manifest {
-        Some(path) => Some((path.clone(), load_manifest(path)?)),
+/// Records read and checked, not yet written.
+#[derive(Debug)]
+pub struct Collected {
+    pub rows: Vec<RecordRow>,
+    pub skipped: Vec<BadFile>,
+    pub not_in_manifest: Vec<String>,
+    pub ignored_manifest_columns: Vec<String>,
+}
+
+/// Reads, checks and joins the records, without writing: the part of ingest
+/// that the sweep also uses when a pipeline names AT2 files directly.
+pub fn collect(
+    paths: &[PathBuf],
+    manifest_path: Option<&Path>,
+    skip_bad: bool,
+) -> Result<Collected, IngestError> {
+    let files = discover(paths)?;
+    let manifest = match manifest_path {
+        Some(path) => Some((path.to_path_buf(), load_manifest(path)?)),
         None => None,
     };
 
@@ -182,13 +196,24 @@ pub fn run(config: &IngestConfig) -> Result<IngestReport, IngestError> {
     }
 
     bad.sort_by(|a, b| a.path.cmp(&b.path));
-    if !bad.is_empty() && !config.skip_bad {
+    if !bad.is_empty() && !skip_bad {
         return Err(IngestError::BadFiles(bad));
     }
     if rows.is_empty() {
         return Err(IngestError::AllBad(bad));
     }
+    Ok(Collected {
+        rows,
+        skipped: bad,
+        not_in_manifest,
+        ignored_manifest_columns: manifest.map(|(_, m)| m.ignored_columns).unwrap_or_default(),
+    })
+}
 
+/// Runs the ingest stage.
+pub fn run(config: &IngestConfig) -> Result<IngestReport, IngestError> {
+    let collected = collect(&config.paths, config.manifest.as_deref(), config.skip_bad)?;
+    let rows = collected.rows;
     let mut settings = vec![(
         "rocking.ingest.paths".to_string(),
         config
@@ -214,9 +239,9 @@ pub fn run(config: &IngestConfig) -> Result<IngestReport, IngestError> {
         records: rows.len(),
         samples: rows.iter().map(|r| r.accel_g.len()).sum(),
         per_set,
-        skipped: bad,
-        not_in_manifest,
-        ignored_manifest_columns: manifest.map(|(_, m)| m.ignored_columns).unwrap_or_default(),
+        skipped: collected.skipped,
+        not_in_manifest: collected.not_in_manifest,
+        ignored_manifest_columns: collected.ignored_manifest_columns,
     })
 }
 

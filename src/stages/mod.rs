@@ -5,7 +5,9 @@
 //! [`crate::tables`]. Stages print nothing: they return a report that the CLI
 //! presents.
 //!
-//! Stages so far: [`ingest`] (AT2 files → records table). Sweep, reduce and
-//! fit follow the same shape.
+//! Stages so far: [`ingest`] (AT2 files → records table) and [`sweep`] (IDA
+//! of every record × block → IDA points and capacities). Reduce and fit
+//! follow the same shape.
 
 pub mod ingest;
+pub mod sweep;

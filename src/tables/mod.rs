@@ -13,6 +13,7 @@
 
 pub mod history;
 pub mod records;
+pub mod sweep;
 
 use std::fs::{self, File};
 use std::io;
@@ -36,6 +37,10 @@ pub const META_CRATE_VERSION: &str = "rocking.crate_version";
 /// zstd level for every table: level 3 is zstd's default, a good
 /// speed/size balance for float columns.
 const ZSTD_LEVEL: i32 = 3;
+
+/// Rows per row group: bounds the writer's buffer (a million-run sweep is
+/// streamed, never held whole).
+const ROW_GROUP_ROWS: usize = 65_536;
 
 #[derive(Debug, thiserror::Error)]
 pub enum TableError {
@@ -141,6 +146,7 @@ impl AtomicTableWriter {
                 ZstdLevel::try_new(ZSTD_LEVEL).expect("zstd level 3 is valid"),
             ))
             .set_key_value_metadata(Some(kv))
+            .set_max_row_group_row_count(Some(ROW_GROUP_ROWS))
             .build();
         // Constructed before the writer so that a failure below removes the file.
         let mut this = AtomicTableWriter {
@@ -241,6 +247,47 @@ impl TableContents {
             .find(|(k, _)| k == key)
             .map(|(_, v)| v.as_str())
     }
+}
+
+/// Writes the tables `parts` (each of `kind`) one after another into `dest`,
+/// one part in memory at a time.
+pub fn concat(
+    dest: &Path,
+    kind: TableKind,
+    schema: Arc<Schema>,
+    parts: &[PathBuf],
+    settings: &[(String, String)],
+) -> Result<(), TableError> {
+    let mut w = AtomicTableWriter::create(dest, kind, schema, settings)?;
+    for part in parts {
+        for batch in read_table(part, kind)?.batches {
+            w.write(&batch)?;
+        }
+    }
+    w.commit()
+}
+
+/// The key-value metadata of a Parquet file (its footer only).
+pub fn read_metadata(path: &Path) -> Result<Vec<(String, String)>, TableError> {
+    let file = File::open(path).map_err(|source| TableError::Io {
+        path: path.into(),
+        source,
+    })?;
+    let builder =
+        ParquetRecordBatchReaderBuilder::try_new(file).map_err(|source| TableError::Parquet {
+            path: path.into(),
+            source,
+        })?;
+    Ok(builder
+        .metadata()
+        .file_metadata()
+        .key_value_metadata()
+        .map(|kv| {
+            kv.iter()
+                .map(|e| (e.key.clone(), e.value.clone().unwrap_or_default()))
+                .collect()
+        })
+        .unwrap_or_default())
 }
 
 /// Reads a whole table, checking that it is `kind` at the schema version

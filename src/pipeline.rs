@@ -1,0 +1,630 @@
+//! Pipeline files: TOML in, a typed plan out (pure: text in, values out).
+//!
+//! Two layers (ripgrep's LowArgs/HiArgs): [`RawPipeline`] mirrors the file
+//! with `deny_unknown_fields`, so a misspelt key is an error that names it;
+//! [`resolve`] checks every value and builds the [`Plan`] the stages see:
+//! paths resolved against the pipeline file's folder, grids expanded into
+//! lists, the model and overturning criterion typed. Every key is documented
+//! in `pipelines/README.md`.
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::ida::{ImGrid, Spacing, Trace};
+use crate::physics::{ModelChoice, Overturn};
+
+/// Standard gravity (m/s²), for physical blocks.
+pub const G: f64 = 9.80665;
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawPipeline {
+    pub name: Option<String>,
+    pub description: Option<String>,
+    pub records: RawRecords,
+    #[serde(default)]
+    pub model: RawModel,
+    #[serde(default)]
+    pub blocks: RawBlocks,
+    #[serde(default)]
+    pub block: Vec<RawBlock>,
+    #[serde(default)]
+    pub im: RawIm,
+    #[serde(default)]
+    pub reduce: RawReduce,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawRecords {
+    /// A records table written by `rocking ingest`.
+    pub table: Option<String>,
+    /// Or AT2 files/folders, read directly.
+    pub at2: Option<Vec<String>>,
+    pub manifest: Option<String>,
+    #[serde(default)]
+    pub sets: Vec<String>,
+    #[serde(default)]
+    pub ids: Vec<String>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawModel {
+    #[serde(default = "default_kind")]
+    pub kind: String,
+    pub alpha: Option<f64>,
+    #[serde(default = "default_rtol")]
+    pub rtol: f64,
+    #[serde(default = "default_auto_tol")]
+    pub auto_tol: f64,
+    #[serde(default = "default_overturn")]
+    pub overturn: String,
+}
+
+fn default_kind() -> String {
+    "linearized".into()
+}
+fn default_rtol() -> f64 {
+    1e-8
+}
+fn default_auto_tol() -> f64 {
+    0.01
+}
+fn default_overturn() -> String {
+    "static".into()
+}
+
+impl Default for RawModel {
+    fn default() -> Self {
+        RawModel {
+            kind: default_kind(),
+            alpha: None,
+            rtol: default_rtol(),
+            auto_tol: default_auto_tol(),
+            overturn: default_overturn(),
+        }
+    }
+}
+
+/// A list of values, or a range with a count.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum RawValues {
+    List(Vec<f64>),
+    Range(RawRange),
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawRange {
+    pub from: f64,
+    pub to: f64,
+    pub count: usize,
+    #[serde(default = "default_linear")]
+    pub spacing: Spacing,
+}
+
+fn default_linear() -> Spacing {
+    Spacing::Linear
+}
+
+/// The dimensionless grid of the paper: every p with every ε.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawBlocks {
+    pub p: Option<RawValues>,
+    pub eps: Option<RawValues>,
+}
+
+/// A physical block: half-width b and half-height h (m), and ε (a number or
+/// "housner" for Housner's bound 1 − 1.5 sin²α).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawBlock {
+    pub name: Option<String>,
+    pub b: f64,
+    pub h: f64,
+    pub eps: toml::Value,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawIm {
+    #[serde(default = "default_log")]
+    pub spacing: Spacing,
+    #[serde(default = "default_count")]
+    pub count: usize,
+    #[serde(default = "default_eta_max")]
+    pub eta_max: f64,
+    #[serde(default = "default_eta_min")]
+    pub eta_min: f64,
+    #[serde(default = "default_tol")]
+    pub tol: f64,
+    #[serde(default)]
+    pub trace_past_first: bool,
+}
+
+fn default_log() -> Spacing {
+    Spacing::Log
+}
+fn default_count() -> usize {
+    200
+}
+fn default_eta_max() -> f64 {
+    1.0
+}
+fn default_eta_min() -> f64 {
+    1e-3
+}
+fn default_tol() -> f64 {
+    1e-4
+}
+
+impl Default for RawIm {
+    fn default() -> Self {
+        RawIm {
+            spacing: default_log(),
+            count: default_count(),
+            eta_max: default_eta_max(),
+            eta_min: default_eta_min(),
+            tol: default_tol(),
+            trace_past_first: false,
+        }
+    }
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawReduce {
+    #[serde(default = "default_fractile")]
+    pub fractile: String,
+}
+
+fn default_fractile() -> String {
+    "type7".into()
+}
+
+impl Default for RawReduce {
+    fn default() -> Self {
+        RawReduce {
+            fractile: default_fractile(),
+        }
+    }
+}
+
+/// Where the records come from.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RecordSource {
+    /// A records table written by `rocking ingest`.
+    Table(PathBuf),
+    /// AT2 files or folders, with an optional manifest, read directly.
+    At2 {
+        paths: Vec<PathBuf>,
+        manifest: Option<PathBuf>,
+    },
+}
+
+/// Fractile definitions (Hyndman & Fan 1996) that reduce can use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FractileDef {
+    /// Linear interpolation between order statistics, p(k) = (k − 1)/(n − 1):
+    /// numpy's and R's default.
+    Type7,
+    /// p(k) = (k − 0.5)/n: MATLAB's `prctile`.
+    Type5,
+    /// p(k) = k/(n + 1): Weibull plotting positions.
+    Type6,
+    /// p(k) = (k − 1/3)/(n + 1/3): approximately median-unbiased (statrs' default).
+    Type8,
+}
+
+impl FractileDef {
+    pub const NAMES: &'static str = "type7 (default), type5 (MATLAB prctile), type6, type8";
+
+    pub fn parse(name: &str) -> Option<Self> {
+        match name {
+            "type7" => Some(FractileDef::Type7),
+            "type5" => Some(FractileDef::Type5),
+            "type6" => Some(FractileDef::Type6),
+            "type8" => Some(FractileDef::Type8),
+            _ => None,
+        }
+    }
+}
+
+/// One block of the study.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BlockSpec {
+    /// Label (physical blocks) or empty (grid).
+    pub name: String,
+    pub p: f64,
+    pub eps: f64,
+    /// Slenderness, when known (physical blocks, or the model's `alpha`).
+    pub alpha_rad: Option<f64>,
+}
+
+/// The resolved plan: what every stage of a pipeline sees.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Plan {
+    pub name: String,
+    pub description: String,
+    pub records: RecordSource,
+    pub sets: Vec<String>,
+    pub ids: Vec<String>,
+    pub model: ModelChoice,
+    pub rtol: f64,
+    pub auto_tol: f64,
+    pub overturn: Overturn,
+    /// Blocks in study order (p outer, ε inner for the grid).
+    pub blocks: Vec<BlockSpec>,
+    pub grid: ImGrid,
+    pub tol: f64,
+    pub trace: Trace,
+    pub fractile: FractileDef,
+}
+
+/// A pipeline file that cannot be used, and why: names the file and the key.
+#[derive(Debug, thiserror::Error)]
+#[error("{path}: {message}")]
+pub struct PipelineError {
+    pub path: PathBuf,
+    pub message: String,
+}
+
+/// Parses and resolves a pipeline file's text. `path` names the file in
+/// errors and anchors relative paths (they are relative to its folder).
+pub fn load_str(text: &str, path: &Path) -> Result<Plan, PipelineError> {
+    let err = |message: String| PipelineError {
+        path: path.to_path_buf(),
+        message,
+    };
+    let raw: RawPipeline =
+        toml::from_str(text).map_err(|e| err(e.to_string().trim_end().to_string()))?;
+    resolve(raw, path)
+}
+
+fn values(key: &str, v: &RawValues) -> Result<Vec<f64>, String> {
+    match v {
+        RawValues::List(list) => {
+            if list.is_empty() {
+                return Err(format!("`{key}` is an empty list"));
+            }
+            Ok(list.clone())
+        }
+        RawValues::Range(r) => {
+            if r.count == 0 {
+                return Err(format!("`{key}.count` must be at least 1"));
+            }
+            if r.count == 1 {
+                return Ok(vec![r.from]);
+            }
+            if r.spacing == Spacing::Log && !(r.from > 0.0 && r.to > 0.0) {
+                return Err(format!(
+                    "`{key}`: log spacing needs positive `from` and `to`"
+                ));
+            }
+            let n = (r.count - 1) as f64;
+            Ok((0..r.count)
+                .map(|k| {
+                    let f = k as f64 / n;
+                    if k == r.count - 1 {
+                        return r.to;
+                    }
+                    match r.spacing {
+                        Spacing::Linear => r.from + (r.to - r.from) * f,
+                        Spacing::Log => r.from * (r.to / r.from).powf(f),
+                    }
+                })
+                .collect())
+        }
+    }
+}
+
+/// Checks every value of a raw pipeline and builds the plan.
+pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
+    let err = |message: String| PipelineError {
+        path: path.to_path_buf(),
+        message,
+    };
+    let base = path.parent().unwrap_or(Path::new("."));
+    let rel = |p: &str| -> PathBuf {
+        let p = PathBuf::from(p);
+        if p.is_absolute() {
+            p
+        } else {
+            base.join(p)
+        }
+    };
+    let name = match raw.name {
+        Some(n) => n,
+        None => path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+    };
+    if name.is_empty() || name.contains(['/', '\\']) || name.starts_with('.') {
+        return Err(err(format!(
+            "`name` = {name:?} must be a plain folder name"
+        )));
+    }
+
+    let records = match (&raw.records.table, &raw.records.at2) {
+        (Some(t), None) => {
+            if raw.records.manifest.is_some() {
+                return Err(err("`records.manifest` goes with `records.at2`; a table already holds the metadata".into()));
+            }
+            RecordSource::Table(rel(t))
+        }
+        (None, Some(paths)) if !paths.is_empty() => RecordSource::At2 {
+            paths: paths.iter().map(|p| rel(p)).collect(),
+            manifest: raw.records.manifest.as_deref().map(rel),
+        },
+        (None, Some(_)) => return Err(err("`records.at2` is an empty list".into())),
+        (None, None) => {
+            return Err(err(
+                "`records` needs `table` (a records table from `rocking ingest`) or `at2` (AT2 files or folders)".into(),
+            ))
+        }
+        (Some(_), Some(_)) => return Err(err("`records`: give `table` or `at2`, not both".into())),
+    };
+
+    let model = match raw.model.kind.as_str() {
+        "linearized" => ModelChoice::Linearized,
+        "nonlinear" => ModelChoice::Nonlinear,
+        "auto" => ModelChoice::Auto,
+        other => {
+            return Err(err(format!(
+                "`model.kind` = \"{other}\"; valid: linearized, nonlinear, auto"
+            )));
+        }
+    };
+    let overturn: Overturn = raw
+        .model
+        .overturn
+        .parse()
+        .map_err(|e: crate::physics::PhysicsError| err(format!("`model.overturn`: {e}")))?;
+    if !(raw.model.rtol > 0.0 && raw.model.rtol < 1e-2) {
+        return Err(err(format!(
+            "`model.rtol` = {} must be in (0, 0.01)",
+            raw.model.rtol
+        )));
+    }
+    if raw.model.auto_tol.is_nan() || raw.model.auto_tol <= 0.0 {
+        return Err(err(format!(
+            "`model.auto_tol` = {} must be positive",
+            raw.model.auto_tol
+        )));
+    }
+    let model_alpha = raw.model.alpha;
+    if let Some(a) = model_alpha {
+        if !(a > 0.0 && a < std::f64::consts::FRAC_PI_2) {
+            return Err(err(format!("`model.alpha` = {a} rad must be in (0, π/2)")));
+        }
+    }
+
+    let check_eps = |key: &str, e: f64| {
+        if e > 0.0 && e <= 1.0 {
+            Ok(())
+        } else {
+            Err(err(format!("`{key}` holds ε = {e}; ε must be in (0, 1]")))
+        }
+    };
+    let mut blocks = Vec::new();
+    match (&raw.blocks.p, &raw.blocks.eps, raw.block.is_empty()) {
+        (Some(p), Some(eps), true) => {
+            let ps = values("blocks.p", p).map_err(&err)?;
+            let epss = values("blocks.eps", eps).map_err(&err)?;
+            for &pv in &ps {
+                if !(pv > 0.0 && pv.is_finite()) {
+                    return Err(err(format!(
+                        "`blocks.p` holds p = {pv}; p must be positive (1/s)"
+                    )));
+                }
+            }
+            for &e in &epss {
+                check_eps("blocks.eps", e)?;
+            }
+            for &pv in &ps {
+                for &e in &epss {
+                    blocks.push(BlockSpec {
+                        name: String::new(),
+                        p: pv,
+                        eps: e,
+                        alpha_rad: model_alpha,
+                    });
+                }
+            }
+        }
+        (None, None, false) => {
+            for (i, b) in raw.block.iter().enumerate() {
+                let key = format!("block[{i}]");
+                if !(b.b > 0.0 && b.h > 0.0 && b.b.is_finite() && b.h.is_finite()) {
+                    return Err(err(format!("`{key}`: b and h must be positive (m)")));
+                }
+                let alpha = (b.b / b.h).atan();
+                let r = (b.b * b.b + b.h * b.h).sqrt();
+                let p = (3.0 * G / (4.0 * r)).sqrt();
+                let eps = match &b.eps {
+                    toml::Value::Float(e) => *e,
+                    toml::Value::Integer(e) => *e as f64,
+                    toml::Value::String(s) if s == "housner" => 1.0 - 1.5 * alpha.sin().powi(2),
+                    other => {
+                        return Err(err(format!(
+                            "`{key}.eps` = {other:?}; give a number in (0, 1] or \"housner\""
+                        )));
+                    }
+                };
+                check_eps(&format!("{key}.eps"), eps)?;
+                blocks.push(BlockSpec {
+                    name: b
+                        .name
+                        .clone()
+                        .unwrap_or_else(|| format!("b{}xh{}", b.b, b.h)),
+                    p,
+                    eps,
+                    alpha_rad: Some(alpha),
+                });
+            }
+        }
+        (None, None, true) => {
+            return Err(err("no blocks: give `[blocks]` with `p` and `eps`, or `[[block]]` entries with b, h, eps".into()));
+        }
+        (Some(_), None, _) => return Err(err("`blocks.p` without `blocks.eps`".into())),
+        (None, Some(_), _) => return Err(err("`blocks.eps` without `blocks.p`".into())),
+        (_, _, false) => {
+            return Err(err(
+                "give either `[blocks]` (a p × ε grid) or `[[block]]` entries, not both".into(),
+            ))
+        }
+    }
+    if model == ModelChoice::Nonlinear && blocks.iter().any(|b| b.alpha_rad.is_none()) {
+        return Err(err(
+            "`model.kind` = \"nonlinear\" needs `model.alpha` (or physical `[[block]]` entries)"
+                .into(),
+        ));
+    }
+    if overturn == Overturn::OnSide && model == ModelChoice::Linearized {
+        return Err(err(
+            "`model.overturn` = \"on-side\" needs the nonlinear model".into(),
+        ));
+    }
+
+    let im = &raw.im;
+    let grid = ImGrid {
+        eta_max: im.eta_max,
+        eta_min: im.eta_min,
+        count: im.count,
+        spacing: im.spacing,
+    };
+    grid.levels().map_err(|e| err(format!("`im`: {e}")))?;
+    if !(im.tol > 0.0 && im.tol.is_finite()) {
+        return Err(err(format!("`im.tol` = {} must be positive", im.tol)));
+    }
+    let fractile = FractileDef::parse(&raw.reduce.fractile).ok_or_else(|| {
+        err(format!(
+            "`reduce.fractile` = \"{}\"; valid: {}",
+            raw.reduce.fractile,
+            FractileDef::NAMES
+        ))
+    })?;
+
+    Ok(Plan {
+        name,
+        description: raw.description.unwrap_or_default(),
+        records,
+        sets: raw.records.sets,
+        ids: raw.records.ids,
+        model,
+        rtol: raw.model.rtol,
+        auto_tol: raw.model.auto_tol,
+        overturn,
+        blocks,
+        grid,
+        tol: im.tol,
+        trace: if im.trace_past_first {
+            Trace::AllLevels
+        } else {
+            Trace::StopAtFirst
+        },
+        fractile,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const MINIMAL: &str = r#"
+        [records]
+        at2 = ["../records/fema-p695"]
+        manifest = "../records/fema-p695/manifest.csv"
+        sets = ["far-field"]
+        [blocks]
+        p = { from = 0.33, to = 10.0, count = 12, spacing = "log" }
+        eps = [0.5, 0.95]
+    "#;
+
+    #[test]
+    fn resolves_grids_and_paths() {
+        let plan = load_str(MINIMAL, Path::new("pipelines/x.toml")).unwrap();
+        assert_eq!(plan.name, "x");
+        assert_eq!(plan.blocks.len(), 24);
+        assert_eq!(plan.blocks[0].p, 0.33);
+        assert_eq!(plan.blocks[23].p, 10.0);
+        assert!(
+            (plan.blocks[2].p / plan.blocks[0].p - (10.0f64 / 0.33).powf(1.0 / 11.0)).abs() < 1e-12
+        );
+        assert_eq!((plan.blocks[0].eps, plan.blocks[1].eps), (0.5, 0.95));
+        assert_eq!(
+            plan.records,
+            RecordSource::At2 {
+                paths: vec![PathBuf::from("pipelines/../records/fema-p695")],
+                manifest: Some(PathBuf::from("pipelines/../records/fema-p695/manifest.csv")),
+            }
+        );
+        assert_eq!(plan.grid, ImGrid::default());
+        assert_eq!(plan.fractile, FractileDef::Type7);
+    }
+
+    #[test]
+    fn physical_blocks_get_p_alpha_and_housner_eps() {
+        let text = r#"
+            [records]
+            table = "r.parquet"
+            [[block]]
+            name = "cabinet"
+            b = 0.3
+            h = 1.0
+            eps = "housner"
+        "#;
+        let plan = load_str(text, Path::new("p.toml")).unwrap();
+        let b = &plan.blocks[0];
+        let alpha = 0.3f64.atan();
+        assert!((b.alpha_rad.unwrap() - alpha).abs() < 1e-15);
+        assert!((b.p - (3.0 * G / (4.0 * 1.09f64.sqrt())).sqrt()).abs() < 1e-12);
+        assert!((b.eps - (1.0 - 1.5 * alpha.sin().powi(2))).abs() < 1e-15);
+    }
+
+    #[test]
+    fn errors_name_the_key_and_the_choices() {
+        let cases = [
+            (MINIMAL.replace("sets =", "setz ="), "setz"),
+            (
+                MINIMAL.replace("eps = [0.5, 0.95]", "eps = [0.5, 1.5]"),
+                "ε must be in (0, 1]",
+            ),
+            (MINIMAL.replace("from = 0.33", "from = -1.0"), "log spacing"),
+            (
+                MINIMAL.replace(
+                    "p = { from = 0.33, to = 10.0, count = 12, spacing = \"log\" }",
+                    "p = [0.0]",
+                ),
+                "p must be positive",
+            ),
+            (
+                format!("{MINIMAL}\n[model]\nkind = \"quadratic\"\n"),
+                "valid: linearized, nonlinear, auto",
+            ),
+            (
+                format!("{MINIMAL}\n[model]\nkind = \"nonlinear\"\n"),
+                "model.alpha",
+            ),
+            (
+                format!("{MINIMAL}\n[reduce]\nfractile = \"type9\"\n"),
+                "valid: type7",
+            ),
+            (format!("{MINIMAL}\n[im]\neta_min = 2.0\n"), "`im`"),
+        ];
+        for (text, expected) in cases {
+            let e = load_str(&text, Path::new("pipelines/bad.toml"))
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(expected), "expected `{expected}` in: {e}");
+            assert!(e.starts_with("pipelines/bad.toml"), "{e}");
+        }
+    }
+}

@@ -1,0 +1,336 @@
+//! `rocking sweep`: shipped pipelines load, bad pipelines fail before any run,
+//! capacities equal direct `rocking capacity` calls, output is byte-identical
+//! at 1 and 2 threads, shards merge to the unsharded result, and a sweep
+//! killed mid-way resumes to the same tables.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use rocking::ida::{ImGrid, Spacing};
+use rocking::physics::{simulate, Excitation, Model, RunSpec};
+use rocking::pipeline;
+use rocking::stages::sweep::{read_capacities, read_ida, FAULT_ENV};
+
+use crate::util::{bundled_records, rocking, root, stderr, tempdir, TempDir};
+
+#[test]
+fn every_shipped_pipeline_loads() {
+    let mut n = 0;
+    for entry in fs::read_dir(root().join("pipelines")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let text = fs::read_to_string(&path).unwrap();
+            let plan = pipeline::load_str(&text, &path).unwrap_or_else(|e| panic!("{e}"));
+            assert!(!plan.blocks.is_empty(), "{}", path.display());
+            n += 1;
+            if plan.name == "paper" {
+                // The paper's grid: 12 p log-spaced 0.33–10, ε = 0.50, 0.55, …, 0.95, 200 levels.
+                assert_eq!(plan.blocks.len(), 120);
+                let ps: Vec<f64> = plan.blocks.iter().step_by(10).map(|b| b.p).collect();
+                assert_eq!((ps[0], ps[11]), (0.33, 10.0));
+                let eps: Vec<f64> = plan.blocks[..10].iter().map(|b| b.eps).collect();
+                for (k, e) in eps.iter().enumerate() {
+                    assert!((e - (0.5 + 0.05 * k as f64)).abs() < 1e-12);
+                }
+                assert_eq!(plan.grid.count, 200);
+                assert_eq!(plan.sets, ["far-field"]);
+            }
+        }
+    }
+    assert!(n >= 3);
+}
+
+/// Writes a pipeline file into `dir` reading the bundled records by absolute path.
+fn write_pipeline(dir: &Path, name: &str, body: &str) -> PathBuf {
+    let rec = bundled_records();
+    let text = format!(
+        "name = \"{name}\"\n[records]\nat2 = [\"{}\"]\nmanifest = \"{}\"\n{body}",
+        rec.display(),
+        rec.join("manifest.csv").display()
+    );
+    let path = dir.join(format!("{name}.toml"));
+    fs::write(&path, text).unwrap();
+    path
+}
+
+const SMALL: &str = r#"ids = ["RSN1111_KOBE_NIS000", "RSN953_NORTHR_MUL009"]
+[blocks]
+p = [1.5, 4.0]
+eps = [0.8]
+[im]
+count = 60
+eta_min = 0.01
+tol = 1e-4
+trace_past_first = true
+"#;
+
+fn sweep(dir: &TempDir, pipeline: &Path, extra: &[&str]) -> std::process::Output {
+    let out_dir = dir.path().join("out");
+    let mut args = vec![
+        "sweep",
+        pipeline.to_str().unwrap(),
+        "--outputs",
+        out_dir.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    rocking(dir.path(), &args)
+}
+
+#[test]
+fn capacities_equal_direct_capacity_calls_and_resurrections_are_counted() {
+    let dir = tempdir();
+    let pipe = write_pipeline(dir.path(), "small", SMALL);
+    let out = sweep(&dir, &pipe, &[]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let caps = read_capacities(&dir.path().join("out/small")).unwrap();
+    assert_eq!(caps.len(), 4);
+    // Records sorted by id, then the blocks in plan order.
+    let order: Vec<(&str, f64)> = caps.iter().map(|c| (c.record_id.as_str(), c.p)).collect();
+    assert_eq!(
+        order,
+        [
+            ("RSN1111_KOBE_NIS000", 1.5),
+            ("RSN1111_KOBE_NIS000", 4.0),
+            ("RSN953_NORTHR_MUL009", 1.5),
+            ("RSN953_NORTHR_MUL009", 4.0)
+        ]
+    );
+    for c in &caps {
+        let record = format!("records/fema-p695/far-field/{}.AT2", c.record_id);
+        let p = c.p.to_string();
+        let direct = rocking(
+            &root(),
+            &[
+                "capacity",
+                "--record",
+                &record,
+                "--p",
+                &p,
+                "--eps",
+                "0.8",
+                "--levels",
+                "60",
+                "--eta-min",
+                "0.01",
+                "--json",
+            ],
+        );
+        assert!(direct.status.success(), "{}", stderr(&direct));
+        let v: serde_json::Value = serde_json::from_slice(&direct.stdout).unwrap();
+        assert_eq!(c.eta_c, v["eta_c"].as_f64(), "{}", c.record_id);
+        assert_eq!(c.eta_survived, v["eta_survived"].as_f64().unwrap());
+        assert_eq!(c.level_survived, v["level_survived"].as_f64().unwrap());
+
+        // Resurrections: levels stronger than the first overturning that
+        // survive, counted here by running them one by one.
+        let at2 = rocking::at2::parse(&fs::read(root().join(&record)).unwrap()).unwrap();
+        let exc = Excitation::new(&at2.accel_g, at2.dt_s).unwrap();
+        let grid = ImGrid {
+            eta_max: 1.0,
+            eta_min: 0.01,
+            count: 60,
+            spacing: Spacing::Log,
+        };
+        let first = c.level_overturned.unwrap();
+        let survived = grid
+            .levels()
+            .unwrap()
+            .into_iter()
+            .filter(|&eta| eta < first)
+            .filter(|&eta| {
+                !simulate(&exc, &RunSpec::new(c.p, 0.8, eta, Model::Linearized))
+                    .unwrap()
+                    .overturned()
+            })
+            .count();
+        assert_eq!(
+            c.resurrections,
+            Some(survived as i64),
+            "{} p = {}",
+            c.record_id,
+            c.p
+        );
+    }
+    // IDA points: EDP is +∞ exactly where the run overturned, and every run of a case is there.
+    let ida = read_ida(&dir.path().join("out/small")).unwrap();
+    for c in &caps {
+        let runs: Vec<_> = ida.iter().filter(|r| r.case_id == c.case_id).collect();
+        assert_eq!(runs.len() as i64, c.runs);
+        for r in runs {
+            assert_eq!(r.edp.is_infinite(), r.overturned);
+            assert_eq!(r.pga_scale, 1.0 / r.eta);
+        }
+    }
+}
+
+/// A pipeline of 3 records × 24 blocks = 72 cases: three chunks of 32.
+const THREE_CHUNKS: &str = r#"ids = ["RSN1111_KOBE_NIS000", "RSN953_NORTHR_MUL009", "RSN1633_MANJIL_ABBAR--L"]
+[blocks]
+p = { from = 0.5, to = 8.0, count = 6, spacing = "log" }
+eps = [0.6, 0.7, 0.8, 0.9]
+[im]
+count = 40
+eta_min = 0.01
+"#;
+
+#[test]
+fn output_is_byte_identical_at_one_and_two_threads() {
+    let dir = tempdir();
+    let pipe = write_pipeline(dir.path(), "t", THREE_CHUNKS);
+    let mut files = Vec::new();
+    for threads in ["1", "2"] {
+        let out_dir = dir.path().join(format!("out{threads}"));
+        let out = rocking(
+            dir.path(),
+            &[
+                "sweep",
+                pipe.to_str().unwrap(),
+                "--outputs",
+                out_dir.to_str().unwrap(),
+                "--threads",
+                threads,
+            ],
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+        files.push((
+            fs::read(out_dir.join("t/ida_points.parquet")).unwrap(),
+            fs::read(out_dir.join("t/capacities.parquet")).unwrap(),
+        ));
+    }
+    assert!(files[0].0 == files[1].0, "ida_points differ");
+    assert!(files[0].1 == files[1].1, "capacities differ");
+}
+
+#[test]
+fn three_shards_merge_to_the_unsharded_result() {
+    let dir = tempdir();
+    let pipe = write_pipeline(dir.path(), "s", THREE_CHUNKS);
+    let whole = sweep(&dir, &pipe, &[]);
+    assert!(whole.status.success(), "{}", stderr(&whole));
+    let expected_caps = read_capacities(&dir.path().join("out/s")).unwrap();
+    let expected_ida = read_ida(&dir.path().join("out/s")).unwrap();
+
+    let sharded = tempdir();
+    let pipe = write_pipeline(sharded.path(), "s", THREE_CHUNKS);
+    let folder = sharded.path().join("out/s");
+    for k in 1..=3 {
+        let shard = format!("{k}/3");
+        let out = sweep(&sharded, &pipe, &["--shard", &shard]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        if k < 3 {
+            // An incomplete set of shards is refused, naming what is missing.
+            let e = read_capacities(&folder).unwrap_err().to_string();
+            assert!(e.contains("missing") && e.contains("/3"), "{e}");
+        }
+    }
+    assert_eq!(read_capacities(&folder).unwrap(), expected_caps);
+    assert_eq!(read_ida(&folder).unwrap(), expected_ida);
+}
+
+#[test]
+fn a_killed_sweep_resumes_to_the_same_tables() {
+    let dir = tempdir();
+    let pipe = write_pipeline(dir.path(), "r", THREE_CHUNKS);
+    let reference = tempdir();
+    let ref_pipe = write_pipeline(reference.path(), "r", THREE_CHUNKS);
+    assert!(sweep(&reference, &ref_pipe, &[]).status.success());
+
+    // Crash (abort) right after the first chunk is saved.
+    let out_dir = dir.path().join("out");
+    let crashed = std::process::Command::new(env!("CARGO_BIN_EXE_rocking"))
+        .args([
+            "sweep",
+            pipe.to_str().unwrap(),
+            "--outputs",
+            out_dir.to_str().unwrap(),
+        ])
+        .env(FAULT_ENV, "1")
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(!crashed.status.success());
+    let folder = out_dir.join("r");
+    assert!(
+        !folder.join("capacities.parquet").exists(),
+        "no final table after a crash"
+    );
+    let parts: Vec<_> = fs::read_dir(folder.join("parts"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(
+        parts.len(),
+        2,
+        "one whole chunk (two files), nothing half-written: {parts:?}"
+    );
+
+    let resumed = sweep(&dir, &pipe, &[]);
+    assert!(resumed.status.success(), "{}", stderr(&resumed));
+    let text = String::from_utf8_lossy(&resumed.stdout);
+    assert!(text.contains("(32 resumed from an earlier run)"), "{text}");
+    for table in ["ida_points.parquet", "capacities.parquet"] {
+        let a = fs::read(folder.join(table)).unwrap();
+        let b = fs::read(reference.path().join("out/r").join(table)).unwrap();
+        assert!(a == b, "{table} differs after resuming");
+    }
+    assert!(
+        !folder.join("parts").exists(),
+        "parts are cleaned up after the merge"
+    );
+}
+
+#[test]
+fn bad_pipelines_fail_before_any_run_naming_the_key() {
+    let dir = tempdir();
+    let grid = "[blocks]\np = [1.0]\neps = [0.8]\n";
+    let cases: Vec<(String, &str)> = vec![
+        (
+            format!("{grid}[im]\ncount = 10\nsteps = 3\n"),
+            "unknown field `steps`",
+        ),
+        (
+            "[blocks]\np = [1.0]\neps = [0.0]\n".into(),
+            "ε must be in (0, 1]",
+        ),
+        (
+            "[blocks]\np = [-2.0]\neps = [0.8]\n".into(),
+            "p must be positive",
+        ),
+        (
+            format!("sets = [\"mars\"]\n{grid}"),
+            "available: far-field, near-field-no-pulse, near-field-pulse",
+        ),
+        (format!("ids = [\"NOPE\"]\n{grid}"), "no record NOPE"),
+    ];
+    for (i, (body, expected)) in cases.iter().enumerate() {
+        let name = format!("bad{i}");
+        let pipe = write_pipeline(dir.path(), &name, body);
+        let out = sweep(&dir, &pipe, &[]);
+        assert!(!out.status.success(), "{body}");
+        let err = stderr(&out);
+        assert!(err.contains(expected), "expected `{expected}` in: {err}");
+        assert!(!dir
+            .path()
+            .join("out")
+            .join(&name)
+            .join("capacities.parquet")
+            .exists());
+    }
+    // A records table that does not exist.
+    let pipe = dir.path().join("missing.toml");
+    fs::write(
+        &pipe,
+        format!("[records]\ntable = \"nowhere/records.parquet\"\n{grid}"),
+    )
+    .unwrap();
+    let out = sweep(&dir, &pipe, &[]);
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("nowhere/records.parquet") && stderr(&out).contains("rocking ingest"),
+        "{}",
+        stderr(&out)
+    );
+    // The name of an unknown key comes with the file.
+    let out = sweep(&dir, &dir.path().join("bad0.toml"), &[]);
+    assert!(stderr(&out).contains("bad0.toml"), "{}", stderr(&out));
+}
