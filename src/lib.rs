@@ -15,6 +15,9 @@
 //! - [`physics`]: the rocking equations, integrators and events, no I/O;
 //! - [`ida`]: capacity of one record by incremental dynamic analysis, no I/O;
 //! - [`pipeline`]: pipeline files (TOML text) → a typed plan, no I/O;
+//! - [`stats`]: fractiles (+∞ allowed), Lilliefors, normal distribution, no I/O;
+//! - [`fit`]: the two-step regression (Levenberg–Marquardt, polynomials), no I/O;
+//! - [`fragility`]: P(overturn | PGA) of a real block from the regression, no I/O;
 //! - [`bench`]: speed-against-error measurements of the solvers (timing only);
 //! - [`plot`]: figures as SVG text;
 //! - [`tables`]: the only module that touches Parquet;
@@ -24,6 +27,8 @@
 pub mod at2;
 pub mod bench;
 pub mod cli;
+pub mod fit;
+pub mod fragility;
 pub mod ida;
 pub mod manifest;
 pub mod motion;
@@ -31,4 +36,5 @@ pub mod physics;
 pub mod pipeline;
 pub mod plot;
 pub mod stages;
+pub mod stats;
 pub mod tables;

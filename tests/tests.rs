@@ -8,6 +8,9 @@
 //!   against the manifest and the files; bad input and atomic output.
 //! - `physics`: the solvers against closed forms, conservation laws,
 //!   symmetry and the hard cases of issue #3.
+//! - `reduce`: reduce, fit and fragility: definitions, Lilliefors by Monte
+//!   Carlo, the regression on synthetic data, reruns; the paper's grid
+//!   against Eq. 10 when ROCKING_SLOW=1 (CI sets it).
 //! - `sweep`: pipelines load; bad ones fail first; capacities against direct
 //!   calls; byte-identical at 1 and 2 threads; shards; resume after a crash.
 //! - `tables`: Parquet round trips, atomic writes, foreign files refused.
@@ -16,6 +19,7 @@
 mod cli;
 mod ingest;
 mod physics;
+mod reduce;
 mod sweep;
 mod tables;
 mod util;

@@ -82,3 +82,7 @@ pub fn bundled(set_stem: &str) -> rocking::physics::Excitation {
     let at2 = rocking::at2::parse(&std::fs::read(&path).unwrap()).unwrap();
     rocking::physics::Excitation::new(&at2.accel_g, at2.dt_s).unwrap()
 }
+
+pub fn stdout(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}

@@ -86,6 +86,78 @@ enum Command {
         arrays); the later stages read the N shard tables as one."
     )]
     Sweep(SweepArgs),
+    /// Reduce a pipeline's sweep to fractile curves, capacity fractiles and lognormal checks.
+    #[command(
+        long_about = "Reduce a pipeline's sweep to fractile curves, capacity fractiles and lognormal checks.\n\n\
+        Reads <outputs>/<name>/ida_points and capacities (or all their shards) and writes \
+        fractiles_horizontal, fractiles_vertical, capacity_fractiles, lognormal and overturn_fraction \
+        (.parquet) beside them, with the pipeline's fractile definition ([reduce] fractile). Skips the \
+        work when its inputs have not changed since the last run (--force to redo it)."
+    )]
+    Reduce(StageArgs),
+    /// Fit the two-step regression η_c = a(1 − e^{−bp})^c, a, b, c polynomial in ε.
+    #[command(
+        long_about = "Fit the two-step regression η_c = a(1 − e^{−bp})^c of the capacity fractiles.\n\n\
+        Step 1 fits a, b, c per ε and fractile by Levenberg–Marquardt; step 2 fits a(ε) linear and \
+        b(ε), c(ε) quadratic. Writes fit_step1, fit_coefficients (beside the paper's published values) \
+        and fit_comparison (.parquet). Needs `rocking reduce` first; skips the work when its input \
+        has not changed (--force to redo it)."
+    )]
+    Fit(StageArgs),
+    /// Probability that a real block overturns at given PGAs.
+    #[command(
+        long_about = "Probability that a real block overturns at given peak ground accelerations.\n\n\
+        P(overturn | PGA) = Φ((ln η_c,50 − ln η)/β), η = αg/PGA, with the capacity fractiles from the \
+        paper's regression (--from paper, the default) or a pipeline's own fit (--from PIPELINE.toml). \
+        --direct also runs the block through a record suite (the pipeline's, or the bundled far-field \
+        set) and prints the share of records whose capacity it exceeds at each PGA."
+    )]
+    Fragility(FragilityArgs),
+}
+
+#[derive(Debug, clap::Args)]
+struct StageArgs {
+    /// The pipeline file.
+    #[arg(value_name = "PIPELINE.toml")]
+    pipeline: PathBuf,
+    /// Root of the outputs; the tables are in <outputs>/<pipeline name>/.
+    #[arg(long, default_value = "outputs")]
+    outputs: PathBuf,
+    /// Redo the work even if the inputs have not changed.
+    #[arg(long)]
+    force: bool,
+}
+
+#[derive(Debug, clap::Args)]
+#[command(allow_negative_numbers = true)]
+struct FragilityArgs {
+    /// Half-width of the block (m).
+    #[arg(long, value_name = "m")]
+    b: f64,
+    /// Half-height of the block (m).
+    #[arg(long, value_name = "m")]
+    h: f64,
+    /// Coefficient of restitution, or `housner` for 1 − 1.5 sin²α.
+    #[arg(long, default_value = "housner")]
+    eps: String,
+    /// Peak ground accelerations (g), comma-separated.
+    #[arg(long, value_name = "g[,g…]", value_delimiter = ',', required = true)]
+    pga: Vec<f64>,
+    /// `paper` (published coefficients) or a pipeline file whose fit to use.
+    #[arg(long, default_value = "paper")]
+    from: String,
+    /// Root of the outputs (for --from PIPELINE.toml).
+    #[arg(long, default_value = "outputs")]
+    outputs: PathBuf,
+    /// Also run the block through the record suite and report the empirical fraction.
+    #[arg(long)]
+    direct: bool,
+    /// Records for --direct when --from paper: a folder of AT2 files.
+    #[arg(long, default_value = "records/fema-p695/far-field")]
+    records: PathBuf,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -243,6 +315,9 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Capacity(args) => run_capacity(args),
         Command::Bench(args) => bench::run(args),
         Command::Sweep(args) => run_sweep(args),
+        Command::Reduce(args) => run_reduce(args),
+        Command::Fit(args) => run_fit(args),
+        Command::Fragility(args) => run_fragility(args),
     }
 }
 
@@ -644,4 +719,219 @@ impl ProgressLine {
             eprintln!();
         }
     }
+}
+
+fn run_reduce(args: StageArgs) -> anyhow::Result<()> {
+    let plan = load_pipeline(&args.pipeline)?;
+    let started = Instant::now();
+    let r = crate::stages::reduce::run(&plan, &args.outputs, args.force)?;
+    if r.up_to_date {
+        println!(
+            "reduce: up to date (the sweep tables have not changed) in {}",
+            r.dir.display()
+        );
+        return Ok(());
+    }
+    println!(
+        "reduced {} records × {} blocks in {:.2} s ({:?} fractiles): lognormality of η_c not rejected at 5 % in {} of {} blocks ({:.0} %)",
+        r.records,
+        r.blocks,
+        started.elapsed().as_secs_f64(),
+        r.fractile,
+        r.lognormal_pass.0,
+        r.lognormal_pass.1,
+        100.0 * r.lognormal_pass.0 as f64 / r.lognormal_pass.1.max(1) as f64
+    );
+    println!("wrote fractiles_horizontal, fractiles_vertical, capacity_fractiles, lognormal, overturn_fraction in {}", r.dir.display());
+    Ok(())
+}
+
+fn run_fit(args: StageArgs) -> anyhow::Result<()> {
+    let plan = load_pipeline(&args.pipeline)?;
+    let r = crate::stages::fit::run(&plan, &args.outputs, args.force)?;
+    if r.up_to_date {
+        println!(
+            "fit: up to date (capacity_fractiles has not changed) in {}",
+            r.dir.display()
+        );
+        return Ok(());
+    }
+    println!(
+        "step 1: {} of {} fits converged",
+        r.converged.0, r.converged.1
+    );
+    let paper = crate::fragility::paper();
+    for law in &r.laws {
+        let pl = paper
+            .iter()
+            .find(|l| (l.quantile - law.quantile).abs() < 1e-9);
+        let fmt = |c: &[f64]| {
+            c.iter()
+                .map(|v| format!("{v:+.3}"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        };
+        println!(
+            "q = {:.2}: a {} | b {} | c {}",
+            law.quantile,
+            fmt(&law.a),
+            fmt(&law.b),
+            fmt(&law.c)
+        );
+        if let Some(pl) = pl {
+            println!(
+                "  paper:  a {} | b {} | c {}",
+                fmt(&pl.a),
+                fmt(&pl.b),
+                fmt(&pl.c)
+            );
+        }
+    }
+    println!(
+        "wrote fit_step1, fit_coefficients, fit_comparison in {}",
+        r.dir.display()
+    );
+    Ok(())
+}
+
+#[derive(Serialize)]
+struct FragilityPoint {
+    pga_g: f64,
+    eta: f64,
+    probability: f64,
+    empirical: Option<f64>,
+}
+
+#[derive(Serialize)]
+struct FragilityReport {
+    b_m: f64,
+    h_m: f64,
+    alpha_rad: f64,
+    p: f64,
+    eps: f64,
+    source: String,
+    eta_c_median: f64,
+    beta: f64,
+    records: Option<usize>,
+    points: Vec<FragilityPoint>,
+}
+
+fn run_fragility(args: FragilityArgs) -> anyhow::Result<()> {
+    use crate::fragility::{self, Block};
+    if !(args.b > 0.0 && args.h > 0.0) {
+        bail!("--b and --h must be positive (m)");
+    }
+    let eps = if args.eps == "housner" {
+        Block::housner_eps(args.b, args.h)
+    } else {
+        args.eps
+            .parse::<f64>()
+            .map_err(|_| anyhow::anyhow!("--eps `{}`: a number in (0, 1] or `housner`", args.eps))?
+    };
+    if !(eps > 0.0 && eps <= 1.0) {
+        bail!("--eps = {eps}: ε must be in (0, 1]");
+    }
+    if let Some(bad) = args.pga.iter().find(|g| !(**g > 0.0 && g.is_finite())) {
+        bail!("--pga {bad}: accelerations must be positive (g)");
+    }
+    let block = Block {
+        b_m: args.b,
+        h_m: args.h,
+        eps,
+    };
+    let (alpha, p) = (block.alpha(), block.p());
+    let (laws, plan) = if args.from == "paper" {
+        (fragility::paper().to_vec(), None)
+    } else {
+        let plan = load_pipeline(std::path::Path::new(&args.from))?;
+        let laws = crate::stages::fit::read_laws(&args.outputs.join(&plan.name))?;
+        (laws, Some(plan))
+    };
+    let (median, beta) = fragility::median_beta(&laws, p, eps).ok_or_else(|| {
+        anyhow::anyhow!(
+            "the regression gives no valid capacity fractiles at p = {p:.3}, ε = {eps:.3}"
+        )
+    })?;
+
+    // --direct: the block's capacity under every record (auto model for its α).
+    let capacities: Option<Vec<f64>> = if args.direct {
+        let records = match &plan {
+            Some(plan) => sweep::load_records(plan)?,
+            None => ingest::collect(std::slice::from_ref(&args.records), None, false)?.rows,
+        };
+        let (model, _) = ModelChoice::Auto.resolve(Some(alpha), 1e-8, 0.01)?;
+        let spec = RunSpec::new(p, eps, 1.0, model);
+        use rayon::prelude::*;
+        let caps = records
+            .par_iter()
+            .map(|r| {
+                let exc = Excitation::new(&r.accel_g, r.dt_s)?;
+                Ok(ida::capacity(&exc, &spec, &ImGrid::default(), 1e-4)?
+                    .eta_c
+                    .unwrap_or(0.0))
+            })
+            .collect::<Result<Vec<f64>, physics::PhysicsError>>()?;
+        Some(caps)
+    } else {
+        None
+    };
+    let points: Vec<FragilityPoint> = args
+        .pga
+        .iter()
+        .map(|&pga| {
+            let eta = alpha / pga;
+            FragilityPoint {
+                pga_g: pga,
+                eta,
+                probability: fragility::probability(median, beta, alpha, pga),
+                empirical: capacities
+                    .as_ref()
+                    .map(|c| c.iter().filter(|&&ec| eta < ec).count() as f64 / c.len() as f64),
+            }
+        })
+        .collect();
+    let report = FragilityReport {
+        b_m: args.b,
+        h_m: args.h,
+        alpha_rad: alpha,
+        p,
+        eps,
+        source: args.from.clone(),
+        eta_c_median: median,
+        beta,
+        records: capacities.as_ref().map(Vec::len),
+        points,
+    };
+    if args.json {
+        println!("{}", serde_json::to_string(&report)?);
+        return Ok(());
+    }
+    println!(
+        "block b = {} m, h = {} m: α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}; capacity from {}: median η_c = {:.4} (PGA {:.3} g), β = {:.3}",
+        args.b, args.h, alpha, p, eps, args.from, median, alpha / median, beta
+    );
+    println!(
+        "{:>10} {:>10} {:>14}{}",
+        "PGA (g)",
+        "η",
+        "P(overturn)",
+        if capacities.is_some() {
+            "  records overturned"
+        } else {
+            ""
+        }
+    );
+    for pt in &report.points {
+        match pt.empirical {
+            Some(e) => println!(
+                "{:>10.4} {:>10.4} {:>14.4}  {:>18.4}",
+                pt.pga_g, pt.eta, pt.probability, e
+            ),
+            None => println!(
+                "{:>10.4} {:>10.4} {:>14.4}",
+                pt.pga_g, pt.eta, pt.probability
+            ),
+        }
+    }
+    Ok(())
 }

@@ -9,5 +9,7 @@
 //! of every record × block → IDA points and capacities). Reduce and fit
 //! follow the same shape.
 
+pub mod fit;
 pub mod ingest;
+pub mod reduce;
 pub mod sweep;

@@ -13,6 +13,7 @@
 
 pub mod history;
 pub mod records;
+pub mod summary;
 pub mod sweep;
 
 use std::fs::{self, File};

@@ -1,0 +1,144 @@
+//! Fragility of a real block from the regression (pure; docs/MODEL.md §6–7).
+//!
+//! The capacity fractiles at (p, ε) come from the step-2 polynomials:
+//! `η_c,q = a_q(ε) (1 − e^{−b_q(ε) p})^{c_q(ε)}`. With ln η_c normal,
+//! median η_c,50 and dispersion β = (ln η_c,84 − ln η_c,16)/2, a block
+//! overturns at PGA `A_g` (η = αg/A_g) with probability
+//! `Φ((ln η_c,50 − ln η)/β)`.
+
+use crate::fit::{curve, polyval};
+use crate::stats::normal_cdf;
+
+/// The step-2 coefficients of one fractile: a linear, b and c quadratic in ε.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FractileLaw {
+    pub quantile: f64,
+    pub a: Vec<f64>,
+    pub b: Vec<f64>,
+    pub c: Vec<f64>,
+}
+
+impl FractileLaw {
+    pub fn eta_c(&self, p: f64, eps: f64) -> f64 {
+        curve(
+            polyval(&self.a, eps),
+            polyval(&self.b, eps),
+            polyval(&self.c, eps),
+            p,
+        )
+    }
+}
+
+/// The published coefficients (the paper's Eqs. 10–12, docs/MODEL.md §6).
+pub fn paper() -> [FractileLaw; 3] {
+    [
+        FractileLaw {
+            quantile: 0.16,
+            a: vec![0.5, 0.33],
+            b: vec![1.64, -4.39, 3.44],
+            c: vec![7.17, -15.65, 12.0],
+        },
+        FractileLaw {
+            quantile: 0.5,
+            a: vec![0.44, 0.43],
+            b: vec![0.56, -1.14, 1.25],
+            c: vec![1.66, -0.38, 1.4],
+        },
+        FractileLaw {
+            quantile: 0.84,
+            a: vec![0.64, 0.24],
+            b: vec![-0.66, 2.32, -0.94],
+            c: vec![-2.28, 10.3, -6.27],
+        },
+    ]
+}
+
+/// A real block: half-width and half-height (m), restitution.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Block {
+    pub b_m: f64,
+    pub h_m: f64,
+    pub eps: f64,
+}
+
+impl Block {
+    pub fn alpha(&self) -> f64 {
+        (self.b_m / self.h_m).atan()
+    }
+    pub fn p(&self) -> f64 {
+        (3.0 * crate::pipeline::G / (4.0 * self.b_m.hypot(self.h_m))).sqrt()
+    }
+    /// Housner's upper bound of ε for a rectangle, 1 − 1.5 sin²α.
+    pub fn housner_eps(b_m: f64, h_m: f64) -> f64 {
+        let a = (b_m / h_m).atan();
+        1.0 - 1.5 * a.sin().powi(2)
+    }
+}
+
+/// Median and dispersion of the capacity of a block, from three laws
+/// (16, 50, 84 %) in any order.
+pub fn median_beta(laws: &[FractileLaw], p: f64, eps: f64) -> Option<(f64, f64)> {
+    let at = |q: f64| {
+        laws.iter()
+            .find(|l| (l.quantile - q).abs() < 1e-9)
+            .map(|l| l.eta_c(p, eps))
+    };
+    let (q16, q50, q84) = (at(0.16)?, at(0.5)?, at(0.84)?);
+    if !(q16 > 0.0 && q50 > 0.0 && q84 > q16) {
+        return None;
+    }
+    Some((q50, 0.5 * (q84.ln() - q16.ln())))
+}
+
+/// P(overturn | PGA) for a block of slenderness α: Φ((ln η50 − ln η)/β),
+/// η = α/PGA (PGA in g).
+pub fn probability(median: f64, beta: f64, alpha: f64, pga_g: f64) -> f64 {
+    let eta = alpha / pga_g;
+    normal_cdf((median.ln() - eta.ln()) / beta)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn half_at_the_median_and_rising_with_pga() {
+        let block = Block {
+            b_m: 0.25,
+            h_m: 1.0,
+            eps: 0.85,
+        };
+        let (median, beta) = median_beta(&paper(), block.p(), block.eps).unwrap();
+        let alpha = block.alpha();
+        // η = η50 exactly when PGA = α/η50 (in g).
+        assert!((probability(median, beta, alpha, alpha / median) - 0.5).abs() < 1e-12);
+        let mut last = 0.0;
+        for k in 1..50 {
+            let pr = probability(median, beta, alpha, 0.02 * k as f64);
+            assert!(pr >= last && (0.0..=1.0).contains(&pr));
+            last = pr;
+        }
+        // One β of extra ln-intensity is Φ(1).
+        let pga_1beta = alpha / (median * (-beta).exp());
+        assert!((probability(median, beta, alpha, pga_1beta) - normal_cdf(1.0)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn paper_median_law_by_hand() {
+        // ε = 0.5: a = 0.655, b = 0.3025, c = 1.82; at p = 2: 0.655 (1 − e^{−0.605})^{1.82}.
+        let law = &paper()[1];
+        let expected = 0.655 * (1.0 - (-0.605f64).exp()).powf(1.82);
+        assert!((law.eta_c(2.0, 0.5) - expected).abs() < 1e-12);
+        // A block of b = 0.2 m, h = 1 m: R = sqrt(1.04), p = sqrt(3g/(4R)).
+        let b = Block {
+            b_m: 0.2,
+            h_m: 1.0,
+            eps: 0.8,
+        };
+        assert!((b.p() - (3.0 * 9.80665 / (4.0 * 1.04f64.sqrt())).sqrt()).abs() < 1e-12);
+        assert!(
+            (Block::housner_eps(0.2, 1.0) - (1.0 - 1.5 * (0.2f64.atan().sin()).powi(2))).abs()
+                < 1e-15
+        );
+    }
+}
