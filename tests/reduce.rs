@@ -279,6 +279,43 @@ fn fragility_is_one_half_at_the_median_capacity() {
     assert!((probs[1] - 0.5).abs() < 1e-9, "{probs:?}");
     assert!(probs[0] < 0.5 && probs[2] > 0.5);
     assert!((v["eps"].as_f64().unwrap() - eps).abs() < 1e-12);
+
+    // --direct: the share of the 44 far-field records whose capacity the
+    // block exceeds; it can only grow with PGA, and it brackets the fitted
+    // curve's 0.5 around the median PGA (the paper's fit describes these records).
+    let pgas = format!(
+        "{},{},{},{}",
+        pga_median * 0.25,
+        pga_median * 0.7,
+        pga_median * 1.4,
+        pga_median * 4.0
+    );
+    let r = rocking(
+        &root(),
+        &[
+            "fragility",
+            "--b",
+            "0.25",
+            "--h",
+            "1",
+            "--pga",
+            &pgas,
+            "--direct",
+            "--json",
+        ],
+    );
+    assert!(r.status.success(), "{}", stderr(&r));
+    let v: serde_json::Value = serde_json::from_slice(&r.stdout).unwrap();
+    assert_eq!(v["records"], 44);
+    let emp: Vec<f64> = v["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|q| q["empirical"].as_f64().unwrap())
+        .collect();
+    assert!(emp.windows(2).all(|w| w[1] >= w[0]), "{emp:?}");
+    assert!(emp[1] < 0.5 && emp[2] > 0.5, "{emp:?}");
+    assert_eq!((emp[0], emp[3]), (0.0, 1.0), "{emp:?}");
 }
 
 /// The paper's grid end to end (about a minute): the median capacity within
