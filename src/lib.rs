@@ -18,6 +18,7 @@
 //! - [`stats`]: fractiles (+∞ allowed), Lilliefors, normal distribution, no I/O;
 //! - [`fit`]: the two-step regression (Levenberg–Marquardt, polynomials), no I/O;
 //! - [`fragility`]: P(overturn | PGA) of a real block from the regression, no I/O;
+//! - [`figures`]: the paper's figures as chart specifications from the tables, no I/O;
 //! - [`bench`]: speed-against-error measurements of the solvers (timing only);
 //! - [`plot`]: figures as SVG text;
 //! - [`tables`]: the only module that touches Parquet;
@@ -27,6 +28,7 @@
 pub mod at2;
 pub mod bench;
 pub mod cli;
+pub mod figures;
 pub mod fit;
 pub mod fragility;
 pub mod ida;

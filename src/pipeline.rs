@@ -33,6 +33,14 @@ pub struct RawPipeline {
     pub im: RawIm,
     #[serde(default)]
     pub reduce: RawReduce,
+    pub convergence: Option<RawConvergence>,
+}
+
+/// Repeat the capacity search at several grid resolutions.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawConvergence {
+    pub levels: Vec<usize>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -265,6 +273,29 @@ pub struct Plan {
     pub tol: f64,
     pub trace: Trace,
     pub fractile: FractileDef,
+    /// Grid resolutions (level counts) of the capacity-convergence study,
+    /// ascending; empty for none.
+    pub convergence: Vec<usize>,
+}
+
+impl Plan {
+    /// JSON of exactly the settings that determine the sweep's results (not
+    /// the name, the description, where the records are, or what reduce does).
+    pub fn sweep_settings(&self) -> String {
+        serde_json::json!({
+            "sets": self.sets,
+            "ids": self.ids,
+            "model": self.model,
+            "rtol": self.rtol,
+            "auto_tol": self.auto_tol,
+            "overturn": self.overturn,
+            "blocks": self.blocks,
+            "grid": self.grid,
+            "tol": self.tol,
+            "trace": self.trace,
+        })
+        .to_string()
+    }
 }
 
 /// A pipeline file that cannot be used, and why: names the file and the key.
@@ -512,6 +543,21 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
         ))
     })?;
 
+    let mut convergence = match &raw.convergence {
+        None => Vec::new(),
+        Some(c) => {
+            if c.levels.len() < 2 || c.levels.iter().any(|&n| n < 2) {
+                return Err(err(format!(
+                    "`convergence.levels` = {:?}: give at least two level counts, each at least 2",
+                    c.levels
+                )));
+            }
+            c.levels.clone()
+        }
+    };
+    convergence.sort_unstable();
+    convergence.dedup();
+
     Ok(Plan {
         name,
         description: raw.description.unwrap_or_default(),
@@ -531,6 +577,7 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
             Trace::StopAtFirst
         },
         fractile,
+        convergence,
     })
 }
 

@@ -9,13 +9,19 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
 }
 
-const PALETTE: [RGBColor; 6] = [
+const PALETTE: [RGBColor; 12] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
     RGBColor(255, 127, 14),
     RGBColor(148, 103, 189),
     RGBColor(23, 190, 207),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(0, 0, 128),
+    RGBColor(128, 0, 0),
 ];
 
 /// A log–log chart of several series. Non-positive or non-finite values are
@@ -115,4 +121,222 @@ mod tests {
         assert!(svg.starts_with("<svg"));
         assert!(svg.contains("alpha") && svg.contains("beta") && svg.contains("time (s)"));
     }
+}
+
+/// Axis scale. Log axes are drawn as log10 of the values on a linear axis,
+/// labelled with the values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scale {
+    Linear,
+    Log,
+}
+
+/// How a series is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Style {
+    Line,
+    Points,
+    LinePoints,
+    /// A thin light-grey line (one of many, such as every record's IDA curve).
+    Faint,
+}
+
+/// One series of a [`Chart`].
+#[derive(Debug, Clone)]
+pub struct Line {
+    /// Legend entry; `None` keeps it out of the legend.
+    pub name: Option<String>,
+    pub points: Vec<(f64, f64)>,
+    pub style: Style,
+    /// Palette index (ignored for `Faint`).
+    pub color: usize,
+}
+
+/// A 2-D chart with labelled axes and a legend.
+#[derive(Debug, Clone)]
+pub struct Chart {
+    pub title: String,
+    pub x_desc: String,
+    pub y_desc: String,
+    pub x_scale: Scale,
+    pub y_scale: Scale,
+    /// Axis ranges in data units; `None` fits the data.
+    pub x_range: Option<(f64, f64)>,
+    pub y_range: Option<(f64, f64)>,
+    pub lines: Vec<Line>,
+}
+
+fn keep(scale: Scale, v: f64) -> bool {
+    v.is_finite() && (scale == Scale::Linear || v > 0.0)
+}
+
+fn tick_label(v: f64) -> String {
+    let a = v.abs();
+    if a != 0.0 && !(1e-3..1e4).contains(&a) {
+        format!("{v:.0e}")
+    } else {
+        let s = format!("{v:.3}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    }
+}
+
+/// The axis range in data units: the given one, or the data's with a margin
+/// (multiplicative on a log axis).
+fn axis_range(scale: Scale, given: Option<(f64, f64)>, lo: f64, hi: f64) -> (f64, f64) {
+    if let Some((a, b)) = given.filter(|(a, b)| keep(scale, *a) && keep(scale, *b) && b > a) {
+        return (a, b);
+    }
+    match scale {
+        Scale::Linear => {
+            let pad = if hi > lo { 0.03 * (hi - lo) } else { 0.5 };
+            (lo - pad, hi + pad)
+        }
+        Scale::Log => {
+            if hi > lo {
+                let f = (hi / lo).powf(0.03);
+                (lo / f, hi * f)
+            } else {
+                (lo / 2.0, hi * 2.0)
+            }
+        }
+    }
+}
+
+pub fn render(chart: &Chart) -> Result<String, String> {
+    // Drop what an axis cannot show; a dropped point splits its line.
+    let lines: Vec<(&Line, Vec<Run>)> = chart
+        .lines
+        .iter()
+        .map(|l| {
+            let mut runs = vec![Vec::new()];
+            for &(x, y) in &l.points {
+                if keep(chart.x_scale, x) && keep(chart.y_scale, y) {
+                    runs.last_mut().expect("one run").push((x, y));
+                } else {
+                    runs.push(Vec::new());
+                }
+            }
+            runs.retain(|r| !r.is_empty());
+            (l, runs)
+        })
+        .collect();
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for &(x, y) in lines.iter().flat_map(|(_, r)| r.iter().flatten()) {
+        (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+    }
+    if x0 > x1 {
+        return Err(format!("{}: nothing to plot", chart.title));
+    }
+    let (xa, xb) = axis_range(chart.x_scale, chart.x_range, x0, x1);
+    let (ya, yb) = axis_range(chart.y_scale, chart.y_range, y0, y1);
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (900, 620)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let mut builder = ChartBuilder::on(&root);
+        builder
+            .caption(&chart.title, ("sans-serif", 20))
+            .margin(18)
+            .x_label_area_size(55)
+            .y_label_area_size(75);
+        // plotters types log and linear axes differently: one body, four instantiations.
+        match (chart.x_scale, chart.y_scale) {
+            (Scale::Linear, Scale::Linear) => draw(&mut builder, xa..xb, ya..yb, chart, &lines)?,
+            (Scale::Log, Scale::Linear) => {
+                draw(&mut builder, (xa..xb).log_scale(), ya..yb, chart, &lines)?
+            }
+            (Scale::Linear, Scale::Log) => {
+                draw(&mut builder, xa..xb, (ya..yb).log_scale(), chart, &lines)?
+            }
+            (Scale::Log, Scale::Log) => draw(
+                &mut builder,
+                (xa..xb).log_scale(),
+                (ya..yb).log_scale(),
+                chart,
+                &lines,
+            )?,
+        }
+        root.present().map_err(|e| e.to_string())?;
+    }
+    Ok(svg)
+}
+
+/// An unbroken stretch of a line.
+type Run = Vec<(f64, f64)>;
+type Runs<'a> = [(&'a Line, Vec<Run>)];
+
+fn draw<'b, X, Y>(
+    builder: &mut ChartBuilder<'_, 'b, SVGBackend<'b>>,
+    x: X,
+    y: Y,
+    chart: &Chart,
+    lines: &Runs,
+) -> Result<(), String>
+where
+    X: plotters::coord::ranged1d::AsRangedCoord<Value = f64>,
+    Y: plotters::coord::ranged1d::AsRangedCoord<Value = f64>,
+    X::CoordDescType: plotters::coord::ranged1d::ValueFormatter<f64>,
+    Y::CoordDescType: plotters::coord::ranged1d::ValueFormatter<f64>,
+{
+    let mut c = builder
+        .build_cartesian_2d(x, y)
+        .map_err(|e| e.to_string())?;
+    c.configure_mesh()
+        .x_desc(chart.x_desc.as_str())
+        .y_desc(chart.y_desc.as_str())
+        .x_label_formatter(&|v| tick_label(*v))
+        .y_label_formatter(&|v| tick_label(*v))
+        .label_style(("sans-serif", 14))
+        .axis_desc_style(("sans-serif", 16))
+        .light_line_style(WHITE.mix(0.0))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    let mut any_legend = false;
+    for (l, runs) in lines {
+        let color = PALETTE[l.color % PALETTE.len()];
+        let faint = RGBColor(190, 190, 190);
+        for (k, run) in runs.iter().enumerate() {
+            let legend = k == 0 && l.name.is_some();
+            if matches!(l.style, Style::Line | Style::LinePoints | Style::Faint) {
+                let (col, width) = if l.style == Style::Faint {
+                    (faint, 1)
+                } else {
+                    (color, 2)
+                };
+                let s = c
+                    .draw_series(LineSeries::new(
+                        run.iter().copied(),
+                        col.stroke_width(width),
+                    ))
+                    .map_err(|e| e.to_string())?;
+                if legend {
+                    any_legend = true;
+                    s.label(l.name.clone().unwrap_or_default())
+                        .legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(width))
+                        });
+                }
+            }
+            if matches!(l.style, Style::Points | Style::LinePoints) {
+                let s = c
+                    .draw_series(run.iter().map(|&p| Circle::new(p, 3, color.filled())))
+                    .map_err(|e| e.to_string())?;
+                if legend && l.style == Style::Points {
+                    any_legend = true;
+                    s.label(l.name.clone().unwrap_or_default())
+                        .legend(move |(x, y)| Circle::new((x + 10, y), 3, color.filled()));
+                }
+            }
+        }
+    }
+    if any_legend {
+        c.configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .border_style(BLACK)
+            .background_style(WHITE.mix(0.85))
+            .label_font(("sans-serif", 14))
+            .draw()
+            .map_err(|e| e.to_string())?;
+    }
+    Ok(())
 }

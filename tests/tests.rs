@@ -11,6 +11,8 @@
 //! - `reduce`: reduce, fit and fragility: definitions, Lilliefors by Monte
 //!   Carlo, the regression on synthetic data, reruns; the paper's grid
 //!   against Eq. 10 when ROCKING_SLOW=1 (CI sets it).
+//! - `run`: the cached pipeline run: reruns for the right reasons, the lock,
+//!   and a snapshot of a mini study (tests/snapshots, `ROCKING_BLESS=1`).
 //! - `sweep`: pipelines load; bad ones fail first; capacities against direct
 //!   calls; byte-identical at 1 and 2 threads; shards; resume after a crash.
 //! - `tables`: Parquet round trips, atomic writes, foreign files refused.
@@ -20,6 +22,7 @@ mod cli;
 mod ingest;
 mod physics;
 mod reduce;
+mod run;
 mod sweep;
 mod tables;
 mod util;

@@ -113,6 +113,40 @@ enum Command {
         set) and prints the share of records whose capacity it exceeds at each PGA."
     )]
     Fragility(FragilityArgs),
+    /// Run a whole pipeline: ingest → sweep → convergence → reduce → fit → report, skipping fresh stages.
+    #[command(
+        long_about = "Run a whole pipeline: ingest → sweep → convergence → reduce → fit → report.\n\n\
+        A stage is skipped when its fingerprint (hashes of its resolved settings, of its input files' \
+        contents, of the schema and tool versions; never file times) matches the one saved when it last \
+        succeeded and its outputs are unchanged; otherwise the log says why it reruns. Writes every \
+        table, the figures (<outputs>/<name>/figures/*.svg) and report.md. One run per output folder \
+        at a time (a lock file)."
+    )]
+    Run(RunArgs),
+    /// Show each stage of a pipeline as fresh or stale, and why.
+    Status(StageArgs),
+}
+
+#[derive(Debug, clap::Args)]
+struct RunArgs {
+    /// The pipeline file.
+    #[arg(value_name = "PIPELINE.toml")]
+    pipeline: PathBuf,
+    /// Root of the outputs; everything goes to <outputs>/<pipeline name>/.
+    #[arg(long, default_value = "outputs")]
+    outputs: PathBuf,
+    /// Rerun every stage.
+    #[arg(long)]
+    force: bool,
+    /// Rerun this stage and every later one: ingest, sweep, convergence, reduce, fit, report.
+    #[arg(long, value_name = "STAGE", value_parser = parse_stage)]
+    from: Option<crate::stages::run::Stage>,
+}
+
+fn parse_stage(s: &str) -> Result<crate::stages::run::Stage, String> {
+    crate::stages::run::Stage::parse(s).ok_or_else(|| {
+        format!("unknown stage `{s}`; valid: ingest, sweep, convergence, reduce, fit, report")
+    })
 }
 
 #[derive(Debug, clap::Args)]
@@ -318,6 +352,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Reduce(args) => run_reduce(args),
         Command::Fit(args) => run_fit(args),
         Command::Fragility(args) => run_fragility(args),
+        Command::Run(args) => run_pipeline(args),
+        Command::Status(args) => run_status(args),
     }
 }
 
@@ -931,6 +967,64 @@ fn run_fragility(args: FragilityArgs) -> anyhow::Result<()> {
                 "{:>10.4} {:>10.4} {:>14.4}",
                 pt.pga_g, pt.eta, pt.probability
             ),
+        }
+    }
+    Ok(())
+}
+
+fn run_pipeline(args: RunArgs) -> anyhow::Result<()> {
+    use crate::stages::run::{self, RunConfig};
+    let started = Instant::now();
+    let plan = load_pipeline(&args.pipeline)?;
+    let cfg = RunConfig {
+        plan,
+        pipeline_path: args.pipeline.clone(),
+        outputs: args.outputs,
+        force: args.force,
+        from: args.from,
+    };
+    let results = run::run(&cfg, |r| {
+        if r.ran && r.seconds == 0.0 {
+            eprintln!("{:<12} running: {}", r.stage.name(), r.reason);
+        } else if !r.ran {
+            eprintln!("{:<12} skipped: {}", r.stage.name(), r.reason);
+        }
+    })?;
+    let ran: Vec<&str> = results
+        .iter()
+        .filter(|r| r.ran)
+        .map(|r| r.stage.name())
+        .collect();
+    let dir = cfg.outputs.join(&cfg.plan.name);
+    if ran.is_empty() {
+        println!(
+            "nothing to do: every stage of `{}` is up to date ({})",
+            cfg.plan.name,
+            dir.display()
+        );
+    } else {
+        for r in results.iter().filter(|r| r.ran) {
+            println!("{:<12} {:.2} s", r.stage.name(), r.seconds);
+        }
+        println!(
+            "ran {} in {:.1} s; report: {}",
+            ran.join(", "),
+            started.elapsed().as_secs_f64(),
+            dir.join("report.md").display()
+        );
+    }
+    Ok(())
+}
+
+fn run_status(args: StageArgs) -> anyhow::Result<()> {
+    use crate::stages::run::{freshness, Freshness, Layout, Stage};
+    let plan = load_pipeline(&args.pipeline)?;
+    let layout = Layout::new(&plan, &args.outputs);
+    for stage in Stage::ALL {
+        match freshness(stage, &plan, &layout) {
+            Freshness::Fresh => println!("{:<12} fresh", stage.name()),
+            Freshness::Stale(why) => println!("{:<12} stale: {why}", stage.name()),
+            Freshness::NotNeeded(why) => println!("{:<12} not needed: {why}", stage.name()),
         }
     }
     Ok(())

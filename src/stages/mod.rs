@@ -9,7 +9,10 @@
 //! of every record × block → IDA points and capacities). Reduce and fit
 //! follow the same shape.
 
+pub mod convergence;
 pub mod fit;
 pub mod ingest;
 pub mod reduce;
+pub mod report;
+pub mod run;
 pub mod sweep;

@@ -237,16 +237,8 @@ pub fn plan_hash(plan: &Plan, records: &[RecordRow]) -> String {
         t::IDA_KIND.schema_version,
         t::CAPACITY_KIND.schema_version
     ));
-    // The plan minus what does not change results (name, description, records' location).
-    let mut p = plan.clone();
-    p.name.clear();
-    p.description.clear();
-    p.records = RecordSource::Table(PathBuf::new());
-    h.update(
-        serde_json::to_string(&p)
-            .expect("plan serialises")
-            .as_bytes(),
-    );
+    // Only what changes the results: not the name, where the records are, or reduce's settings.
+    h.update(plan.sweep_settings().as_bytes());
     for r in records {
         h.update(r.record_id.as_bytes());
         h.update(r.sha256.as_bytes());

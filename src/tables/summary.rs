@@ -330,3 +330,20 @@ pub const FIT_COMPARISON: Flat = Flat {
         ("eta_c_paper", Ty::F),
     ],
 };
+
+pub const CONVERGENCE: Flat = Flat {
+    kind: kind("capacity_convergence"),
+    columns: &[
+        ("block", Ty::S),
+        ("p", Ty::F),
+        ("eps", Ty::F),
+        ("levels", Ty::I),
+        ("eta_c_q16", Ty::F),
+        ("eta_c_q50", Ty::F),
+        ("eta_c_q84", Ty::F),
+        ("n_records", Ty::I),
+        ("n_changed", Ty::I),
+        ("mean_abs_change", Ty::F),
+        ("max_abs_change", Ty::F),
+    ],
+};

@@ -1,0 +1,570 @@
+//! The study's figures, as chart specifications built from its tables (pure).
+//!
+//! Numbering follows the source paper: Fig. 5 (every record's IDA curve with
+//! the 16/50/84 % fractiles), Fig. 6 (median IDA curves across p), Fig. 7
+//! (horizontal against vertical capacity fractiles), Fig. 8 (capacity
+//! curves), Fig. 9 (lognormal probability plots), Figs. 10–11 (the
+//! regression against the data), then a fragility curve and the capacity
+//! convergence study.
+
+use crate::fit::{curve, polyval};
+use crate::fragility::{self, Block, FractileLaw};
+use crate::pipeline::Plan;
+use crate::plot::{Chart, Line, Scale, Style};
+use crate::stats;
+use crate::tables::summary::{
+    Flat, Value, CAPACITY_FRACTILES, CONVERGENCE, FIT_STEP1, HORIZONTAL, LOGNORMAL,
+};
+use crate::tables::sweep::{CapacityRow, IdaRow};
+
+/// Everything the figures are drawn from.
+pub struct StudyData<'a> {
+    pub plan: &'a Plan,
+    pub caps: &'a [CapacityRow],
+    pub ida: &'a [IdaRow],
+    pub horizontal: &'a [Vec<Value>],
+    pub capacity_fractiles: &'a [Vec<Value>],
+    pub lognormal: &'a [Vec<Value>],
+    pub fit_step1: &'a [Vec<Value>],
+    pub laws: &'a [FractileLaw],
+    pub convergence: Option<&'a [Vec<Value>]>,
+}
+
+/// A figure: its file name (without folder), the chart, and a caption.
+pub struct Figure {
+    pub file: String,
+    pub chart: Chart,
+    pub caption: String,
+}
+
+fn get(t: &Flat, row: &[Value], col: &str) -> f64 {
+    row[t.col(col)].f().unwrap_or(f64::NAN)
+}
+
+fn distinct(mut v: Vec<f64>) -> Vec<f64> {
+    v.sort_by(|a, b| a.total_cmp(b));
+    v.dedup();
+    v
+}
+
+fn same(a: f64, b: f64) -> bool {
+    a == b
+}
+
+/// The block drawn in the single-block figures: the middle p and ε of the grid.
+fn middle(plan: &Plan) -> (usize, f64, f64) {
+    let ps = distinct(plan.blocks.iter().map(|b| b.p).collect());
+    let es = distinct(plan.blocks.iter().map(|b| b.eps).collect());
+    let (p, e) = (ps[ps.len() / 2], es[es.len() / 2]);
+    let bi = plan
+        .blocks
+        .iter()
+        .position(|b| b.p == p && b.eps == e)
+        .unwrap_or(0);
+    (bi, plan.blocks[bi].p, plan.blocks[bi].eps)
+}
+
+const Q_NAMES: [&str; 3] = ["16 %", "50 %", "84 %"];
+const Q_VALUES: [f64; 3] = [0.16, 0.5, 0.84];
+
+/// Horizontal fractile curve q (0, 1, 2) of a block as (EDP, 1/η), ending at
+/// EDP = 1 where the fractile becomes +∞.
+fn fractile_curve(rows: &[Vec<Value>], p: f64, e: f64, qi: usize) -> Vec<(f64, f64)> {
+    let col = ["edp_q16", "edp_q50", "edp_q84"][qi];
+    let mut pts = vec![(0.0, 1.0)];
+    for r in rows
+        .iter()
+        .filter(|r| same(get(&HORIZONTAL, r, "p"), p) && same(get(&HORIZONTAL, r, "eps"), e))
+    {
+        let (eta, edp) = (get(&HORIZONTAL, r, "eta"), get(&HORIZONTAL, r, col));
+        if edp.is_infinite() || edp >= 1.0 {
+            pts.push((1.0, 1.0 / eta));
+            break;
+        }
+        pts.push((edp, 1.0 / eta));
+    }
+    pts
+}
+
+pub fn figures(d: &StudyData) -> Vec<Figure> {
+    let mut out = Vec::new();
+    let plan = d.plan;
+    let n_blocks = plan.blocks.len();
+    let (bi, p_mid, e_mid) = middle(plan);
+    let grid_blocks = plan.blocks.iter().all(|b| b.name.is_empty());
+
+    // Fig. 5: every record's IDA curve for one block, and the fractiles.
+    let mut lines = Vec::new();
+    let mut cap_max: f64 = 0.0;
+    for c in d
+        .caps
+        .iter()
+        .filter(|c| c.case_id as usize % n_blocks == bi)
+    {
+        let mut pts = vec![(0.0, 1.0)];
+        for r in d
+            .ida
+            .iter()
+            .filter(|r| r.case_id == c.case_id && r.run_kind == "level")
+        {
+            if r.overturned {
+                break;
+            }
+            pts.push((r.edp, r.pga_scale));
+        }
+        if let Some(ec) = c.eta_c {
+            pts.push((1.0, 1.0 / ec));
+        }
+        lines.push(Line {
+            name: None,
+            points: pts,
+            style: Style::Faint,
+            color: 0,
+        });
+    }
+    for (qi, q_name) in Q_NAMES.iter().enumerate() {
+        let pts = fractile_curve(d.horizontal, p_mid, e_mid, qi);
+        cap_max = cap_max.max(pts.last().map_or(0.0, |p| p.1));
+        lines.push(Line {
+            name: Some(format!("{q_name} fractile")),
+            points: pts,
+            style: Style::Line,
+            color: qi + 1,
+        });
+    }
+    out.push(Figure {
+        file: "fig05_ida_curves.svg".into(),
+        chart: Chart {
+            title: format!("IDA curves of {} records, p = {p_mid:.3} 1/s, ε = {e_mid:.2}", d.caps.len() / n_blocks),
+            x_desc: "θmax / α".into(),
+            y_desc: "A_g / (α g) = 1/η".into(),
+            x_scale: Scale::Linear,
+            y_scale: Scale::Linear,
+            x_range: Some((0.0, 1.05)),
+            y_range: Some((0.0, 1.4 * cap_max.max(1.0))),
+            lines,
+        },
+        caption: "Every record's IDA curve (grey: θmax/α against the intensity until the first overturning, which is drawn at θmax/α = 1) and the 16/50/84 % horizontal fractiles under the resurrection rule (paper Fig. 5).".into(),
+    });
+
+    if grid_blocks {
+        let ps = distinct(plan.blocks.iter().map(|b| b.p).collect());
+        let es = distinct(plan.blocks.iter().map(|b| b.eps).collect());
+        // Fig. 6: median IDA curves across p.
+        let lines = ps
+            .iter()
+            .enumerate()
+            .map(|(k, &p)| Line {
+                name: Some(format!("p = {p:.2} 1/s")),
+                points: fractile_curve(d.horizontal, p, e_mid, 1),
+                style: Style::Line,
+                color: k,
+            })
+            .collect();
+        out.push(Figure {
+            file: "fig06_median_ida_across_p.svg".into(),
+            chart: Chart {
+                title: format!("Median IDA curves across p, ε = {e_mid:.2}"),
+                x_desc: "θmax / α (50 % fractile)".into(),
+                y_desc: "A_g / (α g) = 1/η".into(),
+                x_scale: Scale::Linear,
+                y_scale: Scale::Log,
+                x_range: Some((0.0, 1.05)),
+                y_range: None,
+                lines,
+            },
+            caption: "The 50 % horizontal fractile IDA curve for each p at the middle ε (paper Fig. 6): smaller blocks (larger p) overturn at lower intensity.".into(),
+        });
+
+        // Fig. 7: horizontal against vertical capacity fractiles.
+        let cf = d.capacity_fractiles;
+        let mut lines = Vec::new();
+        for (qi, &q) in Q_VALUES.iter().enumerate() {
+            let rows: Vec<&Vec<Value>> = cf
+                .iter()
+                .filter(|r| {
+                    same(get(&CAPACITY_FRACTILES, r, "eps"), e_mid)
+                        && same(get(&CAPACITY_FRACTILES, r, "quantile"), q)
+                })
+                .collect();
+            let v: Vec<(f64, f64)> = rows
+                .iter()
+                .map(|r| {
+                    (
+                        get(&CAPACITY_FRACTILES, r, "p"),
+                        get(&CAPACITY_FRACTILES, r, "eta_c"),
+                    )
+                })
+                .collect();
+            let h: Vec<(f64, f64)> = rows
+                .iter()
+                .map(|r| {
+                    (
+                        get(&CAPACITY_FRACTILES, r, "p"),
+                        get(&CAPACITY_FRACTILES, r, "eta_c_horizontal"),
+                    )
+                })
+                .collect();
+            lines.push(Line {
+                name: Some(format!("{} vertical", Q_NAMES[qi])),
+                points: v,
+                style: Style::Line,
+                color: qi,
+            });
+            lines.push(Line {
+                name: Some(format!("{} horizontal", Q_NAMES[qi])),
+                points: h,
+                style: Style::Points,
+                color: qi,
+            });
+        }
+        out.push(Figure {
+            file: "fig07_horizontal_vs_vertical.svg".into(),
+            chart: Chart {
+                title: format!("Capacity fractiles, horizontal against vertical, ε = {e_mid:.2}"),
+                x_desc: "p (1/s)".into(),
+                y_desc: "η_c".into(),
+                x_scale: Scale::Log,
+                y_scale: Scale::Log,
+                x_range: None,
+                y_range: None,
+                lines,
+            },
+            caption: "Capacity fractiles from the records' η_c (vertical statistics, lines) and from the horizontal EDP fractiles reaching overturning (points, at grid resolution) (paper Fig. 7): they coincide up to the grid step.".into(),
+        });
+
+        // Fig. 8: capacity curves.
+        let lines = es
+            .iter()
+            .enumerate()
+            .map(|(k, &e)| Line {
+                name: Some(format!("ε = {e:.2}")),
+                points: cf
+                    .iter()
+                    .filter(|r| {
+                        same(get(&CAPACITY_FRACTILES, r, "eps"), e)
+                            && same(get(&CAPACITY_FRACTILES, r, "quantile"), 0.5)
+                    })
+                    .map(|r| {
+                        (
+                            get(&CAPACITY_FRACTILES, r, "p"),
+                            get(&CAPACITY_FRACTILES, r, "eta_c"),
+                        )
+                    })
+                    .collect(),
+                style: Style::LinePoints,
+                color: k,
+            })
+            .collect();
+        out.push(Figure {
+            file: "fig08_capacity_curves.svg".into(),
+            chart: Chart {
+                title: "Median capacity η_c,50 against p".into(),
+                x_desc: "p (1/s)".into(),
+                y_desc: "η_c,50".into(),
+                x_scale: Scale::Log,
+                y_scale: Scale::Linear,
+                x_range: None,
+                y_range: Some((0.0, 1.0)),
+                lines,
+            },
+            caption: "The median capacity against the block's frequency parameter, one curve per ε (paper Fig. 8).".into(),
+        });
+
+        // Figs. 10–11: the regression against the data.
+        if let Some(law) = d.laws.iter().find(|l| l.quantile == 0.5) {
+            let p_dense: Vec<f64> = (0..=60)
+                .map(|k| ps[0] * (ps[ps.len() - 1] / ps[0]).powf(k as f64 / 60.0))
+                .collect();
+            let mut lines = Vec::new();
+            for (k, &e) in es.iter().enumerate().step_by(es.len().div_ceil(5).max(1)) {
+                let data = cf
+                    .iter()
+                    .filter(|r| {
+                        same(get(&CAPACITY_FRACTILES, r, "eps"), e)
+                            && same(get(&CAPACITY_FRACTILES, r, "quantile"), 0.5)
+                    })
+                    .map(|r| {
+                        (
+                            get(&CAPACITY_FRACTILES, r, "p"),
+                            get(&CAPACITY_FRACTILES, r, "eta_c"),
+                        )
+                    })
+                    .collect();
+                lines.push(Line {
+                    name: Some(format!("data ε = {e:.2}")),
+                    points: data,
+                    style: Style::Points,
+                    color: k,
+                });
+                let fitted = p_dense
+                    .iter()
+                    .map(|&p| {
+                        (
+                            p,
+                            curve(
+                                polyval(&law.a, e),
+                                polyval(&law.b, e),
+                                polyval(&law.c, e),
+                                p,
+                            ),
+                        )
+                    })
+                    .collect();
+                lines.push(Line {
+                    name: None,
+                    points: fitted,
+                    style: Style::Line,
+                    color: k,
+                });
+            }
+            out.push(Figure {
+                file: "fig10_regression_median.svg".into(),
+                chart: Chart {
+                    title: "Median capacity: data and the two-step regression".into(),
+                    x_desc: "p (1/s)".into(),
+                    y_desc: "η_c,50".into(),
+                    x_scale: Scale::Log,
+                    y_scale: Scale::Linear,
+                    x_range: None,
+                    y_range: Some((0.0, 1.0)),
+                    lines,
+                },
+                caption: "η_c,50 of the records (points) and a(ε)(1 − e^{−b(ε)p})^{c(ε)} with this study's step-2 coefficients (lines) (paper Fig. 10).".into(),
+            });
+        }
+        for (ci, coef) in ["a", "b", "c"].iter().enumerate() {
+            let mut lines = Vec::new();
+            let paper = fragility::paper();
+            let e_dense: Vec<f64> = (0..=40)
+                .map(|k| es[0] + (es[es.len() - 1] - es[0]) * k as f64 / 40.0)
+                .collect();
+            for (qi, &q) in Q_VALUES.iter().enumerate() {
+                let pts = d
+                    .fit_step1
+                    .iter()
+                    .filter(|r| same(get(&FIT_STEP1, r, "quantile"), q))
+                    .map(|r| (get(&FIT_STEP1, r, "eps"), get(&FIT_STEP1, r, coef)))
+                    .collect();
+                lines.push(Line {
+                    name: Some(format!("{} step 1", Q_NAMES[qi])),
+                    points: pts,
+                    style: Style::Points,
+                    color: qi,
+                });
+                let poly = |l: &FractileLaw| -> Vec<f64> {
+                    [l.a.clone(), l.b.clone(), l.c.clone()][ci].clone()
+                };
+                if let Some(l) = d.laws.iter().find(|l| l.quantile == q) {
+                    let c = poly(l);
+                    lines.push(Line {
+                        name: Some(format!("{} fitted", Q_NAMES[qi])),
+                        points: e_dense.iter().map(|&e| (e, polyval(&c, e))).collect(),
+                        style: Style::Line,
+                        color: qi,
+                    });
+                }
+                let c = poly(&paper[qi]);
+                lines.push(Line {
+                    name: Some(format!("{} paper", Q_NAMES[qi])),
+                    points: e_dense.iter().map(|&e| (e, polyval(&c, e))).collect(),
+                    style: Style::Line,
+                    color: qi + 3,
+                });
+            }
+            out.push(Figure {
+                file: format!("fig11_coefficient_{coef}.svg"),
+                chart: Chart {
+                    title: format!("Regression coefficient {coef}(ε)"),
+                    x_desc: "ε".into(),
+                    y_desc: coef.to_string(),
+                    x_scale: Scale::Linear,
+                    y_scale: Scale::Linear,
+                    x_range: None,
+                    y_range: None,
+                    lines,
+                },
+                caption: format!("Step-1 values of {coef} per ε (points), this study's step-2 polynomial (lines) and the paper's (paper Fig. 11)."),
+            });
+        }
+    }
+
+    // Fig. 9: lognormal probability plots, the best and the worst fitting block.
+    let mut ranked: Vec<&Vec<Value>> = d
+        .lognormal
+        .iter()
+        .filter(|r| get(&LOGNORMAL, r, "p_value").is_finite())
+        .collect();
+    ranked.sort_by(|a, b| get(&LOGNORMAL, a, "p_value").total_cmp(&get(&LOGNORMAL, b, "p_value")));
+    for (tag, row) in [("poor", ranked.first()), ("good", ranked.last())] {
+        let Some(row) = row else { continue };
+        let (p, e) = (get(&LOGNORMAL, row, "p"), get(&LOGNORMAL, row, "eps"));
+        let k = plan
+            .blocks
+            .iter()
+            .position(|b| b.p == p && b.eps == e)
+            .unwrap_or(0);
+        let mut logs: Vec<f64> = d
+            .caps
+            .iter()
+            .filter(|c| c.case_id as usize % n_blocks == k)
+            .filter_map(|c| c.eta_c)
+            .map(f64::ln)
+            .collect();
+        logs.sort_by(|a, b| a.total_cmp(b));
+        if logs.len() < 3 {
+            continue;
+        }
+        let n = logs.len() as f64;
+        let pts: Vec<(f64, f64)> = logs
+            .iter()
+            .enumerate()
+            .map(|(i, &x)| (x, stats::normal_quantile((i as f64 + 0.5) / n)))
+            .collect();
+        let (mean, sd) = stats::mean_sd(&logs);
+        let fitted = vec![
+            (logs[0], (logs[0] - mean) / sd),
+            (logs[logs.len() - 1], (logs[logs.len() - 1] - mean) / sd),
+        ];
+        out.push(Figure {
+            file: format!("fig09_lognormal_{tag}.svg"),
+            chart: Chart {
+                title: format!(
+                    "Normal probability plot of ln η_c, p = {p:.3} 1/s, ε = {e:.2} (Lilliefors p = {:.3})",
+                    get(&LOGNORMAL, row, "p_value")
+                ),
+                x_desc: "ln η_c".into(),
+                y_desc: "standard normal quantile".into(),
+                x_scale: Scale::Linear,
+                y_scale: Scale::Linear,
+                x_range: None,
+                y_range: None,
+                lines: vec![
+                    Line { name: Some("records".into()), points: pts, style: Style::Points, color: 0 },
+                    Line { name: Some("lognormal fit".into()), points: fitted, style: Style::Line, color: 1 },
+                ],
+            },
+            caption: format!(
+                "The {} fitting block by the Lilliefors test: ln η_c of every record against normal quantiles (paper Fig. 9).",
+                if tag == "good" { "best" } else { "worst" }
+            ),
+        });
+    }
+
+    // Fragility of an example block, from this study's fit and the paper's.
+    let block = Block {
+        b_m: 0.25,
+        h_m: 1.0,
+        eps: Block::housner_eps(0.25, 1.0),
+    };
+    let pgas: Vec<f64> = (1..=120).map(|k| k as f64 * 0.01).collect();
+    let mut lines = Vec::new();
+    for (name, laws, color) in [
+        ("this study", d.laws.to_vec(), 0),
+        ("paper", fragility::paper().to_vec(), 1),
+    ] {
+        if let Some((m, beta)) = fragility::median_beta(&laws, block.p(), block.eps) {
+            lines.push(Line {
+                name: Some(name.into()),
+                points: pgas
+                    .iter()
+                    .map(|&g| (g, fragility::probability(m, beta, block.alpha(), g)))
+                    .collect(),
+                style: Style::Line,
+                color,
+            });
+        }
+    }
+    if !lines.is_empty() {
+        out.push(Figure {
+            file: "fragility_example.svg".into(),
+            chart: Chart {
+                title: format!(
+                    "Fragility of a block b = 0.25 m, h = 1.0 m (α = {:.3} rad, p = {:.2} 1/s, ε = {:.2})",
+                    block.alpha(),
+                    block.p(),
+                    block.eps
+                ),
+                x_desc: "PGA (g)".into(),
+                y_desc: "P(overturn | PGA)".into(),
+                x_scale: Scale::Linear,
+                y_scale: Scale::Linear,
+                x_range: Some((0.0, 1.2)),
+                y_range: Some((0.0, 1.0)),
+                lines,
+            },
+            caption: "Probability of overturning of an example block (a 0.5 m × 2 m cabinet, Housner's ε) from this study's regression and the paper's.".into(),
+        });
+    }
+
+    // Capacity convergence.
+    if let Some(conv) = d.convergence {
+        let levels = distinct(
+            conv.iter()
+                .map(|r| get(&CONVERGENCE, r, "levels"))
+                .collect(),
+        );
+        let share: Vec<(f64, f64)> = levels
+            .iter()
+            .map(|&l| {
+                let rows: Vec<&Vec<Value>> = conv
+                    .iter()
+                    .filter(|r| get(&CONVERGENCE, r, "levels") == l)
+                    .collect();
+                let changed: f64 = rows.iter().map(|r| get(&CONVERGENCE, r, "n_changed")).sum();
+                let total: f64 = rows.iter().map(|r| get(&CONVERGENCE, r, "n_records")).sum();
+                (l, changed / total)
+            })
+            .collect();
+        let mean: Vec<(f64, f64)> = levels
+            .iter()
+            .map(|&l| {
+                let rows: Vec<&Vec<Value>> = conv
+                    .iter()
+                    .filter(|r| get(&CONVERGENCE, r, "levels") == l)
+                    .collect();
+                (
+                    l,
+                    rows.iter()
+                        .map(|r| get(&CONVERGENCE, r, "mean_abs_change"))
+                        .sum::<f64>()
+                        / rows.len() as f64,
+                )
+            })
+            .collect();
+        out.push(Figure {
+            file: "capacity_convergence.svg".into(),
+            chart: Chart {
+                title: "Capacity against IM-grid resolution".into(),
+                x_desc: "levels in the IM grid".into(),
+                y_desc: "share of (record, block) capacities that differ from the finest grid's".into(),
+                x_scale: Scale::Log,
+                y_scale: Scale::Linear,
+                x_range: None,
+                y_range: Some((0.0, share.iter().map(|s| s.1).fold(0.05, f64::max) * 1.2)),
+                lines: vec![Line { name: Some("share changed".into()), points: share, style: Style::LinePoints, color: 0 }],
+            },
+            caption: "How many records' capacities move (by more than twice the refinement tolerance) against the finest grid, as the grid is refined.".into(),
+        });
+        out.push(Figure {
+            file: "capacity_convergence_mean.svg".into(),
+            chart: Chart {
+                title: "Mean |Δη_c| against the finest grid".into(),
+                x_desc: "levels in the IM grid".into(),
+                y_desc: "mean |η_c − η_c(finest)|".into(),
+                x_scale: Scale::Log,
+                y_scale: Scale::Log,
+                x_range: None,
+                y_range: None,
+                lines: vec![Line {
+                    name: Some("mean over records and blocks".into()),
+                    points: mean,
+                    style: Style::LinePoints,
+                    color: 1,
+                }],
+            },
+            caption: "Mean absolute change of η_c against the finest grid.".into(),
+        });
+    }
+    out
+}
