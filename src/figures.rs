@@ -12,6 +12,7 @@ use crate::fragility::{self, Block, FractileLaw};
 use crate::pipeline::Plan;
 use crate::plot::{Chart, Line, Scale, Style};
 use crate::stats;
+use crate::stats::distinct;
 use crate::tables::summary::{
     Flat, Value, CAPACITY_FRACTILES, CONVERGENCE, FIT_STEP1, HORIZONTAL, LOGNORMAL,
 };
@@ -38,13 +39,7 @@ pub struct Figure {
 }
 
 fn get(t: &Flat, row: &[Value], col: &str) -> f64 {
-    row[t.col(col)].f().unwrap_or(f64::NAN)
-}
-
-fn distinct(mut v: Vec<f64>) -> Vec<f64> {
-    v.sort_by(|a, b| a.total_cmp(b));
-    v.dedup();
-    v
+    t.get(row, col)
 }
 
 fn same(a: f64, b: f64) -> bool {

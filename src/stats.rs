@@ -47,6 +47,13 @@ pub fn fractile(sorted: &[f64], q: f64, def: FractileDef) -> Option<f64> {
     Some(a + frac * (b - a))
 }
 
+/// The distinct values of `v`, ascending (NaN-free input).
+pub fn distinct(mut v: Vec<f64>) -> Vec<f64> {
+    v.sort_by(|a, b| a.total_cmp(b));
+    v.dedup();
+    v
+}
+
 /// Standard normal CDF Φ.
 pub fn normal_cdf(z: f64) -> f64 {
     Normal::standard().cdf(z)

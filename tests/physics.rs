@@ -77,17 +77,6 @@ fn eta_w_exponential(beta: f64, f: f64) -> f64 {
     prefactor * (1.0 - base.powf(2.0 * beta / (f - 2.0 * beta)))
 }
 
-fn exponential_pulse(beta: f64, t_d: f64, dt: f64) -> Excitation {
-    let k = (t_d / dt).round() as usize;
-    let samples: Vec<f64> = (0..=k)
-        .map(|i| {
-            let u = 1.0 - (2.0 * i as f64 / k as f64 - 1.0).abs();
-            (1.0 - (beta * u).exp()) / (1.0 - beta.exp())
-        })
-        .collect();
-    Excitation::new(&samples, t_d / k as f64).unwrap()
-}
-
 #[test]
 fn exponential_pulse_family_matches_paper_eq5() {
     // Sampling the curved pulse at dt and interpolating linearly is the only
@@ -104,7 +93,7 @@ fn exponential_pulse_family_matches_paper_eq5() {
         (3.0, 8.0),
     ];
     for (beta, f) in cases {
-        let exc = exponential_pulse(beta, 1.0, 1e-4);
+        let exc = rocking::bench::exponential_pulse(beta, 1.0, 1e-4);
         let c = eta_c(&exc, RunSpec::new(f, 0.7, 1.0, LIN), 1e-11);
         let w = eta_w_exponential(beta, f);
         assert!(

@@ -9,19 +9,14 @@ use crate::pipeline::Plan;
 use crate::plot;
 use crate::stages::fit;
 use crate::stages::run::{sweep_tables, Stage};
+use crate::stats::distinct;
 use crate::tables::atomic_write;
 use crate::tables::summary::{
     Flat, Value, CAPACITY_FRACTILES, CONVERGENCE, FIT_STEP1, HORIZONTAL, LOGNORMAL,
 };
 
 fn get(t: &Flat, row: &[Value], col: &str) -> f64 {
-    row[t.col(col)].f().unwrap_or(f64::NAN)
-}
-
-fn distinct(mut v: Vec<f64>) -> Vec<f64> {
-    v.sort_by(|a, b| a.total_cmp(b));
-    v.dedup();
-    v
+    t.get(row, col)
 }
 
 /// Writes `dir/figures/*.svg` and `dir/report.md`.

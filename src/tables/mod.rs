@@ -270,6 +270,13 @@ pub fn concat(
 
 /// The key-value metadata of a Parquet file (its footer only).
 pub fn read_metadata(path: &Path) -> Result<Vec<(String, String)>, TableError> {
+    Ok(open(path)?.1)
+}
+
+/// Opens a Parquet file: its reader builder and its key-value metadata.
+fn open(
+    path: &Path,
+) -> Result<(ParquetRecordBatchReaderBuilder<File>, Vec<(String, String)>), TableError> {
     let file = File::open(path).map_err(|source| TableError::Io {
         path: path.into(),
         source,
@@ -279,31 +286,7 @@ pub fn read_metadata(path: &Path) -> Result<Vec<(String, String)>, TableError> {
             path: path.into(),
             source,
         })?;
-    Ok(builder
-        .metadata()
-        .file_metadata()
-        .key_value_metadata()
-        .map(|kv| {
-            kv.iter()
-                .map(|e| (e.key.clone(), e.value.clone().unwrap_or_default()))
-                .collect()
-        })
-        .unwrap_or_default())
-}
-
-/// Reads a whole table, checking that it is `kind` at the schema version
-/// this build understands.
-pub fn read_table(path: &Path, kind: TableKind) -> Result<TableContents, TableError> {
-    let file = File::open(path).map_err(|source| TableError::Io {
-        path: path.into(),
-        source,
-    })?;
-    let parquet_err = |source| TableError::Parquet {
-        path: path.into(),
-        source,
-    };
-    let builder = ParquetRecordBatchReaderBuilder::try_new(file).map_err(parquet_err)?;
-    let metadata: Vec<(String, String)> = builder
+    let metadata = builder
         .metadata()
         .file_metadata()
         .key_value_metadata()
@@ -313,6 +296,17 @@ pub fn read_table(path: &Path, kind: TableKind) -> Result<TableContents, TableEr
                 .collect()
         })
         .unwrap_or_default();
+    Ok((builder, metadata))
+}
+
+/// Reads a whole table, checking that it is `kind` at the schema version
+/// this build understands.
+pub fn read_table(path: &Path, kind: TableKind) -> Result<TableContents, TableError> {
+    let parquet_err = |source| TableError::Parquet {
+        path: path.into(),
+        source,
+    };
+    let (builder, metadata) = open(path)?;
     let find = |key: &str| {
         metadata
             .iter()

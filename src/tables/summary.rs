@@ -169,6 +169,11 @@ impl Flat {
         Ok(rows)
     }
 
+    /// The number in `row` under `col` (NaN if empty or not a number).
+    pub fn get(&self, row: &[Value], col: &str) -> f64 {
+        row[self.col(col)].f().unwrap_or(f64::NAN)
+    }
+
     /// Index of a column by name (panics on a name not in the schema: a bug).
     pub fn col(&self, name: &str) -> usize {
         self.columns
