@@ -273,10 +273,11 @@ pub fn read_metadata(path: &Path) -> Result<Vec<(String, String)>, TableError> {
     Ok(open(path)?.1)
 }
 
+/// Key-value metadata of a file, as (key, value) pairs.
+type KeyValues = Vec<(String, String)>;
+
 /// Opens a Parquet file: its reader builder and its key-value metadata.
-fn open(
-    path: &Path,
-) -> Result<(ParquetRecordBatchReaderBuilder<File>, Vec<(String, String)>), TableError> {
+fn open(path: &Path) -> Result<(ParquetRecordBatchReaderBuilder<File>, KeyValues), TableError> {
     let file = File::open(path).map_err(|source| TableError::Io {
         path: path.into(),
         source,
