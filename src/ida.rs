@@ -163,7 +163,18 @@ pub fn capacity_traced(
     }
     let levels = grid.levels()?;
     let mut points = Vec::new();
-    let at = |eta: f64| simulate(exc, &RunSpec { eta, ..*run });
+    // A run stopped by the event cap has no verdict: refuse it rather than
+    // count it as surviving.
+    let at = |eta: f64| {
+        let out = simulate(exc, &RunSpec { eta, ..*run })?;
+        if out.stop == crate::physics::Stop::EventLimit {
+            return Err(PhysicsError::BadInput(format!(
+                "the run at η = {eta} hit the limit of {} events without a verdict",
+                crate::physics::MAX_EVENTS
+            )));
+        }
+        Ok(out)
+    };
     let mut survived = grid.eta_max;
     for (j, &eta) in levels.iter().enumerate() {
         let outcome = at(eta)?;

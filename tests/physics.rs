@@ -306,6 +306,39 @@ fn peak_a_hair_above_threshold_lifts_imperceptibly_and_settles() {
 }
 
 #[test]
+fn a_sample_exactly_at_the_threshold_does_not_lift_the_block() {
+    // 0.2 → 0.9 over one interval: 0.2 + ((0.9 − 0.2)/dt)·dt rounds to
+    // 0.9000000000000001, past a threshold of exactly 0.9 that the record only
+    // touches. Only the later peak of 1 may lift the block.
+    let mut samples = vec![0.0, 0.2, 0.9, 0.2, 0.0];
+    samples.extend(vec![0.0; 45]);
+    samples.extend([0.5, 1.0, 0.5, 0.0]);
+    samples.extend(vec![0.0; 20]);
+    for dt in [0.01, 0.02, 0.005] {
+        let exc = Excitation::new(&samples, dt).unwrap();
+        for model in [
+            LIN,
+            Model::Nonlinear {
+                alpha_rad: 0.1,
+                rtol: 1e-9,
+            },
+        ] {
+            let alpha_factor = match model {
+                Model::Nonlinear { alpha_rad, .. } => alpha_rad.tan() / alpha_rad,
+                _ => 1.0,
+            };
+            let out = run(&exc, 2.0, 0.8, 0.9 / alpha_factor, model);
+            let t = out.first_uplift_s.expect("the later peak lifts it");
+            assert!(
+                t > 50.0 * dt,
+                "dt = {dt}: lifted at {t} s by the touch at {} s",
+                2.0 * dt
+            );
+        }
+    }
+}
+
+#[test]
 fn flipping_the_record_gives_the_same_response() {
     for stem in [
         "far-field/RSN1111_KOBE_NIS000",

@@ -208,6 +208,25 @@ fn reduce_and_fit_follow_the_definitions_and_rerun_only_on_change() {
     assert!(ok(&["fit", p, "--outputs", o]).contains("up to date"));
     let step1 = FIT_STEP1.read(&folder.join("fit_step1.parquet")).unwrap();
     assert_eq!(step1.len(), 9, "3 ε × 3 fractiles");
+    // Sweep tables made with other settings are refused, not relabelled.
+    let other = fs::read_to_string(&pipe)
+        .unwrap()
+        .replace("eta_min = 0.005", "eta_min = 0.004");
+    let other_pipe = dir.path().join("other.toml");
+    fs::write(&other_pipe, other).unwrap();
+    let r = rocking(
+        dir.path(),
+        &[
+            "reduce",
+            other_pipe.to_str().unwrap(),
+            "--outputs",
+            o,
+            "--force",
+        ],
+    );
+    assert!(!r.status.success());
+    assert!(stderr(&r).contains("other settings"), "{}", stderr(&r));
+
     // Rerun with --force redoes the work.
     assert!(!ok(&["reduce", p, "--outputs", o, "--force"]).contains("up to date"));
     // A changed fractile definition reruns reduce.

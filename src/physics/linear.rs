@@ -376,13 +376,12 @@ impl Rocker for Linear {
                 return StretchEnd::Overturn { sigma };
             }
             if y_hi <= 0.0 {
-                let (sigma, v) = if y_lo > 0.0 {
-                    self.locate(&m, s, 0.0, lo, hi, false)
-                } else {
+                if y_lo <= 0.0 {
                     // Never left the pivot (a departure swamped by rounding):
-                    // the return is at the end of this piece.
-                    (hi, v_hi)
-                };
+                    // it settles, with no impact and no speed to carry over.
+                    return StretchEnd::Settled { sigma: hi };
+                }
+                let (sigma, v) = self.locate(&m, s, 0.0, lo, hi, false);
                 return StretchEnd::Impact { sigma, v };
             }
             *max_abs_x = max_abs_x.max(y_hi);

@@ -497,6 +497,9 @@ pub enum StretchEnd {
     Impact { sigma: f64, v: f64 },
     /// Reached the overturning limit at `sigma`.
     Overturn { sigma: f64 },
+    /// Never left the pivot (a departure swamped by rounding): at rest from
+    /// `sigma` on, with no impact.
+    Settled { sigma: f64 },
 }
 
 /// An integrator on one pivot.
@@ -638,7 +641,7 @@ fn drive<R: Rocker>(
             match state {
                 None => {
                     // At rest: find where |ψ̈| first exceeds the threshold in [tau, dt].
-                    let Some((at, side)) = uplift_in(g_a, g1, dt - tau, threshold) else {
+                    let Some((at, side)) = uplift_in(g_a, g_end, g1, dt - tau, threshold) else {
                         break;
                     };
                     tau += at;
@@ -683,6 +686,19 @@ fn drive<R: Rocker>(
                                 kind: EventKind::Overturn,
                             });
                             return out;
+                        }
+                        StretchEnd::Settled { sigma } => {
+                            tau += sigma;
+                            g_a = g0 + g1 * tau;
+                            state = None;
+                            obs.point(HistoryPoint {
+                                t_s: t_k + tau,
+                                x: 0.0,
+                                v: 0.0,
+                                pivot: 0,
+                                psi: g_a,
+                                kind: EventKind::Rest,
+                            });
                         }
                         StretchEnd::Impact { sigma, v } => {
                             tau += sigma;
@@ -765,6 +781,7 @@ fn drive<R: Rocker>(
                         out.overturn_time_s = Some(t + sigma);
                         break;
                     }
+                    StretchEnd::Settled { .. } => break,
                     StretchEnd::Impact { sigma, v } => {
                         t += sigma;
                         out.impacts += 1;
@@ -786,11 +803,12 @@ fn drive<R: Rocker>(
 
 /// First offset in `[0, len]` where `|g_a + g1 σ| > threshold`, and its side.
 /// Strict: a record that only touches the threshold does not lift the block.
-fn uplift_in(g_a: f64, g1: f64, len: f64, threshold: f64) -> Option<(f64, f64)> {
+/// `g_b` is the forcing at the end of the stretch, the next sample itself
+/// (not `g_a + g1·len`, which can round past a threshold the sample only touches).
+fn uplift_in(g_a: f64, g_b: f64, g1: f64, len: f64, threshold: f64) -> Option<(f64, f64)> {
     if g_a.abs() > threshold {
         return Some((0.0, g_a.signum()));
     }
-    let g_b = g_a + g1 * len;
     if g_b.abs() <= threshold {
         // Linear in σ: if neither end exceeds it, no point between does.
         return None;

@@ -296,13 +296,11 @@ impl Nonlinear {
                 break;
             }
             if y_hi <= 0.0 {
-                // A departure swamped by rounding returns at the piece's end.
-                let sig = if y_lo > 0.0 {
-                    illinois(y_of, lo, hi)
-                } else {
-                    hi
-                };
-                event = Some((sig, false));
+                if y_lo <= 0.0 {
+                    // A departure swamped by rounding: it never left the pivot.
+                    return Some((StretchEnd::Settled { sigma: hi }, [0.0, 0.0]));
+                }
+                event = Some((illinois(y_of, lo, hi), false));
                 break;
             }
             *max_abs_x = max_abs_x.max(y_hi);

@@ -46,6 +46,19 @@ pub struct FitReport {
     pub laws: Vec<FractileLaw>,
 }
 
+/// Why the regression cannot be fitted to this pipeline's blocks, if it cannot.
+pub fn not_applicable(plan: &Plan) -> Option<String> {
+    if plan.blocks.iter().any(|b| !b.name.is_empty()) {
+        return Some("the pipeline has physical blocks, not a p × ε grid".into());
+    }
+    let count = |v: Vec<f64>| crate::stats::distinct(v).len();
+    let np = count(plan.blocks.iter().map(|b| b.p).collect());
+    let ne = count(plan.blocks.iter().map(|b| b.eps).collect());
+    (np < 3 || ne < 3).then(|| {
+        format!("the regression needs at least 3 values of p and of ε (the grid has {np} × {ne})")
+    })
+}
+
 pub fn outputs(dir: &Path) -> [PathBuf; 3] {
     [
         dir.join("fit_step1.parquet"),

@@ -121,6 +121,20 @@ pub fn run(plan: &Plan, outputs_root: &Path, force: bool) -> Result<ReduceReport
         });
     }
 
+    // The sweep must be of this pipeline's settings (a leftover from an edit is refused).
+    for f in &cap_files {
+        let kv = tables::read_metadata(f)?;
+        let made = kv
+            .iter()
+            .find(|(k, _)| k == sweep::META_SETTINGS)
+            .map(|(_, v)| v.as_str());
+        if made != Some(plan.sweep_settings().as_str()) {
+            return Err(ReduceError::Mismatch(format!(
+                "{} was made with other settings than the pipeline's",
+                f.display()
+            )));
+        }
+    }
     let mut caps = read_capacities(&cap_files)?;
     caps.sort_by_key(|c| c.case_id);
     let mut ida = read_ida(&ida_files)?;
@@ -364,15 +378,20 @@ pub fn run(plan: &Plan, outputs_root: &Path, force: bool) -> Result<ReduceReport
 /// interpolating linearly between grid levels; the curve starts at
 /// (η_max, 0) and ends at (η_c, 1) if the record overturns.
 fn first_eta_reaching(r: &RecordIda, eta_max: f64, e: f64) -> Option<f64> {
-    let mut prev = (eta_max, 0.0);
+    // Nothing moves at η ≥ 1 (the uplift threshold of either model), so a grid
+    // that starts there starts at EDP = 0; one that starts lower starts at its
+    // first level.
+    let mut prev = (eta_max >= 1.0).then_some((eta_max, 0.0));
     let end = r.first_over.unwrap_or(r.levels.len());
     let tail = r.cap.eta_c.map(|c| (c, 1.0));
     for point in r.levels[..end].iter().map(|l| (l.0, l.1)).chain(tail) {
         if point.1 >= e {
-            let w = (e - prev.1) / (point.1 - prev.1);
-            return Some(prev.0 + w * (point.0 - prev.0));
+            return Some(match prev {
+                Some(prev) => prev.0 + (e - prev.1) / (point.1 - prev.1) * (point.0 - prev.0),
+                None => point.0,
+            });
         }
-        prev = point;
+        prev = Some(point);
     }
     None
 }

@@ -31,7 +31,9 @@ pub fn write(
     let horizontal = read(&HORIZONTAL, "fractiles_horizontal.parquet")?;
     let cap_fr = read(&CAPACITY_FRACTILES, "capacity_fractiles.parquet")?;
     let lognormal = read(&LOGNORMAL, "lognormal.parquet")?;
-    let has_fit = fit::outputs(dir).iter().all(|p| p.exists());
+    // Fit tables left from an earlier grid are not this study's.
+    let has_fit =
+        fit::not_applicable(plan).is_none() && fit::outputs(dir).iter().all(|p| p.exists());
     let step1 = if has_fit {
         read(&FIT_STEP1, "fit_step1.parquet")?
     } else {

@@ -12,7 +12,6 @@
 
 use std::collections::BTreeMap;
 use std::fs;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -279,22 +278,7 @@ fn not_needed(stage: Stage, plan: &Plan) -> Option<String> {
         Stage::Convergence if plan.convergence.is_empty() => {
             Some("the pipeline has no [convergence] levels".into())
         }
-        Stage::Fit if plan.blocks.iter().any(|b| !b.name.is_empty()) => {
-            Some("the pipeline has physical blocks, not a p × ε grid".into())
-        }
-        Stage::Fit => {
-            let count = |v: Vec<f64>| {
-                let mut v = v;
-                v.sort_by(|a, b| a.total_cmp(b));
-                v.dedup();
-                v.len()
-            };
-            let (np, ne) = (
-                count(plan.blocks.iter().map(|b| b.p).collect()),
-                count(plan.blocks.iter().map(|b| b.eps).collect()),
-            );
-            (np < 3 || ne < 3).then(|| format!("the regression needs at least 3 values of p and of ε (the grid has {np} × {ne})"))
-        }
+        Stage::Fit => fit::not_applicable(plan),
         _ => None,
     }
 }
@@ -349,56 +333,81 @@ pub fn freshness(stage: Stage, plan: &Plan, layout: &Layout) -> Freshness {
     }
 }
 
-/// Holds `DIR/<name>/.lock` while alive.
-struct Lock(PathBuf);
+/// Holds a lock file (`DIR/<name>/.lock`, or one per shard) while alive.
+///
+/// Taken by hard-linking a file that already holds our PID, so the lock never
+/// exists empty; a lock whose PID is not a running process (on this machine)
+/// is stale and taken over; an unreadable one counts as held. Released only
+/// if it still holds our PID.
+pub struct Lock {
+    path: PathBuf,
+    pid: String,
+}
 
 impl Lock {
-    fn take(dir: &Path) -> Result<Lock, RunError> {
+    pub fn take(dir: &Path, name: &str) -> Result<Lock, RunError> {
         fs::create_dir_all(dir).map_err(|source| RunError::Io {
             path: dir.into(),
             source,
         })?;
-        let path = dir.join(".lock");
-        for _ in 0..2 {
-            match fs::OpenOptions::new()
-                .write(true)
-                .create_new(true)
-                .open(&path)
-            {
-                Ok(mut f) => {
-                    let _ = write!(f, "{}", std::process::id());
-                    return Ok(Lock(path));
-                }
-                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
-                    let pid = fs::read_to_string(&path)
-                        .unwrap_or_default()
-                        .trim()
-                        .to_string();
-                    let alive = !pid.is_empty() && Path::new("/proc").join(&pid).exists();
-                    if alive || !Path::new("/proc").exists() {
-                        return Err(RunError::Locked {
-                            pid,
-                            dir: dir.into(),
-                            lock: path,
-                        });
+        let path = dir.join(name);
+        let pid = std::process::id().to_string();
+        let tmp = dir.join(format!("{name}.tmp-{pid}"));
+        fs::write(&tmp, &pid).map_err(|source| RunError::Io {
+            path: tmp.clone(),
+            source,
+        })?;
+        let result = (|| {
+            for _ in 0..3 {
+                match fs::hard_link(&tmp, &path) {
+                    Ok(()) => {
+                        return Ok(Lock {
+                            path: path.clone(),
+                            pid: pid.clone(),
+                        })
                     }
-                    // The owner is gone (killed): the lock is stale.
-                    let _ = fs::remove_file(&path);
+                    Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                        let owner = fs::read_to_string(&path)
+                            .unwrap_or_default()
+                            .trim()
+                            .to_string();
+                        let dead = owner.parse::<u32>().is_ok()
+                            && Path::new("/proc").exists()
+                            && !Path::new("/proc").join(&owner).exists();
+                        if !dead {
+                            return Err(RunError::Locked {
+                                pid: owner,
+                                dir: dir.into(),
+                                lock: path.clone(),
+                            });
+                        }
+                        // The owner is gone (killed): the lock is stale.
+                        let _ = fs::remove_file(&path);
+                    }
+                    Err(source) => {
+                        return Err(RunError::Io {
+                            path: path.clone(),
+                            source,
+                        })
+                    }
                 }
-                Err(source) => return Err(RunError::Io { path, source }),
             }
-        }
-        Err(RunError::Locked {
-            pid: "?".into(),
-            dir: dir.into(),
-            lock: path,
-        })
+            Err(RunError::Locked {
+                pid: "?".into(),
+                dir: dir.into(),
+                lock: path.clone(),
+            })
+        })();
+        let _ = fs::remove_file(&tmp);
+        result
     }
 }
 
 impl Drop for Lock {
     fn drop(&mut self) {
-        let _ = fs::remove_file(&self.0);
+        if fs::read_to_string(&self.path).is_ok_and(|owner| owner.trim() == self.pid) {
+            let _ = fs::remove_file(&self.path);
+        }
     }
 }
 
@@ -427,7 +436,7 @@ pub fn run(
 ) -> Result<Vec<StageResult>, RunError> {
     let plan = &cfg.plan;
     let layout = Layout::new(plan, &cfg.outputs);
-    let _lock = Lock::take(&layout.dir)?;
+    let _lock = Lock::take(&layout.dir, ".lock")?;
     let mut results = Vec::new();
     for stage in Stage::ALL {
         let fresh = freshness(stage, plan, &layout);

@@ -42,6 +42,8 @@ pub const CHUNK_CASES: usize = 32;
 pub const META_PLAN_HASH: &str = "rocking.sweep.plan_hash";
 pub const META_PLAN: &str = "rocking.sweep.plan";
 pub const META_SHARD: &str = "rocking.sweep.shard";
+/// The settings that determine the results ([`Plan::sweep_settings`]).
+pub const META_SETTINGS: &str = "rocking.sweep.settings";
 
 /// Environment variable for fault-injection tests: abort the process (as a
 /// crash would) after writing this many chunks.
@@ -323,6 +325,7 @@ pub fn run(
         let mut s = vec![
             (META_PLAN_HASH.to_string(), hash.clone()),
             (META_PLAN.to_string(), plan_json.clone()),
+            (META_SETTINGS.to_string(), plan.sweep_settings()),
         ];
         if let Some(sh) = shard {
             s.push((META_SHARD.to_string(), sh.to_string()));
@@ -443,8 +446,15 @@ pub fn run(
         let _ = fs::remove_file(p);
     }
     let _ = fs::remove_dir(&parts); // only if empty (other shards may still write here)
-    if config.shard.is_none() {
-        remove_shard_tables(&dir)?;
+    match config.shard {
+        // The unsharded tables supersede any shards, and shards supersede
+        // unsharded tables: the dataset is whichever was written last.
+        None => remove_shard_tables(&dir)?,
+        Some(_) => {
+            let (ida, cap) = final_names(None);
+            let _ = fs::remove_file(dir.join(ida));
+            let _ = fs::remove_file(dir.join(cap));
+        }
     }
 
     Ok(SweepReport {
@@ -495,7 +505,13 @@ fn remove_stale_temporaries(dir: &Path, mine: &[usize]) -> Result<(), SweepError
             .or_else(|| name.strip_prefix(".cap-"))
             .and_then(|r| r.split('.').next())
             .and_then(|c| c.parse::<usize>().ok());
-        if name.contains(".tmp-") && chunk.is_some_and(|c| mine.contains(&c)) {
+        // The writer's PID ends the name: a live writer's file is not stale.
+        let pid = name
+            .rsplit(".tmp-")
+            .next()
+            .filter(|_| name.contains(".tmp-"));
+        let writer_alive = pid.is_some_and(|p| Path::new("/proc").join(p).exists());
+        if name.contains(".tmp-") && !writer_alive && chunk.is_some_and(|c| mine.contains(&c)) {
             let _ = fs::remove_file(e.path());
         }
     }
