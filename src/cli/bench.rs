@@ -151,6 +151,11 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         started.elapsed().as_secs_f64()
     );
     let lin = linearisation_table(&args, if args.quick { 2 } else { 11 })?;
+    eprintln!(
+        "[{:6.1} s] overturning criteria",
+        started.elapsed().as_secs_f64()
+    );
+    let criteria = criteria_table(&args, if args.quick { 2 } else { 11 })?;
 
     let svg = plot::log_log(
         "Speed against error: θmax/α at 1.25·η_c, bundled records and pulses",
@@ -171,6 +176,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         &solver_section(&rows, &cases, &args, svg_name, grid.count, tol),
     );
     md = replace_section(&md, "linearisation", &lin);
+    md = replace_section(&md, "criteria", &criteria);
     atomic_write(&md_path, md.as_bytes())?;
     eprintln!(
         "[{:6.1} s] wrote {} and {}",
@@ -262,8 +268,8 @@ fn solver_section(
     s
 }
 
-/// Median relative |η_c(nonlinear) − η_c(linearised)| / η_c over records × p × ε, per α.
-fn linearisation_table(args: &BenchArgs, n_records: usize) -> anyhow::Result<String> {
+/// `n` far-field records spread over the set (every k-th by file name).
+fn spread_records(args: &BenchArgs, n_records: usize) -> anyhow::Result<Vec<Excitation>> {
     let dir = args.records.join("far-field");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
         .with_context(|| format!("{}: cannot list", dir.display()))?
@@ -280,6 +286,12 @@ fn linearisation_table(args: &BenchArgs, n_records: usize) -> anyhow::Result<Str
             .unwrap_or_default();
         recs.push(load(&args.records, &stem)?);
     }
+    Ok(recs)
+}
+
+/// Median relative |η_c(nonlinear) − η_c(linearised)| / η_c over records × p × ε, per α.
+fn linearisation_table(args: &BenchArgs, n_records: usize) -> anyhow::Result<String> {
+    let recs = spread_records(args, n_records)?;
     let grid = ImGrid::default();
     let mut s = String::new();
     let _ = writeln!(
@@ -371,4 +383,79 @@ mod tests {
         assert!(!doc2.contains("one") && doc2.contains("two") && doc2.contains("hand text"));
         assert_eq!(doc2.matches("BEGIN x").count(), 1);
     }
+}
+
+/// How much the overturning criterion moves η_c (nonlinear model, α = 0.2):
+/// a cap at 1.5α and the block lying on its side against the static limit.
+fn criteria_table(args: &BenchArgs, n_records: usize) -> anyhow::Result<String> {
+    use crate::physics::Overturn;
+    let recs = spread_records(args, n_records)?;
+    let grid = ImGrid::default();
+    let alpha = 0.2;
+    let mut s = String::new();
+    let _ = writeln!(s, "## Overturning criterion (docs/MODEL.md §3)\n");
+    let _ = writeln!(
+        s,
+        "η_c under other criteria relative to the static one (|θ| ≥ α), nonlinear model with α = {alpha} rad, \
+         {} far-field records × p ∈ {{1, 3, 8}} 1/s × ε ∈ {{0.6, 0.9}} (default grid, Δη = 1e-4). A ratio below 1: \
+         the block needs stronger shaking to count as overturned under that criterion.\n",
+        recs.len()
+    );
+    let _ = writeln!(
+        s,
+        "| criterion | cases | median η_c / η_c(static) | 10 % | 90 % | share unchanged (< 1e-3) |"
+    );
+    let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|");
+    for criterion in [Overturn::Cap(1.5), Overturn::OnSide] {
+        let mut ratios = Vec::new();
+        for exc in &recs {
+            for p in [1.0, 3.0, 8.0] {
+                for eps in [0.6, 0.9] {
+                    let model = Model::Nonlinear {
+                        alpha_rad: alpha,
+                        rtol: 1e-8,
+                    };
+                    let base = RunSpec::new(p, eps, 1.0, model);
+                    let st = capacity(exc, &base, &grid, 1e-4)?.eta_c;
+                    let other = capacity(
+                        exc,
+                        &RunSpec {
+                            overturn: criterion,
+                            ..base
+                        },
+                        &grid,
+                        1e-4,
+                    )?
+                    .eta_c;
+                    if let (Some(a), Some(b)) = (st, other) {
+                        ratios.push(b / a);
+                    }
+                }
+            }
+        }
+        ratios.sort_by(|a, b| a.total_cmp(b));
+        let q = |f: f64| {
+            ratios
+                .get(((ratios.len().max(1) - 1) as f64 * f).round() as usize)
+                .copied()
+                .unwrap_or(f64::NAN)
+        };
+        let same = ratios.iter().filter(|r| (*r - 1.0).abs() < 1e-3).count() as f64
+            / ratios.len().max(1) as f64;
+        let _ = writeln!(
+            s,
+            "| {criterion} | {} | {:.4} | {:.4} | {:.4} | {:.0} % |",
+            ratios.len(),
+            q(0.5),
+            q(0.1),
+            q(0.9),
+            100.0 * same
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nThe paper states that the criterion hardly changes the capacities for earthquake records; this \
+         table measures by how much.\n"
+    );
+    Ok(s)
 }
