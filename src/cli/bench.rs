@@ -371,20 +371,6 @@ fn replace_section(doc: &str, name: &str, body: &str) -> String {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::replace_section;
-
-    #[test]
-    fn sections_are_replaced_in_place_or_appended() {
-        let doc = replace_section("# B\n\nhand text\n", "x", "one\n");
-        assert!(doc.contains("hand text") && doc.contains("one\n<!-- END x -->"));
-        let doc2 = replace_section(&doc, "x", "two\n");
-        assert!(!doc2.contains("one") && doc2.contains("two") && doc2.contains("hand text"));
-        assert_eq!(doc2.matches("BEGIN x").count(), 1);
-    }
-}
-
 /// How much the overturning criterion moves η_c (nonlinear model, α = 0.2):
 /// a cap at 1.5α and the block lying on its side against the static limit.
 fn criteria_table(args: &BenchArgs, n_records: usize) -> anyhow::Result<String> {
@@ -458,4 +444,18 @@ fn criteria_table(args: &BenchArgs, n_records: usize) -> anyhow::Result<String> 
          table measures by how much.\n"
     );
     Ok(s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::replace_section;
+
+    #[test]
+    fn sections_are_replaced_in_place_or_appended() {
+        let doc = replace_section("# B\n\nhand text\n", "x", "one\n");
+        assert!(doc.contains("hand text") && doc.contains("one\n<!-- END x -->"));
+        let doc2 = replace_section(&doc, "x", "two\n");
+        assert!(!doc2.contains("one") && doc2.contains("two") && doc2.contains("hand text"));
+        assert_eq!(doc2.matches("BEGIN x").count(), 1);
+    }
 }
