@@ -548,7 +548,7 @@ pub fn figures(d: &StudyData) -> Vec<Figure> {
                 x_desc: "levels in the IM grid".into(),
                 y_desc: "mean |η_c − η_c(finest)|".into(),
                 x_scale: Scale::Log,
-                y_scale: Scale::Log,
+                y_scale: Scale::Linear,
                 x_range: None,
                 y_range: None,
                 lines: vec![Line {
