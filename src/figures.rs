@@ -42,8 +42,42 @@ fn get(t: &Flat, row: &[Value], col: &str) -> f64 {
     t.get(row, col)
 }
 
-fn same(a: f64, b: f64) -> bool {
-    a == b
+/// The capacity-convergence table summed over blocks, one entry per grid resolution.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ConvergenceLevel {
+    pub levels: f64,
+    /// (record, block) capacities that differ from the finest grid's, and of how many.
+    pub changed: f64,
+    pub total: f64,
+    /// Mean over blocks of the mean |Δη_c|; largest |Δη_c| anywhere.
+    pub mean_abs_change: f64,
+    pub max_abs_change: f64,
+    /// Mean over blocks of η_c,50.
+    pub mean_q50: f64,
+}
+
+/// Summarises `capacity_convergence` rows per resolution, coarsest first.
+pub fn convergence_levels(conv: &[Vec<Value>]) -> Vec<ConvergenceLevel> {
+    let g = |r: &Vec<Value>, c: &str| CONVERGENCE.get(r, c);
+    distinct(conv.iter().map(|r| g(r, "levels")).collect())
+        .into_iter()
+        .map(|l| {
+            let rows: Vec<&Vec<Value>> = conv.iter().filter(|r| g(r, "levels") == l).collect();
+            let n = rows.len().max(1) as f64;
+            let sum = |c: &str| rows.iter().map(|r| g(r, c)).sum::<f64>();
+            ConvergenceLevel {
+                levels: l,
+                changed: sum("n_changed"),
+                total: sum("n_records"),
+                mean_abs_change: sum("mean_abs_change") / n,
+                max_abs_change: rows
+                    .iter()
+                    .map(|r| g(r, "max_abs_change"))
+                    .fold(0.0, f64::max),
+                mean_q50: sum("eta_c_q50") / n,
+            }
+        })
+        .collect()
 }
 
 /// The block drawn in the single-block figures: the middle p and ε of the grid.
@@ -69,7 +103,7 @@ fn fractile_curve(rows: &[Vec<Value>], p: f64, e: f64, qi: usize) -> Vec<(f64, f
     let mut pts = vec![(0.0, 1.0)];
     for r in rows
         .iter()
-        .filter(|r| same(get(&HORIZONTAL, r, "p"), p) && same(get(&HORIZONTAL, r, "eps"), e))
+        .filter(|r| get(&HORIZONTAL, r, "p") == p && get(&HORIZONTAL, r, "eps") == e)
     {
         let (eta, edp) = (get(&HORIZONTAL, r, "eta"), get(&HORIZONTAL, r, col));
         if edp.is_infinite() || edp >= 1.0 {
@@ -178,8 +212,8 @@ pub fn figures(d: &StudyData) -> Vec<Figure> {
             let rows: Vec<&Vec<Value>> = cf
                 .iter()
                 .filter(|r| {
-                    same(get(&CAPACITY_FRACTILES, r, "eps"), e_mid)
-                        && same(get(&CAPACITY_FRACTILES, r, "quantile"), q)
+                    get(&CAPACITY_FRACTILES, r, "eps") == e_mid
+                        && get(&CAPACITY_FRACTILES, r, "quantile") == q
                 })
                 .collect();
             let v: Vec<(f64, f64)> = rows
@@ -237,8 +271,8 @@ pub fn figures(d: &StudyData) -> Vec<Figure> {
                 points: cf
                     .iter()
                     .filter(|r| {
-                        same(get(&CAPACITY_FRACTILES, r, "eps"), e)
-                            && same(get(&CAPACITY_FRACTILES, r, "quantile"), 0.5)
+                        get(&CAPACITY_FRACTILES, r, "eps") == e
+                            && get(&CAPACITY_FRACTILES, r, "quantile") == 0.5
                     })
                     .map(|r| {
                         (
@@ -276,8 +310,8 @@ pub fn figures(d: &StudyData) -> Vec<Figure> {
                 let data = cf
                     .iter()
                     .filter(|r| {
-                        same(get(&CAPACITY_FRACTILES, r, "eps"), e)
-                            && same(get(&CAPACITY_FRACTILES, r, "quantile"), 0.5)
+                        get(&CAPACITY_FRACTILES, r, "eps") == e
+                            && get(&CAPACITY_FRACTILES, r, "quantile") == 0.5
                     })
                     .map(|r| {
                         (
@@ -338,7 +372,7 @@ pub fn figures(d: &StudyData) -> Vec<Figure> {
                 let pts = d
                     .fit_step1
                     .iter()
-                    .filter(|r| same(get(&FIT_STEP1, r, "quantile"), q))
+                    .filter(|r| get(&FIT_STEP1, r, "quantile") == q)
                     .map(|r| (get(&FIT_STEP1, r, "eps"), get(&FIT_STEP1, r, coef)))
                     .collect();
                 lines.push(Line {
@@ -494,38 +528,14 @@ pub fn figures(d: &StudyData) -> Vec<Figure> {
 
     // Capacity convergence.
     if let Some(conv) = d.convergence {
-        let levels = distinct(
-            conv.iter()
-                .map(|r| get(&CONVERGENCE, r, "levels"))
-                .collect(),
-        );
-        let share: Vec<(f64, f64)> = levels
+        let summary = convergence_levels(conv);
+        let share: Vec<(f64, f64)> = summary
             .iter()
-            .map(|&l| {
-                let rows: Vec<&Vec<Value>> = conv
-                    .iter()
-                    .filter(|r| get(&CONVERGENCE, r, "levels") == l)
-                    .collect();
-                let changed: f64 = rows.iter().map(|r| get(&CONVERGENCE, r, "n_changed")).sum();
-                let total: f64 = rows.iter().map(|r| get(&CONVERGENCE, r, "n_records")).sum();
-                (l, changed / total)
-            })
+            .map(|c| (c.levels, c.changed / c.total.max(1.0)))
             .collect();
-        let mean: Vec<(f64, f64)> = levels
+        let mean: Vec<(f64, f64)> = summary
             .iter()
-            .map(|&l| {
-                let rows: Vec<&Vec<Value>> = conv
-                    .iter()
-                    .filter(|r| get(&CONVERGENCE, r, "levels") == l)
-                    .collect();
-                (
-                    l,
-                    rows.iter()
-                        .map(|r| get(&CONVERGENCE, r, "mean_abs_change"))
-                        .sum::<f64>()
-                        / rows.len() as f64,
-                )
-            })
+            .map(|c| (c.levels, c.mean_abs_change))
             .collect();
         out.push(Figure {
             file: "capacity_convergence.svg".into(),

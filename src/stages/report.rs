@@ -3,7 +3,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::figures::{figures, StudyData};
+use crate::figures::{convergence_levels, figures, StudyData};
 use crate::fragility::{self, FractileLaw};
 use crate::pipeline::Plan;
 use crate::plot;
@@ -288,11 +288,8 @@ pub fn write(
     // Convergence.
     if let Some(conv) = &convergence {
         let _ = writeln!(w, "## Capacity against IM-grid resolution\n");
-        let levels = distinct(
-            conv.iter()
-                .map(|r| get(&CONVERGENCE, r, "levels"))
-                .collect(),
-        );
+        let summary = convergence_levels(conv);
+        let levels: Vec<f64> = summary.iter().map(|c| c.levels).collect();
         let finest = levels.last().copied().unwrap_or(0.0);
         let _ = writeln!(
             w,
@@ -300,42 +297,24 @@ pub fn write(
             levels.iter().map(|l| format!("{l}")).collect::<Vec<_>>().join(", ")
         );
         let _ = writeln!(w, "| levels | capacities that differ | mean abs. change | largest change | mean η_c,50 |\n|---:|---:|---:|---:|---:|");
-        for &l in &levels {
-            let rows: Vec<&Vec<Value>> = conv
-                .iter()
-                .filter(|r| get(&CONVERGENCE, r, "levels") == l)
-                .collect();
-            let changed: f64 = rows.iter().map(|r| get(&CONVERGENCE, r, "n_changed")).sum();
-            let total: f64 = rows.iter().map(|r| get(&CONVERGENCE, r, "n_records")).sum();
-            let mean: f64 = rows
-                .iter()
-                .map(|r| get(&CONVERGENCE, r, "mean_abs_change"))
-                .sum::<f64>()
-                / rows.len() as f64;
-            let max = rows
-                .iter()
-                .map(|r| get(&CONVERGENCE, r, "max_abs_change"))
-                .fold(0.0, f64::max);
-            let med: f64 = rows
-                .iter()
-                .map(|r| get(&CONVERGENCE, r, "eta_c_q50"))
-                .sum::<f64>()
-                / rows.len() as f64;
+        for c in &summary {
             let _ = writeln!(
                 w,
-                "| {l} | {changed} of {total} ({:.1} %) | {mean:.2e} | {max:.3} | {med:.4} |",
-                100.0 * changed / total.max(1.0)
+                "| {} | {} of {} ({:.1} %) | {:.2e} | {:.3} | {:.4} |",
+                c.levels,
+                c.changed,
+                c.total,
+                100.0 * c.changed / c.total.max(1.0),
+                c.mean_abs_change,
+                c.max_abs_change,
+                c.mean_q50
             );
         }
         let mean_q50 = |l: f64| {
-            let rows: Vec<&Vec<Value>> = conv
+            summary
                 .iter()
-                .filter(|r| get(&CONVERGENCE, r, "levels") == l)
-                .collect();
-            rows.iter()
-                .map(|r| get(&CONVERGENCE, r, "eta_c_q50"))
-                .sum::<f64>()
-                / rows.len().max(1) as f64
+                .find(|c| c.levels == l)
+                .map_or(f64::NAN, |c| c.mean_q50)
         };
         let coarsest = levels.first().copied().unwrap_or(finest);
         let study = levels
