@@ -92,6 +92,23 @@ impl fmt::Display for At2Error {
     }
 }
 
+/// File content shown in a message: control characters (NUL, escape
+/// sequences that would recolour or clear a terminal, stray carriage
+/// returns) are written as escapes, so a hostile or broken file cannot
+/// garble the error that names it.
+fn shown(text: &str) -> String {
+    text.chars()
+        .flat_map(|c| {
+            let escaped: Vec<char> = if c.is_control() {
+                c.escape_default().collect()
+            } else {
+                vec![c]
+            };
+            escaped
+        })
+        .collect()
+}
+
 impl fmt::Display for At2ErrorKind {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         use At2ErrorKind::*;
@@ -103,22 +120,29 @@ impl fmt::Display for At2ErrorKind {
             ),
             NotAcceleration { units_line } => write!(
                 f,
-                "the units line `{units_line}` does not describe an acceleration history in units of g \
-                 (velocity .VT2 and displacement .DT2 files share the AT2 layout; give the .AT2 file)"
+                "the units line `{}` does not describe an acceleration history in units of g \
+                 (velocity .VT2 and displacement .DT2 files share the AT2 layout; give the .AT2 file)",
+                shown(units_line)
             ),
             MissingNpts { text } => write!(
                 f,
-                "no NPTS in `{text}`; expected `NPTS=  2999, DT= .0100 SEC` or `2999  0.0100  NPTS, DT`"
+                "no NPTS in `{}`; expected `NPTS=  2999, DT= .0100 SEC` or `2999  0.0100  NPTS, DT`",
+                shown(text)
             ),
             MissingDt { text } => write!(
                 f,
-                "no DT in `{text}`; expected `NPTS=  2999, DT= .0100 SEC` or `2999  0.0100  NPTS, DT`"
+                "no DT in `{}`; expected `NPTS=  2999, DT= .0100 SEC` or `2999  0.0100  NPTS, DT`",
+                shown(text)
             ),
-            BadNpts { token } => write!(f, "NPTS `{token}` is not a positive whole number"),
-            BadDt { token } => write!(f, "DT `{token}` is not a number"),
+            BadNpts { token } => write!(
+                f,
+                "NPTS `{}` is not a positive whole number",
+                shown(token)
+            ),
+            BadDt { token } => write!(f, "DT `{}` is not a number", shown(token)),
             NonPositiveDt { dt } => write!(f, "DT = {dt} s; the time step must be positive"),
-            NotANumber { token } => write!(f, "`{token}` is not a number"),
-            NotFinite { token } => write!(f, "`{token}` is not a finite number"),
+            NotANumber { token } => write!(f, "`{}` is not a number", shown(token)),
+            NotFinite { token } => write!(f, "`{}` is not a finite number", shown(token)),
             TooFewValues { npts, found } => {
                 write!(f, "the header says NPTS = {npts} but the file ends after {found} value(s)")
             }

@@ -10,7 +10,7 @@
 use std::time::Instant;
 
 use crate::ida::{capacity, ImGrid};
-use crate::physics::{simulate, Excitation, Model, PhysicsError, RunSpec};
+use crate::physics::{simulate, Equation, Excitation, Model, PhysicsError, RunSpec};
 
 /// One loading case: a record (or pulse) and one block.
 pub struct Case {
@@ -32,11 +32,7 @@ pub struct Solver {
 
 impl Solver {
     pub fn label(&self) -> String {
-        match self.model {
-            Model::Linearized => "exact".to_string(),
-            Model::Nonlinear { rtol, .. } => format!("rtol {rtol:e}"),
-            Model::Rk4 { substeps, .. } => format!("{substeps} steps/dt"),
-        }
+        self.model.integrator.setting()
     }
 }
 
@@ -140,7 +136,11 @@ pub fn run(
     for solver in solvers {
         let ref_model = reference(solver);
         if !refs.iter().any(|(m, _)| *m == ref_model) {
-            progress(&format!("reference {}", ref_model.name()));
+            progress(&format!(
+                "reference {} ({})",
+                ref_model.integrator.name(),
+                ref_model.integrator.setting()
+            ));
             let mut v = Vec::new();
             for case in cases {
                 let spec = RunSpec::new(case.p, case.eps, 1.0, ref_model);
@@ -178,14 +178,7 @@ pub fn run(
             } else {
                 f64::INFINITY
             });
-            if let (
-                Some(exact),
-                Model::Linearized
-                | Model::Rk4 {
-                    alpha_rad: None, ..
-                },
-            ) = (case.exact_eta_c, solver.model)
-            {
+            if let (Some(exact), Equation::Linearized) = (case.exact_eta_c, solver.model.equation) {
                 let e = (m.eta_c - exact).abs();
                 closed = Some(closed.map_or(e, |c: f64| c.max(e)));
             }

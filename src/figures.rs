@@ -1,4 +1,10 @@
-//! The study's figures, as chart specifications built from its tables (pure).
+//! The study's figures, as chart specifications built from its results (pure).
+//!
+//! [`FIGURES`] lists one function per figure (or per family of figures),
+//! in the order the report shows them. Each takes the loaded
+//! [`StudyData`] and returns its figures, none when the study cannot have
+//! them (a fit figure without a fit, say). Adding a figure is one function
+//! here and one line in the list.
 //!
 //! Numbering follows the source paper: Fig. 5 (every record's IDA curve with
 //! the 16/50/84 % fractiles), Fig. 6 (median IDA curves across p), Fig. 7
@@ -9,27 +15,12 @@
 
 use crate::fit::{curve, polyval};
 use crate::fragility::{self, Block, FractileLaw};
-use crate::pipeline::Plan;
+use crate::ida::RunKind;
 use crate::plot::{Chart, Line, Scale, Style};
 use crate::stats;
-use crate::stats::distinct;
-use crate::tables::summary::{
-    Flat, Value, CAPACITY_FRACTILES, CONVERGENCE, FIT_STEP1, HORIZONTAL, LOGNORMAL,
-};
-use crate::tables::sweep::{CapacityRow, IdaRow};
-
-/// Everything the figures are drawn from.
-pub struct StudyData<'a> {
-    pub plan: &'a Plan,
-    pub caps: &'a [CapacityRow],
-    pub ida: &'a [IdaRow],
-    pub horizontal: &'a [Vec<Value>],
-    pub capacity_fractiles: &'a [Vec<Value>],
-    pub lognormal: &'a [Vec<Value>],
-    pub fit_step1: &'a [Vec<Value>],
-    pub laws: &'a [FractileLaw],
-    pub convergence: Option<&'a [Vec<Value>]>,
-}
+use crate::study::StudyData;
+use crate::tables::convergence::ConvergenceRow;
+use crate::tables::reduce::{CapacityFractileRow, HorizontalRow};
 
 /// A figure: its file name (without folder), the chart, and a caption.
 pub struct Figure {
@@ -38,8 +29,26 @@ pub struct Figure {
     pub caption: String,
 }
 
-fn get(t: &Flat, row: &[Value], col: &str) -> f64 {
-    t.get(row, col)
+/// A function drawing one figure or a family of figures.
+pub type FigureFn = fn(&StudyData) -> Vec<Figure>;
+
+/// Every figure, in report order.
+pub const FIGURES: &[FigureFn] = &[
+    ida_curves,
+    median_ida_across_p,
+    horizontal_vs_vertical,
+    capacity_curves,
+    regression_median,
+    regression_coefficients,
+    lognormal_plots,
+    fragility_example,
+    convergence_share,
+    convergence_mean,
+];
+
+/// All figures of a study.
+pub fn all(d: &StudyData) -> Vec<Figure> {
+    FIGURES.iter().flat_map(|f| f(d)).collect()
 }
 
 /// The capacity-convergence table summed over blocks, one entry per grid resolution.
@@ -57,40 +66,35 @@ pub struct ConvergenceLevel {
 }
 
 /// Summarises `capacity_convergence` rows per resolution, coarsest first.
-pub fn convergence_levels(conv: &[Vec<Value>]) -> Vec<ConvergenceLevel> {
-    let g = |r: &Vec<Value>, c: &str| CONVERGENCE.get(r, c);
-    distinct(conv.iter().map(|r| g(r, "levels")).collect())
+pub fn convergence_levels(conv: &[ConvergenceRow]) -> Vec<ConvergenceLevel> {
+    stats::distinct(conv.iter().map(|r| r.levels as f64).collect())
         .into_iter()
         .map(|l| {
-            let rows: Vec<&Vec<Value>> = conv.iter().filter(|r| g(r, "levels") == l).collect();
+            let rows: Vec<&ConvergenceRow> = conv.iter().filter(|r| r.levels as f64 == l).collect();
             let n = rows.len().max(1) as f64;
-            let sum = |c: &str| rows.iter().map(|r| g(r, c)).sum::<f64>();
+            let sum = |f: fn(&ConvergenceRow) -> f64| rows.iter().map(|r| f(r)).sum::<f64>();
             ConvergenceLevel {
                 levels: l,
-                changed: sum("n_changed"),
-                total: sum("n_records"),
-                mean_abs_change: sum("mean_abs_change") / n,
-                max_abs_change: rows
-                    .iter()
-                    .map(|r| g(r, "max_abs_change"))
-                    .fold(0.0, f64::max),
-                mean_q50: sum("eta_c_q50") / n,
+                changed: sum(|r| r.n_changed as f64),
+                total: sum(|r| r.n_records as f64),
+                mean_abs_change: sum(|r| r.mean_abs_change) / n,
+                max_abs_change: rows.iter().map(|r| r.max_abs_change).fold(0.0, f64::max),
+                mean_q50: sum(|r| r.eta_c_q50) / n,
             }
         })
         .collect()
 }
 
 /// The block drawn in the single-block figures: the middle p and ε of the grid.
-fn middle(plan: &Plan) -> (usize, f64, f64) {
-    let ps = distinct(plan.blocks.iter().map(|b| b.p).collect());
-    let es = distinct(plan.blocks.iter().map(|b| b.eps).collect());
+fn middle(d: &StudyData) -> (usize, f64, f64) {
+    let (ps, es) = d.ps_and_eps();
     let (p, e) = (ps[ps.len() / 2], es[es.len() / 2]);
-    let bi = plan
-        .blocks
+    let blocks = &d.plan.blocks;
+    let bi = blocks
         .iter()
         .position(|b| b.p == p && b.eps == e)
         .unwrap_or(0);
-    (bi, plan.blocks[bi].p, plan.blocks[bi].eps)
+    (bi, blocks[bi].p, blocks[bi].eps)
 }
 
 const Q_NAMES: [&str; 3] = ["16 %", "50 %", "84 %"];
@@ -98,31 +102,36 @@ const Q_VALUES: [f64; 3] = [0.16, 0.5, 0.84];
 
 /// Horizontal fractile curve q (0, 1, 2) of a block as (EDP, 1/η), ending at
 /// EDP = 1 where the fractile becomes +∞.
-fn fractile_curve(rows: &[Vec<Value>], p: f64, e: f64, qi: usize) -> Vec<(f64, f64)> {
-    let col = ["edp_q16", "edp_q50", "edp_q84"][qi];
+fn fractile_curve(rows: &[HorizontalRow], p: f64, e: f64, qi: usize) -> Vec<(f64, f64)> {
     let mut pts = vec![(0.0, 1.0)];
-    for r in rows
-        .iter()
-        .filter(|r| get(&HORIZONTAL, r, "p") == p && get(&HORIZONTAL, r, "eps") == e)
-    {
-        let (eta, edp) = (get(&HORIZONTAL, r, "eta"), get(&HORIZONTAL, r, col));
+    for r in rows.iter().filter(|r| r.p == p && r.eps == e) {
+        let edp = [r.edp_q16, r.edp_q50, r.edp_q84][qi];
         if edp.is_infinite() || edp >= 1.0 {
-            pts.push((1.0, 1.0 / eta));
+            pts.push((1.0, 1.0 / r.eta));
             break;
         }
-        pts.push((edp, 1.0 / eta));
+        pts.push((edp, 1.0 / r.eta));
     }
     pts
 }
 
-pub fn figures(d: &StudyData) -> Vec<Figure> {
-    let mut out = Vec::new();
-    let plan = d.plan;
-    let n_blocks = plan.blocks.len();
-    let (bi, p_mid, e_mid) = middle(plan);
-    let grid_blocks = plan.blocks.iter().all(|b| b.name.is_empty());
+/// (p, η_c) of one fractile at one ε, from capacity_fractiles.
+fn capacity_points(
+    rows: &[CapacityFractileRow],
+    e: f64,
+    q: f64,
+    value: fn(&CapacityFractileRow) -> Option<f64>,
+) -> Vec<(f64, f64)> {
+    rows.iter()
+        .filter(|r| r.eps == e && r.quantile == q)
+        .map(|r| (r.p, value(r).unwrap_or(f64::NAN)))
+        .collect()
+}
 
-    // Fig. 5: every record's IDA curve for one block, and the fractiles.
+/// Fig. 5: every record's IDA curve for one block, and the fractiles.
+fn ida_curves(d: &StudyData) -> Vec<Figure> {
+    let n_blocks = d.plan.blocks.len();
+    let (bi, p_mid, e_mid) = middle(d);
     let mut lines = Vec::new();
     let mut cap_max: f64 = 0.0;
     for c in d
@@ -134,7 +143,7 @@ pub fn figures(d: &StudyData) -> Vec<Figure> {
         for r in d
             .ida
             .iter()
-            .filter(|r| r.case_id == c.case_id && r.run_kind == "level")
+            .filter(|r| r.case_id == c.case_id && r.run_kind == RunKind::Level)
         {
             if r.overturned {
                 break;
@@ -152,7 +161,7 @@ pub fn figures(d: &StudyData) -> Vec<Figure> {
         });
     }
     for (qi, q_name) in Q_NAMES.iter().enumerate() {
-        let pts = fractile_curve(d.horizontal, p_mid, e_mid, qi);
+        let pts = fractile_curve(&d.horizontal, p_mid, e_mid, qi);
         cap_max = cap_max.max(pts.last().map_or(0.0, |p| p.1));
         lines.push(Line {
             name: Some(format!("{q_name} fractile")),
@@ -161,10 +170,13 @@ pub fn figures(d: &StudyData) -> Vec<Figure> {
             color: qi + 1,
         });
     }
-    out.push(Figure {
+    vec![Figure {
         file: "fig05_ida_curves.svg".into(),
         chart: Chart {
-            title: format!("IDA curves of {} records, p = {p_mid:.3} 1/s, ε = {e_mid:.2}", d.caps.len() / n_blocks),
+            title: format!(
+                "IDA curves of {} records, p = {p_mid:.3} 1/s, ε = {e_mid:.2}",
+                d.n_records()
+            ),
             x_desc: "θmax / α".into(),
             y_desc: "A_g / (α g) = 1/η".into(),
             x_scale: Scale::Linear,
@@ -173,262 +185,260 @@ pub fn figures(d: &StudyData) -> Vec<Figure> {
             y_range: Some((0.0, 1.4 * cap_max.max(1.0))),
             lines,
         },
-        caption: "Every record's IDA curve (grey: θmax/α against the intensity until the first overturning, which is drawn at θmax/α = 1) and the 16/50/84 % horizontal fractiles under the resurrection rule (paper Fig. 5).".into(),
-    });
+        caption: "Every record's IDA curve (grey: θmax/α against the intensity until the first \
+                  overturning, which is drawn at θmax/α = 1) and the 16/50/84 % horizontal \
+                  fractiles under the resurrection rule (paper Fig. 5)."
+            .into(),
+    }]
+}
 
-    if grid_blocks {
-        let ps = distinct(plan.blocks.iter().map(|b| b.p).collect());
-        let es = distinct(plan.blocks.iter().map(|b| b.eps).collect());
-        // Fig. 6: median IDA curves across p.
-        let lines = ps
-            .iter()
-            .enumerate()
-            .map(|(k, &p)| Line {
-                name: Some(format!("p = {p:.2} 1/s")),
-                points: fractile_curve(d.horizontal, p, e_mid, 1),
-                style: Style::Line,
-                color: k,
-            })
-            .collect();
-        out.push(Figure {
-            file: "fig06_median_ida_across_p.svg".into(),
-            chart: Chart {
-                title: format!("Median IDA curves across p, ε = {e_mid:.2}"),
-                x_desc: "θmax / α (50 % fractile)".into(),
-                y_desc: "A_g / (α g) = 1/η".into(),
-                x_scale: Scale::Linear,
-                y_scale: Scale::Log,
-                x_range: Some((0.0, 1.05)),
-                y_range: None,
-                lines,
-            },
-            caption: "The 50 % horizontal fractile IDA curve for each p at the middle ε (paper Fig. 6): smaller blocks (larger p) overturn at lower intensity.".into(),
+/// Fig. 6: median IDA curves across p.
+fn median_ida_across_p(d: &StudyData) -> Vec<Figure> {
+    if !d.is_grid() {
+        return Vec::new();
+    }
+    let (ps, _) = d.ps_and_eps();
+    let (_, _, e_mid) = middle(d);
+    let lines = ps
+        .iter()
+        .enumerate()
+        .map(|(k, &p)| Line {
+            name: Some(format!("p = {p:.2} 1/s")),
+            points: fractile_curve(&d.horizontal, p, e_mid, 1),
+            style: Style::Line,
+            color: k,
+        })
+        .collect();
+    vec![Figure {
+        file: "fig06_median_ida_across_p.svg".into(),
+        chart: Chart {
+            title: format!("Median IDA curves across p, ε = {e_mid:.2}"),
+            x_desc: "θmax / α (50 % fractile)".into(),
+            y_desc: "A_g / (α g) = 1/η".into(),
+            x_scale: Scale::Linear,
+            y_scale: Scale::Log,
+            x_range: Some((0.0, 1.05)),
+            y_range: None,
+            lines,
+        },
+        caption: "The 50 % horizontal fractile IDA curve for each p at the middle ε (paper \
+                  Fig. 6): smaller blocks (larger p) overturn at lower intensity."
+            .into(),
+    }]
+}
+
+/// Fig. 7: horizontal against vertical capacity fractiles.
+fn horizontal_vs_vertical(d: &StudyData) -> Vec<Figure> {
+    if !d.is_grid() {
+        return Vec::new();
+    }
+    let (_, _, e_mid) = middle(d);
+    let cf = &d.capacity_fractiles;
+    let mut lines = Vec::new();
+    for (qi, &q) in Q_VALUES.iter().enumerate() {
+        lines.push(Line {
+            name: Some(format!("{} vertical", Q_NAMES[qi])),
+            points: capacity_points(cf, e_mid, q, |r| Some(r.eta_c)),
+            style: Style::Line,
+            color: qi,
         });
+        lines.push(Line {
+            name: Some(format!("{} horizontal", Q_NAMES[qi])),
+            points: capacity_points(cf, e_mid, q, |r| r.eta_c_horizontal),
+            style: Style::Points,
+            color: qi,
+        });
+    }
+    vec![Figure {
+        file: "fig07_horizontal_vs_vertical.svg".into(),
+        chart: Chart {
+            title: format!("Capacity fractiles, horizontal against vertical, ε = {e_mid:.2}"),
+            x_desc: "p (1/s)".into(),
+            y_desc: "η_c".into(),
+            x_scale: Scale::Log,
+            y_scale: Scale::Log,
+            x_range: None,
+            y_range: None,
+            lines,
+        },
+        caption: "Capacity fractiles from the records' η_c (vertical statistics, lines) and from \
+                  the horizontal EDP fractiles reaching overturning (points, at grid resolution) \
+                  (paper Fig. 7): they coincide up to the grid step."
+            .into(),
+    }]
+}
 
-        // Fig. 7: horizontal against vertical capacity fractiles.
-        let cf = d.capacity_fractiles;
+/// Fig. 8: capacity curves.
+fn capacity_curves(d: &StudyData) -> Vec<Figure> {
+    if !d.is_grid() {
+        return Vec::new();
+    }
+    let (_, es) = d.ps_and_eps();
+    let lines = es
+        .iter()
+        .enumerate()
+        .map(|(k, &e)| Line {
+            name: Some(format!("ε = {e:.2}")),
+            points: capacity_points(&d.capacity_fractiles, e, 0.5, |r| Some(r.eta_c)),
+            style: Style::LinePoints,
+            color: k,
+        })
+        .collect();
+    vec![Figure {
+        file: "fig08_capacity_curves.svg".into(),
+        chart: Chart {
+            title: "Median capacity η_c,50 against p".into(),
+            x_desc: "p (1/s)".into(),
+            y_desc: "η_c,50".into(),
+            x_scale: Scale::Log,
+            y_scale: Scale::Linear,
+            x_range: None,
+            y_range: Some((0.0, 1.0)),
+            lines,
+        },
+        caption: "The median capacity against the block's frequency parameter, one curve per ε \
+                  (paper Fig. 8)."
+            .into(),
+    }]
+}
+
+/// The fractile's law evaluated at (p, ε).
+fn law_at(law: &FractileLaw, p: f64, e: f64) -> f64 {
+    curve(
+        polyval(&law.a, e),
+        polyval(&law.b, e),
+        polyval(&law.c, e),
+        p,
+    )
+}
+
+/// Fig. 10: the median regression against the data.
+fn regression_median(d: &StudyData) -> Vec<Figure> {
+    let Some(law) = d.laws.iter().find(|l| l.quantile == 0.5) else {
+        return Vec::new();
+    };
+    if !d.is_grid() {
+        return Vec::new();
+    }
+    let (ps, es) = d.ps_and_eps();
+    let p_dense: Vec<f64> = (0..=60)
+        .map(|k| ps[0] * (ps[ps.len() - 1] / ps[0]).powf(k as f64 / 60.0))
+        .collect();
+    let mut lines = Vec::new();
+    for (k, &e) in es.iter().enumerate().step_by(es.len().div_ceil(5).max(1)) {
+        lines.push(Line {
+            name: Some(format!("data ε = {e:.2}")),
+            points: capacity_points(&d.capacity_fractiles, e, 0.5, |r| Some(r.eta_c)),
+            style: Style::Points,
+            color: k,
+        });
+        lines.push(Line {
+            name: None,
+            points: p_dense.iter().map(|&p| (p, law_at(law, p, e))).collect(),
+            style: Style::Line,
+            color: k,
+        });
+    }
+    vec![Figure {
+        file: "fig10_regression_median.svg".into(),
+        chart: Chart {
+            title: "Median capacity: data and the two-step regression".into(),
+            x_desc: "p (1/s)".into(),
+            y_desc: "η_c,50".into(),
+            x_scale: Scale::Log,
+            y_scale: Scale::Linear,
+            x_range: None,
+            y_range: Some((0.0, 1.0)),
+            lines,
+        },
+        caption: "η_c,50 of the records (points) and a(ε)(1 − e^{−b(ε)p})^{c(ε)} with this \
+                  study's step-2 coefficients (lines) (paper Fig. 10)."
+            .into(),
+    }]
+}
+
+/// Fig. 11: each coefficient against ε (step 1, this study's step 2, the paper's).
+fn regression_coefficients(d: &StudyData) -> Vec<Figure> {
+    if !d.is_grid() {
+        return Vec::new();
+    }
+    let (_, es) = d.ps_and_eps();
+    let paper = fragility::paper();
+    let e_dense: Vec<f64> = (0..=40)
+        .map(|k| es[0] + (es[es.len() - 1] - es[0]) * k as f64 / 40.0)
+        .collect();
+    let mut out = Vec::new();
+    for (ci, coef) in ["a", "b", "c"].iter().enumerate() {
+        let poly = |l: &FractileLaw| -> Vec<f64> { [&l.a, &l.b, &l.c][ci].clone() };
         let mut lines = Vec::new();
         for (qi, &q) in Q_VALUES.iter().enumerate() {
-            let rows: Vec<&Vec<Value>> = cf
+            let pts = d
+                .fit_step1
                 .iter()
-                .filter(|r| {
-                    get(&CAPACITY_FRACTILES, r, "eps") == e_mid
-                        && get(&CAPACITY_FRACTILES, r, "quantile") == q
-                })
-                .collect();
-            let v: Vec<(f64, f64)> = rows
-                .iter()
-                .map(|r| {
-                    (
-                        get(&CAPACITY_FRACTILES, r, "p"),
-                        get(&CAPACITY_FRACTILES, r, "eta_c"),
-                    )
-                })
-                .collect();
-            let h: Vec<(f64, f64)> = rows
-                .iter()
-                .map(|r| {
-                    (
-                        get(&CAPACITY_FRACTILES, r, "p"),
-                        get(&CAPACITY_FRACTILES, r, "eta_c_horizontal"),
-                    )
-                })
+                .filter(|r| r.quantile == q)
+                .map(|r| (r.eps, [r.a, r.b, r.c][ci].unwrap_or(f64::NAN)))
                 .collect();
             lines.push(Line {
-                name: Some(format!("{} vertical", Q_NAMES[qi])),
-                points: v,
-                style: Style::Line,
-                color: qi,
-            });
-            lines.push(Line {
-                name: Some(format!("{} horizontal", Q_NAMES[qi])),
-                points: h,
+                name: Some(format!("{} step 1", Q_NAMES[qi])),
+                points: pts,
                 style: Style::Points,
                 color: qi,
             });
+            if let Some(l) = d.laws.iter().find(|l| l.quantile == q) {
+                let c = poly(l);
+                lines.push(Line {
+                    name: Some(format!("{} fitted", Q_NAMES[qi])),
+                    points: e_dense.iter().map(|&e| (e, polyval(&c, e))).collect(),
+                    style: Style::Line,
+                    color: qi,
+                });
+            }
+            let c = poly(&paper[qi]);
+            lines.push(Line {
+                name: Some(format!("{} paper", Q_NAMES[qi])),
+                points: e_dense.iter().map(|&e| (e, polyval(&c, e))).collect(),
+                style: Style::Line,
+                color: qi + 3,
+            });
         }
         out.push(Figure {
-            file: "fig07_horizontal_vs_vertical.svg".into(),
+            file: format!("fig11_coefficient_{coef}.svg"),
             chart: Chart {
-                title: format!("Capacity fractiles, horizontal against vertical, ε = {e_mid:.2}"),
-                x_desc: "p (1/s)".into(),
-                y_desc: "η_c".into(),
-                x_scale: Scale::Log,
-                y_scale: Scale::Log,
+                title: format!("Regression coefficient {coef}(ε)"),
+                x_desc: "ε".into(),
+                y_desc: coef.to_string(),
+                x_scale: Scale::Linear,
+                y_scale: Scale::Linear,
                 x_range: None,
                 y_range: None,
                 lines,
             },
-            caption: "Capacity fractiles from the records' η_c (vertical statistics, lines) and from the horizontal EDP fractiles reaching overturning (points, at grid resolution) (paper Fig. 7): they coincide up to the grid step.".into(),
+            caption: format!(
+                "Step-1 values of {coef} per ε (points), this study's step-2 polynomial (lines) and the paper's (paper Fig. 11)."
+            ),
         });
-
-        // Fig. 8: capacity curves.
-        let lines = es
-            .iter()
-            .enumerate()
-            .map(|(k, &e)| Line {
-                name: Some(format!("ε = {e:.2}")),
-                points: cf
-                    .iter()
-                    .filter(|r| {
-                        get(&CAPACITY_FRACTILES, r, "eps") == e
-                            && get(&CAPACITY_FRACTILES, r, "quantile") == 0.5
-                    })
-                    .map(|r| {
-                        (
-                            get(&CAPACITY_FRACTILES, r, "p"),
-                            get(&CAPACITY_FRACTILES, r, "eta_c"),
-                        )
-                    })
-                    .collect(),
-                style: Style::LinePoints,
-                color: k,
-            })
-            .collect();
-        out.push(Figure {
-            file: "fig08_capacity_curves.svg".into(),
-            chart: Chart {
-                title: "Median capacity η_c,50 against p".into(),
-                x_desc: "p (1/s)".into(),
-                y_desc: "η_c,50".into(),
-                x_scale: Scale::Log,
-                y_scale: Scale::Linear,
-                x_range: None,
-                y_range: Some((0.0, 1.0)),
-                lines,
-            },
-            caption: "The median capacity against the block's frequency parameter, one curve per ε (paper Fig. 8).".into(),
-        });
-
-        // Figs. 10–11: the regression against the data.
-        if let Some(law) = d.laws.iter().find(|l| l.quantile == 0.5) {
-            let p_dense: Vec<f64> = (0..=60)
-                .map(|k| ps[0] * (ps[ps.len() - 1] / ps[0]).powf(k as f64 / 60.0))
-                .collect();
-            let mut lines = Vec::new();
-            for (k, &e) in es.iter().enumerate().step_by(es.len().div_ceil(5).max(1)) {
-                let data = cf
-                    .iter()
-                    .filter(|r| {
-                        get(&CAPACITY_FRACTILES, r, "eps") == e
-                            && get(&CAPACITY_FRACTILES, r, "quantile") == 0.5
-                    })
-                    .map(|r| {
-                        (
-                            get(&CAPACITY_FRACTILES, r, "p"),
-                            get(&CAPACITY_FRACTILES, r, "eta_c"),
-                        )
-                    })
-                    .collect();
-                lines.push(Line {
-                    name: Some(format!("data ε = {e:.2}")),
-                    points: data,
-                    style: Style::Points,
-                    color: k,
-                });
-                let fitted = p_dense
-                    .iter()
-                    .map(|&p| {
-                        (
-                            p,
-                            curve(
-                                polyval(&law.a, e),
-                                polyval(&law.b, e),
-                                polyval(&law.c, e),
-                                p,
-                            ),
-                        )
-                    })
-                    .collect();
-                lines.push(Line {
-                    name: None,
-                    points: fitted,
-                    style: Style::Line,
-                    color: k,
-                });
-            }
-            out.push(Figure {
-                file: "fig10_regression_median.svg".into(),
-                chart: Chart {
-                    title: "Median capacity: data and the two-step regression".into(),
-                    x_desc: "p (1/s)".into(),
-                    y_desc: "η_c,50".into(),
-                    x_scale: Scale::Log,
-                    y_scale: Scale::Linear,
-                    x_range: None,
-                    y_range: Some((0.0, 1.0)),
-                    lines,
-                },
-                caption: "η_c,50 of the records (points) and a(ε)(1 − e^{−b(ε)p})^{c(ε)} with this study's step-2 coefficients (lines) (paper Fig. 10).".into(),
-            });
-        }
-        for (ci, coef) in ["a", "b", "c"].iter().enumerate() {
-            let mut lines = Vec::new();
-            let paper = fragility::paper();
-            let e_dense: Vec<f64> = (0..=40)
-                .map(|k| es[0] + (es[es.len() - 1] - es[0]) * k as f64 / 40.0)
-                .collect();
-            for (qi, &q) in Q_VALUES.iter().enumerate() {
-                let pts = d
-                    .fit_step1
-                    .iter()
-                    .filter(|r| get(&FIT_STEP1, r, "quantile") == q)
-                    .map(|r| (get(&FIT_STEP1, r, "eps"), get(&FIT_STEP1, r, coef)))
-                    .collect();
-                lines.push(Line {
-                    name: Some(format!("{} step 1", Q_NAMES[qi])),
-                    points: pts,
-                    style: Style::Points,
-                    color: qi,
-                });
-                let poly = |l: &FractileLaw| -> Vec<f64> {
-                    [l.a.clone(), l.b.clone(), l.c.clone()][ci].clone()
-                };
-                if let Some(l) = d.laws.iter().find(|l| l.quantile == q) {
-                    let c = poly(l);
-                    lines.push(Line {
-                        name: Some(format!("{} fitted", Q_NAMES[qi])),
-                        points: e_dense.iter().map(|&e| (e, polyval(&c, e))).collect(),
-                        style: Style::Line,
-                        color: qi,
-                    });
-                }
-                let c = poly(&paper[qi]);
-                lines.push(Line {
-                    name: Some(format!("{} paper", Q_NAMES[qi])),
-                    points: e_dense.iter().map(|&e| (e, polyval(&c, e))).collect(),
-                    style: Style::Line,
-                    color: qi + 3,
-                });
-            }
-            out.push(Figure {
-                file: format!("fig11_coefficient_{coef}.svg"),
-                chart: Chart {
-                    title: format!("Regression coefficient {coef}(ε)"),
-                    x_desc: "ε".into(),
-                    y_desc: coef.to_string(),
-                    x_scale: Scale::Linear,
-                    y_scale: Scale::Linear,
-                    x_range: None,
-                    y_range: None,
-                    lines,
-                },
-                caption: format!("Step-1 values of {coef} per ε (points), this study's step-2 polynomial (lines) and the paper's (paper Fig. 11)."),
-            });
-        }
     }
+    out
+}
 
-    // Fig. 9: lognormal probability plots, the best and the worst fitting block.
-    let mut ranked: Vec<&Vec<Value>> = d
+/// Fig. 9: lognormal probability plots, the worst and the best fitting block.
+fn lognormal_plots(d: &StudyData) -> Vec<Figure> {
+    let n_blocks = d.plan.blocks.len();
+    let mut ranked: Vec<_> = d
         .lognormal
         .iter()
-        .filter(|r| get(&LOGNORMAL, r, "p_value").is_finite())
+        .filter(|r| r.p_value.is_some_and(f64::is_finite))
         .collect();
-    ranked.sort_by(|a, b| get(&LOGNORMAL, a, "p_value").total_cmp(&get(&LOGNORMAL, b, "p_value")));
+    ranked.sort_by(|a, b| {
+        let pv = |r: &&crate::tables::reduce::LognormalRow| r.p_value.unwrap_or(f64::NAN);
+        pv(a).total_cmp(&pv(b))
+    });
+    let mut out = Vec::new();
     for (tag, row) in [("poor", ranked.first()), ("good", ranked.last())] {
         let Some(row) = row else { continue };
-        let (p, e) = (get(&LOGNORMAL, row, "p"), get(&LOGNORMAL, row, "eps"));
-        let k = plan
+        let (p, e) = (row.p, row.eps);
+        let k = d
+            .plan
             .blocks
             .iter()
             .position(|b| b.p == p && b.eps == e)
@@ -451,16 +461,14 @@ pub fn figures(d: &StudyData) -> Vec<Figure> {
             .map(|(i, &x)| (x, stats::normal_quantile((i as f64 + 0.5) / n)))
             .collect();
         let (mean, sd) = stats::mean_sd(&logs);
-        let fitted = vec![
-            (logs[0], (logs[0] - mean) / sd),
-            (logs[logs.len() - 1], (logs[logs.len() - 1] - mean) / sd),
-        ];
+        let (lo, hi) = (logs[0], logs[logs.len() - 1]);
+        let fitted = vec![(lo, (lo - mean) / sd), (hi, (hi - mean) / sd)];
         out.push(Figure {
             file: format!("fig09_lognormal_{tag}.svg"),
             chart: Chart {
                 title: format!(
                     "Normal probability plot of ln η_c, p = {p:.3} 1/s, ε = {e:.2} (Lilliefors p = {:.3})",
-                    get(&LOGNORMAL, row, "p_value")
+                    row.p_value.unwrap_or(f64::NAN)
                 ),
                 x_desc: "ln η_c".into(),
                 y_desc: "standard normal quantile".into(),
@@ -469,8 +477,18 @@ pub fn figures(d: &StudyData) -> Vec<Figure> {
                 x_range: None,
                 y_range: None,
                 lines: vec![
-                    Line { name: Some("records".into()), points: pts, style: Style::Points, color: 0 },
-                    Line { name: Some("lognormal fit".into()), points: fitted, style: Style::Line, color: 1 },
+                    Line {
+                        name: Some("records".into()),
+                        points: pts,
+                        style: Style::Points,
+                        color: 0,
+                    },
+                    Line {
+                        name: Some("lognormal fit".into()),
+                        points: fitted,
+                        style: Style::Line,
+                        color: 1,
+                    },
                 ],
             },
             caption: format!(
@@ -479,8 +497,11 @@ pub fn figures(d: &StudyData) -> Vec<Figure> {
             ),
         });
     }
+    out
+}
 
-    // Fragility of an example block, from this study's fit and the paper's.
+/// The fragility of an example block, from this study's fit and the paper's.
+fn fragility_example(d: &StudyData) -> Vec<Figure> {
     let block = Block {
         b_m: 0.25,
         h_m: 1.0,
@@ -504,72 +525,91 @@ pub fn figures(d: &StudyData) -> Vec<Figure> {
             });
         }
     }
-    if !lines.is_empty() {
-        out.push(Figure {
-            file: "fragility_example.svg".into(),
-            chart: Chart {
-                title: format!(
-                    "Fragility of a block b = 0.25 m, h = 1.0 m (α = {:.3} rad, p = {:.2} 1/s, ε = {:.2})",
-                    block.alpha(),
-                    block.p(),
-                    block.eps
-                ),
-                x_desc: "PGA (g)".into(),
-                y_desc: "P(overturn | PGA)".into(),
-                x_scale: Scale::Linear,
-                y_scale: Scale::Linear,
-                x_range: Some((0.0, 1.2)),
-                y_range: Some((0.0, 1.0)),
-                lines,
-            },
-            caption: "Probability of overturning of an example block (a 0.5 m × 2 m cabinet, Housner's ε) from this study's regression and the paper's.".into(),
-        });
+    if lines.is_empty() {
+        return Vec::new();
     }
+    vec![Figure {
+        file: "fragility_example.svg".into(),
+        chart: Chart {
+            title: format!(
+                "Fragility of a block b = 0.25 m, h = 1.0 m (α = {:.3} rad, p = {:.2} 1/s, ε = {:.2})",
+                block.alpha(),
+                block.p(),
+                block.eps
+            ),
+            x_desc: "PGA (g)".into(),
+            y_desc: "P(overturn | PGA)".into(),
+            x_scale: Scale::Linear,
+            y_scale: Scale::Linear,
+            x_range: Some((0.0, 1.2)),
+            y_range: Some((0.0, 1.0)),
+            lines,
+        },
+        caption: "Probability of overturning of an example block (a 0.5 m × 2 m cabinet, \
+                  Housner's ε) from this study's regression and the paper's."
+            .into(),
+    }]
+}
 
-    // Capacity convergence.
-    if let Some(conv) = d.convergence {
-        let summary = convergence_levels(conv);
-        let share: Vec<(f64, f64)> = summary
-            .iter()
-            .map(|c| (c.levels, c.changed / c.total.max(1.0)))
-            .collect();
-        let mean: Vec<(f64, f64)> = summary
-            .iter()
-            .map(|c| (c.levels, c.mean_abs_change))
-            .collect();
-        out.push(Figure {
-            file: "capacity_convergence.svg".into(),
-            chart: Chart {
-                title: "Capacity against IM-grid resolution".into(),
-                x_desc: "levels in the IM grid".into(),
-                y_desc: "share of (record, block) capacities that differ from the finest grid's".into(),
-                x_scale: Scale::Log,
-                y_scale: Scale::Linear,
-                x_range: None,
-                y_range: Some((0.0, share.iter().map(|s| s.1).fold(0.05, f64::max) * 1.2)),
-                lines: vec![Line { name: Some("share changed".into()), points: share, style: Style::LinePoints, color: 0 }],
-            },
-            caption: "How many records' capacities move (by more than twice the refinement tolerance) against the finest grid, as the grid is refined.".into(),
-        });
-        out.push(Figure {
-            file: "capacity_convergence_mean.svg".into(),
-            chart: Chart {
-                title: "Mean |Δη_c| against the finest grid".into(),
-                x_desc: "levels in the IM grid".into(),
-                y_desc: "mean |η_c − η_c(finest)|".into(),
-                x_scale: Scale::Log,
-                y_scale: Scale::Linear,
-                x_range: None,
-                y_range: None,
-                lines: vec![Line {
-                    name: Some("mean over records and blocks".into()),
-                    points: mean,
-                    style: Style::LinePoints,
-                    color: 1,
-                }],
-            },
-            caption: "Mean absolute change of η_c against the finest grid.".into(),
-        });
-    }
-    out
+/// Share of capacities that move against the finest grid, per resolution.
+fn convergence_share(d: &StudyData) -> Vec<Figure> {
+    let Some(conv) = &d.convergence else {
+        return Vec::new();
+    };
+    let share: Vec<(f64, f64)> = convergence_levels(conv)
+        .iter()
+        .map(|c| (c.levels, c.changed / c.total.max(1.0)))
+        .collect();
+    let top = share.iter().map(|s| s.1).fold(0.05, f64::max) * 1.2;
+    vec![Figure {
+        file: "capacity_convergence.svg".into(),
+        chart: Chart {
+            title: "Capacity against IM-grid resolution".into(),
+            x_desc: "levels in the IM grid".into(),
+            y_desc: "share of (record, block) capacities that differ from the finest grid's".into(),
+            x_scale: Scale::Log,
+            y_scale: Scale::Linear,
+            x_range: None,
+            y_range: Some((0.0, top)),
+            lines: vec![Line {
+                name: Some("share changed".into()),
+                points: share,
+                style: Style::LinePoints,
+                color: 0,
+            }],
+        },
+        caption: "How many records' capacities move (by more than twice the refinement \
+                  tolerance) against the finest grid, as the grid is refined."
+            .into(),
+    }]
+}
+
+/// Mean |Δη_c| against the finest grid, per resolution.
+fn convergence_mean(d: &StudyData) -> Vec<Figure> {
+    let Some(conv) = &d.convergence else {
+        return Vec::new();
+    };
+    let mean: Vec<(f64, f64)> = convergence_levels(conv)
+        .iter()
+        .map(|c| (c.levels, c.mean_abs_change))
+        .collect();
+    vec![Figure {
+        file: "capacity_convergence_mean.svg".into(),
+        chart: Chart {
+            title: "Mean |Δη_c| against the finest grid".into(),
+            x_desc: "levels in the IM grid".into(),
+            y_desc: "mean |η_c − η_c(finest)|".into(),
+            x_scale: Scale::Log,
+            y_scale: Scale::Linear,
+            x_range: None,
+            y_range: None,
+            lines: vec![Line {
+                name: Some("mean over records and blocks".into()),
+                points: mean,
+                style: Style::LinePoints,
+                color: 1,
+            }],
+        },
+        caption: "Mean absolute change of η_c against the finest grid.".into(),
+    }]
 }

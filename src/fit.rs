@@ -43,8 +43,20 @@ impl Stop {
             Stop::CostConverged | Stop::StepConverged | Stop::GradientConverged
         )
     }
+}
 
-    pub fn as_str(self) -> &'static str {
+impl crate::label::Label for Stop {
+    const ALL: &'static [Self] = &[
+        Stop::CostConverged,
+        Stop::StepConverged,
+        Stop::GradientConverged,
+        Stop::MaxIterations,
+        Stop::Stalled,
+        Stop::Diverged,
+        Stop::Unbounded,
+        Stop::BadData,
+    ];
+    fn label(self) -> &'static str {
         match self {
             Stop::CostConverged => "cost_converged",
             Stop::StepConverged => "step_converged",

@@ -16,6 +16,11 @@
 
 use crate::physics::{simulate, Excitation, Outcome, PhysicsError, RunSpec};
 
+/// Most levels a grid may have: each level is a simulation per record and
+/// block, and 10⁵ levels are already 1,000 times the paper's 100–200.
+/// Larger counts are refused before anything is allocated.
+pub const MAX_LEVELS: usize = 100_000;
+
 /// How the η levels are spaced.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -60,6 +65,12 @@ impl ImGrid {
         if self.count == 0 {
             return Err(PhysicsError::BadInput("IM grid: at least one level".into()));
         }
+        if self.count > MAX_LEVELS {
+            return Err(PhysicsError::BadInput(format!(
+                "IM grid: {} levels is more than {MAX_LEVELS} (each is a simulation; the paper used 100–200)",
+                self.count
+            )));
+        }
         let n = self.count as f64;
         Ok((1..=self.count)
             .map(|j| {
@@ -83,8 +94,9 @@ pub enum RunKind {
     Refinement,
 }
 
-impl RunKind {
-    pub fn as_str(self) -> &'static str {
+impl crate::label::Label for RunKind {
+    const ALL: &'static [Self] = &[RunKind::Level, RunKind::Refinement];
+    fn label(self) -> &'static str {
         match self {
             RunKind::Level => "level",
             RunKind::Refinement => "refinement",

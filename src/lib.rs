@@ -6,37 +6,48 @@
 //!
 //! 1. **ingest**: PEER AT2 files (+ manifest) → `records.parquet`;
 //! 2. **sweep**: rocking simulations over an IDA grid → IDA points, capacities;
-//! 3. **reduce**: fractile statistics with the resurrection rule;
-//! 4. **fit**: the two-step regression of the capacity against p and ε.
+//! 3. **convergence**: the capacity search at several grid resolutions;
+//! 4. **reduce**: fractile statistics with the resurrection rule;
+//! 5. **fit**: the two-step regression of the capacity against p and ε;
+//! 6. **report**: the paper's figures and `report.md`.
 //!
 //! Module map (see `ARCHITECTURE.md` for the invariants):
 //!
 //! - [`at2`], [`manifest`], [`motion`]: parsing and record summaries, no I/O;
-//! - [`physics`]: the rocking equations, integrators and events, no I/O;
+//! - [`physics`]: the equations, integrators and events, no I/O;
 //! - [`ida`]: capacity of one record by incremental dynamic analysis, no I/O;
 //! - [`pipeline`]: pipeline files (TOML text) → a typed plan, no I/O;
 //! - [`stats`]: fractiles (+∞ allowed), Lilliefors, normal distribution, no I/O;
 //! - [`fit`]: the two-step regression (Levenberg–Marquardt, polynomials), no I/O;
 //! - [`fragility`]: P(overturn | PGA) of a real block from the regression, no I/O;
-//! - [`figures`]: the paper's figures as chart specifications from the tables, no I/O;
+//! - [`study`], [`figures`], [`report`]: a study's results, its figures as
+//!   chart specifications and its Markdown report, no I/O;
 //! - [`bench`]: speed-against-error measurements of the solvers (timing only);
 //! - [`plot`]: figures as SVG text;
+//! - [`label`], [`hash`]: enum labels; SHA-256;
 //! - [`tables`]: the only module that touches Parquet;
-//! - [`stages`]: glue, one module per stage;
-//! - [`cli`]: the only module that knows clap.
+//! - [`stages`]: glue, one file per stage, the engine that runs them;
+//! - [`ops`]: what the other commands do (simulate's record, fragility, bench).
+//!
+//! The command line is the `rocking` binary (`src/bin/rocking/`); the library
+//! does not know clap.
 
 pub mod at2;
 pub mod bench;
-pub mod cli;
 pub mod figures;
 pub mod fit;
 pub mod fragility;
+pub mod hash;
 pub mod ida;
+pub mod label;
 pub mod manifest;
 pub mod motion;
+pub mod ops;
 pub mod physics;
 pub mod pipeline;
 pub mod plot;
+pub mod report;
 pub mod stages;
 pub mod stats;
+pub mod study;
 pub mod tables;

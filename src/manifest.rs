@@ -125,11 +125,29 @@ pub const KNOWN_COLUMNS: &[&str] = &[
     "file",
 ];
 
-/// Reads a manifest CSV (header row, then one row per record).
-pub fn read(input: impl Read) -> Result<Manifest, ManifestError> {
+/// The 1-based line of the file at which the record starting at byte
+/// `byte` begins. Counted here from the bytes: the csv crate's own line
+/// numbers drift after CRLF endings and blank lines.
+fn line_at(bytes: &[u8], byte: u64) -> u64 {
+    let mut at = (byte as usize).min(bytes.len());
+    // A position may point at the line breaks before the record.
+    while at < bytes.len() && (bytes[at] == b'\n' || bytes[at] == b'\r') {
+        at += 1;
+    }
+    1 + bytes[..at].iter().filter(|&&b| b == b'\n').count() as u64
+}
+
+/// Reads a manifest CSV (header row, then one row per record). Errors give
+/// the line in the file, header included.
+pub fn read(mut input: impl Read) -> Result<Manifest, ManifestError> {
+    let mut bytes = Vec::new();
+    input.read_to_end(&mut bytes).map_err(|e| ManifestError {
+        line: None,
+        message: format!("cannot read: {e}"),
+    })?;
     let mut csv = csv::ReaderBuilder::new()
         .has_headers(true)
-        .from_reader(input);
+        .from_reader(bytes.as_slice());
     let headers = csv
         .headers()
         .map_err(|e| ManifestError {
@@ -166,10 +184,10 @@ pub fn read(input: impl Read) -> Result<Manifest, ManifestError> {
     let mut entries: BTreeMap<String, ManifestEntry> = BTreeMap::new();
     for row in csv.records() {
         let row = row.map_err(|e| ManifestError {
-            line: e.position().map(|p| p.line()),
+            line: e.position().map(|p| line_at(&bytes, p.byte())),
             message: e.to_string(),
         })?;
-        let line = row.position().map_or(0, |p| p.line());
+        let line = row.position().map_or(0, |p| line_at(&bytes, p.byte()));
         let cell = |name: &str| -> Option<&str> {
             column
                 .get(name)
@@ -288,6 +306,28 @@ mod tests {
 
         let e = read("dt,file\nnan,a.AT2\n".as_bytes()).unwrap_err();
         assert!(e.message.contains("`dt`"), "{e}");
+    }
+
+    #[test]
+    fn lines_count_the_header_whatever_the_line_endings() {
+        // Issue #9: with CRLF endings or a blank line the csv crate's own
+        // line numbers were one too low.
+        for text in [
+            "year,file\r\n1999,a.AT2\r\n19x9,b.AT2\r\n",
+            "\u{feff}year,file\r\n1999,a.AT2\r\n19x9,b.AT2\r\n",
+            "year,file\n1999,a.AT2\n19x9,b.AT2\n",
+        ] {
+            let e = read(text.as_bytes()).unwrap_err();
+            assert_eq!(e.line, Some(3), "{text:?}: {e}");
+        }
+        let e = read("file\n\nA/x.AT2\nB/x.at2\n".as_bytes()).unwrap_err();
+        assert!(e.message.contains("lines 3 and 4"), "{e}");
+        assert_eq!(e.line, Some(4));
+        let e = read("year,file\r\n1999,a.AT2,extra\r\n".as_bytes()).unwrap_err();
+        assert_eq!(e.line, Some(2), "{e}");
+        // A quoted cell spanning two lines: the next record starts on line 4.
+        let e = read("year,file\n\"1999\",\"a\nb.AT2\"\n19x9,c.AT2\n".as_bytes()).unwrap_err();
+        assert_eq!(e.line, Some(4), "{e}");
     }
 
     #[test]

@@ -17,6 +17,14 @@ use crate::physics::{ModelChoice, Overturn};
 /// Standard gravity (m/s²), for physical blocks.
 pub const G: f64 = 9.80665;
 
+pub use crate::ida::MAX_LEVELS;
+
+/// Most values a `{ from, to, count }` range may expand to.
+pub const MAX_RANGE_VALUES: usize = 100_000;
+
+/// Most blocks a pipeline may hold (the p × ε grid or `[[block]]` entries).
+pub const MAX_BLOCKS: usize = 1_000_000;
+
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawPipeline {
@@ -276,12 +284,49 @@ pub struct Plan {
     /// Grid resolutions (level counts) of the capacity-convergence study,
     /// ascending; empty for none.
     pub convergence: Vec<usize>,
+    /// The pipeline file's folder: relative paths in the file are relative
+    /// to it, and fingerprints store paths relative to it.
+    #[serde(skip)]
+    pub base: PathBuf,
 }
 
 impl Plan {
+    /// `path` relative to the pipeline's folder when it lies inside it (as
+    /// the file wrote it), else as it is: what fingerprints store, so that
+    /// the same study run from another folder or a copied output folder
+    /// keeps its fingerprints.
+    pub fn relative(&self, path: &Path) -> String {
+        path.strip_prefix(&self.base)
+            .unwrap_or(path)
+            .display()
+            .to_string()
+    }
+
+    /// The plan as JSON with the record paths relative to the pipeline's
+    /// folder: every setting, independent of where the tool was started.
+    pub fn portable_json(&self) -> serde_json::Value {
+        let mut v = serde_json::to_value(self).expect("a plan serialises");
+        let records = match &self.records {
+            RecordSource::Table(t) => serde_json::json!({ "table": self.relative(t) }),
+            RecordSource::At2 { paths, manifest } => serde_json::json!({
+                "at2": {
+                    "paths": paths.iter().map(|p| self.relative(p)).collect::<Vec<_>>(),
+                    "manifest": manifest.as_deref().map(|m| self.relative(m)),
+                }
+            }),
+        };
+        v["records"] = records;
+        v
+    }
+
     /// JSON of exactly the settings that determine the sweep's results (not
     /// the name, the description, where the records are, or what reduce does).
     pub fn sweep_settings(&self) -> String {
+        self.sweep_settings_json().to_string()
+    }
+
+    /// [`Plan::sweep_settings`] as a JSON value.
+    pub fn sweep_settings_json(&self) -> serde_json::Value {
         serde_json::json!({
             "sets": self.sets,
             "ids": self.ids,
@@ -294,7 +339,6 @@ impl Plan {
             "tol": self.tol,
             "trace": self.trace,
         })
-        .to_string()
     }
 }
 
@@ -329,6 +373,12 @@ fn values(key: &str, v: &RawValues) -> Result<Vec<f64>, String> {
         RawValues::Range(r) => {
             if r.count == 0 {
                 return Err(format!("`{key}.count` must be at least 1"));
+            }
+            if r.count > MAX_RANGE_VALUES {
+                return Err(format!(
+                    "`{key}.count` = {} is more than {MAX_RANGE_VALUES} values",
+                    r.count
+                ));
             }
             if r.count == 1 {
                 return Ok(vec![r.from]);
@@ -459,6 +509,13 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
             for &e in &epss {
                 check_eps("blocks.eps", e)?;
             }
+            if ps.len().saturating_mul(epss.len()) > MAX_BLOCKS {
+                return Err(err(format!(
+                    "`blocks`: {} values of p × {} of ε is more than {MAX_BLOCKS} blocks",
+                    ps.len(),
+                    epss.len()
+                )));
+            }
             for &pv in &ps {
                 for &e in &epss {
                     blocks.push(BlockSpec {
@@ -525,6 +582,12 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
     }
 
     let im = &raw.im;
+    if im.count > MAX_LEVELS {
+        return Err(err(format!(
+            "`im.count` = {} is more than {MAX_LEVELS} levels (each is a simulation per record and block; the paper used 100–200)",
+            im.count
+        )));
+    }
     let grid = ImGrid {
         eta_max: im.eta_max,
         eta_min: im.eta_min,
@@ -546,6 +609,11 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
     let mut convergence = match &raw.convergence {
         None => Vec::new(),
         Some(c) => {
+            if let Some(&n) = c.levels.iter().find(|&&n| n > MAX_LEVELS) {
+                return Err(err(format!(
+                    "`convergence.levels` holds {n}, more than {MAX_LEVELS} levels"
+                )));
+            }
             if c.levels.len() < 2 || c.levels.iter().any(|&n| n < 2) {
                 return Err(err(format!(
                     "`convergence.levels` = {:?}: give at least two level counts, each at least 2",
@@ -578,6 +646,7 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
         },
         fractile,
         convergence,
+        base: base.to_path_buf(),
     })
 }
 

@@ -1,7 +1,30 @@
 //! Figures as SVG text (plotters' SVG backend; no fonts or bitmaps needed).
 //! Pure: returns the SVG as a `String`; the caller writes it.
 
+use std::error::Error;
+
 use plotters::prelude::*;
+
+/// A figure that could not be drawn.
+#[derive(Debug, thiserror::Error)]
+pub enum PlotError {
+    #[error("{title}: nothing to plot")]
+    Empty { title: String },
+    #[error("{title}: drawing failed")]
+    Draw {
+        title: String,
+        #[source]
+        source: Box<dyn Error + Send + Sync>,
+    },
+}
+
+/// Maps a plotters error to [`PlotError::Draw`] for the chart `title`.
+fn draw_err<E: Error + Send + Sync + 'static>(title: &str) -> impl Fn(E) -> PlotError + '_ {
+    move |e| PlotError::Draw {
+        title: title.to_string(),
+        source: Box::new(e),
+    }
+}
 
 /// One named series of (x, y) points, drawn as markers joined by a line.
 pub struct Series {
@@ -33,14 +56,17 @@ pub fn log_log(
     y_desc: &str,
     series: &[Series],
     floor: f64,
-) -> Result<String, String> {
+) -> Result<String, PlotError> {
+    let err = draw_err(title);
     let clean = |v: f64| if v.is_finite() && v > floor { v } else { floor };
     let all: Vec<(f64, f64)> = series
         .iter()
         .flat_map(|s| s.points.iter().map(|&(x, y)| (clean(x), clean(y))))
         .collect();
     if all.is_empty() {
-        return Err("nothing to plot".into());
+        return Err(PlotError::Empty {
+            title: title.to_string(),
+        });
     }
     let (xmin, xmax) = all
         .iter()
@@ -53,14 +79,14 @@ pub fn log_log(
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (900, 600)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        root.fill(&WHITE).map_err(&err)?;
         let mut chart = ChartBuilder::on(&root)
             .caption(title, ("sans-serif", 22))
             .margin(20)
             .x_label_area_size(50)
             .y_label_area_size(80)
             .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
-            .map_err(|e| e.to_string())?;
+            .map_err(&err)?;
         chart
             .configure_mesh()
             .x_desc(x_desc)
@@ -69,7 +95,7 @@ pub fn log_log(
             .y_label_formatter(&|v| format!("{v:.0e}"))
             .label_style(("sans-serif", 14))
             .draw()
-            .map_err(|e| e.to_string())?;
+            .map_err(&err)?;
         for (i, s) in series.iter().enumerate() {
             let color = PALETTE[i % PALETTE.len()];
             let pts: Vec<(f64, f64)> = s
@@ -79,14 +105,14 @@ pub fn log_log(
                 .collect();
             chart
                 .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))
-                .map_err(|e| e.to_string())?
+                .map_err(&err)?
                 .label(s.name.clone())
                 .legend(move |(x, y)| {
                     PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
                 });
             chart
                 .draw_series(pts.iter().map(|&p| Circle::new(p, 4, color.filled())))
-                .map_err(|e| e.to_string())?;
+                .map_err(&err)?;
         }
         chart
             .configure_series_labels()
@@ -95,8 +121,8 @@ pub fn log_log(
             .background_style(WHITE.mix(0.9))
             .label_font(("sans-serif", 15))
             .draw()
-            .map_err(|e| e.to_string())?;
-        root.present().map_err(|e| e.to_string())?;
+            .map_err(&err)?;
+        root.present().map_err(&err)?;
     }
     Ok(svg)
 }
@@ -202,7 +228,8 @@ fn axis_range(scale: Scale, given: Option<(f64, f64)>, lo: f64, hi: f64) -> (f64
     }
 }
 
-pub fn render(chart: &Chart) -> Result<String, String> {
+pub fn render(chart: &Chart) -> Result<String, PlotError> {
+    let err = draw_err(&chart.title);
     // Drop what an axis cannot show; a dropped point splits its line.
     let lines: Vec<(&Line, Vec<Run>)> = chart
         .lines
@@ -225,14 +252,16 @@ pub fn render(chart: &Chart) -> Result<String, String> {
         (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
     }
     if x0 > x1 {
-        return Err(format!("{}: nothing to plot", chart.title));
+        return Err(PlotError::Empty {
+            title: chart.title.clone(),
+        });
     }
     let (xa, xb) = axis_range(chart.x_scale, chart.x_range, x0, x1);
     let (ya, yb) = axis_range(chart.y_scale, chart.y_range, y0, y1);
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (900, 620)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        root.fill(&WHITE).map_err(&err)?;
         let mut builder = ChartBuilder::on(&root);
         builder
             .caption(&chart.title, ("sans-serif", 20))
@@ -256,7 +285,7 @@ pub fn render(chart: &Chart) -> Result<String, String> {
                 &lines,
             )?,
         }
-        root.present().map_err(|e| e.to_string())?;
+        root.present().map_err(&err)?;
     }
     Ok(svg)
 }
@@ -271,16 +300,15 @@ fn draw<'b, X, Y>(
     y: Y,
     chart: &Chart,
     lines: &Runs,
-) -> Result<(), String>
+) -> Result<(), PlotError>
 where
     X: plotters::coord::ranged1d::AsRangedCoord<Value = f64>,
     Y: plotters::coord::ranged1d::AsRangedCoord<Value = f64>,
     X::CoordDescType: plotters::coord::ranged1d::ValueFormatter<f64>,
     Y::CoordDescType: plotters::coord::ranged1d::ValueFormatter<f64>,
 {
-    let mut c = builder
-        .build_cartesian_2d(x, y)
-        .map_err(|e| e.to_string())?;
+    let err = draw_err(&chart.title);
+    let mut c = builder.build_cartesian_2d(x, y).map_err(&err)?;
     c.configure_mesh()
         .x_desc(chart.x_desc.as_str())
         .y_desc(chart.y_desc.as_str())
@@ -290,7 +318,7 @@ where
         .axis_desc_style(("sans-serif", 16))
         .light_line_style(WHITE.mix(0.0))
         .draw()
-        .map_err(|e| e.to_string())?;
+        .map_err(&err)?;
     let mut any_legend = false;
     for (l, runs) in lines {
         let color = PALETTE[l.color % PALETTE.len()];
@@ -308,7 +336,7 @@ where
                         run.iter().copied(),
                         col.stroke_width(width),
                     ))
-                    .map_err(|e| e.to_string())?;
+                    .map_err(&err)?;
                 if legend {
                     any_legend = true;
                     s.label(l.name.clone().unwrap_or_default())
@@ -320,7 +348,7 @@ where
             if matches!(l.style, Style::Points | Style::LinePoints) {
                 let s = c
                     .draw_series(run.iter().map(|&p| Circle::new(p, 3, color.filled())))
-                    .map_err(|e| e.to_string())?;
+                    .map_err(&err)?;
                 if legend && l.style == Style::Points {
                     any_legend = true;
                     s.label(l.name.clone().unwrap_or_default())
@@ -336,7 +364,7 @@ where
             .background_style(WHITE.mix(0.85))
             .label_font(("sans-serif", 14))
             .draw()
-            .map_err(|e| e.to_string())?;
+            .map_err(&err)?;
     }
     Ok(())
 }

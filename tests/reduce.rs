@@ -10,9 +10,12 @@ use std::path::Path;
 use rocking::fit::{curve, fit_curve};
 use rocking::fragility::paper;
 use rocking::pipeline::FractileDef;
+use rocking::stages::sweep::read_capacities;
+use rocking::stages::{Context, Silent, Stage, Study};
 use rocking::stats::{fractile, lilliefors, lilliefors_critical_value, lilliefors_p_value};
-use rocking::tables::summary::{CAPACITY_FRACTILES, FIT_STEP1, LOGNORMAL, OVERTURN_FRACTION};
-use rocking::tables::sweep::read_capacities;
+use rocking::tables::fit::FitStep1Row;
+use rocking::tables::read;
+use rocking::tables::reduce::{CapacityFractileRow, LognormalRow, OverturnFractionRow};
 
 use crate::util::{bundled_records, rocking, root, stderr, stdout, tempdir};
 
@@ -149,20 +152,13 @@ fn reduce_and_fit_follow_the_definitions_and_rerun_only_on_change() {
     assert!(ok(&["reduce", p, "--outputs", o]).contains("up to date"));
 
     let folder = out.join("study");
-    let caps = read_capacities(&[folder.join("capacities.parquet")]).unwrap();
-    let fractiles = CAPACITY_FRACTILES
-        .read(&folder.join("capacity_fractiles.parquet"))
-        .unwrap();
-    let fraction = OVERTURN_FRACTION
-        .read(&folder.join("overturn_fraction.parquet"))
-        .unwrap();
-    let col = |name| CAPACITY_FRACTILES.col(name);
+    let caps = read_capacities(&folder).unwrap();
+    let fractiles: Vec<CapacityFractileRow> =
+        read(&folder.join("capacity_fractiles.parquet")).unwrap();
+    let fraction: Vec<OverturnFractionRow> =
+        read(&folder.join("overturn_fraction.parquet")).unwrap();
     for row in &fractiles {
-        let (bp, be, q) = (
-            row[col("p")].f().unwrap(),
-            row[col("eps")].f().unwrap(),
-            row[col("quantile")].f().unwrap(),
-        );
+        let (bp, be, q) = (row.p, row.eps, row.quantile);
         // η_c fractile by hand (type 7 over the 9 records: h = 1 + 8q).
         let mut etas: Vec<f64> = caps
             .iter()
@@ -177,55 +173,56 @@ fn reduce_and_fit_follow_the_definitions_and_rerun_only_on_change() {
         } else {
             etas[lo] + w * (etas[lo + 1] - etas[lo])
         };
-        assert!((row[col("eta_c")].f().unwrap() - by_hand).abs() < 1e-15);
+        assert!((row.eta_c - by_hand).abs() < 1e-15);
         // The horizontal counterpart: the q-fractile of EDP is +∞ at a level
         // once the interpolation at h touches an overturned record, i.e. once
         // at least 9 − ⌊h⌋ (+1 if h is whole) records have overturned there
         // under the resurrection rule.
         let need = if w == 0.0 { 9 - lo } else { 9 - lo - 1 };
-        let (fp, fe) = (OVERTURN_FRACTION.col("p"), OVERTURN_FRACTION.col("eps"));
-        let (feta, ffr) = (
-            OVERTURN_FRACTION.col("eta"),
-            OVERTURN_FRACTION.col("fraction_resurrection"),
-        );
         let first = fraction
             .iter()
-            .filter(|r| r[fp].f() == Some(bp) && r[fe].f() == Some(be))
-            .find(|r| (r[ffr].f().unwrap() * 9.0).round() as usize >= need)
-            .map(|r| r[feta].f().unwrap());
-        assert_eq!(
-            row[col("eta_c_horizontal")].f(),
-            first,
-            "p = {bp}, ε = {be}, q = {q}"
-        );
+            .filter(|r| r.p == bp && r.eps == be)
+            .find(|r| (r.fraction_resurrection * 9.0).round() as usize >= need)
+            .map(|r| r.eta);
+        assert_eq!(row.eta_c_horizontal, first, "p = {bp}, ε = {be}, q = {q}");
     }
     // Lognormal table: β from the fractiles is (ln q84 − ln q16)/2 of the same rows.
-    let logn = LOGNORMAL.read(&folder.join("lognormal.parquet")).unwrap();
+    let logn: Vec<LognormalRow> = read(&folder.join("lognormal.parquet")).unwrap();
     assert_eq!(logn.len(), 12);
 
     let text = ok(&["fit", p, "--outputs", o]);
     assert!(text.contains("step 1:"), "{text}");
     assert!(ok(&["fit", p, "--outputs", o]).contains("up to date"));
-    let step1 = FIT_STEP1.read(&folder.join("fit_step1.parquet")).unwrap();
+    let step1: Vec<FitStep1Row> = read(&folder.join("fit_step1.parquet")).unwrap();
     assert_eq!(step1.len(), 9, "3 ε × 3 fractiles");
-    // Sweep tables made with other settings are refused, not relabelled.
+    // The reduce stage refuses sweep tables made with other settings (tables
+    // copied by hand, say), rather than relabel them.
     let other = fs::read_to_string(&pipe)
         .unwrap()
         .replace("eta_min = 0.005", "eta_min = 0.004");
     let other_pipe = dir.path().join("other.toml");
     fs::write(&other_pipe, other).unwrap();
+    let other_study = Study::load(&other_pipe, &out).unwrap();
+    let cx = Context {
+        study: &other_study,
+        shard: None,
+        reporter: &Silent,
+        stage_seconds: Vec::new(),
+    };
+    let e = rocking::stages::reduce::Reduce.run(&cx).unwrap_err();
+    assert!(e.to_string().contains("other settings"), "{e}");
+    // Through the command, an edited pipeline reruns the sweep first: no
+    // stale sweep is ever reduced.
     let r = rocking(
         dir.path(),
-        &[
-            "reduce",
-            other_pipe.to_str().unwrap(),
-            "--outputs",
-            o,
-            "--force",
-        ],
+        &["reduce", other_pipe.to_str().unwrap(), "--outputs", o],
     );
-    assert!(!r.status.success());
-    assert!(stderr(&r).contains("other settings"), "{}", stderr(&r));
+    assert!(r.status.success(), "{}", stderr(&r));
+    assert!(
+        stderr(&r).contains("sweep        running: settings changed"),
+        "{}",
+        stderr(&r)
+    );
 
     // Rerun with --force redoes the work.
     assert!(!ok(&["reduce", p, "--outputs", o, "--force"]).contains("up to date"));
@@ -361,22 +358,13 @@ fn paper_median_capacity_within_ten_percent_of_eq10() {
         );
         assert!(r.status.success(), "{stage}: {}", stderr(&r));
     }
-    let rows = CAPACITY_FRACTILES
-        .read(&out.join("paper/capacity_fractiles.parquet"))
-        .unwrap();
-    let col = |n| CAPACITY_FRACTILES.col(n);
+    let rows: Vec<CapacityFractileRow> =
+        read(&out.join("paper/capacity_fractiles.parquet")).unwrap();
     let law = &paper()[1];
     let errors: Vec<f64> = rows
         .iter()
-        .filter(|r| r[col("quantile")].f() == Some(0.5) && r[col("p")].f().unwrap() >= 0.5)
-        .map(|r| {
-            let (p, e, v) = (
-                r[col("p")].f().unwrap(),
-                r[col("eps")].f().unwrap(),
-                r[col("eta_c")].f().unwrap(),
-            );
-            (v / law.eta_c(p, e) - 1.0).abs()
-        })
+        .filter(|r| r.quantile == 0.5 && r.p >= 0.5)
+        .map(|r| (r.eta_c / law.eta_c(r.p, r.eps) - 1.0).abs())
         .collect();
     let mean = errors.iter().sum::<f64>() / errors.len() as f64;
     eprintln!(

@@ -7,10 +7,9 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use rocking::tables::summary::{Flat, CAPACITY_FRACTILES, HORIZONTAL, LOGNORMAL};
-use rocking::tables::sweep::read_capacities;
+use rocking::stages::sweep::read_capacities;
 
-use crate::util::{bundled_records, rocking, root, stderr, stdout, tempdir};
+use crate::util::{bundled_records, dump_table, rocking, snapshot, stderr, stdout, tempdir};
 
 const RECORDS: [&str; 3] = [
     "RSN1111_KOBE_NIS000",
@@ -143,79 +142,117 @@ fn stages_rerun_only_when_something_they_read_changed() {
     assert!(line(&log, "sweep").contains("fresh"), "{log}");
 }
 
+/// A pipeline over all 44 far-field records with enough work (a few
+/// seconds on one thread) for a second command to meet it while it runs.
+fn busy_study(dir: &Path) -> PathBuf {
+    let rec = bundled_records();
+    let text = format!(
+        "name = \"busy\"\n[records]\nat2 = [\"{}\"]\nmanifest = \"{}\"\nsets = [\"far-field\"]\n\
+         [blocks]\np = [0.5, 1.0, 2.0, 4.0]\neps = [0.6, 0.75, 0.9]\n\
+         [convergence]\nlevels = [100, 200, 400, 800]\n",
+        rec.join("far-field").display(),
+        rec.join("manifest.csv").display()
+    );
+    let path = dir.join("busy.toml");
+    fs::write(&path, text).unwrap();
+    path
+}
+
+/// Waits until `path` exists (the running command has taken its lock).
+fn wait_for(path: &Path, child: &mut std::process::Child) {
+    for _ in 0..600 {
+        if path.exists() {
+            return;
+        }
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the first command ended before taking its lock"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    panic!("{} never appeared", path.display());
+}
+
 #[test]
-fn a_second_run_at_once_is_refused_and_a_dead_lock_is_taken_over() {
+fn every_writer_takes_the_study_lock_issue_9() {
+    let dir = tempdir();
+    let d = dir.path();
+    let pipe = busy_study(d);
+    let p = pipe.to_str().unwrap();
+    let mut first = std::process::Command::new(env!("CARGO_BIN_EXE_rocking"))
+        .args(["run", p, "--outputs", "out", "--threads", "1"])
+        .current_dir(d)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let lock = d.join("out/busy/.lock");
+    wait_for(&lock, &mut first);
+    // Every command that writes into the folder is refused while `run`
+    // holds it, and says who holds it.
+    for args in [
+        vec!["sweep", p, "--outputs", "out"],
+        vec!["sweep", p, "--outputs", "out", "--shard", "1/2"],
+        vec!["run", p, "--outputs", "out"],
+        vec!["reduce", p, "--outputs", "out"],
+    ] {
+        let out = rocking(d, &args);
+        let err = stderr(&out);
+        assert!(!out.status.success(), "{args:?} ran beside `rocking run`");
+        assert!(
+            err.contains("is in use") && err.contains(&format!("pid {}", first.id())),
+            "{args:?}: {err}"
+        );
+        assert!(
+            err.contains("rocking run"),
+            "names the holder's command: {err}"
+        );
+    }
+    // Killed, its lock stays behind but no longer counts.
+    first.kill().unwrap();
+    first.wait().unwrap();
+    assert!(lock.exists(), "a killed run leaves its lock");
+    let out = rocking(d, &["sweep", p, "--outputs", "out", "--threads", "1"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(!lock.exists(), "released at the end");
+}
+
+#[test]
+fn a_lock_that_is_not_a_live_rocking_is_taken_over_issue_9() {
     let dir = tempdir();
     let d = dir.path();
     let pipe = study(d, "0.9");
-    fs::create_dir_all(d.join("out/mini")).unwrap();
-    // A live process (this test) holds the lock.
-    fs::write(d.join("out/mini/.lock"), std::process::id().to_string()).unwrap();
-    let out = rocking(d, &["run", pipe.to_str().unwrap(), "--outputs", "out"]);
-    assert!(!out.status.success());
-    assert!(
-        stderr(&out).contains(&format!("(pid {})", std::process::id())),
-        "{}",
-        stderr(&out)
-    );
-    assert!(!d.join("out/mini/capacities.parquet").exists());
-    // A lock left by a process that is gone does not block.
-    fs::write(d.join("out/mini/.lock"), "999999999").unwrap();
-    let (out, _) = run(d, &pipe);
-    assert!(out.contains("ran"), "{out}");
-    assert!(!d.join("out/mini/.lock").exists(), "released at the end");
-}
-
-/// Rows of a table as text, floats to 12 significant digits.
-fn dump(t: &Flat, path: &Path) -> String {
-    let mut s = t.columns.iter().map(|c| c.0).collect::<Vec<_>>().join("\t");
-    s.push('\n');
-    for row in t.read(path).unwrap() {
-        let cells: Vec<String> = row
-            .iter()
-            .map(|v| match v {
-                rocking::tables::summary::Value::F(Some(x)) if x.is_finite() => format!("{x:.11e}"),
-                rocking::tables::summary::Value::F(Some(x)) => format!("{x}"),
-                rocking::tables::summary::Value::F(None)
-                | rocking::tables::summary::Value::I(None) => "null".into(),
-                rocking::tables::summary::Value::I(Some(i)) => i.to_string(),
-                rocking::tables::summary::Value::S(s) => format!("{s:?}"),
-                rocking::tables::summary::Value::B(b) => b.to_string(),
-            })
-            .collect();
-        s.push_str(&cells.join("\t"));
-        s.push('\n');
+    let p = pipe.to_str().unwrap();
+    let lock = d.join("out/mini/.lock");
+    fs::create_dir_all(lock.parent().unwrap()).unwrap();
+    let me = std::process::id().to_string();
+    for (what, content) in [
+        ("empty", ""),
+        ("garbage", "}{ not a lock"),
+        ("a bare dead pid", "999999999"),
+        ("pid 1 (init, not this tool)", "1"),
+        ("this test's pid (alive, not this tool)", me.as_str()),
+    ] {
+        fs::write(&lock, content).unwrap();
+        let out = rocking(d, &["run", p, "--outputs", "out", "--to", "ingest"]);
+        assert!(out.status.success(), "{what}: {}", stderr(&out));
+        assert!(!lock.exists(), "{what}: released at the end");
     }
-    s
-}
-
-/// Compares with `tests/snapshots/<name>`; `ROCKING_BLESS=1` (re)writes it.
-fn snapshot(name: &str, text: &str) {
-    let path = root().join("tests/snapshots").join(name);
-    if std::env::var("ROCKING_BLESS").is_ok() {
-        fs::create_dir_all(path.parent().unwrap()).unwrap();
-        fs::write(&path, text).unwrap();
-        return;
-    }
-    let expected = fs::read_to_string(&path).unwrap_or_else(|_| {
-        panic!(
-            "no snapshot {}; review the output and bless it with ROCKING_BLESS=1",
-            path.display()
-        )
+    // A live rocking's lock in the owner format: a shard lock held by a
+    // second process refuses the exclusive lock.
+    let owner = serde_json::json!({
+        "pid": 999999999u32, "host": "another-host", "started_ticks": 0u64,
+        "since_unix_s": 0u64, "command": "rocking sweep x.toml --shard 1/4"
     });
-    if expected != text {
-        let diff: Vec<String> = expected
-            .lines()
-            .zip(text.lines())
-            .filter(|(a, b)| a != b)
-            .take(5)
-            .map(|(a, b)| format!("- {a}\n+ {b}"))
-            .collect();
-        panic!(
-            "snapshot {name} differs (rerun with ROCKING_BLESS=1 once reviewed):\n{}",
-            diff.join("\n")
-        );
-    }
+    fs::write(d.join("out/mini/.lock.shard-1-of-4"), owner.to_string()).unwrap();
+    let out = rocking(d, &["run", p, "--outputs", "out"]);
+    assert!(!out.status.success());
+    let err = stderr(&out);
+    assert!(
+        err.contains("another-host") && err.contains("--shard 1/4"),
+        "a lock from another host is obeyed and named: {err}"
+    );
+    assert!(!err.contains("pid )"), "{err}");
 }
 
 #[test]
@@ -226,7 +263,7 @@ fn mini_study_snapshot() {
     run(d, &pipe);
     let folder = d.join("out/mini");
     // The capacities, checked against direct `rocking capacity` runs of the same blocks.
-    let caps = read_capacities(&[folder.join("capacities.parquet")]).unwrap();
+    let caps = read_capacities(&folder).unwrap();
     let mut text = String::from("record_id\tp\teps\teta_c\teta_survived\truns\n");
     for c in &caps {
         let record = d.join("records").join(format!("{}.AT2", c.record_id));
@@ -267,19 +304,14 @@ fn mini_study_snapshot() {
         ));
     }
     snapshot("mini_capacities.tsv", &text);
-    snapshot(
-        "mini_capacity_fractiles.tsv",
-        &dump(
-            &CAPACITY_FRACTILES,
-            &folder.join("capacity_fractiles.parquet"),
+    for (snap, table) in [
+        ("mini_capacity_fractiles.tsv", "capacity_fractiles.parquet"),
+        ("mini_lognormal.tsv", "lognormal.parquet"),
+        (
+            "mini_fractiles_horizontal.tsv",
+            "fractiles_horizontal.parquet",
         ),
-    );
-    snapshot(
-        "mini_lognormal.tsv",
-        &dump(&LOGNORMAL, &folder.join("lognormal.parquet")),
-    );
-    snapshot(
-        "mini_fractiles_horizontal.tsv",
-        &dump(&HORIZONTAL, &folder.join("fractiles_horizontal.parquet")),
-    );
+    ] {
+        snapshot(snap, &dump_table(&folder.join(table), false));
+    }
 }

@@ -138,7 +138,7 @@ fn capacities_equal_direct_capacity_calls_and_resurrections_are_counted() {
             .into_iter()
             .filter(|&eta| eta < first)
             .filter(|&eta| {
-                !simulate(&exc, &RunSpec::new(c.p, 0.8, eta, Model::Linearized))
+                !simulate(&exc, &RunSpec::new(c.p, 0.8, eta, Model::LINEARIZED))
                     .unwrap()
                     .overturned()
             })

@@ -86,3 +86,117 @@ pub fn bundled(set_stem: &str) -> rocking::physics::Excitation {
 pub fn stdout(out: &Output) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
+
+/// A Parquet table as text, read with the `parquet` crate directly (not
+/// through rocking's typed readers): a header of column names, then one
+/// line per row, tab-separated. Floats to 12 significant digits, or, with
+/// `exact`, in Rust's shortest round-trip form (so equal text is equal
+/// bits); strings quoted; `null` for an empty cell; lists in brackets.
+pub fn dump_table(path: &Path, exact: bool) -> String {
+    use arrow_array::cast::AsArray;
+    use arrow_array::types::{Float64Type, Int64Type, Int8Type};
+    use arrow_array::{Array, ArrayRef};
+    use arrow_schema::DataType;
+    use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+
+    fn float(x: f64, exact: bool) -> String {
+        match (exact, x.is_finite()) {
+            (true, _) => format!("{x:?}"),
+            (false, true) => format!("{x:.11e}"),
+            (false, false) => format!("{x}"),
+        }
+    }
+    fn cell(col: &ArrayRef, i: usize, exact: bool) -> String {
+        if col.is_null(i) {
+            return "null".into();
+        }
+        match col.data_type() {
+            DataType::Float64 => float(col.as_primitive::<Float64Type>().value(i), exact),
+            DataType::Int64 => col.as_primitive::<Int64Type>().value(i).to_string(),
+            DataType::Int8 => col.as_primitive::<Int8Type>().value(i).to_string(),
+            DataType::Utf8 => format!("{:?}", col.as_string::<i32>().value(i)),
+            DataType::Boolean => col.as_boolean().value(i).to_string(),
+            DataType::List(_) => {
+                let item = col.as_list::<i32>().value(i);
+                let items: Vec<String> = (0..item.len()).map(|k| cell(&item, k, exact)).collect();
+                format!("[{}]", items.join(","))
+            }
+            other => panic!("{}: no dump for {other}", path_hint()),
+        }
+    }
+    fn path_hint() -> &'static str {
+        "dump_table"
+    }
+    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let builder = ParquetRecordBatchReaderBuilder::try_new(file).unwrap();
+    let schema = builder.schema().clone();
+    let mut s = schema
+        .fields()
+        .iter()
+        .map(|f| f.name().as_str())
+        .collect::<Vec<_>>()
+        .join("\t");
+    s.push('\n');
+    for batch in builder.build().unwrap() {
+        let batch = batch.unwrap();
+        for i in 0..batch.num_rows() {
+            let cells: Vec<String> = batch.columns().iter().map(|c| cell(c, i, exact)).collect();
+            s.push_str(&cells.join("\t"));
+            s.push('\n');
+        }
+    }
+    s
+}
+
+/// The schema of a Parquet file: `name type nullable` per column.
+pub fn schema_of(path: &Path) -> String {
+    use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+    let file = std::fs::File::open(path).unwrap();
+    let builder = ParquetRecordBatchReaderBuilder::try_new(file).unwrap();
+    builder
+        .schema()
+        .fields()
+        .iter()
+        .map(|f| format!("{} {} {}", f.name(), f.data_type(), f.is_nullable()))
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// Compares `text` with `tests/snapshots/<name>`; `ROCKING_BLESS=1` (re)writes
+/// it. Bless only output that has been reviewed.
+pub fn snapshot(name: &str, text: &str) {
+    let path = root().join("tests/snapshots").join(name);
+    if std::env::var("ROCKING_BLESS").is_ok() {
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(&path, text).unwrap();
+        return;
+    }
+    let expected = std::fs::read_to_string(&path).unwrap_or_else(|_| {
+        panic!(
+            "no snapshot {}; review the output and bless it with ROCKING_BLESS=1",
+            path.display()
+        )
+    });
+    if expected != text {
+        let diff: Vec<String> = expected
+            .lines()
+            .zip(text.lines())
+            .filter(|(a, b)| a != b)
+            .take(5)
+            .map(|(a, b)| format!("- {a}\n+ {b}"))
+            .collect();
+        panic!(
+            "snapshot {name} differs (rerun with ROCKING_BLESS=1 once reviewed):\n{}{}",
+            diff.join("\n"),
+            if expected.lines().count() != text.lines().count() {
+                format!(
+                    "\n({} lines expected, {} now)",
+                    expected.lines().count(),
+                    text.lines().count()
+                )
+            } else {
+                String::new()
+            }
+        );
+    }
+}

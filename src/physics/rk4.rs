@@ -6,54 +6,31 @@
 //! |x|max from the step ends. It exists to be measured against in the
 //! benchmarks, not to be used for results.
 
-use super::energy::{self, Fate};
-use super::nonlinear::Rhs;
-use super::{Rocker, Rocking, Stretch, StretchEnd};
+use super::equation::Rhs;
+use super::{Rocking, Stepper, Stretch, StretchEnd};
 
-pub struct Rk4 {
-    p: f64,
-    eta: f64,
-    alpha: Option<f64>,
+/// The RK4 stepper of one equation; one per run.
+pub struct Rk4<R> {
+    rhs: R,
     h: f64,
     limit: f64,
 }
 
-impl Rk4 {
-    pub fn new(p: f64, eta: f64, alpha: Option<f64>, dt: f64, substeps: u32, limit: f64) -> Self {
+impl<R: Rhs> Rk4<R> {
+    pub fn new(rhs: R, dt: f64, substeps: u32, limit: f64) -> Self {
         Rk4 {
-            p,
-            eta,
-            alpha,
+            rhs,
             h: dt / substeps as f64,
             limit,
         }
     }
-
-    #[inline]
-    fn accel(&self, rhs: &Option<Rhs>, s: f64, g: f64, x: f64, sigma: f64) -> f64 {
-        match rhs {
-            Some(r) => r.eval(sigma, [x, 0.0])[1],
-            None => self.p * self.p * (x - s) + self.p * self.p / self.eta * g,
-        }
-    }
 }
 
-impl Rocker for Rk4 {
-    fn uplift_factor(&self) -> f64 {
-        self.alpha.map_or(1.0, |a| a.tan() / a)
-    }
-
+impl<R: Rhs> Stepper for Rk4<R> {
     fn rock(&mut self, st: Stretch, state: &mut Rocking, max_abs_x: &mut f64) -> StretchEnd {
         let s = state.s;
-        let rhs = self.alpha.map(|a| Rhs {
-            p2_over_alpha: self.p * self.p / a,
-            p2_over_eta: self.p * self.p / self.eta,
-            alpha: a,
-            s,
-            g_a: st.g_a,
-            g1: st.g1,
-        });
-        let f = |sigma: f64, x: f64| self.accel(&rhs, s, st.g_a + st.g1 * sigma, x, sigma);
+        let rhs = self.rhs;
+        let f = |sigma: f64, x: f64| rhs.accel(s, x, st.g_a + st.g1 * sigma);
         let (mut x, mut v) = (state.x, state.v);
         let mut sigma = 0.0;
         while sigma < st.len {
@@ -92,12 +69,5 @@ impl Rocker for Rk4 {
         }
         *state = Rocking { x, v, s };
         StretchEnd::End
-    }
-
-    fn free_fate(&self, state: Rocking, eps: f64) -> Fate {
-        match self.alpha {
-            Some(a) => energy::nonlinear_fate(self.p, a, state, eps),
-            None => energy::linear_fate(self.p, state, eps),
-        }
     }
 }

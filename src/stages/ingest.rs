@@ -1,4 +1,8 @@
-//! Ingest stage: PEER AT2 files (and an optional manifest) → the records table.
+//! Ingest: PEER AT2 files (and an optional manifest) → the records table.
+//!
+//! Two users: the `rocking ingest PATH…` command ([`run`]) and the ingest
+//! stage of a pipeline whose records are AT2 files ([`Ingest`], writing
+//! `<study>/records.parquet`).
 //!
 //! Glue only: finds the files, reads them, hands the bytes to [`crate::at2`],
 //! joins the manifest and writes through [`crate::tables::records`]. Prints
@@ -6,8 +10,9 @@
 //!
 //! Order: rows are sorted by record id (the file stem, unique), so the table
 //! does not depend on the order of the paths given or of the directory walk.
-//! Any bad file fails the whole stage and nothing is written, unless
-//! `skip_bad` is set, in which case the bad files are listed in the report.
+//! Any bad file fails the whole stage and nothing is written, unless the
+//! caller asks to skip bad files ([`OnBad::Skip`]), in which case they are
+//! listed in the report.
 
 use std::collections::BTreeMap;
 use std::fmt;
@@ -16,12 +21,100 @@ use std::io;
 use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
-use sha2::{Digest, Sha256};
 
+use super::stage::{BoxError, Context, Shard, Stage, Study, Summary};
 use crate::at2;
 use crate::manifest::{self, Manifest, RecordMeta};
 use crate::motion;
+use crate::pipeline::RecordSource;
 use crate::tables::{self, records::RecordRow};
+
+/// The ingest stage of a pipeline that names AT2 files.
+pub struct Ingest;
+
+/// What to say when a pipeline's AT2 files are bad.
+pub const PIPELINE_HINT: &str =
+    "fix them, or take them out of the folders the pipeline's `records.at2` names";
+
+impl Stage for Ingest {
+    fn name(&self) -> &'static str {
+        "ingest"
+    }
+
+    fn about(&self) -> &'static str {
+        "Read the pipeline's AT2 files into <study>/records.parquet"
+    }
+
+    fn has_command(&self) -> bool {
+        false
+    }
+
+    fn not_needed(&self, study: &Study) -> Option<String> {
+        matches!(study.plan.records, RecordSource::Table(_))
+            .then(|| "the pipeline reads a records table directly".to_string())
+    }
+
+    fn settings(&self, study: &Study) -> serde_json::Value {
+        match &study.plan.records {
+            RecordSource::At2 { paths, manifest } => serde_json::json!({
+                "paths": paths.iter().map(|p| study.plan.relative(p)).collect::<Vec<_>>(),
+                "manifest": manifest.as_deref().map(|m| study.plan.relative(m)),
+            }),
+            RecordSource::Table(_) => serde_json::Value::Null,
+        }
+    }
+
+    fn inputs(&self, study: &Study) -> Result<Vec<PathBuf>, BoxError> {
+        let RecordSource::At2 { paths, manifest } = &study.plan.records else {
+            return Ok(Vec::new());
+        };
+        let mut files = discover(paths)?;
+        files.extend(manifest.iter().cloned());
+        Ok(files)
+    }
+
+    fn outputs(&self, study: &Study, _shard: Option<Shard>) -> Vec<PathBuf> {
+        vec![study.path("records.parquet")]
+    }
+
+    fn run(&self, cx: &Context) -> Result<Summary, BoxError> {
+        let RecordSource::At2 { paths, manifest } = &cx.study.plan.records else {
+            return Ok(Summary::default());
+        };
+        let config = IngestConfig {
+            paths: paths.clone(),
+            manifest: manifest.clone(),
+            out: cx.study.path("records.parquet"),
+            on_bad: OnBad::Refuse(PIPELINE_HINT),
+        };
+        let report = run(&config)?;
+        for col in &report.ignored_manifest_columns {
+            cx.reporter
+                .note("ingest", &format!("manifest column `{col}` is not stored"));
+        }
+        Ok(Summary {
+            lines: vec![format!(
+                "ingested {} records ({} samples) into {}",
+                report.records,
+                report.samples,
+                report.out.display()
+            )],
+            also_wrote: Vec::new(),
+        })
+    }
+}
+
+/// What to do with files that cannot be ingested.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OnBad {
+    /// Ingest the rest and list them in the report.
+    Skip,
+    /// Fail, write nothing, and end the message with this hint.
+    Refuse(&'static str),
+}
+
+/// The hint of `rocking ingest`.
+pub const SKIP_BAD_HINT: &str = "use --skip-bad to ingest the rest";
 
 /// What to ingest and where to write it.
 #[derive(Debug, Clone)]
@@ -30,7 +123,7 @@ pub struct IngestConfig {
     pub paths: Vec<PathBuf>,
     pub manifest: Option<PathBuf>,
     pub out: PathBuf,
-    pub skip_bad: bool,
+    pub on_bad: OnBad,
 }
 
 /// A file that could not be ingested, and why.
@@ -83,21 +176,29 @@ impl fmt::Display for BadFile {
 
 #[derive(Debug, thiserror::Error)]
 pub enum IngestError {
-    #[error("{path}: {source}")]
-    Path { path: PathBuf, source: io::Error },
+    #[error("{path}")]
+    Path {
+        path: PathBuf,
+        #[source]
+        source: io::Error,
+    },
     #[error("no AT2 files found in {0}")]
     NoFiles(String),
-    #[error("manifest {path}: {source}")]
+    #[error("manifest {path}")]
     Manifest {
         path: PathBuf,
+        #[source]
         source: manifest::ManifestError,
     },
     #[error(
-        "{} bad file(s); nothing was written (use --skip-bad to ingest the rest):\n  {}",
-        .0.len(),
-        .0.iter().map(|b| b.to_string()).collect::<Vec<_>>().join("\n  ")
+        "{} bad file(s); nothing was written ({hint}):\n  {}",
+        .files.len(),
+        .files.iter().map(|b| b.to_string()).collect::<Vec<_>>().join("\n  ")
     )]
-    BadFiles(Vec<BadFile>),
+    BadFiles {
+        files: Vec<BadFile>,
+        hint: &'static str,
+    },
     #[error("every file was bad; nothing was written:\n  {}", .0.iter().map(|b| b.to_string()).collect::<Vec<_>>().join("\n  "))]
     AllBad(Vec<BadFile>),
     #[error(transparent)]
@@ -133,7 +234,7 @@ pub struct Collected {
 pub fn collect(
     paths: &[PathBuf],
     manifest_path: Option<&Path>,
-    skip_bad: bool,
+    on_bad: OnBad,
 ) -> Result<Collected, IngestError> {
     let files = discover(paths)?;
     let manifest = match manifest_path {
@@ -196,8 +297,8 @@ pub fn collect(
     }
 
     bad.sort_by(|a, b| a.path.cmp(&b.path));
-    if !bad.is_empty() && !skip_bad {
-        return Err(IngestError::BadFiles(bad));
+    if let (false, OnBad::Refuse(hint)) = (bad.is_empty(), on_bad) {
+        return Err(IngestError::BadFiles { files: bad, hint });
     }
     if rows.is_empty() {
         return Err(IngestError::AllBad(bad));
@@ -212,7 +313,7 @@ pub fn collect(
 
 /// Runs the ingest stage.
 pub fn run(config: &IngestConfig) -> Result<IngestReport, IngestError> {
-    let collected = collect(&config.paths, config.manifest.as_deref(), config.skip_bad)?;
+    let collected = collect(&config.paths, config.manifest.as_deref(), config.on_bad)?;
     let rows = collected.rows;
     let mut settings = vec![(
         "rocking.ingest.paths".to_string(),
@@ -322,7 +423,7 @@ fn read_one(path: &Path) -> Result<RecordRow, BadFile> {
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default(),
         source: path.display().to_string(),
-        sha256: hex(&Sha256::digest(&bytes)),
+        sha256: crate::hash::sha256_hex(&bytes),
         dt_s: parsed.dt_s,
         pga_g: peak.pga_g,
         pga_time_s: peak.time_s,
@@ -351,28 +452,4 @@ fn check_against_manifest(row: &RecordRow, entry: &manifest::ManifestEntry) -> O
         }
     }
     None
-}
-
-fn hex(bytes: &[u8]) -> String {
-    use std::fmt::Write;
-    bytes
-        .iter()
-        .fold(String::with_capacity(2 * bytes.len()), |mut s, b| {
-            let _ = write!(s, "{b:02x}");
-            s
-        })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn sha256_hex_of_a_known_input() {
-        // FIPS 180-2 test vector for "abc".
-        assert_eq!(
-            hex(&Sha256::digest(b"abc")),
-            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
-        );
-    }
 }

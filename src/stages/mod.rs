@@ -1,18 +1,40 @@
 //! Pipeline stages: glue between the domain modules and the tables.
 //!
-//! A stage takes a typed configuration, reads its input tables or files,
-//! calls pure domain code and writes its output tables through
-//! [`crate::tables`]. Stages print nothing: they return a report that the CLI
-//! presents.
+//! Each stage is one file implementing [`Stage`] and one line of
+//! [`STAGES`]; the engine ([`engine`]) runs them in that order, each only
+//! when its fingerprint ([`fingerprint`]) says it is stale, under the study
+//! folder's lock ([`lock`]). Stages print nothing: they report through a
+//! [`Reporter`] and return a [`Summary`].
 //!
-//! Stages so far: [`ingest`] (AT2 files → records table) and [`sweep`] (IDA
-//! of every record × block → IDA points and capacities). Reduce and fit
-//! follow the same shape.
+//! To add a stage: write `stages/<name>.rs` with a unit struct implementing
+//! [`Stage`] (name, help, settings, inputs, outputs, run), declare the module
+//! below, and put it in [`STAGES`] after the stages whose outputs it reads.
+//! `rocking run`, `rocking status`, `--from`, `--to` and a `rocking <name>`
+//! command follow from that line.
 
 pub mod convergence;
+pub mod engine;
+pub mod fingerprint;
 pub mod fit;
 pub mod ingest;
+pub mod lock;
+pub mod records;
 pub mod reduce;
 pub mod report;
-pub mod run;
+pub mod stage;
 pub mod sweep;
+
+pub use stage::{
+    BoxError, Context, LoadError, Progress, Reporter, Shard, Silent, Stage, StageEvent, Study,
+    Summary,
+};
+
+/// Every stage, in run order (a stage reads only what earlier ones write).
+pub static STAGES: &[&dyn Stage] = &[
+    &ingest::Ingest,
+    &sweep::Sweep,
+    &convergence::Convergence,
+    &reduce::Reduce,
+    &fit::Fit,
+    &report::Report,
+];

@@ -1,95 +1,81 @@
 //! Reduce stage: the sweep's runs → fractile curves, capacity fractiles,
 //! lognormal checks and overturning fractions (docs/MODEL.md §5).
 //!
-//! Glue: reads the sweep dataset of a pipeline, groups the cases by block,
-//! and calls [`crate::stats`]. Under the resurrection rule a record counts
-//! as EDP = +∞ at every level at or beyond its first overturning, so the
-//! runs the sweep skipped there are not needed. Reruns only when its inputs
-//! (the sweep tables' bytes, the fractile definition, the crate and schema
-//! versions) changed: their hash is stored in every output's metadata.
+//! Glue: reads the sweep dataset of a study, groups the cases by block, and
+//! calls [`crate::stats`]. Under the resurrection rule a record counts as
+//! EDP = +∞ at every level at or beyond its first overturning, so the runs
+//! the sweep skipped there are not needed.
 
 use std::path::{Path, PathBuf};
 
-use sha2::{Digest, Sha256};
-
-use crate::pipeline::{FractileDef, Plan};
-use crate::stages::sweep::{self, SweepError};
+use super::stage::{BoxError, Context, Shard, Stage, Study, Summary};
+use super::sweep::{self, DatasetError};
+use crate::pipeline::{BlockSpec, FractileDef, Plan};
 use crate::stats;
-use crate::tables::summary::{
-    f, fo, i, s, Value, CAPACITY_FRACTILES, HORIZONTAL, LOGNORMAL, OVERTURN_FRACTION, VERTICAL,
+use crate::tables::reduce::{
+    CapacityFractileRow, HorizontalRow, LognormalRow, OverturnFractionRow, VerticalRow,
 };
-use crate::tables::sweep::{read_capacities, read_ida, CapacityRow, IdaRow};
+use crate::tables::sweep::{CapacityRow, IdaRow};
 use crate::tables::{self, TableError};
 
 pub const QUANTILES: [f64; 3] = [0.16, 0.5, 0.84];
 /// EDP levels of the vertical statistics: 0.05, 0.10, …, 1.
 pub const EDP_LEVELS: usize = 20;
-pub const META_INPUT: &str = "rocking.reduce.input";
+
+/// The reduce stage.
+pub struct Reduce;
+
+/// Output file names, in writing order.
+pub const OUTPUTS: [&str; 5] = [
+    "fractiles_horizontal.parquet",
+    "fractiles_vertical.parquet",
+    "capacity_fractiles.parquet",
+    "lognormal.parquet",
+    "overturn_fraction.parquet",
+];
+
+impl Stage for Reduce {
+    fn name(&self) -> &'static str {
+        "reduce"
+    }
+
+    fn about(&self) -> &'static str {
+        "Reduce a pipeline's sweep to fractile curves, capacity fractiles and lognormal checks"
+    }
+
+    fn settings(&self, study: &Study) -> serde_json::Value {
+        serde_json::json!(format!("{:?}", study.plan.fractile))
+    }
+
+    fn inputs(&self, study: &Study) -> Result<Vec<PathBuf>, BoxError> {
+        match sweep::dataset(&study.dir) {
+            Ok((ida, cap)) => Ok(ida.into_iter().chain(cap).collect()),
+            // Not there yet: name the tables the sweep writes.
+            Err(DatasetError::NoTables(_) | DatasetError::Io { .. }) => Ok(vec![
+                study.path("ida_points.parquet"),
+                study.path("capacities.parquet"),
+            ]),
+            Err(e) => Err(e.into()),
+        }
+    }
+
+    fn outputs(&self, study: &Study, _shard: Option<Shard>) -> Vec<PathBuf> {
+        OUTPUTS.iter().map(|n| study.path(n)).collect()
+    }
+
+    fn run(&self, cx: &Context) -> Result<Summary, BoxError> {
+        Ok(run(cx.study)?)
+    }
+}
 
 #[derive(Debug, thiserror::Error)]
 pub enum ReduceError {
     #[error(transparent)]
-    Sweep(#[from] SweepError),
+    Dataset(#[from] DatasetError),
     #[error(transparent)]
     Table(#[from] TableError),
-    #[error("{path}: {source}")]
-    Io {
-        path: PathBuf,
-        source: std::io::Error,
-    },
     #[error("the sweep tables do not match the pipeline: {0}; rerun `rocking sweep`")]
     Mismatch(String),
-}
-
-#[derive(Debug, Clone)]
-pub struct ReduceReport {
-    pub dir: PathBuf,
-    /// True when the outputs were already up to date and nothing ran.
-    pub up_to_date: bool,
-    pub blocks: usize,
-    pub records: usize,
-    /// Blocks where lognormality of η_c is not rejected at 5 %, of those tested.
-    pub lognormal_pass: (usize, usize),
-    pub fractile: FractileDef,
-}
-
-/// Output file names, in writing order.
-pub fn outputs(dir: &Path) -> [PathBuf; 5] {
-    [
-        dir.join("fractiles_horizontal.parquet"),
-        dir.join("fractiles_vertical.parquet"),
-        dir.join("capacity_fractiles.parquet"),
-        dir.join("lognormal.parquet"),
-        dir.join("overturn_fraction.parquet"),
-    ]
-}
-
-/// Hash of the files' bytes and of the strings given.
-pub fn fingerprint(files: &[PathBuf], extra: &[&str]) -> Result<String, ReduceError> {
-    let mut h = Sha256::new();
-    h.update(env!("CARGO_PKG_VERSION"));
-    for e in extra {
-        h.update(e.as_bytes());
-        h.update([0]);
-    }
-    for path in files {
-        let bytes = std::fs::read(path).map_err(|source| ReduceError::Io {
-            path: path.clone(),
-            source,
-        })?;
-        h.update(Sha256::digest(&bytes));
-    }
-    Ok(h.finalize().iter().map(|b| format!("{b:02x}")).collect())
-}
-
-/// Whether every file exists and carries `key = value` in its metadata.
-pub fn all_current(files: &[PathBuf], key: &str, value: &str) -> bool {
-    files.iter().all(|p| {
-        p.exists()
-            && tables::read_metadata(p)
-                .map(|kv| kv.iter().any(|(k, v)| k == key && v == value))
-                .unwrap_or(false)
-    })
 }
 
 /// One record's IDA for one block, at the grid levels.
@@ -101,27 +87,100 @@ struct RecordIda<'a> {
     first_over: Option<usize>,
 }
 
-pub fn run(plan: &Plan, outputs_root: &Path, force: bool) -> Result<ReduceReport, ReduceError> {
-    let dir = outputs_root.join(&plan.name);
-    let (ida_files, cap_files) = sweep::dataset(&dir)?;
-    let inputs: Vec<PathBuf> = ida_files.iter().chain(&cap_files).cloned().collect();
-    let fractile_name = format!("{:?}", plan.fractile);
-    let schema_tag = "fractiles_horizontal/1 fractiles_vertical/1 capacity_fractiles/1 lognormal/1 overturn_fraction/1";
-    let input_hash = fingerprint(&inputs, &[&fractile_name, schema_tag])?;
-    let outs = outputs(&dir);
-    let n_blocks = plan.blocks.len();
-    if !force && all_current(&outs, META_INPUT, &input_hash) {
-        return Ok(ReduceReport {
-            dir,
-            up_to_date: true,
-            blocks: n_blocks,
-            records: 0,
-            lognormal_pass: (0, 0),
-            fractile: plan.fractile,
-        });
-    }
+/// Every output table, one row vector each.
+#[derive(Default)]
+struct Tables {
+    horizontal: Vec<HorizontalRow>,
+    vertical: Vec<VerticalRow>,
+    capacity: Vec<CapacityFractileRow>,
+    lognormal: Vec<LognormalRow>,
+    fraction: Vec<OverturnFractionRow>,
+    /// Blocks where lognormality is not rejected at 5 %, of those tested.
+    pass: (usize, usize),
+}
 
-    // The sweep must be of this pipeline's settings (a leftover from an edit is refused).
+fn run(study: &Study) -> Result<Summary, ReduceError> {
+    let plan = &study.plan;
+    let (caps, ida) = load(study)?;
+    let n_blocks = plan.blocks.len();
+    let n_records = caps.len() / n_blocks;
+    let levels = plan
+        .grid
+        .levels()
+        .map_err(|e| ReduceError::Mismatch(e.to_string()))?;
+    // Split the IDA points by case.
+    let mut by_case: Vec<Vec<&IdaRow>> = vec![Vec::new(); caps.len()];
+    for r in &ida {
+        let k = r.case_id as usize;
+        if k >= by_case.len() {
+            return Err(ReduceError::Mismatch(format!(
+                "IDA point of case {k} beyond the capacities"
+            )));
+        }
+        by_case[k].push(r);
+    }
+    let mut out = Tables::default();
+    for (bi, block) in plan.blocks.iter().enumerate() {
+        let records: Vec<RecordIda> = (0..n_records)
+            .map(|ri| {
+                let k = ri * n_blocks + bi;
+                let levels_run: Vec<(f64, f64, bool)> = by_case[k]
+                    .iter()
+                    .filter(|r| sweep::is_level(r))
+                    .map(|r| (r.eta, r.edp, r.overturned))
+                    .collect();
+                let first_over = levels_run.iter().position(|l| l.2);
+                RecordIda {
+                    cap: &caps[k],
+                    levels: levels_run,
+                    first_over,
+                }
+            })
+            .collect();
+        check_block(block, &records, levels.len())?;
+        let h_q = horizontal(plan.fractile, block, &levels, &records, &mut out);
+        vertical(plan, block, &records, &mut out);
+        let q_eta = capacity_fractiles(plan.fractile, block, &records, &h_q, &mut out);
+        lognormal(block, &records, q_eta, &mut out);
+    }
+    let settings = vec![
+        (
+            "rocking.reduce.fractile".to_string(),
+            format!("{:?}", plan.fractile),
+        ),
+        (
+            "rocking.reduce.quantiles".to_string(),
+            "0.16,0.5,0.84".to_string(),
+        ),
+    ];
+    let path = |i: usize| study.path(OUTPUTS[i]);
+    tables::write(&path(0), &out.horizontal, &settings)?;
+    tables::write(&path(1), &out.vertical, &settings)?;
+    tables::write(&path(2), &out.capacity, &settings)?;
+    tables::write(&path(3), &out.lognormal, &settings)?;
+    tables::write(&path(4), &out.fraction, &settings)?;
+    let (kept, tested) = out.pass;
+    Ok(Summary {
+        lines: vec![
+            format!(
+                "reduced {n_records} records × {n_blocks} blocks ({:?} fractiles): lognormality of η_c not rejected at 5 % in {kept} of {tested} blocks ({:.0} %)",
+                plan.fractile,
+                100.0 * kept as f64 / tested.max(1) as f64
+            ),
+            format!(
+                "wrote fractiles_horizontal, fractiles_vertical, capacity_fractiles, lognormal, overturn_fraction in {}",
+                study.dir.display()
+            ),
+        ],
+        also_wrote: Vec::new(),
+    })
+}
+
+/// The sweep's capacities and IDA points, in case order, checked to be of
+/// this pipeline's settings (a leftover from an edit is refused).
+fn load(study: &Study) -> Result<(Vec<CapacityRow>, Vec<IdaRow>), ReduceError> {
+    let plan = &study.plan;
+    let (ida_files, cap_files) = sweep::dataset(&study.dir)?;
     for f in &cap_files {
         let kv = tables::read_metadata(f)?;
         let made = kv
@@ -135,243 +194,216 @@ pub fn run(plan: &Plan, outputs_root: &Path, force: bool) -> Result<ReduceReport
             )));
         }
     }
-    let mut caps = read_capacities(&cap_files)?;
+    let mut caps: Vec<CapacityRow> = tables::read_all(&cap_files)?;
     caps.sort_by_key(|c| c.case_id);
-    let mut ida = read_ida(&ida_files)?;
+    let mut ida: Vec<IdaRow> = tables::read_all(&ida_files)?;
     ida.sort_by_key(|r| r.case_id);
+    let n_blocks = plan.blocks.len();
     if caps.len() % n_blocks != 0 {
         return Err(ReduceError::Mismatch(format!(
             "{} capacities for {n_blocks} blocks",
             caps.len()
         )));
     }
-    let n_records = caps.len() / n_blocks;
-    let levels = plan
-        .grid
-        .levels()
-        .map_err(|e| ReduceError::Mismatch(e.to_string()))?;
+    if let Some((k, c)) = caps
+        .iter()
+        .enumerate()
+        .find(|(k, c)| c.case_id != *k as i64)
+    {
+        return Err(ReduceError::Mismatch(format!(
+            "capacity {k} has case id {} (case ids must be 0, 1, 2, … once each)",
+            c.case_id
+        )));
+    }
+    Ok((caps, ida))
+}
 
-    // Split the IDA points by case.
-    let mut by_case: Vec<Vec<&IdaRow>> = vec![Vec::new(); caps.len()];
-    for r in &ida {
-        let k = r.case_id as usize;
-        if k >= by_case.len() {
+fn check_block(
+    block: &BlockSpec,
+    records: &[RecordIda],
+    n_levels: usize,
+) -> Result<(), ReduceError> {
+    for r in records {
+        if r.cap.p != block.p || r.cap.eps != block.eps {
             return Err(ReduceError::Mismatch(format!(
-                "IDA point of case {k} beyond the capacities"
+                "case {} is p = {}, ε = {} in the tables but p = {}, ε = {} in the pipeline",
+                r.cap.case_id, r.cap.p, r.cap.eps, block.p, block.eps
             )));
         }
-        by_case[k].push(r);
+        let needed = r.first_over.map_or(n_levels, |f| f + 1);
+        if r.levels.len() < needed {
+            return Err(ReduceError::Mismatch(format!(
+                "case {} has too few level runs",
+                r.cap.case_id
+            )));
+        }
     }
+    Ok(())
+}
 
-    let def = plan.fractile;
-    let (mut horizontal, mut vertical, mut cap_fr, mut lognormal, mut fraction) =
-        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    let mut pass = (0, 0);
-    for (bi, block) in plan.blocks.iter().enumerate() {
-        let records: Vec<RecordIda> = (0..n_records)
-            .map(|ri| {
-                let k = ri * n_blocks + bi;
-                let cap = &caps[k];
-                let levels_run: Vec<(f64, f64, bool)> = by_case[k]
-                    .iter()
-                    .filter(|r| r.run_kind == "level")
-                    .map(|r| (r.eta, r.edp, r.overturned))
-                    .collect();
-                let first_over = levels_run.iter().position(|l| l.2);
-                RecordIda {
-                    cap,
-                    levels: levels_run,
-                    first_over,
+fn fractiles(sorted: &[f64], def: FractileDef) -> [f64; 3] {
+    QUANTILES.map(|q| stats::fractile(sorted, q, def).expect("at least one record"))
+}
+
+/// Horizontal statistics (EDP given η, +∞ at and beyond a record's first
+/// overturning) and overturning fractions; returns each level's η and EDP
+/// fractiles for the capacity's horizontal counterpart.
+fn horizontal(
+    def: FractileDef,
+    block: &BlockSpec,
+    levels: &[f64],
+    records: &[RecordIda],
+    out: &mut Tables,
+) -> Vec<(f64, [f64; 3])> {
+    let n_records = records.len();
+    let mut h_q = Vec::with_capacity(levels.len());
+    for (j, &eta) in levels.iter().enumerate() {
+        let mut edp: Vec<f64> = records
+            .iter()
+            .map(|r| {
+                if r.first_over.is_some_and(|fo| j >= fo) {
+                    f64::INFINITY
+                } else {
+                    r.levels[j].1
                 }
             })
             .collect();
-        for r in &records {
-            if r.cap.p != block.p || r.cap.eps != block.eps {
-                return Err(ReduceError::Mismatch(format!(
-                    "case {} is p = {}, ε = {} in the tables but p = {}, ε = {} in the pipeline",
-                    r.cap.case_id, r.cap.p, r.cap.eps, block.p, block.eps
-                )));
-            }
-            let needed = r.first_over.map_or(levels.len(), |f| f + 1);
-            if r.levels.len() < needed {
-                return Err(ReduceError::Mismatch(format!(
-                    "case {} has too few level runs",
-                    r.cap.case_id
-                )));
-            }
-        }
-        let key = |v: &mut Vec<Value>| {
-            v.push(s(&block.name));
-            v.push(f(block.p));
-            v.push(f(block.eps));
-        };
+        edp.sort_by(|a, b| a.total_cmp(b));
+        let n_over = edp.iter().filter(|e| e.is_infinite()).count();
+        let q = fractiles(&edp, def);
+        out.horizontal.push(HorizontalRow {
+            block: block.name.clone(),
+            p: block.p,
+            eps: block.eps,
+            level: j as i64,
+            eta,
+            edp_q16: q[0],
+            edp_q50: q[1],
+            edp_q84: q[2],
+            n_records: n_records as i64,
+            n_overturned: n_over as i64,
+        });
+        h_q.push((eta, q));
+        // Plain fraction: needs a run of every record at this level.
+        let plain: Option<usize> = records
+            .iter()
+            .map(|r| r.levels.get(j).map(|l| usize::from(l.2)))
+            .sum::<Option<usize>>();
+        out.fraction.push(OverturnFractionRow {
+            block: block.name.clone(),
+            p: block.p,
+            eps: block.eps,
+            level: j as i64,
+            eta,
+            fraction_plain: plain.map(|c| c as f64 / n_records as f64),
+            fraction_resurrection: n_over as f64 / n_records as f64,
+        });
+    }
+    h_q
+}
 
-        // Horizontal: EDP given η, +∞ at and beyond a record's first overturning.
-        let mut h_q = Vec::with_capacity(levels.len());
-        for (j, &eta) in levels.iter().enumerate() {
-            let mut edp: Vec<f64> = records
-                .iter()
-                .map(|r| {
-                    if r.first_over.is_some_and(|fo| j >= fo) {
-                        f64::INFINITY
-                    } else {
-                        r.levels[j].1
-                    }
-                })
-                .collect();
-            edp.sort_by(|a, b| a.total_cmp(b));
-            let n_over = edp.iter().filter(|e| e.is_infinite()).count();
-            let q: Vec<f64> = QUANTILES
-                .iter()
-                .map(|&q| stats::fractile(&edp, q, def).expect("records"))
-                .collect();
-            let mut row = Vec::new();
-            key(&mut row);
-            row.extend([
-                i(j as i64),
-                f(eta),
-                f(q[0]),
-                f(q[1]),
-                f(q[2]),
-                i(n_records as i64),
-                i(n_over as i64),
-            ]);
-            horizontal.push(row);
-            h_q.push((eta, q));
-
-            // Overturning fractions: plain needs a run of every record at this level.
-            let plain: Option<usize> = records
-                .iter()
-                .map(|r| r.levels.get(j).map(|l| usize::from(l.2)))
-                .sum::<Option<usize>>();
-            let mut row = Vec::new();
-            key(&mut row);
-            row.extend([
-                i(j as i64),
-                f(eta),
-                fo(plain.map(|c| c as f64 / n_records as f64)),
-                f(n_over as f64 / n_records as f64),
-            ]);
-            fraction.push(row);
-        }
-
-        // Vertical: the first (largest) η at which each record's EDP reaches e.
-        for k in 1..=EDP_LEVELS {
-            let e = k as f64 / EDP_LEVELS as f64;
-            let mut etas = Vec::with_capacity(n_records);
-            let mut not_reached = 0;
-            for r in &records {
-                match first_eta_reaching(r, plan.grid.eta_max, e) {
-                    Some(eta) => etas.push(eta),
-                    None => {
-                        etas.push(0.0);
-                        not_reached += 1;
-                    }
+/// Vertical statistics: the first (largest) η at which each record's EDP reaches e.
+fn vertical(plan: &Plan, block: &BlockSpec, records: &[RecordIda], out: &mut Tables) {
+    for k in 1..=EDP_LEVELS {
+        let e = k as f64 / EDP_LEVELS as f64;
+        let mut etas = Vec::with_capacity(records.len());
+        let mut not_reached = 0;
+        for r in records {
+            match first_eta_reaching(r, plan.grid.eta_max, e) {
+                Some(eta) => etas.push(eta),
+                None => {
+                    etas.push(0.0);
+                    not_reached += 1;
                 }
             }
-            etas.sort_by(|a, b| a.total_cmp(b));
-            let q: Vec<f64> = QUANTILES
-                .iter()
-                .map(|&q| stats::fractile(&etas, q, def).expect("records"))
-                .collect();
-            let mut row = Vec::new();
-            key(&mut row);
-            row.extend([
-                f(e),
-                f(q[0]),
-                f(q[1]),
-                f(q[2]),
-                i(n_records as i64),
-                i(not_reached),
-            ]);
-            vertical.push(row);
         }
-
-        // Capacity fractiles: of η_c over the records (a record that never
-        // overturned counts as η_c = 0, stronger than any level), and the
-        // horizontal counterpart: the largest level whose EDP fractile is ≥ 1.
-        let mut eta_c: Vec<f64> = records.iter().map(|r| r.cap.eta_c.unwrap_or(0.0)).collect();
-        let censored = records.iter().filter(|r| r.cap.eta_c.is_none()).count();
-        eta_c.sort_by(|a, b| a.total_cmp(b));
-        let mut q_eta = [0.0; 3];
-        for (qi, &q) in QUANTILES.iter().enumerate() {
-            let v = stats::fractile(&eta_c, q, def).expect("records");
-            q_eta[qi] = v;
-            let horiz = h_q
-                .iter()
-                .find(|(_, hq)| hq[qi] >= 1.0)
-                .map(|(eta, _)| *eta);
-            let mut row = Vec::new();
-            key(&mut row);
-            row.extend([
-                f(q),
-                f(v),
-                fo(horiz),
-                i(n_records as i64),
-                i(censored as i64),
-            ]);
-            cap_fr.push(row);
-        }
-
-        // Lognormality of η_c.
-        let logs: Vec<f64> = records
-            .iter()
-            .filter_map(|r| r.cap.eta_c)
-            .map(f64::ln)
-            .collect();
-        let test = stats::lilliefors(&logs);
-        let (mean, sd) = if logs.len() >= 2 {
-            stats::mean_sd(&logs)
-        } else {
-            (f64::NAN, f64::NAN)
-        };
-        let ok = |v: f64| (v.is_finite() && v > 0.0).then_some(v);
-        let beta_fr = match (ok(q_eta[0]), ok(q_eta[2])) {
-            (Some(a), Some(b)) => Some(0.5 * (b.ln() - a.ln())),
-            _ => None,
-        };
-        let rejected = test.is_some_and(|t| t.p_value < 0.05);
-        if let Some(_t) = test {
-            pass.1 += 1;
-            pass.0 += usize::from(!rejected);
-        }
-        let mut row = Vec::new();
-        key(&mut row);
-        row.extend([
-            i(logs.len() as i64),
-            fo(mean.is_finite().then(|| mean.exp())),
-            fo(sd.is_finite().then_some(sd)),
-            fo(ok(q_eta[1])),
-            fo(beta_fr),
-            fo(test.map(|t| t.d)),
-            fo(test.map(|t| t.p_value)),
-            fo((logs.len() >= 5).then(|| stats::lilliefors_critical_value(logs.len(), 0.05))),
-            Value::B(rejected),
-        ]);
-        lognormal.push(row);
+        etas.sort_by(|a, b| a.total_cmp(b));
+        let q = fractiles(&etas, plan.fractile);
+        out.vertical.push(VerticalRow {
+            block: block.name.clone(),
+            p: block.p,
+            eps: block.eps,
+            edp: e,
+            eta_q16: q[0],
+            eta_q50: q[1],
+            eta_q84: q[2],
+            n_records: records.len() as i64,
+            n_not_reached: not_reached,
+        });
     }
+}
 
-    let settings = vec![
-        (META_INPUT.to_string(), input_hash),
-        ("rocking.reduce.fractile".to_string(), fractile_name),
-        (
-            "rocking.reduce.quantiles".to_string(),
-            "0.16,0.5,0.84".to_string(),
-        ),
-    ];
-    HORIZONTAL.write(&outs[0], &horizontal, &settings)?;
-    VERTICAL.write(&outs[1], &vertical, &settings)?;
-    CAPACITY_FRACTILES.write(&outs[2], &cap_fr, &settings)?;
-    LOGNORMAL.write(&outs[3], &lognormal, &settings)?;
-    OVERTURN_FRACTION.write(&outs[4], &fraction, &settings)?;
-    Ok(ReduceReport {
-        dir,
-        up_to_date: false,
-        blocks: n_blocks,
-        records: n_records,
-        lognormal_pass: pass,
-        fractile: def,
-    })
+/// Capacity fractiles of η_c over the records (a record that never
+/// overturned counts as η_c = 0, stronger than any level), and the
+/// horizontal counterpart: the largest level whose EDP fractile is ≥ 1.
+fn capacity_fractiles(
+    def: FractileDef,
+    block: &BlockSpec,
+    records: &[RecordIda],
+    h_q: &[(f64, [f64; 3])],
+    out: &mut Tables,
+) -> [f64; 3] {
+    let mut eta_c: Vec<f64> = records.iter().map(|r| r.cap.eta_c.unwrap_or(0.0)).collect();
+    let censored = records.iter().filter(|r| r.cap.eta_c.is_none()).count();
+    eta_c.sort_by(|a, b| a.total_cmp(b));
+    let q_eta = fractiles(&eta_c, def);
+    for (qi, &q) in QUANTILES.iter().enumerate() {
+        let horiz = h_q
+            .iter()
+            .find(|(_, hq)| hq[qi] >= 1.0)
+            .map(|(eta, _)| *eta);
+        out.capacity.push(CapacityFractileRow {
+            block: block.name.clone(),
+            p: block.p,
+            eps: block.eps,
+            quantile: q,
+            eta_c: q_eta[qi],
+            eta_c_horizontal: horiz,
+            n_records: records.len() as i64,
+            n_censored: censored as i64,
+        });
+    }
+    q_eta
+}
+
+/// Lognormality of η_c (Lilliefors) and the two estimates of median and β.
+fn lognormal(block: &BlockSpec, records: &[RecordIda], q_eta: [f64; 3], out: &mut Tables) {
+    let logs: Vec<f64> = records
+        .iter()
+        .filter_map(|r| r.cap.eta_c)
+        .map(f64::ln)
+        .collect();
+    let test = stats::lilliefors(&logs);
+    let (mean, sd) = if logs.len() >= 2 {
+        stats::mean_sd(&logs)
+    } else {
+        (f64::NAN, f64::NAN)
+    };
+    let ok = |v: f64| (v.is_finite() && v > 0.0).then_some(v);
+    let beta_fr = match (ok(q_eta[0]), ok(q_eta[2])) {
+        (Some(a), Some(b)) => Some(0.5 * (b.ln() - a.ln())),
+        _ => None,
+    };
+    let rejected = test.is_some_and(|t| t.p_value < 0.05);
+    if test.is_some() {
+        out.pass.1 += 1;
+        out.pass.0 += usize::from(!rejected);
+    }
+    out.lognormal.push(LognormalRow {
+        block: block.name.clone(),
+        p: block.p,
+        eps: block.eps,
+        n: logs.len() as i64,
+        median_sample: mean.is_finite().then(|| mean.exp()),
+        beta_sample: sd.is_finite().then_some(sd),
+        median_fractile: ok(q_eta[1]),
+        beta_fractile: beta_fr,
+        lilliefors_d: test.map(|t| t.d),
+        p_value: test.map(|t| t.p_value),
+        critical_d_5pct: (logs.len() >= 5)
+            .then(|| stats::lilliefors_critical_value(logs.len(), 0.05)),
+        rejected_5pct: rejected,
+    });
 }
 
 /// The first (largest) η at which the record's IDA curve reaches EDP `e`,
@@ -394,4 +426,9 @@ fn first_eta_reaching(r: &RecordIda, eta_max: f64, e: f64) -> Option<f64> {
         prev = Some(point);
     }
     None
+}
+
+/// Reads a reduce table of a study folder (for fit, the report and tests).
+pub fn read<T: tables::Table>(dir: &Path, file: &str) -> Result<Vec<T>, TableError> {
+    tables::read(&dir.join(file))
 }

@@ -1,155 +1,117 @@
-//! Sweep stage: the IDA of every (record, block) case of a pipeline.
+//! Sweep stage: the IDA of every (record, block) case of a pipeline →
+//! `ida_points.parquet` and `capacities.parquet`.
 //!
-//! Glue between the plan, the records, [`crate::ida`] and the sweep tables.
 //! Cases are numbered in a fixed order (records by id, then blocks in plan
-//! order) and grouped into chunks of [`CHUNK_CASES`]. Each chunk is computed in
-//! parallel (rayon, results collected in case order) and written as two part
-//! files under `DIR/<name>/parts/`, each written to a temporary name and
-//! renamed, and stamped with the plan's hash. So:
+//! order) and grouped into chunks of [`CHUNK_CASES`]. Each chunk is computed
+//! in parallel (rayon, results collected in case order) and saved as two
+//! part files under `parts/`, stamped with the plan's hash and the chunk's
+//! index. So:
 //!
-//! - **resume**: a rerun reuses every part whose hash matches and computes
-//!   only the rest; an interrupted run leaves whole parts or nothing;
+//! - **resume**: a rerun reuses a part only if its hash is current *and* its
+//!   content is that chunk's (its case ids, one capacity per case, the runs
+//!   each capacity counts); any other part is logged and recomputed;
 //! - **determinism**: parts and final tables are byte-identical whatever the
 //!   thread count;
 //! - **sharding**: `--shard K/N` computes the chunks with index ≡ K−1 (mod N)
 //!   and writes `*.shard-K-of-N.parquet`; [`dataset`] reads the N shards as
-//!   one table;
+//!   one table, and refuses a folder that mixes shards and unsharded tables;
 //! - **bounded memory**: one chunk of results at a time; the final tables are
 //!   concatenated part by part.
 
 use std::collections::BTreeSet;
-use std::fmt;
 use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
-use std::str::FromStr;
+use std::time::Instant;
 
 use rayon::prelude::*;
-use sha2::{Digest, Sha256};
 
+use super::records::{self, SelectError};
+use super::stage::{BoxError, Context, Progress, Shard, Stage, Study, Summary};
 use crate::ida::{self, RunKind};
-use crate::physics::{Excitation, Model, PhysicsError, RunSpec};
-use crate::pipeline::{Plan, RecordSource};
-use crate::stages::ingest;
+use crate::physics::{Excitation, PhysicsError, RunSpec};
+use crate::pipeline::Plan;
 use crate::tables::records::RecordRow;
-use crate::tables::sweep::{self as t, CapacityRow, IdaRow};
+use crate::tables::sweep::{CapacityRow, IdaRow};
 use crate::tables::{self, TableError};
 
 /// Cases per chunk (and per part file).
 pub const CHUNK_CASES: usize = 32;
 
-/// Metadata key holding the plan hash in every sweep table.
+/// Metadata keys of every sweep table.
 pub const META_PLAN_HASH: &str = "rocking.sweep.plan_hash";
 pub const META_PLAN: &str = "rocking.sweep.plan";
 pub const META_SHARD: &str = "rocking.sweep.shard";
 /// The settings that determine the results ([`Plan::sweep_settings`]).
 pub const META_SETTINGS: &str = "rocking.sweep.settings";
+/// The chunk a part file holds.
+pub const META_CHUNK: &str = "rocking.sweep.chunk";
 
 /// Environment variable for fault-injection tests: abort the process (as a
 /// crash would) after writing this many chunks.
 pub const FAULT_ENV: &str = "ROCKING_FAULT_AFTER_CHUNKS";
 
-/// The K-th of N parts of a sweep (1 ≤ K ≤ N).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Shard {
-    pub k: usize,
-    pub n: usize,
-}
+/// The sweep stage.
+pub struct Sweep;
 
-impl FromStr for Shard {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        let bad = || format!("shard `{s}`: expected K/N with 1 ≤ K ≤ N, e.g. 2/8");
-        let (k, n) = s.split_once('/').ok_or_else(bad)?;
-        let (k, n) = (
-            k.trim().parse::<usize>().map_err(|_| bad())?,
-            n.trim().parse::<usize>().map_err(|_| bad())?,
-        );
-        if k == 0 || n == 0 || k > n {
-            return Err(bad());
-        }
-        Ok(Shard { k, n })
+impl Stage for Sweep {
+    fn name(&self) -> &'static str {
+        "sweep"
     }
-}
 
-impl fmt::Display for Shard {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}/{}", self.k, self.n)
+    fn about(&self) -> &'static str {
+        "Run a pipeline's IDA study: every record × block, written as Parquet tables"
     }
-}
 
-#[derive(Debug, Clone)]
-pub struct SweepConfig {
-    pub plan: Plan,
-    /// Outputs root; tables go to `outputs/<plan name>/`.
-    pub outputs: PathBuf,
-    pub shard: Option<Shard>,
-    /// Worker threads (default: rayon's, one per core).
-    pub threads: Option<usize>,
+    fn shardable(&self) -> bool {
+        true
+    }
+
+    fn settings(&self, study: &Study) -> serde_json::Value {
+        study.plan.sweep_settings_json()
+    }
+
+    fn inputs(&self, study: &Study) -> Result<Vec<PathBuf>, BoxError> {
+        Ok(vec![study.records_table()])
+    }
+
+    fn outputs(&self, study: &Study, shard: Option<Shard>) -> Vec<PathBuf> {
+        let (ida, cap) = final_names(shard);
+        vec![study.path(&ida), study.path(&cap)]
+    }
+
+    fn run(&self, cx: &Context) -> Result<Summary, BoxError> {
+        Ok(run(cx)?)
+    }
 }
 
 #[derive(Debug, thiserror::Error)]
 pub enum SweepError {
-    #[error(
-        "records table {0} does not exist; write it with `rocking ingest … --out {0}`, \
-         or point `records.at2` of the pipeline at AT2 folders"
-    )]
-    MissingRecords(PathBuf),
     #[error(transparent)]
-    Ingest(#[from] ingest::IngestError),
+    Records(#[from] SelectError),
     #[error(transparent)]
     Table(#[from] TableError),
-    #[error("{0}")]
-    Selection(String),
-    #[error("block p = {p}, ε = {eps}: {source}")]
+    #[error("block p = {p}, ε = {eps}")]
     Block {
         p: f64,
         eps: f64,
+        #[source]
         source: PhysicsError,
     },
-    #[error("record {record}: {source}")]
+    #[error("record {record}")]
     Record {
         record: String,
+        #[source]
         source: PhysicsError,
     },
-    #[error("{path}: {source}")]
-    Io { path: PathBuf, source: io::Error },
-    #[error("cannot start {0} worker threads: {1}")]
-    Threads(usize, String),
-    #[error("{0}")]
-    Dataset(String),
-}
-
-/// Progress of a sweep, for the caller to show.
-#[derive(Debug, Clone, Copy)]
-pub struct Progress {
-    pub cases_done: usize,
-    pub cases_total: usize,
-    /// Runs computed by this invocation so far.
-    pub runs: u64,
-    /// Cases found done in parts from an earlier run.
-    pub cases_resumed: usize,
-    /// Sample intervals integrated by this invocation so far.
-    pub intervals: u64,
-}
-
-#[derive(Debug, Clone)]
-pub struct SweepReport {
-    pub dir: PathBuf,
-    pub records: usize,
-    pub blocks: usize,
-    /// Cases in this shard (all cases if unsharded).
-    pub cases: usize,
-    pub cases_resumed: usize,
-    /// Runs computed by this invocation.
-    pub runs: u64,
-    /// Sample intervals integrated by this invocation.
-    pub intervals: u64,
-    pub ida_path: PathBuf,
-    pub capacities_path: PathBuf,
-    pub plan_hash: String,
-    /// Models used, with why (for the log).
-    pub models: Vec<String>,
+    #[error("{path}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: io::Error,
+    },
+    #[error(transparent)]
+    Dataset(#[from] DatasetError),
 }
 
 /// Final table names of an unsharded run or of one shard.
@@ -157,323 +119,260 @@ fn final_names(shard: Option<Shard>) -> (String, String) {
     match shard {
         None => ("ida_points.parquet".into(), "capacities.parquet".into()),
         Some(s) => (
-            format!("ida_points.shard-{}-of-{}.parquet", s.k, s.n),
-            format!("capacities.shard-{}-of-{}.parquet", s.k, s.n),
+            format!("ida_points.{}.parquet", s.tag()),
+            format!("capacities.{}.parquet", s.tag()),
         ),
     }
-}
-
-/// Loads the plan's records, filtered by set and id, sorted by id.
-pub fn load_records(plan: &Plan) -> Result<Vec<RecordRow>, SweepError> {
-    let rows = match &plan.records {
-        RecordSource::Table(path) => {
-            if !path.exists() {
-                return Err(SweepError::MissingRecords(path.clone()));
-            }
-            tables::records::read(path)?
-        }
-        RecordSource::At2 { paths, manifest } => {
-            if let Some(m) = manifest {
-                if !m.exists() {
-                    return Err(SweepError::Io {
-                        path: m.clone(),
-                        source: io::Error::new(io::ErrorKind::NotFound, "manifest not found"),
-                    });
-                }
-            }
-            ingest::collect(paths, manifest.as_deref(), false)?.rows
-        }
-    };
-    let available_sets: BTreeSet<String> = rows.iter().filter_map(|r| r.meta.set.clone()).collect();
-    for set in &plan.sets {
-        if !available_sets.contains(set) {
-            return Err(SweepError::Selection(format!(
-                "`records.sets` names \"{set}\", which no record has; available: {}",
-                if available_sets.is_empty() {
-                    "none (the records carry no set: give a manifest)".to_string()
-                } else {
-                    available_sets
-                        .iter()
-                        .cloned()
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                }
-            )));
-        }
-    }
-    let ids: BTreeSet<&str> = rows.iter().map(|r| r.record_id.as_str()).collect();
-    let missing: Vec<&str> = plan
-        .ids
-        .iter()
-        .map(String::as_str)
-        .filter(|id| !ids.contains(id))
-        .collect();
-    if !missing.is_empty() {
-        return Err(SweepError::Selection(format!(
-            "`records.ids`: no record {}",
-            missing.join(", ")
-        )));
-    }
-    let mut selected: Vec<RecordRow> = rows
-        .into_iter()
-        .filter(|r| {
-            plan.sets.is_empty() || r.meta.set.as_ref().is_some_and(|s| plan.sets.contains(s))
-        })
-        .filter(|r| plan.ids.is_empty() || plan.ids.contains(&r.record_id))
-        .collect();
-    if selected.is_empty() {
-        return Err(SweepError::Selection(
-            "the record selection is empty".into(),
-        ));
-    }
-    selected.sort_by(|a, b| a.record_id.cmp(&b.record_id));
-    Ok(selected)
 }
 
 /// Hash of everything that determines the sweep's output.
 pub fn plan_hash(plan: &Plan, records: &[RecordRow]) -> String {
-    let mut h = Sha256::new();
-    h.update(env!("CARGO_PKG_VERSION").as_bytes());
-    h.update(format!(
+    let mut text = String::from(env!("CARGO_PKG_VERSION"));
+    text.push_str(&format!(
         "ida_points/{} capacities/{}",
-        t::IDA_KIND.schema_version,
-        t::CAPACITY_KIND.schema_version
+        <IdaRow as tables::Table>::KIND.schema_version,
+        <CapacityRow as tables::Table>::KIND.schema_version
     ));
     // Only what changes the results: not the name, where the records are, or reduce's settings.
-    h.update(plan.sweep_settings().as_bytes());
+    text.push_str(&plan.sweep_settings());
     for r in records {
-        h.update(r.record_id.as_bytes());
-        h.update(r.sha256.as_bytes());
+        text.push_str(&r.record_id);
+        text.push_str(&r.sha256);
     }
-    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+    crate::hash::sha256_hex(text.as_bytes())
 }
 
-/// The model of each block, resolved once.
-/// Each block's run specification and model name, and the reasons for the models.
-type BlockSpecs = (Vec<(RunSpec, &'static str)>, Vec<String>);
-
-fn block_specs(plan: &Plan) -> Result<BlockSpecs, SweepError> {
+/// Each block's run specification, resolved once, and the reasons for the models.
+fn block_specs(plan: &Plan) -> Result<(Vec<RunSpec>, Vec<String>), SweepError> {
     let mut specs = Vec::new();
     let mut why = BTreeSet::new();
     for b in &plan.blocks {
+        let block_err = |source| SweepError::Block {
+            p: b.p,
+            eps: b.eps,
+            source,
+        };
         let (model, reason) = plan
             .model
             .resolve(b.alpha_rad, plan.rtol, plan.auto_tol)
-            .map_err(|source| SweepError::Block {
-                p: b.p,
-                eps: b.eps,
-                source,
-            })?;
+            .map_err(block_err)?;
         let spec = RunSpec {
             overturn: plan.overturn,
             ..RunSpec::new(b.p, b.eps, 1.0, model)
         };
-        spec.validate().map_err(|source| SweepError::Block {
-            p: b.p,
-            eps: b.eps,
-            source,
-        })?;
+        spec.validate().map_err(block_err)?;
         why.insert(reason);
-        specs.push((spec, model.name()));
+        specs.push(spec);
     }
     Ok((specs, why.into_iter().collect()))
 }
 
-fn alpha_of(model: Model) -> Option<f64> {
-    match model {
-        Model::Nonlinear { alpha_rad, .. } => Some(alpha_rad),
-        Model::Rk4 { alpha_rad, .. } => alpha_rad,
-        Model::Linearized => None,
-    }
+/// Everything a chunk needs, prepared once.
+struct Prepared {
+    records: Vec<RecordRow>,
+    excitations: Vec<Excitation>,
+    specs: Vec<RunSpec>,
+    hash: String,
+    plan_json: String,
+    n_cases: usize,
 }
 
-/// Runs the sweep, reporting progress after each chunk.
-pub fn run(
-    config: &SweepConfig,
-    mut progress: impl FnMut(&Progress),
-) -> Result<SweepReport, SweepError> {
-    let plan = &config.plan;
-    let records = load_records(plan)?;
-    let (specs, models) = block_specs(plan)?;
-    let excitations: Vec<Excitation> = records
-        .par_iter()
-        .map(|r| {
-            Excitation::new(&r.accel_g, r.dt_s).map_err(|source| SweepError::Record {
-                record: r.record_id.clone(),
-                source,
+impl Prepared {
+    fn new(study: &Study) -> Result<(Prepared, Vec<String>), SweepError> {
+        let plan = &study.plan;
+        let records = records::select(plan, &study.records_table())?;
+        let (specs, models) = block_specs(plan)?;
+        let excitations = records
+            .par_iter()
+            .map(|r| {
+                Excitation::new(&r.accel_g, r.dt_s).map_err(|source| SweepError::Record {
+                    record: r.record_id.clone(),
+                    source,
+                })
             })
-        })
-        .collect::<Result<_, _>>()?;
-    let hash = plan_hash(plan, &records);
-    let dir = config.outputs.join(&plan.name);
-    let parts = dir.join("parts");
-    fs::create_dir_all(&parts).map_err(|source| SweepError::Io {
-        path: parts.clone(),
-        source,
-    })?;
+            .collect::<Result<Vec<_>, _>>()?;
+        let prepared = Prepared {
+            hash: plan_hash(plan, &records),
+            plan_json: plan.portable_json().to_string(),
+            n_cases: records.len() * plan.blocks.len(),
+            records,
+            excitations,
+            specs,
+        };
+        Ok((prepared, models))
+    }
 
-    let n_blocks = plan.blocks.len();
-    let n_cases = records.len() * n_blocks;
-    let n_chunks = n_cases.div_ceil(CHUNK_CASES);
-    let mine: Vec<usize> = (0..n_chunks)
-        .filter(|c| config.shard.is_none_or(|s| c % s.n == s.k - 1))
-        .collect();
-    let cases_total: usize = mine.iter().map(|&c| chunk_len(c, n_cases)).sum();
-    remove_stale_temporaries(&parts, &mine)?;
-    let plan_json = serde_json::to_string(plan).expect("plan serialises");
-    let settings = |shard: Option<Shard>| {
+    fn chunk_cases(&self, c: usize) -> std::ops::Range<usize> {
+        let start = c * CHUNK_CASES;
+        start..(start + CHUNK_CASES).min(self.n_cases)
+    }
+
+    fn metadata(
+        &self,
+        plan: &Plan,
+        chunk: Option<usize>,
+        shard: Option<Shard>,
+    ) -> Vec<(String, String)> {
         let mut s = vec![
-            (META_PLAN_HASH.to_string(), hash.clone()),
-            (META_PLAN.to_string(), plan_json.clone()),
+            (META_PLAN_HASH.to_string(), self.hash.clone()),
+            (META_PLAN.to_string(), self.plan_json.clone()),
             (META_SETTINGS.to_string(), plan.sweep_settings()),
         ];
+        if let Some(c) = chunk {
+            s.push((META_CHUNK.to_string(), c.to_string()));
+        }
         if let Some(sh) = shard {
             s.push((META_SHARD.to_string(), sh.to_string()));
         }
         s
-    };
+    }
+}
 
-    let pool = match config.threads {
-        Some(n) => Some(
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(n)
-                .build()
-                .map_err(|e| SweepError::Threads(n, e.to_string()))?,
-        ),
-        None => None,
-    };
+/// Counts of the work done, for the summary.
+#[derive(Default)]
+struct Tally {
+    cases_done: usize,
+    cases_resumed: usize,
+    runs: u64,
+    intervals: u64,
+}
+
+/// Runs the sweep (or one shard of it).
+fn run(cx: &Context) -> Result<Summary, SweepError> {
+    let started = Instant::now();
+    let study = cx.study;
+    let plan = &study.plan;
+    let (prep, models) = Prepared::new(study)?;
+    for m in &models {
+        cx.reporter.note("sweep", &format!("model: {m}"));
+    }
+    let parts = study.path("parts");
+    fs::create_dir_all(&parts).map_err(|source| SweepError::Io {
+        path: parts.clone(),
+        source,
+    })?;
+    let n_chunks = prep.n_cases.div_ceil(CHUNK_CASES);
+    let mine: Vec<usize> = (0..n_chunks)
+        .filter(|c| cx.shard.is_none_or(|s| c % s.n == s.k - 1))
+        .collect();
+    let cases_total: usize = mine.iter().map(|&c| prep.chunk_cases(c).len()).sum();
+    remove_stale_temporaries(&parts, &mine)?;
     let fault_after: Option<usize> = std::env::var(FAULT_ENV).ok().and_then(|v| v.parse().ok());
 
-    let mut done = Progress {
-        cases_done: 0,
-        cases_total,
-        runs: 0,
-        cases_resumed: 0,
-        intervals: 0,
+    let mut tally = Tally::default();
+    let report = |t: &Tally| {
+        cx.reporter.progress(&Progress {
+            stage: "sweep",
+            done: t.cases_done as u64,
+            total: cases_total as u64,
+            resumed: t.cases_resumed as u64,
+            runs: t.runs,
+        })
     };
+    report(&tally);
     let mut written = 0usize;
-    progress(&done);
     for &c in &mine {
         let (ida_part, cap_part) = part_paths(&parts, c);
-        let len = chunk_len(c, n_cases);
-        if part_is_current(&cap_part, &hash) && part_is_current(&ida_part, &hash) {
-            done.cases_done += len;
-            done.cases_resumed += len;
-            progress(&done);
-            continue;
+        let cases = prep.chunk_cases(c);
+        match verify_part(&ida_part, &cap_part, &prep.hash, c, cases.clone()) {
+            Ok(()) => {
+                tally.cases_done += cases.len();
+                tally.cases_resumed += cases.len();
+                report(&tally);
+                continue;
+            }
+            Err(PartProblem::Absent) => {}
+            Err(PartProblem::Stale) => {}
+            Err(PartProblem::Corrupt(why)) => cx.reporter.note(
+                "sweep",
+                &format!(
+                    "part {} of chunk {c} is not that chunk's ({why}); recomputing it",
+                    cap_part.display()
+                ),
+            ),
         }
-        let cases: Vec<usize> = (c * CHUNK_CASES..c * CHUNK_CASES + len).collect();
-        let compute = || {
-            cases
-                .par_iter()
-                .map(|&case| {
-                    let (ri, bi) = (case / n_blocks, case % n_blocks);
-                    run_case(
-                        case,
-                        &records[ri],
-                        &excitations[ri],
-                        &plan.blocks[bi].name,
-                        specs[bi],
-                        plan,
-                    )
-                })
-                .collect::<Result<Vec<_>, _>>()
-        };
-        let results = match &pool {
-            Some(p) => p.install(compute),
-            None => compute(),
-        }?;
+        let results = cases
+            .clone()
+            .into_par_iter()
+            .map(|case| run_case(case, &prep, plan))
+            .collect::<Result<Vec<_>, _>>()?;
         let mut ida_rows = Vec::new();
         let mut cap_rows = Vec::with_capacity(results.len());
         for (ida, cap, intervals) in results {
-            done.runs += ida.len() as u64;
-            done.intervals += intervals;
+            tally.runs += ida.len() as u64;
+            tally.intervals += intervals;
             ida_rows.extend(ida);
             cap_rows.push(cap);
         }
-        let batch_err = |path: &Path| {
-            let path = path.to_path_buf();
-            move |source| TableError::Arrow { path, source }
-        };
-        let ida_batch = t::ida_batch(&ida_rows).map_err(batch_err(&ida_part))?;
-        let mut w = tables::AtomicTableWriter::create(
-            &ida_part,
-            t::IDA_KIND,
-            t::ida_schema(),
-            &settings(None),
-        )?;
-        w.write(&ida_batch)?;
-        w.commit()?;
-        let cap_batch = t::capacity_batch(&cap_rows).map_err(batch_err(&cap_part))?;
-        let mut w = tables::AtomicTableWriter::create(
-            &cap_part,
-            t::CAPACITY_KIND,
-            t::capacity_schema(),
-            &settings(None),
-        )?;
-        w.write(&cap_batch)?;
-        w.commit()?;
+        let meta = prep.metadata(plan, Some(c), None);
+        tables::write(&ida_part, &ida_rows, &meta)?;
+        tables::write(&cap_part, &cap_rows, &meta)?;
         written += 1;
-        done.cases_done += len;
-        progress(&done);
+        tally.cases_done += cases.len();
+        report(&tally);
         if fault_after.is_some_and(|n| written >= n) {
             // Fault injection for the resume tests: die as a crash would.
             std::process::abort();
         }
     }
+    let (ida_path, cap_path) = merge(study, &prep, &mine, cx.shard)?;
+    let secs = started.elapsed().as_secs_f64();
+    let threads = rayon::current_num_threads();
+    let mut lines = vec![format!(
+        "swept {} records × {} blocks = {} cases{} ({} resumed from an earlier run): {} runs in {:.1} s \
+         ({:.0} runs/s; {} sample intervals, {:.0} ns each per thread)",
+        prep.records.len(),
+        plan.blocks.len(),
+        cases_total,
+        cx.shard.map_or(String::new(), |s| format!(" in shard {s}")),
+        tally.cases_resumed,
+        tally.runs,
+        secs,
+        tally.runs as f64 / secs.max(1e-9),
+        tally.intervals,
+        secs * threads as f64 * 1e9 / (tally.intervals.max(1) as f64)
+    )];
+    lines.push(format!(
+        "wrote {} and {}",
+        ida_path.display(),
+        cap_path.display()
+    ));
+    Ok(Summary {
+        lines,
+        also_wrote: Vec::new(),
+    })
+}
 
-    // Concatenate the parts into the final tables, then drop the parts.
-    let (ida_name, cap_name) = final_names(config.shard);
-    let ida_path = dir.join(ida_name);
-    let cap_path = dir.join(cap_name);
+/// Concatenates this run's parts into its final tables, removes the parts,
+/// and removes the tables the new ones supersede (shards after an
+/// unsharded run and the reverse).
+fn merge(
+    study: &Study,
+    prep: &Prepared,
+    mine: &[usize],
+    shard: Option<Shard>,
+) -> Result<(PathBuf, PathBuf), SweepError> {
+    let parts = study.path("parts");
+    let (ida_name, cap_name) = final_names(shard);
+    let (ida_path, cap_path) = (study.path(&ida_name), study.path(&cap_name));
     let ida_parts: Vec<PathBuf> = mine.iter().map(|&c| part_paths(&parts, c).0).collect();
     let cap_parts: Vec<PathBuf> = mine.iter().map(|&c| part_paths(&parts, c).1).collect();
-    tables::concat(
-        &ida_path,
-        t::IDA_KIND,
-        t::ida_schema(),
-        &ida_parts,
-        &settings(config.shard),
-    )?;
-    tables::concat(
-        &cap_path,
-        t::CAPACITY_KIND,
-        t::capacity_schema(),
-        &cap_parts,
-        &settings(config.shard),
-    )?;
+    let meta = prep.metadata(&study.plan, None, shard);
+    tables::concat::<IdaRow>(&ida_path, &ida_parts, &meta)?;
+    tables::concat::<CapacityRow>(&cap_path, &cap_parts, &meta)?;
     for p in ida_parts.iter().chain(&cap_parts) {
         let _ = fs::remove_file(p);
     }
     let _ = fs::remove_dir(&parts); // only if empty (other shards may still write here)
-    match config.shard {
-        // The unsharded tables supersede any shards, and shards supersede
-        // unsharded tables: the dataset is whichever was written last.
-        None => remove_shard_tables(&dir)?,
+    match shard {
+        None => remove_shard_tables(&study.dir)?,
         Some(_) => {
             let (ida, cap) = final_names(None);
-            let _ = fs::remove_file(dir.join(ida));
-            let _ = fs::remove_file(dir.join(cap));
+            let _ = fs::remove_file(study.path(&ida));
+            let _ = fs::remove_file(study.path(&cap));
         }
     }
-
-    Ok(SweepReport {
-        dir,
-        records: records.len(),
-        blocks: n_blocks,
-        cases: cases_total,
-        cases_resumed: done.cases_resumed,
-        runs: done.runs,
-        intervals: done.intervals,
-        ida_path,
-        capacities_path: cap_path,
-        plan_hash: hash,
-        models,
-    })
-}
-
-fn chunk_len(c: usize, n_cases: usize) -> usize {
-    CHUNK_CASES.min(n_cases - c * CHUNK_CASES)
+    Ok((ida_path, cap_path))
 }
 
 fn part_paths(parts: &Path, c: usize) -> (PathBuf, PathBuf) {
@@ -483,11 +382,79 @@ fn part_paths(parts: &Path, c: usize) -> (PathBuf, PathBuf) {
     )
 }
 
-fn part_is_current(path: &Path, hash: &str) -> bool {
-    path.exists()
-        && tables::read_metadata(path)
-            .map(|kv| kv.iter().any(|(k, v)| k == META_PLAN_HASH && v == hash))
-            .unwrap_or(false)
+/// Why a part cannot be reused.
+enum PartProblem {
+    Absent,
+    /// From another plan (or unreadable metadata): recomputed silently.
+    Stale,
+    /// Current plan, wrong content (copied over, truncated): recomputed and logged.
+    Corrupt(String),
+}
+
+/// Trusts a chunk's parts by what they hold: the current plan's hash, this
+/// chunk's index, one capacity per case of the chunk in order, and exactly
+/// the runs each capacity counts.
+fn verify_part(
+    ida_part: &Path,
+    cap_part: &Path,
+    hash: &str,
+    chunk: usize,
+    cases: std::ops::Range<usize>,
+) -> Result<(), PartProblem> {
+    if !(ida_part.exists() && cap_part.exists()) {
+        return Err(PartProblem::Absent);
+    }
+    let meta_of = |p: &Path| tables::read_metadata(p).map_err(|_| PartProblem::Stale);
+    for p in [ida_part, cap_part] {
+        let kv = meta_of(p)?;
+        let get = |key: &str| kv.iter().find(|(k, _)| k == key).map(|(_, v)| v.as_str());
+        if get(META_PLAN_HASH) != Some(hash) {
+            return Err(PartProblem::Stale);
+        }
+        if get(META_CHUNK) != Some(chunk.to_string().as_str()) {
+            return Err(PartProblem::Corrupt(format!(
+                "its metadata says chunk {}",
+                get(META_CHUNK).unwrap_or("(none)")
+            )));
+        }
+    }
+    let corrupt = |e: TableError| PartProblem::Corrupt(e.to_string());
+    let caps: Vec<CapacityRow> = tables::read(cap_part).map_err(corrupt)?;
+    let expected: Vec<i64> = cases.map(|c| c as i64).collect();
+    let got: Vec<i64> = caps.iter().map(|c| c.case_id).collect();
+    if got != expected {
+        return Err(PartProblem::Corrupt(format!(
+            "it holds cases {}, expected {}",
+            span(&got),
+            span(&expected)
+        )));
+    }
+    let ida: Vec<IdaRow> = tables::read(ida_part).map_err(corrupt)?;
+    let mut counts = vec![0i64; caps.len()];
+    for r in &ida {
+        let k = r.case_id - expected[0];
+        if k < 0 || k as usize >= counts.len() {
+            return Err(PartProblem::Corrupt(format!(
+                "its IDA points include case {}",
+                r.case_id
+            )));
+        }
+        counts[k as usize] += 1;
+    }
+    if let Some((c, n)) = caps.iter().zip(&counts).find(|(c, n)| c.runs != **n) {
+        return Err(PartProblem::Corrupt(format!(
+            "case {} counts {} runs but has {n} IDA points",
+            c.case_id, c.runs
+        )));
+    }
+    Ok(())
+}
+
+fn span(ids: &[i64]) -> String {
+    match (ids.first(), ids.last()) {
+        (Some(a), Some(b)) => format!("{a}–{b}"),
+        _ => "none".into(),
+    }
 }
 
 /// Removes temporary files left by a killed run (`.ida-000042.parquet.tmp-PID`),
@@ -536,29 +503,30 @@ fn remove_shard_tables(dir: &Path) -> Result<(), SweepError> {
 /// A case's IDA points, its capacity, and the sample intervals it took.
 type CaseResult = (Vec<IdaRow>, CapacityRow, u64);
 
-fn run_case(
-    case: usize,
-    record: &RecordRow,
-    exc: &Excitation,
-    block: &str,
-    (spec, model): (RunSpec, &'static str),
-    plan: &Plan,
-) -> Result<CaseResult, SweepError> {
-    let cap =
-        ida::capacity_traced(exc, &spec, &plan.grid, plan.tol, plan.trace).map_err(|source| {
-            SweepError::Record {
-                record: record.record_id.clone(),
-                source,
-            }
-        })?;
-    let alpha_rad = alpha_of(spec.model);
+fn run_case(case: usize, prep: &Prepared, plan: &Plan) -> Result<CaseResult, SweepError> {
+    let n_blocks = plan.blocks.len();
+    let (ri, bi) = (case / n_blocks, case % n_blocks);
+    let (record, spec, block) = (&prep.records[ri], prep.specs[bi], &plan.blocks[bi].name);
+    let cap = ida::capacity_traced(
+        &prep.excitations[ri],
+        &spec,
+        &plan.grid,
+        plan.tol,
+        plan.trace,
+    )
+    .map_err(|source| SweepError::Record {
+        record: record.record_id.clone(),
+        source,
+    })?;
+    let alpha_rad = spec.alpha();
+    let model = spec.model.equation.kind();
     let ida = cap
         .points
         .iter()
         .map(|q| IdaRow {
             case_id: case as i64,
             record_id: record.record_id.clone(),
-            block: block.to_string(),
+            block: block.clone(),
             p: spec.p,
             eps: spec.eps,
             alpha_rad,
@@ -571,22 +539,18 @@ fn run_case(
             },
             overturned: q.outcome.overturned(),
             impacts: q.outcome.impacts as i64,
-            run_kind: match q.kind {
-                RunKind::Level => "level",
-                RunKind::Refinement => "refinement",
-            }
-            .to_string(),
-            model: model.to_string(),
+            run_kind: q.kind,
+            model,
         })
         .collect();
     let row = CapacityRow {
         case_id: case as i64,
         record_id: record.record_id.clone(),
-        block: block.to_string(),
+        block: block.clone(),
         p: spec.p,
         eps: spec.eps,
         alpha_rad,
-        model: model.to_string(),
+        model,
         eta_c: cap.eta_c,
         eta_survived: cap.eta_survived,
         level_survived: cap.level_survived,
@@ -598,45 +562,93 @@ fn run_case(
     Ok((ida, row, intervals))
 }
 
-/// The sweep tables of a pipeline's output folder, as one dataset: the
-/// unsharded tables if present, else all N shards (every one required, all
-/// from the same plan). Returns (ida_points files, capacities files).
-pub fn dataset(dir: &Path) -> Result<(Vec<PathBuf>, Vec<PathBuf>), SweepError> {
-    let (ida, cap) = final_names(None);
-    if dir.join(&cap).exists() && dir.join(&ida).exists() {
-        return Ok((vec![dir.join(ida)], vec![dir.join(cap)]));
-    }
-    let entries = fs::read_dir(dir).map_err(|source| SweepError::Io {
+/// A folder's sweep tables cannot be read as one dataset.
+#[derive(Debug, thiserror::Error)]
+pub enum DatasetError {
+    #[error("{0}: no sweep tables (run `rocking sweep` first)")]
+    NoTables(PathBuf),
+    #[error(
+        "{dir}: holds both the unsharded sweep tables (ida_points.parquet, capacities.parquet) and \
+         {shards} shard table(s) (*.shard-K-of-N.parquet); they are two versions of the same sweep: \
+         remove one set"
+    )]
+    Mixed { dir: PathBuf, shards: usize },
+    #[error("{dir}: shard tables of different shard counts ({counts}); remove the stale ones")]
+    ShardCounts { dir: PathBuf, counts: String },
+    #[error("{dir}: shards {missing} of the sweep are missing; run them with `rocking sweep … --shard K/{n}`")]
+    MissingShards {
+        dir: PathBuf,
+        missing: String,
+        n: usize,
+    },
+    #[error("{dir}: the shards come from different plans; rerun the stale ones")]
+    ShardPlans { dir: PathBuf },
+    #[error("{dir}: only one of ida_points.parquet and capacities.parquet is there; rerun `rocking sweep`")]
+    HalfTables { dir: PathBuf },
+    #[error(transparent)]
+    Table(#[from] TableError),
+    #[error("{path}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: io::Error,
+    },
+}
+
+/// The sweep tables of a study folder, as one dataset: the unsharded tables,
+/// or all N shards (every one required, all from the same plan), never a mix.
+/// Returns (ida_points files, capacities files).
+pub fn dataset(dir: &Path) -> Result<(Vec<PathBuf>, Vec<PathBuf>), DatasetError> {
+    let entries = fs::read_dir(dir).map_err(|source| DatasetError::Io {
         path: dir.into(),
         source,
     })?;
-    let mut n_seen = BTreeSet::new();
+    let mut shard_files = 0;
+    let mut counts = BTreeSet::new();
     for e in entries.flatten() {
         let name = e.file_name().to_string_lossy().into_owned();
-        if let Some(rest) = name
+        let Some(rest) = name
             .strip_prefix("capacities.shard-")
+            .or_else(|| name.strip_prefix("ida_points.shard-"))
             .and_then(|r| r.strip_suffix(".parquet"))
+        else {
+            continue;
+        };
+        shard_files += 1;
+        if let Some(n) = rest
+            .split_once("-of-")
+            .and_then(|(_, n)| n.parse::<usize>().ok())
         {
-            if let Some((_, n)) = rest.split_once("-of-") {
-                if let Ok(n) = n.parse::<usize>() {
-                    n_seen.insert(n);
-                }
-            }
+            counts.insert(n);
         }
     }
-    let n = match n_seen.len() {
-        0 => {
-            return Err(SweepError::Dataset(format!(
-                "{}: no sweep tables (run `rocking sweep` first)",
-                dir.display()
-            )))
+    let (ida, cap) = final_names(None);
+    let (ida, cap) = (dir.join(ida), dir.join(cap));
+    match (ida.exists(), cap.exists(), shard_files) {
+        (true, true, 0) => return Ok((vec![ida], vec![cap])),
+        (true, _, s) | (_, true, s) if s > 0 => {
+            return Err(DatasetError::Mixed {
+                dir: dir.into(),
+                shards: s,
+            })
         }
-        1 => *n_seen.iter().next().expect("one"),
+        (true, false, _) | (false, true, _) => {
+            return Err(DatasetError::HalfTables { dir: dir.into() })
+        }
+        _ => {}
+    }
+    let n = match counts.len() {
+        0 => return Err(DatasetError::NoTables(dir.into())),
+        1 => *counts.iter().next().expect("one"),
         _ => {
-            return Err(SweepError::Dataset(format!(
-                "{}: shard tables of different shard counts ({n_seen:?}); remove the stale ones",
-                dir.display()
-            )))
+            return Err(DatasetError::ShardCounts {
+                dir: dir.into(),
+                counts: counts
+                    .iter()
+                    .map(|n| format!("of {n}"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            })
         }
     };
     let mut idas = Vec::new();
@@ -661,46 +673,35 @@ pub fn dataset(dir: &Path) -> Result<(Vec<PathBuf>, Vec<PathBuf>), SweepError> {
         caps.push(c);
     }
     if !missing.is_empty() {
-        return Err(SweepError::Dataset(format!(
-            "{}: shards {} of the sweep are missing; run them with `rocking sweep … --shard K/{n}`",
-            dir.display(),
-            missing.join(", ")
-        )));
+        return Err(DatasetError::MissingShards {
+            dir: dir.into(),
+            missing: missing.join(", "),
+            n,
+        });
     }
     if hashes.len() > 1 {
-        return Err(SweepError::Dataset(format!(
-            "{}: the shards come from different plans; rerun the stale ones",
-            dir.display()
-        )));
+        return Err(DatasetError::ShardPlans { dir: dir.into() });
     }
     Ok((idas, caps))
 }
 
 /// Capacities of a dataset, in case order (shards interleaved back).
-pub fn read_capacities(dir: &Path) -> Result<Vec<CapacityRow>, SweepError> {
+pub fn read_capacities(dir: &Path) -> Result<Vec<CapacityRow>, DatasetError> {
     let (_, caps) = dataset(dir)?;
-    let mut rows = t::read_capacities(&caps)?;
+    let mut rows: Vec<CapacityRow> = tables::read_all(&caps)?;
     rows.sort_by_key(|r| r.case_id);
     Ok(rows)
 }
 
 /// IDA points of a dataset, in case order (run order within a case).
-pub fn read_ida(dir: &Path) -> Result<Vec<IdaRow>, SweepError> {
+pub fn read_ida(dir: &Path) -> Result<Vec<IdaRow>, DatasetError> {
     let (idas, _) = dataset(dir)?;
-    let mut rows = t::read_ida(&idas)?;
+    let mut rows: Vec<IdaRow> = tables::read_all(&idas)?;
     rows.sort_by_key(|r| r.case_id); // stable: keeps run order within a case
     Ok(rows)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn shards_parse_and_refuse_nonsense() {
-        assert_eq!("2/8".parse::<Shard>(), Ok(Shard { k: 2, n: 8 }));
-        for bad in ["0/3", "4/3", "3", "a/b", "1/0"] {
-            assert!(bad.parse::<Shard>().is_err(), "{bad}");
-        }
-    }
+/// Runs kinds written by the sweep, for readers that filter grid levels.
+pub fn is_level(r: &IdaRow) -> bool {
+    r.run_kind == RunKind::Level
 }

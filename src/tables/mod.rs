@@ -8,20 +8,32 @@
 //! then renamed into place, so a crash or an error never leaves a
 //! half-written table under the final name.
 //!
+//! Tables are typed: a table is a row struct defined once with the
+//! [`table!`](crate::table) macro (or, for the records table, by hand), which
+//! gives its schema, its writer and its reader. Code reads rows as structs and
+//! never looks a column up by a string. [`write`] and [`read`] work for every
+//! [`Table`].
+//!
 //! Architecture invariant: nothing outside `tables` imports `parquet` or
 //! opens a Parquet file.
 
+pub mod column;
+pub mod convergence;
+pub mod fit;
 pub mod history;
 pub mod records;
-pub mod summary;
+pub mod reduce;
 pub mod sweep;
+
+pub use crate::label::Label;
+pub use column::Column;
 
 use std::fs::{self, File};
 use std::io;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use arrow_array::RecordBatch;
+use arrow_array::{ArrayRef, RecordBatch};
 use arrow_schema::{ArrowError, Schema};
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use parquet::arrow::ArrowWriter;
@@ -41,7 +53,7 @@ const ZSTD_LEVEL: i32 = 3;
 
 /// Rows per row group: bounds the writer's buffer (a million-run sweep is
 /// streamed, never held whole).
-const ROW_GROUP_ROWS: usize = 65_536;
+pub const ROW_GROUP_ROWS: usize = 65_536;
 
 #[derive(Debug, thiserror::Error)]
 pub enum TableError {
@@ -79,10 +91,79 @@ pub enum TableError {
 }
 
 /// Identity of a table: its name and schema version.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct TableKind {
     pub name: &'static str,
     pub schema_version: u32,
+}
+
+/// A table: its rows are `Self`. Implemented by the [`table!`](crate::table)
+/// macro from one list of fields, so schema, writer and reader cannot
+/// disagree.
+pub trait Table: Sized {
+    const KIND: TableKind;
+    /// Rows per batch (and so at most per row group) when writing.
+    const BATCH_ROWS: usize = ROW_GROUP_ROWS;
+    fn schema() -> Arc<Schema>;
+    fn to_batch(rows: &[Self]) -> Result<RecordBatch, ArrowError>;
+    /// The rows of one batch read back; errors name the file and the column.
+    fn from_batch(batch: &RecordBatch, path: &Path) -> Result<Vec<Self>, TableError>;
+}
+
+/// Writes `rows` to `dest` atomically, with `settings` in the metadata.
+pub fn write<T: Table>(
+    dest: &Path,
+    rows: &[T],
+    settings: &[(String, String)],
+) -> Result<(), TableError> {
+    let mut w = AtomicTableWriter::create(dest, T::KIND, T::schema(), settings)?;
+    for chunk in rows.chunks(T::BATCH_ROWS.max(1)) {
+        let batch = T::to_batch(chunk).map_err(|source| TableError::Arrow {
+            path: dest.into(),
+            source,
+        })?;
+        w.write(&batch)?;
+    }
+    w.commit()
+}
+
+/// Reads every row of a table, checking that the file is this table at the
+/// schema version this build reads.
+pub fn read<T: Table>(path: &Path) -> Result<Vec<T>, TableError> {
+    let mut rows = Vec::new();
+    for batch in read_table(path, T::KIND)?.batches {
+        rows.extend(T::from_batch(&batch, path)?);
+    }
+    Ok(rows)
+}
+
+/// [`read`] over several files (a dataset), in file order.
+pub fn read_all<T: Table>(paths: &[impl AsRef<Path>]) -> Result<Vec<T>, TableError> {
+    let mut rows = Vec::new();
+    for p in paths {
+        rows.extend(read::<T>(p.as_ref())?);
+    }
+    Ok(rows)
+}
+
+/// One column of a batch as values of type `C`; errors name file and column.
+pub fn read_column<C: Column>(
+    batch: &RecordBatch,
+    name: &'static str,
+    path: &Path,
+) -> Result<Vec<C>, TableError> {
+    let array: &ArrayRef = batch
+        .column_by_name(name)
+        .ok_or_else(|| TableError::Column {
+            path: path.into(),
+            column: name,
+            problem: "missing".into(),
+        })?;
+    C::read(array).map_err(|problem| TableError::Column {
+        path: path.into(),
+        column: name,
+        problem,
+    })
 }
 
 /// A Parquet file being written under a temporary name; [`commit`] makes it
@@ -250,18 +331,16 @@ impl TableContents {
     }
 }
 
-/// Writes the tables `parts` (each of `kind`) one after another into `dest`,
-/// one part in memory at a time.
-pub fn concat(
+/// Writes the tables `parts` (each a `T` table) one after another into
+/// `dest`, one part in memory at a time.
+pub fn concat<T: Table>(
     dest: &Path,
-    kind: TableKind,
-    schema: Arc<Schema>,
     parts: &[PathBuf],
     settings: &[(String, String)],
 ) -> Result<(), TableError> {
-    let mut w = AtomicTableWriter::create(dest, kind, schema, settings)?;
+    let mut w = AtomicTableWriter::create(dest, T::KIND, T::schema(), settings)?;
     for part in parts {
-        for batch in read_table(part, kind)?.batches {
+        for batch in read_table(part, T::KIND)?.batches {
             w.write(&batch)?;
         }
     }

@@ -6,13 +6,10 @@
 use std::path::Path;
 use std::sync::{Arc, OnceLock};
 
-use arrow_array::builder::{Float64Builder, ListBuilder};
-use arrow_array::cast::AsArray;
-use arrow_array::types::{Float64Type, Int64Type};
-use arrow_array::{Array, ArrayRef, Float64Array, Int64Array, RecordBatch, StringArray};
+use arrow_array::{ArrayRef, Float64Array, Int64Array, RecordBatch, StringArray};
 use arrow_schema::{DataType, Field, Schema};
 
-use super::{read_table, AtomicTableWriter, TableError, TableKind};
+use super::{read_column, Column, Table, TableError, TableKind};
 use crate::manifest::RecordMeta;
 
 pub const KIND: TableKind = TableKind {
@@ -81,14 +78,111 @@ pub fn schema() -> Arc<Schema> {
                 f64("r_jb_km", true),
                 f64("r_rup_km", true),
                 f64("lowest_usable_freq_hz", true),
-                Field::new(
-                    "accel_g",
-                    DataType::List(Arc::new(Field::new("item", DataType::Float64, false))),
-                    false,
-                ),
+                <Vec<f64> as Column>::field("accel_g"),
             ]))
         })
         .clone()
+}
+
+/// Column `name` of a batch (errors name file and column).
+fn col<C: Column>(
+    batch: &RecordBatch,
+    name: &'static str,
+    path: &Path,
+) -> Result<Vec<C>, TableError> {
+    read_column::<C>(batch, name, path)
+}
+
+impl Table for RecordRow {
+    const KIND: TableKind = KIND;
+    /// A few records' samples at a time: bounds the writer's memory.
+    const BATCH_ROWS: usize = 16;
+
+    fn schema() -> Arc<Schema> {
+        schema()
+    }
+
+    fn to_batch(rows: &[Self]) -> Result<RecordBatch, arrow_schema::ArrowError> {
+        to_batch(rows)
+    }
+
+    fn from_batch(batch: &RecordBatch, path: &Path) -> Result<Vec<Self>, TableError> {
+        let npts = col::<i64>(batch, "npts", path)?;
+        let mut record_id = col::<String>(batch, "record_id", path)?.into_iter();
+        let mut source = col::<String>(batch, "source", path)?.into_iter();
+        let mut sha256 = col::<String>(batch, "sha256", path)?.into_iter();
+        let mut dt = col::<f64>(batch, "dt_s", path)?.into_iter();
+        let mut pga = col::<f64>(batch, "pga_g", path)?.into_iter();
+        let mut pga_t = col::<f64>(batch, "pga_time_s", path)?.into_iter();
+        let mut dur = col::<f64>(batch, "duration_s", path)?.into_iter();
+        let mut h1 = col::<String>(batch, "header_1", path)?.into_iter();
+        let mut h2 = col::<String>(batch, "header_2", path)?.into_iter();
+        let mut h3 = col::<String>(batch, "header_3", path)?.into_iter();
+        let mut h4 = col::<String>(batch, "header_4", path)?.into_iter();
+        let mut layout = col::<String>(batch, "header_layout", path)?.into_iter();
+        let s = |name| col::<Option<String>>(batch, name, path).map(Vec::into_iter);
+        let f = |name| col::<Option<f64>>(batch, name, path).map(Vec::into_iter);
+        let i = |name| col::<Option<i64>>(batch, name, path).map(Vec::into_iter);
+        let (mut set, mut pair, mut pair_component) = (s("set")?, s("pair")?, s("pair_component")?);
+        let (mut rsn, mut event, mut year, mut magnitude) =
+            (i("rsn")?, s("event")?, i("year")?, f("magnitude")?);
+        let (mut station, mut component) = (s("station")?, s("component")?);
+        let (mut pga_pair, mut pgv_pair, mut norm) = (
+            f("pga_max_pair_g")?,
+            f("pgv_max_pair_cm_s")?,
+            f("normalization_factor")?,
+        );
+        let (mut site_class, mut vs30, mut fault_type) =
+            (s("site_class")?, f("vs30_m_s")?, s("fault_type")?);
+        let (mut rjb, mut rrup, mut luf) =
+            (f("r_jb_km")?, f("r_rup_km")?, f("lowest_usable_freq_hz")?);
+        let accel = col::<Vec<f64>>(batch, "accel_g", path)?;
+        let mut rows = Vec::with_capacity(batch.num_rows());
+        let next = |it: &mut dyn Iterator<Item = String>| it.next().unwrap_or_default();
+        for (accel_g, n) in accel.into_iter().zip(npts) {
+            let id = next(&mut record_id);
+            if accel_g.len() as i64 != n {
+                return Err(TableError::Column {
+                    path: path.into(),
+                    column: "accel_g",
+                    problem: format!("record `{id}` has {} samples but npts = {n}", accel_g.len()),
+                });
+            }
+            rows.push(RecordRow {
+                record_id: id,
+                source: next(&mut source),
+                sha256: next(&mut sha256),
+                dt_s: dt.next().unwrap_or_default(),
+                pga_g: pga.next().unwrap_or_default(),
+                pga_time_s: pga_t.next().unwrap_or_default(),
+                duration_s: dur.next().unwrap_or_default(),
+                header: [next(&mut h1), next(&mut h2), next(&mut h3), next(&mut h4)],
+                header_layout: next(&mut layout),
+                meta: RecordMeta {
+                    set: set.next().flatten(),
+                    pair: pair.next().flatten(),
+                    pair_component: pair_component.next().flatten(),
+                    rsn: rsn.next().flatten(),
+                    event: event.next().flatten(),
+                    year: year.next().flatten(),
+                    magnitude: magnitude.next().flatten(),
+                    station: station.next().flatten(),
+                    component: component.next().flatten(),
+                    pga_max_pair_g: pga_pair.next().flatten(),
+                    pgv_max_pair_cm_s: pgv_pair.next().flatten(),
+                    normalization_factor: norm.next().flatten(),
+                    site_class: site_class.next().flatten(),
+                    vs30_m_s: vs30.next().flatten(),
+                    fault_type: fault_type.next().flatten(),
+                    r_jb_km: rjb.next().flatten(),
+                    r_rup_km: rrup.next().flatten(),
+                    lowest_usable_freq_hz: luf.next().flatten(),
+                },
+                accel_g,
+            });
+        }
+        Ok(rows)
+    }
 }
 
 /// Builds one batch from rows, columns in schema order.
@@ -101,15 +195,6 @@ pub fn to_batch(rows: &[RecordRow]) -> Result<RecordBatch, arrow_schema::ArrowEr
     }
     fn ints(rows: &[RecordRow], f: impl Fn(&RecordRow) -> Option<i64>) -> ArrayRef {
         Arc::new(rows.iter().map(f).collect::<Int64Array>())
-    }
-    let mut accel = ListBuilder::new(Float64Builder::new()).with_field(Arc::new(Field::new(
-        "item",
-        DataType::Float64,
-        false,
-    )));
-    for r in rows {
-        accel.values().append_slice(&r.accel_g);
-        accel.append(true);
     }
     let columns: Vec<ArrayRef> = vec![
         strs(rows, |r| Some(&r.record_id)),
@@ -143,14 +228,10 @@ pub fn to_batch(rows: &[RecordRow]) -> Result<RecordBatch, arrow_schema::ArrowEr
         reals(rows, |r| r.meta.r_jb_km),
         reals(rows, |r| r.meta.r_rup_km),
         reals(rows, |r| r.meta.lowest_usable_freq_hz),
-        Arc::new(accel.finish()),
+        <Vec<f64> as Column>::build(rows.iter().map(|r| &r.accel_g)),
     ];
     RecordBatch::try_new(schema(), columns)
 }
-
-/// Rows per batch (and so per row group) when writing: bounds memory to a
-/// few records' samples at a time.
-pub const ROWS_PER_BATCH: usize = 16;
 
 /// Writes `rows` to `dest` atomically, with `settings` in the metadata.
 pub fn write(
@@ -158,130 +239,10 @@ pub fn write(
     rows: &[RecordRow],
     settings: &[(String, String)],
 ) -> Result<(), TableError> {
-    let mut writer = AtomicTableWriter::create(dest, KIND, schema(), settings)?;
-    for chunk in rows.chunks(ROWS_PER_BATCH) {
-        let batch = to_batch(chunk).map_err(|source| TableError::Arrow {
-            path: dest.to_path_buf(),
-            source,
-        })?;
-        writer.write(&batch)?;
-    }
-    writer.commit()
+    super::write(dest, rows, settings)
 }
 
 /// Reads a records table written by `rocking ingest`.
 pub fn read(path: &Path) -> Result<Vec<RecordRow>, TableError> {
-    let contents = read_table(path, KIND)?;
-    let mut rows = Vec::new();
-    for batch in &contents.batches {
-        let col = |name: &'static str| -> Result<&ArrayRef, TableError> {
-            batch
-                .column_by_name(name)
-                .ok_or_else(|| TableError::Column {
-                    path: path.into(),
-                    column: name,
-                    problem: "missing".into(),
-                })
-        };
-        let bad_type = |name: &'static str| TableError::Column {
-            path: path.into(),
-            column: name,
-            problem: "unexpected type".into(),
-        };
-        let s = |name: &'static str| -> Result<&StringArray, TableError> {
-            col(name)?
-                .as_string_opt::<i32>()
-                .ok_or_else(|| bad_type(name))
-        };
-        let f = |name: &'static str| -> Result<&Float64Array, TableError> {
-            col(name)?
-                .as_primitive_opt::<Float64Type>()
-                .ok_or_else(|| bad_type(name))
-        };
-        let i = |name: &'static str| -> Result<&Int64Array, TableError> {
-            col(name)?
-                .as_primitive_opt::<Int64Type>()
-                .ok_or_else(|| bad_type(name))
-        };
-        let opt_s = |a: &StringArray, k: usize| a.is_valid(k).then(|| a.value(k).to_string());
-        let opt_f = |a: &Float64Array, k: usize| a.is_valid(k).then(|| a.value(k));
-        let opt_i = |a: &Int64Array, k: usize| a.is_valid(k).then(|| a.value(k));
-
-        let (record_id, source, sha256) = (s("record_id")?, s("source")?, s("sha256")?);
-        let npts = i("npts")?;
-        let (dt, pga, pga_t, dur) = (f("dt_s")?, f("pga_g")?, f("pga_time_s")?, f("duration_s")?);
-        let headers = [
-            s("header_1")?,
-            s("header_2")?,
-            s("header_3")?,
-            s("header_4")?,
-        ];
-        let layout = s("header_layout")?;
-        let (set, pair, pair_component) = (s("set")?, s("pair")?, s("pair_component")?);
-        let (rsn, event, year, magnitude) = (i("rsn")?, s("event")?, i("year")?, f("magnitude")?);
-        let (station, component) = (s("station")?, s("component")?);
-        let (pga_pair, pgv_pair, norm) = (
-            f("pga_max_pair_g")?,
-            f("pgv_max_pair_cm_s")?,
-            f("normalization_factor")?,
-        );
-        let (site_class, vs30, fault_type) = (s("site_class")?, f("vs30_m_s")?, s("fault_type")?);
-        let (rjb, rrup, luf) = (f("r_jb_km")?, f("r_rup_km")?, f("lowest_usable_freq_hz")?);
-        let accel = col("accel_g")?
-            .as_list_opt::<i32>()
-            .ok_or_else(|| bad_type("accel_g"))?;
-
-        for k in 0..batch.num_rows() {
-            let samples = accel.value(k);
-            let samples = samples
-                .as_primitive_opt::<Float64Type>()
-                .ok_or_else(|| bad_type("accel_g"))?;
-            let accel_g = samples.values().to_vec();
-            if accel_g.len() as i64 != npts.value(k) {
-                return Err(TableError::Column {
-                    path: path.into(),
-                    column: "accel_g",
-                    problem: format!(
-                        "record `{}` has {} samples but npts = {}",
-                        record_id.value(k),
-                        accel_g.len(),
-                        npts.value(k)
-                    ),
-                });
-            }
-            rows.push(RecordRow {
-                record_id: record_id.value(k).to_string(),
-                source: source.value(k).to_string(),
-                sha256: sha256.value(k).to_string(),
-                dt_s: dt.value(k),
-                pga_g: pga.value(k),
-                pga_time_s: pga_t.value(k),
-                duration_s: dur.value(k),
-                header: headers.map(|h| h.value(k).to_string()),
-                header_layout: layout.value(k).to_string(),
-                meta: RecordMeta {
-                    set: opt_s(set, k),
-                    pair: opt_s(pair, k),
-                    pair_component: opt_s(pair_component, k),
-                    rsn: opt_i(rsn, k),
-                    event: opt_s(event, k),
-                    year: opt_i(year, k),
-                    magnitude: opt_f(magnitude, k),
-                    station: opt_s(station, k),
-                    component: opt_s(component, k),
-                    pga_max_pair_g: opt_f(pga_pair, k),
-                    pgv_max_pair_cm_s: opt_f(pgv_pair, k),
-                    normalization_factor: opt_f(norm, k),
-                    site_class: opt_s(site_class, k),
-                    vs30_m_s: opt_f(vs30, k),
-                    fault_type: opt_s(fault_type, k),
-                    r_jb_km: opt_f(rjb, k),
-                    r_rup_km: opt_f(rrup, k),
-                    lowest_usable_freq_hz: opt_f(luf, k),
-                },
-                accel_g,
-            });
-        }
-    }
-    Ok(rows)
+    super::read(path)
 }

@@ -1,8 +1,6 @@
-//! The nonlinear rocking equation (paper Eq. 7) by Dormand–Prince 5(4).
-//!
-//! ```text
-//! ẍ = −(p²/α) s sin(α(1 − s x)) + (p²/η) cos(α(1 − s x)) ψ̈(t)
-//! ```
+//! The DP5 integrator: Dormand–Prince 5(4) for either equation's
+//! right-hand side ([`Rhs`]); the tool uses it for the nonlinear equation
+//! (paper Eq. 7).
 //!
 //! Explicit Runge–Kutta of order 5 with an embedded order-4 error estimate,
 //! first-same-as-last, and Shampine's continuous extension ("dense output")
@@ -18,8 +16,8 @@
 //! dense output by the Illinois method, and the state at the event is then
 //! recomputed by one exact-length step from the step's start.
 
-use super::energy::{self, Fate};
-use super::{Rocker, Rocking, Stretch, StretchEnd};
+use super::equation::Rhs;
+use super::{Rocking, Stepper, Stretch, StretchEnd};
 
 // Dormand–Prince 5(4) tableau (Hairer–Nørsett–Wanner, Table II.5.2).
 const C2: f64 = 1.0 / 5.0;
@@ -73,25 +71,21 @@ fn axpy(y: Y, h: f64, terms: &[(f64, Y)]) -> Y {
     out
 }
 
-/// Right-hand side on pivot `s` over a stretch with `ψ̈ = g_a + g1 σ`.
+/// An equation's right-hand side on pivot `s` over a stretch with `ψ̈ = g_a + g1 σ`.
 #[derive(Debug, Clone, Copy)]
-pub struct Rhs {
-    pub p2_over_alpha: f64,
-    pub p2_over_eta: f64,
-    pub alpha: f64,
+pub struct Pivoted<R> {
+    pub rhs: R,
     pub s: f64,
     pub g_a: f64,
     pub g1: f64,
 }
 
-impl Rhs {
+impl<R: Rhs> Pivoted<R> {
     #[inline]
     pub fn eval(&self, sigma: f64, y: Y) -> Y {
-        let (sin, cos) = (self.alpha * (1.0 - self.s * y[0])).sin_cos();
-        let g = self.g_a + self.g1 * sigma;
         [
             y[1],
-            -self.p2_over_alpha * self.s * sin + self.p2_over_eta * cos * g,
+            self.rhs.accel(self.s, y[0], self.g_a + self.g1 * sigma),
         ]
     }
 }
@@ -127,7 +121,7 @@ impl Step {
 /// Returns the new state, `k7 = f(sigma + h, y_new)`, the error estimate
 /// vector and the stages needed for dense output.
 #[inline]
-fn dp5_step(f: &Rhs, sigma: f64, y: Y, k1: Y, h: f64) -> (Y, Y, Y, [Y; 5]) {
+fn dp5_step<R: Rhs>(f: &Pivoted<R>, sigma: f64, y: Y, k1: Y, h: f64) -> (Y, Y, Y, [Y; 5]) {
     let k2 = f.eval(sigma + C2 * h, axpy(y, h, &[(A21, k1)]));
     let k3 = f.eval(sigma + C3 * h, axpy(y, h, &[(A31, k1), (A32, k2)]));
     let k4 = f.eval(
@@ -221,11 +215,10 @@ fn illinois(g: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
     hi
 }
 
-/// The nonlinear rocker; one per run.
-pub struct Nonlinear {
+/// The DP5 stepper of one equation; one per run.
+pub struct Dp5<R> {
+    rhs: R,
     p: f64,
-    eta: f64,
-    alpha: f64,
     rtol: f64,
     atol: f64,
     limit: f64,
@@ -235,12 +228,11 @@ pub struct Nonlinear {
     pub steps: u64,
 }
 
-impl Nonlinear {
-    pub fn new(p: f64, eta: f64, alpha: f64, rtol: f64, limit: f64) -> Self {
-        Nonlinear {
+impl<R: Rhs> Dp5<R> {
+    pub fn new(rhs: R, p: f64, rtol: f64, limit: f64) -> Self {
+        Dp5 {
+            rhs,
             p,
-            eta,
-            alpha,
             rtol,
             atol: 1e-3 * rtol,
             limit,
@@ -249,11 +241,9 @@ impl Nonlinear {
         }
     }
 
-    fn rhs(&self, s: f64, g_a: f64, g1: f64) -> Rhs {
-        Rhs {
-            p2_over_alpha: self.p * self.p / self.alpha,
-            p2_over_eta: self.p * self.p / self.eta,
-            alpha: self.alpha,
+    fn pivoted(&self, s: f64, g_a: f64, g1: f64) -> Pivoted<R> {
+        Pivoted {
+            rhs: self.rhs,
             s,
             g_a,
             g1,
@@ -273,7 +263,7 @@ impl Nonlinear {
     /// The step is cut at its interior turning point (if the dense output of
     /// ẋ changes sign) into pieces on which `y = s·x` is monotone; the first
     /// piece whose end reaches the limit or the pivot holds the event.
-    fn event_in(&self, f: &Rhs, st: &Step, max_abs_x: &mut f64) -> Option<(StretchEnd, Y)> {
+    fn event_in(&self, f: &Pivoted<R>, st: &Step, max_abs_x: &mut f64) -> Option<(StretchEnd, Y)> {
         let s = f.s;
         let (sa, sb) = (st.sigma0, st.sigma0 + st.h);
         let y_of = |sig: f64| s * st.at(sig)[0];
@@ -328,13 +318,9 @@ impl Nonlinear {
     }
 }
 
-impl Rocker for Nonlinear {
-    fn uplift_factor(&self) -> f64 {
-        self.alpha.tan() / self.alpha
-    }
-
+impl<R: Rhs> Stepper for Dp5<R> {
     fn rock(&mut self, stretch: Stretch, state: &mut Rocking, max_abs_x: &mut f64) -> StretchEnd {
-        let f = self.rhs(state.s, stretch.g_a, stretch.g1);
+        let f = self.pivoted(state.s, stretch.g_a, stretch.g1);
         let len = stretch.len;
         let mut sigma = 0.0;
         let mut y: Y = [state.x, state.v];
@@ -384,10 +370,6 @@ impl Rocker for Nonlinear {
         state.v = y[1];
         StretchEnd::End
     }
-
-    fn free_fate(&self, state: Rocking, eps: f64) -> Fate {
-        energy::nonlinear_fate(self.p, self.alpha, state, eps)
-    }
 }
 
 #[cfg(test)]
@@ -401,10 +383,12 @@ mod tests {
         // Linear rocking ODE as α → 0 has exact solution; use the nonlinear
         // RHS with no forcing: ÿ = −(p²/α) sin(α(1 − y)). Compare with a
         // reference from tiny RK steps.
-        let f = Rhs {
-            p2_over_alpha: 4.0 / 0.2,
-            p2_over_eta: 0.0,
-            alpha: 0.2,
+        let f = Pivoted {
+            rhs: crate::physics::equation::NonlinearRhs {
+                p2_over_alpha: 4.0 / 0.2,
+                p2_over_eta: 0.0,
+                alpha: 0.2,
+            },
             s: 1.0,
             g_a: 0.0,
             g1: 0.0,

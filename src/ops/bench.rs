@@ -1,42 +1,57 @@
-//! `rocking bench`: runs [`crate::bench`], prints progress and rewrites the
-//! marked sections of BENCHMARKS.md (and the plot beside it).
+//! `rocking bench`: runs [`crate::bench`] on bundled records and
+//! closed-form pulses, and rewrites the marked sections of `BENCHMARKS.md`
+//! (and the plot beside it).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use anyhow::Context;
-
+use super::record::{self, RecordError};
 use crate::bench::{self, Case, Row, Solver};
 use crate::ida::{capacity, ImGrid};
-use crate::physics::{Excitation, Model, RunSpec, LINEARIZATION_ERROR_PER_ALPHA2};
-use crate::plot::{self, Series};
-use crate::tables::atomic_write;
+use crate::physics::{
+    Equation, Excitation, Integrator, Model, Overturn, PhysicsError, RunSpec,
+    LINEARIZATION_ERROR_PER_ALPHA2,
+};
+use crate::plot::{self, PlotError, Series};
+use crate::tables::{atomic_write, TableError};
 
-#[derive(Debug, clap::Args)]
-pub struct BenchArgs {
+/// What to measure and where to write it.
+#[derive(Debug, Clone)]
+pub struct BenchOptions {
     /// Folder of the bundled records (with far-field/ inside).
-    #[arg(long, default_value = "records/fema-p695")]
-    records: PathBuf,
+    pub records: PathBuf,
     /// Where BENCHMARKS.md and the plot are written.
-    #[arg(long, default_value = "docs")]
-    out_dir: PathBuf,
+    pub out_dir: PathBuf,
     /// Repetitions per timing (the median is reported).
-    #[arg(long, default_value_t = 5)]
-    reps: usize,
+    pub reps: usize,
     /// Fewer cases and settings: a smoke run, not for the record.
-    #[arg(long)]
-    quick: bool,
+    pub quick: bool,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum BenchError {
+    #[error(transparent)]
+    Record(#[from] RecordError),
+    #[error("a benchmark run")]
+    Physics(#[from] PhysicsError),
+    #[error(transparent)]
+    Plot(#[from] PlotError),
+    #[error(transparent)]
+    Table(#[from] TableError),
+    #[error("{path}: cannot list")]
+    List {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
 }
 
 const ALPHA_NL: f64 = 0.1;
 
-fn load(dir: &Path, stem: &str) -> anyhow::Result<Excitation> {
+fn load(dir: &Path, stem: &str) -> Result<Excitation, BenchError> {
     let path = dir.join("far-field").join(format!("{stem}.AT2"));
-    let bytes = std::fs::read(&path).with_context(|| format!("{}: cannot read", path.display()))?;
-    let at2 = crate::at2::parse(&bytes)
-        .map_err(|e| anyhow::anyhow!("{}:{}: {}", path.display(), e.line, e.kind))?;
-    Ok(Excitation::new(&at2.accel_g, at2.dt_s)?)
+    Ok(record::load(&path)?.exc)
 }
 
 /// Far-field records with every time step of the set (0.0025 to 0.02 s).
@@ -47,8 +62,17 @@ const RECORDS: [&str; 4] = [
     "RSN1633_MANJIL_ABBAR--L",
 ];
 
-pub fn run(args: BenchArgs) -> anyhow::Result<()> {
+/// Runs every measurement and rewrites the generated sections of
+/// `BENCHMARKS.md` and the plot in `opts.out_dir`; `log` hears each step.
+pub fn run(opts: &BenchOptions, mut log: impl FnMut(&str)) -> Result<(), BenchError> {
+    let args = opts;
     let started = Instant::now();
+    let mut say = |what: &str| {
+        log(&format!(
+            "[{:6.1} s] {what}",
+            started.elapsed().as_secs_f64()
+        ))
+    };
     let mut cases = Vec::new();
     let stems: &[&str] = if args.quick { &RECORDS[2..3] } else { &RECORDS };
     for stem in stems {
@@ -81,7 +105,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     let mut solvers = vec![Solver {
         family: "exact (linearised)",
         setting: 0.0,
-        model: Model::Linearized,
+        model: Model::LINEARIZED,
     }];
     let rk_steps: &[u32] = if args.quick {
         &[1, 8]
@@ -92,9 +116,9 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         solvers.push(Solver {
             family: "RK4 (linearised)",
             setting: m as f64,
-            model: Model::Rk4 {
-                substeps: m,
-                alpha_rad: None,
+            model: Model {
+                equation: Equation::Linearized,
+                integrator: Integrator::Rk4 { substeps: m },
             },
         });
     }
@@ -107,10 +131,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         solvers.push(Solver {
             family: "DP5 (nonlinear, α = 0.1)",
             setting: rtol,
-            model: Model::Nonlinear {
-                alpha_rad: ALPHA_NL,
-                rtol,
-            },
+            model: Model::nonlinear(ALPHA_NL, rtol),
         });
     }
     let rk_nl: &[u32] = if args.quick { &[4] } else { &[1, 4, 16, 64] };
@@ -118,21 +139,19 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         solvers.push(Solver {
             family: "RK4 (nonlinear, α = 0.1)",
             setting: m as f64,
-            model: Model::Rk4 {
-                substeps: m,
-                alpha_rad: Some(ALPHA_NL),
+            model: Model {
+                equation: Equation::Nonlinear {
+                    alpha_rad: ALPHA_NL,
+                },
+                integrator: Integrator::Rk4 { substeps: m },
             },
         });
     }
-    let reference = |s: &Solver| match s.model {
-        Model::Linearized
-        | Model::Rk4 {
-            alpha_rad: None, ..
-        } => Model::Linearized,
-        _ => Model::Nonlinear {
-            alpha_rad: ALPHA_NL,
-            rtol: 1e-13,
-        },
+    // The reference of each equation: exact for the linearised one, DP5 at
+    // a tolerance far below any setting measured for the nonlinear one.
+    let reference = |s: &Solver| match s.model.equation {
+        Equation::Linearized => Model::LINEARIZED,
+        Equation::Nonlinear { alpha_rad } => Model::nonlinear(alpha_rad, 1e-13),
     };
     let grid = ImGrid::default();
     let tol = 1e-6;
@@ -143,19 +162,13 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         &grid,
         tol,
         args.reps.max(1),
-        |what| eprintln!("[{:6.1} s] {what}", started.elapsed().as_secs_f64()),
+        &mut say,
     )?;
 
-    eprintln!(
-        "[{:6.1} s] linearisation error against α",
-        started.elapsed().as_secs_f64()
-    );
-    let lin = linearisation_table(&args, if args.quick { 2 } else { 11 })?;
-    eprintln!(
-        "[{:6.1} s] overturning criteria",
-        started.elapsed().as_secs_f64()
-    );
-    let criteria = criteria_table(&args, if args.quick { 2 } else { 11 })?;
+    say("linearisation error against α");
+    let lin = linearisation_table(args, if args.quick { 2 } else { 11 })?;
+    say("overturning criteria");
+    let criteria = criteria_table(args, if args.quick { 2 } else { 11 })?;
 
     let svg = plot::log_log(
         "Speed against error: θmax/α at 1.25·η_c, bundled records and pulses",
@@ -163,8 +176,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         "median relative error of θmax/α (1e-16: exact)",
         &series(&rows),
         1e-16,
-    )
-    .map_err(|e| anyhow::anyhow!("plot: {e}"))?;
+    )?;
     let svg_name = "bench-speed-error.svg";
     atomic_write(&args.out_dir.join(svg_name), svg.as_bytes())?;
 
@@ -173,17 +185,12 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     md = replace_section(
         &md,
         "solvers",
-        &solver_section(&rows, &cases, &args, svg_name, grid.count, tol),
+        &solver_section(&rows, &cases, args, svg_name, grid.count, tol),
     );
     md = replace_section(&md, "linearisation", &lin);
     md = replace_section(&md, "criteria", &criteria);
     atomic_write(&md_path, md.as_bytes())?;
-    eprintln!(
-        "[{:6.1} s] wrote {} and {}",
-        started.elapsed().as_secs_f64(),
-        md_path.display(),
-        svg_name
-    );
+    say(&format!("wrote {} and {svg_name}", md_path.display()));
     Ok(())
 }
 
@@ -218,7 +225,7 @@ fn machine() -> String {
 fn solver_section(
     rows: &[Row],
     cases: &[Case],
-    args: &BenchArgs,
+    args: &BenchOptions,
     svg: &str,
     levels: usize,
     tol: f64,
@@ -269,10 +276,13 @@ fn solver_section(
 }
 
 /// `n` far-field records spread over the set (every k-th by file name).
-fn spread_records(args: &BenchArgs, n_records: usize) -> anyhow::Result<Vec<Excitation>> {
+fn spread_records(args: &BenchOptions, n_records: usize) -> Result<Vec<Excitation>, BenchError> {
     let dir = args.records.join("far-field");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .with_context(|| format!("{}: cannot list", dir.display()))?
+        .map_err(|source| BenchError::List {
+            path: dir.clone(),
+            source,
+        })?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("at2")))
         .collect();
@@ -290,7 +300,7 @@ fn spread_records(args: &BenchArgs, n_records: usize) -> anyhow::Result<Vec<Exci
 }
 
 /// Median relative |η_c(nonlinear) − η_c(linearised)| / η_c over records × p × ε, per α.
-fn linearisation_table(args: &BenchArgs, n_records: usize) -> anyhow::Result<String> {
+fn linearisation_table(args: &BenchOptions, n_records: usize) -> Result<String, BenchError> {
     let recs = spread_records(args, n_records)?;
     let grid = ImGrid::default();
     let mut s = String::new();
@@ -317,15 +327,12 @@ fn linearisation_table(args: &BenchArgs, n_records: usize) -> anyhow::Result<Str
                 for eps in [0.6, 0.9] {
                     let l = capacity(
                         exc,
-                        &RunSpec::new(p, eps, 1.0, Model::Linearized),
+                        &RunSpec::new(p, eps, 1.0, Model::LINEARIZED),
                         &grid,
                         1e-4,
                     )?
                     .eta_c;
-                    let nl = Model::Nonlinear {
-                        alpha_rad: alpha,
-                        rtol: 1e-8,
-                    };
+                    let nl = Model::nonlinear(alpha, 1e-8);
                     let n = capacity(exc, &RunSpec::new(p, eps, 1.0, nl), &grid, 1e-4)?.eta_c;
                     if let (Some(l), Some(n)) = (l, n) {
                         rel.push(((n - l) / l).abs());
@@ -373,8 +380,7 @@ fn replace_section(doc: &str, name: &str, body: &str) -> String {
 
 /// How much the overturning criterion moves η_c (nonlinear model, α = 0.2):
 /// a cap at 1.5α and the block lying on its side against the static limit.
-fn criteria_table(args: &BenchArgs, n_records: usize) -> anyhow::Result<String> {
-    use crate::physics::Overturn;
+fn criteria_table(args: &BenchOptions, n_records: usize) -> Result<String, BenchError> {
     let recs = spread_records(args, n_records)?;
     let grid = ImGrid::default();
     let alpha = 0.2;
@@ -397,10 +403,7 @@ fn criteria_table(args: &BenchArgs, n_records: usize) -> anyhow::Result<String> 
         for exc in &recs {
             for p in [1.0, 3.0, 8.0] {
                 for eps in [0.6, 0.9] {
-                    let model = Model::Nonlinear {
-                        alpha_rad: alpha,
-                        rtol: 1e-8,
-                    };
+                    let model = Model::nonlinear(alpha, 1e-8);
                     let base = RunSpec::new(p, eps, 1.0, model);
                     let st = capacity(exc, &base, &grid, 1e-4)?.eta_c;
                     let other = capacity(

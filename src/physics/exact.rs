@@ -1,4 +1,4 @@
-//! Exact stepping of the linearised rocking equation.
+//! The exact integrator: closed-form stepping of the linearised rocking equation.
 //!
 //! On pivot `s`, with `ψ̈(τ0 + σ) = g_a + g1·σ` over a stretch of a sample
 //! interval, `ẍ = p²(x − s) + (p²/η)ψ̈` is linear with a linear forcing. With
@@ -26,8 +26,7 @@
 //! ulps by safeguarded Newton iteration. The true maxima of |x| between
 //! samples are the turning points, so θmax is exact too.
 
-use super::energy::{self, Fate};
-use super::{Rocker, Rocking, Stretch, StretchEnd};
+use super::{Rocking, Stepper, Stretch, StretchEnd};
 
 /// `cosh z − 1`, without cancellation: its Taylor series (terms to z¹⁴) for
 /// |z| < 0.5, `2 sinh²(z/2)` above.
@@ -100,8 +99,8 @@ impl Coeffs {
     }
 }
 
-/// The linearised rocker; one per (p, η, dt).
-pub struct Linear {
+/// The exact stepper of the linearised equation; one per (p, η, dt).
+pub struct Exact {
     p: f64,
     eta: f64,
     inv_eta: f64,
@@ -209,9 +208,9 @@ fn first_positive_root(a: f64, b: f64, c: f64) -> f64 {
     }
 }
 
-impl Linear {
+impl Exact {
     pub fn new(p: f64, eta: f64, dt: f64, limit: f64) -> Self {
-        Linear {
+        Exact {
             p,
             eta,
             inv_eta: 1.0 / eta,
@@ -333,11 +332,7 @@ impl Linear {
     }
 }
 
-impl Rocker for Linear {
-    fn uplift_factor(&self) -> f64 {
-        1.0
-    }
-
+impl Stepper for Exact {
     #[allow(clippy::needless_range_loop)] // pieces end at turns[i], or at len for the last
     fn rock(&mut self, st: Stretch, state: &mut Rocking, max_abs_x: &mut f64) -> StretchEnd {
         let s = state.s;
@@ -397,10 +392,6 @@ impl Rocker for Linear {
         }
         StretchEnd::End
     }
-
-    fn free_fate(&self, state: Rocking, eps: f64) -> Fate {
-        energy::linear_fate(self.p, state, eps)
-    }
 }
 
 #[cfg(test)]
@@ -434,7 +425,7 @@ mod tests {
         let (p, eta, s) = (2.5, 0.3, -1.0);
         let (x0, v0, g_a, g1) = (-0.2, 0.7, -0.25, 8.0);
         let len = 0.05;
-        let lin = Linear::new(p, eta, len, 1.0);
+        let lin = Exact::new(p, eta, len, 1.0);
         let m = Motion {
             p,
             x_a: x0,

@@ -1,0 +1,39 @@
+//! `rocking bench`: the solvers' speed against their error.
+
+use std::path::PathBuf;
+
+use rocking::ops::bench::{self, BenchOptions};
+
+/// Measure the solvers' speed against their error; write docs/BENCHMARKS.md sections and a plot.
+#[derive(Debug, clap::Args)]
+#[command(long_about = "Measure the solvers' speed against their error.\n\n\
+    Times the exact linearised stepper, fixed-step RK4 at several step sizes and the nonlinear \
+    Dormand–Prince integrator at several tolerances on bundled records and closed-form pulses, \
+    compares each with a tight reference, and measures the linearisation error against α \
+    (the basis of --model auto). Rewrites the marked sections of BENCHMARKS.md in --out-dir \
+    and writes the speed–error plot beside it. Takes a few minutes.")]
+pub struct Args {
+    /// Folder of the bundled records (with far-field/ inside).
+    #[arg(long, default_value = "records/fema-p695")]
+    records: PathBuf,
+    /// Where BENCHMARKS.md and the plot are written.
+    #[arg(long, default_value = "docs")]
+    out_dir: PathBuf,
+    /// Repetitions per timing (the median is reported).
+    #[arg(long, default_value_t = 5)]
+    reps: usize,
+    /// Fewer cases and settings: a smoke run, not for the record.
+    #[arg(long)]
+    quick: bool,
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let opts = BenchOptions {
+        records: args.records,
+        out_dir: args.out_dir,
+        reps: args.reps,
+        quick: args.quick,
+    };
+    bench::run(&opts, |line| eprintln!("{line}"))?;
+    Ok(())
+}

@@ -1,0 +1,113 @@
+//! `rocking fragility`: P(overturn | PGA) of a real block.
+
+use std::path::PathBuf;
+
+use rocking::ops::fragility::{self, Request, Source};
+
+/// Probability that a real block overturns at given PGAs.
+#[derive(Debug, clap::Args)]
+#[command(
+    allow_negative_numbers = true,
+    long_about = "Probability that a real block overturns at given peak ground accelerations.\n\n\
+    P(overturn | PGA) = Φ((ln η_c,50 − ln η)/β), η = αg/PGA, with the capacity fractiles from the \
+    paper's regression (--from paper, the default) or a pipeline's own fit (--from PIPELINE.toml). \
+    --direct also runs the block through a record suite (the pipeline's, or the bundled far-field \
+    set) and prints the share of records whose capacity it exceeds at each PGA."
+)]
+pub struct Args {
+    /// Half-width of the block (m).
+    #[arg(long, value_name = "m")]
+    b: f64,
+    /// Half-height of the block (m).
+    #[arg(long, value_name = "m")]
+    h: f64,
+    /// Coefficient of restitution, or `housner` for 1 − 1.5 sin²α.
+    #[arg(long, default_value = "housner", value_parser = parse_eps)]
+    eps: EpsArg,
+    /// Peak ground accelerations (g), comma-separated.
+    #[arg(long, value_name = "g[,g…]", value_delimiter = ',', required = true)]
+    pga: Vec<f64>,
+    /// `paper` (published coefficients) or a pipeline file whose fit to use.
+    #[arg(long, default_value = "paper")]
+    from: String,
+    /// Root of the outputs (for --from PIPELINE.toml).
+    #[arg(long, default_value = "outputs")]
+    outputs: PathBuf,
+    /// Also run the block through the record suite and report the empirical fraction.
+    #[arg(long)]
+    direct: bool,
+    /// Records for --direct when --from paper: a folder of AT2 files.
+    #[arg(long, default_value = "records/fema-p695/far-field")]
+    records: PathBuf,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Debug, Clone, Copy)]
+enum EpsArg {
+    Housner,
+    Value(f64),
+}
+
+fn parse_eps(text: &str) -> Result<EpsArg, String> {
+    if text == "housner" {
+        return Ok(EpsArg::Housner);
+    }
+    text.parse::<f64>()
+        .map(EpsArg::Value)
+        .map_err(|_| format!("`{text}`: a number in (0, 1] or `housner`"))
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let req = Request {
+        b_m: args.b,
+        h_m: args.h,
+        eps: match args.eps {
+            EpsArg::Housner => None,
+            EpsArg::Value(e) => Some(e),
+        },
+        pga_g: args.pga.clone(),
+        from: if args.from == "paper" {
+            Source::Paper {
+                records: args.records.clone(),
+            }
+        } else {
+            Source::Pipeline {
+                file: PathBuf::from(&args.from),
+                outputs: args.outputs.clone(),
+            }
+        },
+        direct: args.direct,
+    };
+    let a = fragility::assess(&req)?;
+    if args.json {
+        println!("{}", serde_json::to_string(&a)?);
+        return Ok(());
+    }
+    println!(
+        "block b = {} m, h = {} m: α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}; capacity from {}: median η_c = {:.4} (PGA {:.3} g), β = {:.3}",
+        a.b_m, a.h_m, a.alpha_rad, a.p, a.eps, a.source, a.eta_c_median, a.alpha_rad / a.eta_c_median, a.beta
+    );
+    let direct = a.records.is_some();
+    println!(
+        "{:>10} {:>10} {:>14}{}",
+        "PGA (g)",
+        "η",
+        "P(overturn)",
+        if direct { "  records overturned" } else { "" }
+    );
+    for pt in &a.points {
+        match pt.empirical {
+            Some(e) => println!(
+                "{:>10.4} {:>10.4} {:>14.4}  {:>18.4}",
+                pt.pga_g, pt.eta, pt.probability, e
+            ),
+            None => println!(
+                "{:>10.4} {:>10.4} {:>14.4}",
+                pt.pga_g, pt.eta, pt.probability
+            ),
+        }
+    }
+    Ok(())
+}

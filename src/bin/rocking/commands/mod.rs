@@ -1,0 +1,79 @@
+//! The commands: one file each (cargo's `src/bin/cargo/commands/`), wired
+//! by one line in [`Command`] and one in [`dispatch`]. Stage commands come
+//! from the library's registry ([`stage`]).
+
+use std::process::ExitCode;
+
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
+
+mod args;
+mod bench;
+mod capacity;
+mod fragility;
+mod ingest;
+mod run;
+mod simulate;
+mod stage;
+mod status;
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "rocking",
+    version,
+    about = "Overturning capacity and fragility of free-standing rigid blocks under earthquake records",
+    long_about = "Overturning capacity and fragility of free-standing rigid blocks under earthquake records.\n\n\
+        A block (statue, cabinet, transformer, server rack) resting on a rigid base rocks about its \
+        corners when the ground shakes and may overturn. rocking runs incremental dynamic analysis \
+        over a suite of ground-motion records and reduces it to capacity fractiles, a regression \
+        and fragility curves, as a pipeline of stages over Parquet tables.",
+    after_help = "Each stage reads and writes Parquet tables documented in outputs/README.md."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    Ingest(ingest::Args),
+    Simulate(simulate::Args),
+    Capacity(capacity::Args),
+    Bench(bench::Args),
+    Fragility(fragility::Args),
+    Run(run::Args),
+    Status(status::Args),
+}
+
+fn dispatch(command: Command) -> anyhow::Result<()> {
+    match command {
+        Command::Ingest(a) => ingest::run(a),
+        Command::Simulate(a) => simulate::run(a),
+        Command::Capacity(a) => capacity::run(a),
+        Command::Bench(a) => bench::run(a),
+        Command::Fragility(a) => fragility::run(a),
+        Command::Run(a) => run::run(a),
+        Command::Status(a) => status::run(a),
+    }
+}
+
+/// Parses the command line, runs the command, prints errors with their causes.
+pub fn main() -> ExitCode {
+    let matches = stage::augment(Cli::command()).get_matches();
+    let result = match stage::matching(&matches) {
+        Some((stage, sub)) => stage::run(stage, sub),
+        None => match Cli::from_arg_matches(&matches) {
+            Ok(cli) => dispatch(cli.command),
+            Err(e) => e.exit(),
+        },
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            for cause in e.chain().skip(1) {
+                eprintln!("  caused by: {cause}");
+            }
+            ExitCode::FAILURE
+        }
+    }
+}

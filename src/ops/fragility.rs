@@ -1,0 +1,219 @@
+//! `rocking fragility`: the probability that a real block overturns at given
+//! PGAs, from the paper's regression or a pipeline's fit, and optionally the
+//! share of records it overturns under when run through them directly.
+
+use std::path::PathBuf;
+
+use rayon::prelude::*;
+
+use crate::fragility::{self, Block, FractileLaw};
+use crate::ida::{self, ImGrid};
+use crate::physics::{Excitation, ModelChoice, PhysicsError, RunSpec};
+use crate::pipeline::Plan;
+use crate::stages::fit::{self, FitError};
+use crate::stages::ingest::{self, IngestError, OnBad};
+use crate::stages::records::{self, SelectError};
+use crate::stages::{LoadError, Study};
+
+/// What the user asks: the block (ε as given), where the capacities come
+/// from, the PGAs.
+#[derive(Debug, Clone)]
+pub struct Request {
+    pub b_m: f64,
+    pub h_m: f64,
+    /// `None`: Housner's bound 1 − 1.5 sin²α.
+    pub eps: Option<f64>,
+    pub pga_g: Vec<f64>,
+    pub from: Source,
+    /// Also run the block through the records.
+    pub direct: bool,
+}
+
+/// Where the capacity fractiles come from.
+#[derive(Debug, Clone)]
+pub enum Source {
+    /// The paper's published coefficients; `--direct` runs the AT2 files of `records`.
+    Paper { records: PathBuf },
+    /// A pipeline's own fit, in `<outputs>/<name>/`; `--direct` runs its records.
+    Pipeline { file: PathBuf, outputs: PathBuf },
+}
+
+/// One PGA of the answer.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Point {
+    pub pga_g: f64,
+    pub eta: f64,
+    pub probability: f64,
+    /// With `--direct`: the share of records whose capacity the block exceeds.
+    pub empirical: Option<f64>,
+}
+
+/// The answer.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Assessment {
+    pub b_m: f64,
+    pub h_m: f64,
+    pub alpha_rad: f64,
+    pub p: f64,
+    pub eps: f64,
+    /// `paper` or the pipeline file.
+    pub source: String,
+    pub eta_c_median: f64,
+    pub beta: f64,
+    /// Records run with `--direct`.
+    pub records: Option<usize>,
+    pub points: Vec<Point>,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum FragilityError {
+    #[error("--b and --h must be positive (m); got b = {b}, h = {h}")]
+    Size { b: f64, h: f64 },
+    #[error("--eps = {0}: ε must be in (0, 1]")]
+    Eps(f64),
+    #[error(
+        "Housner's ε = 1 − 1.5 sin²α = {eps:.3} is not positive for a block this stocky \
+         (b/h = {ratio:.3}, α = {alpha:.3} rad): give --eps, a coefficient of restitution in (0, 1]"
+    )]
+    HousnerEps { eps: f64, ratio: f64, alpha: f64 },
+    #[error("--pga {0}: accelerations must be positive (g)")]
+    Pga(f64),
+    #[error("--pga: give at least one acceleration")]
+    NoPga,
+    #[error("the regression gives no valid capacity fractiles at p = {p:.3}, ε = {eps:.3}")]
+    NoFractiles { p: f64, eps: f64 },
+    #[error(transparent)]
+    Pipeline(#[from] LoadError),
+    #[error(transparent)]
+    Fit(#[from] FitError),
+    #[error("--direct")]
+    Records(#[source] SelectError),
+    #[error("--direct")]
+    Ingest(#[source] IngestError),
+    #[error("--direct: record {record}")]
+    Physics {
+        record: String,
+        #[source]
+        source: PhysicsError,
+    },
+}
+
+/// What `--direct` says about bad files in `--records`.
+const RECORDS_HINT: &str = "fix them, or point --records at a folder of good AT2 files";
+
+/// Checks the request and computes the fragility.
+pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
+    if !(req.b_m > 0.0 && req.h_m > 0.0 && req.b_m.is_finite() && req.h_m.is_finite()) {
+        return Err(FragilityError::Size {
+            b: req.b_m,
+            h: req.h_m,
+        });
+    }
+    let eps = match req.eps {
+        Some(e) if e > 0.0 && e <= 1.0 => e,
+        Some(e) => return Err(FragilityError::Eps(e)),
+        None => {
+            let e = Block::housner_eps(req.b_m, req.h_m);
+            if !(e > 0.0) {
+                return Err(FragilityError::HousnerEps {
+                    eps: e,
+                    ratio: req.b_m / req.h_m,
+                    alpha: (req.b_m / req.h_m).atan(),
+                });
+            }
+            e
+        }
+    };
+    if req.pga_g.is_empty() {
+        return Err(FragilityError::NoPga);
+    }
+    if let Some(&bad) = req.pga_g.iter().find(|g| !(**g > 0.0 && g.is_finite())) {
+        return Err(FragilityError::Pga(bad));
+    }
+    let block = Block {
+        b_m: req.b_m,
+        h_m: req.h_m,
+        eps,
+    };
+    let (alpha, p) = (block.alpha(), block.p());
+    let (laws, plan, source) = match &req.from {
+        Source::Paper { .. } => (fragility::paper().to_vec(), None, "paper".to_string()),
+        Source::Pipeline { file, outputs } => {
+            let study = Study::load(file, outputs)?;
+            let laws: Vec<FractileLaw> = fit::read_laws(&study.dir, &file.display().to_string())?;
+            (laws, Some(study.plan), file.display().to_string())
+        }
+    };
+    let (median, beta) =
+        fragility::median_beta(&laws, p, eps).ok_or(FragilityError::NoFractiles { p, eps })?;
+    let capacities = if req.direct {
+        Some(direct(&req.from, plan.as_ref(), &block)?)
+    } else {
+        None
+    };
+    let points = req
+        .pga_g
+        .iter()
+        .map(|&pga| {
+            let eta = alpha / pga;
+            Point {
+                pga_g: pga,
+                eta,
+                probability: fragility::probability(median, beta, alpha, pga),
+                empirical: capacities
+                    .as_ref()
+                    .map(|c| c.iter().filter(|&&ec| eta < ec).count() as f64 / c.len() as f64),
+            }
+        })
+        .collect();
+    Ok(Assessment {
+        b_m: req.b_m,
+        h_m: req.h_m,
+        alpha_rad: alpha,
+        p,
+        eps,
+        source,
+        eta_c_median: median,
+        beta,
+        records: capacities.as_ref().map(Vec::len),
+        points,
+    })
+}
+
+/// The block's capacity under every record (0 where it survives every
+/// level), with the model `--model auto` would choose for its α.
+fn direct(from: &Source, plan: Option<&Plan>, block: &Block) -> Result<Vec<f64>, FragilityError> {
+    let rows = match (from, plan) {
+        (_, Some(plan)) => records::load(plan).map_err(FragilityError::Records)?,
+        (Source::Paper { records }, None) => {
+            ingest::collect(
+                std::slice::from_ref(records),
+                None,
+                OnBad::Refuse(RECORDS_HINT),
+            )
+            .map_err(FragilityError::Ingest)?
+            .rows
+        }
+        (Source::Pipeline { .. }, None) => unreachable!("a pipeline source has a plan"),
+    };
+    let (model, _) = ModelChoice::Auto
+        .resolve(Some(block.alpha()), 1e-8, 0.01)
+        .map_err(|source| FragilityError::Physics {
+            record: String::new(),
+            source,
+        })?;
+    let spec = RunSpec::new(block.p(), block.eps, 1.0, model);
+    rows.par_iter()
+        .map(|r| {
+            let physics = |source| FragilityError::Physics {
+                record: r.record_id.clone(),
+                source,
+            };
+            let exc = Excitation::new(&r.accel_g, r.dt_s).map_err(physics)?;
+            Ok(ida::capacity(&exc, &spec, &ImGrid::default(), 1e-4)
+                .map_err(physics)?
+                .eta_c
+                .unwrap_or(0.0))
+        })
+        .collect()
+}

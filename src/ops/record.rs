@@ -1,0 +1,62 @@
+//! One AT2 record read for the solvers (`simulate`, `capacity`, `bench`).
+
+use std::path::{Path, PathBuf};
+
+use crate::at2::{self, At2Error};
+use crate::physics::{Excitation, PhysicsError};
+
+/// A record ready to run, with what the reports show.
+#[derive(Debug, Clone)]
+pub struct LoadedRecord {
+    /// The file stem.
+    pub record_id: String,
+    pub npts: usize,
+    pub pga_g: f64,
+    pub exc: Excitation,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum RecordError {
+    #[error("{path}: cannot read")]
+    Read {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// The parse error's line and text are in the message.
+    #[error("{path}:{}: {}", .error.line, .error.kind)]
+    Parse { path: PathBuf, error: At2Error },
+    #[error("{path}")]
+    Samples {
+        path: PathBuf,
+        #[source]
+        source: PhysicsError,
+    },
+}
+
+/// Reads and normalises one AT2 file.
+pub fn load(path: &Path) -> Result<LoadedRecord, RecordError> {
+    let bytes = std::fs::read(path).map_err(|source| RecordError::Read {
+        path: path.into(),
+        source,
+    })?;
+    let parsed = at2::parse(&bytes).map_err(|error| RecordError::Parse {
+        path: path.into(),
+        error,
+    })?;
+    let pga_g = crate::motion::peak(&parsed.accel_g, parsed.dt_s).map_or(0.0, |p| p.pga_g);
+    let exc =
+        Excitation::new(&parsed.accel_g, parsed.dt_s).map_err(|source| RecordError::Samples {
+            path: path.into(),
+            source,
+        })?;
+    Ok(LoadedRecord {
+        record_id: path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        npts: parsed.accel_g.len(),
+        pga_g,
+        exc,
+    })
+}

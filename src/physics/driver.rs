@@ -1,0 +1,324 @@
+//! The event loop shared by every integrator (docs/MODEL.md §3): uplift from
+//! rest, impacts (`ẋ⁺ = ε ẋ⁻`, pivot switch), rest, overturning, the record's
+//! end and the fate after it. An integrator only advances on one pivot
+//! ([`Stepper::rock`]); everything an event changes is done here, once.
+
+use super::history::{EventKind, HistoryPoint, Observer};
+use super::{Excitation, PhysicsError, Rocking, RunSpec, Stepper, Stretch, StretchEnd, MAX_EVENTS};
+use crate::label::Label;
+
+/// Why a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stop {
+    /// The record ended with the block rocking or at rest, and energy says it stays up.
+    Survived,
+    /// Reached the overturning limit.
+    Overturned,
+    /// At rest, and the rest of the record stays below the uplift threshold.
+    RestForGood,
+    /// Hit [`MAX_EVENTS`] (a bug guard; never expected).
+    EventLimit,
+}
+
+impl Label for Stop {
+    const ALL: &'static [Self] = &[
+        Stop::Survived,
+        Stop::Overturned,
+        Stop::RestForGood,
+        Stop::EventLimit,
+    ];
+    fn label(self) -> &'static str {
+        match self {
+            Stop::Survived => "survived",
+            Stop::Overturned => "overturned",
+            Stop::RestForGood => "rest_for_good",
+            Stop::EventLimit => "event_limit",
+        }
+    }
+}
+
+/// Summary of one run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Outcome {
+    /// max |x| = θmax/α over the run, including the free rocking after the
+    /// record (for an overturned block, the overturning limit).
+    pub max_abs_x: f64,
+    pub stop: Stop,
+    /// Time of overturning (s, from the first sample), if it overturned.
+    pub overturn_time_s: Option<f64>,
+    /// Whether the overturning happens after the record ends.
+    pub overturn_after_record: bool,
+    pub impacts: u64,
+    pub first_uplift_s: Option<f64>,
+    /// Sample intervals the run went through before it stopped (work done).
+    pub intervals: u64,
+}
+
+impl Outcome {
+    pub fn overturned(&self) -> bool {
+        self.stop == Stop::Overturned
+    }
+}
+
+/// Runs one record at one intensity.
+pub fn simulate(exc: &Excitation, spec: &RunSpec) -> Result<Outcome, PhysicsError> {
+    simulate_observed(exc, spec, &mut ())
+}
+
+/// [`simulate`], reporting history points to `obs`.
+pub fn simulate_observed(
+    exc: &Excitation,
+    spec: &RunSpec,
+    obs: &mut impl Observer,
+) -> Result<Outcome, PhysicsError> {
+    simulate_from(exc, spec, None, obs)
+}
+
+/// [`simulate_observed`] from a given rocking state at the first sample
+/// (`None`: at rest, the normal start). Used for free-rocking checks.
+pub fn simulate_from(
+    exc: &Excitation,
+    spec: &RunSpec,
+    start: Option<Rocking>,
+    obs: &mut impl Observer,
+) -> Result<Outcome, PhysicsError> {
+    spec.validate()?;
+    if let Some(st) = start {
+        if !(st.s == 1.0 || st.s == -1.0)
+            || !(st.x.is_finite() && st.v.is_finite())
+            || st.s * st.x < 0.0
+        {
+            return Err(PhysicsError::BadInput(format!(
+                "start state {st:?}: pivot must be ±1 and x on its side"
+            )));
+        }
+    }
+    let equation = spec.model.equation;
+    let limit = equation.overturn_limit(spec.overturn)?;
+    Ok(spec
+        .model
+        .integrator
+        .drive(equation, exc, spec, start, limit, obs))
+}
+
+/// The state of one run as the driver walks the record.
+struct Driver<'a, S, O> {
+    exc: &'a Excitation,
+    spec: &'a RunSpec,
+    limit: f64,
+    stepper: &'a mut S,
+    obs: &'a mut O,
+    /// Uplift threshold on |ψ̈| (the equation's factor times η).
+    threshold: f64,
+    /// Speed after an impact below which the block is at rest.
+    v_rest: f64,
+    /// `None`: at rest on the base.
+    state: Option<Rocking>,
+    events: u64,
+    out: Outcome,
+}
+
+/// The event loop, generic over the integrator (monomorphised per stepper).
+pub(super) fn drive<S: Stepper>(
+    exc: &Excitation,
+    spec: &RunSpec,
+    start: Option<Rocking>,
+    limit: f64,
+    stepper: &mut S,
+    obs: &mut impl Observer,
+) -> super::Outcome {
+    let mut d = Driver {
+        exc,
+        spec,
+        limit,
+        stepper,
+        obs,
+        threshold: spec.eta * spec.model.equation.uplift_factor(),
+        v_rest: spec.rest_tol * spec.p,
+        state: start,
+        events: 0,
+        out: Outcome {
+            max_abs_x: start.map_or(0.0, |st| st.x.abs()),
+            stop: Stop::Survived,
+            overturn_time_s: None,
+            overturn_after_record: false,
+            impacts: 0,
+            first_uplift_s: None,
+            intervals: 0,
+        },
+    };
+    let psi = &exc.psi;
+    d.emit(0.0, psi[0], EventKind::Start);
+    for k in 0..psi.len().saturating_sub(1) {
+        if d.state.is_none() && exc.suffix_max[k] <= d.threshold {
+            d.out.stop = Stop::RestForGood;
+            return d.out;
+        }
+        d.out.intervals += 1;
+        if d.interval(k).is_some() {
+            return d.out;
+        }
+        d.emit((k + 1) as f64 * exc.dt_s, psi[k + 1], EventKind::Sample);
+    }
+    d.emit(exc.duration_s(), 0.0, EventKind::RecordEnd);
+    d.after_record();
+    d.out
+}
+
+impl<S: Stepper, O: Observer> Driver<'_, S, O> {
+    /// Reports the current state as a history point.
+    #[inline(always)]
+    fn emit(&mut self, t_s: f64, psi: f64, kind: EventKind) {
+        let (x, v, pivot) = self.state.map_or((0.0, 0.0, 0), |r| (r.x, r.v, r.s as i8));
+        self.obs.point(HistoryPoint {
+            t_s,
+            x,
+            v,
+            pivot,
+            psi,
+            kind,
+        });
+    }
+
+    /// Walks sample interval `k` event by event. `Some(stop)` ends the run.
+    fn interval(&mut self, k: usize) -> Option<Stop> {
+        let dt = self.exc.dt_s;
+        let (g0, g_end) = (self.exc.psi[k], self.exc.psi[k + 1]);
+        let g1 = (g_end - g0) / dt;
+        let t_k = k as f64 * dt;
+        let mut tau = 0.0;
+        // Forcing at `tau`; exactly ±threshold at an uplift instant.
+        let mut g_a = g0;
+        while tau < dt {
+            self.events += 1;
+            if self.events > MAX_EVENTS {
+                self.out.stop = Stop::EventLimit;
+                return Some(Stop::EventLimit);
+            }
+            let Some(mut st) = self.state else {
+                // At rest: find where |ψ̈| first exceeds the threshold in [tau, dt].
+                let (at, side) = uplift_in(g_a, g_end, g1, dt - tau, self.threshold)?;
+                tau += at;
+                // The forcing at the crossing is exactly ±threshold (or beyond it
+                // when the block was already pushed past it at rest).
+                g_a = if at > 0.0 { side * self.threshold } else { g_a };
+                self.state = Some(Rocking {
+                    x: 0.0,
+                    v: 0.0,
+                    s: side,
+                });
+                self.out.first_uplift_s.get_or_insert(t_k + tau);
+                self.emit(t_k + tau, g_a, EventKind::Uplift);
+                continue;
+            };
+            let stretch = Stretch {
+                tau0: tau,
+                len: dt - tau,
+                g_a,
+                g1,
+            };
+            let end = self.stepper.rock(stretch, &mut st, &mut self.out.max_abs_x);
+            self.state = Some(st);
+            match end {
+                StretchEnd::End => return None,
+                StretchEnd::Overturn { sigma } => {
+                    let t = t_k + tau + sigma;
+                    self.out.stop = Stop::Overturned;
+                    self.out.overturn_time_s = Some(t);
+                    self.emit(t, g_a + g1 * sigma, EventKind::Overturn);
+                    return Some(Stop::Overturned);
+                }
+                StretchEnd::Settled { sigma } => {
+                    tau += sigma;
+                    g_a = g0 + g1 * tau;
+                    self.state = None;
+                    self.emit(t_k + tau, g_a, EventKind::Rest);
+                }
+                StretchEnd::Impact { sigma, v } => {
+                    tau += sigma;
+                    g_a = g0 + g1 * tau;
+                    self.out.impacts += 1;
+                    let v_plus = self.spec.eps * v;
+                    let kind = if v_plus.abs() < self.v_rest {
+                        self.state = None;
+                        EventKind::Rest
+                    } else {
+                        self.state = Some(Rocking {
+                            x: 0.0,
+                            v: v_plus,
+                            s: -st.s,
+                        });
+                        EventKind::Impact
+                    };
+                    self.emit(t_k + tau, g_a, kind);
+                }
+            }
+        }
+        None
+    }
+
+    /// After the record: free rocking, settled by energy; an overturning
+    /// still to come is followed (no forcing) to time it.
+    fn after_record(&mut self) {
+        let Some(mut st) = self.state else { return };
+        let fate = self
+            .spec
+            .model
+            .equation
+            .free_fate(self.spec.p, st, self.spec.eps);
+        if !fate.passes_crest {
+            self.out.max_abs_x = self.out.max_abs_x.max(fate.max_abs_x);
+            return;
+        }
+        self.out.max_abs_x = self.out.max_abs_x.max(self.limit);
+        self.out.stop = Stop::Overturned;
+        self.out.overturn_after_record = true;
+        // At most one impact lies on the way to the limit.
+        let mut t = self.exc.duration_s();
+        let horizon = 60.0 / self.spec.p;
+        for _ in 0..8 {
+            let stretch = Stretch {
+                tau0: 0.0,
+                len: horizon,
+                g_a: 0.0,
+                g1: 0.0,
+            };
+            let mut scratch = 0.0;
+            match self.stepper.rock(stretch, &mut st, &mut scratch) {
+                StretchEnd::Overturn { sigma } => {
+                    self.out.overturn_time_s = Some(t + sigma);
+                    break;
+                }
+                StretchEnd::Settled { .. } => break,
+                StretchEnd::Impact { sigma, v } => {
+                    t += sigma;
+                    self.out.impacts += 1;
+                    st = Rocking {
+                        x: 0.0,
+                        v: self.spec.eps * v,
+                        s: -st.s,
+                    };
+                }
+                StretchEnd::End => t += horizon,
+            }
+        }
+    }
+}
+
+/// First offset in `[0, len]` where `|g_a + g1 σ| > threshold`, and its side.
+/// Strict: a record that only touches the threshold does not lift the block.
+/// `g_b` is the forcing at the end of the stretch, the next sample itself
+/// (not `g_a + g1·len`, which can round past a threshold the sample only touches).
+fn uplift_in(g_a: f64, g_b: f64, g1: f64, len: f64, threshold: f64) -> Option<(f64, f64)> {
+    if g_a.abs() > threshold {
+        return Some((0.0, g_a.signum()));
+    }
+    if g_b.abs() <= threshold {
+        // Linear in σ: if neither end exceeds it, no point between does.
+        return None;
+    }
+    let side = g_b.signum();
+    // g_a + g1 σ = side·threshold; the crossing lies in (0, len].
+    let sigma = ((side * threshold - g_a) / g1).clamp(0.0, len);
+    Some((sigma, side))
+}

@@ -1,0 +1,153 @@
+//! The equations of motion (docs/MODEL.md §2) and what belongs to them
+//! rather than to an integrator: the slenderness α, the uplift threshold, the
+//! overturning limit of each criterion, the right-hand side on a pivot, and
+//! the fate of the free motion after the record (from energy).
+//!
+//! ```text
+//! linearised:  ẍ = p² (x − s) + (p²/η) ψ̈(t)
+//! nonlinear:   ẍ = −(p²/α) s sin(α(1 − s x)) + (p²/η) cos(α(1 − s x)) ψ̈(t)
+//! ```
+
+use super::energy::{self, Fate};
+use super::{Overturn, PhysicsError, Rocking};
+use crate::label::Label;
+
+/// Which equation of motion, with its parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Equation {
+    /// Paper Eq. 8: depends on p, η, ε only (the limit α → 0).
+    Linearized,
+    /// Paper Eq. 7 for a block of slenderness `alpha_rad`.
+    Nonlinear { alpha_rad: f64 },
+}
+
+/// The equation without its parameters: what the tables' `model` column holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EquationKind {
+    Linearized,
+    Nonlinear,
+}
+
+impl Label for EquationKind {
+    const ALL: &'static [Self] = &[EquationKind::Linearized, EquationKind::Nonlinear];
+    fn label(self) -> &'static str {
+        match self {
+            EquationKind::Linearized => "linearized",
+            EquationKind::Nonlinear => "nonlinear",
+        }
+    }
+}
+
+impl Equation {
+    pub fn kind(self) -> EquationKind {
+        match self {
+            Equation::Linearized => EquationKind::Linearized,
+            Equation::Nonlinear { .. } => EquationKind::Nonlinear,
+        }
+    }
+
+    /// The slenderness α (rad), when the equation has one.
+    pub fn alpha(self) -> Option<f64> {
+        match self {
+            Equation::Linearized => None,
+            Equation::Nonlinear { alpha_rad } => Some(alpha_rad),
+        }
+    }
+
+    pub fn validate(self) -> Result<(), PhysicsError> {
+        match self.alpha() {
+            Some(a) if !(a > 0.0 && a < std::f64::consts::FRAC_PI_2) => Err(
+                PhysicsError::BadInput(format!("α = {a} rad must be in (0, π/2)")),
+            ),
+            _ => Ok(()),
+        }
+    }
+
+    /// Uplift happens where |ψ̈| exceeds `η · uplift_factor()`: 1 for the
+    /// linearised equation, tan α / α for the nonlinear one.
+    pub fn uplift_factor(self) -> f64 {
+        match self {
+            Equation::Linearized => 1.0,
+            Equation::Nonlinear { alpha_rad } => alpha_rad.tan() / alpha_rad,
+        }
+    }
+
+    /// The `|x|` at which a run stops under `overturn`.
+    pub fn overturn_limit(self, overturn: Overturn) -> Result<f64, PhysicsError> {
+        overturn.limit(self.alpha())
+    }
+
+    /// Free rocking after the record: the largest |x| still to come and
+    /// whether the block passes the crest, from energy.
+    pub fn free_fate(self, p: f64, state: Rocking, eps: f64) -> Fate {
+        match self {
+            Equation::Linearized => energy::linear_fate(p, state, eps),
+            Equation::Nonlinear { alpha_rad } => energy::nonlinear_fate(p, alpha_rad, state, eps),
+        }
+    }
+}
+
+/// The acceleration ẍ on pivot `s` at position `x` under forcing `g = ψ̈`,
+/// for integrators that sample the right-hand side (DP5, RK4). One type per
+/// equation, so the integrator's inner loop is monomorphised.
+pub trait Rhs: Copy {
+    fn accel(&self, s: f64, x: f64, g: f64) -> f64;
+}
+
+/// The linearised right-hand side `p² (x − s) + (p²/η) g`.
+#[derive(Debug, Clone, Copy)]
+pub struct LinearRhs {
+    pub p2: f64,
+    pub p2_over_eta: f64,
+}
+
+impl LinearRhs {
+    pub fn new(p: f64, eta: f64) -> Self {
+        LinearRhs {
+            p2: p * p,
+            p2_over_eta: p * p / eta,
+        }
+    }
+}
+
+impl Rhs for LinearRhs {
+    #[inline]
+    fn accel(&self, s: f64, x: f64, g: f64) -> f64 {
+        self.p2 * (x - s) + self.p2_over_eta * g
+    }
+}
+
+/// The nonlinear right-hand side
+/// `−(p²/α) s sin(α(1 − s x)) + (p²/η) cos(α(1 − s x)) g`.
+#[derive(Debug, Clone, Copy)]
+pub struct NonlinearRhs {
+    pub p2_over_alpha: f64,
+    pub p2_over_eta: f64,
+    pub alpha: f64,
+}
+
+impl NonlinearRhs {
+    pub fn new(p: f64, eta: f64, alpha: f64) -> Self {
+        NonlinearRhs {
+            p2_over_alpha: p * p / alpha,
+            p2_over_eta: p * p / eta,
+            alpha,
+        }
+    }
+}
+
+impl Rhs for NonlinearRhs {
+    #[inline]
+    fn accel(&self, s: f64, x: f64, g: f64) -> f64 {
+        let (sin, cos) = (self.alpha * (1.0 - s * x)).sin_cos();
+        -self.p2_over_alpha * s * sin + self.p2_over_eta * cos * g
+    }
+}
+
+/// Median relative difference in η_c between the nonlinear and the
+/// linearised model, per α² (α in rad): measured as 0.43·α² (α from 0.025 to
+/// 0.4 rad, 11 far-field records × p ∈ {1, 3, 8} × ε ∈ {0.6, 0.9}; see
+/// docs/BENCHMARKS.md), rounded up. Single records can differ more, because a
+/// capacity is the first of possibly several overturning islands.
+pub const LINEARIZATION_ERROR_PER_ALPHA2: f64 = 0.45;

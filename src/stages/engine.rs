@@ -1,0 +1,464 @@
+//! Runs the stages of a study in registry order, each only when it is
+//! stale (or forced), under the study folder's lock, and saves each stage's
+//! fingerprint after it succeeds. `rocking run`, `rocking status`, `--from`,
+//! `--to` and the per-stage commands (`rocking sweep`, `reduce`, …) all go
+//! through here: one cache, one lock.
+
+use std::fmt;
+use std::time::Instant;
+
+use super::fingerprint::{self, Note, Stale};
+use super::lock::{Lock, LockError, Scope};
+use super::stage::{BoxError, Context, Reporter, Shard, Stage, StageEvent, Study};
+use super::STAGES;
+use crate::tables;
+
+/// Whether a stage must run, and why.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Freshness {
+    Fresh,
+    /// Fresh as a complete set of N shards.
+    FreshShards(usize),
+    Stale(Vec<Stale>),
+    /// The pipeline does not need this stage (why).
+    NotNeeded(String),
+}
+
+/// Why a stage runs.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Reason {
+    Stale(Vec<Stale>),
+    /// `--force`.
+    Forced,
+    /// `--from STAGE` at or before it.
+    From(&'static str),
+}
+
+impl fmt::Display for Reason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Reason::Stale(why) => {
+                let parts: Vec<String> = why.iter().map(Stale::to_string).collect();
+                f.write_str(&parts.join("; "))
+            }
+            Reason::Forced => f.write_str("forced (--force)"),
+            Reason::From(s) => write!(f, "forced (--from {s})"),
+        }
+    }
+}
+
+/// Why a stage does not run.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Skip {
+    Fresh,
+    FreshShards(usize),
+    NotNeeded(String),
+}
+
+impl fmt::Display for Skip {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Skip::Fresh => f.write_str("fresh"),
+            Skip::FreshShards(n) => write!(f, "fresh ({n} shards)"),
+            Skip::NotNeeded(why) => write!(f, "not needed: {why}"),
+        }
+    }
+}
+
+impl fmt::Display for Freshness {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Freshness::Fresh => f.write_str("fresh"),
+            Freshness::FreshShards(n) => write!(f, "fresh ({n} shards)"),
+            Freshness::Stale(why) => write!(f, "stale: {}", Reason::Stale(why.clone())),
+            Freshness::NotNeeded(why) => write!(f, "not needed: {why}"),
+        }
+    }
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    #[error(transparent)]
+    Lock(#[from] LockError),
+    #[error("stage `{stage}` failed")]
+    Stage {
+        stage: &'static str,
+        #[source]
+        source: BoxError,
+    },
+    #[error("stage `{stage}` cannot run: {why}")]
+    NotReady { stage: &'static str, why: String },
+    #[error("stage `{stage}` succeeded but its fingerprint could not be saved")]
+    Note {
+        stage: &'static str,
+        #[source]
+        source: BoxError,
+    },
+    #[error("stage `{0}` cannot be split into shards")]
+    NotShardable(&'static str),
+    #[error(
+        "{asked} worker threads is more than {max} (4 × the {cores} cores here): more threads \
+         than cores only add overhead"
+    )]
+    TooManyThreads {
+        asked: usize,
+        max: usize,
+        cores: usize,
+    },
+    #[error("worker threads must be at least 1")]
+    NoThreads,
+    #[error("cannot start {threads} worker threads")]
+    Threads {
+        threads: usize,
+        #[source]
+        source: rayon::ThreadPoolBuildError,
+    },
+}
+
+/// Which stages to run, and which to force.
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    /// Run up to and including this stage (default: all).
+    pub to: Option<&'static dyn Stage>,
+    /// Force every stage run (`--force`); with `to` set by a stage command,
+    /// only that stage.
+    pub force: Force,
+    /// Run the target stage as one shard.
+    pub shard: Option<Shard>,
+    /// Worker threads (default: one per core).
+    pub threads: Option<usize>,
+    /// The command, for the lock file and messages.
+    pub command: String,
+}
+
+/// What `--force` and `--from` ask.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub enum Force {
+    #[default]
+    Nothing,
+    /// Every stage run.
+    All,
+    /// The last stage run (the target of a stage command).
+    Target,
+    /// This stage and every later one.
+    From(&'static dyn Stage),
+}
+
+/// What happened to one stage.
+#[derive(Debug, Clone)]
+pub struct StageResult {
+    pub stage: &'static str,
+    pub outcome: Outcome,
+}
+
+#[derive(Debug, Clone)]
+pub enum Outcome {
+    Ran {
+        reason: Reason,
+        seconds: f64,
+        lines: Vec<String>,
+    },
+    Skipped(Skip),
+}
+
+/// The stage registered under `name`.
+pub fn find(name: &str) -> Option<&'static dyn Stage> {
+    STAGES.iter().copied().find(|s| s.name() == name)
+}
+
+/// "ingest, sweep, …": the registered names, for messages.
+pub fn names() -> String {
+    STAGES
+        .iter()
+        .map(|s| s.name())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Is `stage` fresh? (Runs nothing.)
+pub fn freshness(stage: &dyn Stage, study: &Study) -> Freshness {
+    if let Some(why) = stage.not_needed(study) {
+        return Freshness::NotNeeded(why);
+    }
+    let now = match fingerprint::parts(stage, study) {
+        Ok(p) => p,
+        Err(why) => return Freshness::Stale(why),
+    };
+    let whole = fingerprint::note_path(study, stage.name(), None);
+    let why = match fingerprint::read_note(study, &whole) {
+        Ok(note) => {
+            let declared = stage.outputs(study, None);
+            let why = fingerprint::compare(&now, &note, study, &declared);
+            if why.is_empty() {
+                return Freshness::Fresh;
+            }
+            why
+        }
+        Err(why) => vec![why],
+    };
+    if stage.shardable() {
+        if let Some(n) = fresh_shards(stage, study, &now) {
+            return Freshness::FreshShards(n);
+        }
+    }
+    Freshness::Stale(why)
+}
+
+/// `Some(N)` when N shard notes of one sharding cover 1..=N and are all fresh.
+fn fresh_shards(
+    stage: &dyn Stage,
+    study: &Study,
+    now: &std::collections::BTreeMap<String, String>,
+) -> Option<usize> {
+    let notes = fingerprint::shard_notes(study, stage.name());
+    let n = notes.first()?.0.n;
+    let set: Vec<_> = notes.iter().filter(|(s, _)| s.n == n).collect();
+    if set.len() != n || notes.len() != n {
+        return None;
+    }
+    for (shard, path) in set {
+        let note = fingerprint::read_note(study, path).ok()?;
+        let declared = stage.outputs(study, Some(*shard));
+        if !fingerprint::compare(now, &note, study, &declared).is_empty() {
+            return None;
+        }
+    }
+    Some(n)
+}
+
+/// Every stage's freshness, in order.
+pub fn status(study: &Study) -> Vec<(&'static str, Freshness)> {
+    STAGES
+        .iter()
+        .map(|s| (s.name(), freshness(*s, study)))
+        .collect()
+}
+
+/// Runs the stale (or forced) stages up to `opts.to`, in order.
+pub fn run(
+    study: &Study,
+    opts: &RunOptions,
+    reporter: &dyn Reporter,
+) -> Result<Vec<StageResult>, RunError> {
+    let last = match opts.to {
+        Some(t) => STAGES
+            .iter()
+            .position(|s| s.name() == t.name())
+            .expect("a registered stage"),
+        None => STAGES.len() - 1,
+    };
+    let stages = &STAGES[..=last];
+    if let Some(n) = opts.threads {
+        check_threads(n)?;
+    }
+    if let Some(shard) = opts.shard {
+        return run_shard(study, stages, shard, opts, reporter);
+    }
+    let _lock = Lock::take(&study.dir, Scope::Exclusive, &opts.command)?;
+    with_threads(opts.threads, || {
+        let mut results = Vec::new();
+        let mut forced_from = false;
+        for (i, &stage) in stages.iter().enumerate() {
+            if let Force::From(f) = opts.force {
+                forced_from |= f.name() == stage.name();
+            }
+            let fresh = freshness(stage, study);
+            let reason = match fresh {
+                Freshness::NotNeeded(why) => {
+                    skip(&mut results, reporter, stage, Skip::NotNeeded(why));
+                    continue;
+                }
+                _ if opts.force == Force::All => Reason::Forced,
+                _ if opts.force == Force::Target && i == last => Reason::Forced,
+                _ if forced_from => Reason::From(match opts.force {
+                    Force::From(f) => f.name(),
+                    _ => unreachable!("forced_from is set by Force::From only"),
+                }),
+                Freshness::Stale(why) => Reason::Stale(why),
+                Freshness::Fresh => {
+                    skip(&mut results, reporter, stage, Skip::Fresh);
+                    continue;
+                }
+                Freshness::FreshShards(n) => {
+                    skip(&mut results, reporter, stage, Skip::FreshShards(n));
+                    continue;
+                }
+            };
+            results.push(run_one(study, stage, None, reason, reporter)?);
+        }
+        Ok(results)
+    })
+}
+
+fn skip(
+    results: &mut Vec<StageResult>,
+    reporter: &dyn Reporter,
+    stage: &'static dyn Stage,
+    why: Skip,
+) {
+    reporter.stage(stage.name(), &StageEvent::Skipped(why.clone()));
+    results.push(StageResult {
+        stage: stage.name(),
+        outcome: Outcome::Skipped(why),
+    });
+}
+
+/// One shard of the last stage, under that shard's lock. Stale stages
+/// before it run first, also under the shard's lock: the N shards of a
+/// batch array may all find ingest stale and run it side by side, which is
+/// safe because its output is deterministic and written atomically.
+fn run_shard(
+    study: &Study,
+    stages: &[&'static dyn Stage],
+    shard: Shard,
+    opts: &RunOptions,
+    reporter: &dyn Reporter,
+) -> Result<Vec<StageResult>, RunError> {
+    let (&target, before) = stages.split_last().expect("at least one stage");
+    if !target.shardable() {
+        return Err(RunError::NotShardable(target.name()));
+    }
+    let _lock = Lock::take(&study.dir, Scope::Shard(shard), &opts.command)?;
+    with_threads(opts.threads, || {
+        let mut results = Vec::new();
+        for &stage in before {
+            match freshness(stage, study) {
+                Freshness::NotNeeded(why) => {
+                    skip(&mut results, reporter, stage, Skip::NotNeeded(why))
+                }
+                Freshness::Fresh => skip(&mut results, reporter, stage, Skip::Fresh),
+                Freshness::FreshShards(n) => {
+                    skip(&mut results, reporter, stage, Skip::FreshShards(n))
+                }
+                Freshness::Stale(why) => {
+                    results.push(run_one(study, stage, None, Reason::Stale(why), reporter)?)
+                }
+            }
+        }
+        let reason = match (opts.force, freshness_of_shard(target, study, shard)) {
+            (Force::Nothing, None) => {
+                skip(&mut results, reporter, target, Skip::Fresh);
+                return Ok(results);
+            }
+            (Force::Nothing, Some(why)) => Reason::Stale(why),
+            _ => Reason::Forced,
+        };
+        results.push(run_one(study, target, Some(shard), reason, reporter)?);
+        Ok(results)
+    })
+}
+
+/// `None` when the shard's own note is fresh, else why not.
+fn freshness_of_shard(stage: &dyn Stage, study: &Study, shard: Shard) -> Option<Vec<Stale>> {
+    let now = match fingerprint::parts(stage, study) {
+        Ok(p) => p,
+        Err(why) => return Some(why),
+    };
+    let path = fingerprint::note_path(study, stage.name(), Some(shard));
+    match fingerprint::read_note(study, &path) {
+        Ok(note) => {
+            let why = fingerprint::compare(&now, &note, study, &stage.outputs(study, Some(shard)));
+            (!why.is_empty()).then_some(why)
+        }
+        Err(why) => Some(vec![why]),
+    }
+}
+
+/// Runs one stage and saves its fingerprint.
+fn run_one(
+    study: &Study,
+    stage: &'static dyn Stage,
+    shard: Option<Shard>,
+    reason: Reason,
+    reporter: &dyn Reporter,
+) -> Result<StageResult, RunError> {
+    let name = stage.name();
+    reporter.stage(name, &StageEvent::Running(reason.clone()));
+    let cx = Context {
+        study,
+        shard,
+        reporter,
+        stage_seconds: fingerprint::recorded_seconds(study, STAGES),
+    };
+    let started = Instant::now();
+    let summary = stage.run(&cx).map_err(|source| RunError::Stage {
+        stage: name,
+        source,
+    })?;
+    let seconds = started.elapsed().as_secs_f64();
+    // Inputs are hashed again now that they are final.
+    let note_err = |source: BoxError| RunError::Note {
+        stage: name,
+        source,
+    };
+    let parts = fingerprint::parts(stage, study)
+        .map_err(|why| note_err(Reason::Stale(why).to_string().into()))?;
+    let mut written = stage.outputs(study, shard);
+    written.extend(summary.also_wrote.iter().cloned());
+    let outputs = fingerprint::hash_outputs(study, &written).map_err(|e| note_err(e.into()))?;
+    let note = Note {
+        stage: name.into(),
+        shard: shard.map(|s| s.to_string()),
+        parts,
+        outputs,
+        seconds,
+        reason: reason.to_string(),
+    };
+    let path = fingerprint::note_path(study, name, shard);
+    let text = serde_json::to_string_pretty(&note).expect("a note serialises");
+    tables::atomic_write(&path, text.as_bytes()).map_err(|e| note_err(e.into()))?;
+    // A whole run supersedes shard notes, and a shard the whole run's note.
+    match shard {
+        None => {
+            for (_, p) in fingerprint::shard_notes(study, name) {
+                let _ = std::fs::remove_file(p);
+            }
+        }
+        Some(_) => {
+            let _ = std::fs::remove_file(fingerprint::note_path(study, name, None));
+        }
+    }
+    reporter.stage(name, &StageEvent::Done { seconds });
+    Ok(StageResult {
+        stage: name,
+        outcome: Outcome::Ran {
+            reason,
+            seconds,
+            lines: summary.lines,
+        },
+    })
+}
+
+/// Refuses 0 threads and more than 4 per core (a hundred thousand threads
+/// would take minutes to start and gain nothing).
+pub fn check_threads(n: usize) -> Result<(), RunError> {
+    let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+    let max = 4 * cores;
+    match n {
+        0 => Err(RunError::NoThreads),
+        n if n > max => Err(RunError::TooManyThreads {
+            asked: n,
+            max,
+            cores,
+        }),
+        _ => Ok(()),
+    }
+}
+
+/// Runs `f` on a pool of `threads` workers (rayon's global pool by default).
+fn with_threads<T>(
+    threads: Option<usize>,
+    f: impl FnOnce() -> Result<T, RunError> + Send,
+) -> Result<T, RunError>
+where
+    T: Send,
+{
+    match threads {
+        None => f(),
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|source| RunError::Threads { threads: n, source })?
+            .install(f),
+    }
+}

@@ -1,0 +1,271 @@
+//! Stage fingerprints (cargo's design): named hashes of a stage's settings,
+//! of each input file's bytes and of the versions, never file times. After a
+//! stage succeeds, its fingerprint and the hashes of what it wrote are saved
+//! in `<study>/.fingerprints/<stage>.json` (`<stage>.shard-K-of-N.json` for
+//! one shard), with the reason it ran and how long it took. A stage is
+//! fresh when that note exists, parses, has the same parts, and its outputs
+//! are there unchanged; otherwise every difference is a typed [`Stale`]
+//! reason.
+//!
+//! Files are named relative to the study's folder or the pipeline's
+//! ([`Study::name_of`]), so a copied output folder stays fresh.
+
+use std::collections::BTreeMap;
+use std::fmt;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::stage::{Shard, Stage, Study};
+use crate::hash;
+
+/// The saved note of a stage that succeeded.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct Note {
+    pub stage: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shard: Option<String>,
+    /// Part name → hash: `settings`, `versions`, `input <file>`.
+    pub parts: BTreeMap<String, String>,
+    /// Output file → hash of its bytes when the stage finished.
+    pub outputs: BTreeMap<String, String>,
+    pub seconds: f64,
+    /// Why it last ran, as shown then.
+    pub reason: String,
+}
+
+/// Why a stage is stale. Each names the file or part concerned.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Stale {
+    /// No fingerprint: the stage never succeeded in this folder.
+    NeverRun,
+    /// The fingerprint file exists but cannot be read or parsed.
+    NoteUnreadable {
+        note: String,
+        problem: String,
+    },
+    SettingsChanged,
+    VersionsChanged,
+    /// An input file's bytes differ from when the stage last ran.
+    InputChanged(String),
+    /// A file it reads now that it did not read then (and the reverse).
+    InputNew(String),
+    InputGone(String),
+    /// An input it needs does not exist yet (an earlier stage has not run).
+    InputMissing(String),
+    /// Its inputs cannot be listed (a folder of AT2 files is unreadable).
+    InputsUnavailable(String),
+    OutputMissing(String),
+    /// An output was edited or replaced behind the tool's back.
+    OutputChanged(String),
+    /// An output it writes now is not in its fingerprint (written by an older version).
+    OutputNotRecorded(String),
+}
+
+impl fmt::Display for Stale {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Stale::NeverRun => write!(f, "never run here (no fingerprint)"),
+            Stale::NoteUnreadable { note, problem } => {
+                write!(f, "its fingerprint {note} is unreadable ({problem})")
+            }
+            Stale::SettingsChanged => write!(f, "settings changed"),
+            Stale::VersionsChanged => write!(f, "the tool's version changed"),
+            Stale::InputChanged(n) => write!(f, "input {n} changed"),
+            Stale::InputNew(n) => write!(f, "input {n} is new"),
+            Stale::InputGone(n) => write!(f, "input {n} is gone"),
+            Stale::InputMissing(n) => write!(f, "input {n} does not exist yet"),
+            Stale::InputsUnavailable(why) => write!(f, "its inputs cannot be listed: {why}"),
+            Stale::OutputMissing(n) => write!(f, "output {n} is missing"),
+            Stale::OutputChanged(n) => write!(f, "output {n} was changed since it was written"),
+            Stale::OutputNotRecorded(n) => write!(f, "output {n} is not in the fingerprint"),
+        }
+    }
+}
+
+/// The version part: the tool and the table schemas.
+fn versions() -> String {
+    format!("rocking {}; tables v1", env!("CARGO_PKG_VERSION"))
+}
+
+/// Where a stage's note lives.
+pub fn note_path(study: &Study, stage: &str, shard: Option<Shard>) -> PathBuf {
+    let file = match shard {
+        None => format!("{stage}.json"),
+        Some(s) => format!("{stage}.{}.json", s.tag()),
+    };
+    study.dir.join(".fingerprints").join(file)
+}
+
+/// Reads a note; `Err` is why the stage counts as stale.
+pub fn read_note(study: &Study, path: &Path) -> Result<Note, Stale> {
+    let text = match fs::read_to_string(path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(Stale::NeverRun),
+        Err(e) => {
+            return Err(Stale::NoteUnreadable {
+                note: study.name_of(path),
+                problem: e.to_string(),
+            })
+        }
+    };
+    serde_json::from_str(&text).map_err(|e| Stale::NoteUnreadable {
+        note: study.name_of(path),
+        problem: e.to_string(),
+    })
+}
+
+/// The fingerprint parts of `stage` as things stand, or why it cannot run yet.
+pub fn parts(stage: &dyn Stage, study: &Study) -> Result<BTreeMap<String, String>, Vec<Stale>> {
+    let mut p = BTreeMap::new();
+    p.insert("versions".to_string(), versions());
+    let settings = stage.settings(study);
+    if !settings.is_null() {
+        p.insert(
+            "settings".to_string(),
+            hash::sha256_hex(settings.to_string().as_bytes()),
+        );
+    }
+    let inputs = stage
+        .inputs(study)
+        .map_err(|e| vec![Stale::InputsUnavailable(e.to_string())])?;
+    let mut missing = Vec::new();
+    for f in inputs {
+        let name = study.name_of(&f);
+        match hash::file_sha256(&f) {
+            Ok(h) => {
+                p.insert(format!("input {name}"), h);
+            }
+            Err(_) => missing.push(Stale::InputMissing(name)),
+        }
+    }
+    if missing.is_empty() {
+        Ok(p)
+    } else {
+        Err(missing)
+    }
+}
+
+/// Every difference between the parts now and a note, and between the
+/// outputs it recorded (and those the stage declares) and the files there.
+pub fn compare(
+    now: &BTreeMap<String, String>,
+    note: &Note,
+    study: &Study,
+    declared: &[PathBuf],
+) -> Vec<Stale> {
+    let mut why = Vec::new();
+    let input_name = |k: &str| k.strip_prefix("input ").map(str::to_string);
+    for (k, v) in now {
+        match note.parts.get(k) {
+            Some(old) if old == v => {}
+            old => why.push(match (k.as_str(), input_name(k), old) {
+                ("settings", _, _) => Stale::SettingsChanged,
+                ("versions", _, _) => Stale::VersionsChanged,
+                (_, Some(n), Some(_)) => Stale::InputChanged(n),
+                (_, Some(n), None) => Stale::InputNew(n),
+                (_, None, _) => Stale::SettingsChanged,
+            }),
+        }
+    }
+    for k in note.parts.keys().filter(|k| !now.contains_key(*k)) {
+        why.push(match input_name(k) {
+            Some(n) => Stale::InputGone(n),
+            None => Stale::SettingsChanged,
+        });
+    }
+    let mut recorded: Vec<(&String, &String)> = note.outputs.iter().collect();
+    recorded.sort();
+    for (name, h) in recorded {
+        let path = study.dir.join(name);
+        match hash::file_sha256(&path) {
+            Err(_) => why.push(Stale::OutputMissing(name.clone())),
+            Ok(now) if &now != h => why.push(Stale::OutputChanged(name.clone())),
+            Ok(_) => {}
+        }
+    }
+    for out in declared {
+        let name = study.name_of(out);
+        if !note.outputs.contains_key(&name) && !why.contains(&Stale::OutputMissing(name.clone())) {
+            why.push(if out.exists() {
+                Stale::OutputNotRecorded(name)
+            } else {
+                Stale::OutputMissing(name)
+            });
+        }
+    }
+    why
+}
+
+/// Hashes of the outputs, named as fingerprints name them.
+pub fn hash_outputs(study: &Study, files: &[PathBuf]) -> std::io::Result<BTreeMap<String, String>> {
+    let mut out = BTreeMap::new();
+    for f in files {
+        let h = hash::file_sha256(f)
+            .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", f.display())))?;
+        out.insert(study.name_of(f), h);
+    }
+    Ok(out)
+}
+
+/// How long each stage took when it last succeeded here, by stage name.
+pub fn recorded_seconds(
+    study: &Study,
+    stages: &[&'static dyn Stage],
+) -> Vec<(&'static str, Option<f64>)> {
+    stages
+        .iter()
+        .map(|s| {
+            let seconds = read_note(study, &note_path(study, s.name(), None))
+                .ok()
+                .map(|n| n.seconds);
+            (s.name(), seconds)
+        })
+        .collect()
+}
+
+/// Shard notes present for `stage`: (shard, path), in shard order.
+pub fn shard_notes(study: &Study, stage: &str) -> Vec<(Shard, PathBuf)> {
+    let dir = study.dir.join(".fingerprints");
+    let Ok(entries) = fs::read_dir(&dir) else {
+        return Vec::new();
+    };
+    let prefix = format!("{stage}.shard-");
+    let mut found: Vec<(Shard, PathBuf)> = entries
+        .flatten()
+        .filter_map(|e| {
+            let name = e.file_name().to_string_lossy().into_owned();
+            let rest = name.strip_prefix(&prefix)?.strip_suffix(".json")?;
+            let (k, n) = rest.split_once("-of-")?;
+            let shard = Shard {
+                k: k.parse().ok()?,
+                n: n.parse().ok()?,
+            };
+            (shard.k >= 1 && shard.k <= shard.n).then(|| (shard, e.path()))
+        })
+        .collect();
+    found.sort_by_key(|(s, _)| (s.n, s.k));
+    found
+}
+
+/// Seconds of every whole-stage note in the study's folder, by stage name
+/// (for a stage whose output shows the others' run times).
+pub fn seconds_in_folder(study: &Study) -> BTreeMap<String, f64> {
+    let dir = study.dir.join(".fingerprints");
+    let Ok(entries) = fs::read_dir(&dir) else {
+        return BTreeMap::new();
+    };
+    entries
+        .flatten()
+        .filter_map(|e| {
+            let name = e.file_name().to_string_lossy().into_owned();
+            let stage = name.strip_suffix(".json")?;
+            if stage.contains('.') {
+                return None; // a shard's note
+            }
+            let note = read_note(study, &e.path()).ok()?;
+            Some((stage.to_string(), note.seconds))
+        })
+        .collect()
+}

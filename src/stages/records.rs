@@ -1,0 +1,93 @@
+//! The records a pipeline selects: read from a records table (or straight
+//! from AT2 files), filtered by `records.sets` and `records.ids`, sorted by
+//! record id. Glue shared by the sweep, the convergence study and
+//! `fragility --direct`.
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+use super::ingest::{self, IngestError, OnBad};
+use crate::pipeline::{Plan, RecordSource};
+use crate::tables::records::RecordRow;
+use crate::tables::{self, TableError};
+
+#[derive(Debug, thiserror::Error)]
+pub enum SelectError {
+    #[error(
+        "records table {0} does not exist; write it with `rocking ingest … --out {0}`, \
+         or point `records.at2` of the pipeline at AT2 folders"
+    )]
+    MissingTable(PathBuf),
+    #[error(transparent)]
+    Table(#[from] TableError),
+    #[error("the pipeline's AT2 records")]
+    Ingest(#[source] IngestError),
+    #[error("`records.sets` names \"{set}\", which no record has; available: {available}")]
+    UnknownSet { set: String, available: String },
+    #[error("`records.ids`: no record {0}")]
+    UnknownIds(String),
+    #[error("the record selection is empty")]
+    Empty,
+}
+
+/// The plan's records from the table at `table`, filtered and sorted.
+pub fn select(plan: &Plan, table: &Path) -> Result<Vec<RecordRow>, SelectError> {
+    if !table.exists() {
+        return Err(SelectError::MissingTable(table.into()));
+    }
+    filter(plan, tables::records::read(table)?)
+}
+
+/// The plan's records wherever the pipeline names them (a table, or AT2
+/// files read directly), filtered and sorted.
+pub fn load(plan: &Plan) -> Result<Vec<RecordRow>, SelectError> {
+    match &plan.records {
+        RecordSource::Table(path) => select(plan, path),
+        RecordSource::At2 { paths, manifest } => {
+            let rows = ingest::collect(
+                paths,
+                manifest.as_deref(),
+                OnBad::Refuse(ingest::PIPELINE_HINT),
+            )
+            .map_err(SelectError::Ingest)?
+            .rows;
+            filter(plan, rows)
+        }
+    }
+}
+
+fn filter(plan: &Plan, rows: Vec<RecordRow>) -> Result<Vec<RecordRow>, SelectError> {
+    let available_sets: BTreeSet<String> = rows.iter().filter_map(|r| r.meta.set.clone()).collect();
+    if let Some(set) = plan.sets.iter().find(|s| !available_sets.contains(*s)) {
+        return Err(SelectError::UnknownSet {
+            set: set.clone(),
+            available: if available_sets.is_empty() {
+                "none (the records carry no set: give a manifest)".to_string()
+            } else {
+                available_sets.into_iter().collect::<Vec<_>>().join(", ")
+            },
+        });
+    }
+    let ids: BTreeSet<&str> = rows.iter().map(|r| r.record_id.as_str()).collect();
+    let missing: Vec<&str> = plan
+        .ids
+        .iter()
+        .map(String::as_str)
+        .filter(|id| !ids.contains(id))
+        .collect();
+    if !missing.is_empty() {
+        return Err(SelectError::UnknownIds(missing.join(", ")));
+    }
+    let mut selected: Vec<RecordRow> = rows
+        .into_iter()
+        .filter(|r| {
+            plan.sets.is_empty() || r.meta.set.as_ref().is_some_and(|s| plan.sets.contains(s))
+        })
+        .filter(|r| plan.ids.is_empty() || plan.ids.contains(&r.record_id))
+        .collect();
+    if selected.is_empty() {
+        return Err(SelectError::Empty);
+    }
+    selected.sort_by(|a, b| a.record_id.cmp(&b.record_id));
+    Ok(selected)
+}

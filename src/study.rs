@@ -1,0 +1,50 @@
+//! A study's results as typed rows: what the figures ([`crate::figures`])
+//! and the report ([`crate::report`]) are made from. Pure data; the report
+//! stage loads it from the tables.
+
+use crate::fragility::FractileLaw;
+use crate::pipeline::Plan;
+use crate::tables::convergence::ConvergenceRow;
+use crate::tables::fit::FitStep1Row;
+use crate::tables::reduce::{CapacityFractileRow, HorizontalRow, LognormalRow};
+use crate::tables::sweep::{CapacityRow, IdaRow};
+
+/// Everything the figures and the report are drawn from.
+#[derive(Debug, Clone)]
+pub struct StudyData {
+    pub plan: Plan,
+    /// The pipeline file's name, as the report shows it.
+    pub pipeline: String,
+    pub caps: Vec<CapacityRow>,
+    pub ida: Vec<IdaRow>,
+    pub horizontal: Vec<HorizontalRow>,
+    pub capacity_fractiles: Vec<CapacityFractileRow>,
+    pub lognormal: Vec<LognormalRow>,
+    /// Empty when the pipeline has no fit.
+    pub fit_step1: Vec<FitStep1Row>,
+    pub laws: Vec<FractileLaw>,
+    pub convergence: Option<Vec<ConvergenceRow>>,
+    /// Seconds each stage took when it last ran, in run order.
+    pub stage_seconds: Vec<(String, Option<f64>)>,
+}
+
+impl StudyData {
+    /// Whether the blocks are the dimensionless p × ε grid (not physical blocks).
+    pub fn is_grid(&self) -> bool {
+        self.plan.blocks.iter().all(|b| b.name.is_empty())
+    }
+
+    /// The distinct p and ε of the blocks, ascending.
+    pub fn ps_and_eps(&self) -> (Vec<f64>, Vec<f64>) {
+        let d = |v: Vec<f64>| crate::stats::distinct(v);
+        (
+            d(self.plan.blocks.iter().map(|b| b.p).collect()),
+            d(self.plan.blocks.iter().map(|b| b.eps).collect()),
+        )
+    }
+
+    /// Records per block.
+    pub fn n_records(&self) -> usize {
+        self.caps.len() / self.plan.blocks.len().max(1)
+    }
+}

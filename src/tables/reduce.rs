@@ -1,0 +1,87 @@
+//! The reduce stage's tables (docs/MODEL.md §5). Every one starts with the
+//! block (`block` label, empty for the grid, `p`, `eps`); columns are
+//! documented in the README.
+
+use crate::table;
+
+table! {
+    /// Horizontal statistics: EDP fractiles at one grid level of one block.
+    pub struct HorizontalRow = "fractiles_horizontal" v 1 {
+        pub block: String,
+        pub p: f64,
+        pub eps: f64,
+        /// Index of the grid level (0 = weakest shaking).
+        pub level: i64,
+        pub eta: f64,
+        /// θmax/α fractiles; +∞ under the resurrection rule.
+        pub edp_q16: f64,
+        pub edp_q50: f64,
+        pub edp_q84: f64,
+        pub n_records: i64,
+        /// Records overturned at this or a weaker level.
+        pub n_overturned: i64,
+    }
+}
+
+table! {
+    /// Vertical statistics: η fractiles at which the EDP first reaches `edp`.
+    pub struct VerticalRow = "fractiles_vertical" v 1 {
+        pub block: String,
+        pub p: f64,
+        pub eps: f64,
+        pub edp: f64,
+        pub eta_q16: f64,
+        pub eta_q50: f64,
+        pub eta_q84: f64,
+        pub n_records: i64,
+        pub n_not_reached: i64,
+    }
+}
+
+table! {
+    /// A capacity fractile of one block.
+    pub struct CapacityFractileRow = "capacity_fractiles" v 1 {
+        pub block: String,
+        pub p: f64,
+        pub eps: f64,
+        pub quantile: f64,
+        /// Fractile of the records' η_c (a record that never overturned counts as 0).
+        pub eta_c: f64,
+        /// The largest grid level at which that EDP fractile is +∞ or ≥ 1.
+        pub eta_c_horizontal: Option<f64>,
+        pub n_records: i64,
+        pub n_censored: i64,
+    }
+}
+
+table! {
+    /// Lognormality of one block's η_c (Lilliefors).
+    pub struct LognormalRow = "lognormal" v 1 {
+        pub block: String,
+        pub p: f64,
+        pub eps: f64,
+        pub n: i64,
+        pub median_sample: Option<f64>,
+        pub beta_sample: Option<f64>,
+        pub median_fractile: Option<f64>,
+        pub beta_fractile: Option<f64>,
+        pub lilliefors_d: Option<f64>,
+        pub p_value: Option<f64>,
+        pub critical_d_5pct: Option<f64>,
+        pub rejected_5pct: bool,
+    }
+}
+
+table! {
+    /// Share of records overturned at one grid level of one block.
+    pub struct OverturnFractionRow = "overturn_fraction" v 1 {
+        pub block: String,
+        pub p: f64,
+        pub eps: f64,
+        pub level: i64,
+        pub eta: f64,
+        /// Empty where some record was not run at this level.
+        pub fraction_plain: Option<f64>,
+        pub fraction_resurrection: f64,
+    }
+}
