@@ -8,6 +8,9 @@
 //!   against the manifest and the files; bad input and atomic output.
 //! - `physics`: the solvers against closed forms, conservation laws,
 //!   symmetry and the hard cases of issue #3.
+//! - `quick`: the quick study unchanged from before the redesign, and the
+//!   analyst queries of outputs/README.md checked against its tables
+//!   (ROCKING_SLOW=1).
 //! - `reduce`: reduce, fit and fragility: definitions, Lilliefors by Monte
 //!   Carlo, the regression on synthetic data, reruns; the paper's grid
 //!   against Eq. 10 when ROCKING_SLOW=1 (CI sets it).
@@ -21,6 +24,7 @@
 mod cli;
 mod ingest;
 mod physics;
+mod quick;
 mod reduce;
 mod run;
 mod sweep;

@@ -1,0 +1,226 @@
+//! The quick study end to end (slow: `ROCKING_SLOW=1`, which CI sets):
+//!
+//! - **users see no change** (issue #9): every table of the quick study
+//!   has the schema and the data (every value, bit for bit) that rocking
+//!   0.1.0 wrote before the redesign. `tests/snapshots/quick_tables.txt`
+//!   holds, per table, its schema, row count and the SHA-256 of an exact
+//!   dump; it was made from the outputs of commit 8410787 (the last
+//!   version before the redesign) with
+//!   `ROCKING_BLESS=1 ROCKING_QUICK_FROM=<its outputs/quick> cargo test --release quick`.
+//!   Key-value metadata (versions, settings) is not compared.
+//! - **analysts can query the outputs** (issue #9): the polars and DuckDB
+//!   queries of `outputs/README.md` run against the study's folder, and
+//!   their answers equal the tool's own tables (medians from the raw
+//!   capacities against `capacity_fractiles`, resurrection shares from the
+//!   raw runs against `overturn_fraction`). Python with polars and duckdb
+//!   comes from `ROCKING_PYTHON` (`.ci/run` installs them in a venv) or
+//!   `python3`; under `ROCKING_SLOW` a missing module fails the test.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use rocking::tables::fit::{Coefficient, FitCoefficientRow, Source};
+use rocking::tables::read;
+use rocking::tables::reduce::{CapacityFractileRow, OverturnFractionRow};
+use sha2::{Digest, Sha256};
+
+use crate::util::{dump_table, rocking, root, schema_of, snapshot, stderr, tempdir};
+
+/// Schema, rows and digest of every table in `dir`, one line each.
+fn digests(dir: &Path) -> String {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".parquet"))
+        .collect();
+    names.sort();
+    let mut s = String::new();
+    for n in names {
+        let dump = dump_table(&dir.join(&n), true);
+        let hash: String = Sha256::digest(dump.as_bytes())
+            .iter()
+            .map(|b| format!("{b:02x}"))
+            .collect();
+        s.push_str(&format!(
+            "{n}\trows {}\tsha256 {hash}\t{}\n",
+            dump.lines().count() - 1,
+            schema_of(&dir.join(&n))
+        ));
+    }
+    s
+}
+
+#[test]
+fn quick_study_is_unchanged_and_answers_the_documented_queries() {
+    if std::env::var("ROCKING_SLOW").is_err() {
+        eprintln!("skipped: set ROCKING_SLOW=1 to run the quick study");
+        return;
+    }
+    let dir = tempdir();
+    let outputs = dir.path().join("outputs");
+    let folder = match std::env::var("ROCKING_QUICK_FROM") {
+        Ok(from) => PathBuf::from(from),
+        Err(_) => {
+            // The README's main job, from the repository root (the records
+            // table stores the AT2 paths as the pipeline reached them).
+            let out = rocking(
+                &root(),
+                &[
+                    "run",
+                    "pipelines/quick.toml",
+                    "--outputs",
+                    outputs.to_str().unwrap(),
+                ],
+            );
+            assert!(out.status.success(), "{}", stderr(&out));
+            outputs.join("quick")
+        }
+    };
+    snapshot("quick_tables.txt", &digests(&folder));
+    if std::env::var("ROCKING_QUICK_FROM").is_err() {
+        analyst_queries(dir.path(), &folder);
+    }
+}
+
+/// The Python program: every `python` block of outputs/README.md, every
+/// `sql` block through DuckDB, and a JSON line of the answers to check.
+fn program() -> String {
+    let readme = std::fs::read_to_string(root().join("outputs/README.md")).unwrap();
+    let blocks = |lang: &str| -> Vec<String> {
+        let fence = format!("```{lang}\n");
+        readme
+            .split(&fence)
+            .skip(1)
+            .map(|rest| rest.split("```").next().unwrap().to_string())
+            .collect()
+    };
+    let (py, sql) = (blocks("python"), blocks("sql"));
+    assert!(py.len() >= 1 && sql.len() >= 2, "the README shows its queries");
+    let mut prog = py.join("\n");
+    prog.push_str("\nimport duckdb, json\n");
+    for (i, q) in sql.iter().enumerate() {
+        prog.push_str(&format!("sql_{i} = duckdb.sql({q:?}).fetchall()\n"));
+    }
+    prog.push_str(
+        "print(json.dumps({\n\
+         'records': records.select('record_id', 'pga_g').rows(),\n\
+         'median': median.rows(),\n\
+         'share': share.select('eta', 'share_overturned').rows(),\n\
+         'sql_median': sql_0,\n\
+         'sql_coefficients': sql_1,\n\
+         }))\n",
+    );
+    prog
+}
+
+fn analyst_queries(cwd: &Path, folder: &Path) {
+    let python = std::env::var("ROCKING_PYTHON").unwrap_or_else(|_| "python3".into());
+    let probe = Command::new(&python)
+        .args(["-c", "import polars, duckdb"])
+        .output();
+    if !probe.as_ref().is_ok_and(|o| o.status.success()) {
+        panic!(
+            "{python} cannot import polars and duckdb (`.ci/run` installs them; locally: \
+             python3 -m venv v && v/bin/pip install polars duckdb, then ROCKING_PYTHON=v/bin/python)"
+        );
+    }
+    let out = Command::new(&python)
+        .args(["-c", &program()])
+        .current_dir(cwd)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "the README's queries fail:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let answers: serde_json::Value = serde_json::from_str(stdout.lines().last().unwrap())
+        .unwrap_or_else(|e| panic!("{e}: {stdout}"));
+
+    // Strongest record first, as the records table says.
+    let records: Vec<rocking::tables::records::RecordRow> =
+        read(&folder.join("records.parquet")).unwrap();
+    let strongest = records
+        .iter()
+        .max_by(|a, b| a.pga_g.total_cmp(&b.pga_g))
+        .unwrap();
+    assert_eq!(
+        answers["records"][0][0].as_str(),
+        Some(strongest.record_id.as_str())
+    );
+    assert_eq!(answers["records"].as_array().unwrap().len(), records.len());
+
+    // polars' median and DuckDB's quantile_cont interpolate between order
+    // statistics as Hyndman–Fan type 7 does, the quick study's definition:
+    // the 50 % capacity fractile, computed independently. Tolerance: one
+    // rounding of the mean of the two middle values.
+    let fractiles: Vec<CapacityFractileRow> =
+        read(&folder.join("capacity_fractiles.parquet")).unwrap();
+    let median_of = |p: f64, e: f64| {
+        fractiles
+            .iter()
+            .find(|r| r.p == p && r.eps == e && r.quantile == 0.5)
+            .unwrap()
+            .eta_c
+    };
+    for key in ["median", "sql_median"] {
+        let rows = answers[key].as_array().unwrap();
+        assert_eq!(rows.len(), 12, "{key}: one row per block");
+        for r in rows {
+            let (p, e, v) = (
+                r[0].as_f64().unwrap(),
+                r[1].as_f64().unwrap(),
+                r[2].as_f64().unwrap(),
+            );
+            let ours = median_of(p, e);
+            assert!(
+                (v - ours).abs() <= 2.0 * f64::EPSILON * ours,
+                "{key} p = {p} ε = {e}: {v} vs capacity_fractiles {ours}"
+            );
+        }
+    }
+
+    // The share overturned under the resurrection rule, from the raw runs,
+    // equals overturn_fraction at every level that was run: both are a count
+    // over 44, to an ulp (polars' column division is not always correctly
+    // rounded: 5/44 comes out one ulp high).
+    let fraction: Vec<OverturnFractionRow> =
+        read(&folder.join("overturn_fraction.parquet")).unwrap();
+    let share = answers["share"].as_array().unwrap();
+    assert!(share.len() > 20, "{share:?}");
+    for r in share {
+        let (eta, s) = (r[0].as_f64().unwrap(), r[1].as_f64().unwrap());
+        let row = fraction
+            .iter()
+            .find(|f| f.p == 2.0 && f.eps == 0.7 && f.eta == eta)
+            .unwrap_or_else(|| panic!("no level η = {eta}"));
+        let ours = row.fraction_resurrection;
+        assert!(
+            (s - ours).abs() <= 2.0 * f64::EPSILON * ours.max(f64::MIN_POSITIVE),
+            "η = {eta}: {s} vs overturn_fraction {ours}"
+        );
+    }
+
+    // The coefficient rows DuckDB selects are the fit's, unchanged.
+    let coeffs: Vec<FitCoefficientRow> = read(&folder.join("fit_coefficients.parquet")).unwrap();
+    let rows = answers["sql_coefficients"].as_array().unwrap();
+    assert_eq!(rows.len(), 6);
+    for r in rows {
+        let source = match r[0].as_str().unwrap() {
+            "fitted" => Source::Fitted,
+            _ => Source::Paper,
+        };
+        let coefficient = match r[1].as_str().unwrap() {
+            "a" => Coefficient::A,
+            "b" => Coefficient::B,
+            _ => Coefficient::C,
+        };
+        let ours = coeffs
+            .iter()
+            .find(|c| c.source == source && c.coefficient == coefficient && c.quantile == 0.5)
+            .unwrap();
+        assert_eq!(r[2].as_f64(), ours.c0);
+        assert_eq!(r[4].as_f64(), ours.c2);
+    }
+}
