@@ -95,7 +95,10 @@ fn program() -> String {
             .collect()
     };
     let (py, sql) = (blocks("python"), blocks("sql"));
-    assert!(py.len() >= 1 && sql.len() >= 2, "the README shows its queries");
+    assert!(
+        py.len() >= 1 && sql.len() >= 2,
+        "the README shows its queries"
+    );
     let mut prog = py.join("\n");
     prog.push_str("\nimport duckdb, json\n");
     for (i, q) in sql.iter().enumerate() {

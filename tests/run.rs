@@ -179,40 +179,59 @@ fn every_writer_takes_the_study_lock_issue_9() {
     let d = dir.path();
     let pipe = busy_study(d);
     let p = pipe.to_str().unwrap();
-    let mut first = std::process::Command::new(env!("CARGO_BIN_EXE_rocking"))
-        .args(["run", p, "--outputs", "out", "--threads", "1"])
-        .current_dir(d)
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::null())
-        .spawn()
-        .unwrap();
     let lock = d.join("out/busy/.lock");
-    wait_for(&lock, &mut first);
-    // Every command that writes into the folder is refused while `run`
-    // holds it, and says who holds it.
-    for args in [
-        vec!["sweep", p, "--outputs", "out"],
-        vec!["sweep", p, "--outputs", "out", "--shard", "1/2"],
-        vec!["run", p, "--outputs", "out"],
-        vec!["reduce", p, "--outputs", "out"],
-    ] {
-        let out = rocking(d, &args);
-        let err = stderr(&out);
-        assert!(!out.status.success(), "{args:?} ran beside `rocking run`");
-        assert!(
-            err.contains("is in use") && err.contains(&format!("pid {}", first.id())),
-            "{args:?}: {err}"
-        );
-        assert!(
-            err.contains("rocking run"),
-            "names the holder's command: {err}"
-        );
+    // Two sweeps at once used to collide on the part files; a sweep beside
+    // a run was not refused.
+    for holder in ["run", "sweep"] {
+        let mut first = std::process::Command::new(env!("CARGO_BIN_EXE_rocking"))
+            .args([holder, p, "--outputs", "out", "--threads", "1"])
+            .current_dir(d)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        wait_for(&lock, &mut first);
+        // Every command that writes into the folder is refused while it
+        // holds the lock, and says who holds it.
+        for args in [
+            vec!["sweep", p, "--outputs", "out"],
+            vec!["sweep", p, "--outputs", "out", "--shard", "1/2"],
+            vec!["run", p, "--outputs", "out"],
+            vec!["reduce", p, "--outputs", "out"],
+        ] {
+            let out = rocking(d, &args);
+            let err = stderr(&out);
+            assert!(
+                !out.status.success(),
+                "{args:?} ran beside `rocking {holder}`"
+            );
+            assert!(
+                err.contains("is in use") && err.contains(&format!("pid {}", first.id())),
+                "{args:?}: {err}"
+            );
+            assert!(
+                err.contains(&format!("rocking {holder}")),
+                "names the holder's command: {err}"
+            );
+        }
+        // Killed, its lock stays behind but no longer counts.
+        first.kill().unwrap();
+        first.wait().unwrap();
+        assert!(lock.exists(), "a killed {holder} leaves its lock");
     }
-    // Killed, its lock stays behind but no longer counts.
-    first.kill().unwrap();
-    first.wait().unwrap();
-    assert!(lock.exists(), "a killed run leaves its lock");
-    let out = rocking(d, &["sweep", p, "--outputs", "out", "--threads", "1"]);
+    let out = rocking(
+        d,
+        &[
+            "run",
+            p,
+            "--outputs",
+            "out",
+            "--to",
+            "sweep",
+            "--threads",
+            "1",
+        ],
+    );
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(!lock.exists(), "released at the end");
 }

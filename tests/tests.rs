@@ -4,6 +4,9 @@
 //!
 //! - `cli`: `simulate` and `capacity` through the binary: JSON, history
 //!   files, the definitions of η_c, bad input.
+//! - `faults`: the faults issue #9 lists (absurd sizes, corrupt parts, mixed
+//!   shards, misleading hints, thread counts, escaped file contents,
+//!   manifest lines, copied folders, hand-edited figures, typed reasons).
 //! - `ingest`: the records table from the bundled FEMA P695 files, checked
 //!   against the manifest and the files; bad input and atomic output.
 //! - `physics`: the solvers against closed forms, conservation laws,
@@ -22,6 +25,7 @@
 //! - `util`: helpers (running the binary, an independent AT2 reader).
 
 mod cli;
+mod faults;
 mod ingest;
 mod physics;
 mod quick;

@@ -86,6 +86,8 @@ pub enum FragilityError {
     Pipeline(#[from] LoadError),
     #[error(transparent)]
     Fit(#[from] FitError),
+    #[error("{pipeline} has no regression to take fractiles from: {why}; use --from paper")]
+    NoFit { pipeline: PathBuf, why: String },
     #[error("--direct")]
     Records(#[source] SelectError),
     #[error("--direct")]
@@ -140,6 +142,12 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
         Source::Paper { .. } => (fragility::paper().to_vec(), None, "paper".to_string()),
         Source::Pipeline { file, outputs } => {
             let study = Study::load(file, outputs)?;
+            if let Some(why) = fit::not_applicable(&study.plan) {
+                return Err(FragilityError::NoFit {
+                    pipeline: file.clone(),
+                    why,
+                });
+            }
             let laws: Vec<FractileLaw> = fit::read_laws(&study.dir, &file.display().to_string())?;
             (laws, Some(study.plan), file.display().to_string())
         }

@@ -385,7 +385,7 @@ fn part_paths(parts: &Path, c: usize) -> (PathBuf, PathBuf) {
 /// Why a part cannot be reused.
 enum PartProblem {
     Absent,
-    /// From another plan (or unreadable metadata): recomputed silently.
+    /// From another plan (the settings changed): recomputed silently.
     Stale,
     /// Current plan, wrong content (copied over, truncated): recomputed and logged.
     Corrupt(String),
@@ -404,7 +404,9 @@ fn verify_part(
     if !(ida_part.exists() && cap_part.exists()) {
         return Err(PartProblem::Absent);
     }
-    let meta_of = |p: &Path| tables::read_metadata(p).map_err(|_| PartProblem::Stale);
+    let meta_of = |p: &Path| {
+        tables::read_metadata(p).map_err(|e| PartProblem::Corrupt(format!("unreadable: {e}")))
+    };
     for p in [ida_part, cap_part] {
         let kv = meta_of(p)?;
         let get = |key: &str| kv.iter().find(|(k, _)| k == key).map(|(_, v)| v.as_str());

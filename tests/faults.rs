@@ -1,0 +1,459 @@
+//! Issue #9's faults, found by probing the tool as a hostile user would;
+//! each test failed before the fix. (The lock faults are in `run`.)
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use rocking::stages::engine::{self, Freshness};
+use rocking::stages::fingerprint::Stale;
+use rocking::stages::sweep::{read_capacities, DatasetError, FAULT_ENV};
+use rocking::stages::Study;
+
+use crate::util::{bundled_records, rocking, root, stderr, stdout, tempdir};
+
+/// A pipeline over the bundled far-field records with `body` after `[records]`.
+fn pipeline(dir: &Path, name: &str, body: &str) -> PathBuf {
+    let rec = bundled_records();
+    let text = format!(
+        "name = \"{name}\"\n[records]\nat2 = [\"{}\"]\nmanifest = \"{}\"\n{body}",
+        rec.display(),
+        rec.join("manifest.csv").display()
+    );
+    let path = dir.join(format!("{name}.toml"));
+    fs::write(&path, text).unwrap();
+    path
+}
+
+/// 3 records × 24 blocks = 72 cases: three chunks of 32.
+const THREE_CHUNKS: &str = r#"ids = ["RSN1111_KOBE_NIS000", "RSN953_NORTHR_MUL009", "RSN1633_MANJIL_ABBAR--L"]
+[blocks]
+p = { from = 0.5, to = 8.0, count = 6, spacing = "log" }
+eps = [0.6, 0.7, 0.8, 0.9]
+[im]
+count = 40
+eta_min = 0.01
+"#;
+
+fn copy_dir(from: &Path, to: &Path) {
+    fs::create_dir_all(to).unwrap();
+    for e in fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        let target = to.join(e.file_name());
+        if e.file_type().unwrap().is_dir() {
+            copy_dir(&e.path(), &target);
+        } else {
+            fs::copy(e.path(), target).unwrap();
+        }
+    }
+}
+
+#[test]
+fn absurd_sizes_are_refused_before_anything_is_allocated_issue_9() {
+    let dir = tempdir();
+    let d = dir.path();
+    let grid = "[blocks]\np = [1.0]\neps = [0.8]\n";
+    for (body, key) in [
+        (format!("{grid}[im]\ncount = 1000000000000\n"), "`im.count`"),
+        (
+            "[blocks]\np = { from = 1.0, to = 2.0, count = 1000000000000 }\neps = [0.8]\n".into(),
+            "`blocks.p.count`",
+        ),
+        (
+            format!("{grid}[convergence]\nlevels = [10, 1000000000000]\n"),
+            "`convergence.levels`",
+        ),
+    ] {
+        let pipe = pipeline(d, "huge", &body);
+        let out = rocking(d, &["run", pipe.to_str().unwrap(), "--outputs", "out"]);
+        // Exit code 1 and a message, not an allocation abort (134).
+        assert_eq!(out.status.code(), Some(1), "{body}: {}", stderr(&out));
+        assert!(stderr(&out).contains(key), "{body}: {}", stderr(&out));
+    }
+    let record = root().join("records/fema-p695/far-field/RSN1111_KOBE_NIS000.AT2");
+    let out = rocking(
+        d,
+        &[
+            "capacity",
+            "--record",
+            record.to_str().unwrap(),
+            "--p",
+            "2",
+            "--eps",
+            "0.8",
+            "--levels",
+            "1000000000000",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("levels is more than"),
+        "{}",
+        stderr(&out)
+    );
+    let out = rocking(d, &["bench", "--reps", "1000000000000", "--quick"]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(stderr(&out).contains("--reps"), "{}", stderr(&out));
+}
+
+#[test]
+fn a_part_copied_over_another_chunk_is_recomputed_issue_9() {
+    let reference = tempdir();
+    let ref_pipe = pipeline(reference.path(), "r", THREE_CHUNKS);
+    let out = rocking(
+        reference.path(),
+        &["sweep", ref_pipe.to_str().unwrap(), "--outputs", "out"],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+
+    let dir = tempdir();
+    let d = dir.path();
+    let pipe = pipeline(d, "r", THREE_CHUNKS);
+    // Crash after two chunks are saved, then copy chunk 0's parts over chunk 1's.
+    let crashed = std::process::Command::new(env!("CARGO_BIN_EXE_rocking"))
+        .args(["sweep", pipe.to_str().unwrap(), "--outputs", "out"])
+        .env(FAULT_ENV, "2")
+        .current_dir(d)
+        .output()
+        .unwrap();
+    assert!(!crashed.status.success());
+    let parts = d.join("out/r/parts");
+    for kind in ["cap", "ida"] {
+        fs::copy(
+            parts.join(format!("{kind}-000000.parquet")),
+            parts.join(format!("{kind}-000001.parquet")),
+        )
+        .unwrap();
+    }
+    let resumed = rocking(d, &["sweep", pipe.to_str().unwrap(), "--outputs", "out"]);
+    assert!(resumed.status.success(), "{}", stderr(&resumed));
+    let log = stderr(&resumed);
+    assert!(
+        log.contains("chunk 1 is not that chunk's") && log.contains("recomputing"),
+        "the corrupt part is logged: {log}"
+    );
+    assert!(
+        stdout(&resumed).contains("(32 resumed from an earlier run)"),
+        "only chunk 0 is trusted: {}",
+        stdout(&resumed)
+    );
+    let caps = read_capacities(&d.join("out/r")).unwrap();
+    let ids: Vec<i64> = caps.iter().map(|c| c.case_id).collect();
+    assert_eq!(ids, (0..72).collect::<Vec<i64>>(), "every case once");
+    assert_eq!(
+        caps,
+        read_capacities(&reference.path().join("out/r")).unwrap()
+    );
+}
+
+#[test]
+fn shards_beside_an_unsharded_sweep_are_refused_issue_9() {
+    let dir = tempdir();
+    let d = dir.path();
+    let pipe = pipeline(d, "s", THREE_CHUNKS);
+    let p = pipe.to_str().unwrap();
+    for k in 1..=3 {
+        let shard = format!("{k}/3");
+        let out = rocking(d, &["sweep", p, "--outputs", "sharded", "--shard", &shard]);
+        assert!(out.status.success(), "{}", stderr(&out));
+    }
+    let out = rocking(d, &["sweep", p, "--outputs", "whole"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    // Shard tables copied beside the unsharded ones: two versions of one sweep.
+    for e in fs::read_dir(d.join("sharded/s")).unwrap() {
+        let name = e.unwrap().file_name().to_string_lossy().into_owned();
+        if name.contains(".shard-") {
+            fs::copy(
+                d.join("sharded/s").join(&name),
+                d.join("whole/s").join(&name),
+            )
+            .unwrap();
+        }
+    }
+    let e = read_capacities(&d.join("whole/s")).unwrap_err();
+    assert!(matches!(e, DatasetError::Mixed { shards: 6, .. }), "{e}");
+    let out = rocking(d, &["reduce", p, "--outputs", "whole"]);
+    assert!(!out.status.success());
+    let err = stderr(&out);
+    assert!(
+        err.contains("holds both the unsharded sweep tables") && err.contains("remove one set"),
+        "{err}"
+    );
+    // The complete set of shards alone is a fresh sweep for the later stages.
+    let out = rocking(d, &["reduce", p, "--outputs", "sharded"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("sweep        skipped: fresh (3 shards)"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+#[test]
+fn hints_name_what_the_command_accepts_issue_9() {
+    let dir = tempdir();
+    let d = dir.path();
+    // A bad AT2 file under a pipeline: the hint is about the pipeline, not
+    // `--skip-bad`, which sweep and run do not take.
+    fs::create_dir_all(d.join("bad")).unwrap();
+    fs::copy(
+        root().join("records/fema-p695/far-field/RSN1111_KOBE_NIS000.AT2"),
+        d.join("bad/RSN1111_KOBE_NIS000.AT2"),
+    )
+    .unwrap();
+    fs::write(
+        d.join("bad/BAD.AT2"),
+        "H\nX\nACCELERATION IN G\nNPTS=  3, DT= .01 SEC\n1 2\n",
+    )
+    .unwrap();
+    fs::write(
+        d.join("b.toml"),
+        "[records]\nat2 = [\"bad\"]\n[blocks]\np = [1.0]\neps = [0.8]\n",
+    )
+    .unwrap();
+    for cmd in ["sweep", "run"] {
+        let out = rocking(d, &[cmd, "b.toml", "--outputs", "out"]);
+        let err = stderr(&out);
+        assert!(!out.status.success());
+        assert!(!err.contains("--skip-bad"), "{cmd}: {err}");
+        assert!(
+            err.contains("BAD.AT2:5") && err.contains("records.at2"),
+            "{cmd}: {err}"
+        );
+    }
+    let out = rocking(d, &["ingest", "bad", "--out", "x.parquet"]);
+    assert!(stderr(&out).contains("--skip-bad"), "{}", stderr(&out));
+
+    // fragility --from a pipeline whose fit has not run says to run the fit.
+    fs::write(
+        d.join("g.toml"),
+        "[records]\nat2 = [\"bad\"]\n[blocks]\np = [1.0, 2.0, 3.0]\neps = [0.6, 0.7, 0.8]\n",
+    )
+    .unwrap();
+    let out = rocking(
+        d,
+        &[
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "1",
+            "--pga",
+            "0.3",
+            "--from",
+            "g.toml",
+            "--outputs",
+            "out",
+        ],
+    );
+    let err = stderr(&out);
+    assert!(
+        err.contains("rocking fit g.toml") && !err.contains("reduce"),
+        "{err}"
+    );
+    // …and one that cannot have a fit says so.
+    let out = rocking(
+        d,
+        &[
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "1",
+            "--pga",
+            "0.3",
+            "--from",
+            "b.toml",
+            "--outputs",
+            "out",
+        ],
+    );
+    assert!(stderr(&out).contains("no regression"), "{}", stderr(&out));
+
+    // A stocky block without --eps: Housner's ε is what is negative.
+    let out = rocking(d, &["fragility", "--b", "5", "--h", "0.1", "--pga", "0.3"]);
+    let err = stderr(&out);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("Housner's ε") && err.contains("give --eps"),
+        "{err}"
+    );
+    assert!(!err.contains("--eps = "), "{err}");
+}
+
+#[test]
+fn thread_counts_beyond_the_cores_are_refused_issue_9() {
+    let dir = tempdir();
+    let d = dir.path();
+    let pipe = pipeline(
+        d,
+        "t",
+        "ids = [\"RSN1111_KOBE_NIS000\"]\n[blocks]\np = [1.0]\neps = [0.8]\n",
+    );
+    for n in ["100000", "0"] {
+        let out = rocking(d, &["sweep", pipe.to_str().unwrap(), "--threads", n]);
+        assert_eq!(out.status.code(), Some(1), "{n}");
+        assert!(stderr(&out).contains("worker threads"), "{}", stderr(&out));
+    }
+}
+
+#[test]
+fn file_contents_in_messages_are_escaped_issue_9() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(
+        d.join("EVIL.AT2"),
+        "H\nX\nVELOCITY \u{1b}[31mRED\u{1b}[2J\0 IN CM/S\nNPTS=  3, DT= .01 SEC\n1 2 3\n",
+    )
+    .unwrap();
+    let out = rocking(d, &["ingest", "EVIL.AT2", "--out", "x.parquet"]);
+    let err = stderr(&out);
+    assert!(!out.status.success());
+    assert!(!err.contains('\u{1b}') && !err.contains('\0'), "{err:?}");
+    assert!(
+        err.contains("\\u{1b}[31mRED") && err.contains("\\u{0}"),
+        "{err}"
+    );
+}
+
+#[test]
+fn manifest_errors_name_the_file_line_issue_9() {
+    let dir = tempdir();
+    let d = dir.path();
+    let src = root().join("records/fema-p695/far-field");
+    for id in ["RSN1111_KOBE_NIS000", "RSN953_NORTHR_MUL009"] {
+        fs::copy(src.join(format!("{id}.AT2")), d.join(format!("{id}.AT2"))).unwrap();
+    }
+    // CRLF endings, the bad cell on line 3 of the file (the header is line 1).
+    fs::write(
+        d.join("m.csv"),
+        "year,file\r\n1999,RSN1111_KOBE_NIS000.AT2\r\n19x9,RSN953_NORTHR_MUL009.AT2\r\n",
+    )
+    .unwrap();
+    let out = rocking(
+        d,
+        &["ingest", ".", "--manifest", "m.csv", "--out", "x.parquet"],
+    );
+    assert!(
+        stderr(&out).contains("line 3: column `year`"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+/// The 3 × 3 mini study of `run`, with its records copied beside it.
+fn mini(dir: &Path) -> PathBuf {
+    let rec = dir.join("records");
+    fs::create_dir_all(&rec).unwrap();
+    for id in ["RSN1111_KOBE_NIS000", "RSN953_NORTHR_MUL009"] {
+        fs::copy(
+            bundled_records().join(format!("far-field/{id}.AT2")),
+            rec.join(format!("{id}.AT2")),
+        )
+        .unwrap();
+    }
+    let path = dir.join("mini.toml");
+    fs::write(
+        &path,
+        "name = \"mini\"\n[records]\nat2 = [\"records\"]\n[blocks]\np = [1.5, 3.0, 6.0]\n\
+         eps = [0.6, 0.75, 0.9]\n[im]\ncount = 30\neta_min = 0.01\n",
+    )
+    .unwrap();
+    path
+}
+
+#[test]
+fn a_copied_output_folder_and_another_working_folder_stay_fresh_issue_9() {
+    let dir = tempdir();
+    let d = dir.path();
+    mini(d);
+    let out = rocking(d, &["run", "mini.toml", "--outputs", "out"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    copy_dir(&d.join("out/mini"), &d.join("copy/mini"));
+    let out = rocking(d, &["run", "mini.toml", "--outputs", "copy"]);
+    assert!(stdout(&out).contains("nothing to do"), "{}", stderr(&out));
+    // The same study from another working folder, the pipeline named by an
+    // absolute path.
+    fs::create_dir_all(d.join("elsewhere")).unwrap();
+    let out = rocking(
+        &d.join("elsewhere"),
+        &[
+            "run",
+            d.join("mini.toml").to_str().unwrap(),
+            "--outputs",
+            d.join("out").to_str().unwrap(),
+        ],
+    );
+    assert!(stdout(&out).contains("nothing to do"), "{}", stderr(&out));
+}
+
+#[test]
+fn a_figure_deleted_or_edited_by_hand_is_drawn_again_issue_9() {
+    let dir = tempdir();
+    let d = dir.path();
+    mini(d);
+    assert!(rocking(d, &["run", "mini.toml", "--outputs", "out"])
+        .status
+        .success());
+    let fig = d.join("out/mini/figures/fig08_capacity_curves.svg");
+    let original = fs::read(&fig).unwrap();
+    fs::remove_file(&fig).unwrap();
+    let study = Study::load(&d.join("mini.toml"), &d.join("out")).unwrap();
+    let report = engine::status(&study)
+        .into_iter()
+        .find(|(s, _)| *s == "report")
+        .unwrap()
+        .1;
+    assert_eq!(
+        report,
+        Freshness::Stale(vec![Stale::OutputMissing(
+            "figures/fig08_capacity_curves.svg".into()
+        )])
+    );
+    let out = rocking(d, &["run", "mini.toml", "--outputs", "out"]);
+    assert!(
+        stderr(&out)
+            .contains("report       running: output figures/fig08_capacity_curves.svg is missing"),
+        "{}",
+        stderr(&out)
+    );
+    assert_eq!(fs::read(&fig).unwrap(), original, "drawn again, the same");
+    fs::write(d.join("out/mini/figures/fig05_ida_curves.svg"), "<svg/>").unwrap();
+    let out = rocking(d, &["run", "mini.toml", "--outputs", "out"]);
+    assert!(
+        stderr(&out).contains("output figures/fig05_ida_curves.svg was changed"),
+        "{}",
+        stderr(&out)
+    );
+    let out = rocking(d, &["run", "mini.toml", "--outputs", "out"]);
+    assert!(stdout(&out).contains("nothing to do"), "{}", stdout(&out));
+}
+
+#[test]
+fn stale_reasons_are_typed_issue_9() {
+    let dir = tempdir();
+    let d = dir.path();
+    let pipe = mini(d);
+    assert!(rocking(d, &["run", "mini.toml", "--outputs", "out"])
+        .status
+        .success());
+    let text = fs::read_to_string(&pipe).unwrap().replace("0.9]", "0.85]");
+    fs::write(&pipe, text).unwrap();
+    let study = Study::load(&pipe, &d.join("out")).unwrap();
+    let status: Vec<(&str, Freshness)> = engine::status(&study);
+    let of = |name: &str| status.iter().find(|(s, _)| *s == name).unwrap().1.clone();
+    assert_eq!(of("ingest"), Freshness::Fresh);
+    assert_eq!(of("sweep"), Freshness::Stale(vec![Stale::SettingsChanged]));
+    assert!(matches!(of("convergence"), Freshness::NotNeeded(_)));
+    // Reduce reads the sweep's tables, which are still the old ones: fresh
+    // until the sweep reruns; its settings (the fractile) did not change.
+    assert_eq!(of("reduce"), Freshness::Fresh);
+    // A missing input of a stage that has never run names the file.
+    let other = Study::load(&pipe, &d.join("elsewhere")).unwrap();
+    match engine::freshness(engine::find("reduce").unwrap(), &other) {
+        Freshness::Stale(why) => assert!(
+            why.contains(&Stale::InputMissing("capacities.parquet".into())),
+            "{why:?}"
+        ),
+        f => panic!("{f:?}"),
+    }
+}
