@@ -314,7 +314,7 @@ fn law_at(law: &FractileLaw, p: f64, e: f64) -> f64 {
 
 /// Fig. 10: the median regression against the data.
 fn regression_median(d: &StudyData) -> Vec<Figure> {
-    let Some(law) = d.laws.iter().find(|l| l.quantile == 0.5) else {
+    let Some(law) = d.laws.iter().find(|l| l.quantile == 0.5 && l.is_complete()) else {
         return Vec::new();
     };
     if !d.is_grid() {
@@ -384,8 +384,14 @@ fn regression_coefficients(d: &StudyData) -> Vec<Figure> {
                 style: Style::Points,
                 color: qi,
             });
-            if let Some(l) = d.laws.iter().find(|l| l.quantile == q) {
-                let c = poly(l);
+            // A polynomial step 2 could not fit (too few converged fits) is not drawn.
+            if let Some(c) = d
+                .laws
+                .iter()
+                .find(|l| l.quantile == q)
+                .map(poly)
+                .filter(|c| !c.is_empty())
+            {
                 lines.push(Line {
                     name: Some(format!("{} fitted", Q_NAMES[qi])),
                     points: e_dense.iter().map(|&e| (e, polyval(&c, e))).collect(),

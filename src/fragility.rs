@@ -19,6 +19,12 @@ pub struct FractileLaw {
 }
 
 impl FractileLaw {
+    /// Whether every polynomial was fitted (step 2 leaves one empty when too
+    /// few step-1 fits of the fractile converged).
+    pub fn is_complete(&self) -> bool {
+        !(self.a.is_empty() || self.b.is_empty() || self.c.is_empty())
+    }
+
     pub fn eta_c(&self, p: f64, eps: f64) -> f64 {
         curve(
             polyval(&self.a, eps),

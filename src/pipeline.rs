@@ -405,170 +405,18 @@ fn values(key: &str, v: &RawValues) -> Result<Vec<f64>, String> {
     }
 }
 
-/// Checks every value of a raw pipeline and builds the plan.
+/// Checks every value of a raw pipeline and builds the plan. Each section
+/// has its own checker; their messages name the key.
 pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
     let err = |message: String| PipelineError {
         path: path.to_path_buf(),
         message,
     };
     let base = path.parent().unwrap_or(Path::new("."));
-    let rel = |p: &str| -> PathBuf {
-        let p = PathBuf::from(p);
-        if p.is_absolute() {
-            p
-        } else {
-            base.join(p)
-        }
-    };
-    let name = match raw.name {
-        Some(n) => n,
-        None => path
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default(),
-    };
-    if name.is_empty() || name.contains(['/', '\\']) || name.starts_with('.') {
-        return Err(err(format!(
-            "`name` = {name:?} must be a plain folder name"
-        )));
-    }
-
-    let records = match (&raw.records.table, &raw.records.at2) {
-        (Some(t), None) => {
-            if raw.records.manifest.is_some() {
-                return Err(err("`records.manifest` goes with `records.at2`; a table already holds the metadata".into()));
-            }
-            RecordSource::Table(rel(t))
-        }
-        (None, Some(paths)) if !paths.is_empty() => RecordSource::At2 {
-            paths: paths.iter().map(|p| rel(p)).collect(),
-            manifest: raw.records.manifest.as_deref().map(rel),
-        },
-        (None, Some(_)) => return Err(err("`records.at2` is an empty list".into())),
-        (None, None) => {
-            return Err(err(
-                "`records` needs `table` (a records table from `rocking ingest`) or `at2` (AT2 files or folders)".into(),
-            ))
-        }
-        (Some(_), Some(_)) => return Err(err("`records`: give `table` or `at2`, not both".into())),
-    };
-
-    let model = match raw.model.kind.as_str() {
-        "linearized" => ModelChoice::Linearized,
-        "nonlinear" => ModelChoice::Nonlinear,
-        "auto" => ModelChoice::Auto,
-        other => {
-            return Err(err(format!(
-                "`model.kind` = \"{other}\"; valid: linearized, nonlinear, auto"
-            )));
-        }
-    };
-    let overturn: Overturn = raw
-        .model
-        .overturn
-        .parse()
-        .map_err(|e: crate::physics::PhysicsError| err(format!("`model.overturn`: {e}")))?;
-    if !(raw.model.rtol > 0.0 && raw.model.rtol < 1e-2) {
-        return Err(err(format!(
-            "`model.rtol` = {} must be in (0, 0.01)",
-            raw.model.rtol
-        )));
-    }
-    if raw.model.auto_tol.is_nan() || raw.model.auto_tol <= 0.0 {
-        return Err(err(format!(
-            "`model.auto_tol` = {} must be positive",
-            raw.model.auto_tol
-        )));
-    }
-    let model_alpha = raw.model.alpha;
-    if let Some(a) = model_alpha {
-        if !(a > 0.0 && a < std::f64::consts::FRAC_PI_2) {
-            return Err(err(format!("`model.alpha` = {a} rad must be in (0, π/2)")));
-        }
-    }
-
-    let check_eps = |key: &str, e: f64| {
-        if e > 0.0 && e <= 1.0 {
-            Ok(())
-        } else {
-            Err(err(format!("`{key}` holds ε = {e}; ε must be in (0, 1]")))
-        }
-    };
-    let mut blocks = Vec::new();
-    match (&raw.blocks.p, &raw.blocks.eps, raw.block.is_empty()) {
-        (Some(p), Some(eps), true) => {
-            let ps = values("blocks.p", p).map_err(&err)?;
-            let epss = values("blocks.eps", eps).map_err(&err)?;
-            for &pv in &ps {
-                if !(pv > 0.0 && pv.is_finite()) {
-                    return Err(err(format!(
-                        "`blocks.p` holds p = {pv}; p must be positive (1/s)"
-                    )));
-                }
-            }
-            for &e in &epss {
-                check_eps("blocks.eps", e)?;
-            }
-            if ps.len().saturating_mul(epss.len()) > MAX_BLOCKS {
-                return Err(err(format!(
-                    "`blocks`: {} values of p × {} of ε is more than {MAX_BLOCKS} blocks",
-                    ps.len(),
-                    epss.len()
-                )));
-            }
-            for &pv in &ps {
-                for &e in &epss {
-                    blocks.push(BlockSpec {
-                        name: String::new(),
-                        p: pv,
-                        eps: e,
-                        alpha_rad: model_alpha,
-                    });
-                }
-            }
-        }
-        (None, None, false) => {
-            for (i, b) in raw.block.iter().enumerate() {
-                let key = format!("block[{i}]");
-                if !(b.b > 0.0 && b.h > 0.0 && b.b.is_finite() && b.h.is_finite()) {
-                    return Err(err(format!("`{key}`: b and h must be positive (m)")));
-                }
-                let alpha = (b.b / b.h).atan();
-                let r = (b.b * b.b + b.h * b.h).sqrt();
-                let p = (3.0 * G / (4.0 * r)).sqrt();
-                let eps = match &b.eps {
-                    toml::Value::Float(e) => *e,
-                    toml::Value::Integer(e) => *e as f64,
-                    toml::Value::String(s) if s == "housner" => 1.0 - 1.5 * alpha.sin().powi(2),
-                    other => {
-                        return Err(err(format!(
-                            "`{key}.eps` = {other:?}; give a number in (0, 1] or \"housner\""
-                        )));
-                    }
-                };
-                check_eps(&format!("{key}.eps"), eps)?;
-                blocks.push(BlockSpec {
-                    name: b
-                        .name
-                        .clone()
-                        .unwrap_or_else(|| format!("b{}xh{}", b.b, b.h)),
-                    p,
-                    eps,
-                    alpha_rad: Some(alpha),
-                });
-            }
-        }
-        (None, None, true) => {
-            return Err(err("no blocks: give `[blocks]` with `p` and `eps`, or `[[block]]` entries with b, h, eps".into()));
-        }
-        (Some(_), None, _) => return Err(err("`blocks.p` without `blocks.eps`".into())),
-        (None, Some(_), _) => return Err(err("`blocks.eps` without `blocks.p`".into())),
-        (_, _, false) => {
-            return Err(err(
-                "give either `[blocks]` (a p × ε grid) or `[[block]]` entries, not both".into(),
-            ))
-        }
-    }
+    let name = name_of(raw.name.as_deref(), path).map_err(err)?;
+    let records = records(&raw.records, base).map_err(err)?;
+    let (model, overturn) = model(&raw.model).map_err(err)?;
+    let blocks = blocks(&raw.blocks, &raw.block, raw.model.alpha).map_err(err)?;
     if model == ModelChoice::Nonlinear && blocks.iter().any(|b| b.alpha_rad.is_none()) {
         return Err(err(
             "`model.kind` = \"nonlinear\" needs `model.alpha` (or physical `[[block]]` entries)"
@@ -580,24 +428,7 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
             "`model.overturn` = \"on-side\" needs the nonlinear model".into(),
         ));
     }
-
-    let im = &raw.im;
-    if im.count > MAX_LEVELS {
-        return Err(err(format!(
-            "`im.count` = {} is more than {MAX_LEVELS} levels (each is a simulation per record and block; the paper used 100–200)",
-            im.count
-        )));
-    }
-    let grid = ImGrid {
-        eta_max: im.eta_max,
-        eta_min: im.eta_min,
-        count: im.count,
-        spacing: im.spacing,
-    };
-    grid.levels().map_err(|e| err(format!("`im`: {e}")))?;
-    if !(im.tol > 0.0 && im.tol.is_finite()) {
-        return Err(err(format!("`im.tol` = {} must be positive", im.tol)));
-    }
+    let grid = grid(&raw.im).map_err(err)?;
     let fractile = FractileDef::parse(&raw.reduce.fractile).ok_or_else(|| {
         err(format!(
             "`reduce.fractile` = \"{}\"; valid: {}",
@@ -605,27 +436,7 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
             FractileDef::NAMES
         ))
     })?;
-
-    let mut convergence = match &raw.convergence {
-        None => Vec::new(),
-        Some(c) => {
-            if let Some(&n) = c.levels.iter().find(|&&n| n > MAX_LEVELS) {
-                return Err(err(format!(
-                    "`convergence.levels` holds {n}, more than {MAX_LEVELS} levels"
-                )));
-            }
-            if c.levels.len() < 2 || c.levels.iter().any(|&n| n < 2) {
-                return Err(err(format!(
-                    "`convergence.levels` = {:?}: give at least two level counts, each at least 2",
-                    c.levels
-                )));
-            }
-            c.levels.clone()
-        }
-    };
-    convergence.sort_unstable();
-    convergence.dedup();
-
+    let convergence = convergence(raw.convergence.as_ref()).map_err(err)?;
     Ok(Plan {
         name,
         description: raw.description.unwrap_or_default(),
@@ -638,8 +449,8 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
         overturn,
         blocks,
         grid,
-        tol: im.tol,
-        trace: if im.trace_past_first {
+        tol: raw.im.tol,
+        trace: if raw.im.trace_past_first {
             Trace::AllLevels
         } else {
             Trace::StopAtFirst
@@ -648,6 +459,219 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
         convergence,
         base: base.to_path_buf(),
     })
+}
+
+/// `name`, or the file's stem: a plain folder name.
+fn name_of(name: Option<&str>, path: &Path) -> Result<String, String> {
+    let name = match name {
+        Some(n) => n.to_string(),
+        None => path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+    };
+    if name.is_empty() || name.contains(['/', '\\']) || name.starts_with('.') {
+        return Err(format!("`name` = {name:?} must be a plain folder name"));
+    }
+    Ok(name)
+}
+
+/// `[records]`: a table or AT2 paths, relative to the pipeline's folder.
+fn records(raw: &RawRecords, base: &Path) -> Result<RecordSource, String> {
+    let rel = |p: &str| -> PathBuf {
+        let p = PathBuf::from(p);
+        if p.is_absolute() {
+            p
+        } else {
+            base.join(p)
+        }
+    };
+    match (&raw.table, &raw.at2) {
+        (Some(t), None) => {
+            if raw.manifest.is_some() {
+                return Err("`records.manifest` goes with `records.at2`; a table already holds the metadata".into());
+            }
+            Ok(RecordSource::Table(rel(t)))
+        }
+        (None, Some(paths)) if !paths.is_empty() => Ok(RecordSource::At2 {
+            paths: paths.iter().map(|p| rel(p)).collect(),
+            manifest: raw.manifest.as_deref().map(rel),
+        }),
+        (None, Some(_)) => Err("`records.at2` is an empty list".into()),
+        (None, None) => Err(
+            "`records` needs `table` (a records table from `rocking ingest`) or `at2` (AT2 files or folders)".into(),
+        ),
+        (Some(_), Some(_)) => Err("`records`: give `table` or `at2`, not both".into()),
+    }
+}
+
+/// `[model]`: the equation choice and the overturning criterion.
+fn model(raw: &RawModel) -> Result<(ModelChoice, Overturn), String> {
+    let model = match raw.kind.as_str() {
+        "linearized" => ModelChoice::Linearized,
+        "nonlinear" => ModelChoice::Nonlinear,
+        "auto" => ModelChoice::Auto,
+        other => {
+            return Err(format!(
+                "`model.kind` = \"{other}\"; valid: linearized, nonlinear, auto"
+            ));
+        }
+    };
+    let overturn: Overturn = raw
+        .overturn
+        .parse()
+        .map_err(|e: crate::physics::PhysicsError| format!("`model.overturn`: {e}"))?;
+    if !(raw.rtol > 0.0 && raw.rtol < 1e-2) {
+        return Err(format!("`model.rtol` = {} must be in (0, 0.01)", raw.rtol));
+    }
+    if raw.auto_tol.is_nan() || raw.auto_tol <= 0.0 {
+        return Err(format!(
+            "`model.auto_tol` = {} must be positive",
+            raw.auto_tol
+        ));
+    }
+    if let Some(a) = raw.alpha {
+        if !(a > 0.0 && a < std::f64::consts::FRAC_PI_2) {
+            return Err(format!("`model.alpha` = {a} rad must be in (0, π/2)"));
+        }
+    }
+    Ok((model, overturn))
+}
+
+fn check_eps(key: &str, e: f64) -> Result<(), String> {
+    if e > 0.0 && e <= 1.0 {
+        Ok(())
+    } else {
+        Err(format!("`{key}` holds ε = {e}; ε must be in (0, 1]"))
+    }
+}
+
+/// `[blocks]` (the p × ε grid, p outer) or `[[block]]` entries, not both.
+fn blocks(
+    grid: &RawBlocks,
+    physical: &[RawBlock],
+    model_alpha: Option<f64>,
+) -> Result<Vec<BlockSpec>, String> {
+    match (&grid.p, &grid.eps, physical.is_empty()) {
+        (Some(p), Some(eps), true) => {
+            let ps = values("blocks.p", p)?;
+            let epss = values("blocks.eps", eps)?;
+            if let Some(pv) = ps.iter().find(|pv| !(**pv > 0.0 && pv.is_finite())) {
+                return Err(format!(
+                    "`blocks.p` holds p = {pv}; p must be positive (1/s)"
+                ));
+            }
+            for &e in &epss {
+                check_eps("blocks.eps", e)?;
+            }
+            if ps.len().saturating_mul(epss.len()) > MAX_BLOCKS {
+                return Err(format!(
+                    "`blocks`: {} values of p × {} of ε is more than {MAX_BLOCKS} blocks",
+                    ps.len(),
+                    epss.len()
+                ));
+            }
+            Ok(ps
+                .iter()
+                .flat_map(|&p| {
+                    epss.iter().map(move |&eps| BlockSpec {
+                        name: String::new(),
+                        p,
+                        eps,
+                        alpha_rad: model_alpha,
+                    })
+                })
+                .collect())
+        }
+        (None, None, false) => physical
+            .iter()
+            .enumerate()
+            .map(|(i, b)| physical_block(i, b))
+            .collect(),
+        (None, None, true) => Err(
+            "no blocks: give `[blocks]` with `p` and `eps`, or `[[block]]` entries with b, h, eps"
+                .into(),
+        ),
+        (Some(_), None, _) => Err("`blocks.p` without `blocks.eps`".into()),
+        (None, Some(_), _) => Err("`blocks.eps` without `blocks.p`".into()),
+        (_, _, false) => {
+            Err("give either `[blocks]` (a p × ε grid) or `[[block]]` entries, not both".into())
+        }
+    }
+}
+
+/// One `[[block]]`: b, h (m) → α and p; ε a number or Housner's bound.
+fn physical_block(i: usize, b: &RawBlock) -> Result<BlockSpec, String> {
+    let key = format!("block[{i}]");
+    if !(b.b > 0.0 && b.h > 0.0 && b.b.is_finite() && b.h.is_finite()) {
+        return Err(format!("`{key}`: b and h must be positive (m)"));
+    }
+    let alpha = (b.b / b.h).atan();
+    let r = (b.b * b.b + b.h * b.h).sqrt();
+    let p = (3.0 * G / (4.0 * r)).sqrt();
+    let eps = match &b.eps {
+        toml::Value::Float(e) => *e,
+        toml::Value::Integer(e) => *e as f64,
+        toml::Value::String(s) if s == "housner" => 1.0 - 1.5 * alpha.sin().powi(2),
+        other => {
+            return Err(format!(
+                "`{key}.eps` = {other:?}; give a number in (0, 1] or \"housner\""
+            ));
+        }
+    };
+    check_eps(&format!("{key}.eps"), eps)?;
+    Ok(BlockSpec {
+        name: b
+            .name
+            .clone()
+            .unwrap_or_else(|| format!("b{}xh{}", b.b, b.h)),
+        p,
+        eps,
+        alpha_rad: Some(alpha),
+    })
+}
+
+/// `[im]`: the grid of intensity levels and the refinement tolerance.
+fn grid(im: &RawIm) -> Result<ImGrid, String> {
+    if im.count > MAX_LEVELS {
+        return Err(format!(
+            "`im.count` = {} is more than {MAX_LEVELS} levels (each is a simulation per record and block; the paper used 100–200)",
+            im.count
+        ));
+    }
+    let grid = ImGrid {
+        eta_max: im.eta_max,
+        eta_min: im.eta_min,
+        count: im.count,
+        spacing: im.spacing,
+    };
+    grid.levels().map_err(|e| format!("`im`: {e}"))?;
+    if !(im.tol > 0.0 && im.tol.is_finite()) {
+        return Err(format!("`im.tol` = {} must be positive", im.tol));
+    }
+    Ok(grid)
+}
+
+/// `[convergence] levels`: ascending, without repeats.
+fn convergence(raw: Option<&RawConvergence>) -> Result<Vec<usize>, String> {
+    let Some(c) = raw else {
+        return Ok(Vec::new());
+    };
+    if let Some(&n) = c.levels.iter().find(|&&n| n > MAX_LEVELS) {
+        return Err(format!(
+            "`convergence.levels` holds {n}, more than {MAX_LEVELS} levels"
+        ));
+    }
+    if c.levels.len() < 2 || c.levels.iter().any(|&n| n < 2) {
+        return Err(format!(
+            "`convergence.levels` = {:?}: give at least two level counts, each at least 2",
+            c.levels
+        ));
+    }
+    let mut levels = c.levels.clone();
+    levels.sort_unstable();
+    levels.dedup();
+    Ok(levels)
 }
 
 #[cfg(test)]

@@ -22,8 +22,7 @@ pub fn render(d: &StudyData, figures: &[Figure]) -> String {
     let _ = writeln!(
         md,
         "Pipeline `{}`, rocking {}. Tables beside this report; columns are documented in the rocking README.\n",
-        d.pipeline,
-        env!("CARGO_PKG_VERSION")
+        d.pipeline, d.version
     );
     settings(&mut md, d);
     runtime(&mut md, d);
@@ -197,27 +196,41 @@ fn regression(w: &mut String, d: &StudyData) {
         d.fit_step1.len()
     );
     let _ = writeln!(w, "| fractile | | a = c0 + c1 ε | b = c0 + c1 ε + c2 ε² | c = c0 + c1 ε + c2 ε² |\n|---|---|---|---|---|");
+    // An empty polynomial: too few converged step-1 fits to fit it.
     let fmt = |c: &[f64]| {
+        if c.is_empty() {
+            return "—".to_string();
+        }
         c.iter()
             .map(|v| format!("{v:+.3}"))
             .collect::<Vec<_>>()
             .join(", ")
     };
-    for (law, paper) in d.laws.iter().zip(fragility::paper().iter()) {
-        let _ = writeln!(
-            w,
-            "| {:.0} % | fitted | {} | {} | {} |",
-            100.0 * law.quantile,
-            fmt(&law.a),
-            fmt(&law.b),
-            fmt(&law.c)
-        );
+    let mut incomplete = false;
+    for paper in fragility::paper().iter() {
+        if let Some(law) = d.laws.iter().find(|l| l.quantile == paper.quantile) {
+            incomplete |= law.a.is_empty() || law.b.is_empty() || law.c.is_empty();
+            let _ = writeln!(
+                w,
+                "| {:.0} % | fitted | {} | {} | {} |",
+                100.0 * law.quantile,
+                fmt(&law.a),
+                fmt(&law.b),
+                fmt(&law.c)
+            );
+        }
         let _ = writeln!(
             w,
             "| | paper | {} | {} | {} |",
             fmt(&paper.a),
             fmt(&paper.b),
             fmt(&paper.c)
+        );
+    }
+    if incomplete {
+        let _ = writeln!(
+            w,
+            "\n— : too few converged step-1 fits of that fractile to fit the polynomial (a line needs 2, a quadratic 3)."
         );
     }
     let _ = writeln!(w);

@@ -15,6 +15,8 @@ pub struct StudyData {
     pub plan: Plan,
     /// The pipeline file's name, as the report shows it.
     pub pipeline: String,
+    /// The version of rocking that made the tables, as the report shows it.
+    pub version: String,
     pub caps: Vec<CapacityRow>,
     pub ida: Vec<IdaRow>,
     pub horizontal: Vec<HorizontalRow>,

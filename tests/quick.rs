@@ -96,7 +96,7 @@ fn program() -> String {
     };
     let (py, sql) = (blocks("python"), blocks("sql"));
     assert!(
-        py.len() >= 1 && sql.len() >= 2,
+        !py.is_empty() && sql.len() >= 2,
         "the README shows its queries"
     );
     let mut prog = py.join("\n");

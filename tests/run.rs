@@ -323,6 +323,27 @@ fn mini_study_snapshot() {
         ));
     }
     snapshot("mini_capacities.tsv", &text);
+    // The report as the pure renderer makes it from the loaded tables
+    // (run times and version fixed, so that only the study shows).
+    let study = rocking::stages::Study::load(&pipe, &d.join("out")).unwrap();
+    let times = [
+        ("ingest", Some(1.0)),
+        ("sweep", None),
+        ("reduce", Some(0.5)),
+    ];
+    let mut data = rocking::stages::report::load(&study, &times).unwrap();
+    data.version = "(version)".into();
+    let figures = rocking::figures::all(&data);
+    // Figs. 5–8, 11 a/b/c and the fragility example; no Fig. 9 (the
+    // Lilliefors test needs 5 records, the mini study has 3), no Fig. 10
+    // (too few converged step-1 fits of the median for its b and c), no
+    // convergence figures (no [convergence]).
+    let files: Vec<&str> = figures.iter().map(|f| f.file.as_str()).collect();
+    assert_eq!(files.len(), 8, "{files:?}");
+    assert!(!files
+        .iter()
+        .any(|f| f.starts_with("fig09") || f.starts_with("fig10") || f.contains("convergence")));
+    snapshot("mini_report.md", &rocking::report::render(&data, &figures));
     for (snap, table) in [
         ("mini_capacity_fractiles.tsv", "capacity_fractiles.parquet"),
         ("mini_lognormal.tsv", "lognormal.parquet"),

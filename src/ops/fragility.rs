@@ -116,7 +116,7 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
         Some(e) => return Err(FragilityError::Eps(e)),
         None => {
             let e = Block::housner_eps(req.b_m, req.h_m);
-            if !(e > 0.0) {
+            if e.is_nan() || e <= 0.0 {
                 return Err(FragilityError::HousnerEps {
                     eps: e,
                     ratio: req.b_m / req.h_m,

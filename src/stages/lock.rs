@@ -156,7 +156,7 @@ fn claim(path: &Path, tmp: &Path, mine: &[u8], dir: &Path) -> Result<Lock, LockE
     Err(LockError::Held {
         dir: dir.into(),
         lock: path.into(),
-        owner: parse_owner(&held).unwrap_or_else(|| Owner::unknown()),
+        owner: parse_owner(&held).unwrap_or_else(Owner::unknown),
     })
 }
 

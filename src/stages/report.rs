@@ -101,6 +101,7 @@ pub fn load(
     Ok(StudyData {
         plan: plan.clone(),
         pipeline: pipeline_name(&study.pipeline),
+        version: env!("CARGO_PKG_VERSION").to_string(),
         caps: sweep::read_capacities(dir)?,
         ida: sweep::read_ida(dir)?,
         horizontal: tables::read(&dir.join("fractiles_horizontal.parquet"))?,
