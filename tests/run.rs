@@ -355,3 +355,32 @@ fn mini_study_snapshot() {
         snapshot(snap, &dump_table(&folder.join(table), false));
     }
 }
+
+#[test]
+fn a_stage_command_runs_only_the_stages_it_reads_from() {
+    let dir = tempdir();
+    let d = dir.path();
+    let pipe = study(d, "0.9");
+    let text = fs::read_to_string(&pipe).unwrap() + "[convergence]\nlevels = [10, 20]\n";
+    fs::write(&pipe, text).unwrap();
+    let p = pipe.to_str().unwrap();
+    // reduce reads the sweep, which reads the ingested records: the
+    // convergence study, though stale and earlier in the run, is not needed.
+    let out = rocking(d, &["reduce", p, "--outputs", "out"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let log = stderr(&out);
+    for stage in ["ingest", "sweep", "reduce"] {
+        assert!(line(&log, stage).contains("running"), "{log}");
+    }
+    assert!(!log.contains("convergence"), "{log}");
+    assert!(stdout(&out).contains("reduced 3 records × 9 blocks"));
+    // The report reads the convergence table, so its command runs it.
+    let out = rocking(d, &["report", p, "--outputs", "out"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let log = stderr(&out);
+    assert!(line(&log, "convergence").contains("running"), "{log}");
+    assert!(line(&log, "fit").contains("running"), "{log}");
+    assert!(line(&log, "sweep").contains("skipped: fresh"), "{log}");
+    let status = stdout(&rocking(d, &["status", p, "--outputs", "out"]));
+    assert!(status.lines().all(|l| l.contains("fresh")), "{status}");
+}

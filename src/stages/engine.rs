@@ -115,11 +115,24 @@ pub enum RunError {
     },
 }
 
+/// Which stages a run covers.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub enum Target {
+    /// Every stage (`rocking run`).
+    #[default]
+    All,
+    /// This stage and every stage before it (`rocking run --to STAGE`).
+    Through(&'static dyn Stage),
+    /// This stage and the earlier stages it reads from, transitively
+    /// (`rocking <stage>`): the sweep's command does not run the
+    /// convergence study, the report's does.
+    For(&'static dyn Stage),
+}
+
 /// Which stages to run, and which to force.
 #[derive(Debug, Clone, Default)]
 pub struct RunOptions {
-    /// Run up to and including this stage (default: all).
-    pub to: Option<&'static dyn Stage>,
+    pub target: Target,
     /// Force every stage run (`--force`); with `to` set by a stage command,
     /// only that stage.
     pub force: Force,
@@ -234,25 +247,71 @@ pub fn status(study: &Study) -> Vec<(&'static str, Freshness)> {
         .collect()
 }
 
-/// Runs the stale (or forced) stages up to `opts.to`, in order.
+/// The stages a run covers, in order.
+fn covered(study: &Study, target: Target) -> Vec<&'static dyn Stage> {
+    let index = |t: &dyn Stage| {
+        STAGES
+            .iter()
+            .position(|s| s.name() == t.name())
+            .expect("a registered stage")
+    };
+    match target {
+        Target::All => STAGES.to_vec(),
+        Target::Through(t) => STAGES[..=index(t)].to_vec(),
+        Target::For(t) => {
+            let last = index(t);
+            let mut needed = vec![false; last + 1];
+            needed[last] = true;
+            let mut wanted = produced_names(t.inputs(study).unwrap_or_default());
+            for i in (0..last).rev() {
+                let outs = produced_names(STAGES[i].outputs(study, None));
+                if outs.iter().any(|o| wanted.contains(o)) {
+                    needed[i] = true;
+                    wanted.extend(produced_names(STAGES[i].inputs(study).unwrap_or_default()));
+                }
+            }
+            (0..=last)
+                .filter(|&i| needed[i])
+                .map(|i| STAGES[i])
+                .collect()
+        }
+    }
+}
+
+/// Files as the stage that writes them names them: a shard's table counts
+/// as the unsharded table it is part of.
+fn produced_names(files: Vec<std::path::PathBuf>) -> Vec<std::path::PathBuf> {
+    files
+        .into_iter()
+        .map(|f| {
+            let name = f
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            match name.split_once(".shard-") {
+                Some((stem, rest)) => {
+                    let ext = rest.rsplit_once('.').map_or("", |(_, e)| e);
+                    f.with_file_name(format!("{stem}.{ext}"))
+                }
+                None => f,
+            }
+        })
+        .collect()
+}
+
+/// Runs the stale (or forced) stages the target covers, in order.
 pub fn run(
     study: &Study,
     opts: &RunOptions,
     reporter: &dyn Reporter,
 ) -> Result<Vec<StageResult>, RunError> {
-    let last = match opts.to {
-        Some(t) => STAGES
-            .iter()
-            .position(|s| s.name() == t.name())
-            .expect("a registered stage"),
-        None => STAGES.len() - 1,
-    };
-    let stages = &STAGES[..=last];
+    let stages = covered(study, opts.target);
+    let last = stages.len() - 1;
     if let Some(n) = opts.threads {
         check_threads(n)?;
     }
     if let Some(shard) = opts.shard {
-        return run_shard(study, stages, shard, opts, reporter);
+        return run_shard(study, &stages, shard, opts, reporter);
     }
     let _lock = Lock::take(&study.dir, Scope::Exclusive, &opts.command)?;
     with_threads(opts.threads, || {

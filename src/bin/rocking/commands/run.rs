@@ -2,7 +2,7 @@
 
 use std::time::Instant;
 
-use rocking::stages::engine::{self, Force, Outcome, RunOptions, StageResult};
+use rocking::stages::engine::{self, Force, Outcome, RunOptions, StageResult, Target};
 use rocking::stages::{Stage, Study};
 
 use super::args::PipelineArgs;
@@ -43,7 +43,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let started = Instant::now();
     let study = args.pipeline.study()?;
     let opts = RunOptions {
-        to: args.to,
+        target: match args.to {
+            Some(stage) => Target::Through(stage),
+            None => Target::All,
+        },
         force: match (args.force, args.from) {
             (true, _) => Force::All,
             (false, Some(f)) => Force::From(f),

@@ -1,13 +1,14 @@
 //! `rocking <stage> PIPELINE.toml`: one command per registered stage that
 //! has one (sweep, convergence, reduce, fit, report), made from the
-//! library's registry. It runs the stages before it that are stale, then
-//! the stage itself if it is stale (`--force`: always), through the same
-//! fingerprints and lock as `rocking run`.
+//! library's registry. It runs the stale stages it reads from (found from
+//! the stages' declared inputs and outputs), then the stage itself if it is
+//! stale (`--force`: always), through the same fingerprints and lock as
+//! `rocking run`.
 
 use std::path::PathBuf;
 
 use clap::{Arg, ArgAction, ArgMatches, Command};
-use rocking::stages::engine::{self, Force, Outcome, RunOptions};
+use rocking::stages::engine::{self, Force, Outcome, RunOptions, Target};
 use rocking::stages::{Shard, Stage, Study, STAGES};
 
 use crate::reporter::Terminal;
@@ -24,7 +25,7 @@ fn command(stage: &'static dyn Stage) -> Command {
     let mut cmd = Command::new(stage.name())
         .about(stage.about())
         .long_about(format!(
-            "{}.\n\nRuns the stages before `{name}` that are stale, then `{name}` if its inputs, \
+            "{}.\n\nRuns the stale stages whose outputs `{name}` reads, then `{name}` if its inputs, \
              settings or outputs changed since it last succeeded here (the same fingerprints as \
              `rocking run`; `rocking status` shows them). Tables go to <outputs>/<pipeline name>/.",
             stage.about(),
@@ -83,7 +84,7 @@ pub fn run(stage: &'static dyn Stage, m: &ArgMatches) -> anyhow::Result<()> {
     let outputs = m.get_one::<PathBuf>("outputs").expect("has a default");
     let study = Study::load(pipeline, outputs)?;
     let opts = RunOptions {
-        to: Some(stage),
+        target: Target::For(stage),
         force: if m.get_flag("force") {
             Force::Target
         } else {
