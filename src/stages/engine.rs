@@ -7,8 +7,9 @@
 use std::fmt;
 use std::time::Instant;
 
-use super::fingerprint::{self, Note, Stale};
+use super::fingerprint::{self, Note};
 use super::lock::{Lock, LockError, Scope};
+pub use super::reason::{Reason, Skip, Stale};
 use super::stage::{BoxError, Context, Reporter, Shard, Stage, StageEvent, Study};
 use super::STAGES;
 use crate::tables;
@@ -22,47 +23,6 @@ pub enum Freshness {
     Stale(Vec<Stale>),
     /// The pipeline does not need this stage (why).
     NotNeeded(String),
-}
-
-/// Why a stage runs.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Reason {
-    Stale(Vec<Stale>),
-    /// `--force`.
-    Forced,
-    /// `--from STAGE` at or before it.
-    From(&'static str),
-}
-
-impl fmt::Display for Reason {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Reason::Stale(why) => {
-                let parts: Vec<String> = why.iter().map(Stale::to_string).collect();
-                f.write_str(&parts.join("; "))
-            }
-            Reason::Forced => f.write_str("forced (--force)"),
-            Reason::From(s) => write!(f, "forced (--from {s})"),
-        }
-    }
-}
-
-/// Why a stage does not run.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Skip {
-    Fresh,
-    FreshShards(usize),
-    NotNeeded(String),
-}
-
-impl fmt::Display for Skip {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Skip::Fresh => f.write_str("fresh"),
-            Skip::FreshShards(n) => write!(f, "fresh ({n} shards)"),
-            Skip::NotNeeded(why) => write!(f, "not needed: {why}"),
-        }
-    }
 }
 
 impl fmt::Display for Freshness {

@@ -11,12 +11,12 @@
 //! ([`Study::name_of`]), so a copied output folder stays fresh.
 
 use std::collections::BTreeMap;
-use std::fmt;
 use std::fs;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+pub use super::reason::Stale;
 use super::stage::{Shard, Stage, Study};
 use crate::hash;
 
@@ -33,55 +33,6 @@ pub struct Note {
     pub seconds: f64,
     /// Why it last ran, as shown then.
     pub reason: String,
-}
-
-/// Why a stage is stale. Each names the file or part concerned.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Stale {
-    /// No fingerprint: the stage never succeeded in this folder.
-    NeverRun,
-    /// The fingerprint file exists but cannot be read or parsed.
-    NoteUnreadable {
-        note: String,
-        problem: String,
-    },
-    SettingsChanged,
-    VersionsChanged,
-    /// An input file's bytes differ from when the stage last ran.
-    InputChanged(String),
-    /// A file it reads now that it did not read then (and the reverse).
-    InputNew(String),
-    InputGone(String),
-    /// An input it needs does not exist yet (an earlier stage has not run).
-    InputMissing(String),
-    /// Its inputs cannot be listed (a folder of AT2 files is unreadable).
-    InputsUnavailable(String),
-    OutputMissing(String),
-    /// An output was edited or replaced behind the tool's back.
-    OutputChanged(String),
-    /// An output it writes now is not in its fingerprint (written by an older version).
-    OutputNotRecorded(String),
-}
-
-impl fmt::Display for Stale {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Stale::NeverRun => write!(f, "never run here (no fingerprint)"),
-            Stale::NoteUnreadable { note, problem } => {
-                write!(f, "its fingerprint {note} is unreadable ({problem})")
-            }
-            Stale::SettingsChanged => write!(f, "settings changed"),
-            Stale::VersionsChanged => write!(f, "the tool's version changed"),
-            Stale::InputChanged(n) => write!(f, "input {n} changed"),
-            Stale::InputNew(n) => write!(f, "input {n} is new"),
-            Stale::InputGone(n) => write!(f, "input {n} is gone"),
-            Stale::InputMissing(n) => write!(f, "input {n} does not exist yet"),
-            Stale::InputsUnavailable(why) => write!(f, "its inputs cannot be listed: {why}"),
-            Stale::OutputMissing(n) => write!(f, "output {n} is missing"),
-            Stale::OutputChanged(n) => write!(f, "output {n} was changed since it was written"),
-            Stale::OutputNotRecorded(n) => write!(f, "output {n} is not in the fingerprint"),
-        }
-    }
 }
 
 /// The version part: the tool and the table schemas.

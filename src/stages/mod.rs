@@ -18,12 +18,14 @@ pub mod fingerprint;
 pub mod fit;
 pub mod ingest;
 pub mod lock;
+pub mod reason;
 pub mod records;
 pub mod reduce;
 pub mod report;
 pub mod stage;
 pub mod sweep;
 
+pub use reason::{Reason, Skip, Stale};
 pub use stage::{
     BoxError, Context, LoadError, Progress, Reporter, Shard, Silent, Stage, StageEvent, Study,
     Summary,

@@ -13,6 +13,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
+pub use super::reason::StageEvent;
 use crate::pipeline::{Plan, RecordSource};
 
 /// A boxed error with its cause chain intact (each stage has its own typed
@@ -186,17 +187,6 @@ pub trait Reporter: Sync {
 /// The reporter that says nothing.
 pub struct Silent;
 impl Reporter for Silent {}
-
-/// A stage's turn in a run.
-#[derive(Debug, Clone, PartialEq)]
-pub enum StageEvent {
-    /// It runs, for these reasons.
-    Running(super::engine::Reason),
-    /// It does not: fresh, or not needed by this pipeline.
-    Skipped(super::engine::Skip),
-    /// It finished after `seconds`.
-    Done { seconds: f64 },
-}
 
 /// The K-th of N parts of a sharded stage (1 ≤ K ≤ N).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
