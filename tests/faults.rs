@@ -9,20 +9,7 @@ use rocking::stages::fingerprint::Stale;
 use rocking::stages::sweep::{read_capacities, DatasetError, FAULT_ENV};
 use rocking::stages::Study;
 
-use crate::util::{bundled_records, rocking, root, stderr, stdout, tempdir};
-
-/// A pipeline over the bundled far-field records with `body` after `[records]`.
-fn pipeline(dir: &Path, name: &str, body: &str) -> PathBuf {
-    let rec = bundled_records();
-    let text = format!(
-        "name = \"{name}\"\n[records]\nat2 = [\"{}\"]\nmanifest = \"{}\"\n{body}",
-        rec.display(),
-        rec.join("manifest.csv").display()
-    );
-    let path = dir.join(format!("{name}.toml"));
-    fs::write(&path, text).unwrap();
-    path
-}
+use crate::util::{bundled_records, rocking, root, stderr, stdout, tempdir, write_pipeline};
 
 /// 3 records × 24 blocks = 72 cases: three chunks of 32.
 const THREE_CHUNKS: &str = r#"ids = ["RSN1111_KOBE_NIS000", "RSN953_NORTHR_MUL009", "RSN1633_MANJIL_ABBAR--L"]
@@ -63,7 +50,7 @@ fn absurd_sizes_are_refused_before_anything_is_allocated_issue_9() {
             "`convergence.levels`",
         ),
     ] {
-        let pipe = pipeline(d, "huge", &body);
+        let pipe = write_pipeline(d, "huge", &body);
         let out = rocking(d, &["run", pipe.to_str().unwrap(), "--outputs", "out"]);
         // Exit code 1 and a message, not an allocation abort (134).
         assert_eq!(out.status.code(), Some(1), "{body}: {}", stderr(&out));
@@ -98,7 +85,7 @@ fn absurd_sizes_are_refused_before_anything_is_allocated_issue_9() {
 #[test]
 fn a_part_copied_over_another_chunk_is_recomputed_issue_9() {
     let reference = tempdir();
-    let ref_pipe = pipeline(reference.path(), "r", THREE_CHUNKS);
+    let ref_pipe = write_pipeline(reference.path(), "r", THREE_CHUNKS);
     let out = rocking(
         reference.path(),
         &["sweep", ref_pipe.to_str().unwrap(), "--outputs", "out"],
@@ -107,7 +94,7 @@ fn a_part_copied_over_another_chunk_is_recomputed_issue_9() {
 
     let dir = tempdir();
     let d = dir.path();
-    let pipe = pipeline(d, "r", THREE_CHUNKS);
+    let pipe = write_pipeline(d, "r", THREE_CHUNKS);
     // Crash after two chunks are saved, then copy chunk 0's parts over chunk 1's.
     let crashed = std::process::Command::new(env!("CARGO_BIN_EXE_rocking"))
         .args(["sweep", pipe.to_str().unwrap(), "--outputs", "out"])
@@ -149,7 +136,7 @@ fn a_part_copied_over_another_chunk_is_recomputed_issue_9() {
 fn shards_beside_an_unsharded_sweep_are_refused_issue_9() {
     let dir = tempdir();
     let d = dir.path();
-    let pipe = pipeline(d, "s", THREE_CHUNKS);
+    let pipe = write_pipeline(d, "s", THREE_CHUNKS);
     let p = pipe.to_str().unwrap();
     for k in 1..=3 {
         let shard = format!("{k}/3");
@@ -284,7 +271,7 @@ fn hints_name_what_the_command_accepts_issue_9() {
 fn thread_counts_beyond_the_cores_are_refused_issue_9() {
     let dir = tempdir();
     let d = dir.path();
-    let pipe = pipeline(
+    let pipe = write_pipeline(
         d,
         "t",
         "ids = [\"RSN1111_KOBE_NIS000\"]\n[blocks]\np = [1.0]\neps = [0.8]\n",

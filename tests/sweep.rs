@@ -4,14 +4,14 @@
 //! killed mid-way resumes to the same tables.
 
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use rocking::ida::{ImGrid, Spacing};
 use rocking::physics::{simulate, Excitation, Model, RunSpec};
 use rocking::pipeline;
 use rocking::stages::sweep::{read_capacities, read_ida, FAULT_ENV};
 
-use crate::util::{bundled_records, rocking, root, stderr, tempdir, TempDir};
+use crate::util::{rocking, root, stderr, tempdir, write_pipeline, TempDir};
 
 #[test]
 fn every_shipped_pipeline_loads() {
@@ -38,19 +38,6 @@ fn every_shipped_pipeline_loads() {
         }
     }
     assert!(n >= 3);
-}
-
-/// Writes a pipeline file into `dir` reading the bundled records by absolute path.
-fn write_pipeline(dir: &Path, name: &str, body: &str) -> PathBuf {
-    let rec = bundled_records();
-    let text = format!(
-        "name = \"{name}\"\n[records]\nat2 = [\"{}\"]\nmanifest = \"{}\"\n{body}",
-        rec.display(),
-        rec.join("manifest.csv").display()
-    );
-    let path = dir.join(format!("{name}.toml"));
-    fs::write(&path, text).unwrap();
-    path
 }
 
 const SMALL: &str = r#"ids = ["RSN1111_KOBE_NIS000", "RSN953_NORTHR_MUL009"]

@@ -37,6 +37,20 @@ pub fn plain_at2_values(path: &Path) -> Vec<f64> {
         .collect()
 }
 
+/// Writes `dir/<name>.toml`: a pipeline named `name` over the bundled
+/// records (by absolute path, with their manifest), `body` after `[records]`.
+pub fn write_pipeline(dir: &Path, name: &str, body: &str) -> PathBuf {
+    let rec = bundled_records();
+    let text = format!(
+        "name = \"{name}\"\n[records]\nat2 = [\"{}\"]\nmanifest = \"{}\"\n{body}",
+        rec.display(),
+        rec.join("manifest.csv").display()
+    );
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
 /// A small AT2 file in the NGA-West2 layout.
 pub fn at2_text(units: &str, npts_line: &str, values: &[&str]) -> String {
     let mut s = format!("TEST RECORD\nTEST EVENT, TEST STATION, 000\n{units}\n{npts_line}\n");

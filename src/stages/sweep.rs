@@ -459,47 +459,44 @@ fn span(ids: &[i64]) -> String {
     }
 }
 
-/// Removes temporary files left by a killed run (`.ida-000042.parquet.tmp-PID`),
-/// only for this shard's chunks: other shards may be writing beside it.
-fn remove_stale_temporaries(dir: &Path, mine: &[usize]) -> Result<(), SweepError> {
-    let mine: BTreeSet<usize> = mine.iter().copied().collect();
+/// Removes the files of `dir` whose names `stale` picks.
+fn remove_where(dir: &Path, stale: impl Fn(&str) -> bool) -> Result<(), SweepError> {
     let entries = fs::read_dir(dir).map_err(|source| SweepError::Io {
         path: dir.into(),
         source,
     })?;
     for e in entries.flatten() {
-        let name = e.file_name().to_string_lossy().into_owned();
-        let chunk = name
-            .strip_prefix(".ida-")
-            .or_else(|| name.strip_prefix(".cap-"))
-            .and_then(|r| r.split('.').next())
-            .and_then(|c| c.parse::<usize>().ok());
-        // The writer's PID ends the name: a live writer's file is not stale.
-        let pid = name
-            .rsplit(".tmp-")
-            .next()
-            .filter(|_| name.contains(".tmp-"));
-        let writer_alive = pid.is_some_and(|p| Path::new("/proc").join(p).exists());
-        if name.contains(".tmp-") && !writer_alive && chunk.is_some_and(|c| mine.contains(&c)) {
+        if stale(&e.file_name().to_string_lossy()) {
             let _ = fs::remove_file(e.path());
         }
     }
     Ok(())
 }
 
+/// Removes temporary files left by a killed run (`.ida-000042.parquet.tmp-PID`),
+/// only for this shard's chunks: other shards may be writing beside it.
+fn remove_stale_temporaries(dir: &Path, mine: &[usize]) -> Result<(), SweepError> {
+    let mine: BTreeSet<usize> = mine.iter().copied().collect();
+    remove_where(dir, |name| {
+        let chunk = name
+            .strip_prefix(".ida-")
+            .or_else(|| name.strip_prefix(".cap-"))
+            .and_then(|r| r.split('.').next())
+            .and_then(|c| c.parse::<usize>().ok());
+        // The writer's PID ends the name: a live writer's file is not stale.
+        let Some((_, pid)) = name.rsplit_once(".tmp-") else {
+            return false;
+        };
+        let writer_alive = Path::new("/proc").join(pid).exists();
+        !writer_alive && chunk.is_some_and(|c| mine.contains(&c))
+    })
+}
+
 /// After an unsharded run, shard tables of an earlier sharded run are stale.
 fn remove_shard_tables(dir: &Path) -> Result<(), SweepError> {
-    let entries = fs::read_dir(dir).map_err(|source| SweepError::Io {
-        path: dir.into(),
-        source,
-    })?;
-    for e in entries.flatten() {
-        let name = e.file_name().to_string_lossy().into_owned();
-        if name.contains(".shard-") && name.ends_with(".parquet") {
-            let _ = fs::remove_file(e.path());
-        }
-    }
-    Ok(())
+    remove_where(dir, |name| {
+        name.contains(".shard-") && name.ends_with(".parquet")
+    })
 }
 
 /// A case's IDA points, its capacity, and the sample intervals it took.
