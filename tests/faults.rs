@@ -431,9 +431,11 @@ fn stale_reasons_are_typed_issue_9() {
     assert_eq!(of("ingest"), Freshness::Fresh);
     assert_eq!(of("sweep"), Freshness::Stale(vec![Stale::SettingsChanged]));
     assert!(matches!(of("convergence"), Freshness::NotNeeded(_)));
-    // Reduce reads the sweep's tables, which are still the old ones: fresh
-    // until the sweep reruns; its settings (the fractile) did not change.
-    assert_eq!(of("reduce"), Freshness::Fresh);
+    // Reduce's own inputs are unchanged (the sweep has not rerun yet), but
+    // it reads the sweep's outputs, which will change: it waits on it.
+    assert_eq!(of("reduce"), Freshness::Waits("sweep"));
+    // The report shows the settings: they are its own.
+    assert_eq!(of("report"), Freshness::Stale(vec![Stale::SettingsChanged]));
     // A missing input of a stage that has never run names the file.
     let other = Study::load(&pipe, &d.join("elsewhere")).unwrap();
     match engine::freshness(engine::find("reduce").unwrap(), &other) {
@@ -443,4 +445,155 @@ fn stale_reasons_are_typed_issue_9() {
         ),
         f => panic!("{f:?}"),
     }
+}
+
+/// Asserts that no cause in the error chain printed on stderr repeats the
+/// text of a line above it (a wrapper printing its source's message).
+fn assert_causes_are_not_repeated(err: &str) {
+    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
+    for (i, l) in lines.iter().enumerate() {
+        if let Some(cause) = l.trim().strip_prefix("caused by: ") {
+            for earlier in &lines[..i] {
+                assert!(
+                    !earlier.contains(cause),
+                    "`{cause}` is printed twice:\n{err}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn error_causes_are_printed_once_issue_9() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(d.join("garbage.parquet"), "not a parquet file").unwrap();
+    fs::write(
+        d.join("g.toml"),
+        "[records]\ntable = \"garbage.parquet\"\n[blocks]\np = [1.0]\neps = [0.8]\n",
+    )
+    .unwrap();
+    let out = rocking(d, &["sweep", "g.toml", "--outputs", "out"]);
+    let err = stderr(&out);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("garbage.parquet") && err.contains("caused by:"),
+        "{err}"
+    );
+    assert_causes_are_not_repeated(&err);
+    // A pipeline that cannot be read, a manifest with a bad cell.
+    let out = rocking(d, &["run", "missing.toml"]);
+    assert_causes_are_not_repeated(&stderr(&out));
+    fs::write(d.join("m.csv"), "year,file\n19x9,a.AT2\n").unwrap();
+    fs::copy(
+        root().join("records/fema-p695/far-field/RSN1111_KOBE_NIS000.AT2"),
+        d.join("a.AT2"),
+    )
+    .unwrap();
+    let out = rocking(d, &["ingest", "a.AT2", "--manifest", "m.csv"]);
+    let err = stderr(&out);
+    assert!(err.contains("line 2"), "{err}");
+    assert_causes_are_not_repeated(&err);
+}
+
+#[test]
+fn an_incomplete_or_resharded_sweep_is_not_redone_behind_the_users_back_issue_9() {
+    let dir = tempdir();
+    let d = dir.path();
+    let pipe = write_pipeline(d, "s", THREE_CHUNKS);
+    let p = pipe.to_str().unwrap();
+    let sweep = |shard: &str| rocking(d, &["sweep", p, "--outputs", "out", "--shard", shard]);
+    assert!(sweep("1/2").status.success());
+    // One shard of two: `run` refuses to throw it away, and says what to do.
+    let out = rocking(d, &["run", p, "--outputs", "out"]);
+    let err = stderr(&out);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("run in 2 shards and shard 2/2 is missing") && err.contains("--shard K/2"),
+        "{err}"
+    );
+    assert!(d.join("out/s/capacities.shard-1-of-2.parquet").exists());
+    // Re-sharded into three: the shards of two are superseded.
+    for k in 1..=3 {
+        let out = sweep(&format!("{k}/3"));
+        assert!(out.status.success(), "{}", stderr(&out));
+    }
+    assert!(!d.join("out/s/capacities.shard-1-of-2.parquet").exists());
+    assert!(!d
+        .join("out/s/.fingerprints/sweep.shard-1-of-2.json")
+        .exists());
+    let out = rocking(d, &["run", p, "--outputs", "out"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("sweep        skipped: fresh (3 shards)"),
+        "{}",
+        stderr(&out)
+    );
+    // More shards than chunks, or an absurd count, is refused.
+    let out = sweep("4/4");
+    assert!(
+        stderr(&out).contains("the sweep has 3 chunk(s)"),
+        "{}",
+        stderr(&out)
+    );
+    let out = sweep("1/1000000000000");
+    assert_eq!(out.status.code(), Some(2), "a usage error");
+    assert!(
+        stderr(&out).contains("at most 1000000 shards"),
+        "{}",
+        stderr(&out)
+    );
+    // --force recomputes the whole sweep unsharded.
+    assert!(sweep("1/2").status.success());
+    let out = rocking(
+        d,
+        &["run", p, "--outputs", "out", "--force", "--to", "sweep"],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(d.join("out/s/capacities.parquet").exists());
+    assert!(!d.join("out/s/capacities.shard-1-of-2.parquet").exists());
+}
+
+#[test]
+fn commands_refuse_what_cannot_mean_anything_issue_9() {
+    let dir = tempdir();
+    let d = dir.path();
+    let pipe = write_pipeline(
+        d,
+        "phys",
+        "ids = [\"RSN1111_KOBE_NIS000\"]\n[[block]]\nb = 0.2\nh = 1.0\neps = 0.8\n",
+    );
+    let p = pipe.to_str().unwrap();
+    // A stage the pipeline does not need, before anything runs.
+    for stage in ["fit", "convergence"] {
+        let out = rocking(d, &[stage, p, "--outputs", "out"]);
+        assert!(!out.status.success(), "{stage}");
+        assert!(
+            stderr(&out).contains(&format!("does not need `{stage}`")),
+            "{}",
+            stderr(&out)
+        );
+        assert!(
+            !d.join("out/phys/capacities.parquet").exists(),
+            "nothing ran"
+        );
+    }
+    let out = rocking(
+        d,
+        &[
+            "run",
+            p,
+            "--outputs",
+            "out",
+            "--from",
+            "reduce",
+            "--to",
+            "sweep",
+        ],
+    );
+    assert!(
+        stderr(&out).contains("comes after --to"),
+        "{}",
+        stderr(&out)
+    );
 }

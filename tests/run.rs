@@ -158,10 +158,15 @@ fn busy_study(dir: &Path) -> PathBuf {
     path
 }
 
-/// Waits until `path` exists (the running command has taken its lock).
+/// Waits until the lock at `path` is `child`'s (the running command has
+/// taken it; a lock left by an earlier holder does not count).
 fn wait_for(path: &Path, child: &mut std::process::Child) {
     for _ in 0..600 {
-        if path.exists() {
+        let holder = fs::read(path)
+            .ok()
+            .and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok())
+            .and_then(|v| v["pid"].as_u64());
+        if holder == Some(u64::from(child.id())) {
             return;
         }
         assert!(
@@ -263,7 +268,8 @@ fn a_lock_that_is_not_a_live_rocking_is_taken_over_issue_9() {
         "pid": 999999999u32, "host": "another-host", "started_ticks": 0u64,
         "since_unix_s": 0u64, "command": "rocking sweep x.toml --shard 1/4"
     });
-    fs::write(d.join("out/mini/.lock.shard-1-of-4"), owner.to_string()).unwrap();
+    let shard_lock = d.join("out/mini/.lock.shard-1-of-4");
+    fs::write(&shard_lock, owner.to_string()).unwrap();
     let out = rocking(d, &["run", p, "--outputs", "out"]);
     assert!(!out.status.success());
     let err = stderr(&out);
@@ -272,6 +278,40 @@ fn a_lock_that_is_not_a_live_rocking_is_taken_over_issue_9() {
         "a lock from another host is obeyed and named: {err}"
     );
     assert!(!err.contains("pid )"), "{err}");
+    // A shard of another count is refused too (their chunks overlap).
+    let out = rocking(d, &["sweep", p, "--outputs", "out", "--shard", "1/3"]);
+    assert!(stderr(&out).contains("--shard 1/4"), "{}", stderr(&out));
+    // A remote lock untouched for longer than REMOTE_TTL (its node died) is taken over.
+    let an_hour_ago = std::time::SystemTime::now() - std::time::Duration::from_secs(3600);
+    fs::File::options()
+        .append(true)
+        .open(&shard_lock)
+        .unwrap()
+        .set_modified(an_hour_ago)
+        .unwrap();
+    let out = rocking(d, &["run", p, "--outputs", "out"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    // A remote lock of this very Slurm array task (a requeue on another
+    // node) is taken over at once.
+    fs::remove_file(&shard_lock).unwrap();
+    let mine = serde_json::json!({
+        "pid": 4242u32, "host": "dead-node", "started_ticks": 0u64, "since_unix_s": 0u64,
+        "command": "rocking sweep mini.toml --shard 1/1", "job": "slurm 77_1"
+    });
+    fs::write(d.join("out/mini/.lock.shard-1-of-1"), mine.to_string()).unwrap();
+    let requeued = |task: &str| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_rocking"))
+            .args(["sweep", p, "--outputs", "out", "--shard", "1/1", "--force"])
+            .env("SLURM_ARRAY_JOB_ID", "77")
+            .env("SLURM_ARRAY_TASK_ID", task)
+            .current_dir(d)
+            .output()
+            .unwrap()
+    };
+    let out = requeued("2");
+    assert!(!out.status.success(), "another task of the array obeys it");
+    let out = requeued("1");
+    assert!(out.status.success(), "{}", stderr(&out));
 }
 
 #[test]

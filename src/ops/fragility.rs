@@ -92,6 +92,8 @@ pub enum FragilityError {
     Records(#[source] SelectError),
     #[error("--direct")]
     Ingest(#[source] IngestError),
+    #[error("--direct: the model for this block")]
+    Model(#[source] PhysicsError),
     #[error("--direct: record {record}")]
     Physics {
         record: String,
@@ -206,10 +208,7 @@ fn direct(from: &Source, plan: Option<&Plan>, block: &Block) -> Result<Vec<f64>,
     };
     let (model, _) = ModelChoice::Auto
         .resolve(Some(block.alpha()), 1e-8, 0.01)
-        .map_err(|source| FragilityError::Physics {
-            record: String::new(),
-            source,
-        })?;
+        .map_err(FragilityError::Model)?;
     let spec = RunSpec::new(block.p(), block.eps, 1.0, model);
     rows.par_iter()
         .map(|r| {

@@ -126,7 +126,12 @@ impl Integrator {
             };
         }
         match (self, equation) {
-            (Integrator::Exact, _) => with!(exact::Exact::new(p, eta, dt, limit)),
+            (Integrator::Exact, Equation::Linearized) => {
+                with!(exact::Exact::new(p, eta, dt, limit))
+            }
+            (Integrator::Exact, Equation::Nonlinear { .. }) => {
+                unreachable!("validate() refuses the exact stepper for the nonlinear equation")
+            }
             (Integrator::Dp5 { rtol }, Equation::Linearized) => {
                 with!(dp5::Dp5::new(LinearRhs::new(p, eta), p, rtol, limit))
             }

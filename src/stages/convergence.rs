@@ -71,6 +71,12 @@ pub enum ConvergenceError {
     Records(#[from] SelectError),
     #[error(transparent)]
     Table(#[from] TableError),
+    #[error("record {record}")]
+    Record {
+        record: String,
+        #[source]
+        source: PhysicsError,
+    },
     #[error("block p = {p}, ε = {eps}")]
     Physics {
         p: f64,
@@ -89,9 +95,13 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
     };
     let excitations = records
         .par_iter()
-        .map(|r| Excitation::new(&r.accel_g, r.dt_s))
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(physics(&plan.blocks[0]))?;
+        .map(|r| {
+            Excitation::new(&r.accel_g, r.dt_s).map_err(|source| ConvergenceError::Record {
+                record: r.record_id.clone(),
+                source,
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
     let mut rows = Vec::new();
     let mut runs = 0u64;
     let total = (plan.blocks.len() * plan.convergence.len()) as u64;

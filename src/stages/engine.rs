@@ -21,6 +21,9 @@ pub enum Freshness {
     /// Fresh as a complete set of N shards.
     FreshShards(usize),
     Stale(Vec<Stale>),
+    /// Fresh itself, but it reads from this stage, which is stale: it will
+    /// run once that one has (shown by `status`).
+    Waits(&'static str),
     /// The pipeline does not need this stage (why).
     NotNeeded(String),
 }
@@ -31,6 +34,9 @@ impl fmt::Display for Freshness {
             Freshness::Fresh => f.write_str("fresh"),
             Freshness::FreshShards(n) => write!(f, "fresh ({n} shards)"),
             Freshness::Stale(why) => write!(f, "stale: {}", Reason::Stale(why.clone())),
+            Freshness::Waits(on) => {
+                write!(f, "stale: it reads `{on}`'s outputs, which will change")
+            }
             Freshness::NotNeeded(why) => write!(f, "not needed: {why}"),
         }
     }
@@ -46,13 +52,28 @@ pub enum RunError {
         #[source]
         source: BoxError,
     },
-    #[error("stage `{stage}` cannot run: {why}")]
-    NotReady { stage: &'static str, why: String },
     #[error("stage `{stage}` succeeded but its fingerprint could not be saved")]
     Note {
         stage: &'static str,
         #[source]
         source: BoxError,
+    },
+    #[error(
+        "`{stage}`: {why}; run them with `rocking {stage} {pipeline} --shard K/{n}`, \
+         or recompute the whole stage unsharded with --force"
+    )]
+    ShardsIncomplete {
+        stage: &'static str,
+        why: String,
+        n: usize,
+        pipeline: String,
+    },
+    #[error("this pipeline does not need `{stage}`: {why}")]
+    NotNeeded { stage: &'static str, why: String },
+    #[error("--from {from} comes after --to {to}: nothing would be forced")]
+    FromAfterTo {
+        from: &'static str,
+        to: &'static str,
     },
     #[error("stage `{0}` cannot be split into shards")]
     NotShardable(&'static str),
@@ -93,8 +114,8 @@ pub enum Target {
 #[derive(Debug, Clone, Default)]
 pub struct RunOptions {
     pub target: Target,
-    /// Force every stage run (`--force`); with `to` set by a stage command,
-    /// only that stage.
+    /// What to force: `--force` of `run` (every stage), `--from`, or the
+    /// `--force` of a stage command (its stage only).
     pub force: Force,
     /// Run the target stage as one shard.
     pub shard: Option<Shard>,
@@ -170,51 +191,91 @@ pub fn freshness(stage: &dyn Stage, study: &Study) -> Freshness {
         Err(why) => vec![why],
     };
     if stage.shardable() {
-        if let Some(n) = fresh_shards(stage, study, &now) {
-            return Freshness::FreshShards(n);
+        match shard_state(stage, study, &now) {
+            Shards::None => {}
+            Shards::Complete(n) => return Freshness::FreshShards(n),
+            Shards::Incomplete { n, missing } => {
+                let mut why = why;
+                why.push(Stale::ShardsIncomplete { n, missing });
+                return Freshness::Stale(why);
+            }
         }
     }
     Freshness::Stale(why)
 }
 
-/// `Some(N)` when N shard notes of one sharding cover 1..=N and are all fresh.
-fn fresh_shards(
+/// What the shard notes of a sharded stage say.
+enum Shards {
+    /// No shard has a fresh note.
+    None,
+    /// Every shard of N is fresh.
+    Complete(usize),
+    /// Some shards of N are fresh, these are not.
+    Incomplete { n: usize, missing: Vec<usize> },
+}
+
+fn shard_state(
     stage: &dyn Stage,
     study: &Study,
     now: &std::collections::BTreeMap<String, String>,
-) -> Option<usize> {
+) -> Shards {
     let notes = fingerprint::shard_notes(study, stage.name());
-    let n = notes.first()?.0.n;
-    let set: Vec<_> = notes.iter().filter(|(s, _)| s.n == n).collect();
-    if set.len() != n || notes.len() != n {
-        return None;
+    let Some(n) = notes.last().map(|(s, _)| s.n) else {
+        return Shards::None;
+    };
+    let fresh: std::collections::BTreeSet<usize> = notes
+        .iter()
+        .filter(|(s, _)| s.n == n)
+        .filter(|(s, path)| {
+            fingerprint::read_note(study, path).is_ok_and(|note| {
+                let declared = stage.outputs(study, Some(*s));
+                fingerprint::compare(now, &note, study, &declared).is_empty()
+            })
+        })
+        .map(|(s, _)| s.k)
+        .collect();
+    match fresh.len() {
+        0 => Shards::None,
+        k if k == n => Shards::Complete(n),
+        _ => Shards::Incomplete {
+            n,
+            // At most N − 1 of them, and N is bounded by the number of chunks.
+            missing: (1..=n).filter(|k| !fresh.contains(k)).collect(),
+        },
     }
-    for (shard, path) in set {
-        let note = fingerprint::read_note(study, path).ok()?;
-        let declared = stage.outputs(study, Some(*shard));
-        if !fingerprint::compare(now, &note, study, &declared).is_empty() {
-            return None;
-        }
-    }
-    Some(n)
 }
 
-/// Every stage's freshness, in order.
+/// Every stage's freshness, in order. A stage that is fresh itself but
+/// reads from a stage that will run first is shown as waiting on it.
 pub fn status(study: &Study) -> Vec<(&'static str, Freshness)> {
+    let mut out: Vec<(&'static str, Freshness)> = Vec::new();
+    for &stage in STAGES {
+        let mut f = freshness(stage, study);
+        if f == Freshness::Fresh {
+            let upstream = covered(study, Target::For(stage));
+            if let Some(&(name, _)) = out.iter().find(|(name, g)| {
+                matches!(g, Freshness::Stale(_) | Freshness::Waits(_))
+                    && upstream.iter().any(|u| u.name() == *name)
+            }) {
+                f = Freshness::Waits(name);
+            }
+        }
+        out.push((stage.name(), f));
+    }
+    out
+}
+
+/// Where a stage stands in the registry.
+fn index_of(stage: &dyn Stage) -> usize {
     STAGES
         .iter()
-        .map(|s| (s.name(), freshness(*s, study)))
-        .collect()
+        .position(|s| s.name() == stage.name())
+        .expect("a registered stage")
 }
 
 /// The stages a run covers, in order.
 fn covered(study: &Study, target: Target) -> Vec<&'static dyn Stage> {
-    let index = |t: &dyn Stage| {
-        STAGES
-            .iter()
-            .position(|s| s.name() == t.name())
-            .expect("a registered stage")
-    };
+    let index = index_of;
     match target {
         Target::All => STAGES.to_vec(),
         Target::Through(t) => STAGES[..=index(t)].to_vec(),
@@ -265,6 +326,23 @@ pub fn run(
     opts: &RunOptions,
     reporter: &dyn Reporter,
 ) -> Result<Vec<StageResult>, RunError> {
+    match (opts.target, opts.force) {
+        (Target::For(t), _) => {
+            if let Some(why) = t.not_needed(study) {
+                return Err(RunError::NotNeeded {
+                    stage: t.name(),
+                    why,
+                });
+            }
+        }
+        (Target::Through(to), Force::From(from)) if index_of(from) > index_of(to) => {
+            return Err(RunError::FromAfterTo {
+                from: from.name(),
+                to: to.name(),
+            });
+        }
+        _ => {}
+    }
     let stages = covered(study, opts.target);
     let last = stages.len() - 1;
     if let Some(n) = opts.threads {
@@ -284,6 +362,8 @@ pub fn run(
             let fresh = freshness(stage, study);
             let reason = match fresh {
                 Freshness::NotNeeded(why) => {
+                    // A note left from when the pipeline needed it is not this study's.
+                    let _ = std::fs::remove_file(fingerprint::note_path(study, stage.name(), None));
                     skip(&mut results, reporter, stage, Skip::NotNeeded(why));
                     continue;
                 }
@@ -293,8 +373,26 @@ pub fn run(
                     Force::From(f) => f.name(),
                     _ => unreachable!("forced_from is set by Force::From only"),
                 }),
-                Freshness::Stale(why) => Reason::Stale(why),
-                Freshness::Fresh => {
+                Freshness::Stale(why) => {
+                    if let Some(Stale::ShardsIncomplete { n, missing }) = why
+                        .iter()
+                        .find(|w| matches!(w, Stale::ShardsIncomplete { .. }))
+                    {
+                        return Err(RunError::ShardsIncomplete {
+                            stage: stage.name(),
+                            why: Stale::ShardsIncomplete {
+                                n: *n,
+                                missing: missing.clone(),
+                            }
+                            .to_string(),
+                            n: *n,
+                            pipeline: study.pipeline.display().to_string(),
+                        });
+                    }
+                    Reason::Stale(why)
+                }
+                // (`freshness` never says Waits: only `status` does.)
+                Freshness::Fresh | Freshness::Waits(_) => {
                     skip(&mut results, reporter, stage, Skip::Fresh);
                     continue;
                 }
@@ -345,7 +443,9 @@ fn run_shard(
                 Freshness::NotNeeded(why) => {
                     skip(&mut results, reporter, stage, Skip::NotNeeded(why))
                 }
-                Freshness::Fresh => skip(&mut results, reporter, stage, Skip::Fresh),
+                Freshness::Fresh | Freshness::Waits(_) => {
+                    skip(&mut results, reporter, stage, Skip::Fresh)
+                }
                 Freshness::FreshShards(n) => {
                     skip(&mut results, reporter, stage, Skip::FreshShards(n))
                 }
@@ -433,8 +533,13 @@ fn run_one(
                 let _ = std::fs::remove_file(p);
             }
         }
-        Some(_) => {
+        Some(done) => {
             let _ = std::fs::remove_file(fingerprint::note_path(study, name, None));
+            for (other, p) in fingerprint::shard_notes(study, name) {
+                if other.n != done.n {
+                    let _ = std::fs::remove_file(p);
+                }
+            }
         }
     }
     reporter.stage(name, &StageEvent::Done { seconds });

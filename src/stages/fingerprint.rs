@@ -35,9 +35,10 @@ pub struct Note {
     pub reason: String,
 }
 
-/// The version part: the tool and the table schemas.
+/// The version part: the tool's version, which is raised with any change of
+/// a table's schema (ARCHITECTURE.md, "How to add a table").
 fn versions() -> String {
-    format!("rocking {}; tables v1", env!("CARGO_PKG_VERSION"))
+    format!("rocking {}", env!("CARGO_PKG_VERSION"))
 }
 
 /// Where a stage's note lives.
@@ -160,19 +161,15 @@ pub fn hash_outputs(study: &Study, files: &[PathBuf]) -> std::io::Result<BTreeMa
     Ok(out)
 }
 
-/// How long each stage took when it last succeeded here, by stage name.
+/// How long each of `stages` took when it last succeeded here, in their order.
 pub fn recorded_seconds(
     study: &Study,
     stages: &[&'static dyn Stage],
 ) -> Vec<(&'static str, Option<f64>)> {
+    let found = seconds_in_folder(study);
     stages
         .iter()
-        .map(|s| {
-            let seconds = read_note(study, &note_path(study, s.name(), None))
-                .ok()
-                .map(|n| n.seconds);
-            (s.name(), seconds)
-        })
+        .map(|s| (s.name(), found.get(s.name()).copied()))
         .collect()
 }
 
@@ -193,7 +190,8 @@ pub fn shard_notes(study: &Study, stage: &str) -> Vec<(Shard, PathBuf)> {
                 k: k.parse().ok()?,
                 n: n.parse().ok()?,
             };
-            (shard.k >= 1 && shard.k <= shard.n).then(|| (shard, e.path()))
+            (shard.k >= 1 && shard.k <= shard.n && shard.n <= super::stage::MAX_SHARDS)
+                .then(|| (shard, e.path()))
         })
         .collect();
     found.sort_by_key(|(s, _)| (s.n, s.k));

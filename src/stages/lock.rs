@@ -10,17 +10,25 @@
 //!   time (so a reused pid is not mistaken for the owner), the command. It
 //!   is created whole, by hard-linking a file already written, so it never
 //!   exists empty.
-//! - A lock is **live** when its owner is a running process of this tool:
-//!   same host, that pid running, started at the recorded time, with this
-//!   tool's process name. Anything else (the process is gone, the pid now
+//! - A lock is **live** when its owner is running: on this host, that pid
+//!   running, started at the recorded time, under the process name the
+//!   owner recorded. Anything else (the process is gone, the pid now
 //!   belongs to another program, the file is garbage or empty) is stale and
-//!   taken over. A lock from another host cannot be checked and is obeyed.
+//!   taken over. A lock from another host (a cluster's shared folder)
+//!   cannot be checked that way: its owner touches it every
+//!   [`HEARTBEAT`], and it is obeyed until it has gone [`REMOTE_TTL`]
+//!   without a touch (the node died, the job was killed), then taken over;
+//!   at once by the same batch job and task (a requeued Slurm array task
+//!   takes over the lock its killed run left on another node).
+//! - Shard locks of different shard counts refuse each other (their chunks
+//!   overlap).
 //! - Released on drop, only while it still holds our owner.
 
 use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
-use std::time::{SystemTime, UNIX_EPOCH};
+use std::sync::mpsc;
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 use serde::{Deserialize, Serialize};
 
@@ -38,7 +46,20 @@ pub struct Owner {
     pub since_unix_s: u64,
     /// The command, e.g. `rocking sweep pipelines/paper.toml`.
     pub command: String,
+    /// The owner's process name (/proc/PID/comm): a live pid under another
+    /// name is another program.
+    #[serde(default)]
+    pub process: String,
+    /// The batch job (Slurm array job and task, or job) the owner ran in, if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub job: Option<String>,
 }
+
+/// How often a lock's owner touches it (its modification time).
+pub const HEARTBEAT: Duration = Duration::from_secs(30);
+
+/// How long a lock from another host is obeyed without a touch.
+pub const REMOTE_TTL: Duration = Duration::from_secs(600);
 
 #[derive(Debug, thiserror::Error)]
 pub enum LockError {
@@ -50,7 +71,7 @@ pub enum LockError {
     Held {
         dir: PathBuf,
         lock: PathBuf,
-        owner: Owner,
+        owner: Box<Owner>,
     },
     #[error("{path}: cannot take the lock")]
     Io {
@@ -79,6 +100,8 @@ pub enum Scope {
 pub struct Lock {
     path: PathBuf,
     mine: Vec<u8>,
+    /// Dropping it stops the heartbeat thread.
+    heartbeat: Option<(mpsc::Sender<()>, std::thread::JoinHandle<()>)>,
 }
 
 const EXCLUSIVE: &str = ".lock";
@@ -108,17 +131,37 @@ impl Lock {
         // worst both do, and both say so).
         let conflict = match scope {
             Scope::Exclusive => live_locks(dir, |n| n.starts_with(SHARD_PREFIX)),
-            Scope::Shard(_) => live_locks(dir, |n| n == EXCLUSIVE),
+            Scope::Shard(s) => {
+                let same_count = format!("-of-{}", s.n);
+                live_locks(dir, |n| {
+                    n == EXCLUSIVE || (n.starts_with(SHARD_PREFIX) && !n.ends_with(&same_count))
+                })
+            }
         };
         if let Some((other, owner)) = conflict {
             drop(lock);
             return Err(LockError::Held {
                 dir: dir.into(),
                 lock: other,
-                owner,
+                owner: Box::new(owner),
             });
         }
-        Ok(lock)
+        Ok(lock.beating())
+    }
+
+    /// Starts touching the lock every [`HEARTBEAT`] until dropped.
+    fn beating(mut self) -> Lock {
+        let (stop, stopped) = mpsc::channel::<()>();
+        let path = self.path.clone();
+        let thread = std::thread::spawn(move || {
+            while let Err(mpsc::RecvTimeoutError::Timeout) = stopped.recv_timeout(HEARTBEAT) {
+                if let Ok(f) = fs::File::options().append(true).open(&path) {
+                    let _ = f.set_modified(SystemTime::now());
+                }
+            }
+        });
+        self.heartbeat = Some((stop, thread));
+        self
     }
 }
 
@@ -130,15 +173,16 @@ fn claim(path: &Path, tmp: &Path, mine: &[u8], dir: &Path) -> Result<Lock, LockE
                 return Ok(Lock {
                     path: path.into(),
                     mine: mine.to_vec(),
+                    heartbeat: None,
                 })
             }
             Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {
                 let held = fs::read(path).unwrap_or_default();
-                if let Some(owner) = live_owner(&held) {
+                if let Some(owner) = live_owner(&held, modified(path)) {
                     return Err(LockError::Held {
                         dir: dir.into(),
                         lock: path.into(),
-                        owner,
+                        owner: Box::new(owner),
                     });
                 }
                 take_over(path, &held);
@@ -156,7 +200,7 @@ fn claim(path: &Path, tmp: &Path, mine: &[u8], dir: &Path) -> Result<Lock, LockE
     Err(LockError::Held {
         dir: dir.into(),
         lock: path.into(),
-        owner: parse_owner(&held).unwrap_or_else(Owner::unknown),
+        owner: Box::new(parse_owner(&held).unwrap_or_else(Owner::unknown)),
     })
 }
 
@@ -178,31 +222,45 @@ fn take_over(path: &Path, stale: &[u8]) {
 
 impl Drop for Lock {
     fn drop(&mut self) {
+        if let Some((stop, thread)) = self.heartbeat.take() {
+            drop(stop);
+            let _ = thread.join();
+        }
         if fs::read(&self.path).is_ok_and(|b| b == self.mine) {
             let _ = fs::remove_file(&self.path);
         }
     }
 }
 
-/// The first live lock in `dir` whose file name passes `which`.
+/// The first live lock in `dir` whose file name passes `which`, other than ours.
 fn live_locks(dir: &Path, which: impl Fn(&str) -> bool) -> Option<(PathBuf, Owner)> {
-    let me = std::process::id();
+    let (me, here) = (std::process::id(), hostname());
     fs::read_dir(dir).ok()?.flatten().find_map(|e| {
         let name = e.file_name().to_string_lossy().into_owned();
         if !which(&name) {
             return None;
         }
-        let owner = live_owner(&fs::read(e.path()).ok()?)?;
-        (owner.pid != me).then(|| (e.path(), owner))
+        let owner = live_owner(&fs::read(e.path()).ok()?, modified(&e.path()))?;
+        (owner.pid != me || owner.host != here).then(|| (e.path(), owner))
     })
+}
+
+/// How long ago a file was last modified (zero if unknown or in the future).
+fn modified(path: &Path) -> Duration {
+    fs::metadata(path)
+        .and_then(|m| m.modified())
+        .ok()
+        .and_then(|t| SystemTime::now().duration_since(t).ok())
+        .unwrap_or_default()
 }
 
 fn parse_owner(bytes: &[u8]) -> Option<Owner> {
     serde_json::from_slice(bytes).ok()
 }
 
-/// The owner of a lock's bytes if it is a live process of this tool.
-fn live_owner(bytes: &[u8]) -> Option<Owner> {
+/// The owner of a lock's bytes if it is live; `age` is the time since the
+/// lock file was last touched.
+fn live_owner(bytes: &[u8], age: Duration) -> Option<Owner> {
     let owner = match parse_owner(bytes) {
         Some(o) => o,
         // A bare pid: the lock of an older version of this tool.
@@ -218,12 +276,17 @@ fn live_owner(bytes: &[u8]) -> Option<Owner> {
                 started_ticks: 0,
                 since_unix_s: 0,
                 command: "rocking (an older version)".into(),
+                process: my_comm(),
+                job: None,
             }
         }
     };
     if owner.host != hostname() {
-        // Another machine's process (a cluster's shared folder): obey it.
-        return Some(owner);
+        // Another machine's process (a cluster's shared folder): obey it
+        // while it keeps the lock fresh, unless it is an earlier run of this
+        // very batch task (requeued after its node or time ran out).
+        let same_task = owner.job.is_some() && owner.job == batch_job();
+        return (age < REMOTE_TTL && !same_task).then_some(owner);
     }
     if !Path::new("/proc/self/stat").exists() {
         return Some(owner); // no way to check here: obey it
@@ -233,7 +296,12 @@ fn live_owner(bytes: &[u8]) -> Option<Owner> {
         return None; // the pid was reused
     }
     let comm = fs::read_to_string(format!("/proc/{}/comm", owner.pid)).ok()?;
-    (comm.trim() == my_comm()).then_some(owner)
+    let expected = if owner.process.is_empty() {
+        my_comm()
+    } else {
+        owner.process.clone()
+    };
+    (comm.trim() == expected).then_some(owner)
 }
 
 impl Owner {
@@ -247,6 +315,8 @@ impl Owner {
                 .duration_since(UNIX_EPOCH)
                 .map_or(0, |d| d.as_secs()),
             command: command.to_string(),
+            process: my_comm(),
+            job: batch_job(),
         }
     }
 
@@ -257,6 +327,8 @@ impl Owner {
             started_ticks: 0,
             since_unix_s: 0,
             command: "?".into(),
+            process: String::new(),
+            job: None,
         }
     }
 }
@@ -267,6 +339,16 @@ impl Owner {
 fn start_ticks(stat: &str) -> Option<u64> {
     let rest = &stat[stat.rfind(')')? + 1..];
     rest.split_whitespace().nth(19)?.parse().ok()
+}
+
+/// The Slurm job this process runs in: `ARRAYJOB_TASK` for an array task
+/// (the same across requeues), else the job id; `None` outside Slurm.
+fn batch_job() -> Option<String> {
+    let var = |k: &str| std::env::var(k).ok().filter(|v| !v.is_empty());
+    match (var("SLURM_ARRAY_JOB_ID"), var("SLURM_ARRAY_TASK_ID")) {
+        (Some(job), Some(task)) => Some(format!("slurm {job}_{task}")),
+        _ => var("SLURM_JOB_ID").map(|j| format!("slurm {j}")),
+    }
 }
 
 fn my_comm() -> String {

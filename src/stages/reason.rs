@@ -31,6 +31,12 @@ pub enum Stale {
     OutputChanged(String),
     /// An output it writes now is not in its fingerprint (written by an older version).
     OutputNotRecorded(String),
+    /// It was run in `n` shards, some are done with the current settings,
+    /// and these are missing or stale.
+    ShardsIncomplete {
+        n: usize,
+        missing: Vec<usize>,
+    },
 }
 
 impl fmt::Display for Stale {
@@ -50,6 +56,26 @@ impl fmt::Display for Stale {
             Stale::OutputMissing(n) => write!(f, "output {n} is missing"),
             Stale::OutputChanged(n) => write!(f, "output {n} was changed since it was written"),
             Stale::OutputNotRecorded(n) => write!(f, "output {n} is not in the fingerprint"),
+            Stale::ShardsIncomplete { n, missing } => {
+                let list: Vec<String> = missing
+                    .iter()
+                    .take(10)
+                    .map(|k| format!("{k}/{n}"))
+                    .collect();
+                let more = missing.len().saturating_sub(10);
+                write!(
+                    f,
+                    "it was run in {n} shards and shard{} {}{} {} missing or stale",
+                    if missing.len() == 1 { "" } else { "s" },
+                    list.join(", "),
+                    if more > 0 {
+                        format!(" and {more} more")
+                    } else {
+                        String::new()
+                    },
+                    if missing.len() == 1 { "is" } else { "are" }
+                )
+            }
         }
     }
 }

@@ -182,12 +182,8 @@ fn load(study: &Study) -> Result<(Vec<CapacityRow>, Vec<IdaRow>), ReduceError> {
     let plan = &study.plan;
     let (ida_files, cap_files) = sweep::dataset(&study.dir)?;
     for f in &cap_files {
-        let kv = tables::read_metadata(f)?;
-        let made = kv
-            .iter()
-            .find(|(k, _)| k == sweep::META_SETTINGS)
-            .map(|(_, v)| v.as_str());
-        if made != Some(plan.sweep_settings().as_str()) {
+        let made = sweep::SweepMeta::read(f)?.settings;
+        if made.as_deref() != Some(plan.sweep_settings().as_str()) {
             return Err(ReduceError::Mismatch(format!(
                 "{} was made with other settings than the pipeline's",
                 f.display()

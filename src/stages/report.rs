@@ -145,6 +145,16 @@ fn run(cx: &Context) -> Result<Summary, ReportError> {
         tables::atomic_write(&path, svg.as_bytes())?;
         written.push(path);
     }
+    // Figures of an earlier state of the study that it no longer has (a fit
+    // that no longer converges, say) would sit beside the report unlisted.
+    if let Ok(entries) = std::fs::read_dir(&fig_dir) {
+        for e in entries.flatten() {
+            let is_svg = e.path().extension().is_some_and(|x| x == "svg");
+            if is_svg && !written.contains(&e.path()) {
+                let _ = std::fs::remove_file(e.path());
+            }
+        }
+    }
     let md = crate::report::render(&data, &figs);
     let report = study.path("report.md");
     tables::atomic_write(&report, md.as_bytes())?;

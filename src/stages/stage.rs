@@ -188,7 +188,11 @@ pub trait Reporter: Sync {
 pub struct Silent;
 impl Reporter for Silent {}
 
-/// The K-th of N parts of a sharded stage (1 ≤ K ≤ N).
+/// Most shards a stage may be split into (far more than any cluster's
+/// nodes; the sweep refuses more shards than it has chunks anyway).
+pub const MAX_SHARDS: usize = 1_000_000;
+
+/// The K-th of N parts of a sharded stage (1 ≤ K ≤ N ≤ [`MAX_SHARDS`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Shard {
     pub k: usize,
@@ -206,6 +210,9 @@ impl FromStr for Shard {
         );
         if k == 0 || n == 0 || k > n {
             return Err(bad());
+        }
+        if n > MAX_SHARDS {
+            return Err(format!("shard `{s}`: at most {MAX_SHARDS} shards"));
         }
         Ok(Shard { k, n })
     }

@@ -47,6 +47,29 @@ pub const META_SETTINGS: &str = "rocking.sweep.settings";
 /// The chunk a part file holds.
 pub const META_CHUNK: &str = "rocking.sweep.chunk";
 
+/// What a sweep table's metadata says about how it was made.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SweepMeta {
+    pub plan_hash: Option<String>,
+    /// [`Plan::sweep_settings`] of the plan that made it.
+    pub settings: Option<String>,
+    /// The chunk a part file holds.
+    pub chunk: Option<String>,
+}
+
+impl SweepMeta {
+    /// Reads the metadata of a sweep table or part file (its footer only).
+    pub fn read(path: &Path) -> Result<SweepMeta, TableError> {
+        let kv = tables::read_metadata(path)?;
+        let get = |key: &str| kv.iter().find(|(k, _)| k == key).map(|(_, v)| v.clone());
+        Ok(SweepMeta {
+            plan_hash: get(META_PLAN_HASH),
+            settings: get(META_SETTINGS),
+            chunk: get(META_CHUNK),
+        })
+    }
+}
+
 /// Environment variable for fault-injection tests: abort the process (as a
 /// crash would) after writing this many chunks.
 pub const FAULT_ENV: &str = "ROCKING_FAULT_AFTER_CHUNKS";
@@ -112,6 +135,11 @@ pub enum SweepError {
     },
     #[error(transparent)]
     Dataset(#[from] DatasetError),
+    #[error(
+        "--shard {shard}: the sweep has {chunks} chunk(s) of {CHUNK_CASES} cases, so at most \
+         {chunks} shards have work; give N ≤ {chunks}"
+    )]
+    TooManyShards { shard: Shard, chunks: usize },
 }
 
 /// Final table names of an unsharded run or of one shard.
@@ -252,6 +280,12 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
         source,
     })?;
     let n_chunks = prep.n_cases.div_ceil(CHUNK_CASES);
+    if let Some(s) = cx.shard.filter(|s| s.n > n_chunks) {
+        return Err(SweepError::TooManyShards {
+            shard: s,
+            chunks: n_chunks,
+        });
+    }
     let mine: Vec<usize> = (0..n_chunks)
         .filter(|c| cx.shard.is_none_or(|s| c % s.n == s.k - 1))
         .collect();
@@ -366,10 +400,15 @@ fn merge(
     let _ = fs::remove_dir(&parts); // only if empty (other shards may still write here)
     match shard {
         None => remove_shard_tables(&study.dir)?,
-        Some(_) => {
+        Some(done) => {
+            // The unsharded tables, and shards of another count (a re-sharded sweep).
             let (ida, cap) = final_names(None);
             let _ = fs::remove_file(study.path(&ida));
             let _ = fs::remove_file(study.path(&cap));
+            let ours = format!("-of-{}.parquet", done.n);
+            remove_where(&study.dir, |name| {
+                name.contains(".shard-") && name.ends_with(".parquet") && !name.ends_with(&ours)
+            })?;
         }
     }
     Ok((ida_path, cap_path))
@@ -404,19 +443,16 @@ fn verify_part(
     if !(ida_part.exists() && cap_part.exists()) {
         return Err(PartProblem::Absent);
     }
-    let meta_of = |p: &Path| {
-        tables::read_metadata(p).map_err(|e| PartProblem::Corrupt(format!("unreadable: {e}")))
-    };
     for p in [ida_part, cap_part] {
-        let kv = meta_of(p)?;
-        let get = |key: &str| kv.iter().find(|(k, _)| k == key).map(|(_, v)| v.as_str());
-        if get(META_PLAN_HASH) != Some(hash) {
+        let meta =
+            SweepMeta::read(p).map_err(|e| PartProblem::Corrupt(format!("unreadable: {e}")))?;
+        if meta.plan_hash.as_deref() != Some(hash) {
             return Err(PartProblem::Stale);
         }
-        if get(META_CHUNK) != Some(chunk.to_string().as_str()) {
+        if meta.chunk != Some(chunk.to_string()) {
             return Err(PartProblem::Corrupt(format!(
                 "its metadata says chunk {}",
-                get(META_CHUNK).unwrap_or("(none)")
+                meta.chunk.as_deref().unwrap_or("(none)")
             )));
         }
     }
@@ -654,24 +690,25 @@ pub fn dataset(dir: &Path) -> Result<(Vec<PathBuf>, Vec<PathBuf>), DatasetError>
     let mut caps = Vec::new();
     let mut missing = Vec::new();
     let mut hashes = BTreeSet::new();
-    for k in 1..=n {
+    // Shards are looked for up to N, but never more than ten past the ones
+    // that exist: a file name claiming a huge N must not make this loop long.
+    let mut k = 0;
+    while k < n && missing.len() < 10 {
+        k += 1;
         let (i, c) = final_names(Some(Shard { k, n }));
         let (i, c) = (dir.join(i), dir.join(c));
         if !(i.exists() && c.exists()) {
             missing.push(format!("{k}/{n}"));
             continue;
         }
-        let kv = tables::read_metadata(&c)?;
-        hashes.insert(
-            kv.into_iter()
-                .find(|(k, _)| k == META_PLAN_HASH)
-                .map(|(_, v)| v)
-                .unwrap_or_default(),
-        );
+        hashes.insert(SweepMeta::read(&c)?.plan_hash.unwrap_or_default());
         idas.push(i);
         caps.push(c);
     }
     if !missing.is_empty() {
+        if k < n {
+            missing.push("…".into());
+        }
         return Err(DatasetError::MissingShards {
             dir: dir.into(),
             missing: missing.join(", "),

@@ -57,11 +57,11 @@ pub const ROW_GROUP_ROWS: usize = 65_536;
 
 #[derive(Debug, thiserror::Error)]
 pub enum TableError {
-    #[error("{path}: {source}")]
+    #[error("{path}")]
     Io { path: PathBuf, source: io::Error },
-    #[error("{path}: {source}")]
+    #[error("{path}")]
     Parquet { path: PathBuf, source: ParquetError },
-    #[error("{path}: {source}")]
+    #[error("{path}")]
     Arrow { path: PathBuf, source: ArrowError },
     #[error(
         "{path}: this is not a `{expected}` table (its metadata says `{found}`); \

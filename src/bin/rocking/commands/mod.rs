@@ -58,7 +58,7 @@ fn dispatch(command: Command) -> anyhow::Result<()> {
 
 /// Parses the command line, runs the command, prints errors with their causes.
 pub fn main() -> ExitCode {
-    let matches = stage::augment(Cli::command()).get_matches();
+    let matches = stage::augment(run::describe(Cli::command())).get_matches();
     let result = match stage::matching(&matches) {
         Some((stage, sub)) => stage::run(stage, sub),
         None => match Cli::from_arg_matches(&matches) {

@@ -8,31 +8,44 @@ use rocking::stages::{Stage, Study};
 use super::args::PipelineArgs;
 use crate::reporter::Terminal;
 
-/// Run a whole pipeline: ingest → sweep → convergence → reduce → fit → report, skipping fresh stages.
+/// Run a whole pipeline, skipping fresh stages (help texts made by `describe`).
 #[derive(Debug, clap::Args)]
-#[command(
-    long_about = "Run a whole pipeline: ingest → sweep → convergence → reduce → fit → report.\n\n\
-    A stage is skipped when its fingerprint (hashes of its resolved settings, of its input files' \
-    contents, of the schema and tool versions; never file times) matches the one saved when it last \
-    succeeded and its outputs (tables, figures, report) are there unchanged; otherwise the log says \
-    why it reruns. Writes every table, the figures (<outputs>/<name>/figures/*.svg) and report.md. \
-    One writer per output folder at a time (a lock file)."
-)]
 pub struct Args {
     #[command(flatten)]
     pipeline: PipelineArgs,
     /// Rerun every stage.
     #[arg(long)]
     force: bool,
-    /// Rerun this stage and every later one.
+    /// Rerun this stage and every later one (a stage name; see --help).
     #[arg(long, value_name = "STAGE", value_parser = parse_stage)]
     from: Option<&'static dyn Stage>,
-    /// Stop after this stage.
+    /// Stop after this stage (a stage name; see --help).
     #[arg(long, value_name = "STAGE", value_parser = parse_stage)]
     to: Option<&'static dyn Stage>,
     /// Worker threads (default: one per core).
     #[arg(long)]
     threads: Option<usize>,
+}
+
+/// Sets `rocking run`'s help from the stage registry, so that it lists the
+/// stages there are.
+pub fn describe(cli: clap::Command) -> clap::Command {
+    let order = engine::names().replace(", ", " → ");
+    cli.mut_subcommand("run", |c| {
+        c.about(format!(
+            "Run a whole pipeline: {order}, skipping fresh stages"
+        ))
+        .long_about(format!(
+            "Run a whole pipeline: {order}.\n\n\
+                 A stage is skipped when its fingerprint (hashes of its resolved settings, of its \
+                 input files' contents, of the tool's version; never file times) matches the one \
+                 saved when it last succeeded and its outputs (tables, figures, report) are there \
+                 unchanged; otherwise the log says why it reruns. Writes every table, the figures \
+                 (<outputs>/<name>/figures/*.svg) and report.md. One writer per output folder at a \
+                 time (a lock file). Stages: {}.",
+            engine::names()
+        ))
+    })
 }
 
 pub fn parse_stage(s: &str) -> Result<&'static dyn Stage, String> {
