@@ -206,7 +206,11 @@ fn claim(path: &Path, tmp: &Path, mine: &[u8], dir: &Path) -> Result<Lock, LockE
 
 /// Removes the stale lock at `path` whose bytes were `stale`: it is renamed
 /// aside first (atomic), and put back if what was renamed is not the stale
-/// lock but a fresh one another process took meanwhile.
+/// lock but a fresh one another process took meanwhile. Three processes
+/// racing for one stale lock in the same microseconds can still both end up
+/// holding it (B renames A's fresh lock aside, C links its own, B's put-back
+/// fails); OS file locks would close that, at the price of shared
+/// filesystems where they are not reliable.
 fn take_over(path: &Path, stale: &[u8]) {
     let aside = path.with_file_name(format!(".lock.stale-{}-{}", std::process::id(), nanos()));
     if fs::rename(path, &aside).is_err() {
