@@ -20,6 +20,8 @@
 //! - [`stats`]: fractiles (+∞ allowed), Lilliefors, normal distribution, no I/O;
 //! - [`fit`]: the two-step regression (Levenberg–Marquardt, polynomials), no I/O;
 //! - [`fragility`]: P(overturn | PGA) of a real block from the regression, no I/O;
+//! - [`hazard`], [`risk`]: site hazard curves (OpenQuake, plain CSV) and the
+//!   annual rate of overturning, no I/O;
 //! - [`study`], [`figures`], [`report`]: a study's results, its figures as
 //!   chart specifications and its Markdown report, no I/O;
 //! - [`bench`]: speed-against-error measurements of the solvers (timing only);
@@ -38,6 +40,7 @@ pub mod figures;
 pub mod fit;
 pub mod fragility;
 pub mod hash;
+pub mod hazard;
 pub mod ida;
 pub mod label;
 pub mod manifest;
@@ -47,6 +50,7 @@ pub mod physics;
 pub mod pipeline;
 pub mod plot;
 pub mod report;
+pub mod risk;
 pub mod stages;
 pub mod stats;
 pub mod study;

@@ -17,6 +17,9 @@
 //! - `reduce`: reduce, fit and fragility: definitions, Lilliefors by Monte
 //!   Carlo, the regression on synthetic data, reruns; the paper's grid
 //!   against Eq. 10 when ROCKING_SLOW=1 (CI sets it).
+//! - `risk`: the annual rate of overturning against Cornell's closed form,
+//!   a quadrature of its own, and the records' capacities (`--direct`); the
+//!   inventory table; every refusal of a hazard file.
 //! - `run`: the cached pipeline run: reruns for the right reasons, the lock,
 //!   and a snapshot of a mini study (tests/snapshots, `ROCKING_BLESS=1`).
 //! - `sweep`: pipelines load; bad ones fail first; capacities against direct
@@ -30,6 +33,7 @@ mod ingest;
 mod physics;
 mod quick;
 mod reduce;
+mod risk;
 mod run;
 mod sweep;
 mod tables;

@@ -107,57 +107,19 @@ const RECORDS_HINT: &str = "fix them, or point --records at a folder of good AT2
 
 /// Checks the request and computes the fragility.
 pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
-    if !(req.b_m > 0.0 && req.h_m > 0.0 && req.b_m.is_finite() && req.h_m.is_finite()) {
-        return Err(FragilityError::Size {
-            b: req.b_m,
-            h: req.h_m,
-        });
-    }
-    let eps = match req.eps {
-        Some(e) if e > 0.0 && e <= 1.0 => e,
-        Some(e) => return Err(FragilityError::Eps(e)),
-        None => {
-            let e = Block::housner_eps(req.b_m, req.h_m);
-            if e.is_nan() || e <= 0.0 {
-                return Err(FragilityError::HousnerEps {
-                    eps: e,
-                    ratio: req.b_m / req.h_m,
-                    alpha: (req.b_m / req.h_m).atan(),
-                });
-            }
-            e
-        }
-    };
+    let block = block(req.b_m, req.h_m, req.eps)?;
     if req.pga_g.is_empty() {
         return Err(FragilityError::NoPga);
     }
     if let Some(&bad) = req.pga_g.iter().find(|g| !(**g > 0.0 && g.is_finite())) {
         return Err(FragilityError::Pga(bad));
     }
-    let block = Block {
-        b_m: req.b_m,
-        h_m: req.h_m,
-        eps,
-    };
-    let (alpha, p) = (block.alpha(), block.p());
-    let (laws, plan, source) = match &req.from {
-        Source::Paper { .. } => (fragility::paper().to_vec(), None, "paper".to_string()),
-        Source::Pipeline { file, outputs } => {
-            let study = Study::load(file, outputs)?;
-            if let Some(why) = fit::not_applicable(&study.plan) {
-                return Err(FragilityError::NoFit {
-                    pipeline: file.clone(),
-                    why,
-                });
-            }
-            let laws: Vec<FractileLaw> = fit::read_laws(&study.dir, &file.display().to_string())?;
-            (laws, Some(study.plan), file.display().to_string())
-        }
-    };
-    let (median, beta) =
-        fragility::median_beta(&laws, p, eps).ok_or(FragilityError::NoFractiles { p, eps })?;
+    let (alpha, p, eps) = (block.alpha(), block.p(), block.eps);
+    let source = laws(&req.from)?;
+    let (median, beta) = source.median_beta(&block)?;
     let capacities = if req.direct {
-        Some(direct(&req.from, plan.as_ref(), &block)?)
+        let records = DirectRecords::load(&req.from, source.plan.as_ref())?;
+        Some(records.capacities(&block)?)
     } else {
         None
     };
@@ -182,7 +144,7 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
         alpha_rad: alpha,
         p,
         eps,
-        source,
+        source: source.name,
         eta_c_median: median,
         beta,
         records: capacities.as_ref().map(Vec::len),
@@ -190,37 +152,136 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
     })
 }
 
-/// The block's capacity under every record (0 where it survives every
-/// level), with the model `--model auto` would choose for its α.
-fn direct(from: &Source, plan: Option<&Plan>, block: &Block) -> Result<Vec<f64>, FragilityError> {
-    let rows = match (from, plan) {
-        (_, Some(plan)) => records::load(plan).map_err(FragilityError::Records)?,
-        (Source::Paper { records }, None) => {
-            ingest::collect(
-                std::slice::from_ref(records),
-                None,
-                OnBad::Refuse(RECORDS_HINT),
-            )
-            .map_err(FragilityError::Ingest)?
-            .rows
+/// A real block from its half-width and half-height (m) and ε (`None`:
+/// Housner's bound, refused where it is not positive).
+pub fn block(b_m: f64, h_m: f64, eps: Option<f64>) -> Result<Block, FragilityError> {
+    if !(b_m > 0.0 && h_m > 0.0 && b_m.is_finite() && h_m.is_finite()) {
+        return Err(FragilityError::Size { b: b_m, h: h_m });
+    }
+    let eps = match eps {
+        Some(e) if e > 0.0 && e <= 1.0 => e,
+        Some(e) => return Err(FragilityError::Eps(e)),
+        None => {
+            let e = Block::housner_eps(b_m, h_m);
+            if e.is_nan() || e <= 0.0 {
+                return Err(FragilityError::HousnerEps {
+                    eps: e,
+                    ratio: b_m / h_m,
+                    alpha: (b_m / h_m).atan(),
+                });
+            }
+            e
         }
-        (Source::Pipeline { .. }, None) => unreachable!("a pipeline source has a plan"),
     };
-    let (model, _) = ModelChoice::Auto
-        .resolve(Some(block.alpha()), 1e-8, 0.01)
-        .map_err(FragilityError::Model)?;
-    let spec = RunSpec::new(block.p(), block.eps, 1.0, model);
-    rows.par_iter()
-        .map(|r| {
-            let physics = |source| FragilityError::Physics {
-                record: r.record_id.clone(),
-                source,
-            };
-            let exc = Excitation::new(&r.accel_g, r.dt_s).map_err(physics)?;
-            Ok(ida::capacity(&exc, &spec, &ImGrid::default(), 1e-4)
-                .map_err(physics)?
-                .eta_c
-                .unwrap_or(0.0))
-        })
-        .collect()
+    Ok(Block { b_m, h_m, eps })
+}
+
+/// The regression a fragility comes from.
+#[derive(Debug, Clone)]
+pub struct Laws {
+    pub laws: Vec<FractileLaw>,
+    /// The pipeline's plan, for `--from PIPELINE.toml`.
+    pub plan: Option<Plan>,
+    /// `paper` or the pipeline file.
+    pub name: String,
+}
+
+impl Laws {
+    /// η_c,50 and β of a block.
+    pub fn median_beta(&self, block: &Block) -> Result<(f64, f64), FragilityError> {
+        let (p, eps) = (block.p(), block.eps);
+        fragility::median_beta(&self.laws, p, eps).ok_or(FragilityError::NoFractiles { p, eps })
+    }
+}
+
+/// The paper's laws or a pipeline's fitted ones.
+pub fn laws(from: &Source) -> Result<Laws, FragilityError> {
+    match from {
+        Source::Paper { .. } => Ok(Laws {
+            laws: fragility::paper().to_vec(),
+            plan: None,
+            name: "paper".to_string(),
+        }),
+        Source::Pipeline { file, outputs } => {
+            let study = Study::load(file, outputs)?;
+            if let Some(why) = fit::not_applicable(&study.plan) {
+                return Err(FragilityError::NoFit {
+                    pipeline: file.clone(),
+                    why,
+                });
+            }
+            let laws = fit::read_laws(&study.dir, &file.display().to_string())?;
+            Ok(Laws {
+                laws,
+                plan: Some(study.plan),
+                name: file.display().to_string(),
+            })
+        }
+    }
+}
+
+/// The records a block is run through with `--direct`, read once.
+pub struct DirectRecords {
+    records: Vec<(String, Excitation)>,
+}
+
+impl DirectRecords {
+    /// The pipeline's records, or the AT2 folder of `--records`.
+    pub fn load(from: &Source, plan: Option<&Plan>) -> Result<Self, FragilityError> {
+        let rows = match (from, plan) {
+            (_, Some(plan)) => records::load(plan).map_err(FragilityError::Records)?,
+            (Source::Paper { records }, None) => {
+                ingest::collect(
+                    std::slice::from_ref(records),
+                    None,
+                    OnBad::Refuse(RECORDS_HINT),
+                )
+                .map_err(FragilityError::Ingest)?
+                .rows
+            }
+            (Source::Pipeline { .. }, None) => unreachable!("a pipeline source has a plan"),
+        };
+        let records = rows
+            .into_iter()
+            .map(|r| {
+                let exc = Excitation::new(&r.accel_g, r.dt_s).map_err(|source| {
+                    FragilityError::Physics {
+                        record: r.record_id.clone(),
+                        source,
+                    }
+                })?;
+                Ok((r.record_id, exc))
+            })
+            .collect::<Result<_, FragilityError>>()?;
+        Ok(DirectRecords { records })
+    }
+
+    pub fn len(&self) -> usize {
+        self.records.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.records.is_empty()
+    }
+
+    /// The block's capacity η_c under every record (0 where it survives
+    /// every level), with the model `--model auto` would choose for its α.
+    pub fn capacities(&self, block: &Block) -> Result<Vec<f64>, FragilityError> {
+        let (model, _) = ModelChoice::Auto
+            .resolve(Some(block.alpha()), 1e-8, 0.01)
+            .map_err(FragilityError::Model)?;
+        let spec = RunSpec::new(block.p(), block.eps, 1.0, model);
+        self.records
+            .par_iter()
+            .map(|(id, exc)| {
+                Ok(ida::capacity(exc, &spec, &ImGrid::default(), 1e-4)
+                    .map_err(|source| FragilityError::Physics {
+                        record: id.clone(),
+                        source,
+                    })?
+                    .eta_c
+                    .unwrap_or(0.0))
+            })
+            .collect()
+    }
 }

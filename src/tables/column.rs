@@ -244,6 +244,7 @@ label_columns!(
     crate::fit::Stop,
     super::fit::Source,
     super::fit::Coefficient,
+    crate::risk::Beyond,
 );
 
 /// Defines a table's row type and, from the same field list, its schema,

@@ -23,6 +23,7 @@ pub mod fit;
 pub mod history;
 pub mod records;
 pub mod reduce;
+pub mod risk;
 pub mod sweep;
 
 pub use crate::label::Label;

@@ -11,6 +11,7 @@ mod bench;
 mod capacity;
 mod fragility;
 mod ingest;
+mod risk;
 mod run;
 mod simulate;
 mod stage;
@@ -40,6 +41,7 @@ enum Command {
     Capacity(capacity::Args),
     Bench(bench::Args),
     Fragility(fragility::Args),
+    Risk(risk::Args),
     Run(run::Args),
     Status(status::Args),
 }
@@ -51,6 +53,7 @@ fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Capacity(a) => capacity::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Fragility(a) => fragility::run(a),
+        Command::Risk(a) => risk::run(a),
         Command::Run(a) => run::run(a),
         Command::Status(a) => status::run(a),
     }

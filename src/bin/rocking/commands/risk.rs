@@ -1,0 +1,270 @@
+//! `rocking risk`: the annual rate of overturning at a site.
+
+use std::path::PathBuf;
+
+use clap::ValueEnum;
+use rocking::ops::fragility::Source;
+use rocking::ops::risk::{self, Assessment, Blocks, Request};
+use rocking::risk::Beyond;
+use rocking::tables::atomic_write;
+
+/// Annual rate of overturning of a block (or an inventory) at the sites of a hazard file.
+#[derive(Debug, clap::Args)]
+#[command(
+    allow_negative_numbers = true,
+    long_about = "Annual rate of overturning of a block (or of every block of an inventory) at the \
+    sites of a PGA hazard curve.\n\n\
+    λ_OT = ∫ P(OT | a) |dλ(a)|, the hazard interpolated log-log between its points (closed form on \
+    each segment), P(OT | a) from the paper's regression (default), a pipeline's fit (--from \
+    PIPELINE.toml) or the block's own capacities under the records (--direct). The hazard is an \
+    OpenQuake hazard-curve CSV (poe within investigation_time, several sites) or a plain CSV \
+    `pga_g,annual_rate` (one site). Prints per site the annual rate, the return period, the \
+    probability of overturning within --years, the fragility's median PGA and β, and the \
+    deaggregation by PGA. With --inventory, writes one row per block × site to --out (Parquet)."
+)]
+pub struct Args {
+    /// The hazard curves: OpenQuake's hazard_curve-…-PGA_….csv, or `pga_g,annual_rate`.
+    #[arg(long, value_name = "FILE.csv")]
+    hazard: PathBuf,
+    /// Only this site of the file (index from 0).
+    #[arg(long, value_name = "N")]
+    site: Option<usize>,
+    /// Half-width of the block (m).
+    #[arg(
+        long,
+        value_name = "m",
+        required_unless_present = "inventory",
+        conflicts_with = "inventory"
+    )]
+    b: Option<f64>,
+    /// Half-height of the block (m).
+    #[arg(
+        long,
+        value_name = "m",
+        required_unless_present = "inventory",
+        conflicts_with = "inventory"
+    )]
+    h: Option<f64>,
+    /// Coefficient of restitution, or `housner` for 1 − 1.5 sin²α.
+    #[arg(long, default_value = "housner", conflicts_with = "inventory")]
+    eps: String,
+    /// A CSV of blocks `name,b,h[,eps]` (m; eps empty or `housner` for Housner's bound).
+    #[arg(long, value_name = "BLOCKS.csv")]
+    inventory: Option<PathBuf>,
+    /// Where --inventory's table goes (one row per block × site).
+    #[arg(long, value_name = "FILE.parquet", default_value = "risk.parquet")]
+    out: PathBuf,
+    /// `paper` (published coefficients) or a pipeline file whose fit to use.
+    #[arg(long, default_value = "paper")]
+    from: String,
+    /// Root of the outputs (for --from PIPELINE.toml).
+    #[arg(long, default_value = "outputs")]
+    outputs: PathBuf,
+    /// Use the block's own capacities under the records instead of a regression.
+    #[arg(long)]
+    direct: bool,
+    /// Records for --direct when --from paper: a folder of AT2 files.
+    #[arg(long, default_value = "records/fema-p695/far-field")]
+    records: PathBuf,
+    /// Years for the probability of overturning within them.
+    #[arg(long, default_value_t = 50.0)]
+    years: f64,
+    /// Beyond the hazard's last IML: continue its last log-log slope, or stop.
+    #[arg(long, value_enum, default_value = "extrapolate")]
+    beyond: BeyondArg,
+    /// The linearised model's accepted error in η_c; a block whose α exceeds it is flagged.
+    #[arg(long, default_value_t = 0.01)]
+    auto_tol: f64,
+    /// Write a bar chart (SVG): the deaggregation of the block at --site (default 0),
+    /// or with --inventory the blocks ranked by their rate at --site.
+    #[arg(long, value_name = "FILE.svg")]
+    plot: Option<PathBuf>,
+    /// Print JSON instead of text (one object; an array with --inventory).
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum BeyondArg {
+    Extrapolate,
+    Stop,
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let beyond = match args.beyond {
+        BeyondArg::Extrapolate => Beyond::Extrapolate,
+        BeyondArg::Stop => Beyond::Stop,
+    };
+    let eps = match args.eps.as_str() {
+        "housner" => None,
+        text => Some(
+            text.parse::<f64>()
+                .map_err(|_| anyhow::anyhow!("--eps `{text}`: a number in (0, 1] or `housner`"))?,
+        ),
+    };
+    let blocks = match (&args.inventory, args.b, args.h) {
+        (Some(path), _, _) => Blocks::Inventory(path.clone()),
+        (None, Some(b_m), Some(h_m)) => Blocks::One { b_m, h_m, eps },
+        _ => unreachable!("clap requires --b and --h without --inventory"),
+    };
+    let req = Request {
+        hazard: args.hazard.clone(),
+        site: args.site,
+        blocks,
+        from: if args.from == "paper" {
+            Source::Paper {
+                records: args.records.clone(),
+            }
+        } else {
+            Source::Pipeline {
+                file: PathBuf::from(&args.from),
+                outputs: args.outputs.clone(),
+            }
+        },
+        direct: args.direct,
+        years: args.years,
+        beyond,
+        auto_tol: args.auto_tol,
+    };
+    let all = risk::assess(&req)?;
+    let chart_site = args.site.unwrap_or(0);
+    if args.inventory.is_some() {
+        risk::write_table(&args.out, &risk::rows(&all, beyond), &args.hazard)?;
+        if let Some(plot) = &args.plot {
+            atomic_write(plot, risk::ranking_chart(&all, chart_site)?.as_bytes())?;
+        }
+    } else if let Some(plot) = &args.plot {
+        let a = &all[0];
+        let site = a
+            .sites
+            .iter()
+            .find(|s| s.site == chart_site)
+            .unwrap_or(&a.sites[0]);
+        atomic_write(plot, risk::deaggregation_chart(a, site)?.as_bytes())?;
+    }
+    for a in &all {
+        for w in &a.warnings {
+            eprintln!("warning: block {}: {w}", a.block.name);
+        }
+    }
+    if args.json {
+        let text = if args.inventory.is_some() {
+            serde_json::to_string(&all)?
+        } else {
+            serde_json::to_string(&all[0])?
+        };
+        println!("{text}");
+        return Ok(());
+    }
+    if args.inventory.is_some() {
+        print_inventory(&all);
+        println!(
+            "wrote {} ({} rows){}",
+            args.out.display(),
+            all.iter().map(|a| a.sites.len()).sum::<usize>(),
+            args.plot
+                .as_ref()
+                .map_or(String::new(), |p| format!(" and {}", p.display()))
+        );
+    } else {
+        print_one(&all[0]);
+        if let Some(p) = &args.plot {
+            println!("deaggregation chart: {}", p.display());
+        }
+    }
+    Ok(())
+}
+
+fn rate(r: f64) -> String {
+    format!("{r:.3e}")
+}
+
+fn print_one(a: &Assessment) {
+    let b = &a.block;
+    let f = &a.fragility;
+    println!(
+        "block b = {} m, h = {} m: α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}{}",
+        b.b_m,
+        b.h_m,
+        b.alpha_rad,
+        b.p,
+        b.eps,
+        if b.eps_housner { " (Housner)" } else { "" }
+    );
+    println!(
+        "fragility from {} ({}): median PGA {}, β {}{}",
+        f.source,
+        f.kind,
+        f.median_pga_g.map_or("—".into(), |m| format!("{m:.3} g")),
+        f.beta.map_or("—".into(), |v| format!("{v:.3}")),
+        f.records
+            .map_or(String::new(), |n| format!(", {n} records"))
+    );
+    for s in &a.sites {
+        println!();
+        let place = match (s.lon, s.lat) {
+            (Some(lon), Some(lat)) => format!(" ({lon}, {lat})"),
+            _ => String::new(),
+        };
+        println!("site {}{place}", s.site);
+        let row = |label: String, value: String| println!("  {label:<34} {value}");
+        row("annual rate of overturning".into(), rate(s.annual_rate));
+        row(
+            "return period".into(),
+            s.return_period_years
+                .map_or("∞ (never)".into(), |t| format!("{t:.0} years")),
+        );
+        row(
+            format!("P(overturn within {} years)", a.years),
+            format!("{:.4}", s.p_overturn_in_years),
+        );
+        row(
+            "hazard curve used".into(),
+            format!(
+                "{:.3}–{:.3} g ({} IML(s) with poe = 1 dropped below)",
+                s.first_iml_g, s.last_iml_g, s.imls_dropped
+            ),
+        );
+        row(
+            format!("P(OT | {:.3} g), below the curve", s.first_iml_g),
+            format!("{:.2e}", s.fragility_at_first_iml),
+        );
+        row(
+            format!("rate beyond {:.3} g ({})", s.last_iml_g, a.beyond),
+            format!("{:.1} % of the total", 100.0 * s.share_beyond_last_iml),
+        );
+        println!("  deaggregation by PGA:");
+        for bin in &s.deaggregation {
+            let range = match bin.pga_to_g {
+                Some(to) if to > bin.pga_from_g => format!("{:.3}–{:.3} g", bin.pga_from_g, to),
+                Some(_) => format!("> {:.3} g (not counted)", bin.pga_from_g),
+                None => format!("> {:.3} g", bin.pga_from_g),
+            };
+            println!(
+                "    {range:<24} {:>10}  {:>5.1} %",
+                rate(bin.annual_rate),
+                100.0 * bin.share
+            );
+        }
+    }
+}
+
+fn print_inventory(all: &[Assessment]) {
+    println!(
+        "{:<24} {:>5} {:>12} {:>14} {:>8}",
+        "block", "site", "rate (1/yr)", "return (yr)", "P(T yr)"
+    );
+    for a in all {
+        for s in &a.sites {
+            println!(
+                "{:<24} {:>5} {:>12} {:>14} {:>8.4}",
+                a.block.name,
+                s.site,
+                rate(s.annual_rate),
+                s.return_period_years
+                    .map_or("∞".into(), |t| format!("{t:.0}")),
+                s.p_overturn_in_years
+            );
+        }
+    }
+}

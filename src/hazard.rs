@@ -1,0 +1,361 @@
+//! Seismic hazard curves of PGA (pure: text in, curves out).
+//!
+//! Two formats:
+//!
+//! - **OpenQuake** hazard-curve CSV (`hazard_curve-<kind>-PGA_<id>.csv`): a
+//!   first line `#,,,,,"generated_by='OpenQuake engine …', …, kind='mean',
+//!   investigation_time=50.0, imt='PGA'"`, a header `lon,lat,depth,poe-<iml>,…`
+//!   and one row per site. `poe` is the probability of exceedance of the IML
+//!   (g) within `investigation_time` years, so under the Poisson assumption the
+//!   annual rate of exceedance is `λ = −ln(1 − poe) / T`.
+//! - **Plain**: a header `pga_g,annual_rate` and one row per IML, one site.
+//!
+//! Refused, naming the line (and the column): an IMT other than PGA, a
+//! missing or non-positive `investigation_time`, a cell that is not a
+//! number, a probability outside [0, 1], a negative rate, IMLs that do not
+//! increase, a curve that rises with the IML.
+//!
+//! A curve keeps its points with a finite, positive rate: `poe = 1` at small
+//! IMLs (an infinite rate) is common and those points are dropped from the
+//! start; a rate of 0 ends the curve there (`ends_at_g`).
+
+use std::fmt;
+
+/// One site's hazard curve: annual rates of exceedance of PGA.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HazardCurve {
+    pub lon: Option<f64>,
+    pub lat: Option<f64>,
+    /// IMLs (PGA, g), increasing, each with a finite positive rate.
+    pub pga_g: Vec<f64>,
+    /// Annual rate of exceedance at each IML, non-increasing.
+    pub annual_rate: Vec<f64>,
+    /// The IML at which the file gives a rate of exactly 0 (no exceedance
+    /// beyond it), if it does.
+    pub ends_at_g: Option<f64>,
+    /// IMLs dropped from the start because their rate is infinite (poe = 1).
+    pub dropped_below: usize,
+}
+
+/// A hazard file that cannot be used, and where.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HazardError {
+    /// 1-based line of the file, when the problem is on one line.
+    pub line: Option<usize>,
+    pub message: String,
+}
+
+impl fmt::Display for HazardError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.line {
+            Some(l) => write!(f, "line {l}: {}", self.message),
+            None => f.write_str(&self.message),
+        }
+    }
+}
+
+impl std::error::Error for HazardError {}
+
+fn err(line: usize, message: impl Into<String>) -> HazardError {
+    HazardError {
+        line: Some(line),
+        message: message.into(),
+    }
+}
+
+/// Parses either format (told apart by the first line).
+pub fn parse(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
+    let first = text
+        .lines()
+        .next()
+        .unwrap_or("")
+        .trim_start_matches('\u{feff}');
+    if first.trim_start().starts_with('#') {
+        parse_openquake(text)
+    } else {
+        parse_plain(text).map(|c| vec![c])
+    }
+}
+
+/// The value of `key=…` in OpenQuake's metadata line (quotes stripped).
+fn meta_value<'a>(line: &'a str, key: &str) -> Option<&'a str> {
+    let at = line.find(&format!("{key}="))? + key.len() + 1;
+    let rest = &line[at..];
+    let end = rest.find([',', '"']).unwrap_or(rest.len());
+    let value = rest[..end].trim();
+    Some(value.trim_matches('\''))
+}
+
+/// Splits a CSV line; OpenQuake's data lines hold no quoted cells.
+fn cells(line: &str) -> Vec<&str> {
+    line.split(',').map(str::trim).collect()
+}
+
+fn number(line: usize, column: &str, cell: &str) -> Result<f64, HazardError> {
+    match cell.parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => Err(err(
+            line,
+            format!("column `{column}`: `{cell}` is not a number"),
+        )),
+    }
+}
+
+/// OpenQuake's hazard-curve CSV: every site of the file.
+pub fn parse_openquake(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
+    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
+    let (_, meta) = lines.next().ok_or_else(|| err(1, "the file is empty"))?;
+    let imt = meta_value(meta, "imt")
+        .ok_or_else(|| err(1, "no `imt=` in the metadata line; expected imt='PGA'"))?;
+    if imt != "PGA" {
+        return Err(err(
+            1,
+            format!("imt = '{imt}': this tool's fragility is in PGA; give the PGA hazard curves (hazard_curve-…-PGA_….csv)"),
+        ));
+    }
+    let t = meta_value(meta, "investigation_time")
+        .ok_or_else(|| {
+            err(
+                1,
+                "no `investigation_time=` in the metadata line: the probabilities of exceedance cannot be turned into rates",
+            )
+        })?
+        .parse::<f64>()
+        .ok()
+        .filter(|t| *t > 0.0 && t.is_finite())
+        .ok_or_else(|| err(1, "investigation_time is not a positive number of years"))?;
+    let (header_line, header) = lines
+        .find(|(_, l)| !l.trim().is_empty())
+        .ok_or_else(|| err(2, "no header line `lon,lat,depth,poe-<iml>,…`"))?;
+    let header = cells(header);
+    let col = |name: &str| header.iter().position(|h| *h == name);
+    let (lon_c, lat_c) = (col("lon"), col("lat"));
+    let mut imls: Vec<(usize, f64)> = Vec::new();
+    for (i, h) in header.iter().enumerate() {
+        if let Some(v) = h.strip_prefix("poe-") {
+            imls.push((i, number(header_line, h, v)?));
+        }
+    }
+    if imls.is_empty() {
+        return Err(err(header_line, "no `poe-<iml>` columns"));
+    }
+    if let Some(w) = imls.windows(2).find(|w| w[1].1 <= w[0].1) {
+        return Err(err(
+            header_line,
+            format!(
+                "the IMLs must increase: poe-{} follows poe-{}",
+                w[1].1, w[0].1
+            ),
+        ));
+    }
+    let mut sites = Vec::new();
+    for (line, row) in lines {
+        if row.trim().is_empty() {
+            continue;
+        }
+        let cells = cells(row);
+        if cells.len() != header.len() {
+            return Err(err(
+                line,
+                format!("{} cells, but the header has {}", cells.len(), header.len()),
+            ));
+        }
+        let mut points = Vec::with_capacity(imls.len());
+        for &(i, iml) in &imls {
+            let poe = number(line, header[i], cells[i])?;
+            if !(0.0..=1.0).contains(&poe) {
+                return Err(err(
+                    line,
+                    format!(
+                        "column `{}`: probability of exceedance {poe} is outside [0, 1]",
+                        header[i]
+                    ),
+                ));
+            }
+            points.push((iml, -(-poe).ln_1p() / t));
+        }
+        let mut curve = curve_of(
+            &points,
+            |_| line,
+            |k| format!("column `{}`", header[imls[k].0]),
+        )?;
+        curve.lon = lon_c.map(|c| number(line, "lon", cells[c])).transpose()?;
+        curve.lat = lat_c.map(|c| number(line, "lat", cells[c])).transpose()?;
+        sites.push(curve);
+    }
+    if sites.is_empty() {
+        return Err(err(header_line, "no site rows after the header"));
+    }
+    Ok(sites)
+}
+
+/// A plain `pga_g,annual_rate` file: one site.
+pub fn parse_plain(text: &str) -> Result<HazardCurve, HazardError> {
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l))
+        .filter(|(_, l)| !l.trim().is_empty());
+    let (hl, header) = lines.next().ok_or_else(|| err(1, "the file is empty"))?;
+    let header = cells(header.trim_start_matches('\u{feff}'));
+    if header != ["pga_g", "annual_rate"] {
+        return Err(err(
+            hl,
+            format!(
+                "header `{}`: expected `pga_g,annual_rate` (or an OpenQuake hazard-curve file)",
+                header.join(",")
+            ),
+        ));
+    }
+    let mut points = Vec::new();
+    let mut line_of = Vec::new();
+    for (line, row) in lines {
+        let c = cells(row);
+        if c.len() != 2 {
+            return Err(err(line, format!("{} cells, expected 2", c.len())));
+        }
+        let (pga, rate) = (
+            number(line, "pga_g", c[0])?,
+            number(line, "annual_rate", c[1])?,
+        );
+        if pga <= 0.0 {
+            return Err(err(line, format!("pga_g = {pga} must be positive")));
+        }
+        if rate < 0.0 {
+            return Err(err(
+                line,
+                format!("annual_rate = {rate} must not be negative"),
+            ));
+        }
+        if let Some(&(prev, _)) = points.last() {
+            if pga <= prev {
+                return Err(err(
+                    line,
+                    format!("pga_g must increase: {pga} follows {prev}"),
+                ));
+            }
+        }
+        points.push((pga, rate));
+        line_of.push(line);
+    }
+    if points.is_empty() {
+        return Err(err(hl, "no rows after the header"));
+    }
+    curve_of(
+        &points,
+        |k| line_of[k],
+        |_| "column `annual_rate`".to_string(),
+    )
+}
+
+/// A curve from (IML, rate) points in increasing IML: checks that the rate
+/// never rises, drops infinite rates at the start, ends at the first zero.
+/// `line_of(k)` and `name(k)` say where point k is, for messages.
+fn curve_of(
+    points: &[(f64, f64)],
+    line_of: impl Fn(usize) -> usize,
+    name: impl Fn(usize) -> String,
+) -> Result<HazardCurve, HazardError> {
+    for (k, w) in points.windows(2).enumerate() {
+        if w[1].1 > w[0].1 {
+            return Err(err(
+                line_of(k + 1),
+                format!(
+                    "{}: the hazard curve rises with the IML ({} at {} g after {} at {} g); a rate of exceedance cannot",
+                    name(k + 1),
+                    w[1].1,
+                    w[1].0,
+                    w[0].1,
+                    w[0].0
+                ),
+            ));
+        }
+    }
+    let dropped_below = points.iter().take_while(|p| p.1.is_infinite()).count();
+    let mut curve = HazardCurve {
+        lon: None,
+        lat: None,
+        pga_g: Vec::new(),
+        annual_rate: Vec::new(),
+        ends_at_g: None,
+        dropped_below,
+    };
+    for &(iml, rate) in &points[dropped_below..] {
+        if rate == 0.0 {
+            curve.ends_at_g = Some(iml);
+            break;
+        }
+        curve.pga_g.push(iml);
+        curve.annual_rate.push(rate);
+    }
+    if curve.pga_g.is_empty() {
+        return Err(err(
+            line_of(0),
+            "no IML with a finite, positive rate: every probability of exceedance is 1 or 0",
+        ));
+    }
+    Ok(curve)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const OQ: &str = "#,,,,,\"generated_by='OpenQuake engine 3.16.0', start_date='2023-01-01T00:00:00', checksum=1, kind='mean', investigation_time=50.0, imt='PGA'\"\n\
+lon,lat,depth,poe-0.01,poe-0.1,poe-0.5,poe-1.0\n\
+23.7,37.9,0.0,1.0,0.5,0.05,0.0\n\
+21.7,38.2,0.0,0.9,0.3,0.02,0.002\n";
+
+    #[test]
+    fn openquake_probabilities_become_annual_rates() {
+        let sites = parse(OQ).unwrap();
+        assert_eq!(sites.len(), 2);
+        let a = &sites[0];
+        assert_eq!((a.lon, a.lat), (Some(23.7), Some(37.9)));
+        // poe = 1 at 0.01 g is dropped; poe = 0 at 1 g ends the curve.
+        assert_eq!(a.pga_g, vec![0.1, 0.5]);
+        assert_eq!(a.dropped_below, 1);
+        assert_eq!(a.ends_at_g, Some(1.0));
+        // λ = −ln(1 − poe)/T: poe 0.5 in 50 years is ln 2 / 50 per year.
+        assert!((a.annual_rate[0] - 2f64.ln() / 50.0).abs() < 1e-15);
+        let b = &sites[1];
+        assert_eq!(b.pga_g.len(), 4);
+        assert!((b.annual_rate[3] - -(0.998f64.ln()) / 50.0).abs() < 1e-18);
+    }
+
+    #[test]
+    fn refusals_name_the_line_and_the_problem() {
+        let cases = [
+            (OQ.replace("imt='PGA'", "imt='SA(0.2)'"), 1, "SA(0.2)"),
+            (
+                OQ.replace("investigation_time=50.0, ", ""),
+                1,
+                "investigation_time",
+            ),
+            (OQ.replace("0.9,0.3", "0.9,1.3"), 4, "outside [0, 1]"),
+            (OQ.replace("0.9,0.3", "0.9,abc"), 4, "`abc` is not a number"),
+            (
+                OQ.replace("0.9,0.3,0.02", "0.9,0.3,0.4"),
+                4,
+                "rises with the IML",
+            ),
+            (
+                OQ.replace("poe-0.5,poe-1.0", "poe-0.5,poe-0.4"),
+                2,
+                "must increase",
+            ),
+        ];
+        for (text, line, what) in cases {
+            let e = parse(&text).unwrap_err();
+            assert_eq!(e.line, Some(line), "{what}: {e}");
+            assert!(e.to_string().contains(what), "{e}");
+        }
+        let e = parse("pga_g,annual_rate\n0.1,0.01\n0.2,0.02\n").unwrap_err();
+        assert_eq!(e.line, Some(3), "{e}");
+        assert!(e.message.contains("rises"), "{e}");
+        let e = parse("pga,rate\n0.1,0.01\n").unwrap_err();
+        assert_eq!(e.line, Some(1));
+        let e = parse("pga_g,annual_rate\n0.1,x\n").unwrap_err();
+        assert_eq!(e.line, Some(2));
+    }
+}

@@ -1,0 +1,543 @@
+//! `rocking risk`: the annual rate of overturning of a block (or of every
+//! block of an inventory) at the sites of a hazard file, with its
+//! deaggregation by PGA. The integral is [`crate::risk`]'s; this module reads
+//! the files, builds each block's fragility (the paper's regression, a
+//! pipeline's fit, or `--direct` capacities under the records), says where
+//! the regression is stretched, and writes the table and the figures.
+
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use super::fragility::{self, DirectRecords, FragilityError, Laws, Source};
+use crate::fragility::Block;
+use crate::hazard::{self, HazardCurve, HazardError};
+use crate::label::Label;
+use crate::physics::LINEARIZATION_ERROR_PER_ALPHA2;
+use crate::plot::{self, Bars, PlotError, Scale};
+use crate::risk::{self, Beyond, Fragility, SiteRisk};
+use crate::stats;
+use crate::tables::risk::RiskRow;
+use crate::tables::{self, TableError};
+
+/// The blocks to assess.
+#[derive(Debug, Clone)]
+pub enum Blocks {
+    /// One block: half-width, half-height (m), ε (`None`: Housner's bound).
+    One {
+        b_m: f64,
+        h_m: f64,
+        eps: Option<f64>,
+    },
+    /// A CSV `name,b,h[,eps]`.
+    Inventory(PathBuf),
+}
+
+/// What the user asks.
+#[derive(Debug, Clone)]
+pub struct Request {
+    pub hazard: PathBuf,
+    /// One site of the file (index from 0); all when `None`.
+    pub site: Option<usize>,
+    pub blocks: Blocks,
+    pub from: Source,
+    pub direct: bool,
+    /// For the probability of overturning within this many years.
+    pub years: f64,
+    pub beyond: Beyond,
+    /// The linearised model's accepted error in η_c, for the α warning.
+    pub auto_tol: f64,
+}
+
+/// A block as assessed.
+#[derive(Debug, Clone, Serialize)]
+pub struct BlockInfo {
+    pub name: String,
+    pub b_m: f64,
+    pub h_m: f64,
+    pub alpha_rad: f64,
+    pub p: f64,
+    pub eps: f64,
+    pub eps_housner: bool,
+}
+
+/// A block's fragility, as used.
+#[derive(Debug, Clone, Serialize)]
+pub struct FragilityInfo {
+    /// `paper`, the pipeline file, or `direct`.
+    pub source: String,
+    /// `lognormal` (from a regression) or `empirical` (records, `--direct`).
+    pub kind: &'static str,
+    /// PGA (g) at which P(OT) = 0.5; `None` when more than half the records
+    /// never overturn the block.
+    pub median_pga_g: Option<f64>,
+    pub beta: Option<f64>,
+    /// Records run, with `--direct`.
+    pub records: Option<usize>,
+}
+
+/// One range of PGA in the deaggregation.
+#[derive(Debug, Clone, Serialize)]
+pub struct BinInfo {
+    pub pga_from_g: f64,
+    /// `None`: extrapolated without end.
+    pub pga_to_g: Option<f64>,
+    pub annual_rate: f64,
+    pub share: f64,
+}
+
+/// The result at one site.
+#[derive(Debug, Clone, Serialize)]
+pub struct SiteInfo {
+    /// Index in the hazard file, from 0.
+    pub site: usize,
+    pub lon: Option<f64>,
+    pub lat: Option<f64>,
+    pub annual_rate: f64,
+    /// `None` when the rate is 0.
+    pub return_period_years: Option<f64>,
+    pub p_overturn_in_years: f64,
+    pub first_iml_g: f64,
+    pub last_iml_g: f64,
+    /// P(OT | first IML): overturning probability below where the curve starts.
+    pub fragility_at_first_iml: f64,
+    /// IMLs dropped at the start because their probability of exceedance is 1.
+    pub imls_dropped: usize,
+    pub share_beyond_last_iml: f64,
+    pub deaggregation: Vec<BinInfo>,
+}
+
+/// One block at every site asked.
+#[derive(Debug, Clone, Serialize)]
+pub struct Assessment {
+    pub block: BlockInfo,
+    pub fragility: FragilityInfo,
+    pub years: f64,
+    pub beyond: &'static str,
+    pub sites: Vec<SiteInfo>,
+    /// Where the regression is stretched for this block.
+    pub warnings: Vec<String>,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum RiskError {
+    #[error("{path}: cannot read")]
+    Read {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{path}:{}: {}", .error.line.map_or("?".to_string(), |l| l.to_string()), .error.message)]
+    Hazard { path: PathBuf, error: HazardError },
+    #[error("{path}: site {site} has only one IML with a finite, positive rate ({iml} g); the integral needs two")]
+    OnePoint {
+        path: PathBuf,
+        site: usize,
+        iml: f64,
+    },
+    #[error("--site {site}: {path} has {sites} site(s), numbered from 0")]
+    NoSuchSite {
+        path: PathBuf,
+        site: usize,
+        sites: usize,
+    },
+    #[error("--years {0}: give a positive number of years")]
+    Years(f64),
+    #[error("{path}:{line}: {message}")]
+    Inventory {
+        path: PathBuf,
+        line: u64,
+        message: String,
+    },
+    #[error("block `{name}`")]
+    Block {
+        name: String,
+        #[source]
+        source: FragilityError,
+    },
+    #[error(transparent)]
+    Fragility(#[from] FragilityError),
+    #[error(transparent)]
+    Table(#[from] TableError),
+    #[error(transparent)]
+    Plot(#[from] PlotError),
+}
+
+/// One inventory entry.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InventoryBlock {
+    pub name: String,
+    pub b_m: f64,
+    pub h_m: f64,
+    /// `None`: Housner's bound.
+    pub eps: Option<f64>,
+    /// Line in the file (1-based).
+    pub line: u64,
+}
+
+/// Reads the hazard file: the curves of the sites asked, with their indices.
+pub fn read_hazard(
+    path: &Path,
+    site: Option<usize>,
+) -> Result<Vec<(usize, HazardCurve)>, RiskError> {
+    let text = std::fs::read_to_string(path).map_err(|source| RiskError::Read {
+        path: path.into(),
+        source,
+    })?;
+    let curves = hazard::parse(&text).map_err(|error| RiskError::Hazard {
+        path: path.into(),
+        error,
+    })?;
+    let n = curves.len();
+    let chosen: Vec<(usize, HazardCurve)> = match site {
+        Some(k) if k >= n => {
+            return Err(RiskError::NoSuchSite {
+                path: path.into(),
+                site: k,
+                sites: n,
+            })
+        }
+        Some(k) => vec![(k, curves[k].clone())],
+        None => curves.into_iter().enumerate().collect(),
+    };
+    if let Some((k, c)) = chosen.iter().find(|(_, c)| c.pga_g.len() < 2) {
+        return Err(RiskError::OnePoint {
+            path: path.into(),
+            site: *k,
+            iml: c.pga_g[0],
+        });
+    }
+    Ok(chosen)
+}
+
+/// Reads an inventory CSV: a header with `name`, `b`, `h` and optionally
+/// `eps` (a number, or empty or `housner` for Housner's bound).
+pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
+    let bytes = std::fs::read(path).map_err(|source| RiskError::Read {
+        path: path.into(),
+        source,
+    })?;
+    let bad = |line: u64, message: String| RiskError::Inventory {
+        path: path.into(),
+        line,
+        message,
+    };
+    let line_of = |byte: u64| {
+        1 + bytes[..(byte as usize).min(bytes.len())]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count() as u64
+    };
+    let mut csv = csv::ReaderBuilder::new().from_reader(bytes.as_slice());
+    let headers = csv.headers().map_err(|e| bad(1, e.to_string()))?.clone();
+    let col = |name: &str| headers.iter().position(|h| h.trim() == name);
+    let (Some(cn), Some(cb), Some(ch)) = (col("name"), col("b"), col("h")) else {
+        return Err(bad(
+            1,
+            "the header needs `name`, `b` and `h` (half-width and half-height, m), and may have `eps`".into(),
+        ));
+    };
+    let ce = col("eps");
+    let mut out: Vec<InventoryBlock> = Vec::new();
+    for row in csv.records() {
+        let row =
+            row.map_err(|e| bad(e.position().map_or(0, |p| line_of(p.byte())), e.to_string()))?;
+        let line = row.position().map_or(0, |p| {
+            // Skip the line breaks a position may point at.
+            let mut at = p.byte() as usize;
+            while at < bytes.len() && matches!(bytes[at], b'\n' | b'\r') {
+                at += 1;
+            }
+            line_of(at as u64)
+        });
+        let cell = |c: usize| row.get(c).map(str::trim).unwrap_or("");
+        let num = |c: usize, what: &str| -> Result<f64, RiskError> {
+            cell(c)
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| bad(line, format!("`{what}` = `{}` is not a number", cell(c))))
+        };
+        let name = cell(cn).to_string();
+        if name.is_empty() {
+            return Err(bad(line, "a block needs a name".into()));
+        }
+        if out.iter().any(|b| b.name == name) {
+            return Err(bad(line, format!("block `{name}` is listed twice")));
+        }
+        let eps = match ce.map(cell) {
+            None | Some("") | Some("housner") => None,
+            Some(_) => Some(num(ce.expect("present"), "eps")?),
+        };
+        out.push(InventoryBlock {
+            name,
+            b_m: num(cb, "b")?,
+            h_m: num(ch, "h")?,
+            eps,
+            line,
+        });
+    }
+    if out.is_empty() {
+        return Err(bad(1, "no blocks after the header".into()));
+    }
+    Ok(out)
+}
+
+/// Where the paper's regression is stretched for a block (not for `--direct`).
+pub fn warnings(block: &Block, auto_tol: f64) -> Vec<String> {
+    let mut w = Vec::new();
+    if !(0.5..=0.95).contains(&block.eps) {
+        w.push(format!(
+            "ε = {:.3} is outside the regression's 0.5–0.95",
+            block.eps
+        ));
+    }
+    let p = block.p();
+    if !(0.33..=10.0).contains(&p) {
+        w.push(format!(
+            "p = {p:.3} 1/s is outside the regression's 0.33–10 1/s"
+        ));
+    }
+    let alpha = block.alpha();
+    let err = LINEARIZATION_ERROR_PER_ALPHA2 * alpha * alpha;
+    if err > auto_tol {
+        w.push(format!(
+            "α = {alpha:.3} rad: the regression rests on the linearised model, which errs by about {err:.1e} > {auto_tol:e} in η_c here; use --direct (the nonlinear model)"
+        ));
+    }
+    w
+}
+
+/// The fragility of a block in PGA terms, and how to describe it.
+fn fragility_of(
+    block: &Block,
+    laws: &Laws,
+    direct: Option<&DirectRecords>,
+) -> Result<(Fragility, FragilityInfo), FragilityError> {
+    let alpha = block.alpha();
+    match direct {
+        None => {
+            let (eta50, beta) = laws.median_beta(block)?;
+            // η = α/PGA: P(OT | PGA) = Φ((ln PGA − ln(α/η50))/β).
+            let median = alpha / eta50;
+            Ok((
+                Fragility::Lognormal {
+                    median_pga_g: median,
+                    beta,
+                },
+                FragilityInfo {
+                    source: laws.name.clone(),
+                    kind: "lognormal",
+                    median_pga_g: Some(median),
+                    beta: Some(beta),
+                    records: None,
+                },
+            ))
+        }
+        Some(records) => {
+            let caps = records.capacities(block)?;
+            // The PGA at which each record overturns the block; never: ∞.
+            let mut thresholds: Vec<f64> = caps
+                .iter()
+                .map(|&c| if c > 0.0 { alpha / c } else { f64::INFINITY })
+                .collect();
+            thresholds.sort_by(|a, b| a.total_cmp(b));
+            let q = |q: f64| {
+                stats::fractile(&thresholds, q, crate::pipeline::FractileDef::Type7)
+                    .filter(|v| v.is_finite())
+            };
+            let beta = match (q(0.16), q(0.84)) {
+                (Some(a), Some(b)) => Some(0.5 * (b.ln() - a.ln())),
+                _ => None,
+            };
+            Ok((
+                Fragility::Empirical {
+                    thresholds_g: thresholds.clone(),
+                },
+                FragilityInfo {
+                    source: "direct".into(),
+                    kind: "empirical",
+                    median_pga_g: q(0.5),
+                    beta,
+                    records: Some(caps.len()),
+                },
+            ))
+        }
+    }
+}
+
+fn site_info(k: usize, curve: &HazardCurve, r: &SiteRisk, years: f64) -> SiteInfo {
+    SiteInfo {
+        site: k,
+        lon: curve.lon,
+        lat: curve.lat,
+        annual_rate: r.annual_rate,
+        return_period_years: (r.annual_rate > 0.0).then(|| 1.0 / r.annual_rate),
+        p_overturn_in_years: risk::probability_in(r.annual_rate, years),
+        first_iml_g: r.first_iml_g,
+        last_iml_g: r.last_iml_g,
+        fragility_at_first_iml: r.fragility_at_first_iml,
+        imls_dropped: curve.dropped_below,
+        share_beyond_last_iml: r.share_beyond_last_iml,
+        deaggregation: r
+            .bins
+            .iter()
+            .map(|b| BinInfo {
+                pga_from_g: b.pga_from_g,
+                pga_to_g: b.pga_to_g,
+                annual_rate: b.annual_rate,
+                share: if r.annual_rate > 0.0 {
+                    b.annual_rate / r.annual_rate
+                } else {
+                    0.0
+                },
+            })
+            .collect(),
+    }
+}
+
+/// Assesses every block asked at every site asked.
+pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
+    if !(req.years > 0.0 && req.years.is_finite()) {
+        return Err(RiskError::Years(req.years));
+    }
+    let sites = read_hazard(&req.hazard, req.site)?;
+    let entries: Vec<InventoryBlock> = match &req.blocks {
+        Blocks::One { b_m, h_m, eps } => vec![InventoryBlock {
+            name: format!("b{b_m}xh{h_m}"),
+            b_m: *b_m,
+            h_m: *h_m,
+            eps: *eps,
+            line: 0,
+        }],
+        Blocks::Inventory(path) => read_inventory(path)?,
+    };
+    let laws = fragility::laws(&req.from)?;
+    let records = if req.direct {
+        Some(DirectRecords::load(&req.from, laws.plan.as_ref())?)
+    } else {
+        None
+    };
+    let mut out = Vec::with_capacity(entries.len());
+    for e in &entries {
+        let in_block = |source| RiskError::Block {
+            name: e.name.clone(),
+            source,
+        };
+        let block = fragility::block(e.b_m, e.h_m, e.eps).map_err(in_block)?;
+        let (frag, info) = fragility_of(&block, &laws, records.as_ref()).map_err(in_block)?;
+        let site_infos = sites
+            .iter()
+            .map(|(k, c)| site_info(*k, c, &risk::assess(c, &frag, req.beyond), req.years))
+            .collect();
+        out.push(Assessment {
+            block: BlockInfo {
+                name: e.name.clone(),
+                b_m: e.b_m,
+                h_m: e.h_m,
+                alpha_rad: block.alpha(),
+                p: block.p(),
+                eps: block.eps,
+                eps_housner: e.eps.is_none(),
+            },
+            fragility: info,
+            years: req.years,
+            beyond: req.beyond.label(),
+            sites: site_infos,
+            warnings: if req.direct {
+                Vec::new()
+            } else {
+                warnings(&block, req.auto_tol)
+            },
+        });
+    }
+    Ok(out)
+}
+
+/// The rows of `risk.parquet`: one per block × site.
+pub fn rows(assessments: &[Assessment], beyond: Beyond) -> Vec<RiskRow> {
+    assessments
+        .iter()
+        .flat_map(|a| {
+            a.sites.iter().map(move |s| RiskRow {
+                block: a.block.name.clone(),
+                b_m: a.block.b_m,
+                h_m: a.block.h_m,
+                alpha_rad: a.block.alpha_rad,
+                p: a.block.p,
+                eps: a.block.eps,
+                eps_housner: a.block.eps_housner,
+                site: s.site as i64,
+                lon: s.lon,
+                lat: s.lat,
+                fragility: a.fragility.source.clone(),
+                median_pga_g: a.fragility.median_pga_g,
+                beta: a.fragility.beta,
+                annual_rate: s.annual_rate,
+                return_period_years: s.return_period_years,
+                years: a.years,
+                p_overturn_in_years: s.p_overturn_in_years,
+                first_iml_g: s.first_iml_g,
+                last_iml_g: s.last_iml_g,
+                fragility_at_first_iml: s.fragility_at_first_iml,
+                share_beyond_last_iml: s.share_beyond_last_iml,
+                beyond,
+                warnings: a.warnings.join("; "),
+            })
+        })
+        .collect()
+}
+
+/// Writes `risk.parquet`.
+pub fn write_table(dest: &Path, rows: &[RiskRow], hazard: &Path) -> Result<(), RiskError> {
+    Ok(tables::write(
+        dest,
+        rows,
+        &[("rocking.risk.hazard".into(), hazard.display().to_string())],
+    )?)
+}
+
+/// The deaggregation of one block at one site as a bar chart (SVG).
+pub fn deaggregation_chart(a: &Assessment, site: &SiteInfo) -> Result<String, RiskError> {
+    let bars = site
+        .deaggregation
+        .iter()
+        .map(|b| {
+            let label = match b.pga_to_g {
+                Some(to) if to > b.pga_from_g => format!("{:.3}–{:.3} g", b.pga_from_g, to),
+                Some(_) => format!("> {:.3} g (not counted)", b.pga_from_g),
+                None => format!("> {:.3} g (extrapolated)", b.pga_from_g),
+            };
+            (label, 100.0 * b.share)
+        })
+        .collect();
+    Ok(plot::render_bars(&Bars {
+        title: format!(
+            "Deaggregation of the overturning rate of {} at site {} (λ = {:.2e}/yr)",
+            a.block.name, site.site, site.annual_rate
+        ),
+        x_desc: "share of the annual rate of overturning (%)".into(),
+        x_scale: Scale::Linear,
+        bars,
+    })?)
+}
+
+/// The blocks ranked by their annual rate at `site` (SVG).
+pub fn ranking_chart(assessments: &[Assessment], site: usize) -> Result<String, RiskError> {
+    let mut bars: Vec<(String, f64)> = assessments
+        .iter()
+        .filter_map(|a| {
+            a.sites
+                .iter()
+                .find(|s| s.site == site)
+                .map(|s| (a.block.name.clone(), s.annual_rate))
+        })
+        .collect();
+    bars.sort_by(|a, b| b.1.total_cmp(&a.1));
+    Ok(plot::render_bars(&Bars {
+        title: format!("Blocks ranked by their annual rate of overturning, site {site}"),
+        x_desc: "annual rate of overturning (1/year)".into(),
+        x_scale: Scale::Log,
+        bars,
+    })?)
+}
