@@ -256,6 +256,332 @@ pub fn capacity_traced(
     })
 }
 
+/// θmax/α from which a surviving grid level counts as a near miss: a
+/// slightly different integration could tip it over, and so move the first
+/// overturning to it.
+pub const NEAR_MISS: f64 = 0.5;
+
+/// The runs whose verdicts decide a capacity, each with the verdict the
+/// search found: the first grid level that overturned and the last that
+/// survived before it (the bracket before refinement), every refinement run
+/// (each verdict steered the bisection, so a flip anywhere moves η_c, as
+/// the surviving midpoints above the final bracket do), and the surviving
+/// grid levels before the first overturning that came near overturning
+/// (θmax/α ≥ [`NEAR_MISS`]): a flip there moves the first overturning up.
+/// η_c and the bracket's surviving end are among them, first.
+pub fn decisive_runs(cap: &Capacity, grid: &ImGrid) -> Vec<(f64, bool)> {
+    let mut runs: Vec<(f64, bool)> = Vec::with_capacity(8);
+    let mut push = |eta: f64, overturned: bool| {
+        if !runs.iter().any(|&(e, _)| e == eta) {
+            runs.push((eta, overturned));
+        }
+    };
+    if let Some(c) = cap.eta_c {
+        push(c, true);
+    }
+    // At the grid's top the block is known to stand (nothing moves at η ≥ 1).
+    if cap.eta_survived < grid.eta_max {
+        push(cap.eta_survived, false);
+    }
+    if let Some(l) = cap.level_overturned {
+        push(l, true);
+    }
+    if cap.level_survived < grid.eta_max {
+        push(cap.level_survived, false);
+    }
+    for q in cap.points.iter().filter(|q| q.kind == RunKind::Refinement) {
+        push(q.eta, q.outcome.overturned());
+    }
+    let before_first = cap
+        .points
+        .iter()
+        .take_while(|q| !(q.kind == RunKind::Level && q.outcome.overturned()));
+    for q in before_first {
+        if q.kind == RunKind::Level && q.outcome.max_abs_x >= NEAR_MISS {
+            push(q.eta, false);
+        }
+    }
+    runs
+}
+
+/// How a capacity's decisive verdicts were checked.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Certification {
+    /// Searched at `rtol` and the decisive runs gave the same verdicts at
+    /// `checked_rtol` = rtol/[`TIGHTEN`]; `searches` > 1 when looser
+    /// searches had to be redone.
+    Tolerance {
+        rtol: f64,
+        checked_rtol: f64,
+        searches: u32,
+    },
+    /// The exact stepper: no tolerance to tighten, and no decisive verdict
+    /// changes when η moves by [`CHAOS_PROBE`]; rounding, which `rocking
+    /// bench` measures, flips no verdict of such capacities.
+    Exact,
+    /// A fixed-step integrator (RK4, benchmarks only): nothing to tighten.
+    FixedStep,
+    /// The verdict at `eta` still flips when the tolerance is tightened to
+    /// `rtol`, the tightest tried.
+    Failed { rtol: f64, eta: f64 },
+    /// The verdicts agree at the tighter tolerance (DP5, `rtol` the
+    /// checking one) or are exact (the exact stepper, `rtol` = `None`), but
+    /// the one at `eta` changes when η moves by [`CHAOS_PROBE`] (relative):
+    /// the motion is chaotic there, and neither a tolerance nor exact
+    /// stepping decides the verdict; η_c is one edge of a chaotic band.
+    Chaotic { rtol: Option<f64>, eta: f64 },
+}
+
+impl Certification {
+    pub fn certified(&self) -> bool {
+        matches!(self, Certification::Tolerance { .. } | Certification::Exact)
+    }
+
+    /// The outcome without its numbers.
+    pub fn kind(&self) -> CertificationKind {
+        match self {
+            Certification::Tolerance { .. } => CertificationKind::Tolerance,
+            Certification::Exact => CertificationKind::Exact,
+            Certification::FixedStep => CertificationKind::FixedStep,
+            Certification::Failed { .. } => CertificationKind::Flips,
+            Certification::Chaotic { .. } => CertificationKind::Chaotic,
+        }
+    }
+}
+
+impl std::fmt::Display for Certification {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Certification::Tolerance {
+                rtol,
+                checked_rtol,
+                searches,
+            } => {
+                write!(f, "rtol {rtol:e}; decisive runs agree at {checked_rtol:e}")?;
+                if *searches > 1 {
+                    write!(
+                        f,
+                        " (searched {searches} times: looser tolerances flipped a verdict)"
+                    )?;
+                }
+                Ok(())
+            }
+            Certification::Exact => write!(
+                f,
+                "exact stepper; decisive verdicts unchanged when η moves by {CHAOS_PROBE:e}"
+            ),
+            Certification::FixedStep => write!(f, "not certified: fixed-step integrator"),
+            Certification::Failed { rtol, eta } => write!(
+                f,
+                "not certified: the verdict at η = {eta} still flips at rtol {rtol:e}"
+            ),
+            Certification::Chaotic { rtol, eta } => {
+                write!(
+                    f,
+                    "not certified: chaotic: the verdict at η = {eta} changes when η moves by \
+                     {CHAOS_PROBE:e} (relative)"
+                )?;
+                match rtol {
+                    Some(rtol) => write!(f, ", at rtol {rtol:e}"),
+                    None => write!(f, ", with the exact stepper"),
+                }
+            }
+        }
+    }
+}
+
+/// The outcome of a certification, as the capacities table stores it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CertificationKind {
+    /// The exact stepper, decisive verdicts not chaotic.
+    Exact,
+    /// DP5: the decisive verdicts agree at a 100× tighter tolerance.
+    Tolerance,
+    /// A verdict changes when η moves by 1e-9: decided by no tolerance
+    /// nor by exact stepping.
+    Chaotic,
+    /// A verdict still flips at the tightest tolerance.
+    Flips,
+    /// RK4 (benchmarks only).
+    FixedStep,
+}
+
+impl crate::label::Label for CertificationKind {
+    const ALL: &'static [Self] = &[
+        CertificationKind::Exact,
+        CertificationKind::Tolerance,
+        CertificationKind::Chaotic,
+        CertificationKind::Flips,
+        CertificationKind::FixedStep,
+    ];
+    fn label(self) -> &'static str {
+        match self {
+            CertificationKind::Exact => "exact",
+            CertificationKind::Tolerance => "tolerance",
+            CertificationKind::Chaotic => "chaotic",
+            CertificationKind::Flips => "flips",
+            CertificationKind::FixedStep => "fixed_step",
+        }
+    }
+}
+
+/// How much tighter the check of a search is than the search.
+pub const TIGHTEN: f64 = 100.0;
+
+/// The tightest tolerance a check may use: below it DP5's error estimate
+/// is rounding noise.
+pub const TIGHTEST_RTOL: f64 = 1e-14;
+
+/// How far (relative) the chaos probe moves η: far below any meaning (the
+/// grid's steps are 3.4 %), about the size of the integration errors a
+/// tolerance allows.
+pub const CHAOS_PROBE: f64 = 1e-9;
+
+/// The first decisive run whose verdict changes when η moves by
+/// ±[`CHAOS_PROBE`], if any.
+fn chaos_probe(
+    exc: &Excitation,
+    check: &RunSpec,
+    cap: &Capacity,
+    grid: &ImGrid,
+    extra: &mut Work,
+) -> Result<Option<f64>, PhysicsError> {
+    for (eta, overturned) in decisive_runs(cap, grid) {
+        for moved in [eta * (1.0 + CHAOS_PROBE), eta * (1.0 - CHAOS_PROBE)] {
+            if extra.run(
+                exc,
+                &RunSpec {
+                    eta: moved,
+                    ..*check
+                },
+            )? != overturned
+            {
+                return Ok(Some(eta));
+            }
+        }
+    }
+    Ok(None)
+}
+
+/// Runs spent beyond a search, and the sample intervals they integrated.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Work {
+    pub runs: usize,
+    pub intervals: u64,
+}
+
+impl Work {
+    /// Simulates one run, counts it, and returns whether it overturned.
+    fn run(&mut self, exc: &Excitation, spec: &RunSpec) -> Result<bool, PhysicsError> {
+        let out = simulate(exc, spec)?;
+        self.runs += 1;
+        self.intervals += out.intervals;
+        Ok(out.overturned())
+    }
+}
+
+/// A capacity with its certification.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Certified {
+    pub capacity: Capacity,
+    pub certification: Certification,
+    /// The model of the search reported (its tolerance may be tighter than asked).
+    pub model: crate::physics::Model,
+    /// Runs spent on checks and on searches that were redone.
+    pub extra: Work,
+}
+
+/// [`capacity_traced`], certified: for a tolerance-controlled integrator the
+/// decisive runs ([`decisive_runs`]) are rerun at a [`TIGHTEN`]× tighter
+/// tolerance; if a verdict flips, the whole search is redone at that
+/// tolerance and checked again, down to [`TIGHTEST_RTOL`]. Once they agree,
+/// every decisive run is probed for chaos (η moved by ±[`CHAOS_PROBE`] at
+/// the tighter tolerance). The exact stepper has no tolerance: its decisive
+/// runs are only probed for chaos. RK4 is not certified.
+pub fn capacity_certified(
+    exc: &Excitation,
+    run: &RunSpec,
+    grid: &ImGrid,
+    tol: f64,
+    trace: Trace,
+) -> Result<Certified, PhysicsError> {
+    use crate::physics::Integrator;
+    let Integrator::Dp5 { rtol: asked } = run.model.integrator else {
+        let capacity = capacity_traced(exc, run, grid, tol, trace)?;
+        let mut extra = Work::default();
+        let certification = match run.model.integrator {
+            Integrator::Exact => match chaos_probe(exc, run, &capacity, grid, &mut extra)? {
+                Some(eta) => Certification::Chaotic { rtol: None, eta },
+                None => Certification::Exact,
+            },
+            _ => Certification::FixedStep,
+        };
+        return Ok(Certified {
+            capacity,
+            certification,
+            model: run.model,
+            extra,
+        });
+    };
+    let with_rtol = |rtol: f64| RunSpec {
+        model: crate::physics::Model {
+            integrator: Integrator::Dp5 { rtol },
+            ..run.model
+        },
+        ..*run
+    };
+    let (mut rtol, mut searches, mut extra) = (asked, 0u32, Work::default());
+    loop {
+        searches += 1;
+        let spec = with_rtol(rtol);
+        let capacity = capacity_traced(exc, &spec, grid, tol, trace)?;
+        let checked_rtol = (rtol / TIGHTEN).max(TIGHTEST_RTOL);
+        let check = with_rtol(checked_rtol);
+        let mut flipped = None;
+        for (eta, overturned) in decisive_runs(&capacity, grid) {
+            if extra.run(exc, &RunSpec { eta, ..check })? != overturned {
+                flipped = Some(eta);
+                break;
+            }
+        }
+        let chaos = match flipped {
+            Some(_) => None,
+            None => chaos_probe(exc, &check, &capacity, grid, &mut extra)?,
+        };
+        let certification = match (flipped, chaos) {
+            (None, Some(eta)) => Certification::Chaotic {
+                rtol: Some(checked_rtol),
+                eta,
+            },
+            (None, None) => Certification::Tolerance {
+                rtol,
+                checked_rtol,
+                searches,
+            },
+            (Some(eta), _) if rtol / (TIGHTEN * TIGHTEN) < TIGHTEST_RTOL => Certification::Failed {
+                rtol: checked_rtol,
+                eta,
+            },
+            (Some(_), _) => {
+                extra.runs += capacity.runs();
+                extra.intervals += capacity
+                    .points
+                    .iter()
+                    .map(|q| q.outcome.intervals)
+                    .sum::<u64>();
+                rtol /= TIGHTEN;
+                continue;
+            }
+        };
+        return Ok(Certified {
+            capacity,
+            certification,
+            model: spec.model,
+            extra,
+        });
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

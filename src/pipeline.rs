@@ -83,7 +83,7 @@ fn default_kind() -> String {
     "linearized".into()
 }
 fn default_rtol() -> f64 {
-    1e-8
+    crate::physics::DEFAULT_RTOL
 }
 fn default_auto_tol() -> f64 {
     0.01
@@ -521,9 +521,7 @@ fn model(raw: &RawModel) -> Result<(ModelChoice, Overturn), String> {
         .overturn
         .parse()
         .map_err(|e: crate::physics::PhysicsError| format!("`model.overturn`: {e}"))?;
-    if !(raw.rtol > 0.0 && raw.rtol < 1e-2) {
-        return Err(format!("`model.rtol` = {} must be in (0, 0.01)", raw.rtol));
-    }
+    crate::physics::check_rtol(raw.rtol).map_err(|e| format!("`model.rtol`: {e}"))?;
     if raw.auto_tol.is_nan() || raw.auto_tol <= 0.0 {
         return Err(format!(
             "`model.auto_tol` = {} must be positive",

@@ -2,6 +2,9 @@
 //! one command or stage end to end through the `rocking` binary or the
 //! library's public API.
 //!
+//! - `certify`: nonlinear capacities certified against DP5's tolerance (the
+//!   hard cases against a tight search, a chaotic case flagged), the exact
+//!   stepper's verdicts under a one-ulp change of the record.
 //! - `cli`: `simulate` and `capacity` through the binary: JSON, history
 //!   files, the definitions of η_c, bad input.
 //! - `faults`: the faults issue #9 lists (absurd sizes, corrupt parts, mixed
@@ -27,6 +30,7 @@
 //! - `tables`: Parquet round trips, atomic writes, foreign files refused.
 //! - `util`: helpers (running the binary, an independent AT2 reader).
 
+mod certify;
 mod cli;
 mod faults;
 mod ingest;

@@ -107,6 +107,11 @@ pub fn stdout(out: &Output) -> String {
 /// `exact`, in Rust's shortest round-trip form (so equal text is equal
 /// bits); strings quoted; `null` for an empty cell; lists in brackets.
 pub fn dump_table(path: &Path, exact: bool) -> String {
+    dump_columns(path, exact, None)
+}
+
+/// [`dump_table`] of the named columns only (in that order), or of all.
+pub fn dump_columns(path: &Path, exact: bool, only: Option<&[String]>) -> String {
     use arrow_array::cast::AsArray;
     use arrow_array::types::{Float64Type, Int64Type, Int8Type};
     use arrow_array::{Array, ArrayRef};
@@ -144,17 +149,24 @@ pub fn dump_table(path: &Path, exact: bool) -> String {
     let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let builder = ParquetRecordBatchReaderBuilder::try_new(file).unwrap();
     let schema = builder.schema().clone();
-    let mut s = schema
-        .fields()
-        .iter()
-        .map(|f| f.name().as_str())
-        .collect::<Vec<_>>()
-        .join("\t");
+    let names: Vec<String> = match only {
+        Some(names) => names.to_vec(),
+        None => schema.fields().iter().map(|f| f.name().clone()).collect(),
+    };
+    let mut s = names.join("\t");
     s.push('\n');
     for batch in builder.build().unwrap() {
         let batch = batch.unwrap();
+        let columns: Vec<&ArrayRef> = names
+            .iter()
+            .map(|n| {
+                batch
+                    .column_by_name(n)
+                    .unwrap_or_else(|| panic!("{}: no column {n}", path.display()))
+            })
+            .collect();
         for i in 0..batch.num_rows() {
-            let cells: Vec<String> = batch.columns().iter().map(|c| cell(c, i, exact)).collect();
+            let cells: Vec<String> = columns.iter().map(|c| cell(c, i, exact)).collect();
             s.push_str(&cells.join("\t"));
             s.push('\n');
         }
@@ -162,8 +174,29 @@ pub fn dump_table(path: &Path, exact: bool) -> String {
     s
 }
 
-/// The schema of a Parquet file: `name type nullable` per column.
-pub fn schema_of(path: &Path) -> String {
+/// The schema of a Parquet file: `name type nullable` per column (of the
+/// named columns only, in that order, when `only` is given).
+pub fn schema_of(path: &Path, only: Option<&[String]>) -> String {
+    use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+    let file = std::fs::File::open(path).unwrap();
+    let builder = ParquetRecordBatchReaderBuilder::try_new(file).unwrap();
+    let schema = builder.schema();
+    let fields: Vec<_> = match only {
+        Some(names) => names
+            .iter()
+            .map(|n| schema.field_with_name(n).expect("column present").clone())
+            .collect(),
+        None => schema.fields().iter().map(|f| f.as_ref().clone()).collect(),
+    };
+    fields
+        .iter()
+        .map(|f| format!("{} {} {}", f.name(), f.data_type(), f.is_nullable()))
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// The column names of a Parquet file.
+pub fn columns_of(path: &Path) -> Vec<String> {
     use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
     let file = std::fs::File::open(path).unwrap();
     let builder = ParquetRecordBatchReaderBuilder::try_new(file).unwrap();
@@ -171,9 +204,8 @@ pub fn schema_of(path: &Path) -> String {
         .schema()
         .fields()
         .iter()
-        .map(|f| format!("{} {} {}", f.name(), f.data_type(), f.is_nullable()))
-        .collect::<Vec<_>>()
-        .join("; ")
+        .map(|f| f.name().clone())
+        .collect()
 }
 
 /// Compares `text` with `tests/snapshots/<name>`; `ROCKING_BLESS=1` (re)writes

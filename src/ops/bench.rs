@@ -27,6 +27,42 @@ pub struct BenchOptions {
     pub reps: usize,
     /// Fewer cases and settings: a smoke run, not for the record.
     pub quick: bool,
+    /// The sections to measure and rewrite (the others are left as they are).
+    pub sections: Vec<Section>,
+}
+
+/// The generated sections of BENCHMARKS.md.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Section {
+    /// Every solver's speed against its error, and the plot.
+    Solvers,
+    /// The linearisation error against α (the basis of `--model auto`).
+    Linearisation,
+    /// How much the overturning criterion moves η_c.
+    Criteria,
+    /// η_c of the nonlinear model against DP5's tolerance, and certification.
+    Tolerance,
+    /// Whether rounding can flip the exact stepper's decisive verdicts.
+    Rounding,
+}
+
+impl crate::label::Label for Section {
+    const ALL: &'static [Self] = &[
+        Section::Solvers,
+        Section::Linearisation,
+        Section::Criteria,
+        Section::Tolerance,
+        Section::Rounding,
+    ];
+    fn label(self) -> &'static str {
+        match self {
+            Section::Solvers => "solvers",
+            Section::Linearisation => "linearisation",
+            Section::Criteria => "criteria",
+            Section::Tolerance => "tolerance",
+            Section::Rounding => "rounding",
+        }
+    }
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -54,7 +90,7 @@ const ALPHA_NL: f64 = 0.1;
 /// Most repetitions per timing: the median of a thousand is already steady.
 pub const MAX_REPS: usize = 1000;
 
-fn load(dir: &Path, stem: &str) -> Result<Excitation, BenchError> {
+pub(super) fn load(dir: &Path, stem: &str) -> Result<Excitation, BenchError> {
     let path = dir.join("far-field").join(format!("{stem}.AT2"));
     Ok(record::load(&path)?.exc)
 }
@@ -67,12 +103,13 @@ const RECORDS: [&str; 4] = [
     "RSN1633_MANJIL_ABBAR--L",
 ];
 
-/// Runs every measurement and rewrites the generated sections of
-/// `BENCHMARKS.md` and the plot in `opts.out_dir`; `log` hears each step.
+/// Runs the measurements of `opts.sections` and rewrites those sections of
+/// `BENCHMARKS.md` (and the plot) in `opts.out_dir`, each as soon as it is
+/// done; `log` hears each step.
 pub fn run(opts: &BenchOptions, mut log: impl FnMut(&str)) -> Result<(), BenchError> {
-    let args = opts;
-    if !(1..=MAX_REPS).contains(&args.reps) {
-        return Err(BenchError::Reps(args.reps));
+    use crate::label::Label;
+    if !(1..=MAX_REPS).contains(&opts.reps) {
+        return Err(BenchError::Reps(opts.reps));
     }
     let started = Instant::now();
     let mut say = |what: &str| {
@@ -81,6 +118,26 @@ pub fn run(opts: &BenchOptions, mut log: impl FnMut(&str)) -> Result<(), BenchEr
             started.elapsed().as_secs_f64()
         ))
     };
+    let md_path = opts.out_dir.join("BENCHMARKS.md");
+    let mut md = std::fs::read_to_string(&md_path).unwrap_or_else(|_| "# Benchmarks\n".to_string());
+    for &section in &opts.sections {
+        say(section.label());
+        let text = match section {
+            Section::Solvers => solvers(opts, &mut say)?,
+            Section::Linearisation => linearisation_table(opts, if opts.quick { 2 } else { 11 })?,
+            Section::Criteria => criteria_table(opts, if opts.quick { 2 } else { 11 })?,
+            Section::Tolerance => super::accuracy::tolerance_table(opts, &mut say)?,
+            Section::Rounding => super::accuracy::rounding_table(opts, &mut say)?,
+        };
+        md = replace_section(&md, section.label(), &text);
+        atomic_write(&md_path, md.as_bytes())?;
+    }
+    say(&format!("wrote {}", md_path.display()));
+    Ok(())
+}
+
+/// Every solver's speed against its error; writes the plot beside BENCHMARKS.md.
+fn solvers(args: &BenchOptions, say: &mut impl FnMut(&str)) -> Result<String, BenchError> {
     let mut cases = Vec::new();
     let stems: &[&str] = if args.quick { &RECORDS[2..3] } else { &RECORDS };
     for stem in stems {
@@ -109,13 +166,38 @@ pub fn run(opts: &BenchOptions, mut log: impl FnMut(&str)) -> Result<(), BenchEr
         eps: 0.8,
         exact_eta_c: None,
     });
+    let solvers = solver_list(args.quick);
+    // The reference of each equation: exact for the linearised one, DP5 at
+    // a tolerance far below any setting measured for the nonlinear one.
+    let reference = |s: &Solver| match s.model.equation {
+        Equation::Linearized => Model::LINEARIZED,
+        Equation::Nonlinear { alpha_rad } => Model::nonlinear(alpha_rad, 1e-13),
+    };
+    let grid = ImGrid::default();
+    let tol = 1e-6;
+    let rows = bench::run(&cases, &solvers, reference, &grid, tol, args.reps, say)?;
+    let svg = plot::log_log(
+        "Speed against error: θmax/α at 1.25·η_c, bundled records and pulses",
+        "median time per run (s)",
+        "median relative error of θmax/α (1e-16: exact)",
+        &series(&rows),
+        1e-16,
+    )?;
+    let svg_name = "bench-speed-error.svg";
+    atomic_write(&args.out_dir.join(svg_name), svg.as_bytes())?;
+    Ok(solver_section(
+        &rows, &cases, args, svg_name, grid.count, tol,
+    ))
+}
 
+/// The solver settings measured.
+fn solver_list(quick: bool) -> Vec<Solver> {
     let mut solvers = vec![Solver {
         family: "exact (linearised)",
         setting: 0.0,
         model: Model::LINEARIZED,
     }];
-    let rk_steps: &[u32] = if args.quick {
+    let rk_steps: &[u32] = if quick {
         &[1, 8]
     } else {
         &[1, 2, 4, 8, 16, 32, 64]
@@ -130,7 +212,7 @@ pub fn run(opts: &BenchOptions, mut log: impl FnMut(&str)) -> Result<(), BenchEr
             },
         });
     }
-    let rtols: &[f64] = if args.quick {
+    let rtols: &[f64] = if quick {
         &[1e-4, 1e-8]
     } else {
         &[1e-3, 1e-4, 1e-6, 1e-8, 1e-10]
@@ -142,7 +224,7 @@ pub fn run(opts: &BenchOptions, mut log: impl FnMut(&str)) -> Result<(), BenchEr
             model: Model::nonlinear(ALPHA_NL, rtol),
         });
     }
-    let rk_nl: &[u32] = if args.quick { &[4] } else { &[1, 4, 16, 64] };
+    let rk_nl: &[u32] = if quick { &[4] } else { &[1, 4, 16, 64] };
     for &m in rk_nl {
         solvers.push(Solver {
             family: "RK4 (nonlinear, α = 0.1)",
@@ -155,43 +237,7 @@ pub fn run(opts: &BenchOptions, mut log: impl FnMut(&str)) -> Result<(), BenchEr
             },
         });
     }
-    // The reference of each equation: exact for the linearised one, DP5 at
-    // a tolerance far below any setting measured for the nonlinear one.
-    let reference = |s: &Solver| match s.model.equation {
-        Equation::Linearized => Model::LINEARIZED,
-        Equation::Nonlinear { alpha_rad } => Model::nonlinear(alpha_rad, 1e-13),
-    };
-    let grid = ImGrid::default();
-    let tol = 1e-6;
-    let rows = bench::run(&cases, &solvers, reference, &grid, tol, args.reps, &mut say)?;
-
-    say("linearisation error against α");
-    let lin = linearisation_table(args, if args.quick { 2 } else { 11 })?;
-    say("overturning criteria");
-    let criteria = criteria_table(args, if args.quick { 2 } else { 11 })?;
-
-    let svg = plot::log_log(
-        "Speed against error: θmax/α at 1.25·η_c, bundled records and pulses",
-        "median time per run (s)",
-        "median relative error of θmax/α (1e-16: exact)",
-        &series(&rows),
-        1e-16,
-    )?;
-    let svg_name = "bench-speed-error.svg";
-    atomic_write(&args.out_dir.join(svg_name), svg.as_bytes())?;
-
-    let md_path = args.out_dir.join("BENCHMARKS.md");
-    let mut md = std::fs::read_to_string(&md_path).unwrap_or_else(|_| "# Benchmarks\n".to_string());
-    md = replace_section(
-        &md,
-        "solvers",
-        &solver_section(&rows, &cases, args, svg_name, grid.count, tol),
-    );
-    md = replace_section(&md, "linearisation", &lin);
-    md = replace_section(&md, "criteria", &criteria);
-    atomic_write(&md_path, md.as_bytes())?;
-    say(&format!("wrote {} and {svg_name}", md_path.display()));
-    Ok(())
+    solvers
 }
 
 fn series(rows: &[Row]) -> Vec<Series> {
@@ -276,7 +322,21 @@ fn solver_section(
 }
 
 /// `n` far-field records spread over the set (every k-th by file name).
-fn spread_records(args: &BenchOptions, n_records: usize) -> Result<Vec<Excitation>, BenchError> {
+pub(super) fn spread_records(
+    args: &BenchOptions,
+    n_records: usize,
+) -> Result<Vec<Excitation>, BenchError> {
+    Ok(named_records(args, n_records)?
+        .into_iter()
+        .map(|r| r.1)
+        .collect())
+}
+
+/// `n` far-field records spread over the set (every k-th by file name), with their ids.
+pub(super) fn named_records(
+    args: &BenchOptions,
+    n_records: usize,
+) -> Result<Vec<(String, Excitation)>, BenchError> {
     let dir = args.records.join("far-field");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
         .map_err(|source| BenchError::List {
@@ -294,7 +354,8 @@ fn spread_records(args: &BenchOptions, n_records: usize) -> Result<Vec<Excitatio
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default();
-        recs.push(load(&args.records, &stem)?);
+        let exc = load(&args.records, &stem)?;
+        recs.push((stem, exc));
     }
     Ok(recs)
 }

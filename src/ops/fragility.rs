@@ -265,22 +265,23 @@ impl DirectRecords {
     }
 
     /// The block's capacity η_c under every record (0 where it survives
-    /// every level), with the model `--model auto` would choose for its α.
+    /// every level), with the model `--model auto` would choose for its α,
+    /// by the certified search.
     pub fn capacities(&self, block: &Block) -> Result<Vec<f64>, FragilityError> {
         let (model, _) = ModelChoice::Auto
-            .resolve(Some(block.alpha()), 1e-8, 0.01)
+            .resolve(Some(block.alpha()), crate::physics::DEFAULT_RTOL, 0.01)
             .map_err(FragilityError::Model)?;
         let spec = RunSpec::new(block.p(), block.eps, 1.0, model);
         self.records
             .par_iter()
             .map(|(id, exc)| {
-                Ok(ida::capacity(exc, &spec, &ImGrid::default(), 1e-4)
+                let grid = ImGrid::default();
+                let c = ida::capacity_certified(exc, &spec, &grid, 1e-4, ida::Trace::StopAtFirst)
                     .map_err(|source| FragilityError::Physics {
-                        record: id.clone(),
-                        source,
-                    })?
-                    .eta_c
-                    .unwrap_or(0.0))
+                    record: id.clone(),
+                    source,
+                })?;
+                Ok(c.capacity.eta_c.unwrap_or(0.0))
             })
             .collect()
     }

@@ -42,7 +42,10 @@ use std::fmt;
 pub use driver::{simulate, simulate_from, simulate_observed, Outcome, Stop};
 pub use equation::{Equation, EquationKind, LINEARIZATION_ERROR_PER_ALPHA2};
 pub use history::{EventKind, HistoryPoint, Observer, Recorder};
-pub use integrator::{Integrator, Model, ModelChoice, Rocking, Stepper, Stretch, StretchEnd};
+pub use integrator::{
+    check_rtol, Integrator, Model, ModelChoice, Rocking, Stepper, Stretch, StretchEnd,
+    DEFAULT_RTOL, MIN_RTOL,
+};
 
 /// Speed below which a block is at rest after an impact, relative to `p`:
 /// `|ẋ⁺| < REST_TOL · p`. The swing that follows such an impact would reach
@@ -181,6 +184,23 @@ impl Excitation {
             dt_s: self.dt_s,
             psi: self.psi.iter().map(|v| -v).collect(),
             suffix_max: self.suffix_max.clone(),
+        }
+    }
+
+    /// The normalised record with every sample mapped by `f` (e.g. moved by
+    /// one ulp, to measure how rounding moves a verdict).
+    pub fn mapped(&self, f: impl Fn(f64) -> f64) -> Self {
+        let psi: Vec<f64> = self.psi.iter().map(|&v| f(v)).collect();
+        let mut suffix_max = vec![0.0; psi.len()];
+        let mut m = 0.0f64;
+        for k in (0..psi.len()).rev() {
+            m = m.max(psi[k].abs());
+            suffix_max[k] = m;
+        }
+        Excitation {
+            dt_s: self.dt_s,
+            psi,
+            suffix_max,
         }
     }
 

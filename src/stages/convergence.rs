@@ -121,8 +121,8 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
             let caps = excitations
                 .par_iter()
                 .map(|exc| {
-                    ida::capacity(exc, &spec, &grid, plan.tol)
-                        .map(|c| (c.eta_c.unwrap_or(0.0), c.runs()))
+                    ida::capacity_certified(exc, &spec, &grid, plan.tol, ida::Trace::StopAtFirst)
+                        .map(|c| (c.capacity.eta_c.unwrap_or(0.0), c.capacity.runs()))
                 })
                 .collect::<Result<Vec<_>, _>>()
                 .map_err(physics(block))?;

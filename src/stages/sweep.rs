@@ -262,6 +262,8 @@ struct Tally {
     cases_done: usize,
     cases_resumed: usize,
     runs: u64,
+    /// Runs the certification added (not in the IDA table).
+    check_runs: u64,
     intervals: u64,
 }
 
@@ -332,11 +334,12 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
             .collect::<Result<Vec<_>, _>>()?;
         let mut ida_rows = Vec::new();
         let mut cap_rows = Vec::with_capacity(results.len());
-        for (ida, cap, intervals) in results {
-            tally.runs += ida.len() as u64;
-            tally.intervals += intervals;
-            ida_rows.extend(ida);
-            cap_rows.push(cap);
+        for r in results {
+            tally.runs += r.ida.len() as u64;
+            tally.check_runs += r.check_runs as u64;
+            tally.intervals += r.intervals;
+            ida_rows.extend(r.ida);
+            cap_rows.push(r.capacity);
         }
         let meta = prep.metadata(plan, Some(c), None);
         tables::write(&ida_part, &ida_rows, &meta)?;
@@ -353,16 +356,18 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
     let secs = started.elapsed().as_secs_f64();
     let threads = rayon::current_num_threads();
     let mut lines = vec![format!(
-        "swept {} records × {} blocks = {} cases{} ({} resumed from an earlier run): {} runs in {:.1} s \
-         ({:.0} runs/s; {} sample intervals, {:.0} ns each per thread)",
+        "swept {} records × {} blocks = {} cases{} ({} resumed from an earlier run): {} runs \
+         (and {} more to certify them) in {:.1} s ({:.0} runs/s; {} sample intervals, {:.0} ns each \
+         per thread)",
         prep.records.len(),
         plan.blocks.len(),
         cases_total,
         cx.shard.map_or(String::new(), |s| format!(" in shard {s}")),
         tally.cases_resumed,
         tally.runs,
+        tally.check_runs,
         secs,
-        tally.runs as f64 / secs.max(1e-9),
+        (tally.runs + tally.check_runs) as f64 / secs.max(1e-9),
         tally.intervals,
         secs * threads as f64 * 1e9 / (tally.intervals.max(1) as f64)
     )];
@@ -535,14 +540,20 @@ fn remove_shard_tables(dir: &Path) -> Result<(), SweepError> {
     })
 }
 
-/// A case's IDA points, its capacity, and the sample intervals it took.
-type CaseResult = (Vec<IdaRow>, CapacityRow, u64);
+/// A case's IDA points and capacity, the runs its certification added,
+/// and the sample intervals the search and its certification took.
+struct CaseResult {
+    ida: Vec<IdaRow>,
+    capacity: CapacityRow,
+    check_runs: usize,
+    intervals: u64,
+}
 
 fn run_case(case: usize, prep: &Prepared, plan: &Plan) -> Result<CaseResult, SweepError> {
     let n_blocks = plan.blocks.len();
     let (ri, bi) = (case / n_blocks, case % n_blocks);
     let (record, spec, block) = (&prep.records[ri], prep.specs[bi], &plan.blocks[bi].name);
-    let cap = ida::capacity_traced(
+    let certified = ida::capacity_certified(
         &prep.excitations[ri],
         &spec,
         &plan.grid,
@@ -553,6 +564,7 @@ fn run_case(case: usize, prep: &Prepared, plan: &Plan) -> Result<CaseResult, Swe
         record: record.record_id.clone(),
         source,
     })?;
+    let cap = &certified.capacity;
     let alpha_rad = spec.alpha();
     let model = spec.model.equation.kind();
     let ida = cap
@@ -592,9 +604,18 @@ fn run_case(case: usize, prep: &Prepared, plan: &Plan) -> Result<CaseResult, Swe
         level_overturned: cap.level_overturned,
         runs: cap.points.len() as i64,
         resurrections: cap.resurrections.map(|r| r as i64),
+        certified: certified.certification.certified(),
+        certification: certified.certification.kind(),
+        certification_note: certified.certification.to_string(),
+        rtol: certified.model.integrator.rtol(),
     };
-    let intervals = cap.points.iter().map(|q| q.outcome.intervals).sum();
-    Ok((ida, row, intervals))
+    Ok(CaseResult {
+        ida,
+        capacity: row,
+        check_runs: certified.extra.runs,
+        intervals: cap.points.iter().map(|q| q.outcome.intervals).sum::<u64>()
+            + certified.extra.intervals,
+    })
 }
 
 /// A folder's sweep tables cannot be read as one dataset.

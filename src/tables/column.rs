@@ -239,6 +239,7 @@ macro_rules! label_columns {
 
 label_columns!(
     crate::ida::RunKind,
+    crate::ida::CertificationKind,
     crate::physics::EquationKind,
     crate::physics::EventKind,
     crate::fit::Stop,

@@ -1,7 +1,7 @@
 //! The sweep's tables: `ida_points` (one row per run) and `capacities` (one
 //! row per record × block). Columns are documented in the README.
 
-use crate::ida::RunKind;
+use crate::ida::{CertificationKind, RunKind};
 use crate::physics::EquationKind;
 use crate::table;
 
@@ -29,7 +29,7 @@ table! {
 
 table! {
     /// The capacity of one record for one block.
-    pub struct CapacityRow = "capacities" v 1 {
+    pub struct CapacityRow = "capacities" v 2 {
         pub case_id: i64,
         pub record_id: String,
         pub block: String,
@@ -46,5 +46,15 @@ table! {
         /// Levels stronger than the first overturning that survived (only
         /// when the pipeline traces past the first overturning).
         pub resurrections: Option<i64>,
+        /// Whether the decisive verdicts were confirmed (`ida::Certification`).
+        pub certified: bool,
+        /// How: `exact`, `tolerance`, or why not: `chaotic`, `flips`, `fixed_step`.
+        pub certification: CertificationKind,
+        /// The same in a sentence, with the tolerances and the η concerned.
+        pub certification_note: String,
+        /// DP5's tolerance of the search reported (tighter than the
+        /// pipeline's when a looser one flipped a verdict); empty for the
+        /// exact stepper.
+        pub rtol: Option<f64>,
     }
 }

@@ -2,7 +2,8 @@
 
 use std::path::PathBuf;
 
-use rocking::ops::bench::{self, BenchOptions};
+use rocking::label::Label;
+use rocking::ops::bench::{self, BenchOptions, Section};
 
 /// Measure the solvers' speed against their error; write docs/BENCHMARKS.md sections and a plot.
 #[derive(Debug, clap::Args)]
@@ -25,6 +26,15 @@ pub struct Args {
     /// Fewer cases and settings: a smoke run, not for the record.
     #[arg(long)]
     quick: bool,
+    /// The sections to measure (the others keep their text): solvers,
+    /// linearisation, criteria, tolerance, rounding. Default: all.
+    #[arg(long, value_delimiter = ',', value_parser = parse_section)]
+    sections: Vec<Section>,
+}
+
+fn parse_section(s: &str) -> Result<Section, String> {
+    Section::from_label(s)
+        .ok_or_else(|| format!("unknown section `{s}`; valid: {}", Section::labels()))
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -33,6 +43,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         out_dir: args.out_dir,
         reps: args.reps,
         quick: args.quick,
+        sections: if args.sections.is_empty() {
+            Section::ALL.to_vec()
+        } else {
+            args.sections
+        },
     };
     bench::run(&opts, |line| eprintln!("{line}"))?;
     Ok(())

@@ -1,7 +1,7 @@
 //! `rocking capacity`: one record's overturning capacity.
 
 use clap::ValueEnum;
-use rocking::ida::{self, ImGrid, RunKind, Spacing};
+use rocking::ida::{self, ImGrid, RunKind, Spacing, Trace};
 use rocking::label::Label;
 use rocking::ops::record;
 use serde::Serialize;
@@ -16,7 +16,10 @@ use super::args::BlockArgs;
     --eta-min by default) until the block first overturns; η_c is then refined by bisection \
     between the last surviving and the first overturning level to --tol. η_c is the largest \
     η known to overturn: the first overturning met as intensity rises, whatever happens at \
-    stronger shaking (the resurrection rule)."
+    stronger shaking (the resurrection rule). The capacity is then certified: with the nonlinear \
+    model its decisive runs are rerun at a 100× tighter tolerance, and the search is redone there \
+    if a verdict flips; with either model each decisive run is rerun with η moved by ±1e-9, and a \
+    verdict that changes marks the capacity chaotic (not certified)."
 )]
 pub struct Args {
     #[command(flatten)]
@@ -57,6 +60,13 @@ struct Report<'a> {
     level_overturned: Option<f64>,
     runs: usize,
     refinement_runs: usize,
+    /// Whether the decisive verdicts were confirmed, and how.
+    certified: bool,
+    certification: String,
+    /// DP5's tolerance of the search reported (nonlinear model).
+    rtol: Option<f64>,
+    /// Runs spent on the certification (checks and searches redone).
+    certification_runs: usize,
     tol: f64,
     levels: usize,
     eta_min: f64,
@@ -78,7 +88,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     // Checked before the record is read: an absurd --levels is refused at once.
     grid.levels()?;
     let rec = record::load(&args.block.record)?;
-    let cap = ida::capacity(&rec.exc, &spec, &grid, args.tol)?;
+    let certified = ida::capacity_certified(&rec.exc, &spec, &grid, args.tol, Trace::StopAtFirst)?;
+    let cap = &certified.capacity;
     let refinement_runs = cap
         .points
         .iter()
@@ -98,6 +109,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         level_overturned: cap.level_overturned,
         runs: cap.runs(),
         refinement_runs,
+        certified: certified.certification.certified(),
+        certification: certified.certification.to_string(),
+        rtol: certified.model.integrator.rtol(),
+        certification_runs: certified.extra.runs,
         tol: args.tol,
         levels: args.levels,
         eta_min: args.eta_min,
@@ -135,10 +150,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         ),
     }
     println!(
-        "runs        {} ({} levels, {} refinements)",
+        "runs        {} ({} levels, {} refinements){}",
         cap.runs(),
         cap.runs() - refinement_runs,
-        refinement_runs
+        refinement_runs,
+        if certified.extra.runs > 0 {
+            format!(", and {} to certify it", certified.extra.runs)
+        } else {
+            String::new()
+        }
     );
+    println!("certified   {}", certified.certification);
     Ok(())
 }
