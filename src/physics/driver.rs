@@ -119,13 +119,13 @@ struct Driver<'a, S, O> {
 }
 
 /// The event loop, generic over the integrator (monomorphised per stepper).
-pub(super) fn drive<S: Stepper>(
+pub(super) fn drive<S: Stepper, O: Observer>(
     exc: &Excitation,
     spec: &RunSpec,
     start: Option<Rocking>,
     limit: f64,
     stepper: &mut S,
-    obs: &mut impl Observer,
+    obs: &mut O,
 ) -> super::Outcome {
     let mut d = Driver {
         exc,
@@ -148,17 +148,32 @@ pub(super) fn drive<S: Stepper>(
         },
     };
     let psi = &exc.psi;
+    let n = psi.len().saturating_sub(1);
     d.emit(0.0, psi[0], EventKind::Start);
-    for k in 0..psi.len().saturating_sub(1) {
-        if d.state.is_none() && exc.suffix_max[k] <= d.threshold {
-            d.out.stop = Stop::RestForGood;
-            return d.out;
+    let mut k = 0;
+    while k < n {
+        match d.state.as_mut() {
+            None if exc.suffix_max[k] <= d.threshold => {
+                d.out.stop = Stop::RestForGood;
+                return d.out;
+            }
+            Some(st) if !O::SAMPLES => {
+                // Eventless whole intervals in the stepper's tight loop.
+                let next = d.stepper.cruise(exc, k, st, &mut d.out.max_abs_x);
+                d.out.intervals += (next - k) as u64;
+                k = next;
+                if k == n {
+                    break;
+                }
+            }
+            _ => {}
         }
         d.out.intervals += 1;
         if d.interval(k).is_some() {
             return d.out;
         }
         d.emit((k + 1) as f64 * exc.dt_s, psi[k + 1], EventKind::Sample);
+        k += 1;
     }
     d.emit(exc.duration_s(), 0.0, EventKind::RecordEnd);
     d.after_record();

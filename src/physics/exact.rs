@@ -146,6 +146,26 @@ impl Motion {
         self.p * self.p * (x - self.x_a + self.u + self.g1e * sigma)
     }
 
+    /// Whether the velocity provably keeps its sign on the stretch, given
+    /// its value `v_end` at the end and `delta_max = e^{p·len} − 1`: then x
+    /// is monotone and has no turning point inside. `2e^z·v(σ)` is the
+    /// quadratic `Q(δ) = A δ² + 2B δ + 2v_a` in `δ = e^z − 1` (see
+    /// [`Motion::turning_points`]); with `Q` of one sign at both ends, it has
+    /// a root inside only if its vertex `−B/A` lies in `(0, δ_max)` and its
+    /// discriminant is not negative. Only sign tests and products: no
+    /// division, root or logarithm.
+    #[inline]
+    fn monotone(&self, v_end: f64, delta_max: f64) -> bool {
+        // Same strict sign at both ends (NaN: no claim).
+        if (self.v_a * v_end).partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            return false;
+        }
+        let b = self.p * self.u + self.v_a;
+        let a = b + self.g1e;
+        let vertex_inside = a * b < 0.0 && b.abs() < a.abs() * delta_max;
+        !vertex_inside || b * b - a * (2.0 * self.v_a) < 0.0
+    }
+
     /// Turning points (v = 0) with 0 < σ < len, ascending.
     /// `delta_max = e^{p·len} − 1` bounds δ, so roots outside the stretch
     /// cost no logarithm.
@@ -220,34 +240,22 @@ impl Exact {
         }
     }
 
-    #[inline]
-    fn coeffs(&self, sigma: f64, len: f64, tau0: f64) -> Coeffs {
-        if tau0 == 0.0 && sigma == len && sigma == self.full.sigma {
-            self.full
-        } else {
-            Coeffs::new(self.p, sigma)
-        }
-    }
-
     /// The first σ in (lo, hi] where `y(σ) = s·x(σ)` reaches `target`, given
     /// `y(lo)` short of it, `y(hi)` on or past it and `y` monotone between.
     /// Returns σ on the far side, within a few ulps of the crossing (so the
     /// event condition holds there), and the velocity there.
+    /// `(lo, (x, v) at lo)` and `(hi, (x, v) at hi)` bracket the crossing.
     fn locate(
         &self,
         m: &Motion,
         s: f64,
         target: f64,
-        mut lo: f64,
-        mut hi: f64,
+        (mut lo, (x_lo, v_lo)): (f64, (f64, f64)),
+        (mut hi, (x_hi, mut v_hi)): (f64, (f64, f64)),
         rising: bool,
     ) -> (f64, f64) {
         let reached = |y: f64| if rising { y >= target } else { y <= target };
-        let c_hi = Coeffs::new(self.p, hi);
-        let (x_hi, mut v_hi) = m.at(&c_hi);
         let mut g_hi = s * x_hi - target;
-        let c_lo = Coeffs::new(self.p, lo);
-        let (x_lo, v_lo) = m.at(&c_lo);
         let mut g_lo = s * x_lo - target;
         // First guess from the Taylor parabola at `lo`: a piece that starts at a
         // turning point (a Zeno swing of 1e-9 s inside a 0.01 s interval, say)
@@ -333,6 +341,46 @@ impl Exact {
 }
 
 impl Stepper for Exact {
+    /// Whole intervals while the motion is provably monotone and stays
+    /// strictly between the pivot and the limit: the arithmetic of `rock`'s
+    /// first branch, without leaving the loop.
+    fn cruise(
+        &mut self,
+        exc: &super::Excitation,
+        mut k: usize,
+        state: &mut Rocking,
+        max_abs_x: &mut f64,
+    ) -> usize {
+        if exc.dt_s != self.full.sigma {
+            return k;
+        }
+        let (psi, dt, s) = (&exc.psi[..], exc.dt_s, state.s);
+        let (mut x, mut v, mut top) = (state.x, state.v, *max_abs_x);
+        let n = psi.len().saturating_sub(1);
+        while k < n {
+            let (g0, g_end) = (psi[k], psi[k + 1]);
+            let g1 = (g_end - g0) / dt;
+            let m = Motion {
+                p: self.p,
+                x_a: x,
+                v_a: v,
+                u: x + (g0 - s * self.eta) * self.inv_eta,
+                g1e: g1 * self.inv_eta,
+            };
+            let (x_hi, v_hi) = m.at(&self.full);
+            let y_hi = s * x_hi;
+            if !(m.monotone(v_hi, self.full_expm1) && y_hi < self.limit && y_hi > 0.0) {
+                break;
+            }
+            top = top.max(y_hi);
+            (x, v) = (x_hi, v_hi);
+            k += 1;
+        }
+        *state = Rocking { x, v, s };
+        *max_abs_x = top;
+        k
+    }
+
     #[allow(clippy::needless_range_loop)] // pieces end at turns[i], or at len for the last
     fn rock(&mut self, st: Stretch, state: &mut Rocking, max_abs_x: &mut f64) -> StretchEnd {
         let s = state.s;
@@ -343,25 +391,36 @@ impl Stepper for Exact {
             u: state.x + (st.g_a - s * self.eta) * self.inv_eta,
             g1e: st.g1 * self.inv_eta,
         };
-        let delta_max = if st.len == self.full.sigma {
-            self.full_expm1
+        let whole = st.tau0 == 0.0 && st.len == self.full.sigma;
+        let c_end = if whole {
+            self.full
         } else {
-            (self.p * st.len).exp_m1()
+            Coeffs::new(self.p, st.len)
         };
-        let (turns, n_turns) = m.turning_points(st.len, delta_max);
-        // Walk the monotone pieces [0, t1], [t1, t2], [t2, len].
-        let mut lo = 0.0;
-        let mut y_lo = s * state.x;
-        for i in 0..=n_turns {
-            let (hi, c) = if i < n_turns {
-                (turns[i], Coeffs::new(self.p, turns[i]))
+        let end = m.at(&c_end);
+        // Turning points, unless sign tests exclude them (e^{p·dt} − 1 bounds
+        // δ on any stretch of an interval): the common case, x monotone.
+        let (turns, n_turns) = if m.monotone(end.1, self.full_expm1) {
+            ([f64::NAN; 2], 0)
+        } else {
+            let delta_max = if whole {
+                self.full_expm1
             } else {
-                (st.len, self.coeffs(st.len, st.len, st.tau0))
+                (self.p * st.len).exp_m1()
             };
-            let (x_hi, v_hi) = m.at(&c);
-            let y_hi = s * x_hi;
+            m.turning_points(st.len, delta_max)
+        };
+        // Walk the monotone pieces [0, t1], [t1, t2], [t2, len].
+        let (mut lo, mut at_lo) = (0.0, (state.x, state.v));
+        for i in 0..=n_turns {
+            let (hi, at_hi) = if i < n_turns {
+                (turns[i], m.at(&Coeffs::new(self.p, turns[i])))
+            } else {
+                (st.len, end)
+            };
+            let y_hi = s * at_hi.0;
             if y_hi >= self.limit {
-                let (sigma, v) = self.locate(&m, s, self.limit, lo, hi, true);
+                let (sigma, v) = self.locate(&m, s, self.limit, (lo, at_lo), (hi, at_hi), true);
                 *max_abs_x = max_abs_x.max(self.limit);
                 *state = Rocking {
                     x: s * self.limit,
@@ -371,25 +430,22 @@ impl Stepper for Exact {
                 return StretchEnd::Overturn { sigma };
             }
             if y_hi <= 0.0 {
-                if y_lo <= 0.0 {
+                if s * at_lo.0 <= 0.0 {
                     // Never left the pivot (a departure swamped by rounding):
                     // it settles, with no impact and no speed to carry over.
                     return StretchEnd::Settled { sigma: hi };
                 }
-                let (sigma, v) = self.locate(&m, s, 0.0, lo, hi, false);
+                let (sigma, v) = self.locate(&m, s, 0.0, (lo, at_lo), (hi, at_hi), false);
                 return StretchEnd::Impact { sigma, v };
             }
             *max_abs_x = max_abs_x.max(y_hi);
-            lo = hi;
-            y_lo = y_hi;
-            if i == n_turns {
-                *state = Rocking {
-                    x: x_hi,
-                    v: v_hi,
-                    s,
-                };
-            }
+            (lo, at_lo) = (hi, at_hi);
         }
+        *state = Rocking {
+            x: end.0,
+            v: end.1,
+            s,
+        };
         StretchEnd::End
     }
 }
@@ -433,7 +489,7 @@ mod tests {
             u: x0 + (g_a - s * eta) / eta,
             g1e: g1 / eta,
         };
-        let (x, v) = m.at(&lin.coeffs(len, len, 0.0));
+        let (x, v) = m.at(&lin.full);
         let f = |t: f64, x: f64| p * p * (x - s) + p * p / eta * (g_a + g1 * t);
         let (mut xr, mut vr) = (x0, v0);
         let n = 20000;

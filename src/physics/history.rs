@@ -54,10 +54,14 @@ pub struct HistoryPoint {
 
 /// Receives history points; `()` ignores them at no cost.
 pub trait Observer {
+    /// Whether it wants a point at every sample (not only at events); when
+    /// not, the driver may cross eventless intervals in a tight loop.
+    const SAMPLES: bool = true;
     fn point(&mut self, p: HistoryPoint);
 }
 
 impl Observer for () {
+    const SAMPLES: bool = false;
     #[inline(always)]
     fn point(&mut self, _: HistoryPoint) {}
 }

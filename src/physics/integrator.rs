@@ -53,6 +53,22 @@ pub trait Stepper {
     /// is the state at that instant (at overturning `|x|` is the limit); on
     /// `Impact` it is left for the driver to apply the impact map.
     fn rock(&mut self, stretch: Stretch, state: &mut Rocking, max_abs_x: &mut f64) -> StretchEnd;
+
+    /// A fast path over whole sample intervals from `k` on: advances `state`
+    /// through every interval it can prove eventless (no impact, no
+    /// overturning, nothing for [`Stepper::rock`] to locate) with the same
+    /// arithmetic `rock` would use, raises `max_abs_x`, and returns the first
+    /// interval it left to `rock`. The default proves nothing.
+    #[inline]
+    fn cruise(
+        &mut self,
+        _exc: &Excitation,
+        k: usize,
+        _state: &mut Rocking,
+        _max_abs_x: &mut f64,
+    ) -> usize {
+        k
+    }
 }
 
 /// How the equation is advanced.
