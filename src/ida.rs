@@ -149,6 +149,82 @@ impl Capacity {
     }
 }
 
+/// The simulations of one record, remembered: a search or check that asks
+/// for a run already done (the same η and model) gets its outcome without
+/// simulating again. Runs are deterministic, so sharing changes nothing but
+/// the time; nested IM grids (100, 200, 400 … log-spaced levels between the
+/// same ends) share their common levels bit for bit.
+pub struct Runs<'a> {
+    exc: &'a Excitation,
+    memo: std::collections::HashMap<[u64; 8], Outcome>,
+    done: Work,
+}
+
+impl<'a> Runs<'a> {
+    pub fn new(exc: &'a Excitation) -> Self {
+        Runs {
+            exc,
+            memo: std::collections::HashMap::new(),
+            done: Work::default(),
+        }
+    }
+
+    /// The simulations done so far (outcomes found in memory excluded).
+    pub fn work(&self) -> Work {
+        self.done
+    }
+
+    /// The outcome of one run. A run stopped by the event cap has no verdict:
+    /// it is refused rather than counted as surviving.
+    pub fn outcome(&mut self, spec: &RunSpec) -> Result<Outcome, PhysicsError> {
+        let key = run_key(spec);
+        if let Some(out) = self.memo.get(&key) {
+            return Ok(*out);
+        }
+        let out = simulate(self.exc, spec)?;
+        if out.stop == crate::physics::Stop::EventLimit {
+            return Err(PhysicsError::BadInput(format!(
+                "the run at η = {} hit the limit of {} events without a verdict",
+                spec.eta,
+                crate::physics::MAX_EVENTS
+            )));
+        }
+        self.done.runs += 1;
+        self.done.intervals += out.intervals;
+        self.memo.insert(key, out);
+        Ok(out)
+    }
+}
+
+/// Every number that defines a run, as bits.
+fn run_key(spec: &RunSpec) -> [u64; 8] {
+    use crate::physics::{Equation, Integrator, Overturn};
+    let (integrator, param) = match spec.model.integrator {
+        Integrator::Exact => (0, 0),
+        Integrator::Dp5 { rtol } => (1, rtol.to_bits()),
+        Integrator::Rk4 { substeps } => (2, u64::from(substeps)),
+    };
+    let alpha = match spec.model.equation {
+        Equation::Linearized => u64::MAX,
+        Equation::Nonlinear { alpha_rad } => alpha_rad.to_bits(),
+    };
+    let overturn = match spec.overturn {
+        Overturn::Static => 0,
+        Overturn::Cap(c) => c.to_bits(),
+        Overturn::OnSide => u64::MAX,
+    };
+    [
+        spec.eta.to_bits(),
+        spec.p.to_bits(),
+        spec.eps.to_bits(),
+        spec.rest_tol.to_bits(),
+        integrator,
+        param,
+        alpha,
+        overturn,
+    ]
+}
+
 /// Traces the IDA of one record up to its first overturning and refines it.
 /// `run.eta` is ignored (set per level).
 pub fn capacity(
@@ -168,6 +244,18 @@ pub fn capacity_traced(
     tol: f64,
     trace: Trace,
 ) -> Result<Capacity, PhysicsError> {
+    capacity_in(&mut Runs::new(exc), run, grid, tol, trace)
+}
+
+/// [`capacity_traced`] through `runs`: outcomes it already holds are not
+/// simulated again.
+pub fn capacity_in(
+    runs: &mut Runs,
+    run: &RunSpec,
+    grid: &ImGrid,
+    tol: f64,
+    trace: Trace,
+) -> Result<Capacity, PhysicsError> {
     if !(tol > 0.0 && tol.is_finite()) {
         return Err(PhysicsError::BadInput(format!(
             "capacity tolerance {tol} must be positive"
@@ -175,18 +263,7 @@ pub fn capacity_traced(
     }
     let levels = grid.levels()?;
     let mut points = Vec::new();
-    // A run stopped by the event cap has no verdict: refuse it rather than
-    // count it as surviving.
-    let at = |eta: f64| {
-        let out = simulate(exc, &RunSpec { eta, ..*run })?;
-        if out.stop == crate::physics::Stop::EventLimit {
-            return Err(PhysicsError::BadInput(format!(
-                "the run at η = {eta} hit the limit of {} events without a verdict",
-                crate::physics::MAX_EVENTS
-            )));
-        }
-        Ok(out)
-    };
+    let mut at = |eta: f64| runs.outcome(&RunSpec { eta, ..*run });
     let mut survived = grid.eta_max;
     for (j, &eta) in levels.iter().enumerate() {
         let outcome = at(eta)?;
@@ -440,22 +517,18 @@ pub const CHAOS_PROBE: f64 = 1e-9;
 /// The first decisive run whose verdict changes when η moves by
 /// ±[`CHAOS_PROBE`], if any.
 fn chaos_probe(
-    exc: &Excitation,
+    runs: &mut Runs,
     check: &RunSpec,
     cap: &Capacity,
     grid: &ImGrid,
-    extra: &mut Work,
 ) -> Result<Option<f64>, PhysicsError> {
     for (eta, overturned) in decisive_runs(cap, grid) {
         for moved in [eta * (1.0 + CHAOS_PROBE), eta * (1.0 - CHAOS_PROBE)] {
-            if extra.run(
-                exc,
-                &RunSpec {
-                    eta: moved,
-                    ..*check
-                },
-            )? != overturned
-            {
+            let spec = RunSpec {
+                eta: moved,
+                ..*check
+            };
+            if runs.outcome(&spec)?.overturned() != overturned {
                 return Ok(Some(eta));
             }
         }
@@ -463,7 +536,7 @@ fn chaos_probe(
     Ok(None)
 }
 
-/// Runs spent beyond a search, and the sample intervals they integrated.
+/// Simulations done, and the sample intervals they integrated.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Work {
     pub runs: usize,
@@ -471,12 +544,12 @@ pub struct Work {
 }
 
 impl Work {
-    /// Simulates one run, counts it, and returns whether it overturned.
-    fn run(&mut self, exc: &Excitation, spec: &RunSpec) -> Result<bool, PhysicsError> {
-        let out = simulate(exc, spec)?;
-        self.runs += 1;
-        self.intervals += out.intervals;
-        Ok(out.overturned())
+    /// The work done since `earlier`.
+    pub fn since(self, earlier: Work) -> Work {
+        Work {
+            runs: self.runs - earlier.runs,
+            intervals: self.intervals - earlier.intervals,
+        }
     }
 }
 
@@ -505,12 +578,26 @@ pub fn capacity_certified(
     tol: f64,
     trace: Trace,
 ) -> Result<Certified, PhysicsError> {
+    capacity_certified_in(&mut Runs::new(exc), run, grid, tol, trace)
+}
+
+/// [`capacity_certified`] through `runs`, which may already hold some of the
+/// runs it needs (another grid's levels, say). `extra` counts the
+/// simulations beyond those of the reported search.
+pub fn capacity_certified_in(
+    runs: &mut Runs,
+    run: &RunSpec,
+    grid: &ImGrid,
+    tol: f64,
+    trace: Trace,
+) -> Result<Certified, PhysicsError> {
     use crate::physics::Integrator;
+    let start = runs.work();
     let Integrator::Dp5 { rtol: asked } = run.model.integrator else {
-        let capacity = capacity_traced(exc, run, grid, tol, trace)?;
-        let mut extra = Work::default();
+        let capacity = capacity_in(runs, run, grid, tol, trace)?;
+        let searched = runs.work();
         let certification = match run.model.integrator {
-            Integrator::Exact => match chaos_probe(exc, run, &capacity, grid, &mut extra)? {
+            Integrator::Exact => match chaos_probe(runs, run, &capacity, grid)? {
                 Some(eta) => Certification::Chaotic { rtol: None, eta },
                 None => Certification::Exact,
             },
@@ -520,7 +607,7 @@ pub fn capacity_certified(
             capacity,
             certification,
             model: run.model,
-            extra,
+            extra: runs.work().since(searched),
         });
     };
     let with_rtol = |rtol: f64| RunSpec {
@@ -530,23 +617,25 @@ pub fn capacity_certified(
         },
         ..*run
     };
-    let (mut rtol, mut searches, mut extra) = (asked, 0u32, Work::default());
+    let (mut rtol, mut searches) = (asked, 0u32);
     loop {
         searches += 1;
         let spec = with_rtol(rtol);
-        let capacity = capacity_traced(exc, &spec, grid, tol, trace)?;
+        let before = runs.work();
+        let capacity = capacity_in(runs, &spec, grid, tol, trace)?;
+        let search = runs.work().since(before);
         let checked_rtol = (rtol / TIGHTEN).max(TIGHTEST_RTOL);
         let check = with_rtol(checked_rtol);
         let mut flipped = None;
         for (eta, overturned) in decisive_runs(&capacity, grid) {
-            if extra.run(exc, &RunSpec { eta, ..check })? != overturned {
+            if runs.outcome(&RunSpec { eta, ..check })?.overturned() != overturned {
                 flipped = Some(eta);
                 break;
             }
         }
         let chaos = match flipped {
             Some(_) => None,
-            None => chaos_probe(exc, &check, &capacity, grid, &mut extra)?,
+            None => chaos_probe(runs, &check, &capacity, grid)?,
         };
         let certification = match (flipped, chaos) {
             (None, Some(eta)) => Certification::Chaotic {
@@ -563,12 +652,6 @@ pub fn capacity_certified(
                 eta,
             },
             (Some(_), _) => {
-                extra.runs += capacity.runs();
-                extra.intervals += capacity
-                    .points
-                    .iter()
-                    .map(|q| q.outcome.intervals)
-                    .sum::<u64>();
                 rtol /= TIGHTEN;
                 continue;
             }
@@ -577,7 +660,7 @@ pub fn capacity_certified(
             capacity,
             certification,
             model: spec.model,
-            extra,
+            extra: runs.work().since(start).since(search),
         });
     }
 }

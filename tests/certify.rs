@@ -313,3 +313,45 @@ fn tolerances_too_tight_to_certify_are_refused() {
     let note = v["certification"].as_str().unwrap();
     assert!(note.contains("1e-14") && !note.contains("1e-15"), "{v}");
 }
+
+/// Issue #10: the convergence study shares one record's runs between its
+/// grids. Sharing must change nothing but the work: each grid's certified
+/// capacity through a shared memo equals the one found alone, and the
+/// nested log grids (100 … 1600 levels between the same ends) do share
+/// levels to the bit, so the memo saves simulations.
+#[test]
+fn grids_sharing_runs_find_what_each_finds_alone() {
+    use rocking::ida::{capacity_certified_in, Runs};
+    let exc = far("RSN1111_KOBE_NIS000");
+    let spec = RunSpec::new(2.0, 0.7, 1.0, Model::LINEARIZED);
+    let grid = |count| ImGrid {
+        count,
+        ..ImGrid::default()
+    };
+    let fine = grid(1600).levels().unwrap();
+    for count in [100, 200, 400, 800] {
+        let coarse = grid(count).levels().unwrap();
+        let step = 1600 / count;
+        for (i, eta) in coarse.iter().enumerate() {
+            assert_eq!(eta.to_bits(), fine[(i + 1) * step - 1].to_bits(), "{count}");
+        }
+    }
+    let mut shared = Runs::new(&exc);
+    let mut alone_runs = 0;
+    for count in [1600, 800, 400, 200, 100] {
+        let via = capacity_certified_in(&mut shared, &spec, &grid(count), 1e-4, Trace::StopAtFirst)
+            .unwrap();
+        let alone =
+            capacity_certified(&exc, &spec, &grid(count), 1e-4, Trace::StopAtFirst).unwrap();
+        assert_eq!(via.capacity, alone.capacity, "{count} levels");
+        assert_eq!(via.certification, alone.certification, "{count} levels");
+        alone_runs += alone.capacity.runs() + alone.extra.runs;
+    }
+    // Alone, the scans cost 1 + 1/2 + 1/4 + 1/8 + 1/16 ≈ 1.94 finest scans;
+    // shared, one, plus the coarser grids' own refinements and probes.
+    let done = shared.work().runs;
+    assert!(
+        10 * done < 6 * alone_runs,
+        "{done} simulations shared vs {alone_runs} alone"
+    );
+}

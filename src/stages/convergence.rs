@@ -103,8 +103,12 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
         })
         .collect::<Result<Vec<_>, _>>()?;
     let mut rows = Vec::new();
-    let mut runs = 0u64;
-    let total = (plan.blocks.len() * plan.convergence.len()) as u64;
+    let (mut runs, mut shared) = (0u64, 0u64);
+    let total = plan.blocks.len() as u64;
+    // Finest grid first: the coarser grids' levels are among its levels (to
+    // the bit), so their searches find most of their runs already done.
+    let mut order: Vec<usize> = (0..plan.convergence.len()).collect();
+    order.sort_by_key(|&gi| std::cmp::Reverse(plan.convergence[gi]));
     for (bi, block) in plan.blocks.iter().enumerate() {
         let (model, _) = plan
             .model
@@ -114,29 +118,47 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
             overturn: plan.overturn,
             ..RunSpec::new(block.p, block.eps, 1.0, model)
         };
-        // η_c per resolution per record (0 when the block survives every level).
-        let mut per_grid: Vec<Vec<(f64, usize)>> = Vec::new();
-        for (gi, &count) in plan.convergence.iter().enumerate() {
-            let grid = ImGrid { count, ..plan.grid };
-            let caps = excitations
-                .par_iter()
-                .map(|exc| {
-                    ida::capacity_certified(exc, &spec, &grid, plan.tol, ida::Trace::StopAtFirst)
-                        .map(|c| (c.capacity.eta_c.unwrap_or(0.0), c.capacity.runs()))
-                })
-                .collect::<Result<Vec<_>, _>>()
-                .map_err(physics(block))?;
-            runs += caps.iter().map(|c| c.1 as u64).sum::<u64>();
-            per_grid.push(caps);
-            cx.reporter.progress(&Progress {
-                stage: "convergence",
-                done: (bi * plan.convergence.len() + gi + 1) as u64,
-                total,
-                resumed: 0,
-                runs,
-            });
-        }
+        // Per record: η_c per resolution (0 when the block survives every
+        // level), the simulations done, and the runs the searches asked for.
+        type PerRecord = (Vec<f64>, u64, u64);
+        let per_record = excitations
+            .par_iter()
+            .map(|exc| {
+                let mut memo = ida::Runs::new(exc);
+                let mut etas = vec![0.0; plan.convergence.len()];
+                let mut asked = 0u64;
+                for &gi in &order {
+                    let grid = ImGrid {
+                        count: plan.convergence[gi],
+                        ..plan.grid
+                    };
+                    let c = ida::capacity_certified_in(
+                        &mut memo,
+                        &spec,
+                        &grid,
+                        plan.tol,
+                        ida::Trace::StopAtFirst,
+                    )?;
+                    etas[gi] = c.capacity.eta_c.unwrap_or(0.0);
+                    asked += c.capacity.runs() as u64;
+                }
+                Ok((etas, memo.work().runs as u64, asked))
+            })
+            .collect::<Result<Vec<PerRecord>, PhysicsError>>()
+            .map_err(physics(block))?;
+        runs += per_record.iter().map(|r| r.1).sum::<u64>();
+        shared += per_record.iter().map(|r| r.2).sum::<u64>();
+        let per_grid: Vec<Vec<f64>> = (0..plan.convergence.len())
+            .map(|gi| per_record.iter().map(|r| r.0[gi]).collect())
+            .collect();
         rows.extend(block_rows(cx.study, block, &per_grid));
+        cx.reporter.progress(&Progress {
+            stage: "convergence",
+            done: bi as u64 + 1,
+            total,
+            resumed: 0,
+            runs,
+        });
     }
     let dest = cx.study.path("capacity_convergence.parquet");
     tables::write(
@@ -149,7 +171,8 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
     )?;
     Ok(Summary {
         lines: vec![format!(
-            "capacity search at {:?} levels: {runs} runs; wrote {}",
+            "capacity search at {:?} levels: {runs} simulations, certification included \
+             (the searches' {shared} runs share the levels the grids have in common); wrote {}",
             plan.convergence,
             dest.display()
         )],
@@ -161,7 +184,7 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
 fn block_rows(
     study: &Study,
     block: &crate::pipeline::BlockSpec,
-    per_grid: &[Vec<(f64, usize)>],
+    per_grid: &[Vec<f64>],
 ) -> Vec<ConvergenceRow> {
     let plan = &study.plan;
     let finest = per_grid.last().expect("two or more resolutions");
@@ -169,11 +192,11 @@ fn block_rows(
         .iter()
         .zip(per_grid)
         .map(|(&count, caps)| {
-            let mut etas: Vec<f64> = caps.iter().map(|c| c.0).collect();
+            let mut etas = caps.clone();
             let moves: Vec<f64> = caps
                 .iter()
                 .zip(finest)
-                .map(|(a, b)| (a.0 - b.0).abs())
+                .map(|(a, b)| (a - b).abs())
                 .collect();
             let changed = moves.iter().filter(|&&m| m > 2.0 * plan.tol).count();
             etas.sort_by(|a, b| a.total_cmp(b));
