@@ -119,6 +119,37 @@ fn measure(
     })
 }
 
+/// The floor: the bare exact step over every interval of a case (no
+/// events), the least any solver of the linearised equation can cost.
+#[derive(Debug, Clone, Copy)]
+pub struct Floor {
+    /// Median time of one pass over the record (s).
+    pub time_per_pass_s: f64,
+    /// Median over cases of the time per sample interval (ns).
+    pub ns_per_interval: f64,
+}
+
+/// Times [`crate::physics::exact::Exact::bare_pass`] on every case.
+pub fn floor(cases: &[Case], reps: usize) -> Floor {
+    let (mut per_pass, mut ns) = (Vec::new(), Vec::new());
+    for case in cases {
+        let exact = crate::physics::exact::Exact::new(case.p, 0.5, case.exc.dt_s, 1.0);
+        let mut times = Vec::with_capacity(reps);
+        for _ in 0..reps {
+            let t = Instant::now();
+            std::hint::black_box(exact.bare_pass(std::hint::black_box(&case.exc), 1.0));
+            times.push(t.elapsed().as_secs_f64());
+        }
+        let t = median(&mut times);
+        per_pass.push(t);
+        ns.push(t * 1e9 / (case.exc.psi.len() - 1) as f64);
+    }
+    Floor {
+        time_per_pass_s: median(&mut per_pass),
+        ns_per_interval: median(&mut ns),
+    }
+}
+
 /// Runs the benchmark: `solvers` against `reference(solver)` on every case.
 pub fn run(
     cases: &[Case],

@@ -175,18 +175,22 @@ fn solvers(args: &BenchOptions, say: &mut impl FnMut(&str)) -> Result<String, Be
     };
     let grid = ImGrid::default();
     let tol = 1e-6;
-    let rows = bench::run(&cases, &solvers, reference, &grid, tol, args.reps, say)?;
+    let rows = bench::run(
+        &cases, &solvers, reference, &grid, tol, args.reps, &mut *say,
+    )?;
+    say("floor: the bare exact step");
+    let floor = bench::floor(&cases, args.reps.max(5));
     let svg = plot::log_log(
         "Speed against error: θmax/α at 1.25·η_c, bundled records and pulses",
-        "median time per run (s)",
+        "median time per sample interval (ns)",
         "median relative error of θmax/α (1e-16: exact)",
-        &series(&rows),
+        &series(&rows, &floor),
         1e-16,
     )?;
     let svg_name = "bench-speed-error.svg";
     atomic_write(&args.out_dir.join(svg_name), svg.as_bytes())?;
     Ok(solver_section(
-        &rows, &cases, args, svg_name, grid.count, tol,
+        &rows, &floor, &cases, args, svg_name, grid.count, tol,
     ))
 }
 
@@ -240,10 +244,12 @@ fn solver_list(quick: bool) -> Vec<Solver> {
     solvers
 }
 
-fn series(rows: &[Row]) -> Vec<Series> {
+/// One line per solver family (speed against error), and the floor as a
+/// vertical line across the errors drawn.
+fn series(rows: &[Row], floor: &bench::Floor) -> Vec<Series> {
     let mut out: Vec<Series> = Vec::new();
     for r in rows {
-        let point = (r.time_per_run_s, r.theta_err_median);
+        let point = (r.ns_per_interval, r.theta_err_median);
         match out.iter_mut().find(|s| s.name == r.solver.family) {
             Some(s) => s.points.push(point),
             None => out.push(Series {
@@ -252,6 +258,15 @@ fn series(rows: &[Row]) -> Vec<Series> {
             }),
         }
     }
+    let errors = rows
+        .iter()
+        .map(|r| r.theta_err_median)
+        .filter(|e| e.is_finite() && *e > 1e-16);
+    let (lo, hi) = errors.fold((1e-16f64, 1e-16f64), |(a, b), e| (a.min(e), b.max(e)));
+    out.push(Series {
+        name: "floor: bare exact step, no events".to_string(),
+        points: vec![(floor.ns_per_interval, lo), (floor.ns_per_interval, hi)],
+    });
     out
 }
 
@@ -270,6 +285,7 @@ fn machine() -> String {
 
 fn solver_section(
     rows: &[Row],
+    floor: &bench::Floor,
     cases: &[Case],
     args: &BenchOptions,
     svg: &str,
@@ -292,7 +308,10 @@ fn solver_section(
          tight reference of the same equation: the exact stepper for the linearised equation, \
          DP5 at rtol 1e-13 for the nonlinear one (α = {ALPHA_NL} rad). Times are medians of {} \
          repetitions, then the median over cases; \"ns/interval\" is the run at 1.25·η_c divided by \
-         its sample intervals (a run that settles for good stops early).\n",
+         its sample intervals (a run that settles for good stops early). The floor is the \
+         closed-form step of the exact stepper with its sign tests over every interval of each \
+         case, no event handled: the distance of each solver from it is what events and \
+         bookkeeping cost.\n",
         cases.len(),
         names.join(", "),
         args.reps
@@ -302,6 +321,12 @@ fn solver_section(
         "| solver | setting | time/run (µs) | ns/interval | Δη_c median | Δη_c max | θmax/α rel. err median | max | closed form Δη_c |"
     );
     let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|---:|---:|");
+    let _ = writeln!(
+        s,
+        "| floor: bare exact step | no events | {:.1} (a whole record) | {:.1} | | | | | |",
+        floor.time_per_pass_s * 1e6,
+        floor.ns_per_interval
+    );
     for r in rows {
         let _ = writeln!(
             s,

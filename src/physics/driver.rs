@@ -157,6 +157,25 @@ pub(super) fn drive<S: Stepper, O: Observer>(
                 d.out.stop = Stop::RestForGood;
                 return d.out;
             }
+            None if !O::SAMPLES => {
+                // At rest: whole intervals with both ends within the
+                // threshold lift nothing (the forcing is linear between), as
+                // `interval` would find one by one; stop where the record
+                // stays below it for good, as the arm above would.
+                let (thr, start) = (d.threshold, k);
+                if psi[k].abs() <= thr {
+                    while k < n && psi[k + 1].abs() <= thr && exc.suffix_max[k + 1] > thr {
+                        k += 1;
+                    }
+                }
+                d.out.intervals += (k - start) as u64;
+                if k == n {
+                    break;
+                }
+                if k > start {
+                    continue;
+                }
+            }
             Some(st) if !O::SAMPLES => {
                 // Eventless whole intervals in the stepper's tight loop.
                 let next = d.stepper.cruise(exc, k, st, &mut d.out.max_abs_x);
