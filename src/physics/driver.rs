@@ -217,8 +217,7 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
     /// Walks sample interval `k` event by event. `Some(stop)` ends the run.
     fn interval(&mut self, k: usize) -> Option<Stop> {
         let dt = self.exc.dt_s;
-        let (g0, g_end) = (self.exc.psi[k], self.exc.psi[k + 1]);
-        let g1 = (g_end - g0) / dt;
+        let (g0, g_end, g1) = (self.exc.psi[k], self.exc.psi[k + 1], self.exc.slope[k]);
         let t_k = k as f64 * dt;
         let mut tau = 0.0;
         // Forcing at `tau`; exactly ±threshold at an uplift instant.

@@ -162,14 +162,13 @@ impl Motion {
     /// division, root or logarithm.
     #[inline]
     fn monotone(&self, v_end: f64, delta_max: f64) -> bool {
-        // Same strict sign at both ends (NaN: no claim).
-        if (self.v_a * v_end).partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-            return false;
-        }
+        // Same strict sign at both ends (NaN: no claim). The tests are
+        // combined without short circuits: one branch for the caller.
+        let same_sign = self.v_a * v_end > 0.0;
         let b = self.p * self.u + self.v_a;
         let a = b + self.g1e;
-        let vertex_inside = a * b < 0.0 && b.abs() < a.abs() * delta_max;
-        !vertex_inside || b * b - a * (2.0 * self.v_a) < 0.0
+        let vertex_inside = (a * b < 0.0) & (b.abs() < a.abs() * delta_max);
+        same_sign & (!vertex_inside | (b * b - a * (2.0 * self.v_a) < 0.0))
     }
 
     /// Turning points (v = 0) with 0 < σ < len, ascending.
@@ -468,16 +467,15 @@ impl Exact {
     /// away). The motion is unbounded, as the linearised equation is
     /// without impacts: the time is what matters.
     pub fn bare_pass(&self, exc: &super::Excitation, s: f64) -> (f64, f64, u64) {
-        let (psi, dt) = (&exc.psi[..], exc.dt_s);
+        let (psi, slope) = (&exc.psi[..], &exc.slope[..]);
         let (mut x, mut v, mut flagged) = (0.5 * s, 0.0, 0u64);
-        for k in 0..psi.len().saturating_sub(1) {
-            let (g0, g_end) = (psi[k], psi[k + 1]);
+        for (k, &g1) in slope.iter().enumerate() {
             let m = Motion {
                 p: self.p,
                 x_a: x,
                 v_a: v,
-                u: x + (g0 - s * self.eta) * self.inv_eta,
-                g1e: (g_end - g0) / dt * self.inv_eta,
+                u: x + (psi[k] - s * self.eta) * self.inv_eta,
+                g1e: g1 * self.inv_eta,
             };
             let (x_hi, v_hi) = m.at(&self.full);
             let y_hi = s * x_hi;
@@ -486,6 +484,28 @@ impl Exact {
             (x, v) = (x_hi, v_hi);
         }
         (x, v, flagged)
+    }
+}
+
+impl Exact {
+    /// Whether the one turning point of an interval is a maximum that
+    /// provably stays below `top` (θmax so far): then `rock` would find the
+    /// interval eventless and leave θmax as it is, and `cruise` may cross
+    /// it. With `y = s·x` rising at the start and falling at the end, `ẏ`
+    /// has one root inside (at most two, an odd number): a maximum, above
+    /// both ends, so the pivot is not reached. While `y ≤ top`,
+    /// `ÿ = p²(y − 1 + sψ̈/η) ≤ −D` with `D = p²(1 − top − max sψ̈/η)`; if
+    /// `D > 0`, `y` stays below `y_a + ẏ_a²/(2D)`, and if that is below
+    /// `top` (with a margin of 1e-9 for rounding) so is the maximum. Only
+    /// products and sign tests.
+    #[inline]
+    fn apex_below(&self, m: &Motion, s: f64, v_end: f64, g0: f64, g_end: f64, top: f64) -> bool {
+        let (w_a, y_a) = (s * m.v_a, s * m.x_a);
+        if !(w_a > 0.0 && s * v_end < 0.0) {
+            return false;
+        }
+        let d = self.p * self.p * (1.0 - top - (s * g0).max(s * g_end) * self.inv_eta);
+        d > 0.0 && w_a * w_a < 2.0 * d * (top * (1.0 - 1e-9) - y_a)
     }
 }
 
@@ -503,12 +523,11 @@ impl Stepper for Exact {
         if exc.dt_s != self.full.sigma {
             return k;
         }
-        let (psi, dt, s) = (&exc.psi[..], exc.dt_s, state.s);
+        let (psi, slope, s) = (&exc.psi[..], &exc.slope[..], state.s);
         let (mut x, mut v, mut top) = (state.x, state.v, *max_abs_x);
-        let n = psi.len().saturating_sub(1);
+        let n = slope.len().min(psi.len().saturating_sub(1));
         while k < n {
-            let (g0, g_end) = (psi[k], psi[k + 1]);
-            let g1 = (g_end - g0) / dt;
+            let (g0, g_end, g1) = (psi[k], psi[k + 1], slope[k]);
             let m = Motion {
                 p: self.p,
                 x_a: x,
@@ -518,7 +537,9 @@ impl Stepper for Exact {
             };
             let (x_hi, v_hi) = m.at(&self.full);
             let y_hi = s * x_hi;
-            if !(m.monotone(v_hi, self.full_expm1) && y_hi < self.limit && y_hi > 0.0) {
+            let inside = (y_hi < self.limit) & (y_hi > 0.0);
+            let monotone = inside & m.monotone(v_hi, self.full_expm1);
+            if !(monotone || inside && self.apex_below(&m, s, v_hi, g0, g_end, top)) {
                 break;
             }
             top = top.max(y_hi);
@@ -769,5 +790,53 @@ mod tests {
             }
         }
         assert!(solved > 100, "only {solved} hops solved by series");
+    }
+
+    /// `apex_below` against the apex itself (turning point in closed form):
+    /// whenever it says the maximum stays below `top`, it does, for `top`
+    /// on both sides of the apex; and it does say so where `top` is well
+    /// above it.
+    #[test]
+    fn apex_bound_holds_and_is_used() {
+        let (mut accepted, mut cases) = (0, 0);
+        for p in [0.5, 2.0, 6.0] {
+            for eta in [0.1, 0.4] {
+                for s in [1.0, -1.0] {
+                    for (y_a, w_rel) in [(0.3, 0.2), (0.05, 0.1), (0.6, 0.02)] {
+                        for (g0, g_end) in [(0.0, 0.05), (-0.08, 0.02), (0.03, -0.09)] {
+                            let dt = 0.02;
+                            let lin = Exact::new(p, eta, dt, 1.0);
+                            let (x_a, v_a) = (s * y_a, s * w_rel * p);
+                            let m = Motion {
+                                p,
+                                x_a,
+                                v_a,
+                                u: x_a + (s * g0 - s * eta) / eta,
+                                g1e: s * (g_end - g0) / dt / eta,
+                            };
+                            let (_, v_end) = m.at(&lin.full);
+                            if s * v_end >= 0.0 {
+                                continue;
+                            }
+                            let (t, n) = m.turning_points(dt, lin.full_expm1);
+                            assert_eq!(n, 1, "one maximum inside");
+                            let apex = s * m.at(&Coeffs::new(p, t[0])).0;
+                            for f in [0.9, 0.999, 1.001, 1.05, 1.5, 3.0] {
+                                let top = apex * f;
+                                cases += 1;
+                                if lin.apex_below(&m, s, v_end, s * g0, s * g_end, top) {
+                                    accepted += 1;
+                                    assert!(
+                                        apex < top,
+                                        "p {p} η {eta} y {y_a} w {w_rel}: {apex} vs {top}"
+                                    );
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(accepted * 4 > cases, "{accepted} of {cases} accepted");
     }
 }

@@ -140,6 +140,9 @@ pub struct Excitation {
     pub psi: Vec<f64>,
     /// `suffix_max[k] = max_{j ≥ k} |ψ̈_j|`.
     pub suffix_max: Vec<f64>,
+    /// `slope[k] = (ψ̈_{k+1} − ψ̈_k)/dt`, the forcing's slope over interval
+    /// k, computed once per record rather than once per run.
+    pub slope: Vec<f64>,
 }
 
 impl Excitation {
@@ -165,43 +168,35 @@ impl Excitation {
         } else {
             accel_g.to_vec()
         };
+        Ok(Excitation::prepared(dt_s, psi))
+    }
+
+    /// The record of normalised samples `psi`, with what runs derive from it.
+    fn prepared(dt_s: f64, psi: Vec<f64>) -> Self {
         let mut suffix_max = vec![0.0; psi.len()];
         let mut m = 0.0f64;
         for k in (0..psi.len()).rev() {
             m = m.max(psi[k].abs());
             suffix_max[k] = m;
         }
-        Ok(Excitation {
+        let slope = psi.windows(2).map(|w| (w[1] - w[0]) / dt_s).collect();
+        Excitation {
             dt_s,
             psi,
             suffix_max,
-        })
+            slope,
+        }
     }
 
     /// Record with the sign of every sample flipped (for symmetry checks).
     pub fn negated(&self) -> Self {
-        Excitation {
-            dt_s: self.dt_s,
-            psi: self.psi.iter().map(|v| -v).collect(),
-            suffix_max: self.suffix_max.clone(),
-        }
+        self.mapped(|v| -v)
     }
 
     /// The normalised record with every sample mapped by `f` (e.g. moved by
     /// one ulp, to measure how rounding moves a verdict).
     pub fn mapped(&self, f: impl Fn(f64) -> f64) -> Self {
-        let psi: Vec<f64> = self.psi.iter().map(|&v| f(v)).collect();
-        let mut suffix_max = vec![0.0; psi.len()];
-        let mut m = 0.0f64;
-        for k in (0..psi.len()).rev() {
-            m = m.max(psi[k].abs());
-            suffix_max[k] = m;
-        }
-        Excitation {
-            dt_s: self.dt_s,
-            psi,
-            suffix_max,
-        }
+        Excitation::prepared(self.dt_s, self.psi.iter().map(|&v| f(v)).collect())
     }
 
     pub fn duration_s(&self) -> f64 {
