@@ -26,6 +26,9 @@ use crate::tables::{self, TableError};
 /// The convergence stage.
 pub struct Convergence;
 
+/// Blocks searched together, their (block, record) pairs in parallel.
+const BLOCKS_PER_GROUP: usize = 4;
+
 impl Stage for Convergence {
     fn name(&self) -> &'static str {
         "convergence"
@@ -109,21 +112,37 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
     // the bit), so their searches find most of their runs already done.
     let mut order: Vec<usize> = (0..plan.convergence.len()).collect();
     order.sort_by_key(|&gi| std::cmp::Reverse(plan.convergence[gi]));
-    for (bi, block) in plan.blocks.iter().enumerate() {
-        let (model, _) = plan
-            .model
-            .resolve(block.alpha_rad, plan.rtol, plan.auto_tol)
-            .map_err(physics(block))?;
-        let spec = RunSpec {
-            overturn: plan.overturn,
-            ..RunSpec::new(block.p, block.eps, 1.0, model)
-        };
-        // Per record: η_c per resolution (0 when the block survives every
-        // level), the simulations done, and the runs the searches asked for.
-        type PerRecord = (Vec<f64>, u64, u64);
-        let per_record = excitations
+    let specs = plan
+        .blocks
+        .iter()
+        .map(|block| {
+            let (model, _) = plan
+                .model
+                .resolve(block.alpha_rad, plan.rtol, plan.auto_tol)
+                .map_err(physics(block))?;
+            Ok(RunSpec {
+                overturn: plan.overturn,
+                ..RunSpec::new(block.p, block.eps, 1.0, model)
+            })
+        })
+        .collect::<Result<Vec<_>, ConvergenceError>>()?;
+    // Per (block, record): η_c per resolution (0 when the block survives
+    // every level), the simulations done, and the runs the searches asked for.
+    type PerRecord = (Vec<f64>, u64, u64);
+    let n_records = excitations.len();
+    let mut done = 0u64;
+    // A few blocks at a time, every (block, record) pair in parallel: the
+    // threads stay busy to the end of each group (records differ in length
+    // tenfold), and progress is reported after each group.
+    for (group, blocks) in plan.blocks.chunks(BLOCKS_PER_GROUP).enumerate() {
+        let first = group * BLOCKS_PER_GROUP;
+        let pairs: Vec<(usize, usize)> = (first..first + blocks.len())
+            .flat_map(|bi| (0..n_records).map(move |ri| (bi, ri)))
+            .collect();
+        let results = pairs
             .par_iter()
-            .map(|exc| {
+            .map(|&(bi, ri)| {
+                let exc = &excitations[ri];
                 let mut memo = ida::Runs::new(exc);
                 let mut etas = vec![0.0; plan.convergence.len()];
                 let mut asked = 0u64;
@@ -132,29 +151,27 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
                         count: plan.convergence[gi],
                         ..plan.grid
                     };
-                    let c = ida::capacity_certified_in(
-                        &mut memo,
-                        &spec,
-                        &grid,
-                        plan.tol,
-                        ida::Trace::StopAtFirst,
-                    )?;
-                    etas[gi] = c.capacity.eta_c.unwrap_or(0.0);
-                    asked += c.capacity.runs() as u64;
+                    let c = search(&mut memo, &specs[bi], &grid, plan.tol)
+                        .map_err(physics(&plan.blocks[bi]))?;
+                    etas[gi] = c.eta_c.unwrap_or(0.0);
+                    asked += c.runs() as u64;
                 }
                 Ok((etas, memo.work().runs as u64, asked))
             })
-            .collect::<Result<Vec<PerRecord>, PhysicsError>>()
-            .map_err(physics(block))?;
-        runs += per_record.iter().map(|r| r.1).sum::<u64>();
-        shared += per_record.iter().map(|r| r.2).sum::<u64>();
-        let per_grid: Vec<Vec<f64>> = (0..plan.convergence.len())
-            .map(|gi| per_record.iter().map(|r| r.0[gi]).collect())
-            .collect();
-        rows.extend(block_rows(cx.study, block, &per_grid));
+            .collect::<Result<Vec<PerRecord>, ConvergenceError>>()?;
+        for (k, block) in blocks.iter().enumerate() {
+            let per_record = &results[k * n_records..(k + 1) * n_records];
+            runs += per_record.iter().map(|r| r.1).sum::<u64>();
+            shared += per_record.iter().map(|r| r.2).sum::<u64>();
+            let per_grid: Vec<Vec<f64>> = (0..plan.convergence.len())
+                .map(|gi| per_record.iter().map(|r| r.0[gi]).collect())
+                .collect();
+            rows.extend(block_rows(cx.study, block, &per_grid));
+        }
+        done += blocks.len() as u64;
         cx.reporter.progress(&Progress {
             stage: "convergence",
-            done: bi as u64 + 1,
+            done,
             total,
             resumed: 0,
             runs,
@@ -171,13 +188,36 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
     )?;
     Ok(Summary {
         lines: vec![format!(
-            "capacity search at {:?} levels: {runs} simulations, certification included \
-             (the searches' {shared} runs share the levels the grids have in common); wrote {}",
+            "capacity search at {:?} levels: {runs} simulations (the searches' {shared} runs \
+             share the levels the grids have in common); wrote {}",
             plan.convergence,
             dest.display()
         )],
         also_wrote: Vec::new(),
     })
+}
+
+/// The capacity at one resolution. With a tolerance-controlled integrator
+/// it is the certified one (its decisive runs rerun tighter, the search
+/// redone if a verdict flips). With the exact stepper certification cannot
+/// move η_c, only flag it chaotic, and this table reports no flags (the
+/// sweep's `capacities.parquet` carries them): the plain search, which
+/// finds the same η_c without the chaos probe's two runs per decisive run
+/// (a quarter of this stage's time on the paper grid).
+fn search(
+    memo: &mut ida::Runs,
+    spec: &RunSpec,
+    grid: &ImGrid,
+    tol: f64,
+) -> Result<ida::Capacity, PhysicsError> {
+    match spec.model.integrator {
+        crate::physics::Integrator::Exact => {
+            ida::capacity_in(memo, spec, grid, tol, ida::Trace::StopAtFirst)
+        }
+        _ => Ok(
+            ida::capacity_certified_in(memo, spec, grid, tol, ida::Trace::StopAtFirst)?.capacity,
+        ),
+    }
 }
 
 /// One row per resolution of one block, against the finest grid.
