@@ -36,6 +36,7 @@
 
 pub mod at2;
 pub mod bench;
+pub mod cluster;
 pub mod figures;
 pub mod fit;
 pub mod fragility;

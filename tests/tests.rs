@@ -25,6 +25,8 @@
 //!   inventory table; every refusal of a hazard file.
 //! - `run`: the cached pipeline run: reruns for the right reasons, the lock,
 //!   and a snapshot of a mini study (tests/snapshots, `ROCKING_BLESS=1`).
+//! - `slurm`: `rocking submit` on a single-node Slurm this test starts
+//!   (ROCKING_SLURM=1, as root; CI sets it), against a local run.
 //! - `sweep`: pipelines load; bad ones fail first; capacities against direct
 //!   calls; byte-identical at 1 and 2 threads; shards; resume after a crash.
 //! - `tables`: Parquet round trips, atomic writes, foreign files refused.
@@ -39,6 +41,7 @@ mod quick;
 mod reduce;
 mod risk;
 mod run;
+mod slurm;
 mod sweep;
 mod tables;
 mod util;

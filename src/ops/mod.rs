@@ -1,7 +1,7 @@
 //! What the commands that are not stages do, as library calls the binary
 //! wraps: load one record for the solvers ([`record`]), the fragility of a
 //! real block ([`fragility`]), the annual rate of overturning at a site
-//! ([`risk`]), and the solver benchmark that rewrites `docs/BENCHMARKS.md`
+//! ([`risk`]), a study submitted to Slurm ([`submit`]), and the solver benchmark that rewrites `docs/BENCHMARKS.md`
 //! ([`bench`]). Input checks live here, not in the
 //! argument parser, so tests and other front ends get them too.
 
@@ -10,3 +10,4 @@ pub mod bench;
 pub mod fragility;
 pub mod record;
 pub mod risk;
+pub mod submit;

@@ -16,6 +16,7 @@ mod run;
 mod simulate;
 mod stage;
 mod status;
+mod submit;
 
 #[derive(Debug, Parser)]
 #[command(
@@ -44,6 +45,7 @@ enum Command {
     Risk(risk::Args),
     Run(run::Args),
     Status(status::Args),
+    Submit(submit::Args),
 }
 
 fn dispatch(command: Command) -> anyhow::Result<()> {
@@ -56,6 +58,7 @@ fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Risk(a) => risk::run(a),
         Command::Run(a) => run::run(a),
         Command::Status(a) => status::run(a),
+        Command::Submit(a) => submit::run(a),
     }
 }
 

@@ -1,0 +1,271 @@
+//! Slurm, as text: the job scripts `rocking submit` writes, and what it
+//! reads back from `sbatch --parsable` and `scontrol show job -o`. No
+//! processes and no files here (`ops::submit` runs them).
+//!
+//! The sweep is an array of N tasks, task K running the K-th shard
+//! (`rocking sweep --shard K/N`; a requeued task resumes from the parts it
+//! wrote); the later stages are one job that starts after every task
+//! succeeded (`--dependency=afterok:<array>`) and runs `rocking run`, which
+//! finds the sweep fresh from its N shard tables.
+
+use std::path::{Path, PathBuf};
+
+/// Everything the two job scripts need, as absolute paths.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Jobs {
+    /// The `rocking` binary the tasks run (the one that submitted them).
+    pub binary: PathBuf,
+    pub pipeline: PathBuf,
+    /// The `--outputs` root.
+    pub outputs: PathBuf,
+    /// Where the tasks start (the submitting directory).
+    pub workdir: PathBuf,
+    /// Where Slurm writes the tasks' logs (the study's `slurm/` folder).
+    pub logs: PathBuf,
+    /// The study's name (the pipeline's `name`), for job names.
+    pub name: String,
+    pub shards: usize,
+    /// Extra `sbatch` options, written as `#SBATCH` lines in both scripts.
+    pub sbatch: Vec<String>,
+}
+
+/// Quotes `s` for a POSIX shell.
+fn quote(s: &str) -> String {
+    format!("'{}'", s.replace('\'', r"'\''"))
+}
+
+fn quote_path(p: &Path) -> String {
+    quote(&p.to_string_lossy())
+}
+
+impl Jobs {
+    fn header(&self, what: &str, lines: &[String]) -> String {
+        let mut s = String::from("#!/bin/sh\n");
+        for l in lines {
+            s.push_str(&format!("#SBATCH {l}\n"));
+        }
+        for extra in &self.sbatch {
+            s.push_str(&format!("#SBATCH {extra}\n"));
+        }
+        s.push_str(&format!(
+            "# Written by `rocking submit` for the study `{}`: {what}.\n\
+             # Submit it again by hand with sbatch if needed (README, \"Running on a cluster\").\n",
+            self.name
+        ));
+        s
+    }
+
+    /// The array job: task K of N sweeps the K-th shard.
+    pub fn sweep_script(&self) -> String {
+        let lines = [
+            format!("--job-name=rocking-{}-sweep", self.name),
+            format!("--array=1-{}", self.shards),
+            format!(
+                "--output={}",
+                self.logs.join("sweep-%A_%a.log").to_string_lossy()
+            ),
+            "--requeue".to_string(),
+            format!("--chdir={}", self.workdir.to_string_lossy()),
+        ];
+        let mut s = self.header(
+            &format!(
+                "the sweep as {} array tasks; task K runs shard K/{} with one thread per CPU \
+                 Slurm gives it, and a requeued task resumes from the parts it wrote",
+                self.shards, self.shards
+            ),
+            &lines,
+        );
+        s.push_str(&format!(
+            "exec {} sweep {} --outputs {} --shard \"${{SLURM_ARRAY_TASK_ID}}/{}\" \
+             --threads \"${{SLURM_CPUS_PER_TASK:-1}}\"\n",
+            quote_path(&self.binary),
+            quote_path(&self.pipeline),
+            quote_path(&self.outputs),
+            self.shards
+        ));
+        s
+    }
+
+    /// The job of the later stages, run once the array has succeeded.
+    pub fn later_script(&self) -> String {
+        let lines = [
+            format!("--job-name=rocking-{}-after", self.name),
+            format!(
+                "--output={}",
+                self.logs.join("after-%j.log").to_string_lossy()
+            ),
+            format!("--chdir={}", self.workdir.to_string_lossy()),
+        ];
+        let mut s = self.header(
+            "the stages after the sweep (rocking run finds the sweep fresh from its shards)",
+            &lines,
+        );
+        s.push_str(&format!(
+            "exec {} run {} --outputs {} --threads \"${{SLURM_CPUS_PER_TASK:-1}}\"\n",
+            quote_path(&self.binary),
+            quote_path(&self.pipeline),
+            quote_path(&self.outputs)
+        ));
+        s
+    }
+}
+
+/// Something Slurm said that is not what was expected.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SlurmText {
+    #[error("sbatch printed `{0}`, not a job id")]
+    NoJobId(String),
+}
+
+/// The job id in `sbatch --parsable`'s output (`ID` or `ID;CLUSTER`).
+pub fn job_id(sbatch_stdout: &str) -> Result<u64, SlurmText> {
+    let line = sbatch_stdout.trim();
+    line.split(';')
+        .next()
+        .and_then(|id| id.trim().parse().ok())
+        .ok_or_else(|| SlurmText::NoJobId(line.to_string()))
+}
+
+/// One record of `scontrol show job -o`: a job, one task of an array, or
+/// the array's tasks still pending together.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JobRecord {
+    pub job_id: u64,
+    /// `ArrayTaskId`: a number, or a range such as `2-3` while pending.
+    pub array_task: Option<String>,
+    pub state: String,
+    pub reason: String,
+    pub exit_code: String,
+    pub stdout: Option<String>,
+}
+
+impl JobRecord {
+    /// Whether the job is over (whatever its outcome).
+    pub fn finished(&self) -> bool {
+        !matches!(
+            self.state.as_str(),
+            "PENDING"
+                | "RUNNING"
+                | "CONFIGURING"
+                | "COMPLETING"
+                | "REQUEUED"
+                | "REQUEUE_FED"
+                | "REQUEUE_HOLD"
+                | "RESIZING"
+                | "SUSPENDED"
+                | "STAGE_OUT"
+                | "SIGNALING"
+        )
+    }
+
+    pub fn succeeded(&self) -> bool {
+        self.state == "COMPLETED"
+    }
+}
+
+/// Parses `scontrol show job -o` (one job per line, `Key=Value` fields).
+pub fn job_records(text: &str) -> Vec<JobRecord> {
+    text.lines()
+        .filter(|l| l.contains("JobId="))
+        .filter_map(|line| {
+            let field = |key: &str| {
+                line.split_whitespace()
+                    .find_map(|kv| kv.strip_prefix(key)?.strip_prefix('='))
+                    .map(str::to_string)
+            };
+            Some(JobRecord {
+                job_id: field("JobId")?.parse().ok()?,
+                array_task: field("ArrayTaskId"),
+                state: field("JobState")?,
+                reason: field("Reason").unwrap_or_default(),
+                exit_code: field("ExitCode").unwrap_or_default(),
+                stdout: field("StdOut"),
+            })
+        })
+        .collect()
+}
+
+/// Where an array stands: tasks done, tasks over but failed, tasks left.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ArrayState {
+    pub done: usize,
+    pub failed: Vec<JobRecord>,
+    pub running: usize,
+}
+
+/// Sums the records of an array job of `tasks` tasks (pending ranges count
+/// as as many tasks as they span).
+pub fn array_state(records: &[JobRecord], tasks: usize) -> ArrayState {
+    let mut st = ArrayState::default();
+    for r in records {
+        if r.succeeded() {
+            st.done += 1;
+        } else if r.finished() {
+            st.failed.push(r.clone());
+        } else if r.state == "RUNNING" || r.state == "COMPLETING" {
+            st.running += 1;
+        }
+    }
+    st.done = st.done.min(tasks);
+    st
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn jobs() -> Jobs {
+        Jobs {
+            binary: "/opt/rocking/bin/rocking".into(),
+            pipeline: "/home/a b/paper.toml".into(),
+            outputs: "/scratch/it's/outputs".into(),
+            workdir: "/home/a b".into(),
+            logs: "/scratch/it's/outputs/paper/slurm".into(),
+            name: "paper".into(),
+            shards: 10,
+            sbatch: vec!["--partition=debug".into(), "--cpus-per-task=8".into()],
+        }
+    }
+
+    /// The scripts as a shell reads them: every path one word, the shard
+    /// from the task id, the user's options as directives.
+    #[test]
+    fn scripts_quote_paths_and_carry_the_options() {
+        let s = jobs().sweep_script();
+        assert!(s.starts_with("#!/bin/sh\n"));
+        assert!(s.contains("#SBATCH --array=1-10\n"));
+        assert!(s.contains("#SBATCH --partition=debug\n#SBATCH --cpus-per-task=8\n"));
+        assert!(s.contains("#SBATCH --output=/scratch/it's/outputs/paper/slurm/sweep-%A_%a.log"));
+        assert!(s.contains(
+            "exec '/opt/rocking/bin/rocking' sweep '/home/a b/paper.toml' \
+             --outputs '/scratch/it'\\''s/outputs' --shard \"${SLURM_ARRAY_TASK_ID}/10\""
+        ));
+        // Every #SBATCH line comes before the first command (sbatch stops
+        // reading directives there).
+        let first_cmd = s.lines().position(|l| l.starts_with("exec")).unwrap();
+        assert!(s.lines().skip(first_cmd).all(|l| !l.starts_with("#SBATCH")));
+        let l = jobs().later_script();
+        assert!(l.contains("exec '/opt/rocking/bin/rocking' run '/home/a b/paper.toml'"));
+        assert!(!l.contains("--array"));
+    }
+
+    #[test]
+    fn job_ids_and_records_are_read_from_slurms_text() {
+        assert_eq!(job_id("1234\n"), Ok(1234));
+        assert_eq!(job_id("77;cluster2"), Ok(77));
+        assert!(job_id("sbatch: error: Batch job submission failed").is_err());
+        // As printed by Slurm 22.05 (abridged) for an array of 3: task 3 done,
+        // task 2 failed, task 1 still pending as a range.
+        let text = "JobId=12 ArrayJobId=10 ArrayTaskId=3 JobName=x JobState=COMPLETED Reason=None ExitCode=0:0 StdOut=/l/sweep-10_3.log\n\
+                    JobId=11 ArrayJobId=10 ArrayTaskId=2 JobName=x JobState=FAILED Reason=NonZeroExitCode ExitCode=1:0 StdOut=/l/sweep-10_2.log\n\
+                    JobId=10 ArrayJobId=10 ArrayTaskId=1 JobName=x JobState=PENDING Reason=Priority ExitCode=0:0 StdOut=/l/sweep-10_1.log\n";
+        let recs = job_records(text);
+        assert_eq!(recs.len(), 3);
+        assert_eq!(recs[1].array_task.as_deref(), Some("2"));
+        assert_eq!(recs[1].stdout.as_deref(), Some("/l/sweep-10_2.log"));
+        let st = array_state(&recs, 3);
+        assert_eq!((st.done, st.running, st.failed.len()), (1, 0, 1));
+        assert_eq!(st.failed[0].exit_code, "1:0");
+        assert!(!recs[2].finished() && recs[0].finished() && recs[1].finished());
+    }
+}

@@ -1,0 +1,277 @@
+//! `rocking submit`: a study on Slurm. Ingests the records here (the array
+//! tasks all read the records table, so it must exist before they start),
+//! writes the two job scripts into `<outputs>/<name>/slurm/`, submits the
+//! sweep as an array and the later stages after it (`afterok`), and with
+//! `--wait` follows them to the end. The scripts are text made by
+//! [`crate::cluster`]; this module runs `sbatch`, `scontrol` and `scancel`.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Duration;
+
+use crate::cluster::{self, JobRecord, Jobs};
+use crate::stages::engine::{self, RunOptions, Target};
+use crate::stages::{Reporter, Shard, Study};
+use crate::tables::{atomic_write, TableError};
+
+/// What to submit.
+#[derive(Debug, Clone)]
+pub struct SubmitOptions {
+    /// The `--outputs` root as given.
+    pub outputs: PathBuf,
+    /// Array tasks (shards of the sweep).
+    pub shards: usize,
+    /// Extra `sbatch` options for both jobs.
+    pub sbatch: Vec<String>,
+    /// The command line, for the lock of the local ingest.
+    pub command: String,
+}
+
+/// The submitted jobs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Submitted {
+    pub sweep_job: u64,
+    pub later_job: u64,
+    pub shards: usize,
+    /// The two scripts written (sweep, later stages).
+    pub scripts: [PathBuf; 2],
+    /// Where the tasks' logs go.
+    pub logs: PathBuf,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum SubmitError {
+    #[error(
+        "rocking submit needs Slurm's `sbatch` on PATH, and there is none \
+         (install Slurm's client commands, or load their module)"
+    )]
+    NoSbatch,
+    #[error("--shards {0}: {1}")]
+    Shards(usize, String),
+    #[error("cannot find this program's own path (the tasks run the same binary)")]
+    OwnPath(#[source] std::io::Error),
+    #[error("ingesting the records before submitting")]
+    Ingest(#[source] engine::RunError),
+    #[error(transparent)]
+    Write(#[from] TableError),
+    #[error("{path}: cannot create the folder for the job scripts and logs")]
+    Folder {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("cannot run `{program}`")]
+    Spawn {
+        program: String,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("`{command}` failed: {stderr}")]
+    Slurm { command: String, stderr: String },
+    #[error(transparent)]
+    Text(#[from] cluster::SlurmText),
+    #[error(
+        "sweep task {task} of job {job} ended {state} (exit code {exit_code}); its log: {log}. \
+         The later stages (job {later}) were cancelled"
+    )]
+    TaskFailed {
+        job: u64,
+        task: String,
+        state: String,
+        exit_code: String,
+        log: String,
+        later: u64,
+    },
+    #[error(
+        "the later stages (job {job}) ended {state} (exit code {exit_code}); their log: {log}"
+    )]
+    LaterFailed {
+        job: u64,
+        state: String,
+        exit_code: String,
+        log: String,
+    },
+    #[error("Slurm no longer knows job {0} (purged before it was seen to finish)")]
+    Vanished(u64),
+}
+
+/// The first executable `name` on PATH.
+fn on_path(name: &str) -> Option<PathBuf> {
+    let path = std::env::var_os("PATH")?;
+    std::env::split_paths(&path)
+        .map(|dir| dir.join(name))
+        .find(|p| {
+            use std::os::unix::fs::PermissionsExt;
+            p.metadata()
+                .is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
+        })
+}
+
+fn absolute(p: &Path) -> PathBuf {
+    if p.is_absolute() {
+        p.to_path_buf()
+    } else {
+        std::env::current_dir().map_or_else(|_| p.to_path_buf(), |d| d.join(p))
+    }
+}
+
+/// Runs a Slurm command; its standard output, or its standard error as the error.
+fn slurm(program: &Path, args: &[&str]) -> Result<String, SubmitError> {
+    let out = Command::new(program)
+        .args(args)
+        .output()
+        .map_err(|source| SubmitError::Spawn {
+            program: program.display().to_string(),
+            source,
+        })?;
+    if !out.status.success() {
+        return Err(SubmitError::Slurm {
+            command: format!("{} {}", program.display(), args.join(" ")),
+            stderr: String::from_utf8_lossy(&out.stderr).trim().to_string(),
+        });
+    }
+    Ok(String::from_utf8_lossy(&out.stdout).into_owned())
+}
+
+/// A Slurm client command: on PATH, else beside `sbatch`.
+fn client(name: &str, sbatch: &Path) -> PathBuf {
+    on_path(name).unwrap_or_else(|| sbatch.with_file_name(name))
+}
+
+/// Ingests here, writes the scripts, submits both jobs.
+pub fn submit(
+    study: &Study,
+    opts: &SubmitOptions,
+    reporter: &dyn Reporter,
+) -> Result<Submitted, SubmitError> {
+    format!("1/{}", opts.shards)
+        .parse::<Shard>()
+        .map_err(|e| SubmitError::Shards(opts.shards, e))?;
+    let sbatch = on_path("sbatch").ok_or(SubmitError::NoSbatch)?;
+    let binary = std::env::current_exe()
+        .and_then(|p| p.canonicalize())
+        .map_err(SubmitError::OwnPath)?;
+    let ingest = engine::find("ingest").expect("the ingest stage is registered");
+    engine::run(
+        study,
+        &RunOptions {
+            target: Target::Through(ingest),
+            command: opts.command.clone(),
+            ..RunOptions::default()
+        },
+        reporter,
+    )
+    .map_err(SubmitError::Ingest)?;
+    let logs = absolute(&study.dir.join("slurm"));
+    std::fs::create_dir_all(&logs).map_err(|source| SubmitError::Folder {
+        path: logs.clone(),
+        source,
+    })?;
+    let jobs = Jobs {
+        binary,
+        pipeline: absolute(&study.pipeline),
+        outputs: absolute(&opts.outputs),
+        workdir: std::env::current_dir().map_err(SubmitError::OwnPath)?,
+        logs: logs.clone(),
+        name: study.plan.name.clone(),
+        shards: opts.shards,
+        sbatch: opts.sbatch.clone(),
+    };
+    let sweep_script = logs.join("sweep.sbatch");
+    let later_script = logs.join("after.sbatch");
+    atomic_write(&sweep_script, jobs.sweep_script().as_bytes())?;
+    atomic_write(&later_script, jobs.later_script().as_bytes())?;
+    let sweep_job = cluster::job_id(&slurm(
+        &sbatch,
+        &["--parsable", &sweep_script.to_string_lossy()],
+    )?)?;
+    let dependency = format!("--dependency=afterok:{sweep_job}");
+    let later = slurm(
+        &sbatch,
+        &["--parsable", &dependency, &later_script.to_string_lossy()],
+    )
+    .and_then(|out| Ok(cluster::job_id(&out)?));
+    let later_job = match later {
+        Ok(id) => id,
+        Err(e) => {
+            // No array without its later stages: cancel it, then say why.
+            let _ = slurm(&client("scancel", &sbatch), &[&sweep_job.to_string()]);
+            return Err(e);
+        }
+    };
+    Ok(Submitted {
+        sweep_job,
+        later_job,
+        shards: opts.shards,
+        scripts: [sweep_script, later_script],
+        logs,
+    })
+}
+
+/// The records of job `id` (every task of an array).
+fn records(scontrol: &Path, id: u64) -> Result<Vec<JobRecord>, SubmitError> {
+    match slurm(scontrol, &["show", "job", "-o", &id.to_string()]) {
+        Ok(text) => Ok(cluster::job_records(&text)),
+        Err(SubmitError::Slurm { stderr, .. }) if stderr.contains("Invalid job id") => {
+            Err(SubmitError::Vanished(id))
+        }
+        Err(e) => Err(e),
+    }
+}
+
+/// Follows the jobs to the end, polling every `poll`; `say` hears each
+/// change. Fails naming the first failed task and its log (and cancels the
+/// later stages, which can then never start), or the later job's failure.
+pub fn wait(sub: &Submitted, poll: Duration, mut say: impl FnMut(&str)) -> Result<(), SubmitError> {
+    let sbatch = on_path("sbatch").ok_or(SubmitError::NoSbatch)?;
+    let (scontrol, scancel) = (client("scontrol", &sbatch), client("scancel", &sbatch));
+    let mut last = String::new();
+    loop {
+        let tasks = records(&scontrol, sub.sweep_job)?;
+        let st = cluster::array_state(&tasks, sub.shards);
+        if let Some(bad) = st.failed.first() {
+            let _ = slurm(&scancel, &[&sub.later_job.to_string()]);
+            return Err(SubmitError::TaskFailed {
+                job: sub.sweep_job,
+                task: bad.array_task.clone().unwrap_or_else(|| "?".into()),
+                state: bad.state.clone(),
+                exit_code: bad.exit_code.clone(),
+                log: bad.stdout.clone().unwrap_or_else(|| "(none)".into()),
+                later: sub.later_job,
+            });
+        }
+        let later = records(&scontrol, sub.later_job)?;
+        let now = match later.first() {
+            Some(r) if r.succeeded() => {
+                say(&format!(
+                    "later stages (job {}) completed; all done",
+                    sub.later_job
+                ));
+                return Ok(());
+            }
+            Some(r) if r.finished() => {
+                return Err(SubmitError::LaterFailed {
+                    job: sub.later_job,
+                    state: r.state.clone(),
+                    exit_code: r.exit_code.clone(),
+                    log: r.stdout.clone().unwrap_or_else(|| "(none)".into()),
+                })
+            }
+            Some(r) => format!(
+                "sweep (job {}): {} of {} tasks done, {} running; later stages (job {}): {}",
+                sub.sweep_job,
+                st.done,
+                sub.shards,
+                st.running,
+                sub.later_job,
+                r.state.to_lowercase()
+            ),
+            None => return Err(SubmitError::Vanished(sub.later_job)),
+        };
+        if now != last {
+            say(&now);
+            last = now;
+        }
+        std::thread::sleep(poll);
+    }
+}

@@ -1,0 +1,387 @@
+//! Issue #14: `rocking submit` on a real Slurm (`ROCKING_SLURM=1`, which
+//! `.ci/run` sets after installing Debian's `slurm-wlm` and `munge`).
+//!
+//! The test stands up a single-node cluster on this machine: munged,
+//! slurmctld and slurmd in the foreground as its own children, with a
+//! minimal slurm.conf for this host (`ProctrackType=proctrack/linuxproc`,
+//! `TaskPlugin=task/none`, no accounting) and every file in a temporary
+//! folder, and stops them by their process ids when it ends. Then
+//! `rocking submit pipelines/quick.toml --shards 3 --wait` must produce
+//! every table a local `rocking run` does, value for value; and a sweep
+//! whose tasks crash must make `--wait` fail naming the task and its log.
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use rocking::stages::sweep::{read_capacities, read_ida, FAULT_ENV};
+
+use crate::util::{dump_columns, root, stderr, tempdir, TempDir};
+
+/// A program from PATH or the system folders daemons live in.
+fn program(name: &str) -> PathBuf {
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    std::env::split_paths(&path)
+        .chain(["/usr/sbin", "/sbin", "/usr/bin"].map(PathBuf::from))
+        .map(|d| d.join(name))
+        .find(|p| p.is_file())
+        .unwrap_or_else(|| {
+            panic!(
+                "ROCKING_SLURM is set but `{name}` is not installed: the Slurm test needs \
+                 Debian's slurm-wlm and munge (`apt-get install slurm-wlm munge`, as .ci/run does)"
+            )
+        })
+}
+
+fn free_port() -> u16 {
+    std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port()
+}
+
+/// A single-node Slurm whose daemons are this test's children.
+struct Cluster {
+    dir: TempDir,
+    conf: PathBuf,
+    daemons: Vec<(String, Child)>,
+}
+
+impl Drop for Cluster {
+    /// Stops the daemons it started, by their process ids.
+    fn drop(&mut self) {
+        for (_, child) in self.daemons.iter_mut().rev() {
+            let _ = child.kill();
+            let _ = child.wait();
+        }
+    }
+}
+
+impl Cluster {
+    fn path(&self, name: &str) -> PathBuf {
+        self.dir.path().join(name)
+    }
+
+    fn spawn(&mut self, name: &str, cmd: &mut Command) {
+        let log = std::fs::File::create(self.path(&format!("{name}.out"))).unwrap();
+        let child = cmd
+            .stdout(Stdio::from(log.try_clone().unwrap()))
+            .stderr(Stdio::from(log))
+            .spawn()
+            .unwrap_or_else(|e| panic!("cannot start {name}: {e}"));
+        self.daemons.push((name.to_string(), child));
+    }
+
+    /// The daemons' own words, for a failure message.
+    fn logs(&self) -> String {
+        [
+            "munged.out",
+            "slurmctld.out",
+            "slurmd.out",
+            "slurmctld.log",
+            "slurmd.log",
+        ]
+        .iter()
+        .map(|f| {
+            let text = std::fs::read_to_string(self.path(f)).unwrap_or_default();
+            let tail: Vec<&str> = text.lines().rev().take(15).collect();
+            format!(
+                "--- {f}\n{}",
+                tail.into_iter().rev().collect::<Vec<_>>().join("\n")
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+    }
+
+    fn start() -> Cluster {
+        use std::os::unix::fs::PermissionsExt;
+        // slurmd runs jobs as their users, so it must run as root.
+        let uid = std::fs::read_to_string("/proc/self/status")
+            .unwrap()
+            .lines()
+            .find_map(|l| l.strip_prefix("Uid:"))
+            .and_then(|l| l.split_whitespace().next().map(str::to_string))
+            .unwrap();
+        assert_eq!(
+            uid, "0",
+            "the Slurm test starts slurmd, which must run as root"
+        );
+        let dir = tempdir();
+        let mut c = Cluster {
+            conf: dir.path().join("slurm.conf"),
+            dir,
+            daemons: Vec::new(),
+        };
+        for sub in ["munge", "state", "spool"] {
+            std::fs::create_dir_all(c.path(sub)).unwrap();
+        }
+        std::fs::set_permissions(c.dir.path(), std::fs::Permissions::from_mode(0o755)).unwrap();
+        let key = c.path("munge/munge.key");
+        let mut random = vec![0u8; 1024];
+        use std::io::Read;
+        std::fs::File::open("/dev/urandom")
+            .unwrap()
+            .read_exact(&mut random)
+            .unwrap();
+        std::fs::write(&key, &random).unwrap();
+        std::fs::set_permissions(&key, std::fs::Permissions::from_mode(0o400)).unwrap();
+        let socket = c.path("munge/munge.socket.2");
+        let munge = |f: &str| c.path(&format!("munge/{f}"));
+        let mut munged = Command::new(program("munged"));
+        munged.args([
+            "--foreground",
+            "--force",
+            &format!("--socket={}", socket.display()),
+            &format!("--key-file={}", key.display()),
+            &format!("--log-file={}", munge("munged.log").display()),
+            &format!("--pid-file={}", munge("munged.pid").display()),
+            &format!("--seed-file={}", munge("munged.seed").display()),
+        ]);
+        c.spawn("munged", &mut munged);
+        c.wait_for("munged's socket", || socket.exists());
+
+        let host = std::fs::read_to_string("/proc/sys/kernel/hostname")
+            .unwrap()
+            .trim()
+            .to_string();
+        let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let d = c.dir.path().display().to_string();
+        let conf = format!(
+            "ClusterName=rockingtest\n\
+             SlurmctldHost={host}(127.0.0.1)\n\
+             SlurmUser=root\nSlurmdUser=root\n\
+             AuthType=auth/munge\nCredType=cred/munge\n\
+             AuthInfo=socket={socket}\n\
+             StateSaveLocation={d}/state\nSlurmdSpoolDir={d}/spool\n\
+             SlurmctldPidFile={d}/slurmctld.pid\nSlurmdPidFile={d}/slurmd.pid\n\
+             SlurmctldLogFile={d}/slurmctld.log\nSlurmdLogFile={d}/slurmd.log\n\
+             SlurmctldPort={}\nSlurmdPort={}\n\
+             ProctrackType=proctrack/linuxproc\nTaskPlugin=task/none\n\
+             SchedulerType=sched/backfill\nSelectType=select/cons_tres\n\
+             SelectTypeParameters=CR_Core\nReturnToService=2\nMpiDefault=none\n\
+             JobAcctGatherType=jobacct_gather/none\n\
+             AccountingStorageType=accounting_storage/none\nJobCompType=jobcomp/none\n\
+             MinJobAge=3600\n\
+             NodeName={host} NodeAddr=127.0.0.1 CPUs={cpus} State=UNKNOWN\n\
+             PartitionName=debug Nodes={host} Default=YES MaxTime=INFINITE State=UP\n",
+            free_port(),
+            free_port(),
+            socket = socket.display(),
+        );
+        std::fs::write(&c.conf, conf).unwrap();
+        let conf_path = c.conf.clone();
+        c.spawn(
+            "slurmctld",
+            Command::new(program("slurmctld"))
+                .arg("-D")
+                .arg("-f")
+                .arg(&conf_path),
+        );
+        c.spawn(
+            "slurmd",
+            Command::new(program("slurmd"))
+                .arg("-D")
+                .arg("-f")
+                .arg(&conf_path)
+                .args(["-N", &host]),
+        );
+        let sinfo = program("sinfo");
+        c.wait_for("the node to be idle", || {
+            Command::new(&sinfo)
+                .args(["-h", "-o", "%t"])
+                .env("SLURM_CONF", &conf_path)
+                .output()
+                .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "idle")
+        });
+        c
+    }
+
+    fn wait_for(&self, what: &str, ready: impl Fn() -> bool) {
+        let start = Instant::now();
+        while !ready() {
+            assert!(
+                start.elapsed() < Duration::from_secs(60),
+                "waited 60 s for {what}:\n{}",
+                self.logs()
+            );
+            std::thread::sleep(Duration::from_millis(200));
+        }
+    }
+
+    /// `rocking ARGS` from the repository root, as a Slurm user would type
+    /// it (`SLURM_CONF` naming this cluster), stopped after `limit`.
+    fn rocking(
+        &self,
+        args: &[&str],
+        env: &[(&str, &str)],
+        limit: Duration,
+    ) -> std::process::Output {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_rocking"));
+        cmd.args(args)
+            .current_dir(root())
+            .env("SLURM_CONF", &self.conf)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped());
+        for (k, v) in env {
+            cmd.env(k, v);
+        }
+        let mut child = cmd.spawn().unwrap();
+        let start = Instant::now();
+        while child.try_wait().unwrap().is_none() {
+            if start.elapsed() > limit {
+                let _ = child.kill();
+                panic!("rocking {args:?} ran over {limit:?}:\n{}", self.logs());
+            }
+            std::thread::sleep(Duration::from_millis(100));
+        }
+        child.wait_with_output().unwrap()
+    }
+}
+
+/// Every table of the local study against the submitted one, value for
+/// value; the sweep's (sharded there) through the readers that merge shards.
+fn assert_same_tables(local: &Path, submitted: &Path) {
+    assert_eq!(
+        read_capacities(submitted).unwrap(),
+        read_capacities(local).unwrap()
+    );
+    assert_eq!(read_ida(submitted).unwrap(), read_ida(local).unwrap());
+    let mut compared = 0;
+    for entry in std::fs::read_dir(local).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        if !name.ends_with(".parquet")
+            || name == "capacities.parquet"
+            || name == "ida_points.parquet"
+        {
+            continue;
+        }
+        let other = submitted.join(&name);
+        assert!(other.exists(), "{name} missing from the submitted study");
+        assert_eq!(
+            dump_columns(&other, true, None),
+            dump_columns(&path, true, None),
+            "{name} differs"
+        );
+        compared += 1;
+    }
+    assert_eq!(compared, 10, "every table beyond the sweep's was compared");
+    assert!(submitted.join("report.md").exists());
+}
+
+#[test]
+fn submit_runs_the_quick_study_on_a_real_slurm() {
+    if std::env::var("ROCKING_SLURM").is_err() {
+        eprintln!("skipped: set ROCKING_SLURM=1 (as root, with slurm-wlm and munge) to run");
+        return;
+    }
+    let cluster = Cluster::start();
+    let out = tempdir();
+    let submitted = out.path().join("slurm");
+    let limit = Duration::from_secs(600);
+    let run = cluster.rocking(
+        &[
+            "submit",
+            "pipelines/quick.toml",
+            "--shards",
+            "3",
+            "--wait",
+            "--poll",
+            "0.5",
+            "--outputs",
+            submitted.to_str().unwrap(),
+        ],
+        &[],
+        limit,
+    );
+    assert!(run.status.success(), "{}\n{}", stderr(&run), cluster.logs());
+    let text = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        text.contains("(3 array tasks)") && text.contains("done: report"),
+        "{text}"
+    );
+    let study = submitted.join("quick");
+    for k in 1..=3 {
+        assert!(study
+            .join(format!("ida_points.shard-{k}-of-3.parquet"))
+            .exists());
+    }
+    // The scripts are kept, and the array is what they say.
+    let script = std::fs::read_to_string(study.join("slurm/sweep.sbatch")).unwrap();
+    assert!(script.contains("#SBATCH --array=1-3"), "{script}");
+
+    let local = out.path().join("local");
+    let here = cluster.rocking(
+        &[
+            "run",
+            "pipelines/quick.toml",
+            "--outputs",
+            local.to_str().unwrap(),
+        ],
+        &[],
+        limit,
+    );
+    assert!(here.status.success(), "{}", stderr(&here));
+    assert_same_tables(&local.join("quick"), &study);
+
+    // Tasks that crash (the fault-injection hook aborts each task after its
+    // first part): --wait fails, naming a task and its log, and the later
+    // stages never run.
+    let failing = out.path().join("failing");
+    let bad = cluster.rocking(
+        &[
+            "submit",
+            "pipelines/quick.toml",
+            "--shards",
+            "3",
+            "--wait",
+            "--poll",
+            "0.5",
+            "--outputs",
+            failing.to_str().unwrap(),
+        ],
+        &[(FAULT_ENV, "1")],
+        limit,
+    );
+    assert!(!bad.status.success());
+    let e = stderr(&bad);
+    assert!(
+        e.contains("sweep task") && e.contains("FAILED") && e.contains("its log: /"),
+        "{e}"
+    );
+    let log = e
+        .split("its log: ")
+        .nth(1)
+        .and_then(|s| s.split(". The later").next())
+        .unwrap();
+    assert!(Path::new(log).exists(), "the log named exists: {log}");
+    assert!(
+        !failing.join("quick/report.md").exists(),
+        "the later stages did not run"
+    );
+}
+
+#[test]
+fn submit_without_sbatch_says_so() {
+    let dir = tempdir();
+    let out = Command::new(env!("CARGO_BIN_EXE_rocking"))
+        .args([
+            "submit",
+            "pipelines/quick.toml",
+            "--shards",
+            "2",
+            "--outputs",
+        ])
+        .arg(dir.path())
+        .current_dir(root())
+        .env("PATH", dir.path())
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(e.contains("needs Slurm's `sbatch` on PATH"), "{e}");
+    // Refused before anything was written.
+    assert!(!dir.path().join("quick").exists(), "{e}");
+}
