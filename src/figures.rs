@@ -20,7 +20,7 @@ use crate::plot::{Chart, Line, Scale, Style};
 use crate::stats;
 use crate::study::StudyData;
 use crate::tables::convergence::ConvergenceRow;
-use crate::tables::reduce::{CapacityFractileRow, HorizontalRow};
+use crate::tables::reduce::{CapacityBandRow, CapacityFractileRow, HorizontalRow};
 
 /// A figure: its file name (without folder), the chart, and a caption.
 pub struct Figure {
@@ -38,6 +38,7 @@ pub const FIGURES: &[FigureFn] = &[
     median_ida_across_p,
     horizontal_vs_vertical,
     capacity_curves,
+    capacity_bands,
     regression_median,
     regression_coefficients,
     lognormal_plots,
@@ -99,6 +100,9 @@ fn middle(d: &StudyData) -> (usize, f64, f64) {
 
 const Q_NAMES: [&str; 3] = ["16 %", "50 %", "84 %"];
 const Q_VALUES: [f64; 3] = [0.16, 0.5, 0.84];
+/// The paper's equation of each fractile's law: Eq. 11 (16 %), Eq. 10
+/// (median), Eq. 12 (84 %).
+pub const PAPER_EQ: [usize; 3] = [11, 10, 12];
 
 /// Horizontal fractile curve q (0, 1, 2) of a block as (EDP, 1/η), ending at
 /// EDP = 1 where the fractile becomes +∞.
@@ -300,6 +304,93 @@ fn capacity_curves(d: &StudyData) -> Vec<Figure> {
                   (paper Fig. 8)."
             .into(),
     }]
+}
+
+/// The ε values a banded figure draws: the grid's first, middle and last.
+fn band_eps(es: &[f64]) -> Vec<(usize, f64)> {
+    let mut picks = vec![0, es.len() / 2, es.len() - 1];
+    picks.dedup();
+    picks.into_iter().map(|i| (i, es[i])).collect()
+}
+
+/// Fig. 8 per fractile with its bootstrap band and the paper's law.
+fn capacity_bands(d: &StudyData) -> Vec<Figure> {
+    let Some(bands) = d.bands.as_ref().filter(|_| d.is_grid()) else {
+        return Vec::new();
+    };
+    let (ps, es) = d.ps_and_eps();
+    let paper = fragility::paper();
+    let p_dense: Vec<f64> = (0..=60)
+        .map(|k| ps[0] * (ps[ps.len() - 1] / ps[0]).powf(k as f64 / 60.0))
+        .collect();
+    let level = bands.first().map_or(0.9, |b| b.level);
+    Q_VALUES
+        .iter()
+        .enumerate()
+        .map(|(qi, &q)| {
+            let mut lines = Vec::new();
+            for (k, (_, e)) in band_eps(&es).into_iter().enumerate() {
+                let rows: Vec<&CapacityBandRow> = bands
+                    .iter()
+                    .filter(|b| b.quantile == q && b.eps == e)
+                    .collect();
+                let outline = rows
+                    .iter()
+                    .map(|b| (b.p, b.lo))
+                    .chain(rows.iter().rev().map(|b| (b.p, b.hi)))
+                    .collect();
+                lines.push(Line {
+                    name: Some(format!("{:.0} % band, ε = {e:.2}", 100.0 * level)),
+                    points: outline,
+                    style: Style::Band,
+                    color: k,
+                });
+                lines.push(Line {
+                    name: Some(format!("this study, ε = {e:.2}")),
+                    points: rows.iter().map(|b| (b.p, b.eta_c)).collect(),
+                    style: Style::LinePoints,
+                    color: k,
+                });
+                lines.push(Line {
+                    name: Some(format!("paper Eq. {}, ε = {e:.2}", PAPER_EQ[qi])),
+                    points: p_dense
+                        .iter()
+                        .map(|&p| (p, law_at(&paper[qi], p, e)))
+                        .collect(),
+                    style: Style::Dashed,
+                    color: k,
+                });
+            }
+            Figure {
+                file: format!("fig08_capacity_bands_q{}.svg", (100.0 * q).round()),
+                chart: Chart {
+                    title: format!(
+                        "Capacity η_c,{} with its bootstrap band",
+                        (100.0 * q).round()
+                    ),
+                    x_desc: "p (1/s)".into(),
+                    y_desc: format!("η_c,{}", (100.0 * q).round()),
+                    x_scale: Scale::Log,
+                    y_scale: Scale::Linear,
+                    x_range: None,
+                    y_range: Some((0.0, 1.0)),
+                    lines,
+                },
+                caption: format!(
+                    "The {} fractile of η_c against p for three ε (lines), its {:.0} % percentile \
+                     bootstrap band (shaded; {} resamples of whole {}s) and the paper's Eq. {} \
+                     (dashed) (paper Fig. 8).",
+                    Q_NAMES[qi],
+                    100.0 * level,
+                    bands.first().map_or(0, |b| b.resamples),
+                    bands
+                        .first()
+                        .map_or("pair", |b| crate::label::Label::label(b.unit)),
+                    PAPER_EQ[qi]
+                ),
+            }
+        })
+        .collect()
 }
 
 /// The fractile's law evaluated at (p, ε).

@@ -42,6 +42,63 @@ pub struct RawPipeline {
     #[serde(default)]
     pub reduce: RawReduce,
     pub convergence: Option<RawConvergence>,
+    pub uncertainty: Option<RawUncertainty>,
+}
+
+/// Bootstrap bands of the capacity fractiles.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawUncertainty {
+    #[serde(default = "default_resamples")]
+    pub resamples: usize,
+    #[serde(default = "default_level")]
+    pub level: f64,
+    #[serde(default = "default_unit")]
+    pub unit: String,
+    #[serde(default)]
+    pub seed: u64,
+}
+
+fn default_resamples() -> usize {
+    1000
+}
+fn default_level() -> f64 {
+    0.90
+}
+fn default_unit() -> String {
+    "pair".into()
+}
+
+/// Most bootstrap resamples a pipeline may ask for.
+pub const MAX_RESAMPLES: usize = 1_000_000;
+
+/// What the bootstrap resamples: whole pairs of components (the two
+/// components of a FEMA P695 pair share an earthquake and a station) or
+/// single records.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum ResampleUnit {
+    Pair,
+    Record,
+}
+
+impl crate::label::Label for ResampleUnit {
+    const ALL: &'static [Self] = &[ResampleUnit::Pair, ResampleUnit::Record];
+    fn label(self) -> &'static str {
+        match self {
+            ResampleUnit::Pair => "pair",
+            ResampleUnit::Record => "record",
+        }
+    }
+}
+
+/// `[uncertainty]`: percentile bootstrap bands of the capacity fractiles.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Uncertainty {
+    pub resamples: usize,
+    /// Two-sided level of the bands, e.g. 0.90 for the 5–95 % percentiles.
+    pub level: f64,
+    pub unit: ResampleUnit,
+    pub seed: u64,
 }
 
 /// Repeat the capacity search at several grid resolutions.
@@ -284,6 +341,8 @@ pub struct Plan {
     /// Grid resolutions (level counts) of the capacity-convergence study,
     /// ascending; empty for none.
     pub convergence: Vec<usize>,
+    /// Bootstrap bands of the capacity fractiles, if asked for.
+    pub uncertainty: Option<Uncertainty>,
     /// The pipeline file's folder: relative paths in the file are relative
     /// to it, and fingerprints store paths relative to it.
     #[serde(skip)]
@@ -437,6 +496,7 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
         ))
     })?;
     let convergence = convergence(raw.convergence.as_ref()).map_err(err)?;
+    let uncertainty = uncertainty(raw.uncertainty.as_ref()).map_err(err)?;
     Ok(Plan {
         name,
         description: raw.description.unwrap_or_default(),
@@ -457,6 +517,7 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
         },
         fractile,
         convergence,
+        uncertainty,
         base: base.to_path_buf(),
     })
 }
@@ -672,6 +733,38 @@ fn convergence(raw: Option<&RawConvergence>) -> Result<Vec<usize>, String> {
     Ok(levels)
 }
 
+fn uncertainty(raw: Option<&RawUncertainty>) -> Result<Option<Uncertainty>, String> {
+    use crate::label::Label;
+    let Some(u) = raw else {
+        return Ok(None);
+    };
+    if !(10..=MAX_RESAMPLES).contains(&u.resamples) {
+        return Err(format!(
+            "`uncertainty.resamples` = {}: give 10 to {MAX_RESAMPLES}",
+            u.resamples
+        ));
+    }
+    if !(u.level >= 0.5 && u.level <= 0.999) {
+        return Err(format!(
+            "`uncertainty.level` = {}: give a two-sided level from 0.5 to 0.999, e.g. 0.90",
+            u.level
+        ));
+    }
+    let unit = ResampleUnit::from_label(&u.unit).ok_or_else(|| {
+        format!(
+            "`uncertainty.unit` = \"{}\"; valid: {}",
+            u.unit,
+            ResampleUnit::labels()
+        )
+    })?;
+    Ok(Some(Uncertainty {
+        resamples: u.resamples,
+        level: u.level,
+        unit,
+        seed: u.seed,
+    }))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -756,6 +849,22 @@ mod tests {
                 "valid: type7",
             ),
             (format!("{MINIMAL}\n[im]\neta_min = 2.0\n"), "`im`"),
+            (
+                format!("{MINIMAL}\n[uncertainty]\nunit = \"site\"\n"),
+                "`uncertainty.unit` = \"site\"; valid: pair, record",
+            ),
+            (
+                format!("{MINIMAL}\n[uncertainty]\nresamples = 3\n"),
+                "`uncertainty.resamples` = 3",
+            ),
+            (
+                format!("{MINIMAL}\n[uncertainty]\nlevel = 1.5\n"),
+                "`uncertainty.level` = 1.5",
+            ),
+            (
+                format!("{MINIMAL}\n[uncertainty]\nlevels = 0.9\n"),
+                "levels",
+            ),
         ];
         for (text, expected) in cases {
             let e = load_str(&text, Path::new("pipelines/bad.toml"))

@@ -165,6 +165,11 @@ pub enum Style {
     LinePoints,
     /// A thin light-grey line (one of many, such as every record's IDA curve).
     Faint,
+    /// A dashed line (a published curve beside this study's).
+    Dashed,
+    /// A filled area in a light tint of the colour: the points trace its
+    /// outline (a band's lower edge left to right, then its upper edge back).
+    Band,
 }
 
 /// One series of a [`Chart`].
@@ -290,6 +295,55 @@ pub fn render(chart: &Chart) -> Result<String, PlotError> {
     Ok(svg)
 }
 
+/// The corner of the plot where the legend covers the fewest data points
+/// (upper right, upper left, lower right, lower left on ties), judged in
+/// axis fractions: the legend spans about 40 % of the width and 5 % of the
+/// height per entry.
+fn legend_corner(chart: &Chart, lines: &Runs) -> SeriesLabelPosition {
+    let pts: Vec<(f64, f64)> = lines
+        .iter()
+        .flat_map(|(_, r)| r.iter().flatten())
+        .copied()
+        .collect();
+    let fold = |f: fn(&(f64, f64)) -> f64| {
+        pts.iter()
+            .map(f)
+            .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)))
+    };
+    let ((x0, x1), (y0, y1)) = (fold(|p| p.0), fold(|p| p.1));
+    let (xa, xb) = axis_range(chart.x_scale, chart.x_range, x0, x1);
+    let (ya, yb) = axis_range(chart.y_scale, chart.y_range, y0, y1);
+    let frac = |scale: Scale, v: f64, a: f64, b: f64| match scale {
+        Scale::Linear => (v - a) / (b - a),
+        Scale::Log => (v / a).ln() / (b / a).ln(),
+    };
+    let entries = lines.iter().filter(|(l, _)| l.name.is_some()).count() as f64;
+    let (w, h) = (0.4, (0.05 * entries + 0.04).min(0.9));
+    let corners = [
+        (SeriesLabelPosition::UpperRight, true, true),
+        (SeriesLabelPosition::UpperLeft, false, true),
+        (SeriesLabelPosition::LowerRight, true, false),
+        (SeriesLabelPosition::LowerLeft, false, false),
+    ];
+    let covered = |right: bool, upper: bool| {
+        pts.iter()
+            .filter(|&&(x, y)| {
+                let (fx, fy) = (
+                    frac(chart.x_scale, x, xa, xb),
+                    frac(chart.y_scale, y, ya, yb),
+                );
+                (if right { fx > 1.0 - w } else { fx < w })
+                    && (if upper { fy > 1.0 - h } else { fy < h })
+            })
+            .count()
+    };
+    corners
+        .into_iter()
+        .min_by_key(|&(_, right, upper)| covered(right, upper))
+        .map(|c| c.0)
+        .expect("four corners")
+}
+
 /// An unbroken stretch of a line.
 type Run = Vec<(f64, f64)>;
 type Runs<'a> = [(&'a Line, Vec<Run>)];
@@ -320,11 +374,48 @@ where
         .draw()
         .map_err(&err)?;
     let mut any_legend = false;
-    for (l, runs) in lines {
+    // Bands first, under every line.
+    let by_layer = lines
+        .iter()
+        .filter(|(l, _)| l.style == Style::Band)
+        .chain(lines.iter().filter(|(l, _)| l.style != Style::Band));
+    for (l, runs) in by_layer {
         let color = PALETTE[l.color % PALETTE.len()];
         let faint = RGBColor(190, 190, 190);
         for (k, run) in runs.iter().enumerate() {
             let legend = k == 0 && l.name.is_some();
+            if l.style == Style::Band {
+                let fill = color.mix(0.18);
+                let s = c
+                    .draw_series(std::iter::once(Polygon::new(run.clone(), fill.filled())))
+                    .map_err(&err)?;
+                if legend {
+                    any_legend = true;
+                    s.label(l.name.clone().unwrap_or_default())
+                        .legend(move |(x, y)| {
+                            Rectangle::new([(x, y - 5), (x + 20, y + 5)], fill.filled())
+                        });
+                }
+                continue;
+            }
+            if l.style == Style::Dashed {
+                let s = c
+                    .draw_series(DashedLineSeries::new(
+                        run.iter().copied(),
+                        8,
+                        5,
+                        color.stroke_width(2),
+                    ))
+                    .map_err(&err)?;
+                if legend {
+                    any_legend = true;
+                    s.label(l.name.clone().unwrap_or_default())
+                        .legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 8, y)], color.stroke_width(2))
+                        });
+                }
+                continue;
+            }
             if matches!(l.style, Style::Line | Style::LinePoints | Style::Faint) {
                 let (col, width) = if l.style == Style::Faint {
                     (faint, 1)
@@ -359,7 +450,7 @@ where
     }
     if any_legend {
         c.configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
+            .position(legend_corner(chart, lines))
             .border_style(BLACK)
             .background_style(WHITE.mix(0.85))
             .label_font(("sans-serif", 14))

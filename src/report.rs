@@ -28,6 +28,7 @@ pub fn render(d: &StudyData, figures: &[Figure]) -> String {
     settings(&mut md, d);
     runtime(&mut md, d);
     capacity_fractiles(&mut md, d);
+    bands(&mut md, d);
     lognormality(&mut md, d);
     regression(&mut md, d);
     convergence(&mut md, d);
@@ -192,6 +193,71 @@ fn capacity_fractiles(w: &mut String, d: &StudyData) {
             ratios.len()
         );
     }
+}
+
+/// The bootstrap bands against the paper's Eqs. 10–12: how often the
+/// paper's curve lies inside this study's band, and how wide the bands are.
+fn bands(w: &mut String, d: &StudyData) {
+    let Some(bands) = d.bands.as_ref().filter(|b| !b.is_empty() && d.is_grid()) else {
+        return;
+    };
+    let first = &bands[0];
+    let _ = writeln!(
+        w,
+        "## How sure are the capacity fractiles?
+"
+    );
+    let _ = writeln!(
+        w,
+        "{:.0} % percentile bootstrap bands from {} resamples of whole {}s \
+         (`capacity_bands.parquet`). Where the paper's curve lies outside a band, the \
+         difference is more than the sampling error of this record set explains.\n",
+        100.0 * first.level,
+        first.resamples,
+        crate::label::Label::label(first.unit)
+    );
+    let _ = writeln!(
+        w,
+        "| fractile | paper's curve | blocks (p ≥ 0.5 1/s) | paper inside the band | median band width / η_c |\n|---|---|---:|---:|---:|"
+    );
+    let paper = fragility::paper();
+    for (qi, (q, name)) in [(0.16, "η_c,16"), (0.5, "η_c,50"), (0.84, "η_c,84")]
+        .into_iter()
+        .enumerate()
+    {
+        let rows: Vec<_> = bands
+            .iter()
+            .filter(|b| b.quantile == q && b.p >= 0.5)
+            .collect();
+        if rows.is_empty() {
+            continue;
+        }
+        let inside = rows
+            .iter()
+            .filter(|b| {
+                let v = paper[qi].eta_c(b.p, b.eps);
+                b.lo <= v && v <= b.hi
+            })
+            .count();
+        let mut widths: Vec<f64> = rows
+            .iter()
+            .filter(|b| b.eta_c > 0.0)
+            .map(|b| (b.hi - b.lo) / b.eta_c)
+            .collect();
+        widths.sort_by(|a, b| a.total_cmp(b));
+        let median = crate::stats::fractile(&widths, 0.5, crate::pipeline::FractileDef::Type7)
+            .unwrap_or(f64::NAN);
+        let _ = writeln!(
+            w,
+            "| {name} | Eq. {} | {} | {} ({:.0} %) | {:.0} % |",
+            crate::figures::PAPER_EQ[qi],
+            rows.len(),
+            inside,
+            100.0 * inside as f64 / rows.len() as f64,
+            100.0 * median
+        );
+    }
+    let _ = writeln!(w);
 }
 
 fn lognormality(w: &mut String, d: &StudyData) {

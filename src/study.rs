@@ -6,7 +6,7 @@ use crate::fragility::FractileLaw;
 use crate::pipeline::Plan;
 use crate::tables::convergence::ConvergenceRow;
 use crate::tables::fit::FitStep1Row;
-use crate::tables::reduce::{CapacityFractileRow, HorizontalRow, LognormalRow};
+use crate::tables::reduce::{CapacityBandRow, CapacityFractileRow, HorizontalRow, LognormalRow};
 use crate::tables::sweep::{CapacityRow, IdaRow};
 
 /// Everything the figures and the report are drawn from.
@@ -26,6 +26,8 @@ pub struct StudyData {
     pub fit_step1: Vec<FitStep1Row>,
     pub laws: Vec<FractileLaw>,
     pub convergence: Option<Vec<ConvergenceRow>>,
+    /// Bootstrap bands of the capacity fractiles, when the pipeline asks.
+    pub bands: Option<Vec<CapacityBandRow>>,
     /// Seconds each stage took when it last ran, in run order.
     pub stage_seconds: Vec<(String, Option<f64>)>,
 }

@@ -13,7 +13,8 @@ use super::sweep::{self, DatasetError};
 use crate::pipeline::{BlockSpec, FractileDef, Plan};
 use crate::stats;
 use crate::tables::reduce::{
-    CapacityFractileRow, HorizontalRow, LognormalRow, OverturnFractionRow, VerticalRow,
+    CapacityBandRow, CapacityFractileRow, HorizontalRow, LognormalRow, OverturnFractionRow,
+    VerticalRow,
 };
 use crate::tables::sweep::{CapacityRow, IdaRow};
 use crate::tables::{self, TableError};
@@ -34,6 +35,9 @@ pub const OUTPUTS: [&str; 5] = [
     "overturn_fraction.parquet",
 ];
 
+/// The bootstrap bands, written when the pipeline has `[uncertainty]`.
+pub const BANDS: &str = "capacity_bands.parquet";
+
 impl Stage for Reduce {
     fn name(&self) -> &'static str {
         "reduce"
@@ -44,23 +48,37 @@ impl Stage for Reduce {
     }
 
     fn settings(&self, study: &Study) -> serde_json::Value {
-        serde_json::json!(format!("{:?}", study.plan.fractile))
-    }
-
-    fn inputs(&self, study: &Study) -> Result<Vec<PathBuf>, BoxError> {
-        match sweep::dataset(&study.dir) {
-            Ok((ida, cap)) => Ok(ida.into_iter().chain(cap).collect()),
-            // Not there yet: name the tables the sweep writes.
-            Err(DatasetError::NoTables(_) | DatasetError::Io { .. }) => Ok(vec![
-                study.path("ida_points.parquet"),
-                study.path("capacities.parquet"),
-            ]),
-            Err(e) => Err(e.into()),
+        let fractile = format!("{:?}", study.plan.fractile);
+        match study.plan.uncertainty {
+            None => serde_json::json!(fractile),
+            Some(u) => serde_json::json!({ "fractile": fractile, "uncertainty": u }),
         }
     }
 
+    fn inputs(&self, study: &Study) -> Result<Vec<PathBuf>, BoxError> {
+        let mut inputs = match sweep::dataset(&study.dir) {
+            Ok((ida, cap)) => ida.into_iter().chain(cap).collect(),
+            // Not there yet: name the tables the sweep writes.
+            Err(DatasetError::NoTables(_) | DatasetError::Io { .. }) => vec![
+                study.path("ida_points.parquet"),
+                study.path("capacities.parquet"),
+            ],
+            Err(e) => return Err(e.into()),
+        };
+        if study.plan.uncertainty.is_some() {
+            // The records' pairs, for the bootstrap.
+            inputs.push(study.records_table());
+        }
+        Ok(inputs)
+    }
+
     fn outputs(&self, study: &Study, _shard: Option<Shard>) -> Vec<PathBuf> {
-        OUTPUTS.iter().map(|n| study.path(n)).collect()
+        let bands = study.plan.uncertainty.map(|_| BANDS);
+        OUTPUTS
+            .iter()
+            .chain(&bands)
+            .map(|n| study.path(n))
+            .collect()
     }
 
     fn run(&self, cx: &Context) -> Result<Summary, BoxError> {
@@ -76,6 +94,13 @@ pub enum ReduceError {
     Table(#[from] TableError),
     #[error("the sweep tables do not match the pipeline: {0}; rerun `rocking sweep`")]
     Mismatch(String),
+    #[error(transparent)]
+    Records(#[from] super::records::SelectError),
+    #[error(
+        "[uncertainty] unit = \"pair\" resamples the manifest's pairs, and record {0} has \
+         none: give the pipeline a manifest with pairs, or set unit = \"record\""
+    )]
+    NoPair(String),
 }
 
 /// One record's IDA for one block, at the grid levels.
@@ -120,6 +145,8 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
         by_case[k].push(r);
     }
     let mut out = Tables::default();
+    // Per block: the records' η_c in record order, and their fractiles.
+    let mut per_block: Vec<(Vec<f64>, [f64; 3])> = Vec::with_capacity(n_blocks);
     for (bi, block) in plan.blocks.iter().enumerate() {
         let records: Vec<RecordIda> = (0..n_records)
             .map(|ri| {
@@ -142,7 +169,15 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
         vertical(plan, block, &records, &mut out);
         let q_eta = capacity_fractiles(plan.fractile, block, &records, &h_q, &mut out);
         lognormal(block, &records, q_eta, &mut out);
+        per_block.push((
+            records.iter().map(|r| r.cap.eta_c.unwrap_or(0.0)).collect(),
+            q_eta,
+        ));
     }
+    let bands = match plan.uncertainty {
+        Some(u) => Some(bands(study, u, &caps[..n_records * n_blocks], &per_block)?),
+        None => None,
+    };
     let settings = vec![
         (
             "rocking.reduce.fractile".to_string(),
@@ -159,6 +194,14 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
     tables::write(&path(2), &out.capacity, &settings)?;
     tables::write(&path(3), &out.lognormal, &settings)?;
     tables::write(&path(4), &out.fraction, &settings)?;
+    if let (Some(rows), Some(u)) = (&bands, plan.uncertainty) {
+        let mut meta = settings.clone();
+        meta.push((
+            "rocking.reduce.uncertainty".to_string(),
+            serde_json::json!(u).to_string(),
+        ));
+        tables::write(&study.path(BANDS), rows, &meta)?;
+    }
     let (kept, tested) = out.pass;
     Ok(Summary {
         lines: vec![
@@ -168,12 +211,102 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
                 100.0 * kept as f64 / tested.max(1) as f64
             ),
             format!(
-                "wrote fractiles_horizontal, fractiles_vertical, capacity_fractiles, lognormal, overturn_fraction in {}",
+                "wrote fractiles_horizontal, fractiles_vertical, capacity_fractiles, lognormal, overturn_fraction{} in {}",
+                if bands.is_some() { ", capacity_bands" } else { "" },
                 study.dir.display()
             ),
         ],
         also_wrote: Vec::new(),
     })
+}
+
+/// Bootstrap bands of every block's capacity fractiles: resampling units
+/// (pairs from the records table, or records) drawn with replacement,
+/// [`stats::quantile_bands`] per block, blocks in parallel. Block `b` draws
+/// from stream `b` of the seed, so the bands do not depend on the threads.
+fn bands(
+    study: &Study,
+    u: crate::pipeline::Uncertainty,
+    caps: &[CapacityRow],
+    per_block: &[(Vec<f64>, [f64; 3])],
+) -> Result<Vec<CapacityBandRow>, ReduceError> {
+    use crate::pipeline::ResampleUnit;
+    use rayon::prelude::*;
+    let plan = &study.plan;
+    let n_blocks = plan.blocks.len();
+    // Record ri's unit: its pair, or itself. Records are in case order
+    // (case k = ri·n_blocks + bi).
+    let n_records = per_block.first().map_or(0, |b| b.0.len());
+    let record_ids: Vec<&str> = (0..n_records)
+        .map(|ri| caps[ri * n_blocks].record_id.as_str())
+        .collect();
+    let unit_of: Vec<usize> = match u.unit {
+        ResampleUnit::Record => (0..n_records).collect(),
+        ResampleUnit::Pair => {
+            let rows = super::records::select(plan, &study.records_table())?;
+            let pair_of: std::collections::HashMap<&str, &str> = rows
+                .iter()
+                .filter_map(|r| Some((r.record_id.as_str(), r.meta.pair.as_deref()?)))
+                .collect();
+            let mut pairs: Vec<&str> = Vec::new();
+            record_ids
+                .iter()
+                .map(|id| {
+                    let pair = *pair_of
+                        .get(id)
+                        .ok_or_else(|| ReduceError::NoPair(id.to_string()))?;
+                    Ok(match pairs.iter().position(|p| *p == pair) {
+                        Some(i) => i,
+                        None => {
+                            pairs.push(pair);
+                            pairs.len() - 1
+                        }
+                    })
+                })
+                .collect::<Result<_, ReduceError>>()?
+        }
+    };
+    let n_units = unit_of.iter().max().map_or(0, |m| m + 1);
+    let rows: Vec<Vec<CapacityBandRow>> = plan
+        .blocks
+        .par_iter()
+        .zip(per_block)
+        .enumerate()
+        .map(|(bi, (block, (etas, q_eta)))| {
+            let mut groups = vec![Vec::new(); n_units];
+            for (ri, &eta) in etas.iter().enumerate() {
+                groups[unit_of[ri]].push(eta);
+            }
+            let mut rng = stats::SplitMix64::stream(u.seed, bi as u64);
+            let b = stats::quantile_bands(
+                &groups,
+                &QUANTILES,
+                plan.fractile,
+                u.resamples,
+                u.level,
+                &mut rng,
+            )
+            .expect("records");
+            QUANTILES
+                .iter()
+                .zip(b)
+                .zip(q_eta)
+                .map(|((&quantile, (lo, hi)), &eta_c)| CapacityBandRow {
+                    block: block.name.clone(),
+                    p: block.p,
+                    eps: block.eps,
+                    quantile,
+                    eta_c,
+                    lo,
+                    hi,
+                    level: u.level,
+                    resamples: u.resamples as i64,
+                    unit: u.unit,
+                })
+                .collect()
+        })
+        .collect();
+    Ok(rows.into_iter().flatten().collect())
 }
 
 /// The sweep's capacities and IDA points, in case order, checked to be of

@@ -56,6 +56,9 @@ impl Stage for Report {
         if !study.plan.convergence.is_empty() {
             inputs.push(study.path("capacity_convergence.parquet"));
         }
+        if study.plan.uncertainty.is_some() {
+            inputs.push(study.path(super::reduce::BANDS));
+        }
         Ok(inputs)
     }
 
@@ -121,6 +124,10 @@ pub fn load(
             None
         } else {
             Some(tables::read(&dir.join("capacity_convergence.parquet"))?)
+        },
+        bands: match plan.uncertainty {
+            Some(_) => Some(tables::read(&dir.join(super::reduce::BANDS))?),
+            None => None,
         },
         stage_seconds: stage_seconds
             .iter()

@@ -246,6 +246,7 @@ label_columns!(
     super::fit::Source,
     super::fit::Coefficient,
     crate::risk::Beyond,
+    crate::pipeline::ResampleUnit,
 );
 
 /// Defines a table's row type and, from the same field list, its schema,

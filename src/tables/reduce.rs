@@ -2,6 +2,7 @@
 //! block (`block` label, empty for the grid, `p`, `eps`); columns are
 //! documented in the README.
 
+use crate::pipeline::ResampleUnit;
 use crate::table;
 
 table! {
@@ -51,6 +52,26 @@ table! {
         pub eta_c_horizontal: Option<f64>,
         pub n_records: i64,
         pub n_censored: i64,
+    }
+}
+
+table! {
+    /// A percentile bootstrap band of one capacity fractile of one block
+    /// (pipeline key `[uncertainty]`).
+    pub struct CapacityBandRow = "capacity_bands" v 1 {
+        pub block: String,
+        pub p: f64,
+        pub eps: f64,
+        pub quantile: f64,
+        /// The point estimate, as in capacity_fractiles.
+        pub eta_c: f64,
+        /// The band: the (1 − level)/2 and (1 + level)/2 percentiles of the
+        /// fractile over the resamples.
+        pub lo: f64,
+        pub hi: f64,
+        pub level: f64,
+        pub resamples: i64,
+        pub unit: ResampleUnit,
     }
 }
 
