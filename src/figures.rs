@@ -306,6 +306,13 @@ fn capacity_curves(d: &StudyData) -> Vec<Figure> {
     }]
 }
 
+/// 61 log-spaced p over the grid's range, to draw a law as a curve.
+fn dense_p(ps: &[f64]) -> Vec<f64> {
+    (0..=60)
+        .map(|k| ps[0] * (ps[ps.len() - 1] / ps[0]).powf(k as f64 / 60.0))
+        .collect()
+}
+
 /// The ε values a banded figure draws: the grid's first, middle and last.
 fn band_eps(es: &[f64]) -> Vec<(usize, f64)> {
     let mut picks = vec![0, es.len() / 2, es.len() - 1];
@@ -320,9 +327,7 @@ fn capacity_bands(d: &StudyData) -> Vec<Figure> {
     };
     let (ps, es) = d.ps_and_eps();
     let paper = fragility::paper();
-    let p_dense: Vec<f64> = (0..=60)
-        .map(|k| ps[0] * (ps[ps.len() - 1] / ps[0]).powf(k as f64 / 60.0))
-        .collect();
+    let p_dense = dense_p(&ps);
     let level = bands.first().map_or(0.9, |b| b.level);
     Q_VALUES
         .iter()
@@ -412,9 +417,7 @@ fn regression_median(d: &StudyData) -> Vec<Figure> {
         return Vec::new();
     }
     let (ps, es) = d.ps_and_eps();
-    let p_dense: Vec<f64> = (0..=60)
-        .map(|k| ps[0] * (ps[ps.len() - 1] / ps[0]).powf(k as f64 / 60.0))
-        .collect();
+    let p_dense = dense_p(&ps);
     let mut lines = Vec::new();
     for (k, &e) in es.iter().enumerate().step_by(es.len().div_ceil(5).max(1)) {
         lines.push(Line {

@@ -324,8 +324,7 @@ pub fn quantile_bands(
     for _ in 0..resamples {
         resample_groups(groups, rng, &mut pooled);
         if pooled.is_empty() {
-            // Only empty groups drawn: the resample says nothing; draw again
-            // counts as another resample of the same size.
+            // Only empty groups drawn: this resample has no statistic.
             continue;
         }
         for (est, &q) in estimates.iter_mut().zip(quantiles) {

@@ -19,17 +19,15 @@ use rocking::tables::reduce::{CapacityFractileRow, LognormalRow, OverturnFractio
 
 use crate::util::{bundled_records, rocking, root, stderr, stdout, tempdir};
 
-/// SplitMix64 and Box–Muller: a reproducible normal sample without a dependency.
-struct Normal(u64);
+/// The library's SplitMix64 and Box–Muller: a reproducible normal sample.
+struct Normal(rocking::stats::SplitMix64);
 
 impl Normal {
+    fn new(seed: u64) -> Self {
+        Normal(rocking::stats::SplitMix64::new(seed))
+    }
     fn uniform(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        ((z >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+        ((self.0.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64
     }
     fn next(&mut self) -> f64 {
         let (u, v) = (self.uniform(), self.uniform());
@@ -43,7 +41,7 @@ fn lilliefors_critical_value_agrees_with_monte_carlo() {
     // percentile of D. Its Monte Carlo standard error is about 0.0006
     // (binomial error of the 5 % tail over the density of D there), so the
     // two must agree to 0.003; the p-value there must be 0.05 ± 0.01.
-    let mut rng = Normal(20261122);
+    let mut rng = Normal::new(20261122);
     let n = 44;
     let mut ds: Vec<f64> = (0..20_000)
         .map(|_| {
@@ -77,7 +75,7 @@ fn regression_recovers_known_coefficients_and_admits_defeat() {
     let p: Vec<f64> = (0..12)
         .map(|k| 0.33 * (10.0f64 / 0.33).powf(k as f64 / 11.0))
         .collect();
-    let mut rng = Normal(7);
+    let mut rng = Normal::new(7);
     let y: Vec<f64> = p
         .iter()
         .map(|&p| curve(a, b, c, p) * (1.0 + 0.01 * rng.next()))

@@ -281,8 +281,10 @@ fn submit_runs_the_quick_study_on_a_real_slurm() {
     let out = tempdir();
     let submitted = out.path().join("slurm");
     let limit = Duration::from_secs(600);
-    let run = cluster.rocking(
-        &[
+    // The quick study in 3 array tasks, followed to the end.
+    let submit = |outputs: &Path, env: &[(&str, &str)]| {
+        let outputs = outputs.to_str().unwrap();
+        let args = [
             "submit",
             "pipelines/quick.toml",
             "--shards",
@@ -290,12 +292,10 @@ fn submit_runs_the_quick_study_on_a_real_slurm() {
             "--wait",
             "--poll",
             "0.5",
-            "--outputs",
-            submitted.to_str().unwrap(),
-        ],
-        &[],
-        limit,
-    );
+        ];
+        cluster.rocking(&[&args[..], &["--outputs", outputs]].concat(), env, limit)
+    };
+    let run = submit(&submitted, &[]);
     assert!(run.status.success(), "{}\n{}", stderr(&run), cluster.logs());
     let text = String::from_utf8_lossy(&run.stdout);
     assert!(
@@ -330,21 +330,7 @@ fn submit_runs_the_quick_study_on_a_real_slurm() {
     // first part): --wait fails, naming a task and its log, and the later
     // stages never run.
     let failing = out.path().join("failing");
-    let bad = cluster.rocking(
-        &[
-            "submit",
-            "pipelines/quick.toml",
-            "--shards",
-            "3",
-            "--wait",
-            "--poll",
-            "0.5",
-            "--outputs",
-            failing.to_str().unwrap(),
-        ],
-        &[(FAULT_ENV, "1")],
-        limit,
-    );
+    let bad = submit(&failing, &[(FAULT_ENV, "1")]);
     assert!(!bad.status.success());
     let e = stderr(&bad);
     assert!(

@@ -245,6 +245,18 @@ impl Exact {
         }
     }
 
+    /// The motion on pivot `s` from `(x, v)` under the forcing `g_a + g1·σ`.
+    #[inline]
+    fn motion(&self, x: f64, v: f64, s: f64, g_a: f64, g1: f64) -> Motion {
+        Motion {
+            p: self.p,
+            x_a: x,
+            v_a: v,
+            u: x + (g_a - s * self.eta) * self.inv_eta,
+            g1e: g1 * self.inv_eta,
+        }
+    }
+
     /// The first σ in (lo, hi] where `y(σ) = s·x(σ)` reaches `target`, given
     /// `y(lo)` short of it, `y(hi)` on or past it and `y` monotone between.
     /// Returns σ on the far side, within a few ulps of the crossing (so the
@@ -470,13 +482,7 @@ impl Exact {
         let (psi, slope) = (&exc.psi[..], &exc.slope[..]);
         let (mut x, mut v, mut flagged) = (0.5 * s, 0.0, 0u64);
         for (k, &g1) in slope.iter().enumerate() {
-            let m = Motion {
-                p: self.p,
-                x_a: x,
-                v_a: v,
-                u: x + (psi[k] - s * self.eta) * self.inv_eta,
-                g1e: g1 * self.inv_eta,
-            };
+            let m = self.motion(x, v, s, psi[k], g1);
             let (x_hi, v_hi) = m.at(&self.full);
             let y_hi = s * x_hi;
             flagged +=
@@ -528,13 +534,7 @@ impl Stepper for Exact {
         let n = slope.len().min(psi.len().saturating_sub(1));
         while k < n {
             let (g0, g_end, g1) = (psi[k], psi[k + 1], slope[k]);
-            let m = Motion {
-                p: self.p,
-                x_a: x,
-                v_a: v,
-                u: x + (g0 - s * self.eta) * self.inv_eta,
-                g1e: g1 * self.inv_eta,
-            };
+            let m = self.motion(x, v, s, g0, g1);
             let (x_hi, v_hi) = m.at(&self.full);
             let y_hi = s * x_hi;
             let inside = (y_hi < self.limit) & (y_hi > 0.0);
@@ -554,13 +554,7 @@ impl Stepper for Exact {
     #[allow(clippy::needless_range_loop)] // pieces end at turns[i], or at len for the last
     fn rock(&mut self, st: Stretch, state: &mut Rocking, max_abs_x: &mut f64) -> StretchEnd {
         let s = state.s;
-        let m = Motion {
-            p: self.p,
-            x_a: state.x,
-            v_a: state.v,
-            u: state.x + (st.g_a - s * self.eta) * self.inv_eta,
-            g1e: st.g1 * self.inv_eta,
-        };
+        let m = self.motion(state.x, state.v, s, st.g_a, st.g1);
         if let Some((sigma, v)) = self.hop(&m, s, st.len, *max_abs_x) {
             return StretchEnd::Impact { sigma, v };
         }

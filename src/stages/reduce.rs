@@ -175,7 +175,7 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
         ));
     }
     let bands = match plan.uncertainty {
-        Some(u) => Some(bands(study, u, &caps[..n_records * n_blocks], &per_block)?),
+        Some(u) => Some(bands(study, u, &caps, &per_block)?),
         None => None,
     };
     let settings = vec![
