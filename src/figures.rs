@@ -14,7 +14,7 @@
 //! convergence study.
 
 use crate::fit::{curve, polyval};
-use crate::fragility::{self, Block, FractileLaw};
+use crate::fragility::{self, FractileLaw};
 use crate::ida::RunKind;
 use crate::plot::{Chart, Line, Scale, Style};
 use crate::stats;
@@ -308,9 +308,7 @@ fn capacity_curves(d: &StudyData) -> Vec<Figure> {
 
 /// 61 log-spaced p over the grid's range, to draw a law as a curve.
 fn dense_p(ps: &[f64]) -> Vec<f64> {
-    (0..=60)
-        .map(|k| ps[0] * (ps[ps.len() - 1] / ps[0]).powf(k as f64 / 60.0))
-        .collect()
+    crate::fit::p_curve(ps)
 }
 
 /// The ε values a banded figure draws: the grid's first, middle and last.
@@ -602,12 +600,8 @@ fn lognormal_plots(d: &StudyData) -> Vec<Figure> {
 
 /// The fragility of an example block, from this study's fit and the paper's.
 fn fragility_example(d: &StudyData) -> Vec<Figure> {
-    let block = Block {
-        b_m: 0.25,
-        h_m: 1.0,
-        eps: Block::housner_eps(0.25, 1.0),
-    };
-    let pgas: Vec<f64> = (1..=120).map(|k| k as f64 * 0.01).collect();
+    let block = fragility::example_block();
+    let pgas = fragility::example_pgas();
     let mut lines = Vec::new();
     for (name, laws, color) in [
         ("this study", d.laws.to_vec(), 0),

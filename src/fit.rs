@@ -263,6 +263,15 @@ pub fn polyfit(x: &[f64], y: &[f64], degree: usize) -> Option<Vec<f64>> {
     Some(sol.iter().copied().collect())
 }
 
+/// 61 log-spaced p over the range of `ps` (ascending, non-empty): where the
+/// fitted laws are drawn and their bands evaluated.
+pub fn p_curve(ps: &[f64]) -> Vec<f64> {
+    let (lo, hi) = (ps[0], ps[ps.len() - 1]);
+    (0..=60)
+        .map(|k| lo * (hi / lo).powf(k as f64 / 60.0))
+        .collect()
+}
+
 /// Evaluates c0 + c1 x + c2 x² + ….
 pub fn polyval(coeffs: &[f64], x: f64) -> f64 {
     coeffs.iter().rev().fold(0.0, |acc, c| acc * x + c)

@@ -81,6 +81,21 @@ impl Block {
     }
 }
 
+/// The example block of the report's fragility figure and of `fit_bands`:
+/// a 0.5 m × 2 m cabinet (b = 0.25 m, h = 1 m) with Housner's ε.
+pub fn example_block() -> Block {
+    Block {
+        b_m: 0.25,
+        h_m: 1.0,
+        eps: Block::housner_eps(0.25, 1.0),
+    }
+}
+
+/// The PGAs (g) at which the example fragility is drawn: 0.01, 0.02, …, 1.20.
+pub fn example_pgas() -> Vec<f64> {
+    (1..=120).map(|k| k as f64 * 0.01).collect()
+}
+
 /// Median and dispersion of the capacity of a block, from three laws
 /// (16, 50, 84 %) in any order.
 pub fn median_beta(laws: &[FractileLaw], p: f64, eps: f64) -> Option<(f64, f64)> {

@@ -69,8 +69,13 @@ fn default_unit() -> String {
     "pair".into()
 }
 
-/// Most bootstrap resamples a pipeline may ask for.
-pub const MAX_RESAMPLES: usize = 1_000_000;
+/// Most bootstrap resamples a pipeline may ask for (percentile bands settle
+/// long before: their Monte Carlo error at 1,000 is already below the
+/// sampling error they measure).
+pub const MAX_RESAMPLES: usize = 10_000;
+/// Most resamples × blocks: `capacity_resamples.parquet` has three rows
+/// per pair (12 million rows at most, about a gigabyte in memory).
+pub const MAX_RESAMPLED_BLOCKS: usize = 4_000_000;
 
 /// What the bootstrap resamples: whole pairs of components (the two
 /// components of a FEMA P695 pair share an earthquake and a station) or
@@ -497,6 +502,16 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
     })?;
     let convergence = convergence(raw.convergence.as_ref()).map_err(err)?;
     let uncertainty = uncertainty(raw.uncertainty.as_ref()).map_err(err)?;
+    if let Some(u) = uncertainty {
+        if u.resamples.saturating_mul(blocks.len()) > MAX_RESAMPLED_BLOCKS {
+            return Err(err(format!(
+                "`uncertainty.resamples` = {} over {} blocks: resamples × blocks may be at most \
+                 {MAX_RESAMPLED_BLOCKS} (every resample's fractiles are kept); ask for fewer",
+                u.resamples,
+                blocks.len()
+            )));
+        }
+    }
     Ok(Plan {
         name,
         description: raw.description.unwrap_or_default(),
@@ -856,6 +871,17 @@ mod tests {
             (
                 format!("{MINIMAL}\n[uncertainty]\nresamples = 3\n"),
                 "`uncertainty.resamples` = 3",
+            ),
+            (
+                format!("{MINIMAL}\n[uncertainty]\nresamples = 20000\n"),
+                "give 10 to 10000",
+            ),
+            (
+                format!(
+                    "{}\n[uncertainty]\nresamples = 10000\n",
+                    MINIMAL.replace("count = 12", "count = 1000")
+                ),
+                "resamples × blocks may be at most 4000000",
             ),
             (
                 format!("{MINIMAL}\n[uncertainty]\nlevel = 1.5\n"),

@@ -304,10 +304,63 @@ pub fn resample_groups(groups: &[Vec<f64>], rng: &mut SplitMix64, out: &mut Vec<
     out.sort_by(|a, b| a.total_cmp(b));
 }
 
+/// Resampling units of a sample (the pairs of a record set, say): which
+/// members (indices into the sample) each unit holds. One draw picks as many
+/// units as there are, with replacement, and keeps every member of a drawn
+/// unit, so one resample of indices can be applied to many statistics at
+/// once (every block of a grid sees the same records).
+#[derive(Debug, Clone)]
+pub struct Units {
+    members: Vec<Vec<usize>>,
+}
+
+impl Units {
+    /// Units from each member's unit number (`unit_of[i]` for member `i`;
+    /// numbers need not be dense: unused numbers are dropped).
+    pub fn new(unit_of: &[usize]) -> Self {
+        let n = unit_of.iter().max().map_or(0, |m| m + 1);
+        let mut members = vec![Vec::new(); n];
+        for (i, &u) in unit_of.iter().enumerate() {
+            members[u].push(i);
+        }
+        members.retain(|m| !m.is_empty());
+        Units { members }
+    }
+
+    /// How many units there are.
+    pub fn count(&self) -> usize {
+        self.members.len()
+    }
+
+    /// One resample: the members of `count()` units drawn with replacement,
+    /// into `out` (cleared first), in draw order.
+    pub fn draw(&self, rng: &mut SplitMix64, out: &mut Vec<usize>) {
+        out.clear();
+        for _ in 0..self.members.len() {
+            out.extend_from_slice(&self.members[rng.below(self.members.len())]);
+        }
+    }
+}
+
+/// The percentile band of bootstrap estimates at `level`: their
+/// (1 − level)/2 and (1 + level)/2 fractiles (type 7). Sorts `estimates`;
+/// `None` when empty or a value is NaN.
+pub fn percentile_band(estimates: &mut [f64], level: f64) -> Option<(f64, f64)> {
+    if estimates.iter().any(|v| v.is_nan()) {
+        return None;
+    }
+    estimates.sort_by(|x, y| x.total_cmp(y));
+    let (a, b) = ((1.0 - level) / 2.0, (1.0 + level) / 2.0);
+    Some((
+        fractile(estimates, a, FractileDef::Type7)?,
+        fractile(estimates, b, FractileDef::Type7)?,
+    ))
+}
+
 /// Percentile bootstrap bands of the `quantiles` of the pooled values of
 /// `groups` (each resample draws whole groups with replacement): for each
-/// quantile, the (1 − level)/2 and (1 + level)/2 fractiles (type 7) of its
-/// estimate over `resamples` resamples. `None` without values.
+/// quantile, [`percentile_band`] of its estimate over `resamples`
+/// resamples. `None` without values.
 pub fn quantile_bands(
     groups: &[Vec<f64>],
     quantiles: &[f64],
@@ -331,16 +384,9 @@ pub fn quantile_bands(
             est.push(fractile(&pooled, q, def)?);
         }
     }
-    let (a, b) = ((1.0 - level) / 2.0, (1.0 + level) / 2.0);
     estimates
         .iter_mut()
-        .map(|est| {
-            est.sort_by(|x, y| x.total_cmp(y));
-            Some((
-                fractile(est, a, FractileDef::Type7)?,
-                fractile(est, b, FractileDef::Type7)?,
-            ))
-        })
+        .map(|est| percentile_band(est, level))
         .collect()
 }
 
@@ -364,6 +410,32 @@ mod bootstrap_tests {
                 assert_eq!(a, b, "pair {i}");
             }
         }
+    }
+
+    /// `Units` keeps a unit's members together too, and draws as many units
+    /// as there are: record i of 44 belongs to pair i / 2 (the manifest's
+    /// order), and every resample holds both records of each drawn pair.
+    #[test]
+    fn units_draw_whole_pairs() {
+        let unit_of: Vec<usize> = (0..44).map(|i| 2 * (i / 2) + 7).collect();
+        let units = Units::new(&unit_of);
+        assert_eq!(units.count(), 22);
+        let mut rng = SplitMix64::new(11);
+        let mut out = Vec::new();
+        for _ in 0..200 {
+            units.draw(&mut rng, &mut out);
+            assert_eq!(out.len(), 44);
+            for pair in 0..22 {
+                let first = out.iter().filter(|&&i| i == 2 * pair).count();
+                let second = out.iter().filter(|&&i| i == 2 * pair + 1).count();
+                assert_eq!(first, second, "pair {pair}");
+            }
+        }
+        let mut est = vec![3.0, 1.0, 2.0, 5.0, 4.0];
+        // Type 7 at 0.05 and 0.95 of 1..5: 1 + 4·0.05 = 1.2 and 4.8.
+        let (lo, hi) = percentile_band(&mut est, 0.9).unwrap();
+        assert!((lo - 1.2).abs() < 1e-12 && (hi - 4.8).abs() < 1e-12);
+        assert!(percentile_band(&mut [], 0.9).is_none());
     }
 
     /// The draws are uniform: over 220,000 draws of 0..22 every value's

@@ -13,7 +13,7 @@ use rocking::pipeline::FractileDef;
 use rocking::stages::sweep::read_capacities;
 use rocking::stages::{Context, Silent, Stage, Study};
 use rocking::stats::{fractile, lilliefors, lilliefors_critical_value, lilliefors_p_value};
-use rocking::tables::fit::FitStep1Row;
+use rocking::tables::fit::{FitBandRow, FitComparisonRow, FitStep1Row};
 use rocking::tables::read;
 use rocking::tables::reduce::{CapacityFractileRow, LognormalRow, OverturnFractionRow};
 
@@ -415,12 +415,12 @@ fn paper_median_capacity_within_ten_percent_of_eq10() {
 #[test]
 fn capacity_bands_contain_their_estimates_and_repeat_to_the_byte() {
     use rocking::pipeline::ResampleUnit;
-    use rocking::tables::reduce::CapacityBandRow;
+    use rocking::tables::reduce::{CapacityBandRow, CapacityResampleRow};
     let dir = tempdir();
     let body = |seed: u64| {
         format!(
-            "sets = [\"far-field\"]\n[blocks]\np = [1.0, 3.0]\neps = [0.8]\n[im]\ncount = 40\n\
-             [uncertainty]\nresamples = 300\nseed = {seed}\n"
+            "sets = [\"far-field\"]\n[blocks]\np = [1.0, 2.0, 4.0]\neps = [0.6, 0.75, 0.9]\n\
+             [im]\ncount = 40\n[uncertainty]\nresamples = 300\nseed = {seed}\n"
         )
     };
     let pipe = crate::util::write_pipeline(dir.path(), "bands", &body(5));
@@ -437,18 +437,24 @@ fn capacity_bands_contain_their_estimates_and_repeat_to_the_byte() {
             ],
         );
         assert!(o.status.success(), "{}", stderr(&o));
-        fs::read(dir.path().join(out).join("bands/capacity_bands.parquet")).unwrap()
+        ["capacity_bands", "capacity_resamples", "fit_bands"]
+            .map(|t| fs::read(dir.path().join(out).join(format!("bands/{t}.parquet"))).unwrap())
     };
     let (one, two) = (run("one", "1"), run("two", "2"));
-    assert!(
-        one == two,
-        "capacity_bands.parquet differs between 1 and 2 threads"
-    );
+    for (k, t) in ["capacity_bands", "capacity_resamples", "fit_bands"]
+        .iter()
+        .enumerate()
+    {
+        assert!(
+            one[k] == two[k],
+            "{t}.parquet differs between 1 and 2 threads"
+        );
+    }
     let rows: Vec<CapacityBandRow> =
         read(&dir.path().join("one/bands/capacity_bands.parquet")).unwrap();
     let fractiles: Vec<CapacityFractileRow> =
         read(&dir.path().join("one/bands/capacity_fractiles.parquet")).unwrap();
-    assert_eq!(rows.len(), 6);
+    assert_eq!(rows.len(), 27);
     for (b, f) in rows.iter().zip(&fractiles) {
         assert_eq!((b.p, b.quantile, b.eta_c), (f.p, f.quantile, f.eta_c));
         assert!(b.lo <= b.eta_c && b.eta_c <= b.hi, "{b:?}");
@@ -458,6 +464,45 @@ fn capacity_bands_contain_their_estimates_and_repeat_to_the_byte() {
             (0.9, 300, ResampleUnit::Pair)
         );
     }
+    // The resamples: 300 per block and fractile; each band is their 5 and
+    // 95 % type-7 fractiles (recomputed here from the table).
+    let resamples: Vec<CapacityResampleRow> =
+        read(&dir.path().join("one/bands/capacity_resamples.parquet")).unwrap();
+    assert_eq!(resamples.len(), 300 * 27);
+    for b in &rows {
+        let mut v: Vec<f64> = resamples
+            .iter()
+            .filter(|r| (r.p, r.eps, r.quantile) == (b.p, b.eps, b.quantile))
+            .map(|r| r.eta_c)
+            .collect();
+        v.sort_by(f64::total_cmp);
+        let at = |q: f64| {
+            let h = 299.0 * q;
+            let i = h.floor() as usize;
+            v[i] + (h - i as f64) * (v[i + 1] - v[i])
+        };
+        assert!((b.lo - at(0.05)).abs() < 1e-15 && (b.hi - at(0.95)).abs() < 1e-15);
+    }
+    // The fit's bands: every resample refitted. Each ε's η_c curve at 61 p
+    // and the example fragility at 120 PGAs; at the grid's ends the point
+    // value is the fitted law of fit_comparison; every band holds its point.
+    let fit_bands: Vec<FitBandRow> = read(&dir.path().join("one/bands/fit_bands.parquet")).unwrap();
+    assert_eq!(fit_bands.len(), 3 * 3 * 61 + 120);
+    let comparison: Vec<FitComparisonRow> =
+        read(&dir.path().join("one/bands/fit_comparison.parquet")).unwrap();
+    for c in comparison.iter().filter(|c| c.p == 1.0 || c.p == 4.0) {
+        let band = fit_bands
+            .iter()
+            .find(|f| f.quantile == Some(c.quantile) && f.eps == c.eps && f.p == c.p)
+            .expect("a band row at the grid's ends");
+        assert!((band.value.unwrap() - c.eta_c_fit.unwrap()).abs() < 1e-12);
+    }
+    for f in &fit_bands {
+        assert!(f.used > 0 && f.used <= 300 && f.resamples == 300, "{f:?}");
+        let (lo, v, hi) = (f.lo.unwrap(), f.value.unwrap(), f.hi.unwrap());
+        assert!(lo <= v && v <= hi, "{f:?}");
+    }
+
     // Another seed: other draws, other bands.
     fs::write(
         &pipe,
@@ -466,7 +511,7 @@ fn capacity_bands_contain_their_estimates_and_repeat_to_the_byte() {
             .replace("seed = 5", "seed = 6"),
     )
     .unwrap();
-    assert!(run("one", "2") != one, "the seed moves the bands");
+    assert!(run("one", "2")[0] != one[0], "the seed moves the bands");
 
     // Without a manifest there are no pairs: refused, naming a record; by
     // record it works.

@@ -14,8 +14,10 @@ use super::stage::{BoxError, Context, Shard, Stage, Study, Summary};
 use crate::fit::{curve, fit_curve, polyfit, polyval, CurveFit};
 use crate::fragility::{paper, FractileLaw};
 use crate::pipeline::Plan;
-use crate::tables::fit::{Coefficient, FitCoefficientRow, FitComparisonRow, FitStep1Row, Source};
-use crate::tables::reduce::CapacityFractileRow;
+use crate::tables::fit::{
+    BandCurve, Coefficient, FitBandRow, FitCoefficientRow, FitComparisonRow, FitStep1Row, Source,
+};
+use crate::tables::reduce::{CapacityFractileRow, CapacityResampleRow};
 use crate::tables::{self, TableError};
 
 /// The fit stage.
@@ -26,6 +28,14 @@ pub const OUTPUTS: [&str; 3] = [
     "fit_coefficients.parquet",
     "fit_comparison.parquet",
 ];
+
+/// The bands of the fitted curves, written when the pipeline has `[uncertainty]`.
+pub const BANDS: &str = "fit_bands.parquet";
+
+/// Metadata keys of `fit_bands.parquet`: step-1 fits converged over all
+/// resamples, and resamples whose refit gave all three laws ("k of n").
+pub const META_STEP1: &str = "rocking.fit.bands.step1_converged";
+pub const META_LAWS: &str = "rocking.fit.bands.laws_complete";
 
 impl Stage for Fit {
     fn name(&self) -> &'static str {
@@ -40,16 +50,29 @@ impl Stage for Fit {
         not_applicable(&study.plan)
     }
 
-    fn settings(&self, _study: &Study) -> serde_json::Value {
-        serde_json::Value::Null
+    fn settings(&self, study: &Study) -> serde_json::Value {
+        // The band level; the resamples come in through their table.
+        match study.plan.uncertainty {
+            None => serde_json::Value::Null,
+            Some(u) => serde_json::json!({ "band_level": u.level }),
+        }
     }
 
     fn inputs(&self, study: &Study) -> Result<Vec<PathBuf>, BoxError> {
-        Ok(vec![study.path("capacity_fractiles.parquet")])
+        let mut inputs = vec![study.path("capacity_fractiles.parquet")];
+        if study.plan.uncertainty.is_some() {
+            inputs.push(study.path(super::reduce::RESAMPLES));
+        }
+        Ok(inputs)
     }
 
     fn outputs(&self, study: &Study, _shard: Option<Shard>) -> Vec<PathBuf> {
-        OUTPUTS.iter().map(|n| study.path(n)).collect()
+        let bands = study.plan.uncertainty.map(|_| BANDS);
+        OUTPUTS
+            .iter()
+            .chain(&bands)
+            .map(|n| study.path(n))
+            .collect()
     }
 
     fn run(&self, cx: &Context) -> Result<Summary, BoxError> {
@@ -126,13 +149,7 @@ fn run(study: &Study) -> Result<Summary, FitError> {
         return Err(FitError::NotApplicable(why));
     }
     let rows: Vec<CapacityFractileRow> = tables::read(&study.path("capacity_fractiles.parquet"))?;
-    let mut groups: Groups = BTreeMap::new();
-    for r in &rows {
-        groups
-            .entry((r.quantile.to_bits(), r.eps.to_bits()))
-            .or_default()
-            .push((r.p, r.eta_c));
-    }
+    let groups = group(rows.iter().map(|r| (r.quantile, r.eps, r.p, r.eta_c)));
     let n_eps = crate::stats::distinct(rows.iter().map(|r| r.eps).collect()).len();
     let n_p = groups.values().next().map_or(0, |v| v.len());
     if n_p < 3 || n_eps < 3 {
@@ -142,6 +159,10 @@ fn run(study: &Study) -> Result<Summary, FitError> {
     let converged = step1.values().filter(|f| f.stop.converged()).count();
     let (laws, coeff_rows) = step2(&groups, &step1);
     let comparison = compare(&groups, &step1, &laws);
+    let bands = match study.plan.uncertainty {
+        Some(u) => Some(bands(study, u, &laws)?),
+        None => None,
+    };
     let settings: Vec<(String, String)> = Vec::new();
     tables::write(&study.path(OUTPUTS[0]), &step1_rows, &settings)?;
     tables::write(&study.path(OUTPUTS[1]), &coeff_rows, &settings)?;
@@ -151,6 +172,28 @@ fn run(study: &Study) -> Result<Summary, FitError> {
         "step 1: {converged} of {} fits converged",
         step1.len()
     )];
+    if let Some(b) = &bands {
+        let meta = vec![
+            (
+                META_STEP1.to_string(),
+                format!("{} of {}", b.step1_converged, b.step1_fits),
+            ),
+            (
+                META_LAWS.to_string(),
+                format!("{} of {}", b.complete, b.resamples),
+            ),
+        ];
+        tables::write(&study.path(BANDS), &b.rows, &meta)?;
+        lines.push(format!(
+            "bands: {} resamples refitted; step 1 converged in {} of {} fits ({:.1} %); all three laws in {} resamples ({:.1} %)",
+            b.resamples,
+            b.step1_converged,
+            b.step1_fits,
+            100.0 * b.step1_converged as f64 / b.step1_fits.max(1) as f64,
+            b.complete,
+            100.0 * b.complete as f64 / b.resamples.max(1) as f64,
+        ));
+    }
     let fmt = |c: &[f64]| {
         c.iter()
             .map(|v| format!("{v:+.3}"))
@@ -178,13 +221,149 @@ fn run(study: &Study) -> Result<Summary, FitError> {
         }
     }
     lines.push(format!(
-        "wrote fit_step1, fit_coefficients, fit_comparison in {}",
+        "wrote fit_step1, fit_coefficients, fit_comparison{} in {}",
+        if bands.is_some() { ", fit_bands" } else { "" },
         study.dir.display()
     ));
     Ok(Summary {
         lines,
         also_wrote: Vec::new(),
     })
+}
+
+/// (fractile, ε, p, η_c) points → curves to fit.
+fn group(points: impl Iterator<Item = (f64, f64, f64, f64)>) -> Groups {
+    let mut groups: Groups = BTreeMap::new();
+    for (q, e, p, eta) in points {
+        groups
+            .entry((q.to_bits(), e.to_bits()))
+            .or_default()
+            .push((p, eta));
+    }
+    groups
+}
+
+/// The fit bands and what went into them.
+struct Bands {
+    rows: Vec<FitBandRow>,
+    resamples: usize,
+    /// Step-1 fits over all resamples, and how many converged.
+    step1_fits: usize,
+    step1_converged: usize,
+    /// Resamples whose step 2 gave all three laws.
+    complete: usize,
+}
+
+/// Every bootstrap resample of `capacity_resamples` refitted (step 1 and
+/// step 2, as the point fit), in parallel and collected in resample order;
+/// the laws evaluated along each ε's capacity curves and the example
+/// block's fragility; percentile bands over the resamples with all three
+/// laws.
+fn bands(
+    study: &Study,
+    u: crate::pipeline::Uncertainty,
+    laws: &[FractileLaw],
+) -> Result<Bands, FitError> {
+    let rows: Vec<CapacityResampleRow> = tables::read(&study.path(super::reduce::RESAMPLES))?;
+    Ok(refit(&rows, laws, u.level))
+}
+
+/// [`bands`] on rows in resample order.
+fn refit(rows: &[CapacityResampleRow], laws: &[FractileLaw], level: f64) -> Bands {
+    use rayon::prelude::*;
+    let by_resample: Vec<&[CapacityResampleRow]> =
+        rows.chunk_by(|a, b| a.resample == b.resample).collect();
+    // (step-1 fits, converged, the three laws when complete) per resample.
+    let refits: Vec<(usize, usize, Option<Vec<FractileLaw>>)> = by_resample
+        .par_iter()
+        .map(|chunk| {
+            let groups = group(chunk.iter().map(|r| (r.quantile, r.eps, r.p, r.eta_c)));
+            let (fits, _) = step1(&groups);
+            let converged = fits.values().filter(|f| f.stop.converged()).count();
+            let (laws, _) = step2(&groups, &fits);
+            let complete = laws.len() == 3 && laws.iter().all(FractileLaw::is_complete);
+            (fits.len(), converged, complete.then_some(laws))
+        })
+        .collect();
+    let usable: Vec<&[FractileLaw]> = refits.iter().filter_map(|r| r.2.as_deref()).collect();
+    let ps = crate::stats::distinct(rows.iter().map(|r| r.p).collect());
+    let es = crate::stats::distinct(rows.iter().map(|r| r.eps).collect());
+    let resamples = by_resample.len();
+    let mut out = Vec::new();
+    let band = |values: &mut Vec<f64>| {
+        let used = values.len() as i64;
+        let b = (values.len() >= 2)
+            .then(|| crate::stats::percentile_band(values, level))
+            .flatten();
+        (b.map(|b| b.0), b.map(|b| b.1), used)
+    };
+    let law_of = |laws: &[FractileLaw], q: f64| laws.iter().find(|l| l.quantile == q).cloned();
+    let mut values = Vec::with_capacity(usable.len());
+    for q in super::reduce::QUANTILES {
+        let point = law_of(laws, q).filter(FractileLaw::is_complete);
+        for &e in &es {
+            for p in crate::fit::p_curve(&ps) {
+                values.clear();
+                values.extend(
+                    usable
+                        .iter()
+                        .filter_map(|l| law_of(l, q))
+                        .map(|l| l.eta_c(p, e))
+                        .filter(|v| v.is_finite()),
+                );
+                let (lo, hi, used) = band(&mut values);
+                out.push(FitBandRow {
+                    curve: BandCurve::EtaC,
+                    quantile: Some(q),
+                    p,
+                    eps: e,
+                    pga_g: None,
+                    value: point.as_ref().map(|l| l.eta_c(p, e)),
+                    lo,
+                    hi,
+                    used,
+                    level,
+                    resamples: resamples as i64,
+                });
+            }
+        }
+    }
+    let block = crate::fragility::example_block();
+    let (p, e, alpha) = (block.p(), block.eps, block.alpha());
+    let point = crate::fragility::median_beta(laws, p, e);
+    let resampled: Vec<(f64, f64)> = usable
+        .iter()
+        .filter_map(|l| crate::fragility::median_beta(l, p, e))
+        .collect();
+    for pga in crate::fragility::example_pgas() {
+        values.clear();
+        values.extend(
+            resampled
+                .iter()
+                .map(|&(m, beta)| crate::fragility::probability(m, beta, alpha, pga)),
+        );
+        let (lo, hi, used) = band(&mut values);
+        out.push(FitBandRow {
+            curve: BandCurve::Fragility,
+            quantile: None,
+            p,
+            eps: e,
+            pga_g: Some(pga),
+            value: point.map(|(m, beta)| crate::fragility::probability(m, beta, alpha, pga)),
+            lo,
+            hi,
+            used,
+            level,
+            resamples: resamples as i64,
+        });
+    }
+    Bands {
+        rows: out,
+        resamples,
+        step1_fits: refits.iter().map(|r| r.0).sum(),
+        step1_converged: refits.iter().map(|r| r.1).sum(),
+        complete: usable.len(),
+    }
 }
 
 /// Step 1: one curve per (ε, fractile).
@@ -294,4 +473,114 @@ fn compare(
         }
     }
     rows
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The paper's grid of p and ε (docs/MODEL.md §8).
+    fn grid() -> (Vec<f64>, Vec<f64>) {
+        let ps = (0..12)
+            .map(|k| 0.33 * (10.0f64 / 0.33).powf(k as f64 / 11.0))
+            .collect();
+        let es = (0..10).map(|k| 0.5 + 0.05 * k as f64).collect();
+        (ps, es)
+    }
+
+    /// The paper's three laws evaluated on the grid, as one resample's rows.
+    fn paper_rows(resample: i64, scale: f64) -> Vec<CapacityResampleRow> {
+        let (ps, es) = grid();
+        let mut rows = Vec::new();
+        for &eps in &es {
+            for &p in &ps {
+                for law in paper() {
+                    rows.push(CapacityResampleRow {
+                        resample,
+                        block: String::new(),
+                        p,
+                        eps,
+                        quantile: law.quantile,
+                        eta_c: scale * law.eta_c(p, eps),
+                    });
+                }
+            }
+        }
+        rows
+    }
+
+    /// Exact data recover the published coefficients through both steps:
+    /// step 1 fits each ε's curve exactly (a, b, c are then the polynomials'
+    /// values there), and step 2's polynomials are of the laws' own degrees.
+    #[test]
+    fn two_steps_recover_the_papers_coefficients_from_exact_data() {
+        let rows = paper_rows(0, 1.0);
+        let groups = group(rows.iter().map(|r| (r.quantile, r.eps, r.p, r.eta_c)));
+        let (fits, _) = step1(&groups);
+        assert!(fits.values().all(|f| f.stop.converged()));
+        let (laws, _) = step2(&groups, &fits);
+        assert_eq!(laws.len(), 3);
+        for (law, want) in laws.iter().zip(paper()) {
+            for (got, want) in [(&law.a, &want.a), (&law.b, &want.b), (&law.c, &want.c)] {
+                for (g, w) in got.iter().zip(want) {
+                    // Step 1's a, b, c to ~1e-7 (its tests), amplified by the
+                    // quadratic's conditioning over ε ∈ [0.5, 0.95].
+                    assert!(
+                        (g - w).abs() < 1e-4,
+                        "q = {}: {got:?} vs {want:?}",
+                        law.quantile
+                    );
+                }
+            }
+        }
+    }
+
+    /// Resamples that all equal the data refit to the point fit: the bands
+    /// collapse onto it. Resamples scaled by 0.9 … 1.1 scale a (and only a),
+    /// so the band of η_c is the 5 % and 95 % scaled point values.
+    #[test]
+    fn bands_collapse_on_identical_resamples_and_scale_with_them() {
+        let laws = paper().to_vec();
+        let same: Vec<CapacityResampleRow> = (0..20).flat_map(|r| paper_rows(r, 1.0)).collect();
+        let b = refit(&same, &laws, 0.9);
+        assert_eq!((b.resamples, b.complete), (20, 20));
+        assert_eq!(b.step1_converged, b.step1_fits);
+        for row in &b.rows {
+            let v = row.value.unwrap();
+            let tol = 1e-5 * v.abs().max(1e-3);
+            assert!(
+                (row.lo.unwrap() - v).abs() < tol && (row.hi.unwrap() - v).abs() < tol,
+                "{row:?}"
+            );
+            assert_eq!(row.used, 20);
+        }
+        // 21 resamples scaled 0.90, 0.91, …, 1.10: type-7 fractiles at 0.05
+        // and 0.95 of 21 evenly spaced values are the 2nd and 20th: 0.91, 1.09.
+        let scaled: Vec<CapacityResampleRow> = (0..21)
+            .flat_map(|r| paper_rows(r, 0.9 + 0.01 * r as f64))
+            .collect();
+        let b = refit(&scaled, &laws, 0.9);
+        for row in b.rows.iter().filter(|r| r.curve == BandCurve::EtaC) {
+            let v = row.value.unwrap();
+            assert!(
+                (row.lo.unwrap() / v - 0.91).abs() < 1e-4
+                    && (row.hi.unwrap() / v - 1.09).abs() < 1e-4,
+                "{row:?}"
+            );
+        }
+        // Scaling every fractile by k moves the example's fragility to
+        // Φ((ln(kη50) − ln η)/β): P at PGA g under k equals P at g/k.
+        let block = crate::fragility::example_block();
+        let (m, beta) = crate::fragility::median_beta(&laws, block.p(), block.eps).unwrap();
+        for row in b.rows.iter().filter(|r| r.curve == BandCurve::Fragility) {
+            let g = row.pga_g.unwrap();
+            let at = |k: f64| crate::fragility::probability(k * m, beta, block.alpha(), g);
+            let (lo, hi) = (row.lo.unwrap(), row.hi.unwrap());
+            let tol = 1e-6 + 1e-4 * hi;
+            assert!(
+                (lo - at(0.91)).abs() < tol && (hi - at(1.09)).abs() < tol,
+                "{row:?}"
+            );
+        }
+    }
 }

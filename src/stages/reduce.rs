@@ -13,8 +13,8 @@ use super::sweep::{self, DatasetError};
 use crate::pipeline::{BlockSpec, FractileDef, Plan};
 use crate::stats;
 use crate::tables::reduce::{
-    CapacityBandRow, CapacityFractileRow, HorizontalRow, LognormalRow, OverturnFractionRow,
-    VerticalRow,
+    CapacityBandRow, CapacityFractileRow, CapacityResampleRow, HorizontalRow, LognormalRow,
+    OverturnFractionRow, VerticalRow,
 };
 use crate::tables::sweep::{CapacityRow, IdaRow};
 use crate::tables::{self, TableError};
@@ -37,6 +37,9 @@ pub const OUTPUTS: [&str; 5] = [
 
 /// The bootstrap bands, written when the pipeline has `[uncertainty]`.
 pub const BANDS: &str = "capacity_bands.parquet";
+/// Every bootstrap resample's capacity fractiles (what the fit refits),
+/// written with the bands.
+pub const RESAMPLES: &str = "capacity_resamples.parquet";
 
 impl Stage for Reduce {
     fn name(&self) -> &'static str {
@@ -73,12 +76,11 @@ impl Stage for Reduce {
     }
 
     fn outputs(&self, study: &Study, _shard: Option<Shard>) -> Vec<PathBuf> {
-        let bands = study.plan.uncertainty.map(|_| BANDS);
-        OUTPUTS
-            .iter()
-            .chain(&bands)
-            .map(|n| study.path(n))
-            .collect()
+        let bands = match study.plan.uncertainty {
+            Some(_) => &[BANDS, RESAMPLES][..],
+            None => &[],
+        };
+        OUTPUTS.iter().chain(bands).map(|n| study.path(n)).collect()
     }
 
     fn run(&self, cx: &Context) -> Result<Summary, BoxError> {
@@ -194,13 +196,14 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
     tables::write(&path(2), &out.capacity, &settings)?;
     tables::write(&path(3), &out.lognormal, &settings)?;
     tables::write(&path(4), &out.fraction, &settings)?;
-    if let (Some(rows), Some(u)) = (&bands, plan.uncertainty) {
+    if let (Some((band_rows, resample_rows)), Some(u)) = (&bands, plan.uncertainty) {
         let mut meta = settings.clone();
         meta.push((
             "rocking.reduce.uncertainty".to_string(),
             serde_json::json!(u).to_string(),
         ));
-        tables::write(&study.path(BANDS), rows, &meta)?;
+        tables::write(&study.path(BANDS), band_rows, &meta)?;
+        tables::write(&study.path(RESAMPLES), resample_rows, &meta)?;
     }
     let (kept, tested) = out.pass;
     Ok(Summary {
@@ -212,7 +215,7 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
             ),
             format!(
                 "wrote fractiles_horizontal, fractiles_vertical, capacity_fractiles, lognormal, overturn_fraction{} in {}",
-                if bands.is_some() { ", capacity_bands" } else { "" },
+                if bands.is_some() { ", capacity_bands, capacity_resamples" } else { "" },
                 study.dir.display()
             ),
         ],
@@ -220,93 +223,118 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
     })
 }
 
-/// Bootstrap bands of every block's capacity fractiles: resampling units
-/// (pairs from the records table, or records) drawn with replacement,
-/// [`stats::quantile_bands`] per block, blocks in parallel. Block `b` draws
-/// from stream `b` of the seed, so the bands do not depend on the threads.
+/// Bootstrap bands of every block's capacity fractiles. Resample `r` draws
+/// whole units (pairs from the records table, or records) with replacement
+/// from stream `r` of the seed and applies the one draw to every block;
+/// resamples run in parallel and are collected in order, so the bytes do not
+/// depend on the threads. Returns the bands and every resample's fractiles.
 fn bands(
     study: &Study,
     u: crate::pipeline::Uncertainty,
     caps: &[CapacityRow],
     per_block: &[(Vec<f64>, [f64; 3])],
-) -> Result<Vec<CapacityBandRow>, ReduceError> {
-    use crate::pipeline::ResampleUnit;
+) -> Result<(Vec<CapacityBandRow>, Vec<CapacityResampleRow>), ReduceError> {
     use rayon::prelude::*;
     let plan = &study.plan;
-    let n_blocks = plan.blocks.len();
-    // Record ri's unit: its pair, or itself. Records are in case order
-    // (case k = ri·n_blocks + bi).
-    let n_records = per_block.first().map_or(0, |b| b.0.len());
-    let record_ids: Vec<&str> = (0..n_records)
-        .map(|ri| caps[ri * n_blocks].record_id.as_str())
-        .collect();
-    let unit_of: Vec<usize> = match u.unit {
-        ResampleUnit::Record => (0..n_records).collect(),
-        ResampleUnit::Pair => {
-            let rows = super::records::select(plan, &study.records_table())?;
-            let pair_of: std::collections::HashMap<&str, &str> = rows
-                .iter()
-                .filter_map(|r| Some((r.record_id.as_str(), r.meta.pair.as_deref()?)))
-                .collect();
-            let mut pairs: Vec<&str> = Vec::new();
-            record_ids
-                .iter()
-                .map(|id| {
-                    let pair = *pair_of
-                        .get(id)
-                        .ok_or_else(|| ReduceError::NoPair(id.to_string()))?;
-                    Ok(match pairs.iter().position(|p| *p == pair) {
-                        Some(i) => i,
-                        None => {
-                            pairs.push(pair);
-                            pairs.len() - 1
-                        }
+    let def = plan.fractile;
+    let units = stats::Units::new(&unit_of(study, u.unit, caps, per_block)?);
+    // estimates[r][block] = the block's three fractiles in resample r.
+    let estimates: Vec<Vec<[f64; 3]>> = (0..u.resamples as u64)
+        .into_par_iter()
+        .map_init(
+            || (Vec::new(), Vec::new()),
+            |(draw, pooled): &mut (Vec<usize>, Vec<f64>), r| {
+                let mut rng = stats::SplitMix64::stream(u.seed, r);
+                units.draw(&mut rng, draw);
+                per_block
+                    .iter()
+                    .map(|(etas, _)| {
+                        pooled.clear();
+                        pooled.extend(draw.iter().map(|&ri| etas[ri]));
+                        pooled.sort_by(|a, b| a.total_cmp(b));
+                        fractiles(pooled, def)
                     })
-                })
-                .collect::<Result<_, ReduceError>>()?
+                    .collect()
+            },
+        )
+        .collect();
+    let mut band_rows = Vec::with_capacity(3 * per_block.len());
+    let mut column = Vec::with_capacity(estimates.len());
+    for (bi, (block, (_, q_eta))) in plan.blocks.iter().zip(per_block).enumerate() {
+        for (qi, &quantile) in QUANTILES.iter().enumerate() {
+            column.clear();
+            column.extend(estimates.iter().map(|e| e[bi][qi]));
+            let (lo, hi) = stats::percentile_band(&mut column, u.level)
+                .ok_or_else(|| ReduceError::Mismatch("a NaN capacity".into()))?;
+            band_rows.push(CapacityBandRow {
+                block: block.name.clone(),
+                p: block.p,
+                eps: block.eps,
+                quantile,
+                eta_c: q_eta[qi],
+                lo,
+                hi,
+                level: u.level,
+                resamples: u.resamples as i64,
+                unit: u.unit,
+            });
         }
-    };
-    let n_units = unit_of.iter().max().map_or(0, |m| m + 1);
-    let rows: Vec<Vec<CapacityBandRow>> = plan
-        .blocks
-        .par_iter()
-        .zip(per_block)
-        .enumerate()
-        .map(|(bi, (block, (etas, q_eta)))| {
-            let mut groups = vec![Vec::new(); n_units];
-            for (ri, &eta) in etas.iter().enumerate() {
-                groups[unit_of[ri]].push(eta);
-            }
-            let mut rng = stats::SplitMix64::stream(u.seed, bi as u64);
-            let b = stats::quantile_bands(
-                &groups,
-                &QUANTILES,
-                plan.fractile,
-                u.resamples,
-                u.level,
-                &mut rng,
-            )
-            .expect("records");
-            QUANTILES
-                .iter()
-                .zip(b)
-                .zip(q_eta)
-                .map(|((&quantile, (lo, hi)), &eta_c)| CapacityBandRow {
+    }
+    let mut resample_rows = Vec::with_capacity(estimates.len() * 3 * per_block.len());
+    for (r, est) in estimates.iter().enumerate() {
+        for (block, q) in plan.blocks.iter().zip(est) {
+            for (&quantile, &eta_c) in QUANTILES.iter().zip(q) {
+                resample_rows.push(CapacityResampleRow {
+                    resample: r as i64,
                     block: block.name.clone(),
                     p: block.p,
                     eps: block.eps,
                     quantile,
                     eta_c,
-                    lo,
-                    hi,
-                    level: u.level,
-                    resamples: u.resamples as i64,
-                    unit: u.unit,
-                })
-                .collect()
-        })
+                });
+            }
+        }
+    }
+    Ok((band_rows, resample_rows))
+}
+
+/// Each record's resampling unit (records in case order): its pair's
+/// number (pairs numbered in order of first appearance), or its own.
+fn unit_of(
+    study: &Study,
+    unit: crate::pipeline::ResampleUnit,
+    caps: &[CapacityRow],
+    per_block: &[(Vec<f64>, [f64; 3])],
+) -> Result<Vec<usize>, ReduceError> {
+    use crate::pipeline::ResampleUnit;
+    let plan = &study.plan;
+    let n_blocks = plan.blocks.len();
+    let n_records = per_block.first().map_or(0, |b| b.0.len());
+    if unit == ResampleUnit::Record {
+        return Ok((0..n_records).collect());
+    }
+    // Case k = ri·n_blocks + bi.
+    let rows = super::records::select(plan, &study.records_table())?;
+    let pair_of: std::collections::HashMap<&str, &str> = rows
+        .iter()
+        .filter_map(|r| Some((r.record_id.as_str(), r.meta.pair.as_deref()?)))
         .collect();
-    Ok(rows.into_iter().flatten().collect())
+    let mut pairs: Vec<&str> = Vec::new();
+    (0..n_records)
+        .map(|ri| {
+            let id = caps[ri * n_blocks].record_id.as_str();
+            let pair = *pair_of
+                .get(id)
+                .ok_or_else(|| ReduceError::NoPair(id.to_string()))?;
+            Ok(match pairs.iter().position(|p| *p == pair) {
+                Some(i) => i,
+                None => {
+                    pairs.push(pair);
+                    pairs.len() - 1
+                }
+            })
+        })
+        .collect()
 }
 
 /// The sweep's capacities and IDA points, in case order, checked to be of

@@ -245,6 +245,7 @@ label_columns!(
     crate::fit::Stop,
     super::fit::Source,
     super::fit::Coefficient,
+    super::fit::BandCurve,
     crate::risk::Beyond,
     crate::pipeline::ResampleUnit,
 );

@@ -42,6 +42,50 @@ impl Label for Coefficient {
     }
 }
 
+/// Which curve a row of `fit_bands` belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BandCurve {
+    /// A capacity fractile η_c,q(p) at one ε, from the step-2 laws.
+    EtaC,
+    /// P(overturn | PGA) of the example block (`fragility::example_block`).
+    Fragility,
+}
+
+impl Label for BandCurve {
+    const ALL: &'static [Self] = &[BandCurve::EtaC, BandCurve::Fragility];
+    fn label(self) -> &'static str {
+        match self {
+            BandCurve::EtaC => "eta_c",
+            BandCurve::Fragility => "fragility",
+        }
+    }
+}
+
+table! {
+    /// One point of a fitted curve with its bootstrap band: every resample
+    /// of `capacity_resamples` refitted (step 1 and step 2) and evaluated
+    /// there.
+    pub struct FitBandRow = "fit_bands" v 1 {
+        pub curve: BandCurve,
+        /// The fractile (eta_c rows); null for the fragility.
+        pub quantile: Option<f64>,
+        pub p: f64,
+        pub eps: f64,
+        /// PGA in g (fragility rows); null for eta_c.
+        pub pga_g: Option<f64>,
+        /// This study's fit at the point (null when its laws are incomplete).
+        pub value: Option<f64>,
+        /// The percentile band over the resamples whose refit gave all
+        /// three laws (null when fewer than two did).
+        pub lo: Option<f64>,
+        pub hi: Option<f64>,
+        /// Resamples that entered the band at this point.
+        pub used: i64,
+        pub level: f64,
+        pub resamples: i64,
+    }
+}
+
 table! {
     /// One step-1 fit (one ε, one fractile).
     pub struct FitStep1Row = "fit_step1" v 1 {

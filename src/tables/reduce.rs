@@ -76,6 +76,21 @@ table! {
 }
 
 table! {
+    /// One bootstrap resample's capacity fractile of one block. A resample
+    /// is one draw of whole units (pairs or records) applied to every block,
+    /// so the fit stage can refit each resample's whole grid.
+    pub struct CapacityResampleRow = "capacity_resamples" v 1 {
+        /// 0, 1, …, resamples − 1; resample r draws from stream r of the seed.
+        pub resample: i64,
+        pub block: String,
+        pub p: f64,
+        pub eps: f64,
+        pub quantile: f64,
+        pub eta_c: f64,
+    }
+}
+
+table! {
     /// Lognormality of one block's η_c (Lilliefors).
     pub struct LognormalRow = "lognormal" v 1 {
         pub block: String,
