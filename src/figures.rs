@@ -39,7 +39,7 @@ pub const FIGURES: &[FigureFn] = &[
     horizontal_vs_vertical,
     capacity_curves,
     capacity_bands,
-    regression_median,
+    regressions,
     regression_coefficients,
     lognormal_plots,
     fragility_example,
@@ -406,50 +406,101 @@ fn law_at(law: &FractileLaw, p: f64, e: f64) -> f64 {
     )
 }
 
-/// Fig. 10: the median regression against the data.
-fn regression_median(d: &StudyData) -> Vec<Figure> {
-    let Some(law) = d.laws.iter().find(|l| l.quantile == 0.5 && l.is_complete()) else {
-        return Vec::new();
-    };
+/// Fig. 10 (median) and Fig. 11 (16 % and 84 %): a fractile's regression
+/// against the data, with the fit's bootstrap band and the paper's law.
+fn regressions(d: &StudyData) -> Vec<Figure> {
     if !d.is_grid() {
         return Vec::new();
     }
+    [1, 0, 2]
+        .into_iter()
+        .filter_map(|qi| regression(d, qi))
+        .collect()
+}
+
+fn regression(d: &StudyData, qi: usize) -> Option<Figure> {
+    let q = Q_VALUES[qi];
+    let law = d.laws.iter().find(|l| l.quantile == q && l.is_complete())?;
     let (ps, es) = d.ps_and_eps();
     let p_dense = dense_p(&ps);
+    let paper = &fragility::paper()[qi];
+    let bands = d.fit_bands.as_ref();
     let mut lines = Vec::new();
-    for (k, &e) in es.iter().enumerate().step_by(es.len().div_ceil(5).max(1)) {
+    for (k, (_, e)) in band_eps(&es).into_iter().enumerate() {
+        if let Some(b) = bands {
+            let rows: Vec<(f64, f64, f64)> = b
+                .eta_c(q, e)
+                .iter()
+                .filter_map(|r| Some((r.p, r.lo?, r.hi?)))
+                .collect();
+            lines.push(Line {
+                name: Some(format!("fit's band, ε = {e:.2}")),
+                points: rows
+                    .iter()
+                    .map(|r| (r.0, r.1))
+                    .chain(rows.iter().rev().map(|r| (r.0, r.2)))
+                    .collect(),
+                style: Style::Band,
+                color: k,
+            });
+        }
         lines.push(Line {
-            name: Some(format!("data ε = {e:.2}")),
-            points: capacity_points(&d.capacity_fractiles, e, 0.5, |r| Some(r.eta_c)),
+            name: Some(format!("data, ε = {e:.2}")),
+            points: capacity_points(&d.capacity_fractiles, e, q, |r| Some(r.eta_c)),
             style: Style::Points,
             color: k,
         });
         lines.push(Line {
-            name: None,
+            name: Some(format!("fit, ε = {e:.2}")),
             points: p_dense.iter().map(|&p| (p, law_at(law, p, e))).collect(),
             style: Style::Line,
             color: k,
         });
+        lines.push(Line {
+            name: Some(format!("paper Eq. {}, ε = {e:.2}", PAPER_EQ[qi])),
+            points: p_dense.iter().map(|&p| (p, law_at(paper, p, e))).collect(),
+            style: Style::Dashed,
+            color: k,
+        });
     }
-    vec![Figure {
-        file: "fig10_regression_median.svg".into(),
+    let pct = (100.0 * q).round();
+    let band_note = bands.map_or(String::new(), |b| {
+        let first = b.rows.first();
+        format!(
+            ", its {:.0} % bootstrap band (shaded: {} of {} resamples refitted through both steps)",
+            100.0 * first.map_or(0.9, |r| r.level),
+            b.laws_complete.0,
+            b.laws_complete.1
+        )
+    });
+    Some(Figure {
+        file: if qi == 1 {
+            "fig10_regression_median.svg".into()
+        } else {
+            format!("fig11_regression_q{pct}.svg")
+        },
         chart: Chart {
-            title: "Median capacity: data and the two-step regression".into(),
+            title: format!("η_c,{pct}: data, this study's regression and the paper's"),
             x_desc: "p (1/s)".into(),
-            y_desc: "η_c,50".into(),
+            y_desc: format!("η_c,{pct}"),
             x_scale: Scale::Log,
             y_scale: Scale::Linear,
             x_range: None,
             y_range: Some((0.0, 1.0)),
             lines,
         },
-        caption: "η_c,50 of the records (points) and a(ε)(1 − e^{−b(ε)p})^{c(ε)} with this \
-                  study's step-2 coefficients (lines) (paper Fig. 10)."
-            .into(),
-    }]
+        caption: format!(
+            "The {} fractile of η_c of the records (points) for three ε, this study's \
+             a(ε)(1 − e^{{−b(ε)p}})^{{c(ε)}} (lines){band_note} and the paper's Eq. {} (dashed) \
+             (paper Fig. {}).",
+            Q_NAMES[qi],
+            PAPER_EQ[qi],
+            if qi == 1 { 10 } else { 11 }
+        ),
+    })
 }
 
-/// Fig. 11: each coefficient against ε (step 1, this study's step 2, the paper's).
+/// Each coefficient against ε (step 1, this study's step 2, the paper's).
 fn regression_coefficients(d: &StudyData) -> Vec<Figure> {
     if !d.is_grid() {
         return Vec::new();
@@ -500,7 +551,7 @@ fn regression_coefficients(d: &StudyData) -> Vec<Figure> {
             });
         }
         out.push(Figure {
-            file: format!("fig11_coefficient_{coef}.svg"),
+            file: format!("regression_coefficient_{coef}.svg"),
             chart: Chart {
                 title: format!("Regression coefficient {coef}(ε)"),
                 x_desc: "ε".into(),
@@ -512,7 +563,7 @@ fn regression_coefficients(d: &StudyData) -> Vec<Figure> {
                 lines,
             },
             caption: format!(
-                "Step-1 values of {coef} per ε (points), this study's step-2 polynomial (lines) and the paper's (paper Fig. 11)."
+                "Step-1 values of {coef} per ε (points), this study's step-2 polynomial (lines) and the paper's."
             ),
         });
     }
@@ -603,6 +654,31 @@ fn fragility_example(d: &StudyData) -> Vec<Figure> {
     let block = fragility::example_block();
     let pgas = fragility::example_pgas();
     let mut lines = Vec::new();
+    let band: Vec<(f64, f64, f64)> = d.fit_bands.as_ref().map_or(Vec::new(), |b| {
+        b.fragility()
+            .iter()
+            .filter_map(|r| Some((r.pga_g?, r.lo?, r.hi?)))
+            .collect()
+    });
+    if !band.is_empty() {
+        lines.push(Line {
+            name: Some(format!(
+                "this study's {:.0} % band",
+                100.0
+                    * d.fit_bands
+                        .as_ref()
+                        .and_then(|b| b.rows.first())
+                        .map_or(0.9, |r| r.level)
+            )),
+            points: band
+                .iter()
+                .map(|r| (r.0, r.1))
+                .chain(band.iter().rev().map(|r| (r.0, r.2)))
+                .collect(),
+            style: Style::Band,
+            color: 0,
+        });
+    }
     for (name, laws, color) in [
         ("this study", d.laws.to_vec(), 0),
         ("paper", fragility::paper().to_vec(), 1),
@@ -614,7 +690,11 @@ fn fragility_example(d: &StudyData) -> Vec<Figure> {
                     .iter()
                     .map(|&g| (g, fragility::probability(m, beta, block.alpha(), g)))
                     .collect(),
-                style: Style::Line,
+                style: if color == 0 {
+                    Style::Line
+                } else {
+                    Style::Dashed
+                },
                 color,
             });
         }
@@ -639,9 +719,16 @@ fn fragility_example(d: &StudyData) -> Vec<Figure> {
             y_range: Some((0.0, 1.0)),
             lines,
         },
-        caption: "Probability of overturning of an example block (a 0.5 m × 2 m cabinet, \
-                  Housner's ε) from this study's regression and the paper's."
-            .into(),
+        caption: format!(
+            "Probability of overturning of an example block (a 0.5 m × 2 m cabinet, \
+             Housner's ε) from this study's regression and the paper's{}.",
+            if band.is_empty() {
+                ""
+            } else {
+                ", with the band of this study's curve over the bootstrap resamples (shaded; \
+                 `fit_bands.parquet`)"
+            }
+        ),
     }]
 }
 

@@ -31,6 +31,7 @@ pub fn render(d: &StudyData, figures: &[Figure]) -> String {
     bands(&mut md, d);
     lognormality(&mut md, d);
     regression(&mut md, d);
+    fit_bands(&mut md, d);
     convergence(&mut md, d);
     let _ = writeln!(md, "## Figures\n");
     for f in figures {
@@ -323,6 +324,97 @@ fn regression(w: &mut String, d: &StudyData) {
         let _ = writeln!(
             w,
             "\n— : too few converged step-1 fits of that fractile to fit the polynomial (a line needs 2, a quadratic 3)."
+        );
+    }
+    let _ = writeln!(w);
+}
+
+/// The regression's bootstrap bands: how the refits went, how often the
+/// paper's curves lie inside this fit's bands, and the example fragility's
+/// median PGA with its band.
+fn fit_bands(w: &mut String, d: &StudyData) {
+    let Some(b) = d.fit_bands.as_ref().filter(|b| !b.rows.is_empty()) else {
+        return;
+    };
+    let share = |(k, n): (usize, usize)| 100.0 * k as f64 / n.max(1) as f64;
+    let _ = writeln!(
+        w,
+        "## How sure is the regression?
+"
+    );
+    let _ = writeln!(
+        w,
+        "Every bootstrap resample of the capacity fractiles refitted through both steps \
+         (`fit_bands.parquet`): step 1 converged in {} of {} refits ({:.1} %), and {} of {} \
+         resamples ({:.1} %) gave all three laws; the {:.0} % bands are over those.\n",
+        b.step1_converged.0,
+        b.step1_converged.1,
+        share(b.step1_converged),
+        b.laws_complete.0,
+        b.laws_complete.1,
+        share(b.laws_complete),
+        100.0 * b.rows[0].level
+    );
+    let _ = writeln!(
+        w,
+        "| fractile | paper's curve | points (p ≥ 0.5 1/s, every ε) | paper inside the fit's band | median band width / η_c |\n|---|---|---:|---:|---:|"
+    );
+    let paper = fragility::paper();
+    for (qi, q) in [0.16, 0.5, 0.84].into_iter().enumerate() {
+        let rows: Vec<_> = b
+            .rows
+            .iter()
+            .filter(|r| r.quantile == Some(q) && r.p >= 0.5)
+            .filter_map(|r| Some((r.p, r.eps, r.value?, r.lo?, r.hi?)))
+            .collect();
+        if rows.is_empty() {
+            continue;
+        }
+        let inside = rows
+            .iter()
+            .filter(|&&(p, e, _, lo, hi)| (lo..=hi).contains(&paper[qi].eta_c(p, e)))
+            .count();
+        let mut widths: Vec<f64> = rows
+            .iter()
+            .filter(|r| r.2 > 0.0)
+            .map(|r| (r.4 - r.3) / r.2)
+            .collect();
+        widths.sort_by(|a, b| a.total_cmp(b));
+        let median = crate::stats::fractile(&widths, 0.5, crate::pipeline::FractileDef::Type7)
+            .unwrap_or(f64::NAN);
+        let _ = writeln!(
+            w,
+            "| η_c,{:.0} | Eq. {} | {} | {} ({:.0} %) | {:.0} % |",
+            100.0 * q,
+            crate::figures::PAPER_EQ[qi],
+            rows.len(),
+            inside,
+            100.0 * inside as f64 / rows.len() as f64,
+            100.0 * median
+        );
+    }
+    // The example fragility's median PGA: where each curve crosses 1/2.
+    let frag = b.fragility();
+    let crossing = |f: &dyn Fn(&crate::tables::fit::FitBandRow) -> Option<f64>| {
+        frag.windows(2).find_map(|w| {
+            let (g0, g1) = (w[0].pga_g?, w[1].pga_g?);
+            let (y0, y1) = (f(w[0])?, f(w[1])?);
+            (y0 < 0.5 && y1 >= 0.5).then(|| g0 + (0.5 - y0) / (y1 - y0) * (g1 - g0))
+        })
+    };
+    let block = fragility::example_block();
+    let paper_median =
+        fragility::median_beta(&paper, block.p(), block.eps).map(|(m, _)| block.alpha() / m);
+    if let (Some(mid), Some(lo), Some(hi)) = (
+        crossing(&|r| r.value),
+        crossing(&|r| r.hi),
+        crossing(&|r| r.lo),
+    ) {
+        let _ = writeln!(
+            w,
+            "\nThe example block (b = 0.25 m, h = 1 m, Housner's ε) overturns with probability 1/2 \
+             at PGA {mid:.3} g by this study's fit (band {lo:.3}–{hi:.3} g){}.",
+            paper_median.map_or(String::new(), |g| format!("; by the paper's, at {g:.3} g"))
         );
     }
     let _ = writeln!(w);

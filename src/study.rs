@@ -5,7 +5,7 @@
 use crate::fragility::FractileLaw;
 use crate::pipeline::Plan;
 use crate::tables::convergence::ConvergenceRow;
-use crate::tables::fit::FitStep1Row;
+use crate::tables::fit::{BandCurve, FitBandRow, FitStep1Row};
 use crate::tables::reduce::{CapacityBandRow, CapacityFractileRow, HorizontalRow, LognormalRow};
 use crate::tables::sweep::{CapacityRow, IdaRow};
 
@@ -28,8 +28,39 @@ pub struct StudyData {
     pub convergence: Option<Vec<ConvergenceRow>>,
     /// Bootstrap bands of the capacity fractiles, when the pipeline asks.
     pub bands: Option<Vec<CapacityBandRow>>,
+    /// Bootstrap bands of the fitted curves, when the pipeline asks and
+    /// has a fit.
+    pub fit_bands: Option<FitBands>,
     /// Seconds each stage took when it last ran, in run order.
     pub stage_seconds: Vec<(String, Option<f64>)>,
+}
+
+/// The fit's bootstrap bands and how the refits went.
+#[derive(Debug, Clone)]
+pub struct FitBands {
+    pub rows: Vec<FitBandRow>,
+    /// Step-1 refits that converged, of how many.
+    pub step1_converged: (usize, usize),
+    /// Resamples whose refit gave all three laws, of how many.
+    pub laws_complete: (usize, usize),
+}
+
+impl FitBands {
+    /// The rows of one fractile's η_c band at one ε, along p.
+    pub fn eta_c(&self, q: f64, eps: f64) -> Vec<&FitBandRow> {
+        self.rows
+            .iter()
+            .filter(|r| r.curve == BandCurve::EtaC && r.quantile == Some(q) && r.eps == eps)
+            .collect()
+    }
+
+    /// The example fragility's rows, along PGA.
+    pub fn fragility(&self) -> Vec<&FitBandRow> {
+        self.rows
+            .iter()
+            .filter(|r| r.curve == BandCurve::Fragility)
+            .collect()
+    }
 }
 
 impl StudyData {

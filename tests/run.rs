@@ -374,15 +374,19 @@ fn mini_study_snapshot() {
     let mut data = rocking::stages::report::load(&study, &times).unwrap();
     data.version = "(version)".into();
     let figures = rocking::figures::all(&data);
-    // Figs. 5–8, 11 a/b/c and the fragility example; no Fig. 9 (the
-    // Lilliefors test needs 5 records, the mini study has 3), no Fig. 10
-    // (too few converged step-1 fits of the median for its b and c), no
-    // convergence figures (no [convergence]).
+    // Figs. 5–8, the 84 % regression (Fig. 11), the coefficients a, b, c and
+    // the fragility example; no Fig. 9 (the Lilliefors test needs 5
+    // records, the mini study has 3), no Fig. 10 nor the 16 % regression
+    // (too few converged step-1 fits of those fractiles for their b and c),
+    // no convergence figures (no [convergence]), no bands (no [uncertainty]).
     let files: Vec<&str> = figures.iter().map(|f| f.file.as_str()).collect();
-    assert_eq!(files.len(), 8, "{files:?}");
-    assert!(!files
-        .iter()
-        .any(|f| f.starts_with("fig09") || f.starts_with("fig10") || f.contains("convergence")));
+    assert_eq!(files.len(), 9, "{files:?}");
+    assert!(files.contains(&"fig11_regression_q84.svg"), "{files:?}");
+    assert!(!files.iter().any(|f| f.starts_with("fig09")
+        || f.starts_with("fig10")
+        || f.ends_with("q16.svg")
+        || f.contains("convergence")
+        || f.contains("bands")));
     snapshot("mini_report.md", &rocking::report::render(&data, &figures));
     for (snap, table) in [
         ("mini_capacity_fractiles.tsv", "capacity_fractiles.parquet"),

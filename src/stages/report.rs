@@ -10,7 +10,7 @@ use super::stage::{BoxError, Context, Shard, Stage, Study, Summary};
 use super::sweep::{self, DatasetError};
 use crate::figures;
 use crate::plot::{self, PlotError};
-use crate::study::StudyData;
+use crate::study::{FitBands, StudyData};
 use crate::tables::{self, TableError};
 
 /// The report stage.
@@ -58,6 +58,9 @@ impl Stage for Report {
         }
         if study.plan.uncertainty.is_some() {
             inputs.push(study.path(super::reduce::BANDS));
+            if fit::not_applicable(&study.plan).is_none() {
+                inputs.push(study.path(fit::BANDS));
+            }
         }
         Ok(inputs)
     }
@@ -79,6 +82,8 @@ pub enum ReportError {
     Table(#[from] TableError),
     #[error(transparent)]
     Fit(#[from] fit::FitError),
+    #[error("{0}: no `{1}` in its metadata (\"k of n\"); rerun `rocking fit --force`")]
+    Meta(PathBuf, String),
     #[error("figure {file}")]
     Plot {
         file: String,
@@ -129,11 +134,34 @@ pub fn load(
             Some(_) => Some(tables::read(&dir.join(super::reduce::BANDS))?),
             None => None,
         },
+        fit_bands: match plan.uncertainty {
+            Some(_) if read_fit => Some(read_fit_bands(&dir.join(fit::BANDS))?),
+            _ => None,
+        },
         stage_seconds: stage_seconds
             .iter()
             .filter(|(name, _)| *name != "report")
             .map(|(name, s)| (name.to_string(), *s))
             .collect(),
+    })
+}
+
+/// `fit_bands.parquet` with its counts ("k of n" in the metadata).
+fn read_fit_bands(path: &Path) -> Result<FitBands, ReportError> {
+    let meta = tables::read_metadata(path)?;
+    let count = |key: &str| -> Result<(usize, usize), ReportError> {
+        meta.iter()
+            .find(|(k, _)| k == key)
+            .and_then(|(_, v)| {
+                let (k, n) = v.split_once(" of ")?;
+                Some((k.parse().ok()?, n.parse().ok()?))
+            })
+            .ok_or_else(|| ReportError::Meta(path.to_path_buf(), key.to_string()))
+    };
+    Ok(FitBands {
+        rows: tables::read(path)?,
+        step1_converged: count(fit::META_STEP1)?,
+        laws_complete: count(fit::META_LAWS)?,
     })
 }
 
