@@ -10,6 +10,8 @@
 //! - `faults`: the faults issue #9 lists (absurd sizes, corrupt parts, mixed
 //!   shards, misleading hints, thread counts, escaped file contents,
 //!   manifest lines, copied folders, hand-edited figures, typed reasons).
+//! - `html`: `report.html` loaded in headless Chromium, every figure drawn
+//!   (ROCKING_CHROMIUM=1; CI sets it).
 //! - `ingest`: the records table from the bundled FEMA P695 files, checked
 //!   against the manifest and the files; bad input and atomic output.
 //! - `physics`: the solvers against closed forms, conservation laws,
@@ -35,6 +37,7 @@
 mod certify;
 mod cli;
 mod faults;
+mod html;
 mod ingest;
 mod physics;
 mod quick;

@@ -16,6 +16,9 @@ use crate::tables::{self, TableError};
 /// The report stage.
 pub struct Report;
 
+/// The report as one page, figures inline.
+pub const HTML: &str = "report.html";
+
 impl Stage for Report {
     fn name(&self) -> &'static str {
         "report"
@@ -66,7 +69,7 @@ impl Stage for Report {
     }
 
     fn outputs(&self, study: &Study, _shard: Option<Shard>) -> Vec<PathBuf> {
-        vec![study.path("report.md")]
+        vec![study.path("report.md"), study.path(HTML)]
     }
 
     fn run(&self, cx: &Context) -> Result<Summary, BoxError> {
@@ -171,6 +174,7 @@ fn run(cx: &Context) -> Result<Summary, ReportError> {
     let figs = figures::all(&data);
     let fig_dir = study.path("figures");
     let mut written = Vec::new();
+    let mut svgs = Vec::new();
     for f in &figs {
         let svg = plot::render(&f.chart).map_err(|source| ReportError::Plot {
             file: f.file.clone(),
@@ -179,6 +183,7 @@ fn run(cx: &Context) -> Result<Summary, ReportError> {
         let path = fig_dir.join(&f.file);
         tables::atomic_write(&path, svg.as_bytes())?;
         written.push(path);
+        svgs.push((f.file.clone(), svg));
     }
     // Figures of an earlier state of the study that it no longer has (a fit
     // that no longer converges, say) would sit beside the report unlisted.
@@ -193,10 +198,14 @@ fn run(cx: &Context) -> Result<Summary, ReportError> {
     let md = crate::report::render(&data, &figs);
     let report = study.path("report.md");
     tables::atomic_write(&report, md.as_bytes())?;
+    let page = crate::report::render_html(&format!("Study {}", study.plan.name), &md, &svgs);
+    let html = study.path(HTML);
+    tables::atomic_write(&html, page.as_bytes())?;
     Ok(Summary {
         lines: vec![format!(
-            "wrote {} and {} figures in {}",
+            "wrote {}, {} (self-contained) and {} figures in {}",
             report.display(),
+            html.display(),
             figs.len(),
             fig_dir.display()
         )],
