@@ -127,6 +127,66 @@ pub fn log_log(
     Ok(svg)
 }
 
+/// The legend in the panel right of the plot, from (`x`, `y`): the same
+/// entries, order and symbols as a legend in a corner (bands first).
+fn legend_panel(
+    root: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    lines: &Runs,
+    x: i32,
+    y: i32,
+) -> Result<(), DrawingAreaErrorKind<std::io::Error>> {
+    let named = |band: bool| {
+        lines
+            .iter()
+            .filter(move |(l, r)| {
+                l.name.is_some() && !r.is_empty() && (l.style == Style::Band) == band
+            })
+            .map(|(l, _)| *l)
+    };
+    let entries: Vec<&Line> = named(true).chain(named(false)).collect();
+    let step = 17;
+    let height = 12 + step * entries.len() as i32;
+    let right = x + LEGEND_PANEL as i32 - 24;
+    root.draw(&Rectangle::new(
+        [(x, y), (right, y + height)],
+        WHITE.filled(),
+    ))?;
+    root.draw(&Rectangle::new([(x, y), (right, y + height)], BLACK))?;
+    for (i, l) in entries.iter().enumerate() {
+        let (sx, sy) = (x + 10, y + 14 + step * i as i32);
+        let color = PALETTE[l.color % PALETTE.len()];
+        match l.style {
+            Style::Band => root.draw(&Rectangle::new(
+                [(sx, sy - 5), (sx + 20, sy + 5)],
+                color.mix(0.18).filled(),
+            ))?,
+            Style::Dashed => {
+                for dx in [0, 12] {
+                    root.draw(&PathElement::new(
+                        vec![(sx + dx, sy), (sx + dx + 8, sy)],
+                        color.stroke_width(2),
+                    ))?;
+                }
+            }
+            Style::Points => root.draw(&Circle::new((sx + 10, sy), 3, color.filled()))?,
+            Style::Faint => root.draw(&PathElement::new(
+                vec![(sx, sy), (sx + 20, sy)],
+                RGBColor(190, 190, 190).stroke_width(1),
+            ))?,
+            Style::Line | Style::LinePoints => root.draw(&PathElement::new(
+                vec![(sx, sy), (sx + 20, sy)],
+                color.stroke_width(2),
+            ))?,
+        }
+        root.draw(&Text::new(
+            l.name.clone().unwrap_or_default(),
+            (sx + 30, sy - 7),
+            ("sans-serif", 14).into_font(),
+        ))?;
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -146,6 +206,66 @@ mod tests {
         let svg = log_log("t", "time (s)", "error", &s, 1e-16).unwrap();
         assert!(svg.starts_with("<svg"));
         assert!(svg.contains("alpha") && svg.contains("beta") && svg.contains("time (s)"));
+    }
+
+    /// The x of the `<text>` element holding `name`.
+    fn text_x(svg: &str, name: &str) -> f64 {
+        let at = svg.find(&format!("\n{name}\n</text>")).expect("the entry");
+        let open = svg[..at].rfind("<text x=\"").expect("its element") + 9;
+        svg[open..].split('"').next().unwrap().parse().unwrap()
+    }
+
+    /// Legends never cover data. Points on the rising diagonal leave the
+    /// upper-left corner free: the legend goes there, on the 900-px canvas.
+    /// A band over the whole plot (its outline has vertices along every
+    /// edge) leaves no corner free: the legend goes to a panel beside the
+    /// plot, on a wider canvas, every entry right of the plot's right edge
+    /// (900 − 18 px of margin).
+    #[test]
+    fn legend_takes_a_free_corner_or_goes_beside_the_plot() {
+        let line = |name: &str, style, points| Line {
+            name: Some(name.into()),
+            points,
+            style,
+            color: 0,
+        };
+        let chart = |lines| Chart {
+            title: "t".into(),
+            x_desc: "x".into(),
+            y_desc: "y".into(),
+            x_scale: Scale::Linear,
+            y_scale: Scale::Linear,
+            x_range: Some((0.0, 1.0)),
+            y_range: Some((0.0, 1.0)),
+            lines,
+        };
+        let ks = (0..=20).map(|k| k as f64 / 20.0);
+        let diagonal = line(
+            "diagonal",
+            Style::Points,
+            ks.clone().map(|v| (v, v)).collect(),
+        );
+        let svg = render(&chart(vec![diagonal.clone()])).unwrap();
+        assert!(svg.starts_with("<svg width=\"900\""), "{}", &svg[..60]);
+        assert!(text_x(&svg, "diagonal") < 450.0, "upper left");
+        let outline = ks
+            .clone()
+            .map(|x| (x, 0.0))
+            .chain(ks.rev().map(|x| (x, 1.0)))
+            .collect();
+        let svg = render(&chart(vec![
+            line("everywhere", Style::Band, outline),
+            diagonal,
+        ]))
+        .unwrap();
+        assert!(
+            svg.starts_with(&format!("<svg width=\"{}\"", 900 + LEGEND_PANEL)),
+            "{}",
+            &svg[..60]
+        );
+        for name in ["everywhere", "diagonal"] {
+            assert!(text_x(&svg, name) > 882.0, "{name} beside the plot");
+        }
     }
 }
 
@@ -235,8 +355,80 @@ fn axis_range(scale: Scale, given: Option<(f64, f64)>, lo: f64, hi: f64) -> (f64
 
 pub fn render(chart: &Chart) -> Result<String, PlotError> {
     let err = draw_err(&chart.title);
-    // Drop what an axis cannot show; a dropped point splits its line.
-    let lines: Vec<(&Line, Vec<Run>)> = chart
+    let lines = runs(chart);
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for &(x, y) in lines.iter().flat_map(|(_, r)| r.iter().flatten()) {
+        (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+    }
+    if x0 > x1 {
+        return Err(PlotError::Empty {
+            title: chart.title.clone(),
+        });
+    }
+    let (xa, xb) = axis_range(chart.x_scale, chart.x_range, x0, x1);
+    let (ya, yb) = axis_range(chart.y_scale, chart.y_range, y0, y1);
+    // The legend goes in a corner it leaves free of data, or, when every
+    // corner holds some, beside the plot on a wider canvas.
+    let legend = lines
+        .iter()
+        .any(|(l, r)| l.name.is_some() && !r.is_empty())
+        .then(|| legend_placement(chart, &lines));
+    let beside = legend.as_ref().is_some_and(|(_, covered)| *covered > 0);
+    let width = if beside { 900 + LEGEND_PANEL } else { 900 };
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (width, 620)).into_drawing_area();
+        root.fill(&WHITE).map_err(&err)?;
+        let mut builder = ChartBuilder::on(&root);
+        builder
+            .caption(&chart.title, ("sans-serif", 20))
+            .margin(18)
+            .margin_right(if beside { 18 + LEGEND_PANEL } else { 18 })
+            .x_label_area_size(55)
+            .y_label_area_size(75);
+        let legend = legend.map(|(corner, _)| if beside { None } else { Some(corner) });
+        // plotters types log and linear axes differently: one body, four instantiations.
+        match (chart.x_scale, chart.y_scale) {
+            (Scale::Linear, Scale::Linear) => {
+                draw(&mut builder, xa..xb, ya..yb, chart, &lines, legend)?
+            }
+            (Scale::Log, Scale::Linear) => draw(
+                &mut builder,
+                (xa..xb).log_scale(),
+                ya..yb,
+                chart,
+                &lines,
+                legend,
+            )?,
+            (Scale::Linear, Scale::Log) => draw(
+                &mut builder,
+                xa..xb,
+                (ya..yb).log_scale(),
+                chart,
+                &lines,
+                legend,
+            )?,
+            (Scale::Log, Scale::Log) => draw(
+                &mut builder,
+                (xa..xb).log_scale(),
+                (ya..yb).log_scale(),
+                chart,
+                &lines,
+                legend,
+            )?,
+        }
+        if beside {
+            legend_panel(&root, &lines, 900, 50).map_err(&err)?;
+        }
+        root.present().map_err(&err)?;
+    }
+    Ok(svg)
+}
+
+/// Each line's unbroken runs: what an axis cannot show is dropped, and a
+/// dropped point splits its line.
+fn runs(chart: &Chart) -> Vec<(&Line, Vec<Run>)> {
+    chart
         .lines
         .iter()
         .map(|l| {
@@ -251,55 +443,19 @@ pub fn render(chart: &Chart) -> Result<String, PlotError> {
             runs.retain(|r| !r.is_empty());
             (l, runs)
         })
-        .collect();
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    for &(x, y) in lines.iter().flat_map(|(_, r)| r.iter().flatten()) {
-        (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
-    }
-    if x0 > x1 {
-        return Err(PlotError::Empty {
-            title: chart.title.clone(),
-        });
-    }
-    let (xa, xb) = axis_range(chart.x_scale, chart.x_range, x0, x1);
-    let (ya, yb) = axis_range(chart.y_scale, chart.y_range, y0, y1);
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (900, 620)).into_drawing_area();
-        root.fill(&WHITE).map_err(&err)?;
-        let mut builder = ChartBuilder::on(&root);
-        builder
-            .caption(&chart.title, ("sans-serif", 20))
-            .margin(18)
-            .x_label_area_size(55)
-            .y_label_area_size(75);
-        // plotters types log and linear axes differently: one body, four instantiations.
-        match (chart.x_scale, chart.y_scale) {
-            (Scale::Linear, Scale::Linear) => draw(&mut builder, xa..xb, ya..yb, chart, &lines)?,
-            (Scale::Log, Scale::Linear) => {
-                draw(&mut builder, (xa..xb).log_scale(), ya..yb, chart, &lines)?
-            }
-            (Scale::Linear, Scale::Log) => {
-                draw(&mut builder, xa..xb, (ya..yb).log_scale(), chart, &lines)?
-            }
-            (Scale::Log, Scale::Log) => draw(
-                &mut builder,
-                (xa..xb).log_scale(),
-                (ya..yb).log_scale(),
-                chart,
-                &lines,
-            )?,
-        }
-        root.present().map_err(&err)?;
-    }
-    Ok(svg)
+        .collect()
 }
+
+/// Width (px) of the panel beside the plot that holds a legend no corner
+/// of the plot can take without covering data.
+const LEGEND_PANEL: u32 = 300;
 
 /// The corner of the plot where the legend covers the fewest data points
 /// (upper right, upper left, lower right, lower left on ties), judged in
 /// axis fractions: the legend spans about 40 % of the width and 5 % of the
 /// height per entry.
-fn legend_corner(chart: &Chart, lines: &Runs) -> SeriesLabelPosition {
+/// and how many it covers there.
+fn legend_placement(chart: &Chart, lines: &Runs) -> (SeriesLabelPosition, usize) {
     let pts: Vec<(f64, f64)> = lines
         .iter()
         .flat_map(|(_, r)| r.iter().flatten())
@@ -339,8 +495,8 @@ fn legend_corner(chart: &Chart, lines: &Runs) -> SeriesLabelPosition {
     };
     corners
         .into_iter()
-        .min_by_key(|&(_, right, upper)| covered(right, upper))
-        .map(|c| c.0)
+        .map(|(corner, right, upper)| (corner, covered(right, upper)))
+        .min_by_key(|c| c.1)
         .expect("four corners")
 }
 
@@ -354,6 +510,8 @@ fn draw<'b, X, Y>(
     y: Y,
     chart: &Chart,
     lines: &Runs,
+    // None: no legend; Some(None): beside the plot; Some(Some(c)): in corner c.
+    legend: Option<Option<SeriesLabelPosition>>,
 ) -> Result<(), PlotError>
 where
     X: plotters::coord::ranged1d::AsRangedCoord<Value = f64>,
@@ -448,9 +606,9 @@ where
             }
         }
     }
-    if any_legend {
+    if let (true, Some(Some(place))) = (any_legend, legend) {
         c.configure_series_labels()
-            .position(legend_corner(chart, lines))
+            .position(place)
             .border_style(BLACK)
             .background_style(WHITE.mix(0.85))
             .label_font(("sans-serif", 14))

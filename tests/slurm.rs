@@ -267,8 +267,8 @@ fn assert_same_tables(local: &Path, submitted: &Path) {
         );
         compared += 1;
     }
-    assert_eq!(compared, 11, "every table beyond the sweep's was compared");
-    assert!(submitted.join("report.md").exists());
+    assert_eq!(compared, 13, "every table beyond the sweep's was compared");
+    assert!(submitted.join("report.md").exists() && submitted.join("report.html").exists());
 }
 
 #[test]
