@@ -127,66 +127,6 @@ pub fn log_log(
     Ok(svg)
 }
 
-/// The legend in the panel right of the plot, from (`x`, `y`): the same
-/// entries, order and symbols as a legend in a corner (bands first).
-fn legend_panel(
-    root: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
-    lines: &Runs,
-    x: i32,
-    y: i32,
-) -> Result<(), DrawingAreaErrorKind<std::io::Error>> {
-    let named = |band: bool| {
-        lines
-            .iter()
-            .filter(move |(l, r)| {
-                l.name.is_some() && !r.is_empty() && (l.style == Style::Band) == band
-            })
-            .map(|(l, _)| *l)
-    };
-    let entries: Vec<&Line> = named(true).chain(named(false)).collect();
-    let step = 17;
-    let height = 12 + step * entries.len() as i32;
-    let right = x + LEGEND_PANEL as i32 - 24;
-    root.draw(&Rectangle::new(
-        [(x, y), (right, y + height)],
-        WHITE.filled(),
-    ))?;
-    root.draw(&Rectangle::new([(x, y), (right, y + height)], BLACK))?;
-    for (i, l) in entries.iter().enumerate() {
-        let (sx, sy) = (x + 10, y + 14 + step * i as i32);
-        let color = PALETTE[l.color % PALETTE.len()];
-        match l.style {
-            Style::Band => root.draw(&Rectangle::new(
-                [(sx, sy - 5), (sx + 20, sy + 5)],
-                color.mix(0.18).filled(),
-            ))?,
-            Style::Dashed => {
-                for dx in [0, 12] {
-                    root.draw(&PathElement::new(
-                        vec![(sx + dx, sy), (sx + dx + 8, sy)],
-                        color.stroke_width(2),
-                    ))?;
-                }
-            }
-            Style::Points => root.draw(&Circle::new((sx + 10, sy), 3, color.filled()))?,
-            Style::Faint => root.draw(&PathElement::new(
-                vec![(sx, sy), (sx + 20, sy)],
-                RGBColor(190, 190, 190).stroke_width(1),
-            ))?,
-            Style::Line | Style::LinePoints => root.draw(&PathElement::new(
-                vec![(sx, sy), (sx + 20, sy)],
-                color.stroke_width(2),
-            ))?,
-        }
-        root.draw(&Text::new(
-            l.name.clone().unwrap_or_default(),
-            (sx + 30, sy - 7),
-            ("sans-serif", 14).into_font(),
-        ))?;
-    }
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -425,6 +365,66 @@ pub fn render(chart: &Chart) -> Result<String, PlotError> {
     Ok(svg)
 }
 
+/// The legend in the panel right of the plot, from (`x`, `y`): the same
+/// entries, order and symbols as a legend in a corner (bands first).
+fn legend_panel(
+    root: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    lines: &Runs,
+    x: i32,
+    y: i32,
+) -> Result<(), DrawingAreaErrorKind<std::io::Error>> {
+    let named = |band: bool| {
+        lines
+            .iter()
+            .filter(move |(l, r)| {
+                l.name.is_some() && !r.is_empty() && (l.style == Style::Band) == band
+            })
+            .map(|(l, _)| *l)
+    };
+    let entries: Vec<&Line> = named(true).chain(named(false)).collect();
+    let step = 17;
+    let height = 12 + step * entries.len() as i32;
+    let right = x + LEGEND_PANEL as i32 - 24;
+    root.draw(&Rectangle::new(
+        [(x, y), (right, y + height)],
+        WHITE.filled(),
+    ))?;
+    root.draw(&Rectangle::new([(x, y), (right, y + height)], BLACK))?;
+    for (i, l) in entries.iter().enumerate() {
+        let (sx, sy) = (x + 10, y + 14 + step * i as i32);
+        let color = PALETTE[l.color % PALETTE.len()];
+        match l.style {
+            Style::Band => root.draw(&Rectangle::new(
+                [(sx, sy - 5), (sx + 20, sy + 5)],
+                color.mix(0.18).filled(),
+            ))?,
+            Style::Dashed => {
+                for dx in [0, 12] {
+                    root.draw(&PathElement::new(
+                        vec![(sx + dx, sy), (sx + dx + 8, sy)],
+                        color.stroke_width(2),
+                    ))?;
+                }
+            }
+            Style::Points => root.draw(&Circle::new((sx + 10, sy), 3, color.filled()))?,
+            Style::Faint => root.draw(&PathElement::new(
+                vec![(sx, sy), (sx + 20, sy)],
+                RGBColor(190, 190, 190).stroke_width(1),
+            ))?,
+            Style::Line | Style::LinePoints => root.draw(&PathElement::new(
+                vec![(sx, sy), (sx + 20, sy)],
+                color.stroke_width(2),
+            ))?,
+        }
+        root.draw(&Text::new(
+            l.name.clone().unwrap_or_default(),
+            (sx + 30, sy - 7),
+            ("sans-serif", 14).into_font(),
+        ))?;
+    }
+    Ok(())
+}
+
 /// Each line's unbroken runs: what an axis cannot show is dropped, and a
 /// dropped point splits its line.
 fn runs(chart: &Chart) -> Vec<(&Line, Vec<Run>)> {
@@ -453,8 +453,7 @@ const LEGEND_PANEL: u32 = 300;
 /// The corner of the plot where the legend covers the fewest data points
 /// (upper right, upper left, lower right, lower left on ties), judged in
 /// axis fractions: the legend spans about 40 % of the width and 5 % of the
-/// height per entry.
-/// and how many it covers there.
+/// height per entry; and how many points it covers there.
 fn legend_placement(chart: &Chart, lines: &Runs) -> (SeriesLabelPosition, usize) {
     let pts: Vec<(f64, f64)> = lines
         .iter()

@@ -101,9 +101,9 @@ fn print_results(study: &Study, results: &[StageResult], started: Instant) {
     }
     let names: Vec<&str> = ran.iter().map(|r| r.0).collect();
     println!(
-        "ran {} in {:.1} s; report: {}",
+        "ran {} in {:.1} s; report: {} (and report.md beside it)",
         names.join(", "),
         started.elapsed().as_secs_f64(),
-        study.path("report.md").display()
+        study.path(rocking::stages::report::HTML).display()
     );
 }
