@@ -306,9 +306,13 @@ fn capacity_curves(d: &StudyData) -> Vec<Figure> {
     }]
 }
 
-/// 61 log-spaced p over the grid's range, to draw a law as a curve.
-fn dense_p(ps: &[f64]) -> Vec<f64> {
-    crate::fit::p_curve(ps)
+/// A band's outline from (x, lo, hi) in x order: the lower edge left to
+/// right, then the upper edge back ([`Style::Band`]).
+fn outline(rows: &[(f64, f64, f64)]) -> Vec<(f64, f64)> {
+    rows.iter()
+        .map(|r| (r.0, r.1))
+        .chain(rows.iter().rev().map(|r| (r.0, r.2)))
+        .collect()
 }
 
 /// The ε values a banded figure draws: the grid's first, middle and last.
@@ -325,7 +329,7 @@ fn capacity_bands(d: &StudyData) -> Vec<Figure> {
     };
     let (ps, es) = d.ps_and_eps();
     let paper = fragility::paper();
-    let p_dense = dense_p(&ps);
+    let p_dense = crate::fit::p_curve(&ps);
     let level = bands.first().map_or(0.9, |b| b.level);
     Q_VALUES
         .iter()
@@ -337,14 +341,10 @@ fn capacity_bands(d: &StudyData) -> Vec<Figure> {
                     .iter()
                     .filter(|b| b.quantile == q && b.eps == e)
                     .collect();
-                let outline = rows
-                    .iter()
-                    .map(|b| (b.p, b.lo))
-                    .chain(rows.iter().rev().map(|b| (b.p, b.hi)))
-                    .collect();
+                let band: Vec<(f64, f64, f64)> = rows.iter().map(|b| (b.p, b.lo, b.hi)).collect();
                 lines.push(Line {
                     name: Some(format!("{:.0} % band, ε = {e:.2}", 100.0 * level)),
-                    points: outline,
+                    points: outline(&band),
                     style: Style::Band,
                     color: k,
                 });
@@ -422,7 +422,7 @@ fn regression(d: &StudyData, qi: usize) -> Option<Figure> {
     let q = Q_VALUES[qi];
     let law = d.laws.iter().find(|l| l.quantile == q && l.is_complete())?;
     let (ps, es) = d.ps_and_eps();
-    let p_dense = dense_p(&ps);
+    let p_dense = crate::fit::p_curve(&ps);
     let paper = &fragility::paper()[qi];
     let bands = d.fit_bands.as_ref();
     let mut lines = Vec::new();
@@ -435,11 +435,7 @@ fn regression(d: &StudyData, qi: usize) -> Option<Figure> {
                 .collect();
             lines.push(Line {
                 name: Some(format!("fit's band, ε = {e:.2}")),
-                points: rows
-                    .iter()
-                    .map(|r| (r.0, r.1))
-                    .chain(rows.iter().rev().map(|r| (r.0, r.2)))
-                    .collect(),
+                points: outline(&rows),
                 style: Style::Band,
                 color: k,
             });
@@ -670,11 +666,7 @@ fn fragility_example(d: &StudyData) -> Vec<Figure> {
                         .and_then(|b| b.rows.first())
                         .map_or(0.9, |r| r.level)
             )),
-            points: band
-                .iter()
-                .map(|r| (r.0, r.1))
-                .chain(band.iter().rev().map(|r| (r.0, r.2)))
-                .collect(),
+            points: outline(&band),
             style: Style::Band,
             color: 0,
         });

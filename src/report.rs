@@ -223,44 +223,50 @@ fn bands(w: &mut String, d: &StudyData) {
         w,
         "| fractile | paper's curve | blocks (p ≥ 0.5 1/s) | paper inside the band | median band width / η_c |\n|---|---|---:|---:|---:|"
     );
-    let paper = fragility::paper();
-    for (qi, (q, name)) in [(0.16, "η_c,16"), (0.5, "η_c,50"), (0.84, "η_c,84")]
-        .into_iter()
-        .enumerate()
-    {
-        let rows: Vec<_> = bands
+    for (qi, q) in [0.16, 0.5, 0.84].into_iter().enumerate() {
+        let rows: Vec<BandPoint> = bands
             .iter()
             .filter(|b| b.quantile == q && b.p >= 0.5)
+            .map(|b| (b.p, b.eps, b.eta_c, b.lo, b.hi))
             .collect();
-        if rows.is_empty() {
-            continue;
-        }
-        let inside = rows
-            .iter()
-            .filter(|b| {
-                let v = paper[qi].eta_c(b.p, b.eps);
-                b.lo <= v && v <= b.hi
-            })
-            .count();
-        let mut widths: Vec<f64> = rows
-            .iter()
-            .filter(|b| b.eta_c > 0.0)
-            .map(|b| (b.hi - b.lo) / b.eta_c)
-            .collect();
-        widths.sort_by(|a, b| a.total_cmp(b));
-        let median = crate::stats::fractile(&widths, 0.5, crate::pipeline::FractileDef::Type7)
-            .unwrap_or(f64::NAN);
-        let _ = writeln!(
-            w,
-            "| {name} | Eq. {} | {} | {} ({:.0} %) | {:.0} % |",
-            crate::figures::PAPER_EQ[qi],
-            rows.len(),
-            inside,
-            100.0 * inside as f64 / rows.len() as f64,
-            100.0 * median
-        );
+        paper_against_band(w, qi, &rows);
     }
     let _ = writeln!(w);
+}
+
+/// A point of a band: (p, ε, this study's value, lo, hi).
+type BandPoint = (f64, f64, f64, f64, f64);
+
+/// One row of a "paper against the band" table for fractile `qi` (16, 50,
+/// 84 %): the points, how many hold the paper's law inside their band, and
+/// the median band width relative to the value. Nothing without points.
+fn paper_against_band(w: &mut String, qi: usize, rows: &[BandPoint]) {
+    if rows.is_empty() {
+        return;
+    }
+    let law = &fragility::paper()[qi];
+    let inside = rows
+        .iter()
+        .filter(|&&(p, e, _, lo, hi)| (lo..=hi).contains(&law.eta_c(p, e)))
+        .count();
+    let mut widths: Vec<f64> = rows
+        .iter()
+        .filter(|r| r.2 > 0.0)
+        .map(|r| (r.4 - r.3) / r.2)
+        .collect();
+    widths.sort_by(|a, b| a.total_cmp(b));
+    let median = crate::stats::fractile(&widths, 0.5, crate::pipeline::FractileDef::Type7)
+        .unwrap_or(f64::NAN);
+    let _ = writeln!(
+        w,
+        "| η_c,{:.0} | Eq. {} | {} | {} ({:.0} %) | {:.0} % |",
+        100.0 * law.quantile,
+        crate::figures::PAPER_EQ[qi],
+        rows.len(),
+        inside,
+        100.0 * inside as f64 / rows.len() as f64,
+        100.0 * median
+    );
 }
 
 fn lognormality(w: &mut String, d: &StudyData) {
@@ -361,40 +367,16 @@ fn fit_bands(w: &mut String, d: &StudyData) {
         w,
         "| fractile | paper's curve | points (p ≥ 0.5 1/s, every ε) | paper inside the fit's band | median band width / η_c |\n|---|---|---:|---:|---:|"
     );
-    let paper = fragility::paper();
     for (qi, q) in [0.16, 0.5, 0.84].into_iter().enumerate() {
-        let rows: Vec<_> = b
+        let rows: Vec<BandPoint> = b
             .rows
             .iter()
             .filter(|r| r.quantile == Some(q) && r.p >= 0.5)
             .filter_map(|r| Some((r.p, r.eps, r.value?, r.lo?, r.hi?)))
             .collect();
-        if rows.is_empty() {
-            continue;
-        }
-        let inside = rows
-            .iter()
-            .filter(|&&(p, e, _, lo, hi)| (lo..=hi).contains(&paper[qi].eta_c(p, e)))
-            .count();
-        let mut widths: Vec<f64> = rows
-            .iter()
-            .filter(|r| r.2 > 0.0)
-            .map(|r| (r.4 - r.3) / r.2)
-            .collect();
-        widths.sort_by(|a, b| a.total_cmp(b));
-        let median = crate::stats::fractile(&widths, 0.5, crate::pipeline::FractileDef::Type7)
-            .unwrap_or(f64::NAN);
-        let _ = writeln!(
-            w,
-            "| η_c,{:.0} | Eq. {} | {} | {} ({:.0} %) | {:.0} % |",
-            100.0 * q,
-            crate::figures::PAPER_EQ[qi],
-            rows.len(),
-            inside,
-            100.0 * inside as f64 / rows.len() as f64,
-            100.0 * median
-        );
+        paper_against_band(w, qi, &rows);
     }
+    let paper = fragility::paper();
     // The example fragility's median PGA: where each curve crosses 1/2.
     let frag = b.fragility();
     let crossing = |f: &dyn Fn(&crate::tables::fit::FitBandRow) -> Option<f64>| {

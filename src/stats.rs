@@ -294,16 +294,6 @@ impl SplitMix64 {
     }
 }
 
-/// One bootstrap resample: `groups.len()` groups drawn with replacement,
-/// their values pooled and sorted into `out`.
-pub fn resample_groups(groups: &[Vec<f64>], rng: &mut SplitMix64, out: &mut Vec<f64>) {
-    out.clear();
-    for _ in 0..groups.len() {
-        out.extend_from_slice(&groups[rng.below(groups.len())]);
-    }
-    out.sort_by(|a, b| a.total_cmp(b));
-}
-
 /// Resampling units of a sample (the pairs of a record set, say): which
 /// members (indices into the sample) each unit holds. One draw picks as many
 /// units as there are, with replacement, and keeps every member of a drawn
@@ -357,10 +347,32 @@ pub fn percentile_band(estimates: &mut [f64], level: f64) -> Option<(f64, f64)> 
     ))
 }
 
+/// The `quantiles` of `values` over the members `draw` (indices into
+/// `values`, repeats allowed) into `out`, sorting them in `pooled` (reused
+/// across calls). `None` for an empty draw. One resample of one statistic:
+/// the reduce stage applies one draw to every block's values.
+pub fn fractiles_of_draw(
+    values: &[f64],
+    draw: &[usize],
+    quantiles: &[f64],
+    def: FractileDef,
+    pooled: &mut Vec<f64>,
+    out: &mut [f64],
+) -> Option<()> {
+    pooled.clear();
+    pooled.extend(draw.iter().map(|&i| values[i]));
+    pooled.sort_by(|a, b| a.total_cmp(b));
+    for (o, &q) in out.iter_mut().zip(quantiles) {
+        *o = fractile(pooled, q, def)?;
+    }
+    Some(())
+}
+
 /// Percentile bootstrap bands of the `quantiles` of the pooled values of
-/// `groups` (each resample draws whole groups with replacement): for each
-/// quantile, [`percentile_band`] of its estimate over `resamples`
-/// resamples. `None` without values.
+/// `groups` (the non-empty groups are the units; each resample draws as many
+/// units with replacement, [`Units::draw`]): for each quantile,
+/// [`percentile_band`] of its estimate over `resamples` resamples. `None`
+/// without values.
 pub fn quantile_bands(
     groups: &[Vec<f64>],
     quantiles: &[f64],
@@ -369,19 +381,23 @@ pub fn quantile_bands(
     level: f64,
     rng: &mut SplitMix64,
 ) -> Option<Vec<(f64, f64)>> {
-    if groups.iter().all(|g| g.is_empty()) || resamples == 0 {
+    let values: Vec<f64> = groups.iter().flatten().copied().collect();
+    if values.is_empty() || resamples == 0 {
         return None;
     }
+    let unit_of: Vec<usize> = groups
+        .iter()
+        .enumerate()
+        .flat_map(|(u, g)| std::iter::repeat_n(u, g.len()))
+        .collect();
+    let units = Units::new(&unit_of);
     let mut estimates: Vec<Vec<f64>> = vec![Vec::with_capacity(resamples); quantiles.len()];
-    let mut pooled = Vec::new();
+    let (mut draw, mut pooled, mut q) = (Vec::new(), Vec::new(), vec![0.0; quantiles.len()]);
     for _ in 0..resamples {
-        resample_groups(groups, rng, &mut pooled);
-        if pooled.is_empty() {
-            // Only empty groups drawn: this resample has no statistic.
-            continue;
-        }
-        for (est, &q) in estimates.iter_mut().zip(quantiles) {
-            est.push(fractile(&pooled, q, def)?);
+        units.draw(rng, &mut draw);
+        fractiles_of_draw(&values, &draw, quantiles, def, &mut pooled, &mut q)?;
+        for (est, &v) in estimates.iter_mut().zip(&q) {
+            est.push(v);
         }
     }
     estimates
@@ -398,11 +414,13 @@ mod bootstrap_tests {
     /// resample each pair's two (distinct) values appear equally often.
     #[test]
     fn pairs_stay_together() {
-        let groups: Vec<Vec<f64>> = (0..22).map(|i| vec![i as f64, 100.0 + i as f64]).collect();
+        let values: Vec<f64> = (0..22).flat_map(|i| [i as f64, 100.0 + i as f64]).collect();
+        let units = Units::new(&(0..44).map(|k| k / 2).collect::<Vec<_>>());
         let mut rng = SplitMix64::new(7);
-        let mut out = Vec::new();
+        let mut draw = Vec::new();
         for _ in 0..200 {
-            resample_groups(&groups, &mut rng, &mut out);
+            units.draw(&mut rng, &mut draw);
+            let out: Vec<f64> = draw.iter().map(|&k| values[k]).collect();
             assert_eq!(out.len(), 44);
             for i in 0..22 {
                 let a = out.iter().filter(|&&v| v == i as f64).count();

@@ -297,17 +297,20 @@ fn refit(rows: &[CapacityResampleRow], laws: &[FractileLaw], level: f64) -> Band
             .flatten();
         (b.map(|b| b.0), b.map(|b| b.1), used)
     };
-    let law_of = |laws: &[FractileLaw], q: f64| laws.iter().find(|l| l.quantile == q).cloned();
+    fn law_of(laws: &[FractileLaw], q: f64) -> Option<&FractileLaw> {
+        laws.iter().find(|l| l.quantile == q)
+    }
     let mut values = Vec::with_capacity(usable.len());
     for q in super::reduce::QUANTILES {
-        let point = law_of(laws, q).filter(FractileLaw::is_complete);
+        let point = law_of(laws, q).filter(|l| l.is_complete());
+        // This fractile's law in every usable resample.
+        let resampled: Vec<&FractileLaw> = usable.iter().filter_map(|l| law_of(l, q)).collect();
         for &e in &es {
             for p in crate::fit::p_curve(&ps) {
                 values.clear();
                 values.extend(
-                    usable
+                    resampled
                         .iter()
-                        .filter_map(|l| law_of(l, q))
                         .map(|l| l.eta_c(p, e))
                         .filter(|v| v.is_finite()),
                 );
@@ -318,7 +321,7 @@ fn refit(rows: &[CapacityResampleRow], laws: &[FractileLaw], level: f64) -> Band
                     p,
                     eps: e,
                     pga_g: None,
-                    value: point.as_ref().map(|l| l.eta_c(p, e)),
+                    value: point.map(|l| l.eta_c(p, e)),
                     lo,
                     hi,
                     used,

@@ -249,10 +249,10 @@ fn bands(
                 per_block
                     .iter()
                     .map(|(etas, _)| {
-                        pooled.clear();
-                        pooled.extend(draw.iter().map(|&ri| etas[ri]));
-                        pooled.sort_by(|a, b| a.total_cmp(b));
-                        fractiles(pooled, def)
+                        let mut q = [0.0; 3];
+                        stats::fractiles_of_draw(etas, draw, &QUANTILES, def, pooled, &mut q)
+                            .expect("every unit holds records");
+                        q
                     })
                     .collect()
             },

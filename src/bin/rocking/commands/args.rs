@@ -22,6 +22,50 @@ impl PipelineArgs {
     }
 }
 
+/// Where a block's capacity law comes from, for `fragility` and `risk`.
+#[derive(Debug, clap::Args)]
+pub struct LawArgs {
+    /// `paper` (published coefficients) or a pipeline file whose fit to use.
+    #[arg(long, default_value = "paper")]
+    pub from: String,
+    /// Root of the outputs (for --from PIPELINE.toml).
+    #[arg(long, default_value = "outputs")]
+    pub outputs: PathBuf,
+    /// Records for --direct when --from paper: a folder of AT2 files.
+    #[arg(long, default_value = "records/fema-p695/far-field")]
+    pub records: PathBuf,
+}
+
+impl LawArgs {
+    pub fn source(&self) -> rocking::ops::fragility::Source {
+        use rocking::ops::fragility::Source;
+        if self.from == "paper" {
+            Source::Paper {
+                records: self.records.clone(),
+            }
+        } else {
+            Source::Pipeline {
+                file: PathBuf::from(&self.from),
+                outputs: self.outputs.clone(),
+            }
+        }
+    }
+}
+
+/// `--eps`: a coefficient of restitution, or `housner` (`None`) for
+/// Housner's bound 1 − 1.5 sin²α.
+#[derive(Debug, Clone, Copy)]
+pub struct EpsArg(pub Option<f64>);
+
+pub fn parse_eps(text: &str) -> Result<EpsArg, String> {
+    if text == "housner" {
+        return Ok(EpsArg(None));
+    }
+    text.parse::<f64>()
+        .map(|e| EpsArg(Some(e)))
+        .map_err(|_| format!("`{text}`: a number in (0, 1] or `housner`"))
+}
+
 /// The model as chosen on the command line.
 #[derive(Debug, Clone, Copy, ValueEnum)]
 pub enum ModelArg {

@@ -1,8 +1,8 @@
 //! `rocking fragility`: P(overturn | PGA) of a real block.
 
-use std::path::PathBuf;
+use rocking::ops::fragility::{self, Request};
 
-use rocking::ops::fragility::{self, Request, Source};
+use super::args::{parse_eps, EpsArg, LawArgs};
 
 /// Probability that a real block overturns at given PGAs.
 #[derive(Debug, clap::Args)]
@@ -27,57 +27,23 @@ pub struct Args {
     /// Peak ground accelerations (g), comma-separated.
     #[arg(long, value_name = "g[,g…]", value_delimiter = ',', required = true)]
     pga: Vec<f64>,
-    /// `paper` (published coefficients) or a pipeline file whose fit to use.
-    #[arg(long, default_value = "paper")]
-    from: String,
-    /// Root of the outputs (for --from PIPELINE.toml).
-    #[arg(long, default_value = "outputs")]
-    outputs: PathBuf,
+    #[command(flatten)]
+    law: LawArgs,
     /// Also run the block through the record suite and report the empirical fraction.
     #[arg(long)]
     direct: bool,
-    /// Records for --direct when --from paper: a folder of AT2 files.
-    #[arg(long, default_value = "records/fema-p695/far-field")]
-    records: PathBuf,
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
-}
-
-#[derive(Debug, Clone, Copy)]
-enum EpsArg {
-    Housner,
-    Value(f64),
-}
-
-fn parse_eps(text: &str) -> Result<EpsArg, String> {
-    if text == "housner" {
-        return Ok(EpsArg::Housner);
-    }
-    text.parse::<f64>()
-        .map(EpsArg::Value)
-        .map_err(|_| format!("`{text}`: a number in (0, 1] or `housner`"))
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let req = Request {
         b_m: args.b,
         h_m: args.h,
-        eps: match args.eps {
-            EpsArg::Housner => None,
-            EpsArg::Value(e) => Some(e),
-        },
+        eps: args.eps.0,
         pga_g: args.pga.clone(),
-        from: if args.from == "paper" {
-            Source::Paper {
-                records: args.records.clone(),
-            }
-        } else {
-            Source::Pipeline {
-                file: PathBuf::from(&args.from),
-                outputs: args.outputs.clone(),
-            }
-        },
+        from: args.law.source(),
         direct: args.direct,
     };
     let a = fragility::assess(&req)?;

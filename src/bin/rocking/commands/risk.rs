@@ -3,10 +3,11 @@
 use std::path::PathBuf;
 
 use clap::ValueEnum;
-use rocking::ops::fragility::Source;
 use rocking::ops::risk::{self, Assessment, Blocks, Request};
 use rocking::risk::Beyond;
 use rocking::tables::atomic_write;
+
+use super::args::{parse_eps, EpsArg, LawArgs};
 
 /// Annual rate of overturning of a block (or an inventory) at the sites of a hazard file.
 #[derive(Debug, clap::Args)]
@@ -46,26 +47,19 @@ pub struct Args {
     )]
     h: Option<f64>,
     /// Coefficient of restitution, or `housner` for 1 − 1.5 sin²α.
-    #[arg(long, default_value = "housner", conflicts_with = "inventory")]
-    eps: String,
+    #[arg(long, default_value = "housner", value_parser = parse_eps, conflicts_with = "inventory")]
+    eps: EpsArg,
     /// A CSV of blocks `name,b,h[,eps]` (m; eps empty or `housner` for Housner's bound).
     #[arg(long, value_name = "BLOCKS.csv")]
     inventory: Option<PathBuf>,
     /// Where --inventory's table goes (one row per block × site).
     #[arg(long, value_name = "FILE.parquet", default_value = "risk.parquet")]
     out: PathBuf,
-    /// `paper` (published coefficients) or a pipeline file whose fit to use.
-    #[arg(long, default_value = "paper")]
-    from: String,
-    /// Root of the outputs (for --from PIPELINE.toml).
-    #[arg(long, default_value = "outputs")]
-    outputs: PathBuf,
+    #[command(flatten)]
+    law: LawArgs,
     /// Use the block's own capacities under the records instead of a regression.
     #[arg(long)]
     direct: bool,
-    /// Records for --direct when --from paper: a folder of AT2 files.
-    #[arg(long, default_value = "records/fema-p695/far-field")]
-    records: PathBuf,
     /// Years for the probability of overturning within them.
     #[arg(long, default_value_t = 50.0)]
     years: f64,
@@ -95,13 +89,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         BeyondArg::Extrapolate => Beyond::Extrapolate,
         BeyondArg::Stop => Beyond::Stop,
     };
-    let eps = match args.eps.as_str() {
-        "housner" => None,
-        text => Some(
-            text.parse::<f64>()
-                .map_err(|_| anyhow::anyhow!("--eps `{text}`: a number in (0, 1] or `housner`"))?,
-        ),
-    };
+    let eps = args.eps.0;
     let blocks = match (&args.inventory, args.b, args.h) {
         (Some(path), _, _) => Blocks::Inventory(path.clone()),
         (None, Some(b_m), Some(h_m)) => Blocks::One { b_m, h_m, eps },
@@ -111,16 +99,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         hazard: args.hazard.clone(),
         site: args.site,
         blocks,
-        from: if args.from == "paper" {
-            Source::Paper {
-                records: args.records.clone(),
-            }
-        } else {
-            Source::Pipeline {
-                file: PathBuf::from(&args.from),
-                outputs: args.outputs.clone(),
-            }
-        },
+        from: args.law.source(),
         direct: args.direct,
         years: args.years,
         beyond,
