@@ -212,6 +212,7 @@ fn run_key(spec: &RunSpec) -> [u64; 8] {
         Overturn::Static => 0,
         Overturn::Cap(c) => c.to_bits(),
         Overturn::OnSide => u64::MAX,
+        Overturn::Escape => u64::MAX - 1,
     };
     [
         spec.eta.to_bits(),

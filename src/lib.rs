@@ -16,6 +16,8 @@
 //! - [`at2`], [`manifest`], [`motion`]: parsing and record summaries, no I/O;
 //! - [`physics`]: the equations, integrators and events, no I/O;
 //! - [`ida`]: capacity of one record by incremental dynamic analysis, no I/O;
+//! - [`pulse`]: rectangular and exponential pulses, their closed-form walls
+//!   (paper Eqs. 3, 5, 6) and walls by simulation, no I/O;
 //! - [`pipeline`]: pipeline files (TOML text) → a typed plan, no I/O;
 //! - [`stats`]: fractiles (+∞ allowed), Lilliefors, normal distribution, no I/O;
 //! - [`fit`]: the two-step regression (Levenberg–Marquardt, polynomials), no I/O;
@@ -50,6 +52,7 @@ pub mod ops;
 pub mod physics;
 pub mod pipeline;
 pub mod plot;
+pub mod pulse;
 pub mod report;
 pub mod risk;
 pub mod stages;

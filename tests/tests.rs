@@ -40,6 +40,7 @@ mod faults;
 mod html;
 mod ingest;
 mod physics;
+mod pulse;
 mod quick;
 mod reduce;
 mod risk;

@@ -319,6 +319,10 @@ impl<R: Rhs> Dp5<R> {
 }
 
 impl<R: Rhs> Stepper for Dp5<R> {
+    fn set_limit(&mut self, limit: f64) {
+        self.limit = limit;
+    }
+
     fn rock(&mut self, stretch: Stretch, state: &mut Rocking, max_abs_x: &mut f64) -> StretchEnd {
         let f = self.pivoted(state.s, stretch.g_a, stretch.g1);
         let len = stretch.len;

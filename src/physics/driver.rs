@@ -95,6 +95,13 @@ pub fn simulate_from(
     }
     let equation = spec.model.equation;
     let limit = equation.overturn_limit(spec.overturn)?;
+    if let Some(st) = start {
+        if spec.overturn.needs_escape_proof(equation.alpha()) && st.s * st.x >= limit {
+            return Err(PhysicsError::BadInput(format!(
+                "start state {st:?}: under `escape` a start must lie below |x| = {limit}"
+            )));
+        }
+    }
     Ok(spec
         .model
         .integrator
@@ -108,6 +115,9 @@ struct Driver<'a, S, O> {
     limit: f64,
     stepper: &'a mut S,
     obs: &'a mut O,
+    /// Under `escape` with the linearised model: `limit` is only where the
+    /// next proof of escape is tried ([`super::escape_proven`]).
+    escape: bool,
     /// Uplift threshold on |ψ̈| (the equation's factor times η).
     threshold: f64,
     /// Speed after an impact below which the block is at rest.
@@ -131,6 +141,9 @@ pub(super) fn drive<S: Stepper, O: Observer>(
         exc,
         spec,
         limit,
+        escape: spec
+            .overturn
+            .needs_escape_proof(spec.model.equation.alpha()),
         stepper,
         obs,
         threshold: spec.eta * spec.model.equation.uplift_factor(),
@@ -164,7 +177,13 @@ pub(super) fn drive<S: Stepper, O: Observer>(
                 // stays below it for good, as the arm above would.
                 let (thr, start) = (d.threshold, k);
                 if psi[k].abs() <= thr {
-                    while k < n && psi[k + 1].abs() <= thr && exc.suffix_max[k + 1] > thr {
+                    // Interval k's end and the next start (they differ only
+                    // at a jump) both within the threshold.
+                    while k < n
+                        && exc.psi_end[k].abs() <= thr
+                        && psi[k + 1].abs() <= thr
+                        && exc.suffix_max[k + 1] > thr
+                    {
                         k += 1;
                     }
                 }
@@ -217,7 +236,7 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
     /// Walks sample interval `k` event by event. `Some(stop)` ends the run.
     fn interval(&mut self, k: usize) -> Option<Stop> {
         let dt = self.exc.dt_s;
-        let (g0, g_end, g1) = (self.exc.psi[k], self.exc.psi[k + 1], self.exc.slope[k]);
+        let (g0, g_end, g1) = (self.exc.psi[k], self.exc.psi_end[k], self.exc.slope[k]);
         let t_k = k as f64 * dt;
         let mut tau = 0.0;
         // Forcing at `tau`; exactly ±threshold at an uplift instant.
@@ -254,6 +273,23 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
             self.state = Some(st);
             match end {
                 StretchEnd::End => return None,
+                StretchEnd::Overturn { sigma } if self.escape => {
+                    // Past the watch level: overturned once the bound proves
+                    // the escape; else watch twice as far out and go on.
+                    tau += sigma;
+                    g_a = g0 + g1 * tau;
+                    let m_over_eta = self.exc.suffix_max[k] / self.spec.eta;
+                    if super::escape_proven(self.spec.p, st, m_over_eta) {
+                        let t = t_k + tau;
+                        self.out.max_abs_x = f64::INFINITY;
+                        self.out.stop = Stop::Overturned;
+                        self.out.overturn_time_s = Some(t);
+                        self.emit(t, g_a, EventKind::Overturn);
+                        return Some(Stop::Overturned);
+                    }
+                    self.limit *= 2.0;
+                    self.stepper.set_limit(self.limit);
+                }
                 StretchEnd::Overturn { sigma } => {
                     let t = t_k + tau + sigma;
                     self.out.stop = Stop::Overturned;
@@ -303,9 +339,16 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
             self.out.max_abs_x = self.out.max_abs_x.max(fate.max_abs_x);
             return;
         }
-        self.out.max_abs_x = self.out.max_abs_x.max(self.limit);
         self.out.stop = Stop::Overturned;
         self.out.overturn_after_record = true;
+        if self.escape {
+            // Decided at the excitation's end: the free motion escapes.
+            self.out.max_abs_x = f64::INFINITY;
+            self.out.impacts += fate.impacts;
+            self.out.overturn_time_s = Some(self.exc.duration_s());
+            return;
+        }
+        self.out.max_abs_x = self.out.max_abs_x.max(self.limit);
         // At most one impact lies on the way to the limit.
         let mut t = self.exc.duration_s();
         let horizon = 60.0 / self.spec.p;

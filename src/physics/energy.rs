@@ -30,6 +30,8 @@ pub struct Fate {
     pub max_abs_x: f64,
     /// Whether the block passes the crest |x| = 1 (and so overturns).
     pub passes_crest: bool,
+    /// Impacts on the way to passing it (0, or 1 after heading back).
+    pub impacts: u64,
 }
 
 /// The shape of the potential: how `D` is made from an angle gap and a speed.
@@ -99,6 +101,7 @@ fn fate(pot: &impl Potential, st: Rocking, eps: f64) -> Fate {
             return Fate {
                 max_abs_x: f64::INFINITY,
                 passes_crest: true,
+                impacts: 0,
             };
         }
     } else if w > 0.0 {
@@ -107,11 +110,13 @@ fn fate(pot: &impl Potential, st: Rocking, eps: f64) -> Fate {
             return Fate {
                 max_abs_x: f64::INFINITY,
                 passes_crest: true,
+                impacts: 0,
             };
         }
         return Fate {
             max_abs_x: 1.0 - pot.gap_at(d),
             passes_crest: false,
+            impacts: 0,
         };
     }
     // Heading back: impact, then one swing on the other pivot at ε times the speed.
@@ -122,11 +127,13 @@ fn fate(pot: &impl Potential, st: Rocking, eps: f64) -> Fate {
         return Fate {
             max_abs_x: f64::INFINITY,
             passes_crest: true,
+            impacts: 1,
         };
     }
     Fate {
         max_abs_x: 1.0 - pot.gap_at(d_after),
         passes_crest: false,
+        impacts: 0,
     }
 }
 

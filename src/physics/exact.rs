@@ -516,6 +516,10 @@ impl Exact {
 }
 
 impl Stepper for Exact {
+    fn set_limit(&mut self, limit: f64) {
+        self.limit = limit;
+    }
+
     /// Whole intervals while the motion is provably monotone and stays
     /// strictly between the pivot and the limit: the arithmetic of `rock`'s
     /// first branch, without leaving the loop.
@@ -529,11 +533,11 @@ impl Stepper for Exact {
         if exc.dt_s != self.full.sigma {
             return k;
         }
-        let (psi, slope, s) = (&exc.psi[..], &exc.slope[..], state.s);
+        let (psi, psi_end, slope, s) = (&exc.psi[..], &exc.psi_end[..], &exc.slope[..], state.s);
         let (mut x, mut v, mut top) = (state.x, state.v, *max_abs_x);
-        let n = slope.len().min(psi.len().saturating_sub(1));
+        let n = slope.len().min(psi.len()).min(psi_end.len());
         while k < n {
-            let (g0, g_end, g1) = (psi[k], psi[k + 1], slope[k]);
+            let (g0, g_end, g1) = (psi[k], psi_end[k], slope[k]);
             let m = self.motion(x, v, s, g0, g1);
             let (x_hi, v_hi) = m.at(&self.full);
             let y_hi = s * x_hi;

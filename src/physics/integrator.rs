@@ -54,6 +54,10 @@ pub trait Stepper {
     /// `Impact` it is left for the driver to apply the impact map.
     fn rock(&mut self, stretch: Stretch, state: &mut Rocking, max_abs_x: &mut f64) -> StretchEnd;
 
+    /// Moves the `|x|` at which [`Stepper::rock`] reports `Overturn` (the
+    /// driver raises it when a run under `escape` passes it unproven).
+    fn set_limit(&mut self, limit: f64);
+
     /// A fast path over whole sample intervals from `k` on: advances `state`
     /// through every interval it can prove eventless (no impact, no
     /// overturning, nothing for [`Stepper::rock`] to locate) with the same

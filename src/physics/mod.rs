@@ -68,6 +68,27 @@ pub enum Overturn {
     Cap(f64),
     /// Nonlinear model only: the block lies on its side, `θ = π/2`.
     OnSide,
+    /// True overturning: the block never comes back (MODEL.md §10). The
+    /// nonlinear model: θ reaches π/2, as [`Overturn::OnSide`]. The
+    /// linearised model has no such angle: nothing is decided while the
+    /// ground moves unless a bound proves the escape (the growing mode
+    /// outruns the largest forcing still to come, [`escape_proven`]), and
+    /// after the excitation the free motion's energy decides.
+    Escape,
+}
+
+/// Whether a linearised block on pivot `s` at `(x, v)` escapes for sure
+/// whatever the forcing does from now on, given a bound `m_over_eta` on
+/// `|ψ̈|/η` for the rest of the excitation. With `y = s·x`, `w = s·ẋ`, the
+/// growing mode `u = y − 1 + w/p` obeys `u̇ = p(u + sψ̈/η) ≥ p(u − M/η)`,
+/// so `u > M/η` keeps growing; the other mode `y − 1 − w/p` stays within
+/// `M/η` of its free decay, which keeps `y ≥ min(y₀, 1) > 0`: no impact,
+/// and `y → ∞`. (Proof in MODEL.md §10.) A relative margin of 1e-9 covers
+/// the rounding of `u`.
+pub fn escape_proven(p: f64, st: Rocking, m_over_eta: f64) -> bool {
+    let (y, w) = (st.s * st.x, st.s * st.v);
+    let u = y - 1.0 + w / p;
+    y > 0.0 && u > m_over_eta * (1.0 + 1e-9) + 1e-9 * (y.abs() + 1.0)
 }
 
 impl Overturn {
@@ -85,23 +106,34 @@ impl Overturn {
                     "the `on-side` criterion (θ = π/2) needs the nonlinear model and α".into(),
                 )),
             },
+            // Linearised: the first |x| at which the driver tries to prove
+            // the escape (it doubles after each try that fails).
+            Overturn::Escape => Ok(alpha_rad.map_or(1.0, |a| std::f64::consts::FRAC_PI_2 / a)),
         }
+    }
+
+    /// Whether runs under this criterion stop only on a proof of escape
+    /// (the linearised model under [`Overturn::Escape`]) rather than at
+    /// the limit.
+    pub fn needs_escape_proof(self, alpha_rad: Option<f64>) -> bool {
+        self == Overturn::Escape && alpha_rad.is_none()
     }
 }
 
 impl std::str::FromStr for Overturn {
     type Err = PhysicsError;
 
-    /// `static`, `cap:<c>` (c ≥ 1) or `on-side`.
+    /// `static`, `cap:<c>` (c ≥ 1), `on-side` or `escape`.
     fn from_str(text: &str) -> Result<Self, PhysicsError> {
         let bad = || {
             PhysicsError::BadInput(format!(
-                "unknown overturning criterion `{text}`; valid: static, cap:<c> (c ≥ 1, in units of α), on-side"
+                "unknown overturning criterion `{text}`; valid: static, cap:<c> (c ≥ 1, in units of α), on-side, escape"
             ))
         };
         match text {
             "static" => Ok(Overturn::Static),
             "on-side" => Ok(Overturn::OnSide),
+            "escape" => Ok(Overturn::Escape),
             _ => {
                 let c = text
                     .strip_prefix("cap:")
@@ -120,6 +152,7 @@ impl fmt::Display for Overturn {
             Overturn::Static => write!(f, "static"),
             Overturn::Cap(c) => write!(f, "cap:{c}"),
             Overturn::OnSide => write!(f, "on-side"),
+            Overturn::Escape => write!(f, "escape"),
         }
     }
 }
@@ -133,15 +166,27 @@ pub enum PhysicsError {
 /// A record prepared for many runs: normalised to unit peak, with the
 /// running maximum of |ψ̈| from each sample to the end (to stop a run early
 /// once the block is at rest and the rest of the record cannot lift it).
+///
+/// The forcing is linear over each sample interval and may jump at a
+/// sample: interval `k` runs from `psi[k]` (the value just after sample k)
+/// to `psi_end[k]` (the value just before sample k + 1). For a sampled
+/// record `psi_end[k] = psi[k + 1]`; a pulse with a discontinuity (a
+/// rectangle's switch, [`crate::pulse`]) puts it on a sample, so every
+/// stepper sees it exactly on a step boundary.
 #[derive(Debug, Clone)]
 pub struct Excitation {
     pub dt_s: f64,
-    /// `ψ̈ = ü_g / A_g`, peak absolute value exactly 1 (for a non-zero record).
+    /// `ψ̈ = ü_g / A_g` just after each sample, peak absolute value exactly
+    /// 1 (for a non-zero record).
     pub psi: Vec<f64>,
-    /// `suffix_max[k] = max_{j ≥ k} |ψ̈_j|`.
+    /// `psi_end[k]`: the forcing at the end of interval k (its left limit at
+    /// sample k + 1); one per interval.
+    pub psi_end: Vec<f64>,
+    /// `suffix_max[k] = max |ψ̈|` over the record from sample k on (both
+    /// sides of every later jump).
     pub suffix_max: Vec<f64>,
-    /// `slope[k] = (ψ̈_{k+1} − ψ̈_k)/dt`, the forcing's slope over interval
-    /// k, computed once per record rather than once per run.
+    /// `slope[k] = (psi_end[k] − psi[k])/dt`, the forcing's slope over
+    /// interval k, computed once per record rather than once per run.
     pub slope: Vec<f64>,
 }
 
@@ -173,19 +218,61 @@ impl Excitation {
 
     /// The record of normalised samples `psi`, with what runs derive from it.
     fn prepared(dt_s: f64, psi: Vec<f64>) -> Self {
+        let psi_end = psi.get(1..).unwrap_or_default().to_vec();
+        Excitation::pieces(dt_s, psi, psi_end)
+    }
+
+    /// A forcing linear on each interval from `psi[k]` to `psi_end[k]`
+    /// (`psi` has one value more: the last sample's).
+    fn pieces(dt_s: f64, psi: Vec<f64>, psi_end: Vec<f64>) -> Self {
+        debug_assert_eq!(psi_end.len() + 1, psi.len().max(1));
         let mut suffix_max = vec![0.0; psi.len()];
         let mut m = 0.0f64;
         for k in (0..psi.len()).rev() {
             m = m.max(psi[k].abs());
+            if let Some(e) = psi_end.get(k) {
+                m = m.max(e.abs());
+            }
             suffix_max[k] = m;
         }
-        let slope = psi.windows(2).map(|w| (w[1] - w[0]) / dt_s).collect();
+        let slope = psi
+            .iter()
+            .zip(&psi_end)
+            .map(|(a, b)| (b - a) / dt_s)
+            .collect();
         Excitation {
             dt_s,
             psi,
+            psi_end,
             suffix_max,
             slope,
         }
+    }
+
+    /// A piecewise-linear forcing that may jump at samples: interval k goes
+    /// from `starts[k]` to `ends[k]`; the last sample holds `ends`' last
+    /// value. Used as given (no normalisation): its peak must be at most 1,
+    /// as a normalised record's is, and equal 1 for η to mean what it does.
+    pub fn piecewise(dt_s: f64, starts: &[f64], ends: &[f64]) -> Result<Self, PhysicsError> {
+        let bad = |m: String| Err(PhysicsError::BadInput(m));
+        if !(dt_s > 0.0 && dt_s.is_finite()) {
+            return bad(format!("time step {dt_s} s must be positive"));
+        }
+        if starts.is_empty() || starts.len() != ends.len() {
+            return bad(format!(
+                "a piecewise forcing needs as many interval starts as ends, and at least one ({} and {})",
+                starts.len(),
+                ends.len()
+            ));
+        }
+        if let Some(v) = starts.iter().chain(ends).find(|v| !(v.abs() <= 1.0)) {
+            return bad(format!(
+                "a piecewise forcing's values must lie in [−1, 1]; found {v}"
+            ));
+        }
+        let mut psi = starts.to_vec();
+        psi.push(ends[ends.len() - 1]);
+        Ok(Excitation::pieces(dt_s, psi, ends.to_vec()))
     }
 
     /// Record with the sign of every sample flipped (for symmetry checks).
@@ -196,7 +283,11 @@ impl Excitation {
     /// The normalised record with every sample mapped by `f` (e.g. moved by
     /// one ulp, to measure how rounding moves a verdict).
     pub fn mapped(&self, f: impl Fn(f64) -> f64) -> Self {
-        Excitation::prepared(self.dt_s, self.psi.iter().map(|&v| f(v)).collect())
+        Excitation::pieces(
+            self.dt_s,
+            self.psi.iter().map(|&v| f(v)).collect(),
+            self.psi_end.iter().map(|&v| f(v)).collect(),
+        )
     }
 
     pub fn duration_s(&self) -> f64 {

@@ -27,6 +27,10 @@ impl<R: Rhs> Rk4<R> {
 }
 
 impl<R: Rhs> Stepper for Rk4<R> {
+    fn set_limit(&mut self, limit: f64) {
+        self.limit = limit;
+    }
+
     fn rock(&mut self, st: Stretch, state: &mut Rocking, max_abs_x: &mut f64) -> StretchEnd {
         let s = state.s;
         let rhs = self.rhs;
