@@ -265,7 +265,11 @@ impl Excitation {
                 ends.len()
             ));
         }
-        if let Some(v) = starts.iter().chain(ends).find(|v| !(v.abs() <= 1.0)) {
+        if let Some(v) = starts
+            .iter()
+            .chain(ends)
+            .find(|v| v.is_nan() || v.abs() > 1.0)
+        {
             return bad(format!(
                 "a piecewise forcing's values must lie in [−1, 1]; found {v}"
             ));
