@@ -259,3 +259,126 @@ fn escape_proof_stops_runs_early_with_the_verdict_of_a_long_run() {
         "only {proven_early} runs proven during the record"
     );
 }
+
+fn wall_json(args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["wall", "--json"];
+    all.extend_from_slice(args);
+    let out = crate::util::rocking(&crate::util::root(), &all);
+    assert!(out.status.success(), "{}", crate::util::stderr(&out));
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+#[test]
+fn wall_command_reports_the_walls_beside_the_closed_forms() {
+    // One object with the fields; the closed form is the paper's
+    // equation, evaluated here by hand from its formula.
+    let v = wall_json(&[
+        "--pulse", "rect", "--cycle", "full", "--f", "1.5", "--eps", "0.9",
+    ]);
+    for key in [
+        "f",
+        "pulse",
+        "beta",
+        "cycle",
+        "eps",
+        "overturn",
+        "eta_w",
+        "eta_w_mode0",
+        "closed_form",
+        "mode",
+    ] {
+        assert!(v.get(key).is_some(), "missing {key}: {v}");
+    }
+    assert_eq!(v["overturn"], "escape");
+    assert_eq!(v["pulse"], "rect");
+    assert_eq!(v["cycle"], "full");
+    assert!(v["beta"].is_null());
+    let eq6 = (1.0 - (-1.5f64).exp()).powi(2);
+    assert!((v["closed_form"].as_f64().unwrap() - eq6).abs() < 1e-14);
+    assert!((v["eta_w_mode0"].as_f64().unwrap() - eq6).abs() < 1e-6 * eq6);
+    assert_eq!(v["closed_form_of"], "eta_w_mode0");
+    // The exponential half cycle on the line f = 2β: Eq. 5's removable
+    // singularity, against mpmath's 0.44471611825027558 (β = 1, f = 2).
+    let v = wall_json(&["--pulse", "exp", "--beta", "1", "--f", "2"]);
+    assert!((v["closed_form"].as_f64().unwrap() - 0.444_716_118_250_275_6).abs() < 1e-9);
+    assert!((v["eta_w"].as_f64().unwrap() - 0.444_716_118_250_275_6).abs() < 1e-6);
+    assert_eq!(v["mode"], 0);
+    // No closed form for the full-cycle exponential pulse, nor for the
+    // full rectangle under the static criterion.
+    assert!(
+        wall_json(&["--pulse", "exp", "--beta", "2", "--cycle", "full", "--f", "2"])["closed_form"]
+            .is_null()
+    );
+    assert!(wall_json(&[
+        "--pulse",
+        "rect",
+        "--cycle",
+        "full",
+        "--f",
+        "2",
+        "--overturn",
+        "static"
+    ])["closed_form"]
+        .is_null());
+    // Bad input names the flag.
+    for (args, says) in [
+        (vec!["wall", "--pulse", "exp", "--f", "1"], "--beta"),
+        (
+            vec!["wall", "--pulse", "rect", "--beta", "1", "--f", "1"],
+            "--beta",
+        ),
+        (vec!["wall", "--pulse", "rect", "--f", "-1"], "--f"),
+        (vec!["wall", "--f", "1"], "--pulse"),
+        (
+            vec!["wall", "--pulse", "rect", "--f", "1", "--overturn", "escap"],
+            "escape",
+        ),
+    ] {
+        let out = crate::util::rocking(&crate::util::root(), &args);
+        assert!(!out.status.success(), "{args:?}");
+        let err = crate::util::stderr(&out);
+        assert!(err.contains(says), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn simulate_and_capacity_take_a_pulse() {
+    // Housner's rectangle through `capacity`: η_c = 1 − e^{−p t_d} with
+    // t_d = 0.5 s and p = 4 (f = 2), to the search's tolerance.
+    let out = crate::util::rocking(
+        &crate::util::root(),
+        &[
+            "capacity", "--pulse", "rect", "--td", "0.5", "--p", "4", "--eps", "0.7", "--tol",
+            "1e-9", "--json",
+        ],
+    );
+    assert!(out.status.success(), "{}", crate::util::stderr(&out));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let c = v["eta_c"].as_f64().unwrap();
+    assert!((c - pulse::housner_eq3(2.0)).abs() < 1e-9, "{c}");
+    assert_eq!(v["record_id"], "rect-half t_d=0.5s");
+    let out = crate::util::rocking(
+        &crate::util::root(),
+        &[
+            "simulate",
+            "--pulse",
+            "rect",
+            "--cycle",
+            "full",
+            "--p",
+            "0.5",
+            "--eps",
+            "0.9",
+            "--eta",
+            "0.15",
+            "--overturn",
+            "escape",
+            "--json",
+        ],
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    // Below Eq. 6's 0.1548 at f = 0.5: Mode 0, decided at the pulse's end.
+    assert_eq!(v["overturned"], true);
+    assert_eq!(v["impacts"], 0);
+    assert_eq!(v["overturn_after_record"], true);
+}

@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use crate::at2::{self, At2Error};
 use crate::physics::{Excitation, PhysicsError};
+use crate::pulse::Pulse;
 
 /// A record ready to run, with what the reports show.
 #[derive(Debug, Clone)]
@@ -13,6 +14,21 @@ pub struct LoadedRecord {
     pub npts: usize,
     pub pga_g: f64,
     pub exc: Excitation,
+    /// The pulse this excitation is, when it is one (no physical PGA then).
+    pub pulse: Option<Pulse>,
+}
+
+/// A pulse as a record: its name as the id, sampled at the default step
+/// for a block of frequency `p`.
+pub fn from_pulse(pulse: &Pulse, p: f64) -> Result<LoadedRecord, PhysicsError> {
+    let exc = pulse.excitation_for(p)?;
+    Ok(LoadedRecord {
+        record_id: pulse.to_string(),
+        npts: exc.psi.len(),
+        pga_g: f64::NAN,
+        exc,
+        pulse: Some(*pulse),
+    })
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -58,5 +74,6 @@ pub fn load(path: &Path) -> Result<LoadedRecord, RecordError> {
         npts: parsed.accel_g.len(),
         pga_g,
         exc,
+        pulse: None,
     })
 }

@@ -87,13 +87,80 @@ impl From<ModelArg> for ModelChoice {
     }
 }
 
-/// One record and one block, for `simulate` and `capacity`.
+/// A pulse's shape on the command line.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum ShapeArg {
+    /// Rectangular lobe (Housner's pulse).
+    Rect,
+    /// The paper's exponential lobe (Eq. 4), shape --beta.
+    Exp,
+}
+
+/// Half cycle (one lobe) or full cycle (the lobe, then its negative).
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum CycleArg {
+    Half,
+    Full,
+}
+
+/// A pulse as the excitation (`simulate`, `capacity`, `wall`).
+#[derive(Debug, clap::Args)]
+pub struct PulseArgs {
+    /// A pulse instead of a record: rect or exp (paper Eq. 4).
+    #[arg(long, value_enum)]
+    pub pulse: Option<ShapeArg>,
+    /// Shape parameter β of the exponential pulse (→ −∞ rectangle, 0 triangle, → +∞ spike).
+    #[arg(long, value_name = "β", requires = "pulse")]
+    pub beta: Option<f64>,
+    /// One lobe (half) or the lobe followed by its negative (full).
+    #[arg(long, value_enum, default_value = "half")]
+    pub cycle: CycleArg,
+}
+
+impl PulseArgs {
+    /// The pulse with lobes of `t_d_s`, if one was asked for.
+    pub fn pulse(&self, t_d_s: f64) -> anyhow::Result<Option<rocking::pulse::Pulse>> {
+        use rocking::pulse::{Cycle, Pulse, Shape};
+        let shape = match (self.pulse, self.beta) {
+            (None, _) => return Ok(None),
+            (Some(ShapeArg::Rect), None) => Shape::Rect,
+            (Some(ShapeArg::Rect), Some(_)) => {
+                anyhow::bail!("--beta is the exponential pulse's shape; --pulse rect takes none")
+            }
+            (Some(ShapeArg::Exp), Some(beta)) => Shape::Exp { beta },
+            (Some(ShapeArg::Exp), None) => anyhow::bail!("--pulse exp needs --beta"),
+        };
+        let cycle = match self.cycle {
+            CycleArg::Half => Cycle::Half,
+            CycleArg::Full => Cycle::Full,
+        };
+        let pulse = Pulse {
+            shape,
+            cycle,
+            t_d_s,
+        };
+        pulse.validate()?;
+        Ok(Some(pulse))
+    }
+}
+
+/// One record (or pulse) and one block, for `simulate` and `capacity`.
 #[derive(Debug, clap::Args)]
 #[command(allow_negative_numbers = true)]
 pub struct BlockArgs {
     /// The AT2 record (acceleration in g).
-    #[arg(long, value_name = "FILE.AT2")]
-    pub record: PathBuf,
+    #[arg(
+        long,
+        value_name = "FILE.AT2",
+        required_unless_present = "pulse",
+        conflicts_with = "pulse"
+    )]
+    pub record: Option<PathBuf>,
+    #[command(flatten)]
+    pub pulse: PulseArgs,
+    /// The pulse's lobe duration t_d (s); f = p·t_d.
+    #[arg(long, value_name = "s", default_value_t = 1.0, requires = "pulse")]
+    pub td: f64,
     /// Frequency parameter p = sqrt(3g/(4R)) of the block (1/s).
     #[arg(long, value_name = "1/s")]
     pub p: f64,
@@ -113,7 +180,8 @@ pub struct BlockArgs {
     /// For --model auto: the relative error in η_c accepted from the linearisation.
     #[arg(long, default_value_t = 0.01)]
     pub auto_tol: f64,
-    /// Overturning criterion: static (|θ| ≥ α), cap:<c> (|θ| ≥ cα), on-side (θ = π/2, nonlinear).
+    /// Overturning criterion: static (|θ| ≥ α), cap:<c> (|θ| ≥ cα), on-side (θ = π/2,
+    /// nonlinear), escape (never comes back: θ = π/2 nonlinear; linearised, proven unbounded).
     #[arg(long, default_value = "static", value_parser = parse_overturn)]
     pub overturn: Overturn,
     /// Print one JSON object instead of text.
@@ -121,11 +189,21 @@ pub struct BlockArgs {
     pub json: bool,
 }
 
-fn parse_overturn(text: &str) -> Result<Overturn, String> {
+pub fn parse_overturn(text: &str) -> Result<Overturn, String> {
     text.parse::<Overturn>().map_err(|e| e.to_string())
 }
 
 impl BlockArgs {
+    /// The record, or the pulse sampled for this block's p.
+    pub fn excitation(&self) -> anyhow::Result<rocking::ops::record::LoadedRecord> {
+        use rocking::ops::record;
+        match (&self.record, self.pulse.pulse(self.td)?) {
+            (_, Some(pulse)) => Ok(record::from_pulse(&pulse, self.p)?),
+            (Some(path), None) => Ok(record::load(path)?),
+            (None, None) => anyhow::bail!("give --record FILE.AT2 or --pulse rect|exp"),
+        }
+    }
+
     /// The run specification at intensity `eta`, and why that model.
     pub fn spec(&self, eta: f64) -> anyhow::Result<(rocking::physics::RunSpec, String)> {
         let (model, why) =

@@ -3,7 +3,6 @@
 use clap::ValueEnum;
 use rocking::ida::{self, ImGrid, RunKind, Spacing, Trace};
 use rocking::label::Label;
-use rocking::ops::record;
 use serde::Serialize;
 
 use super::args::BlockArgs;
@@ -87,7 +86,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     // Checked before the record is read: an absurd --levels is refused at once.
     grid.levels()?;
-    let rec = record::load(&args.block.record)?;
+    let rec = args.block.excitation()?;
     let certified = ida::capacity_certified(&rec.exc, &spec, &grid, args.tol, Trace::StopAtFirst)?;
     let cap = &certified.capacity;
     let refinement_runs = cap

@@ -17,6 +17,7 @@ mod simulate;
 mod stage;
 mod status;
 mod submit;
+mod wall;
 
 #[derive(Debug, Parser)]
 #[command(
@@ -40,6 +41,7 @@ enum Command {
     Ingest(ingest::Args),
     Simulate(simulate::Args),
     Capacity(capacity::Args),
+    Wall(wall::Args),
     Bench(bench::Args),
     Fragility(fragility::Args),
     Risk(risk::Args),
@@ -53,6 +55,7 @@ fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Ingest(a) => ingest::run(a),
         Command::Simulate(a) => simulate::run(a),
         Command::Capacity(a) => capacity::run(a),
+        Command::Wall(a) => wall::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Fragility(a) => fragility::run(a),
         Command::Risk(a) => risk::run(a),

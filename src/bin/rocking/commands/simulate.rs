@@ -3,7 +3,6 @@
 use std::path::PathBuf;
 
 use rocking::label::Label;
-use rocking::ops::record;
 use rocking::physics::{self, Recorder};
 use rocking::tables;
 use serde::Serialize;
@@ -52,7 +51,7 @@ struct Report<'a> {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let rec = record::load(&args.block.record)?;
+    let rec = args.block.excitation()?;
     let (spec, why) = args.block.spec(args.eta)?;
     let mut recorder = Recorder::new(args.history_every);
     let out = if args.history.is_some() {
@@ -64,7 +63,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let settings = vec![
             (
                 "rocking.simulate.record".to_string(),
-                args.block.record.display().to_string(),
+                match &args.block.record {
+                    Some(path) => path.display().to_string(),
+                    None => rec.record_id.clone(),
+                },
             ),
             ("rocking.simulate.spec".to_string(), format!("{spec:?}")),
         ];
@@ -90,10 +92,19 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         println!("{}", serde_json::to_string(&report)?);
         return Ok(());
     }
-    println!(
-        "record      {} ({} samples, dt {} s, PGA {:.4} g)",
-        rec.record_id, rec.npts, rec.exc.dt_s, rec.pga_g
-    );
+    match rec.pulse {
+        Some(pulse) => println!(
+            "pulse       {} (f = p·t_d = {}; {} samples, dt {} s)",
+            rec.record_id,
+            spec.p * pulse.t_d_s,
+            rec.npts,
+            rec.exc.dt_s
+        ),
+        None => println!(
+            "record      {} ({} samples, dt {} s, PGA {:.4} g)",
+            rec.record_id, rec.npts, rec.exc.dt_s, rec.pga_g
+        ),
+    }
     println!(
         "block       p = {} 1/s, ε = {}, η = {} ({why})",
         spec.p, spec.eps, spec.eta
