@@ -30,7 +30,9 @@ pub const MAX_BLOCKS: usize = 1_000_000;
 pub struct RawPipeline {
     pub name: Option<String>,
     pub description: Option<String>,
-    pub records: RawRecords,
+    pub records: Option<RawRecords>,
+    /// A pulse map instead of a records study.
+    pub pulses: Option<RawPulses>,
     #[serde(default)]
     pub model: RawModel,
     #[serde(default)]
@@ -43,6 +45,49 @@ pub struct RawPipeline {
     pub reduce: RawReduce,
     pub convergence: Option<RawConvergence>,
     pub uncertainty: Option<RawUncertainty>,
+}
+
+/// `[pulses]`: a pulse map (safe and overturning areas over f and η, and
+/// the walls), the paper's Figs. 2–4.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawPulses {
+    /// `rect` or `exp`.
+    pub shape: String,
+    /// The exponential pulse's shape parameters (one family per β).
+    pub beta: Option<Vec<f64>>,
+    /// `half` or `full`.
+    #[serde(default = "default_cycle")]
+    pub cycle: String,
+    /// f = p·t_d values (a list or a range).
+    pub f: RawValues,
+    /// The map's η levels (a list or a range).
+    pub eta: RawValues,
+    /// Coefficients of restitution (one family per ε).
+    pub eps: RawValues,
+    /// Intervals per lobe (even); by default enough for the shape.
+    pub intervals: Option<usize>,
+}
+
+fn default_cycle() -> String {
+    "half".into()
+}
+
+/// Most (family, f) walls and (family, f, η) map cells of a pulse map.
+pub const MAX_PULSE_WALLS: usize = 100_000;
+pub const MAX_PULSE_CELLS: usize = 2_000_000;
+
+/// A resolved pulse map.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PulsePlan {
+    /// One shape per family (one per β for `exp`; `rect` alone).
+    pub shapes: Vec<crate::pulse::Shape>,
+    pub cycle: crate::pulse::Cycle,
+    pub f: Vec<f64>,
+    /// The map's levels, decreasing.
+    pub eta: Vec<f64>,
+    pub eps: Vec<f64>,
+    pub intervals: Option<usize>,
 }
 
 /// Bootstrap bands of the capacity fractiles.
@@ -137,8 +182,8 @@ pub struct RawModel {
     pub rtol: f64,
     #[serde(default = "default_auto_tol")]
     pub auto_tol: f64,
-    #[serde(default = "default_overturn")]
-    pub overturn: String,
+    /// `static` by default (`escape` for a pulse map).
+    pub overturn: Option<String>,
 }
 
 fn default_kind() -> String {
@@ -150,10 +195,6 @@ fn default_rtol() -> f64 {
 fn default_auto_tol() -> f64 {
     0.01
 }
-fn default_overturn() -> String {
-    "static".into()
-}
-
 impl Default for RawModel {
     fn default() -> Self {
         RawModel {
@@ -161,7 +202,7 @@ impl Default for RawModel {
             alpha: None,
             rtol: default_rtol(),
             auto_tol: default_auto_tol(),
-            overturn: default_overturn(),
+            overturn: None,
         }
     }
 }
@@ -348,6 +389,11 @@ pub struct Plan {
     pub convergence: Vec<usize>,
     /// Bootstrap bands of the capacity fractiles, if asked for.
     pub uncertainty: Option<Uncertainty>,
+    /// A pulse map (`[pulses]`): then no records, blocks or grid are used,
+    /// and only the `pulses` and `report` stages run.
+    pub pulses: Option<PulsePlan>,
+    /// A pulse map's `model.alpha` (for the nonlinear model).
+    pub pulse_alpha: Option<f64>,
     /// The pipeline file's folder: relative paths in the file are relative
     /// to it, and fingerprints store paths relative to it.
     #[serde(skip)]
@@ -355,6 +401,14 @@ pub struct Plan {
 }
 
 impl Plan {
+    /// Why a stage of the records study does not run for this plan: a
+    /// pulse map runs no records.
+    pub fn pulse_map_skips(&self) -> Option<String> {
+        self.pulses
+            .as_ref()
+            .map(|_| "a pulse map (`[pulses]`) runs no records".to_string())
+    }
+
     /// `path` relative to the pipeline's folder when it lies inside it (as
     /// the file wrote it), else as it is: what fingerprints store, so that
     /// the same study run from another folder or a copied output folder
@@ -478,8 +532,17 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
     };
     let base = path.parent().unwrap_or(Path::new("."));
     let name = name_of(raw.name.as_deref(), path).map_err(err)?;
-    let records = records(&raw.records, base).map_err(err)?;
-    let (model, overturn) = model(&raw.model).map_err(err)?;
+    if raw.pulses.is_some() {
+        return pulse_map(raw, name, base).map_err(err);
+    }
+    let Some(raw_records) = raw.records else {
+        return Err(err(
+            "a pipeline needs `[records]` (the records to run), or `[pulses]` for a pulse map"
+                .into(),
+        ));
+    };
+    let records = records(&raw_records, base).map_err(err)?;
+    let (model, overturn) = model(&raw.model, Overturn::Static).map_err(err)?;
     let blocks = blocks(&raw.blocks, &raw.block, raw.model.alpha).map_err(err)?;
     if model == ModelChoice::Nonlinear && blocks.iter().any(|b| b.alpha_rad.is_none()) {
         return Err(err(
@@ -516,8 +579,8 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
         name,
         description: raw.description.unwrap_or_default(),
         records,
-        sets: raw.records.sets,
-        ids: raw.records.ids,
+        sets: raw_records.sets,
+        ids: raw_records.ids,
         model,
         rtol: raw.model.rtol,
         auto_tol: raw.model.auto_tol,
@@ -533,6 +596,126 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
         fractile,
         convergence,
         uncertainty,
+        pulses: None,
+        pulse_alpha: None,
+        base: base.to_path_buf(),
+    })
+}
+
+/// A pipeline with `[pulses]`: the pulse map, its model and criterion
+/// (`escape` unless `model.overturn` says otherwise); the records study's
+/// sections are refused, not ignored.
+fn pulse_map(raw: RawPipeline, name: String, base: &Path) -> Result<Plan, String> {
+    use crate::pulse::{Cycle, Shape};
+    let rp = raw.pulses.as_ref().expect("called for [pulses]");
+    let stray = [
+        ("[records]", raw.records.is_some()),
+        (
+            "[blocks]",
+            raw.blocks.p.is_some() || raw.blocks.eps.is_some(),
+        ),
+        ("[[block]]", !raw.block.is_empty()),
+        ("[convergence]", raw.convergence.is_some()),
+        ("[uncertainty]", raw.uncertainty.is_some()),
+    ];
+    if let Some((section, _)) = stray.iter().find(|(_, present)| *present) {
+        return Err(format!(
+            "a pulse map (`[pulses]`) runs no records: remove {section}"
+        ));
+    }
+    let (model, overturn) = model(&raw.model, Overturn::Escape)?;
+    if model == ModelChoice::Auto {
+        return Err("a pulse map takes `model.kind` = \"linearized\" or \"nonlinear\"".into());
+    }
+    if model == ModelChoice::Nonlinear && raw.model.alpha.is_none() {
+        return Err("`model.kind` = \"nonlinear\" needs `model.alpha`".into());
+    }
+    if overturn == Overturn::OnSide && model == ModelChoice::Linearized {
+        return Err("`model.overturn` = \"on-side\" needs the nonlinear model".into());
+    }
+    let shapes = match (rp.shape.as_str(), &rp.beta) {
+        ("rect", None) => vec![Shape::Rect],
+        ("rect", Some(_)) => {
+            return Err("`pulses.beta` is the exponential pulse's shape; `rect` takes none".into())
+        }
+        ("exp", Some(betas)) if !betas.is_empty() => betas
+            .iter()
+            .map(|&beta| {
+                if beta.is_finite() && beta.abs() <= 500.0 {
+                    Ok(Shape::Exp { beta })
+                } else {
+                    Err(format!("`pulses.beta` = {beta} must lie in [−500, 500]"))
+                }
+            })
+            .collect::<Result<_, _>>()?,
+        ("exp", _) => {
+            return Err("`pulses.shape` = \"exp\" needs `pulses.beta`, a list of β".into())
+        }
+        (other, _) => return Err(format!("`pulses.shape` = \"{other}\"; valid: rect, exp")),
+    };
+    let cycle: Cycle = rp
+        .cycle
+        .parse()
+        .map_err(|e: crate::physics::PhysicsError| format!("`pulses.cycle`: {e}"))?;
+    let f = values("pulses.f", &rp.f)?;
+    if let Some(bad) = f.iter().find(|f| !(f.is_finite() && **f > 0.0)) {
+        return Err(format!(
+            "`pulses.f` holds {bad}; f = p·t_d must be positive"
+        ));
+    }
+    let mut eta = values("pulses.eta", &rp.eta)?;
+    if let Some(bad) = eta.iter().find(|e| !(e.is_finite() && **e > 0.0)) {
+        return Err(format!("`pulses.eta` holds {bad}; η must be positive"));
+    }
+    eta.sort_by(|a, b| b.total_cmp(a));
+    let eps = values("pulses.eps", &rp.eps)?;
+    for &e in &eps {
+        check_eps("pulses.eps", e)?;
+    }
+    if let Some(n) = rp.intervals {
+        if n < 2 || n % 2 != 0 || n > crate::pulse::MAX_INTERVALS {
+            return Err(format!(
+                "`pulses.intervals` = {n}: an even number from 2 to {}",
+                crate::pulse::MAX_INTERVALS
+            ));
+        }
+    }
+    let walls = shapes.len() * eps.len() * f.len();
+    if walls > MAX_PULSE_WALLS || walls.saturating_mul(eta.len()) > MAX_PULSE_CELLS {
+        return Err(format!(
+            "the pulse map has {walls} walls and {} cells; at most {MAX_PULSE_WALLS} and {MAX_PULSE_CELLS}",
+            walls.saturating_mul(eta.len())
+        ));
+    }
+    Ok(Plan {
+        name,
+        description: raw.description.unwrap_or_default(),
+        records: RecordSource::At2 {
+            paths: Vec::new(),
+            manifest: None,
+        },
+        sets: Vec::new(),
+        ids: Vec::new(),
+        model,
+        rtol: raw.model.rtol,
+        auto_tol: raw.model.auto_tol,
+        overturn,
+        blocks: Vec::new(),
+        grid: ImGrid::default(),
+        tol: default_tol(),
+        trace: Trace::StopAtFirst,
+        fractile: FractileDef::parse(&default_fractile()).expect("the default parses"),
+        convergence: Vec::new(),
+        uncertainty: None,
+        pulses: Some(PulsePlan {
+            shapes,
+            cycle,
+            f,
+            eta,
+            eps,
+            intervals: rp.intervals,
+        }),
+        pulse_alpha: raw.model.alpha,
         base: base.to_path_buf(),
     })
 }
@@ -582,7 +765,7 @@ fn records(raw: &RawRecords, base: &Path) -> Result<RecordSource, String> {
 }
 
 /// `[model]`: the equation choice and the overturning criterion.
-fn model(raw: &RawModel) -> Result<(ModelChoice, Overturn), String> {
+fn model(raw: &RawModel, default: Overturn) -> Result<(ModelChoice, Overturn), String> {
     let model = match raw.kind.as_str() {
         "linearized" => ModelChoice::Linearized,
         "nonlinear" => ModelChoice::Nonlinear,
@@ -593,10 +776,12 @@ fn model(raw: &RawModel) -> Result<(ModelChoice, Overturn), String> {
             ));
         }
     };
-    let overturn: Overturn = raw
-        .overturn
-        .parse()
-        .map_err(|e: crate::physics::PhysicsError| format!("`model.overturn`: {e}"))?;
+    let overturn: Overturn = match &raw.overturn {
+        None => default,
+        Some(text) => text
+            .parse()
+            .map_err(|e: crate::physics::PhysicsError| format!("`model.overturn`: {e}"))?,
+    };
     crate::physics::check_rtol(raw.rtol).map_err(|e| format!("`model.rtol`: {e}"))?;
     if raw.auto_tol.is_nan() || raw.auto_tol <= 0.0 {
         return Err(format!(

@@ -517,6 +517,153 @@ fn escape_html(text: &str) -> String {
     out
 }
 
+/// The report of a pulse map (`[pulses]` pipelines): settings, the walls
+/// against the paper's closed forms, the modes met, and the figures.
+pub fn render_pulses(d: &crate::study::PulseData, figures: &[Figure]) -> String {
+    let mut md = String::new();
+    let plan = &d.plan;
+    let _ = writeln!(md, "# Pulse map `{}`\n", plan.name);
+    if !plan.description.is_empty() {
+        let _ = writeln!(md, "{}\n", plan.description);
+    }
+    let _ = writeln!(
+        md,
+        "Pipeline `{}`, rocking {}. Tables beside this report (`pulse_walls.parquet`, `pulse_map.parquet`); columns are documented in the rocking README.\n",
+        d.pipeline, d.version
+    );
+    if let Some(pp) = &plan.pulses {
+        let shapes: Vec<String> = pp
+            .shapes
+            .iter()
+            .map(|s| match s.beta() {
+                Some(b) => format!("exp β = {b}"),
+                None => "rect".into(),
+            })
+            .collect();
+        let _ = writeln!(md, "## Settings\n");
+        let _ = writeln!(md, "| setting | value |\n|---|---|");
+        let _ = writeln!(
+            md,
+            "| pulse | {}; {} cycle, lobes of t_d = 1 s (so p = f) |",
+            shapes.join("; "),
+            pp.cycle.name()
+        );
+        let _ = writeln!(
+            md,
+            "| model | {:?}, overturning {} |",
+            plan.model, plan.overturn
+        );
+        let _ = writeln!(md, "| ε | {} |", list(&pp.eps));
+        let _ = writeln!(
+            md,
+            "| f | {} values from {} to {} |",
+            pp.f.len(),
+            pp.f.first().copied().unwrap_or(f64::NAN),
+            pp.f.last().copied().unwrap_or(f64::NAN)
+        );
+        let _ = writeln!(
+            md,
+            "| map | {} η levels from {} to {} |",
+            pp.eta.len(),
+            pp.eta.first().copied().unwrap_or(f64::NAN),
+            pp.eta.last().copied().unwrap_or(f64::NAN)
+        );
+        let _ = writeln!(md, "| walls | a 500-level log grid of η from 1 to 1e-5, the first overturning bisected to 1e-10 |\n");
+    }
+    let _ = writeln!(md, "## Runtime\n");
+    let _ = writeln!(md, "| stage | time (s) |\n|---|---:|");
+    for (s, t) in &d.stage_seconds {
+        if let Some(t) = t {
+            let _ = writeln!(md, "| {s} | {t:.2} |");
+        }
+    }
+    let _ = writeln!(md);
+    let _ = writeln!(md, "## Walls against the paper's closed forms\n");
+    let _ = writeln!(md, "| family | equation | wall | walls compared | largest relative difference |\n|---|---|---|---:|---:|");
+    let mut any = false;
+    for (beta, eps, label) in d.families() {
+        let rows: Vec<_> = d
+            .walls
+            .iter()
+            .filter(|w| w.beta == beta && w.eps == eps)
+            .collect();
+        let diffs: Vec<f64> = rows
+            .iter()
+            .filter_map(|w| {
+                let c = w.closed_form?;
+                let sim = if w.closed_form_of.as_deref() == Some("eta_w") {
+                    w.eta_w?
+                } else {
+                    w.eta_w_mode0?
+                };
+                Some((sim - c).abs() / c)
+            })
+            .collect();
+        if let (Some(w), false) = (
+            rows.iter().find(|w| w.closed_form.is_some()),
+            diffs.is_empty(),
+        ) {
+            any = true;
+            let _ = writeln!(
+                md,
+                "| {label} | {} | {} | {} | {:.1e} |",
+                w.closed_form_equation.as_deref().unwrap_or(""),
+                if w.closed_form_of.as_deref() == Some("eta_w") {
+                    "η_w"
+                } else {
+                    "η_w,0 (Mode 0)"
+                },
+                diffs.len(),
+                diffs.iter().cloned().fold(0.0, f64::max)
+            );
+        }
+    }
+    if !any {
+        let _ = writeln!(
+            md,
+            "| (none: no closed form applies to this pulse, model and criterion) | | | | |"
+        );
+    }
+    let _ = writeln!(md);
+    let _ = writeln!(md, "## Modes of overturning met on the map\n");
+    let _ = writeln!(
+        md,
+        "| family | points | safe | Mode 0 | Mode 1 | Mode 2+ |\n|---|---:|---:|---:|---:|---:|"
+    );
+    for (beta, eps, label) in d.families() {
+        let cells: Vec<_> = d
+            .cells
+            .iter()
+            .filter(|c| c.beta == beta && c.eps == eps)
+            .collect();
+        let n = |keep: &dyn Fn(bool, i64) -> bool| {
+            cells
+                .iter()
+                .filter(|c| keep(c.overturned, c.impacts))
+                .count()
+        };
+        let _ = writeln!(
+            md,
+            "| {label} | {} | {} | {} | {} | {} |",
+            cells.len(),
+            n(&|o, _| !o),
+            n(&|o, i| o && i == 0),
+            n(&|o, i| o && i == 1),
+            n(&|o, i| o && i >= 2)
+        );
+    }
+    let _ = writeln!(md);
+    let _ = writeln!(md, "## Figures\n");
+    for f in figures {
+        let _ = writeln!(
+            md,
+            "![{}](figures/{})\n\n*{}*\n",
+            f.chart.title, f.file, f.caption
+        );
+    }
+    md
+}
+
 #[cfg(test)]
 mod html_tests {
     use super::*;

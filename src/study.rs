@@ -83,3 +83,34 @@ impl StudyData {
         self.caps.len() / self.plan.blocks.len().max(1)
     }
 }
+
+/// A pulse map's results (`[pulses]` pipelines): what its figures and
+/// report are made from.
+#[derive(Debug, Clone)]
+pub struct PulseData {
+    pub plan: Plan,
+    pub pipeline: String,
+    pub version: String,
+    pub walls: Vec<crate::tables::pulse::PulseWallRow>,
+    pub cells: Vec<crate::tables::pulse::PulseCellRow>,
+    pub stage_seconds: Vec<(String, Option<f64>)>,
+}
+
+impl PulseData {
+    /// The families (pulse shape's β, ε) in table order, with a label.
+    pub fn families(&self) -> Vec<(Option<f64>, f64, String)> {
+        let mut out: Vec<(Option<f64>, f64, String)> = Vec::new();
+        let n_eps = crate::stats::distinct(self.walls.iter().map(|w| w.eps).collect()).len();
+        for w in &self.walls {
+            if !out.iter().any(|(b, e, _)| *b == w.beta && *e == w.eps) {
+                let label = match (w.beta, n_eps > 1) {
+                    (Some(b), true) => format!("β = {b}, ε = {:.2}", w.eps),
+                    (Some(b), false) => format!("β = {b}"),
+                    (None, _) => format!("ε = {:.2}", w.eps),
+                };
+                out.push((w.beta, w.eps, label));
+            }
+        }
+        out
+    }
+}

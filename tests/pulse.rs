@@ -382,3 +382,135 @@ fn simulate_and_capacity_take_a_pulse() {
     assert_eq!(v["impacts"], 0);
     assert_eq!(v["overturn_after_record"], true);
 }
+
+/// A pipeline file as given (no records added).
+fn write(dir: &std::path::Path, name: &str, body: &str) -> std::path::PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, body).unwrap();
+    path
+}
+
+#[test]
+fn pulse_map_pipeline_writes_walls_map_and_figures() {
+    use rocking::tables::pulse::{PulseCellRow, PulseWallRow};
+    // The bundled Fig. 4 pipeline, coarser: every Mode 0 wall is Eq. 6,
+    // every map point has the piecewise closed form's mode, the same bytes
+    // come out at 1 and 2 threads, and the report lists Figs. 2–4.
+    let dir = crate::util::tempdir();
+    let pipe = write(
+        dir.path(),
+        "map.toml",
+        r#"
+name = "map"
+[pulses]
+shape = "rect"
+cycle = "full"
+f = { from = 0.2, to = 8.0, count = 12, spacing = "log" }
+eta = { from = 1.0, to = 0.02, count = 30, spacing = "log" }
+eps = [0.6, 0.9]
+"#,
+    );
+    let mut bytes = Vec::new();
+    for threads in ["1", "2"] {
+        let out_dir = dir.path().join(format!("out{threads}"));
+        let out = crate::util::rocking(
+            dir.path(),
+            &[
+                "run",
+                pipe.to_str().unwrap(),
+                "--outputs",
+                out_dir.to_str().unwrap(),
+                "--threads",
+                threads,
+            ],
+        );
+        assert!(out.status.success(), "{}", crate::util::stderr(&out));
+        let study = out_dir.join("map");
+        bytes.push(
+            ["pulse_walls.parquet", "pulse_map.parquet"]
+                .map(|t| std::fs::read(study.join(t)).unwrap()),
+        );
+        if threads == "2" {
+            let walls: Vec<PulseWallRow> =
+                rocking::tables::read(&study.join("pulse_walls.parquet")).unwrap();
+            assert_eq!(walls.len(), 24);
+            for w in &walls {
+                // Default criterion of a pulse map: escape.
+                assert_eq!(w.overturn, "escape");
+                let eq6 = (1.0 - (-w.f).exp()).powi(2);
+                let got = w.eta_w_mode0.unwrap();
+                assert!((got - eq6).abs() < 1e-6 * eq6, "{w:?}");
+                assert!(w.eta_w.unwrap() >= got);
+            }
+            let cells: Vec<PulseCellRow> =
+                rocking::tables::read(&study.join("pulse_map.parquet")).unwrap();
+            assert_eq!(cells.len(), 24 * 30);
+            for c in &cells {
+                let want = full_rect_mode(c.f, c.eps, c.eta);
+                let near = [1.0 - 1e-6, 1.0 + 1e-6]
+                    .iter()
+                    .any(|r| full_rect_mode(c.f, c.eps, c.eta * r) != want);
+                if !near && c.eta < 1.0 {
+                    let got = c.overturned.then_some(c.impacts as u32);
+                    assert_eq!(got, want, "{c:?}");
+                }
+            }
+            let report = std::fs::read_to_string(study.join("report.md")).unwrap();
+            for fig in [
+                "fig02_pulse_waveforms.svg",
+                "fig03_pulse_walls.svg",
+                "fig04_modes_eps0.60.svg",
+                "fig04_modes_eps0.90.svg",
+            ] {
+                assert!(report.contains(fig), "{fig} not in the report");
+                assert!(study.join("figures").join(fig).exists(), "{fig}");
+            }
+            assert!(
+                report.contains("| ε = 0.90 | Eq. 6 | η_w,0 (Mode 0) | 12 |"),
+                "{report}"
+            );
+        }
+    }
+    assert!(
+        bytes[0] == bytes[1],
+        "tables differ between 1 and 2 threads"
+    );
+}
+
+#[test]
+fn pulse_map_pipelines_refuse_what_they_cannot_use() {
+    let dir = crate::util::tempdir();
+    let base = "[pulses]\nshape = \"rect\"\nf = [1.0]\neta = [0.5]\neps = [0.7]\n";
+    for (extra, says) in [
+        ("[records]\nat2 = [\"x\"]\n", "remove [records]"),
+        ("[blocks]\np = [1.0]\n", "remove [blocks]"),
+        ("[uncertainty]\n", "remove [uncertainty]"),
+    ] {
+        let pipe = write(dir.path(), "bad.toml", &format!("{base}{extra}"));
+        let out = crate::util::rocking(dir.path(), &["run", pipe.to_str().unwrap()]);
+        assert!(!out.status.success());
+        let err = crate::util::stderr(&out);
+        assert!(err.contains(says) && err.contains("bad.toml"), "{err}");
+    }
+    for (body, says) in [
+        (base.replace("rect", "exp"), "pulses.beta"),
+        (
+            base.replace("rect\"", "rect\"\nbeta = [1.0]"),
+            "pulses.beta",
+        ),
+        (
+            base.replace("shape = \"rect\"", "shape = \"sine\""),
+            "pulses.shape",
+        ),
+        (base.replace("f = [1.0]", "f = [-1.0]"), "pulses.f"),
+        (base.replace("eps = [0.7]", "eps = [1.5]"), "pulses.eps"),
+        (format!("{base}intervals = 3\n"), "pulses.intervals"),
+        ("name = \"x\"\n".to_string(), "[records]"),
+    ] {
+        let pipe = write(dir.path(), "bad.toml", &body);
+        let out = crate::util::rocking(dir.path(), &["run", pipe.to_str().unwrap()]);
+        assert!(!out.status.success(), "{body}");
+        let err = crate::util::stderr(&out);
+        assert!(err.contains(says), "{body}: {err}");
+    }
+}

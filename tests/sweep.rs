@@ -21,7 +21,10 @@ fn every_shipped_pipeline_loads() {
         if path.extension().is_some_and(|e| e == "toml") {
             let text = fs::read_to_string(&path).unwrap();
             let plan = pipeline::load_str(&text, &path).unwrap_or_else(|e| panic!("{e}"));
-            assert!(!plan.blocks.is_empty(), "{}", path.display());
+            match &plan.pulses {
+                Some(pp) => assert!(!pp.f.is_empty() && !pp.eta.is_empty()),
+                None => assert!(!plan.blocks.is_empty(), "{}", path.display()),
+            }
             n += 1;
             if plan.name == "paper" {
                 // The paper's grid: 12 p log-spaced 0.33–10, ε = 0.50, 0.55, …, 0.95, 200 levels.

@@ -39,6 +39,9 @@ impl Stage for Convergence {
     }
 
     fn not_needed(&self, study: &Study) -> Option<String> {
+        if let Some(why) = study.plan.pulse_map_skips() {
+            return Some(why);
+        }
         study
             .plan
             .convergence

@@ -94,6 +94,9 @@ pub enum FitError {
 
 /// Why the regression cannot be fitted to this pipeline's blocks, if it cannot.
 pub fn not_applicable(plan: &Plan) -> Option<String> {
+    if let Some(why) = plan.pulse_map_skips() {
+        return Some(why);
+    }
     if plan.blocks.iter().any(|b| !b.name.is_empty()) {
         return Some("the pipeline has physical blocks, not a p × ε grid".into());
     }

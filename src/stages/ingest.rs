@@ -50,6 +50,9 @@ impl Stage for Ingest {
     }
 
     fn not_needed(&self, study: &Study) -> Option<String> {
+        if let Some(why) = study.plan.pulse_map_skips() {
+            return Some(why);
+        }
         matches!(study.plan.records, RecordSource::Table(_))
             .then(|| "the pipeline reads a records table directly".to_string())
     }

@@ -18,6 +18,7 @@ pub mod fingerprint;
 pub mod fit;
 pub mod ingest;
 pub mod lock;
+pub mod pulses;
 pub mod reason;
 pub mod records;
 pub mod reduce;
@@ -38,5 +39,6 @@ pub static STAGES: &[&dyn Stage] = &[
     &convergence::Convergence,
     &reduce::Reduce,
     &fit::Fit,
+    &pulses::Pulses,
     &report::Report,
 ];

@@ -46,6 +46,10 @@ impl Stage for Reduce {
         "reduce"
     }
 
+    fn not_needed(&self, study: &Study) -> Option<String> {
+        study.plan.pulse_map_skips()
+    }
+
     fn about(&self) -> &'static str {
         "Reduce a pipeline's sweep to fractile curves, capacity fractiles and lognormal checks"
     }

@@ -10,7 +10,7 @@ use super::stage::{BoxError, Context, Shard, Stage, Study, Summary};
 use super::sweep::{self, DatasetError};
 use crate::figures;
 use crate::plot::{self, PlotError};
-use crate::study::{FitBands, StudyData};
+use crate::study::{FitBands, PulseData, StudyData};
 use crate::tables::{self, TableError};
 
 /// The report stage.
@@ -44,6 +44,12 @@ impl Stage for Report {
     }
 
     fn inputs(&self, study: &Study) -> Result<Vec<PathBuf>, BoxError> {
+        if study.plan.pulses.is_some() {
+            return Ok(vec![
+                study.path(super::pulses::WALLS),
+                study.path(super::pulses::MAP),
+            ]);
+        }
         let mut inputs = match sweep::dataset(&study.dir) {
             Ok((ida, cap)) => ida.into_iter().chain(cap).collect(),
             Err(DatasetError::NoTables(_) | DatasetError::Io { .. }) => vec![
@@ -168,10 +174,38 @@ fn read_fit_bands(path: &Path) -> Result<FitBands, ReportError> {
     })
 }
 
+/// A pulse map's tables.
+pub fn load_pulses(
+    study: &Study,
+    stage_seconds: &[(&str, Option<f64>)],
+) -> Result<PulseData, ReportError> {
+    Ok(PulseData {
+        plan: study.plan.clone(),
+        pipeline: pipeline_name(&study.pipeline),
+        version: env!("CARGO_PKG_VERSION").to_string(),
+        walls: tables::read(&study.path(super::pulses::WALLS))?,
+        cells: tables::read(&study.path(super::pulses::MAP))?,
+        stage_seconds: stage_seconds
+            .iter()
+            .filter(|(name, _)| *name != "report")
+            .map(|(name, s)| (name.to_string(), *s))
+            .collect(),
+    })
+}
+
 fn run(cx: &Context) -> Result<Summary, ReportError> {
     let study = cx.study;
-    let data = load(study, &cx.stage_seconds)?;
-    let figs = figures::all(&data);
+    let (figs, md) = if study.plan.pulses.is_some() {
+        let data = load_pulses(study, &cx.stage_seconds)?;
+        let figs = figures::all_pulse(&data);
+        let md = crate::report::render_pulses(&data, &figs);
+        (figs, md)
+    } else {
+        let data = load(study, &cx.stage_seconds)?;
+        let figs = figures::all(&data);
+        let md = crate::report::render(&data, &figs);
+        (figs, md)
+    };
     let fig_dir = study.path("figures");
     let mut written = Vec::new();
     let mut svgs = Vec::new();
@@ -195,7 +229,6 @@ fn run(cx: &Context) -> Result<Summary, ReportError> {
             }
         }
     }
-    let md = crate::report::render(&data, &figs);
     let report = study.path("report.md");
     tables::atomic_write(&report, md.as_bytes())?;
     let page = crate::report::render_html(&format!("Study {}", study.plan.name), &md, &svgs);

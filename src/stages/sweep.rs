@@ -82,6 +82,10 @@ impl Stage for Sweep {
         "sweep"
     }
 
+    fn not_needed(&self, study: &Study) -> Option<String> {
+        study.plan.pulse_map_skips()
+    }
+
     fn about(&self) -> &'static str {
         "Run a pipeline's IDA study: every record × block, written as Parquet tables"
     }
