@@ -277,8 +277,8 @@ fn capacity_curves(d: &StudyData) -> Vec<Figure> {
     if !d.is_grid() {
         return Vec::new();
     }
-    let (_, es) = d.ps_and_eps();
-    let lines = es
+    let (ps, es) = d.ps_and_eps();
+    let mut lines: Vec<Line> = es
         .iter()
         .enumerate()
         .map(|(k, &e)| Line {
@@ -288,6 +288,19 @@ fn capacity_curves(d: &StudyData) -> Vec<Figure> {
             color: k,
         })
         .collect();
+    // The paper draws the full-cycle rectangle's Mode 0 wall beside the
+    // median (t_d = 1 s, so f = p): the shape its regression is built on.
+    if !ps.is_empty() {
+        lines.push(Line {
+            name: Some("Eq. 6: (1 − exp(−p·1 s))²".into()),
+            points: crate::fit::p_curve(&ps)
+                .into_iter()
+                .map(|p| (p, crate::pulse::full_cycle_eq6(p)))
+                .collect(),
+            style: Style::Dashed,
+            color: 9,
+        });
+    }
     vec![Figure {
         file: "fig08_capacity_curves.svg".into(),
         chart: Chart {
@@ -300,8 +313,9 @@ fn capacity_curves(d: &StudyData) -> Vec<Figure> {
             y_range: Some((0.0, 1.0)),
             lines,
         },
-        caption: "The median capacity against the block's frequency parameter, one curve per ε \
-                  (paper Fig. 8)."
+        caption: "The median capacity against the block's frequency parameter, one curve per ε, \
+                  with the full-cycle rectangular pulse's Mode 0 wall (Eq. 6, t_d = 1 s) dashed \
+                  as the paper draws it (paper Fig. 8)."
             .into(),
     }]
 }
