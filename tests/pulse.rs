@@ -513,4 +513,16 @@ fn pulse_map_pipelines_refuse_what_they_cannot_use() {
         let err = crate::util::stderr(&out);
         assert!(err.contains(says), "{body}: {err}");
     }
+    // Nothing to shard on a cluster, and no records stage to run by hand.
+    let pipe = write(dir.path(), "map.toml", base);
+    let p = pipe.to_str().unwrap();
+    for (args, says) in [
+        (vec!["submit", p, "--shards", "2"], "runs no records"),
+        (vec!["sweep", p], "does not need `sweep`"),
+    ] {
+        let out = crate::util::rocking(dir.path(), &args);
+        assert!(!out.status.success(), "{args:?}");
+        let err = crate::util::stderr(&out);
+        assert!(err.contains(says), "{args:?}: {err}");
+    }
 }

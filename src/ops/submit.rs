@@ -41,6 +41,8 @@ pub struct Submitted {
 
 #[derive(Debug, thiserror::Error)]
 pub enum SubmitError {
+    #[error("nothing to submit: {0}; it runs in seconds with `rocking run`")]
+    NoSweep(String),
     #[error(
         "rocking submit needs Slurm's `sbatch` on PATH, and there is none \
          (install Slurm's client commands, or load their module)"
@@ -147,6 +149,9 @@ pub fn submit(
     format!("1/{}", opts.shards)
         .parse::<Shard>()
         .map_err(|e| SubmitError::Shards(opts.shards, e))?;
+    if let Some(why) = study.plan.pulse_map_skips() {
+        return Err(SubmitError::NoSweep(why));
+    }
     let sbatch = on_path("sbatch").ok_or(SubmitError::NoSbatch)?;
     let binary = std::env::current_exe()
         .and_then(|p| p.canonicalize())
