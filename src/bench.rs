@@ -229,30 +229,6 @@ pub fn run(
     Ok(rows)
 }
 
-/// Housner's rectangle: ψ̈ = 1 for the whole record of duration `t_d`.
-pub fn rectangle_pulse(t_d: f64, dt: f64) -> Excitation {
-    let n = (t_d / dt).round() as usize + 1;
-    Excitation::new(&vec![1.0; n], t_d / (n - 1) as f64).expect("valid pulse")
-}
-
-/// The paper's symmetric exponential pulse of shape β, duration `t_d`, sampled at `dt`.
-pub fn exponential_pulse(beta: f64, t_d: f64, dt: f64) -> Excitation {
-    let k = (t_d / dt).round() as usize;
-    let samples: Vec<f64> = (0..=k)
-        .map(|i| {
-            let u = 1.0 - (2.0 * i as f64 / k as f64 - 1.0).abs();
-            (1.0 - (beta * u).exp()) / (1.0 - beta.exp())
-        })
-        .collect();
-    Excitation::new(&samples, t_d / k as f64).expect("valid pulse")
-}
-
-/// The paper's Eq. 5 (safety wall of the exponential pulse), away from f = 2β.
-pub fn exponential_eta_w(beta: f64, f: f64) -> f64 {
-    let base = f.exp() * (f + 2.0 * beta) / (2.0 * f * (f / 2.0 + beta).exp() - (f - 2.0 * beta));
-    (1.0 - base.powf(2.0 * beta / (f - 2.0 * beta))) / (1.0 - beta.exp())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -870,9 +870,7 @@ fn family_walls(
     eps: f64,
     pick: impl Fn(&crate::tables::pulse::PulseWallRow) -> Option<f64>,
 ) -> Vec<(f64, f64)> {
-    d.walls
-        .iter()
-        .filter(|w| w.beta == beta && w.eps == eps)
+    d.walls_of(beta, eps)
         .filter_map(|w| pick(w).map(|e| (w.f, e)))
         .collect()
 }
@@ -937,11 +935,7 @@ fn pulse_walls(d: &PulseData) -> Vec<Figure> {
 fn pulse_modes(d: &PulseData) -> Vec<Figure> {
     let mut figs = Vec::new();
     for (beta, eps, label) in d.families() {
-        let cells: Vec<_> = d
-            .cells
-            .iter()
-            .filter(|c| c.beta == beta && c.eps == eps)
-            .collect();
+        let cells: Vec<_> = d.cells_of(beta, eps).collect();
         if cells.is_empty() {
             continue;
         }

@@ -88,6 +88,8 @@ pub struct PulsePlan {
     pub eta: Vec<f64>,
     pub eps: Vec<f64>,
     pub intervals: Option<usize>,
+    /// `model.alpha`, for the nonlinear model.
+    pub alpha: Option<f64>,
 }
 
 /// Bootstrap bands of the capacity fractiles.
@@ -392,8 +394,6 @@ pub struct Plan {
     /// A pulse map (`[pulses]`): then no records, blocks or grid are used,
     /// and only the `pulses` and `report` stages run.
     pub pulses: Option<PulsePlan>,
-    /// A pulse map's `model.alpha` (for the nonlinear model).
-    pub pulse_alpha: Option<f64>,
     /// The pipeline file's folder: relative paths in the file are relative
     /// to it, and fingerprints store paths relative to it.
     #[serde(skip)]
@@ -550,11 +550,6 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
                 .into(),
         ));
     }
-    if overturn == Overturn::OnSide && model == ModelChoice::Linearized {
-        return Err(err(
-            "`model.overturn` = \"on-side\" needs the nonlinear model".into(),
-        ));
-    }
     let grid = grid(&raw.im).map_err(err)?;
     let fractile = FractileDef::parse(&raw.reduce.fractile).ok_or_else(|| {
         err(format!(
@@ -597,7 +592,6 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
         convergence,
         uncertainty,
         pulses: None,
-        pulse_alpha: None,
         base: base.to_path_buf(),
     })
 }
@@ -629,9 +623,6 @@ fn pulse_map(raw: RawPipeline, name: String, base: &Path) -> Result<Plan, String
     }
     if model == ModelChoice::Nonlinear && raw.model.alpha.is_none() {
         return Err("`model.kind` = \"nonlinear\" needs `model.alpha`".into());
-    }
-    if overturn == Overturn::OnSide && model == ModelChoice::Linearized {
-        return Err("`model.overturn` = \"on-side\" needs the nonlinear model".into());
     }
     let shapes = match (rp.shape.as_str(), &rp.beta) {
         ("rect", None) => vec![Shape::Rect],
@@ -714,8 +705,8 @@ fn pulse_map(raw: RawPipeline, name: String, base: &Path) -> Result<Plan, String
             eta,
             eps,
             intervals: rp.intervals,
+            alpha: raw.model.alpha,
         }),
-        pulse_alpha: raw.model.alpha,
         base: base.to_path_buf(),
     })
 }
@@ -782,6 +773,9 @@ fn model(raw: &RawModel, default: Overturn) -> Result<(ModelChoice, Overturn), S
             .parse()
             .map_err(|e: crate::physics::PhysicsError| format!("`model.overturn`: {e}"))?,
     };
+    if overturn == Overturn::OnSide && model == ModelChoice::Linearized {
+        return Err("`model.overturn` = \"on-side\" needs the nonlinear model".into());
+    }
     crate::physics::check_rtol(raw.rtol).map_err(|e| format!("`model.rtol`: {e}"))?;
     if raw.auto_tol.is_nan() || raw.auto_tol <= 0.0 {
         return Err(format!(

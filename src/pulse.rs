@@ -23,7 +23,7 @@
 
 use std::fmt;
 
-use crate::physics::{simulate, Excitation, Outcome, Overturn, PhysicsError, RunSpec};
+use crate::physics::{simulate, Equation, Excitation, Outcome, Overturn, PhysicsError, RunSpec};
 
 /// The lobe's shape.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -180,6 +180,15 @@ impl Pulse {
         self.excitation(default_intervals(self.shape, p * self.t_d_s))
     }
 
+    /// The closed-form wall for a run of `spec` at `f`: the linearised
+    /// model's [`Pulse::closed_form`], none for the nonlinear model.
+    pub fn closed_form_for(&self, f: f64, spec: &RunSpec) -> Option<ClosedForm> {
+        match spec.model.equation {
+            Equation::Linearized => self.closed_form(f, spec.overturn),
+            Equation::Nonlinear { .. } => None,
+        }
+    }
+
     /// The closed-form wall that applies to this pulse under `overturn`
     /// with the linearised model, if one does: Eq. 3 (rectangle, half
     /// cycle), Eq. 5 (exponential, half cycle; a half cycle's forcing never
@@ -228,6 +237,16 @@ pub enum WallKind {
     Any,
     /// The largest η at which it overturns with no impact (η_w,0).
     Mode0,
+}
+
+impl WallKind {
+    /// The name of the wall it is, as tables and `--json` write it.
+    pub fn column(self) -> &'static str {
+        match self {
+            WallKind::Any => "eta_w",
+            WallKind::Mode0 => "eta_w_mode0",
+        }
+    }
 }
 
 /// A closed-form wall and which of the two walls it is.
@@ -328,6 +347,16 @@ pub struct Wall {
     pub mode: Option<u64>,
     /// Simulations run.
     pub runs: u64,
+}
+
+impl Wall {
+    /// The wall of that kind.
+    pub fn of(&self, kind: WallKind) -> Option<f64> {
+        match kind {
+            WallKind::Any => self.eta_w,
+            WallKind::Mode0 => self.eta_w_mode0,
+        }
+    }
 }
 
 /// How [`wall`] searches: a log grid from η = 1 (nothing lifts: |ψ̈| ≤ 1)

@@ -582,27 +582,12 @@ pub fn render_pulses(d: &crate::study::PulseData, figures: &[Figure]) -> String 
     let _ = writeln!(md, "| family | equation | wall | walls compared | largest relative difference |\n|---|---|---|---:|---:|");
     let mut any = false;
     for (beta, eps, label) in d.families() {
-        let rows: Vec<_> = d
-            .walls
-            .iter()
-            .filter(|w| w.beta == beta && w.eps == eps)
+        let diffs: Vec<f64> = d
+            .walls_of(beta, eps)
+            .filter_map(|w| w.closed_form_gap())
             .collect();
-        let diffs: Vec<f64> = rows
-            .iter()
-            .filter_map(|w| {
-                let c = w.closed_form?;
-                let sim = if w.closed_form_of.as_deref() == Some("eta_w") {
-                    w.eta_w?
-                } else {
-                    w.eta_w_mode0?
-                };
-                Some((sim - c).abs() / c)
-            })
-            .collect();
-        if let (Some(w), false) = (
-            rows.iter().find(|w| w.closed_form.is_some()),
-            diffs.is_empty(),
-        ) {
+        let first = d.walls_of(beta, eps).find(|w| w.closed_form.is_some());
+        if let (Some(w), false) = (first, diffs.is_empty()) {
             any = true;
             let _ = writeln!(
                 md,
@@ -631,11 +616,7 @@ pub fn render_pulses(d: &crate::study::PulseData, figures: &[Figure]) -> String 
         "| family | points | safe | Mode 0 | Mode 1 | Mode 2+ |\n|---|---:|---:|---:|---:|---:|"
     );
     for (beta, eps, label) in d.families() {
-        let cells: Vec<_> = d
-            .cells
-            .iter()
-            .filter(|c| c.beta == beta && c.eps == eps)
-            .collect();
+        let cells: Vec<_> = d.cells_of(beta, eps).collect();
         let n = |keep: &dyn Fn(bool, i64) -> bool| {
             cells
                 .iter()

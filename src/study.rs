@@ -113,4 +113,26 @@ impl PulseData {
         }
         out
     }
+
+    /// The walls of one family, in f order.
+    pub fn walls_of(
+        &self,
+        beta: Option<f64>,
+        eps: f64,
+    ) -> impl Iterator<Item = &crate::tables::pulse::PulseWallRow> {
+        self.walls
+            .iter()
+            .filter(move |w| w.beta == beta && w.eps == eps)
+    }
+
+    /// The map cells of one family.
+    pub fn cells_of(
+        &self,
+        beta: Option<f64>,
+        eps: f64,
+    ) -> impl Iterator<Item = &crate::tables::pulse::PulseCellRow> {
+        self.cells
+            .iter()
+            .filter(move |c| c.beta == beta && c.eps == eps)
+    }
 }

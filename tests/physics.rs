@@ -93,7 +93,12 @@ fn exponential_pulse_family_matches_paper_eq5() {
         (3.0, 8.0),
     ];
     for (beta, f) in cases {
-        let exc = rocking::bench::exponential_pulse(beta, 1.0, 1e-4);
+        let lobe = rocking::pulse::Pulse {
+            shape: rocking::pulse::Shape::Exp { beta },
+            cycle: rocking::pulse::Cycle::Half,
+            t_d_s: 1.0,
+        };
+        let exc = lobe.excitation(10_000).unwrap(); // dt = 1e-4 s
         let c = eta_c(&exc, RunSpec::new(f, 0.7, 1.0, LIN), 1e-11);
         let w = eta_w_exponential(beta, f);
         assert!(

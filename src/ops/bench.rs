@@ -14,6 +14,7 @@ use crate::physics::{
     LINEARIZATION_ERROR_PER_ALPHA2,
 };
 use crate::plot::{self, PlotError, Series};
+use crate::pulse::{Cycle, Pulse, Shape};
 use crate::tables::{atomic_write, TableError};
 
 /// What to measure and where to write it.
@@ -152,16 +153,25 @@ fn solvers(args: &BenchOptions, say: &mut impl FnMut(&str)) -> Result<String, Be
             });
         }
     }
+    // One lobe of 1 s sampled at 0.01 s, as a record would be.
+    let pulse = |shape| {
+        let half = Pulse {
+            shape,
+            cycle: Cycle::Half,
+            t_d_s: 1.0,
+        };
+        half.excitation(100).expect("a valid pulse")
+    };
     cases.push(Case {
         name: "rectangle f=2".into(),
-        exc: bench::rectangle_pulse(1.0, 0.01),
+        exc: pulse(Shape::Rect),
         p: 2.0,
         eps: 0.8,
-        exact_eta_c: Some(1.0 - (-2.0f64).exp()),
+        exact_eta_c: Some(crate::pulse::housner_eq3(2.0)),
     });
     cases.push(Case {
         name: "exponential β=1 f=3".into(),
-        exc: bench::exponential_pulse(1.0, 1.0, 0.01),
+        exc: pulse(Shape::Exp { beta: 1.0 }),
         p: 3.0,
         eps: 0.8,
         exact_eta_c: None,

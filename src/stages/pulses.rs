@@ -13,9 +13,9 @@ use rayon::prelude::*;
 
 use super::stage::{BoxError, Context, Progress, Shard, Stage, Study, Summary};
 use crate::label::Label;
-use crate::physics::{simulate, Equation, PhysicsError, RunSpec};
+use crate::physics::{simulate, PhysicsError, RunSpec};
 use crate::pipeline::PulsePlan;
-use crate::pulse::{self, Pulse, Shape, WallKind, WallSearch};
+use crate::pulse::{self, Pulse, Shape, WallSearch};
 use crate::tables::pulse::{PulseCellRow, PulseWallRow};
 use crate::tables::{self, TableError};
 
@@ -47,7 +47,6 @@ impl Stage for Pulses {
         serde_json::json!({
             "pulses": plan.pulses,
             "model": plan.model,
-            "alpha": plan_alpha(study),
             "rtol": plan.rtol,
             "overturn": plan.overturn,
         })
@@ -70,6 +69,8 @@ impl Stage for Pulses {
 pub enum PulsesError {
     #[error(transparent)]
     Table(#[from] TableError),
+    #[error("the pulse map's model")]
+    Model(#[source] PhysicsError),
     #[error("pulse {pulse}, ε = {eps}, f = {f}")]
     Physics {
         pulse: String,
@@ -78,12 +79,6 @@ pub enum PulsesError {
         #[source]
         source: PhysicsError,
     },
-}
-
-/// The model's α: a pulse map's nonlinear model takes `model.alpha`, kept
-/// in the plan's settings through `ModelChoice::resolve`.
-fn plan_alpha(study: &Study) -> Option<f64> {
-    study.plan.pulse_alpha
 }
 
 /// One (family, ε, f) point: its wall row and its map cells.
@@ -105,10 +100,7 @@ fn point(
     let exc = pl.excitation(n)?;
     let spec = RunSpec { p: f, eps, ..*base };
     let w = pulse::wall(&exc, &spec, WallSearch::default())?;
-    let closed = match spec.model.equation {
-        Equation::Linearized => pl.closed_form(f, spec.overturn),
-        Equation::Nonlinear { .. } => None,
-    };
+    let closed = pl.closed_form_for(f, &spec);
     let wall = PulseWallRow {
         pulse: shape.name().to_string(),
         beta: shape.beta(),
@@ -123,13 +115,7 @@ fn point(
         mode: w.mode.map(|m| m as i64),
         closed_form: closed.map(|c| c.eta),
         closed_form_equation: closed.map(|c| c.equation.to_string()),
-        closed_form_of: closed.map(|c| {
-            match c.of {
-                WallKind::Any => "eta_w",
-                WallKind::Mode0 => "eta_w_mode0",
-            }
-            .to_string()
-        }),
+        closed_form_of: closed.map(|c| c.of.column().to_string()),
         runs: w.runs as i64,
         intervals_per_lobe: n as i64,
     };
@@ -160,13 +146,8 @@ fn run(cx: &Context) -> Result<Summary, PulsesError> {
     let pp = plan.pulses.as_ref().expect("not_needed without [pulses]");
     let (model, _) = plan
         .model
-        .resolve(plan.pulse_alpha, plan.rtol, plan.auto_tol)
-        .map_err(|source| PulsesError::Physics {
-            pulse: String::new(),
-            eps: f64::NAN,
-            f: f64::NAN,
-            source,
-        })?;
+        .resolve(pp.alpha, plan.rtol, plan.auto_tol)
+        .map_err(PulsesError::Model)?;
     let base = RunSpec {
         overturn: plan.overturn,
         ..RunSpec::new(1.0, 0.5, 1.0, model)
@@ -226,17 +207,7 @@ fn run(cx: &Context) -> Result<Summary, PulsesError> {
     )];
     tables::write(&study.path(WALLS), &walls, &meta)?;
     tables::write(&study.path(MAP), &cells, &meta)?;
-    let closed: Vec<f64> = walls
-        .iter()
-        .filter_map(|w| {
-            let sim = match w.closed_form_of.as_deref()? {
-                "eta_w" => w.eta_w?,
-                _ => w.eta_w_mode0?,
-            };
-            let c = w.closed_form?;
-            Some((sim - c).abs() / c)
-        })
-        .collect();
+    let closed: Vec<f64> = walls.iter().filter_map(|w| w.closed_form_gap()).collect();
     let mut lines = vec![format!(
         "mapped {} pulse × ε × f points ({} walls, {} map cells): {runs} runs in {:.1} s",
         walls.len(),

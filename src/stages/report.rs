@@ -147,11 +147,7 @@ pub fn load(
             Some(_) if read_fit => Some(read_fit_bands(&dir.join(fit::BANDS))?),
             _ => None,
         },
-        stage_seconds: stage_seconds
-            .iter()
-            .filter(|(name, _)| *name != "report")
-            .map(|(name, s)| (name.to_string(), *s))
-            .collect(),
+        stage_seconds: other_stages(stage_seconds),
     })
 }
 
@@ -174,6 +170,15 @@ fn read_fit_bands(path: &Path) -> Result<FitBands, ReportError> {
     })
 }
 
+/// The other stages' times, for the report.
+fn other_stages(stage_seconds: &[(&str, Option<f64>)]) -> Vec<(String, Option<f64>)> {
+    stage_seconds
+        .iter()
+        .filter(|(name, _)| *name != "report")
+        .map(|(name, s)| (name.to_string(), *s))
+        .collect()
+}
+
 /// A pulse map's tables.
 pub fn load_pulses(
     study: &Study,
@@ -185,11 +190,7 @@ pub fn load_pulses(
         version: env!("CARGO_PKG_VERSION").to_string(),
         walls: tables::read(&study.path(super::pulses::WALLS))?,
         cells: tables::read(&study.path(super::pulses::MAP))?,
-        stage_seconds: stage_seconds
-            .iter()
-            .filter(|(name, _)| *name != "report")
-            .map(|(name, s)| (name.to_string(), *s))
-            .collect(),
+        stage_seconds: other_stages(stage_seconds),
     })
 }
 

@@ -38,6 +38,23 @@ table! {
     }
 }
 
+impl PulseWallRow {
+    /// The simulated wall its closed form gives (`closed_form_of`), if any.
+    pub fn closed_form_wall(&self) -> Option<f64> {
+        self.closed_form?;
+        match self.closed_form_of.as_deref()? {
+            "eta_w" => self.eta_w,
+            _ => self.eta_w_mode0,
+        }
+    }
+
+    /// |simulated − closed form| / closed form, where both exist.
+    pub fn closed_form_gap(&self) -> Option<f64> {
+        let c = self.closed_form?;
+        Some((self.closed_form_wall()? - c).abs() / c)
+    }
+}
+
 table! {
     /// One point of the map: one pulse and block at one (f, η).
     pub struct PulseCellRow = "pulse_map" v 1 {

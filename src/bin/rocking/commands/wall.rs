@@ -92,10 +92,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .unwrap_or_else(|| pulse::default_intervals(pl.shape, args.f));
     let exc = pl.excitation(n)?;
     let w = pulse::wall(&exc, &base, WallSearch::default())?;
-    let closed = match model.equation {
-        rocking::physics::Equation::Linearized => pl.closed_form(args.f, args.overturn),
-        _ => None,
-    };
+    let closed = pl.closed_form_for(args.f, &base);
     let report = Report {
         f: args.f,
         pulse: pl.shape.name(),
@@ -109,10 +106,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         eta_w_mode0: w.eta_w_mode0,
         closed_form: closed.map(|c| c.eta),
         closed_form_equation: closed.map(|c| c.equation),
-        closed_form_of: closed.map(|c| match c.of {
-            WallKind::Any => "eta_w",
-            WallKind::Mode0 => "eta_w_mode0",
-        }),
+        closed_form_of: closed.map(|c| c.of.column()),
         mode: w.mode,
         runs: w.runs,
         intervals_per_lobe: n,
@@ -141,9 +135,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     println!("η_w, Mode 0  {}", show(w.eta_w_mode0));
     match closed {
         Some(c) => {
-            let (sim, name) = match c.of {
-                WallKind::Any => (w.eta_w, "η_w"),
-                WallKind::Mode0 => (w.eta_w_mode0, "η_w,0"),
+            let sim = w.of(c.of);
+            let name = match c.of {
+                WallKind::Any => "η_w",
+                WallKind::Mode0 => "η_w,0",
             };
             println!(
                 "closed form  {} for {name}: {:.10}{}",
