@@ -134,18 +134,32 @@ fn capacity_points(
 
 /// Fig. 5: every record's IDA curve for one block, and the fractiles.
 fn ida_curves(d: &StudyData) -> Vec<Figure> {
-    let n_blocks = d.plan.blocks.len();
-    let (bi, p_mid, e_mid) = middle(d);
+    // The pipeline's example block when it names one, else the grid's middle.
+    let (p_mid, e_mid, caps, ida, horizontal, which) = match &d.example {
+        Some(x) => (
+            x.block.p,
+            x.block.eps,
+            x.caps.iter().collect::<Vec<_>>(),
+            &x.ida,
+            &x.horizontal,
+            "the pipeline's example block (`[example]`)",
+        ),
+        None => {
+            let n_blocks = d.plan.blocks.len();
+            let (bi, p, e) = middle(d);
+            let caps = d
+                .caps
+                .iter()
+                .filter(|c| c.case_id as usize % n_blocks == bi)
+                .collect();
+            (p, e, caps, &d.ida, &d.horizontal, "the grid's middle block")
+        }
+    };
     let mut lines = Vec::new();
     let mut cap_max: f64 = 0.0;
-    for c in d
-        .caps
-        .iter()
-        .filter(|c| c.case_id as usize % n_blocks == bi)
-    {
+    for c in &caps {
         let mut pts = vec![(0.0, 1.0)];
-        for r in d
-            .ida
+        for r in ida
             .iter()
             .filter(|r| r.case_id == c.case_id && r.run_kind == RunKind::Level)
         {
@@ -165,7 +179,7 @@ fn ida_curves(d: &StudyData) -> Vec<Figure> {
         });
     }
     for (qi, q_name) in Q_NAMES.iter().enumerate() {
-        let pts = fractile_curve(&d.horizontal, p_mid, e_mid, qi);
+        let pts = fractile_curve(horizontal, p_mid, e_mid, qi);
         cap_max = cap_max.max(pts.last().map_or(0.0, |p| p.1));
         lines.push(Line {
             name: Some(format!("{q_name} fractile")),
@@ -179,7 +193,7 @@ fn ida_curves(d: &StudyData) -> Vec<Figure> {
         chart: Chart {
             title: format!(
                 "IDA curves of {} records, p = {p_mid:.3} 1/s, ε = {e_mid:.2}",
-                d.n_records()
+                caps.len()
             ),
             x_desc: "θmax / α".into(),
             y_desc: "A_g / (α g) = 1/η".into(),
@@ -189,10 +203,11 @@ fn ida_curves(d: &StudyData) -> Vec<Figure> {
             y_range: Some((0.0, 1.4 * cap_max.max(1.0))),
             lines,
         },
-        caption: "Every record's IDA curve (grey: θmax/α against the intensity until the first \
-                  overturning, which is drawn at θmax/α = 1) and the 16/50/84 % horizontal \
-                  fractiles under the resurrection rule (paper Fig. 5)."
-            .into(),
+        caption: format!(
+            "Every record's IDA curve for {which} (grey: θmax/α against the intensity until the \
+             first overturning, which is drawn at θmax/α = 1) and the 16/50/84 % horizontal \
+             fractiles under the resurrection rule (paper Fig. 5)."
+        ),
     }]
 }
 

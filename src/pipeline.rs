@@ -45,6 +45,21 @@ pub struct RawPipeline {
     pub reduce: RawReduce,
     pub convergence: Option<RawConvergence>,
     pub uncertainty: Option<RawUncertainty>,
+    pub example: Option<RawExample>,
+}
+
+/// `[example]`: the block the report's Fig. 5 draws, run over the records
+/// by the `example` stage even when it is not one of the study's blocks:
+/// `p` and `eps` (dimensionless, α from `model.alpha`), or a physical
+/// block's `b`, `h` and `eps` as in `[[block]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawExample {
+    pub name: Option<String>,
+    pub p: Option<f64>,
+    pub b: Option<f64>,
+    pub h: Option<f64>,
+    pub eps: toml::Value,
 }
 
 /// `[pulses]`: a pulse map (safe and overturning areas over f and η, and
@@ -394,6 +409,10 @@ pub struct Plan {
     /// A pulse map (`[pulses]`): then no records, blocks or grid are used,
     /// and only the `pulses` and `report` stages run.
     pub pulses: Option<PulsePlan>,
+    /// The block of the report's Fig. 5 (`[example]`), run by the
+    /// `example` stage whether or not it is one of `blocks`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub example: Option<BlockSpec>,
     /// The pipeline file's folder: relative paths in the file are relative
     /// to it, and fingerprints store paths relative to it.
     #[serde(skip)]
@@ -544,9 +563,18 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
     let records = records(&raw_records, base).map_err(err)?;
     let (model, overturn) = model(&raw.model, Overturn::Static).map_err(err)?;
     let blocks = blocks(&raw.blocks, &raw.block, raw.model.alpha).map_err(err)?;
-    if model == ModelChoice::Nonlinear && blocks.iter().any(|b| b.alpha_rad.is_none()) {
+    let example = raw
+        .example
+        .as_ref()
+        .map(|e| example(e, raw.model.alpha))
+        .transpose()
+        .map_err(err)?;
+    if model == ModelChoice::Nonlinear
+        && blocks.iter().chain(&example).any(|b| b.alpha_rad.is_none())
+    {
         return Err(err(
-            "`model.kind` = \"nonlinear\" needs `model.alpha` (or physical `[[block]]` entries)"
+            "`model.kind` = \"nonlinear\" needs `model.alpha` (or physical `[[block]]` entries, \
+             and b and h in `[example]`)"
                 .into(),
         ));
     }
@@ -592,6 +620,7 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
         convergence,
         uncertainty,
         pulses: None,
+        example,
         base: base.to_path_buf(),
     })
 }
@@ -611,6 +640,7 @@ fn pulse_map(raw: RawPipeline, name: String, base: &Path) -> Result<Plan, String
         ("[[block]]", !raw.block.is_empty()),
         ("[convergence]", raw.convergence.is_some()),
         ("[uncertainty]", raw.uncertainty.is_some()),
+        ("[example]", raw.example.is_some()),
     ];
     if let Some((section, _)) = stray.iter().find(|(_, present)| *present) {
         return Err(format!(
@@ -707,6 +737,7 @@ fn pulse_map(raw: RawPipeline, name: String, base: &Path) -> Result<Plan, String
             intervals: rp.intervals,
             alpha: raw.model.alpha,
         }),
+        example: None,
         base: base.to_path_buf(),
     })
 }
@@ -853,9 +884,53 @@ fn blocks(
     }
 }
 
+/// `[example]`: p and ε (α from `model.alpha`), or b, h and ε as a
+/// physical block.
+fn example(e: &RawExample, model_alpha: Option<f64>) -> Result<BlockSpec, String> {
+    match (e.p, e.b, e.h) {
+        (Some(p), None, None) => {
+            if !(p > 0.0 && p.is_finite()) {
+                return Err(format!("`example.p` = {p}; p must be positive (1/s)"));
+            }
+            let eps = match &e.eps {
+                toml::Value::Float(x) => *x,
+                toml::Value::Integer(x) => *x as f64,
+                other => {
+                    return Err(format!(
+                        "`example.eps` = {other:?}; give a number in (0, 1] (\"housner\" needs b and h)"
+                    ))
+                }
+            };
+            check_eps("example.eps", eps)?;
+            Ok(BlockSpec {
+                name: e.name.clone().unwrap_or_default(),
+                p,
+                eps,
+                alpha_rad: model_alpha,
+            })
+        }
+        (None, Some(b), Some(h)) => physical(
+            "example",
+            &RawBlock {
+                name: e.name.clone(),
+                b,
+                h,
+                eps: e.eps.clone(),
+            },
+        ),
+        _ => {
+            Err("`[example]` takes `p` and `eps`, or a physical block's `b`, `h` and `eps`".into())
+        }
+    }
+}
+
 /// One `[[block]]`: b, h (m) → α and p; ε a number or Housner's bound.
 fn physical_block(i: usize, b: &RawBlock) -> Result<BlockSpec, String> {
-    let key = format!("block[{i}]");
+    physical(&format!("block[{i}]"), b)
+}
+
+/// A physical block under the key `key`.
+fn physical(key: &str, b: &RawBlock) -> Result<BlockSpec, String> {
     if !(b.b > 0.0 && b.h > 0.0 && b.b.is_finite() && b.h.is_finite()) {
         return Err(format!("`{key}`: b and h must be positive (m)"));
     }

@@ -3,7 +3,7 @@
 //! stage loads it from the tables.
 
 use crate::fragility::FractileLaw;
-use crate::pipeline::Plan;
+use crate::pipeline::{BlockSpec, Plan};
 use crate::tables::convergence::ConvergenceRow;
 use crate::tables::fit::{BandCurve, FitBandRow, FitStep1Row};
 use crate::tables::reduce::{CapacityBandRow, CapacityFractileRow, HorizontalRow, LognormalRow};
@@ -31,8 +31,21 @@ pub struct StudyData {
     /// Bootstrap bands of the fitted curves, when the pipeline asks and
     /// has a fit.
     pub fit_bands: Option<FitBands>,
+    /// The example block's runs, when the pipeline names one.
+    pub example: Option<ExampleData>,
     /// Seconds each stage took when it last ran, in run order.
     pub stage_seconds: Vec<(String, Option<f64>)>,
+}
+
+/// The report's example block (`[example]`) over every record: its runs,
+/// its capacities (cases numbered by record: 0, 1, …) and its horizontal
+/// fractiles.
+#[derive(Debug, Clone)]
+pub struct ExampleData {
+    pub block: BlockSpec,
+    pub caps: Vec<CapacityRow>,
+    pub ida: Vec<IdaRow>,
+    pub horizontal: Vec<HorizontalRow>,
 }
 
 /// The fit's bootstrap bands and how the refits went.

@@ -426,11 +426,11 @@ fn a_stage_command_runs_only_the_stages_it_reads_from() {
     assert!(line(&log, "fit").contains("running"), "{log}");
     assert!(line(&log, "sweep").contains("skipped: fresh"), "{log}");
     let status = stdout(&rocking(d, &["status", p, "--outputs", "out"]));
-    // Every stage of a records study is fresh; the pulse map's is not needed.
+    // Every stage of a records study is fresh; the pulse map's and the
+    // example's (no `[example]`) are not needed.
     assert!(
-        status
-            .lines()
-            .all(|l| l.contains("fresh") || l.starts_with("pulses") && l.contains("not needed")),
+        status.lines().all(|l| l.contains("fresh")
+            || (l.starts_with("pulses") || l.starts_with("example")) && l.contains("not needed")),
         "{status}"
     );
 }

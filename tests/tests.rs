@@ -7,6 +7,9 @@
 //!   stepper's verdicts under a one-ulp change of the record.
 //! - `cli`: `simulate` and `capacity` through the binary: JSON, history
 //!   files, the definitions of η_c, bad input.
+//! - `example`: `[example]`, the report's Fig. 5 block run off the grid:
+//!   capacities against direct calls, fractiles by hand, the same block on
+//!   the grid against the sweep, reruns, refusals.
 //! - `faults`: the faults issue #9 lists (absurd sizes, corrupt parts, mixed
 //!   shards, misleading hints, thread counts, escaped file contents,
 //!   manifest lines, copied folders, hand-edited figures, typed reasons).
@@ -16,6 +19,9 @@
 //!   against the manifest and the files; bad input and atomic output.
 //! - `physics`: the solvers against closed forms, conservation laws,
 //!   symmetry and the hard cases of issue #3.
+//! - `pulse`: pulses and `escape`: the walls against Eqs. 3, 5 and 6, the
+//!   full-cycle modes against a piecewise closed form, the pulse-map
+//!   pipeline, refusals.
 //! - `quick`: the quick study unchanged from before the redesign, and the
 //!   analyst queries of outputs/README.md checked against its tables
 //!   (ROCKING_SLOW=1).
@@ -36,6 +42,7 @@
 
 mod certify;
 mod cli;
+mod example;
 mod faults;
 mod html;
 mod ingest;

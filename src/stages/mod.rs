@@ -14,6 +14,7 @@
 
 pub mod convergence;
 pub mod engine;
+pub mod example;
 pub mod fingerprint;
 pub mod fit;
 pub mod ingest;
@@ -38,6 +39,7 @@ pub static STAGES: &[&dyn Stage] = &[
     &sweep::Sweep,
     &convergence::Convergence,
     &reduce::Reduce,
+    &example::Example,
     &fit::Fit,
     &pulses::Pulses,
     &report::Report,

@@ -118,6 +118,61 @@ struct RecordIda<'a> {
     first_over: Option<usize>,
 }
 
+impl<'a> RecordIda<'a> {
+    /// A case's capacity and its runs (any order of kinds; levels in order).
+    fn new(cap: &'a CapacityRow, runs: &[&IdaRow]) -> RecordIda<'a> {
+        let levels: Vec<(f64, f64, bool)> = runs
+            .iter()
+            .filter(|r| sweep::is_level(r))
+            .map(|r| (r.eta, r.edp, r.overturned))
+            .collect();
+        let first_over = levels.iter().position(|l| l.2);
+        RecordIda {
+            cap,
+            levels,
+            first_over,
+        }
+    }
+}
+
+/// The horizontal fractiles of one block, by the rule the stage applies to
+/// every block, from its records' capacities (in record order) and runs
+/// (cases numbered 0, 1, … as the capacities): the `example` stage's Fig. 5
+/// curves.
+pub(super) fn horizontal_of_block(
+    plan: &Plan,
+    block: &BlockSpec,
+    caps: &[CapacityRow],
+    ida: &[IdaRow],
+) -> Result<Vec<HorizontalRow>, ReduceError> {
+    let levels = plan
+        .grid
+        .levels()
+        .map_err(|e| ReduceError::Mismatch(e.to_string()))?;
+    let mut by_case: Vec<Vec<&IdaRow>> = vec![Vec::new(); caps.len()];
+    for r in ida {
+        let slot = usize::try_from(r.case_id)
+            .ok()
+            .and_then(|k| by_case.get_mut(k))
+            .ok_or_else(|| {
+                ReduceError::Mismatch(format!(
+                    "IDA point of case {} beyond the capacities",
+                    r.case_id
+                ))
+            })?;
+        slot.push(r);
+    }
+    let records: Vec<RecordIda> = caps
+        .iter()
+        .zip(&by_case)
+        .map(|(c, runs)| RecordIda::new(c, runs))
+        .collect();
+    check_block(block, &records, levels.len())?;
+    let mut out = Tables::default();
+    horizontal(plan.fractile, block, &levels, &records, &mut out);
+    Ok(out.horizontal)
+}
+
 /// Every output table, one row vector each.
 #[derive(Default)]
 struct Tables {
@@ -157,17 +212,7 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
         let records: Vec<RecordIda> = (0..n_records)
             .map(|ri| {
                 let k = ri * n_blocks + bi;
-                let levels_run: Vec<(f64, f64, bool)> = by_case[k]
-                    .iter()
-                    .filter(|r| sweep::is_level(r))
-                    .map(|r| (r.eta, r.edp, r.overturned))
-                    .collect();
-                let first_over = levels_run.iter().position(|l| l.2);
-                RecordIda {
-                    cap: &caps[k],
-                    levels: levels_run,
-                    first_over,
-                }
+                RecordIda::new(&caps[k], &by_case[k])
             })
             .collect();
         check_block(block, &records, levels.len())?;

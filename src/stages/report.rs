@@ -10,7 +10,7 @@ use super::stage::{BoxError, Context, Shard, Stage, Study, Summary};
 use super::sweep::{self, DatasetError};
 use crate::figures;
 use crate::plot::{self, PlotError};
-use crate::study::{FitBands, PulseData, StudyData};
+use crate::study::{ExampleData, FitBands, PulseData, StudyData};
 use crate::tables::{self, TableError};
 
 /// The report stage.
@@ -61,6 +61,9 @@ impl Stage for Report {
         inputs.extend(REDUCE_OUTPUTS.iter().map(|n| study.path(n)));
         if fit::not_applicable(&study.plan).is_none() {
             inputs.extend(fit::OUTPUTS.iter().map(|n| study.path(n)));
+        }
+        if study.plan.example.is_some() {
+            inputs.extend(super::example::OUTPUTS.iter().map(|n| study.path(n)));
         }
         if !study.plan.convergence.is_empty() {
             inputs.push(study.path("capacity_convergence.parquet"));
@@ -146,6 +149,18 @@ pub fn load(
         fit_bands: match plan.uncertainty {
             Some(_) if read_fit => Some(read_fit_bands(&dir.join(fit::BANDS))?),
             _ => None,
+        },
+        example: match &plan.example {
+            Some(block) => {
+                let path = |i: usize| dir.join(super::example::OUTPUTS[i]);
+                Some(ExampleData {
+                    block: block.clone(),
+                    ida: tables::read(&path(0))?,
+                    caps: tables::read(&path(1))?,
+                    horizontal: tables::read(&path(2))?,
+                })
+            }
+            None => None,
         },
         stage_seconds: other_stages(stage_seconds),
     })

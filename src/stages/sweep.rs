@@ -30,7 +30,7 @@ use super::records::{self, SelectError};
 use super::stage::{BoxError, Context, Progress, Shard, Stage, Study, Summary};
 use crate::ida::{self, RunKind};
 use crate::physics::{Excitation, PhysicsError, RunSpec};
-use crate::pipeline::Plan;
+use crate::pipeline::{BlockSpec, Plan};
 use crate::tables::records::RecordRow;
 use crate::tables::sweep::{CapacityRow, IdaRow};
 use crate::tables::{self, TableError};
@@ -175,10 +175,13 @@ pub fn plan_hash(plan: &Plan, records: &[RecordRow]) -> String {
 }
 
 /// Each block's run specification, resolved once, and the reasons for the models.
-fn block_specs(plan: &Plan) -> Result<(Vec<RunSpec>, Vec<String>), SweepError> {
+fn block_specs(
+    plan: &Plan,
+    blocks: &[BlockSpec],
+) -> Result<(Vec<RunSpec>, Vec<String>), SweepError> {
     let mut specs = Vec::new();
     let mut why = BTreeSet::new();
-    for b in &plan.blocks {
+    for b in blocks {
         let block_err = |source| SweepError::Block {
             p: b.p,
             eps: b.eps,
@@ -199,21 +202,27 @@ fn block_specs(plan: &Plan) -> Result<(Vec<RunSpec>, Vec<String>), SweepError> {
     Ok((specs, why.into_iter().collect()))
 }
 
-/// Everything a chunk needs, prepared once.
-struct Prepared {
-    records: Vec<RecordRow>,
+/// Everything a chunk needs, prepared once: the records, their
+/// excitations, and the blocks (the plan's, or the `example` stage's one).
+pub(super) struct Prepared {
+    pub(super) records: Vec<RecordRow>,
     excitations: Vec<Excitation>,
+    blocks: Vec<BlockSpec>,
     specs: Vec<RunSpec>,
     hash: String,
     plan_json: String,
-    n_cases: usize,
+    pub(super) n_cases: usize,
 }
 
 impl Prepared {
-    fn new(study: &Study) -> Result<(Prepared, Vec<String>), SweepError> {
+    /// The plan's records with `blocks`; also the models' reasons.
+    pub(super) fn new(
+        study: &Study,
+        blocks: &[BlockSpec],
+    ) -> Result<(Prepared, Vec<String>), SweepError> {
         let plan = &study.plan;
         let records = records::select(plan, &study.records_table())?;
-        let (specs, models) = block_specs(plan)?;
+        let (specs, models) = block_specs(plan, blocks)?;
         let excitations = records
             .par_iter()
             .map(|r| {
@@ -226,9 +235,10 @@ impl Prepared {
         let prepared = Prepared {
             hash: plan_hash(plan, &records),
             plan_json: plan.portable_json().to_string(),
-            n_cases: records.len() * plan.blocks.len(),
+            n_cases: records.len() * blocks.len(),
             records,
             excitations,
+            blocks: blocks.to_vec(),
             specs,
         };
         Ok((prepared, models))
@@ -276,7 +286,7 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
     let started = Instant::now();
     let study = cx.study;
     let plan = &study.plan;
-    let (prep, models) = Prepared::new(study)?;
+    let (prep, models) = Prepared::new(study, &plan.blocks)?;
     for m in &models {
         cx.reporter.note("sweep", &format!("model: {m}"));
     }
@@ -546,17 +556,21 @@ fn remove_shard_tables(dir: &Path) -> Result<(), SweepError> {
 
 /// A case's IDA points and capacity, the runs its certification added,
 /// and the sample intervals the search and its certification took.
-struct CaseResult {
-    ida: Vec<IdaRow>,
-    capacity: CapacityRow,
+pub(super) struct CaseResult {
+    pub(super) ida: Vec<IdaRow>,
+    pub(super) capacity: CapacityRow,
     check_runs: usize,
     intervals: u64,
 }
 
-fn run_case(case: usize, prep: &Prepared, plan: &Plan) -> Result<CaseResult, SweepError> {
-    let n_blocks = plan.blocks.len();
+pub(super) fn run_case(
+    case: usize,
+    prep: &Prepared,
+    plan: &Plan,
+) -> Result<CaseResult, SweepError> {
+    let n_blocks = prep.blocks.len();
     let (ri, bi) = (case / n_blocks, case % n_blocks);
-    let (record, spec, block) = (&prep.records[ri], prep.specs[bi], &plan.blocks[bi].name);
+    let (record, spec, block) = (&prep.records[ri], prep.specs[bi], &prep.blocks[bi].name);
     let certified = ida::capacity_certified(
         &prep.excitations[ri],
         &spec,

@@ -1,0 +1,161 @@
+//! Example stage (a pipeline with `[example]`): the IDA of the report's
+//! Fig. 5 block over every record, whether or not the block is one of the
+//! study's, and its horizontal fractiles → `example_ida_points.parquet`,
+//! `example_capacities.parquet`, `example_fractiles_horizontal.parquet`.
+//!
+//! Glue: each record's capacity is the sweep's ([`super::sweep::run_case`]:
+//! the same certified search, grid and tolerance), and the fractiles are
+//! the reduce stage's ([`super::reduce::horizontal_of_block`]: the same
+//! definition and resurrection rule). Cases are numbered by record, 0, 1, …
+//! The grid, the fit and every other table are left alone.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use super::reduce::{self, ReduceError};
+use super::stage::{BoxError, Context, Progress, Shard, Stage, Study, Summary};
+use super::sweep::{self, SweepError};
+use crate::pipeline::{BlockSpec, Plan};
+use crate::tables::{self, TableError};
+
+/// The example stage.
+pub struct Example;
+
+/// The example block's runs, capacities and horizontal fractiles (the
+/// columns of `ida_points`, `capacities` and `fractiles_horizontal`).
+pub const OUTPUTS: [&str; 3] = [
+    "example_ida_points.parquet",
+    "example_capacities.parquet",
+    "example_fractiles_horizontal.parquet",
+];
+
+/// Metadata key of every output: [`settings`] as JSON.
+pub const META_SETTINGS: &str = "rocking.example.settings";
+
+/// What the example's tables depend on: the sweep's settings with the
+/// example block in place of the study's, and the fractile definition.
+pub fn settings(plan: &Plan) -> serde_json::Value {
+    let mut s = plan.sweep_settings_json();
+    s["blocks"] = serde_json::json!([plan.example]);
+    s["fractile"] = serde_json::json!(format!("{:?}", plan.fractile));
+    s
+}
+
+impl Stage for Example {
+    fn name(&self) -> &'static str {
+        "example"
+    }
+
+    fn about(&self) -> &'static str {
+        "Run the report's example block ([example], Fig. 5) over the records, even off the grid"
+    }
+
+    fn not_needed(&self, study: &Study) -> Option<String> {
+        if let Some(why) = study.plan.pulse_map_skips() {
+            return Some(why);
+        }
+        study
+            .plan
+            .example
+            .is_none()
+            .then(|| "the pipeline has no [example] block".to_string())
+    }
+
+    fn settings(&self, study: &Study) -> serde_json::Value {
+        settings(&study.plan)
+    }
+
+    fn inputs(&self, study: &Study) -> Result<Vec<PathBuf>, BoxError> {
+        Ok(vec![study.records_table()])
+    }
+
+    fn outputs(&self, study: &Study, _shard: Option<Shard>) -> Vec<PathBuf> {
+        OUTPUTS.iter().map(|n| study.path(n)).collect()
+    }
+
+    fn run(&self, cx: &Context) -> Result<Summary, BoxError> {
+        Ok(run(cx)?)
+    }
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum ExampleError {
+    #[error("[example] block")]
+    Sweep(#[source] SweepError),
+    #[error(transparent)]
+    Reduce(#[from] ReduceError),
+    #[error(transparent)]
+    Table(#[from] TableError),
+}
+
+fn run(cx: &Context) -> Result<Summary, ExampleError> {
+    let started = Instant::now();
+    let study = cx.study;
+    let plan = &study.plan;
+    let block: &BlockSpec = plan
+        .example
+        .as_ref()
+        .expect("not_needed skips a plan without [example]");
+    let (prep, models) =
+        sweep::Prepared::new(study, std::slice::from_ref(block)).map_err(ExampleError::Sweep)?;
+    for m in &models {
+        cx.reporter.note("example", &format!("model: {m}"));
+    }
+    let total = prep.n_cases as u64;
+    let progress = |done: u64, runs: u64| {
+        cx.reporter.progress(&Progress {
+            stage: "example",
+            done,
+            total,
+            resumed: 0,
+            runs,
+        })
+    };
+    progress(0, 0);
+    let results = (0..prep.n_cases)
+        .into_par_iter()
+        .map(|case| sweep::run_case(case, &prep, plan))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(ExampleError::Sweep)?;
+    let mut ida = Vec::new();
+    let mut caps = Vec::with_capacity(results.len());
+    for r in results {
+        ida.extend(r.ida);
+        caps.push(r.capacity);
+    }
+    progress(total, ida.len() as u64);
+    let horizontal = reduce::horizontal_of_block(plan, block, &caps, &ida)?;
+    let meta = vec![(META_SETTINGS.to_string(), settings(plan).to_string())];
+    let path = |i: usize| study.path(OUTPUTS[i]);
+    tables::write(&path(0), &ida, &meta)?;
+    tables::write(&path(1), &caps, &meta)?;
+    tables::write(&path(2), &horizontal, &meta)?;
+    let overturned = caps.iter().filter(|c| c.eta_c.is_some()).count();
+    let on_grid = plan.blocks.iter().any(|b| b == block);
+    Ok(Summary {
+        lines: vec![
+            format!(
+                "example block p = {:.4} 1/s, ε = {:.2}{}: {} records, {} runs, {overturned} \
+                 overturned within the grid, in {:.2} s",
+                block.p,
+                block.eps,
+                if on_grid {
+                    " (also a block of the grid)"
+                } else {
+                    " (not on the grid)"
+                },
+                caps.len(),
+                ida.len(),
+                started.elapsed().as_secs_f64()
+            ),
+            format!(
+                "wrote {} in {}",
+                OUTPUTS.map(|n| n.trim_end_matches(".parquet")).join(", "),
+                study.dir.display()
+            ),
+        ],
+        also_wrote: Vec::new(),
+    })
+}
