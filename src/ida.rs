@@ -154,11 +154,25 @@ impl Capacity {
 /// simulating again. Runs are deterministic, so sharing changes nothing but
 /// the time; nested IM grids (100, 200, 400 … log-spaced levels between the
 /// same ends) share their common levels bit for bit.
+///
+/// With a [`Batch`] (from [`Runs::with_batch`]) a search also asks for
+/// runs ahead of need, several at once: the next `width` grid levels, and
+/// every chaos probe. The outcomes are the same, so the capacity and its
+/// certification are too; only the time changes, and at most `width − 1`
+/// levels past the first overturning are run in vain.
 pub struct Runs<'a> {
     exc: &'a Excitation,
     memo: std::collections::HashMap<[u64; 8], Outcome>,
     done: Work,
+    batch: Option<(Batch<'a>, usize)>,
 }
+
+/// Runs simulations of one record together: what a caller with spare cores
+/// lends one capacity search (the `capacity` command runs them in
+/// parallel, [`crate::ops::record::capacity_certified_parallel`]). It
+/// returns [`simulate`]'s result for each spec, in order.
+pub type Batch<'a> =
+    &'a (dyn Fn(&Excitation, &[RunSpec]) -> Vec<Result<Outcome, PhysicsError>> + Sync);
 
 impl<'a> Runs<'a> {
     pub fn new(exc: &'a Excitation) -> Self {
@@ -166,6 +180,44 @@ impl<'a> Runs<'a> {
             exc,
             memo: std::collections::HashMap::new(),
             done: Work::default(),
+            batch: None,
+        }
+    }
+
+    /// Runs that ask `batch` for up to `width` runs at once ahead of need.
+    pub fn with_batch(exc: &'a Excitation, batch: Batch<'a>, width: usize) -> Self {
+        Runs {
+            batch: Some((batch, width.max(1))),
+            ..Runs::new(exc)
+        }
+    }
+
+    /// How many runs a search may ask for at once (1 without a batch).
+    fn width(&self) -> usize {
+        self.batch.map_or(1, |(_, w)| w)
+    }
+
+    /// Runs the specs not yet in memory together, when there is a batch and
+    /// more than one is missing; a run that fails is left for
+    /// [`Runs::outcome`] to run again and report if it is ever needed.
+    pub fn prefetch(&mut self, specs: &[RunSpec]) {
+        let Some((batch, _)) = self.batch else {
+            return;
+        };
+        let mut missing: Vec<RunSpec> = Vec::with_capacity(specs.len());
+        for s in specs {
+            let key = run_key(s);
+            if !self.memo.contains_key(&key) && !missing.iter().any(|m| run_key(m) == key) {
+                missing.push(*s);
+            }
+        }
+        if missing.len() < 2 {
+            return;
+        }
+        for (spec, out) in missing.iter().zip(batch(self.exc, &missing)) {
+            if let Ok(out) = out {
+                let _ = self.remember(spec, out);
+            }
         }
     }
 
@@ -182,6 +234,12 @@ impl<'a> Runs<'a> {
             return Ok(*out);
         }
         let out = simulate(self.exc, spec)?;
+        self.remember(spec, out)
+    }
+
+    /// Counts and keeps a run's outcome; a run stopped by the event cap is
+    /// refused.
+    fn remember(&mut self, spec: &RunSpec, out: Outcome) -> Result<Outcome, PhysicsError> {
         if out.stop == crate::physics::Stop::EventLimit {
             return Err(PhysicsError::BadInput(format!(
                 "the run at η = {} hit the limit of {} events without a verdict",
@@ -191,7 +249,7 @@ impl<'a> Runs<'a> {
         }
         self.done.runs += 1;
         self.done.intervals += out.intervals;
-        self.memo.insert(key, out);
+        self.memo.insert(run_key(spec), out);
         Ok(out)
     }
 }
@@ -264,9 +322,15 @@ pub fn capacity_in(
     }
     let levels = grid.levels()?;
     let mut points = Vec::new();
-    let mut at = |eta: f64| runs.outcome(&RunSpec { eta, ..*run });
+    let spec = |eta: f64| RunSpec { eta, ..*run };
+    let width = runs.width();
     let mut survived = grid.eta_max;
     for (j, &eta) in levels.iter().enumerate() {
+        if width > 1 {
+            let ahead: Vec<RunSpec> = levels[j..].iter().take(width).map(|&e| spec(e)).collect();
+            runs.prefetch(&ahead);
+        }
+        let mut at = |eta: f64| runs.outcome(&spec(eta));
         let outcome = at(eta)?;
         points.push(IdaPoint {
             eta,
@@ -523,7 +587,14 @@ fn chaos_probe(
     cap: &Capacity,
     grid: &ImGrid,
 ) -> Result<Option<f64>, PhysicsError> {
-    for (eta, overturned) in decisive_runs(cap, grid) {
+    let decisive = decisive_runs(cap, grid);
+    let probes: Vec<RunSpec> = decisive
+        .iter()
+        .flat_map(|&(eta, _)| [eta * (1.0 + CHAOS_PROBE), eta * (1.0 - CHAOS_PROBE)])
+        .map(|eta| RunSpec { eta, ..*check })
+        .collect();
+    runs.prefetch(&probes);
+    for (eta, overturned) in decisive {
         for moved in [eta * (1.0 + CHAOS_PROBE), eta * (1.0 - CHAOS_PROBE)] {
             let spec = RunSpec {
                 eta: moved,

@@ -355,3 +355,44 @@ fn grids_sharing_runs_find_what_each_finds_alone() {
         "{done} simulations shared vs {alone_runs} alone"
     );
 }
+
+/// Issue 10: `capacity` runs grid levels ahead of need and its chaos probes
+/// at once, on every core (`ops::record::capacity_certified_parallel`). The
+/// sequential search is the definition: the same capacity, points and
+/// certification, for the exact stepper (one case chaotic, one survivor of
+/// the whole grid) and for DP5 (a tolerance search that is redone).
+#[test]
+fn the_parallel_search_finds_what_the_sequential_one_finds() {
+    use rocking::ops::record::capacity_certified_parallel;
+    let p_flip = 0.33 * (10.0f64 / 0.33).powf(5.0 / 11.0);
+    let lin = |p, eps| RunSpec::new(p, eps, 1.0, Model::LINEARIZED);
+    let nonlinear = RunSpec::new(2.0, 0.8, 1.0, Model::nonlinear(0.2, DEFAULT_RTOL));
+    let cases = [
+        ("RSN953_NORTHR_MUL009", lin(2.0, 0.7), 200),
+        ("RSN1111_KOBE_NIS000", lin(5.0, 0.9), 200),
+        // The chaotic capacity of the test above.
+        ("RSN169_IMPVALL_H-DLT352", lin(p_flip, 0.9), 200),
+        // p = 10 with the grid stopped at η = 0.7: no level overturns it.
+        ("RSN1787_HECTOR_HEC000", lin(10.0, 0.7), 40),
+        ("RSN960_NORTHR_LOS000", nonlinear, 60),
+    ];
+    let mut chaotic = 0;
+    let mut survivors = 0;
+    for (stem, spec, count) in cases {
+        let exc = far(stem);
+        let grid = ImGrid {
+            count,
+            eta_min: if count == 40 { 0.7 } else { 1e-3 },
+            ..ImGrid::default()
+        };
+        let seq = capacity_certified(&exc, &spec, &grid, 1e-4, Trace::StopAtFirst).unwrap();
+        let par =
+            capacity_certified_parallel(&exc, &spec, &grid, 1e-4, Trace::StopAtFirst).unwrap();
+        assert_eq!(par.capacity, seq.capacity, "{stem}");
+        assert_eq!(par.certification, seq.certification, "{stem}");
+        assert_eq!(par.model, seq.model, "{stem}");
+        chaotic += usize::from(matches!(seq.certification, Certification::Chaotic { .. }));
+        survivors += usize::from(seq.capacity.eta_c.is_none());
+    }
+    assert_eq!((chaotic, survivors), (1, 1), "the cases cover both");
+}

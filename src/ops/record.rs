@@ -77,3 +77,38 @@ pub fn load(path: &Path) -> Result<LoadedRecord, RecordError> {
         pulse: None,
     })
 }
+
+/// [`crate::ida::capacity_certified`] of one record with every core of the
+/// rayon pool: the search runs the next `threads` grid levels at once and
+/// all the chaos probes at once ([`crate::ida::Runs::with_batch`]). The
+/// capacity and its certification are those of the sequential search (the
+/// runs are the same, only run ahead of need); at most `threads − 1` levels
+/// past the first overturning run in vain. For one capacity at a time, as
+/// the `capacity` command; a sweep already keeps the cores busy with cases.
+pub fn capacity_certified_parallel(
+    exc: &Excitation,
+    spec: &crate::physics::RunSpec,
+    grid: &crate::ida::ImGrid,
+    tol: f64,
+    trace: crate::ida::Trace,
+) -> Result<crate::ida::Certified, PhysicsError> {
+    use rayon::prelude::*;
+    let batch = |exc: &Excitation, specs: &[crate::physics::RunSpec]| {
+        specs
+            .par_iter()
+            .map(|s| crate::physics::simulate(exc, s))
+            .collect::<Vec<_>>()
+    };
+    let width = rayon::current_num_threads();
+    // The whole search runs on a worker of the pool: a batch started there
+    // shares its runs with the other workers at once, where one started
+    // from outside the pool would wait for a sleeping worker every time.
+    let mut result = None;
+    rayon::scope(|_| {
+        let mut runs = crate::ida::Runs::with_batch(exc, &batch, width);
+        result = Some(crate::ida::capacity_certified_in(
+            &mut runs, spec, grid, tol, trace,
+        ));
+    });
+    result.expect("the scope ran its closure")
+}

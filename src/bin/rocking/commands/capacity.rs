@@ -1,7 +1,7 @@
 //! `rocking capacity`: one record's overturning capacity.
 
 use clap::ValueEnum;
-use rocking::ida::{self, ImGrid, RunKind, Spacing, Trace};
+use rocking::ida::{ImGrid, RunKind, Spacing, Trace};
 use rocking::label::Label;
 use serde::Serialize;
 
@@ -87,7 +87,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     // Checked before the record is read: an absurd --levels is refused at once.
     grid.levels()?;
     let rec = args.block.excitation()?;
-    let certified = ida::capacity_certified(&rec.exc, &spec, &grid, args.tol, Trace::StopAtFirst)?;
+    let certified = rocking::ops::record::capacity_certified_parallel(
+        &rec.exc,
+        &spec,
+        &grid,
+        args.tol,
+        Trace::StopAtFirst,
+    )?;
     let cap = &certified.capacity;
     let refinement_runs = cap
         .points
