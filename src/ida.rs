@@ -204,10 +204,11 @@ impl<'a> Runs<'a> {
         let Some((batch, _)) = self.batch else {
             return;
         };
-        let mut missing: Vec<RunSpec> = Vec::with_capacity(specs.len());
+        let (mut keys, mut missing) = (Vec::new(), Vec::new());
         for s in specs {
             let key = run_key(s);
-            if !self.memo.contains_key(&key) && !missing.iter().any(|m| run_key(m) == key) {
+            if !self.memo.contains_key(&key) && !keys.contains(&key) {
+                keys.push(key);
                 missing.push(*s);
             }
         }
@@ -579,6 +580,11 @@ pub const TIGHTEST_RTOL: f64 = 1e-14;
 /// tolerance allows.
 pub const CHAOS_PROBE: f64 = 1e-9;
 
+/// The two runs that probe the run at `eta`: η moved by ±[`CHAOS_PROBE`].
+fn probed(eta: f64) -> [f64; 2] {
+    [eta * (1.0 + CHAOS_PROBE), eta * (1.0 - CHAOS_PROBE)]
+}
+
 /// The first decisive run whose verdict changes when η moves by
 /// ±[`CHAOS_PROBE`], if any.
 fn chaos_probe(
@@ -590,12 +596,12 @@ fn chaos_probe(
     let decisive = decisive_runs(cap, grid);
     let probes: Vec<RunSpec> = decisive
         .iter()
-        .flat_map(|&(eta, _)| [eta * (1.0 + CHAOS_PROBE), eta * (1.0 - CHAOS_PROBE)])
+        .flat_map(|&(eta, _)| probed(eta))
         .map(|eta| RunSpec { eta, ..*check })
         .collect();
     runs.prefetch(&probes);
     for (eta, overturned) in decisive {
-        for moved in [eta * (1.0 + CHAOS_PROBE), eta * (1.0 - CHAOS_PROBE)] {
+        for moved in probed(eta) {
             let spec = RunSpec {
                 eta: moved,
                 ..*check

@@ -13,20 +13,33 @@ use crate::fragility;
 use crate::ida::CertificationKind;
 use crate::study::StudyData;
 
-/// The whole report. `figures` are listed with their captions, as files
-/// under `figures/`.
-pub fn render(d: &StudyData, figures: &[Figure]) -> String {
-    let mut md = String::new();
-    let plan = &d.plan;
-    let _ = writeln!(md, "# Study `{}`\n", plan.name);
+/// A report's title, the pipeline's description and where the tables are
+/// (`tables`: the names to list after "Tables beside this report", if any).
+fn heading(
+    md: &mut String,
+    kind: &str,
+    plan: &crate::pipeline::Plan,
+    pipeline: &str,
+    version: &str,
+    tables: &str,
+) {
+    let _ = writeln!(md, "# {kind} `{}`\n", plan.name);
     if !plan.description.is_empty() {
         let _ = writeln!(md, "{}\n", plan.description);
     }
     let _ = writeln!(
         md,
-        "Pipeline `{}`, rocking {}. Tables beside this report; columns are documented in the rocking README.\n",
-        d.pipeline, d.version
+        "Pipeline `{pipeline}`, rocking {version}. Tables beside this report{tables}; columns are \
+         documented in the rocking README.\n"
     );
+}
+
+/// The whole report. `figures` are listed with their captions, as files
+/// under `figures/`.
+pub fn render(d: &StudyData, figures: &[Figure]) -> String {
+    let mut md = String::new();
+    let plan = &d.plan;
+    heading(&mut md, "Study", plan, &d.pipeline, &d.version, "");
     settings(&mut md, d);
     runtime(&mut md, d);
     capacity_fractiles(&mut md, d);
@@ -522,14 +535,13 @@ fn escape_html(text: &str) -> String {
 pub fn render_pulses(d: &crate::study::PulseData, figures: &[Figure]) -> String {
     let mut md = String::new();
     let plan = &d.plan;
-    let _ = writeln!(md, "# Pulse map `{}`\n", plan.name);
-    if !plan.description.is_empty() {
-        let _ = writeln!(md, "{}\n", plan.description);
-    }
-    let _ = writeln!(
-        md,
-        "Pipeline `{}`, rocking {}. Tables beside this report (`pulse_walls.parquet`, `pulse_map.parquet`); columns are documented in the rocking README.\n",
-        d.pipeline, d.version
+    heading(
+        &mut md,
+        "Pulse map",
+        plan,
+        &d.pipeline,
+        &d.version,
+        " (`pulse_walls.parquet`, `pulse_map.parquet`)",
     );
     if let Some(pp) = &plan.pulses {
         let shapes: Vec<String> = pp

@@ -103,12 +103,8 @@ pub fn capacity_certified_parallel(
     // The whole search runs on a worker of the pool: a batch started there
     // shares its runs with the other workers at once, where one started
     // from outside the pool would wait for a sleeping worker every time.
-    let mut result = None;
     rayon::scope(|_| {
         let mut runs = crate::ida::Runs::with_batch(exc, &batch, width);
-        result = Some(crate::ida::capacity_certified_in(
-            &mut runs, spec, grid, tol, trace,
-        ));
-    });
-    result.expect("the scope ran its closure")
+        crate::ida::capacity_certified_in(&mut runs, spec, grid, tol, trace)
+    })
 }

@@ -135,21 +135,17 @@ impl<'a> RecordIda<'a> {
     }
 }
 
-/// The horizontal fractiles of one block, by the rule the stage applies to
-/// every block, from its records' capacities (in record order) and runs
-/// (cases numbered 0, 1, … as the capacities): the `example` stage's Fig. 5
-/// curves.
-pub(super) fn horizontal_of_block(
-    plan: &Plan,
-    block: &BlockSpec,
-    caps: &[CapacityRow],
-    ida: &[IdaRow],
-) -> Result<Vec<HorizontalRow>, ReduceError> {
-    let levels = plan
-        .grid
+/// The plan's grid levels (a plan that resolved has a valid grid).
+fn grid_levels(plan: &Plan) -> Result<Vec<f64>, ReduceError> {
+    plan.grid
         .levels()
-        .map_err(|e| ReduceError::Mismatch(e.to_string()))?;
-    let mut by_case: Vec<Vec<&IdaRow>> = vec![Vec::new(); caps.len()];
+        .map_err(|e| ReduceError::Mismatch(e.to_string()))
+}
+
+/// The IDA points of each of `n_cases` cases (case ids 0 … n_cases − 1),
+/// in table order.
+fn split_by_case(ida: &[IdaRow], n_cases: usize) -> Result<Vec<Vec<&IdaRow>>, ReduceError> {
+    let mut by_case: Vec<Vec<&IdaRow>> = vec![Vec::new(); n_cases];
     for r in ida {
         let slot = usize::try_from(r.case_id)
             .ok()
@@ -162,6 +158,21 @@ pub(super) fn horizontal_of_block(
             })?;
         slot.push(r);
     }
+    Ok(by_case)
+}
+
+/// The horizontal fractiles of one block, by the rule the stage applies to
+/// every block, from its records' capacities (in record order) and runs
+/// (cases numbered 0, 1, … as the capacities): the `example` stage's Fig. 5
+/// curves.
+pub(super) fn horizontal_of_block(
+    plan: &Plan,
+    block: &BlockSpec,
+    caps: &[CapacityRow],
+    ida: &[IdaRow],
+) -> Result<Vec<HorizontalRow>, ReduceError> {
+    let levels = grid_levels(plan)?;
+    let by_case = split_by_case(ida, caps.len())?;
     let records: Vec<RecordIda> = caps
         .iter()
         .zip(&by_case)
@@ -190,21 +201,8 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
     let (caps, ida) = load(study)?;
     let n_blocks = plan.blocks.len();
     let n_records = caps.len() / n_blocks;
-    let levels = plan
-        .grid
-        .levels()
-        .map_err(|e| ReduceError::Mismatch(e.to_string()))?;
-    // Split the IDA points by case.
-    let mut by_case: Vec<Vec<&IdaRow>> = vec![Vec::new(); caps.len()];
-    for r in &ida {
-        let k = r.case_id as usize;
-        if k >= by_case.len() {
-            return Err(ReduceError::Mismatch(format!(
-                "IDA point of case {k} beyond the capacities"
-            )));
-        }
-        by_case[k].push(r);
-    }
+    let levels = grid_levels(plan)?;
+    let by_case = split_by_case(&ida, caps.len())?;
     let mut out = Tables::default();
     // Per block: the records' η_c in record order, and their fractiles.
     let mut per_block: Vec<(Vec<f64>, [f64; 3])> = Vec::with_capacity(n_blocks);
