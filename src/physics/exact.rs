@@ -796,6 +796,7 @@ mod tests {
     /// 40 digits (an independent method): to a few ulps, with one Newton
     /// step (`e` below [`HOP_ONE_STEP`]) and with two, on both pivots.
     #[test]
+    #[allow(clippy::excessive_precision)] // mpmath's 20 digits, as printed
     fn hops_match_the_closed_form_to_rounding() {
         // p, s, v_a, u, g1e; then σ and v at the return (mpmath).
         let cases: [(f64, f64, f64, f64, f64, f64, f64); 4] = [
