@@ -566,20 +566,17 @@ pub fn render_pulses(d: &crate::study::PulseData, figures: &[Figure]) -> String 
             plan.model, plan.overturn
         );
         let _ = writeln!(md, "| ε | {} |", list(&pp.eps));
-        let _ = writeln!(
-            md,
-            "| f | {} values from {} to {} |",
-            pp.f.len(),
-            pp.f.first().copied().unwrap_or(f64::NAN),
-            pp.f.last().copied().unwrap_or(f64::NAN)
-        );
-        let _ = writeln!(
-            md,
-            "| map | {} η levels from {} to {} |",
-            pp.eta.len(),
-            pp.eta.first().copied().unwrap_or(f64::NAN),
-            pp.eta.last().copied().unwrap_or(f64::NAN)
-        );
+        let span = |v: &[f64], what: &str| {
+            let end = |x: Option<&f64>| x.copied().unwrap_or(f64::NAN);
+            format!(
+                "{} {what} from {} to {}",
+                v.len(),
+                end(v.first()),
+                end(v.last())
+            )
+        };
+        let _ = writeln!(md, "| f | {} |", span(&pp.f, "values"));
+        let _ = writeln!(md, "| map | {} |", span(&pp.eta, "η levels"));
         let _ = writeln!(md, "| walls | a 500-level log grid of η from 1 to 1e-5, the first overturning bisected to 1e-10 |\n");
     }
     let _ = writeln!(md, "## Runtime\n");

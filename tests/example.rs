@@ -13,7 +13,7 @@ use rocking::tables::read;
 use rocking::tables::reduce::HorizontalRow;
 use rocking::tables::sweep::{CapacityRow, IdaRow};
 
-use crate::util::{rocking, root, stderr, stdout, tempdir, write_pipeline};
+use crate::util::{direct_capacity, rocking, root, stderr, stdout, tempdir, write_pipeline};
 
 const RECORDS: [&str; 5] = [
     "RSN953_NORTHR_MUL009",
@@ -84,25 +84,7 @@ fn an_example_off_the_grid_runs_every_record_and_fig5_draws_it() {
         assert_eq!((c.case_id, c.record_id.as_str()), (k as i64, ids[k]));
         assert_eq!((c.p, c.eps), (2.0, 0.7));
         let record = format!("records/fema-p695/far-field/{}.AT2", c.record_id);
-        let direct = rocking(
-            &root(),
-            &[
-                "capacity",
-                "--record",
-                &record,
-                "--p",
-                "2",
-                "--eps",
-                "0.7",
-                "--levels",
-                "60",
-                "--eta-min",
-                "0.01",
-                "--json",
-            ],
-        );
-        assert!(direct.status.success(), "{}", stderr(&direct));
-        let v: serde_json::Value = serde_json::from_slice(&direct.stdout).unwrap();
+        let v = direct_capacity(&root(), &record, 2.0, 0.7, 60);
         assert_eq!(c.eta_c, v["eta_c"].as_f64(), "{}", c.record_id);
         assert_eq!(c.eta_survived, v["eta_survived"].as_f64().unwrap());
     }

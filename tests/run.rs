@@ -9,7 +9,9 @@ use std::path::{Path, PathBuf};
 
 use rocking::stages::sweep::read_capacities;
 
-use crate::util::{bundled_records, dump_table, rocking, snapshot, stderr, stdout, tempdir};
+use crate::util::{
+    bundled_records, direct_capacity, dump_table, rocking, snapshot, stderr, stdout, tempdir,
+};
 
 const RECORDS: [&str; 3] = [
     "RSN1111_KOBE_NIS000",
@@ -326,30 +328,14 @@ fn mini_study_snapshot() {
     let mut text = String::from("record_id\tp\teps\teta_c\teta_survived\truns\n");
     for c in &caps {
         let record = d.join("records").join(format!("{}.AT2", c.record_id));
-        let (p, e) = (c.p.to_string(), c.eps.to_string());
-        let direct = rocking(
-            d,
-            &[
-                "capacity",
-                "--record",
-                record.to_str().unwrap(),
-                "--p",
-                &p,
-                "--eps",
-                &e,
-                "--levels",
-                "40",
-                "--eta-min",
-                "0.01",
-                "--json",
-            ],
-        );
-        let v: serde_json::Value = serde_json::from_slice(&direct.stdout).unwrap();
+        let v = direct_capacity(d, record.to_str().unwrap(), c.p, c.eps, 40);
         assert_eq!(
             c.eta_c,
             v["eta_c"].as_f64(),
-            "{} p = {p} ε = {e}",
-            c.record_id
+            "{} p = {} ε = {}",
+            c.record_id,
+            c.p,
+            c.eps
         );
         assert_eq!(c.runs as u64, v["runs"].as_u64().unwrap());
         text.push_str(&format!(

@@ -11,7 +11,7 @@ use rocking::physics::{simulate, Excitation, Model, RunSpec};
 use rocking::pipeline;
 use rocking::stages::sweep::{read_capacities, read_ida, FAULT_ENV};
 
-use crate::util::{rocking, root, stderr, tempdir, write_pipeline, TempDir};
+use crate::util::{direct_capacity, rocking, root, stderr, tempdir, write_pipeline, TempDir};
 
 #[test]
 fn every_shipped_pipeline_loads() {
@@ -87,26 +87,7 @@ fn capacities_equal_direct_capacity_calls_and_resurrections_are_counted() {
     );
     for c in &caps {
         let record = format!("records/fema-p695/far-field/{}.AT2", c.record_id);
-        let p = c.p.to_string();
-        let direct = rocking(
-            &root(),
-            &[
-                "capacity",
-                "--record",
-                &record,
-                "--p",
-                &p,
-                "--eps",
-                "0.8",
-                "--levels",
-                "60",
-                "--eta-min",
-                "0.01",
-                "--json",
-            ],
-        );
-        assert!(direct.status.success(), "{}", stderr(&direct));
-        let v: serde_json::Value = serde_json::from_slice(&direct.stdout).unwrap();
+        let v = direct_capacity(&root(), &record, c.p, 0.8, 60);
         assert_eq!(c.eta_c, v["eta_c"].as_f64(), "{}", c.record_id);
         assert_eq!(c.eta_survived, v["eta_survived"].as_f64().unwrap());
         assert_eq!(c.level_survived, v["level_survived"].as_f64().unwrap());

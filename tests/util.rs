@@ -246,3 +246,35 @@ pub fn snapshot(name: &str, text: &str) {
         );
     }
 }
+
+/// `rocking capacity --json` on one AT2 record (a path from `cwd`) at p and
+/// ε, over `levels` log-spaced levels down to η = 0.01: the direct answer a
+/// stage's capacities are held to.
+pub fn direct_capacity(
+    cwd: &Path,
+    record: &str,
+    p: f64,
+    eps: f64,
+    levels: usize,
+) -> serde_json::Value {
+    let (p, eps, levels) = (p.to_string(), eps.to_string(), levels.to_string());
+    let out = rocking(
+        cwd,
+        &[
+            "capacity",
+            "--record",
+            record,
+            "--p",
+            &p,
+            "--eps",
+            &eps,
+            "--levels",
+            &levels,
+            "--eta-min",
+            "0.01",
+            "--json",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    serde_json::from_slice(&out.stdout).unwrap()
+}

@@ -410,8 +410,8 @@ impl Exact {
     /// `δ = c − q/12`, whose error is about 0.2·e³; each Newton step then
     /// squares the error and multiplies it by about e (the curvature), so
     /// one step leaves ~e⁷ below [`HOP_ONE_STEP`] and two leave ~e¹⁵ up to
-    /// [`HOP_Z`]: rounding in both cases. About 40 % of the impacts of a
-    /// sweep are such hops, most of them with `e` far below 1e-3; the
+    /// [`HOP_Z`]: rounding in both cases. About two thirds of the impacts
+    /// of a sweep are such hops, most of them with `e` below 1e-3; the
     /// general walk costs several closed-form evaluations, a square root
     /// and a logarithm each.
     #[inline]
@@ -462,7 +462,8 @@ impl Exact {
         if !(sigma > 0.0 && sigma < len) {
             return None;
         }
-        let (t2, u) = (t * t, q * t * t);
+        let t2 = t * t;
+        let u = q * t2;
         let ydot_w = (1.0 - 2.0 * t)
             + (3.0 * c * t2 * (1.0 + u * (1.0 / 12.0 + u * (1.0 / 360.0)))
                 - 4.0 * q12 * t2 * t * (1.0 + u * (1.0 / 20.0 + u * (1.0 / 840.0))));
