@@ -2,10 +2,12 @@
 //! `ida_points.parquet` and `capacities.parquet`.
 //!
 //! Cases are numbered in a fixed order (records by id, then blocks in plan
-//! order) and grouped into chunks of [`CHUNK_CASES`]. Each chunk is computed
-//! in parallel (rayon, results collected in case order) and saved as two
-//! part files under `parts/`, stamped with the plan's hash and the chunk's
-//! index. So:
+//! order) and grouped into chunks of [`CHUNK_CASES`]. Workers (rayon) take
+//! the cases in order from one counter; a writer thread gathers each chunk's
+//! results in case order and saves them, as soon as its last case is in, as
+//! two part files under `parts/`, stamped with the plan's hash and the
+//! chunk's index. No worker waits for a chunk's slowest case or for a write.
+//! So:
 //!
 //! - **resume**: a rerun reuses a part only if its hash is current *and* its
 //!   content is that chunk's (its case ids, one capacity per case, the runs
@@ -15,13 +17,15 @@
 //! - **sharding**: `--shard K/N` computes the chunks with index ≡ K−1 (mod N)
 //!   and writes `*.shard-K-of-N.parquet`; [`dataset`] reads the N shards as
 //!   one table, and refuses a folder that mixes shards and unsharded tables;
-//! - **bounded memory**: one chunk of results at a time; the final tables are
-//!   concatenated part by part.
+//! - **bounded memory**: only the chunks still open (about as many as there
+//!   are workers) are held; the final tables are concatenated part by part.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::mpsc;
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -281,6 +285,62 @@ struct Tally {
     intervals: u64,
 }
 
+/// Gathers finished cases into their chunks and saves each chunk's two
+/// parts once its last case is in (chunks finish in about case order).
+struct ChunkWriter {
+    /// Chunks with some cases in, by index: each case's result in its slot.
+    pending: BTreeMap<usize, Vec<Option<CaseResult>>>,
+    written: usize,
+    tally: Tally,
+}
+
+impl ChunkWriter {
+    #[allow(clippy::too_many_arguments)]
+    fn take(
+        &mut self,
+        case: usize,
+        result: CaseResult,
+        prep: &Prepared,
+        plan: &Plan,
+        parts: &Path,
+        fault_after: Option<usize>,
+        report: &impl Fn(&Tally),
+    ) -> Result<(), SweepError> {
+        let c = case / CHUNK_CASES;
+        let range = prep.chunk_cases(c);
+        let slots = self
+            .pending
+            .entry(c)
+            .or_insert_with(|| range.clone().map(|_| None).collect());
+        slots[case - range.start] = Some(result);
+        if slots.iter().any(Option::is_none) {
+            return Ok(());
+        }
+        let results = self.pending.remove(&c).into_iter().flatten().flatten();
+        let mut ida_rows = Vec::new();
+        let mut cap_rows = Vec::with_capacity(range.len());
+        for r in results {
+            self.tally.runs += r.ida.len() as u64;
+            self.tally.check_runs += r.check_runs as u64;
+            self.tally.intervals += r.intervals;
+            ida_rows.extend(r.ida);
+            cap_rows.push(r.capacity);
+        }
+        let (ida_part, cap_part) = part_paths(parts, c);
+        let meta = prep.metadata(plan, Some(c), None);
+        tables::write(&ida_part, &ida_rows, &meta)?;
+        tables::write(&cap_part, &cap_rows, &meta)?;
+        self.written += 1;
+        self.tally.cases_done += range.len();
+        report(&self.tally);
+        if fault_after.is_some_and(|n| self.written >= n) {
+            // Fault injection for the resume tests: die as a crash would.
+            std::process::abort();
+        }
+        Ok(())
+    }
+}
+
 /// Runs the sweep (or one shard of it).
 fn run(cx: &Context) -> Result<Summary, SweepError> {
     let started = Instant::now();
@@ -320,7 +380,8 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
         })
     };
     report(&tally);
-    let mut written = 0usize;
+    // Chunks whose parts are already there and current are kept.
+    let mut todo = Vec::new();
     for &c in &mine {
         let (ida_part, cap_part) = part_paths(&parts, c);
         let cases = prep.chunk_cases(c);
@@ -341,31 +402,53 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
                 ),
             ),
         }
-        let results = cases
-            .clone()
-            .into_par_iter()
-            .map(|case| run_case(case, &prep, plan))
-            .collect::<Result<Vec<_>, _>>()?;
-        let mut ida_rows = Vec::new();
-        let mut cap_rows = Vec::with_capacity(results.len());
-        for r in results {
-            tally.runs += r.ida.len() as u64;
-            tally.check_runs += r.check_runs as u64;
-            tally.intervals += r.intervals;
-            ida_rows.extend(r.ida);
-            cap_rows.push(r.capacity);
-        }
-        let meta = prep.metadata(plan, Some(c), None);
-        tables::write(&ida_part, &ida_rows, &meta)?;
-        tables::write(&cap_part, &cap_rows, &meta)?;
-        written += 1;
-        tally.cases_done += cases.len();
-        report(&tally);
-        if fault_after.is_some_and(|n| written >= n) {
-            // Fault injection for the resume tests: die as a crash would.
-            std::process::abort();
-        }
+        todo.push(c);
     }
+    let cases: Vec<usize> = todo.iter().flat_map(|&c| prep.chunk_cases(c)).collect();
+    // Workers take cases in order from one counter and hand each result to
+    // a writer thread, which saves a chunk's parts as soon as its last case
+    // is in: no worker waits for a chunk's slowest case or for the writes.
+    let next = AtomicUsize::new(0);
+    let stop = AtomicBool::new(false);
+    let (tx, rx) = mpsc::channel::<(usize, Result<CaseResult, SweepError>)>();
+    let tally = std::thread::scope(|ts| {
+        let (cases, prep, parts, report, stop) = (&cases, &prep, &parts, &report, &stop);
+        let writer = ts.spawn(move || {
+            let mut chunks = ChunkWriter {
+                pending: BTreeMap::new(),
+                written: 0,
+                tally,
+            };
+            let saved = rx.iter().try_for_each(|(i, result)| {
+                chunks.take(cases[i], result?, prep, plan, parts, fault_after, report)
+            });
+            if saved.is_err() {
+                stop.store(true, Ordering::Relaxed);
+            }
+            saved.map(|()| chunks.tally)
+        });
+        rayon::scope(|s| {
+            for _ in 0..rayon::current_num_threads() {
+                let tx = tx.clone();
+                let next = &next;
+                s.spawn(move |_| {
+                    while !stop.load(Ordering::Relaxed) {
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(&case) = cases.get(i) else { break };
+                        let result = run_case(case, prep, plan);
+                        let failed = result.is_err();
+                        if tx.send((i, result)).is_err() || failed {
+                            stop.store(true, Ordering::Relaxed);
+                        }
+                    }
+                });
+            }
+        });
+        drop(tx);
+        writer
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+    })?;
     let (ida_path, cap_path) = merge(study, &prep, &mine, cx.shard)?;
     let secs = started.elapsed().as_secs_f64();
     let threads = rayon::current_num_threads();
