@@ -177,15 +177,7 @@ pub(super) fn drive<S: Stepper, O: Observer>(
                 // stays below it for good, as the arm above would.
                 let (thr, start) = (d.threshold, k);
                 if psi[k].abs() <= thr {
-                    // Interval k's end and the next start (they differ only
-                    // at a jump) both within the threshold.
-                    while k < n
-                        && exc.psi_end[k].abs() <= thr
-                        && psi[k + 1].abs() <= thr
-                        && exc.suffix_max[k + 1] > thr
-                    {
-                        k += 1;
-                    }
+                    k = exc.quiet_until(k, thr);
                 }
                 d.out.intervals += (k - start) as u64;
                 if k == n {

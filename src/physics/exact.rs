@@ -475,7 +475,7 @@ impl Exact {
 /// each other and `β`'s powers paired, so that few operations depend on
 /// one another. As `q = z² ≤ HOP_Z² = 1e-4` on a hop, the terms of `q⁴`
 /// and `q³β²` and beyond (below 1e-19) are left out.
-#[inline]
+#[inline(always)]
 fn hop_series(q: f64, beta: f64) -> (f64, f64) {
     let t0 = 1.0 + q * (1.0 / 12.0 + q * (1.0 / 80.0 + q * (1.0 / 448.0)));
     let t1 = 1.0 / 3.0 + q * (1.0 / 10.0 + q * (3.0 / 112.0 + q * (1.0 / 144.0)));

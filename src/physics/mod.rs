@@ -188,7 +188,14 @@ pub struct Excitation {
     /// `slope[k] = (psi_end[k] − psi[k])/dt`, the forcing's slope over
     /// interval k, computed once per record rather than once per run.
     pub slope: Vec<f64>,
+    /// `quiet[j]`: the largest `|psi_end[k]|` and `|psi[k + 1]|` over the
+    /// intervals k of block j (`QUIET_BLOCK` of them), so that a block a
+    /// resting block cannot leave is crossed at once ([`Excitation::quiet_until`]).
+    quiet: Vec<f64>,
 }
+
+/// Intervals per block of [`Excitation::quiet_until`]'s scan.
+const QUIET_BLOCK: usize = 32;
 
 impl Excitation {
     /// Normalises `accel_g` by its peak. A record of zeros stays zeros (it
@@ -240,13 +247,48 @@ impl Excitation {
             .zip(&psi_end)
             .map(|(a, b)| (b - a) / dt_s)
             .collect();
+        let quiet = psi_end
+            .chunks(QUIET_BLOCK)
+            .zip(psi.get(1..).unwrap_or_default().chunks(QUIET_BLOCK))
+            .map(|(ends, nexts)| ends.iter().chain(nexts).fold(0.0f64, |m, v| m.max(v.abs())))
+            .collect();
         Excitation {
             dt_s,
             psi,
             psi_end,
             suffix_max,
             slope,
+            quiet,
         }
+    }
+
+    /// For a block at rest at sample `k` (`|psi[k]|` within `thr`): the first
+    /// interval from `k` on whose end or the next sample's start exceeds
+    /// `thr` (it may lift the block), or at whose end the record stays
+    /// within `thr` for good, or the record's end: every interval before it
+    /// has both ends within `thr` and lifts nothing (the forcing is linear
+    /// between). Whole blocks of [`QUIET_BLOCK`] intervals are crossed by
+    /// their maximum.
+    pub fn quiet_until(&self, mut k: usize, thr: f64) -> usize {
+        let n = self.psi_end.len();
+        let (psi, psi_end, suffix) = (&self.psi[..], &self.psi_end[..], &self.suffix_max[..]);
+        while k < n {
+            // The suffix maximum falls with k: above `thr` after the block's
+            // last interval, it is above it after every one of them.
+            if k % QUIET_BLOCK == 0
+                && k + QUIET_BLOCK <= n
+                && self.quiet[k / QUIET_BLOCK] <= thr
+                && suffix[k + QUIET_BLOCK] > thr
+            {
+                k += QUIET_BLOCK;
+                continue;
+            }
+            if !(psi_end[k].abs() <= thr && psi[k + 1].abs() <= thr && suffix[k + 1] > thr) {
+                break;
+            }
+            k += 1;
+        }
+        k
     }
 
     /// A piecewise-linear forcing that may jump at samples: interval k goes
@@ -352,5 +394,52 @@ impl RunSpec {
     /// The slenderness α of the model's equation, if it has one.
     pub fn alpha(&self) -> Option<f64> {
         self.model.equation.alpha()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The block scan against its definition, interval by interval, from
+    /// every resting start, on records with quiet stretches longer and
+    /// shorter than a block, a jump, and a tail that stays quiet for good.
+    #[test]
+    fn quiet_scan_matches_the_interval_by_interval_scan() {
+        let mut seed = 12_345u64;
+        let mut next = || {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut starts = Vec::new();
+        for k in 0..1_000 {
+            // Bursts every 150 samples, quiet between, quieter for good at the end.
+            let loud = k % 150 < 20 && k < 900;
+            starts.push((if loud { 1.0 } else { 0.3 }) * (2.0 * next() - 1.0));
+        }
+        let mut ends: Vec<f64> = starts[1..].to_vec();
+        ends.push(0.0);
+        ends[500] = 0.9; // a jump at sample 501
+        let exc = Excitation::piecewise(0.01, &starts, &ends).unwrap();
+        let n = exc.psi_end.len();
+        let mut crossed = 0;
+        for thr in [0.05, 0.25, 0.3, 0.5, 0.95] {
+            for k0 in (0..n).filter(|&k| exc.psi[k].abs() <= thr) {
+                let mut k = k0;
+                while k < n
+                    && exc.psi_end[k].abs() <= thr
+                    && exc.psi[k + 1].abs() <= thr
+                    && exc.suffix_max[k + 1] > thr
+                {
+                    k += 1;
+                }
+                assert_eq!(exc.quiet_until(k0, thr), k, "from {k0} at {thr}");
+                crossed += k - k0;
+            }
+        }
+        assert!(
+            crossed > 10_000,
+            "the scans crossed only {crossed} intervals"
+        );
     }
 }
