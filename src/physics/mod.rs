@@ -419,7 +419,8 @@ mod tests {
         }
         let mut ends: Vec<f64> = starts[1..].to_vec();
         ends.push(0.0);
-        ends[500] = 0.9; // a jump at sample 501
+        ends[500] = 0.9; // a jump down at sample 501
+        starts[700] = 0.8; // and one up at sample 700
         let exc = Excitation::piecewise(0.01, &starts, &ends).unwrap();
         let n = exc.psi_end.len();
         let mut crossed = 0;
