@@ -287,25 +287,22 @@ struct Tally {
 
 /// Gathers finished cases into their chunks and saves each chunk's two
 /// parts once its last case is in (chunks finish in about case order).
-struct ChunkWriter {
+struct ChunkWriter<'a, R> {
+    prep: &'a Prepared,
+    plan: &'a Plan,
+    parts: &'a Path,
+    /// Fault injection: abort after saving this many chunks.
+    fault_after: Option<usize>,
+    report: &'a R,
     /// Chunks with some cases in, by index: each case's result in its slot.
     pending: BTreeMap<usize, Vec<Option<CaseResult>>>,
     written: usize,
     tally: Tally,
 }
 
-impl ChunkWriter {
-    #[allow(clippy::too_many_arguments)]
-    fn take(
-        &mut self,
-        case: usize,
-        result: CaseResult,
-        prep: &Prepared,
-        plan: &Plan,
-        parts: &Path,
-        fault_after: Option<usize>,
-        report: &impl Fn(&Tally),
-    ) -> Result<(), SweepError> {
+impl<R: Fn(&Tally)> ChunkWriter<'_, R> {
+    fn take(&mut self, case: usize, result: CaseResult) -> Result<(), SweepError> {
+        let prep = self.prep;
         let c = case / CHUNK_CASES;
         let range = prep.chunk_cases(c);
         let slots = self
@@ -326,14 +323,14 @@ impl ChunkWriter {
             ida_rows.extend(r.ida);
             cap_rows.push(r.capacity);
         }
-        let (ida_part, cap_part) = part_paths(parts, c);
-        let meta = prep.metadata(plan, Some(c), None);
+        let (ida_part, cap_part) = part_paths(self.parts, c);
+        let meta = prep.metadata(self.plan, Some(c), None);
         tables::write(&ida_part, &ida_rows, &meta)?;
         tables::write(&cap_part, &cap_rows, &meta)?;
         self.written += 1;
         self.tally.cases_done += range.len();
-        report(&self.tally);
-        if fault_after.is_some_and(|n| self.written >= n) {
+        (self.report)(&self.tally);
+        if self.fault_after.is_some_and(|n| self.written >= n) {
             // Fault injection for the resume tests: die as a crash would.
             std::process::abort();
         }
@@ -415,13 +412,18 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
         let (cases, prep, parts, report, stop) = (&cases, &prep, &parts, &report, &stop);
         let writer = ts.spawn(move || {
             let mut chunks = ChunkWriter {
+                prep,
+                plan,
+                parts,
+                fault_after,
+                report,
                 pending: BTreeMap::new(),
                 written: 0,
                 tally,
             };
-            let saved = rx.iter().try_for_each(|(i, result)| {
-                chunks.take(cases[i], result?, prep, plan, parts, fault_after, report)
-            });
+            let saved = rx
+                .iter()
+                .try_for_each(|(i, result)| chunks.take(cases[i], result?));
             if saved.is_err() {
                 stop.store(true, Ordering::Relaxed);
             }
