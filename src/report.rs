@@ -48,15 +48,20 @@ pub fn render(d: &StudyData, figures: &[Figure]) -> String {
     regression(&mut md, d);
     fit_bands(&mut md, d);
     convergence(&mut md, d);
-    let _ = writeln!(md, "## Figures\n");
+    figures_section(&mut md, figures);
+    md
+}
+
+/// The report's last section: every figure with its caption.
+fn figures_section(w: &mut String, figures: &[Figure]) {
+    let _ = writeln!(w, "## Figures\n");
     for f in figures {
         let _ = writeln!(
-            md,
+            w,
             "![{}](figures/{})\n\n*{}*\n",
             f.chart.title, f.file, f.caption
         );
     }
-    md
 }
 
 fn list(v: &[f64]) -> String {
@@ -643,14 +648,7 @@ pub fn render_pulses(d: &crate::study::PulseData, figures: &[Figure]) -> String 
         );
     }
     let _ = writeln!(md);
-    let _ = writeln!(md, "## Figures\n");
-    for f in figures {
-        let _ = writeln!(
-            md,
-            "![{}](figures/{})\n\n*{}*\n",
-            f.chart.title, f.file, f.caption
-        );
-    }
+    figures_section(&mut md, figures);
     md
 }
 
