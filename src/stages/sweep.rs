@@ -4,10 +4,10 @@
 //! Cases are numbered in a fixed order (records by id, then blocks in plan
 //! order) and grouped into chunks of [`CHUNK_CASES`]. Workers (rayon) take
 //! the cases in order from one counter; a writer thread gathers each chunk's
-//! results in case order and saves them, as soon as its last case is in, as
-//! two part files under `parts/`, stamped with the plan's hash and the
-//! chunk's index. No worker waits for a chunk's slowest case or for a write.
-//! So:
+//! results in case order and saves them as two part files under `parts/`,
+//! stamped with the plan's hash and the chunk's index, in chunk order, as
+//! soon as the chunk and every one before it are complete. No worker waits
+//! for a chunk's slowest case or for a write. So:
 //!
 //! - **resume**: a rerun reuses a part only if its hash is current *and* its
 //!   content is that chunk's (its case ids, one capacity per case, the runs
@@ -17,10 +17,11 @@
 //! - **sharding**: `--shard K/N` computes the chunks with index ≡ K−1 (mod N)
 //!   and writes `*.shard-K-of-N.parquet`; [`dataset`] reads the N shards as
 //!   one table, and refuses a folder that mixes shards and unsharded tables;
-//! - **bounded memory**: only the chunks still open (about as many as there
-//!   are workers) are held; the final tables are concatenated part by part.
+//! - **bounded memory**: only the chunks not yet saved are held (those from
+//!   the oldest unfinished case on); the final tables are concatenated part
+//!   by part.
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
@@ -285,8 +286,11 @@ struct Tally {
     intervals: u64,
 }
 
-/// Gathers finished cases into their chunks and saves each chunk's two
-/// parts once its last case is in (chunks finish in about case order).
+/// Gathers finished cases into their chunks and saves the chunks' parts
+/// in chunk order, each as soon as it and every chunk before it are
+/// complete: the saved parts are always the first chunks of the sweep (as
+/// a crash leaves them, and as fault injection counts them), and a slow
+/// case holds back only the writes, not the workers.
 struct ChunkWriter<'a, R> {
     prep: &'a Prepared,
     plan: &'a Plan,
@@ -294,6 +298,8 @@ struct ChunkWriter<'a, R> {
     /// Fault injection: abort after saving this many chunks.
     fault_after: Option<usize>,
     report: &'a R,
+    /// The chunks still to save, in order.
+    order: VecDeque<usize>,
     /// Chunks with some cases in, by index: each case's result in its slot.
     pending: BTreeMap<usize, Vec<Option<CaseResult>>>,
     written: usize,
@@ -301,21 +307,37 @@ struct ChunkWriter<'a, R> {
 }
 
 impl<R: Fn(&Tally)> ChunkWriter<'_, R> {
+    /// Takes one case's result, and saves the chunks it completes.
     fn take(&mut self, case: usize, result: CaseResult) -> Result<(), SweepError> {
-        let prep = self.prep;
         let c = case / CHUNK_CASES;
-        let range = prep.chunk_cases(c);
-        let slots = self
-            .pending
+        let range = self.prep.chunk_cases(c);
+        self.pending
             .entry(c)
-            .or_insert_with(|| range.clone().map(|_| None).collect());
-        slots[case - range.start] = Some(result);
-        if slots.iter().any(Option::is_none) {
-            return Ok(());
+            .or_insert_with(|| range.clone().map(|_| None).collect())[case - range.start] =
+            Some(result);
+        while let Some(&c) = self.order.front() {
+            let complete = self
+                .pending
+                .get(&c)
+                .is_some_and(|slots| slots.iter().all(Option::is_some));
+            if !complete {
+                break;
+            }
+            let results = self.pending.remove(&c).into_iter().flatten().flatten();
+            self.save(c, results)?;
+            self.order.pop_front();
         }
-        let results = self.pending.remove(&c).into_iter().flatten().flatten();
+        Ok(())
+    }
+
+    /// Saves chunk `c`'s two parts from its cases' results, in case order.
+    fn save(
+        &mut self,
+        c: usize,
+        results: impl Iterator<Item = CaseResult>,
+    ) -> Result<(), SweepError> {
         let mut ida_rows = Vec::new();
-        let mut cap_rows = Vec::with_capacity(range.len());
+        let mut cap_rows = Vec::with_capacity(CHUNK_CASES);
         for r in results {
             self.tally.runs += r.ida.len() as u64;
             self.tally.check_runs += r.check_runs as u64;
@@ -324,11 +346,11 @@ impl<R: Fn(&Tally)> ChunkWriter<'_, R> {
             cap_rows.push(r.capacity);
         }
         let (ida_part, cap_part) = part_paths(self.parts, c);
-        let meta = prep.metadata(self.plan, Some(c), None);
+        let meta = self.prep.metadata(self.plan, Some(c), None);
         tables::write(&ida_part, &ida_rows, &meta)?;
         tables::write(&cap_part, &cap_rows, &meta)?;
         self.written += 1;
-        self.tally.cases_done += range.len();
+        self.tally.cases_done += cap_rows.len();
         (self.report)(&self.tally);
         if self.fault_after.is_some_and(|n| self.written >= n) {
             // Fault injection for the resume tests: die as a crash would.
@@ -417,6 +439,7 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
                 parts,
                 fault_after,
                 report,
+                order: todo.iter().copied().collect(),
                 pending: BTreeMap::new(),
                 written: 0,
                 tally,
