@@ -163,8 +163,11 @@ fn err(line: usize, kind: At2ErrorKind) -> At2Error {
 /// Parses an AT2 file from its bytes. Non-UTF-8 bytes in the header (old
 /// files carry Latin-1 station names) are replaced, not refused.
 pub fn parse(bytes: &[u8]) -> Result<At2, At2Error> {
-    let text = String::from_utf8_lossy(bytes);
-    parse_str(&text)
+    // The strict check is the fast one for the usual (ASCII) file.
+    match std::str::from_utf8(bytes) {
+        Ok(text) => parse_str(text),
+        Err(_) => parse_str(&String::from_utf8_lossy(bytes)),
+    }
 }
 
 /// Parses an AT2 file from text; see [`parse`].
@@ -172,42 +175,20 @@ pub fn parse_str(text: &str) -> Result<At2, At2Error> {
     if text.trim().is_empty() {
         return Err(err(1, At2ErrorKind::Empty));
     }
-    // `lines()` splits on '\n' and drops a '\r' before it, so CRLF files read alike.
-    let mut lines = text.lines();
+    // Lines end at '\n'; the '\r' of CRLF files is trimmed with the blanks.
+    let mut rest = text;
     let mut header: [String; HEADER_LINES] = Default::default();
     for (i, slot) in header.iter_mut().enumerate() {
-        match lines.next() {
-            Some(l) => *slot = l.trim_end().to_string(),
-            None => return Err(err(i, At2ErrorKind::ShortHeader { lines: i })),
+        if rest.is_empty() {
+            return Err(err(i, At2ErrorKind::ShortHeader { lines: i }));
         }
+        let (line, next) = rest.split_once('\n').unwrap_or((rest, ""));
+        *slot = line.trim_end().to_string();
+        rest = next;
     }
     check_units(&header[2]).map_err(|kind| err(3, kind))?;
     let (npts, dt_s, layout) = parse_npts_dt(&header[3]).map_err(|kind| err(4, kind))?;
-
-    let mut accel_g = Vec::with_capacity(npts);
-    let mut last_line = HEADER_LINES;
-    for (offset, line) in lines.enumerate() {
-        let line_no = HEADER_LINES + 1 + offset;
-        last_line = line_no;
-        for token in line
-            .split(|c: char| c.is_whitespace() || c == ',')
-            .filter(|t| !t.is_empty())
-        {
-            if accel_g.len() == npts {
-                return Err(err(line_no, At2ErrorKind::TooManyValues { npts }));
-            }
-            accel_g.push(parse_value(token).map_err(|kind| err(line_no, kind))?);
-        }
-    }
-    if accel_g.len() < npts {
-        return Err(err(
-            last_line,
-            At2ErrorKind::TooFewValues {
-                npts,
-                found: accel_g.len(),
-            },
-        ));
-    }
+    let accel_g = parse_samples(rest, npts)?;
     Ok(At2 {
         header,
         layout,
@@ -216,9 +197,84 @@ pub fn parse_str(text: &str) -> Result<At2, At2Error> {
     })
 }
 
+/// The length of the separator (white space other than '\n', or a comma)
+/// starting at byte `i` of `text`, 0 if none.
+#[inline]
+fn separator_at(text: &str, i: usize) -> usize {
+    match text.as_bytes()[i] {
+        b' ' | b'\t' | b'\r' | b',' | b'\x0b' | b'\x0c' => 1,
+        b if b < 0x80 || !text.is_char_boundary(i) => 0,
+        _ => text[i..]
+            .chars()
+            .next()
+            .filter(|c| c.is_whitespace())
+            .map_or(0, char::len_utf8),
+    }
+}
+
+/// The samples after the header (`body` starts on line 5): exactly `npts`
+/// tokens separated by blanks (any Unicode white space) or commas, any
+/// number per line. A byte scan: the files are ASCII but for the rare
+/// non-ASCII separator, which is decoded where met.
+fn parse_samples(body: &str, npts: usize) -> Result<Vec<f64>, At2Error> {
+    let bytes = body.as_bytes();
+    let mut accel_g = Vec::with_capacity(npts);
+    let mut line_no = HEADER_LINES + 1;
+    let mut i = 0;
+    while i < bytes.len() {
+        let b = bytes[i];
+        if b == b'\n' {
+            line_no += 1;
+            i += 1;
+            continue;
+        }
+        if let len @ 1.. = separator_at(body, i) {
+            i += len;
+            continue;
+        }
+        let start = i;
+        i += 1;
+        while i < bytes.len() {
+            let b = bytes[i];
+            // Printable ASCII but the comma: inside the token, the common case.
+            if b > b' ' && b != b',' && b < 0x7f {
+                i += 1;
+            } else if b == b'\n' || separator_at(body, i) > 0 {
+                break;
+            } else {
+                i += 1;
+            }
+        }
+        if accel_g.len() == npts {
+            return Err(err(line_no, At2ErrorKind::TooManyValues { npts }));
+        }
+        // Separators are whole characters, so the token is too.
+        accel_g.push(parse_value(&body[start..i]).map_err(|kind| err(line_no, kind))?);
+    }
+    if accel_g.len() < npts {
+        // The last line there is (a final '\n' ends it; it starts none).
+        let last_line = if body.is_empty() {
+            HEADER_LINES
+        } else {
+            line_no - usize::from(body.ends_with('\n'))
+        };
+        return Err(err(
+            last_line,
+            At2ErrorKind::TooFewValues {
+                npts,
+                found: accel_g.len(),
+            },
+        ));
+    }
+    Ok(accel_g)
+}
+
 /// Parses one sample: a finite decimal, `D` accepted as exponent marker.
 fn parse_value(token: &str) -> Result<f64, At2ErrorKind> {
-    let value = if token.contains(['D', 'd']) {
+    if let Some(v) = exact_decimal(token.as_bytes()) {
+        return Ok(v);
+    }
+    let value = if token.bytes().any(|b| b == b'D' || b == b'd') {
         token.replace(['D', 'd'], "E").parse::<f64>()
     } else {
         token.parse::<f64>()
@@ -233,6 +289,95 @@ fn parse_value(token: &str) -> Result<f64, At2ErrorKind> {
             token: token.to_string(),
         }),
     }
+}
+
+/// Powers of ten that are exact doubles.
+const EXACT_POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+
+/// The fast path of decimal parsing (Clinger 1990) for the samples' usual
+/// form, `[±]digits[.digits][(E|D)[±]digits]`: when the digits make an
+/// integer `m ≤ 2⁵³` and the decimal exponent `e` is within ±22, `m` and
+/// `10^|e|` are exact doubles, so the one product or quotient `m·10^e` is
+/// the correctly rounded value, the same double as any correct parser's.
+/// `None` for any other token (more digits, a larger exponent, other
+/// syntax), which then goes to Rust's parser.
+fn exact_decimal(t: &[u8]) -> Option<f64> {
+    let mut i = 0;
+    let negative = match t.first() {
+        Some(b'-') => {
+            i = 1;
+            true
+        }
+        Some(b'+') => {
+            i = 1;
+            false
+        }
+        _ => false,
+    };
+    let (mut m, mut digits, mut fraction) = (0u64, 0u32, 0i32);
+    let mut point = false;
+    while i < t.len() {
+        match t[i] {
+            d @ b'0'..=b'9' => {
+                // 19 digits cannot overflow u64; more leave the fast path.
+                if digits == 19 {
+                    return None;
+                }
+                m = 10 * m + u64::from(d - b'0');
+                // Leading zeros do not count towards the 19.
+                digits += u32::from(m != 0);
+                fraction += i32::from(point);
+            }
+            b'.' if !point => point = true,
+            _ => break,
+        }
+        i += 1;
+    }
+    let mantissa_digits =
+        i - usize::from(negative || t.first() == Some(&b'+')) - usize::from(point);
+    if mantissa_digits == 0 {
+        return None;
+    }
+    let mut exponent = 0i32;
+    if i < t.len() {
+        if !matches!(t[i], b'E' | b'e' | b'D' | b'd') {
+            return None;
+        }
+        i += 1;
+        let sign = match t.get(i) {
+            Some(b'-') => {
+                i += 1;
+                -1
+            }
+            Some(b'+') => {
+                i += 1;
+                1
+            }
+            _ => 1,
+        };
+        let start = i;
+        while i < t.len() && t[i].is_ascii_digit() && i - start < 4 {
+            exponent = 10 * exponent + i32::from(t[i] - b'0');
+            i += 1;
+        }
+        if i == start || i < t.len() {
+            return None;
+        }
+        exponent *= sign;
+    }
+    let e = exponent - fraction;
+    if m > 1 << 53 || !(-22..=22).contains(&e) {
+        return None;
+    }
+    let magnitude = if e < 0 {
+        m as f64 / EXACT_POW10[(-e) as usize]
+    } else {
+        m as f64 * EXACT_POW10[e as usize]
+    };
+    Some(if negative { -magnitude } else { magnitude })
 }
 
 /// Line 3 must describe acceleration in units of g and nothing else.
@@ -532,5 +677,167 @@ mod tests {
         let e = parse_str(&file("NPTS= 3, DT= .01 SEC", "")).unwrap_err();
         assert_eq!(e.kind, At2ErrorKind::TooFewValues { npts: 3, found: 0 });
         assert_eq!(e.line, 4);
+    }
+
+    /// Rust's parser (correctly rounded) on a token, `D` read as `E`.
+    fn reference(token: &str) -> Option<f64> {
+        token.replace(['D', 'd'], "E").parse::<f64>().ok()
+    }
+
+    #[test]
+    fn fast_path_gives_the_correctly_rounded_double_or_declines() {
+        // Every sample of the bundled records, each the same double as
+        // Rust's parser gives.
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("records");
+        let (mut files, mut fast, mut all) = (0, 0usize, 0usize);
+        let mut dirs = vec![root];
+        while let Some(dir) = dirs.pop() {
+            for entry in std::fs::read_dir(&dir).unwrap() {
+                let path = entry.unwrap().path();
+                if path.is_dir() {
+                    dirs.push(path);
+                } else if path.extension().is_some_and(|e| e == "AT2") {
+                    files += 1;
+                    let text = std::fs::read_to_string(&path).unwrap();
+                    for token in text
+                        .lines()
+                        .skip(HEADER_LINES)
+                        .flat_map(str::split_whitespace)
+                    {
+                        let want = reference(token).unwrap();
+                        all += 1;
+                        if let Some(v) = exact_decimal(token.as_bytes()) {
+                            fast += 1;
+                            assert_eq!(v.to_bits(), want.to_bits(), "{}: {token}", path.display());
+                        }
+                        assert_eq!(parse_value(token).unwrap().to_bits(), want.to_bits());
+                    }
+                }
+            }
+        }
+        assert!(files >= 44, "{files} AT2 files");
+        // The records' samples (7 significant digits) all take the fast path.
+        assert_eq!(fast, all, "samples that took the fast path");
+        assert!(all > 700_000, "{all} samples");
+
+        // Edges: the largest exact mantissa and power of ten, one past each
+        // (declined), signs, zeros, the forms Rust accepts, and malformed
+        // tokens (declined, and refused by the full parser too).
+        let taken = [
+            "9007199254740992",
+            "-9007199254740992e-22",
+            "1e22",
+            "-0",
+            "-0.0e0",
+            "+.5",
+            "5.",
+            "1.5D-02",
+            "1.5d+02",
+            "0000000000000000000000001",
+            "0.0000000000000000000001",
+            "123456789012345e-3",
+            ".1",
+            "-.2483657E-03",
+            "7E+000",
+            "3e-0022",
+        ];
+        for t in taken {
+            let v = exact_decimal(t.as_bytes()).unwrap_or_else(|| panic!("{t} declined"));
+            assert_eq!(v.to_bits(), reference(t).unwrap().to_bits(), "{t}");
+        }
+        let declined = [
+            "9007199254740993",
+            "1234567890123456789e-3",
+            "1e23",
+            "1e-23",
+            "12345678901234567890",
+            "0.00000000000000000000001",
+            "1e99999",
+            "inf",
+            "NaN",
+        ];
+        for t in declined {
+            assert_eq!(exact_decimal(t.as_bytes()), None, "{t}");
+            assert_eq!(
+                parse_value(t).ok().map(f64::to_bits),
+                reference(t).filter(|v| v.is_finite()).map(f64::to_bits),
+                "{t}"
+            );
+        }
+        let malformed = [
+            "", ".", "-", "+", "e5", ".e5", "1e", "1e+", "1.2.3", "--1", "1e5x", "0x10", "1,0",
+            "1e5.0", "1 ", "1d", "E", "+-1",
+        ];
+        for t in malformed {
+            assert_eq!(exact_decimal(t.as_bytes()), None, "{t}");
+            assert!(parse_value(t).is_err(), "{t}");
+        }
+
+        // Random decimals (a fixed LCG): mantissas of 1 to 21 digits, the
+        // point anywhere, exponents from −40 to 40.
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = |n: u64| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) % n
+        };
+        for _ in 0..200_000 {
+            let digits = 1 + next(21) as usize;
+            let mut t: String = (0..digits)
+                .map(|_| char::from(b'0' + next(10) as u8))
+                .collect();
+            if next(2) == 0 {
+                t.insert(next(digits as u64 + 1) as usize, '.');
+            }
+            if next(2) == 0 {
+                t.insert(0, '-');
+            }
+            if next(3) > 0 {
+                t += &format!(
+                    "{}{}",
+                    ["E", "e", "D"][next(3) as usize],
+                    next(81) as i64 - 40
+                );
+            }
+            let want = reference(&t).unwrap();
+            if let Some(v) = exact_decimal(t.as_bytes()) {
+                assert_eq!(v.to_bits(), want.to_bits(), "{t}");
+            }
+        }
+    }
+
+    #[test]
+    fn any_white_space_or_comma_separates_samples() {
+        // A no-break space and an em space (Unicode white space), a tab, a
+        // vertical tab and commas, in a CRLF file.
+        let body = "1,2\u{a0}3\u{2003}4\t5\x0b6 ,7\r\n";
+        let at2 = parse_str(&file("NPTS= 7, DT= .01 SEC", body)).unwrap();
+        assert_eq!(at2.accel_g, vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
+        // Other characters belong to the token, which is refused whole.
+        let e = parse_str(&file("NPTS= 2, DT= .01 SEC", "1\n2\u{b5}\n")).unwrap_err();
+        assert_eq!(
+            (e.line, e.kind),
+            (
+                6,
+                At2ErrorKind::NotANumber {
+                    token: "2\u{b5}".into()
+                }
+            )
+        );
+        let e = parse_str(&file("NPTS= 2, DT= .01 SEC", "1 2\u{0}3\n")).unwrap_err();
+        assert_eq!(
+            (e.line, e.kind),
+            (
+                5,
+                At2ErrorKind::NotANumber {
+                    token: "2\u{0}3".into()
+                }
+            )
+        );
+        // Latin-1 bytes in a header are replaced, not refused.
+        let mut bytes = file("NPTS= 1, DT= .01 SEC", "5\n").into_bytes();
+        bytes[3] = 0xe9;
+        assert_eq!(parse(&bytes).unwrap().accel_g, vec![5.0]);
     }
 }
