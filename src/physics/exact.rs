@@ -157,9 +157,11 @@ impl Motion {
     /// is monotone and has no turning point inside. `2e^z·v(σ)` is the
     /// quadratic `Q(δ) = A δ² + 2B δ + 2v_a` in `δ = e^z − 1` (see
     /// [`Motion::turning_points`]); with `Q` of one sign at both ends, it has
-    /// a root inside only if its vertex `−B/A` lies in `(0, δ_max)` and its
-    /// discriminant is not negative. Only sign tests and products: no
-    /// division, root or logarithm.
+    /// a root inside only if its vertex `−B/A` lies in `(0, δ_max)`,
+    /// `Q(0) = 2v_a` has the sign of `A` (otherwise the ends lie on the
+    /// vertex's side and the roots, if any, straddle the stretch) and the
+    /// discriminant is not negative. Only sign tests and products: no division, root or
+    /// logarithm.
     #[inline]
     fn monotone(&self, v_end: f64, delta_max: f64) -> bool {
         // Same strict sign at both ends (NaN: no claim). The tests are
@@ -167,7 +169,7 @@ impl Motion {
         let same_sign = self.v_a * v_end > 0.0;
         let b = self.p * self.u + self.v_a;
         let a = b + self.g1e;
-        let vertex_inside = (a * b < 0.0) & (b.abs() < a.abs() * delta_max);
+        let vertex_inside = (a * b < 0.0) & (b.abs() < a.abs() * delta_max) & (a * self.v_a > 0.0);
         same_sign & (!vertex_inside | (b * b - a * (2.0 * self.v_a) < 0.0))
     }
 
@@ -776,6 +778,58 @@ mod tests {
         assert_eq!(n, 1);
         let (_, v) = m.at(&Coeffs::new(p, t[0]));
         assert!(v.abs() < 1e-14, "{v}");
+    }
+
+    /// `monotone` against the velocity itself, sampled on a fine grid over
+    /// motions of every shape: it never claims a sign change away (sound),
+    /// and it claims every stretch whose velocity keeps its sign with a
+    /// margin (sharp), including those whose quadratic in δ has its vertex
+    /// inside but both roots outside (a parabola that turns short of zero).
+    #[test]
+    fn monotone_claims_exactly_the_stretches_of_one_velocity_sign() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut uniform = |lo: f64, hi: f64| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            lo + (hi - lo) * ((state >> 11) as f64 / (1u64 << 53) as f64)
+        };
+        let (mut claimed, mut turning_short) = (0, 0);
+        for _ in 0..20_000 {
+            let p = [0.5, 2.0, 8.0][(uniform(0.0, 3.0) as usize).min(2)];
+            let len = uniform(0.005, 0.05);
+            let m = Motion {
+                p,
+                x_a: uniform(0.0, 0.5),
+                v_a: uniform(-1.0, 1.0) * 10f64.powf(uniform(-4.0, 0.0)),
+                u: uniform(-2.0, 2.0),
+                g1e: uniform(-1.0, 1.0) * 10f64.powf(uniform(-1.0, 3.0)),
+            };
+            let delta_max = (p * len).exp_m1();
+            let v = |sigma: f64| m.at(&Coeffs::new(p, sigma)).1;
+            let samples: Vec<f64> = (0..=2000).map(|i| v(len * i as f64 / 2000.0)).collect();
+            let scale = samples.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            let one_sign = samples.iter().all(|w| w * m.v_a > 0.0);
+            let margin = samples.iter().all(|w| w * m.v_a > 1e-6 * scale);
+            let says = m.monotone(v(len), delta_max);
+            assert!(
+                !says || one_sign,
+                "claimed monotone with a sign change: {m:?}, len {len}"
+            );
+            assert!(
+                says || !margin,
+                "missed a monotone stretch: {m:?}, len {len}"
+            );
+            claimed += usize::from(says);
+            let b = p * m.u + m.v_a;
+            let a = b + m.g1e;
+            let vertex_inside = a * b < 0.0 && b.abs() < a.abs() * delta_max;
+            turning_short += usize::from(says && vertex_inside && b * b >= a * 2.0 * m.v_a);
+        }
+        assert!(
+            claimed > 5_000 && turning_short > 500,
+            "{claimed}, {turning_short}"
+        );
     }
 
     /// A hop solved by its series against the general walk (the closed form,
