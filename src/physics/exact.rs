@@ -553,10 +553,16 @@ impl Exact {
     /// it. With `y = s·x` rising at the start and falling at the end, `ẏ`
     /// has one root inside (at most two, an odd number): a maximum, above
     /// both ends, so the pivot is not reached. While `y ≤ top`,
-    /// `ÿ = p²(y − 1 + sψ̈/η) ≤ −D` with `D = p²(1 − top − max sψ̈/η)`; if
-    /// `D > 0`, `y` stays below `y_a + ẏ_a²/(2D)`, and if that is below
-    /// `top` (with a margin of 1e-9 for rounding) so is the maximum. Only
-    /// products and sign tests.
+    /// `ÿ = p²(y − 1 + sψ̈/η) ≤ p²(top − 1 + max sψ̈/η) = −D`. Two bounds
+    /// follow, and either proves the maximum below `top` (with a margin of
+    /// 1e-9 for rounding):
+    /// - if `D > 0`, `y` stays below `y_a + ẏ_a²/(2D)` (the parabola's apex;
+    ///   sharp for a swing whose apex is near);
+    /// - in any case `ẏ(σ) ≤ ẏ_a + max(0, −D)·σ`, so `y` stays below
+    ///   `y_a + ẏ_a·dt + max(0, −D)·dt²/2` over the interval (sharp for a
+    ///   swing that turns far below `top`, where the forcing may push out).
+    ///
+    /// Only products and sign tests.
     #[inline]
     fn apex_below(&self, m: &Motion, s: f64, v_end: f64, g0: f64, g_end: f64, top: f64) -> bool {
         let (w_a, y_a) = (s * m.v_a, s * m.x_a);
@@ -564,7 +570,31 @@ impl Exact {
             return false;
         }
         let d = self.p * self.p * (1.0 - top - (s * g0).max(s * g_end) * self.inv_eta);
-        d > 0.0 && w_a * w_a < 2.0 * d * (top * (1.0 - 1e-9) - y_a)
+        let room = top * (1.0 - 1e-9) - y_a;
+        let dt = self.full.sigma;
+        let parabola = d > 0.0 && w_a * w_a < 2.0 * d * room;
+        let chord = w_a * dt + 0.5 * (-d).max(0.0) * dt * dt < room;
+        parabola | chord
+    }
+
+    /// Whether the one turning point of an interval is a minimum that
+    /// provably stays above the pivot (`y > 0`, with a margin of 1e-12):
+    /// then `rock` would find the interval eventless, and `cruise` may
+    /// cross it. With `y` falling at the start and rising at the end, the
+    /// turning point is a minimum below both ends, so the limit is not
+    /// reached. While `y ≥ 0`, `ÿ ≥ p²(min sψ̈/η − 1) = −E`, so
+    /// `ẏ(σ) ≥ ẏ_a − max(0, E)·σ` and `y` stays above
+    /// `y_a + ẏ_a·dt − max(0, E)·dt²/2` over the interval. Only products and
+    /// sign tests.
+    #[inline]
+    fn valley_above(&self, m: &Motion, s: f64, v_end: f64, g0: f64, g_end: f64) -> bool {
+        let (w_a, y_a) = (s * m.v_a, s * m.x_a);
+        if !(w_a < 0.0 && s * v_end > 0.0) {
+            return false;
+        }
+        let e = self.p * self.p * (1.0 - (s * g0).min(s * g_end) * self.inv_eta);
+        let dt = self.full.sigma;
+        y_a + w_a * dt - 0.5 * e.max(0.0) * dt * dt > 1e-12
     }
 }
 
@@ -596,7 +626,11 @@ impl Stepper for Exact {
             let y_hi = s * x_hi;
             let inside = (y_hi < self.limit) & (y_hi > 0.0);
             let monotone = inside & m.monotone(v_hi, self.full_expm1);
-            if !(monotone || inside && self.apex_below(&m, s, v_hi, g0, g_end, top)) {
+            if !(monotone
+                || inside
+                    && (self.apex_below(&m, s, v_hi, g0, g_end, top)
+                        || self.valley_above(&m, s, v_hi, g0, g_end)))
+            {
                 break;
             }
             top = top.max(y_hi);
@@ -1041,5 +1075,74 @@ mod tests {
             }
         }
         assert!(accepted * 4 > cases, "{accepted} of {cases} accepted");
+    }
+
+    /// `apex_below` and `valley_above` against the turning point itself
+    /// (closed form), over random swings of every strength of forcing: a
+    /// maximum they pass stays below `top` and a minimum stays above the
+    /// pivot; and each bound (the apex parabola, the chord where the forcing
+    /// pushes out, the valley) passes swings that turn well inside.
+    #[test]
+    fn turn_bounds_hold_against_the_closed_form() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut uniform = |lo: f64, hi: f64| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            lo + (hi - lo) * ((state >> 11) as f64 / (1u64 << 53) as f64)
+        };
+        let (mut parabola, mut chord, mut valley, mut maxima, mut minima) = (0, 0, 0, 0, 0);
+        for _ in 0..200_000 {
+            let p = [0.5, 2.0, 8.0][(uniform(0.0, 3.0) as usize).min(2)];
+            let eta = uniform(0.05, 1.0);
+            let dt = [0.005, 0.01, 0.02][(uniform(0.0, 3.0) as usize).min(2)];
+            let s = if uniform(0.0, 1.0) < 0.5 { 1.0 } else { -1.0 };
+            let (g0, g_end) = (uniform(-1.0, 1.0), uniform(-1.0, 1.0));
+            // Down to swings of 1e-5 just off the pivot, where a minimum
+            // comes near it.
+            let y_a = 0.9 * 10f64.powf(uniform(-5.0, 0.0));
+            let w_a = uniform(-1.0, 1.0) * p * 10f64.powf(uniform(-5.0, 0.0));
+            let lin = Exact::new(p, eta, dt, 1.0);
+            let (x_a, v_a) = (s * y_a, s * w_a);
+            let m = lin.motion(x_a, v_a, s, g0, (g_end - g0) / dt);
+            let (x_end, v_end) = m.at(&lin.full);
+            let (t, n) = m.turning_points(dt, lin.full_expm1);
+            if n != 1 || s * x_end <= 0.0 || x_end.is_nan() {
+                continue;
+            }
+            let turn = s * m.at(&Coeffs::new(p, t[0])).0;
+            if w_a > 0.0 {
+                maxima += 1;
+                let d = p * p * (1.0 - 1.0 - (s * g0).max(s * g_end) / eta);
+                for f in [0.5, 0.9, 0.999, 1.001, 1.05, 1.5, 3.0] {
+                    let top = turn * f;
+                    if lin.apex_below(&m, s, v_end, g0, g_end, top) {
+                        assert!(turn < top, "{m:?}: apex {turn} vs top {top}");
+                        if f >= 1.5 {
+                            // Which bound passed it (D at top = 1 is a lower bound of D).
+                            if d + p * p * (1.0 - top) > 0.0 {
+                                parabola += 1;
+                            } else {
+                                chord += 1;
+                            }
+                        }
+                    }
+                }
+            } else {
+                minima += 1;
+                if lin.valley_above(&m, s, v_end, g0, g_end) {
+                    assert!(turn > 0.0, "{m:?}: valley {turn}");
+                    valley += 1;
+                }
+            }
+        }
+        assert!(
+            maxima > 1000 && minima > 1000,
+            "{maxima} maxima, {minima} minima"
+        );
+        assert!(
+            parabola > 100 && chord > 100 && valley > 100,
+            "{parabola}, {chord}, {valley}"
+        );
     }
 }
