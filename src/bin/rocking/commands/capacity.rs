@@ -87,6 +87,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     // Checked before the record is read: an absurd --levels is refused at once.
     grid.levels()?;
     let rec = args.block.excitation()?;
+    // The main thread is one of the pool's workers: one thread fewer to start.
+    let _ = rayon::ThreadPoolBuilder::new()
+        .use_current_thread()
+        .build_global();
     let certified = rocking::ops::record::capacity_certified_parallel(
         &rec.exc,
         &spec,
