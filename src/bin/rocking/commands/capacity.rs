@@ -87,7 +87,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     // Checked before the record is read: an absurd --levels is refused at once.
     grid.levels()?;
     let rec = args.block.excitation()?;
-    // The main thread is one of the pool's workers: one thread fewer to start.
+    // The main thread is one of the pool's workers: one thread fewer to start
+    // (a pool already built is used as it is).
     let _ = rayon::ThreadPoolBuilder::new()
         .use_current_thread()
         .build_global();
