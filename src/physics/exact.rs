@@ -814,6 +814,18 @@ mod tests {
         assert!(v.abs() < 1e-14, "{v}");
     }
 
+    /// Uniform draws in `[lo, hi)` from a fixed seed (a 64-bit LCG): the
+    /// random tests are the same on every run.
+    fn uniform_from(seed: u64) -> impl FnMut(f64, f64) -> f64 {
+        let mut state = seed;
+        move |lo, hi| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            lo + (hi - lo) * ((state >> 11) as f64 / (1u64 << 53) as f64)
+        }
+    }
+
     /// `monotone` against the velocity itself, sampled on a fine grid over
     /// motions of every shape: it never claims a sign change away (sound),
     /// and it claims every stretch whose velocity keeps its sign with a
@@ -821,13 +833,7 @@ mod tests {
     /// inside but both roots outside (a parabola that turns short of zero).
     #[test]
     fn monotone_claims_exactly_the_stretches_of_one_velocity_sign() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut uniform = |lo: f64, hi: f64| {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            lo + (hi - lo) * ((state >> 11) as f64 / (1u64 << 53) as f64)
-        };
+        let mut uniform = uniform_from(0x9e37_79b9_7f4a_7c15u64);
         let (mut claimed, mut turning_short) = (0, 0);
         for _ in 0..20_000 {
             let p = [0.5, 2.0, 8.0][(uniform(0.0, 3.0) as usize).min(2)];
@@ -1084,13 +1090,7 @@ mod tests {
     /// pushes out, the valley) passes swings that turn well inside.
     #[test]
     fn turn_bounds_hold_against_the_closed_form() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut uniform = |lo: f64, hi: f64| {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            lo + (hi - lo) * ((state >> 11) as f64 / (1u64 << 53) as f64)
-        };
+        let mut uniform = uniform_from(0x2545_f491_4f6c_dd1du64);
         let (mut parabola, mut chord, mut valley, mut maxima, mut minima) = (0, 0, 0, 0, 0);
         for _ in 0..200_000 {
             let p = [0.5, 2.0, 8.0][(uniform(0.0, 3.0) as usize).min(2)];
