@@ -14,9 +14,10 @@
 //!
 //! Numbers may lack a leading zero (`-.2483657E-03`) and may use a Fortran `D`
 //! exponent; line endings may be LF or CRLF; the last line may be short.
-//! Values are parsed with Rust's correctly rounded `f64` parser, so every
-//! decimal in the file maps to the nearest double, exactly as any other
-//! correct reader would.
+//! Every decimal in the file maps to the nearest double, exactly as any
+//! other correct reader would: the usual samples by an exact fast path
+//! ([`exact_decimal`]), anything else by Rust's correctly rounded `f64`
+//! parser.
 //!
 //! Refused, with the 1-based line number: an empty file, fewer than four
 //! header lines, a units line that is not acceleration in g (PEER puts velocity
