@@ -16,7 +16,7 @@
 //! exponent; line endings may be LF or CRLF; the last line may be short.
 //! Every decimal in the file maps to the nearest double, exactly as any
 //! other correct reader would: the usual samples by an exact fast path
-//! ([`exact_decimal`]), anything else by Rust's correctly rounded `f64`
+//! (`exact_decimal`), anything else by Rust's correctly rounded `f64`
 //! parser.
 //!
 //! Refused, with the 1-based line number: an empty file, fewer than four
