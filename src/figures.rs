@@ -902,7 +902,7 @@ fn pulse_walls(d: &PulseData) -> Vec<Figure> {
         });
         let closed = family_walls(d, beta, eps, |w| {
             w.closed_form
-                .filter(|_| w.closed_form_of.as_deref() == Some("eta_w"))
+                .filter(|_| w.closed_form_kind() == Some(crate::pulse::WallKind::Any))
         });
         if !closed.is_empty() {
             let eq = d

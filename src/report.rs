@@ -607,10 +607,9 @@ pub fn render_pulses(d: &crate::study::PulseData, figures: &[Figure]) -> String 
                 md,
                 "| {label} | {} | {} | {} | {:.1e} |",
                 w.closed_form_equation.as_deref().unwrap_or(""),
-                if w.closed_form_of.as_deref() == Some("eta_w") {
-                    "η_w"
-                } else {
-                    "η_w,0 (Mode 0)"
+                match w.closed_form_kind() {
+                    Some(crate::pulse::WallKind::Any) => "η_w",
+                    _ => "η_w,0 (Mode 0)",
                 },
                 diffs.len(),
                 diffs.iter().cloned().fold(0.0, f64::max)

@@ -23,13 +23,14 @@ use crate::tables::{self, TableError};
 /// The example stage.
 pub struct Example;
 
-/// The example block's runs, capacities and horizontal fractiles (the
-/// columns of `ida_points`, `capacities` and `fractiles_horizontal`).
-pub const OUTPUTS: [&str; 3] = [
-    "example_ida_points.parquet",
-    "example_capacities.parquet",
-    "example_fractiles_horizontal.parquet",
-];
+/// The example block's runs (the columns of `ida_points`).
+pub const IDA: &str = "example_ida_points.parquet";
+/// Its capacities, one per record (the columns of `capacities`).
+pub const CAPACITIES: &str = "example_capacities.parquet";
+/// Its horizontal fractiles (the columns of `fractiles_horizontal`).
+pub const HORIZONTAL: &str = "example_fractiles_horizontal.parquet";
+/// Every output of the stage.
+pub const OUTPUTS: [&str; 3] = [IDA, CAPACITIES, HORIZONTAL];
 
 /// Metadata key of every output: [`settings`] as JSON.
 pub const META_SETTINGS: &str = "rocking.example.settings";
@@ -128,10 +129,9 @@ fn run(cx: &Context) -> Result<Summary, ExampleError> {
     progress(total, ida.len() as u64);
     let horizontal = reduce::horizontal_of_block(plan, block, &caps, &ida)?;
     let meta = vec![(META_SETTINGS.to_string(), settings(plan).to_string())];
-    let path = |i: usize| study.path(OUTPUTS[i]);
-    tables::write(&path(0), &ida, &meta)?;
-    tables::write(&path(1), &caps, &meta)?;
-    tables::write(&path(2), &horizontal, &meta)?;
+    tables::write(&study.path(IDA), &ida, &meta)?;
+    tables::write(&study.path(CAPACITIES), &caps, &meta)?;
+    tables::write(&study.path(HORIZONTAL), &horizontal, &meta)?;
     let overturned = caps.iter().filter(|c| c.eta_c.is_some()).count();
     let on_grid = plan.blocks.iter().any(|b| b == block);
     Ok(Summary {

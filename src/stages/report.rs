@@ -152,12 +152,12 @@ pub fn load(
         },
         example: match &plan.example {
             Some(block) => {
-                let path = |i: usize| dir.join(super::example::OUTPUTS[i]);
+                use super::example::{CAPACITIES, HORIZONTAL, IDA};
                 Some(ExampleData {
                     block: block.clone(),
-                    ida: tables::read(&path(0))?,
-                    caps: tables::read(&path(1))?,
-                    horizontal: tables::read(&path(2))?,
+                    ida: tables::read(&dir.join(IDA))?,
+                    caps: tables::read(&dir.join(CAPACITIES))?,
+                    horizontal: tables::read(&dir.join(HORIZONTAL))?,
                 })
             }
             None => None,

@@ -1,6 +1,7 @@
 //! The pulse map's tables (`[pulses]` pipelines): one row per wall, one per
 //! map cell. Columns are documented in the README.
 
+use crate::pulse::WallKind;
 use crate::table;
 
 table! {
@@ -39,12 +40,20 @@ table! {
 }
 
 impl PulseWallRow {
-    /// The simulated wall its closed form gives (`closed_form_of`), if any.
+    /// Which wall its closed form gives (`closed_form_of`), if it has one.
+    pub fn closed_form_kind(&self) -> Option<WallKind> {
+        let of = self.closed_form_of.as_deref()?;
+        [WallKind::Any, WallKind::Mode0]
+            .into_iter()
+            .find(|k| k.column() == of)
+    }
+
+    /// The simulated wall its closed form gives, if any.
     pub fn closed_form_wall(&self) -> Option<f64> {
         self.closed_form?;
-        match self.closed_form_of.as_deref()? {
-            "eta_w" => self.eta_w,
-            _ => self.eta_w_mode0,
+        match self.closed_form_kind()? {
+            WallKind::Any => self.eta_w,
+            WallKind::Mode0 => self.eta_w_mode0,
         }
     }
 
