@@ -156,7 +156,8 @@ impl Capacity {
 /// same ends) share their common levels bit for bit.
 ///
 /// With a [`Batch`] (from [`Runs::with_batch`]) a search also asks for
-/// runs ahead of need, several at once: the next `width` grid levels, and
+/// runs ahead of need, several at once: the grid levels up to the first
+/// overturning (scanned by all workers together, [`Runs::scan`]), and
 /// every chaos probe. The outcomes are the same, so the capacity and its
 /// certification are too; only the time changes, and at most `width − 1`
 /// levels past the first overturning are run in vain.
@@ -164,15 +165,28 @@ pub struct Runs<'a> {
     exc: &'a Excitation,
     memo: std::collections::HashMap<[u64; 8], Outcome>,
     done: Work,
-    batch: Option<(Batch<'a>, usize)>,
+    batch: Option<(&'a dyn Batch, usize)>,
 }
 
 /// Runs simulations of one record together: what a caller with spare cores
 /// lends one capacity search (the `capacity` command runs them in
-/// parallel, [`crate::ops::record::capacity_certified_parallel`]). It
-/// returns [`simulate`]'s result for each spec, in order.
-pub type Batch<'a> =
-    &'a (dyn Fn(&Excitation, &[RunSpec]) -> Vec<Result<Outcome, PhysicsError>> + Sync);
+/// parallel, [`crate::ops::record::capacity_certified_parallel`]).
+pub trait Batch: Sync {
+    /// [`simulate`]'s result for each spec, in order.
+    fn each(&self, exc: &Excitation, specs: &[RunSpec]) -> Vec<Result<Outcome, PhysicsError>>;
+
+    /// The specs in order, each worker taking the next one as soon as it is
+    /// free (no worker waits for another), none taken past the first known
+    /// to overturn or to end without a verdict (an error, the event cap):
+    /// [`simulate`]'s result for each spec run, `None` for the others. Those
+    /// run past the first overturning are the runs that were under way when
+    /// it was found: at most one per other worker.
+    fn until_overturned(
+        &self,
+        exc: &Excitation,
+        specs: &[RunSpec],
+    ) -> Vec<Option<Result<Outcome, PhysicsError>>>;
+}
 
 impl<'a> Runs<'a> {
     pub fn new(exc: &'a Excitation) -> Self {
@@ -185,7 +199,7 @@ impl<'a> Runs<'a> {
     }
 
     /// Runs that ask `batch` for up to `width` runs at once ahead of need.
-    pub fn with_batch(exc: &'a Excitation, batch: Batch<'a>, width: usize) -> Self {
+    pub fn with_batch(exc: &'a Excitation, batch: &'a dyn Batch, width: usize) -> Self {
         Runs {
             batch: Some((batch, width.max(1))),
             ..Runs::new(exc)
@@ -215,8 +229,37 @@ impl<'a> Runs<'a> {
         if missing.len() < 2 {
             return;
         }
-        for (spec, out) in missing.iter().zip(batch(self.exc, &missing)) {
+        for (spec, out) in missing.iter().zip(batch.each(self.exc, &missing)) {
             if let Ok(out) = out {
+                let _ = self.remember(spec, out);
+            }
+        }
+    }
+
+    /// Runs the grid levels `specs` (in the order a search meets them) that
+    /// are not yet in memory, when there is a batch, up to the first level
+    /// known to overturn: all workers at once, each taking the next level
+    /// as soon as it is free ([`Batch::until_overturned`]).
+    pub fn scan(&mut self, specs: &[RunSpec]) {
+        let Some((batch, width)) = self.batch else {
+            return;
+        };
+        let mut missing = Vec::new();
+        for s in specs {
+            match self.memo.get(&run_key(s)) {
+                Some(out) if out.overturned() => break,
+                Some(_) => {}
+                None => missing.push(*s),
+            }
+        }
+        if missing.len() < 2 || width < 2 {
+            return;
+        }
+        for (spec, out) in missing
+            .iter()
+            .zip(batch.until_overturned(self.exc, &missing))
+        {
+            if let Some(Ok(out)) = out {
                 let _ = self.remember(spec, out);
             }
         }
@@ -324,15 +367,13 @@ pub fn capacity_in(
     let levels = grid.levels()?;
     let mut points = Vec::new();
     let spec = |eta: f64| RunSpec { eta, ..*run };
-    let width = runs.width();
     let mut survived = grid.eta_max;
+    if runs.width() > 1 {
+        let all: Vec<RunSpec> = levels.iter().map(|&e| spec(e)).collect();
+        runs.scan(&all);
+    }
     for (j, &eta) in levels.iter().enumerate() {
-        if width > 1 {
-            let ahead: Vec<RunSpec> = levels[j..].iter().take(width).map(|&e| spec(e)).collect();
-            runs.prefetch(&ahead);
-        }
-        let mut at = |eta: f64| runs.outcome(&spec(eta));
-        let outcome = at(eta)?;
+        let outcome = runs.outcome(&spec(eta))?;
         points.push(IdaPoint {
             eta,
             kind: RunKind::Level,
@@ -349,7 +390,7 @@ pub fn capacity_in(
             if mid <= over || mid >= survived {
                 break;
             }
-            let outcome = at(mid)?;
+            let outcome = runs.outcome(&spec(mid))?;
             points.push(IdaPoint {
                 eta: mid,
                 kind: RunKind::Refinement,
@@ -364,9 +405,11 @@ pub fn capacity_in(
         let resurrections = match trace {
             Trace::StopAtFirst => None,
             Trace::AllLevels => {
+                let rest: Vec<RunSpec> = levels[j + 1..].iter().map(|&e| spec(e)).collect();
+                runs.prefetch(&rest);
                 let mut survived_after = 0;
                 for &eta in &levels[j + 1..] {
-                    let outcome = at(eta)?;
+                    let outcome = runs.outcome(&spec(eta))?;
                     points.push(IdaPoint {
                         eta,
                         kind: RunKind::Level,

@@ -356,8 +356,9 @@ fn grids_sharing_runs_find_what_each_finds_alone() {
     );
 }
 
-/// Issue 10: `capacity` runs grid levels ahead of need and its chaos probes
-/// at once, on every core (`ops::record::capacity_certified_parallel`). The
+/// Issue 10: `capacity` scans the grid levels on every core, each worker
+/// taking the next level as soon as it is free, and runs its chaos probes
+/// at once (`ops::record::capacity_certified_parallel`). The
 /// sequential search is the definition: the same capacity, points and
 /// certification, for the exact stepper (one case chaotic, one survivor of
 /// the whole grid) and for DP5 (a tolerance search that is redone).
@@ -386,11 +387,19 @@ fn the_parallel_search_finds_what_the_sequential_one_finds() {
             ..ImGrid::default()
         };
         let seq = capacity_certified(&exc, &spec, &grid, 1e-4, Trace::StopAtFirst).unwrap();
-        let par =
-            capacity_certified_parallel(&exc, &spec, &grid, 1e-4, Trace::StopAtFirst).unwrap();
-        assert_eq!(par.capacity, seq.capacity, "{stem}");
-        assert_eq!(par.certification, seq.certification, "{stem}");
-        assert_eq!(par.model, seq.model, "{stem}");
+        // One worker (no scan), and three (the scan with two others).
+        for threads in [1, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let par = pool.install(|| {
+                capacity_certified_parallel(&exc, &spec, &grid, 1e-4, Trace::StopAtFirst).unwrap()
+            });
+            assert_eq!(par.capacity, seq.capacity, "{stem}, {threads} threads");
+            assert_eq!(par.certification, seq.certification, "{stem}");
+            assert_eq!(par.model, seq.model, "{stem}");
+        }
         chaotic += usize::from(matches!(seq.certification, Certification::Chaotic { .. }));
         survivors += usize::from(seq.capacity.eta_c.is_none());
     }

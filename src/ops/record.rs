@@ -2,8 +2,14 @@
 
 use std::path::{Path, PathBuf};
 
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::OnceLock;
+
+use rayon::prelude::*;
+
 use crate::at2::{self, At2Error};
-use crate::physics::{Excitation, PhysicsError};
+use crate::ida::Batch;
+use crate::physics::{simulate, Excitation, Outcome, PhysicsError, RunSpec, Stop};
 use crate::pulse::Pulse;
 
 /// A record ready to run, with what the reports show.
@@ -79,32 +85,116 @@ pub fn load(path: &Path) -> Result<LoadedRecord, RecordError> {
 }
 
 /// [`crate::ida::capacity_certified`] of one record with every core of the
-/// rayon pool: the search runs the next `threads` grid levels at once and
-/// all the chaos probes at once ([`crate::ida::Runs::with_batch`]). The
-/// capacity and its certification are those of the sequential search (the
-/// runs are the same, only run ahead of need); at most `threads − 1` levels
-/// past the first overturning run in vain. For one capacity at a time, as
-/// the `capacity` command; a sweep already keeps the cores busy with cases.
+/// rayon pool: the workers scan the grid levels together, each taking the
+/// next level as soon as it is free, and run all the chaos probes at once
+/// ([`crate::ida::Runs::with_batch`]). The capacity and its certification
+/// are those of the sequential search (the runs are the same, only run
+/// ahead of need); at most `threads − 1` levels past the first overturning
+/// run in vain. For one capacity at a time, as the `capacity` command; a
+/// sweep already keeps the cores busy with cases.
 pub fn capacity_certified_parallel(
     exc: &Excitation,
-    spec: &crate::physics::RunSpec,
+    spec: &RunSpec,
     grid: &crate::ida::ImGrid,
     tol: f64,
     trace: crate::ida::Trace,
 ) -> Result<crate::ida::Certified, PhysicsError> {
-    use rayon::prelude::*;
-    let batch = |exc: &Excitation, specs: &[crate::physics::RunSpec]| {
-        specs
-            .par_iter()
-            .map(|s| crate::physics::simulate(exc, s))
-            .collect::<Vec<_>>()
-    };
     let width = rayon::current_num_threads();
     // The whole search runs on a worker of the pool: a batch started there
     // shares its runs with the other workers at once, where one started
     // from outside the pool would wait for a sleeping worker every time.
+    let pool = Pool { width };
     rayon::scope(|_| {
-        let mut runs = crate::ida::Runs::with_batch(exc, &batch, width);
+        let mut runs = crate::ida::Runs::with_batch(exc, &pool, width);
         crate::ida::capacity_certified_in(&mut runs, spec, grid, tol, trace)
     })
+}
+
+/// The rayon pool's workers as a [`Batch`].
+struct Pool {
+    width: usize,
+}
+
+impl Batch for Pool {
+    fn each(&self, exc: &Excitation, specs: &[RunSpec]) -> Vec<Result<Outcome, PhysicsError>> {
+        specs.par_iter().map(|s| simulate(exc, s)).collect()
+    }
+
+    fn until_overturned(
+        &self,
+        exc: &Excitation,
+        specs: &[RunSpec],
+    ) -> Vec<Option<Result<Outcome, PhysicsError>>> {
+        let next = AtomicUsize::new(0);
+        // The first index known to overturn (or fail): none is taken past it.
+        let first_over = AtomicUsize::new(usize::MAX);
+        let slots: Vec<OnceLock<Result<Outcome, PhysicsError>>> =
+            specs.iter().map(|_| OnceLock::new()).collect();
+        (0..self.width).into_par_iter().for_each(|_| loop {
+            let i = next.fetch_add(1, Ordering::Relaxed);
+            if i >= specs.len() || i > first_over.load(Ordering::Acquire) {
+                break;
+            }
+            let out = simulate(exc, &specs[i]);
+            if out
+                .as_ref()
+                .map_or(true, |o| o.overturned() || o.stop == Stop::EventLimit)
+            {
+                first_over.fetch_min(i, Ordering::AcqRel);
+            }
+            let _ = slots[i].set(out);
+        });
+        slots.into_iter().map(OnceLock::into_inner).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ida::ImGrid;
+    use crate::physics::Model;
+
+    /// The scan's contract ([`Batch::until_overturned`]) with three workers:
+    /// every level up to the first overturning is run, each result is the
+    /// one `simulate` gives alone, and at most two levels past it (one per
+    /// other worker) are run.
+    #[test]
+    fn the_pools_scan_runs_every_level_up_to_the_first_overturning() {
+        let dt = 0.01;
+        let accel: Vec<f64> = (0..1500)
+            .map(|i| {
+                let t = i as f64 * dt;
+                0.4 * (2.0 * std::f64::consts::PI * 1.3 * t).sin() * (-0.2 * t).exp()
+            })
+            .collect();
+        let exc = Excitation::new(&accel, dt).unwrap();
+        let specs: Vec<RunSpec> = ImGrid::default()
+            .levels()
+            .unwrap()
+            .into_iter()
+            .map(|eta| RunSpec::new(2.0, 0.8, eta, Model::LINEARIZED))
+            .collect();
+        let alone: Vec<Outcome> = specs.iter().map(|s| simulate(&exc, s).unwrap()).collect();
+        let first = alone
+            .iter()
+            .position(Outcome::overturned)
+            .expect("a level overturns");
+        assert!(first > 10, "the scan covers many levels: {first}");
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap();
+        for _ in 0..5 {
+            let got = pool.install(|| Pool { width: 3 }.until_overturned(&exc, &specs));
+            assert_eq!(got.len(), specs.len());
+            for (i, (g, a)) in got.iter().zip(&alone).enumerate() {
+                match g {
+                    Some(r) => assert_eq!(r.as_ref().unwrap(), a, "level {i}"),
+                    None => assert!(i > first, "level {i} up to {first} not run"),
+                }
+            }
+            let past = got[first + 1..].iter().filter(|g| g.is_some()).count();
+            assert!(past <= 2, "{past} levels run past the first overturning");
+        }
+    }
 }
