@@ -177,3 +177,19 @@ fn bad_input_is_named() {
     assert!(!out.status.success() && stderr(&out).contains("nope.AT2"));
     assert!(bundled_records().exists());
 }
+
+/// `rocking capacity` parses with its own parser alone (it starts faster);
+/// `rocking help capacity` goes through the whole command tree. Both must
+/// describe the same command, and refuse a bad flag as the tree does.
+#[test]
+fn the_quick_capacity_parser_is_the_trees() {
+    let quick = rocking(&root(), &["capacity", "--help"]);
+    let tree = rocking(&root(), &["help", "capacity"]);
+    assert!(quick.status.success() && tree.status.success());
+    assert!(String::from_utf8_lossy(&quick.stdout).contains("--record"));
+    assert_eq!(quick.stdout, tree.stdout);
+    let out = rocking(&root(), &["capacity", "--p", "2", "--bogus"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("unexpected argument '--bogus'"));
+    assert!(stderr(&out).contains("Usage: rocking capacity"));
+}
