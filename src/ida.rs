@@ -241,7 +241,7 @@ impl<'a> Runs<'a> {
     /// known to overturn: all workers at once, each taking the next level
     /// as soon as it is free ([`Batch::until_overturned`]).
     pub fn scan(&mut self, specs: &[RunSpec]) {
-        let Some((batch, width)) = self.batch else {
+        let Some((batch, _)) = self.batch else {
             return;
         };
         let mut missing = Vec::new();
@@ -252,7 +252,7 @@ impl<'a> Runs<'a> {
                 None => missing.push(*s),
             }
         }
-        if missing.len() < 2 || width < 2 {
+        if missing.len() < 2 {
             return;
         }
         for (spec, out) in missing

@@ -1,7 +1,6 @@
 //! One AT2 record read for the solvers (`simulate`, `capacity`, `bench`).
 
 use std::path::{Path, PathBuf};
-
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::OnceLock;
 
@@ -103,17 +102,14 @@ pub fn capacity_certified_parallel(
     // The whole search runs on a worker of the pool: a batch started there
     // shares its runs with the other workers at once, where one started
     // from outside the pool would wait for a sleeping worker every time.
-    let pool = Pool { width };
     rayon::scope(|_| {
-        let mut runs = crate::ida::Runs::with_batch(exc, &pool, width);
+        let mut runs = crate::ida::Runs::with_batch(exc, &Pool, width);
         crate::ida::capacity_certified_in(&mut runs, spec, grid, tol, trace)
     })
 }
 
-/// The rayon pool's workers as a [`Batch`].
-struct Pool {
-    width: usize,
-}
+/// The workers of the rayon pool it is called in, as a [`Batch`].
+struct Pool;
 
 impl Batch for Pool {
     fn each(&self, exc: &Excitation, specs: &[RunSpec]) -> Vec<Result<Outcome, PhysicsError>> {
@@ -130,20 +126,22 @@ impl Batch for Pool {
         let first_over = AtomicUsize::new(usize::MAX);
         let slots: Vec<OnceLock<Result<Outcome, PhysicsError>>> =
             specs.iter().map(|_| OnceLock::new()).collect();
-        (0..self.width).into_par_iter().for_each(|_| loop {
-            let i = next.fetch_add(1, Ordering::Relaxed);
-            if i >= specs.len() || i > first_over.load(Ordering::Acquire) {
-                break;
-            }
-            let out = simulate(exc, &specs[i]);
-            if out
-                .as_ref()
-                .map_or(true, |o| o.overturned() || o.stop == Stop::EventLimit)
-            {
-                first_over.fetch_min(i, Ordering::AcqRel);
-            }
-            let _ = slots[i].set(out);
-        });
+        (0..rayon::current_num_threads())
+            .into_par_iter()
+            .for_each(|_| loop {
+                let i = next.fetch_add(1, Ordering::Relaxed);
+                if i >= specs.len() || i > first_over.load(Ordering::Acquire) {
+                    break;
+                }
+                let out = simulate(exc, &specs[i]);
+                if out
+                    .as_ref()
+                    .map_or(true, |o| o.overturned() || o.stop == Stop::EventLimit)
+                {
+                    first_over.fetch_min(i, Ordering::AcqRel);
+                }
+                let _ = slots[i].set(out);
+            });
         slots.into_iter().map(OnceLock::into_inner).collect()
     }
 }
@@ -185,7 +183,7 @@ mod tests {
             .build()
             .unwrap();
         for _ in 0..5 {
-            let got = pool.install(|| Pool { width: 3 }.until_overturned(&exc, &specs));
+            let got = pool.install(|| Pool.until_overturned(&exc, &specs));
             assert_eq!(got.len(), specs.len());
             for (i, (g, a)) in got.iter().zip(&alone).enumerate() {
                 match g {
