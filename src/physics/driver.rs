@@ -4,7 +4,9 @@
 //! ([`Stepper::rock`]); everything an event changes is done here, once.
 
 use super::history::{EventKind, HistoryPoint, Observer};
-use super::{Excitation, PhysicsError, Rocking, RunSpec, Stepper, Stretch, StretchEnd, MAX_EVENTS};
+use super::{
+    Excitation, Isa, PhysicsError, Rocking, RunSpec, Stepper, Stretch, StretchEnd, MAX_EVENTS,
+};
 use crate::label::Label;
 
 /// Why a run ended.
@@ -82,6 +84,28 @@ pub fn simulate_from(
     start: Option<Rocking>,
     obs: &mut impl Observer,
 ) -> Result<Outcome, PhysicsError> {
+    run(exc, spec, start, obs, Isa::detected())
+}
+
+/// [`simulate`] with the exact stepper's event loop as compiled for `isa`
+/// ([`Isa`]; the other integrators have one compilation): to compare the
+/// two. Refused when this CPU cannot run it.
+pub fn simulate_on(exc: &Excitation, spec: &RunSpec, isa: Isa) -> Result<Outcome, PhysicsError> {
+    if !isa.available() {
+        return Err(PhysicsError::BadInput(format!(
+            "this CPU cannot run the {isa:?} compilation of the stepper"
+        )));
+    }
+    run(exc, spec, None, &mut (), isa)
+}
+
+fn run(
+    exc: &Excitation,
+    spec: &RunSpec,
+    start: Option<Rocking>,
+    obs: &mut impl Observer,
+    isa: Isa,
+) -> Result<Outcome, PhysicsError> {
     spec.validate()?;
     if let Some(st) = start {
         if !(st.s == 1.0 || st.s == -1.0)
@@ -105,7 +129,7 @@ pub fn simulate_from(
     Ok(spec
         .model
         .integrator
-        .drive(equation, exc, spec, start, limit, obs))
+        .drive(equation, exc, spec, start, limit, obs, isa))
 }
 
 /// The state of one run as the driver walks the record.
@@ -129,6 +153,7 @@ struct Driver<'a, S, O> {
 }
 
 /// The event loop, generic over the integrator (monomorphised per stepper).
+#[inline(always)]
 pub(super) fn drive<S: Stepper, O: Observer>(
     exc: &Excitation,
     spec: &RunSpec,
@@ -226,6 +251,7 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
     }
 
     /// Walks sample interval `k` event by event. `Some(stop)` ends the run.
+    #[inline(always)]
     fn interval(&mut self, k: usize) -> Option<Stop> {
         let dt = self.exc.dt_s;
         let (g0, g_end, g1) = (self.exc.psi[k], self.exc.psi_end[k], self.exc.slope[k]);
@@ -377,6 +403,7 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
 /// Strict: a record that only touches the threshold does not lift the block.
 /// `g_b` is the forcing at the end of the stretch, the next sample itself
 /// (not `g_a + g1·len`, which can round past a threshold the sample only touches).
+#[inline(always)]
 fn uplift_in(g_a: f64, g_b: f64, g1: f64, len: f64, threshold: f64) -> Option<(f64, f64)> {
     if g_a.abs() > threshold {
         return Some((0.0, g_a.signum()));

@@ -33,7 +33,7 @@ use super::{Rocking, Stepper, Stretch, StretchEnd};
 /// first dropped term is below 2⁻⁵³ of the sum), `2 sinh²(z/2)` above.
 /// The bracket is a polynomial in z² with reciprocal constants: no division
 /// on the events' path.
-#[inline]
+#[inline(always)]
 pub fn cosh_m1(z: f64) -> f64 {
     let z2 = z * z;
     if z2 < 1e-4 {
@@ -56,7 +56,7 @@ pub fn cosh_m1(z: f64) -> f64 {
 /// |z| < 0.5 (to z⁶ below |z| = 0.01; the first dropped term is below 2⁻⁵³
 /// of the sum), directly above. One division (z²/6, exactly rounded), off
 /// the polynomial's dependency chain.
-#[inline]
+#[inline(always)]
 pub fn sinhc_m1(z: f64) -> f64 {
     let z2 = z * z;
     if z2 < 1e-4 {
@@ -88,7 +88,7 @@ struct Coeffs {
 }
 
 impl Coeffs {
-    #[inline]
+    #[inline(always)]
     fn new(p: f64, sigma: f64) -> Self {
         // Below |z| = 0.5 (every sample interval up to p·dt = 0.5) these are
         // polynomials: no transcendental call in the hot loop.
@@ -130,7 +130,7 @@ struct Motion {
 }
 
 impl Motion {
-    #[inline]
+    #[inline(always)]
     fn at(&self, c: &Coeffs) -> (f64, f64) {
         let x = self.x_a + self.u * c.c + self.v_a * c.s_sigma + self.g1e * c.s1_sigma;
         let v = self.v_a + self.p * self.u * c.sinh + (self.v_a + self.g1e) * c.c;
@@ -138,7 +138,7 @@ impl Motion {
     }
 
     /// The size of the largest term of x(σ): the scale of its rounding error.
-    #[inline]
+    #[inline(always)]
     fn scale(&self, c: &Coeffs) -> f64 {
         self.x_a.abs()
             + (self.u * c.c).abs()
@@ -147,7 +147,7 @@ impl Motion {
     }
 
     /// Acceleration at σ given x(σ): p²(x − s + ψ̈(σ)/η).
-    #[inline]
+    #[inline(always)]
     fn acc(&self, x: f64, sigma: f64) -> f64 {
         self.p * self.p * (x - self.x_a + self.u + self.g1e * sigma)
     }
@@ -162,7 +162,7 @@ impl Motion {
     /// vertex's side and the roots, if any, straddle the stretch) and the
     /// discriminant is not negative. Only sign tests and products: no division, root or
     /// logarithm.
-    #[inline]
+    #[inline(always)]
     fn monotone(&self, v_end: f64, delta_max: f64) -> bool {
         // Same strict sign at both ends (NaN: no claim). The tests are
         // combined without short circuits: one branch for the caller.
@@ -176,6 +176,7 @@ impl Motion {
     /// Turning points (v = 0) with 0 < σ < len, ascending.
     /// `delta_max = e^{p·len} − 1` bounds δ, so roots outside the stretch
     /// cost no logarithm.
+    #[inline(always)]
     fn turning_points(&self, len: f64, delta_max: f64) -> ([f64; 2], usize) {
         let b = self.p * self.u + self.v_a;
         let a = b + self.g1e;
@@ -216,6 +217,7 @@ impl Motion {
 }
 
 /// The smallest positive root of `a τ² + b τ + c = 0` (NaN if none).
+#[inline(always)]
 fn first_positive_root(a: f64, b: f64, c: f64) -> f64 {
     if a == 0.0 {
         let t = -c / b;
@@ -235,6 +237,99 @@ fn first_positive_root(a: f64, b: f64, c: f64) -> f64 {
     }
 }
 
+/// [`super::driver::drive`] with the exact stepper, compiled for `isa`
+/// (see [`Isa`]).
+#[inline]
+pub(super) fn drive<O: super::Observer>(
+    exc: &super::Excitation,
+    spec: &super::RunSpec,
+    start: Option<Rocking>,
+    limit: f64,
+    stepper: &mut Exact,
+    obs: &mut O,
+    isa: Isa,
+) -> super::Outcome {
+    match isa {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: an `Isa::V3` is only made where the CPU has its features
+        // (`Isa::detected`, `Isa::available`).
+        Isa::V3 => unsafe { drive_v3(exc, spec, start, limit, stepper, obs) },
+        _ => super::driver::drive(exc, spec, start, limit, stepper, obs),
+    }
+}
+
+/// [`drive`] compiled for x86-64-v3: the event loop and the stepper's
+/// methods are `#[inline(always)]`, so they are compiled into this
+/// function, with its features.
+///
+/// # Safety
+/// The CPU must have the features enabled here.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx,avx2,bmi1,bmi2,fma,lzcnt,movbe,popcnt")]
+unsafe fn drive_v3<O: super::Observer>(
+    exc: &super::Excitation,
+    spec: &super::RunSpec,
+    start: Option<Rocking>,
+    limit: f64,
+    stepper: &mut Exact,
+    obs: &mut O,
+) -> super::Outcome {
+    super::driver::drive(exc, spec, start, limit, stepper, obs)
+}
+
+/// Which compilation of the exact stepper's event loop runs. The loop and
+/// the stepper are compiled twice, for the x86-64 baseline and for
+/// x86-64-v3 (AVX2, FMA, BMI: VEX-encoded three-operand arithmetic),
+/// chosen at run time by the CPU's features, so one binary runs on any
+/// x86-64 CPU and at its best on those of the last decade. Both do the
+/// same IEEE operations in the same order (Rust never fuses a product and
+/// a sum unless asked to, and the stepper never asks), so their results
+/// are identical to the bit; `tests/physics.rs` holds them equal.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Isa {
+    /// The x86-64 baseline (SSE2), or any other architecture's default.
+    Baseline,
+    /// x86-64-v3: AVX2, FMA, BMI1/2, LZCNT, MOVBE.
+    V3,
+}
+
+impl Isa {
+    /// The best compilation this CPU runs: [`Isa::V3`] where it has the
+    /// features, unless the environment variable `ROCKING_ISA` is
+    /// `baseline` (to compare the two, or to rule the faster one out).
+    /// Decided once per process.
+    pub fn detected() -> Isa {
+        static DETECTED: std::sync::OnceLock<Isa> = std::sync::OnceLock::new();
+        *DETECTED.get_or_init(|| {
+            let forced = std::env::var_os("ROCKING_ISA").is_some_and(|v| v == "baseline");
+            if !forced && Isa::V3.available() {
+                Isa::V3
+            } else {
+                Isa::Baseline
+            }
+        })
+    }
+
+    /// Whether this CPU can run this compilation.
+    pub fn available(self) -> bool {
+        match self {
+            Isa::Baseline => true,
+            #[cfg(target_arch = "x86_64")]
+            Isa::V3 => {
+                std::arch::is_x86_feature_detected!("avx2")
+                    && std::arch::is_x86_feature_detected!("fma")
+                    && std::arch::is_x86_feature_detected!("bmi1")
+                    && std::arch::is_x86_feature_detected!("bmi2")
+                    && std::arch::is_x86_feature_detected!("lzcnt")
+                    && std::arch::is_x86_feature_detected!("movbe")
+                    && std::arch::is_x86_feature_detected!("popcnt")
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            Isa::V3 => false,
+        }
+    }
+}
+
 impl Exact {
     pub fn new(p: f64, eta: f64, dt: f64, limit: f64) -> Self {
         Exact {
@@ -248,7 +343,7 @@ impl Exact {
     }
 
     /// The motion on pivot `s` from `(x, v)` under the forcing `g_a + g1·σ`.
-    #[inline]
+    #[inline(always)]
     fn motion(&self, x: f64, v: f64, s: f64, g_a: f64, g1: f64) -> Motion {
         Motion {
             p: self.p,
@@ -264,6 +359,7 @@ impl Exact {
     /// Returns σ on the far side, within a few ulps of the crossing (so the
     /// event condition holds there), and the velocity there.
     /// `(lo, (x, v) at lo)` and `(hi, (x, v) at hi)` bracket the crossing.
+    #[inline(always)]
     fn locate(
         &self,
         m: &Motion,
@@ -433,7 +529,7 @@ impl Exact {
     /// About two thirds of the impacts of a sweep are such hops; the general
     /// walk costs several closed-form evaluations, a square root and a
     /// logarithm each.
-    #[inline]
+    #[inline(always)]
     fn hop(&self, m: &Motion, s: f64, len: f64, max_abs_x: f64) -> Option<(f64, f64)> {
         let w = s * m.v_a;
         if !(m.x_a == 0.0 && w > 0.0) {
@@ -498,7 +594,7 @@ fn hop_series(q: f64, beta: f64) -> (f64, f64) {
 
 /// A hop's `T` and `V` by two Newton steps on its Taylor terms through
 /// y⁽⁸⁾ (see [`Exact::hop`]), for `max(q, |β|)` up to [`HOP_Z`].
-#[inline]
+#[inline(always)]
 fn hop_newton(q: f64, beta: f64) -> (f64, f64) {
     let c = q * (1.0 / 6.0) + beta * (1.0 / 3.0);
     let q12 = q * (1.0 / 12.0);
@@ -563,7 +659,7 @@ impl Exact {
     ///   swing that turns far below `top`, where the forcing may push out).
     ///
     /// Only products and sign tests.
-    #[inline]
+    #[inline(always)]
     fn apex_below(&self, m: &Motion, s: f64, v_end: f64, g0: f64, g_end: f64, top: f64) -> bool {
         let (w_a, y_a) = (s * m.v_a, s * m.x_a);
         if !(w_a > 0.0 && s * v_end < 0.0) {
@@ -586,7 +682,7 @@ impl Exact {
     /// `ẏ(σ) ≥ ẏ_a − max(0, E)·σ` and `y` stays above
     /// `y_a + ẏ_a·dt − max(0, E)·dt²/2` over the interval. Only products and
     /// sign tests.
-    #[inline]
+    #[inline(always)]
     fn valley_above(&self, m: &Motion, s: f64, v_end: f64, g0: f64, g_end: f64) -> bool {
         let (w_a, y_a) = (s * m.v_a, s * m.x_a);
         if !(w_a < 0.0 && s * v_end > 0.0) {
@@ -606,6 +702,7 @@ impl Stepper for Exact {
     /// Whole intervals while the motion is provably monotone and stays
     /// strictly between the pivot and the limit: the arithmetic of `rock`'s
     /// first branch, without leaving the loop.
+    #[inline(always)]
     fn cruise(
         &mut self,
         exc: &super::Excitation,
@@ -643,6 +740,7 @@ impl Stepper for Exact {
     }
 
     #[allow(clippy::needless_range_loop)] // pieces end at turns[i], or at len for the last
+    #[inline(always)]
     fn rock(&mut self, st: Stretch, state: &mut Rocking, max_abs_x: &mut f64) -> StretchEnd {
         let s = state.s;
         let m = self.motion(state.x, state.v, s, st.g_a, st.g1);

@@ -136,7 +136,9 @@ impl Integrator {
         }
     }
 
-    /// Runs the event driver with this integrator on `equation` (validated).
+    /// Runs the event driver with this integrator on `equation` (validated);
+    /// the exact stepper's as compiled for `isa` (available on this CPU).
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn drive(
         self,
         equation: Equation,
@@ -145,6 +147,7 @@ impl Integrator {
         start: Option<Rocking>,
         limit: f64,
         obs: &mut impl Observer,
+        isa: exact::Isa,
     ) -> Outcome {
         let (p, eta, dt) = (spec.p, spec.eta, exc.dt_s);
         // One monomorphised event loop per (integrator, equation).
@@ -154,9 +157,15 @@ impl Integrator {
             };
         }
         match (self, equation) {
-            (Integrator::Exact, Equation::Linearized) => {
-                with!(exact::Exact::new(p, eta, dt, limit))
-            }
+            (Integrator::Exact, Equation::Linearized) => exact::drive(
+                exc,
+                spec,
+                start,
+                limit,
+                &mut exact::Exact::new(p, eta, dt, limit),
+                obs,
+                isa,
+            ),
             (Integrator::Exact, Equation::Nonlinear { .. }) => {
                 unreachable!("validate() refuses the exact stepper for the nonlinear equation")
             }

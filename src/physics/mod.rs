@@ -39,8 +39,9 @@ pub mod rk4;
 
 use std::fmt;
 
-pub use driver::{simulate, simulate_from, simulate_observed, Outcome, Stop};
+pub use driver::{simulate, simulate_from, simulate_observed, simulate_on, Outcome, Stop};
 pub use equation::{Equation, EquationKind, LINEARIZATION_ERROR_PER_ALPHA2};
+pub use exact::Isa;
 pub use history::{EventKind, HistoryPoint, Observer, Recorder};
 pub use integrator::{
     check_rtol, Integrator, Model, ModelChoice, Rocking, Stepper, Stretch, StretchEnd,
@@ -269,6 +270,7 @@ impl Excitation {
     /// has both ends within `thr` and lifts nothing (the forcing is linear
     /// between). Whole blocks of [`QUIET_BLOCK`] intervals are crossed by
     /// their maximum.
+    #[inline(always)]
     pub fn quiet_until(&self, mut k: usize, thr: f64) -> usize {
         let n = self.psi_end.len();
         let (psi, psi_end, suffix) = (&self.psi[..], &self.psi_end[..], &self.suffix_max[..]);
