@@ -251,8 +251,9 @@ pub(super) fn drive<O: super::Observer>(
 ) -> super::Outcome {
     match isa {
         #[cfg(target_arch = "x86_64")]
-        // SAFETY: an `Isa::V3` is only made where the CPU has its features
-        // (`Isa::detected`, `Isa::available`).
+        // SAFETY: this function's callers pass `Isa::V3` only where the CPU
+        // has its features: `Isa::detected()` (`simulate_from`), or an isa
+        // `simulate_on` checked with `Isa::available`.
         Isa::V3 => unsafe { drive_v3(exc, spec, start, limit, stepper, obs) },
         _ => super::driver::drive(exc, spec, start, limit, stepper, obs),
     }
@@ -296,8 +297,8 @@ pub enum Isa {
 impl Isa {
     /// The best compilation this CPU runs: [`Isa::V3`] where it has the
     /// features, unless the environment variable `ROCKING_ISA` is
-    /// `baseline` (to compare the two, or to rule the faster one out).
-    /// Decided once per process.
+    /// `baseline` (to compare the two, or to rule the faster one out; any
+    /// other value changes nothing). Decided once per process.
     pub fn detected() -> Isa {
         static DETECTED: std::sync::OnceLock<Isa> = std::sync::OnceLock::new();
         *DETECTED.get_or_init(|| {
