@@ -234,6 +234,21 @@ fn a_killed_sweep_resumes_to_the_same_tables() {
         2,
         "one whole chunk (two files), nothing half-written: {parts:?}"
     );
+    // The final tables are written as the chunks come in, to temporary
+    // files that only a completed sweep renames into place.
+    let temporaries = |dir: &std::path::Path| -> Vec<String> {
+        fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.contains(".tmp-"))
+            .collect()
+    };
+    assert_eq!(
+        temporaries(&folder).len(),
+        2,
+        "the killed run's unfinished final tables: {:?}",
+        temporaries(&folder)
+    );
 
     let resumed = sweep(&dir, &pipe, &[]);
     assert!(resumed.status.success(), "{}", stderr(&resumed));
@@ -246,7 +261,12 @@ fn a_killed_sweep_resumes_to_the_same_tables() {
     }
     assert!(
         !folder.join("parts").exists(),
-        "parts are cleaned up after the merge"
+        "parts are cleaned up once the tables are in place"
+    );
+    assert!(
+        temporaries(&folder).is_empty(),
+        "the killed run's temporaries are removed: {:?}",
+        temporaries(&folder)
     );
 }
 

@@ -18,8 +18,10 @@
 //!   and writes `*.shard-K-of-N.parquet`; [`dataset`] reads the N shards as
 //!   one table, and refuses a folder that mixes shards and unsharded tables;
 //! - **bounded memory**: only the chunks not yet saved are held (those from
-//!   the oldest unfinished case on); the final tables are concatenated part
-//!   by part.
+//!   the oldest unfinished case on); the final tables are written as the
+//!   chunks are saved, in chunk order (a resumed chunk read back from its
+//!   parts), to temporary files that become the tables once the last chunk
+//!   is in, so nothing is left to assemble at the end.
 
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::fs;
@@ -290,7 +292,10 @@ struct Tally {
 /// in chunk order, each as soon as it and every chunk before it are
 /// complete: the saved parts are always the first chunks of the sweep (as
 /// a crash leaves them, and as fault injection counts them), and a slow
-/// case holds back only the writes, not the workers.
+/// case holds back only the writes, not the workers. Each chunk also goes
+/// on, in order, into the final tables (a resumed chunk from its parts),
+/// which are committed once the last chunk is in: the sweep's end has no
+/// tables left to assemble.
 struct ChunkWriter<'a, R> {
     prep: &'a Prepared,
     plan: &'a Plan,
@@ -298,8 +303,13 @@ struct ChunkWriter<'a, R> {
     /// Fault injection: abort after saving this many chunks.
     fault_after: Option<usize>,
     report: &'a R,
-    /// The chunks still to save, in order.
+    /// The chunks still to add to the final tables, in order.
     order: VecDeque<usize>,
+    /// Those of them whose parts an earlier run saved.
+    resumed: BTreeSet<usize>,
+    /// The final tables, written as the chunks come in.
+    ida: tables::Appender<IdaRow>,
+    cap: tables::Appender<CapacityRow>,
     /// Chunks with some cases in, by index: each case's result in its slot.
     pending: BTreeMap<usize, Vec<Option<CaseResult>>>,
     written: usize,
@@ -315,19 +325,46 @@ impl<R: Fn(&Tally)> ChunkWriter<'_, R> {
             .entry(c)
             .or_insert_with(|| range.clone().map(|_| None).collect())[case - range.start] =
             Some(result);
+        self.flush()
+    }
+
+    /// Adds the chunks at the front of the order that are complete (or
+    /// were resumed) to the final tables, saving the new ones' parts.
+    fn flush(&mut self) -> Result<(), SweepError> {
         while let Some(&c) = self.order.front() {
-            let complete = self
-                .pending
-                .get(&c)
-                .is_some_and(|slots| slots.iter().all(Option::is_some));
-            if !complete {
-                break;
+            if self.resumed.contains(&c) {
+                let (ida_part, cap_part) = part_paths(self.parts, c);
+                self.ida.table(&ida_part)?;
+                self.cap.table(&cap_part)?;
+            } else {
+                let complete = self
+                    .pending
+                    .get(&c)
+                    .is_some_and(|slots| slots.iter().all(Option::is_some));
+                if !complete {
+                    break;
+                }
+                let results = self.pending.remove(&c).into_iter().flatten().flatten();
+                self.save(c, results)?;
             }
-            let results = self.pending.remove(&c).into_iter().flatten().flatten();
-            self.save(c, results)?;
             self.order.pop_front();
         }
         Ok(())
+    }
+
+    /// Commits the final tables once every chunk is in.
+    fn finish(mut self) -> Result<Tally, SweepError> {
+        self.flush()?;
+        if let Some(c) = self.order.front() {
+            // Only reached when a worker stopped early, which reports its own error.
+            return Err(SweepError::Io {
+                path: self.parts.to_path_buf(),
+                source: io::Error::other(format!("chunk {c} was never completed")),
+            });
+        }
+        self.ida.commit()?;
+        self.cap.commit()?;
+        Ok(self.tally)
     }
 
     /// Saves chunk `c`'s two parts from its cases' results, in case order.
@@ -349,6 +386,8 @@ impl<R: Fn(&Tally)> ChunkWriter<'_, R> {
         let meta = self.prep.metadata(self.plan, Some(c), None);
         tables::write(&ida_part, &ida_rows, &meta)?;
         tables::write(&cap_part, &cap_rows, &meta)?;
+        self.ida.rows_as_read(&ida_rows)?;
+        self.cap.rows_as_read(&cap_rows)?;
         self.written += 1;
         self.tally.cases_done += cap_rows.len();
         (self.report)(&self.tally);
@@ -400,7 +439,7 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
     };
     report(&tally);
     // Chunks whose parts are already there and current are kept.
-    let mut todo = Vec::new();
+    let (mut todo, mut resumed) = (Vec::new(), BTreeSet::new());
     for &c in &mine {
         let (ida_part, cap_part) = part_paths(&parts, c);
         let cases = prep.chunk_cases(c);
@@ -409,6 +448,7 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
                 tally.cases_done += cases.len();
                 tally.cases_resumed += cases.len();
                 report(&tally);
+                resumed.insert(c);
                 continue;
             }
             Err(PartProblem::Absent) => {}
@@ -424,33 +464,45 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
         todo.push(c);
     }
     let cases: Vec<usize> = todo.iter().flat_map(|&c| prep.chunk_cases(c)).collect();
+    let (ida_name, cap_name) = final_names(cx.shard);
+    let (ida_path, cap_path) = (study.path(&ida_name), study.path(&cap_name));
+    remove_stale_final_temporaries(&study.dir, &[&ida_name, &cap_name])?;
     // Workers take cases in order from one counter and hand each result to
     // a writer thread, which saves a chunk's parts as soon as its last case
-    // is in: no worker waits for a chunk's slowest case or for the writes.
+    // is in, and adds it to the final tables: no worker waits for a chunk's
+    // slowest case or for the writes.
     let next = AtomicUsize::new(0);
     let stop = AtomicBool::new(false);
     let (tx, rx) = mpsc::channel::<(usize, Result<CaseResult, SweepError>)>();
+    let final_meta = prep.metadata(plan, None, cx.shard);
     let tally = std::thread::scope(|ts| {
         let (cases, prep, parts, report, stop) = (&cases, &prep, &parts, &report, &stop);
+        let (ida_path, cap_path, mine) = (&ida_path, &cap_path, &mine);
         let writer = ts.spawn(move || {
-            let mut chunks = ChunkWriter {
-                prep,
-                plan,
-                parts,
-                fault_after,
-                report,
-                order: todo.iter().copied().collect(),
-                pending: BTreeMap::new(),
-                written: 0,
-                tally,
-            };
-            let saved = rx
-                .iter()
-                .try_for_each(|(i, result)| chunks.take(cases[i], result?));
+            let saved = (|| {
+                let mut chunks = ChunkWriter {
+                    prep,
+                    plan,
+                    parts,
+                    fault_after,
+                    report,
+                    order: mine.iter().copied().collect(),
+                    resumed,
+                    ida: tables::Appender::create(ida_path, &final_meta)?,
+                    cap: tables::Appender::create(cap_path, &final_meta)?,
+                    pending: BTreeMap::new(),
+                    written: 0,
+                    tally,
+                };
+                for (i, result) in rx.iter() {
+                    chunks.take(cases[i], result?)?;
+                }
+                chunks.finish()
+            })();
             if saved.is_err() {
                 stop.store(true, Ordering::Relaxed);
             }
-            saved.map(|()| chunks.tally)
+            saved
         });
         rayon::scope(|s| {
             for _ in 0..rayon::current_num_threads() {
@@ -474,7 +526,7 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
             .join()
             .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
     })?;
-    let (ida_path, cap_path) = merge(study, &prep, &mine, cx.shard)?;
+    clean_up(study, &mine, cx.shard)?;
     let secs = started.elapsed().as_secs_f64();
     let threads = rayon::current_num_threads();
     let mut lines = vec![format!(
@@ -504,25 +556,15 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
     })
 }
 
-/// Concatenates this run's parts into its final tables, removes the parts,
-/// and removes the tables the new ones supersede (shards after an
-/// unsharded run and the reverse).
-fn merge(
-    study: &Study,
-    prep: &Prepared,
-    mine: &[usize],
-    shard: Option<Shard>,
-) -> Result<(PathBuf, PathBuf), SweepError> {
+/// Once the final tables are in place: removes this run's parts, and the
+/// tables the new ones supersede (shards after an unsharded run and the
+/// reverse).
+fn clean_up(study: &Study, mine: &[usize], shard: Option<Shard>) -> Result<(), SweepError> {
     let parts = study.path("parts");
-    let (ida_name, cap_name) = final_names(shard);
-    let (ida_path, cap_path) = (study.path(&ida_name), study.path(&cap_name));
-    let ida_parts: Vec<PathBuf> = mine.iter().map(|&c| part_paths(&parts, c).0).collect();
-    let cap_parts: Vec<PathBuf> = mine.iter().map(|&c| part_paths(&parts, c).1).collect();
-    let meta = prep.metadata(&study.plan, None, shard);
-    tables::concat::<IdaRow>(&ida_path, &ida_parts, &meta)?;
-    tables::concat::<CapacityRow>(&cap_path, &cap_parts, &meta)?;
-    for p in ida_parts.iter().chain(&cap_parts) {
-        let _ = fs::remove_file(p);
+    for &c in mine {
+        let (ida_part, cap_part) = part_paths(&parts, c);
+        let _ = fs::remove_file(ida_part);
+        let _ = fs::remove_file(cap_part);
     }
     let _ = fs::remove_dir(&parts); // only if empty (other shards may still write here)
     match shard {
@@ -538,7 +580,7 @@ fn merge(
             })?;
         }
     }
-    Ok((ida_path, cap_path))
+    Ok(())
 }
 
 fn part_paths(parts: &Path, c: usize) -> (PathBuf, PathBuf) {
@@ -652,6 +694,19 @@ fn remove_stale_temporaries(dir: &Path, mine: &[usize]) -> Result<(), SweepError
         };
         let writer_alive = Path::new("/proc").join(pid).exists();
         !writer_alive && chunk.is_some_and(|c| mine.contains(&c))
+    })
+}
+
+/// Removes the temporary final tables a killed run left
+/// (`.capacities.parquet.tmp-PID`, the final tables being written as the
+/// chunks come in), unless their writer is alive.
+fn remove_stale_final_temporaries(dir: &Path, finals: &[&str]) -> Result<(), SweepError> {
+    remove_where(dir, |name| {
+        let Some((stem, pid)) = name.rsplit_once(".tmp-") else {
+            return false;
+        };
+        let ours = finals.iter().any(|f| stem.strip_prefix('.') == Some(*f));
+        ours && !Path::new("/proc").join(pid).exists()
     })
 }
 

@@ -57,6 +57,9 @@ const ZSTD_LEVEL: i32 = 3;
 /// streamed, never held whole).
 pub const ROW_GROUP_ROWS: usize = 65_536;
 
+/// Rows per batch as a table is read back.
+pub const READ_BATCH_ROWS: usize = 1024;
+
 #[derive(Debug, thiserror::Error)]
 pub enum TableError {
     #[error("{path}")]
@@ -118,15 +121,67 @@ pub fn write<T: Table>(
     rows: &[T],
     settings: &[(String, String)],
 ) -> Result<(), TableError> {
-    let mut w = AtomicTableWriter::create(dest, T::KIND, T::schema(), settings)?;
-    for chunk in rows.chunks(T::BATCH_ROWS.max(1)) {
-        let batch = T::to_batch(chunk).map_err(|source| TableError::Arrow {
-            path: dest.into(),
-            source,
-        })?;
-        w.write(&batch)?;
-    }
+    let mut w = Appender::<T>::create(dest, settings)?;
+    w.rows(rows)?;
     w.commit()
+}
+
+/// A table written in pieces, in order (rows from memory, or whole tables
+/// of the same kind read back from files), then committed atomically: until
+/// [`Appender::commit`], nothing is under `dest` (a dropped appender removes
+/// its temporary file).
+pub struct Appender<T> {
+    dest: PathBuf,
+    w: AtomicTableWriter,
+    rows: std::marker::PhantomData<fn(&T)>,
+}
+
+impl<T: Table> Appender<T> {
+    /// Starts `dest`, with `settings` in the metadata.
+    pub fn create(dest: &Path, settings: &[(String, String)]) -> Result<Self, TableError> {
+        Ok(Appender {
+            dest: dest.to_path_buf(),
+            w: AtomicTableWriter::create(dest, T::KIND, T::schema(), settings)?,
+            rows: std::marker::PhantomData,
+        })
+    }
+
+    /// Appends `rows`.
+    pub fn rows(&mut self, rows: &[T]) -> Result<(), TableError> {
+        for chunk in rows.chunks(T::BATCH_ROWS.max(1)) {
+            let batch = T::to_batch(chunk).map_err(|source| TableError::Arrow {
+                path: self.dest.clone(),
+                source,
+            })?;
+            self.w.write(&batch)?;
+        }
+        Ok(())
+    }
+
+    /// Appends `rows` as [`Appender::table`] appends them from a file that
+    /// holds just them (in batches of [`READ_BATCH_ROWS`]): the Parquet
+    /// writer's pages follow its input's batches, so a table assembled from
+    /// such pieces is the same to the byte whether each came from memory
+    /// or from a file.
+    pub fn rows_as_read(&mut self, rows: &[T]) -> Result<(), TableError> {
+        for chunk in rows.chunks(READ_BATCH_ROWS) {
+            self.rows(chunk)?;
+        }
+        Ok(())
+    }
+
+    /// Appends every row of the `T` table at `path` (checked as [`read`] does).
+    pub fn table(&mut self, path: &Path) -> Result<(), TableError> {
+        for batch in read_table(path, T::KIND)?.batches {
+            self.w.write(&batch)?;
+        }
+        Ok(())
+    }
+
+    /// Closes the file and moves it to `dest`.
+    pub fn commit(self) -> Result<(), TableError> {
+        self.w.commit()
+    }
 }
 
 /// Reads every row of a table, checking that the file is this table at the
@@ -333,22 +388,6 @@ impl TableContents {
     }
 }
 
-/// Writes the tables `parts` (each a `T` table) one after another into
-/// `dest`, one part in memory at a time.
-pub fn concat<T: Table>(
-    dest: &Path,
-    parts: &[PathBuf],
-    settings: &[(String, String)],
-) -> Result<(), TableError> {
-    let mut w = AtomicTableWriter::create(dest, T::KIND, T::schema(), settings)?;
-    for part in parts {
-        for batch in read_table(part, T::KIND)?.batches {
-            w.write(&batch)?;
-        }
-    }
-    w.commit()
-}
-
 /// The key-value metadata of a Parquet file (its footer only).
 pub fn read_metadata(path: &Path) -> Result<Vec<(String, String)>, TableError> {
     Ok(open(path)?.1)
@@ -412,7 +451,10 @@ pub fn read_table(path: &Path, kind: TableKind) -> Result<TableContents, TableEr
             found: version,
         });
     }
-    let reader = builder.build().map_err(parquet_err)?;
+    let reader = builder
+        .with_batch_size(READ_BATCH_ROWS)
+        .build()
+        .map_err(parquet_err)?;
     let batches = reader
         .collect::<Result<Vec<_>, _>>()
         .map_err(|source| TableError::Arrow {
