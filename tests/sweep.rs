@@ -236,13 +236,6 @@ fn a_killed_sweep_resumes_to_the_same_tables() {
     );
     // The final tables are written as the chunks come in, to temporary
     // files that only a completed sweep renames into place.
-    let temporaries = |dir: &std::path::Path| -> Vec<String> {
-        fs::read_dir(dir)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .filter(|n| n.contains(".tmp-"))
-            .collect()
-    };
     assert_eq!(
         temporaries(&folder).len(),
         2,
@@ -268,6 +261,63 @@ fn a_killed_sweep_resumes_to_the_same_tables() {
         "the killed run's temporaries are removed: {:?}",
         temporaries(&folder)
     );
+}
+
+/// The hidden temporary files in `dir` (`.NAME.tmp-PID`).
+fn temporaries(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.') && n.contains(".tmp-"))
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn a_killed_sweeps_temporary_tables_go_with_the_tables_they_would_have_replaced() {
+    let dir = tempdir();
+    let pipe = write_pipeline(dir.path(), "k", THREE_CHUNKS);
+    let folder = dir.path().join("out/k");
+    let killed = |extra: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_rocking"))
+            .args(["sweep", pipe.to_str().unwrap(), "--outputs", "out"])
+            .args(extra)
+            .env(FAULT_ENV, "1")
+            .current_dir(dir.path())
+            .output()
+            .unwrap();
+        assert!(!out.status.success());
+    };
+    // An unsharded run killed after its first chunk leaves its two tables
+    // half-written under hidden names; a sharded sweep supersedes them.
+    killed(&[]);
+    let left = temporaries(&folder);
+    assert_eq!(left.len(), 2, "{left:?}");
+    assert!(
+        left.iter()
+            .all(|n| n.starts_with(".ida_points.parquet.tmp-")
+                || n.starts_with(".capacities.parquet.tmp-")),
+        "{left:?}"
+    );
+    let shard = sweep(&dir, &pipe, &["--shard", "1/2"]);
+    assert!(shard.status.success(), "{}", stderr(&shard));
+    assert_eq!(temporaries(&folder), Vec::<String>::new());
+    // A shard killed the same way: the next unsharded sweep supersedes its
+    // temporaries with the shard tables.
+    killed(&["--shard", "2/2"]);
+    let left = temporaries(&folder);
+    assert_eq!(left.len(), 2, "{left:?}");
+    assert!(
+        left.iter()
+            .all(|n| n.contains(".shard-2-of-2.parquet.tmp-")),
+        "{left:?}"
+    );
+    let whole = sweep(&dir, &pipe, &["--force"]);
+    assert!(whole.status.success(), "{}", stderr(&whole));
+    assert_eq!(temporaries(&folder), Vec::<String>::new());
+    assert!(folder.join("capacities.parquet").exists());
+    assert!(!folder.join("capacities.shard-1-of-2.parquet").exists());
 }
 
 #[test]

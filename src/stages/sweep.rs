@@ -466,7 +466,11 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
     let cases: Vec<usize> = todo.iter().flat_map(|&c| prep.chunk_cases(c)).collect();
     let (ida_name, cap_name) = final_names(cx.shard);
     let (ida_path, cap_path) = (study.path(&ida_name), study.path(&cap_name));
-    remove_stale_final_temporaries(&study.dir, &[&ida_name, &cap_name])?;
+    // A killed run's temporaries of this run's tables (the lock refuses any
+    // other writer of them).
+    remove_where(&study.dir, |name| {
+        temporary_of(name).is_some_and(|t| t == ida_name || t == cap_name)
+    })?;
     // Workers take cases in order from one counter and hand each result to
     // a writer thread, which saves a chunk's parts as soon as its last case
     // is in, and adds it to the final tables: no worker waits for a chunk's
@@ -567,20 +571,31 @@ fn clean_up(study: &Study, mine: &[usize], shard: Option<Shard>) -> Result<(), S
         let _ = fs::remove_file(cap_part);
     }
     let _ = fs::remove_dir(&parts); // only if empty (other shards may still write here)
-    match shard {
-        None => remove_shard_tables(&study.dir)?,
-        Some(done) => {
-            // The unsharded tables, and shards of another count (a re-sharded sweep).
-            let (ida, cap) = final_names(None);
-            let _ = fs::remove_file(study.path(&ida));
-            let _ = fs::remove_file(study.path(&cap));
-            let ours = format!("-of-{}.parquet", done.n);
-            remove_where(&study.dir, |name| {
-                name.contains(".shard-") && name.ends_with(".parquet") && !name.ends_with(&ours)
-            })?;
+                                    // The tables this run supersedes, and the temporaries a killed run left
+                                    // of them: after an unsharded run every shard's; after a shard of N,
+                                    // the unsharded tables and the shards of another count (a re-sharded
+                                    // sweep). The lock refuses every other writer of those names.
+    let (ida, cap) = final_names(None);
+    let superseded = |table: &str| {
+        let a_shard = table.contains(".shard-") && table.ends_with(".parquet");
+        match shard {
+            None => a_shard,
+            Some(done) => {
+                table == ida
+                    || table == cap
+                    || a_shard && !table.ends_with(&format!("-of-{}.parquet", done.n))
+            }
         }
-    }
-    Ok(())
+    };
+    remove_where(&study.dir, |name| {
+        superseded(temporary_of(name).unwrap_or(name))
+    })
+}
+
+/// The file a hidden temporary was being written as (`.NAME.tmp-PID` → `NAME`).
+fn temporary_of(name: &str) -> Option<&str> {
+    let (stem, _pid) = name.strip_prefix('.')?.rsplit_once(".tmp-")?;
+    Some(stem)
 }
 
 fn part_paths(parts: &Path, c: usize) -> (PathBuf, PathBuf) {
@@ -694,26 +709,6 @@ fn remove_stale_temporaries(dir: &Path, mine: &[usize]) -> Result<(), SweepError
         };
         let writer_alive = Path::new("/proc").join(pid).exists();
         !writer_alive && chunk.is_some_and(|c| mine.contains(&c))
-    })
-}
-
-/// Removes the temporary final tables a killed run left
-/// (`.capacities.parquet.tmp-PID`, the final tables being written as the
-/// chunks come in), unless their writer is alive.
-fn remove_stale_final_temporaries(dir: &Path, finals: &[&str]) -> Result<(), SweepError> {
-    remove_where(dir, |name| {
-        let Some((stem, pid)) = name.rsplit_once(".tmp-") else {
-            return false;
-        };
-        let ours = finals.iter().any(|f| stem.strip_prefix('.') == Some(*f));
-        ours && !Path::new("/proc").join(pid).exists()
-    })
-}
-
-/// After an unsharded run, shard tables of an earlier sharded run are stale.
-fn remove_shard_tables(dir: &Path) -> Result<(), SweepError> {
-    remove_where(dir, |name| {
-        name.contains(".shard-") && name.ends_with(".parquet")
     })
 }
 

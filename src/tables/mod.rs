@@ -165,7 +165,11 @@ impl<T: Table> Appender<T> {
     /// or from a file.
     pub fn rows_as_read(&mut self, rows: &[T]) -> Result<(), TableError> {
         for chunk in rows.chunks(READ_BATCH_ROWS) {
-            self.rows(chunk)?;
+            let batch = T::to_batch(chunk).map_err(|source| TableError::Arrow {
+                path: self.dest.clone(),
+                source,
+            })?;
+            self.w.write(&batch)?;
         }
         Ok(())
     }
