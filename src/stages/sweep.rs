@@ -469,7 +469,7 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
     // A killed run's temporaries of this run's tables (the lock refuses any
     // other writer of them).
     remove_where(&study.dir, |name| {
-        temporary_of(name).is_some_and(|t| t == ida_name || t == cap_name)
+        temporary_of(name).is_some_and(|(t, _pid)| t == ida_name || t == cap_name)
     })?;
     // Workers take cases in order from one counter and hand each result to
     // a writer thread, which saves a chunk's parts as soon as its last case
@@ -570,11 +570,12 @@ fn clean_up(study: &Study, mine: &[usize], shard: Option<Shard>) -> Result<(), S
         let _ = fs::remove_file(ida_part);
         let _ = fs::remove_file(cap_part);
     }
-    let _ = fs::remove_dir(&parts); // only if empty (other shards may still write here)
-                                    // The tables this run supersedes, and the temporaries a killed run left
-                                    // of them: after an unsharded run every shard's; after a shard of N,
-                                    // the unsharded tables and the shards of another count (a re-sharded
-                                    // sweep). The lock refuses every other writer of those names.
+    // Only if empty (other shards may still write here).
+    let _ = fs::remove_dir(&parts);
+    // The tables this run supersedes, and the temporaries a killed run left
+    // of them: after an unsharded run every shard's; after a shard of N,
+    // the unsharded tables and the shards of another count (a re-sharded
+    // sweep). The lock refuses every other writer of those names.
     let (ida, cap) = final_names(None);
     let superseded = |table: &str| {
         let a_shard = table.contains(".shard-") && table.ends_with(".parquet");
@@ -588,14 +589,14 @@ fn clean_up(study: &Study, mine: &[usize], shard: Option<Shard>) -> Result<(), S
         }
     };
     remove_where(&study.dir, |name| {
-        superseded(temporary_of(name).unwrap_or(name))
+        superseded(temporary_of(name).map_or(name, |(table, _pid)| table))
     })
 }
 
-/// The file a hidden temporary was being written as (`.NAME.tmp-PID` → `NAME`).
-fn temporary_of(name: &str) -> Option<&str> {
-    let (stem, _pid) = name.strip_prefix('.')?.rsplit_once(".tmp-")?;
-    Some(stem)
+/// The file a hidden temporary was being written as and its writer's pid
+/// (`.NAME.tmp-PID` → `(NAME, PID)`).
+fn temporary_of(name: &str) -> Option<(&str, &str)> {
+    name.strip_prefix('.')?.rsplit_once(".tmp-")
 }
 
 fn part_paths(parts: &Path, c: usize) -> (PathBuf, PathBuf) {
@@ -698,15 +699,15 @@ fn remove_where(dir: &Path, stale: impl Fn(&str) -> bool) -> Result<(), SweepErr
 fn remove_stale_temporaries(dir: &Path, mine: &[usize]) -> Result<(), SweepError> {
     let mine: BTreeSet<usize> = mine.iter().copied().collect();
     remove_where(dir, |name| {
-        let chunk = name
-            .strip_prefix(".ida-")
-            .or_else(|| name.strip_prefix(".cap-"))
-            .and_then(|r| r.split('.').next())
-            .and_then(|c| c.parse::<usize>().ok());
         // The writer's PID ends the name: a live writer's file is not stale.
-        let Some((_, pid)) = name.rsplit_once(".tmp-") else {
+        let Some((part, pid)) = temporary_of(name) else {
             return false;
         };
+        let chunk = part
+            .strip_prefix("ida-")
+            .or_else(|| part.strip_prefix("cap-"))
+            .and_then(|r| r.split('.').next())
+            .and_then(|c| c.parse::<usize>().ok());
         let writer_alive = Path::new("/proc").join(pid).exists();
         !writer_alive && chunk.is_some_and(|c| mine.contains(&c))
     })

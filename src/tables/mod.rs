@@ -148,14 +148,7 @@ impl<T: Table> Appender<T> {
 
     /// Appends `rows`.
     pub fn rows(&mut self, rows: &[T]) -> Result<(), TableError> {
-        for chunk in rows.chunks(T::BATCH_ROWS.max(1)) {
-            let batch = T::to_batch(chunk).map_err(|source| TableError::Arrow {
-                path: self.dest.clone(),
-                source,
-            })?;
-            self.w.write(&batch)?;
-        }
-        Ok(())
+        self.batches(rows, T::BATCH_ROWS.max(1))
     }
 
     /// Appends `rows` as [`Appender::table`] appends them from a file that
@@ -164,7 +157,12 @@ impl<T: Table> Appender<T> {
     /// such pieces is the same to the byte whether each came from memory
     /// or from a file.
     pub fn rows_as_read(&mut self, rows: &[T]) -> Result<(), TableError> {
-        for chunk in rows.chunks(READ_BATCH_ROWS) {
+        self.batches(rows, READ_BATCH_ROWS)
+    }
+
+    /// Appends `rows` in batches of `per` rows.
+    fn batches(&mut self, rows: &[T], per: usize) -> Result<(), TableError> {
+        for chunk in rows.chunks(per) {
             let batch = T::to_batch(chunk).map_err(|source| TableError::Arrow {
                 path: self.dest.clone(),
                 source,
