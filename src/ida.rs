@@ -159,13 +159,13 @@ impl Capacity {
 /// runs ahead of need, several at once: the grid levels up to the first
 /// overturning (scanned by all workers together, [`Runs::scan`]), and
 /// every chaos probe. The outcomes are the same, so the capacity and its
-/// certification are too; only the time changes, and at most `width − 1`
-/// levels past the first overturning are run in vain.
+/// certification are too; only the time changes, and at most one level
+/// per other worker past the first overturning is run in vain.
 pub struct Runs<'a> {
     exc: &'a Excitation,
     memo: std::collections::HashMap<[u64; 8], Outcome>,
     done: Work,
-    batch: Option<(&'a dyn Batch, usize)>,
+    batch: Option<&'a dyn Batch>,
 }
 
 /// Runs simulations of one record together: what a caller with spare cores
@@ -198,24 +198,20 @@ impl<'a> Runs<'a> {
         }
     }
 
-    /// Runs that ask `batch` for up to `width` runs at once ahead of need.
-    pub fn with_batch(exc: &'a Excitation, batch: &'a dyn Batch, width: usize) -> Self {
+    /// Runs that ask `batch` for runs ahead of need ([`Runs::scan`],
+    /// [`Runs::prefetch`]).
+    pub fn with_batch(exc: &'a Excitation, batch: &'a dyn Batch) -> Self {
         Runs {
-            batch: Some((batch, width.max(1))),
+            batch: Some(batch),
             ..Runs::new(exc)
         }
-    }
-
-    /// How many runs a search may ask for at once (1 without a batch).
-    fn width(&self) -> usize {
-        self.batch.map_or(1, |(_, w)| w)
     }
 
     /// Runs the specs not yet in memory together, when there is a batch and
     /// more than one is missing; a run that fails is left for
     /// [`Runs::outcome`] to run again and report if it is ever needed.
     pub fn prefetch(&mut self, specs: &[RunSpec]) {
-        let Some((batch, _)) = self.batch else {
+        let Some(batch) = self.batch else {
             return;
         };
         let (mut keys, mut missing) = (Vec::new(), Vec::new());
@@ -241,7 +237,7 @@ impl<'a> Runs<'a> {
     /// known to overturn: all workers at once, each taking the next level
     /// as soon as it is free ([`Batch::until_overturned`]).
     pub fn scan(&mut self, specs: &[RunSpec]) {
-        let Some((batch, _)) = self.batch else {
+        let Some(batch) = self.batch else {
             return;
         };
         let mut missing = Vec::new();
@@ -368,7 +364,7 @@ pub fn capacity_in(
     let mut points = Vec::new();
     let spec = |eta: f64| RunSpec { eta, ..*run };
     let mut survived = grid.eta_max;
-    if runs.width() > 1 {
+    if runs.batch.is_some() {
         let all: Vec<RunSpec> = levels.iter().map(|&e| spec(e)).collect();
         runs.scan(&all);
     }

@@ -98,12 +98,11 @@ pub fn capacity_certified_parallel(
     tol: f64,
     trace: crate::ida::Trace,
 ) -> Result<crate::ida::Certified, PhysicsError> {
-    let width = rayon::current_num_threads();
     // The whole search runs on a worker of the pool: a batch started there
     // shares its runs with the other workers at once, where one started
     // from outside the pool would wait for a sleeping worker every time.
     rayon::scope(|_| {
-        let mut runs = crate::ida::Runs::with_batch(exc, &Pool, width);
+        let mut runs = crate::ida::Runs::with_batch(exc, &Pool);
         crate::ida::capacity_certified_in(&mut runs, spec, grid, tol, trace)
     })
 }
