@@ -539,6 +539,70 @@ fn the_fast_path_and_the_event_by_event_walk_agree_to_the_bit() {
     );
 }
 
+/// Two runs that differ in η alone, run in step (`simulate_pair`: their
+/// eventless intervals two lanes of one vector), must each give the outcome
+/// it gives alone, to the bit: verdict, θmax, impacts, times and intervals.
+/// Over the chaos probe's pairs (η moved by ±1e-9, runs that stay in step
+/// for most of the record) and pairs 2 % and 30 % apart (runs that part at
+/// the first uplift, one catching up to the other at each event), either
+/// order, records of every time step, slender to squat blocks and the
+/// overturning criteria that stop the stepper differently.
+#[test]
+fn runs_in_step_agree_with_runs_alone_to_the_bit() {
+    use rocking::physics::simulate_pair;
+    let (mut pairs, mut overturned, mut split) = (0, 0, 0);
+    for stem in [
+        "far-field/RSN848_LANDERS_CLW-LN",
+        "far-field/RSN1111_KOBE_NIS000",
+        "far-field/RSN1633_MANJIL_ABBAR--L",
+    ] {
+        let exc = bundled(stem);
+        for p in [0.5, 2.0, 8.0] {
+            for eps in [0.5, 0.9] {
+                for overturn in [Overturn::Static, Overturn::Escape, Overturn::Cap(2.0)] {
+                    for j in 0..16 {
+                        let eta = 10f64.powf(-1.6 * j as f64 / 15.0);
+                        for moved in [
+                            eta * (1.0 + 1e-9),
+                            eta * (1.0 - 1e-9),
+                            eta * 1.02,
+                            eta / 1.3,
+                        ] {
+                            let spec = |eta| RunSpec {
+                                overturn,
+                                ..RunSpec::new(p, eps, eta, LIN)
+                            };
+                            let (a, b) = (spec(eta), spec(moved));
+                            let alone = [simulate(&exc, &a).unwrap(), simulate(&exc, &b).unwrap()];
+                            let [pa, pb] = simulate_pair(&exc, [&a, &b]);
+                            let in_step = [pa.unwrap(), pb.unwrap()];
+                            assert_eq!(
+                                format!("{alone:?}"),
+                                format!("{in_step:?}"),
+                                "{stem} p = {p}, ε = {eps}, η = {eta} and {moved}, {overturn:?}"
+                            );
+                            let [qb, qa] = simulate_pair(&exc, [&b, &a]);
+                            assert_eq!(
+                                format!("{:?}", [qa.unwrap(), qb.unwrap()]),
+                                format!("{alone:?}"),
+                                "the other order: {stem} p = {p}, ε = {eps}, η = {eta} and {moved}"
+                            );
+                            pairs += 1;
+                            overturned += usize::from(alone[0].overturned());
+                            split += usize::from(alone[0].overturned() != alone[1].overturned());
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // Both verdicts, and pairs whose runs end differently, were compared.
+    assert!(
+        overturned > pairs / 5 && overturned < pairs * 4 / 5 && split > 20,
+        "{overturned} overturned, {split} split, of {pairs}"
+    );
+}
+
 /// The exact stepper's two compilations (`Isa`: the x86-64 baseline and
 /// x86-64-v3) do the same IEEE operations in the same order, so every
 /// outcome must be identical to the bit: verdict, θmax, impacts, times and

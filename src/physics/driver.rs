@@ -87,6 +87,47 @@ pub fn simulate_from(
     run(exc, spec, start, obs, Isa::detected())
 }
 
+/// Two runs that differ in η alone (a chaos probe's pair), each with the
+/// outcome [`simulate`] gives it, to the bit. With the exact stepper on a
+/// CPU that runs its x86-64-v3 compilation they are run in step
+/// ([`drive_pair`]): their eventless intervals cost about one run's. Any
+/// other pair, or one [`simulate`] refuses, runs one after the other.
+pub fn simulate_pair(exc: &Excitation, specs: [&RunSpec; 2]) -> [Result<Outcome, PhysicsError>; 2] {
+    let [a, b] = specs;
+    let one_by_one = || [simulate(exc, a), simulate(exc, b)];
+    #[cfg(target_arch = "x86_64")]
+    {
+        use super::{Equation, Integrator};
+        let same_but_eta = RunSpec { eta: a.eta, ..*b } == *a;
+        let exact =
+            a.model.integrator == Integrator::Exact && a.model.equation == Equation::Linearized;
+        if !(same_but_eta && exact && Isa::detected() == Isa::V3) {
+            return one_by_one();
+        }
+        let limit = |s: &RunSpec| {
+            s.validate()?;
+            s.model.equation.overturn_limit(s.overturn)
+        };
+        let (Ok(limit_a), Ok(limit_b)) = (limit(a), limit(b)) else {
+            return one_by_one();
+        };
+        let new = |s: &RunSpec, limit| super::exact::Exact::new(s.p, s.eta, exc.dt_s, limit);
+        let (mut stepper_a, mut stepper_b) = (new(a, limit_a), new(b, limit_b));
+        // SAFETY: `Isa::detected()` is V3 only where the CPU has its features.
+        let [out_a, out_b] = unsafe {
+            super::exact::drive_pair_v3(
+                exc,
+                [a, b],
+                [limit_a, limit_b],
+                [&mut stepper_a, &mut stepper_b],
+            )
+        };
+        [Ok(out_a), Ok(out_b)]
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    one_by_one()
+}
+
 /// [`simulate`] with the exact stepper's event loop as compiled for `isa`
 /// ([`Isa`]; the other integrators have one compilation): to compare the
 /// two. Refused when this CPU cannot run it.
@@ -162,77 +203,182 @@ pub(super) fn drive<S: Stepper, O: Observer>(
     stepper: &mut S,
     obs: &mut O,
 ) -> super::Outcome {
-    let mut d = Driver {
-        exc,
-        spec,
-        limit,
-        escape: spec
-            .overturn
-            .needs_escape_proof(spec.model.equation.alpha()),
-        stepper,
-        obs,
-        threshold: spec.eta * spec.model.equation.uplift_factor(),
-        v_rest: spec.rest_tol * spec.p,
-        state: start,
-        events: 0,
-        out: Outcome {
-            max_abs_x: start.map_or(0.0, |st| st.x.abs()),
-            stop: Stop::Survived,
-            overturn_time_s: None,
-            overturn_after_record: false,
-            impacts: 0,
-            first_uplift_s: None,
-            intervals: 0,
-        },
-    };
-    let psi = &exc.psi;
-    let n = psi.len().saturating_sub(1);
-    d.emit(0.0, psi[0], EventKind::Start);
+    let mut d = Driver::new(exc, spec, start, limit, stepper, obs);
+    let n = exc.psi.len().saturating_sub(1);
+    d.emit(0.0, exc.psi[0], EventKind::Start);
     let mut k = 0;
     while k < n {
-        match d.state.as_mut() {
-            None if exc.suffix_max[k] <= d.threshold => {
-                d.out.stop = Stop::RestForGood;
-                return d.out;
+        if d.advance(&mut k, n, n) == Flow::Stopped {
+            return d.out;
+        }
+    }
+    d.finish();
+    d.out
+}
+
+/// Two runs of the exact stepper that differ only in η (the two runs of a
+/// chaos probe), kept in step: while both rock through the same eventless
+/// intervals they are advanced together, two lanes of one vector
+/// ([`super::exact::cruise_pair`]); every other interval each run walks on
+/// its own, and the one behind catches up to the other before they go on
+/// together. Each run does the same operations in the same order as it
+/// would alone ([`drive`]), so its outcome is the same to the bit.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+pub(super) fn drive_pair(
+    exc: &Excitation,
+    specs: [&RunSpec; 2],
+    limits: [f64; 2],
+    steppers: [&mut super::exact::Exact; 2],
+) -> [Outcome; 2] {
+    let [stepper_a, stepper_b] = steppers;
+    let (mut obs_a, mut obs_b) = ((), ());
+    let mut a = Driver::new(exc, specs[0], None, limits[0], stepper_a, &mut obs_a);
+    let mut b = Driver::new(exc, specs[1], None, limits[1], stepper_b, &mut obs_b);
+    let n = exc.psi.len().saturating_sub(1);
+    let (mut ka, mut kb) = (0, 0);
+    let (mut live_a, mut live_b) = (true, true);
+    loop {
+        if live_a && ka >= n {
+            a.finish();
+            live_a = false;
+        }
+        if live_b && kb >= n {
+            b.finish();
+            live_b = false;
+        }
+        match (live_a, live_b) {
+            (false, false) => break,
+            (true, false) => live_a = a.advance(&mut ka, n, n) == Flow::Going,
+            (false, true) => live_b = b.advance(&mut kb, n, n) == Flow::Going,
+            (true, true) if ka < kb => live_a = a.advance(&mut ka, n, kb) == Flow::Going,
+            (true, true) if kb < ka => live_b = b.advance(&mut kb, n, ka) == Flow::Going,
+            (true, true) => {
+                if let (Some(st_a), Some(st_b)) = (a.state.as_mut(), b.state.as_mut()) {
+                    let next = super::exact::cruise_pair(
+                        [&*a.stepper, &*b.stepper],
+                        exc,
+                        ka,
+                        [st_a, st_b],
+                        [&mut a.out.max_abs_x, &mut b.out.max_abs_x],
+                    );
+                    a.out.intervals += (next - ka) as u64;
+                    b.out.intervals += (next - kb) as u64;
+                    (ka, kb) = (next, next);
+                    if next == n {
+                        continue;
+                    }
+                }
+                // One of them (or both) has an event in interval `ka`, or
+                // is at rest: `a` walks that interval alone (or skips its
+                // quiet), then `b` catches up.
+                let cap = ka + 1;
+                live_a = a.advance(&mut ka, n, cap) == Flow::Going;
+            }
+        }
+    }
+    [a.out, b.out]
+}
+
+/// Whether a run goes on after [`Driver::advance`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Flow {
+    Going,
+    /// Overturned, at rest for good or out of events: the outcome is final.
+    Stopped,
+}
+
+impl<'a, S: Stepper, O: Observer> Driver<'a, S, O> {
+    fn new(
+        exc: &'a Excitation,
+        spec: &'a RunSpec,
+        start: Option<Rocking>,
+        limit: f64,
+        stepper: &'a mut S,
+        obs: &'a mut O,
+    ) -> Self {
+        Driver {
+            exc,
+            spec,
+            limit,
+            escape: spec
+                .overturn
+                .needs_escape_proof(spec.model.equation.alpha()),
+            stepper,
+            obs,
+            threshold: spec.eta * spec.model.equation.uplift_factor(),
+            v_rest: spec.rest_tol * spec.p,
+            state: start,
+            events: 0,
+            out: Outcome {
+                max_abs_x: start.map_or(0.0, |st| st.x.abs()),
+                stop: Stop::Survived,
+                overturn_time_s: None,
+                overturn_after_record: false,
+                impacts: 0,
+                first_uplift_s: None,
+                intervals: 0,
+            },
+        }
+    }
+
+    /// One pass of the event loop from sample `*k` (below `n`, the number of
+    /// intervals): a stretch of quiet at rest, or eventless intervals in the
+    /// stepper's tight loop up to `cap` (above `*k`, at most `n`), or one
+    /// interval walked event by event. Moves `*k` past what it did.
+    #[inline(always)]
+    fn advance(&mut self, k: &mut usize, n: usize, cap: usize) -> Flow {
+        let exc = self.exc;
+        match self.state.as_mut() {
+            None if exc.suffix_max[*k] <= self.threshold => {
+                self.out.stop = Stop::RestForGood;
+                return Flow::Stopped;
             }
             None if !O::SAMPLES => {
                 // At rest: whole intervals with both ends within the
                 // threshold lift nothing (the forcing is linear between), as
                 // `interval` would find one by one; stop where the record
                 // stays below it for good, as the arm above would.
-                let (thr, start) = (d.threshold, k);
-                if psi[k].abs() <= thr {
-                    k = exc.quiet_until(k, thr);
+                let (thr, start) = (self.threshold, *k);
+                if exc.psi[start].abs() <= thr {
+                    *k = exc.quiet_until(start, thr);
                 }
-                d.out.intervals += (k - start) as u64;
-                if k == n {
-                    break;
-                }
-                if k > start {
-                    continue;
+                self.out.intervals += (*k - start) as u64;
+                if *k == n || *k > start {
+                    return Flow::Going;
                 }
             }
             Some(st) if !O::SAMPLES => {
                 // Eventless whole intervals in the stepper's tight loop.
-                let next = d.stepper.cruise(exc, k, st, &mut d.out.max_abs_x);
-                d.out.intervals += (next - k) as u64;
-                k = next;
-                if k == n {
-                    break;
+                let next = self
+                    .stepper
+                    .cruise(exc, *k, cap, st, &mut self.out.max_abs_x);
+                self.out.intervals += (next - *k) as u64;
+                *k = next;
+                if next == n || next == cap {
+                    return Flow::Going;
                 }
             }
             _ => {}
         }
-        d.out.intervals += 1;
-        if d.interval(k).is_some() {
-            return d.out;
+        self.out.intervals += 1;
+        if self.interval(*k).is_some() {
+            return Flow::Stopped;
         }
-        d.emit((k + 1) as f64 * exc.dt_s, psi[k + 1], EventKind::Sample);
-        k += 1;
+        self.emit(
+            (*k + 1) as f64 * exc.dt_s,
+            exc.psi[*k + 1],
+            EventKind::Sample,
+        );
+        *k += 1;
+        Flow::Going
     }
-    d.emit(exc.duration_s(), 0.0, EventKind::RecordEnd);
-    d.after_record();
-    d.out
+
+    /// At the record's end: the free rocking after it.
+    fn finish(&mut self) {
+        self.emit(self.exc.duration_s(), 0.0, EventKind::RecordEnd);
+        self.after_record();
+    }
 }
 
 impl<S: Stepper, O: Observer> Driver<'_, S, O> {

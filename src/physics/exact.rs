@@ -278,6 +278,23 @@ unsafe fn drive_v3<O: super::Observer>(
     super::driver::drive(exc, spec, start, limit, stepper, obs)
 }
 
+/// [`super::driver::drive_pair`] compiled for x86-64-v3, the one
+/// compilation with a paired path (elsewhere [`super::simulate_pair`] runs
+/// the two runs one after the other).
+///
+/// # Safety
+/// The CPU must have the features enabled here.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx,avx2,bmi1,bmi2,fma,lzcnt,movbe,popcnt")]
+pub(super) unsafe fn drive_pair_v3(
+    exc: &super::Excitation,
+    specs: [&super::RunSpec; 2],
+    limits: [f64; 2],
+    steppers: [&mut Exact; 2],
+) -> [super::Outcome; 2] {
+    super::driver::drive_pair(exc, specs, limits, steppers)
+}
+
 /// Which compilation of the exact stepper's event loop runs. The loop and
 /// the stepper are compiled twice, for the x86-64 baseline and for
 /// x86-64-v3 (AVX2, FMA, BMI: VEX-encoded three-operand arithmetic),
@@ -695,6 +712,181 @@ impl Exact {
     }
 }
 
+/// Two `f64` lanes of one SSE2 register: the arithmetic of two runs at once,
+/// each lane's operations the IEEE operations the scalar code does (no
+/// fused multiply-add, nothing reassociated), so each lane's results are the
+/// scalar ones to the bit.
+#[cfg(target_arch = "x86_64")]
+#[allow(unused_unsafe)] // the SSE2 intrinsics are safe to call from Rust 1.87 on
+mod lanes {
+    use std::arch::x86_64::*;
+    use std::ops::{Add, BitAnd, BitOr, Mul, Not, Sub};
+
+    #[derive(Clone, Copy)]
+    pub struct F2(__m128d);
+
+    /// A lane-wise comparison: all ones where it holds.
+    #[derive(Clone, Copy)]
+    pub struct M2(__m128d);
+
+    impl F2 {
+        #[inline(always)]
+        pub fn new(a: f64, b: f64) -> F2 {
+            F2(unsafe { _mm_setr_pd(a, b) })
+        }
+        #[inline(always)]
+        pub fn splat(x: f64) -> F2 {
+            F2(unsafe { _mm_set1_pd(x) })
+        }
+        #[inline(always)]
+        pub fn lanes(self) -> [f64; 2] {
+            let mut out = [0.0; 2];
+            unsafe { _mm_storeu_pd(out.as_mut_ptr(), self.0) };
+            out
+        }
+        #[inline(always)]
+        pub fn abs(self) -> F2 {
+            F2(unsafe { _mm_andnot_pd(_mm_set1_pd(-0.0), self.0) })
+        }
+        #[inline(always)]
+        pub fn lt(self, o: F2) -> M2 {
+            M2(unsafe { _mm_cmplt_pd(self.0, o.0) })
+        }
+        #[inline(always)]
+        pub fn gt(self, o: F2) -> M2 {
+            M2(unsafe { _mm_cmpgt_pd(self.0, o.0) })
+        }
+        /// `self.max(o)` lane by lane, for operands that are not NaN and
+        /// not both zero (where `f64::max` and `maxpd` may differ).
+        #[inline(always)]
+        pub fn max(self, o: F2) -> F2 {
+            F2(unsafe { _mm_max_pd(self.0, o.0) })
+        }
+    }
+
+    impl M2 {
+        /// Bit i set where lane i holds.
+        #[inline(always)]
+        pub fn bits(self) -> i32 {
+            unsafe { _mm_movemask_pd(self.0) }
+        }
+    }
+
+    impl Add for F2 {
+        type Output = F2;
+        #[inline(always)]
+        fn add(self, o: F2) -> F2 {
+            F2(unsafe { _mm_add_pd(self.0, o.0) })
+        }
+    }
+    impl Sub for F2 {
+        type Output = F2;
+        #[inline(always)]
+        fn sub(self, o: F2) -> F2 {
+            F2(unsafe { _mm_sub_pd(self.0, o.0) })
+        }
+    }
+    impl Mul for F2 {
+        type Output = F2;
+        #[inline(always)]
+        fn mul(self, o: F2) -> F2 {
+            F2(unsafe { _mm_mul_pd(self.0, o.0) })
+        }
+    }
+    impl BitAnd for M2 {
+        type Output = M2;
+        #[inline(always)]
+        fn bitand(self, o: M2) -> M2 {
+            M2(unsafe { _mm_and_pd(self.0, o.0) })
+        }
+    }
+    impl BitOr for M2 {
+        type Output = M2;
+        #[inline(always)]
+        fn bitor(self, o: M2) -> M2 {
+            M2(unsafe { _mm_or_pd(self.0, o.0) })
+        }
+    }
+    impl Not for M2 {
+        type Output = M2;
+        #[inline(always)]
+        fn not(self) -> M2 {
+            M2(unsafe { _mm_xor_pd(self.0, _mm_castsi128_pd(_mm_set1_epi32(-1))) })
+        }
+    }
+}
+
+/// [`Stepper::cruise`] for two runs at once, steppers of the same `p` and
+/// `dt` (two values of η), both rocking at sample `k`: their whole
+/// intervals, one lane each, for as long as both can cross them. Stops at
+/// the first interval either must leave to `rock` (the other is left there
+/// too, and crosses it on its own) and returns it. Each lane does what
+/// [`Exact::cruise`] does, operation for operation.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+pub(super) fn cruise_pair(
+    steppers: [&Exact; 2],
+    exc: &super::Excitation,
+    mut k: usize,
+    states: [&mut Rocking; 2],
+    tops: [&mut f64; 2],
+) -> usize {
+    use lanes::F2;
+    let [sa, sb] = steppers;
+    if exc.dt_s != sa.full.sigma || sa.p != sb.p || sa.full.sigma != sb.full.sigma {
+        return k;
+    }
+    let [st_a, st_b] = states;
+    let [top_a, top_b] = tops;
+    let (psi, slope) = (&exc.psi[..], &exc.slope[..]);
+    let n = slope.len().min(psi.len()).min(exc.psi_end.len());
+    let full = &sa.full;
+    let (p, c, s_sigma, s1_sigma, sinh, delta_max) = (
+        F2::splat(sa.p),
+        F2::splat(full.c),
+        F2::splat(full.s_sigma),
+        F2::splat(full.s1_sigma),
+        F2::splat(full.sinh),
+        F2::splat(sa.full_expm1),
+    );
+    let (zero, two) = (F2::splat(0.0), F2::splat(2.0));
+    let s = F2::new(st_a.s, st_b.s);
+    let s_eta = s * F2::new(sa.eta, sb.eta);
+    let inv_eta = F2::new(sa.inv_eta, sb.inv_eta);
+    let limit = F2::new(sa.limit, sb.limit);
+    let (mut x, mut v) = (F2::new(st_a.x, st_b.x), F2::new(st_a.v, st_b.v));
+    let mut top = F2::new(*top_a, *top_b);
+    while k < n {
+        let (g0, g1) = (psi[k], slope[k]);
+        // `Exact::motion`, `Motion::at` and `Motion::monotone`, lane-wise.
+        let u = x + (F2::splat(g0) - s_eta) * inv_eta;
+        let g1e = F2::splat(g1) * inv_eta;
+        let x_hi = x + u * c + v * s_sigma + g1e * s1_sigma;
+        let pu = p * u;
+        let v_hi = v + pu * sinh + (v + g1e) * c;
+        let y_hi = s * x_hi;
+        let inside = y_hi.lt(limit) & y_hi.gt(zero);
+        let b = pu + v;
+        let a = b + g1e;
+        let vertex_inside = (a * b).lt(zero) & b.abs().lt(a.abs() * delta_max) & (a * v).gt(zero);
+        let turn_free = !vertex_inside | (b * b - a * (two * v)).lt(zero);
+        // A lane with a turning point inside (or an event) leaves the pair
+        // to cross that interval on its own, by `cruise`'s other bounds or
+        // `rock`: kept out of this loop, they would crowd its registers.
+        if (inside & (v * v_hi).gt(zero) & turn_free).bits() != 0b11 {
+            break;
+        }
+        // y_hi lies in (0, limit) on both lanes: `max` is `f64::max` there.
+        top = top.max(y_hi);
+        (x, v) = (x_hi, v_hi);
+        k += 1;
+    }
+    let ([xa, xb], [va, vb], [ta, tb]) = (x.lanes(), v.lanes(), top.lanes());
+    (st_a.x, st_a.v, st_b.x, st_b.v) = (xa, va, xb, vb);
+    (*top_a, *top_b) = (ta, tb);
+    k
+}
+
 impl Stepper for Exact {
     fn set_limit(&mut self, limit: f64) {
         self.limit = limit;
@@ -708,6 +900,7 @@ impl Stepper for Exact {
         &mut self,
         exc: &super::Excitation,
         mut k: usize,
+        end: usize,
         state: &mut Rocking,
         max_abs_x: &mut f64,
     ) -> usize {
@@ -716,7 +909,7 @@ impl Stepper for Exact {
         }
         let (psi, psi_end, slope, s) = (&exc.psi[..], &exc.psi_end[..], &exc.slope[..], state.s);
         let (mut x, mut v, mut top) = (state.x, state.v, *max_abs_x);
-        let n = slope.len().min(psi.len()).min(psi_end.len());
+        let n = slope.len().min(psi.len()).min(psi_end.len()).min(end);
         while k < n {
             let (g0, g_end, g1) = (psi[k], psi_end[k], slope[k]);
             let m = self.motion(x, v, s, g0, g1);

@@ -58,16 +58,18 @@ pub trait Stepper {
     /// driver raises it when a run under `escape` passes it unproven).
     fn set_limit(&mut self, limit: f64);
 
-    /// A fast path over whole sample intervals from `k` on: advances `state`
-    /// through every interval it can prove eventless (no impact, no
-    /// overturning, nothing for [`Stepper::rock`] to locate) with the same
-    /// arithmetic `rock` would use, raises `max_abs_x`, and returns the first
-    /// interval it left to `rock`. The default proves nothing.
+    /// A fast path over whole sample intervals from `k` up to `end`
+    /// (exclusive): advances `state` through every interval it can prove
+    /// eventless (no impact, no overturning, nothing for [`Stepper::rock`] to
+    /// locate) with the same arithmetic `rock` would use, raises `max_abs_x`,
+    /// and returns the first interval it left to `rock` (or `end`). The
+    /// default proves nothing.
     #[inline]
     fn cruise(
         &mut self,
         _exc: &Excitation,
         k: usize,
+        _end: usize,
         _state: &mut Rocking,
         _max_abs_x: &mut f64,
     ) -> usize {

@@ -39,7 +39,9 @@ pub mod rk4;
 
 use std::fmt;
 
-pub use driver::{simulate, simulate_from, simulate_observed, simulate_on, Outcome, Stop};
+pub use driver::{
+    simulate, simulate_from, simulate_observed, simulate_on, simulate_pair, Outcome, Stop,
+};
 pub use equation::{Equation, EquationKind, LINEARIZATION_ERROR_PER_ALPHA2};
 pub use exact::Isa;
 pub use history::{EventKind, HistoryPoint, Observer, Recorder};
