@@ -214,6 +214,23 @@ fn where_rounding_flips_a_verdict_the_capacity_is_flagged_chaotic() {
     };
     assert_chaotic_at(&exc, spec, eta);
     assert!(!got.certification.certified());
+    // The work reported is that of the probes asked for, in order (η moved
+    // up, then down) up to the first verdict that changes: a probe run
+    // ahead with its partner and never asked for is not counted.
+    let mut asked = 0;
+    'probes: for (eta, overturned) in decisive_runs(&got.capacity, &grid) {
+        for moved in [eta * (1.0 + 1e-9), eta * (1.0 - 1e-9)] {
+            asked += 1;
+            if simulate(&exc, &RunSpec { eta: moved, ..spec })
+                .unwrap()
+                .overturned()
+                != overturned
+            {
+                break 'probes;
+            }
+        }
+    }
+    assert_eq!(got.extra.runs, asked);
 }
 
 #[test]
