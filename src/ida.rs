@@ -291,7 +291,11 @@ impl<'a> Runs<'a> {
     /// outcomes wait until asked for ([`Runs::outcome`]); a run that fails
     /// is left for it to run again and report.
     pub fn pair_ahead(&mut self, a: &RunSpec, b: &RunSpec) {
-        if a.model.integrator != crate::physics::Integrator::Exact {
+        // Elsewhere `simulate_pair` runs the two one after the other, and
+        // the second is wasted whenever the first one's verdict flips.
+        if a.model.integrator != crate::physics::Integrator::Exact
+            || crate::physics::Isa::detected() != crate::physics::Isa::V3
+        {
             return;
         }
         let keys = [run_key(a), run_key(b)];
