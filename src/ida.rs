@@ -285,20 +285,12 @@ impl<'a> Runs<'a> {
         self.remember(spec, out)
     }
 
-    /// Runs two exact-stepper specs that differ in η alone together, in step
-    /// ([`simulate_pair`]: about the price of one where they rock alike, as
-    /// a chaos probe's two runs do), when neither is known yet. Their
-    /// outcomes wait until asked for ([`Runs::outcome`]); a run that fails
-    /// is left for it to run again and report.
-    pub fn pair_ahead(&mut self, a: &RunSpec, b: &RunSpec) {
-        // Elsewhere `simulate_pair` runs the two one after the other, and
-        // the second is wasted whenever the first one's verdict flips.
-        if a.model.integrator != crate::physics::Integrator::Exact
-            || crate::physics::Isa::detected() != crate::physics::Isa::V3
-        {
-            return;
-        }
-        let keys = [run_key(a), run_key(b)];
+    /// Runs two specs that differ in η alone (a chaos probe's two runs)
+    /// together, in step, when neither is known yet and they can be
+    /// ([`simulate_pair`]: about the price of one where they rock alike).
+    /// Their outcomes wait until asked for ([`Runs::outcome`]).
+    pub fn pair_ahead(&mut self, specs: &[RunSpec; 2]) {
+        let keys = specs.each_ref().map(run_key);
         if keys[0] == keys[1]
             || keys
                 .iter()
@@ -306,10 +298,8 @@ impl<'a> Runs<'a> {
         {
             return;
         }
-        for (key, out) in keys.into_iter().zip(simulate_pair(self.exc, [a, b])) {
-            if let Ok(out) = out {
-                self.ahead.insert(key, out);
-            }
+        if let Some(outs) = simulate_pair(self.exc, specs.each_ref()) {
+            self.ahead.extend(keys.into_iter().zip(outs));
         }
     }
 
@@ -655,9 +645,10 @@ pub const TIGHTEST_RTOL: f64 = 1e-14;
 /// tolerance allows.
 pub const CHAOS_PROBE: f64 = 1e-9;
 
-/// The two runs that probe the run at `eta`: η moved by ±[`CHAOS_PROBE`].
-fn probed(eta: f64) -> [f64; 2] {
-    [eta * (1.0 + CHAOS_PROBE), eta * (1.0 - CHAOS_PROBE)]
+/// The two runs that probe the run of `check` at `eta`: η moved by
+/// ±[`CHAOS_PROBE`].
+fn probes(check: &RunSpec, eta: f64) -> [RunSpec; 2] {
+    [eta * (1.0 + CHAOS_PROBE), eta * (1.0 - CHAOS_PROBE)].map(|eta| RunSpec { eta, ..*check })
 }
 
 /// The first decisive run whose verdict changes when η moves by
@@ -668,22 +659,16 @@ fn chaos_probe(
     cap: &Capacity,
     grid: &ImGrid,
 ) -> Result<Option<f64>, PhysicsError> {
-    let decisive = decisive_runs(cap, grid);
-    let probes: Vec<RunSpec> = decisive
-        .iter()
-        .flat_map(|&(eta, _)| probed(eta))
-        .map(|eta| RunSpec { eta, ..*check })
+    let decisive: Vec<(f64, bool, [RunSpec; 2])> = decisive_runs(cap, grid)
+        .into_iter()
+        .map(|(eta, overturned)| (eta, overturned, probes(check, eta)))
         .collect();
-    runs.prefetch(&probes);
-    for (eta, overturned) in decisive {
-        let [up, down] = probed(eta).map(|eta| RunSpec { eta, ..*check });
-        runs.pair_ahead(&up, &down);
-        for moved in probed(eta) {
-            let spec = RunSpec {
-                eta: moved,
-                ..*check
-            };
-            if runs.outcome(&spec)?.overturned() != overturned {
+    let all: Vec<RunSpec> = decisive.iter().flat_map(|d| d.2).collect();
+    runs.prefetch(&all);
+    for (eta, overturned, pair) in decisive {
+        runs.pair_ahead(&pair);
+        for spec in &pair {
+            if runs.outcome(spec)?.overturned() != overturned {
                 return Ok(Some(eta));
             }
         }

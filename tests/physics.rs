@@ -578,16 +578,17 @@ fn runs_in_step_agree_with_runs_alone_to_the_bit() {
                             };
                             let (a, b) = (spec(eta), spec(moved));
                             let alone = [simulate(&exc, &a).unwrap(), simulate(&exc, &b).unwrap()];
-                            let [pa, pb] = simulate_pair(&exc, [&a, &b]);
-                            let in_step = [pa.unwrap(), pb.unwrap()];
+                            let in_step =
+                                simulate_pair(&exc, [&a, &b]).expect("v3 runs a pair in step");
                             assert_eq!(
                                 format!("{alone:?}"),
                                 format!("{in_step:?}"),
                                 "{stem} p = {p}, ε = {eps}, η = {eta} and {moved}, {overturn:?}"
                             );
-                            let [qb, qa] = simulate_pair(&exc, [&b, &a]);
+                            let [qb, qa] =
+                                simulate_pair(&exc, [&b, &a]).expect("v3 runs a pair in step");
                             assert_eq!(
-                                format!("{:?}", [qa.unwrap(), qb.unwrap()]),
+                                format!("{:?}", [qa, qb]),
                                 format!("{alone:?}"),
                                 "the other order: {stem} p = {p}, ε = {eps}, η = {eta} and {moved}"
                             );

@@ -87,45 +87,40 @@ pub fn simulate_from(
     run(exc, spec, start, obs, Isa::detected())
 }
 
-/// Two runs that differ in η alone (a chaos probe's pair), each with the
-/// outcome [`simulate`] gives it, to the bit. With the exact stepper on a
-/// CPU that runs its x86-64-v3 compilation they are run in step
-/// ([`drive_pair`]): their eventless intervals cost about one run's. Any
-/// other pair, or one [`simulate`] refuses, runs one after the other.
-pub fn simulate_pair(exc: &Excitation, specs: [&RunSpec; 2]) -> [Result<Outcome, PhysicsError>; 2] {
-    let [a, b] = specs;
-    let one_by_one = || [simulate(exc, a), simulate(exc, b)];
+/// Two runs that differ in η alone (a chaos probe's pair), run in step
+/// ([`drive_pair`]: their eventless intervals cost about one run's), each
+/// with the outcome [`simulate`] gives it, to the bit. `None` where they
+/// cannot be: another integrator or equation, specs that differ in more
+/// than η or that [`simulate`] refuses, or a CPU without the exact
+/// stepper's x86-64-v3 compilation (run them one by one there).
+pub fn simulate_pair(exc: &Excitation, specs: [&RunSpec; 2]) -> Option<[Outcome; 2]> {
     #[cfg(target_arch = "x86_64")]
     {
         use super::{Equation, Integrator};
+        let [a, b] = specs;
         let same_but_eta = RunSpec { eta: a.eta, ..*b } == *a;
         let exact =
             a.model.integrator == Integrator::Exact && a.model.equation == Equation::Linearized;
         if !(same_but_eta && exact && Isa::detected() == Isa::V3) {
-            return one_by_one();
+            return None;
         }
         let limit = |s: &RunSpec| {
-            s.validate()?;
-            s.model.equation.overturn_limit(s.overturn)
+            s.validate().ok()?;
+            s.model.equation.overturn_limit(s.overturn).ok()
         };
-        let (Ok(limit_a), Ok(limit_b)) = (limit(a), limit(b)) else {
-            return one_by_one();
-        };
+        let limits = [limit(a)?, limit(b)?];
         let new = |s: &RunSpec, limit| super::exact::Exact::new(s.p, s.eta, exc.dt_s, limit);
-        let (mut stepper_a, mut stepper_b) = (new(a, limit_a), new(b, limit_b));
+        let (mut stepper_a, mut stepper_b) = (new(a, limits[0]), new(b, limits[1]));
         // SAFETY: `Isa::detected()` is V3 only where the CPU has its features.
-        let [out_a, out_b] = unsafe {
-            super::exact::drive_pair_v3(
-                exc,
-                [a, b],
-                [limit_a, limit_b],
-                [&mut stepper_a, &mut stepper_b],
-            )
-        };
-        [Ok(out_a), Ok(out_b)]
+        Some(unsafe {
+            super::exact::drive_pair_v3(exc, specs, limits, [&mut stepper_a, &mut stepper_b])
+        })
     }
     #[cfg(not(target_arch = "x86_64"))]
-    one_by_one()
+    {
+        let _ = (exc, specs);
+        None
+    }
 }
 
 /// [`simulate`] with the exact stepper's event loop as compiled for `isa`

@@ -279,8 +279,7 @@ unsafe fn drive_v3<O: super::Observer>(
 }
 
 /// [`super::driver::drive_pair`] compiled for x86-64-v3, the one
-/// compilation with a paired path (elsewhere [`super::simulate_pair`] runs
-/// the two runs one after the other).
+/// compilation with a paired path ([`super::simulate_pair`]).
 ///
 /// # Safety
 /// The CPU must have the features enabled here.
@@ -772,40 +771,24 @@ mod lanes {
         }
     }
 
-    impl Add for F2 {
-        type Output = F2;
-        #[inline(always)]
-        fn add(self, o: F2) -> F2 {
-            F2(unsafe { _mm_add_pd(self.0, o.0) })
-        }
+    /// `impl $trait for $ty` by the lane-wise intrinsic `$op`.
+    macro_rules! lane_wise {
+        ($($trait:ident, $method:ident, $ty:ident, $op:ident;)*) => {$(
+            impl $trait for $ty {
+                type Output = $ty;
+                #[inline(always)]
+                fn $method(self, o: $ty) -> $ty {
+                    $ty(unsafe { $op(self.0, o.0) })
+                }
+            }
+        )*};
     }
-    impl Sub for F2 {
-        type Output = F2;
-        #[inline(always)]
-        fn sub(self, o: F2) -> F2 {
-            F2(unsafe { _mm_sub_pd(self.0, o.0) })
-        }
-    }
-    impl Mul for F2 {
-        type Output = F2;
-        #[inline(always)]
-        fn mul(self, o: F2) -> F2 {
-            F2(unsafe { _mm_mul_pd(self.0, o.0) })
-        }
-    }
-    impl BitAnd for M2 {
-        type Output = M2;
-        #[inline(always)]
-        fn bitand(self, o: M2) -> M2 {
-            M2(unsafe { _mm_and_pd(self.0, o.0) })
-        }
-    }
-    impl BitOr for M2 {
-        type Output = M2;
-        #[inline(always)]
-        fn bitor(self, o: M2) -> M2 {
-            M2(unsafe { _mm_or_pd(self.0, o.0) })
-        }
+    lane_wise! {
+        Add, add, F2, _mm_add_pd;
+        Sub, sub, F2, _mm_sub_pd;
+        Mul, mul, F2, _mm_mul_pd;
+        BitAnd, bitand, M2, _mm_and_pd;
+        BitOr, bitor, M2, _mm_or_pd;
     }
     impl Not for M2 {
         type Output = M2;
@@ -818,10 +801,12 @@ mod lanes {
 
 /// [`Stepper::cruise`] for two runs at once, steppers of the same `p` and
 /// `dt` (two values of η), both rocking at sample `k`: their whole
-/// intervals, one lane each, for as long as both can cross them. Stops at
-/// the first interval either must leave to `rock` (the other is left there
-/// too, and crosses it on its own) and returns it. Each lane does what
-/// [`Exact::cruise`] does, operation for operation.
+/// intervals, one lane each, for as long as both are proved eventless by
+/// sign tests alone (x monotone, between the pivot and the limit). Stops
+/// at the first interval either must leave to `cruise`'s other bounds or
+/// to `rock` (the other is left there too, and crosses it on its own) and
+/// returns it. Each lane does what [`Exact::cruise`] does, operation for
+/// operation.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 pub(super) fn cruise_pair(
