@@ -190,6 +190,32 @@ pub trait Batch: Sync {
         exc: &Excitation,
         specs: &[RunSpec],
     ) -> Vec<Option<Result<Outcome, PhysicsError>>>;
+
+    /// Calls `search` on this worker while the other workers run the pairs
+    /// of specs it hands to its argument, in the order handed, each pair by
+    /// [`run_pair`]; once `search` returns, this worker joins them until
+    /// every pair handed is run. Returns [`simulate`]'s result for each spec
+    /// handed. For work that is sequential by nature (a bisection) and
+    /// whose later needs are known early (the chaos probes of its decisive
+    /// runs): the other workers would idle otherwise.
+    fn alongside(
+        &self,
+        exc: &Excitation,
+        search: &mut (dyn FnMut(&Hand<'_>) + Send),
+    ) -> Vec<(RunSpec, Result<Outcome, PhysicsError>)>;
+}
+
+/// What a search given to [`Batch::alongside`] hands its pairs to.
+pub type Hand<'a> = dyn Fn([RunSpec; 2]) + 'a;
+
+/// Two runs that differ in η alone (a chaos probe's pair): together, in step,
+/// where [`simulate_pair`] can, else one after the other. Each result is
+/// [`simulate`]'s for that spec alone.
+pub fn run_pair(exc: &Excitation, pair: &[RunSpec; 2]) -> [Result<Outcome, PhysicsError>; 2] {
+    match simulate_pair(exc, pair.each_ref()) {
+        Some(outs) => outs.map(Ok),
+        None => pair.each_ref().map(|s| simulate(exc, s)),
+    }
 }
 
 impl<'a> Runs<'a> {
@@ -214,7 +240,9 @@ impl<'a> Runs<'a> {
 
     /// Runs the specs not yet in memory together, when there is a batch and
     /// more than one is missing; a run that fails is left for
-    /// [`Runs::outcome`] to run again and report if it is ever needed.
+    /// [`Runs::outcome`] to run again and report if it is ever needed. Those
+    /// already run ahead of need are taken as they are, and counted now as
+    /// the batch's runs are.
     pub fn prefetch(&mut self, specs: &[RunSpec]) {
         let Some(batch) = self.batch else {
             return;
@@ -222,7 +250,9 @@ impl<'a> Runs<'a> {
         let (mut keys, mut missing) = (Vec::new(), Vec::new());
         for s in specs {
             let key = run_key(s);
-            if !self.memo.contains_key(&key) && !keys.contains(&key) {
+            if let Some(out) = self.ahead.remove(&key) {
+                let _ = self.remember(s, out);
+            } else if !self.memo.contains_key(&key) && !keys.contains(&key) {
                 keys.push(key);
                 missing.push(*s);
             }
@@ -300,6 +330,18 @@ impl<'a> Runs<'a> {
         }
         if let Some(outs) = simulate_pair(self.exc, specs.each_ref()) {
             self.ahead.extend(keys.into_iter().zip(outs));
+        }
+    }
+
+    /// Keeps outcomes run ahead of need (by [`Batch::alongside`]) until they
+    /// are asked for, as [`Runs::pair_ahead`] does; failures are dropped, to
+    /// be run again and reported if they are ever asked for.
+    fn keep_ahead(&mut self, outs: Vec<(RunSpec, Result<Outcome, PhysicsError>)>) {
+        for (spec, out) in outs {
+            let key = run_key(&spec);
+            if let (Ok(out), false) = (out, self.memo.contains_key(&key)) {
+                self.ahead.insert(key, out);
+            }
         }
     }
 
@@ -381,6 +423,21 @@ pub fn capacity_in(
     tol: f64,
     trace: Trace,
 ) -> Result<Capacity, PhysicsError> {
+    search(runs, run, grid, tol, trace, false)
+}
+
+/// [`capacity_in`]; with `probe_early` and a batch, the chaos probes of the
+/// decisive runs ([`chaos_probe`]'s, for a check with the search's own
+/// spec) are run by the other workers while the bisection goes on
+/// ([`Batch::alongside`]), and wait in [`Runs`] until asked for.
+fn search(
+    runs: &mut Runs,
+    run: &RunSpec,
+    grid: &ImGrid,
+    tol: f64,
+    trace: Trace,
+    probe_early: bool,
+) -> Result<Capacity, PhysicsError> {
     if !(tol > 0.0 && tol.is_finite()) {
         return Err(PhysicsError::BadInput(format!(
             "capacity tolerance {tol} must be positive"
@@ -407,21 +464,46 @@ pub fn capacity_in(
         }
         let (level_survived, level_overturned) = (survived, eta);
         let mut over = eta;
-        while survived - over > tol {
-            let mid = 0.5 * (survived + over);
-            if mid <= over || mid >= survived {
-                break;
-            }
-            let outcome = runs.outcome(&spec(mid))?;
-            points.push(IdaPoint {
-                eta: mid,
-                kind: RunKind::Refinement,
-                outcome,
-            });
-            if outcome.overturned() {
-                over = mid;
-            } else {
-                survived = mid;
+        match runs.batch.filter(|_| probe_early) {
+            None => bisect(
+                runs,
+                run,
+                tol,
+                [&mut survived, &mut over],
+                &mut points,
+                &|_| {},
+            )?,
+            Some(batch) => {
+                // The decisive runs known before the bisection: the bracket
+                // and the near misses (those of a capacity refined no further).
+                let known = decisive_runs(
+                    &Capacity {
+                        eta_c: Some(over),
+                        eta_survived: survived,
+                        level_overturned: Some(level_overturned),
+                        level_survived,
+                        points: points.clone(),
+                        resurrections: None,
+                    },
+                    grid,
+                );
+                let mut bisected = Ok(());
+                let outs = batch.alongside(runs.exc, &mut |hand| {
+                    for &(eta, _) in &known {
+                        hand(probes(run, eta));
+                    }
+                    let each = |eta| hand(probes(run, eta));
+                    bisected = bisect(
+                        runs,
+                        run,
+                        tol,
+                        [&mut survived, &mut over],
+                        &mut points,
+                        &each,
+                    );
+                });
+                runs.keep_ahead(outs);
+                bisected?;
             }
         }
         let resurrections = match trace {
@@ -462,6 +544,37 @@ pub fn capacity_in(
             Trace::AllLevels => Some(0),
         },
     })
+}
+
+/// Bisects the bracket `[over, survived]` of `run`'s η down to `tol`,
+/// recording each refinement run and calling `refined` with its η.
+fn bisect(
+    runs: &mut Runs,
+    run: &RunSpec,
+    tol: f64,
+    [survived, over]: [&mut f64; 2],
+    points: &mut Vec<IdaPoint>,
+    refined: &dyn Fn(f64),
+) -> Result<(), PhysicsError> {
+    while *survived - *over > tol {
+        let mid = 0.5 * (*survived + *over);
+        if mid <= *over || mid >= *survived {
+            break;
+        }
+        let outcome = runs.outcome(&RunSpec { eta: mid, ..*run })?;
+        points.push(IdaPoint {
+            eta: mid,
+            kind: RunKind::Refinement,
+            outcome,
+        });
+        refined(mid);
+        if outcome.overturned() {
+            *over = mid;
+        } else {
+            *survived = mid;
+        }
+    }
+    Ok(())
 }
 
 /// θmax/α from which a surviving grid level counts as a near miss: a
@@ -734,7 +847,10 @@ pub fn capacity_certified_in(
     use crate::physics::Integrator;
     let start = runs.work();
     let Integrator::Dp5 { rtol: asked } = run.model.integrator else {
-        let capacity = capacity_in(runs, run, grid, tol, trace)?;
+        // The exact stepper's probes are run with the search's own spec:
+        // with a batch, they can start while the bisection runs.
+        let exact = run.model.integrator == Integrator::Exact;
+        let capacity = search(runs, run, grid, tol, trace, exact)?;
         let searched = runs.work();
         let certification = match run.model.integrator {
             Integrator::Exact => match chaos_probe(runs, run, &capacity, grid)? {

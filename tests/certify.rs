@@ -374,11 +374,14 @@ fn grids_sharing_runs_find_what_each_finds_alone() {
 }
 
 /// Issue 10: `capacity` scans the grid levels on every core, each worker
-/// taking the next level as soon as it is free, and runs its chaos probes
-/// at once (`ops::record::capacity_certified_parallel`). The
+/// taking the next level as soon as it is free, runs the exact stepper's
+/// chaos probes on the other workers while the bisection goes on, and the
+/// rest at once (`ops::record::capacity_certified_parallel`). The
 /// sequential search is the definition: the same capacity, points and
 /// certification, for the exact stepper (one case chaotic, one survivor of
-/// the whole grid) and for DP5 (a tolerance search that is redone).
+/// the whole grid) and for DP5 (a tolerance search that is redone). Run
+/// ahead or not, every probe of every decisive run is counted once (all are
+/// run, even past a flip), whatever the number of workers.
 #[test]
 fn the_parallel_search_finds_what_the_sequential_one_finds() {
     use rocking::ops::record::capacity_certified_parallel;
@@ -404,8 +407,9 @@ fn the_parallel_search_finds_what_the_sequential_one_finds() {
             ..ImGrid::default()
         };
         let seq = capacity_certified(&exc, &spec, &grid, 1e-4, Trace::StopAtFirst).unwrap();
-        // One worker (no scan), and three (the scan with two others).
-        for threads in [1, 3] {
+        // One worker (no scan), two (the `capacity` command's pool on this
+        // machine) and three (the scan with two others).
+        for threads in [1, 2, 3] {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
@@ -416,6 +420,10 @@ fn the_parallel_search_finds_what_the_sequential_one_finds() {
             assert_eq!(par.capacity, seq.capacity, "{stem}, {threads} threads");
             assert_eq!(par.certification, seq.certification, "{stem}");
             assert_eq!(par.model, seq.model, "{stem}");
+            if spec.model == Model::LINEARIZED {
+                let probes = 2 * decisive_runs(&par.capacity, &grid).len();
+                assert_eq!(par.extra.runs, probes, "{stem}, {threads} threads");
+            }
         }
         chaotic += usize::from(matches!(seq.certification, Certification::Chaotic { .. }));
         survivors += usize::from(seq.capacity.eta_c.is_none());

@@ -1,13 +1,14 @@
 //! One AT2 record read for the solvers (`simulate`, `capacity`, `bench`).
 
+use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::OnceLock;
+use std::sync::{Condvar, Mutex, OnceLock, PoisonError};
 
 use rayon::prelude::*;
 
 use crate::at2::{self, At2Error};
-use crate::ida::Batch;
+use crate::ida::{run_pair, Batch, Hand};
 use crate::physics::{simulate, Excitation, Outcome, PhysicsError, RunSpec, Stop};
 use crate::pulse::Pulse;
 
@@ -85,7 +86,9 @@ pub fn load(path: &Path) -> Result<LoadedRecord, RecordError> {
 
 /// [`crate::ida::capacity_certified`] of one record with every core of the
 /// rayon pool: the workers scan the grid levels together, each taking the
-/// next level as soon as it is free, and run all the chaos probes at once
+/// next level as soon as it is free; while this worker bisects, the others
+/// run the exact stepper's chaos probes of the decisive runs known so far,
+/// two runs in step; the probes still missing then run at once
 /// ([`crate::ida::Runs::with_batch`]). The capacity and its certification
 /// are those of the sequential search (the runs are the same, only run
 /// ahead of need); at most `threads − 1` levels past the first overturning
@@ -143,6 +146,91 @@ impl Batch for Pool {
             });
         slots.into_iter().map(OnceLock::into_inner).collect()
     }
+
+    fn alongside(
+        &self,
+        exc: &Excitation,
+        search: &mut (dyn FnMut(&Hand<'_>) + Send),
+    ) -> Vec<(RunSpec, Result<Outcome, PhysicsError>)> {
+        let pairs = Pairs::default();
+        let others = rayon::current_num_threads().saturating_sub(1);
+        rayon::join(
+            || {
+                // Closed however `search` ends (a panic included), so no
+                // other worker waits for pairs that will never come.
+                let closing = Closing(&pairs);
+                search(&|pair| pairs.hand(pair));
+                drop(closing);
+                pairs.work(exc);
+            },
+            || (0..others).into_par_iter().for_each(|_| pairs.work(exc)),
+        );
+        pairs
+            .done
+            .into_inner()
+            .unwrap_or_else(PoisonError::into_inner)
+    }
+}
+
+/// The pairs handed to [`Batch::alongside`]'s workers, and their results.
+#[derive(Default)]
+struct Pairs {
+    /// The pairs not yet taken, and whether more may come.
+    waiting: Mutex<(VecDeque<[RunSpec; 2]>, bool)>,
+    handed: Condvar,
+    done: Mutex<Vec<(RunSpec, Result<Outcome, PhysicsError>)>>,
+}
+
+impl Pairs {
+    fn hand(&self, pair: [RunSpec; 2]) {
+        let mut waiting = self.waiting.lock().unwrap_or_else(PoisonError::into_inner);
+        waiting.0.push_back(pair);
+        self.handed.notify_one();
+    }
+
+    fn close(&self) {
+        self.waiting
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .1 = true;
+        self.handed.notify_all();
+    }
+
+    /// Runs the pairs as they are handed, until none is left and none will
+    /// come.
+    fn work(&self, exc: &Excitation) {
+        loop {
+            let pair = {
+                let mut waiting = self.waiting.lock().unwrap_or_else(PoisonError::into_inner);
+                loop {
+                    match waiting.0.pop_front() {
+                        Some(pair) => break pair,
+                        None if waiting.1 => return,
+                        None => {
+                            waiting = self
+                                .handed
+                                .wait(waiting)
+                                .unwrap_or_else(PoisonError::into_inner)
+                        }
+                    }
+                }
+            };
+            let outs = run_pair(exc, &pair);
+            self.done
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner)
+                .extend(pair.into_iter().zip(outs));
+        }
+    }
+}
+
+/// Closes [`Pairs`] when dropped.
+struct Closing<'a>(&'a Pairs);
+
+impl Drop for Closing<'_> {
+    fn drop(&mut self) {
+        self.0.close();
+    }
 }
 
 #[cfg(test)]
@@ -192,6 +280,61 @@ mod tests {
             }
             let past = got[first + 1..].iter().filter(|g| g.is_some()).count();
             assert!(past <= 2, "{past} levels run past the first overturning");
+        }
+    }
+
+    /// [`Batch::alongside`]'s contract, with one worker and three: every
+    /// pair handed, before the search's own runs and between them, is run
+    /// once, each spec's result the one `simulate` gives alone, while the
+    /// search's runs go on; and a search that panics stops the others
+    /// instead of leaving them waiting for pairs.
+    #[test]
+    fn the_pools_workers_run_the_pairs_handed_while_the_search_goes_on() {
+        let dt = 0.01;
+        let accel: Vec<f64> = (0..1500)
+            .map(|i| {
+                let t = i as f64 * dt;
+                0.4 * (2.0 * std::f64::consts::PI * 1.3 * t).sin() * (-0.2 * t).exp()
+            })
+            .collect();
+        let exc = Excitation::new(&accel, dt).unwrap();
+        let spec = |eta: f64| RunSpec::new(2.0, 0.8, eta, Model::LINEARIZED);
+        let pair = |eta: f64| [spec(eta * (1.0 + 1e-9)), spec(eta * (1.0 - 1e-9))];
+        let etas: Vec<f64> = (0..12).map(|j| 0.9 * 0.93f64.powi(j)).collect();
+        for threads in [1, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mut own = Vec::new();
+            let got = pool.install(|| {
+                Pool.alongside(&exc, &mut |hand| {
+                    for &eta in &etas[..4] {
+                        hand(pair(eta));
+                    }
+                    for &eta in &etas[4..] {
+                        own.push(simulate(&exc, &spec(eta)).unwrap());
+                        hand(pair(eta));
+                    }
+                })
+            });
+            assert_eq!(own.len(), 8, "the search ran its own runs");
+            let handed: Vec<RunSpec> = etas.iter().flat_map(|&e| pair(e)).collect();
+            assert_eq!(got.len(), handed.len(), "{threads} threads");
+            for s in &handed {
+                let mine: Vec<_> = got.iter().filter(|(g, _)| g == s).collect();
+                assert_eq!(mine.len(), 1, "η = {} run once", s.eta);
+                assert_eq!(mine[0].1, simulate(&exc, s), "η = {}", s.eta);
+            }
+            let panicked = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                pool.install(|| {
+                    Pool.alongside(&exc, &mut |hand| {
+                        hand(pair(etas[0]));
+                        panic!("the search failed");
+                    })
+                })
+            }));
+            assert!(panicked.is_err(), "the panic reaches the caller");
         }
     }
 }
