@@ -233,6 +233,20 @@ fn parse_samples(body: &str, npts: usize) -> Result<Vec<f64>, At2Error> {
             i += len;
             continue;
         }
+        // The usual token, read in the one pass that finds its end: the
+        // same value `parse_value` gives it (`exact_decimal`'s arithmetic).
+        if let Some((value, len)) = decimal_prefix(&bytes[i..]) {
+            if bytes.get(i + len).is_none_or(|&b| {
+                matches!(b, b'\n' | b' ' | b'\t' | b'\r' | b',' | b'\x0b' | b'\x0c')
+            }) {
+                if accel_g.len() == npts {
+                    return Err(err(line_no, At2ErrorKind::TooManyValues { npts }));
+                }
+                accel_g.push(value);
+                i += len;
+                continue;
+            }
+        }
         let start = i;
         i += 1;
         while i < bytes.len() {
@@ -306,6 +320,15 @@ const EXACT_POW10: [f64; 23] = [
 /// `None` for any other token (more digits, a larger exponent, other
 /// syntax), which then goes to Rust's parser.
 fn exact_decimal(t: &[u8]) -> Option<f64> {
+    decimal_prefix(t).and_then(|(value, len)| (len == t.len()).then_some(value))
+}
+
+/// [`exact_decimal`] of the longest start of `t` in its form, with that
+/// start's length: the token's value if the token ends there (`None` where
+/// [`exact_decimal`] declines the token, or the form ends early: a fifth
+/// exponent digit).
+#[inline]
+fn decimal_prefix(t: &[u8]) -> Option<(f64, usize)> {
     let mut i = 0;
     let negative = match t.first() {
         Some(b'-') => {
@@ -343,10 +366,7 @@ fn exact_decimal(t: &[u8]) -> Option<f64> {
         return None;
     }
     let mut exponent = 0i32;
-    if i < t.len() {
-        if !matches!(t[i], b'E' | b'e' | b'D' | b'd') {
-            return None;
-        }
+    if i < t.len() && matches!(t[i], b'E' | b'e' | b'D' | b'd') {
         i += 1;
         let sign = match t.get(i) {
             Some(b'-') => {
@@ -364,7 +384,7 @@ fn exact_decimal(t: &[u8]) -> Option<f64> {
             exponent = 10 * exponent + i32::from(t[i] - b'0');
             i += 1;
         }
-        if i == start || i < t.len() {
+        if i == start {
             return None;
         }
         exponent *= sign;
@@ -378,7 +398,7 @@ fn exact_decimal(t: &[u8]) -> Option<f64> {
     } else {
         m as f64 * EXACT_POW10[e as usize]
     };
-    Some(if negative { -magnitude } else { magnitude })
+    Some((if negative { -magnitude } else { magnitude }, i))
 }
 
 /// Line 3 must describe acceleration in units of g and nothing else.
@@ -805,6 +825,70 @@ mod tests {
             if let Some(v) = exact_decimal(t.as_bytes()) {
                 assert_eq!(v.to_bits(), want.to_bits(), "{t}");
             }
+        }
+    }
+
+    /// Issue 10: the usual token is read in the pass that finds its end.
+    /// Every form, in every place of a line and after every separator, reads
+    /// as Rust's own parser reads the token alone (D as E), to the bit;
+    /// forms the one pass declines (20 digits, a five-digit exponent, an
+    /// exponent beyond ±22) take the general path to the same value.
+    #[test]
+    fn samples_read_in_one_pass_equal_each_token_read_alone() {
+        let tokens = [
+            "-.9269400E-05",
+            ".1043030E-02",
+            "+2.",
+            "0.1",
+            "-0",
+            "7",
+            "1.5D+03",
+            "2.5d-3",
+            "1e22",
+            "1e23",
+            "1.0E+0001",
+            "1.0E00001",
+            "9007199254740993",
+            "12345678901234567890",
+            "0.000000000000000000001",
+            "-3.14159265358979",
+        ];
+        for sep in [
+            " ", "  ", "\t", ",", " , ", "\x0b", "\x0c", "\u{a0}", "\u{2003}",
+        ] {
+            for end in ["", "\n", "\r\n", " \n"] {
+                let body = format!(
+                    "{}{end}",
+                    tokens
+                        .chunks(5)
+                        .map(|line| line.join(sep))
+                        .collect::<Vec<_>>()
+                        .join("\r\n")
+                );
+                let npts = format!("NPTS= {}, DT= .01 SEC", tokens.len());
+                let got = parse_str(&file(&npts, &body)).unwrap().accel_g;
+                let want: Vec<u64> = tokens
+                    .iter()
+                    .map(|t| reference(t).unwrap().to_bits())
+                    .collect();
+                let got: Vec<u64> = got.iter().map(|v| v.to_bits()).collect();
+                assert_eq!(got, want, "separator {sep:?}, end {end:?}");
+            }
+        }
+        // A valid start followed by what no separator is: the whole token is
+        // refused, on its line.
+        for (body, token) in [("1 2 3.5x\n", "3.5x"), ("1\n2E5E\n3\n", "2E5E")] {
+            let e = parse_str(&file("NPTS= 3, DT= .01 SEC", body)).unwrap_err();
+            let line = 5 + body[..body.find(token).unwrap()].matches('\n').count();
+            assert_eq!(
+                (e.line, e.kind),
+                (
+                    line,
+                    At2ErrorKind::NotANumber {
+                        token: token.into()
+                    }
+                )
+            );
         }
     }
 
