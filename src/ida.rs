@@ -250,11 +250,17 @@ impl<'a> Runs<'a> {
         let (mut keys, mut missing) = (Vec::new(), Vec::new());
         for s in specs {
             let key = run_key(s);
-            if let Some(out) = self.ahead.remove(&key) {
-                let _ = self.remember(s, out);
-            } else if !self.memo.contains_key(&key) && !keys.contains(&key) {
-                keys.push(key);
-                missing.push(*s);
+            if self.memo.contains_key(&key) || keys.contains(&key) {
+                continue;
+            }
+            match self.ahead.remove(&key) {
+                Some(out) => {
+                    let _ = self.remember(s, out);
+                }
+                None => {
+                    keys.push(key);
+                    missing.push(*s);
+                }
             }
         }
         if missing.len() < 2 {

@@ -381,7 +381,8 @@ fn grids_sharing_runs_find_what_each_finds_alone() {
 /// certification, for the exact stepper (one case chaotic, one survivor of
 /// the whole grid) and for DP5 (a tolerance search that is redone). Run
 /// ahead or not, every probe of every decisive run is counted once (all are
-/// run, even past a flip), whatever the number of workers.
+/// run, even past a flip), with the sample intervals it takes alone,
+/// whatever the number of workers.
 #[test]
 fn the_parallel_search_finds_what_the_sequential_one_finds() {
     use rocking::ops::record::capacity_certified_parallel;
@@ -421,8 +422,21 @@ fn the_parallel_search_finds_what_the_sequential_one_finds() {
             assert_eq!(par.certification, seq.certification, "{stem}");
             assert_eq!(par.model, seq.model, "{stem}");
             if spec.model == Model::LINEARIZED {
-                let probes = 2 * decisive_runs(&par.capacity, &grid).len();
-                assert_eq!(par.extra.runs, probes, "{stem}, {threads} threads");
+                // Each probe counted once, with the intervals it takes alone.
+                let (mut runs, mut intervals) = (0, 0);
+                for (eta, _) in decisive_runs(&par.capacity, &grid) {
+                    for moved in [eta * (1.0 + 1e-9), eta * (1.0 - 1e-9)] {
+                        runs += 1;
+                        intervals += simulate(&exc, &RunSpec { eta: moved, ..spec })
+                            .unwrap()
+                            .intervals;
+                    }
+                }
+                assert_eq!(
+                    (par.extra.runs, par.extra.intervals),
+                    (runs, intervals),
+                    "{stem}, {threads} threads"
+                );
             }
         }
         chaotic += usize::from(matches!(seq.certification, Certification::Chaotic { .. }));
