@@ -152,6 +152,9 @@ impl Batch for Pool {
         exc: &Excitation,
         search: &mut (dyn FnMut(&Hand<'_>) + Send),
     ) -> Vec<(RunSpec, Result<Outcome, PhysicsError>)> {
+        // The other workers wait for pairs on a condition variable, taking
+        // no other work of the pool meanwhile: fit for a pool that runs one
+        // search, as the `capacity` command's does.
         let pairs = Pairs::default();
         let others = rayon::current_num_threads().saturating_sub(1);
         rayon::join(
