@@ -242,12 +242,8 @@ mod tests {
     use crate::ida::ImGrid;
     use crate::physics::Model;
 
-    /// The scan's contract ([`Batch::until_overturned`]) with three workers:
-    /// every level up to the first overturning is run, each result is the
-    /// one `simulate` gives alone, and at most two levels past it (one per
-    /// other worker) are run.
-    #[test]
-    fn the_pools_scan_runs_every_level_up_to_the_first_overturning() {
+    /// A 15 s decaying sine at 1.3 Hz, sampled at 0.01 s.
+    fn decaying_sine() -> Excitation {
         let dt = 0.01;
         let accel: Vec<f64> = (0..1500)
             .map(|i| {
@@ -255,7 +251,16 @@ mod tests {
                 0.4 * (2.0 * std::f64::consts::PI * 1.3 * t).sin() * (-0.2 * t).exp()
             })
             .collect();
-        let exc = Excitation::new(&accel, dt).unwrap();
+        Excitation::new(&accel, dt).unwrap()
+    }
+
+    /// The scan's contract ([`Batch::until_overturned`]) with three workers:
+    /// every level up to the first overturning is run, each result is the
+    /// one `simulate` gives alone, and at most two levels past it (one per
+    /// other worker) are run.
+    #[test]
+    fn the_pools_scan_runs_every_level_up_to_the_first_overturning() {
+        let exc = decaying_sine();
         let specs: Vec<RunSpec> = ImGrid::default()
             .levels()
             .unwrap()
@@ -293,14 +298,7 @@ mod tests {
     /// instead of leaving them waiting for pairs.
     #[test]
     fn the_pools_workers_run_the_pairs_handed_while_the_search_goes_on() {
-        let dt = 0.01;
-        let accel: Vec<f64> = (0..1500)
-            .map(|i| {
-                let t = i as f64 * dt;
-                0.4 * (2.0 * std::f64::consts::PI * 1.3 * t).sin() * (-0.2 * t).exp()
-            })
-            .collect();
-        let exc = Excitation::new(&accel, dt).unwrap();
+        let exc = decaying_sine();
         let spec = |eta: f64| RunSpec::new(2.0, 0.8, eta, Model::LINEARIZED);
         let pair = |eta: f64| [spec(eta * (1.0 + 1e-9)), spec(eta * (1.0 - 1e-9))];
         let etas: Vec<f64> = (0..12).map(|j| 0.9 * 0.93f64.powi(j)).collect();
