@@ -193,3 +193,90 @@ fn the_quick_capacity_parser_is_the_trees() {
     assert!(stderr(&out).contains("unexpected argument '--bogus'"));
     assert!(stderr(&out).contains("Usage: rocking capacity"));
 }
+
+/// `rocking bench --sections calls` times `rocking capacity` as a new
+/// process per call: in the quick run, the first three far-field records
+/// (by name) at p = 2. The row's figures must be ordered (fastest ≤ median
+/// ≤ slowest), the slowest must be one of those records, and a record the
+/// command refuses must stop the benchmark with the call and its error.
+#[test]
+fn bench_times_capacity_calls_and_reports_a_failing_call() {
+    let dir = tempdir();
+    let records = bundled_records();
+    let out = rocking(
+        &root(),
+        &[
+            "bench",
+            "--quick",
+            "--sections",
+            "calls",
+            "--reps",
+            "3",
+            "--records",
+            records.to_str().unwrap(),
+            "--out-dir",
+            dir.path().to_str().unwrap(),
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let md = std::fs::read_to_string(dir.path().join("BENCHMARKS.md")).unwrap();
+    let row = md
+        .lines()
+        .find(|l| l.starts_with("| 2 | 3 |"))
+        .unwrap_or_else(|| panic!("no row for p = 2 over 3 records:\n{md}"));
+    // | p | records | median | fastest | slowest (record) | within 3 ms |
+    let cells: Vec<&str> = row.split('|').map(str::trim).collect();
+    let ms = |cell: &str| -> f64 {
+        let t = cell.split(" ms").next().unwrap();
+        t.parse().unwrap_or_else(|_| panic!("{cell:?} in {row}"))
+    };
+    let ms = [ms(cells[3]), ms(cells[4]), ms(cells[5])];
+    assert_eq!(ms.len(), 3, "{row}");
+    let (median, fastest, slowest) = (ms[0], ms[1], ms[2]);
+    assert!(
+        0.0 < fastest && fastest <= median && median <= slowest,
+        "{row}"
+    );
+    let mut files: Vec<String> = std::fs::read_dir(records.join("far-field"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|f| f.ends_with(".AT2"))
+        .collect();
+    files.sort();
+    let first_three: Vec<&str> = files[..3]
+        .iter()
+        .map(|f| f.trim_end_matches(".AT2"))
+        .collect();
+    assert!(
+        first_three.iter().any(|r| row.contains(&format!("({r})"))),
+        "{row} names none of {first_three:?}"
+    );
+    let within: usize = cells[6].strip_suffix(" of 3").unwrap().parse().unwrap();
+    assert!(within <= 3, "{row}");
+
+    let bad = tempdir();
+    std::fs::create_dir(bad.path().join("far-field")).unwrap();
+    std::fs::write(bad.path().join("far-field/BROKEN.AT2"), "not a record\n").unwrap();
+    let out = rocking(
+        &root(),
+        &[
+            "bench",
+            "--quick",
+            "--sections",
+            "calls",
+            "--reps",
+            "1",
+            "--records",
+            bad.path().to_str().unwrap(),
+            "--out-dir",
+            dir.path().to_str().unwrap(),
+        ],
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(
+        err.contains("capacity --record") && err.contains("BROKEN.AT2"),
+        "{err}"
+    );
+    assert!(err.contains("failed"), "{err}");
+}

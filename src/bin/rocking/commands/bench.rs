@@ -27,7 +27,8 @@ pub struct Args {
     #[arg(long)]
     quick: bool,
     /// The sections to measure (the others keep their text): solvers,
-    /// linearisation, criteria, tolerance, rounding. Default: all.
+    /// linearisation, criteria, tolerance, rounding, calls (`rocking
+    /// capacity` per call, process start included). Default: all.
     #[arg(long, value_delimiter = ',', value_parser = parse_section)]
     sections: Vec<Section>,
 }
@@ -48,6 +49,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         } else {
             args.sections
         },
+        exe: std::env::current_exe()?,
     };
     bench::run(&opts, |line| eprintln!("{line}"))?;
     Ok(())
