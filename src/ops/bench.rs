@@ -508,7 +508,6 @@ fn calls_table(args: &BenchOptions, say: &mut impl FnMut(&str)) -> Result<String
     };
     let ps: &[f64] = if args.quick { &[2.0] } else { &[0.5, 2.0, 8.0] };
     let exe = &args.exe;
-    let median_of = |times: &mut Vec<f64>| bench::median(times);
     let version = [OsStr::new("--version")];
     for _ in 0..CALL_WARMUP {
         time_call(exe, &version)?;
@@ -516,7 +515,9 @@ fn calls_table(args: &BenchOptions, say: &mut impl FnMut(&str)) -> Result<String
     let mut alone: Vec<f64> = (0..args.reps.max(20))
         .map(|_| time_call(exe, &version))
         .collect::<Result<_, _>>()?;
-    let alone_ms = median_of(&mut alone);
+    let alone_ms = bench::median(&mut alone);
+    let p_text: Vec<String> = ps.iter().map(|p| p.to_string()).collect();
+    let eps = CALL_EPS.to_string();
     let mut per_p: Vec<Vec<(String, f64)>> = vec![Vec::new(); ps.len()];
     for (i, file) in files.iter().enumerate() {
         let stem = file
@@ -524,8 +525,6 @@ fn calls_table(args: &BenchOptions, say: &mut impl FnMut(&str)) -> Result<String
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default();
         say(&format!("calls: {stem} ({}/{})", i + 1, files.len()));
-        let p_text: Vec<String> = ps.iter().map(|p| p.to_string()).collect();
-        let eps = CALL_EPS.to_string();
         let call = |p: &str| {
             let a: [&OsStr; 7] = [
                 OsStr::new("capacity"),
@@ -548,7 +547,7 @@ fn calls_table(args: &BenchOptions, say: &mut impl FnMut(&str)) -> Result<String
             }
         }
         for (j, mut t) in times.into_iter().enumerate() {
-            per_p[j].push((stem.clone(), median_of(&mut t)));
+            per_p[j].push((stem.clone(), bench::median(&mut t)));
         }
     }
     let mut s = String::new();
