@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use rocking::stages::engine::{self, Freshness};
 use rocking::stages::fingerprint::Stale;
-use rocking::stages::sweep::{read_capacities, DatasetError, FAULT_ENV};
+use rocking::stages::sweep::{read_capacities, DatasetError, FAULT_ENV, HOLD_ENV};
 use rocking::stages::Study;
 
 use crate::util::{bundled_records, rocking, root, stderr, stdout, tempdir, write_pipeline};
@@ -99,6 +99,7 @@ fn a_part_copied_over_another_chunk_is_recomputed_issue_9() {
     let crashed = std::process::Command::new(env!("CARGO_BIN_EXE_rocking"))
         .args(["sweep", pipe.to_str().unwrap(), "--outputs", "out"])
         .env(FAULT_ENV, "2")
+        .env(HOLD_ENV, "0")
         .current_dir(d)
         .output()
         .unwrap();

@@ -326,8 +326,8 @@ fn submit_runs_the_quick_study_on_a_real_slurm() {
     assert!(here.status.success(), "{}", stderr(&here));
     assert_same_tables(&local.join("quick"), &study);
 
-    // Tasks that crash (the fault-injection hook aborts each task after its
-    // first part): --wait fails, naming a task and its log, and the later
+    // Tasks that crash (the fault-injection hook aborts each task once its
+    // first chunk is complete): --wait fails, naming a task and its log, and the later
     // stages never run.
     let failing = out.path().join("failing");
     let bad = submit(&failing, &[(FAULT_ENV, "1")]);

@@ -9,7 +9,7 @@ use std::path::Path;
 use rocking::ida::{ImGrid, Spacing};
 use rocking::physics::{simulate, Excitation, Model, RunSpec};
 use rocking::pipeline;
-use rocking::stages::sweep::{read_capacities, read_ida, FAULT_ENV};
+use rocking::stages::sweep::{read_capacities, read_ida, FAULT_ENV, HOLD_ENV};
 
 use crate::util::{direct_capacity, rocking, root, stderr, tempdir, write_pipeline, TempDir};
 
@@ -206,33 +206,19 @@ fn a_killed_sweep_resumes_to_the_same_tables() {
     let ref_pipe = write_pipeline(reference.path(), "r", THREE_CHUNKS);
     assert!(sweep(&reference, &ref_pipe, &[]).status.success());
 
-    // Crash (abort) right after the first chunk is saved.
-    let out_dir = dir.path().join("out");
-    let crashed = std::process::Command::new(env!("CARGO_BIN_EXE_rocking"))
-        .args([
-            "sweep",
-            pipe.to_str().unwrap(),
-            "--outputs",
-            out_dir.to_str().unwrap(),
-        ])
-        .env(FAULT_ENV, "1")
-        .current_dir(dir.path())
-        .output()
-        .unwrap();
+    // Crash (abort) right after the first chunk is saved (each chunk saved
+    // as it completes).
+    let crashed = crash(&dir, &pipe, &[(FAULT_ENV, "1"), (HOLD_ENV, "0")]);
     assert!(!crashed.status.success());
-    let folder = out_dir.join("r");
+    let folder = dir.path().join("out/r");
     assert!(
         !folder.join("capacities.parquet").exists(),
         "no final table after a crash"
     );
-    let parts: Vec<_> = fs::read_dir(folder.join("parts"))
-        .unwrap()
-        .map(|e| e.unwrap().file_name())
-        .collect();
     assert_eq!(
-        parts.len(),
-        2,
-        "one whole chunk (two files), nothing half-written: {parts:?}"
+        part_files(&folder),
+        ["cap-000000.parquet", "ida-000000.parquet"],
+        "one whole chunk (two files), nothing half-written"
     );
     // The final tables are written as the chunks come in, to temporary
     // files that only a completed sweep renames into place.
@@ -261,6 +247,83 @@ fn a_killed_sweep_resumes_to_the_same_tables() {
         "the killed run's temporaries are removed: {:?}",
         temporaries(&folder)
     );
+}
+
+/// `rocking sweep` of `pipe` into `dir/out`, with `env` set.
+fn crash(dir: &TempDir, pipe: &Path, env: &[(&str, &str)]) -> std::process::Output {
+    let out_dir = dir.path().join("out");
+    std::process::Command::new(env!("CARGO_BIN_EXE_rocking"))
+        .args([
+            "sweep",
+            pipe.to_str().unwrap(),
+            "--outputs",
+            out_dir.to_str().unwrap(),
+        ])
+        .envs(env.iter().copied())
+        .current_dir(dir.path())
+        .output()
+        .unwrap()
+}
+
+/// The files under `folder/parts`, sorted (none if there is no such folder).
+fn part_files(folder: &Path) -> Vec<String> {
+    let mut names: Vec<String> = match fs::read_dir(folder.join("parts")) {
+        Ok(entries) => entries
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect(),
+        Err(_) => Vec::new(),
+    };
+    names.sort();
+    names
+}
+
+/// A sweep holds the chunks it completes in its first seconds instead of
+/// saving them as parts (a short sweep is quicker to redo than to
+/// checkpoint), then saves the held ones, in order, with the chunk that
+/// makes saving due. A crash loses the held chunks only, and the rerun
+/// gives the uninterrupted sweep's tables to the byte either way.
+#[test]
+fn held_chunks_are_saved_in_order_once_due_and_a_crash_loses_only_them() {
+    let reference = tempdir();
+    let ref_pipe = write_pipeline(reference.path(), "r", THREE_CHUNKS);
+    assert!(sweep(&reference, &ref_pipe, &[]).status.success());
+    let same_tables = |folder: &Path| {
+        for table in ["ida_points.parquet", "capacities.parquet"] {
+            let a = fs::read(folder.join(table)).unwrap();
+            let b = fs::read(reference.path().join("out/r").join(table)).unwrap();
+            assert!(a == b, "{table} differs after resuming");
+        }
+    };
+    // Crashed once two chunks are complete: by default (this sweep takes a
+    // fraction of a second, against `CHECKPOINT_AFTER`'s 10 s) and with two
+    // chunks held, nothing is saved yet and the rerun does it all; with one
+    // held, it is saved with the second, both whole.
+    for (hold, saved, resumed) in [
+        (None, vec![], 0),
+        (Some("2"), vec![], 0),
+        (Some("1"), vec![0, 1], 64),
+    ] {
+        let dir = tempdir();
+        let pipe = write_pipeline(dir.path(), "r", THREE_CHUNKS);
+        let mut env = vec![(FAULT_ENV, "2")];
+        env.extend(hold.map(|h| (HOLD_ENV, h)));
+        let crashed = crash(&dir, &pipe, &env);
+        assert!(!crashed.status.success(), "{hold:?}");
+        let folder = dir.path().join("out/r");
+        let expected: Vec<String> = ["cap", "ida"]
+            .iter()
+            .flat_map(|k| saved.iter().map(move |c| format!("{k}-{c:06}.parquet")))
+            .collect();
+        assert_eq!(part_files(&folder), expected, "{hold:?}");
+        let rerun = sweep(&dir, &pipe, &[]);
+        assert!(rerun.status.success(), "{}", stderr(&rerun));
+        let text = String::from_utf8_lossy(&rerun.stdout);
+        assert!(
+            text.contains(&format!("({resumed} resumed from an earlier run)")),
+            "{hold:?}: {text}"
+        );
+        same_tables(&folder);
+    }
 }
 
 /// The hidden temporary files in `dir` (`.NAME.tmp-PID`).

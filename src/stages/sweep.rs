@@ -4,10 +4,12 @@
 //! Cases are numbered in a fixed order (records by id, then blocks in plan
 //! order) and grouped into chunks of [`CHUNK_CASES`]. Workers (rayon) take
 //! the cases in order from one counter; a writer thread gathers each chunk's
-//! results in case order and saves them as two part files under `parts/`,
-//! stamped with the plan's hash and the chunk's index, in chunk order, as
-//! soon as the chunk and every one before it are complete. No worker waits
-//! for a chunk's slowest case or for a write. So:
+//! results in case order and adds them to the final tables, in chunk order,
+//! as soon as the chunk and every one before it are complete. From
+//! [`CHECKPOINT_AFTER`] into the sweep on, it also saves each such chunk as
+//! two part files under `parts/`, stamped with the plan's hash and the
+//! chunk's index (the chunks completed before are held and saved then). No
+//! worker waits for a chunk's slowest case or for a write. So:
 //!
 //! - **resume**: a rerun reuses a part only if its hash is current *and* its
 //!   content is that chunk's (its case ids, one capacity per case, the runs
@@ -17,11 +19,12 @@
 //! - **sharding**: `--shard K/N` computes the chunks with index ≡ K−1 (mod N)
 //!   and writes `*.shard-K-of-N.parquet`; [`dataset`] reads the N shards as
 //!   one table, and refuses a folder that mixes shards and unsharded tables;
-//! - **bounded memory**: only the chunks not yet saved are held (those from
-//!   the oldest unfinished case on); the final tables are written as the
-//!   chunks are saved, in chunk order (a resumed chunk read back from its
-//!   parts), to temporary files that become the tables once the last chunk
-//!   is in, so nothing is left to assemble at the end.
+//! - **bounded memory**: only the chunks not yet complete are held (those
+//!   from the oldest unfinished case on), and the completed ones not yet
+//!   saved as parts (at most [`MAX_HELD_ROWS`] IDA rows); the final tables
+//!   are written as the chunks complete, in chunk order (a resumed chunk
+//!   read back from its parts), to temporary files that become the tables
+//!   once the last chunk is in, so nothing is left to assemble at the end.
 
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::fs;
@@ -78,8 +81,27 @@ impl SweepMeta {
 }
 
 /// Environment variable for fault-injection tests: abort the process (as a
-/// crash would) after writing this many chunks.
+/// crash would) once this many chunks are complete (and those due saved).
 pub const FAULT_ENV: &str = "ROCKING_FAULT_AFTER_CHUNKS";
+
+/// How long a sweep runs before it saves its first parts. Saving a chunk
+/// (two Parquet files created, encoded, synced and renamed, then deleted at
+/// the end) costs the writer thread about 2 ms of CPU, taken from the
+/// workers on a machine with as many cores as workers: saving all 165 of
+/// the paper sweep's chunks made it 3 % slower (docs/BENCHMARKS.md), and a
+/// sweep shorter than this is quicker to redo than to save. From then on
+/// every chunk is saved as it completes, those held first, so a crash
+/// loses at most this much work.
+pub const CHECKPOINT_AFTER: std::time::Duration = std::time::Duration::from_secs(10);
+
+/// The most IDA rows held unsaved (about 130 MB as Arrow arrays): a sweep
+/// that completes this many before [`CHECKPOINT_AFTER`] saves them then.
+pub const MAX_HELD_ROWS: usize = 1_000_000;
+
+/// Environment variable for tests: hold exactly this many first chunks
+/// (instead of [`CHECKPOINT_AFTER`]'s worth) before saving any; `0` saves
+/// every chunk as it completes.
+pub const HOLD_ENV: &str = "ROCKING_HOLD_CHUNKS";
 
 /// The sweep stage.
 pub struct Sweep;
@@ -288,14 +310,14 @@ struct Tally {
     intervals: u64,
 }
 
-/// Gathers finished cases into their chunks and saves the chunks' parts
-/// in chunk order, each as soon as it and every chunk before it are
-/// complete: the saved parts are always the first chunks of the sweep (as
-/// a crash leaves them, and as fault injection counts them), and a slow
-/// case holds back only the writes, not the workers. Each chunk also goes
-/// on, in order, into the final tables (a resumed chunk from its parts),
-/// which are committed once the last chunk is in: the sweep's end has no
-/// tables left to assemble.
+/// Gathers finished cases into their chunks and adds each chunk, in order,
+/// to the final tables as soon as it and every chunk before it are
+/// complete (a resumed chunk from its parts); the tables are committed once
+/// the last chunk is in, so the sweep's end has no tables left to assemble.
+/// A slow case holds back only the writes, not the workers. The completed
+/// chunks are saved as parts, in order, once [`Hold`] allows (those held
+/// first): the saved parts are always the first chunks of the sweep (as a
+/// crash leaves them, and as fault injection counts them).
 struct ChunkWriter<'a, R> {
     prep: &'a Prepared,
     plan: &'a Plan,
@@ -312,8 +334,41 @@ struct ChunkWriter<'a, R> {
     cap: tables::Appender<CapacityRow>,
     /// Chunks with some cases in, by index: each case's result in its slot.
     pending: BTreeMap<usize, Vec<Option<CaseResult>>>,
-    written: usize,
+    /// When the completed chunks start being saved as parts.
+    hold: Hold,
+    /// Chunks complete but not saved yet, in order, with their IDA rows.
+    held: Vec<Held>,
+    held_rows: usize,
+    /// Chunks this run completed.
+    completed: usize,
     tally: Tally,
+}
+
+/// A completed chunk's rows, as added to the final tables.
+struct Held {
+    chunk: usize,
+    ida: tables::Batches<IdaRow>,
+    cap: tables::Batches<CapacityRow>,
+}
+
+/// When a sweep starts saving the chunks it completes as parts.
+#[derive(Debug, Clone, Copy)]
+enum Hold {
+    /// At this instant, or once [`MAX_HELD_ROWS`] IDA rows are held.
+    Until(Instant),
+    /// Once more than this many chunks are complete ([`HOLD_ENV`]).
+    Chunks(usize),
+}
+
+impl Hold {
+    /// Whether the held chunks are saved now, with `completed` chunks
+    /// complete and `held_rows` IDA rows held.
+    fn due(self, completed: usize, held_rows: usize, now: Instant) -> bool {
+        match self {
+            Hold::Until(t) => held_rows >= MAX_HELD_ROWS || now >= t,
+            Hold::Chunks(n) => completed > n,
+        }
+    }
 }
 
 impl<R: Fn(&Tally)> ChunkWriter<'_, R> {
@@ -367,7 +422,9 @@ impl<R: Fn(&Tally)> ChunkWriter<'_, R> {
         Ok(self.tally)
     }
 
-    /// Saves chunk `c`'s two parts from its cases' results, in case order.
+    /// Adds chunk `c`, from its cases' results in case order, to the final
+    /// tables, and saves it as parts with the chunks held before it once
+    /// [`Hold`] allows.
     fn save(
         &mut self,
         c: usize,
@@ -382,16 +439,26 @@ impl<R: Fn(&Tally)> ChunkWriter<'_, R> {
             ida_rows.extend(r.ida);
             cap_rows.push(r.capacity);
         }
-        let (ida_part, cap_part) = part_paths(self.parts, c);
-        let meta = self.prep.metadata(self.plan, Some(c), None);
-        tables::write(&ida_part, &ida_rows, &meta)?;
-        tables::write(&cap_part, &cap_rows, &meta)?;
-        self.ida.rows_as_read(&ida_rows)?;
-        self.cap.rows_as_read(&cap_rows)?;
-        self.written += 1;
+        let ida = self.ida.rows_as_read(&ida_rows)?;
+        let cap = self.cap.rows_as_read(&cap_rows)?;
+        self.held_rows += ida.rows();
+        self.held.push(Held { chunk: c, ida, cap });
+        self.completed += 1;
+        if self
+            .hold
+            .due(self.completed, self.held_rows, Instant::now())
+        {
+            for h in self.held.drain(..) {
+                let (ida_part, cap_part) = part_paths(self.parts, h.chunk);
+                let meta = self.prep.metadata(self.plan, Some(h.chunk), None);
+                tables::write_batches(&ida_part, &h.ida, &meta)?;
+                tables::write_batches(&cap_part, &h.cap, &meta)?;
+            }
+            self.held_rows = 0;
+        }
         self.tally.cases_done += cap_rows.len();
         (self.report)(&self.tally);
-        if self.fault_after.is_some_and(|n| self.written >= n) {
+        if self.fault_after.is_some_and(|n| self.completed >= n) {
             // Fault injection for the resume tests: die as a crash would.
             std::process::abort();
         }
@@ -426,6 +493,10 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
     let cases_total: usize = mine.iter().map(|&c| prep.chunk_cases(c).len()).sum();
     remove_stale_temporaries(&parts, &mine)?;
     let fault_after: Option<usize> = std::env::var(FAULT_ENV).ok().and_then(|v| v.parse().ok());
+    let hold = match std::env::var(HOLD_ENV).ok().and_then(|v| v.parse().ok()) {
+        Some(n) => Hold::Chunks(n),
+        None => Hold::Until(started + CHECKPOINT_AFTER),
+    };
 
     let mut tally = Tally::default();
     let report = |t: &Tally| {
@@ -495,7 +566,10 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
                     ida: tables::Appender::create(ida_path, &final_meta)?,
                     cap: tables::Appender::create(cap_path, &final_meta)?,
                     pending: BTreeMap::new(),
-                    written: 0,
+                    hold,
+                    held: Vec::new(),
+                    held_rows: 0,
+                    completed: 0,
                     tally,
                 };
                 for (i, result) in rx.iter() {
@@ -938,4 +1012,28 @@ pub fn read_ida(dir: &Path) -> Result<Vec<IdaRow>, DatasetError> {
 /// Runs kinds written by the sweep, for readers that filter grid levels.
 pub fn is_level(r: &IdaRow) -> bool {
     r.run_kind == RunKind::Level
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Duration;
+
+    #[test]
+    fn held_chunks_are_due_at_the_instant_or_the_row_limit_or_past_the_count() {
+        let t0 = Instant::now();
+        let until = Hold::Until(t0 + Duration::from_secs(10));
+        // Before the instant, only the row limit makes saving due.
+        assert!(!until.due(500, MAX_HELD_ROWS - 1, t0));
+        assert!(until.due(1, MAX_HELD_ROWS, t0));
+        // From the instant on, whatever is held.
+        assert!(until.due(1, 0, t0 + Duration::from_secs(10)));
+        assert!(!until.due(1, 0, t0 + Duration::from_millis(9_999)));
+        // Holding two chunks: the third is the first saved, with both.
+        let two = Hold::Chunks(2);
+        assert!(!two.due(1, MAX_HELD_ROWS, t0));
+        assert!(!two.due(2, 0, t0));
+        assert!(two.due(3, 0, t0));
+        assert!(Hold::Chunks(0).due(1, 0, t0));
+    }
 }

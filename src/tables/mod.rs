@@ -115,6 +115,32 @@ pub trait Table: Sized {
     fn from_batch(batch: &RecordBatch, path: &Path) -> Result<Vec<Self>, TableError>;
 }
 
+/// Rows of a `T` table converted to Arrow batches by
+/// [`Appender::rows_as_read`], to be written again as they are.
+pub struct Batches<T> {
+    batches: Vec<RecordBatch>,
+    rows: usize,
+    kind: std::marker::PhantomData<fn(&T)>,
+}
+
+impl<T> Batches<T> {
+    /// How many rows they hold.
+    pub fn rows(&self) -> usize {
+        self.rows
+    }
+}
+
+/// Writes `batches` to `dest` atomically, with `settings` in the metadata.
+pub fn write_batches<T: Table>(
+    dest: &Path,
+    batches: &Batches<T>,
+    settings: &[(String, String)],
+) -> Result<(), TableError> {
+    let mut w = Appender::<T>::create(dest, settings)?;
+    w.append(batches)?;
+    w.commit()
+}
+
 /// Writes `rows` to `dest` atomically, with `settings` in the metadata.
 pub fn write<T: Table>(
     dest: &Path,
@@ -155,9 +181,24 @@ impl<T: Table> Appender<T> {
     /// holds just them (in batches of [`READ_BATCH_ROWS`]): the Parquet
     /// writer's pages follow its input's batches, so a table assembled from
     /// such pieces is the same to the byte whether each came from memory
-    /// or from a file.
-    pub fn rows_as_read(&mut self, rows: &[T]) -> Result<(), TableError> {
-        self.batches(rows, READ_BATCH_ROWS)
+    /// or from a file. Returns the batches, to write `rows` elsewhere too
+    /// ([`write_batches`]) without converting them again.
+    pub fn rows_as_read(&mut self, rows: &[T]) -> Result<Batches<T>, TableError> {
+        let batches = rows
+            .chunks(READ_BATCH_ROWS)
+            .map(T::to_batch)
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|source| TableError::Arrow {
+                path: self.dest.clone(),
+                source,
+            })?;
+        let batches = Batches {
+            batches,
+            rows: rows.len(),
+            kind: std::marker::PhantomData,
+        };
+        self.append(&batches)?;
+        Ok(batches)
     }
 
     /// Appends `rows` in batches of `per` rows.
@@ -168,6 +209,14 @@ impl<T: Table> Appender<T> {
                 source,
             })?;
             self.w.write(&batch)?;
+        }
+        Ok(())
+    }
+
+    /// Appends rows already converted.
+    pub fn append(&mut self, batches: &Batches<T>) -> Result<(), TableError> {
+        for batch in &batches.batches {
+            self.w.write(batch)?;
         }
         Ok(())
     }
