@@ -437,6 +437,9 @@ pub struct CallSummary {
     pub records: usize,
     /// Median over the records of their medians (ms).
     pub median_ms: f64,
+    /// Mean of the records' medians (ms): one call per record, in all,
+    /// divided by the number of records.
+    pub mean_ms: f64,
     pub fastest_ms: f64,
     pub slowest_ms: f64,
     pub slowest_record: String,
@@ -454,6 +457,7 @@ pub fn summarise_calls(per_record: &[(String, f64)]) -> Option<CallSummary> {
     Some(CallSummary {
         records: ms.len(),
         median_ms: bench::median(&mut ms),
+        mean_ms: ms.iter().sum::<f64>() / ms.len() as f64,
         fastest_ms: ms.iter().copied().fold(f64::INFINITY, f64::min),
         slowest_ms,
         slowest_record,
@@ -568,16 +572,17 @@ fn calls_table(args: &BenchOptions, say: &mut impl FnMut(&str)) -> Result<String
     );
     let _ = writeln!(
         s,
-        "| p (1/s) | records | median over the records | fastest | slowest | within {CALL_TARGET_MS} ms |"
+        "| p (1/s) | records | median over the records | mean | fastest | slowest | within {CALL_TARGET_MS} ms |"
     );
-    let _ = writeln!(s, "|---:|---:|---:|---:|---|---:|");
+    let _ = writeln!(s, "|---:|---:|---:|---:|---:|---|---:|");
     for (p, rows) in ps.iter().zip(&per_p) {
         if let Some(c) = summarise_calls(rows) {
             let _ = writeln!(
                 s,
-                "| {p} | {} | {:.2} ms | {:.2} ms | {:.2} ms ({}) | {} of {} |",
+                "| {p} | {} | {:.2} ms | {:.2} ms | {:.2} ms | {:.2} ms ({}) | {} of {} |",
                 c.records,
                 c.median_ms,
+                c.mean_ms,
                 c.fastest_ms,
                 c.slowest_ms,
                 c.slowest_record,
@@ -755,6 +760,8 @@ mod tests {
         assert_eq!(c.records, 4);
         // The median of an even count is the mean of the middle two.
         assert_eq!(c.median_ms, 2.5);
+        // (2 + 3 + 3.5 + 1) / 4, exact in binary.
+        assert_eq!(c.mean_ms, 2.375);
         assert_eq!((c.fastest_ms, c.slowest_ms), (1.0, 3.5));
         assert_eq!(c.slowest_record, "c");
         // 3 ms exactly is within the target.
