@@ -89,9 +89,10 @@ pub const FAULT_ENV: &str = "ROCKING_FAULT_AFTER_CHUNKS";
 /// the end) costs the writer thread about 2 ms of CPU, taken from the
 /// workers on a machine with as many cores as workers: saving all 165 of
 /// the paper sweep's chunks made it 3 % slower (docs/BENCHMARKS.md), and a
-/// sweep shorter than this is quicker to redo than to save. From then on
-/// every chunk is saved as it completes, those held first, so a crash
-/// loses at most this much work.
+/// sweep shorter than this is quicker to redo than to save. The chunks
+/// completed before are saved at the first case's result after it, and
+/// from then on every chunk as it completes: beyond the unfinished chunks,
+/// which a crash always loses, it loses at most this much work.
 pub const CHECKPOINT_AFTER: std::time::Duration = std::time::Duration::from_secs(10);
 
 /// The most IDA rows held unsaved (about 130 MB as Arrow arrays): a sweep
@@ -315,14 +316,15 @@ struct Tally {
 /// complete (a resumed chunk from its parts); the tables are committed once
 /// the last chunk is in, so the sweep's end has no tables left to assemble.
 /// A slow case holds back only the writes, not the workers. The completed
-/// chunks are saved as parts, in order, once [`Hold`] allows (those held
-/// first): the saved parts are always the first chunks of the sweep (as a
-/// crash leaves them, and as fault injection counts them).
+/// chunks are saved as parts, in order, once [`Hold`] allows (checked at
+/// every case's result; those held first): the saved parts are always the
+/// first chunks of the sweep, as a crash leaves them.
 struct ChunkWriter<'a, R> {
     prep: &'a Prepared,
     plan: &'a Plan,
     parts: &'a Path,
-    /// Fault injection: abort after saving this many chunks.
+    /// Fault injection: abort once this many chunks are complete (and
+    /// those due saved).
     fault_after: Option<usize>,
     report: &'a R,
     /// The chunks still to add to the final tables, in order.
@@ -372,7 +374,9 @@ impl Hold {
 }
 
 impl<R: Fn(&Tally)> ChunkWriter<'_, R> {
-    /// Takes one case's result, and saves the chunks it completes.
+    /// Takes one case's result, adds the chunks it completes to the final
+    /// tables, and saves the held chunks as parts if that is due (also
+    /// while a slow case holds the next chunk back).
     fn take(&mut self, case: usize, result: CaseResult) -> Result<(), SweepError> {
         let c = case / CHUNK_CASES;
         let range = self.prep.chunk_cases(c);
@@ -380,11 +384,32 @@ impl<R: Fn(&Tally)> ChunkWriter<'_, R> {
             .entry(c)
             .or_insert_with(|| range.clone().map(|_| None).collect())[case - range.start] =
             Some(result);
-        self.flush()
+        self.flush()?;
+        self.checkpoint()
+    }
+
+    /// Saves the held chunks as parts, in order, if [`Hold`] says so.
+    fn checkpoint(&mut self) -> Result<(), SweepError> {
+        if self.held.is_empty()
+            || !self
+                .hold
+                .due(self.completed, self.held_rows, Instant::now())
+        {
+            return Ok(());
+        }
+        for h in self.held.drain(..) {
+            let (ida_part, cap_part) = part_paths(self.parts, h.chunk);
+            let meta = self.prep.metadata(self.plan, Some(h.chunk), None);
+            tables::write_batches(&ida_part, &h.ida, &meta)?;
+            tables::write_batches(&cap_part, &h.cap, &meta)?;
+        }
+        self.held_rows = 0;
+        Ok(())
     }
 
     /// Adds the chunks at the front of the order that are complete (or
-    /// were resumed) to the final tables, saving the new ones' parts.
+    /// were resumed) to the final tables, holding the new ones to be saved
+    /// as parts.
     fn flush(&mut self) -> Result<(), SweepError> {
         while let Some(&c) = self.order.front() {
             if self.resumed.contains(&c) {
@@ -424,7 +449,7 @@ impl<R: Fn(&Tally)> ChunkWriter<'_, R> {
 
     /// Adds chunk `c`, from its cases' results in case order, to the final
     /// tables, and saves it as parts with the chunks held before it once
-    /// [`Hold`] allows.
+    /// [`Hold`] allows; else holds it.
     fn save(
         &mut self,
         c: usize,
@@ -444,18 +469,7 @@ impl<R: Fn(&Tally)> ChunkWriter<'_, R> {
         self.held_rows += ida.rows();
         self.held.push(Held { chunk: c, ida, cap });
         self.completed += 1;
-        if self
-            .hold
-            .due(self.completed, self.held_rows, Instant::now())
-        {
-            for h in self.held.drain(..) {
-                let (ida_part, cap_part) = part_paths(self.parts, h.chunk);
-                let meta = self.prep.metadata(self.plan, Some(h.chunk), None);
-                tables::write_batches(&ida_part, &h.ida, &meta)?;
-                tables::write_batches(&cap_part, &h.cap, &meta)?;
-            }
-            self.held_rows = 0;
-        }
+        self.checkpoint()?;
         self.tally.cases_done += cap_rows.len();
         (self.report)(&self.tally);
         if self.fault_after.is_some_and(|n| self.completed >= n) {
@@ -543,9 +557,9 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
         temporary_of(name).is_some_and(|(t, _pid)| t == ida_name || t == cap_name)
     })?;
     // Workers take cases in order from one counter and hand each result to
-    // a writer thread, which saves a chunk's parts as soon as its last case
-    // is in, and adds it to the final tables: no worker waits for a chunk's
-    // slowest case or for the writes.
+    // a writer thread, which adds a chunk to the final tables as soon as its
+    // last case is in (and saves it as parts once `hold` says so): no worker
+    // waits for a chunk's slowest case or for the writes.
     let next = AtomicUsize::new(0);
     let stop = AtomicBool::new(false);
     let (tx, rx) = mpsc::channel::<(usize, Result<CaseResult, SweepError>)>();

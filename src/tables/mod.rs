@@ -186,12 +186,8 @@ impl<T: Table> Appender<T> {
     pub fn rows_as_read(&mut self, rows: &[T]) -> Result<Batches<T>, TableError> {
         let batches = rows
             .chunks(READ_BATCH_ROWS)
-            .map(T::to_batch)
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(|source| TableError::Arrow {
-                path: self.dest.clone(),
-                source,
-            })?;
+            .map(|chunk| self.convert(chunk))
+            .collect::<Result<Vec<_>, _>>()?;
         let batches = Batches {
             batches,
             rows: rows.len(),
@@ -204,13 +200,18 @@ impl<T: Table> Appender<T> {
     /// Appends `rows` in batches of `per` rows.
     fn batches(&mut self, rows: &[T], per: usize) -> Result<(), TableError> {
         for chunk in rows.chunks(per) {
-            let batch = T::to_batch(chunk).map_err(|source| TableError::Arrow {
-                path: self.dest.clone(),
-                source,
-            })?;
+            let batch = self.convert(chunk)?;
             self.w.write(&batch)?;
         }
         Ok(())
+    }
+
+    /// `rows` as one Arrow batch; an error names this table's file.
+    fn convert(&self, rows: &[T]) -> Result<RecordBatch, TableError> {
+        T::to_batch(rows).map_err(|source| TableError::Arrow {
+            path: self.dest.clone(),
+            source,
+        })
     }
 
     /// Appends rows already converted.
