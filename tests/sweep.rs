@@ -233,11 +233,7 @@ fn a_killed_sweep_resumes_to_the_same_tables() {
     assert!(resumed.status.success(), "{}", stderr(&resumed));
     let text = String::from_utf8_lossy(&resumed.stdout);
     assert!(text.contains("(32 resumed from an earlier run)"), "{text}");
-    for table in ["ida_points.parquet", "capacities.parquet"] {
-        let a = fs::read(folder.join(table)).unwrap();
-        let b = fs::read(reference.path().join("out/r").join(table)).unwrap();
-        assert!(a == b, "{table} differs after resuming");
-    }
+    assert_same_tables(&folder, &reference.path().join("out/r"));
     assert!(
         !folder.join("parts").exists(),
         "parts are cleaned up once the tables are in place"
@@ -265,16 +261,32 @@ fn crash(dir: &TempDir, pipe: &Path, env: &[(&str, &str)]) -> std::process::Outp
         .unwrap()
 }
 
-/// The files under `folder/parts`, sorted (none if there is no such folder).
-fn part_files(folder: &Path) -> Vec<String> {
-    let mut names: Vec<String> = match fs::read_dir(folder.join("parts")) {
+/// Both sweep tables in `folder` equal those in `reference` to the byte.
+fn assert_same_tables(folder: &Path, reference: &Path) {
+    for table in ["ida_points.parquet", "capacities.parquet"] {
+        let a = fs::read(folder.join(table)).unwrap();
+        let b = fs::read(reference.join(table)).unwrap();
+        assert!(a == b, "{table} differs after resuming");
+    }
+}
+
+/// The names in `dir` that `keep` accepts, sorted (none if there is no
+/// such folder).
+fn file_names(dir: &Path, keep: impl Fn(&str) -> bool) -> Vec<String> {
+    let mut names: Vec<String> = match fs::read_dir(dir) {
         Ok(entries) => entries
             .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| keep(n))
             .collect(),
         Err(_) => Vec::new(),
     };
     names.sort();
     names
+}
+
+/// The files under `folder/parts`.
+fn part_files(folder: &Path) -> Vec<String> {
+    file_names(&folder.join("parts"), |_| true)
 }
 
 /// A sweep holds the chunks it completes in its first seconds instead of
@@ -287,13 +299,6 @@ fn held_chunks_are_saved_in_order_once_due_and_a_crash_loses_only_them() {
     let reference = tempdir();
     let ref_pipe = write_pipeline(reference.path(), "r", THREE_CHUNKS);
     assert!(sweep(&reference, &ref_pipe, &[]).status.success());
-    let same_tables = |folder: &Path| {
-        for table in ["ida_points.parquet", "capacities.parquet"] {
-            let a = fs::read(folder.join(table)).unwrap();
-            let b = fs::read(reference.path().join("out/r").join(table)).unwrap();
-            assert!(a == b, "{table} differs after resuming");
-        }
-    };
     // Crashed once two chunks are complete: by default (this sweep takes a
     // fraction of a second, against `CHECKPOINT_AFTER`'s 10 s) and with two
     // chunks held, nothing is saved yet and the rerun does it all; with one
@@ -322,19 +327,13 @@ fn held_chunks_are_saved_in_order_once_due_and_a_crash_loses_only_them() {
             text.contains(&format!("({resumed} resumed from an earlier run)")),
             "{hold:?}: {text}"
         );
-        same_tables(&folder);
+        assert_same_tables(&folder, &reference.path().join("out/r"));
     }
 }
 
 /// The hidden temporary files in `dir` (`.NAME.tmp-PID`).
 fn temporaries(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| n.starts_with('.') && n.contains(".tmp-"))
-        .collect();
-    names.sort();
-    names
+    file_names(dir, |n| n.starts_with('.') && n.contains(".tmp-"))
 }
 
 #[test]

@@ -338,9 +338,8 @@ struct ChunkWriter<'a, R> {
     pending: BTreeMap<usize, Vec<Option<CaseResult>>>,
     /// When the completed chunks start being saved as parts.
     hold: Hold,
-    /// Chunks complete but not saved yet, in order, with their IDA rows.
+    /// Chunks complete but not saved yet, in order.
     held: Vec<Held>,
-    held_rows: usize,
     /// Chunks this run completed.
     completed: usize,
     tally: Tally,
@@ -390,11 +389,8 @@ impl<R: Fn(&Tally)> ChunkWriter<'_, R> {
 
     /// Saves the held chunks as parts, in order, if [`Hold`] says so.
     fn checkpoint(&mut self) -> Result<(), SweepError> {
-        if self.held.is_empty()
-            || !self
-                .hold
-                .due(self.completed, self.held_rows, Instant::now())
-        {
+        let held_rows = self.held.iter().map(|h| h.ida.rows()).sum();
+        if self.held.is_empty() || !self.hold.due(self.completed, held_rows, Instant::now()) {
             return Ok(());
         }
         for h in self.held.drain(..) {
@@ -403,7 +399,6 @@ impl<R: Fn(&Tally)> ChunkWriter<'_, R> {
             tables::write_batches(&ida_part, &h.ida, &meta)?;
             tables::write_batches(&cap_part, &h.cap, &meta)?;
         }
-        self.held_rows = 0;
         Ok(())
     }
 
@@ -466,7 +461,6 @@ impl<R: Fn(&Tally)> ChunkWriter<'_, R> {
         }
         let ida = self.ida.rows_as_read(&ida_rows)?;
         let cap = self.cap.rows_as_read(&cap_rows)?;
-        self.held_rows += ida.rows();
         self.held.push(Held { chunk: c, ida, cap });
         self.completed += 1;
         self.checkpoint()?;
@@ -582,7 +576,6 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
                     pending: BTreeMap::new(),
                     hold,
                     held: Vec::new(),
-                    held_rows: 0,
                     completed: 0,
                     tally,
                 };

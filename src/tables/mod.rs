@@ -119,14 +119,13 @@ pub trait Table: Sized {
 /// [`Appender::rows_as_read`], to be written again as they are.
 pub struct Batches<T> {
     batches: Vec<RecordBatch>,
-    rows: usize,
     kind: std::marker::PhantomData<fn(&T)>,
 }
 
 impl<T> Batches<T> {
     /// How many rows they hold.
     pub fn rows(&self) -> usize {
-        self.rows
+        self.batches.iter().map(RecordBatch::num_rows).sum()
     }
 }
 
@@ -190,7 +189,6 @@ impl<T: Table> Appender<T> {
             .collect::<Result<Vec<_>, _>>()?;
         let batches = Batches {
             batches,
-            rows: rows.len(),
             kind: std::marker::PhantomData,
         };
         self.append(&batches)?;
