@@ -113,7 +113,7 @@ pub struct PulseArgs {
     #[arg(long, value_name = "β", requires = "pulse")]
     pub beta: Option<f64>,
     /// One lobe (half) or the lobe followed by its negative (full).
-    #[arg(long, value_enum, default_value = "half")]
+    #[arg(long, value_enum, default_value_t = CycleArg::Half)]
     pub cycle: CycleArg,
 }
 
@@ -144,6 +144,11 @@ impl PulseArgs {
     }
 }
 
+/// A pulse's lobe duration when none is given (s).
+const TD_S: f64 = 1.0;
+/// `--auto-tol` when none is given.
+const AUTO_TOL: f64 = 0.01;
+
 /// One record (or pulse) and one block, for `simulate` and `capacity`.
 #[derive(Debug, clap::Args)]
 #[command(allow_negative_numbers = true)]
@@ -159,7 +164,7 @@ pub struct BlockArgs {
     #[command(flatten)]
     pub pulse: PulseArgs,
     /// The pulse's lobe duration t_d (s); f = p·t_d.
-    #[arg(long, value_name = "s", default_value_t = 1.0, requires = "pulse")]
+    #[arg(long, value_name = "s", default_value_t = TD_S, requires = "pulse")]
     pub td: f64,
     /// Frequency parameter p = sqrt(3g/(4R)) of the block (1/s).
     #[arg(long, value_name = "1/s")]
@@ -168,7 +173,7 @@ pub struct BlockArgs {
     #[arg(long, value_name = "ε")]
     pub eps: f64,
     /// Equation of motion.
-    #[arg(long, value_enum, default_value = "linearized")]
+    #[arg(long, value_enum, default_value_t = ModelArg::Linearized)]
     pub model: ModelArg,
     /// Slenderness α = atan(b/h) of the block (rad), for the nonlinear model.
     #[arg(long, value_name = "rad")]
@@ -178,11 +183,11 @@ pub struct BlockArgs {
     #[arg(long, default_value_t = rocking::physics::DEFAULT_RTOL)]
     pub rtol: f64,
     /// For --model auto: the relative error in η_c accepted from the linearisation.
-    #[arg(long, default_value_t = 0.01)]
+    #[arg(long, default_value_t = AUTO_TOL)]
     pub auto_tol: f64,
     /// Overturning criterion: static (|θ| ≥ α), cap:<c> (|θ| ≥ cα), on-side (θ = π/2,
     /// nonlinear), escape (never comes back: θ = π/2 nonlinear; linearised, proven unbounded).
-    #[arg(long, default_value = "static", value_parser = parse_overturn)]
+    #[arg(long, default_value_t = Overturn::Static, value_parser = parse_overturn)]
     pub overturn: Overturn,
     /// Print one JSON object instead of text.
     #[arg(long)]
@@ -204,6 +209,33 @@ impl BlockArgs {
         }
     }
 
+    /// The arguments of a record's block from `flags` without clap
+    /// ([`Flags`]): `None` for a pulse (left to clap), or where a value does
+    /// not parse or a required one is missing (clap then says which).
+    pub fn quick(flags: &mut Flags) -> Option<BlockArgs> {
+        Some(BlockArgs {
+            record: Some(flags.value("record", |v| Some(PathBuf::from(v)))??),
+            pulse: PulseArgs {
+                pulse: None,
+                beta: None,
+                cycle: CycleArg::Half,
+            },
+            td: TD_S,
+            p: flags.value("p", number)??,
+            eps: flags.value("eps", number)??,
+            model: flags.value("model", named)?.unwrap_or(ModelArg::Linearized),
+            alpha: flags.value("alpha", number)?,
+            rtol: flags
+                .value("rtol", number)?
+                .unwrap_or(rocking::physics::DEFAULT_RTOL),
+            auto_tol: flags.value("auto-tol", number)?.unwrap_or(AUTO_TOL),
+            overturn: flags
+                .value("overturn", |v| parse_overturn(v).ok())?
+                .unwrap_or(Overturn::Static),
+            json: flags.switch("json"),
+        })
+    }
+
     /// The run specification at intensity `eta`, and why that model.
     pub fn spec(&self, eta: f64) -> anyhow::Result<(rocking::physics::RunSpec, String)> {
         let (model, why) =
@@ -215,4 +247,89 @@ impl BlockArgs {
         spec.validate()?;
         Ok((spec, why))
     }
+}
+
+/// A command line of `--name value`, `--name=value` and bare `--switch`
+/// arguments, read without clap: for a command scripts call in loops, where
+/// clap's first parse costs about 0.2 ms of cold code. Wherever clap's
+/// reading could differ, the line is left to clap (which gives its help or
+/// its error): [`Flags::scan`] declines an argument that is not a long
+/// option, a value that is empty or starts with `-`, a switch given a value
+/// and text that is not UTF-8; [`Flags::all_taken`] is false for a name the
+/// command does not know or one given twice.
+pub struct Flags {
+    /// Each name, its value (`None` for a switch), and whether it was taken.
+    given: Vec<(String, Option<String>, bool)>,
+}
+
+impl Flags {
+    /// Reads `args` (those after the command's name); `switches` are the
+    /// names that take no value.
+    pub fn scan(
+        args: impl IntoIterator<Item = std::ffi::OsString>,
+        switches: &[&str],
+    ) -> Option<Flags> {
+        let mut args = args.into_iter();
+        let mut given: Vec<(String, Option<String>, bool)> = Vec::new();
+        while let Some(arg) = args.next() {
+            let arg = arg.into_string().ok()?;
+            let long = arg.strip_prefix("--").filter(|n| !n.is_empty())?;
+            let (name, value) = match long.split_once('=') {
+                Some((name, value)) => (name, Some(value.to_string())),
+                None => (long, None),
+            };
+            let value = match (switches.contains(&name), value) {
+                (true, None) => None,
+                (true, Some(_)) => return None,
+                (false, Some(v)) => Some(v),
+                (false, None) => Some(args.next()?.into_string().ok()?),
+            };
+            if value
+                .as_deref()
+                .is_some_and(|v| v.is_empty() || v.starts_with('-'))
+            {
+                return None;
+            }
+            given.push((name.to_string(), value, false));
+        }
+        Some(Flags { given })
+    }
+
+    /// The value of `--name` read by `parse`: `Some(None)` when absent,
+    /// `None` when it does not parse.
+    pub fn value<T>(&mut self, name: &str, parse: impl Fn(&str) -> Option<T>) -> Option<Option<T>> {
+        let Some((_, value, taken)) = self.given.iter_mut().find(|(n, ..)| n == name) else {
+            return Some(None);
+        };
+        *taken = true;
+        parse(value.as_deref()?).map(Some)
+    }
+
+    /// Whether the switch `--name` was given.
+    pub fn switch(&mut self, name: &str) -> bool {
+        match self.given.iter_mut().find(|(n, ..)| n == name) {
+            Some((_, None, taken)) => {
+                *taken = true;
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// Whether every name given was taken: an unknown one, or one given
+    /// twice (only its first is taken), leaves the line to clap.
+    pub fn all_taken(&self) -> bool {
+        self.given.iter().all(|(.., taken)| *taken)
+    }
+}
+
+/// `text` as a number, as clap's parser of `f64` and `usize` reads it.
+pub fn number<T: std::str::FromStr>(text: &str) -> Option<T> {
+    text.parse().ok()
+}
+
+/// `text` as one of `E`'s names, as clap's `ValueEnum` parser reads it
+/// (exact, case-sensitive).
+pub fn named<E: ValueEnum>(text: &str) -> Option<E> {
+    E::from_str(text, false).ok()
 }

@@ -81,6 +81,12 @@ fn quick_command() -> Option<clap::Command> {
 
 /// Parses the command line, runs the command, prints errors with their causes.
 pub fn main() -> ExitCode {
+    let mut argv = std::env::args_os().skip(1);
+    if argv.next().is_some_and(|c| c == "capacity") {
+        if let Some(args) = capacity::Args::quick(argv) {
+            return exit(capacity::run(args));
+        }
+    }
     let matches = quick_command()
         .unwrap_or_else(|| stage::augment(run::describe(Cli::command())))
         .get_matches();
@@ -91,6 +97,11 @@ pub fn main() -> ExitCode {
             Err(e) => e.exit(),
         },
     };
+    exit(result)
+}
+
+/// The exit code of a command's result, its error printed with its causes.
+fn exit(result: anyhow::Result<()>) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
