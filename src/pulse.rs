@@ -478,7 +478,7 @@ mod tests {
             vec![1.0, 1.0, 1.0, 1.0, -1.0, -1.0, -1.0, -1.0, -1.0]
         );
         assert_eq!(
-            exc.psi_end,
+            exc.psi_end(),
             vec![1.0, 1.0, 1.0, 1.0, -1.0, -1.0, -1.0, -1.0]
         );
         assert!(exc.slope.iter().all(|&s| s == 0.0));

@@ -58,26 +58,31 @@ pub enum RecordError {
 
 /// Reads and normalises one AT2 file.
 pub fn load(path: &Path) -> Result<LoadedRecord, RecordError> {
-    let bytes = std::fs::read(path).map_err(|source| RecordError::Read {
+    let read = |source| RecordError::Read {
         path: path.into(),
         source,
-    })?;
+    };
+    let file = std::fs::File::open(path).map_err(read)?;
+    // SAFETY: see the function's doc.
+    let bytes = unsafe { memmap2::Mmap::map(&file) }.map_err(read)?;
     let parsed = at2::parse(&bytes).map_err(|error| RecordError::Parse {
         path: path.into(),
         error,
     })?;
     let pga_g = crate::motion::peak(&parsed.accel_g, parsed.dt_s).map_or(0.0, |p| p.pga_g);
-    let exc =
-        Excitation::new(&parsed.accel_g, parsed.dt_s).map_err(|source| RecordError::Samples {
+    let npts = parsed.accel_g.len();
+    let exc = Excitation::from_samples(parsed.accel_g, parsed.dt_s).map_err(|source| {
+        RecordError::Samples {
             path: path.into(),
             source,
-        })?;
+        }
+    })?;
     Ok(LoadedRecord {
         record_id: path
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default(),
-        npts: parsed.accel_g.len(),
+        npts,
         pga_g,
         exc,
         pulse: None,

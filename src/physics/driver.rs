@@ -395,7 +395,7 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
     #[inline(always)]
     fn interval(&mut self, k: usize) -> Option<Stop> {
         let dt = self.exc.dt_s;
-        let (g0, g_end, g1) = (self.exc.psi[k], self.exc.psi_end[k], self.exc.slope[k]);
+        let (g0, g_end, g1) = (self.exc.psi[k], self.exc.psi_end()[k], self.exc.slope[k]);
         let t_k = k as f64 * dt;
         let mut tau = 0.0;
         // Forcing at `tau`; exactly ±threshold at an uplift instant.

@@ -824,7 +824,7 @@ pub(super) fn cruise_pair(
     let [st_a, st_b] = states;
     let [top_a, top_b] = tops;
     let (psi, slope) = (&exc.psi[..], &exc.slope[..]);
-    let n = slope.len().min(psi.len()).min(exc.psi_end.len());
+    let n = slope.len().min(psi.len()).min(exc.psi_end().len());
     let full = &sa.full;
     let (p, c, s_sigma, s1_sigma, sinh, delta_max) = (
         F2::splat(sa.p),
@@ -892,7 +892,7 @@ impl Stepper for Exact {
         if exc.dt_s != self.full.sigma {
             return k;
         }
-        let (psi, psi_end, slope, s) = (&exc.psi[..], &exc.psi_end[..], &exc.slope[..], state.s);
+        let (psi, psi_end, slope, s) = (&exc.psi[..], exc.psi_end(), &exc.slope[..], state.s);
         let (mut x, mut v, mut top) = (state.x, state.v, *max_abs_x);
         let n = slope.len().min(psi.len()).min(psi_end.len()).min(end);
         while k < n {

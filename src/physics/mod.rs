@@ -182,9 +182,10 @@ pub struct Excitation {
     /// `ψ̈ = ü_g / A_g` just after each sample, peak absolute value exactly
     /// 1 (for a non-zero record).
     pub psi: Vec<f64>,
-    /// `psi_end[k]`: the forcing at the end of interval k (its left limit at
-    /// sample k + 1); one per interval.
-    pub psi_end: Vec<f64>,
+    /// The forcing at the end of each interval where it is not the next
+    /// sample's ([`Excitation::psi_end`]); `None` for a record, whose
+    /// forcing is continuous: `psi` serves for both then.
+    ends: Option<Vec<f64>>,
     /// `suffix_max[k] = max |ψ̈|` over the record from sample k on (both
     /// sides of every later jump).
     pub suffix_max: Vec<f64>,
@@ -204,6 +205,12 @@ impl Excitation {
     /// Normalises `accel_g` by its peak. A record of zeros stays zeros (it
     /// can never lift a block).
     pub fn new(accel_g: &[f64], dt_s: f64) -> Result<Self, PhysicsError> {
+        Excitation::from_samples(accel_g.to_vec(), dt_s)
+    }
+
+    /// [`Excitation::new`], normalising the samples where they are (no
+    /// second array: a record read for one command is used once).
+    pub fn from_samples(mut accel_g: Vec<f64>, dt_s: f64) -> Result<Self, PhysicsError> {
         if !(dt_s > 0.0 && dt_s.is_finite()) {
             return Err(PhysicsError::BadInput(format!(
                 "time step {dt_s} s must be positive"
@@ -218,23 +225,27 @@ impl Excitation {
             )));
         }
         let peak = accel_g.iter().fold(0.0f64, |m, a| m.max(a.abs()));
-        let psi: Vec<f64> = if peak > 0.0 {
-            accel_g.iter().map(|a| a / peak).collect()
-        } else {
-            accel_g.to_vec()
-        };
-        Ok(Excitation::prepared(dt_s, psi))
+        if peak > 0.0 {
+            accel_g.iter_mut().for_each(|a| *a /= peak);
+        }
+        Ok(Excitation::prepared(dt_s, accel_g))
     }
 
     /// The record of normalised samples `psi`, with what runs derive from it.
     fn prepared(dt_s: f64, psi: Vec<f64>) -> Self {
-        let psi_end = psi.get(1..).unwrap_or_default().to_vec();
-        Excitation::pieces(dt_s, psi, psi_end)
+        Excitation::pieces(dt_s, psi, None)
     }
 
     /// A forcing linear on each interval from `psi[k]` to `psi_end[k]`
     /// (`psi` has one value more: the last sample's).
-    fn pieces(dt_s: f64, psi: Vec<f64>, psi_end: Vec<f64>) -> Self {
+    /// `ends` are kept only where they differ from the next samples (to
+    /// the bit).
+    fn pieces(dt_s: f64, psi: Vec<f64>, ends: Option<Vec<f64>>) -> Self {
+        let next = psi.get(1..).unwrap_or_default();
+        let ends = ends.filter(|e| {
+            e.len() != next.len() || e.iter().zip(next).any(|(a, b)| a.to_bits() != b.to_bits())
+        });
+        let psi_end = ends.as_deref().unwrap_or(next);
         debug_assert_eq!(psi_end.len() + 1, psi.len().max(1));
         let mut suffix_max = vec![0.0; psi.len()];
         let mut m = 0.0f64;
@@ -247,7 +258,7 @@ impl Excitation {
         }
         let slope = psi
             .iter()
-            .zip(&psi_end)
+            .zip(psi_end)
             .map(|(a, b)| (b - a) / dt_s)
             .collect();
         let quiet = psi_end
@@ -258,7 +269,7 @@ impl Excitation {
         Excitation {
             dt_s,
             psi,
-            psi_end,
+            ends,
             suffix_max,
             slope,
             quiet,
@@ -274,8 +285,8 @@ impl Excitation {
     /// their maximum.
     #[inline(always)]
     pub fn quiet_until(&self, mut k: usize, thr: f64) -> usize {
-        let n = self.psi_end.len();
-        let (psi, psi_end, suffix) = (&self.psi[..], &self.psi_end[..], &self.suffix_max[..]);
+        let (psi, psi_end, suffix) = (&self.psi[..], self.psi_end(), &self.suffix_max[..]);
+        let n = psi_end.len();
         while k < n {
             // The suffix maximum falls with k: above `thr` after the block's
             // last interval, it is above it after every one of them.
@@ -322,7 +333,7 @@ impl Excitation {
         }
         let mut psi = starts.to_vec();
         psi.push(ends[ends.len() - 1]);
-        Ok(Excitation::pieces(dt_s, psi, ends.to_vec()))
+        Ok(Excitation::pieces(dt_s, psi, Some(ends.to_vec())))
     }
 
     /// Record with the sign of every sample flipped (for symmetry checks).
@@ -336,8 +347,18 @@ impl Excitation {
         Excitation::pieces(
             self.dt_s,
             self.psi.iter().map(|&v| f(v)).collect(),
-            self.psi_end.iter().map(|&v| f(v)).collect(),
+            Some(self.psi_end().iter().map(|&v| f(v)).collect()),
         )
+    }
+
+    /// `psi_end[k]`: the forcing at the end of interval k (its left limit at
+    /// sample k + 1); one per interval.
+    #[inline(always)]
+    pub fn psi_end(&self) -> &[f64] {
+        match &self.ends {
+            Some(ends) => ends,
+            None => &self.psi[1..],
+        }
     }
 
     pub fn duration_s(&self) -> f64 {
@@ -426,13 +447,13 @@ mod tests {
         ends[500] = 0.9; // a jump down at sample 501
         starts[700] = 0.8; // and one up at sample 700
         let exc = Excitation::piecewise(0.01, &starts, &ends).unwrap();
-        let n = exc.psi_end.len();
+        let n = exc.psi_end().len();
         let mut crossed = 0;
         for thr in [0.05, 0.25, 0.3, 0.5, 0.95] {
             for k0 in (0..n).filter(|&k| exc.psi[k].abs() <= thr) {
                 let mut k = k0;
                 while k < n
-                    && exc.psi_end[k].abs() <= thr
+                    && exc.psi_end()[k].abs() <= thr
                     && exc.psi[k + 1].abs() <= thr
                     && exc.suffix_max[k + 1] > thr
                 {
