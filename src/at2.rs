@@ -952,7 +952,18 @@ mod tests {
             (state >> 33) % n
         };
         let after: [&[u8]; 12] = [
-            b"", b" ", b"\n", b",", b"/", b":", b".5", b"E-03  ", b"e+7", b"D1", b"\xc2\xa0", b"x",
+            b"",
+            b" ",
+            b"\n",
+            b",",
+            b"/",
+            b":",
+            b".5",
+            b"E-03  ",
+            b"e+7",
+            b"D1",
+            b"\xc2\xa0",
+            b"x",
         ];
         let (mut read, mut swar) = (0, 0);
         for _ in 0..300_000 {
@@ -965,7 +976,11 @@ mod tests {
             let digits = next(21) as usize;
             let zeros = next(4) as usize;
             for k in 0..digits {
-                t.push(if k < zeros { b'0' } else { b'0' + next(10) as u8 });
+                t.push(if k < zeros {
+                    b'0'
+                } else {
+                    b'0' + next(10) as u8
+                });
             }
             if next(3) > 0 {
                 let at = t.len() - next(digits as u64 + 1) as usize;
@@ -983,7 +998,10 @@ mod tests {
             swar += usize::from(digit_run(&t, 0).is_some_and(|(_, n)| n > 0));
         }
         // Both outcomes and both paths are exercised.
-        assert!(read > 100_000 && swar > 50_000, "{read} read, {swar} by words");
+        assert!(
+            read > 100_000 && swar > 50_000,
+            "{read} read, {swar} by words"
+        );
         // Runs of every length, by hand: 0 to 8 digits then a blank.
         for n in 0..=8 {
             let text = format!("{}{}", &"12345678"[..n], " ".repeat(8));
