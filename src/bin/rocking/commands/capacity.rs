@@ -219,126 +219,58 @@ mod tests {
         Args::quick(line.iter().map(std::ffi::OsString::from))
     }
 
+    /// A command line's words (blanks separate them).
+    fn words(line: &str) -> Vec<&str> {
+        line.split_whitespace().collect()
+    }
+
     #[test]
     fn quick_reading_equals_clap_or_leaves_the_line_to_it() {
-        let read = [
-            &["--record", "R.AT2", "--p", "2", "--eps", "0.7"][..],
-            &["--p=2", "--eps=0.7", "--record=R.AT2", "--json"],
-            &["--json", "--record", "a b.AT2", "--eps", ".7", "--p", "2e0"],
-            &[
-                "--record",
-                "R.AT2",
-                "--p",
-                "2",
-                "--eps",
-                "0.7",
-                "--model",
-                "nonlinear",
-                "--alpha",
-                "0.2",
-                "--rtol",
-                "1e-9",
-            ],
-            &[
-                "--record",
-                "R.AT2",
-                "--p",
-                "0.5",
-                "--eps",
-                "1",
-                "--model",
-                "auto",
-                "--alpha",
-                "0.1",
-                "--auto-tol",
-                "0.02",
-                "--overturn",
-                "cap:1.5",
-            ],
-            &[
-                "--record",
-                "R.AT2",
-                "--p",
-                "2",
-                "--eps",
-                "0.7",
-                "--tol",
-                "1e-3",
-                "--levels",
-                "50",
-                "--eta-min",
-                "0.01",
-                "--spacing",
-                "linear",
-                "--overturn",
-                "escape",
-            ],
-        ];
-        for line in read {
+        let mut read: Vec<Vec<&str>> = [
+            "--record R.AT2 --p 2 --eps 0.7",
+            "--p=2 --eps=0.7 --record=R.AT2 --json",
+            "--record R.AT2 --p 2 --eps 0.7 --model nonlinear --alpha 0.2 --rtol 1e-9",
+            "--record R.AT2 --p 0.5 --eps 1 --model auto --alpha 0.1 --auto-tol 0.02 --overturn cap:1.5",
+            "--record R.AT2 --p 2 --eps 0.7 --tol 1e-3 --levels 50 --eta-min 0.01 --spacing linear --overturn escape",
+        ]
+        .map(words)
+        .into();
+        read.push(vec![
+            "--json", "--record", "a b.AT2", "--eps", ".7", "--p", "2e0",
+        ]);
+        for line in &read {
             let (got, want) = (quick(line), by_clap(line));
             assert!(got.is_some() && want.is_some(), "{line:?}");
             assert_eq!(format!("{got:?}"), format!("{want:?}"), "{line:?}");
         }
         // Lines clap must read itself: its help, its errors, and what the
         // quick reading does not know (a pulse, a negative number, a short
-        // option, a positional argument).
-        let left = [
-            &["--help"][..],
-            &["-h"],
-            &["--record", "R.AT2", "--p", "2"],
-            &["--record", "R.AT2", "--p", "two", "--eps", "0.7"],
-            &["--record", "R.AT2", "--p", "2", "--eps", "0.7", "--p", "3"],
-            &[
-                "--record",
-                "R.AT2",
-                "--p",
-                "2",
-                "--eps",
-                "0.7",
-                "--json=true",
-            ],
-            &[
-                "--record", "R.AT2", "--p", "2", "--eps", "0.7", "--bogus", "1",
-            ],
-            &["--pulse", "rect", "--p", "2", "--eps", "0.7"],
-            &["--record", "R.AT2", "--p", "-2", "--eps", "0.7"],
-            &[
-                "--record",
-                "R.AT2",
-                "--p",
-                "2",
-                "--eps",
-                "0.7",
-                "--model",
-                "Linearized",
-            ],
-            &[
-                "--record", "R.AT2", "--p", "2", "--eps", "0.7", "--levels", "1.5",
-            ],
-            &["--record", "", "--p", "2", "--eps", "0.7"],
-            &["--record", "R.AT2", "--p", "2", "--eps", "0.7", "extra"],
-            &["--record", "R.AT2", "--p", "2", "--eps"],
-            &["--record", "R.AT2", "--p", "2", "--eps", "0.7", "--td", "2"],
-            &[
-                "--record",
-                "R.AT2",
-                "--p",
-                "2",
-                "--eps",
-                "0.7",
-                "--overturn",
-                "sideways",
-            ],
-        ];
-        for line in left {
+        // option, a positional argument); and whether clap reads each.
+        let mut left: Vec<(Vec<&str>, bool)> = [
+            ("--help", false),
+            ("-h", false),
+            ("--record R.AT2 --p 2", false),
+            ("--record R.AT2 --p two --eps 0.7", false),
+            ("--record R.AT2 --p 2 --eps 0.7 --p 3", false),
+            ("--record R.AT2 --p 2 --eps 0.7 --json=true", false),
+            ("--record R.AT2 --p 2 --eps 0.7 --bogus 1", false),
+            ("--record R.AT2 --p 2 --eps 0.7 --model Linearized", false),
+            ("--record R.AT2 --p 2 --eps 0.7 --levels 1.5", false),
+            ("--record R.AT2 --p 2 --eps 0.7 extra", false),
+            ("--record R.AT2 --p 2 --eps", false),
+            ("--record R.AT2 --p 2 --eps 0.7 --overturn sideways", false),
+            // A pulse, a negative p (refused later by the block's checks),
+            // and --td, which only a pulse uses.
+            ("--pulse rect --p 2 --eps 0.7", true),
+            ("--record R.AT2 --p -2 --eps 0.7", true),
+            ("--record R.AT2 --p 2 --eps 0.7 --td 2", true),
+        ]
+        .map(|(line, clap_reads)| (words(line), clap_reads))
+        .into();
+        left.push((vec!["--record", "", "--p", "2", "--eps", "0.7"], false));
+        for (line, clap_reads) in &left {
             assert!(quick(line).is_none(), "{line:?}");
-        }
-        // Of those, clap reads the pulse, the negative p (refused later by
-        // the block's checks) and --td (which only a pulse uses); the others
-        // are its help and its errors (an empty path among them).
-        for (i, line) in left.iter().enumerate() {
-            let clap_reads = matches!(i, 7 | 8 | 14);
-            assert_eq!(by_clap(line).is_some(), clap_reads, "{line:?}");
+            assert_eq!(by_clap(line).is_some(), *clap_reads, "{line:?}");
         }
     }
 }
