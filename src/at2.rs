@@ -988,9 +988,7 @@ mod tests {
             }
             t.extend_from_slice(after[next(after.len() as u64) as usize]);
             // Enough text after the token for a word, or not.
-            for _ in 0..next(10) {
-                t.push(b' ');
-            }
+            t.extend(std::iter::repeat_n(b' ', next(10) as usize));
             let want = decimal_prefix_bytewise(&t).map(|(v, n)| (v.to_bits(), n));
             let got = decimal_prefix(&t).map(|(v, n)| (v.to_bits(), n));
             assert_eq!(got, want, "{:?}", String::from_utf8_lossy(&t));
