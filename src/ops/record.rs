@@ -57,28 +57,14 @@ pub enum RecordError {
 }
 
 /// Reads and normalises one AT2 file.
-///
-/// The file is mapped into memory rather than copied, where it can be (a
-/// pipe cannot, and is read): its pages come from the page cache 16 at a
-/// time, where a copy faults in a fresh page every 4 KB (about 0.1 ms of
-/// a `capacity` call on an 11,000-sample record, docs/BENCHMARKS.md). As
-/// with any mapped file (ripgrep maps the files it searches alike), a file
-/// cut short by another program while it is parsed ends the process with
-/// SIGBUS instead of a parse error.
 pub fn load(path: &Path) -> Result<LoadedRecord, RecordError> {
     let read = |source| RecordError::Read {
         path: path.into(),
         source,
     };
     let file = std::fs::File::open(path).map_err(read)?;
-    // SAFETY: the map is only read, and dropped before this returns; a file
-    // changed meanwhile gives other bytes (a parse error at worst) or, cut
-    // short, SIGBUS, as documented above.
-    let bytes: Box<dyn std::ops::Deref<Target = [u8]>> = match unsafe { memmap2::Mmap::map(&file) }
-    {
-        Ok(map) => Box::new(map),
-        Err(_) => Box::new(std::fs::read(path).map_err(read)?),
-    };
+    // SAFETY: see the function's doc.
+    let bytes = unsafe { memmap2::Mmap::map(&file) }.map_err(read)?;
     let parsed = at2::parse(&bytes).map_err(|error| RecordError::Parse {
         path: path.into(),
         error,
