@@ -333,8 +333,9 @@ fn exact_decimal(t: &[u8]) -> Option<f64> {
 /// exponent digit).
 ///
 /// The digits are read eight bytes at a time ([`digit_run`]); near the end
-/// of the text, or past 19 digits, the token is read byte by byte
-/// ([`decimal_prefix_bytewise`], the same function of the token).
+/// of the text, or where a run has eight digits or more, the token is read
+/// byte by byte ([`decimal_prefix_bytewise`], the same function of the
+/// token).
 #[inline(always)]
 fn decimal_prefix(t: &[u8]) -> Option<(f64, usize)> {
     let negative = t.first() == Some(&b'-');

@@ -58,13 +58,10 @@ pub enum RecordError {
 
 /// Reads and normalises one AT2 file.
 pub fn load(path: &Path) -> Result<LoadedRecord, RecordError> {
-    let read = |source| RecordError::Read {
+    let bytes = std::fs::read(path).map_err(|source| RecordError::Read {
         path: path.into(),
         source,
-    };
-    let file = std::fs::File::open(path).map_err(read)?;
-    // SAFETY: see the function's doc.
-    let bytes = unsafe { memmap2::Mmap::map(&file) }.map_err(read)?;
+    })?;
     let parsed = at2::parse(&bytes).map_err(|error| RecordError::Parse {
         path: path.into(),
         error,
