@@ -362,6 +362,21 @@ fn decimal_prefix(t: &[u8]) -> Option<(f64, usize)> {
     if digits == 0 {
         return None;
     }
+    with_exponent(t, i, m, fraction, negative)
+}
+
+/// The end of [`decimal_prefix`] from byte `i`, after the mantissa: the
+/// integer `m` of its digits, `fraction` of them after the point. Reads an
+/// optional exponent (at most four digits) and gives the value when `m` and
+/// the decimal exponent make Clinger's exact case, with the prefix's length.
+#[inline(always)]
+fn with_exponent(
+    t: &[u8],
+    mut i: usize,
+    m: u64,
+    fraction: i32,
+    negative: bool,
+) -> Option<(f64, usize)> {
     let mut exponent = 0i32;
     if i < t.len() && matches!(t[i], b'E' | b'e' | b'D' | b'd') {
         i += 1;
@@ -474,40 +489,7 @@ fn decimal_prefix_bytewise(t: &[u8]) -> Option<(f64, usize)> {
     if mantissa_digits == 0 {
         return None;
     }
-    let mut exponent = 0i32;
-    if i < t.len() && matches!(t[i], b'E' | b'e' | b'D' | b'd') {
-        i += 1;
-        let sign = match t.get(i) {
-            Some(b'-') => {
-                i += 1;
-                -1
-            }
-            Some(b'+') => {
-                i += 1;
-                1
-            }
-            _ => 1,
-        };
-        let start = i;
-        while i < t.len() && t[i].is_ascii_digit() && i - start < 4 {
-            exponent = 10 * exponent + i32::from(t[i] - b'0');
-            i += 1;
-        }
-        if i == start {
-            return None;
-        }
-        exponent *= sign;
-    }
-    let e = exponent - fraction;
-    if m > 1 << 53 || !(-22..=22).contains(&e) {
-        return None;
-    }
-    let magnitude = if e < 0 {
-        m as f64 / EXACT_POW10[(-e) as usize]
-    } else {
-        m as f64 * EXACT_POW10[e as usize]
-    };
-    Some((if negative { -magnitude } else { magnitude }, i))
+    with_exponent(t, i, m, fraction, negative)
 }
 
 /// Line 3 must describe acceleration in units of g and nothing else.
