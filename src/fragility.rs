@@ -6,6 +6,7 @@
 //! overturns at PGA `A_g` (η = αg/A_g) with probability
 //! `Φ((ln η_c,50 − ln η)/β)`.
 
+use crate::block::Block;
 use crate::fit::{curve, polyval};
 use crate::stats::normal_cdf;
 
@@ -59,28 +60,6 @@ pub fn paper() -> [FractileLaw; 3] {
     ]
 }
 
-/// A real block: half-width and half-height (m), restitution.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Block {
-    pub b_m: f64,
-    pub h_m: f64,
-    pub eps: f64,
-}
-
-impl Block {
-    pub fn alpha(&self) -> f64 {
-        (self.b_m / self.h_m).atan()
-    }
-    pub fn p(&self) -> f64 {
-        (3.0 * crate::pipeline::G / (4.0 * self.b_m.hypot(self.h_m))).sqrt()
-    }
-    /// Housner's upper bound of ε for a rectangle, 1 − 1.5 sin²α.
-    pub fn housner_eps(b_m: f64, h_m: f64) -> f64 {
-        let a = (b_m / h_m).atan();
-        1.0 - 1.5 * a.sin().powi(2)
-    }
-}
-
 /// The example block of the report's fragility figure and of `fit_bands`:
 /// a 0.5 m × 2 m cabinet (b = 0.25 m, h = 1 m) with Housner's ε.
 pub fn example_block() -> Block {
@@ -114,7 +93,7 @@ pub fn median_beta(laws: &[FractileLaw], p: f64, eps: f64) -> Option<(f64, f64)>
 /// P(overturn | PGA) for a block of slenderness α: Φ((ln η50 − ln η)/β),
 /// η = α/PGA (PGA in g).
 pub fn probability(median: f64, beta: f64, alpha: f64, pga_g: f64) -> f64 {
-    let eta = alpha / pga_g;
+    let eta = crate::im::eta_of_pga(pga_g, alpha);
     normal_cdf((median.ln() - eta.ln()) / beta)
 }
 

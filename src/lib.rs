@@ -14,6 +14,8 @@
 //! Module map (see `ARCHITECTURE.md` for the invariants):
 //!
 //! - [`at2`], [`manifest`], [`motion`]: parsing and record summaries, no I/O;
+//! - [`block`]: a block's geometry (α, R, p) and restitution, defined once, no I/O;
+//! - [`im`]: intensity measures, and a capacity in η as a capacity in an IM, no I/O;
 //! - [`physics`]: the equations, integrators and events, no I/O;
 //! - [`ida`]: capacity of one record by incremental dynamic analysis, no I/O;
 //! - [`pulse`]: rectangular and exponential pulses, their closed-form walls
@@ -38,6 +40,7 @@
 
 pub mod at2;
 pub mod bench;
+pub mod block;
 pub mod cluster;
 pub mod figures;
 pub mod fit;
@@ -45,6 +48,7 @@ pub mod fragility;
 pub mod hash;
 pub mod hazard;
 pub mod ida;
+pub mod im;
 pub mod label;
 pub mod manifest;
 pub mod motion;

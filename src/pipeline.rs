@@ -14,10 +14,9 @@ use serde::{Deserialize, Serialize};
 use crate::ida::{ImGrid, Spacing, Trace};
 use crate::physics::{ModelChoice, Overturn};
 
-/// Standard gravity (m/s²), for physical blocks.
-pub const G: f64 = 9.80665;
-
+use crate::block::{Block, BlockError, Restitution};
 pub use crate::ida::MAX_LEVELS;
+pub use crate::stats::{FractileDef, ResampleUnit};
 
 /// Most values a `{ from, to, count }` range may expand to.
 pub const MAX_RANGE_VALUES: usize = 100_000;
@@ -138,25 +137,6 @@ pub const MAX_RESAMPLES: usize = 10_000;
 /// Most resamples × blocks: `capacity_resamples.parquet` has three rows
 /// per pair (12 million rows at most, about a gigabyte in memory).
 pub const MAX_RESAMPLED_BLOCKS: usize = 4_000_000;
-
-/// What the bootstrap resamples: whole pairs of components (the two
-/// components of a FEMA P695 pair share an earthquake and a station) or
-/// single records.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-pub enum ResampleUnit {
-    Pair,
-    Record,
-}
-
-impl crate::label::Label for ResampleUnit {
-    const ALL: &'static [Self] = &[ResampleUnit::Pair, ResampleUnit::Record];
-    fn label(self) -> &'static str {
-        match self {
-            ResampleUnit::Pair => "pair",
-            ResampleUnit::Record => "record",
-        }
-    }
-}
 
 /// `[uncertainty]`: percentile bootstrap bands of the capacity fractiles.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -341,35 +321,6 @@ pub enum RecordSource {
         paths: Vec<PathBuf>,
         manifest: Option<PathBuf>,
     },
-}
-
-/// Fractile definitions (Hyndman & Fan 1996) that reduce can use.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum FractileDef {
-    /// Linear interpolation between order statistics, p(k) = (k − 1)/(n − 1):
-    /// numpy's and R's default.
-    Type7,
-    /// p(k) = (k − 0.5)/n: MATLAB's `prctile`.
-    Type5,
-    /// p(k) = k/(n + 1): Weibull plotting positions.
-    Type6,
-    /// p(k) = (k − 1/3)/(n + 1/3): approximately median-unbiased (statrs' default).
-    Type8,
-}
-
-impl FractileDef {
-    pub const NAMES: &'static str = "type7 (default), type5 (MATLAB prctile), type6, type8";
-
-    pub fn parse(name: &str) -> Option<Self> {
-        match name {
-            "type7" => Some(FractileDef::Type7),
-            "type5" => Some(FractileDef::Type5),
-            "type6" => Some(FractileDef::Type6),
-            "type8" => Some(FractileDef::Type8),
-            _ => None,
-        }
-    }
 }
 
 /// One block of the study.
@@ -929,33 +880,34 @@ fn physical_block(i: usize, b: &RawBlock) -> Result<BlockSpec, String> {
     physical(&format!("block[{i}]"), b)
 }
 
-/// A physical block under the key `key`.
+/// A physical block under the key `key`: b, h (m) and ε (a number or
+/// `"housner"`) through [`Block::new`].
 fn physical(key: &str, b: &RawBlock) -> Result<BlockSpec, String> {
-    if !(b.b > 0.0 && b.h > 0.0 && b.b.is_finite() && b.h.is_finite()) {
-        return Err(format!("`{key}`: b and h must be positive (m)"));
-    }
-    let alpha = (b.b / b.h).atan();
-    let r = (b.b * b.b + b.h * b.h).sqrt();
-    let p = (3.0 * G / (4.0 * r)).sqrt();
     let eps = match &b.eps {
-        toml::Value::Float(e) => *e,
-        toml::Value::Integer(e) => *e as f64,
-        toml::Value::String(s) if s == "housner" => 1.0 - 1.5 * alpha.sin().powi(2),
+        toml::Value::Float(e) => Restitution::Value(*e),
+        toml::Value::Integer(e) => Restitution::Value(*e as f64),
+        toml::Value::String(s) => s
+            .parse()
+            .map_err(|_| format!("`{key}.eps` = {s:?}; give a number in (0, 1] or \"housner\""))?,
         other => {
             return Err(format!(
                 "`{key}.eps` = {other:?}; give a number in (0, 1] or \"housner\""
             ));
         }
     };
-    check_eps(&format!("{key}.eps"), eps)?;
+    let block = Block::new(b.b, b.h, eps).map_err(|e| match e {
+        BlockError::Size { .. } => format!("`{key}`: b and h must be positive (m)"),
+        BlockError::Eps(e) => format!("`{key}.eps` holds ε = {e}; ε must be in (0, 1]"),
+        other => format!("`{key}.eps`: {other}"),
+    })?;
     Ok(BlockSpec {
         name: b
             .name
             .clone()
             .unwrap_or_else(|| format!("b{}xh{}", b.b, b.h)),
-        p,
-        eps,
-        alpha_rad: Some(alpha),
+        p: block.p(),
+        eps: block.eps,
+        alpha_rad: Some(block.alpha()),
     })
 }
 
@@ -1085,7 +1037,7 @@ mod tests {
         let b = &plan.blocks[0];
         let alpha = 0.3f64.atan();
         assert!((b.alpha_rad.unwrap() - alpha).abs() < 1e-15);
-        assert!((b.p - (3.0 * G / (4.0 * 1.09f64.sqrt())).sqrt()).abs() < 1e-12);
+        assert!((b.p - (3.0 * crate::block::G / (4.0 * 1.09f64.sqrt())).sqrt()).abs() < 1e-12);
         assert!((b.eps - (1.0 - 1.5 * alpha.sin().powi(2))).abs() < 1e-15);
     }
 

@@ -18,7 +18,55 @@
 
 use statrs::distribution::{ContinuousCDF, Normal};
 
-use crate::pipeline::FractileDef;
+use serde::Serialize;
+
+/// Fractile definitions (Hyndman & Fan 1996), `reduce.fractile` in a pipeline.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FractileDef {
+    /// Linear interpolation between order statistics, p(k) = (k − 1)/(n − 1):
+    /// numpy's and R's default.
+    Type7,
+    /// p(k) = (k − 0.5)/n: MATLAB's `prctile`.
+    Type5,
+    /// p(k) = k/(n + 1): Weibull plotting positions.
+    Type6,
+    /// p(k) = (k − 1/3)/(n + 1/3): approximately median-unbiased (statrs' default).
+    Type8,
+}
+
+impl FractileDef {
+    pub const NAMES: &'static str = "type7 (default), type5 (MATLAB prctile), type6, type8";
+
+    pub fn parse(name: &str) -> Option<Self> {
+        match name {
+            "type7" => Some(FractileDef::Type7),
+            "type5" => Some(FractileDef::Type5),
+            "type6" => Some(FractileDef::Type6),
+            "type8" => Some(FractileDef::Type8),
+            _ => None,
+        }
+    }
+}
+
+/// What the bootstrap resamples: whole pairs of components (the two
+/// components of a FEMA P695 pair share an earthquake and a station) or
+/// single records.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum ResampleUnit {
+    Pair,
+    Record,
+}
+
+impl crate::label::Label for ResampleUnit {
+    const ALL: &'static [Self] = &[ResampleUnit::Pair, ResampleUnit::Record];
+    fn label(self) -> &'static str {
+        match self {
+            ResampleUnit::Pair => "pair",
+            ResampleUnit::Record => "record",
+        }
+    }
+}
 
 /// The q-quantile (0 ≤ q ≤ 1) of `sorted` (ascending, +∞ allowed at the
 /// end, no NaN) by definition `def`. `None` for an empty sample.

@@ -178,11 +178,10 @@ fn bad_input_is_named() {
     assert!(bundled_records().exists());
 }
 
-/// `rocking capacity` parses with its own parser alone (it starts faster);
-/// `rocking help capacity` goes through the whole command tree. Both must
-/// describe the same command, and refuse a bad flag as the tree does.
+/// `rocking capacity --help` and `rocking help capacity` describe the same
+/// command, and a bad flag is refused with the command's usage.
 #[test]
-fn the_quick_capacity_parser_is_the_trees() {
+fn capacity_help_and_errors_come_from_the_command_tree() {
     let quick = rocking(&root(), &["capacity", "--help"]);
     let tree = rocking(&root(), &["help", "capacity"]);
     assert!(quick.status.success() && tree.status.success());
@@ -269,4 +268,214 @@ fn bench_times_capacity_calls_and_reports_a_failing_call() {
         "{err}"
     );
     assert!(err.contains("failed"), "{err}");
+}
+
+/// JSON lines of stdout.
+fn json_lines(out: &std::process::Output) -> Vec<Value> {
+    assert!(out.status.success(), "{}", stderr(out));
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("{e}: {l}")))
+        .collect()
+}
+
+/// A batch over records × blocks prints, line by line, exactly what the
+/// single calls print for each record and block (the same search and
+/// certification, only spread over the cores differently), in record
+/// order with the blocks inner; its `--out` table holds the same numbers.
+#[test]
+fn capacity_batch_equals_the_single_calls() {
+    let dir = tempdir();
+    let far = root().join("records/fema-p695/far-field");
+    let mut files: Vec<_> = std::fs::read_dir(&far)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("at2")))
+        .collect();
+    files.sort();
+    let picked = [&files[0], &files[7], &files[30]];
+    let out_table = dir.path().join("caps.parquet");
+    let mut args = vec!["capacity", "--record"];
+    let picked_str: Vec<String> = picked.iter().map(|p| p.display().to_string()).collect();
+    args.extend(picked_str.iter().map(String::as_str));
+    args.extend(["--p", "0.5,3", "--eps", "0.7,0.9", "--json", "--out"]);
+    args.push(out_table.to_str().unwrap());
+    let batch = json_lines(&rocking(&root(), &args));
+    assert_eq!(batch.len(), 3 * 4);
+    let mut k = 0;
+    for file in &picked_str {
+        for p in ["0.5", "3"] {
+            for eps in ["0.7", "0.9"] {
+                let one = json(&rocking(
+                    &root(),
+                    &[
+                        "capacity", "--record", file, "--p", p, "--eps", eps, "--json",
+                    ],
+                ));
+                assert_eq!(batch[k], one, "line {k}: {file} p {p} ε {eps}");
+                k += 1;
+            }
+        }
+    }
+    let rows: Vec<rocking::tables::sweep::CapacityRow> = rocking::tables::read(&out_table).unwrap();
+    assert_eq!(rows.len(), batch.len());
+    for (row, line) in rows.iter().zip(&batch) {
+        assert_eq!(row.record_id, line["record_id"].as_str().unwrap());
+        assert_eq!(row.eta_c, line["eta_c"].as_f64());
+        assert_eq!(row.runs as u64, line["runs"].as_u64().unwrap());
+    }
+    // A folder gives all its records, in path order, one line each.
+    let folder = json_lines(&rocking(
+        &root(),
+        &[
+            "capacity",
+            "--record",
+            far.to_str().unwrap(),
+            "--p",
+            "2",
+            "--eps",
+            "0.7",
+            "--json",
+        ],
+    ));
+    assert_eq!(folder.len(), files.len());
+    let stems: Vec<String> = files
+        .iter()
+        .map(|f| f.file_stem().unwrap().to_string_lossy().into_owned())
+        .collect();
+    let ids: Vec<&str> = folder
+        .iter()
+        .map(|l| l["record_id"].as_str().unwrap())
+        .collect();
+    assert_eq!(ids, stems);
+}
+
+/// A block given by its dimensions: α = atan(b/h), p = √(3g/(4R)) and
+/// Housner's ε by hand, the full sizes twice the half ones, and the PGA at
+/// the capacity α/η_c (g); `simulate --pga` runs at η = α/PGA.
+#[test]
+fn capacity_and_simulate_take_a_physical_block_and_a_pga() {
+    let (b, h) = (0.2f64, 1.0f64);
+    let half = json(&rocking(
+        &root(),
+        &[
+            "capacity", "--record", KOBE, "--b", "0.2", "--h", "1", "--eps", "housner", "--json",
+        ],
+    ));
+    let full = json(&rocking(
+        &root(),
+        &[
+            "capacity", "--record", KOBE, "--width", "0.4", "--height", "2", "--eps", "housner",
+            "--json",
+        ],
+    ));
+    assert_eq!(half, full);
+    let alpha = (b / h).atan();
+    let p = (3.0 * 9.80665 / (4.0 * (b * b + h * h).sqrt())).sqrt();
+    let eps = 1.0 - 1.5 * alpha.sin().powi(2);
+    assert!((half["alpha_rad"].as_f64().unwrap() - alpha).abs() < 1e-15);
+    assert!((half["p"].as_f64().unwrap() - p).abs() < 1e-12);
+    assert!((half["eps"].as_f64().unwrap() - eps).abs() < 1e-15);
+    let eta_c = half["eta_c"].as_f64().unwrap();
+    assert!((half["pga_c_g"].as_f64().unwrap() - alpha / eta_c).abs() < 1e-15);
+    // The PGA a little above the capacity's overturns it, a little below the
+    // surviving level's does not: the same verdicts as η.
+    let sim = |pga: f64| {
+        let pga = pga.to_string();
+        json(&rocking(
+            &root(),
+            &[
+                "simulate", "--record", KOBE, "--b", "0.2", "--h", "1", "--eps", "housner",
+                "--pga", &pga, "--json",
+            ],
+        ))
+    };
+    let at = sim(alpha / eta_c);
+    assert!((at["eta"].as_f64().unwrap() - eta_c).abs() <= 1e-15 * eta_c);
+    assert_eq!(at["overturned"], true);
+    let survived = half["eta_survived"].as_f64().unwrap();
+    assert_eq!(sim(alpha / survived)["overturned"], false);
+    // Refusals name what is missing.
+    let out = rocking(
+        &root(),
+        &[
+            "simulate", "--record", KOBE, "--p", "2", "--eps", "0.7", "--pga", "0.3",
+        ],
+    );
+    assert!(
+        stderr(&out).contains("--pga needs the block's slenderness"),
+        "{}",
+        stderr(&out)
+    );
+    let out = rocking(
+        &root(),
+        &["capacity", "--record", KOBE, "--p", "2", "--eps", "housner"],
+    );
+    assert!(
+        stderr(&out).contains("--eps housner needs the block's dimensions"),
+        "{}",
+        stderr(&out)
+    );
+    let out = rocking(
+        &root(),
+        &[
+            "capacity", "--record", KOBE, "--b", "0.2,0.3", "--h", "1", "--eps", "0.8",
+        ],
+    );
+    assert!(
+        stderr(&out).contains("--b has 2 values and --h 1"),
+        "{}",
+        stderr(&out)
+    );
+    let out = rocking(
+        &root(),
+        &[
+            "simulate", "--record", KOBE, "--p", "2,3", "--eps", "0.8", "--eta", "0.5",
+        ],
+    );
+    assert!(stderr(&out).contains("2 blocks given"), "{}", stderr(&out));
+}
+
+/// `--out` never overwrites a record it reads, and must be a Parquet file.
+#[test]
+fn capacity_out_refuses_an_input_and_a_wrong_extension() {
+    let dir = tempdir();
+    let rec = dir.path().join("R.AT2");
+    std::fs::copy(root().join(KOBE), &rec).unwrap();
+    let before = std::fs::read(&rec).unwrap();
+    let r = rec.to_str().unwrap();
+    let out = rocking(
+        dir.path(),
+        &[
+            "capacity", "--record", r, "--p", "2", "--eps", "0.7", "--out", r,
+        ],
+    );
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("give a .parquet file"),
+        "{}",
+        stderr(&out)
+    );
+    let link = dir.path().join("link.parquet");
+    std::os::unix::fs::symlink(&rec, &link).unwrap();
+    let out = rocking(
+        dir.path(),
+        &[
+            "capacity",
+            "--record",
+            r,
+            "--p",
+            "2",
+            "--eps",
+            "0.7",
+            "--out",
+            link.to_str().unwrap(),
+        ],
+    );
+    assert!(
+        stderr(&out).contains("refusing to overwrite an input"),
+        "{}",
+        stderr(&out)
+    );
+    assert_eq!(std::fs::read(&rec).unwrap(), before);
 }

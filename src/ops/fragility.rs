@@ -6,7 +6,8 @@ use std::path::PathBuf;
 
 use rayon::prelude::*;
 
-use crate::fragility::{self, Block, FractileLaw};
+use crate::block::{Block, BlockError, Restitution};
+use crate::fragility::{self, FractileLaw};
 use crate::ida::{self, ImGrid};
 use crate::physics::{Excitation, ModelChoice, PhysicsError, RunSpec};
 use crate::pipeline::Plan;
@@ -22,7 +23,7 @@ pub struct Request {
     pub b_m: f64,
     pub h_m: f64,
     /// `None`: Housner's bound 1 − 1.5 sin²α.
-    pub eps: Option<f64>,
+    pub eps: Restitution,
     pub pga_g: Vec<f64>,
     pub from: Source,
     /// Also run the block through the records.
@@ -154,26 +155,15 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
 
 /// A real block from its half-width and half-height (m) and ε (`None`:
 /// Housner's bound, refused where it is not positive).
-pub fn block(b_m: f64, h_m: f64, eps: Option<f64>) -> Result<Block, FragilityError> {
-    if !(b_m > 0.0 && h_m > 0.0 && b_m.is_finite() && h_m.is_finite()) {
-        return Err(FragilityError::Size { b: b_m, h: h_m });
-    }
-    let eps = match eps {
-        Some(e) if e > 0.0 && e <= 1.0 => e,
-        Some(e) => return Err(FragilityError::Eps(e)),
-        None => {
-            let e = Block::housner_eps(b_m, h_m);
-            if e.is_nan() || e <= 0.0 {
-                return Err(FragilityError::HousnerEps {
-                    eps: e,
-                    ratio: b_m / h_m,
-                    alpha: (b_m / h_m).atan(),
-                });
-            }
-            e
+pub fn block(b_m: f64, h_m: f64, eps: Restitution) -> Result<Block, FragilityError> {
+    Block::new(b_m, h_m, eps).map_err(|e| match e {
+        BlockError::Size { b, h } => FragilityError::Size { b, h },
+        BlockError::Eps(e) => FragilityError::Eps(e),
+        BlockError::HousnerEps { eps, ratio, alpha } => {
+            FragilityError::HousnerEps { eps, ratio, alpha }
         }
-    };
-    Ok(Block { b_m, h_m, eps })
+        BlockError::Restitution(_) => unreachable!("ε is given as a number or Housner's"),
+    })
 }
 
 /// The regression a fragility comes from.

@@ -1,5 +1,5 @@
 //! What the commands that are not stages do, as library calls the binary
-//! wraps: load one record for the solvers ([`record`]), the fragility of a
+//! wraps: load one record for the solvers ([`record`]), many capacities in one process ([`capacity`]), the fragility of a
 //! real block ([`fragility`]), the annual rate of overturning at a site
 //! ([`risk`]), a study submitted to Slurm ([`submit`]), and the solver benchmark that rewrites `docs/BENCHMARKS.md`
 //! ([`bench`]). Input checks live here, not in the
@@ -7,6 +7,7 @@
 
 pub mod accuracy;
 pub mod bench;
+pub mod capacity;
 pub mod fragility;
 pub mod record;
 pub mod risk;

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use super::fragility::{self, DirectRecords, FragilityError, Laws, Source};
-use crate::fragility::Block;
+use crate::block::{Block, Restitution};
 use crate::hazard::{self, HazardCurve, HazardError};
 use crate::label::Label;
 use crate::physics::LINEARIZATION_ERROR_PER_ALPHA2;
@@ -23,11 +23,11 @@ use crate::tables::{self, TableError};
 /// The blocks to assess.
 #[derive(Debug, Clone)]
 pub enum Blocks {
-    /// One block: half-width, half-height (m), ε (`None`: Housner's bound).
+    /// One block: half-width, half-height (m), ε.
     One {
         b_m: f64,
         h_m: f64,
-        eps: Option<f64>,
+        eps: Restitution,
     },
     /// A CSV `name,b,h[,eps]`.
     Inventory(PathBuf),
@@ -169,8 +169,7 @@ pub struct InventoryBlock {
     pub name: String,
     pub b_m: f64,
     pub h_m: f64,
-    /// `None`: Housner's bound.
-    pub eps: Option<f64>,
+    pub eps: Restitution,
     /// Line in the file (1-based).
     pub line: u64,
 }
@@ -266,8 +265,12 @@ pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
             return Err(bad(line, format!("block `{name}` is listed twice")));
         }
         let eps = match ce.map(cell) {
-            None | Some("") | Some("housner") => None,
-            Some(_) => Some(num(ce.expect("present"), "eps")?),
+            None | Some("") => Restitution::Housner,
+            Some(text) => text
+                .parse::<Restitution>()
+                .ok()
+                .filter(|e| !matches!(e, Restitution::Value(v) if !v.is_finite()))
+                .ok_or_else(|| bad(line, format!("`eps` = `{text}` is not a number")))?,
         };
         out.push(InventoryBlock {
             name,
@@ -438,7 +441,7 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
                 alpha_rad: block.alpha(),
                 p: block.p(),
                 eps: block.eps,
-                eps_housner: e.eps.is_none(),
+                eps_housner: e.eps == Restitution::Housner,
             },
             fragility: info,
             years: req.years,

@@ -1,8 +1,10 @@
 //! Arguments shared by several commands.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::ValueEnum;
+use rocking::block::{Block, Restitution};
+use rocking::ops::capacity::NamedSpec;
 use rocking::physics::{ModelChoice, Overturn};
 
 /// A pipeline and where its outputs go.
@@ -50,20 +52,6 @@ impl LawArgs {
             }
         }
     }
-}
-
-/// `--eps`: a coefficient of restitution, or `housner` (`None`) for
-/// Housner's bound 1 − 1.5 sin²α.
-#[derive(Debug, Clone, Copy)]
-pub struct EpsArg(pub Option<f64>);
-
-pub fn parse_eps(text: &str) -> Result<EpsArg, String> {
-    if text == "housner" {
-        return Ok(EpsArg(None));
-    }
-    text.parse::<f64>()
-        .map(|e| EpsArg(Some(e)))
-        .map_err(|_| format!("`{text}`: a number in (0, 1] or `housner`"))
 }
 
 /// The model as chosen on the command line.
@@ -149,34 +137,55 @@ const TD_S: f64 = 1.0;
 /// `--auto-tol` when none is given.
 const AUTO_TOL: f64 = 0.01;
 
-/// One record (or pulse) and one block, for `simulate` and `capacity`.
+/// The block (or blocks) and the model, for `simulate` and `capacity`: by
+/// p and ε, or by its dimensions (half `--b --h`, or full `--width
+/// --height`, in m) and ε. Each option takes a comma-separated list; only
+/// `capacity` takes more than one block (p × ε, or each size × ε).
 #[derive(Debug, clap::Args)]
 #[command(allow_negative_numbers = true)]
 pub struct BlockArgs {
-    /// The AT2 record (acceleration in g).
-    #[arg(
-        long,
-        value_name = "FILE.AT2",
-        required_unless_present = "pulse",
-        conflicts_with = "pulse"
-    )]
-    pub record: Option<PathBuf>,
     #[command(flatten)]
     pub pulse: PulseArgs,
     /// The pulse's lobe duration t_d (s); f = p·t_d.
     #[arg(long, value_name = "s", default_value_t = TD_S, requires = "pulse")]
     pub td: f64,
     /// Frequency parameter p = sqrt(3g/(4R)) of the block (1/s).
-    #[arg(long, value_name = "1/s")]
-    pub p: f64,
-    /// Coefficient of restitution ε in (0, 1].
-    #[arg(long, value_name = "ε")]
-    pub eps: f64,
+    #[arg(
+        long,
+        value_name = "1/s",
+        value_delimiter = ',',
+        required_unless_present_any = ["b", "width"],
+        conflicts_with_all = ["b", "width"]
+    )]
+    pub p: Vec<f64>,
+    /// Half-width b of the block (m); with --h, instead of --p (α = atan(b/h)).
+    #[arg(
+        long,
+        value_name = "m",
+        value_delimiter = ',',
+        requires = "h",
+        conflicts_with = "width"
+    )]
+    pub b: Vec<f64>,
+    /// Half-height h of the block (m), with --b.
+    #[arg(long, value_name = "m", value_delimiter = ',', requires = "b")]
+    pub h: Vec<f64>,
+    /// Full width 2b of the block (m); with --height, instead of --p.
+    #[arg(long, value_name = "m", value_delimiter = ',', requires = "height")]
+    pub width: Vec<f64>,
+    /// Full height 2h of the block (m), with --width.
+    #[arg(long, value_name = "m", value_delimiter = ',', requires = "width")]
+    pub height: Vec<f64>,
+    /// Coefficient of restitution ε in (0, 1], or `housner` (1 − 1.5 sin²α;
+    /// needs the block's dimensions).
+    #[arg(long, value_name = "ε", value_delimiter = ',', required = true, value_parser = parse_restitution)]
+    pub eps: Vec<Restitution>,
     /// Equation of motion.
     #[arg(long, value_enum, default_value_t = ModelArg::Linearized)]
     pub model: ModelArg,
-    /// Slenderness α = atan(b/h) of the block (rad), for the nonlinear model.
-    #[arg(long, value_name = "rad")]
+    /// Slenderness α = atan(b/h) of the block (rad), for the nonlinear model
+    /// and a PGA; from the dimensions when they are given.
+    #[arg(long, value_name = "rad", conflicts_with_all = ["b", "width"])]
     pub alpha: Option<f64>,
     /// Relative tolerance of the nonlinear integrator (capacities are then
     /// certified at a 100× tighter one).
@@ -189,7 +198,7 @@ pub struct BlockArgs {
     /// nonlinear), escape (never comes back: θ = π/2 nonlinear; linearised, proven unbounded).
     #[arg(long, default_value_t = Overturn::Static, value_parser = parse_overturn)]
     pub overturn: Overturn,
-    /// Print one JSON object instead of text.
+    /// Print JSON (one object a line) instead of text.
     #[arg(long)]
     pub json: bool,
 }
@@ -198,138 +207,112 @@ pub fn parse_overturn(text: &str) -> Result<Overturn, String> {
     text.parse::<Overturn>().map_err(|e| e.to_string())
 }
 
+pub fn parse_restitution(text: &str) -> Result<Restitution, String> {
+    text.parse::<Restitution>().map_err(|e| e.to_string())
+}
+
+/// One block as asked for: its name (empty for p and ε), its run
+/// specification at η = 1, and why that model.
+pub struct AskedBlock {
+    pub named: NamedSpec,
+    pub why: String,
+}
+
 impl BlockArgs {
-    /// The record, or the pulse sampled for this block's p.
-    pub fn excitation(&self) -> anyhow::Result<rocking::ops::record::LoadedRecord> {
+    /// The record at `path`, or the pulse sampled for the block's p.
+    pub fn excitation(
+        &self,
+        path: Option<&Path>,
+        p: f64,
+    ) -> anyhow::Result<rocking::ops::record::LoadedRecord> {
         use rocking::ops::record;
-        match (&self.record, self.pulse.pulse(self.td)?) {
-            (_, Some(pulse)) => Ok(record::from_pulse(&pulse, self.p)?),
+        match (path, self.pulse.pulse(self.td)?) {
+            (_, Some(pulse)) => Ok(record::from_pulse(&pulse, p)?),
             (Some(path), None) => Ok(record::load(path)?),
             (None, None) => anyhow::bail!("give --record FILE.AT2 or --pulse rect|exp"),
         }
     }
 
-    /// The arguments of a record's block from `flags` without clap
-    /// ([`Flags`]): `None` for a pulse (left to clap), or where a value does
-    /// not parse or a required one is missing (clap then says which).
-    pub fn quick(flags: &mut Flags) -> Option<BlockArgs> {
-        Some(BlockArgs {
-            record: Some(flags.value("record", |v| Some(PathBuf::from(v)))??),
-            pulse: PulseArgs {
-                pulse: None,
-                beta: None,
-                cycle: CycleArg::Half,
-            },
-            td: TD_S,
-            p: flags.value("p", number)??,
-            eps: flags.value("eps", number)??,
-            model: flags.value("model", named)?.unwrap_or(ModelArg::Linearized),
-            alpha: flags.value("alpha", number)?,
-            rtol: flags
-                .value("rtol", number)?
-                .unwrap_or(rocking::physics::DEFAULT_RTOL),
-            auto_tol: flags.value("auto-tol", number)?.unwrap_or(AUTO_TOL),
-            overturn: flags
-                .value("overturn", |v| parse_overturn(v).ok())?
-                .unwrap_or(Overturn::Static),
-            json: flags.switch("json"),
-        })
+    /// The blocks asked for, in order (p outer and ε inner; or each size,
+    /// then ε), each checked, at η = 1.
+    pub fn blocks(&self) -> anyhow::Result<Vec<AskedBlock>> {
+        let sizes: Vec<(f64, f64)> = match (&self.b[..], &self.width[..]) {
+            ([], []) => Vec::new(),
+            (b, []) => pairs("--b", b, "--h", &self.h)?,
+            ([], w) => pairs("--width", w, "--height", &self.height)?
+                .into_iter()
+                .map(|(w, h)| (w / 2.0, h / 2.0))
+                .collect(),
+            _ => anyhow::bail!("give the block's half sizes --b --h or its full --width --height"),
+        };
+        let mut out = Vec::new();
+        if sizes.is_empty() {
+            for &p in &self.p {
+                for &eps in &self.eps {
+                    let Restitution::Value(eps) = eps else {
+                        anyhow::bail!(
+                            "--eps housner needs the block's dimensions (--b --h or --width --height)"
+                        );
+                    };
+                    out.push(self.asked(String::new(), p, eps, self.alpha)?);
+                }
+            }
+        }
+        for &(b_m, h_m) in &sizes {
+            for &eps in &self.eps {
+                let block = Block::new(b_m, h_m, eps)?;
+                let name = format!("b{b_m}xh{h_m}");
+                out.push(self.asked(name, block.p(), block.eps, Some(block.alpha()))?);
+            }
+        }
+        Ok(out)
     }
 
-    /// The run specification at intensity `eta`, and why that model.
-    pub fn spec(&self, eta: f64) -> anyhow::Result<(rocking::physics::RunSpec, String)> {
+    /// The one block of a command that takes one.
+    pub fn one(&self) -> anyhow::Result<AskedBlock> {
+        let mut blocks = self.blocks()?;
+        if blocks.len() != 1 {
+            anyhow::bail!(
+                "{} blocks given; this command runs one (give one value to each block option)",
+                blocks.len()
+            );
+        }
+        Ok(blocks.remove(0))
+    }
+
+    fn asked(
+        &self,
+        name: String,
+        p: f64,
+        eps: f64,
+        alpha: Option<f64>,
+    ) -> anyhow::Result<AskedBlock> {
         let (model, why) =
-            ModelChoice::from(self.model).resolve(self.alpha, self.rtol, self.auto_tol)?;
+            ModelChoice::from(self.model).resolve(alpha, self.rtol, self.auto_tol)?;
         let spec = rocking::physics::RunSpec {
             overturn: self.overturn,
-            ..rocking::physics::RunSpec::new(self.p, self.eps, eta, model)
+            ..rocking::physics::RunSpec::new(p, eps, 1.0, model)
         };
         spec.validate()?;
-        Ok((spec, why))
+        Ok(AskedBlock {
+            named: NamedSpec {
+                name,
+                alpha_rad: alpha,
+                spec,
+            },
+            why,
+        })
     }
 }
 
-/// A command line of `--name value`, `--name=value` and bare `--switch`
-/// arguments, read without clap: for a command scripts call in loops, where
-/// clap's first parse costs about 0.2 ms of cold code. Wherever clap's
-/// reading could differ, the line is left to clap (which gives its help or
-/// its error): [`Flags::scan`] declines an argument that is not a long
-/// option, a value that is empty or starts with `-`, a switch given a value
-/// and text that is not UTF-8; [`Flags::all_taken`] is false for a name the
-/// command does not know or one given twice.
-pub struct Flags {
-    /// Each name, its value (`None` for a switch), and whether it was taken.
-    given: Vec<(String, Option<String>, bool)>,
-}
-
-impl Flags {
-    /// Reads `args` (those after the command's name); `switches` are the
-    /// names that take no value.
-    pub fn scan(
-        args: impl IntoIterator<Item = std::ffi::OsString>,
-        switches: &[&str],
-    ) -> Option<Flags> {
-        let mut args = args.into_iter();
-        let mut given: Vec<(String, Option<String>, bool)> = Vec::new();
-        while let Some(arg) = args.next() {
-            let arg = arg.into_string().ok()?;
-            let long = arg.strip_prefix("--").filter(|n| !n.is_empty())?;
-            let (name, value) = match long.split_once('=') {
-                Some((name, value)) => (name, Some(value.to_string())),
-                None => (long, None),
-            };
-            let value = match (switches.contains(&name), value) {
-                (true, None) => None,
-                (true, Some(_)) => return None,
-                (false, Some(v)) => Some(v),
-                (false, None) => Some(args.next()?.into_string().ok()?),
-            };
-            if value
-                .as_deref()
-                .is_some_and(|v| v.is_empty() || v.starts_with('-'))
-            {
-                return None;
-            }
-            given.push((name.to_string(), value, false));
-        }
-        Some(Flags { given })
+/// `a` and `b` as pairs, when they are as long as each other.
+fn pairs(a_name: &str, a: &[f64], b_name: &str, b: &[f64]) -> anyhow::Result<Vec<(f64, f64)>> {
+    if a.len() != b.len() {
+        anyhow::bail!(
+            "{a_name} has {} values and {b_name} {}: give one {b_name} for each {a_name}",
+            a.len(),
+            b.len()
+        );
     }
-
-    /// The value of `--name` read by `parse`: `Some(None)` when absent,
-    /// `None` when it does not parse.
-    pub fn value<T>(&mut self, name: &str, parse: impl Fn(&str) -> Option<T>) -> Option<Option<T>> {
-        let Some((_, value, taken)) = self.given.iter_mut().find(|(n, ..)| n == name) else {
-            return Some(None);
-        };
-        *taken = true;
-        parse(value.as_deref()?).map(Some)
-    }
-
-    /// Whether the switch `--name` was given.
-    pub fn switch(&mut self, name: &str) -> bool {
-        match self.given.iter_mut().find(|(n, ..)| n == name) {
-            Some((_, None, taken)) => {
-                *taken = true;
-                true
-            }
-            _ => false,
-        }
-    }
-
-    /// Whether every name given was taken: an unknown one, or one given
-    /// twice (only its first is taken), leaves the line to clap.
-    pub fn all_taken(&self) -> bool {
-        self.given.iter().all(|(.., taken)| *taken)
-    }
-}
-
-/// `text` as a number, as clap's parser of `f64` and `usize` reads it.
-pub fn number<T: std::str::FromStr>(text: &str) -> Option<T> {
-    text.parse().ok()
-}
-
-/// `text` as one of `E`'s names, as clap's `ValueEnum` parser reads it
-/// (exact, case-sensitive).
-pub fn named<E: ValueEnum>(text: &str) -> Option<E> {
-    E::from_str(text, false).ok()
+    Ok(a.iter().copied().zip(b.iter().copied()).collect())
 }

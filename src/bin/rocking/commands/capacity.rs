@@ -1,11 +1,20 @@
 //! `rocking capacity`: one record's overturning capacity.
 
+use std::io::Write;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::Instant;
+
 use clap::ValueEnum;
-use rocking::ida::{ImGrid, RunKind, Spacing, Trace};
+use rocking::ida::{Certified, ImGrid, RunKind, Spacing};
+use rocking::im;
 use rocking::label::Label;
+use rocking::ops::capacity::{self, NamedSpec};
+use rocking::ops::record::LoadedRecord;
 use serde::Serialize;
 
-use super::args::{named, number, BlockArgs, Flags};
+use super::args::{AskedBlock, BlockArgs};
 
 /// Find a record's overturning capacity η_c by incremental dynamic analysis.
 #[derive(Debug, clap::Args)]
@@ -18,47 +27,41 @@ use super::args::{named, number, BlockArgs, Flags};
     stronger shaking (the resurrection rule). The capacity is then certified: with the nonlinear \
     model its decisive runs are rerun at a 100× tighter tolerance, and the search is redone there \
     if a verdict flips; with either model each decisive run is rerun with η moved by ±1e-9, and a \
-    verdict that changes marks the capacity chaotic (not certified)."
+    verdict that changes marks the capacity chaotic (not certified).\n\n\
+    Many capacities in one process: give several records (files or folders) and several blocks \
+    (comma-separated --p and --eps, a p × ε grid; or --b/--h or --width/--height lists, each size \
+    with every ε). The record × block cases run on every core and print one JSON object a line, \
+    records in path order and blocks in the order given, each equal to the capacity of that \
+    record and block alone; --out also writes them as a Parquet table."
 )]
 pub struct Args {
+    /// AT2 records, or folders searched recursively for `*.AT2` (several:
+    /// one capacity per record and block, one JSON line each).
+    #[arg(
+        long,
+        value_name = "PATH",
+        num_args = 1..,
+        required_unless_present = "pulse",
+        conflicts_with = "pulse"
+    )]
+    record: Vec<PathBuf>,
     #[command(flatten)]
     block: BlockArgs,
     /// Refine η_c until the bracket is at most this wide (in η).
-    #[arg(long, value_name = "Δη", default_value_t = TOL)]
+    #[arg(long, value_name = "Δη", default_value_t = 1e-4)]
     tol: f64,
     /// Number of intensity levels below η = 1.
-    #[arg(long, default_value_t = LEVELS)]
+    #[arg(long, default_value_t = 200)]
     levels: usize,
     /// Smallest η (strongest shaking) tried.
-    #[arg(long, default_value_t = ETA_MIN)]
+    #[arg(long, default_value_t = 1e-3)]
     eta_min: f64,
     /// Spacing of the levels in η.
     #[arg(long, value_enum, default_value_t = SpacingArg::Log)]
     spacing: SpacingArg,
-}
-
-/// The defaults of `--tol`, `--levels` and `--eta-min`.
-const TOL: f64 = 1e-4;
-const LEVELS: usize = 200;
-const ETA_MIN: f64 = 1e-3;
-
-impl Args {
-    /// The arguments after `rocking capacity`, read without clap for a
-    /// record's usual command line ([`Flags`]); `None` for anything else (a
-    /// pulse, `--help`, a value that does not parse, an unknown or repeated
-    /// name), which clap then reads. Scripts call `capacity` in loops: clap's
-    /// first parse costs about 0.2 ms of cold code there.
-    pub fn quick(args: impl IntoIterator<Item = std::ffi::OsString>) -> Option<Args> {
-        let mut flags = Flags::scan(args, &["json"])?;
-        let args = Args {
-            block: BlockArgs::quick(&mut flags)?,
-            tol: flags.value("tol", number)?.unwrap_or(TOL),
-            levels: flags.value("levels", number)?.unwrap_or(LEVELS),
-            eta_min: flags.value("eta-min", number)?.unwrap_or(ETA_MIN),
-            spacing: flags.value("spacing", named)?.unwrap_or(SpacingArg::Log),
-        };
-        flags.all_taken().then_some(args)
-    }
+    /// Also write the capacities as a Parquet table (the sweep's `capacities` schema).
+    #[arg(long, value_name = "FILE.parquet")]
+    out: Option<PathBuf>,
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -70,6 +73,8 @@ enum SpacingArg {
 #[derive(Serialize)]
 struct Report<'a> {
     record_id: &'a str,
+    /// The block's name: `b<b>xh<h>` for one given by its dimensions, else empty.
+    block: &'a str,
     p: f64,
     eps: f64,
     model: &'static str,
@@ -78,6 +83,8 @@ struct Report<'a> {
     eta_c: Option<f64>,
     /// A_g at the capacity in units of αg (= 1/η_c).
     pga_scale_c: Option<f64>,
+    /// The PGA at the capacity (g), α/η_c, when α is known.
+    pga_c_g: Option<f64>,
     eta_survived: f64,
     level_survived: f64,
     level_overturned: Option<f64>,
@@ -97,7 +104,6 @@ struct Report<'a> {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let (spec, why) = args.block.spec(1.0)?;
     let spacing = match args.spacing {
         SpacingArg::Log => Spacing::Log,
         SpacingArg::Linear => Spacing::Linear,
@@ -108,41 +114,83 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         count: args.levels,
         spacing,
     };
-    // Checked before the record is read: an absurd --levels is refused at once.
+    // Checked before any record is read: an absurd --levels is refused at once.
     grid.levels()?;
-    let rec = args.block.excitation()?;
-    // The main thread is one of the pool's workers: one thread fewer to start
-    // (a pool already built is used as it is).
-    let _ = rayon::ThreadPoolBuilder::new()
-        .use_current_thread()
-        .build_global();
-    let certified = rocking::ops::record::capacity_certified_parallel(
-        &rec.exc,
-        &spec,
-        &grid,
-        args.tol,
-        Trace::StopAtFirst,
-    )?;
-    let cap = &certified.capacity;
-    let refinement_runs = cap
-        .points
-        .iter()
-        .filter(|q| q.kind == RunKind::Refinement)
-        .count();
-    let report = Report {
+    let blocks = args.block.blocks()?;
+    if let Some(out) = &args.out {
+        capacity::check_out(out, &args.record)?;
+    }
+    let records = if args.record.is_empty() {
+        if blocks.len() != 1 {
+            anyhow::bail!("a pulse is sampled for one block's p: give one block with --pulse");
+        }
+        vec![args.block.excitation(None, blocks[0].named.spec.p)?]
+    } else {
+        capacity::load_records(&args.record)?
+    };
+    let named: Vec<NamedSpec> = blocks.iter().map(|b| b.named.clone()).collect();
+    let total = records.len() * named.len();
+    let progress = Progress::new(total);
+    let results = capacity::capacities(&records, &named, &grid, args.tol, &|| progress.tick())?;
+    progress.finish();
+    let cases = results.iter().enumerate().map(|(case, certified)| {
+        let (r, b) = (case / named.len(), case % named.len());
+        (case, &records[r], &blocks[b], certified)
+    });
+    if let Some(out) = &args.out {
+        let rows: Vec<_> = cases
+            .clone()
+            .map(|(case, rec, block, c)| capacity::row(case, &rec.record_id, &block.named, c))
+            .collect();
+        let settings = vec![(
+            "rocking.capacity.command".to_string(),
+            std::env::args().skip(1).collect::<Vec<_>>().join(" "),
+        )];
+        rocking::tables::write(out, &rows, &settings)?;
+    }
+    if args.block.json || total > 1 {
+        if !args.block.json {
+            eprintln!("{total} capacities, one JSON object a line (--json says so explicitly)");
+        }
+        let mut stdout = std::io::stdout().lock();
+        for (_, rec, block, certified) in cases {
+            let report = report(&args, rec, &block.named, certified, spacing);
+            writeln!(stdout, "{}", serde_json::to_string(&report)?)?;
+        }
+        return Ok(());
+    }
+    print_text(&args, &records[0], &blocks[0], &results[0]);
+    Ok(())
+}
+
+/// The JSON line of one capacity.
+fn report<'a>(
+    args: &Args,
+    rec: &'a LoadedRecord,
+    block: &'a NamedSpec,
+    certified: &Certified,
+    spacing: Spacing,
+) -> Report<'a> {
+    let (spec, cap) = (&block.spec, &certified.capacity);
+    Report {
         record_id: &rec.record_id,
+        block: &block.name,
         p: spec.p,
         eps: spec.eps,
         model: spec.model.equation.kind().label(),
-        alpha_rad: spec.alpha(),
+        alpha_rad: block.alpha_rad,
         overturn: spec.overturn.to_string(),
         eta_c: cap.eta_c,
         pga_scale_c: cap.eta_c.map(|e| 1.0 / e),
+        pga_c_g: cap
+            .eta_c
+            .zip(block.alpha_rad)
+            .map(|(e, a)| im::pga_of_eta(e, a)),
         eta_survived: cap.eta_survived,
         level_survived: cap.level_survived,
         level_overturned: cap.level_overturned,
         runs: cap.runs(),
-        refinement_runs,
+        refinement_runs: refinement_runs(certified),
         certified: certified.certification.certified(),
         certification: certified.certification.to_string(),
         rtol: certified.model.integrator.rtol(),
@@ -154,20 +202,37 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             Spacing::Log => "log",
             Spacing::Linear => "linear",
         },
-    };
-    if args.block.json {
-        println!("{}", serde_json::to_string(&report)?);
-        return Ok(());
     }
+}
+
+fn refinement_runs(certified: &Certified) -> usize {
+    let points = &certified.capacity.points;
+    points
+        .iter()
+        .filter(|q| q.kind == RunKind::Refinement)
+        .count()
+}
+
+/// One capacity as text.
+fn print_text(args: &Args, rec: &LoadedRecord, block: &AskedBlock, certified: &Certified) {
+    let (spec, cap) = (&block.named.spec, &certified.capacity);
     println!(
         "record      {} ({} samples, dt {} s)",
         rec.record_id, rec.npts, rec.exc.dt_s
     );
-    println!("block       p = {} 1/s, ε = {} ({why})", spec.p, spec.eps);
+    println!(
+        "block       p = {} 1/s, ε = {} ({})",
+        spec.p, spec.eps, block.why
+    );
     match cap.eta_c {
         Some(c) => {
+            let pga = block
+                .named
+                .alpha_rad
+                .map(|a| format!(", PGA {:.4} g", im::pga_of_eta(c, a)))
+                .unwrap_or_default();
             println!(
-                "η_c         {c:.6} (A_g = {:.4} αg), survives at η = {:.6}",
+                "η_c         {c:.6} (A_g = {:.4} αg{pga}), survives at η = {:.6}",
                 1.0 / c,
                 cap.eta_survived
             );
@@ -183,11 +248,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             args.eta_min
         ),
     }
+    let refinements = refinement_runs(certified);
     println!(
         "runs        {} ({} levels, {} refinements){}",
         cap.runs(),
-        cap.runs() - refinement_runs,
-        refinement_runs,
+        cap.runs() - refinements,
+        refinements,
         if certified.extra.runs > 0 {
             format!(", and {} to certify it", certified.extra.runs)
         } else {
@@ -195,82 +261,48 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
     );
     println!("certified   {}", certified.certification);
-    Ok(())
 }
 
-#[cfg(test)]
-mod tests {
-    use clap::Parser;
+/// Progress of a batch on standard error: a line every few seconds on a
+/// terminal or not, nothing for a batch that ends sooner.
+struct Progress {
+    total: usize,
+    done: AtomicUsize,
+    start: Instant,
+    last: Mutex<Instant>,
+}
 
-    use super::super::{Cli, Command};
-    use super::Args;
-
-    /// What clap makes of `rocking capacity <line>` through the whole
-    /// command tree: the reference the quick reading must equal.
-    fn by_clap(line: &[&str]) -> Option<Args> {
-        let argv = ["rocking", "capacity"].iter().chain(line);
-        match Cli::try_parse_from(argv).ok()?.command {
-            Command::Capacity(args) => Some(args),
-            _ => None,
+impl Progress {
+    fn new(total: usize) -> Progress {
+        let now = Instant::now();
+        Progress {
+            total,
+            done: AtomicUsize::new(0),
+            start: now,
+            last: Mutex::new(now),
         }
     }
 
-    fn quick(line: &[&str]) -> Option<Args> {
-        Args::quick(line.iter().map(std::ffi::OsString::from))
-    }
-
-    /// A command line's words (blanks separate them).
-    fn words(line: &str) -> Vec<&str> {
-        line.split_whitespace().collect()
-    }
-
-    #[test]
-    fn quick_reading_equals_clap_or_leaves_the_line_to_it() {
-        let mut read: Vec<Vec<&str>> = [
-            "--record R.AT2 --p 2 --eps 0.7",
-            "--p=2 --eps=0.7 --record=R.AT2 --json",
-            "--record R.AT2 --p 2 --eps 0.7 --model nonlinear --alpha 0.2 --rtol 1e-9",
-            "--record R.AT2 --p 0.5 --eps 1 --model auto --alpha 0.1 --auto-tol 0.02 --overturn cap:1.5",
-            "--record R.AT2 --p 2 --eps 0.7 --tol 1e-3 --levels 50 --eta-min 0.01 --spacing linear --overturn escape",
-        ]
-        .map(words)
-        .into();
-        read.push(vec![
-            "--json", "--record", "a b.AT2", "--eps", ".7", "--p", "2e0",
-        ]);
-        for line in &read {
-            let (got, want) = (quick(line), by_clap(line));
-            assert!(got.is_some() && want.is_some(), "{line:?}");
-            assert_eq!(format!("{got:?}"), format!("{want:?}"), "{line:?}");
+    fn tick(&self) {
+        let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;
+        let mut last = self.last.lock().expect("progress lock");
+        if last.elapsed().as_secs_f64() >= 3.0 {
+            *last = Instant::now();
+            eprintln!(
+                "capacity: {done} of {} done after {:.0} s",
+                self.total,
+                self.start.elapsed().as_secs_f64()
+            );
         }
-        // Lines clap must read itself: its help, its errors, and what the
-        // quick reading does not know (a pulse, a negative number, a short
-        // option, a positional argument); and whether clap reads each.
-        let mut left: Vec<(Vec<&str>, bool)> = [
-            ("--help", false),
-            ("-h", false),
-            ("--record R.AT2 --p 2", false),
-            ("--record R.AT2 --p two --eps 0.7", false),
-            ("--record R.AT2 --p 2 --eps 0.7 --p 3", false),
-            ("--record R.AT2 --p 2 --eps 0.7 --json=true", false),
-            ("--record R.AT2 --p 2 --eps 0.7 --bogus 1", false),
-            ("--record R.AT2 --p 2 --eps 0.7 --model Linearized", false),
-            ("--record R.AT2 --p 2 --eps 0.7 --levels 1.5", false),
-            ("--record R.AT2 --p 2 --eps 0.7 extra", false),
-            ("--record R.AT2 --p 2 --eps", false),
-            ("--record R.AT2 --p 2 --eps 0.7 --overturn sideways", false),
-            // A pulse, a negative p (refused later by the block's checks),
-            // and --td, which only a pulse uses.
-            ("--pulse rect --p 2 --eps 0.7", true),
-            ("--record R.AT2 --p -2 --eps 0.7", true),
-            ("--record R.AT2 --p 2 --eps 0.7 --td 2", true),
-        ]
-        .map(|(line, clap_reads)| (words(line), clap_reads))
-        .into();
-        left.push((vec!["--record", "", "--p", "2", "--eps", "0.7"], false));
-        for (line, clap_reads) in &left {
-            assert!(quick(line).is_none(), "{line:?}");
-            assert_eq!(by_clap(line).is_some(), *clap_reads, "{line:?}");
+    }
+
+    fn finish(&self) {
+        if self.start.elapsed().as_secs_f64() >= 3.0 {
+            eprintln!(
+                "capacity: {} capacities in {:.1} s",
+                self.total,
+                self.start.elapsed().as_secs_f64()
+            );
         }
     }
 }

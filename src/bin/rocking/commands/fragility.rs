@@ -2,7 +2,9 @@
 
 use rocking::ops::fragility::{self, Request};
 
-use super::args::{parse_eps, EpsArg, LawArgs};
+use rocking::block::Restitution;
+
+use super::args::{parse_restitution, LawArgs};
 
 /// Probability that a real block overturns at given PGAs.
 #[derive(Debug, clap::Args)]
@@ -22,8 +24,8 @@ pub struct Args {
     #[arg(long, value_name = "m")]
     h: f64,
     /// Coefficient of restitution, or `housner` for 1 − 1.5 sin²α.
-    #[arg(long, default_value = "housner", value_parser = parse_eps)]
-    eps: EpsArg,
+    #[arg(long, default_value = "housner", value_parser = parse_restitution)]
+    eps: Restitution,
     /// Peak ground accelerations (g), comma-separated.
     #[arg(long, value_name = "g[,g…]", value_delimiter = ',', required = true)]
     pga: Vec<f64>,
@@ -41,7 +43,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let req = Request {
         b_m: args.b,
         h_m: args.h,
-        eps: args.eps.0,
+        eps: args.eps,
         pga_g: args.pga.clone(),
         from: args.law.source(),
         direct: args.direct,

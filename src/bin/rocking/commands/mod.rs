@@ -65,31 +65,9 @@ fn dispatch(command: Command) -> anyhow::Result<()> {
     }
 }
 
-/// The parser of `rocking capacity` alone, when that is the command: scripts
-/// call it in loops, and building every command's arguments (the stages'
-/// included) costs about 0.2 ms of its start. The same subcommand as in
-/// the whole tree ([`Cli::command`]), so help, errors and matches are
-/// those of the whole tree.
-fn quick_command() -> Option<clap::Command> {
-    use clap::Args;
-    if std::env::args_os().nth(1)? != "capacity" {
-        return None;
-    }
-    let capacity = capacity::Args::augment_args(clap::Command::new("capacity"));
-    Some(clap::Command::new("rocking").subcommand(capacity))
-}
-
 /// Parses the command line, runs the command, prints errors with their causes.
 pub fn main() -> ExitCode {
-    let mut argv = std::env::args_os().skip(1);
-    if argv.next().is_some_and(|c| c == "capacity") {
-        if let Some(args) = capacity::Args::quick(argv) {
-            return exit(capacity::run(args));
-        }
-    }
-    let matches = quick_command()
-        .unwrap_or_else(|| stage::augment(run::describe(Cli::command())))
-        .get_matches();
+    let matches = stage::augment(run::describe(Cli::command())).get_matches();
     let result = match stage::matching(&matches) {
         Some((stage, sub)) => stage::run(stage, sub),
         None => match Cli::from_arg_matches(&matches) {

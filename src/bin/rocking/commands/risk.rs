@@ -7,7 +7,9 @@ use rocking::ops::risk::{self, Assessment, Blocks, Request};
 use rocking::risk::Beyond;
 use rocking::tables::atomic_write;
 
-use super::args::{parse_eps, EpsArg, LawArgs};
+use rocking::block::Restitution;
+
+use super::args::{parse_restitution, LawArgs};
 
 /// Annual rate of overturning of a block (or an inventory) at the sites of a hazard file.
 #[derive(Debug, clap::Args)]
@@ -47,8 +49,8 @@ pub struct Args {
     )]
     h: Option<f64>,
     /// Coefficient of restitution, or `housner` for 1 − 1.5 sin²α.
-    #[arg(long, default_value = "housner", value_parser = parse_eps, conflicts_with = "inventory")]
-    eps: EpsArg,
+    #[arg(long, default_value = "housner", value_parser = parse_restitution, conflicts_with = "inventory")]
+    eps: Restitution,
     /// A CSV of blocks `name,b,h[,eps]` (m; eps empty or `housner` for Housner's bound).
     #[arg(long, value_name = "BLOCKS.csv")]
     inventory: Option<PathBuf>,
@@ -89,7 +91,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         BeyondArg::Extrapolate => Beyond::Extrapolate,
         BeyondArg::Stop => Beyond::Stop,
     };
-    let eps = args.eps.0;
+    let eps = args.eps;
     let blocks = match (&args.inventory, args.b, args.h) {
         (Some(path), _, _) => Blocks::Inventory(path.clone()),
         (None, Some(b_m), Some(h_m)) => Blocks::One { b_m, h_m, eps },

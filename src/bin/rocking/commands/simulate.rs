@@ -2,6 +2,7 @@
 
 use std::path::PathBuf;
 
+use rocking::im;
 use rocking::label::Label;
 use rocking::physics::{self, Recorder};
 use rocking::tables;
@@ -19,11 +20,28 @@ use super::args::BlockArgs;
     --history-every-th sample."
 )]
 pub struct Args {
+    /// The AT2 record (acceleration in g).
+    #[arg(
+        long,
+        value_name = "FILE.AT2",
+        required_unless_present = "pulse",
+        conflicts_with = "pulse"
+    )]
+    record: Option<PathBuf>,
     #[command(flatten)]
     block: BlockArgs,
     /// Uplift strength η = αg/A_g (> 0).
-    #[arg(long, value_name = "η")]
-    eta: f64,
+    #[arg(
+        long,
+        value_name = "η",
+        required_unless_present = "pga",
+        conflicts_with = "pga"
+    )]
+    eta: Option<f64>,
+    /// The record's PGA after scaling (g), instead of η: η = α/PGA (needs α:
+    /// the block's dimensions or --alpha).
+    #[arg(long, value_name = "g")]
+    pga: Option<f64>,
     /// Write the response history (t, x, ẋ, pivot, ψ̈, event) to a .parquet or .csv file.
     #[arg(long, value_name = "FILE")]
     history: Option<PathBuf>,
@@ -51,8 +69,24 @@ struct Report<'a> {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let rec = args.block.excitation()?;
-    let (spec, why) = args.block.spec(args.eta)?;
+    let block = args.block.one()?;
+    let eta = match (args.eta, args.pga, block.named.alpha_rad) {
+        (Some(eta), _, _) => eta,
+        (None, Some(pga), Some(alpha)) if pga > 0.0 && pga.is_finite() => {
+            im::eta_of_pga(pga, alpha)
+        }
+        (None, Some(pga), Some(_)) => anyhow::bail!("--pga {pga}: a PGA must be positive (g)"),
+        _ => anyhow::bail!(
+            "--pga needs the block's slenderness α: give --b --h, --width --height or --alpha"
+        ),
+    };
+    let spec = physics::RunSpec {
+        eta,
+        ..block.named.spec
+    };
+    spec.validate()?;
+    let (why, block_alpha) = (block.why, block.named.alpha_rad);
+    let rec = args.block.excitation(args.record.as_deref(), spec.p)?;
     let mut recorder = Recorder::new(args.history_every);
     let out = if args.history.is_some() {
         physics::simulate_observed(&rec.exc, &spec, &mut recorder)?
@@ -63,7 +97,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let settings = vec![
             (
                 "rocking.simulate.record".to_string(),
-                match &args.block.record {
+                match &args.record {
                     Some(path) => path.display().to_string(),
                     None => rec.record_id.clone(),
                 },
@@ -78,7 +112,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         eps: spec.eps,
         eta: spec.eta,
         model: spec.model.equation.kind().label(),
-        alpha_rad: spec.alpha(),
+        alpha_rad: block_alpha,
         overturn: spec.overturn.to_string(),
         theta_max_over_alpha: out.max_abs_x,
         overturned: out.overturned(),

@@ -1,0 +1,179 @@
+//! A rigid block: its geometry and restitution, defined once (pure;
+//! docs/MODEL.md §1).
+//!
+//! A rectangular block of half-width `b` and half-height `h` (m) rocks with
+//! slenderness `α = atan(b/h)`, semi-diagonal `R = √(b² + h²)` and frequency
+//! parameter `p = √(3g/(4R))`. Its coefficient of restitution ε is a value
+//! in (0, 1] or Housner's bound for a rectangle, `1 − 1.5 sin²α`. Pipelines,
+//! `fragility`, `risk`, `simulate` and `capacity` all take a block from here.
+
+use std::fmt;
+use std::str::FromStr;
+
+/// Standard gravity (m/s²).
+pub const G: f64 = 9.80665;
+
+/// A real block: half-width and half-height (m), restitution.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Block {
+    pub b_m: f64,
+    pub h_m: f64,
+    pub eps: f64,
+}
+
+/// The coefficient of restitution as a user gives it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Restitution {
+    /// A value in (0, 1].
+    Value(f64),
+    /// Housner's bound for a rectangle, `1 − 1.5 sin²α`.
+    Housner,
+}
+
+/// A block that cannot be built, and why.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum BlockError {
+    #[error("b = {b} m and h = {h} m must be positive and finite")]
+    Size { b: f64, h: f64 },
+    #[error("ε = {0}; ε must be in (0, 1]")]
+    Eps(f64),
+    #[error(
+        "Housner's ε = 1 − 1.5 sin²α = {eps:.4} is not positive for b/h = {ratio} \
+         (α = {alpha:.4} rad): give ε"
+    )]
+    HousnerEps { eps: f64, ratio: f64, alpha: f64 },
+    #[error("`{0}`: give a number in (0, 1] or `housner`")]
+    Restitution(String),
+}
+
+impl Block {
+    /// A block from its half-width and half-height (m) and its restitution,
+    /// checked: positive finite sizes, ε in (0, 1] (Housner's bound is
+    /// refused where it is not positive, for blocks stockier than b/h ≈ 1.2).
+    pub fn new(b_m: f64, h_m: f64, eps: Restitution) -> Result<Block, BlockError> {
+        if !(b_m > 0.0 && h_m > 0.0 && b_m.is_finite() && h_m.is_finite()) {
+            return Err(BlockError::Size { b: b_m, h: h_m });
+        }
+        let eps = match eps {
+            Restitution::Value(e) => check_eps(e)?,
+            Restitution::Housner => {
+                let e = Block::housner_eps(b_m, h_m);
+                if e.is_nan() || e <= 0.0 {
+                    return Err(BlockError::HousnerEps {
+                        eps: e,
+                        ratio: b_m / h_m,
+                        alpha: (b_m / h_m).atan(),
+                    });
+                }
+                e
+            }
+        };
+        Ok(Block { b_m, h_m, eps })
+    }
+
+    /// A block from its full width and height (m): `b = width/2`, `h = height/2`.
+    pub fn from_full(width_m: f64, height_m: f64, eps: Restitution) -> Result<Block, BlockError> {
+        Block::new(width_m / 2.0, height_m / 2.0, eps)
+    }
+
+    /// Slenderness `α = atan(b/h)` (rad).
+    pub fn alpha(&self) -> f64 {
+        (self.b_m / self.h_m).atan()
+    }
+
+    /// Semi-diagonal `R = √(b² + h²)` (m).
+    pub fn r_m(&self) -> f64 {
+        self.b_m.hypot(self.h_m)
+    }
+
+    /// Frequency parameter `p = √(3g/(4R))` (1/s).
+    pub fn p(&self) -> f64 {
+        (3.0 * G / (4.0 * self.r_m())).sqrt()
+    }
+
+    /// Housner's upper bound of ε for a rectangle, 1 − 1.5 sin²α.
+    pub fn housner_eps(b_m: f64, h_m: f64) -> f64 {
+        let a = (b_m / h_m).atan();
+        1.0 - 1.5 * a.sin().powi(2)
+    }
+}
+
+/// `eps` when it is in (0, 1].
+pub fn check_eps(eps: f64) -> Result<f64, BlockError> {
+    if eps > 0.0 && eps <= 1.0 {
+        Ok(eps)
+    } else {
+        Err(BlockError::Eps(eps))
+    }
+}
+
+impl FromStr for Restitution {
+    type Err = BlockError;
+
+    /// `housner`, or a number (checked later, with the block).
+    fn from_str(text: &str) -> Result<Self, BlockError> {
+        if text == "housner" {
+            return Ok(Restitution::Housner);
+        }
+        text.parse::<f64>()
+            .map(Restitution::Value)
+            .map_err(|_| BlockError::Restitution(text.to_string()))
+    }
+}
+
+impl fmt::Display for Restitution {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Restitution::Value(e) => write!(f, "{e}"),
+            Restitution::Housner => f.write_str("housner"),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn geometry_by_hand() {
+        // b = 0.2 m, h = 1 m: R = √1.04 m, p = √(3g/(4R)), α = atan 0.2.
+        let b = Block::new(0.2, 1.0, Restitution::Value(0.8)).unwrap();
+        assert!((b.r_m() - 1.04f64.sqrt()).abs() < 1e-15);
+        assert!((b.p() - (3.0 * 9.80665 / (4.0 * 1.04f64.sqrt())).sqrt()).abs() < 1e-12);
+        assert!((b.alpha() - 0.197_395_559_849_880_75).abs() < 1e-15);
+        // Full dimensions are twice the half ones.
+        assert_eq!(
+            Block::from_full(0.4, 2.0, Restitution::Value(0.8)).unwrap(),
+            b
+        );
+    }
+
+    #[test]
+    fn housner_bound_and_its_limits() {
+        // sin²(atan x) = x²/(1 + x²): at b/h = 0.25, 1 − 1.5·(1/17).
+        let b = Block::new(0.25, 1.0, Restitution::Housner).unwrap();
+        assert!((b.eps - (1.0 - 1.5 / 17.0)).abs() < 1e-15);
+        // Not positive from sin²α ≥ 2/3, i.e. b/h ≥ √2.
+        assert!(matches!(
+            Block::new(1.5, 1.0, Restitution::Housner),
+            Err(BlockError::HousnerEps { .. })
+        ));
+        assert_eq!(
+            Block::new(0.2, 1.0, Restitution::Value(1.2)),
+            Err(BlockError::Eps(1.2))
+        );
+        assert!(matches!(
+            Block::new(-0.2, 1.0, Restitution::Value(0.8)),
+            Err(BlockError::Size { .. })
+        ));
+        assert!(Block::new(f64::NAN, 1.0, Restitution::Value(0.8)).is_err());
+    }
+
+    #[test]
+    fn restitution_reads_a_number_or_housner() {
+        assert_eq!("housner".parse(), Ok(Restitution::Housner));
+        assert_eq!("0.7".parse(), Ok(Restitution::Value(0.7)));
+        assert!("elastic".parse::<Restitution>().is_err());
+        assert_eq!(Restitution::Housner.to_string(), "housner");
+    }
+}

@@ -1,0 +1,155 @@
+//! `rocking capacity` over many records and blocks in one process: every
+//! record × block case certified (`ida::capacity_certified`), on every
+//! core, results in case order (record outer, block inner, as the sweep).
+//!
+//! A case's capacity does not depend on how the cases are spread over the
+//! workers: a case alone runs its search with the runs ahead of need on
+//! every core ([`super::record::capacity_certified_parallel`]), several
+//! cases run one search per worker, and both give the sequential search's
+//! result.
+
+use std::path::{Path, PathBuf};
+
+use rayon::prelude::*;
+
+use super::record::{self, LoadedRecord, RecordError};
+use crate::ida::{self, Certified, ImGrid, Trace};
+use crate::physics::{PhysicsError, RunSpec};
+use crate::tables::sweep::CapacityRow;
+
+/// One block of a batch: its name (empty for a p × ε block), its
+/// slenderness when known (from its dimensions or given; the linearised
+/// model itself needs none) and its run specification at η = 1.
+#[derive(Debug, Clone)]
+pub struct NamedSpec {
+    pub name: String,
+    pub alpha_rad: Option<f64>,
+    pub spec: RunSpec,
+}
+
+/// A case that failed, named.
+#[derive(Debug, thiserror::Error)]
+pub enum CapacityError {
+    #[error(transparent)]
+    Discover(#[from] crate::stages::ingest::IngestError),
+    #[error(transparent)]
+    Record(#[from] RecordError),
+    #[error("record {record}, block {block}")]
+    Case {
+        record: String,
+        block: String,
+        #[source]
+        source: PhysicsError,
+    },
+    #[error("--out {0}: give a .parquet file")]
+    OutExtension(PathBuf),
+    #[error("--out {0} is one of the records read; refusing to overwrite an input")]
+    OutIsInput(PathBuf),
+}
+
+/// The records at `paths` (AT2 files, or folders searched recursively for
+/// `*.AT2`), sorted by path, each read once.
+pub fn load_records(paths: &[PathBuf]) -> Result<Vec<LoadedRecord>, CapacityError> {
+    let files = crate::stages::ingest::discover(paths)?;
+    files
+        .par_iter()
+        .map(|f| record::load(f).map_err(CapacityError::from))
+        .collect()
+}
+
+/// The certified capacity of every record × block, in case order. `done`
+/// is called after each case, from any worker.
+pub fn capacities(
+    records: &[LoadedRecord],
+    blocks: &[NamedSpec],
+    grid: &ImGrid,
+    tol: f64,
+    done: &(dyn Fn() + Sync),
+) -> Result<Vec<Certified>, CapacityError> {
+    let cases: Vec<(usize, usize)> = (0..records.len())
+        .flat_map(|r| (0..blocks.len()).map(move |b| (r, b)))
+        .collect();
+    let one = |&(r, b): &(usize, usize), alone: bool| {
+        let (rec, block) = (&records[r], &blocks[b]);
+        let certified = if alone {
+            record::capacity_certified_parallel(
+                &rec.exc,
+                &block.spec,
+                grid,
+                tol,
+                Trace::StopAtFirst,
+            )
+        } else {
+            ida::capacity_certified(&rec.exc, &block.spec, grid, tol, Trace::StopAtFirst)
+        };
+        done();
+        certified.map_err(|source| CapacityError::Case {
+            record: rec.record_id.clone(),
+            block: block_label(block),
+            source,
+        })
+    };
+    // Fewer cases than workers: each case in turn on every core; else one
+    // case per worker at a time.
+    if cases.len() < rayon::current_num_threads() {
+        cases.iter().map(|c| one(c, true)).collect()
+    } else {
+        cases.par_iter().map(|c| one(c, false)).collect()
+    }
+}
+
+/// A block as errors name it: its name, or its p and ε.
+fn block_label(block: &NamedSpec) -> String {
+    if block.name.is_empty() {
+        format!("p = {} 1/s, ε = {}", block.spec.p, block.spec.eps)
+    } else {
+        block.name.clone()
+    }
+}
+
+/// The `capacities` table's row of case `case_id` (the sweep's schema).
+pub fn row(
+    case_id: usize,
+    record_id: &str,
+    block: &NamedSpec,
+    certified: &Certified,
+) -> CapacityRow {
+    let cap = &certified.capacity;
+    CapacityRow {
+        case_id: case_id as i64,
+        record_id: record_id.to_string(),
+        block: block.name.clone(),
+        p: block.spec.p,
+        eps: block.spec.eps,
+        alpha_rad: block.alpha_rad,
+        model: block.spec.model.equation.kind(),
+        eta_c: cap.eta_c,
+        eta_survived: cap.eta_survived,
+        level_survived: cap.level_survived,
+        level_overturned: cap.level_overturned,
+        runs: cap.points.len() as i64,
+        resurrections: cap.resurrections.map(|r| r as i64),
+        certified: certified.certification.certified(),
+        certification: certified.certification.kind(),
+        certification_note: certified.certification.to_string(),
+        rtol: certified.model.integrator.rtol(),
+    }
+}
+
+/// Checks that `out` is a `.parquet` file that is none of `inputs` (nor,
+/// through links, resolves to one).
+pub fn check_out(out: &Path, inputs: &[PathBuf]) -> Result<(), CapacityError> {
+    if out.extension().and_then(|e| e.to_str()) != Some("parquet") {
+        return Err(CapacityError::OutExtension(out.to_path_buf()));
+    }
+    let Ok(target) = out.canonicalize() else {
+        return Ok(()); // not there yet: it cannot be an input
+    };
+    if inputs
+        .iter()
+        .any(|i| i.canonicalize().is_ok_and(|i| i == target))
+    {
+        return Err(CapacityError::OutIsInput(out.to_path_buf()));
+    }
+    Ok(())
+}
