@@ -14,6 +14,7 @@
 //! Module map (see `ARCHITECTURE.md` for the invariants):
 //!
 //! - [`at2`], [`manifest`], [`motion`]: parsing and record summaries, no I/O;
+//! - [`decimal`]: correctly rounded decimal reading (Clinger's fast path), no I/O;
 //! - [`physics`]: the equations, integrators and events, no I/O;
 //! - [`ida`]: capacity of one record by incremental dynamic analysis, no I/O;
 //! - [`pulse`]: rectangular and exponential pulses, their closed-form walls
@@ -39,6 +40,7 @@
 pub mod at2;
 pub mod bench;
 pub mod cluster;
+pub mod decimal;
 pub mod figures;
 pub mod fit;
 pub mod fragility;
