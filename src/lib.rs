@@ -16,6 +16,7 @@
 //! - [`at2`], [`manifest`], [`motion`]: parsing and record summaries, no I/O;
 //! - [`block`]: a block's geometry (α, R, p) and restitution, defined once, no I/O;
 //! - [`im`]: intensity measures, and a capacity in η as a capacity in an IM, no I/O;
+//! - [`decimal`]: correctly rounded decimal reading (Clinger's fast path), no I/O;
 //! - [`physics`]: the equations, integrators and events, no I/O;
 //! - [`ida`]: capacity of one record by incremental dynamic analysis, no I/O;
 //! - [`pulse`]: rectangular and exponential pulses, their closed-form walls
@@ -42,6 +43,7 @@ pub mod at2;
 pub mod bench;
 pub mod block;
 pub mod cluster;
+pub mod decimal;
 pub mod figures;
 pub mod fit;
 pub mod fragility;

@@ -155,6 +155,40 @@ pub fn read(mut input: impl Read) -> Result<Manifest, ManifestError> {
             message: format!("cannot read the header: {e}"),
         })?
         .clone();
+    let (column, ignored_columns) = columns(&headers)?;
+
+    let mut entries: BTreeMap<String, ManifestEntry> = BTreeMap::new();
+    for row in csv.records() {
+        let row = row.map_err(|e| ManifestError {
+            line: e.position().map(|p| line_at(&bytes, p.byte())),
+            message: e.to_string(),
+        })?;
+        let line = row.position().map_or(0, |p| line_at(&bytes, p.byte()));
+        let entry = row_entry(&row, line, &column)?;
+        let id = entry.record_id();
+        if let Some(first) = entries.get(&id) {
+            return Err(ManifestError {
+                line: Some(line),
+                message: format!(
+                    "record `{id}` is listed twice (lines {} and {line}); record ids are file stems and must be unique",
+                    first.line
+                ),
+            });
+        }
+        entries.insert(id, entry);
+    }
+    Ok(Manifest {
+        entries,
+        ignored_columns,
+    })
+}
+
+/// The header row (line 1): the index of each known column, and the
+/// unknown columns' names. A known column named twice, or no `file`
+/// column, is refused.
+fn columns(
+    headers: &csv::StringRecord,
+) -> Result<(BTreeMap<&str, usize>, Vec<String>), ManifestError> {
     let mut column = BTreeMap::new();
     let mut ignored_columns = Vec::new();
     for (i, name) in headers.iter().enumerate() {
@@ -180,91 +214,78 @@ pub fn read(mut input: impl Read) -> Result<Manifest, ManifestError> {
             ),
         });
     }
+    Ok((column, ignored_columns))
+}
 
-    let mut entries: BTreeMap<String, ManifestEntry> = BTreeMap::new();
-    for row in csv.records() {
-        let row = row.map_err(|e| ManifestError {
-            line: e.position().map(|p| line_at(&bytes, p.byte())),
-            message: e.to_string(),
-        })?;
-        let line = row.position().map_or(0, |p| line_at(&bytes, p.byte()));
-        let cell = |name: &str| -> Option<&str> {
-            column
-                .get(name)
-                .and_then(|&i| row.get(i))
-                .map(str::trim)
-                .filter(|s| !s.is_empty())
-        };
-        let text = |name: &str| cell(name).map(str::to_string);
-        let bad = |name: &str, value: &str, what: &str| ManifestError {
-            line: Some(line),
-            message: format!("column `{name}`: `{value}` is not {what}"),
-        };
-        let int = |name: &str| -> Result<Option<i64>, ManifestError> {
-            cell(name)
-                .map(|v| v.parse::<i64>().map_err(|_| bad(name, v, "a whole number")))
-                .transpose()
-        };
-        let real = |name: &str| -> Result<Option<f64>, ManifestError> {
-            cell(name)
-                .map(|v| match v.parse::<f64>() {
-                    Ok(x) if x.is_finite() => Ok(x),
-                    _ => Err(bad(name, v, "a finite number")),
-                })
-                .transpose()
-        };
-        let file = text("file").ok_or_else(|| ManifestError {
-            line: Some(line),
-            message: "the `file` cell is empty".into(),
-        })?;
-        let npts = match int("npts")? {
-            Some(n) if n > 0 => Some(n as u64),
-            Some(n) => return Err(bad("npts", &n.to_string(), "a positive whole number")),
-            None => None,
-        };
-        let meta = RecordMeta {
-            set: text("set"),
-            pair: text("record_id"),
-            pair_component: text("component_id"),
-            rsn: int("rsn")?,
-            event: text("event"),
-            year: int("year")?,
-            magnitude: real("magnitude")?,
-            station: text("station"),
-            component: text("component"),
-            pga_max_pair_g: real("pga_max_pair_g")?,
-            pgv_max_pair_cm_s: real("pgv_max_pair_cm_s")?,
-            normalization_factor: real("normalization_factor")?,
-            site_class: text("site_class"),
-            vs30_m_s: real("vs30_m_s")?,
-            fault_type: text("fault_type"),
-            r_jb_km: real("r_jb_km")?,
-            r_rup_km: real("r_rup_km")?,
-            lowest_usable_freq_hz: real("lowest_usable_freq_hz")?,
-        };
-        let entry = ManifestEntry {
-            line,
-            file,
-            npts,
-            dt_s: real("dt")?,
-            pga_g: real("pga_g")?,
-            meta,
-        };
-        let id = entry.record_id();
-        if let Some(first) = entries.get(&id) {
-            return Err(ManifestError {
-                line: Some(line),
-                message: format!(
-                    "record `{id}` is listed twice (lines {} and {line}); record ids are file stems and must be unique",
-                    first.line
-                ),
-            });
-        }
-        entries.insert(id, entry);
-    }
-    Ok(Manifest {
-        entries,
-        ignored_columns,
+/// The entry of one row, on CSV line `line`, its cells found by `column`
+/// (see [`columns`]): an empty cell is a missing value, a cell that does not
+/// read as its column's type is refused.
+fn row_entry(
+    row: &csv::StringRecord,
+    line: u64,
+    column: &BTreeMap<&str, usize>,
+) -> Result<ManifestEntry, ManifestError> {
+    let cell = |name: &str| -> Option<&str> {
+        column
+            .get(name)
+            .and_then(|&i| row.get(i))
+            .map(str::trim)
+            .filter(|s| !s.is_empty())
+    };
+    let text = |name: &str| cell(name).map(str::to_string);
+    let bad = |name: &str, value: &str, what: &str| ManifestError {
+        line: Some(line),
+        message: format!("column `{name}`: `{value}` is not {what}"),
+    };
+    let int = |name: &str| -> Result<Option<i64>, ManifestError> {
+        cell(name)
+            .map(|v| v.parse::<i64>().map_err(|_| bad(name, v, "a whole number")))
+            .transpose()
+    };
+    let real = |name: &str| -> Result<Option<f64>, ManifestError> {
+        cell(name)
+            .map(|v| match v.parse::<f64>() {
+                Ok(x) if x.is_finite() => Ok(x),
+                _ => Err(bad(name, v, "a finite number")),
+            })
+            .transpose()
+    };
+    let file = text("file").ok_or_else(|| ManifestError {
+        line: Some(line),
+        message: "the `file` cell is empty".into(),
+    })?;
+    let npts = match int("npts")? {
+        Some(n) if n > 0 => Some(n as u64),
+        Some(n) => return Err(bad("npts", &n.to_string(), "a positive whole number")),
+        None => None,
+    };
+    let meta = RecordMeta {
+        set: text("set"),
+        pair: text("record_id"),
+        pair_component: text("component_id"),
+        rsn: int("rsn")?,
+        event: text("event"),
+        year: int("year")?,
+        magnitude: real("magnitude")?,
+        station: text("station"),
+        component: text("component"),
+        pga_max_pair_g: real("pga_max_pair_g")?,
+        pgv_max_pair_cm_s: real("pgv_max_pair_cm_s")?,
+        normalization_factor: real("normalization_factor")?,
+        site_class: text("site_class"),
+        vs30_m_s: real("vs30_m_s")?,
+        fault_type: text("fault_type"),
+        r_jb_km: real("r_jb_km")?,
+        r_rup_km: real("r_rup_km")?,
+        lowest_usable_freq_hz: real("lowest_usable_freq_hz")?,
+    };
+    Ok(ManifestEntry {
+        line,
+        file,
+        npts,
+        dt_s: real("dt")?,
+        pga_g: real("pga_g")?,
+        meta,
     })
 }
 

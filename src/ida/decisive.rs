@@ -1,0 +1,91 @@
+//! The runs whose verdicts decide a capacity, and the chaos probe of them:
+//! each decisive run again with η moved by ±[`CHAOS_PROBE`].
+
+use super::capacity::{Capacity, RunKind};
+use super::grid::ImGrid;
+use super::runs::Runs;
+use crate::physics::{PhysicsError, RunSpec};
+
+/// θmax/α from which a surviving grid level counts as a near miss: a
+/// slightly different integration could tip it over, and so move the first
+/// overturning to it.
+pub const NEAR_MISS: f64 = 0.5;
+
+/// The runs whose verdicts decide a capacity, each with the verdict the
+/// search found: the first grid level that overturned and the last that
+/// survived before it (the bracket before refinement), every refinement run
+/// (each verdict steered the bisection, so a flip anywhere moves η_c, as
+/// the surviving midpoints above the final bracket do), and the surviving
+/// grid levels before the first overturning that came near overturning
+/// (θmax/α ≥ [`NEAR_MISS`]): a flip there moves the first overturning up.
+/// η_c and the bracket's surviving end are among them, first.
+pub fn decisive_runs(cap: &Capacity, grid: &ImGrid) -> Vec<(f64, bool)> {
+    let mut runs: Vec<(f64, bool)> = Vec::with_capacity(8);
+    let mut push = |eta: f64, overturned: bool| {
+        if !runs.iter().any(|&(e, _)| e == eta) {
+            runs.push((eta, overturned));
+        }
+    };
+    if let Some(c) = cap.eta_c {
+        push(c, true);
+    }
+    // At the grid's top the block is known to stand (nothing moves at η ≥ 1).
+    if cap.eta_survived < grid.eta_max {
+        push(cap.eta_survived, false);
+    }
+    if let Some(l) = cap.level_overturned {
+        push(l, true);
+    }
+    if cap.level_survived < grid.eta_max {
+        push(cap.level_survived, false);
+    }
+    for q in cap.points.iter().filter(|q| q.kind == RunKind::Refinement) {
+        push(q.eta, q.outcome.overturned());
+    }
+    let before_first = cap
+        .points
+        .iter()
+        .take_while(|q| !(q.kind == RunKind::Level && q.outcome.overturned()));
+    for q in before_first {
+        if q.kind == RunKind::Level && q.outcome.max_abs_x >= NEAR_MISS {
+            push(q.eta, false);
+        }
+    }
+    runs
+}
+
+/// How far (relative) the chaos probe moves η: far below any meaning (the
+/// grid's steps are 3.4 %), about the size of the integration errors a
+/// tolerance allows.
+pub const CHAOS_PROBE: f64 = 1e-9;
+
+/// The two runs that probe the run of `check` at `eta`: η moved by
+/// ±[`CHAOS_PROBE`].
+pub(super) fn probes(check: &RunSpec, eta: f64) -> [RunSpec; 2] {
+    [eta * (1.0 + CHAOS_PROBE), eta * (1.0 - CHAOS_PROBE)].map(|eta| RunSpec { eta, ..*check })
+}
+
+/// The first decisive run whose verdict changes when η moves by
+/// ±[`CHAOS_PROBE`], if any.
+pub(super) fn chaos_probe(
+    runs: &mut Runs,
+    check: &RunSpec,
+    cap: &Capacity,
+    grid: &ImGrid,
+) -> Result<Option<f64>, PhysicsError> {
+    let decisive: Vec<(f64, bool, [RunSpec; 2])> = decisive_runs(cap, grid)
+        .into_iter()
+        .map(|(eta, overturned)| (eta, overturned, probes(check, eta)))
+        .collect();
+    let all: Vec<RunSpec> = decisive.iter().flat_map(|d| d.2).collect();
+    runs.prefetch(&all);
+    for (eta, overturned, pair) in decisive {
+        runs.pair_ahead(&pair);
+        for spec in &pair {
+            if runs.outcome(spec)?.overturned() != overturned {
+                return Ok(Some(eta));
+            }
+        }
+    }
+    Ok(None)
+}

@@ -1,0 +1,270 @@
+//! The simulations of one record, remembered (and run ahead of need by a
+//! [`Batch`] of workers), and the work they counted.
+
+use crate::physics::{simulate, simulate_pair, Excitation, Outcome, PhysicsError, RunSpec};
+
+/// The simulations of one record, remembered: a search or check that asks
+/// for a run already done (the same η and model) gets its outcome without
+/// simulating again. Runs are deterministic, so sharing changes nothing but
+/// the time; nested IM grids (100, 200, 400 … log-spaced levels between the
+/// same ends) share their common levels bit for bit.
+///
+/// With a [`Batch`] (from [`Runs::with_batch`]) a search also asks for
+/// runs ahead of need, several at once: the grid levels up to the first
+/// overturning (scanned by all workers together, [`Runs::scan`]), and
+/// every chaos probe. The outcomes are the same, so the capacity and its
+/// certification are too; only the time changes, and at most one level
+/// per other worker past the first overturning is run in vain.
+pub struct Runs<'a> {
+    pub(super) exc: &'a Excitation,
+    memo: std::collections::HashMap<[u64; 8], Outcome>,
+    /// Runs done ahead of need by [`Runs::pair_ahead`], not yet asked for:
+    /// counted in [`Runs::work`] (and checked for the event cap) when they
+    /// are, so the work reported is the same as if each ran when asked.
+    ahead: std::collections::HashMap<[u64; 8], Outcome>,
+    done: Work,
+    pub(super) batch: Option<&'a dyn Batch>,
+}
+
+/// Runs simulations of one record together: what a caller with spare cores
+/// lends one capacity search (the `capacity` command runs them in
+/// parallel, [`crate::ops::record::capacity_certified_parallel`]).
+pub trait Batch: Sync {
+    /// [`simulate`]'s result for each spec, in order.
+    fn each(&self, exc: &Excitation, specs: &[RunSpec]) -> Vec<Result<Outcome, PhysicsError>>;
+
+    /// The specs in order, each worker taking the next one as soon as it is
+    /// free (no worker waits for another), none taken past the first known
+    /// to overturn or to end without a verdict (an error, the event cap):
+    /// [`simulate`]'s result for each spec run, `None` for the others. Those
+    /// run past the first overturning are the runs that were under way when
+    /// it was found: at most one per other worker.
+    fn until_overturned(
+        &self,
+        exc: &Excitation,
+        specs: &[RunSpec],
+    ) -> Vec<Option<Result<Outcome, PhysicsError>>>;
+
+    /// Calls `search` on this worker while the other workers run the pairs
+    /// of specs it hands to its argument, in the order handed, each pair by
+    /// [`run_pair`]; once `search` returns, this worker joins them until
+    /// every pair handed is run. Returns [`simulate`]'s result for each spec
+    /// handed. For work that is sequential by nature (a bisection) and
+    /// whose later needs are known early (the chaos probes of its decisive
+    /// runs): the other workers would idle otherwise.
+    fn alongside(
+        &self,
+        exc: &Excitation,
+        search: &mut (dyn FnMut(&Hand<'_>) + Send),
+    ) -> Vec<(RunSpec, Result<Outcome, PhysicsError>)>;
+}
+
+/// What a search given to [`Batch::alongside`] hands its pairs to.
+pub type Hand<'a> = dyn Fn([RunSpec; 2]) + 'a;
+
+/// Two runs that differ in η alone (a chaos probe's pair): together, in step,
+/// where [`simulate_pair`] can, else one after the other. Each result is
+/// [`simulate`]'s for that spec alone.
+pub fn run_pair(exc: &Excitation, pair: &[RunSpec; 2]) -> [Result<Outcome, PhysicsError>; 2] {
+    match simulate_pair(exc, pair.each_ref()) {
+        Some(outs) => outs.map(Ok),
+        None => pair.each_ref().map(|s| simulate(exc, s)),
+    }
+}
+
+impl<'a> Runs<'a> {
+    pub fn new(exc: &'a Excitation) -> Self {
+        Runs {
+            exc,
+            memo: std::collections::HashMap::new(),
+            ahead: std::collections::HashMap::new(),
+            done: Work::default(),
+            batch: None,
+        }
+    }
+
+    /// Runs that ask `batch` for runs ahead of need ([`Runs::scan`],
+    /// [`Runs::prefetch`]).
+    pub fn with_batch(exc: &'a Excitation, batch: &'a dyn Batch) -> Self {
+        Runs {
+            batch: Some(batch),
+            ..Runs::new(exc)
+        }
+    }
+
+    /// Runs the specs not yet in memory together, when there is a batch and
+    /// more than one is missing; a run that fails is left for
+    /// [`Runs::outcome`] to run again and report if it is ever needed. Those
+    /// already run ahead of need are taken as they are, and counted now as
+    /// the batch's runs are.
+    pub fn prefetch(&mut self, specs: &[RunSpec]) {
+        let Some(batch) = self.batch else {
+            return;
+        };
+        let (mut keys, mut missing) = (Vec::new(), Vec::new());
+        for s in specs {
+            let key = run_key(s);
+            if self.memo.contains_key(&key) || keys.contains(&key) {
+                continue;
+            }
+            match self.ahead.remove(&key) {
+                Some(out) => {
+                    let _ = self.remember(s, out);
+                }
+                None => {
+                    keys.push(key);
+                    missing.push(*s);
+                }
+            }
+        }
+        if missing.len() < 2 {
+            return;
+        }
+        for (spec, out) in missing.iter().zip(batch.each(self.exc, &missing)) {
+            if let Ok(out) = out {
+                let _ = self.remember(spec, out);
+            }
+        }
+    }
+
+    /// Runs the grid levels `specs` (in the order a search meets them) that
+    /// are not yet in memory, when there is a batch, up to the first level
+    /// known to overturn: all workers at once, each taking the next level
+    /// as soon as it is free ([`Batch::until_overturned`]).
+    pub fn scan(&mut self, specs: &[RunSpec]) {
+        let Some(batch) = self.batch else {
+            return;
+        };
+        let mut missing = Vec::new();
+        for s in specs {
+            match self.memo.get(&run_key(s)) {
+                Some(out) if out.overturned() => break,
+                Some(_) => {}
+                None => missing.push(*s),
+            }
+        }
+        if missing.len() < 2 {
+            return;
+        }
+        for (spec, out) in missing
+            .iter()
+            .zip(batch.until_overturned(self.exc, &missing))
+        {
+            if let Some(Ok(out)) = out {
+                let _ = self.remember(spec, out);
+            }
+        }
+    }
+
+    /// The simulations done so far (outcomes found in memory excluded).
+    pub fn work(&self) -> Work {
+        self.done
+    }
+
+    /// The outcome of one run. A run stopped by the event cap has no verdict:
+    /// it is refused rather than counted as surviving.
+    pub fn outcome(&mut self, spec: &RunSpec) -> Result<Outcome, PhysicsError> {
+        let key = run_key(spec);
+        if let Some(out) = self.memo.get(&key) {
+            return Ok(*out);
+        }
+        let out = match self.ahead.remove(&key) {
+            Some(out) => out,
+            None => simulate(self.exc, spec)?,
+        };
+        self.remember(spec, out)
+    }
+
+    /// Runs two specs that differ in η alone (a chaos probe's two runs)
+    /// together, in step, when neither is known yet and they can be
+    /// ([`simulate_pair`]: about the price of one where they rock alike).
+    /// Their outcomes wait until asked for ([`Runs::outcome`]).
+    pub fn pair_ahead(&mut self, specs: &[RunSpec; 2]) {
+        let keys = specs.each_ref().map(run_key);
+        if keys[0] == keys[1]
+            || keys
+                .iter()
+                .any(|k| self.memo.contains_key(k) || self.ahead.contains_key(k))
+        {
+            return;
+        }
+        if let Some(outs) = simulate_pair(self.exc, specs.each_ref()) {
+            self.ahead.extend(keys.into_iter().zip(outs));
+        }
+    }
+
+    /// Keeps outcomes run ahead of need (by [`Batch::alongside`]) until they
+    /// are asked for, as [`Runs::pair_ahead`] does; failures are dropped, to
+    /// be run again and reported if they are ever asked for.
+    pub(super) fn keep_ahead(&mut self, outs: Vec<(RunSpec, Result<Outcome, PhysicsError>)>) {
+        for (spec, out) in outs {
+            let key = run_key(&spec);
+            if let (Ok(out), false) = (out, self.memo.contains_key(&key)) {
+                self.ahead.insert(key, out);
+            }
+        }
+    }
+
+    /// Counts and keeps a run's outcome; a run stopped by the event cap is
+    /// refused.
+    fn remember(&mut self, spec: &RunSpec, out: Outcome) -> Result<Outcome, PhysicsError> {
+        if out.stop == crate::physics::Stop::EventLimit {
+            return Err(PhysicsError::BadInput(format!(
+                "the run at η = {} hit the limit of {} events without a verdict",
+                spec.eta,
+                crate::physics::MAX_EVENTS
+            )));
+        }
+        self.done.runs += 1;
+        self.done.intervals += out.intervals;
+        self.memo.insert(run_key(spec), out);
+        Ok(out)
+    }
+}
+
+/// Every number that defines a run, as bits.
+fn run_key(spec: &RunSpec) -> [u64; 8] {
+    use crate::physics::{Equation, Integrator, Overturn};
+    let (integrator, param) = match spec.model.integrator {
+        Integrator::Exact => (0, 0),
+        Integrator::Dp5 { rtol } => (1, rtol.to_bits()),
+        Integrator::Rk4 { substeps } => (2, u64::from(substeps)),
+    };
+    let alpha = match spec.model.equation {
+        Equation::Linearized => u64::MAX,
+        Equation::Nonlinear { alpha_rad } => alpha_rad.to_bits(),
+    };
+    let overturn = match spec.overturn {
+        Overturn::Static => 0,
+        Overturn::Cap(c) => c.to_bits(),
+        Overturn::OnSide => u64::MAX,
+        Overturn::Escape => u64::MAX - 1,
+    };
+    [
+        spec.eta.to_bits(),
+        spec.p.to_bits(),
+        spec.eps.to_bits(),
+        spec.rest_tol.to_bits(),
+        integrator,
+        param,
+        alpha,
+        overturn,
+    ]
+}
+
+/// Simulations done, and the sample intervals they integrated.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Work {
+    pub runs: usize,
+    pub intervals: u64,
+}
+
+impl Work {
+    /// The work done since `earlier`.
+    pub fn since(self, earlier: Work) -> Work {
+        Work {
+            runs: self.runs - earlier.runs,
+            intervals: self.intervals - earlier.intervals,
+        }
+    }
+}

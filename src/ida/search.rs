@@ -1,0 +1,227 @@
+//! The capacity search of one record (MODEL.md §4).
+//!
+//! A record is run at a sequence of intensity levels of decreasing η
+//! (increasing PGA). The capacity `η_c` is the first overturning met as
+//! intensity rises: the largest level at which the block overturns, even if
+//! it survives at some stronger level later (resurrection; Vamvatsikos &
+//! Cornell 2002). It is then refined by bisection between the last surviving
+//! level and the first overturning one until the bracket is at most `tol`
+//! wide in η; the reported `η_c` is the bracket's overturning end (an
+//! intensity at which the block is known to overturn).
+
+use super::capacity::{Capacity, IdaPoint, RunKind, Trace};
+use super::decisive::{decisive_runs, probes};
+use super::grid::ImGrid;
+use super::runs::Runs;
+use crate::physics::{Excitation, PhysicsError, RunSpec};
+
+/// Traces the IDA of one record up to its first overturning and refines it.
+/// `run.eta` is ignored (set per level).
+pub fn capacity(
+    exc: &Excitation,
+    run: &RunSpec,
+    grid: &ImGrid,
+    tol: f64,
+) -> Result<Capacity, PhysicsError> {
+    capacity_traced(exc, run, grid, tol, Trace::StopAtFirst)
+}
+
+/// [`capacity`], optionally running every level past the first overturning.
+pub fn capacity_traced(
+    exc: &Excitation,
+    run: &RunSpec,
+    grid: &ImGrid,
+    tol: f64,
+    trace: Trace,
+) -> Result<Capacity, PhysicsError> {
+    capacity_in(&mut Runs::new(exc), run, grid, tol, trace)
+}
+
+/// [`capacity_traced`] through `runs`: outcomes it already holds are not
+/// simulated again.
+pub fn capacity_in(
+    runs: &mut Runs,
+    run: &RunSpec,
+    grid: &ImGrid,
+    tol: f64,
+    trace: Trace,
+) -> Result<Capacity, PhysicsError> {
+    search(runs, run, grid, tol, trace, false)
+}
+
+/// [`capacity_in`]; with `probe_early` and a batch, the chaos probes of the
+/// decisive runs ([`chaos_probe`]'s, for a check with the search's own
+/// spec) are run by the other workers while the bisection goes on
+/// ([`Batch::alongside`]), and wait in [`Runs`] until asked for.
+///
+/// [`chaos_probe`]: super::decisive::chaos_probe
+/// [`Batch::alongside`]: super::Batch::alongside
+pub(super) fn search(
+    runs: &mut Runs,
+    run: &RunSpec,
+    grid: &ImGrid,
+    tol: f64,
+    trace: Trace,
+    probe_early: bool,
+) -> Result<Capacity, PhysicsError> {
+    if !(tol > 0.0 && tol.is_finite()) {
+        return Err(PhysicsError::BadInput(format!(
+            "capacity tolerance {tol} must be positive"
+        )));
+    }
+    let levels = grid.levels()?;
+    let mut points = Vec::new();
+    let spec = |eta: f64| RunSpec { eta, ..*run };
+    let mut survived = grid.eta_max;
+    if runs.batch.is_some() {
+        let all: Vec<RunSpec> = levels.iter().map(|&e| spec(e)).collect();
+        runs.scan(&all);
+    }
+    for (j, &eta) in levels.iter().enumerate() {
+        let outcome = runs.outcome(&spec(eta))?;
+        points.push(IdaPoint {
+            eta,
+            kind: RunKind::Level,
+            outcome,
+        });
+        if !outcome.overturned() {
+            survived = eta;
+            continue;
+        }
+        let (level_survived, level_overturned) = (survived, eta);
+        let mut over = eta;
+        refine(
+            runs,
+            run,
+            grid,
+            tol,
+            probe_early,
+            [&mut survived, &mut over],
+            &mut points,
+        )?;
+        let resurrections = match trace {
+            Trace::StopAtFirst => None,
+            Trace::AllLevels => Some(levels_past(runs, run, &levels[j + 1..], &mut points)?),
+        };
+        return Ok(Capacity {
+            eta_c: Some(over),
+            eta_survived: survived,
+            level_overturned: Some(level_overturned),
+            level_survived,
+            points,
+            resurrections,
+        });
+    }
+    Ok(Capacity {
+        eta_c: None,
+        eta_survived: survived,
+        level_overturned: None,
+        level_survived: survived,
+        points,
+        resurrections: match trace {
+            Trace::StopAtFirst => None,
+            Trace::AllLevels => Some(0),
+        },
+    })
+}
+
+/// Refines the bracket `[over, survived]` of the first overturning (its
+/// ends the first grid level that overturned and the last that survived
+/// before it) by [`bisect`]; with `probe_early` and a batch, the chaos
+/// probes of the decisive runs are handed to the other workers meanwhile,
+/// those known before the bisection first.
+fn refine(
+    runs: &mut Runs,
+    run: &RunSpec,
+    grid: &ImGrid,
+    tol: f64,
+    probe_early: bool,
+    [survived, over]: [&mut f64; 2],
+    points: &mut Vec<IdaPoint>,
+) -> Result<(), PhysicsError> {
+    let (level_survived, level_overturned) = (*survived, *over);
+    match runs.batch.filter(|_| probe_early) {
+        None => bisect(runs, run, tol, [survived, over], points, &|_| {})?,
+        Some(batch) => {
+            // The decisive runs known before the bisection: the bracket
+            // and the near misses (those of a capacity refined no further).
+            let known = decisive_runs(
+                &Capacity {
+                    eta_c: Some(*over),
+                    eta_survived: *survived,
+                    level_overturned: Some(level_overturned),
+                    level_survived,
+                    points: points.clone(),
+                    resurrections: None,
+                },
+                grid,
+            );
+            let mut bisected = Ok(());
+            let outs = batch.alongside(runs.exc, &mut |hand| {
+                for &(eta, _) in &known {
+                    hand(probes(run, eta));
+                }
+                let each = |eta| hand(probes(run, eta));
+                bisected = bisect(runs, run, tol, [&mut *survived, &mut *over], points, &each);
+            });
+            runs.keep_ahead(outs);
+            bisected?;
+        }
+    }
+    Ok(())
+}
+
+/// Runs and records the grid `levels` past the first overturning (for
+/// [`Trace::AllLevels`]): how many of them the block survived.
+fn levels_past(
+    runs: &mut Runs,
+    run: &RunSpec,
+    levels: &[f64],
+    points: &mut Vec<IdaPoint>,
+) -> Result<usize, PhysicsError> {
+    let spec = |eta: f64| RunSpec { eta, ..*run };
+    let rest: Vec<RunSpec> = levels.iter().map(|&e| spec(e)).collect();
+    runs.prefetch(&rest);
+    let mut survived_after = 0;
+    for &eta in levels {
+        let outcome = runs.outcome(&spec(eta))?;
+        points.push(IdaPoint {
+            eta,
+            kind: RunKind::Level,
+            outcome,
+        });
+        survived_after += usize::from(!outcome.overturned());
+    }
+    Ok(survived_after)
+}
+
+/// Bisects the bracket `[over, survived]` of `run`'s η down to `tol`,
+/// recording each refinement run and calling `refined` with its η.
+fn bisect(
+    runs: &mut Runs,
+    run: &RunSpec,
+    tol: f64,
+    [survived, over]: [&mut f64; 2],
+    points: &mut Vec<IdaPoint>,
+    refined: &dyn Fn(f64),
+) -> Result<(), PhysicsError> {
+    while *survived - *over > tol {
+        let mid = 0.5 * (*survived + *over);
+        if mid <= *over || mid >= *survived {
+            break;
+        }
+        let outcome = runs.outcome(&RunSpec { eta: mid, ..*run })?;
+        points.push(IdaPoint {
+            eta: mid,
+            kind: RunKind::Refinement,
+            outcome,
+        });
+        refined(mid);
+        if outcome.overturned() {
+            *over = mid;
+        } else {
+            *survived = mid;
+        }
+    }
+    Ok(())
+}
