@@ -1,442 +1,14 @@
-//! Pipeline files: TOML in, a typed plan out (pure: text in, values out).
-//!
-//! Two layers (ripgrep's LowArgs/HiArgs): [`RawPipeline`] mirrors the file
-//! with `deny_unknown_fields`, so a misspelt key is an error that names it;
-//! [`resolve`] checks every value and builds the [`Plan`] the stages see:
-//! paths resolved against the pipeline file's folder, grids expanded into
-//! lists, the model and overturning criterion typed. Every key is documented
-//! in `pipelines/README.md`.
+//! Raw sections → the plan: one checker per section, each message naming
+//! the key it is about.
 
 use std::path::{Path, PathBuf};
 
-use serde::{Deserialize, Serialize};
-
-use crate::ida::{ImGrid, Spacing, Trace};
-use crate::physics::{ModelChoice, Overturn};
-
+use super::plan::*;
+use super::raw::*;
 use crate::block::{Block, BlockError, Restitution};
-pub use crate::ida::MAX_LEVELS;
-pub use crate::stats::{FractileDef, ResampleUnit};
-
-/// Most values a `{ from, to, count }` range may expand to.
-pub const MAX_RANGE_VALUES: usize = 100_000;
-
-/// Most blocks a pipeline may hold (the p × ε grid or `[[block]]` entries).
-pub const MAX_BLOCKS: usize = 1_000_000;
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawPipeline {
-    pub name: Option<String>,
-    pub description: Option<String>,
-    pub records: Option<RawRecords>,
-    /// A pulse map instead of a records study.
-    pub pulses: Option<RawPulses>,
-    #[serde(default)]
-    pub model: RawModel,
-    #[serde(default)]
-    pub blocks: RawBlocks,
-    #[serde(default)]
-    pub block: Vec<RawBlock>,
-    #[serde(default)]
-    pub im: RawIm,
-    #[serde(default)]
-    pub reduce: RawReduce,
-    pub convergence: Option<RawConvergence>,
-    pub uncertainty: Option<RawUncertainty>,
-    pub example: Option<RawExample>,
-}
-
-/// `[example]`: the block the report's Fig. 5 draws, run over the records
-/// by the `example` stage even when it is not one of the study's blocks:
-/// `p` and `eps` (dimensionless, α from `model.alpha`), or a physical
-/// block's `b`, `h` and `eps` as in `[[block]]`.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawExample {
-    pub name: Option<String>,
-    pub p: Option<f64>,
-    pub b: Option<f64>,
-    pub h: Option<f64>,
-    pub eps: toml::Value,
-}
-
-/// `[pulses]`: a pulse map (safe and overturning areas over f and η, and
-/// the walls), the paper's Figs. 2–4.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawPulses {
-    /// `rect` or `exp`.
-    pub shape: String,
-    /// The exponential pulse's shape parameters (one family per β).
-    pub beta: Option<Vec<f64>>,
-    /// `half` or `full`.
-    #[serde(default = "default_cycle")]
-    pub cycle: String,
-    /// f = p·t_d values (a list or a range).
-    pub f: RawValues,
-    /// The map's η levels (a list or a range).
-    pub eta: RawValues,
-    /// Coefficients of restitution (one family per ε).
-    pub eps: RawValues,
-    /// Intervals per lobe (even); by default enough for the shape.
-    pub intervals: Option<usize>,
-}
-
-fn default_cycle() -> String {
-    "half".into()
-}
-
-/// Most (family, f) walls and (family, f, η) map cells of a pulse map.
-pub const MAX_PULSE_WALLS: usize = 100_000;
-pub const MAX_PULSE_CELLS: usize = 2_000_000;
-
-/// A resolved pulse map.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct PulsePlan {
-    /// One shape per family (one per β for `exp`; `rect` alone).
-    pub shapes: Vec<crate::pulse::Shape>,
-    pub cycle: crate::pulse::Cycle,
-    pub f: Vec<f64>,
-    /// The map's levels, decreasing.
-    pub eta: Vec<f64>,
-    pub eps: Vec<f64>,
-    pub intervals: Option<usize>,
-    /// `model.alpha`, for the nonlinear model.
-    pub alpha: Option<f64>,
-}
-
-/// Bootstrap bands of the capacity fractiles.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawUncertainty {
-    #[serde(default = "default_resamples")]
-    pub resamples: usize,
-    #[serde(default = "default_level")]
-    pub level: f64,
-    #[serde(default = "default_unit")]
-    pub unit: String,
-    #[serde(default)]
-    pub seed: u64,
-}
-
-fn default_resamples() -> usize {
-    1000
-}
-fn default_level() -> f64 {
-    0.90
-}
-fn default_unit() -> String {
-    "pair".into()
-}
-
-/// Most bootstrap resamples a pipeline may ask for (percentile bands settle
-/// long before: their Monte Carlo error at 1,000 is already below the
-/// sampling error they measure).
-pub const MAX_RESAMPLES: usize = 10_000;
-/// Most resamples × blocks: `capacity_resamples.parquet` has three rows
-/// per pair (12 million rows at most, about a gigabyte in memory).
-pub const MAX_RESAMPLED_BLOCKS: usize = 4_000_000;
-
-/// `[uncertainty]`: percentile bootstrap bands of the capacity fractiles.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Uncertainty {
-    pub resamples: usize,
-    /// Two-sided level of the bands, e.g. 0.90 for the 5–95 % percentiles.
-    pub level: f64,
-    pub unit: ResampleUnit,
-    pub seed: u64,
-}
-
-/// Repeat the capacity search at several grid resolutions.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawConvergence {
-    pub levels: Vec<usize>,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawRecords {
-    /// A records table written by `rocking ingest`.
-    pub table: Option<String>,
-    /// Or AT2 files/folders, read directly.
-    pub at2: Option<Vec<String>>,
-    pub manifest: Option<String>,
-    #[serde(default)]
-    pub sets: Vec<String>,
-    #[serde(default)]
-    pub ids: Vec<String>,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawModel {
-    #[serde(default = "default_kind")]
-    pub kind: String,
-    pub alpha: Option<f64>,
-    #[serde(default = "default_rtol")]
-    pub rtol: f64,
-    #[serde(default = "default_auto_tol")]
-    pub auto_tol: f64,
-    /// `static` by default (`escape` for a pulse map).
-    pub overturn: Option<String>,
-}
-
-fn default_kind() -> String {
-    "linearized".into()
-}
-fn default_rtol() -> f64 {
-    crate::physics::DEFAULT_RTOL
-}
-fn default_auto_tol() -> f64 {
-    0.01
-}
-impl Default for RawModel {
-    fn default() -> Self {
-        RawModel {
-            kind: default_kind(),
-            alpha: None,
-            rtol: default_rtol(),
-            auto_tol: default_auto_tol(),
-            overturn: None,
-        }
-    }
-}
-
-/// A list of values, or a range with a count.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(untagged)]
-pub enum RawValues {
-    List(Vec<f64>),
-    Range(RawRange),
-}
-
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawRange {
-    pub from: f64,
-    pub to: f64,
-    pub count: usize,
-    #[serde(default = "default_linear")]
-    pub spacing: Spacing,
-}
-
-fn default_linear() -> Spacing {
-    Spacing::Linear
-}
-
-/// The dimensionless grid of the paper: every p with every ε.
-#[derive(Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawBlocks {
-    pub p: Option<RawValues>,
-    pub eps: Option<RawValues>,
-}
-
-/// A physical block: half-width b and half-height h (m), and ε (a number or
-/// "housner" for Housner's bound 1 − 1.5 sin²α).
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawBlock {
-    pub name: Option<String>,
-    pub b: f64,
-    pub h: f64,
-    pub eps: toml::Value,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawIm {
-    #[serde(default = "default_log")]
-    pub spacing: Spacing,
-    #[serde(default = "default_count")]
-    pub count: usize,
-    #[serde(default = "default_eta_max")]
-    pub eta_max: f64,
-    #[serde(default = "default_eta_min")]
-    pub eta_min: f64,
-    #[serde(default = "default_tol")]
-    pub tol: f64,
-    #[serde(default)]
-    pub trace_past_first: bool,
-}
-
-fn default_log() -> Spacing {
-    Spacing::Log
-}
-fn default_count() -> usize {
-    200
-}
-fn default_eta_max() -> f64 {
-    1.0
-}
-fn default_eta_min() -> f64 {
-    1e-3
-}
-fn default_tol() -> f64 {
-    1e-4
-}
-
-impl Default for RawIm {
-    fn default() -> Self {
-        RawIm {
-            spacing: default_log(),
-            count: default_count(),
-            eta_max: default_eta_max(),
-            eta_min: default_eta_min(),
-            tol: default_tol(),
-            trace_past_first: false,
-        }
-    }
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawReduce {
-    #[serde(default = "default_fractile")]
-    pub fractile: String,
-}
-
-fn default_fractile() -> String {
-    "type7".into()
-}
-
-impl Default for RawReduce {
-    fn default() -> Self {
-        RawReduce {
-            fractile: default_fractile(),
-        }
-    }
-}
-
-/// Where the records come from.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum RecordSource {
-    /// A records table written by `rocking ingest`.
-    Table(PathBuf),
-    /// AT2 files or folders, with an optional manifest, read directly.
-    At2 {
-        paths: Vec<PathBuf>,
-        manifest: Option<PathBuf>,
-    },
-}
-
-/// One block of the study.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct BlockSpec {
-    /// Label (physical blocks) or empty (grid).
-    pub name: String,
-    pub p: f64,
-    pub eps: f64,
-    /// Slenderness, when known (physical blocks, or the model's `alpha`).
-    pub alpha_rad: Option<f64>,
-}
-
-/// The resolved plan: what every stage of a pipeline sees.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Plan {
-    pub name: String,
-    pub description: String,
-    pub records: RecordSource,
-    pub sets: Vec<String>,
-    pub ids: Vec<String>,
-    pub model: ModelChoice,
-    pub rtol: f64,
-    pub auto_tol: f64,
-    pub overturn: Overturn,
-    /// Blocks in study order (p outer, ε inner for the grid).
-    pub blocks: Vec<BlockSpec>,
-    pub grid: ImGrid,
-    pub tol: f64,
-    pub trace: Trace,
-    pub fractile: FractileDef,
-    /// Grid resolutions (level counts) of the capacity-convergence study,
-    /// ascending; empty for none.
-    pub convergence: Vec<usize>,
-    /// Bootstrap bands of the capacity fractiles, if asked for.
-    pub uncertainty: Option<Uncertainty>,
-    /// A pulse map (`[pulses]`): then no records, blocks or grid are used,
-    /// and only the `pulses` and `report` stages run.
-    pub pulses: Option<PulsePlan>,
-    /// The block of the report's Fig. 5 (`[example]`), run by the
-    /// `example` stage whether or not it is one of `blocks`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub example: Option<BlockSpec>,
-    /// The pipeline file's folder: relative paths in the file are relative
-    /// to it, and fingerprints store paths relative to it.
-    #[serde(skip)]
-    pub base: PathBuf,
-}
-
-impl Plan {
-    /// Why a stage of the records study does not run for this plan: a
-    /// pulse map runs no records.
-    pub fn pulse_map_skips(&self) -> Option<String> {
-        self.pulses
-            .as_ref()
-            .map(|_| "a pulse map (`[pulses]`) runs no records".to_string())
-    }
-
-    /// `path` relative to the pipeline's folder when it lies inside it (as
-    /// the file wrote it), else as it is: what fingerprints store, so that
-    /// the same study run from another folder or a copied output folder
-    /// keeps its fingerprints.
-    pub fn relative(&self, path: &Path) -> String {
-        path.strip_prefix(&self.base)
-            .unwrap_or(path)
-            .display()
-            .to_string()
-    }
-
-    /// The plan as JSON with the record paths relative to the pipeline's
-    /// folder: every setting, independent of where the tool was started.
-    pub fn portable_json(&self) -> serde_json::Value {
-        let mut v = serde_json::to_value(self).expect("a plan serialises");
-        let records = match &self.records {
-            RecordSource::Table(t) => serde_json::json!({ "table": self.relative(t) }),
-            RecordSource::At2 { paths, manifest } => serde_json::json!({
-                "at2": {
-                    "paths": paths.iter().map(|p| self.relative(p)).collect::<Vec<_>>(),
-                    "manifest": manifest.as_deref().map(|m| self.relative(m)),
-                }
-            }),
-        };
-        v["records"] = records;
-        v
-    }
-
-    /// JSON of exactly the settings that determine the sweep's results (not
-    /// the name, the description, where the records are, or what reduce does).
-    pub fn sweep_settings(&self) -> String {
-        self.sweep_settings_json().to_string()
-    }
-
-    /// [`Plan::sweep_settings`] as a JSON value.
-    pub fn sweep_settings_json(&self) -> serde_json::Value {
-        serde_json::json!({
-            "sets": self.sets,
-            "ids": self.ids,
-            "model": self.model,
-            "rtol": self.rtol,
-            "auto_tol": self.auto_tol,
-            "overturn": self.overturn,
-            "blocks": self.blocks,
-            "grid": self.grid,
-            "tol": self.tol,
-            "trace": self.trace,
-        })
-    }
-}
-
-/// A pipeline file that cannot be used, and why: names the file and the key.
-#[derive(Debug, thiserror::Error)]
-#[error("{path}: {message}")]
-pub struct PipelineError {
-    pub path: PathBuf,
-    pub message: String,
-}
+use crate::ida::{ImGrid, Spacing, Trace, MAX_LEVELS};
+use crate::physics::{ModelChoice, Overturn};
+use crate::stats::{FractileDef, ResampleUnit};
 
 /// Parses and resolves a pipeline file's text. `path` names the file in
 /// errors and anchors relative paths (they are relative to its folder).
@@ -580,24 +152,9 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
 /// (`escape` unless `model.overturn` says otherwise); the records study's
 /// sections are refused, not ignored.
 fn pulse_map(raw: RawPipeline, name: String, base: &Path) -> Result<Plan, String> {
-    use crate::pulse::{Cycle, Shape};
+    use crate::pulse::Cycle;
     let rp = raw.pulses.as_ref().expect("called for [pulses]");
-    let stray = [
-        ("[records]", raw.records.is_some()),
-        (
-            "[blocks]",
-            raw.blocks.p.is_some() || raw.blocks.eps.is_some(),
-        ),
-        ("[[block]]", !raw.block.is_empty()),
-        ("[convergence]", raw.convergence.is_some()),
-        ("[uncertainty]", raw.uncertainty.is_some()),
-        ("[example]", raw.example.is_some()),
-    ];
-    if let Some((section, _)) = stray.iter().find(|(_, present)| *present) {
-        return Err(format!(
-            "a pulse map (`[pulses]`) runs no records: remove {section}"
-        ));
-    }
+    refuse_stray_sections(&raw)?;
     let (model, overturn) = model(&raw.model, Overturn::Escape)?;
     if model == ModelChoice::Auto {
         return Err("a pulse map takes `model.kind` = \"linearized\" or \"nonlinear\"".into());
@@ -605,26 +162,7 @@ fn pulse_map(raw: RawPipeline, name: String, base: &Path) -> Result<Plan, String
     if model == ModelChoice::Nonlinear && raw.model.alpha.is_none() {
         return Err("`model.kind` = \"nonlinear\" needs `model.alpha`".into());
     }
-    let shapes = match (rp.shape.as_str(), &rp.beta) {
-        ("rect", None) => vec![Shape::Rect],
-        ("rect", Some(_)) => {
-            return Err("`pulses.beta` is the exponential pulse's shape; `rect` takes none".into())
-        }
-        ("exp", Some(betas)) if !betas.is_empty() => betas
-            .iter()
-            .map(|&beta| {
-                if beta.is_finite() && beta.abs() <= 500.0 {
-                    Ok(Shape::Exp { beta })
-                } else {
-                    Err(format!("`pulses.beta` = {beta} must lie in [−500, 500]"))
-                }
-            })
-            .collect::<Result<_, _>>()?,
-        ("exp", _) => {
-            return Err("`pulses.shape` = \"exp\" needs `pulses.beta`, a list of β".into())
-        }
-        (other, _) => return Err(format!("`pulses.shape` = \"{other}\"; valid: rect, exp")),
-    };
+    let shapes = pulse_shapes(rp)?;
     let cycle: Cycle = rp
         .cycle
         .parse()
@@ -691,6 +229,53 @@ fn pulse_map(raw: RawPipeline, name: String, base: &Path) -> Result<Plan, String
         example: None,
         base: base.to_path_buf(),
     })
+}
+
+/// The records study's sections, refused in a pulse map rather than ignored.
+fn refuse_stray_sections(raw: &RawPipeline) -> Result<(), String> {
+    let stray = [
+        ("[records]", raw.records.is_some()),
+        (
+            "[blocks]",
+            raw.blocks.p.is_some() || raw.blocks.eps.is_some(),
+        ),
+        ("[[block]]", !raw.block.is_empty()),
+        ("[convergence]", raw.convergence.is_some()),
+        ("[uncertainty]", raw.uncertainty.is_some()),
+        ("[example]", raw.example.is_some()),
+    ];
+    if let Some((section, _)) = stray.iter().find(|(_, present)| *present) {
+        return Err(format!(
+            "a pulse map (`[pulses]`) runs no records: remove {section}"
+        ));
+    }
+    Ok(())
+}
+
+/// `pulses.shape` and `pulses.beta`: the pulse shapes of the map.
+fn pulse_shapes(rp: &RawPulses) -> Result<Vec<crate::pulse::Shape>, String> {
+    use crate::pulse::Shape;
+    let shapes = match (rp.shape.as_str(), &rp.beta) {
+        ("rect", None) => vec![Shape::Rect],
+        ("rect", Some(_)) => {
+            return Err("`pulses.beta` is the exponential pulse's shape; `rect` takes none".into())
+        }
+        ("exp", Some(betas)) if !betas.is_empty() => betas
+            .iter()
+            .map(|&beta| {
+                if beta.is_finite() && beta.abs() <= 500.0 {
+                    Ok(Shape::Exp { beta })
+                } else {
+                    Err(format!("`pulses.beta` = {beta} must lie in [−500, 500]"))
+                }
+            })
+            .collect::<Result<_, _>>()?,
+        ("exp", _) => {
+            return Err("`pulses.shape` = \"exp\" needs `pulses.beta`, a list of β".into())
+        }
+        (other, _) => return Err(format!("`pulses.shape` = \"{other}\"; valid: rect, exp")),
+    };
+    Ok(shapes)
 }
 
 /// `name`, or the file's stem: a plain folder name.

@@ -1,0 +1,180 @@
+//! The resolved plan: what every stage of a pipeline sees, typed and
+//! checked, with the limits a pipeline is held to.
+
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use crate::ida::{ImGrid, Trace};
+use crate::physics::{ModelChoice, Overturn};
+use crate::stats::{FractileDef, ResampleUnit};
+
+/// Most values a `{ from, to, count }` range may expand to.
+pub const MAX_RANGE_VALUES: usize = 100_000;
+
+/// Most blocks a pipeline may hold (the p × ε grid or `[[block]]` entries).
+pub const MAX_BLOCKS: usize = 1_000_000;
+/// Most (family, f) walls and (family, f, η) map cells of a pulse map.
+pub const MAX_PULSE_WALLS: usize = 100_000;
+pub const MAX_PULSE_CELLS: usize = 2_000_000;
+
+/// A resolved pulse map.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PulsePlan {
+    /// One shape per family (one per β for `exp`; `rect` alone).
+    pub shapes: Vec<crate::pulse::Shape>,
+    pub cycle: crate::pulse::Cycle,
+    pub f: Vec<f64>,
+    /// The map's levels, decreasing.
+    pub eta: Vec<f64>,
+    pub eps: Vec<f64>,
+    pub intervals: Option<usize>,
+    /// `model.alpha`, for the nonlinear model.
+    pub alpha: Option<f64>,
+}
+
+/// Most bootstrap resamples a pipeline may ask for (percentile bands settle
+/// long before: their Monte Carlo error at 1,000 is already below the
+/// sampling error they measure).
+pub const MAX_RESAMPLES: usize = 10_000;
+/// Most resamples × blocks: `capacity_resamples.parquet` has three rows
+/// per pair (12 million rows at most, about a gigabyte in memory).
+pub const MAX_RESAMPLED_BLOCKS: usize = 4_000_000;
+
+/// `[uncertainty]`: percentile bootstrap bands of the capacity fractiles.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Uncertainty {
+    pub resamples: usize,
+    /// Two-sided level of the bands, e.g. 0.90 for the 5–95 % percentiles.
+    pub level: f64,
+    pub unit: ResampleUnit,
+    pub seed: u64,
+}
+
+/// Where the records come from.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RecordSource {
+    /// A records table written by `rocking ingest`.
+    Table(PathBuf),
+    /// AT2 files or folders, with an optional manifest, read directly.
+    At2 {
+        paths: Vec<PathBuf>,
+        manifest: Option<PathBuf>,
+    },
+}
+
+/// One block of the study.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BlockSpec {
+    /// Label (physical blocks) or empty (grid).
+    pub name: String,
+    pub p: f64,
+    pub eps: f64,
+    /// Slenderness, when known (physical blocks, or the model's `alpha`).
+    pub alpha_rad: Option<f64>,
+}
+
+/// The resolved plan: what every stage of a pipeline sees.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Plan {
+    pub name: String,
+    pub description: String,
+    pub records: RecordSource,
+    pub sets: Vec<String>,
+    pub ids: Vec<String>,
+    pub model: ModelChoice,
+    pub rtol: f64,
+    pub auto_tol: f64,
+    pub overturn: Overturn,
+    /// Blocks in study order (p outer, ε inner for the grid).
+    pub blocks: Vec<BlockSpec>,
+    pub grid: ImGrid,
+    pub tol: f64,
+    pub trace: Trace,
+    pub fractile: FractileDef,
+    /// Grid resolutions (level counts) of the capacity-convergence study,
+    /// ascending; empty for none.
+    pub convergence: Vec<usize>,
+    /// Bootstrap bands of the capacity fractiles, if asked for.
+    pub uncertainty: Option<Uncertainty>,
+    /// A pulse map (`[pulses]`): then no records, blocks or grid are used,
+    /// and only the `pulses` and `report` stages run.
+    pub pulses: Option<PulsePlan>,
+    /// The block of the report's Fig. 5 (`[example]`), run by the
+    /// `example` stage whether or not it is one of `blocks`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub example: Option<BlockSpec>,
+    /// The pipeline file's folder: relative paths in the file are relative
+    /// to it, and fingerprints store paths relative to it.
+    #[serde(skip)]
+    pub base: PathBuf,
+}
+
+impl Plan {
+    /// Why a stage of the records study does not run for this plan: a
+    /// pulse map runs no records.
+    pub fn pulse_map_skips(&self) -> Option<String> {
+        self.pulses
+            .as_ref()
+            .map(|_| "a pulse map (`[pulses]`) runs no records".to_string())
+    }
+
+    /// `path` relative to the pipeline's folder when it lies inside it (as
+    /// the file wrote it), else as it is: what fingerprints store, so that
+    /// the same study run from another folder or a copied output folder
+    /// keeps its fingerprints.
+    pub fn relative(&self, path: &Path) -> String {
+        path.strip_prefix(&self.base)
+            .unwrap_or(path)
+            .display()
+            .to_string()
+    }
+
+    /// The plan as JSON with the record paths relative to the pipeline's
+    /// folder: every setting, independent of where the tool was started.
+    pub fn portable_json(&self) -> serde_json::Value {
+        let mut v = serde_json::to_value(self).expect("a plan serialises");
+        let records = match &self.records {
+            RecordSource::Table(t) => serde_json::json!({ "table": self.relative(t) }),
+            RecordSource::At2 { paths, manifest } => serde_json::json!({
+                "at2": {
+                    "paths": paths.iter().map(|p| self.relative(p)).collect::<Vec<_>>(),
+                    "manifest": manifest.as_deref().map(|m| self.relative(m)),
+                }
+            }),
+        };
+        v["records"] = records;
+        v
+    }
+
+    /// JSON of exactly the settings that determine the sweep's results (not
+    /// the name, the description, where the records are, or what reduce does).
+    pub fn sweep_settings(&self) -> String {
+        self.sweep_settings_json().to_string()
+    }
+
+    /// [`Plan::sweep_settings`] as a JSON value.
+    pub fn sweep_settings_json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "sets": self.sets,
+            "ids": self.ids,
+            "model": self.model,
+            "rtol": self.rtol,
+            "auto_tol": self.auto_tol,
+            "overturn": self.overturn,
+            "blocks": self.blocks,
+            "grid": self.grid,
+            "tol": self.tol,
+            "trace": self.trace,
+        })
+    }
+}
+
+/// A pipeline file that cannot be used, and why: names the file and the key.
+#[derive(Debug, thiserror::Error)]
+#[error("{path}: {message}")]
+pub struct PipelineError {
+    pub path: PathBuf,
+    pub message: String,
+}
