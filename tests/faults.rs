@@ -5,7 +5,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use rocking::stages::engine::{self, Freshness};
-use rocking::stages::fingerprint::Stale;
+use rocking::stages::fingerprint::{self, Stale};
 use rocking::stages::sweep::{read_capacities, DatasetError, FAULT_ENV, HOLD_ENV};
 use rocking::stages::Study;
 
@@ -439,7 +439,7 @@ fn stale_reasons_are_typed_issue_9() {
     assert_eq!(of("report"), Freshness::Stale(vec![Stale::SettingsChanged]));
     // A missing input of a stage that has never run names the file.
     let other = Study::load(&pipe, &d.join("elsewhere")).unwrap();
-    match engine::freshness(engine::find("reduce").unwrap(), &other) {
+    match fingerprint::freshness(engine::find("reduce").unwrap(), &other, None) {
         Freshness::Stale(why) => assert!(
             why.contains(&Stale::InputMissing("capacities.parquet".into())),
             "{why:?}"

@@ -19,6 +19,7 @@ use super::reduce::QUANTILES;
 use super::stage::{BoxError, Context, Progress, Shard, Stage, Study, Summary};
 use crate::ida::{self, ImGrid};
 use crate::physics::{Excitation, PhysicsError, RunSpec};
+use crate::pipeline::{BlockSpec, Plan};
 use crate::stats;
 use crate::tables::convergence::ConvergenceRow;
 use crate::tables::{self, TableError};
@@ -95,10 +96,6 @@ pub enum ConvergenceError {
 fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
     let plan = &cx.study.plan;
     let records = records::select(plan, &cx.study.records_table())?;
-    let physics = |b: &crate::pipeline::BlockSpec| {
-        let (p, eps) = (b.p, b.eps);
-        move |source| ConvergenceError::Physics { p, eps, source }
-    };
     let excitations = records
         .par_iter()
         .map(|r| {
@@ -115,23 +112,7 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
     // the bit), so their searches find most of their runs already done.
     let mut order: Vec<usize> = (0..plan.convergence.len()).collect();
     order.sort_by_key(|&gi| std::cmp::Reverse(plan.convergence[gi]));
-    let specs = plan
-        .blocks
-        .iter()
-        .map(|block| {
-            let (model, _) = plan
-                .model
-                .resolve(block.alpha_rad, plan.rtol, plan.auto_tol)
-                .map_err(physics(block))?;
-            Ok(RunSpec {
-                overturn: plan.overturn,
-                ..RunSpec::new(block.p, block.eps, 1.0, model)
-            })
-        })
-        .collect::<Result<Vec<_>, ConvergenceError>>()?;
-    // Per (block, record): η_c per resolution (0 when the block survives
-    // every level), the simulations done, and the runs the searches asked for.
-    type PerRecord = (Vec<f64>, u64, u64);
+    let specs = block_specs(plan)?;
     let n_records = excitations.len();
     let mut done = 0u64;
     // A few blocks at a time, every (block, record) pair in parallel: the
@@ -142,26 +123,7 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
         let pairs: Vec<(usize, usize)> = (first..first + blocks.len())
             .flat_map(|bi| (0..n_records).map(move |ri| (bi, ri)))
             .collect();
-        let results = pairs
-            .par_iter()
-            .map(|&(bi, ri)| {
-                let exc = &excitations[ri];
-                let mut memo = ida::Runs::new(exc);
-                let mut etas = vec![0.0; plan.convergence.len()];
-                let mut asked = 0u64;
-                for &gi in &order {
-                    let grid = ImGrid {
-                        count: plan.convergence[gi],
-                        ..plan.grid
-                    };
-                    let c = search(&mut memo, &specs[bi], &grid, plan.tol)
-                        .map_err(physics(&plan.blocks[bi]))?;
-                    etas[gi] = c.eta_c.unwrap_or(0.0);
-                    asked += c.runs() as u64;
-                }
-                Ok((etas, memo.work().runs as u64, asked))
-            })
-            .collect::<Result<Vec<PerRecord>, ConvergenceError>>()?;
+        let results = search_pairs(plan, &excitations, &specs, &order, &pairs)?;
         for (k, block) in blocks.iter().enumerate() {
             let per_record = &results[k * n_records..(k + 1) * n_records];
             runs += per_record.iter().map(|r| r.1).sum::<u64>();
@@ -198,6 +160,64 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
         )],
         also_wrote: Vec::new(),
     })
+}
+
+/// The error of a block's physics.
+fn physics(b: &BlockSpec) -> impl Fn(PhysicsError) -> ConvergenceError {
+    let (p, eps) = (b.p, b.eps);
+    move |source| ConvergenceError::Physics { p, eps, source }
+}
+
+/// Each block's run specification, its model resolved.
+fn block_specs(plan: &Plan) -> Result<Vec<RunSpec>, ConvergenceError> {
+    plan.blocks
+        .iter()
+        .map(|block| {
+            let (model, _) = plan
+                .model
+                .resolve(block.alpha_rad, plan.rtol, plan.auto_tol)
+                .map_err(physics(block))?;
+            Ok(RunSpec {
+                overturn: plan.overturn,
+                ..RunSpec::new(block.p, block.eps, 1.0, model)
+            })
+        })
+        .collect::<Result<Vec<_>, ConvergenceError>>()
+}
+
+/// Per (block, record): η_c per resolution (0 when the block survives
+/// every level), the simulations done, and the runs the searches asked for.
+type PerRecord = (Vec<f64>, u64, u64);
+
+/// The searches of `pairs` (block, record), in parallel, each at every
+/// resolution in `order`, sharing one record's runs across resolutions.
+fn search_pairs(
+    plan: &Plan,
+    excitations: &[Excitation],
+    specs: &[RunSpec],
+    order: &[usize],
+    pairs: &[(usize, usize)],
+) -> Result<Vec<PerRecord>, ConvergenceError> {
+    pairs
+        .par_iter()
+        .map(|&(bi, ri)| {
+            let exc = &excitations[ri];
+            let mut memo = ida::Runs::new(exc);
+            let mut etas = vec![0.0; plan.convergence.len()];
+            let mut asked = 0u64;
+            for &gi in order {
+                let grid = ImGrid {
+                    count: plan.convergence[gi],
+                    ..plan.grid
+                };
+                let c = search(&mut memo, &specs[bi], &grid, plan.tol)
+                    .map_err(physics(&plan.blocks[bi]))?;
+                etas[gi] = c.eta_c.unwrap_or(0.0);
+                asked += c.runs() as u64;
+            }
+            Ok((etas, memo.work().runs as u64, asked))
+        })
+        .collect::<Result<Vec<PerRecord>, ConvergenceError>>()
 }
 
 /// The capacity at one resolution. With a tolerance-controlled integrator

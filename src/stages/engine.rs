@@ -4,43 +4,14 @@
 //! `--to` and the per-stage commands (`rocking sweep`, `reduce`, …) all go
 //! through here: one cache, one lock.
 
-use std::fmt;
 use std::time::Instant;
 
-use super::fingerprint::{self, Note};
+use super::fingerprint;
+pub use super::fingerprint::Freshness;
 use super::lock::{Lock, LockError, Scope};
 pub use super::reason::{Reason, Skip, Stale};
 use super::stage::{BoxError, Context, Reporter, Shard, Stage, StageEvent, Study};
 use super::STAGES;
-use crate::tables;
-
-/// Whether a stage must run, and why.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Freshness {
-    Fresh,
-    /// Fresh as a complete set of N shards.
-    FreshShards(usize),
-    Stale(Vec<Stale>),
-    /// Fresh itself, but it reads from this stage, which is stale: it will
-    /// run once that one has (shown by `status`).
-    Waits(&'static str),
-    /// The pipeline does not need this stage (why).
-    NotNeeded(String),
-}
-
-impl fmt::Display for Freshness {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Freshness::Fresh => f.write_str("fresh"),
-            Freshness::FreshShards(n) => write!(f, "fresh ({n} shards)"),
-            Freshness::Stale(why) => write!(f, "stale: {}", Reason::Stale(why.clone())),
-            Freshness::Waits(on) => {
-                write!(f, "stale: it reads `{on}`'s outputs, which will change")
-            }
-            Freshness::NotNeeded(why) => write!(f, "not needed: {why}"),
-        }
-    }
-}
 
 #[derive(Debug, thiserror::Error)]
 pub enum RunError {
@@ -169,88 +140,12 @@ pub fn names() -> String {
         .join(", ")
 }
 
-/// Is `stage` fresh? (Runs nothing.)
-pub fn freshness(stage: &dyn Stage, study: &Study) -> Freshness {
-    if let Some(why) = stage.not_needed(study) {
-        return Freshness::NotNeeded(why);
-    }
-    let now = match fingerprint::parts(stage, study) {
-        Ok(p) => p,
-        Err(why) => return Freshness::Stale(why),
-    };
-    let whole = fingerprint::note_path(study, stage.name(), None);
-    let why = match fingerprint::read_note(study, &whole) {
-        Ok(note) => {
-            let declared = stage.outputs(study, None);
-            let why = fingerprint::compare(&now, &note, study, &declared);
-            if why.is_empty() {
-                return Freshness::Fresh;
-            }
-            why
-        }
-        Err(why) => vec![why],
-    };
-    if stage.shardable() {
-        match shard_state(stage, study, &now) {
-            Shards::None => {}
-            Shards::Complete(n) => return Freshness::FreshShards(n),
-            Shards::Incomplete { n, missing } => {
-                let mut why = why;
-                why.push(Stale::ShardsIncomplete { n, missing });
-                return Freshness::Stale(why);
-            }
-        }
-    }
-    Freshness::Stale(why)
-}
-
-/// What the shard notes of a sharded stage say.
-enum Shards {
-    /// No shard has a fresh note.
-    None,
-    /// Every shard of N is fresh.
-    Complete(usize),
-    /// Some shards of N are fresh, these are not.
-    Incomplete { n: usize, missing: Vec<usize> },
-}
-
-fn shard_state(
-    stage: &dyn Stage,
-    study: &Study,
-    now: &std::collections::BTreeMap<String, String>,
-) -> Shards {
-    let notes = fingerprint::shard_notes(study, stage.name());
-    let Some(n) = notes.last().map(|(s, _)| s.n) else {
-        return Shards::None;
-    };
-    let fresh: std::collections::BTreeSet<usize> = notes
-        .iter()
-        .filter(|(s, _)| s.n == n)
-        .filter(|(s, path)| {
-            fingerprint::read_note(study, path).is_ok_and(|note| {
-                let declared = stage.outputs(study, Some(*s));
-                fingerprint::compare(now, &note, study, &declared).is_empty()
-            })
-        })
-        .map(|(s, _)| s.k)
-        .collect();
-    match fresh.len() {
-        0 => Shards::None,
-        k if k == n => Shards::Complete(n),
-        _ => Shards::Incomplete {
-            n,
-            // At most N − 1 of them, and N is bounded by the number of chunks.
-            missing: (1..=n).filter(|k| !fresh.contains(k)).collect(),
-        },
-    }
-}
-
 /// Every stage's freshness, in order. A stage that is fresh itself but
 /// reads from a stage that will run first is shown as waiting on it.
 pub fn status(study: &Study) -> Vec<(&'static str, Freshness)> {
     let mut out: Vec<(&'static str, Freshness)> = Vec::new();
     for &stage in STAGES {
-        let mut f = freshness(stage, study);
+        let mut f = fingerprint::freshness(stage, study, None);
         if f == Freshness::Fresh {
             let upstream = covered(study, Target::For(stage));
             if let Some(&(name, _)) = out.iter().find(|(name, g)| {
@@ -359,11 +254,10 @@ pub fn run(
             if let Force::From(f) = opts.force {
                 forced_from |= f.name() == stage.name();
             }
-            let fresh = freshness(stage, study);
+            let fresh = fingerprint::freshness(stage, study, None);
             let reason = match fresh {
                 Freshness::NotNeeded(why) => {
-                    // A note left from when the pipeline needed it is not this study's.
-                    let _ = std::fs::remove_file(fingerprint::note_path(study, stage.name(), None));
+                    fingerprint::forget(study, stage.name());
                     skip(&mut results, reporter, stage, Skip::NotNeeded(why));
                     continue;
                 }
@@ -439,7 +333,7 @@ fn run_shard(
     with_threads(opts.threads, || {
         let mut results = Vec::new();
         for &stage in before {
-            match freshness(stage, study) {
+            match fingerprint::freshness(stage, study, None) {
                 Freshness::NotNeeded(why) => {
                     skip(&mut results, reporter, stage, Skip::NotNeeded(why))
                 }
@@ -454,33 +348,20 @@ fn run_shard(
                 }
             }
         }
-        let reason = match (opts.force, freshness_of_shard(target, study, shard)) {
-            (Force::Nothing, None) => {
+        let reason = match (
+            opts.force,
+            fingerprint::freshness(target, study, Some(shard)),
+        ) {
+            (Force::Nothing, Freshness::Stale(why)) => Reason::Stale(why),
+            (Force::Nothing, _) => {
                 skip(&mut results, reporter, target, Skip::Fresh);
                 return Ok(results);
             }
-            (Force::Nothing, Some(why)) => Reason::Stale(why),
             _ => Reason::Forced,
         };
         results.push(run_one(study, target, Some(shard), reason, reporter)?);
         Ok(results)
     })
-}
-
-/// `None` when the shard's own note is fresh, else why not.
-fn freshness_of_shard(stage: &dyn Stage, study: &Study, shard: Shard) -> Option<Vec<Stale>> {
-    let now = match fingerprint::parts(stage, study) {
-        Ok(p) => p,
-        Err(why) => return Some(why),
-    };
-    let path = fingerprint::note_path(study, stage.name(), Some(shard));
-    match fingerprint::read_note(study, &path) {
-        Ok(note) => {
-            let why = fingerprint::compare(&now, &note, study, &stage.outputs(study, Some(shard)));
-            (!why.is_empty()).then_some(why)
-        }
-        Err(why) => Some(vec![why]),
-    }
 }
 
 /// Runs one stage and saves its fingerprint.
@@ -505,43 +386,12 @@ fn run_one(
         source,
     })?;
     let seconds = started.elapsed().as_secs_f64();
-    // Inputs are hashed again now that they are final.
-    let note_err = |source: BoxError| RunError::Note {
-        stage: name,
-        source,
-    };
-    let parts = fingerprint::parts(stage, study)
-        .map_err(|why| note_err(Reason::Stale(why).to_string().into()))?;
-    let mut written = stage.outputs(study, shard);
-    written.extend(summary.also_wrote.iter().cloned());
-    let outputs = fingerprint::hash_outputs(study, &written).map_err(|e| note_err(e.into()))?;
-    let note = Note {
-        stage: name.into(),
-        shard: shard.map(|s| s.to_string()),
-        parts,
-        outputs,
-        seconds,
-        reason: reason.to_string(),
-    };
-    let path = fingerprint::note_path(study, name, shard);
-    let text = serde_json::to_string_pretty(&note).expect("a note serialises");
-    tables::atomic_write(&path, text.as_bytes()).map_err(|e| note_err(e.into()))?;
-    // A whole run supersedes shard notes, and a shard the whole run's note.
-    match shard {
-        None => {
-            for (_, p) in fingerprint::shard_notes(study, name) {
-                let _ = std::fs::remove_file(p);
-            }
-        }
-        Some(done) => {
-            let _ = std::fs::remove_file(fingerprint::note_path(study, name, None));
-            for (other, p) in fingerprint::shard_notes(study, name) {
-                if other.n != done.n {
-                    let _ = std::fs::remove_file(p);
-                }
-            }
-        }
-    }
+    fingerprint::save(stage, study, shard, &summary.also_wrote, seconds, &reason).map_err(
+        |source| RunError::Note {
+            stage: name,
+            source,
+        },
+    )?;
     reporter.stage(name, &StageEvent::Done { seconds });
     Ok(StageResult {
         stage: name,

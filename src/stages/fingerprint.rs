@@ -9,16 +9,22 @@
 //!
 //! Files are named relative to the study's folder or the pipeline's
 //! ([`Study::name_of`]), so a copied output folder stays fresh.
+//!
+//! The engine asks one question before a stage runs ([`freshness`]: fresh,
+//! or every reason it is not) and makes one call after it succeeds
+//! ([`save`]); the notes, their paths and their comparison stay in here.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
+use std::fmt;
 use std::fs;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use super::reason::Reason;
 pub use super::reason::Stale;
-use super::stage::{Shard, Stage, Study};
-use crate::hash;
+use super::stage::{BoxError, Shard, Stage, Study};
+use crate::{hash, tables};
 
 /// The saved note of a stage that succeeded.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -35,6 +41,185 @@ pub struct Note {
     pub reason: String,
 }
 
+/// Whether a stage must run, and why.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Freshness {
+    Fresh,
+    /// Fresh as a complete set of N shards.
+    FreshShards(usize),
+    Stale(Vec<Stale>),
+    /// Fresh itself, but it reads from this stage, which is stale: it will
+    /// run once that one has (shown by `status`).
+    Waits(&'static str),
+    /// The pipeline does not need this stage (why).
+    NotNeeded(String),
+}
+
+impl fmt::Display for Freshness {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Freshness::Fresh => f.write_str("fresh"),
+            Freshness::FreshShards(n) => write!(f, "fresh ({n} shards)"),
+            Freshness::Stale(why) => write!(f, "stale: {}", Reason::Stale(why.clone())),
+            Freshness::Waits(on) => {
+                write!(f, "stale: it reads `{on}`'s outputs, which will change")
+            }
+            Freshness::NotNeeded(why) => write!(f, "not needed: {why}"),
+        }
+    }
+}
+
+/// Is `stage` fresh? (Runs nothing.) The whole stage (`shard` None): not
+/// needed when the pipeline does not need it, else fresh by its own note or
+/// as a complete set of shards, else stale with every reason. One shard: by
+/// that shard's own note alone (fresh or stale).
+pub fn freshness(stage: &dyn Stage, study: &Study, shard: Option<Shard>) -> Freshness {
+    if let Some(shard) = shard {
+        return freshness_of_shard(stage, study, shard);
+    }
+    if let Some(why) = stage.not_needed(study) {
+        return Freshness::NotNeeded(why);
+    }
+    let now = match parts(stage, study) {
+        Ok(p) => p,
+        Err(why) => return Freshness::Stale(why),
+    };
+    let whole = note_path(study, stage.name(), None);
+    let why = match read_note(study, &whole) {
+        Ok(note) => {
+            let declared = stage.outputs(study, None);
+            let why = compare(&now, &note, study, &declared);
+            if why.is_empty() {
+                return Freshness::Fresh;
+            }
+            why
+        }
+        Err(why) => vec![why],
+    };
+    if stage.shardable() {
+        match shard_state(stage, study, &now) {
+            Shards::None => {}
+            Shards::Complete(n) => return Freshness::FreshShards(n),
+            Shards::Incomplete { n, missing } => {
+                let mut why = why;
+                why.push(Stale::ShardsIncomplete { n, missing });
+                return Freshness::Stale(why);
+            }
+        }
+    }
+    Freshness::Stale(why)
+}
+
+/// What the shard notes of a sharded stage say.
+enum Shards {
+    /// No shard has a fresh note.
+    None,
+    /// Every shard of N is fresh.
+    Complete(usize),
+    /// Some shards of N are fresh, these are not.
+    Incomplete { n: usize, missing: Vec<usize> },
+}
+
+fn shard_state(stage: &dyn Stage, study: &Study, now: &BTreeMap<String, String>) -> Shards {
+    let notes = shard_notes(study, stage.name());
+    let Some(n) = notes.last().map(|(s, _)| s.n) else {
+        return Shards::None;
+    };
+    let fresh: BTreeSet<usize> = notes
+        .iter()
+        .filter(|(s, _)| s.n == n)
+        .filter(|(s, path)| {
+            read_note(study, path).is_ok_and(|note| {
+                let declared = stage.outputs(study, Some(*s));
+                compare(now, &note, study, &declared).is_empty()
+            })
+        })
+        .map(|(s, _)| s.k)
+        .collect();
+    match fresh.len() {
+        0 => Shards::None,
+        k if k == n => Shards::Complete(n),
+        _ => Shards::Incomplete {
+            n,
+            // At most N − 1 of them, and N is bounded by the number of chunks.
+            missing: (1..=n).filter(|k| !fresh.contains(k)).collect(),
+        },
+    }
+}
+
+/// Fresh when the shard's own note is, else stale with why not.
+fn freshness_of_shard(stage: &dyn Stage, study: &Study, shard: Shard) -> Freshness {
+    let now = match parts(stage, study) {
+        Ok(p) => p,
+        Err(why) => return Freshness::Stale(why),
+    };
+    let path = note_path(study, stage.name(), Some(shard));
+    match read_note(study, &path) {
+        Ok(note) => {
+            let why = compare(&now, &note, study, &stage.outputs(study, Some(shard)));
+            if why.is_empty() {
+                Freshness::Fresh
+            } else {
+                Freshness::Stale(why)
+            }
+        }
+        Err(why) => Freshness::Stale(vec![why]),
+    }
+}
+
+/// Saves the note of `stage` (or of one shard of it) after it succeeded:
+/// its parts, its inputs hashed again now that they are final, the hashes
+/// of what it wrote (its declared outputs and `also_wrote`), how long it
+/// took and why it ran. `Err` is why the note could not be saved.
+pub fn save(
+    stage: &dyn Stage,
+    study: &Study,
+    shard: Option<Shard>,
+    also_wrote: &[PathBuf],
+    seconds: f64,
+    reason: &Reason,
+) -> Result<(), BoxError> {
+    let name = stage.name();
+    let parts = parts(stage, study).map_err(|why| Reason::Stale(why).to_string())?;
+    let mut written = stage.outputs(study, shard);
+    written.extend(also_wrote.iter().cloned());
+    let outputs = hash_outputs(study, &written)?;
+    let note = Note {
+        stage: name.into(),
+        shard: shard.map(|s| s.to_string()),
+        parts,
+        outputs,
+        seconds,
+        reason: reason.to_string(),
+    };
+    let path = note_path(study, name, shard);
+    let text = serde_json::to_string_pretty(&note).expect("a note serialises");
+    tables::atomic_write(&path, text.as_bytes())?;
+    // A whole run supersedes shard notes, and a shard the whole run's note.
+    match shard {
+        None => {
+            for (_, p) in shard_notes(study, name) {
+                let _ = std::fs::remove_file(p);
+            }
+        }
+        Some(done) => {
+            let _ = std::fs::remove_file(note_path(study, name, None));
+            for (other, p) in shard_notes(study, name) {
+                if other.n != done.n {
+                    let _ = std::fs::remove_file(p);
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Removes the whole stage's note: one left from when the pipeline needed
+/// the stage is not this study's.
+pub fn forget(study: &Study, stage: &str) {
+    let _ = std::fs::remove_file(note_path(study, stage, None));
+}
+
 /// The version part: the tool's version, which is raised with any change of
 /// a table's schema (ARCHITECTURE.md, "How to add a table").
 fn versions() -> String {
@@ -42,7 +227,7 @@ fn versions() -> String {
 }
 
 /// Where a stage's note lives.
-pub fn note_path(study: &Study, stage: &str, shard: Option<Shard>) -> PathBuf {
+fn note_path(study: &Study, stage: &str, shard: Option<Shard>) -> PathBuf {
     let file = match shard {
         None => format!("{stage}.json"),
         Some(s) => format!("{stage}.{}.json", s.tag()),
@@ -51,7 +236,7 @@ pub fn note_path(study: &Study, stage: &str, shard: Option<Shard>) -> PathBuf {
 }
 
 /// Reads a note; `Err` is why the stage counts as stale.
-pub fn read_note(study: &Study, path: &Path) -> Result<Note, Stale> {
+fn read_note(study: &Study, path: &Path) -> Result<Note, Stale> {
     let text = match fs::read_to_string(path) {
         Ok(t) => t,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(Stale::NeverRun),
@@ -69,7 +254,7 @@ pub fn read_note(study: &Study, path: &Path) -> Result<Note, Stale> {
 }
 
 /// The fingerprint parts of `stage` as things stand, or why it cannot run yet.
-pub fn parts(stage: &dyn Stage, study: &Study) -> Result<BTreeMap<String, String>, Vec<Stale>> {
+fn parts(stage: &dyn Stage, study: &Study) -> Result<BTreeMap<String, String>, Vec<Stale>> {
     let mut p = BTreeMap::new();
     p.insert("versions".to_string(), versions());
     let settings = stage.settings(study);
@@ -101,7 +286,7 @@ pub fn parts(stage: &dyn Stage, study: &Study) -> Result<BTreeMap<String, String
 
 /// Every difference between the parts now and a note, and between the
 /// outputs it recorded (and those the stage declares) and the files there.
-pub fn compare(
+fn compare(
     now: &BTreeMap<String, String>,
     note: &Note,
     study: &Study,
@@ -151,7 +336,7 @@ pub fn compare(
 }
 
 /// Hashes of the outputs, named as fingerprints name them.
-pub fn hash_outputs(study: &Study, files: &[PathBuf]) -> std::io::Result<BTreeMap<String, String>> {
+fn hash_outputs(study: &Study, files: &[PathBuf]) -> std::io::Result<BTreeMap<String, String>> {
     let mut out = BTreeMap::new();
     for f in files {
         let h = hash::file_sha256(f)
@@ -174,7 +359,7 @@ pub fn recorded_seconds(
 }
 
 /// Shard notes present for `stage`: (shard, path), in shard order.
-pub fn shard_notes(study: &Study, stage: &str) -> Vec<(Shard, PathBuf)> {
+fn shard_notes(study: &Study, stage: &str) -> Vec<(Shard, PathBuf)> {
     let dir = study.dir.join(".fingerprints");
     let Ok(entries) = fs::read_dir(&dir) else {
         return Vec::new();

@@ -1,0 +1,208 @@
+//! The sweep's cases: what every case needs, prepared once ([`Prepared`]:
+//! the records' excitations and each block's run specification), one case's
+//! IDA and capacity ([`run_case`]), and the counts of the work done.
+
+use std::collections::BTreeSet;
+
+use rayon::prelude::*;
+
+use super::error::SweepError;
+use super::layout::{
+    plan_hash, CHUNK_CASES, META_CHUNK, META_PLAN, META_PLAN_HASH, META_SETTINGS, META_SHARD,
+};
+use crate::ida;
+use crate::physics::{Excitation, RunSpec};
+use crate::pipeline::{BlockSpec, Plan};
+use crate::stages::records;
+use crate::stages::stage::{Shard, Study};
+use crate::tables::records::RecordRow;
+use crate::tables::sweep::{CapacityRow, IdaRow};
+
+/// Each block's run specification, resolved once, and the reasons for the models.
+fn block_specs(
+    plan: &Plan,
+    blocks: &[BlockSpec],
+) -> Result<(Vec<RunSpec>, Vec<String>), SweepError> {
+    let mut specs = Vec::new();
+    let mut why = BTreeSet::new();
+    for b in blocks {
+        let block_err = |source| SweepError::Block {
+            p: b.p,
+            eps: b.eps,
+            source,
+        };
+        let (model, reason) = plan
+            .model
+            .resolve(b.alpha_rad, plan.rtol, plan.auto_tol)
+            .map_err(block_err)?;
+        let spec = RunSpec {
+            overturn: plan.overturn,
+            ..RunSpec::new(b.p, b.eps, 1.0, model)
+        };
+        spec.validate().map_err(block_err)?;
+        why.insert(reason);
+        specs.push(spec);
+    }
+    Ok((specs, why.into_iter().collect()))
+}
+
+/// Everything a chunk needs, prepared once: the records, their
+/// excitations, and the blocks (the plan's, or the `example` stage's one).
+pub(in crate::stages) struct Prepared {
+    pub(in crate::stages) records: Vec<RecordRow>,
+    excitations: Vec<Excitation>,
+    blocks: Vec<BlockSpec>,
+    specs: Vec<RunSpec>,
+    pub(super) hash: String,
+    plan_json: String,
+    pub(in crate::stages) n_cases: usize,
+}
+
+impl Prepared {
+    /// The plan's records with `blocks`; also the models' reasons.
+    pub(in crate::stages) fn new(
+        study: &Study,
+        blocks: &[BlockSpec],
+    ) -> Result<(Prepared, Vec<String>), SweepError> {
+        let plan = &study.plan;
+        let records = records::select(plan, &study.records_table())?;
+        let (specs, models) = block_specs(plan, blocks)?;
+        let excitations = records
+            .par_iter()
+            .map(|r| {
+                Excitation::new(&r.accel_g, r.dt_s).map_err(|source| SweepError::Record {
+                    record: r.record_id.clone(),
+                    source,
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let prepared = Prepared {
+            hash: plan_hash(plan, &records),
+            plan_json: plan.portable_json().to_string(),
+            n_cases: records.len() * blocks.len(),
+            records,
+            excitations,
+            blocks: blocks.to_vec(),
+            specs,
+        };
+        Ok((prepared, models))
+    }
+
+    pub(super) fn chunk_cases(&self, c: usize) -> std::ops::Range<usize> {
+        let start = c * CHUNK_CASES;
+        start..(start + CHUNK_CASES).min(self.n_cases)
+    }
+
+    pub(super) fn metadata(
+        &self,
+        plan: &Plan,
+        chunk: Option<usize>,
+        shard: Option<Shard>,
+    ) -> Vec<(String, String)> {
+        let mut s = vec![
+            (META_PLAN_HASH.to_string(), self.hash.clone()),
+            (META_PLAN.to_string(), self.plan_json.clone()),
+            (META_SETTINGS.to_string(), plan.sweep_settings()),
+        ];
+        if let Some(c) = chunk {
+            s.push((META_CHUNK.to_string(), c.to_string()));
+        }
+        if let Some(sh) = shard {
+            s.push((META_SHARD.to_string(), sh.to_string()));
+        }
+        s
+    }
+}
+
+/// Counts of the work done, for the summary.
+#[derive(Default)]
+pub(super) struct Tally {
+    pub(super) cases_done: usize,
+    pub(super) cases_resumed: usize,
+    pub(super) runs: u64,
+    /// Runs the certification added (not in the IDA table).
+    pub(super) check_runs: u64,
+    pub(super) intervals: u64,
+}
+
+/// A case's IDA points and capacity, the runs its certification added,
+/// and the sample intervals the search and its certification took.
+pub(in crate::stages) struct CaseResult {
+    pub(in crate::stages) ida: Vec<IdaRow>,
+    pub(in crate::stages) capacity: CapacityRow,
+    pub(super) check_runs: usize,
+    pub(super) intervals: u64,
+}
+
+pub(in crate::stages) fn run_case(
+    case: usize,
+    prep: &Prepared,
+    plan: &Plan,
+) -> Result<CaseResult, SweepError> {
+    let n_blocks = prep.blocks.len();
+    let (ri, bi) = (case / n_blocks, case % n_blocks);
+    let (record, spec, block) = (&prep.records[ri], prep.specs[bi], &prep.blocks[bi].name);
+    let certified = ida::capacity_certified(
+        &prep.excitations[ri],
+        &spec,
+        &plan.grid,
+        plan.tol,
+        plan.trace,
+    )
+    .map_err(|source| SweepError::Record {
+        record: record.record_id.clone(),
+        source,
+    })?;
+    let cap = &certified.capacity;
+    let alpha_rad = spec.alpha();
+    let model = spec.model.equation.kind();
+    let ida = cap
+        .points
+        .iter()
+        .map(|q| IdaRow {
+            case_id: case as i64,
+            record_id: record.record_id.clone(),
+            block: block.clone(),
+            p: spec.p,
+            eps: spec.eps,
+            alpha_rad,
+            eta: q.eta,
+            pga_scale: 1.0 / q.eta,
+            edp: if q.outcome.overturned() {
+                f64::INFINITY
+            } else {
+                q.outcome.max_abs_x
+            },
+            overturned: q.outcome.overturned(),
+            impacts: q.outcome.impacts as i64,
+            run_kind: q.kind,
+            model,
+        })
+        .collect();
+    let row = CapacityRow {
+        case_id: case as i64,
+        record_id: record.record_id.clone(),
+        block: block.clone(),
+        p: spec.p,
+        eps: spec.eps,
+        alpha_rad,
+        model,
+        eta_c: cap.eta_c,
+        eta_survived: cap.eta_survived,
+        level_survived: cap.level_survived,
+        level_overturned: cap.level_overturned,
+        runs: cap.points.len() as i64,
+        resurrections: cap.resurrections.map(|r| r as i64),
+        certified: certified.certification.certified(),
+        certification: certified.certification.kind(),
+        certification_note: certified.certification.to_string(),
+        rtol: certified.model.integrator.rtol(),
+    };
+    Ok(CaseResult {
+        ida,
+        capacity: row,
+        check_runs: certified.extra.runs,
+        intervals: cap.points.iter().map(|q| q.outcome.intervals).sum::<u64>()
+            + certified.extra.intervals,
+    })
+}

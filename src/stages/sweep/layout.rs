@@ -1,0 +1,75 @@
+//! The sweep's tables by name and stamp: the chunk size its part files
+//! follow, the final tables' names (unsharded or one shard's), the metadata
+//! keys every sweep table carries (read back as [`SweepMeta`]), and the hash
+//! of everything that determines the results.
+
+use std::path::Path;
+
+use crate::pipeline::Plan;
+use crate::stages::stage::Shard;
+use crate::tables::records::RecordRow;
+use crate::tables::sweep::{CapacityRow, IdaRow};
+use crate::tables::{self, TableError};
+
+/// Cases per chunk (and per part file).
+pub const CHUNK_CASES: usize = 32;
+
+/// Metadata keys of every sweep table.
+pub const META_PLAN_HASH: &str = "rocking.sweep.plan_hash";
+pub const META_PLAN: &str = "rocking.sweep.plan";
+pub const META_SHARD: &str = "rocking.sweep.shard";
+/// The settings that determine the results ([`Plan::sweep_settings`]).
+pub const META_SETTINGS: &str = "rocking.sweep.settings";
+/// The chunk a part file holds.
+pub const META_CHUNK: &str = "rocking.sweep.chunk";
+
+/// What a sweep table's metadata says about how it was made.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SweepMeta {
+    pub plan_hash: Option<String>,
+    /// [`Plan::sweep_settings`] of the plan that made it.
+    pub settings: Option<String>,
+    /// The chunk a part file holds.
+    pub chunk: Option<String>,
+}
+
+impl SweepMeta {
+    /// Reads the metadata of a sweep table or part file (its footer only).
+    pub fn read(path: &Path) -> Result<SweepMeta, TableError> {
+        let kv = tables::read_metadata(path)?;
+        let get = |key: &str| kv.iter().find(|(k, _)| k == key).map(|(_, v)| v.clone());
+        Ok(SweepMeta {
+            plan_hash: get(META_PLAN_HASH),
+            settings: get(META_SETTINGS),
+            chunk: get(META_CHUNK),
+        })
+    }
+}
+
+/// Final table names of an unsharded run or of one shard.
+pub(super) fn final_names(shard: Option<Shard>) -> (String, String) {
+    match shard {
+        None => ("ida_points.parquet".into(), "capacities.parquet".into()),
+        Some(s) => (
+            format!("ida_points.{}.parquet", s.tag()),
+            format!("capacities.{}.parquet", s.tag()),
+        ),
+    }
+}
+
+/// Hash of everything that determines the sweep's output.
+pub fn plan_hash(plan: &Plan, records: &[RecordRow]) -> String {
+    let mut text = String::from(env!("CARGO_PKG_VERSION"));
+    text.push_str(&format!(
+        "ida_points/{} capacities/{}",
+        <IdaRow as tables::Table>::KIND.schema_version,
+        <CapacityRow as tables::Table>::KIND.schema_version
+    ));
+    // Only what changes the results: not the name, where the records are, or reduce's settings.
+    text.push_str(&plan.sweep_settings());
+    for r in records {
+        text.push_str(&r.record_id);
+        text.push_str(&r.sha256);
+    }
+    crate::hash::sha256_hex(text.as_bytes())
+}
