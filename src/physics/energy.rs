@@ -21,7 +21,7 @@
 //! the crest (`y > 1`): it then falls away unless it is heading back with
 //! `D < 0`, enough speed to climb over the crest again.
 
-use super::Rocking;
+use super::step::Rocking;
 
 /// What the free motion after the record still holds.
 #[derive(Debug, Clone, Copy, PartialEq)]
