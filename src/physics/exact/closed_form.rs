@@ -1,7 +1,7 @@
 //! The closed form of the linearised equation on one pivot over a stretch
 //! with linear forcing ([`Motion`]), the functions of `z = pσ` it needs
 //! ([`Coeffs`], [`cosh_m1`], [`sinhc_m1`]) and its turning points.
-//! Derivation: docs/MODEL.md, §3.1.
+//! Derivation: docs/MODEL.md, §3.1–3.2.
 
 /// `cosh z − 1`, without cancellation: `z²/2 · (1 + z²/12 + …)`, its
 /// Taylor series to z¹⁴ for |z| < 0.5 (to z⁶ below |z| = 0.01, where the

@@ -25,43 +25,9 @@ impl Exact {
     /// else can happen on the way). `None` leaves the stretch to the
     /// general walk.
     ///
-    /// The tail of impacts that brings a block to rest (about 60 at
-    /// ε = 0.8) is made of such hops. With `y = s·x`, `w = ẏ(0) > 0`,
-    /// `ÿ = p²y + a + bσ` (`a = p²·s·u < 0`, `b = p²·s·g1/η`), the Taylor
-    /// coefficients of `y` are `w, a, p²w + b, p²a, p²(p²w + b), p⁴a, …`;
-    /// over a hop (σ ≈ σ₀ = 2w/|a|) term n of `y` is of relative size
-    /// `2z^(n−2)/n!` (n even) or `(z^(n−1) + 2z^(n−3)·bσ/|a|)/n!` (n odd), so
-    /// with both below [`HOP_Z`] the terms through y⁽⁸⁾ are exact to rounding.
-    ///
-    /// In the time `t = σ/σ₀`, with `q = (pσ₀)²`, `β = bσ₀/|a|` and
-    /// `Y = y/(wσ₀)`, the hop is `Y'' = qY − 2 + 2βt`, `Y(0) = 0`,
-    /// `Y'(0) = 1`: its return time `T = σ/σ₀` and speed ratio
-    /// `V = −Y'(T)` are functions of `(q, β)` alone, 1 at `(0, 0)`.
-    ///
-    /// - For `e = max(q, |β|)` up to [`HOP_SERIES`] (nine hops in ten of a
-    ///   sweep, spread evenly over the decades from 1e-8; `q` is at most
-    ///   `HOP_Z²` = 1e-4, so `e` is mostly `|β|`), `T` and `V` are
-    ///   their double series in `q` and `β` to total degree 5, found by
-    ///   perturbation of `Y(T) = 0` (exact rationals; along `q = 0` they
-    ///   are Catalan's numbers over 3ⁿ, the roots of `βT²/3 − T + 1 = 0`,
-    ///   and at `β = 0` the hop is symmetric, `V = 1`). The first term left
-    ///   out is below 0.2·e⁶ = 1.2e-17, and against the closed form (mpmath,
-    ///   40 digits) the evaluation's worst relative error over
-    ///   `q ≤ 1e-4, |β| ≤ 2e-3` is 1.7e-16: rounding. No division but the one reciprocal of `a`,
-    ///   and no Newton iteration: the chain from one hop to the next is
-    ///   short.
-    /// - Above it, up to [`HOP_Z`], the Taylor terms through y⁽⁸⁾, with
-    ///   `c = q/6 + β/3` and `u = q t²`,
-    ///
-    ///   ```text
-    ///   Y/t = 1 − t + t²·(c·(1 + u/20 + u²/840) − (q/12)·t·(1 + u/30 + u²/1680))
-    ///   Y'  = 1 − 2t + 3c·t²·(1 + u/12 + u²/360) − (q/3)·t³·(1 + u/20 + u²/840)
-    ///   ```
-    ///
-    ///   are solved by two Newton steps from the expansion of the root to
-    ///   second order, `t ≈ 1 + δ + δ(2c − q/4) + cq/20 − q²/360` with
-    ///   `δ = c − q/12`, whose error is about 0.2·e³: each step squares the
-    ///   error and multiplies it by about e, leaving ~e¹⁵.
+    /// The return time and speed come from the hop's Taylor terms: a
+    /// double series in its two small parameters ([`hop_series`]) or two
+    /// Newton steps on them ([`hop_newton`]). Derivation: docs/MODEL.md, §3.3.
     ///
     /// About two thirds of the impacts of a sweep are such hops; the general
     /// walk costs several closed-form evaluations, a square root and a
@@ -106,7 +72,7 @@ impl Exact {
 }
 
 /// A hop's return time `T = σ/σ₀` and speed ratio `V` to fifth order in
-/// `q` and `β` (see [`Exact::hop`]): `Σ βʲ·Pⱼ(q)`, the `Pⱼ` independent of
+/// `q` and `β` (docs/MODEL.md, §3.3): `Σ βʲ·Pⱼ(q)`, the `Pⱼ` independent of
 /// each other and `β`'s powers paired, so that few operations depend on
 /// one another. As `q = z² ≤ HOP_Z² = 1e-4` on a hop, the terms of `q⁴`
 /// and `q³β²` and beyond (below 1e-19) are left out.
@@ -130,7 +96,7 @@ fn hop_series(q: f64, beta: f64) -> (f64, f64) {
 }
 
 /// A hop's `T` and `V` by two Newton steps on its Taylor terms through
-/// y⁽⁸⁾ (see [`Exact::hop`]), for `max(q, |β|)` up to [`HOP_Z`].
+/// y⁽⁸⁾ (docs/MODEL.md, §3.3), for `max(q, |β|)` up to [`HOP_Z`].
 #[inline(always)]
 fn hop_newton(q: f64, beta: f64) -> (f64, f64) {
     let c = q * (1.0 / 6.0) + beta * (1.0 / 3.0);
