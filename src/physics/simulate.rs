@@ -42,7 +42,7 @@ pub fn simulate_from(
 }
 
 /// Two runs that differ in η alone (a chaos probe's pair), run in step
-/// ([`super::driver::drive_pair`]: their eventless intervals cost about one run's), each
+/// (`driver::drive_pair`: their eventless intervals cost about one run's), each
 /// with the outcome [`simulate`] gives it, to the bit. `None` where they
 /// cannot be: another integrator or equation, specs that differ in more
 /// than η or that [`simulate`] refuses, or a CPU without the exact

@@ -90,7 +90,7 @@ impl Not for M2 {
     }
 }
 
-/// [`Stepper::cruise`] for two runs at once, steppers of the same `p` and
+/// [`crate::physics::Stepper::cruise`] for two runs at once, steppers of the same `p` and
 /// `dt` (two values of η), both rocking at sample `k`: their whole
 /// intervals, one lane each, for as long as both are proved eventless by
 /// sign tests alone (x monotone, between the pivot and the limit). Stops

@@ -33,7 +33,7 @@ impl Motion {
 impl Exact {
     /// The floor of the stepper, for `rocking bench`: every whole interval
     /// of `exc` advanced by the closed form with the sign tests of
-    /// [`Stepper::cruise`] (monotone, the pivot, the limit) but no event
+    /// [`crate::physics::Stepper::cruise`] (monotone, the pivot, the limit) but no event
     /// ever handled, from `x = s/2` at rest. Returns the final state and
     /// how many intervals the tests flagged (so that nothing is optimised
     /// away). The motion is unbounded, as the linearised equation is
