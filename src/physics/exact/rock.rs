@@ -8,6 +8,7 @@ use crate::physics::step::{Rocking, Stepper, Stretch, StretchEnd};
 use crate::physics::Excitation;
 
 impl Stepper for Exact {
+    #[inline]
     fn set_limit(&mut self, limit: f64) {
         self.limit = limit;
     }
