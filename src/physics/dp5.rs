@@ -17,7 +17,7 @@
 //! recomputed by one exact-length step from the step's start.
 
 use super::equation::Rhs;
-use super::{Rocking, Stepper, Stretch, StretchEnd};
+use super::step::{Rocking, Stepper, Stretch, StretchEnd};
 
 // Dormand–Prince 5(4) tableau (Hairer–Nørsett–Wanner, Table II.5.2).
 const C2: f64 = 1.0 / 5.0;

@@ -9,19 +9,11 @@
 //! nonlinear:   D = [ 2 sin²(α(1 − y)/2) − ½ (α w / p)² ] / α²
 //! ```
 //!
-//! (the nonlinear form tends to the linear one as α → 0 and is written with
-//! `sin²` so that small α keeps its digits). `D > 0` means the swing turns
-//! back before the crest `y = 1`, at `y_max` where the potential term equals
-//! `D`; `D < 0` means it passes the crest and the block overturns. A block
-//! heading back to the pivot hits it with a speed fixed by `D`, continues on
-//! the other pivot with `ε` times that speed, and every later swing is
-//! lower still. So the fate is settled by the current swing and at most the
-//! next one. `D = 0` (the crest reached in infinite time) counts as not
-//! overturning. Under a cap above 1 the record may end with the block past
-//! the crest (`y > 1`): it then falls away unless it is heading back with
-//! `D < 0`, enough speed to climb over the crest again.
+//! `D > 0`: the swing turns back before the crest `y = 1`; `D < 0`: it passes
+//! the crest and the block overturns. The fate is settled by the current
+//! swing and at most the next one. Derivation: docs/MODEL.md, §3.4.
 
-use super::Rocking;
+use super::step::Rocking;
 
 /// What the free motion after the record still holds.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -9,7 +9,8 @@
 //! ```
 
 use super::energy::{self, Fate};
-use super::{Overturn, PhysicsError, Rocking};
+use super::step::Rocking;
+use super::{Overturn, PhysicsError};
 use crate::label::Label;
 
 /// Which equation of motion, with its parameters.

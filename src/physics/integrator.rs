@@ -2,80 +2,21 @@
 //!
 //! An integrator only advances the state on one pivot, over one stretch of a
 //! sample interval, until the stretch ends or the first event, and says
-//! which ([`Stepper::rock`] → [`StretchEnd`]), like diffsol's `step`
+//! which ([`super::Stepper::rock`] → [`super::StretchEnd`]), like diffsol's `step`
 //! returning why it stopped. Everything else (uplift, the impact map, rest,
 //! the fate after the record) is the equation's ([`Equation`]) or the
 //! driver's ([`super::simulate`]).
 //!
-//! Adding an integrator: its file with a [`Stepper`], a variant of
+//! Adding an integrator: its file with a [`super::Stepper`], a variant of
 //! [`Integrator`], and its arms in [`Integrator::validate`] and
 //! [`Integrator::drive`] below; the compiler points at each.
 
+use super::dispatch::{self, Isa};
+use super::driver::{self, Outcome};
 use super::equation::{Equation, LinearRhs, NonlinearRhs, LINEARIZATION_ERROR_PER_ALPHA2};
-use super::{dp5, exact, rk4, Excitation, Observer, Outcome, PhysicsError, RunSpec};
-
-/// State of a rocking block: position, velocity, pivot `s = ±1`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Rocking {
-    pub x: f64,
-    pub v: f64,
-    pub s: f64,
-}
-
-/// One stretch of a sample interval: from local offset `tau0` to `len`,
-/// with `ψ̈(tau0 + σ) = g_a + g1 σ`.
-#[derive(Debug, Clone, Copy)]
-pub struct Stretch {
-    pub tau0: f64,
-    pub len: f64,
-    pub g_a: f64,
-    pub g1: f64,
-}
-
-/// How a stretch ended.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum StretchEnd {
-    /// Reached the end of the stretch without an event.
-    End,
-    /// Returned to `x = 0` at local offset `sigma` (from `tau0`) with velocity `v`.
-    Impact { sigma: f64, v: f64 },
-    /// Reached the overturning limit at `sigma`.
-    Overturn { sigma: f64 },
-    /// Never left the pivot (a departure swamped by rounding): at rest from
-    /// `sigma` on, with no impact.
-    Settled { sigma: f64 },
-}
-
-/// An integrator on one pivot.
-pub trait Stepper {
-    /// Advances `state` over `stretch` or to its first event; raises
-    /// `max_abs_x` to every extremum passed. On `End` and `Overturn`, `state`
-    /// is the state at that instant (at overturning `|x|` is the limit); on
-    /// `Impact` it is left for the driver to apply the impact map.
-    fn rock(&mut self, stretch: Stretch, state: &mut Rocking, max_abs_x: &mut f64) -> StretchEnd;
-
-    /// Moves the `|x|` at which [`Stepper::rock`] reports `Overturn` (the
-    /// driver raises it when a run under `escape` passes it unproven).
-    fn set_limit(&mut self, limit: f64);
-
-    /// A fast path over whole sample intervals from `k` up to `end`
-    /// (exclusive): advances `state` through every interval it can prove
-    /// eventless (no impact, no overturning, nothing for [`Stepper::rock`] to
-    /// locate) with the same arithmetic `rock` would use, raises `max_abs_x`,
-    /// and returns the first interval it left to `rock` (or `end`). The
-    /// default proves nothing.
-    #[inline]
-    fn cruise(
-        &mut self,
-        _exc: &Excitation,
-        k: usize,
-        _end: usize,
-        _state: &mut Rocking,
-        _max_abs_x: &mut f64,
-    ) -> usize {
-        k
-    }
-}
+use super::history::Observer;
+use super::step::Rocking;
+use super::{dp5, exact, rk4, Excitation, PhysicsError, RunSpec};
 
 /// How the equation is advanced.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -149,17 +90,17 @@ impl Integrator {
         start: Option<Rocking>,
         limit: f64,
         obs: &mut impl Observer,
-        isa: exact::Isa,
+        isa: Isa,
     ) -> Outcome {
         let (p, eta, dt) = (spec.p, spec.eta, exc.dt_s);
         // One monomorphised event loop per (integrator, equation).
         macro_rules! with {
             ($stepper:expr) => {
-                super::driver::drive(exc, spec, start, limit, &mut $stepper, obs)
+                driver::drive(exc, spec, start, limit, &mut $stepper, obs)
             };
         }
         match (self, equation) {
-            (Integrator::Exact, Equation::Linearized) => exact::drive(
+            (Integrator::Exact, Equation::Linearized) => dispatch::drive(
                 exc,
                 spec,
                 start,

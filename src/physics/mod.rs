@@ -28,6 +28,7 @@
 //! Time inside an interval is a local offset from the interval's first
 //! sample, so events always advance it.
 
+mod dispatch;
 pub mod dp5;
 mod driver;
 pub mod energy;
@@ -36,19 +37,18 @@ pub mod exact;
 mod history;
 mod integrator;
 pub mod rk4;
+mod simulate;
+mod step;
 
 use std::fmt;
 
-pub use driver::{
-    simulate, simulate_from, simulate_observed, simulate_on, simulate_pair, Outcome, Stop,
-};
+pub use dispatch::Isa;
+pub use driver::{Outcome, Stop};
 pub use equation::{Equation, EquationKind, LINEARIZATION_ERROR_PER_ALPHA2};
-pub use exact::Isa;
 pub use history::{EventKind, HistoryPoint, Observer, Recorder};
-pub use integrator::{
-    check_rtol, Integrator, Model, ModelChoice, Rocking, Stepper, Stretch, StretchEnd,
-    DEFAULT_RTOL, MIN_RTOL,
-};
+pub use integrator::{check_rtol, Integrator, Model, ModelChoice, DEFAULT_RTOL, MIN_RTOL};
+pub use simulate::{simulate, simulate_from, simulate_observed, simulate_on, simulate_pair};
+pub use step::{Rocking, Stepper, Stretch, StretchEnd};
 
 /// Speed below which a block is at rest after an impact, relative to `p`:
 /// `|ẋ⁺| < REST_TOL · p`. The swing that follows such an impact would reach

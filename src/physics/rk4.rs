@@ -7,7 +7,7 @@
 //! benchmarks, not to be used for results.
 
 use super::equation::Rhs;
-use super::{Rocking, Stepper, Stretch, StretchEnd};
+use super::step::{Rocking, Stepper, Stretch, StretchEnd};
 
 /// The RK4 stepper of one equation; one per run.
 pub struct Rk4<R> {

@@ -1,0 +1,163 @@
+//! Two runs in one SSE2 register: [`F2`] holds two `f64` lanes whose
+//! operations are the scalar IEEE ones, and [`cruise_pair`] crosses the
+//! eventless intervals of two runs that differ only in η at once.
+
+use std::arch::x86_64::*;
+use std::ops::{Add, BitAnd, BitOr, Mul, Not, Sub};
+
+use super::stepper::Exact;
+use crate::physics::step::Rocking;
+use crate::physics::Excitation;
+
+/// Two `f64` lanes of one SSE2 register: the arithmetic of two runs at once,
+/// each lane's operations the IEEE operations the scalar code does (no
+/// fused multiply-add, nothing reassociated), so each lane's results are the
+/// scalar ones to the bit.
+#[derive(Clone, Copy)]
+pub struct F2(__m128d);
+
+/// A lane-wise comparison: all ones where it holds.
+#[derive(Clone, Copy)]
+pub struct M2(__m128d);
+
+impl F2 {
+    #[inline(always)]
+    pub fn new(a: f64, b: f64) -> F2 {
+        F2(unsafe { _mm_setr_pd(a, b) })
+    }
+    #[inline(always)]
+    pub fn splat(x: f64) -> F2 {
+        F2(unsafe { _mm_set1_pd(x) })
+    }
+    #[inline(always)]
+    pub fn lanes(self) -> [f64; 2] {
+        let mut out = [0.0; 2];
+        unsafe { _mm_storeu_pd(out.as_mut_ptr(), self.0) };
+        out
+    }
+    #[inline(always)]
+    pub fn abs(self) -> F2 {
+        F2(unsafe { _mm_andnot_pd(_mm_set1_pd(-0.0), self.0) })
+    }
+    #[inline(always)]
+    pub fn lt(self, o: F2) -> M2 {
+        M2(unsafe { _mm_cmplt_pd(self.0, o.0) })
+    }
+    #[inline(always)]
+    pub fn gt(self, o: F2) -> M2 {
+        M2(unsafe { _mm_cmpgt_pd(self.0, o.0) })
+    }
+    /// `self.max(o)` lane by lane, for operands that are not NaN and
+    /// not both zero (where `f64::max` and `maxpd` may differ).
+    #[inline(always)]
+    pub fn max(self, o: F2) -> F2 {
+        F2(unsafe { _mm_max_pd(self.0, o.0) })
+    }
+}
+
+impl M2 {
+    /// Bit i set where lane i holds.
+    #[inline(always)]
+    pub fn bits(self) -> i32 {
+        unsafe { _mm_movemask_pd(self.0) }
+    }
+}
+
+/// `impl $trait for $ty` by the lane-wise intrinsic `$op`.
+macro_rules! lane_wise {
+    ($($trait:ident, $method:ident, $ty:ident, $op:ident;)*) => {$(
+        impl $trait for $ty {
+            type Output = $ty;
+            #[inline(always)]
+            fn $method(self, o: $ty) -> $ty {
+                $ty(unsafe { $op(self.0, o.0) })
+            }
+        }
+    )*};
+}
+lane_wise! {
+    Add, add, F2, _mm_add_pd;
+    Sub, sub, F2, _mm_sub_pd;
+    Mul, mul, F2, _mm_mul_pd;
+    BitAnd, bitand, M2, _mm_and_pd;
+    BitOr, bitor, M2, _mm_or_pd;
+}
+impl Not for M2 {
+    type Output = M2;
+    #[inline(always)]
+    fn not(self) -> M2 {
+        M2(unsafe { _mm_xor_pd(self.0, _mm_castsi128_pd(_mm_set1_epi32(-1))) })
+    }
+}
+
+/// [`crate::physics::Stepper::cruise`] for two runs at once, steppers of the same `p` and
+/// `dt` (two values of η), both rocking at sample `k`: their whole
+/// intervals, one lane each, for as long as both are proved eventless by
+/// sign tests alone (x monotone, between the pivot and the limit). Stops
+/// at the first interval either must leave to `cruise`'s other bounds or
+/// to `rock` (the other is left there too, and crosses it on its own) and
+/// returns it. Each lane does what [`Exact::cruise`] does, operation for
+/// operation.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+pub(in crate::physics) fn cruise_pair(
+    steppers: [&Exact; 2],
+    exc: &Excitation,
+    mut k: usize,
+    states: [&mut Rocking; 2],
+    tops: [&mut f64; 2],
+) -> usize {
+    let [sa, sb] = steppers;
+    if exc.dt_s != sa.full.sigma || sa.p != sb.p || sa.full.sigma != sb.full.sigma {
+        return k;
+    }
+    let [st_a, st_b] = states;
+    let [top_a, top_b] = tops;
+    let (psi, slope) = (&exc.psi[..], &exc.slope[..]);
+    let n = slope.len().min(psi.len()).min(exc.psi_end().len());
+    let full = &sa.full;
+    let (p, c, s_sigma, s1_sigma, sinh, delta_max) = (
+        F2::splat(sa.p),
+        F2::splat(full.c),
+        F2::splat(full.s_sigma),
+        F2::splat(full.s1_sigma),
+        F2::splat(full.sinh),
+        F2::splat(sa.full_expm1),
+    );
+    let (zero, two) = (F2::splat(0.0), F2::splat(2.0));
+    let s = F2::new(st_a.s, st_b.s);
+    let s_eta = s * F2::new(sa.eta, sb.eta);
+    let inv_eta = F2::new(sa.inv_eta, sb.inv_eta);
+    let limit = F2::new(sa.limit, sb.limit);
+    let (mut x, mut v) = (F2::new(st_a.x, st_b.x), F2::new(st_a.v, st_b.v));
+    let mut top = F2::new(*top_a, *top_b);
+    while k < n {
+        let (g0, g1) = (psi[k], slope[k]);
+        // `Exact::motion`, `Motion::at` and `Motion::monotone`, lane-wise.
+        let u = x + (F2::splat(g0) - s_eta) * inv_eta;
+        let g1e = F2::splat(g1) * inv_eta;
+        let x_hi = x + u * c + v * s_sigma + g1e * s1_sigma;
+        let pu = p * u;
+        let v_hi = v + pu * sinh + (v + g1e) * c;
+        let y_hi = s * x_hi;
+        let inside = y_hi.lt(limit) & y_hi.gt(zero);
+        let b = pu + v;
+        let a = b + g1e;
+        let vertex_inside = (a * b).lt(zero) & b.abs().lt(a.abs() * delta_max) & (a * v).gt(zero);
+        let turn_free = !vertex_inside | (b * b - a * (two * v)).lt(zero);
+        // A lane with a turning point inside (or an event) leaves the pair
+        // to cross that interval on its own, by `cruise`'s other bounds or
+        // `rock`: kept out of this loop, they would crowd its registers.
+        if (inside & (v * v_hi).gt(zero) & turn_free).bits() != 0b11 {
+            break;
+        }
+        // y_hi lies in (0, limit) on both lanes: `max` is `f64::max` there.
+        top = top.max(y_hi);
+        (x, v) = (x_hi, v_hi);
+        k += 1;
+    }
+    let ([xa, xb], [va, vb], [ta, tb]) = (x.lanes(), v.lanes(), top.lanes());
+    (st_a.x, st_a.v, st_b.x, st_b.v) = (xa, va, xb, vb);
+    (*top_a, *top_b) = (ta, tb);
+    k
+}

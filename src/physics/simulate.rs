@@ -1,0 +1,122 @@
+//! The public entry points of a run ([`simulate`] and its variants): they
+//! check the run, pick the compilation of the exact stepper's event loop
+//! ([`Isa`]) and hand the run to the integrator.
+
+#[cfg(target_arch = "x86_64")]
+use super::dispatch;
+use super::dispatch::Isa;
+use super::driver::Outcome;
+#[cfg(target_arch = "x86_64")]
+use super::equation::Equation;
+#[cfg(target_arch = "x86_64")]
+use super::exact::Exact;
+use super::history::Observer;
+#[cfg(target_arch = "x86_64")]
+use super::integrator::Integrator;
+use super::step::Rocking;
+use super::{Excitation, PhysicsError, RunSpec};
+
+/// Runs one record at one intensity.
+pub fn simulate(exc: &Excitation, spec: &RunSpec) -> Result<Outcome, PhysicsError> {
+    simulate_observed(exc, spec, &mut ())
+}
+
+/// [`simulate`], reporting history points to `obs`.
+pub fn simulate_observed(
+    exc: &Excitation,
+    spec: &RunSpec,
+    obs: &mut impl Observer,
+) -> Result<Outcome, PhysicsError> {
+    simulate_from(exc, spec, None, obs)
+}
+
+/// [`simulate_observed`] from a given rocking state at the first sample
+/// (`None`: at rest, the normal start). Used for free-rocking checks.
+pub fn simulate_from(
+    exc: &Excitation,
+    spec: &RunSpec,
+    start: Option<Rocking>,
+    obs: &mut impl Observer,
+) -> Result<Outcome, PhysicsError> {
+    run(exc, spec, start, obs, Isa::detected())
+}
+
+/// Two runs that differ in η alone (a chaos probe's pair), run in step
+/// (`driver::drive_pair`: their eventless intervals cost about one run's), each
+/// with the outcome [`simulate`] gives it, to the bit. `None` where they
+/// cannot be: another integrator or equation, specs that differ in more
+/// than η or that [`simulate`] refuses, or a CPU without the exact
+/// stepper's x86-64-v3 compilation (run them one by one there).
+pub fn simulate_pair(exc: &Excitation, specs: [&RunSpec; 2]) -> Option<[Outcome; 2]> {
+    #[cfg(target_arch = "x86_64")]
+    {
+        let [a, b] = specs;
+        let same_but_eta = RunSpec { eta: a.eta, ..*b } == *a;
+        let exact =
+            a.model.integrator == Integrator::Exact && a.model.equation == Equation::Linearized;
+        if !(same_but_eta && exact && Isa::detected() == Isa::V3) {
+            return None;
+        }
+        let limit = |s: &RunSpec| {
+            s.validate().ok()?;
+            s.model.equation.overturn_limit(s.overturn).ok()
+        };
+        let limits = [limit(a)?, limit(b)?];
+        let new = |s: &RunSpec, limit| Exact::new(s.p, s.eta, exc.dt_s, limit);
+        let (mut stepper_a, mut stepper_b) = (new(a, limits[0]), new(b, limits[1]));
+        // SAFETY: `Isa::detected()` is V3 only where the CPU has its features.
+        Some(unsafe {
+            dispatch::drive_pair_v3(exc, specs, limits, [&mut stepper_a, &mut stepper_b])
+        })
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let _ = (exc, specs);
+        None
+    }
+}
+
+/// [`simulate`] with the exact stepper's event loop as compiled for `isa`
+/// ([`Isa`]; the other integrators have one compilation): to compare the
+/// two. Refused when this CPU cannot run it.
+pub fn simulate_on(exc: &Excitation, spec: &RunSpec, isa: Isa) -> Result<Outcome, PhysicsError> {
+    if !isa.available() {
+        return Err(PhysicsError::BadInput(format!(
+            "this CPU cannot run the {isa:?} compilation of the stepper"
+        )));
+    }
+    run(exc, spec, None, &mut (), isa)
+}
+
+fn run(
+    exc: &Excitation,
+    spec: &RunSpec,
+    start: Option<Rocking>,
+    obs: &mut impl Observer,
+    isa: Isa,
+) -> Result<Outcome, PhysicsError> {
+    spec.validate()?;
+    if let Some(st) = start {
+        if !(st.s == 1.0 || st.s == -1.0)
+            || !(st.x.is_finite() && st.v.is_finite())
+            || st.s * st.x < 0.0
+        {
+            return Err(PhysicsError::BadInput(format!(
+                "start state {st:?}: pivot must be ±1 and x on its side"
+            )));
+        }
+    }
+    let equation = spec.model.equation;
+    let limit = equation.overturn_limit(spec.overturn)?;
+    if let Some(st) = start {
+        if spec.overturn.needs_escape_proof(equation.alpha()) && st.s * st.x >= limit {
+            return Err(PhysicsError::BadInput(format!(
+                "start state {st:?}: under `escape` a start must lie below |x| = {limit}"
+            )));
+        }
+    }
+    Ok(spec
+        .model
+        .integrator
+        .drive(equation, exc, spec, start, limit, obs, isa))
+}
