@@ -63,32 +63,7 @@ pub fn rounding_table(
     let grid = ImGrid::default();
     let results = cases
         .par_iter()
-        .map(|&(rec, p, eps)| {
-            let spec = RunSpec::new(p, eps, 1.0, Model::LINEARIZED);
-            let got = capacity_certified(&recs[rec], &spec, &grid, 1e-4, Trace::StopAtFirst)?;
-            let chaotic = !got.certification.certified();
-            let mut checked = 0;
-            let mut flips = Vec::new();
-            for (eta, overturned) in decisive_runs(&got.capacity, &grid) {
-                for (which, exc) in moved[rec].iter().enumerate() {
-                    checked += 1;
-                    let out = simulate(exc, &RunSpec { eta, ..spec })?;
-                    if out.overturned() != overturned {
-                        flips.push(Flip {
-                            rec,
-                            p,
-                            eps,
-                            eta,
-                            overturned,
-                            which,
-                            impacts: out.impacts,
-                            chaotic,
-                        });
-                    }
-                }
-            }
-            Ok((checked, flips, chaotic))
-        })
+        .map(|&(rec, p, eps)| perturbed(&recs[rec], &moved[rec], rec, p, eps, &grid))
         .collect::<Result<Vec<_>, crate::physics::PhysicsError>>()?;
     let checked: usize = results.iter().map(|r| r.0).sum();
     let chaotic = results.iter().filter(|r| r.2).count();
@@ -125,31 +100,74 @@ pub fn rounding_table(
         cases.len(),
         100.0 * chaotic as f64 / cases.len().max(1) as f64
     );
-    if !flips.is_empty() {
+    flips_table(&mut s, &flips, &names);
+    Ok(s)
+}
+
+/// Reruns one capacity's decisive runs on the record moved one ulp up and
+/// one ulp down (`moved`): how many runs were checked, the verdicts that
+/// flipped, and whether the certified search found the capacity chaotic.
+fn perturbed(
+    exc: &Excitation,
+    moved: &[Excitation; 2],
+    rec: usize,
+    p: f64,
+    eps: f64,
+    grid: &ImGrid,
+) -> Result<(usize, Vec<Flip>, bool), crate::physics::PhysicsError> {
+    let spec = RunSpec::new(p, eps, 1.0, Model::LINEARIZED);
+    let got = capacity_certified(exc, &spec, grid, 1e-4, Trace::StopAtFirst)?;
+    let chaotic = !got.certification.certified();
+    let mut checked = 0;
+    let mut flips = Vec::new();
+    for (eta, overturned) in decisive_runs(&got.capacity, grid) {
+        for (which, exc) in moved.iter().enumerate() {
+            checked += 1;
+            let out = simulate(exc, &RunSpec { eta, ..spec })?;
+            if out.overturned() != overturned {
+                flips.push(Flip {
+                    rec,
+                    p,
+                    eps,
+                    eta,
+                    overturned,
+                    which,
+                    impacts: out.impacts,
+                    chaotic,
+                });
+            }
+        }
+    }
+    Ok((checked, flips, chaotic))
+}
+
+/// The table of the flipped verdicts (the first twelve), when any flipped.
+fn flips_table(s: &mut String, flips: &[Flip], names: &[String]) {
+    if flips.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        s,
+        "| record | p | ε | η | verdict | perturbation | impacts | capacity certified |"
+    );
+    let _ = writeln!(s, "|---:|---:|---:|---:|---|---|---:|---|");
+    for f in flips.iter().take(12) {
         let _ = writeln!(
             s,
-            "| record | p | ε | η | verdict | perturbation | impacts | capacity certified |"
+            "| {} | {:.3} | {:.2} | {:.6} | {} | {} | {} | {} |",
+            names[f.rec],
+            f.p,
+            f.eps,
+            f.eta,
+            if f.overturned {
+                "overturned → survived"
+            } else {
+                "survived → overturned"
+            },
+            if f.which == 0 { "+1 ulp" } else { "−1 ulp" },
+            f.impacts,
+            if f.chaotic { "no: chaotic" } else { "yes" },
         );
-        let _ = writeln!(s, "|---:|---:|---:|---:|---|---|---:|---|");
-        for f in flips.iter().take(12) {
-            let _ = writeln!(
-                s,
-                "| {} | {:.3} | {:.2} | {:.6} | {} | {} | {} | {} |",
-                names[f.rec],
-                f.p,
-                f.eps,
-                f.eta,
-                if f.overturned {
-                    "overturned → survived"
-                } else {
-                    "survived → overturned"
-                },
-                if f.which == 0 { "+1 ulp" } else { "−1 ulp" },
-                f.impacts,
-                if f.chaotic { "no: chaotic" } else { "yes" },
-            );
-        }
-        let _ = writeln!(s);
     }
-    Ok(s)
+    let _ = writeln!(s);
 }
