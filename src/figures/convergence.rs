@@ -104,3 +104,70 @@ pub(super) fn convergence_mean(d: &StudyData) -> Vec<Figure> {
         caption: "Mean absolute change of η_c against the finest grid.".into(),
     }]
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::figures::fixture::{grid_study, level};
+
+    /// Two blocks at 100 and 50 levels (rows out of order).
+    fn rows() -> Vec<ConvergenceRow> {
+        vec![
+            level(100, 0, 10, 0.0, 0.5),
+            level(50, 2, 10, 0.125, 0.25),
+            level(100, 0, 10, 0.0, 0.5),
+            level(50, 4, 10, 0.375, 0.75),
+        ]
+    }
+
+    #[test]
+    fn levels_are_summed_over_blocks_coarsest_first() {
+        let got = convergence_levels(&rows());
+        assert_eq!(
+            got,
+            [
+                ConvergenceLevel {
+                    levels: 50.0,
+                    changed: 6.0,
+                    total: 20.0,
+                    mean_abs_change: 0.25,
+                    max_abs_change: 0.375,
+                    mean_q50: 0.5,
+                },
+                ConvergenceLevel {
+                    levels: 100.0,
+                    changed: 0.0,
+                    total: 20.0,
+                    mean_abs_change: 0.0,
+                    max_abs_change: 0.0,
+                    mean_q50: 0.5,
+                },
+            ]
+        );
+    }
+
+    #[test]
+    fn the_share_and_the_mean_change_per_resolution() {
+        let mut d = grid_study(&[1.0, 2.0], &[0.5]);
+        d.convergence = Some(rows());
+        let share = convergence_share(&d);
+        assert_eq!(share.len(), 1);
+        let c = &share[0].chart;
+        assert_eq!(
+            (share[0].file.as_str(), c.x_scale),
+            ("capacity_convergence.svg", Scale::Log)
+        );
+        // 6 of 20 at 50 levels, none at 100; the axis 20 % above the largest share.
+        assert_eq!(c.lines[0].points, [(50.0, 0.3), (100.0, 0.0)]);
+        assert_eq!(c.y_range, Some((0.0, 0.3 * 1.2)));
+        let mean = convergence_mean(&d);
+        assert_eq!(mean[0].file, "capacity_convergence_mean.svg");
+        assert_eq!(mean[0].chart.lines[0].points, [(50.0, 0.25), (100.0, 0.0)]);
+    }
+
+    #[test]
+    fn nothing_without_the_study() {
+        let d = grid_study(&[1.0], &[0.5]);
+        assert!(convergence_share(&d).is_empty() && convergence_mean(&d).is_empty());
+    }
+}

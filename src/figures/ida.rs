@@ -137,3 +137,99 @@ pub(super) fn median_ida_across_p(d: &StudyData) -> Vec<Figure> {
             .into(),
     }]
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::figures::fixture::{block_study, cap, grid_study, horizontal, run};
+
+    /// p = 1, 2, 4 × ε = 0.5, 0.9: the middle block is (2, 0.9), block 3 of
+    /// 6, whose records are cases 3 and 9.
+    fn study() -> StudyData {
+        let mut d = grid_study(&[1.0, 2.0, 4.0], &[0.5, 0.9]);
+        d.caps = vec![cap(3, Some(0.5)), cap(9, None), cap(0, Some(0.8))];
+        let mut refinement = run(3, 0.7, 0.5, false);
+        refinement.run_kind = RunKind::Refinement;
+        d.ida = vec![
+            run(3, 0.5, 0.1, false),
+            refinement,
+            run(3, 1.0, 0.4, false),
+            run(3, 2.0, 1.0, true),
+            run(3, 4.0, 1.0, true),
+            run(9, 0.5, 0.2, false),
+            run(0, 0.5, 0.3, false),
+        ];
+        let inf = f64::INFINITY;
+        d.horizontal = vec![
+            horizontal(2.0, 0.9, 2.0, [0.1, 0.2, 0.3]),
+            horizontal(2.0, 0.9, 1.0, [0.3, 0.6, inf]),
+            horizontal(2.0, 0.9, 0.5, [1.0, inf, inf]),
+            horizontal(1.0, 0.5, 2.0, [0.7, 0.8, 0.9]),
+        ];
+        d
+    }
+
+    #[test]
+    fn fig5_draws_each_record_of_the_middle_block_until_it_overturns() {
+        let figs = ida_curves(&study());
+        assert_eq!(figs.len(), 1);
+        let c = &figs[0].chart;
+        assert_eq!(figs[0].file, "fig05_ida_curves.svg");
+        assert_eq!(c.title, "IDA curves of 2 records, p = 2.000 1/s, ε = 0.90");
+        assert_eq!((c.x_scale, c.y_scale), (Scale::Linear, Scale::Linear));
+        assert_eq!(c.lines.len(), 5);
+        // Case 3: its grid levels (not the refinement run) until the first
+        // overturning, then its capacity η_c = 0.5 at θmax/α = 1 (1/η = 2).
+        assert_eq!(
+            c.lines[0].points,
+            [(0.0, 1.0), (0.1, 0.5), (0.4, 1.0), (1.0, 2.0)]
+        );
+        assert_eq!(
+            (c.lines[0].style, c.lines[0].name.clone()),
+            (Style::Faint, None)
+        );
+        // Case 9 never overturned: no capacity point.
+        assert_eq!(c.lines[1].points, [(0.0, 1.0), (0.2, 0.5)]);
+        // The fractiles along the block's levels, ending where EDP reaches 1.
+        let names: Vec<_> = c.lines[2..]
+            .iter()
+            .map(|l| l.name.clone().unwrap())
+            .collect();
+        assert_eq!(names, ["16 % fractile", "50 % fractile", "84 % fractile"]);
+        assert_eq!(
+            c.lines[2].points,
+            [(0.0, 1.0), (0.1, 0.5), (0.3, 1.0), (1.0, 2.0)]
+        );
+        assert_eq!(
+            c.lines[3].points,
+            [(0.0, 1.0), (0.2, 0.5), (0.6, 1.0), (1.0, 2.0)]
+        );
+        assert_eq!(c.lines[4].points, [(0.0, 1.0), (0.3, 0.5), (1.0, 1.0)]);
+        // The intensity axis reaches 40 % above the highest fractile's end (1/η = 2).
+        assert_eq!(c.y_range, Some((0.0, 2.8)));
+        assert_eq!(c.x_range, Some((0.0, 1.05)));
+    }
+
+    #[test]
+    fn fig6_draws_the_median_curve_of_every_p_at_the_middle_eps() {
+        let figs = median_ida_across_p(&study());
+        assert_eq!(figs.len(), 1);
+        let c = &figs[0].chart;
+        assert_eq!(c.title, "Median IDA curves across p, ε = 0.90");
+        assert_eq!(c.y_scale, Scale::Log);
+        let names: Vec<_> = c.lines.iter().map(|l| l.name.clone().unwrap()).collect();
+        assert_eq!(names, ["p = 1.00 1/s", "p = 2.00 1/s", "p = 4.00 1/s"]);
+        // Only (2, 0.9) has levels at ε = 0.9; the others start and stop at rest.
+        assert_eq!(c.lines[0].points, [(0.0, 1.0)]);
+        assert_eq!(
+            c.lines[1].points,
+            [(0.0, 1.0), (0.2, 0.5), (0.6, 1.0), (1.0, 2.0)]
+        );
+        assert_eq!(c.lines[2].points, [(0.0, 1.0)]);
+    }
+
+    #[test]
+    fn fig6_needs_the_grid() {
+        assert!(median_ida_across_p(&block_study()).is_empty());
+    }
+}

@@ -84,3 +84,61 @@ pub(super) fn lognormal_plots(d: &StudyData) -> Vec<Figure> {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::figures::fixture::{cap, grid_study, lognormal};
+
+    /// Two blocks, (1, 0.5) and (2, 0.5), with Lilliefors p-values 0.01
+    /// (the worst) and 0.6 (the best); the worst has three capacities
+    /// (cases 0, 2, 4), the best only two (cases 1, 3).
+    fn study() -> StudyData {
+        let mut d = grid_study(&[1.0, 2.0], &[0.5]);
+        d.lognormal = vec![
+            lognormal(1.0, 0.5, Some(0.01)),
+            lognormal(2.0, 0.5, Some(0.6)),
+            lognormal(2.0, 0.5, None),
+        ];
+        d.caps = vec![
+            cap(0, Some(0.5)),
+            cap(1, Some(0.5)),
+            cap(2, Some(0.25)),
+            cap(3, Some(0.5)),
+            cap(4, Some(1.0)),
+            cap(5, None),
+        ];
+        d
+    }
+
+    #[test]
+    fn the_worst_block_is_plotted_and_a_block_of_two_records_is_not() {
+        let figs = lognormal_plots(&study());
+        assert_eq!(figs.len(), 1);
+        assert_eq!(figs[0].file, "fig09_lognormal_poor.svg");
+        let c = &figs[0].chart;
+        assert_eq!(
+            c.title,
+            "Normal probability plot of ln η_c, p = 1.000 1/s, ε = 0.50 (Lilliefors p = 0.010)"
+        );
+        // ln η_c sorted: ln ¼, ln ½, 0, at the normal quantiles of 1/6, 1/2, 5/6.
+        let ln2 = 2f64.ln();
+        let z = 0.967_421_566_101_701; // Φ⁻¹(5/6)
+        let pts = &c.lines[0].points;
+        assert_eq!(pts.len(), 3);
+        for ((x, y), (hx, hy)) in pts.iter().zip([(-2.0 * ln2, -z), (-ln2, 0.0), (0.0, z)]) {
+            assert!((x - hx).abs() < 1e-15 && (y - hy).abs() < 1e-9, "{x}, {y}");
+        }
+        // The fitted normal: mean −ln 2, sample sd ln 2, so the ends at ∓1.
+        let fit = &c.lines[1].points;
+        assert!((fit[0].0 + 2.0 * ln2).abs() < 1e-15 && (fit[0].1 + 1.0).abs() < 1e-12);
+        assert!(fit[1].0 == 0.0 && (fit[1].1 - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn nothing_without_tested_blocks() {
+        let mut d = study();
+        d.lognormal.clear();
+        assert!(lognormal_plots(&d).is_empty());
+    }
+}

@@ -63,3 +63,37 @@ pub const PULSE_FIGURES: &[PulseFigureFn] = &[
 pub fn all_pulse(d: &PulseData) -> Vec<Figure> {
     PULSE_FIGURES.iter().flat_map(|f| f(d)).collect()
 }
+
+#[cfg(test)]
+mod fixture;
+
+#[cfg(test)]
+mod tests {
+    use super::fixture::grid_study;
+    use super::*;
+
+    /// A grid study with no results draws what needs no results, in the
+    /// report's order: Fig. 5, Fig. 6, Fig. 7, Fig. 8, the coefficients
+    /// (the paper's), the fragility (the paper's); none of the bands, the
+    /// regression, the lognormal plots or the convergence study.
+    #[test]
+    fn the_registry_draws_in_report_order() {
+        let files: Vec<String> = all(&grid_study(&[1.0, 2.0], &[0.5, 0.9]))
+            .into_iter()
+            .map(|f| f.file)
+            .collect();
+        assert_eq!(
+            files,
+            [
+                "fig05_ida_curves.svg",
+                "fig06_median_ida_across_p.svg",
+                "fig07_horizontal_vs_vertical.svg",
+                "fig08_capacity_curves.svg",
+                "regression_coefficient_a.svg",
+                "regression_coefficient_b.svg",
+                "regression_coefficient_c.svg",
+                "fragility_example.svg",
+            ]
+        );
+    }
+}

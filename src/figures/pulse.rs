@@ -197,3 +197,148 @@ pub(super) fn pulse_modes(d: &PulseData) -> Vec<Figure> {
     }
     figs
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::figures::fixture::{cell, grid_study, pulse_study, wall};
+
+    #[test]
+    fn waveforms_one_lobe_per_half_cycle_peaking_at_one() {
+        let half = pulse_study("shape = \"exp\"\nbeta = [1.0, 5.0]\ncycle = \"half\"\neps = [0.7]");
+        let figs = pulse_waveforms(&half);
+        assert_eq!(figs.len(), 1);
+        let c = &figs[0].chart;
+        assert_eq!(c.title, "Pulse waveforms (half cycle)");
+        let names: Vec<_> = c.lines.iter().map(|l| l.name.clone().unwrap()).collect();
+        assert_eq!(names, ["β = 1", "β = 5"]);
+        // From rest, 401 samples of the lobe, back to rest.
+        let pts = &c.lines[0].points;
+        assert_eq!(pts.len(), 403);
+        assert_eq!((pts[0], pts[402]), ((0.0, 0.0), (1.0, 0.0)));
+        assert_eq!(pts[201], (0.5, 1.0));
+        assert_eq!((c.x_range, c.y_range), (Some((0.0, 1.0)), Some((0.0, 1.1))));
+
+        let full = pulse_study("shape = \"rect\"\ncycle = \"full\"\neps = [0.7]");
+        let c = &pulse_waveforms(&full)[0].chart;
+        assert_eq!(c.lines[0].name.as_deref(), Some("rectangle"));
+        let pts = &c.lines[0].points;
+        assert_eq!(pts.len(), 1 + 2 * 401 + 1);
+        // The second lobe is the first's negative.
+        assert_eq!(
+            (pts[1], pts[401], pts[402]),
+            ((0.0, 1.0), (1.0, 1.0), (1.0, -1.0))
+        );
+        assert_eq!(pts[803], (2.0, 0.0));
+        assert_eq!(
+            (c.x_range, c.y_range),
+            (Some((0.0, 2.0)), Some((-1.1, 1.1)))
+        );
+    }
+
+    #[test]
+    fn no_waveforms_without_pulses() {
+        let mut d = pulse_study("shape = \"rect\"\neps = [0.7]");
+        d.plan = grid_study(&[1.0], &[0.5]).plan;
+        assert!(pulse_waveforms(&d).is_empty());
+    }
+
+    #[test]
+    fn walls_with_the_closed_form_of_the_wall_itself() {
+        let mut d = pulse_study("shape = \"exp\"\nbeta = [1.0, 5.0]\neps = [0.7]");
+        assert!(pulse_walls(&d).is_empty(), "no walls, no figure");
+        d.walls = vec![
+            wall(
+                Some(1.0),
+                0.7,
+                0.5,
+                Some(0.3),
+                Some((0.31, "Eq. 5", "eta_w")),
+            ),
+            wall(
+                Some(1.0),
+                0.7,
+                1.0,
+                Some(0.4),
+                Some((0.41, "Eq. 5", "eta_w")),
+            ),
+            // A closed form of the Mode 0 wall is not drawn here.
+            wall(
+                Some(5.0),
+                0.7,
+                0.5,
+                Some(0.2),
+                Some((0.21, "Eq. 6", "eta_w_mode0")),
+            ),
+        ];
+        let figs = pulse_walls(&d);
+        assert_eq!(figs.len(), 1);
+        let c = &figs[0].chart;
+        assert_eq!(c.title, "Safety walls (criterion escape)");
+        assert_eq!((c.x_scale, c.y_range), (Scale::Log, Some((0.0, 1.0))));
+        let names: Vec<_> = c.lines.iter().map(|l| l.name.clone().unwrap()).collect();
+        assert_eq!(
+            names,
+            [
+                "β = 1: η_w by simulation",
+                "β = 1: Eq. 5",
+                "β = 5: η_w by simulation"
+            ]
+        );
+        assert_eq!(c.lines[0].points, [(0.5, 0.3), (1.0, 0.4)]);
+        assert_eq!(c.lines[1].points, [(0.5, 0.31), (1.0, 0.41)]);
+        assert_eq!(c.lines[1].style, Style::Dashed);
+        assert_eq!(c.lines[2].points, [(0.5, 0.2)]);
+    }
+
+    #[test]
+    fn modes_sort_the_overturning_points_by_their_impacts() {
+        let mut d = pulse_study("shape = \"exp\"\nbeta = [1.0]\neps = [0.7]");
+        let b = Some(1.0);
+        d.walls = vec![wall(
+            b,
+            0.7,
+            0.5,
+            Some(0.6),
+            Some((0.5, "Eq. 6", "eta_w_mode0")),
+        )];
+        d.cells = vec![
+            cell(b, 0.7, 0.5, 0.5, true, 0),
+            cell(b, 0.7, 1.0, 0.5, true, 1),
+            cell(b, 0.7, 2.0, 0.1, true, 3),
+            cell(b, 0.7, 2.0, 1.0, false, 0),
+        ];
+        let figs = pulse_modes(&d);
+        assert_eq!(figs.len(), 1);
+        assert_eq!(figs[0].file, "fig04_modes_beta1.svg");
+        let c = &figs[0].chart;
+        assert_eq!(c.title, "Overturning modes, β = 1");
+        let names: Vec<_> = c.lines.iter().map(|l| l.name.clone().unwrap()).collect();
+        assert_eq!(
+            names,
+            [
+                "Mode 0 (no impact)",
+                "Mode 1 (one impact)",
+                "Mode 2 or more",
+                "η_w,0 by simulation",
+                "Eq. 6: (1 − exp(−f))²"
+            ]
+        );
+        // The safe point is in no class.
+        assert_eq!(c.lines[0].points, [(0.5, 0.5)]);
+        assert_eq!(c.lines[1].points, [(1.0, 0.5)]);
+        assert_eq!(c.lines[2].points, [(2.0, 0.1)]);
+        assert_eq!(c.lines[3].points, [(0.5, 0.6)]);
+        assert_eq!(c.lines[4].points, [(0.5, 0.5)]);
+        // The η axis from 10 % below the lowest point of the map to 1.
+        assert_eq!((c.x_scale, c.y_scale), (Scale::Log, Scale::Log));
+        assert_eq!(c.y_range, Some((0.1 * 0.9, 1.0)));
+    }
+
+    #[test]
+    fn a_family_without_points_has_no_modes_figure() {
+        let mut d = pulse_study("shape = \"exp\"\nbeta = [1.0]\neps = [0.7]");
+        d.walls = vec![wall(Some(1.0), 0.7, 0.5, Some(0.6), None)];
+        assert!(pulse_modes(&d).is_empty());
+    }
+}

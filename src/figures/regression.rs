@@ -169,3 +169,125 @@ pub(super) fn regression_coefficients(d: &StudyData) -> Vec<Figure> {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::figures::fixture::{block_study, fractile, grid_study};
+    use crate::fit::Stop;
+    use crate::tables::fit::FitStep1Row;
+
+    /// The median's law η_c = 0.5 (1 − e^{−p}) (a = 0.5, b = c = 1 at every ε).
+    fn median_law() -> FractileLaw {
+        FractileLaw {
+            quantile: 0.5,
+            a: vec![0.5],
+            b: vec![1.0],
+            c: vec![1.0],
+        }
+    }
+
+    fn study() -> StudyData {
+        let mut d = grid_study(&[1.0, 2.0], &[0.5, 0.9]);
+        d.laws = vec![median_law()];
+        d.capacity_fractiles = vec![fractile(1.0, 0.5, 0.5, 0.25), fractile(2.0, 0.5, 0.5, 0.5)];
+        d.fit_step1 = vec![FitStep1Row {
+            eps: 0.5,
+            quantile: 0.5,
+            a: Some(0.625),
+            b: None,
+            c: Some(1.5),
+            rms: None,
+            iterations: 3,
+            stop: Stop::CostConverged,
+            converged: true,
+        }];
+        d
+    }
+
+    #[test]
+    fn a_fitted_fractile_is_drawn_against_its_data_and_the_papers_law() {
+        // Only the median has a law: Fig. 10, no Fig. 11.
+        let figs = regressions(&study());
+        assert_eq!(figs.len(), 1);
+        assert_eq!(figs[0].file, "fig10_regression_median.svg");
+        let c = &figs[0].chart;
+        assert_eq!(
+            c.title,
+            "η_c,50: data, this study's regression and the paper's"
+        );
+        assert_eq!((c.x_scale, c.y_range), (Scale::Log, Some((0.0, 1.0))));
+        // Data, fit and paper for each of the two ε; no band without fit bands.
+        assert_eq!(c.lines.len(), 6);
+        assert!(c.lines.iter().all(|l| l.style != Style::Band));
+        assert_eq!(c.lines[0].name.as_deref(), Some("data, ε = 0.50"));
+        assert_eq!(c.lines[0].points, [(1.0, 0.25), (2.0, 0.5)]);
+        let fit = &c.lines[1];
+        assert_eq!(fit.name.as_deref(), Some("fit, ε = 0.50"));
+        let (first, last) = (fit.points[0], fit.points[fit.points.len() - 1]);
+        assert_eq!((first.0, last.0), (1.0, 2.0));
+        assert!((first.1 - 0.5 * (1.0 - (-1.0f64).exp())).abs() < 1e-12);
+        assert!((last.1 - 0.5 * (1.0 - (-2.0f64).exp())).abs() < 1e-12);
+        assert_eq!(c.lines[2].name.as_deref(), Some("paper Eq. 10, ε = 0.50"));
+        assert_eq!(c.lines[2].style, Style::Dashed);
+    }
+
+    #[test]
+    fn no_regression_figure_without_a_complete_law_or_off_the_grid() {
+        let mut d = study();
+        d.laws[0].b.clear();
+        assert!(regressions(&d).is_empty());
+        d.laws.clear();
+        assert!(regressions(&d).is_empty());
+        let mut blocks = block_study();
+        blocks.laws = vec![median_law()];
+        assert!(regressions(&blocks).is_empty());
+        assert!(regression_coefficients(&blocks).is_empty());
+    }
+
+    #[test]
+    fn each_coefficient_is_drawn_from_step_1_step_2_and_the_paper() {
+        let figs = regression_coefficients(&study());
+        let files: Vec<_> = figs.iter().map(|f| f.file.as_str()).collect();
+        assert_eq!(
+            files,
+            [
+                "regression_coefficient_a.svg",
+                "regression_coefficient_b.svg",
+                "regression_coefficient_c.svg"
+            ]
+        );
+        let a = &figs[0].chart;
+        assert_eq!(
+            (a.title.as_str(), a.y_desc.as_str()),
+            ("Regression coefficient a(ε)", "a")
+        );
+        // Per fractile: step 1 and the paper's; the median has a step 2 too.
+        assert_eq!(a.lines.len(), 7);
+        let named = |n: &str| {
+            a.lines
+                .iter()
+                .find(|l| l.name.as_deref() == Some(n))
+                .unwrap()
+        };
+        assert_eq!(named("50 % step 1").points, [(0.5, 0.625)]);
+        assert!(named("16 % step 1").points.is_empty());
+        // Step 2 and the paper's along ε from 0.5 to 0.9 in 41 points.
+        let fitted = named("50 % fitted");
+        assert_eq!(fitted.points.len(), 41);
+        assert!(fitted.points.iter().all(|p| p.1 == 0.5));
+        assert!(fitted.points[0].0 == 0.5 && (fitted.points[40].0 - 0.9).abs() < 1e-12);
+        // The paper's a of the median: 0.44 + 0.43ε.
+        let paper = named("50 % paper");
+        assert!((paper.points[0].1 - (0.44 + 0.43 * 0.5)).abs() < 1e-12);
+        assert!((paper.points[40].1 - (0.44 + 0.43 * 0.9)).abs() < 1e-12);
+        // Step 1 without b: not a number where b is drawn.
+        let b = &figs[1].chart;
+        let step1 = b
+            .lines
+            .iter()
+            .find(|l| l.name.as_deref() == Some("50 % step 1"))
+            .unwrap();
+        assert!(step1.points[0].1.is_nan());
+    }
+}
