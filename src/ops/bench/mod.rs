@@ -1,8 +1,8 @@
 //! `rocking bench`: runs [`crate::bench`] on bundled records and
 //! closed-form pulses, and rewrites the marked sections of `BENCHMARKS.md`
 //! (and the plot beside it). Each section is measured in its own module:
-//! [`solvers`], [`model`] (linearisation, criteria), [`accuracy`]
-//! (tolerance, rounding) and [`calls`]; the options, errors and record
+//! `solvers`, `model` (linearisation, criteria), [`accuracy`]
+//! (tolerance, rounding) and `calls`; the options, errors and record
 //! loading they share sit below them all.
 
 pub mod accuracy;

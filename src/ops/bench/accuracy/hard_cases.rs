@@ -12,7 +12,7 @@ use crate::ops::bench::records::load;
 use crate::physics::{Model, RunSpec};
 
 /// A hard case: a record and a block whose nonlinear capacity moves with
-/// DP5's tolerance (the issue's case and the worst ones of the study).
+/// DP5's tolerance (the case first reported and the worst ones of the study).
 #[derive(Debug, Clone, Copy)]
 pub struct HardCase {
     pub record: &'static str,
@@ -32,7 +32,7 @@ const DEFAULT_GRID: ImGrid = ImGrid {
 
 /// The hard cases the bench keeps and the tests check.
 pub const HARD_CASES: [HardCase; 6] = [
-    // Issue #15: 15 % too high at the old default rtol 1e-8.
+    // The first case found: 15 % too high at the old default rtol 1e-8.
     HardCase {
         record: "RSN1633_MANJIL_ABBAR--L",
         p: 4.0,
