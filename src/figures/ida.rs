@@ -210,6 +210,27 @@ mod tests {
         assert_eq!(c.x_range, Some((0.0, 1.05)));
     }
 
+    /// With `[example]`, Fig. 5 draws the example block's own runs (cases
+    /// numbered by record), not the grid's.
+    #[test]
+    fn fig5_draws_the_example_block_when_the_pipeline_names_one() {
+        let mut d = study();
+        let mut block = d.plan.blocks[0].clone();
+        (block.p, block.eps) = (3.0, 0.6);
+        d.example = Some(crate::study::ExampleData {
+            block,
+            caps: vec![cap(0, Some(0.25))],
+            ida: vec![run(0, 1.0, 0.5, false)],
+            horizontal: vec![horizontal(3.0, 0.6, 1.0, [0.25, 0.5, 0.75])],
+        });
+        let figs = ida_curves(&d);
+        let c = &figs[0].chart;
+        assert_eq!(c.title, "IDA curves of 1 records, p = 3.000 1/s, ε = 0.60");
+        assert!(figs[0].caption.contains("`[example]`"));
+        assert_eq!(c.lines[0].points, [(0.0, 1.0), (0.5, 1.0), (1.0, 4.0)]);
+        assert_eq!(c.lines[2].points, [(0.0, 1.0), (0.5, 1.0)]);
+    }
+
     #[test]
     fn fig6_draws_the_median_curve_of_every_p_at_the_middle_eps() {
         let figs = median_ida_across_p(&study());
