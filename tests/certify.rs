@@ -9,7 +9,7 @@ use rocking::ida::{
     capacity_certified, capacity_traced, decisive_runs, Certification, CertificationKind, ImGrid,
     Trace,
 };
-use rocking::ops::accuracy::HARD_CASES;
+use rocking::ops::bench::accuracy::HARD_CASES;
 use rocking::physics::{simulate, Model, RunSpec, DEFAULT_RTOL};
 use rocking::stages::sweep::read_capacities;
 

@@ -5,7 +5,6 @@
 //! ([`bench`]). Input checks live here, not in the
 //! argument parser, so tests and other front ends get them too.
 
-pub mod accuracy;
 pub mod bench;
 pub mod capacity;
 pub mod fragility;

@@ -1,0 +1,144 @@
+//! The lognormality figures: normal probability plots of ln η_c for the
+//! worst and the best fitting block by the Lilliefors test (paper Fig. 9).
+
+use super::figure::Figure;
+use crate::plot::{Chart, Line, Scale, Style};
+use crate::stats;
+use crate::study::StudyData;
+
+/// Fig. 9: lognormal probability plots, the worst and the best fitting block.
+pub(super) fn lognormal_plots(d: &StudyData) -> Vec<Figure> {
+    let n_blocks = d.plan.blocks.len();
+    let mut ranked: Vec<_> = d
+        .lognormal
+        .iter()
+        .filter(|r| r.p_value.is_some_and(f64::is_finite))
+        .collect();
+    ranked.sort_by(|a, b| {
+        let pv = |r: &&crate::tables::reduce::LognormalRow| r.p_value.unwrap_or(f64::NAN);
+        pv(a).total_cmp(&pv(b))
+    });
+    let mut out = Vec::new();
+    for (tag, row) in [("poor", ranked.first()), ("good", ranked.last())] {
+        let Some(row) = row else { continue };
+        let (p, e) = (row.p, row.eps);
+        let k = d
+            .plan
+            .blocks
+            .iter()
+            .position(|b| b.p == p && b.eps == e)
+            .unwrap_or(0);
+        let mut logs: Vec<f64> = d
+            .caps
+            .iter()
+            .filter(|c| c.case_id as usize % n_blocks == k)
+            .filter_map(|c| c.eta_c)
+            .map(f64::ln)
+            .collect();
+        logs.sort_by(|a, b| a.total_cmp(b));
+        if logs.len() < 3 {
+            continue;
+        }
+        let n = logs.len() as f64;
+        let pts: Vec<(f64, f64)> = logs
+            .iter()
+            .enumerate()
+            .map(|(i, &x)| (x, stats::normal_quantile((i as f64 + 0.5) / n)))
+            .collect();
+        let (mean, sd) = stats::mean_sd(&logs);
+        let (lo, hi) = (logs[0], logs[logs.len() - 1]);
+        let fitted = vec![(lo, (lo - mean) / sd), (hi, (hi - mean) / sd)];
+        out.push(Figure {
+            file: format!("fig09_lognormal_{tag}.svg"),
+            chart: Chart {
+                title: format!(
+                    "Normal probability plot of ln η_c, p = {p:.3} 1/s, ε = {e:.2} (Lilliefors p = {:.3})",
+                    row.p_value.unwrap_or(f64::NAN)
+                ),
+                x_desc: "ln η_c".into(),
+                y_desc: "standard normal quantile".into(),
+                x_scale: Scale::Linear,
+                y_scale: Scale::Linear,
+                x_range: None,
+                y_range: None,
+                lines: vec![
+                    Line {
+                        name: Some("records".into()),
+                        points: pts,
+                        style: Style::Points,
+                        color: 0,
+                    },
+                    Line {
+                        name: Some("lognormal fit".into()),
+                        points: fitted,
+                        style: Style::Line,
+                        color: 1,
+                    },
+                ],
+            },
+            caption: format!(
+                "The {} fitting block by the Lilliefors test: ln η_c of every record against normal quantiles (paper Fig. 9).",
+                if tag == "good" { "best" } else { "worst" }
+            ),
+        });
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::figures::fixture::{cap, grid_study, lognormal};
+
+    /// Two blocks, (1, 0.5) and (2, 0.5), with Lilliefors p-values 0.01
+    /// (the worst) and 0.6 (the best); the worst has three capacities
+    /// (cases 0, 2, 4), the best only two (cases 1, 3).
+    fn study() -> StudyData {
+        let mut d = grid_study(&[1.0, 2.0], &[0.5]);
+        d.lognormal = vec![
+            lognormal(1.0, 0.5, Some(0.01)),
+            lognormal(2.0, 0.5, Some(0.6)),
+            lognormal(2.0, 0.5, None),
+        ];
+        d.caps = vec![
+            cap(0, Some(0.5)),
+            cap(1, Some(0.5)),
+            cap(2, Some(0.25)),
+            cap(3, Some(0.5)),
+            cap(4, Some(1.0)),
+            cap(5, None),
+        ];
+        d
+    }
+
+    #[test]
+    fn the_worst_block_is_plotted_and_a_block_of_two_records_is_not() {
+        let figs = lognormal_plots(&study());
+        assert_eq!(figs.len(), 1);
+        assert_eq!(figs[0].file, "fig09_lognormal_poor.svg");
+        let c = &figs[0].chart;
+        assert_eq!(
+            c.title,
+            "Normal probability plot of ln η_c, p = 1.000 1/s, ε = 0.50 (Lilliefors p = 0.010)"
+        );
+        // ln η_c sorted: ln ¼, ln ½, 0, at the normal quantiles of 1/6, 1/2, 5/6.
+        let ln2 = 2f64.ln();
+        let z = 0.967_421_566_101_701; // Φ⁻¹(5/6)
+        let pts = &c.lines[0].points;
+        assert_eq!(pts.len(), 3);
+        for ((x, y), (hx, hy)) in pts.iter().zip([(-2.0 * ln2, -z), (-ln2, 0.0), (0.0, z)]) {
+            assert!((x - hx).abs() < 1e-15 && (y - hy).abs() < 1e-9, "{x}, {y}");
+        }
+        // The fitted normal: mean −ln 2, sample sd ln 2, so the ends at ∓1.
+        let fit = &c.lines[1].points;
+        assert!((fit[0].0 + 2.0 * ln2).abs() < 1e-15 && (fit[0].1 + 1.0).abs() < 1e-12);
+        assert!(fit[1].0 == 0.0 && (fit[1].1 - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn nothing_without_tested_blocks() {
+        let mut d = study();
+        d.lognormal.clear();
+        assert!(lognormal_plots(&d).is_empty());
+    }
+}

@@ -1,0 +1,49 @@
+//! What several study figures share: the fractiles they draw, the paper's
+//! equation of each, the grid's middle block, the capacity points of one
+//! fractile and a fractile's law evaluated at (p, ε).
+
+use crate::fit::{curve, polyval};
+use crate::fragility::FractileLaw;
+use crate::study::StudyData;
+use crate::tables::reduce::CapacityFractileRow;
+
+/// The block drawn in the single-block figures: the middle p and ε of the grid.
+pub(super) fn middle(d: &StudyData) -> (usize, f64, f64) {
+    let (ps, es) = d.ps_and_eps();
+    let (p, e) = (ps[ps.len() / 2], es[es.len() / 2]);
+    let blocks = &d.plan.blocks;
+    let bi = blocks
+        .iter()
+        .position(|b| b.p == p && b.eps == e)
+        .unwrap_or(0);
+    (bi, blocks[bi].p, blocks[bi].eps)
+}
+
+pub(super) const Q_NAMES: [&str; 3] = ["16 %", "50 %", "84 %"];
+pub(super) const Q_VALUES: [f64; 3] = [0.16, 0.5, 0.84];
+/// The paper's equation of each fractile's law: Eq. 11 (16 %), Eq. 10
+/// (median), Eq. 12 (84 %).
+pub const PAPER_EQ: [usize; 3] = [11, 10, 12];
+
+/// (p, η_c) of one fractile at one ε, from capacity_fractiles.
+pub(super) fn capacity_points(
+    rows: &[CapacityFractileRow],
+    e: f64,
+    q: f64,
+    value: fn(&CapacityFractileRow) -> Option<f64>,
+) -> Vec<(f64, f64)> {
+    rows.iter()
+        .filter(|r| r.eps == e && r.quantile == q)
+        .map(|r| (r.p, value(r).unwrap_or(f64::NAN)))
+        .collect()
+}
+
+/// The fractile's law evaluated at (p, ε).
+pub(super) fn law_at(law: &FractileLaw, p: f64, e: f64) -> f64 {
+    curve(
+        polyval(&law.a, e),
+        polyval(&law.b, e),
+        polyval(&law.c, e),
+        p,
+    )
+}

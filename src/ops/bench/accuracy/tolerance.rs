@@ -1,0 +1,295 @@
+//! The `tolerance` section: how η_c of the nonlinear model moves with DP5's
+//! tolerance over far-field records × p × ε × α, how often the decisive
+//! verdicts flip, and the certified search at candidate defaults.
+
+use std::fmt::Write as _;
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use super::hard_cases::hard_cases_markdown;
+use crate::ida::{self, capacity_certified, capacity_traced, decisive_runs, ImGrid, Trace};
+use crate::ops::bench::options::{BenchError, BenchOptions};
+use crate::ops::bench::records::named_records;
+use crate::physics::{simulate, Excitation, Model, RunSpec};
+
+/// Fractile `q` of a sorted slice (nearest rank), NaN when empty.
+fn at(sorted: &[f64], q: f64) -> f64 {
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
+}
+
+/// One nonlinear case of the tolerance study.
+#[derive(Clone, Copy)]
+struct Case {
+    rec: usize,
+    p: f64,
+    eps: f64,
+    alpha: f64,
+}
+
+/// One search's answer.
+#[derive(Clone, Copy)]
+struct Answer {
+    eta_c: f64,
+    secs: f64,
+}
+
+/// Per case: the plain searches at every tolerance, the decisive verdicts of
+/// the tightest flipped at each looser one, and the certified searches.
+struct CaseResult {
+    case: Case,
+    plain: Vec<Answer>,
+    flips: Vec<usize>,
+    certified: Vec<(Answer, ida::Certification, usize)>,
+}
+
+const RTOLS: [f64; 8] = [1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13];
+const QUICK_RTOLS: [f64; 4] = [1e-6, 1e-8, 1e-10, 1e-13];
+/// The defaults whose certified search is measured.
+pub const CANDIDATES: [f64; 2] = [1e-8, 1e-10];
+
+/// η_c against DP5's tolerance over far-field records × p × ε × α, and the
+/// certified search at candidate defaults.
+pub fn tolerance_table(
+    args: &BenchOptions,
+    say: &mut impl FnMut(&str),
+) -> Result<String, BenchError> {
+    let named = named_records(args, if args.quick { 2 } else { 44 })?;
+    let (names, recs): (Vec<String>, Vec<Excitation>) = named.into_iter().unzip();
+    let rtols: &[f64] = if args.quick { &QUICK_RTOLS } else { &RTOLS };
+    let (ps, epss, alphas): (&[f64], &[f64], &[f64]) = if args.quick {
+        (&[2.0], &[0.9], &[0.15])
+    } else {
+        (&[1.0, 2.0, 4.0], &[0.7, 0.9], &[0.15, 0.3])
+    };
+    let mut cases = Vec::new();
+    for rec in 0..recs.len() {
+        for &p in ps {
+            for &eps in epss {
+                for &alpha in alphas {
+                    cases.push(Case { rec, p, eps, alpha });
+                }
+            }
+        }
+    }
+    say(&format!(
+        "tolerance study: {} cases × {} tolerances",
+        cases.len(),
+        rtols.len()
+    ));
+    let grid = ImGrid::default();
+    let tol = 1e-4;
+    let results = cases
+        .par_iter()
+        .map(|&c| study_case(&recs[c.rec], c, rtols, &grid, tol))
+        .collect::<Result<Vec<_>, crate::physics::PhysicsError>>()?;
+    let mut md = tolerance_markdown(&results, rtols, &names, ps, epss, alphas, tol);
+    say("hard cases");
+    md.push_str(&hard_cases_markdown(args)?);
+    Ok(md)
+}
+
+fn study_case(
+    exc: &Excitation,
+    case: Case,
+    rtols: &[f64],
+    grid: &ImGrid,
+    tol: f64,
+) -> Result<CaseResult, crate::physics::PhysicsError> {
+    let spec = |rtol: f64| RunSpec::new(case.p, case.eps, 1.0, Model::nonlinear(case.alpha, rtol));
+    let mut plain = Vec::new();
+    let mut caps = Vec::new();
+    for &rtol in rtols {
+        let t = Instant::now();
+        let cap = capacity_traced(exc, &spec(rtol), grid, tol, Trace::StopAtFirst)?;
+        plain.push(Answer {
+            eta_c: cap.eta_c.unwrap_or(0.0),
+            secs: t.elapsed().as_secs_f64(),
+        });
+        caps.push(cap);
+    }
+    // The decisive runs of the tightest search, rerun at each tolerance.
+    let reference = caps.last().expect("tolerances");
+    let decisive = decisive_runs(reference, grid);
+    let mut flips = Vec::new();
+    for &rtol in rtols {
+        let mut n = 0;
+        for &(eta, overturned) in &decisive {
+            if simulate(exc, &RunSpec { eta, ..spec(rtol) })?.overturned() != overturned {
+                n += 1;
+            }
+        }
+        flips.push(n);
+    }
+    let mut certified = Vec::new();
+    for &rtol in &CANDIDATES {
+        let t = Instant::now();
+        let c = capacity_certified(exc, &spec(rtol), grid, tol, Trace::StopAtFirst)?;
+        certified.push((
+            Answer {
+                eta_c: c.capacity.eta_c.unwrap_or(0.0),
+                secs: t.elapsed().as_secs_f64(),
+            },
+            c.certification,
+            decisive.len(),
+        ));
+    }
+    Ok(CaseResult {
+        case,
+        plain,
+        flips,
+        certified,
+    })
+}
+
+/// The tolerance section's Markdown: what was measured, then the plain searches,
+/// the certified ones and the cases that move most.
+fn tolerance_markdown(
+    results: &[CaseResult],
+    rtols: &[f64],
+    names: &[String],
+    ps: &[f64],
+    epss: &[f64],
+    alphas: &[f64],
+    tol: f64,
+) -> String {
+    let last = rtols.len() - 1;
+    let mut s = String::new();
+    let _ = writeln!(s, "## Nonlinear model: η_c against DP5's tolerance\n");
+    let _ = writeln!(
+        s,
+        "{} cases: {} far-field records × p ∈ {ps:?} 1/s × ε ∈ {epss:?} × α ∈ {alphas:?} rad, \
+         default IM grid (200 log-spaced levels), refined to Δη = {tol:e}. Each case's capacity is \
+         searched at every tolerance and compared with the search at rtol {:e}; \"decisive verdicts \
+         flipped\" reruns that reference search's decisive runs (`ida::decisive_runs`: the bracket before \
+         refinement, every refinement run, the near misses) at the looser tolerance. Generated by `rocking bench --sections tolerance`.\n",
+        results.len(),
+        names.len(),
+        rtols[last]
+    );
+    plain_searches(&mut s, results, rtols, tol);
+    certified_searches(&mut s, results, rtols, tol);
+    worst_cases(&mut s, results, rtols, names);
+    let _ = writeln!(s);
+    s
+}
+
+/// The plain searches at each tolerance against the tightest: how far η_c
+/// moves, how many capacities change, how many decisive verdicts flip.
+fn plain_searches(s: &mut String, results: &[CaseResult], rtols: &[f64], tol: f64) {
+    let last = rtols.len() - 1;
+    let _ = writeln!(
+        s,
+        "| rtol | median \\|Δη_c\\| | 90 % | 99 % | max | capacities changed (> 2·Δη) | decisive verdicts flipped | mean time per capacity (s) |"
+    );
+    let _ = writeln!(s, "|---:|---:|---:|---:|---:|---:|---:|---:|");
+    let decisive_total: usize = results.iter().map(|r| r.certified[0].2).sum();
+    for (k, &rtol) in rtols.iter().enumerate() {
+        let mut d: Vec<f64> = results
+            .iter()
+            .map(|r| (r.plain[k].eta_c - r.plain[last].eta_c).abs())
+            .collect();
+        d.sort_by(|a, b| a.total_cmp(b));
+        let changed = d.iter().filter(|&&x| x > 2.0 * tol).count();
+        let flipped: usize = results.iter().map(|r| r.flips[k]).sum();
+        let secs = results.iter().map(|r| r.plain[k].secs).sum::<f64>() / results.len() as f64;
+        let _ = writeln!(
+            s,
+            "| {rtol:e} | {:.1e} | {:.1e} | {:.1e} | {:.1e} | {changed} ({:.1} %) | {flipped} of {decisive_total} ({:.2} %) | {secs:.3} |",
+            at(&d, 0.5),
+            at(&d, 0.9),
+            at(&d, 0.99),
+            at(&d, 1.0),
+            100.0 * changed as f64 / d.len() as f64,
+            100.0 * flipped as f64 / decisive_total.max(1) as f64,
+        );
+    }
+}
+
+/// The certified search from each candidate default: how it certified,
+/// and how far its η_c lies from the tightest plain search's.
+fn certified_searches(s: &mut String, results: &[CaseResult], rtols: &[f64], tol: f64) {
+    let last = rtols.len() - 1;
+    let _ = writeln!(
+        s,
+        "\n**Certified search** (`ida::capacity_certified`): after the search, its decisive runs (the bracket \
+         before refinement, every refinement run, and the near misses: surviving levels before the \
+         first overturning that reached θmax/α ≥ 0.5) are rerun at a 100× tighter \
+         tolerance; a flipped verdict means the search is redone at that tolerance and checked again. \
+         Once they agree, every decisive run is rerun with η moved by ±1e-9 (relative): a verdict \
+         that changes marks the capacity *chaotic*, decided by no tolerance.\n"
+    );
+    let _ = writeln!(
+        s,
+        "| default rtol | certified at the first search | searched again | chaotic | flips to the tightest | max \\|Δη_c\\| of the certified vs rtol {:e} | certified that differ (> 2·Δη) | max \\|Δη_c\\| of the chaotic | mean time per capacity (s) |",
+        rtols[last]
+    );
+    let _ = writeln!(s, "|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    for (ci, &rtol) in CANDIDATES.iter().enumerate() {
+        let (mut first, mut again, mut chaotic, mut failed) = (0, 0, 0, 0);
+        let (mut worst, mut worst_chaotic) = (0.0f64, 0.0f64);
+        let mut changed = 0;
+        let mut secs = 0.0;
+        for r in results {
+            let (a, cert, _) = &r.certified[ci];
+            match cert {
+                ida::Certification::Tolerance { searches: 1, .. } => first += 1,
+                ida::Certification::Tolerance { .. } => again += 1,
+                ida::Certification::Chaotic { .. } => chaotic += 1,
+                _ => failed += 1,
+            }
+            let d = (a.eta_c - r.plain[last].eta_c).abs();
+            if cert.certified() {
+                worst = worst.max(d);
+                changed += usize::from(d > 2.0 * tol);
+            } else {
+                worst_chaotic = worst_chaotic.max(d);
+            }
+            secs += a.secs;
+        }
+        let n = results.len() as f64;
+        let pct = |k: usize| 100.0 * k as f64 / n;
+        let _ = writeln!(
+            s,
+            "| {rtol:e} | {first} ({:.1} %) | {again} ({:.1} %) | {chaotic} ({:.1} %) | {failed} | {worst:.1e} | {changed} | {worst_chaotic:.1e} | {:.3} |",
+            pct(first),
+            pct(again),
+            pct(chaotic),
+            secs / n
+        );
+    }
+}
+
+/// The cases that move most at rtol 1e-8, with the certified search from there.
+fn worst_cases(s: &mut String, results: &[CaseResult], rtols: &[f64], names: &[String]) {
+    let last = rtols.len() - 1;
+    let _ = writeln!(
+        s,
+        "\nThe cases that move most at rtol 1e-8 (plain search), against rtol {:e}:\n",
+        rtols[last]
+    );
+    let k8 = rtols.iter().position(|&r| r == 1e-8).unwrap_or(0);
+    let mut worst: Vec<&CaseResult> = results.iter().collect();
+    let delta = |r: &CaseResult| (r.plain[k8].eta_c - r.plain[last].eta_c).abs();
+    worst.sort_by(|a, b| delta(b).total_cmp(&delta(a)));
+    let _ = writeln!(s, "| record | p | ε | α | η_c at 1e-8 | η_c reference | certified search from 1e-8 | its certification |");
+    let _ = writeln!(s, "|---:|---:|---:|---:|---:|---:|---:|---|");
+    for r in worst.iter().take(8).filter(|r| delta(r) > 0.0) {
+        let c = r.case;
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {:.6} | {:.6} | {:.6} | {} |",
+            names[c.rec],
+            c.p,
+            c.eps,
+            c.alpha,
+            r.plain[k8].eta_c,
+            r.plain[last].eta_c,
+            r.certified[0].0.eta_c,
+            crate::label::Label::label(r.certified[0].1.kind())
+        );
+    }
+}
