@@ -331,7 +331,7 @@ mod tests {
 
     #[test]
     fn lines_count_the_header_whatever_the_line_endings() {
-        // Issue #9: with CRLF endings or a blank line the csv crate's own
+        // With CRLF endings or a blank line the csv crate's own
         // line numbers were one too low.
         for text in [
             "year,file\r\n1999,a.AT2\r\n19x9,b.AT2\r\n",

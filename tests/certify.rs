@@ -1,4 +1,4 @@
-//! Issue #15: nonlinear capacities that do not depend on DP5's tolerance.
+//! Nonlinear capacities that do not depend on DP5's tolerance.
 //! The hard cases (the issue's and the worst the tolerance study found)
 //! against a tight reference of the same equation, grid and bisection (the
 //! plain search at rtol 1e-12 or 1e-13); a chaotic case flagged rather than
@@ -331,7 +331,7 @@ fn tolerances_too_tight_to_certify_are_refused() {
     assert!(note.contains("1e-14") && !note.contains("1e-15"), "{v}");
 }
 
-/// Issue #10: the convergence study shares one record's runs between its
+/// The convergence study shares one record's runs between its
 /// grids. Sharing must change nothing but the work: each grid's certified
 /// capacity through a shared memo equals the one found alone, and the
 /// nested log grids (100 … 1600 levels between the same ends) do share
@@ -373,7 +373,7 @@ fn grids_sharing_runs_find_what_each_finds_alone() {
     );
 }
 
-/// Issue 10: `capacity` scans the grid levels on every core, each worker
+/// `capacity` scans the grid levels on every core, each worker
 /// taking the next level as soon as it is free, runs the exact stepper's
 /// chaos probes on the other workers while the bisection goes on, and the
 /// rest at once (`ops::record::capacity_certified_parallel`). The

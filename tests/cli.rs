@@ -226,7 +226,7 @@ fn bench_times_capacity_calls_and_reports_a_failing_call() {
         .lines()
         .find(|l| l.starts_with("| 2 | 3 |"))
         .unwrap_or_else(|| panic!("no row for p = 2 over 3 records:\n{md}"));
-    // | p | records | median | mean | fastest | slowest (record) | within 3 ms |
+    // | p | records | median | mean | fastest | slowest (record) | within 3 ms | loop | batch |
     let cells: Vec<&str> = row.split('|').map(str::trim).collect();
     let ms = |cell: &str| -> f64 {
         let t = cell.split(" ms").next().unwrap();
@@ -256,6 +256,11 @@ fn bench_times_capacity_calls_and_reports_a_failing_call() {
     );
     let within: usize = cells[7].strip_suffix(" of 3").unwrap().parse().unwrap();
     assert!(within <= 3, "{row}");
+    // The loop is the three records' calls added up: three times their mean
+    // (to the 1 ms rounding of the column); the batch call took some time.
+    let (looped, batch) = (ms(cells[8]), ms(cells[9]));
+    assert!((looped - 3.0 * mean).abs() <= 0.5 + 0.015, "{row}");
+    assert!(batch > 0.0, "{row}");
 
     let bad = tempdir();
     std::fs::create_dir(bad.path().join("far-field")).unwrap();

@@ -1,4 +1,4 @@
-//! Issue #9's faults, found by probing the tool as a hostile user would;
+//! Faults found by probing the tool as a hostile user would;
 //! each test failed before the fix. (The lock faults are in `run`.)
 
 use std::fs;

@@ -1,4 +1,4 @@
-//! Issue #12: `report.html` in a real browser (`ROCKING_CHROMIUM=1`, which
+//! `report.html` in a real browser (`ROCKING_CHROMIUM=1`, which
 //! CI sets after installing Debian's `chromium`). A small study with bands
 //! and a fit is run; a copy of its page, with a probe script added at the
 //! end (the page itself has none), is loaded in headless Chromium, and the

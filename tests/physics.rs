@@ -1,7 +1,7 @@
 //! The solvers against independent truths: closed-form pulse criteria
 //! (Housner 1963; the paper's Eq. 5; the full-cycle mode-0 bound), free
-//! rocking in closed form, energy conservation, sign symmetry, and the hard
-//! cases listed in issue #3.
+//! rocking in closed form, energy conservation, sign symmetry, and the
+//! model's hard cases.
 
 use rocking::ida::{capacity, ImGrid, Spacing};
 use rocking::physics::{

@@ -1,46 +1,19 @@
 //! The quick study end to end (slow: `ROCKING_SLOW=1`, which CI sets):
 //!
-//! - **users see no change** (issue #9): every table of the quick study
-//!   has the schema and the data (every value, bit for bit) of the
-//!   reference, in every column it had.
-//!   `tests/snapshots/quick_tables.txt` holds, per table, its schema, row
-//!   count and the SHA-256 of an exact dump of those columns. It was made
-//!   from the outputs of commit 8410787 (the last version before the
-//!   redesign) with
-//!   `ROCKING_BLESS=1 ROCKING_QUICK_FROM=<its outputs/quick> cargo test --release quick`,
-//!   and re-made once since, by issue #10 (the exact stepper's small hops
-//!   by series, fewer closed-form evaluations per event), whose results
-//!   differ from the old ones by rounding. Checked then against 0.3.0
-//!   with polars: every column of the 528 capacities identical, and every
-//!   verdict of the 36,428 runs; θmax/α of the 34,485 surviving runs within
-//!   1e-13 (relative) except 782, within 1e-6 except 4 (sensitive runs,
-//!   where rounding grows), impact counts equal except 25; one capacity of
-//!   the 50-level convergence grid moved, one flagged chaotic. Re-made
-//!   again by issue #10 (hops solved in normalised time, one or two Newton
-//!   steps), again a rounding change, checked with polars against the
-//!   previous binary: the 528 capacities and their certifications
-//!   identical, every verdict of the 36,428 runs identical, θmax/α of the
-//!   34,485 survivors within 1e-13 except 18, within 1e-6 except 1
-//!   (4.3e-6), impact counts equal except 1; the convergence, capacity
-//!   fractiles, fit and bands tables bit for bit; only the θmax fractiles
-//!   (horizontal, vertical) and the IDA points changed. Re-made a third
-//!   time by issue #10 (the small hops' return by their double series),
-//!   checked the same way (polars `equals` on every table): all tables
-//!   identical but the IDA points and the horizontal θmax fractiles; every
-//!   verdict and impact count identical, θmax/α of the 34,485 survivors
-//!   within 1e-13 except 5, none beyond 2.1e-8. Issue #12
-//!   added the table `capacity_bands.parquet` (the quick pipeline's
-//!   `[uncertainty]`) to the reference, checked by the tests in
-//!   `tests/reduce.rs` and `src/stats.rs` when it was added. Its second
-//!   part applied one draw of pairs to every block (so the fit can refit
-//!   each resample's whole grid): `capacity_bands` was re-made then, with
-//!   the new tables `capacity_resamples.parquet` and `fit_bands.parquet`;
-//!   `tests/reduce.rs` checks each band against the resamples' own
-//!   fractiles, and `src/stages/fit.rs` the refit against exact data.
-//!   Columns added since are allowed only as listed in [`ADDED`], with the
-//!   issue that added them. Key-value metadata (versions, settings) is not
+//! - **users see no change**: every table of the quick study has the
+//!   schema and the data (every value, bit for bit) of the reference, in
+//!   every column it had. `tests/snapshots/quick_tables.txt` holds, per
+//!   table, its schema, row count and the SHA-256 of an exact dump of those
+//!   columns, made with
+//!   `ROCKING_BLESS=1 ROCKING_QUICK_FROM=<outputs/quick> cargo test --release quick`
+//!   from outputs checked independently each time (polars `equals` on every
+//!   table against the previous version; where a change of the stepper
+//!   moved rounding, every verdict, capacity and certification identical
+//!   and θmax/α within 1e-13 but for a few sensitive runs; the history is
+//!   in git). Columns added since are allowed only as listed in [`ADDED`],
+//!   with what they add. Key-value metadata (versions, settings) is not
 //!   compared.
-//! - **analysts can query the outputs** (issue #9): the polars and DuckDB
+//! - **analysts can query the outputs**: the polars and DuckDB
 //!   queries of `outputs/README.md` run against the study's folder, and
 //!   their answers equal the tool's own tables (medians from the raw
 //!   capacities against `capacity_fractiles`, resurrection shares from the
@@ -59,11 +32,11 @@ use sha2::{Digest, Sha256};
 use crate::util::{columns_of, dump_columns, rocking, root, schema_of, snapshot, stderr, tempdir};
 
 /// Columns added to a table of the quick study since the reference was
-/// made, with the issue that added them.
+/// made, with what they add.
 const ADDED: &[(&str, &[&str], &str)] = &[(
     "capacities.parquet",
     &["certified", "certification", "certification_note", "rtol"],
-    "issue 15: certified capacities",
+    "certified capacities",
 )];
 
 /// Schema, rows and digest of one table's `columns` (all when `None`).

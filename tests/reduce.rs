@@ -9,9 +9,9 @@ use std::path::Path;
 
 use rocking::fit::{curve, fit_curve};
 use rocking::fragility::paper;
-use rocking::pipeline::FractileDef;
 use rocking::stages::sweep::read_capacities;
 use rocking::stages::{Context, Silent, Stage, Study};
+use rocking::stats::FractileDef;
 use rocking::stats::{fractile, lilliefors, lilliefors_critical_value, lilliefors_p_value};
 use rocking::tables::fit::{FitBandRow, FitComparisonRow, FitStep1Row};
 use rocking::tables::read;
@@ -371,7 +371,7 @@ fn paper_median_capacity_within_ten_percent_of_eq10() {
     );
     assert!(mean < 0.10, "{mean}");
 
-    // Issue 13: the paper's Fig. 5 block (p = 2 1/s, ε = 0.70, `[example]`,
+    // The paper's Fig. 5 block (p = 2 1/s, ε = 0.70, `[example]`,
     // off the grid) over the 44 records: its median capacity against Eq. 10
     // there, by the same 10 % (measured: 0.1952 against 0.1956).
     let example: Vec<rocking::tables::sweep::CapacityRow> =
@@ -385,7 +385,7 @@ fn paper_median_capacity_within_ten_percent_of_eq10() {
     eprintln!("example block: median η_c {median:.4}, Eq. 10 {eq10:.4}");
     assert!((median / eq10 - 1.0).abs() < 0.10, "{median} vs {eq10}");
 
-    // Issue #12: the bootstrap bands (paper.toml: 1,000 resamples of pairs,
+    // The bootstrap bands (paper.toml: 1,000 resamples of pairs,
     // 90 %) against the paper's laws. docs/MODEL.md §12 gives a numpy
     // reference of the same procedure: Eq. 10 inside the median's band at
     // about 97 % of the blocks with p ≥ 0.5, Eq. 11 (16 %) about 83 %,
@@ -421,14 +421,14 @@ fn paper_median_capacity_within_ten_percent_of_eq10() {
     assert!(bands.iter().all(|b| b.lo <= b.eta_c && b.eta_c <= b.hi));
 }
 
-/// Issue #12: bootstrap bands of the capacity fractiles on the far-field
+/// Bootstrap bands of the capacity fractiles on the far-field
 /// set (two blocks, a coarse grid). Every band contains its point estimate
 /// (the estimate is the statistic of the full sample, which the resamples
 /// scatter around); the same seed gives the same bytes at 1 and 2 threads;
 /// another seed moves the bands; pairs need the manifest's pairs.
 #[test]
 fn capacity_bands_contain_their_estimates_and_repeat_to_the_byte() {
-    use rocking::pipeline::ResampleUnit;
+    use rocking::stats::ResampleUnit;
     use rocking::tables::reduce::{CapacityBandRow, CapacityResampleRow};
     let dir = tempdir();
     let body = |seed: u64| {

@@ -1,4 +1,4 @@
-//! Issue #14: `rocking submit` on a real Slurm (`ROCKING_SLURM=1`, which
+//! `rocking submit` on a real Slurm (`ROCKING_SLURM=1`, which
 //! `.ci/run` sets after installing Debian's `slurm-wlm` and `munge`).
 //!
 //! The test stands up a single-node cluster on this machine: munged,

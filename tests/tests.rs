@@ -10,7 +10,7 @@
 //! - `example`: `[example]`, the report's Fig. 5 block run off the grid:
 //!   capacities against direct calls, fractiles by hand, the same block on
 //!   the grid against the sweep, reruns, refusals.
-//! - `faults`: the faults issue #9 lists (absurd sizes, corrupt parts, mixed
+//! - `faults`: the faults a hostile user finds (absurd sizes, corrupt parts, mixed
 //!   shards, misleading hints, thread counts, escaped file contents,
 //!   manifest lines, copied folders, hand-edited figures, typed reasons).
 //! - `html`: `report.html` loaded in headless Chromium, every figure drawn
@@ -18,7 +18,7 @@
 //! - `ingest`: the records table from the bundled FEMA P695 files, checked
 //!   against the manifest and the files; bad input and atomic output.
 //! - `physics`: the solvers against closed forms, conservation laws,
-//!   symmetry and the hard cases of issue #3.
+//!   symmetry and the hard cases (`ops::bench::accuracy::HARD_CASES`).
 //! - `pulse`: pulses and `escape`: the walls against Eqs. 3, 5 and 6, the
 //!   full-cycle modes against a piecewise closed form, the pulse-map
 //!   pipeline, refusals.

@@ -4,7 +4,8 @@
 
 use crate::ida::{CertificationKind, RunKind};
 use crate::physics::EquationKind;
-use crate::pipeline::{load_str, ResampleUnit};
+use crate::pipeline::load_str;
+use crate::stats::ResampleUnit;
 use crate::study::{PulseData, StudyData};
 use crate::tables::convergence::ConvergenceRow;
 use crate::tables::pulse::{PulseCellRow, PulseWallRow};

@@ -346,7 +346,7 @@ fn fragility_of(
                 .collect();
             thresholds.sort_by(|a, b| a.total_cmp(b));
             let q = |q: f64| {
-                stats::fractile(&thresholds, q, crate::pipeline::FractileDef::Type7)
+                stats::fractile(&thresholds, q, crate::stats::FractileDef::Type7)
                     .filter(|v| v.is_finite())
             };
             let beta = match (q(0.16), q(0.84)) {

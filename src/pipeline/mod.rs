@@ -16,7 +16,6 @@ mod raw;
 mod resolve;
 
 pub use crate::ida::MAX_LEVELS;
-pub use crate::stats::{FractileDef, ResampleUnit};
 pub use plan::*;
 pub use raw::*;
 pub use resolve::{load_str, resolve};

@@ -63,8 +63,8 @@ fn paper_against_band(w: &mut String, qi: usize, rows: &[BandPoint]) {
         .map(|r| (r.4 - r.3) / r.2)
         .collect();
     widths.sort_by(|a, b| a.total_cmp(b));
-    let median = crate::stats::fractile(&widths, 0.5, crate::pipeline::FractileDef::Type7)
-        .unwrap_or(f64::NAN);
+    let median =
+        crate::stats::fractile(&widths, 0.5, crate::stats::FractileDef::Type7).unwrap_or(f64::NAN);
     let _ = writeln!(
         w,
         "| η_c,{:.0} | Eq. {} | {} | {} ({:.0} %) | {:.0} % |",

@@ -247,7 +247,7 @@ label_columns!(
     super::fit::Coefficient,
     super::fit::BandCurve,
     crate::risk::Beyond,
-    crate::pipeline::ResampleUnit,
+    crate::stats::ResampleUnit,
 );
 
 /// Defines a table's row type and, from the same field list, its schema,

@@ -2,7 +2,7 @@
 //! block (`block` label, empty for the grid, `p`, `eps`); columns are
 //! documented in the README.
 
-use crate::pipeline::ResampleUnit;
+use crate::stats::ResampleUnit;
 use crate::table;
 
 table! {

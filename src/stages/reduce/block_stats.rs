@@ -3,9 +3,10 @@
 //! fractions, vertical fractiles, capacity fractiles and the lognormal check.
 
 use super::error::ReduceError;
-use crate::pipeline::{BlockSpec, FractileDef, Plan};
+use crate::pipeline::{BlockSpec, Plan};
 use crate::stages::sweep;
 use crate::stats;
+use crate::stats::FractileDef;
 use crate::tables::reduce::{
     CapacityFractileRow, HorizontalRow, LognormalRow, OverturnFractionRow, VerticalRow,
 };

@@ -87,11 +87,11 @@ pub(super) fn bands(
 /// number (pairs numbered in order of first appearance), or its own.
 fn unit_of(
     study: &Study,
-    unit: crate::pipeline::ResampleUnit,
+    unit: crate::stats::ResampleUnit,
     caps: &[CapacityRow],
     per_block: &[(Vec<f64>, [f64; 3])],
 ) -> Result<Vec<usize>, ReduceError> {
-    use crate::pipeline::ResampleUnit;
+    use crate::stats::ResampleUnit;
     let plan = &study.plan;
     let n_blocks = plan.blocks.len();
     let n_records = per_block.first().map_or(0, |b| b.0.len());
