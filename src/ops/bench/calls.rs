@@ -87,6 +87,53 @@ fn time_call(exe: &Path, args: &[&std::ffi::OsStr]) -> Result<f64, BenchError> {
     Ok(ms)
 }
 
+/// Each record's median time per call (ms) at each p, the blocks
+/// alternating call by call.
+fn per_record_times(
+    exe: &Path,
+    files: &[std::path::PathBuf],
+    p_text: &[String],
+    eps: &str,
+    reps: usize,
+    say: &mut impl FnMut(&str),
+) -> Result<Vec<Vec<(String, f64)>>, BenchError> {
+    use std::ffi::OsStr;
+    let ps = p_text;
+    let mut per_p: Vec<Vec<(String, f64)>> = vec![Vec::new(); ps.len()];
+    for (i, file) in files.iter().enumerate() {
+        let stem = file
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        say(&format!("calls: {stem} ({}/{})", i + 1, files.len()));
+        let call = |p: &str| {
+            let a: [&OsStr; 7] = [
+                OsStr::new("capacity"),
+                OsStr::new("--record"),
+                file.as_os_str(),
+                OsStr::new("--p"),
+                OsStr::new(p),
+                OsStr::new("--eps"),
+                OsStr::new(eps),
+            ];
+            time_call(exe, &a)
+        };
+        let mut times: Vec<Vec<f64>> = vec![Vec::new(); ps.len()];
+        for rep in 0..CALL_WARMUP + reps {
+            for (j, p) in p_text.iter().enumerate() {
+                let ms = call(p)?;
+                if rep >= CALL_WARMUP {
+                    times[j].push(ms);
+                }
+            }
+        }
+        for (j, mut t) in times.into_iter().enumerate() {
+            per_p[j].push((stem.clone(), bench::median(&mut t)));
+        }
+    }
+    Ok(per_p)
+}
+
 /// One `rocking capacity` call over every file at each p: the median (ms)
 /// of `reps` calls, after the warm-up.
 fn batch_times(
@@ -146,38 +193,7 @@ pub(super) fn calls_table(
     let alone_ms = bench::median(&mut alone);
     let p_text: Vec<String> = ps.iter().map(|p| p.to_string()).collect();
     let eps = CALL_EPS.to_string();
-    let mut per_p: Vec<Vec<(String, f64)>> = vec![Vec::new(); ps.len()];
-    for (i, file) in files.iter().enumerate() {
-        let stem = file
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        say(&format!("calls: {stem} ({}/{})", i + 1, files.len()));
-        let call = |p: &str| {
-            let a: [&OsStr; 7] = [
-                OsStr::new("capacity"),
-                OsStr::new("--record"),
-                file.as_os_str(),
-                OsStr::new("--p"),
-                OsStr::new(p),
-                OsStr::new("--eps"),
-                OsStr::new(&eps),
-            ];
-            time_call(exe, &a)
-        };
-        let mut times: Vec<Vec<f64>> = vec![Vec::new(); ps.len()];
-        for rep in 0..CALL_WARMUP + args.reps {
-            for (j, p) in p_text.iter().enumerate() {
-                let ms = call(p)?;
-                if rep >= CALL_WARMUP {
-                    times[j].push(ms);
-                }
-            }
-        }
-        for (j, mut t) in times.into_iter().enumerate() {
-            per_p[j].push((stem.clone(), bench::median(&mut t)));
-        }
-    }
+    let per_p = per_record_times(exe, files, &p_text, &eps, args.reps, say)?;
     say("calls: one batch call over the records");
     let batch_ms = batch_times(exe, files, &p_text, &eps, args.reps)?;
     let mut s = String::new();
