@@ -15,7 +15,6 @@ use rayon::prelude::*;
 use super::record::{self, LoadedRecord, RecordError};
 use crate::ida::{self, Certified, ImGrid, Trace};
 use crate::physics::{PhysicsError, RunSpec};
-use crate::tables::sweep::CapacityRow;
 
 /// One block of a batch: its name (empty for a p × ε block), its
 /// slenderness when known (from its dimensions or given; the linearised
@@ -58,13 +57,13 @@ pub fn load_records(paths: &[PathBuf]) -> Result<Vec<LoadedRecord>, CapacityErro
 }
 
 /// The certified capacity of every record × block, in case order. `done`
-/// is called after each case, from any worker.
+/// is called with each case's result, from any worker.
 pub fn capacities(
     records: &[LoadedRecord],
     blocks: &[NamedSpec],
     grid: &ImGrid,
     tol: f64,
-    done: &(dyn Fn() + Sync),
+    done: &(dyn Fn(&Certified) + Sync),
 ) -> Result<Vec<Certified>, CapacityError> {
     let cases: Vec<(usize, usize)> = (0..records.len())
         .flat_map(|r| (0..blocks.len()).map(move |b| (r, b)))
@@ -82,7 +81,9 @@ pub fn capacities(
         } else {
             ida::capacity_certified(&rec.exc, &block.spec, grid, tol, Trace::StopAtFirst)
         };
-        done();
+        if let Ok(c) = &certified {
+            done(c);
+        }
         certified.map_err(|source| CapacityError::Case {
             record: rec.record_id.clone(),
             block: block_label(block),
@@ -104,35 +105,6 @@ fn block_label(block: &NamedSpec) -> String {
         format!("p = {} 1/s, ε = {}", block.spec.p, block.spec.eps)
     } else {
         block.name.clone()
-    }
-}
-
-/// The `capacities` table's row of case `case_id` (the sweep's schema).
-pub fn row(
-    case_id: usize,
-    record_id: &str,
-    block: &NamedSpec,
-    certified: &Certified,
-) -> CapacityRow {
-    let cap = &certified.capacity;
-    CapacityRow {
-        case_id: case_id as i64,
-        record_id: record_id.to_string(),
-        block: block.name.clone(),
-        p: block.spec.p,
-        eps: block.spec.eps,
-        alpha_rad: block.alpha_rad,
-        model: block.spec.model.equation.kind(),
-        eta_c: cap.eta_c,
-        eta_survived: cap.eta_survived,
-        level_survived: cap.level_survived,
-        level_overturned: cap.level_overturned,
-        runs: cap.points.len() as i64,
-        resurrections: cap.resurrections.map(|r| r as i64),
-        certified: certified.certification.certified(),
-        certification: certified.certification.kind(),
-        certification_note: certified.certification.to_string(),
-        rtol: certified.model.integrator.rtol(),
     }
 }
 

@@ -1,8 +1,8 @@
 //! The sweep's tables: `ida_points` (one row per run) and `capacities` (one
 //! row per record × block). Columns are documented in the README.
 
-use crate::ida::{CertificationKind, RunKind};
-use crate::physics::EquationKind;
+use crate::ida::{CertificationKind, Certified, RunKind};
+use crate::physics::{EquationKind, RunSpec};
 use crate::table;
 
 table! {
@@ -56,5 +56,39 @@ table! {
         /// pipeline's when a looser one flipped a verdict); empty for the
         /// exact stepper.
         pub rtol: Option<f64>,
+    }
+}
+
+impl CapacityRow {
+    /// The row of case `case_id`: the record, the block (its name, its run
+    /// specification and the α the table shows), and its certified capacity.
+    pub fn of(
+        case_id: usize,
+        record_id: &str,
+        block: &str,
+        spec: &RunSpec,
+        alpha_rad: Option<f64>,
+        certified: &Certified,
+    ) -> CapacityRow {
+        let cap = &certified.capacity;
+        CapacityRow {
+            case_id: case_id as i64,
+            record_id: record_id.to_string(),
+            block: block.to_string(),
+            p: spec.p,
+            eps: spec.eps,
+            alpha_rad,
+            model: spec.model.equation.kind(),
+            eta_c: cap.eta_c,
+            eta_survived: cap.eta_survived,
+            level_survived: cap.level_survived,
+            level_overturned: cap.level_overturned,
+            runs: cap.points.len() as i64,
+            resurrections: cap.resurrections.map(|r| r as i64),
+            certified: certified.certification.certified(),
+            certification: certified.certification.kind(),
+            certification_note: certified.certification.to_string(),
+            rtol: certified.model.integrator.rtol(),
+        }
     }
 }

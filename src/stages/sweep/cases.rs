@@ -179,25 +179,7 @@ pub(in crate::stages) fn run_case(
             model,
         })
         .collect();
-    let row = CapacityRow {
-        case_id: case as i64,
-        record_id: record.record_id.clone(),
-        block: block.clone(),
-        p: spec.p,
-        eps: spec.eps,
-        alpha_rad,
-        model,
-        eta_c: cap.eta_c,
-        eta_survived: cap.eta_survived,
-        level_survived: cap.level_survived,
-        level_overturned: cap.level_overturned,
-        runs: cap.points.len() as i64,
-        resurrections: cap.resurrections.map(|r| r as i64),
-        certified: certified.certification.certified(),
-        certification: certified.certification.kind(),
-        certification_note: certified.certification.to_string(),
-        rtol: certified.model.integrator.rtol(),
-    };
+    let row = CapacityRow::of(case, &record.record_id, block, &spec, alpha_rad, &certified);
     Ok(CaseResult {
         ida,
         capacity: row,

@@ -2,9 +2,7 @@
 
 use std::io::Write;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Mutex;
-use std::time::Instant;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use clap::ValueEnum;
 use rocking::ida::{Certified, ImGrid, RunKind, Spacing};
@@ -12,9 +10,12 @@ use rocking::im;
 use rocking::label::Label;
 use rocking::ops::capacity::{self, NamedSpec};
 use rocking::ops::record::LoadedRecord;
+use rocking::stages::{Progress, Reporter};
+use rocking::tables::sweep::CapacityRow;
 use serde::Serialize;
 
 use super::args::{AskedBlock, BlockArgs};
+use crate::reporter::Terminal;
 
 /// Find a record's overturning capacity η_c by incremental dynamic analysis.
 #[derive(Debug, clap::Args)]
@@ -130,9 +131,23 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     let named: Vec<NamedSpec> = blocks.iter().map(|b| b.named.clone()).collect();
     let total = records.len() * named.len();
-    let progress = Progress::new(total);
-    let results = capacity::capacities(&records, &named, &grid, args.tol, &|| progress.tick())?;
-    progress.finish();
+    // A batch shows its progress as a stage does (one capacity alone is
+    // over in milliseconds and says nothing on stderr).
+    let terminal = (total > 1).then(Terminal::new);
+    let (done, runs) = (AtomicU64::new(0), AtomicU64::new(0));
+    let tick = |c: &Certified| {
+        let Some(terminal) = &terminal else { return };
+        let ran = (c.capacity.runs() + c.extra.runs) as u64;
+        terminal.progress(&Progress {
+            stage: "capacity",
+            done: done.fetch_add(1, Ordering::Relaxed) + 1,
+            total: total as u64,
+            resumed: 0,
+            runs: runs.fetch_add(ran, Ordering::Relaxed) + ran,
+        });
+    };
+    let results = capacity::capacities(&records, &named, &grid, args.tol, &tick)?;
+    drop(terminal);
     let cases = results.iter().enumerate().map(|(case, certified)| {
         let (r, b) = (case / named.len(), case % named.len());
         (case, &records[r], &blocks[b], certified)
@@ -140,7 +155,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if let Some(out) = &args.out {
         let rows: Vec<_> = cases
             .clone()
-            .map(|(case, rec, block, c)| capacity::row(case, &rec.record_id, &block.named, c))
+            .map(|(case, rec, block, c)| {
+                let b = &block.named;
+                CapacityRow::of(case, &rec.record_id, &b.name, &b.spec, b.alpha_rad, c)
+            })
             .collect();
         let settings = vec![(
             "rocking.capacity.command".to_string(),
@@ -261,48 +279,4 @@ fn print_text(args: &Args, rec: &LoadedRecord, block: &AskedBlock, certified: &C
         }
     );
     println!("certified   {}", certified.certification);
-}
-
-/// Progress of a batch on standard error: a line every few seconds on a
-/// terminal or not, nothing for a batch that ends sooner.
-struct Progress {
-    total: usize,
-    done: AtomicUsize,
-    start: Instant,
-    last: Mutex<Instant>,
-}
-
-impl Progress {
-    fn new(total: usize) -> Progress {
-        let now = Instant::now();
-        Progress {
-            total,
-            done: AtomicUsize::new(0),
-            start: now,
-            last: Mutex::new(now),
-        }
-    }
-
-    fn tick(&self) {
-        let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;
-        let mut last = self.last.lock().expect("progress lock");
-        if last.elapsed().as_secs_f64() >= 3.0 {
-            *last = Instant::now();
-            eprintln!(
-                "capacity: {done} of {} done after {:.0} s",
-                self.total,
-                self.start.elapsed().as_secs_f64()
-            );
-        }
-    }
-
-    fn finish(&self) {
-        if self.start.elapsed().as_secs_f64() >= 3.0 {
-            eprintln!(
-                "capacity: {} capacities in {:.1} s",
-                self.total,
-                self.start.elapsed().as_secs_f64()
-            );
-        }
-    }
 }
