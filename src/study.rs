@@ -3,7 +3,7 @@
 //! stage loads it from the tables.
 
 use crate::fragility::FractileLaw;
-use crate::pipeline::{BlockSpec, Plan};
+use crate::pipeline::{BlockSpec, Plan, RecordsPlan};
 use crate::tables::convergence::ConvergenceRow;
 use crate::tables::fit::{BandCurve, FitBandRow, FitStep1Row};
 use crate::tables::reduce::{CapacityBandRow, CapacityFractileRow, HorizontalRow, LognormalRow};
@@ -77,23 +77,31 @@ impl FitBands {
 }
 
 impl StudyData {
+    /// The records study the tables come from (the report stage builds a
+    /// `StudyData` for records studies only; a pulse map has [`PulseData`]).
+    pub fn records_plan(&self) -> &RecordsPlan {
+        self.plan
+            .records_study()
+            .expect("StudyData is built for records studies")
+    }
+
     /// Whether the blocks are the dimensionless p × ε grid (not physical blocks).
     pub fn is_grid(&self) -> bool {
-        self.plan.blocks.iter().all(|b| b.name.is_empty())
+        self.records_plan().blocks.iter().all(|b| b.name.is_empty())
     }
 
     /// The distinct p and ε of the blocks, ascending.
     pub fn ps_and_eps(&self) -> (Vec<f64>, Vec<f64>) {
         let d = |v: Vec<f64>| crate::stats::distinct(v);
         (
-            d(self.plan.blocks.iter().map(|b| b.p).collect()),
-            d(self.plan.blocks.iter().map(|b| b.eps).collect()),
+            d(self.records_plan().blocks.iter().map(|b| b.p).collect()),
+            d(self.records_plan().blocks.iter().map(|b| b.eps).collect()),
         )
     }
 
     /// Records per block.
     pub fn n_records(&self) -> usize {
-        self.caps.len() / self.plan.blocks.len().max(1)
+        self.caps.len() / self.records_plan().blocks.len().max(1)
     }
 }
 

@@ -8,7 +8,7 @@ use std::path::Path;
 
 use rocking::ida::{ImGrid, Spacing};
 use rocking::physics::{simulate, Excitation, Model, RunSpec};
-use rocking::pipeline;
+use rocking::pipeline::{self, StudyKind};
 use rocking::stages::sweep::{read_capacities, read_ida, FAULT_ENV, HOLD_ENV};
 
 use crate::util::{direct_capacity, rocking, root, stderr, tempdir, write_pipeline, TempDir};
@@ -21,22 +21,23 @@ fn every_shipped_pipeline_loads() {
         if path.extension().is_some_and(|e| e == "toml") {
             let text = fs::read_to_string(&path).unwrap();
             let plan = pipeline::load_str(&text, &path).unwrap_or_else(|e| panic!("{e}"));
-            match &plan.pulses {
-                Some(pp) => assert!(!pp.f.is_empty() && !pp.eta.is_empty()),
-                None => assert!(!plan.blocks.is_empty(), "{}", path.display()),
+            match &plan.study {
+                StudyKind::PulseMap(pp) => assert!(!pp.f.is_empty() && !pp.eta.is_empty()),
+                StudyKind::Records(r) => assert!(!r.blocks.is_empty(), "{}", path.display()),
             }
             n += 1;
             if plan.name == "paper" {
                 // The paper's grid: 12 p log-spaced 0.33–10, ε = 0.50, 0.55, …, 0.95, 200 levels.
-                assert_eq!(plan.blocks.len(), 120);
-                let ps: Vec<f64> = plan.blocks.iter().step_by(10).map(|b| b.p).collect();
+                assert_eq!(plan.blocks().len(), 120);
+                let ps: Vec<f64> = plan.blocks().iter().step_by(10).map(|b| b.p).collect();
                 assert_eq!((ps[0], ps[11]), (0.33, 10.0));
-                let eps: Vec<f64> = plan.blocks[..10].iter().map(|b| b.eps).collect();
+                let eps: Vec<f64> = plan.blocks()[..10].iter().map(|b| b.eps).collect();
                 for (k, e) in eps.iter().enumerate() {
                     assert!((e - (0.5 + 0.05 * k as f64)).abs() < 1e-12);
                 }
-                assert_eq!(plan.grid.count, 200);
-                assert_eq!(plan.sets, ["far-field"]);
+                let rs = plan.records_study().unwrap();
+                assert_eq!(rs.grid.count, 200);
+                assert_eq!(rs.sets, ["far-field"]);
             }
         }
     }

@@ -37,7 +37,7 @@ pub(super) fn ida_curves(d: &StudyData) -> Vec<Figure> {
             "the pipeline's example block (`[example]`)",
         ),
         None => {
-            let n_blocks = d.plan.blocks.len();
+            let n_blocks = d.records_plan().blocks.len();
             let (bi, p, e) = middle(d);
             let caps = d
                 .caps
@@ -215,7 +215,7 @@ mod tests {
     #[test]
     fn fig5_draws_the_example_block_when_the_pipeline_names_one() {
         let mut d = study();
-        let mut block = d.plan.blocks[0].clone();
+        let mut block = d.records_plan().blocks[0].clone();
         (block.p, block.eps) = (3.0, 0.6);
         d.example = Some(crate::study::ExampleData {
             block,

@@ -8,7 +8,7 @@ use crate::study::StudyData;
 
 /// Fig. 9: lognormal probability plots, the worst and the best fitting block.
 pub(super) fn lognormal_plots(d: &StudyData) -> Vec<Figure> {
-    let n_blocks = d.plan.blocks.len();
+    let n_blocks = d.records_plan().blocks.len();
     let mut ranked: Vec<_> = d
         .lognormal
         .iter()
@@ -23,7 +23,7 @@ pub(super) fn lognormal_plots(d: &StudyData) -> Vec<Figure> {
         let Some(row) = row else { continue };
         let (p, e) = (row.p, row.eps);
         let k = d
-            .plan
+            .records_plan()
             .blocks
             .iter()
             .position(|b| b.p == p && b.eps == e)

@@ -8,7 +8,7 @@ use crate::study::PulseData;
 
 /// Fig. 2: ψ̈ against t/t_d for each of the map's pulse shapes.
 pub(super) fn pulse_waveforms(d: &PulseData) -> Vec<Figure> {
-    let Some(pp) = &d.plan.pulses else {
+    let Some(pp) = d.plan.pulse_map() else {
         return Vec::new();
     };
     let lobes = pp.cycle.lobes();
@@ -167,7 +167,7 @@ pub(super) fn pulse_modes(d: &PulseData) -> Vec<Figure> {
         }
         let slug = match beta {
             Some(b)
-                if d.families().len() > d.plan.pulses.as_ref().map_or(1, |p| p.shapes.len()) =>
+                if d.families().len() > d.plan.pulse_map().map_or(1, |p| p.shapes.len()) =>
             {
                 format!("beta{b}_eps{eps:.2}")
             }

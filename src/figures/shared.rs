@@ -11,7 +11,7 @@ use crate::tables::reduce::CapacityFractileRow;
 pub(super) fn middle(d: &StudyData) -> (usize, f64, f64) {
     let (ps, es) = d.ps_and_eps();
     let (p, e) = (ps[ps.len() / 2], es[es.len() / 2]);
-    let blocks = &d.plan.blocks;
+    let blocks = &d.records_plan().blocks;
     let bi = blocks
         .iter()
         .position(|b| b.p == p && b.eps == e)

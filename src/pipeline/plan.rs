@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use crate::ida::{ImGrid, Trace};
-use crate::physics::{ModelChoice, Overturn};
+use crate::physics::{ModelChoice, Overturn, RunSpec};
 use crate::stats::{FractileDef, ResampleUnit};
 
 /// Most values a `{ from, to, count }` range may expand to.
@@ -73,20 +73,30 @@ pub struct BlockSpec {
     pub eps: f64,
     /// Slenderness, when known (physical blocks, or the model's `alpha`).
     pub alpha_rad: Option<f64>,
+    /// The block's run at η = 1, its model resolved and the whole checked
+    /// when the plan is built (the IDA sets η).
+    #[serde(skip)]
+    pub run: RunSpec,
+    /// Why the block runs the model it runs (`model.kind` = "auto" decides
+    /// per block).
+    #[serde(skip)]
+    pub model_why: String,
 }
 
-/// The resolved plan: what every stage of a pipeline sees.
+/// What a pipeline studies: the records' IDA, or a pulse map.
+#[derive(Debug, Clone, PartialEq)]
+pub enum StudyKind {
+    Records(Box<RecordsPlan>),
+    PulseMap(PulsePlan),
+}
+
+/// A records study: the records, the blocks, the IM grid and what the
+/// reduce, fit, convergence and uncertainty stages do with them.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Plan {
-    pub name: String,
-    pub description: String,
+pub struct RecordsPlan {
     pub records: RecordSource,
     pub sets: Vec<String>,
     pub ids: Vec<String>,
-    pub model: ModelChoice,
-    pub rtol: f64,
-    pub auto_tol: f64,
-    pub overturn: Overturn,
     /// Blocks in study order (p outer, ε inner for the grid).
     pub blocks: Vec<BlockSpec>,
     pub grid: ImGrid,
@@ -98,25 +108,77 @@ pub struct Plan {
     pub convergence: Vec<usize>,
     /// Bootstrap bands of the capacity fractiles, if asked for.
     pub uncertainty: Option<Uncertainty>,
-    /// A pulse map (`[pulses]`): then no records, blocks or grid are used,
-    /// and only the `pulses` and `report` stages run.
-    pub pulses: Option<PulsePlan>,
     /// The block of the report's Fig. 5 (`[example]`), run by the
     /// `example` stage whether or not it is one of `blocks`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub example: Option<BlockSpec>,
+}
+
+/// The resolved plan: what every stage of a pipeline sees.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    pub name: String,
+    pub description: String,
+    pub model: ModelChoice,
+    pub rtol: f64,
+    pub auto_tol: f64,
+    pub overturn: Overturn,
+    pub study: StudyKind,
     /// The pipeline file's folder: relative paths in the file are relative
     /// to it, and fingerprints store paths relative to it.
-    #[serde(skip)]
     pub base: PathBuf,
 }
 
+/// A records study's stage or command asked of a pulse map.
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("pipeline `{name}` is a pulse map (`[pulses]`): it runs no records")]
+pub struct NotRecords {
+    pub name: String,
+}
+
 impl Plan {
+    /// The records study, or an error saying this plan is a pulse map.
+    pub fn records_study(&self) -> Result<&RecordsPlan, NotRecords> {
+        match &self.study {
+            StudyKind::Records(r) => Ok(r),
+            StudyKind::PulseMap(_) => Err(NotRecords {
+                name: self.name.clone(),
+            }),
+        }
+    }
+
+    /// The pulse map, when this plan is one.
+    pub fn pulse_map(&self) -> Option<&PulsePlan> {
+        match &self.study {
+            StudyKind::PulseMap(p) => Some(p),
+            StudyKind::Records(_) => None,
+        }
+    }
+
+    /// The study's blocks; none for a pulse map.
+    pub fn blocks(&self) -> &[BlockSpec] {
+        self.records_study().map_or(&[], |r| &r.blocks)
+    }
+
+    /// The bootstrap bands asked for; none for a pulse map.
+    pub fn uncertainty(&self) -> Option<Uncertainty> {
+        self.records_study().ok().and_then(|r| r.uncertainty)
+    }
+
+    /// The convergence study's grid resolutions; none for a pulse map.
+    pub fn convergence(&self) -> &[usize] {
+        self.records_study().map_or(&[], |r| &r.convergence)
+    }
+
+    /// The example block (`[example]`); none for a pulse map.
+    pub fn example(&self) -> Option<&BlockSpec> {
+        self.records_study().ok().and_then(|r| r.example.as_ref())
+    }
+
     /// Why a stage of the records study does not run for this plan: a
     /// pulse map runs no records.
     pub fn pulse_map_skips(&self) -> Option<String> {
-        self.pulses
-            .as_ref()
+        self.pulse_map()
             .map(|_| "a pulse map (`[pulses]`) runs no records".to_string())
     }
 
@@ -135,39 +197,99 @@ impl Plan {
     /// folder: every setting, independent of where the tool was started.
     pub fn portable_json(&self) -> serde_json::Value {
         let mut v = serde_json::to_value(self).expect("a plan serialises");
-        let records = match &self.records {
-            RecordSource::Table(t) => serde_json::json!({ "table": self.relative(t) }),
-            RecordSource::At2 { paths, manifest } => serde_json::json!({
+        let records = match self.records_study().map(|r| &r.records) {
+            Ok(RecordSource::Table(t)) => serde_json::json!({ "table": self.relative(t) }),
+            Ok(RecordSource::At2 { paths, manifest }) => serde_json::json!({
                 "at2": {
                     "paths": paths.iter().map(|p| self.relative(p)).collect::<Vec<_>>(),
                     "manifest": manifest.as_deref().map(|m| self.relative(m)),
                 }
             }),
+            Err(_) => serde_json::json!({ "at2": { "paths": [], "manifest": null } }),
         };
         v["records"] = records;
         v
     }
 
     /// JSON of exactly the settings that determine the sweep's results (not
-    /// the name, the description, where the records are, or what reduce does).
+    /// the name, the description, where the records are, or what reduce
+    /// does); `null` for a pulse map.
     pub fn sweep_settings(&self) -> String {
         self.sweep_settings_json().to_string()
     }
 
     /// [`Plan::sweep_settings`] as a JSON value.
     pub fn sweep_settings_json(&self) -> serde_json::Value {
+        let Ok(r) = self.records_study() else {
+            return serde_json::Value::Null;
+        };
         serde_json::json!({
-            "sets": self.sets,
-            "ids": self.ids,
+            "sets": r.sets,
+            "ids": r.ids,
             "model": self.model,
             "rtol": self.rtol,
             "auto_tol": self.auto_tol,
             "overturn": self.overturn,
-            "blocks": self.blocks,
-            "grid": self.grid,
-            "tol": self.tol,
-            "trace": self.trace,
+            "blocks": r.blocks,
+            "grid": r.grid,
+            "tol": r.tol,
+            "trace": r.trace,
         })
+    }
+}
+
+/// The plan's JSON (fingerprints, the tables' `rocking.plan` metadata): one
+/// flat object whatever the study kind, a pulse map's under `pulses` and a
+/// records study's keys at the top (empty for a pulse map), so that the
+/// fingerprints of existing studies stay valid.
+impl Serialize for Plan {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        #[derive(Serialize)]
+        struct Flat<'a> {
+            name: &'a str,
+            description: &'a str,
+            #[serde(flatten)]
+            records: std::borrow::Cow<'a, RecordsPlan>,
+            model: ModelChoice,
+            rtol: f64,
+            auto_tol: f64,
+            overturn: Overturn,
+            pulses: Option<&'a PulsePlan>,
+        }
+        let (records, pulses) = match &self.study {
+            StudyKind::Records(r) => (std::borrow::Cow::Borrowed(&**r), None),
+            StudyKind::PulseMap(p) => {
+                let empty = RecordsPlan {
+                    records: RecordSource::At2 {
+                        paths: Vec::new(),
+                        manifest: None,
+                    },
+                    sets: Vec::new(),
+                    ids: Vec::new(),
+                    blocks: Vec::new(),
+                    grid: ImGrid::default(),
+                    tol: super::raw::default_tol(),
+                    trace: Trace::StopAtFirst,
+                    fractile: FractileDef::parse(&super::raw::default_fractile())
+                        .expect("the default parses"),
+                    convergence: Vec::new(),
+                    uncertainty: None,
+                    example: None,
+                };
+                (std::borrow::Cow::Owned(empty), Some(p))
+            }
+        };
+        Flat {
+            name: &self.name,
+            description: &self.description,
+            records,
+            model: self.model,
+            rtol: self.rtol,
+            auto_tol: self.auto_tol,
+            overturn: self.overturn,
+            pulses,
+        }
+        .serialize(s)
     }
 }
 

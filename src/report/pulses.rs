@@ -21,7 +21,7 @@ pub fn render_pulses(d: &PulseData, figures: &[Figure]) -> String {
         &d.version,
         " (`pulse_walls.parquet`, `pulse_map.parquet`)",
     );
-    if let Some(pp) = &plan.pulses {
+    if let Some(pp) = plan.pulse_map() {
         settings(&mut md, plan, pp);
     }
     runtime(&mut md, d);

@@ -32,13 +32,14 @@ pub fn render(d: &StudyData, figures: &[Figure]) -> String {
 
 fn settings(w: &mut String, d: &StudyData) {
     let plan = &d.plan;
+    let rs = d.records_plan();
     let (ps, es) = d.ps_and_eps();
     let _ = writeln!(w, "## Settings\n");
     let _ = writeln!(w, "| setting | value |\n|---|---|");
-    let sets = if plan.sets.is_empty() {
+    let sets = if rs.sets.is_empty() {
         String::new()
     } else {
-        format!(" ({})", plan.sets.join(", "))
+        format!(" ({})", rs.sets.join(", "))
     };
     let _ = writeln!(w, "| records | {}{sets} |", d.n_records());
     let _ = writeln!(
@@ -49,16 +50,16 @@ fn settings(w: &mut String, d: &StudyData) {
     let _ = writeln!(
         w,
         "| blocks | {}: p = {} 1/s; ε = {} |",
-        plan.blocks.len(),
+        plan.blocks().len(),
         list(&ps),
         list(&es)
     );
     let _ = writeln!(
         w,
         "| IM grid | {} {:?}-spaced levels of η from {} down to {}, capacity refined to Δη = {} |",
-        plan.grid.count, plan.grid.spacing, plan.grid.eta_max, plan.grid.eta_min, plan.tol
+        rs.grid.count, rs.grid.spacing, rs.grid.eta_max, rs.grid.eta_min, rs.tol
     );
-    let _ = writeln!(w, "| fractiles | Hyndman–Fan {:?} |\n", plan.fractile);
+    let _ = writeln!(w, "| fractiles | Hyndman–Fan {:?} |\n", rs.fractile);
 }
 
 fn runtime(w: &mut String, d: &StudyData) {
@@ -77,7 +78,7 @@ fn runtime(w: &mut String, d: &StudyData) {
         d.ida.len(),
         overturned,
         d.caps.iter().filter(|c| c.eta_c.is_none()).count(),
-        d.plan.grid.eta_min
+        d.records_plan().grid.eta_min
     );
     let count = |k: CertificationKind| d.caps.iter().filter(|c| c.certification == k).count();
     let certified = d.caps.iter().filter(|c| c.certified).count();
@@ -121,7 +122,7 @@ fn capacity_fractiles(w: &mut String, d: &StudyData) {
             w,
             "| block | p | ε | η_c,16 | η_c,50 | η_c,84 |\n|---|---:|---:|---:|---:|---:|"
         );
-        for b in &d.plan.blocks {
+        for b in &d.records_plan().blocks {
             let at = |q: f64| {
                 d.capacity_fractiles
                     .iter()
@@ -278,7 +279,7 @@ fn convergence(w: &mut String, d: &StudyData) {
     let study = levels
         .iter()
         .copied()
-        .find(|&l| l == d.plan.grid.count as f64)
+        .find(|&l| l == d.records_plan().grid.count as f64)
         .unwrap_or(coarsest);
     let _ = writeln!(
         w,

@@ -19,7 +19,7 @@ use super::reduce::QUANTILES;
 use super::stage::{BoxError, Context, Progress, Shard, Stage, Study, Summary};
 use crate::ida::{self, ImGrid};
 use crate::physics::{Excitation, PhysicsError, RunSpec};
-use crate::pipeline::{BlockSpec, Plan};
+use crate::pipeline::{BlockSpec, RecordsPlan};
 use crate::stats;
 use crate::tables::convergence::ConvergenceRow;
 use crate::tables::{self, TableError};
@@ -45,7 +45,7 @@ impl Stage for Convergence {
         }
         study
             .plan
-            .convergence
+            .convergence()
             .is_empty()
             .then(|| "the pipeline has no [convergence] levels".to_string())
     }
@@ -54,8 +54,8 @@ impl Stage for Convergence {
         let plan = &study.plan;
         serde_json::json!({
             "sweep": plan.sweep_settings_json(),
-            "levels": plan.convergence,
-            "fractile": plan.fractile,
+            "levels": plan.convergence(),
+            "fractile": plan.records_study().ok().map(|r| r.fractile),
         })
     }
 
@@ -96,6 +96,7 @@ pub enum ConvergenceError {
 fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
     let plan = &cx.study.plan;
     let records = records::select(plan, &cx.study.records_table())?;
+    let rs = plan.records_study().map_err(SelectError::from)?;
     let excitations = records
         .par_iter()
         .map(|r| {
@@ -107,31 +108,31 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
         .collect::<Result<Vec<_>, _>>()?;
     let mut rows = Vec::new();
     let (mut runs, mut shared) = (0u64, 0u64);
-    let total = plan.blocks.len() as u64;
+    let total = plan.blocks().len() as u64;
     // Finest grid first: the coarser grids' levels are among its levels (to
     // the bit), so their searches find most of their runs already done.
-    let mut order: Vec<usize> = (0..plan.convergence.len()).collect();
-    order.sort_by_key(|&gi| std::cmp::Reverse(plan.convergence[gi]));
-    let specs = block_specs(plan)?;
+    let mut order: Vec<usize> = (0..plan.convergence().len()).collect();
+    order.sort_by_key(|&gi| std::cmp::Reverse(plan.convergence()[gi]));
+    let specs: Vec<RunSpec> = rs.blocks.iter().map(|b| b.run).collect();
     let n_records = excitations.len();
     let mut done = 0u64;
     // A few blocks at a time, every (block, record) pair in parallel: the
     // threads stay busy to the end of each group (records differ in length
     // tenfold), and progress is reported after each group.
-    for (group, blocks) in plan.blocks.chunks(BLOCKS_PER_GROUP).enumerate() {
+    for (group, blocks) in plan.blocks().chunks(BLOCKS_PER_GROUP).enumerate() {
         let first = group * BLOCKS_PER_GROUP;
         let pairs: Vec<(usize, usize)> = (first..first + blocks.len())
             .flat_map(|bi| (0..n_records).map(move |ri| (bi, ri)))
             .collect();
-        let results = search_pairs(plan, &excitations, &specs, &order, &pairs)?;
+        let results = search_pairs(rs, &excitations, &specs, &order, &pairs)?;
         for (k, block) in blocks.iter().enumerate() {
             let per_record = &results[k * n_records..(k + 1) * n_records];
             runs += per_record.iter().map(|r| r.1).sum::<u64>();
             shared += per_record.iter().map(|r| r.2).sum::<u64>();
-            let per_grid: Vec<Vec<f64>> = (0..plan.convergence.len())
+            let per_grid: Vec<Vec<f64>> = (0..plan.convergence().len())
                 .map(|gi| per_record.iter().map(|r| r.0[gi]).collect())
                 .collect();
-            rows.extend(block_rows(cx.study, block, &per_grid));
+            rows.extend(block_rows(rs, block, &per_grid));
         }
         done += blocks.len() as u64;
         cx.reporter.progress(&Progress {
@@ -148,14 +149,14 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
         &rows,
         &[(
             "rocking.convergence.levels".into(),
-            format!("{:?}", plan.convergence),
+            format!("{:?}", plan.convergence()),
         )],
     )?;
     Ok(Summary {
         lines: vec![format!(
             "capacity search at {:?} levels: {runs} simulations (the searches' {shared} runs \
              share the levels the grids have in common); wrote {}",
-            plan.convergence,
+            plan.convergence(),
             dest.display()
         )],
         also_wrote: Vec::new(),
@@ -168,23 +169,6 @@ fn physics(b: &BlockSpec) -> impl Fn(PhysicsError) -> ConvergenceError {
     move |source| ConvergenceError::Physics { p, eps, source }
 }
 
-/// Each block's run specification, its model resolved.
-fn block_specs(plan: &Plan) -> Result<Vec<RunSpec>, ConvergenceError> {
-    plan.blocks
-        .iter()
-        .map(|block| {
-            let (model, _) = plan
-                .model
-                .resolve(block.alpha_rad, plan.rtol, plan.auto_tol)
-                .map_err(physics(block))?;
-            Ok(RunSpec {
-                overturn: plan.overturn,
-                ..RunSpec::new(block.p, block.eps, 1.0, model)
-            })
-        })
-        .collect::<Result<Vec<_>, ConvergenceError>>()
-}
-
 /// Per (block, record): η_c per resolution (0 when the block survives
 /// every level), the simulations done, and the runs the searches asked for.
 type PerRecord = (Vec<f64>, u64, u64);
@@ -192,7 +176,7 @@ type PerRecord = (Vec<f64>, u64, u64);
 /// The searches of `pairs` (block, record), in parallel, each at every
 /// resolution in `order`, sharing one record's runs across resolutions.
 fn search_pairs(
-    plan: &Plan,
+    plan: &RecordsPlan,
     excitations: &[Excitation],
     specs: &[RunSpec],
     order: &[usize],
@@ -245,11 +229,10 @@ fn search(
 
 /// One row per resolution of one block, against the finest grid.
 fn block_rows(
-    study: &Study,
+    plan: &RecordsPlan,
     block: &crate::pipeline::BlockSpec,
     per_grid: &[Vec<f64>],
 ) -> Vec<ConvergenceRow> {
-    let plan = &study.plan;
     let finest = per_grid.last().expect("two or more resolutions");
     plan.convergence
         .iter()

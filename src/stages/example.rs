@@ -39,8 +39,10 @@ pub const META_SETTINGS: &str = "rocking.example.settings";
 /// example block in place of the study's, and the fractile definition.
 pub fn settings(plan: &Plan) -> serde_json::Value {
     let mut s = plan.sweep_settings_json();
-    s["blocks"] = serde_json::json!([plan.example]);
-    s["fractile"] = serde_json::json!(format!("{:?}", plan.fractile));
+    s["blocks"] = serde_json::json!([plan.example()]);
+    if let Ok(r) = plan.records_study() {
+        s["fractile"] = serde_json::json!(format!("{:?}", r.fractile));
+    }
     s
 }
 
@@ -59,7 +61,7 @@ impl Stage for Example {
         }
         study
             .plan
-            .example
+            .example()
             .is_none()
             .then(|| "the pipeline has no [example] block".to_string())
     }
@@ -96,8 +98,7 @@ fn run(cx: &Context) -> Result<Summary, ExampleError> {
     let study = cx.study;
     let plan = &study.plan;
     let block: &BlockSpec = plan
-        .example
-        .as_ref()
+        .example()
         .expect("not_needed skips a plan without [example]");
     let (prep, models) =
         sweep::Prepared::new(study, std::slice::from_ref(block)).map_err(ExampleError::Sweep)?;
@@ -117,7 +118,7 @@ fn run(cx: &Context) -> Result<Summary, ExampleError> {
     progress(0, 0);
     let results = (0..prep.n_cases)
         .into_par_iter()
-        .map(|case| sweep::run_case(case, &prep, plan))
+        .map(|case| sweep::run_case(case, &prep))
         .collect::<Result<Vec<_>, _>>()
         .map_err(ExampleError::Sweep)?;
     let mut ida = Vec::new();
@@ -133,7 +134,7 @@ fn run(cx: &Context) -> Result<Summary, ExampleError> {
     tables::write(&study.path(CAPACITIES), &caps, &meta)?;
     tables::write(&study.path(HORIZONTAL), &horizontal, &meta)?;
     let overturned = caps.iter().filter(|c| c.eta_c.is_some()).count();
-    let on_grid = plan.blocks.iter().any(|b| b == block);
+    let on_grid = plan.blocks().iter().any(|b| b == block);
     Ok(Summary {
         lines: vec![
             format!(

@@ -52,7 +52,7 @@ impl Stage for Fit {
 
     fn settings(&self, study: &Study) -> serde_json::Value {
         // The band level; the resamples come in through their table.
-        match study.plan.uncertainty {
+        match study.plan.uncertainty() {
             None => serde_json::Value::Null,
             Some(u) => serde_json::json!({ "band_level": u.level }),
         }
@@ -60,14 +60,14 @@ impl Stage for Fit {
 
     fn inputs(&self, study: &Study) -> Result<Vec<PathBuf>, BoxError> {
         let mut inputs = vec![study.path("capacity_fractiles.parquet")];
-        if study.plan.uncertainty.is_some() {
+        if study.plan.uncertainty().is_some() {
             inputs.push(study.path(super::reduce::RESAMPLES));
         }
         Ok(inputs)
     }
 
     fn outputs(&self, study: &Study, _shard: Option<Shard>) -> Vec<PathBuf> {
-        let bands = study.plan.uncertainty.map(|_| BANDS);
+        let bands = study.plan.uncertainty().map(|_| BANDS);
         OUTPUTS
             .iter()
             .chain(&bands)
@@ -97,12 +97,12 @@ pub fn not_applicable(plan: &Plan) -> Option<String> {
     if let Some(why) = plan.pulse_map_skips() {
         return Some(why);
     }
-    if plan.blocks.iter().any(|b| !b.name.is_empty()) {
+    if plan.blocks().iter().any(|b| !b.name.is_empty()) {
         return Some("the pipeline has physical blocks, not a p × ε grid".into());
     }
     let count = |v: Vec<f64>| crate::stats::distinct(v).len();
-    let np = count(plan.blocks.iter().map(|b| b.p).collect());
-    let ne = count(plan.blocks.iter().map(|b| b.eps).collect());
+    let np = count(plan.blocks().iter().map(|b| b.p).collect());
+    let ne = count(plan.blocks().iter().map(|b| b.eps).collect());
     (np < 3 || ne < 3).then(|| {
         format!("the regression needs at least 3 values of p and of ε (the grid has {np} × {ne})")
     })
@@ -162,7 +162,7 @@ fn run(study: &Study) -> Result<Summary, FitError> {
     let converged = step1.values().filter(|f| f.stop.converged()).count();
     let (laws, coeff_rows) = step2(&groups, &step1);
     let comparison = compare(&groups, &step1, &laws);
-    let bands = match study.plan.uncertainty {
+    let bands = match study.plan.uncertainty() {
         Some(u) => Some(bands(study, u, &laws)?),
         None => None,
     };

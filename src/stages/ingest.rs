@@ -53,22 +53,24 @@ impl Stage for Ingest {
         if let Some(why) = study.plan.pulse_map_skips() {
             return Some(why);
         }
-        matches!(study.plan.records, RecordSource::Table(_))
+        matches!(study.plan.records_study().map(|r| &r.records), Ok(RecordSource::Table(_)))
             .then(|| "the pipeline reads a records table directly".to_string())
     }
 
     fn settings(&self, study: &Study) -> serde_json::Value {
-        match &study.plan.records {
-            RecordSource::At2 { paths, manifest } => serde_json::json!({
+        match study.plan.records_study().map(|r| &r.records) {
+            Ok(RecordSource::At2 { paths, manifest }) => serde_json::json!({
                 "paths": paths.iter().map(|p| study.plan.relative(p)).collect::<Vec<_>>(),
                 "manifest": manifest.as_deref().map(|m| study.plan.relative(m)),
             }),
-            RecordSource::Table(_) => serde_json::Value::Null,
+            _ => serde_json::Value::Null,
         }
     }
 
     fn inputs(&self, study: &Study) -> Result<Vec<PathBuf>, BoxError> {
-        let RecordSource::At2 { paths, manifest } = &study.plan.records else {
+        let Ok(RecordSource::At2 { paths, manifest }) =
+            study.plan.records_study().map(|r| &r.records)
+        else {
             return Ok(Vec::new());
         };
         let mut files = discover(paths)?;
@@ -81,7 +83,9 @@ impl Stage for Ingest {
     }
 
     fn run(&self, cx: &Context) -> Result<Summary, BoxError> {
-        let RecordSource::At2 { paths, manifest } = &cx.study.plan.records else {
+        let Ok(RecordSource::At2 { paths, manifest }) =
+            cx.study.plan.records_study().map(|r| &r.records)
+        else {
             return Ok(Summary::default());
         };
         let config = IngestConfig {

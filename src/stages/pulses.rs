@@ -37,7 +37,7 @@ impl Stage for Pulses {
     fn not_needed(&self, study: &Study) -> Option<String> {
         study
             .plan
-            .pulses
+            .pulse_map()
             .is_none()
             .then(|| "the pipeline has no [pulses] map".to_string())
     }
@@ -45,7 +45,7 @@ impl Stage for Pulses {
     fn settings(&self, study: &Study) -> serde_json::Value {
         let plan = &study.plan;
         serde_json::json!({
-            "pulses": plan.pulses,
+            "pulses": plan.pulse_map(),
             "model": plan.model,
             "rtol": plan.rtol,
             "overturn": plan.overturn,
@@ -143,7 +143,7 @@ fn point(
 fn run(cx: &Context) -> Result<Summary, PulsesError> {
     let study = cx.study;
     let plan = &study.plan;
-    let pp = plan.pulses.as_ref().expect("not_needed without [pulses]");
+    let pp = plan.pulse_map().expect("not_needed without [pulses]");
     let (model, _) = plan
         .model
         .resolve(pp.alpha, plan.rtol, plan.auto_tol)

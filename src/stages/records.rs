@@ -7,7 +7,7 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use super::ingest::{self, IngestError, OnBad};
-use crate::pipeline::{Plan, RecordSource};
+use crate::pipeline::{NotRecords, Plan, RecordSource, RecordsPlan};
 use crate::tables::records::RecordRow;
 use crate::tables::{self, TableError};
 
@@ -28,6 +28,8 @@ pub enum SelectError {
     UnknownIds(String),
     #[error("the record selection is empty")]
     Empty,
+    #[error(transparent)]
+    NotRecords(#[from] NotRecords),
 }
 
 /// The plan's records from the table at `table`, filtered and sorted.
@@ -35,13 +37,14 @@ pub fn select(plan: &Plan, table: &Path) -> Result<Vec<RecordRow>, SelectError> 
     if !table.exists() {
         return Err(SelectError::MissingTable(table.into()));
     }
-    filter(plan, tables::records::read(table)?)
+    filter(plan.records_study()?, tables::records::read(table)?)
 }
 
 /// The plan's records wherever the pipeline names them (a table, or AT2
 /// files read directly), filtered and sorted.
 pub fn load(plan: &Plan) -> Result<Vec<RecordRow>, SelectError> {
-    match &plan.records {
+    let rs = plan.records_study()?;
+    match &rs.records {
         RecordSource::Table(path) => select(plan, path),
         RecordSource::At2 { paths, manifest } => {
             let rows = ingest::collect(
@@ -51,12 +54,12 @@ pub fn load(plan: &Plan) -> Result<Vec<RecordRow>, SelectError> {
             )
             .map_err(SelectError::Ingest)?
             .rows;
-            filter(plan, rows)
+            filter(rs, rows)
         }
     }
 }
 
-fn filter(plan: &Plan, rows: Vec<RecordRow>) -> Result<Vec<RecordRow>, SelectError> {
+fn filter(plan: &RecordsPlan, rows: Vec<RecordRow>) -> Result<Vec<RecordRow>, SelectError> {
     let available_sets: BTreeSet<String> = rows.iter().filter_map(|r| r.meta.set.clone()).collect();
     if let Some(set) = plan.sets.iter().find(|s| !available_sets.contains(*s)) {
         return Err(SelectError::UnknownSet {

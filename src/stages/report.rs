@@ -44,7 +44,7 @@ impl Stage for Report {
     }
 
     fn inputs(&self, study: &Study) -> Result<Vec<PathBuf>, BoxError> {
-        if study.plan.pulses.is_some() {
+        if study.plan.pulse_map().is_some() {
             return Ok(vec![
                 study.path(super::pulses::WALLS),
                 study.path(super::pulses::MAP),
@@ -62,13 +62,13 @@ impl Stage for Report {
         if fit::not_applicable(&study.plan).is_none() {
             inputs.extend(fit::OUTPUTS.iter().map(|n| study.path(n)));
         }
-        if study.plan.example.is_some() {
+        if study.plan.example().is_some() {
             inputs.extend(super::example::OUTPUTS.iter().map(|n| study.path(n)));
         }
-        if !study.plan.convergence.is_empty() {
+        if !study.plan.convergence().is_empty() {
             inputs.push(study.path("capacity_convergence.parquet"));
         }
-        if study.plan.uncertainty.is_some() {
+        if study.plan.uncertainty().is_some() {
             inputs.push(study.path(super::reduce::BANDS));
             if fit::not_applicable(&study.plan).is_none() {
                 inputs.push(study.path(fit::BANDS));
@@ -137,20 +137,20 @@ pub fn load(
         } else {
             Vec::new()
         },
-        convergence: if plan.convergence.is_empty() {
+        convergence: if plan.convergence().is_empty() {
             None
         } else {
             Some(tables::read(&dir.join("capacity_convergence.parquet"))?)
         },
-        bands: match plan.uncertainty {
+        bands: match plan.uncertainty() {
             Some(_) => Some(tables::read(&dir.join(super::reduce::BANDS))?),
             None => None,
         },
-        fit_bands: match plan.uncertainty {
+        fit_bands: match plan.uncertainty() {
             Some(_) if read_fit => Some(read_fit_bands(&dir.join(fit::BANDS))?),
             _ => None,
         },
-        example: match &plan.example {
+        example: match plan.example() {
             Some(block) => {
                 use super::example::{CAPACITIES, HORIZONTAL, IDA};
                 Some(ExampleData {
@@ -211,7 +211,7 @@ pub fn load_pulses(
 
 fn run(cx: &Context) -> Result<Summary, ReportError> {
     let study = cx.study;
-    let (figs, md) = if study.plan.pulses.is_some() {
+    let (figs, md) = if study.plan.pulse_map().is_some() {
         let data = load_pulses(study, &cx.stage_seconds)?;
         let figs = figures::all_pulse(&data);
         let md = crate::report::render_pulses(&data, &figs);

@@ -123,9 +123,9 @@ impl Study {
     /// The records table the sweep reads: the pipeline's own table, or the
     /// one the ingest stage writes into the study's folder.
     pub fn records_table(&self) -> PathBuf {
-        match &self.plan.records {
-            RecordSource::Table(p) => p.clone(),
-            RecordSource::At2 { .. } => self.path("records.parquet"),
+        match self.plan.records_study().map(|r| &r.records) {
+            Ok(RecordSource::Table(p)) => p.clone(),
+            _ => self.path("records.parquet"),
         }
     }
 

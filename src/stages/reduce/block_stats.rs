@@ -3,7 +3,7 @@
 //! fractions, vertical fractiles, capacity fractiles and the lognormal check.
 
 use super::error::ReduceError;
-use crate::pipeline::{BlockSpec, Plan};
+use crate::pipeline::{BlockSpec, Plan, RecordsPlan};
 use crate::stages::sweep;
 use crate::stats;
 use crate::stats::FractileDef;
@@ -43,7 +43,7 @@ impl<'a> RecordIda<'a> {
 }
 
 /// The plan's grid levels (a plan that resolved has a valid grid).
-pub(super) fn grid_levels(plan: &Plan) -> Result<Vec<f64>, ReduceError> {
+pub(super) fn grid_levels(plan: &RecordsPlan) -> Result<Vec<f64>, ReduceError> {
     plan.grid
         .levels()
         .map_err(|e| ReduceError::Mismatch(e.to_string()))
@@ -81,6 +81,7 @@ pub(in crate::stages) fn horizontal_of_block(
     caps: &[CapacityRow],
     ida: &[IdaRow],
 ) -> Result<Vec<HorizontalRow>, ReduceError> {
+    let plan = plan.records_study()?;
     let levels = grid_levels(plan)?;
     let by_case = split_by_case(ida, caps.len())?;
     let records: Vec<RecordIda> = caps
@@ -191,7 +192,7 @@ pub(super) fn horizontal(
 }
 
 /// Vertical statistics: the first (largest) η at which each record's EDP reaches e.
-pub(super) fn vertical(plan: &Plan, block: &BlockSpec, records: &[RecordIda], out: &mut Tables) {
+pub(super) fn vertical(plan: &RecordsPlan, block: &BlockSpec, records: &[RecordIda], out: &mut Tables) {
     for k in 1..=EDP_LEVELS {
         let e = k as f64 / EDP_LEVELS as f64;
         let mut etas = Vec::with_capacity(records.len());

@@ -20,7 +20,7 @@ pub(super) fn bands(
     per_block: &[(Vec<f64>, [f64; 3])],
 ) -> Result<(Vec<CapacityBandRow>, Vec<CapacityResampleRow>), ReduceError> {
     use rayon::prelude::*;
-    let plan = &study.plan;
+    let plan = study.plan.records_study()?;
     let def = plan.fractile;
     let units = stats::Units::new(&unit_of(study, u.unit, caps, per_block)?);
     // estimates[r][block] = the block's three fractiles in resample r.
@@ -93,7 +93,7 @@ fn unit_of(
 ) -> Result<Vec<usize>, ReduceError> {
     use crate::stats::ResampleUnit;
     let plan = &study.plan;
-    let n_blocks = plan.blocks.len();
+    let n_blocks = plan.blocks().len();
     let n_records = per_block.first().map_or(0, |b| b.0.len());
     if unit == ResampleUnit::Record {
         return Ok((0..n_records).collect());

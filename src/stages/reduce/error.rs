@@ -18,4 +18,6 @@ pub enum ReduceError {
          none: give the pipeline a manifest with pairs, or set unit = \"record\""
     )]
     NoPair(String),
+    #[error(transparent)]
+    NotRecords(#[from] crate::pipeline::NotRecords),
 }

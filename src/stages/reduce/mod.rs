@@ -58,8 +58,11 @@ impl Stage for Reduce {
     }
 
     fn settings(&self, study: &Study) -> serde_json::Value {
-        let fractile = format!("{:?}", study.plan.fractile);
-        match study.plan.uncertainty {
+        let fractile = study
+            .plan
+            .records_study()
+            .map_or(String::new(), |r| format!("{:?}", r.fractile));
+        match study.plan.uncertainty() {
             None => serde_json::json!(fractile),
             Some(u) => serde_json::json!({ "fractile": fractile, "uncertainty": u }),
         }
@@ -75,7 +78,7 @@ impl Stage for Reduce {
             ],
             Err(e) => return Err(e.into()),
         };
-        if study.plan.uncertainty.is_some() {
+        if study.plan.uncertainty().is_some() {
             // The records' pairs, for the bootstrap.
             inputs.push(study.records_table());
         }
@@ -83,7 +86,7 @@ impl Stage for Reduce {
     }
 
     fn outputs(&self, study: &Study, _shard: Option<Shard>) -> Vec<PathBuf> {
-        let bands = match study.plan.uncertainty {
+        let bands = match study.plan.uncertainty() {
             Some(_) => &[BANDS, RESAMPLES][..],
             None => &[],
         };
@@ -96,7 +99,7 @@ impl Stage for Reduce {
 }
 
 fn run(study: &Study) -> Result<Summary, ReduceError> {
-    let plan = &study.plan;
+    let plan = study.plan.records_study()?;
     let (caps, ida) = load(study)?;
     let n_blocks = plan.blocks.len();
     let n_records = caps.len() / n_blocks;
@@ -187,7 +190,7 @@ fn load(study: &Study) -> Result<(Vec<CapacityRow>, Vec<IdaRow>), ReduceError> {
     caps.sort_by_key(|c| c.case_id);
     let mut ida: Vec<IdaRow> = tables::read_all(&ida_files)?;
     ida.sort_by_key(|r| r.case_id);
-    let n_blocks = plan.blocks.len();
+    let n_blocks = plan.blocks().len();
     if caps.len() % n_blocks != 0 {
         return Err(ReduceError::Mismatch(format!(
             "{} capacities for {n_blocks} blocks",

@@ -18,32 +18,14 @@ use crate::stages::stage::{Shard, Study};
 use crate::tables::records::RecordRow;
 use crate::tables::sweep::{CapacityRow, IdaRow};
 
-/// Each block's run specification, resolved once, and the reasons for the models.
-fn block_specs(
-    plan: &Plan,
-    blocks: &[BlockSpec],
-) -> Result<(Vec<RunSpec>, Vec<String>), SweepError> {
-    let mut specs = Vec::new();
-    let mut why = BTreeSet::new();
-    for b in blocks {
-        let block_err = |source| SweepError::Block {
-            p: b.p,
-            eps: b.eps,
-            source,
-        };
-        let (model, reason) = plan
-            .model
-            .resolve(b.alpha_rad, plan.rtol, plan.auto_tol)
-            .map_err(block_err)?;
-        let spec = RunSpec {
-            overturn: plan.overturn,
-            ..RunSpec::new(b.p, b.eps, 1.0, model)
-        };
-        spec.validate().map_err(block_err)?;
-        why.insert(reason);
-        specs.push(spec);
-    }
-    Ok((specs, why.into_iter().collect()))
+/// Each block's run specification (resolved with the plan) and the
+/// reasons for the models.
+fn block_specs(blocks: &[BlockSpec]) -> (Vec<RunSpec>, Vec<String>) {
+    let why: BTreeSet<&str> = blocks.iter().map(|b| b.model_why.as_str()).collect();
+    (
+        blocks.iter().map(|b| b.run).collect(),
+        why.into_iter().map(String::from).collect(),
+    )
 }
 
 /// Everything a chunk needs, prepared once: the records, their
@@ -53,6 +35,9 @@ pub(in crate::stages) struct Prepared {
     excitations: Vec<Excitation>,
     blocks: Vec<BlockSpec>,
     specs: Vec<RunSpec>,
+    grid: ida::ImGrid,
+    tol: f64,
+    trace: ida::Trace,
     pub(super) hash: String,
     plan_json: String,
     pub(in crate::stages) n_cases: usize,
@@ -66,7 +51,8 @@ impl Prepared {
     ) -> Result<(Prepared, Vec<String>), SweepError> {
         let plan = &study.plan;
         let records = records::select(plan, &study.records_table())?;
-        let (specs, models) = block_specs(plan, blocks)?;
+        let rs = plan.records_study().map_err(records::SelectError::from)?;
+        let (specs, models) = block_specs(blocks);
         let excitations = records
             .par_iter()
             .map(|r| {
@@ -84,6 +70,9 @@ impl Prepared {
             excitations,
             blocks: blocks.to_vec(),
             specs,
+            grid: rs.grid,
+            tol: rs.tol,
+            trace: rs.trace,
         };
         Ok((prepared, models))
     }
@@ -137,7 +126,6 @@ pub(in crate::stages) struct CaseResult {
 pub(in crate::stages) fn run_case(
     case: usize,
     prep: &Prepared,
-    plan: &Plan,
 ) -> Result<CaseResult, SweepError> {
     let n_blocks = prep.blocks.len();
     let (ri, bi) = (case / n_blocks, case % n_blocks);
@@ -145,9 +133,9 @@ pub(in crate::stages) fn run_case(
     let certified = ida::capacity_certified(
         &prep.excitations[ri],
         &spec,
-        &plan.grid,
-        plan.tol,
-        plan.trace,
+        &prep.grid,
+        prep.tol,
+        prep.trace,
     )
     .map_err(|source| SweepError::Record {
         record: record.record_id.clone(),

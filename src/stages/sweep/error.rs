@@ -16,13 +16,6 @@ pub enum SweepError {
     Records(#[from] SelectError),
     #[error(transparent)]
     Table(#[from] TableError),
-    #[error("block p = {p}, ε = {eps}")]
-    Block {
-        p: f64,
-        eps: f64,
-        #[source]
-        source: PhysicsError,
-    },
     #[error("record {record}")]
     Record {
         record: String,

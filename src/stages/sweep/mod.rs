@@ -50,7 +50,6 @@ pub use layout::{
 pub use writer::{CHECKPOINT_AFTER, FAULT_ENV, HOLD_ENV, MAX_HELD_ROWS};
 
 use super::stage::{BoxError, Context, Progress, Shard, Stage, Study, Summary};
-use crate::pipeline::Plan;
 use crate::tables;
 use cases::Tally;
 use layout::final_names;
@@ -166,7 +165,7 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
             tally,
         })
     };
-    let tally = run_chunks(&cases, prep, plan, writer)?;
+    let tally = run_chunks(&cases, prep, writer)?;
     clean_up(study, &setup.mine, cx.shard)?;
     Ok(summary(cx, &setup, &tally, started, ida_path, cap_path))
 }
@@ -177,7 +176,7 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
 fn prepare(cx: &Context) -> Result<Setup, SweepError> {
     let study = cx.study;
     let plan = &study.plan;
-    let (prep, models) = Prepared::new(study, &plan.blocks)?;
+    let (prep, models) = Prepared::new(study, plan.blocks())?;
     for m in &models {
         cx.reporter.note("sweep", &format!("model: {m}"));
     }
@@ -250,7 +249,6 @@ fn resume(
 fn run_chunks<'a, R: Fn(&Tally) + 'a>(
     cases: &[usize],
     prep: &Prepared,
-    plan: &Plan,
     writer: impl FnOnce() -> Result<ChunkWriter<'a, R>, SweepError> + Send,
 ) -> Result<Tally, SweepError> {
     let next = AtomicUsize::new(0);
@@ -279,7 +277,7 @@ fn run_chunks<'a, R: Fn(&Tally) + 'a>(
                     while !stop.load(Ordering::Relaxed) {
                         let i = next.fetch_add(1, Ordering::Relaxed);
                         let Some(&case) = cases.get(i) else { break };
-                        let result = run_case(case, prep, plan);
+                        let result = run_case(case, prep);
                         let failed = result.is_err();
                         if tx.send((i, result)).is_err() || failed {
                             stop.store(true, Ordering::Relaxed);
@@ -312,7 +310,7 @@ fn summary(
          (and {} more to certify them) in {:.1} s ({:.0} runs/s; {} sample intervals, {:.0} ns each \
          per thread)",
         setup.prep.records.len(),
-        plan.blocks.len(),
+        plan.blocks().len(),
         setup.cases_total,
         cx.shard.map_or(String::new(), |s| format!(" in shard {s}")),
         tally.cases_resumed,
