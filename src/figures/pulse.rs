@@ -166,9 +166,7 @@ pub(super) fn pulse_modes(d: &PulseData) -> Vec<Figure> {
             });
         }
         let slug = match beta {
-            Some(b)
-                if d.families().len() > d.plan.pulse_map().map_or(1, |p| p.shapes.len()) =>
-            {
+            Some(b) if d.families().len() > d.plan.pulse_map().map_or(1, |p| p.shapes.len()) => {
                 format!("beta{b}_eps{eps:.2}")
             }
             Some(b) => format!("beta{b}"),

@@ -8,10 +8,14 @@
 //! in `pipelines/README.md`.
 
 //! - [`raw`]: the file's sections as written;
+//! - [`checks`]: checkers both study kinds use;
 //! - [`plan`]: the resolved [`Plan`] and its limits;
-//! - [`resolve`]: the checkers that turn the one into the other.
+//! - [`resolve`]: the checkers that turn the one into the other;
+//! - [`pulse_map`]: the same for a pulse map's `[pulses]`.
 
+mod checks;
 mod plan;
+mod pulse_map;
 mod raw;
 mod resolve;
 

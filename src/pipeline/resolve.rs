@@ -3,10 +3,11 @@
 
 use std::path::{Path, PathBuf};
 
+use super::checks::{check_eps, model, values};
 use super::plan::*;
 use super::raw::*;
 use crate::block::{Block, BlockError, Restitution};
-use crate::ida::{ImGrid, Spacing, Trace, MAX_LEVELS};
+use crate::ida::{ImGrid, Trace, MAX_LEVELS};
 use crate::physics::{ModelChoice, Overturn, RunSpec};
 use crate::stats::{FractileDef, ResampleUnit};
 
@@ -22,49 +23,6 @@ pub fn load_str(text: &str, path: &Path) -> Result<Plan, PipelineError> {
     resolve(raw, path)
 }
 
-fn values(key: &str, v: &RawValues) -> Result<Vec<f64>, String> {
-    match v {
-        RawValues::List(list) => {
-            if list.is_empty() {
-                return Err(format!("`{key}` is an empty list"));
-            }
-            Ok(list.clone())
-        }
-        RawValues::Range(r) => {
-            if r.count == 0 {
-                return Err(format!("`{key}.count` must be at least 1"));
-            }
-            if r.count > MAX_RANGE_VALUES {
-                return Err(format!(
-                    "`{key}.count` = {} is more than {MAX_RANGE_VALUES} values",
-                    r.count
-                ));
-            }
-            if r.count == 1 {
-                return Ok(vec![r.from]);
-            }
-            if r.spacing == Spacing::Log && !(r.from > 0.0 && r.to > 0.0) {
-                return Err(format!(
-                    "`{key}`: log spacing needs positive `from` and `to`"
-                ));
-            }
-            let n = (r.count - 1) as f64;
-            Ok((0..r.count)
-                .map(|k| {
-                    let f = k as f64 / n;
-                    if k == r.count - 1 {
-                        return r.to;
-                    }
-                    match r.spacing {
-                        Spacing::Linear => r.from + (r.to - r.from) * f,
-                        Spacing::Log => r.from * (r.to / r.from).powf(f),
-                    }
-                })
-                .collect())
-        }
-    }
-}
-
 /// Checks every value of a raw pipeline and builds the plan. Each section
 /// has its own checker; their messages name the key.
 pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
@@ -75,7 +33,7 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
     let base = path.parent().unwrap_or(Path::new("."));
     let name = name_of(raw.name.as_deref(), path).map_err(err)?;
     if raw.pulses.is_some() {
-        return pulse_map(raw, name, base).map_err(err);
+        return super::pulse_map::resolve(raw, name, base).map_err(err);
     }
     let Some(raw_records) = raw.records else {
         return Err(err(
@@ -194,122 +152,6 @@ struct Unresolved {
     alpha_rad: Option<f64>,
 }
 
-/// A pipeline with `[pulses]`: the pulse map, its model and criterion
-/// (`escape` unless `model.overturn` says otherwise); the records study's
-/// sections are refused, not ignored.
-fn pulse_map(raw: RawPipeline, name: String, base: &Path) -> Result<Plan, String> {
-    use crate::pulse::Cycle;
-    let rp = raw.pulses.as_ref().expect("called for [pulses]");
-    refuse_stray_sections(&raw)?;
-    let (model, overturn) = model(&raw.model, Overturn::Escape)?;
-    if model == ModelChoice::Auto {
-        return Err("a pulse map takes `model.kind` = \"linearized\" or \"nonlinear\"".into());
-    }
-    if model == ModelChoice::Nonlinear && raw.model.alpha.is_none() {
-        return Err("`model.kind` = \"nonlinear\" needs `model.alpha`".into());
-    }
-    let shapes = pulse_shapes(rp)?;
-    let cycle: Cycle = rp
-        .cycle
-        .parse()
-        .map_err(|e: crate::physics::PhysicsError| format!("`pulses.cycle`: {e}"))?;
-    let f = values("pulses.f", &rp.f)?;
-    if let Some(bad) = f.iter().find(|f| !(f.is_finite() && **f > 0.0)) {
-        return Err(format!(
-            "`pulses.f` holds {bad}; f = p·t_d must be positive"
-        ));
-    }
-    let mut eta = values("pulses.eta", &rp.eta)?;
-    if let Some(bad) = eta.iter().find(|e| !(e.is_finite() && **e > 0.0)) {
-        return Err(format!("`pulses.eta` holds {bad}; η must be positive"));
-    }
-    eta.sort_by(|a, b| b.total_cmp(a));
-    let eps = values("pulses.eps", &rp.eps)?;
-    for &e in &eps {
-        check_eps("pulses.eps", e)?;
-    }
-    if let Some(n) = rp.intervals {
-        if n < 2 || n % 2 != 0 || n > crate::pulse::MAX_INTERVALS {
-            return Err(format!(
-                "`pulses.intervals` = {n}: an even number from 2 to {}",
-                crate::pulse::MAX_INTERVALS
-            ));
-        }
-    }
-    let walls = shapes.len() * eps.len() * f.len();
-    if walls > MAX_PULSE_WALLS || walls.saturating_mul(eta.len()) > MAX_PULSE_CELLS {
-        return Err(format!(
-            "the pulse map has {walls} walls and {} cells; at most {MAX_PULSE_WALLS} and {MAX_PULSE_CELLS}",
-            walls.saturating_mul(eta.len())
-        ));
-    }
-    Ok(Plan {
-        name,
-        description: raw.description.unwrap_or_default(),
-        model,
-        rtol: raw.model.rtol,
-        auto_tol: raw.model.auto_tol,
-        overturn,
-        study: StudyKind::PulseMap(PulsePlan {
-            shapes,
-            cycle,
-            f,
-            eta,
-            eps,
-            intervals: rp.intervals,
-            alpha: raw.model.alpha,
-        }),
-        base: base.to_path_buf(),
-    })
-}
-
-/// The records study's sections, refused in a pulse map rather than ignored.
-fn refuse_stray_sections(raw: &RawPipeline) -> Result<(), String> {
-    let stray = [
-        ("[records]", raw.records.is_some()),
-        (
-            "[blocks]",
-            raw.blocks.p.is_some() || raw.blocks.eps.is_some(),
-        ),
-        ("[[block]]", !raw.block.is_empty()),
-        ("[convergence]", raw.convergence.is_some()),
-        ("[uncertainty]", raw.uncertainty.is_some()),
-        ("[example]", raw.example.is_some()),
-    ];
-    if let Some((section, _)) = stray.iter().find(|(_, present)| *present) {
-        return Err(format!(
-            "a pulse map (`[pulses]`) runs no records: remove {section}"
-        ));
-    }
-    Ok(())
-}
-
-/// `pulses.shape` and `pulses.beta`: the pulse shapes of the map.
-fn pulse_shapes(rp: &RawPulses) -> Result<Vec<crate::pulse::Shape>, String> {
-    use crate::pulse::Shape;
-    let shapes = match (rp.shape.as_str(), &rp.beta) {
-        ("rect", None) => vec![Shape::Rect],
-        ("rect", Some(_)) => {
-            return Err("`pulses.beta` is the exponential pulse's shape; `rect` takes none".into())
-        }
-        ("exp", Some(betas)) if !betas.is_empty() => betas
-            .iter()
-            .map(|&beta| {
-                if beta.is_finite() && beta.abs() <= 500.0 {
-                    Ok(Shape::Exp { beta })
-                } else {
-                    Err(format!("`pulses.beta` = {beta} must lie in [−500, 500]"))
-                }
-            })
-            .collect::<Result<_, _>>()?,
-        ("exp", _) => {
-            return Err("`pulses.shape` = \"exp\" needs `pulses.beta`, a list of β".into())
-        }
-        (other, _) => return Err(format!("`pulses.shape` = \"{other}\"; valid: rect, exp")),
-    };
-    Ok(shapes)
-}
-
 /// `name`, or the file's stem: a plain folder name.
 fn name_of(name: Option<&str>, path: &Path) -> Result<String, String> {
     let name = match name {
@@ -351,50 +193,6 @@ fn records(raw: &RawRecords, base: &Path) -> Result<RecordSource, String> {
             "`records` needs `table` (a records table from `rocking ingest`) or `at2` (AT2 files or folders)".into(),
         ),
         (Some(_), Some(_)) => Err("`records`: give `table` or `at2`, not both".into()),
-    }
-}
-
-/// `[model]`: the equation choice and the overturning criterion.
-fn model(raw: &RawModel, default: Overturn) -> Result<(ModelChoice, Overturn), String> {
-    let model = match raw.kind.as_str() {
-        "linearized" => ModelChoice::Linearized,
-        "nonlinear" => ModelChoice::Nonlinear,
-        "auto" => ModelChoice::Auto,
-        other => {
-            return Err(format!(
-                "`model.kind` = \"{other}\"; valid: linearized, nonlinear, auto"
-            ));
-        }
-    };
-    let overturn: Overturn = match &raw.overturn {
-        None => default,
-        Some(text) => text
-            .parse()
-            .map_err(|e: crate::physics::PhysicsError| format!("`model.overturn`: {e}"))?,
-    };
-    if overturn == Overturn::OnSide && model == ModelChoice::Linearized {
-        return Err("`model.overturn` = \"on-side\" needs the nonlinear model".into());
-    }
-    crate::physics::check_rtol(raw.rtol).map_err(|e| format!("`model.rtol`: {e}"))?;
-    if raw.auto_tol.is_nan() || raw.auto_tol <= 0.0 {
-        return Err(format!(
-            "`model.auto_tol` = {} must be positive",
-            raw.auto_tol
-        ));
-    }
-    if let Some(a) = raw.alpha {
-        if !(a > 0.0 && a < std::f64::consts::FRAC_PI_2) {
-            return Err(format!("`model.alpha` = {a} rad must be in (0, π/2)"));
-        }
-    }
-    Ok((model, overturn))
-}
-
-fn check_eps(key: &str, e: f64) -> Result<(), String> {
-    if e > 0.0 && e <= 1.0 {
-        Ok(())
-    } else {
-        Err(format!("`{key}` holds ε = {e}; ε must be in (0, 1]"))
     }
 }
 
@@ -625,7 +423,8 @@ mod tests {
         assert_eq!(plan.blocks()[0].p, 0.33);
         assert_eq!(plan.blocks()[23].p, 10.0);
         assert!(
-            (plan.blocks()[2].p / plan.blocks()[0].p - (10.0f64 / 0.33).powf(1.0 / 11.0)).abs() < 1e-12
+            (plan.blocks()[2].p / plan.blocks()[0].p - (10.0f64 / 0.33).powf(1.0 / 11.0)).abs()
+                < 1e-12
         );
         assert_eq!((plan.blocks()[0].eps, plan.blocks()[1].eps), (0.5, 0.95));
         let rs = plan.records_study().unwrap();

@@ -53,8 +53,11 @@ impl Stage for Ingest {
         if let Some(why) = study.plan.pulse_map_skips() {
             return Some(why);
         }
-        matches!(study.plan.records_study().map(|r| &r.records), Ok(RecordSource::Table(_)))
-            .then(|| "the pipeline reads a records table directly".to_string())
+        matches!(
+            study.plan.records_study().map(|r| &r.records),
+            Ok(RecordSource::Table(_))
+        )
+        .then(|| "the pipeline reads a records table directly".to_string())
     }
 
     fn settings(&self, study: &Study) -> serde_json::Value {

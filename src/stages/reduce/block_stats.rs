@@ -192,7 +192,12 @@ pub(super) fn horizontal(
 }
 
 /// Vertical statistics: the first (largest) η at which each record's EDP reaches e.
-pub(super) fn vertical(plan: &RecordsPlan, block: &BlockSpec, records: &[RecordIda], out: &mut Tables) {
+pub(super) fn vertical(
+    plan: &RecordsPlan,
+    block: &BlockSpec,
+    records: &[RecordIda],
+    out: &mut Tables,
+) {
     for k in 1..=EDP_LEVELS {
         let e = k as f64 / EDP_LEVELS as f64;
         let mut etas = Vec::with_capacity(records.len());

@@ -123,10 +123,7 @@ pub(in crate::stages) struct CaseResult {
     pub(super) intervals: u64,
 }
 
-pub(in crate::stages) fn run_case(
-    case: usize,
-    prep: &Prepared,
-) -> Result<CaseResult, SweepError> {
+pub(in crate::stages) fn run_case(case: usize, prep: &Prepared) -> Result<CaseResult, SweepError> {
     let n_blocks = prep.blocks.len();
     let (ri, bi) = (case / n_blocks, case % n_blocks);
     let (record, spec, block) = (&prep.records[ri], prep.specs[bi], &prep.blocks[bi].name);

@@ -1,0 +1,97 @@
+//! Checkers shared by both study kinds: value lists and ranges, the
+//! `[model]` section, ε.
+
+use super::plan::MAX_RANGE_VALUES;
+use super::raw::*;
+use crate::ida::Spacing;
+use crate::physics::{ModelChoice, Overturn};
+
+/// A list of values, or a `{ from, to, count, spacing }` range expanded,
+/// under the key `key`.
+pub(super) fn values(key: &str, v: &RawValues) -> Result<Vec<f64>, String> {
+    match v {
+        RawValues::List(list) => {
+            if list.is_empty() {
+                return Err(format!("`{key}` is an empty list"));
+            }
+            Ok(list.clone())
+        }
+        RawValues::Range(r) => {
+            if r.count == 0 {
+                return Err(format!("`{key}.count` must be at least 1"));
+            }
+            if r.count > MAX_RANGE_VALUES {
+                return Err(format!(
+                    "`{key}.count` = {} is more than {MAX_RANGE_VALUES} values",
+                    r.count
+                ));
+            }
+            if r.count == 1 {
+                return Ok(vec![r.from]);
+            }
+            if r.spacing == Spacing::Log && !(r.from > 0.0 && r.to > 0.0) {
+                return Err(format!(
+                    "`{key}`: log spacing needs positive `from` and `to`"
+                ));
+            }
+            let n = (r.count - 1) as f64;
+            Ok((0..r.count)
+                .map(|k| {
+                    let f = k as f64 / n;
+                    if k == r.count - 1 {
+                        return r.to;
+                    }
+                    match r.spacing {
+                        Spacing::Linear => r.from + (r.to - r.from) * f,
+                        Spacing::Log => r.from * (r.to / r.from).powf(f),
+                    }
+                })
+                .collect())
+        }
+    }
+}
+
+/// `[model]`: the equation choice and the overturning criterion.
+pub(super) fn model(raw: &RawModel, default: Overturn) -> Result<(ModelChoice, Overturn), String> {
+    let model = match raw.kind.as_str() {
+        "linearized" => ModelChoice::Linearized,
+        "nonlinear" => ModelChoice::Nonlinear,
+        "auto" => ModelChoice::Auto,
+        other => {
+            return Err(format!(
+                "`model.kind` = \"{other}\"; valid: linearized, nonlinear, auto"
+            ));
+        }
+    };
+    let overturn: Overturn = match &raw.overturn {
+        None => default,
+        Some(text) => text
+            .parse()
+            .map_err(|e: crate::physics::PhysicsError| format!("`model.overturn`: {e}"))?,
+    };
+    if overturn == Overturn::OnSide && model == ModelChoice::Linearized {
+        return Err("`model.overturn` = \"on-side\" needs the nonlinear model".into());
+    }
+    crate::physics::check_rtol(raw.rtol).map_err(|e| format!("`model.rtol`: {e}"))?;
+    if raw.auto_tol.is_nan() || raw.auto_tol <= 0.0 {
+        return Err(format!(
+            "`model.auto_tol` = {} must be positive",
+            raw.auto_tol
+        ));
+    }
+    if let Some(a) = raw.alpha {
+        if !(a > 0.0 && a < std::f64::consts::FRAC_PI_2) {
+            return Err(format!("`model.alpha` = {a} rad must be in (0, π/2)"));
+        }
+    }
+    Ok((model, overturn))
+}
+
+/// ε under the key `key`: in (0, 1].
+pub(super) fn check_eps(key: &str, e: f64) -> Result<(), String> {
+    if e > 0.0 && e <= 1.0 {
+        Ok(())
+    } else {
+        Err(format!("`{key}` holds ε = {e}; ε must be in (0, 1]"))
+    }
+}
