@@ -310,20 +310,24 @@ fn ln_exp_minus(a: f64, c: f64) -> f64 {
 }
 
 fn eq5_direct(beta: f64, f: f64) -> f64 {
-    // ln B = f + ln(f + 2β) − ln(2f e^{f/2+β} − (f − 2β)); both factors
-    // have the same sign (negative when 2β < −f), so take them as positive.
-    let num = f + 2.0 * beta;
-    let (ln_num, ln_den) = if num > 0.0 {
-        (
-            num.ln(),
-            (2.0 * f).ln() + ln_exp_minus(f / 2.0 + beta, (f - 2.0 * beta) / (2.0 * f)),
-        )
+    // ln B = f + ln(f + 2β) − ln(2f e^{f/2+β} − (f − 2β)). With s = f + 2β
+    // the denominator is s·(1 + 2f·g(s)), g(s) = (e^{s/2} − 1)/s > 0, so
+    // B = e^f / (1 + 2f·g(s)): numerator and denominator vanish together at
+    // f = −2β (β < 0), a removable singularity where B → e^f/(1 + f). Near
+    // it (|s| < 1, where g cannot overflow) B is taken in that form; away
+    // from it, in logarithms of both factors (same sign, so as positives).
+    let s = f + 2.0 * beta;
+    let ln_b = if s.abs() < 1.0 {
+        let g = if s == 0.0 { 0.5 } else { (s / 2.0).exp_m1() / s };
+        f - (2.0 * f * g).ln_1p()
+    } else if s > 0.0 {
+        let ln_den = (2.0 * f).ln() + ln_exp_minus(f / 2.0 + beta, (f - 2.0 * beta) / (2.0 * f));
+        f + s.ln() - ln_den
     } else {
         // −(2f e^{f/2+β} − (f − 2β)) = (f − 2β) − 2f e^{f/2+β} > 0.
         let d = (f - 2.0 * beta) - 2.0 * f * (f / 2.0 + beta).exp();
-        ((-num).ln(), d.ln())
+        f + (-s).ln() - d.ln()
     };
-    let ln_b = f + ln_num - ln_den;
     let e = 2.0 * beta / (f - 2.0 * beta) * ln_b; // ln of B^{2β/(f−2β)}
     if beta < 0.0 {
         e.exp_m1() / beta.exp_m1()
@@ -522,6 +526,19 @@ mod tests {
         for (beta, f) in [(1e-5 * 1.01, 2.0), (2.0, 4.0 + 4e-5 * 1.01)] {
             let (a, b) = (exponential_eq5(beta, f), eq5_direct(beta, f));
             assert!((a - b).abs() < 1e-9, "β = {beta}, f = {f}: {a} vs {b}");
+        }
+        // f = −2β: numerator and denominator of B vanish together; the
+        // limit B = e^f/(1 + f) and exponent 2β/(f − 2β) = −1/2 give
+        // η_w = (1 − √((1 + f)/e^f))/(1 − e^{−f/2}) (worked by hand).
+        for f in [0.5f64, 2.0, 10.0, 40.0] {
+            let want = (1.0 - ((1.0 + f) * (-f).exp()).sqrt()) / -(-f / 2.0).exp_m1();
+            let got = exponential_eq5(-f / 2.0, f);
+            assert!((got - want).abs() < 1e-13, "f = {f}: {got}, limit {want}");
+            // and the values beside it join the limit smoothly.
+            for df in [1e-9, 1e-6, -1e-6] {
+                let near = exponential_eq5(-f / 2.0, f + df);
+                assert!((near - want).abs() < 1e-5, "f = {f} + {df}: {near} vs {want}");
+            }
         }
         // β → −∞ is Housner's rectangle.
         assert!((exponential_eq5(-1e7, 2.0) - housner_eq3(2.0)).abs() < 1e-6);

@@ -65,7 +65,7 @@ pub fn all_pulse(d: &PulseData) -> Vec<Figure> {
 }
 
 #[cfg(test)]
-mod fixture;
+pub(crate) mod fixture;
 
 #[cfg(test)]
 mod tests {

@@ -96,14 +96,14 @@ fn walls(md: &mut String, d: &PulseData) {
             any = true;
             let _ = writeln!(
                 md,
-                "| {label} | {} | {} | {} | {:.1e} |",
+                "| {label} | {} | {} | {} | {} |",
                 w.closed_form_equation.as_deref().unwrap_or(""),
                 match w.closed_form_kind() {
                     Some(crate::pulse::WallKind::Any) => "η_w",
                     _ => "η_w,0 (Mode 0)",
                 },
                 diffs.len(),
-                diffs.iter().cloned().fold(0.0, f64::max)
+                largest_gap(&diffs)
             );
         }
     }
@@ -114,6 +114,16 @@ fn walls(md: &mut String, d: &PulseData) {
         );
     }
     let _ = writeln!(md);
+}
+
+/// The largest relative difference, or how many walls have none: a NaN
+/// (a closed form or wall that could not be evaluated) is never folded away.
+fn largest_gap(diffs: &[f64]) -> String {
+    let undefined = diffs.iter().filter(|d| d.is_nan()).count();
+    if undefined > 0 {
+        return format!("**undefined (NaN) for {undefined} of {}**", diffs.len());
+    }
+    format!("{:.1e}", diffs.iter().cloned().fold(0.0, f64::max))
 }
 
 /// How many of each family's map points are safe or overturn in each mode.
@@ -142,4 +152,28 @@ fn modes(md: &mut String, d: &PulseData) {
         );
     }
     let _ = writeln!(md);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::figures::fixture::{pulse_study, wall};
+
+    /// A wall whose closed form is NaN is reported as such, not folded
+    /// into the largest difference by `f64::max` (which drops NaN).
+    #[test]
+    fn a_nan_closed_form_is_reported_not_hidden() {
+        let mut d = pulse_study("shape = \"exp\"\nbeta = [-5.0]\ncycle = \"half\"\neps = [0.9]");
+        d.walls = vec![
+            wall(Some(-5.0), 0.9, 2.0, Some(0.5), Some((0.5, "Eq. 5", "eta_w"))),
+            wall(Some(-5.0), 0.9, 10.0, Some(0.9), Some((f64::NAN, "Eq. 5", "eta_w"))),
+        ];
+        let mut md = String::new();
+        walls(&mut md, &d);
+        assert!(md.contains("undefined (NaN) for 1 of 2"), "{md}");
+        d.walls.pop();
+        let mut md = String::new();
+        walls(&mut md, &d);
+        assert!(md.contains("| 1 | 0.0e0 |"), "{md}");
+    }
 }
