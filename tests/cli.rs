@@ -77,6 +77,16 @@ fn housner_through_the_command_line() {
         (cap["eta_c"].as_f64().unwrap() - exact).abs() < 2e-11,
         "{cap}"
     );
+    // At the top of the range of p the arithmetic still holds:
+    // 1 − e^{−1000} = 1 to the last bit.
+    let cap = json(&rocking(
+        dir.path(),
+        &[
+            "capacity", "--record", "RECT.AT2", "--p", "1000", "--eps", "0.9", "--tol", "1e-11",
+            "--json",
+        ],
+    ));
+    assert!((cap["eta_c"].as_f64().unwrap() - 1.0).abs() < 2e-11, "{cap}");
 }
 
 #[test]
@@ -150,6 +160,11 @@ fn bad_input_is_named() {
     let cases: &[(&str, &str, &[&str], &str)] = &[
         ("2", "1.5", &[], "ε = 1.5"),
         ("-1", "0.8", &[], "p = -1"),
+        // Once: η_c = 0.0025 "certified" at 1e7, "uplift at 7.11 s" with
+        // θmax/α = 0 at 1e10, θmax/α = 0 at α = 1e-308.
+        ("1e7", "0.8", &[], "outside [0.01, 1000] 1/s"),
+        ("1e10", "0.8", &[], "outside [0.01, 1000] 1/s"),
+        ("2", "0.8", &["--model", "nonlinear", "--alpha", "1e-308"], "outside [0.001, π/2)"),
         ("2", "0.8", &["--model", "nonlinear"], "--alpha"),
         ("2", "0.8", &["--overturn", "cap:0.5"], "≥ 1"),
         ("2", "0.8", &["--overturn", "sideways"], "valid: static"),

@@ -398,7 +398,12 @@ fn bad_pipelines_fail_before_any_run_naming_the_key() {
         ),
         (
             "[blocks]\np = [-2.0]\neps = [0.8]\n".into(),
-            "p must be positive",
+            "`blocks.p`: p = -2 1/s is outside [0.01, 1000] 1/s",
+        ),
+        (
+            // Once accepted: the report stage then spun for minutes.
+            "[blocks]\np = [0.5, 1.0, 1e300]\neps = [0.8]\n".into(),
+            "`blocks.p`: p = 1e300 1/s is outside [0.01, 1000] 1/s",
         ),
         (
             format!("sets = [\"mars\"]\n{grid}"),

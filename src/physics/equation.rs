@@ -22,6 +22,24 @@ pub enum Equation {
     Nonlinear { alpha_rad: f64 },
 }
 
+/// The smallest slenderness α (rad) the nonlinear equation takes: b/h =
+/// 0.001, a 1-mm needle a metre tall. Below it α³ terms underflow and
+/// θmax/α loses its digits (α = 1e-308 gave θmax/α = 0); the linearised
+/// equation, exact in that limit, needs no α.
+pub const ALPHA_MIN: f64 = 1e-3;
+
+/// Whether α (rad) is in [[`ALPHA_MIN`], π/2); else the message.
+pub fn check_alpha(a: f64) -> Result<(), String> {
+    if a >= ALPHA_MIN && a < std::f64::consts::FRAC_PI_2 {
+        Ok(())
+    } else {
+        Err(format!(
+            "α = {a} rad is outside [{ALPHA_MIN}, π/2): the nonlinear equation takes a block \
+             no more slender than b/h = 0.001 (use the linearised model below)"
+        ))
+    }
+}
+
 /// The equation without its parameters: what the tables' `model` column holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -58,10 +76,8 @@ impl Equation {
 
     pub fn validate(self) -> Result<(), PhysicsError> {
         match self.alpha() {
-            Some(a) if !(a > 0.0 && a < std::f64::consts::FRAC_PI_2) => Err(
-                PhysicsError::BadInput(format!("α = {a} rad must be in (0, π/2)")),
-            ),
-            _ => Ok(()),
+            Some(a) => check_alpha(a).map_err(PhysicsError::BadInput),
+            None => Ok(()),
         }
     }
 

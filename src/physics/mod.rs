@@ -44,7 +44,7 @@ use std::fmt;
 
 pub use dispatch::Isa;
 pub use driver::{Outcome, Stop};
-pub use equation::{Equation, EquationKind, LINEARIZATION_ERROR_PER_ALPHA2};
+pub use equation::{check_alpha, Equation, EquationKind, ALPHA_MIN, LINEARIZATION_ERROR_PER_ALPHA2};
 pub use history::{EventKind, HistoryPoint, Observer, Recorder};
 pub use integrator::{check_rtol, Integrator, Model, ModelChoice, DEFAULT_RTOL, MIN_RTOL};
 pub use simulate::{simulate, simulate_from, simulate_observed, simulate_on, simulate_pair};
@@ -55,6 +55,29 @@ pub use step::{Rocking, Stepper, Stretch, StretchEnd};
 /// `|x| ≈ (ẋ⁺/p)²/2 < 5·10⁻¹⁹`, far below any reported digit; the tests
 /// check that θmax/α does not move when the tolerance changes by 100×.
 pub const REST_TOL: f64 = 1e-9;
+
+/// The frequency parameters p (1/s) the model is computed for: blocks with
+/// R = 3g/(4p²) from 7.4 µm (p = 1000) to 74 km (p = 0.01), every real
+/// block and far beyond. Above, the arithmetic fails before the physics:
+/// the exact step's e^{p·Δt} overflows at p·Δt ≈ 709 (p ≈ 1.4e5 on a
+/// 0.005-s record), and on Kobe NIS η_c, which tends to 1 as p grows (a
+/// tiny block overturns as soon as it uplifts), was 0.99993 at p = 1e4 but
+/// 0.31 at 1e6 and 0.0025 at 1e7.
+pub const P_RANGE: std::ops::RangeInclusive<f64> = 0.01..=1000.0;
+
+/// Whether `p` is in [`P_RANGE`]; else the message, naming the range.
+pub fn check_p(p: f64) -> Result<(), String> {
+    if P_RANGE.contains(&p) {
+        Ok(())
+    } else {
+        Err(format!(
+            "p = {p} 1/s is outside [{}, {}] 1/s, the range the model is computed for \
+             (a block's R = 3g/(4p²) from 74 km down to 7.4 µm)",
+            P_RANGE.start(),
+            P_RANGE.end()
+        ))
+    }
+}
 
 /// Hard cap on events in one run; a run that reaches it is reported as
 /// [`Stop::EventLimit`] instead of looping. No physical run comes close:
@@ -396,9 +419,7 @@ impl RunSpec {
     /// Checks ranges; called by [`simulate`].
     pub fn validate(&self) -> Result<(), PhysicsError> {
         let bad = |m: String| Err(PhysicsError::BadInput(m));
-        if !(self.p > 0.0 && self.p.is_finite()) {
-            return bad(format!("p = {} 1/s must be positive", self.p));
-        }
+        check_p(self.p).map_err(PhysicsError::BadInput)?;
         if !(self.eps > 0.0 && self.eps <= 1.0) {
             return bad(format!("ε = {} must be in (0, 1]", self.eps));
         }

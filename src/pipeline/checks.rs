@@ -80,9 +80,7 @@ pub(super) fn model(raw: &RawModel, default: Overturn) -> Result<(ModelChoice, O
         ));
     }
     if let Some(a) = raw.alpha {
-        if !(a > 0.0 && a < std::f64::consts::FRAC_PI_2) {
-            return Err(format!("`model.alpha` = {a} rad must be in (0, π/2)"));
-        }
+        crate::physics::check_alpha(a).map_err(|e| format!("`model.alpha`: {e}"))?;
     }
     Ok((model, overturn))
 }

@@ -206,10 +206,8 @@ fn blocks(
         (Some(p), Some(eps), true) => {
             let ps = values("blocks.p", p)?;
             let epss = values("blocks.eps", eps)?;
-            if let Some(pv) = ps.iter().find(|pv| !(**pv > 0.0 && pv.is_finite())) {
-                return Err(format!(
-                    "`blocks.p` holds p = {pv}; p must be positive (1/s)"
-                ));
+            for &pv in &ps {
+                crate::physics::check_p(pv).map_err(|e| format!("`blocks.p`: {e}"))?;
             }
             for &e in &epss {
                 check_eps("blocks.eps", e)?;
@@ -255,9 +253,7 @@ fn blocks(
 fn example(e: &RawExample, model_alpha: Option<f64>) -> Result<Unresolved, String> {
     match (e.p, e.b, e.h) {
         (Some(p), None, None) => {
-            if !(p > 0.0 && p.is_finite()) {
-                return Err(format!("`example.p` = {p}; p must be positive (1/s)"));
-            }
+            crate::physics::check_p(p).map_err(|e| format!("`example.p`: {e}"))?;
             let eps = match &e.eps {
                 toml::Value::Float(x) => *x,
                 toml::Value::Integer(x) => *x as f64,
@@ -510,7 +506,7 @@ mod tests {
                     "p = { from = 0.33, to = 10.0, count = 12, spacing = \"log\" }",
                     "p = [0.0]",
                 ),
-                "p must be positive",
+                "p = 0 1/s is outside [0.01, 1000] 1/s",
             ),
             (
                 format!("{MINIMAL}\n[model]\nkind = \"quadratic\"\n"),
