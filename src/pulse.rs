@@ -318,7 +318,11 @@ fn eq5_direct(beta: f64, f: f64) -> f64 {
     // from it, in logarithms of both factors (same sign, so as positives).
     let s = f + 2.0 * beta;
     let ln_b = if s.abs() < 1.0 {
-        let g = if s == 0.0 { 0.5 } else { (s / 2.0).exp_m1() / s };
+        let g = if s == 0.0 {
+            0.5
+        } else {
+            (s / 2.0).exp_m1() / s
+        };
         f - (2.0 * f * g).ln_1p()
     } else if s > 0.0 {
         let ln_den = (2.0 * f).ln() + ln_exp_minus(f / 2.0 + beta, (f - 2.0 * beta) / (2.0 * f));
@@ -537,7 +541,10 @@ mod tests {
             // and the values beside it join the limit smoothly.
             for df in [1e-9, 1e-6, -1e-6] {
                 let near = exponential_eq5(-f / 2.0, f + df);
-                assert!((near - want).abs() < 1e-5, "f = {f} + {df}: {near} vs {want}");
+                assert!(
+                    (near - want).abs() < 1e-5,
+                    "f = {f} + {df}: {near} vs {want}"
+                );
             }
         }
         // β → −∞ is Housner's rectangle.

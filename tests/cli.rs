@@ -86,7 +86,10 @@ fn housner_through_the_command_line() {
             "--json",
         ],
     ));
-    assert!((cap["eta_c"].as_f64().unwrap() - 1.0).abs() < 2e-11, "{cap}");
+    assert!(
+        (cap["eta_c"].as_f64().unwrap() - 1.0).abs() < 2e-11,
+        "{cap}"
+    );
 }
 
 #[test]
@@ -164,7 +167,12 @@ fn bad_input_is_named() {
         // θmax/α = 0 at 1e10, θmax/α = 0 at α = 1e-308.
         ("1e7", "0.8", &[], "outside [0.01, 1000] 1/s"),
         ("1e10", "0.8", &[], "outside [0.01, 1000] 1/s"),
-        ("2", "0.8", &["--model", "nonlinear", "--alpha", "1e-308"], "outside [0.001, π/2)"),
+        (
+            "2",
+            "0.8",
+            &["--model", "nonlinear", "--alpha", "1e-308"],
+            "outside [0.001, π/2)",
+        ),
         ("2", "0.8", &["--model", "nonlinear"], "--alpha"),
         ("2", "0.8", &["--overturn", "cap:0.5"], "≥ 1"),
         ("2", "0.8", &["--overturn", "sideways"], "valid: static"),

@@ -9,6 +9,27 @@ use crate::physics::{ModelChoice, Overturn};
 /// A list of values, or a `{ from, to, count, spacing }` range expanded,
 /// under the key `key`.
 pub(super) fn values(key: &str, v: &RawValues) -> Result<Vec<f64>, String> {
+    let values = expand(key, v)?;
+    refuse_repeats(key, &values)?;
+    Ok(values)
+}
+
+/// Refuses a value given twice (a list's repeat, or a range whose `from`
+/// equals its `to`): it would repeat rows, and a report keyed by the value
+/// would show one row's results twice.
+pub(super) fn refuse_repeats<T: PartialEq + std::fmt::Debug>(
+    key: &str,
+    values: &[T],
+) -> Result<(), String> {
+    for (i, v) in values.iter().enumerate() {
+        if values[..i].contains(v) {
+            return Err(format!("`{key}` holds {v:?} twice; give each value once"));
+        }
+    }
+    Ok(())
+}
+
+fn expand(key: &str, v: &RawValues) -> Result<Vec<f64>, String> {
     match v {
         RawValues::List(list) => {
             if list.is_empty() {

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use super::checks::{check_eps, model, values};
+use super::checks::{check_eps, model, refuse_repeats, values};
 use super::plan::*;
 use super::raw::*;
 use crate::physics::{ModelChoice, Overturn};
@@ -23,6 +23,9 @@ pub(super) fn resolve(raw: RawPipeline, name: String, base: &Path) -> Result<Pla
         return Err("`model.kind` = \"nonlinear\" needs `model.alpha`".into());
     }
     let shapes = pulse_shapes(rp)?;
+    if let Some(betas) = &rp.beta {
+        refuse_repeats("pulses.beta", betas)?;
+    }
     let cycle: Cycle = rp
         .cycle
         .parse()

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::checks::{check_eps, model, values};
+use super::checks::{check_eps, model, refuse_repeats, values};
 use super::plan::*;
 use super::raw::*;
 use crate::block::{Block, BlockError, Restitution};
@@ -231,11 +231,24 @@ fn blocks(
                 })
                 .collect())
         }
-        (None, None, false) => physical
-            .iter()
-            .enumerate()
-            .map(|(i, b)| physical_block(i, b))
-            .collect(),
+        (None, None, false) => {
+            let blocks = physical
+                .iter()
+                .enumerate()
+                .map(|(i, b)| physical_block(i, b))
+                .collect::<Result<Vec<_>, _>>()?;
+            // The tables and the report tell blocks apart by name.
+            for (i, b) in blocks.iter().enumerate() {
+                if let Some(j) = blocks[..i].iter().position(|a| a.name == b.name) {
+                    return Err(format!(
+                        "`block[{i}]` is named \"{}\" as `block[{j}]` is; give each block its own \
+                         `name` (an unnamed block is named by b and h)",
+                        b.name
+                    ));
+                }
+            }
+            Ok(blocks)
+        }
         (None, None, true) => Err(
             "no blocks: give `[blocks]` with `p` and `eps`, or `[[block]]` entries with b, h, eps"
                 .into(),
@@ -359,9 +372,9 @@ fn convergence(raw: Option<&RawConvergence>) -> Result<Vec<usize>, String> {
             c.levels
         ));
     }
+    refuse_repeats("convergence.levels", &c.levels)?;
     let mut levels = c.levels.clone();
     levels.sort_unstable();
-    levels.dedup();
     Ok(levels)
 }
 
@@ -494,7 +507,43 @@ mod tests {
 
     #[test]
     fn errors_name_the_key_and_the_choices() {
+        let block =
+            |name: &str| format!("[[block]]\nname = \"{name}\"\nb = 0.2\nh = 1.0\neps = 0.9\n");
+        let records = "[records]\ntable = \"r.parquet\"\n";
         let cases = [
+            // Repeats, once accepted: they repeated rows, and two blocks
+            // named alike showed the first one's fractiles on both rows.
+            (
+                MINIMAL.replace("eps = [0.5, 0.95]", "eps = [0.5, 0.5, 0.95]"),
+                "`blocks.eps` holds 0.5 twice",
+            ),
+            (
+                MINIMAL.replace(
+                    "eps = [0.5, 0.95]",
+                    "eps = { from = 0.5, to = 0.5, count = 3 }",
+                ),
+                "`blocks.eps` holds 0.5 twice",
+            ),
+            (
+                format!("{MINIMAL}\n[convergence]\nlevels = [60, 60]\n"),
+                "`convergence.levels` holds 60 twice",
+            ),
+            (
+                format!("{records}{}{}", block("a"), block("a")),
+                "`block[1]` is named \"a\" as `block[0]` is",
+            ),
+            (
+                "[model]\nkind = \"linearized\"\n[pulses]\nshape = \"exp\"\nbeta = [1.0, 1.0]\n\
+                 f = [1.0]\neta = [0.5]\neps = [0.9]\n"
+                    .to_string(),
+                "`pulses.beta` holds 1.0 twice",
+            ),
+            (
+                "[model]\nkind = \"linearized\"\n[pulses]\nshape = \"rect\"\n\
+                 f = [0.5, 1.0, 0.5]\neta = [0.5]\neps = [0.9]\n"
+                    .to_string(),
+                "`pulses.f` holds 0.5 twice",
+            ),
             (MINIMAL.replace("sets =", "setz ="), "setz"),
             (
                 MINIMAL.replace("eps = [0.5, 0.95]", "eps = [0.5, 1.5]"),

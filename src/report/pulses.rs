@@ -165,8 +165,20 @@ mod tests {
     fn a_nan_closed_form_is_reported_not_hidden() {
         let mut d = pulse_study("shape = \"exp\"\nbeta = [-5.0]\ncycle = \"half\"\neps = [0.9]");
         d.walls = vec![
-            wall(Some(-5.0), 0.9, 2.0, Some(0.5), Some((0.5, "Eq. 5", "eta_w"))),
-            wall(Some(-5.0), 0.9, 10.0, Some(0.9), Some((f64::NAN, "Eq. 5", "eta_w"))),
+            wall(
+                Some(-5.0),
+                0.9,
+                2.0,
+                Some(0.5),
+                Some((0.5, "Eq. 5", "eta_w")),
+            ),
+            wall(
+                Some(-5.0),
+                0.9,
+                10.0,
+                Some(0.9),
+                Some((f64::NAN, "Eq. 5", "eta_w")),
+            ),
         ];
         let mut md = String::new();
         walls(&mut md, &d);
