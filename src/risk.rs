@@ -125,8 +125,23 @@ impl Segment {
         self.rate0 * (a / self.a0).powf(-self.k)
     }
 
-    /// ∫_{a0}^{a1} P |dλ| in closed form.
+    /// ∫_{a0}^{a1} P |dλ| in closed form: exactly 0 where the hazard is
+    /// flat (no event exceeds a0 without exceeding a1), and never below 0
+    /// (the integrand P·k·λ is not; the closed form's two terms cancel to
+    /// rounding on a nearly flat piece, which gave −1e-18 and "−14 %" bins).
     fn integral(&self, f: &Fragility) -> f64 {
+        if self.k == 0.0 {
+            return 0.0;
+        }
+        let value = self.integral_of(f);
+        if value > 0.0 {
+            value
+        } else {
+            0.0
+        }
+    }
+
+    fn integral_of(&self, f: &Fragility) -> f64 {
         match f {
             Fragility::Lognormal { median_pga_g, beta } => {
                 let closed = self.lognormal(median_pga_g.ln(), *beta, f);
@@ -341,6 +356,47 @@ mod tests {
             let share = 1.0 - stopped.annual_rate / r.annual_rate;
             assert!((share - r.share_beyond_last_iml).abs() < 1e-12);
         }
+    }
+
+    /// A flat hazard curve has no events: the rate and every bin are 0
+    /// exactly (not 1.5e-18 with bins of −14 % and 113 %), and not −0.
+    #[test]
+    fn a_flat_hazard_has_no_events() {
+        let curve = HazardCurve {
+            lon: None,
+            lat: None,
+            pga_g: vec![0.1, 0.2, 0.3],
+            annual_rate: vec![0.01; 3],
+            ends_at_g: None,
+            dropped_below: 0,
+        };
+        for f in [
+            Fragility::Lognormal {
+                median_pga_g: 0.25,
+                beta: 0.4,
+            },
+            Fragility::Empirical {
+                thresholds_g: vec![0.15, 0.25],
+            },
+        ] {
+            for beyond in [Beyond::Stop, Beyond::Extrapolate] {
+                let r = assess(&curve, &f, beyond);
+                assert_eq!(r.annual_rate.to_bits(), 0, "{f:?}, {beyond:?}");
+                assert!(r.bins.iter().all(|b| b.annual_rate.to_bits() == 0), "{r:?}");
+                assert_eq!(r.share_beyond_last_iml.to_bits(), 0);
+            }
+        }
+        // A nearly flat piece: never negative, and bins sum to the rate.
+        let curve = HazardCurve {
+            annual_rate: vec![0.01, 0.01 * (1.0 - 1e-15), 0.001],
+            ..curve
+        };
+        let f = Fragility::Lognormal {
+            median_pga_g: 0.25,
+            beta: 0.4,
+        };
+        let r = assess(&curve, &f, Beyond::Stop);
+        assert!(r.bins.iter().all(|b| b.annual_rate >= 0.0), "{r:?}");
     }
 
     #[test]
