@@ -422,6 +422,57 @@ fn bad_hazard_files_are_refused_naming_file_and_line() {
         ],
     );
     assert!(stderr(&out).contains("1 site(s)"), "{}", stderr(&out));
+    // A tolerance that is not a relative error: once silently hid (NaN,
+    // inf) or garbled (−1) the linearisation warning.
+    for bad in ["nan", "inf", "-1", "0"] {
+        let out = rocking(
+            d,
+            &[
+                "risk",
+                "--hazard",
+                "two.csv",
+                "--b",
+                "0.2",
+                "--h",
+                "1",
+                "--auto-tol",
+                bad,
+            ],
+        );
+        assert!(!out.status.success(), "--auto-tol {bad}");
+        assert!(
+            stderr(&out).contains("--auto-tol: auto tolerance") && stderr(&out).contains("(0, 1)"),
+            "--auto-tol {bad}: {}",
+            stderr(&out)
+        );
+    }
+}
+
+/// A flat hazard curve has no events: the rate is 0 exactly and no bin is
+/// negative (once 1.5e-18 with bins of −14 % and 113 %, and −0 with --direct).
+#[test]
+fn a_flat_hazard_curve_gives_no_overturning() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(
+        d.join("flat.csv"),
+        "pga_g,annual_rate\n0.1,0.01\n0.2,0.01\n0.3,0.01\n",
+    )
+    .unwrap();
+    let v = json(&rocking(
+        d,
+        &[
+            "risk", "--hazard", "flat.csv", "--b", "0.2", "--h", "0.9", "--json",
+        ],
+    ));
+    let site = &v["sites"][0];
+    assert_eq!(site["annual_rate"].as_f64(), Some(0.0), "{site}");
+    for bin in site["deaggregation"].as_array().unwrap() {
+        for key in ["annual_rate", "share"] {
+            let x = bin[key].as_f64().unwrap();
+            assert_eq!(x.to_bits(), 0, "{key} = {x:e} (+0 exactly): {bin}");
+        }
+    }
 }
 
 #[test]

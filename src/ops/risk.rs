@@ -143,6 +143,8 @@ pub enum RiskError {
     },
     #[error("--years {0}: give a positive number of years")]
     Years(f64),
+    #[error("--auto-tol: {0}")]
+    AutoTol(String),
     #[error("{path}:{line}: {message}")]
     Inventory {
         path: PathBuf,
@@ -404,6 +406,7 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
     if !(req.years > 0.0 && req.years.is_finite()) {
         return Err(RiskError::Years(req.years));
     }
+    crate::physics::check_auto_tol(req.auto_tol).map_err(RiskError::AutoTol)?;
     let sites = read_hazard(&req.hazard, req.site)?;
     let entries: Vec<InventoryBlock> = match &req.blocks {
         Blocks::One { b_m, h_m, eps } => vec![InventoryBlock {

@@ -190,6 +190,19 @@ pub fn check_rtol(rtol: f64) -> Result<(), String> {
     }
 }
 
+/// Whether `auto_tol`, the relative error in η_c accepted from the
+/// linearisation, is in (0, 1): a NaN, an infinity or a negative value
+/// would silently pick a model (or hide the linearisation warning).
+pub fn check_auto_tol(auto_tol: f64) -> Result<(), String> {
+    if auto_tol > 0.0 && auto_tol < 1.0 {
+        Ok(())
+    } else {
+        Err(format!(
+            "auto tolerance {auto_tol} must be in (0, 1): a relative error in η_c, e.g. 0.01"
+        ))
+    }
+}
+
 /// The model as a user asks for it; [`ModelChoice::resolve`] makes it a [`Model`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -227,6 +240,7 @@ impl ModelChoice {
         if self != ModelChoice::Linearized {
             check_rtol(rtol).map_err(PhysicsError::BadInput)?;
         }
+        check_auto_tol(auto_tol).map_err(PhysicsError::BadInput)?;
         match (self, alpha_rad) {
             (ModelChoice::Linearized, _) => {
                 Ok((Model::LINEARIZED, "linearised model, as asked".into()))

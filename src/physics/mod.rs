@@ -48,7 +48,9 @@ pub use equation::{
     check_alpha, Equation, EquationKind, ALPHA_MIN, LINEARIZATION_ERROR_PER_ALPHA2,
 };
 pub use history::{EventKind, HistoryPoint, Observer, Recorder};
-pub use integrator::{check_rtol, Integrator, Model, ModelChoice, DEFAULT_RTOL, MIN_RTOL};
+pub use integrator::{
+    check_auto_tol, check_rtol, Integrator, Model, ModelChoice, DEFAULT_RTOL, MIN_RTOL,
+};
 pub use simulate::{simulate, simulate_from, simulate_observed, simulate_on, simulate_pair};
 pub use step::{Rocking, Stepper, Stretch, StretchEnd};
 

@@ -94,12 +94,7 @@ pub(super) fn model(raw: &RawModel, default: Overturn) -> Result<(ModelChoice, O
         return Err("`model.overturn` = \"on-side\" needs the nonlinear model".into());
     }
     crate::physics::check_rtol(raw.rtol).map_err(|e| format!("`model.rtol`: {e}"))?;
-    if raw.auto_tol.is_nan() || raw.auto_tol <= 0.0 {
-        return Err(format!(
-            "`model.auto_tol` = {} must be positive",
-            raw.auto_tol
-        ));
-    }
+    crate::physics::check_auto_tol(raw.auto_tol).map_err(|e| format!("`model.auto_tol`: {e}"))?;
     if let Some(a) = raw.alpha {
         crate::physics::check_alpha(a).map_err(|e| format!("`model.alpha`: {e}"))?;
     }
