@@ -55,6 +55,7 @@ pub mod label;
 pub mod manifest;
 pub mod motion;
 pub mod ops;
+pub mod outpath;
 pub mod physics;
 pub mod pipeline;
 pub mod plot;

@@ -507,3 +507,93 @@ fn capacity_out_refuses_an_input_and_a_wrong_extension() {
     );
     assert_eq!(std::fs::read(&rec).unwrap(), before);
 }
+
+/// An output that is one of the command's inputs is refused before
+/// anything is written, and the input keeps its bytes (each of these once
+/// replaced the input and exited 0).
+#[test]
+fn outputs_never_overwrite_inputs() {
+    let dir = tempdir();
+    let d = dir.path();
+    let copy = |from: &str, to: &str| std::fs::copy(root().join(from), d.join(to)).unwrap();
+    copy("records/hazard/museum-inventory.csv", "inv.csv");
+    copy("records/hazard/synthetic-site.csv", "h.csv");
+    copy(KOBE, "X.AT2");
+    copy(KOBE, "r.csv");
+    std::fs::write(d.join("m.csv"), "record_id,set\nX,far-field\n").unwrap();
+    let cases: &[(&[&str], &str, &str)] = &[
+        (
+            &[
+                "risk",
+                "--hazard",
+                "h.csv",
+                "--inventory",
+                "inv.csv",
+                "--out",
+                "inv.csv",
+            ],
+            "inv.csv",
+            "--out inv.csv: give a .parquet file",
+        ),
+        (
+            &[
+                "risk", "--hazard", "h.csv", "--b", "0.2", "--h", "1", "--plot", "h.csv",
+            ],
+            "h.csv",
+            "--plot h.csv: give a .svg file",
+        ),
+        (
+            &["ingest", "X.AT2", "--out", "X.AT2"],
+            "X.AT2",
+            "--out X.AT2: give a .parquet file",
+        ),
+        (
+            &["ingest", "X.AT2", "--manifest", "m.csv", "--out", "m.csv"],
+            "m.csv",
+            "--out m.csv: give a .parquet file",
+        ),
+        (
+            &[
+                "simulate",
+                "--record",
+                "r.csv",
+                "--p",
+                "2",
+                "--eps",
+                "0.9",
+                "--eta",
+                "0.3",
+                "--history",
+                "./r.csv",
+            ],
+            "r.csv",
+            "refusing to overwrite an input",
+        ),
+    ];
+    for (args, input, expected) in cases {
+        let before = std::fs::read(d.join(input)).unwrap();
+        let out = rocking(d, args);
+        assert!(!out.status.success(), "{args:?}");
+        assert!(
+            stderr(&out).contains(expected),
+            "{args:?}: {}",
+            stderr(&out)
+        );
+        assert_eq!(std::fs::read(d.join(input)).unwrap(), before, "{args:?}");
+    }
+    // The table as an input of a second run, reached through a link.
+    let ok = rocking(d, &["ingest", "X.AT2", "--out", "r.parquet"]);
+    assert!(ok.status.success(), "{}", stderr(&ok));
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink(d.join("X.AT2"), d.join("x.parquet")).unwrap();
+        let before = std::fs::read(d.join("X.AT2")).unwrap();
+        let out = rocking(d, &["ingest", "X.AT2", "--out", "x.parquet"]);
+        assert!(
+            stderr(&out).contains("refusing to overwrite an input"),
+            "{}",
+            stderr(&out)
+        );
+        assert_eq!(std::fs::read(d.join("X.AT2")).unwrap(), before);
+    }
+}

@@ -40,10 +40,8 @@ pub enum CapacityError {
         #[source]
         source: PhysicsError,
     },
-    #[error("--out {0}: give a .parquet file")]
-    OutExtension(PathBuf),
-    #[error("--out {0} is one of the records read; refusing to overwrite an input")]
-    OutIsInput(PathBuf),
+    #[error(transparent)]
+    OutPath(#[from] crate::outpath::OutPathError),
 }
 
 /// The records at `paths` (AT2 files, or folders searched recursively for
@@ -111,17 +109,6 @@ fn block_label(block: &NamedSpec) -> String {
 /// Checks that `out` is a `.parquet` file that is none of `inputs` (nor,
 /// through links, resolves to one).
 pub fn check_out(out: &Path, inputs: &[PathBuf]) -> Result<(), CapacityError> {
-    if out.extension().and_then(|e| e.to_str()) != Some("parquet") {
-        return Err(CapacityError::OutExtension(out.to_path_buf()));
-    }
-    let Ok(target) = out.canonicalize() else {
-        return Ok(()); // not there yet: it cannot be an input
-    };
-    if inputs
-        .iter()
-        .any(|i| i.canonicalize().is_ok_and(|i| i == target))
-    {
-        return Err(CapacityError::OutIsInput(out.to_path_buf()));
-    }
-    Ok(())
+    let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    Ok(crate::outpath::check("--out", out, "parquet", &inputs)?)
 }

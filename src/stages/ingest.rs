@@ -186,6 +186,8 @@ impl fmt::Display for BadFile {
 
 #[derive(Debug, thiserror::Error)]
 pub enum IngestError {
+    #[error(transparent)]
+    OutPath(#[from] crate::outpath::OutPathError),
     #[error("{path}")]
     Path {
         path: PathBuf,
@@ -323,6 +325,9 @@ pub fn collect(
 
 /// Runs the ingest stage.
 pub fn run(config: &IngestConfig) -> Result<IngestReport, IngestError> {
+    let mut inputs: Vec<&Path> = config.paths.iter().map(PathBuf::as_path).collect();
+    inputs.extend(config.manifest.as_deref());
+    crate::outpath::check("--out", &config.out, "parquet", &inputs)?;
     let collected = collect(&config.paths, config.manifest.as_deref(), config.on_bad)?;
     let rows = collected.rows;
     let mut settings = vec![(

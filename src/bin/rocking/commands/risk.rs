@@ -1,6 +1,6 @@
 //! `rocking risk`: the annual rate of overturning at a site.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::ValueEnum;
 use rocking::ops::risk::{self, Assessment, Blocks, Request};
@@ -107,6 +107,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         beyond,
         auto_tol: args.auto_tol,
     };
+    let mut inputs = vec![args.hazard.as_path()];
+    inputs.extend(args.inventory.as_deref());
+    if args.law.from != "paper" {
+        inputs.push(Path::new(&args.law.from));
+    }
+    if args.inventory.is_some() {
+        rocking::outpath::check("--out", &args.out, "parquet", &inputs)?;
+        inputs.push(args.out.as_path());
+    }
+    if let Some(plot) = &args.plot {
+        rocking::outpath::check("--plot", plot, "svg", &inputs)?;
+    }
     let all = risk::assess(&req)?;
     let chart_site = args.site.unwrap_or(0);
     if args.inventory.is_some() {

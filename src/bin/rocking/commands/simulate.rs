@@ -86,6 +86,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         ..block.named.spec
     };
     spec.validate()?;
+    if let Some(path) = &args.history {
+        let csv = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
+        let inputs: Vec<&std::path::Path> = args.record.as_deref().into_iter().collect();
+        let want = if csv { "csv" } else { "parquet" };
+        rocking::outpath::check("--history", path, want, &inputs)?;
+    }
     let (why, block_alpha) = (block.why, block.named.alpha_rad);
     let rec = args.block.excitation(args.record.as_deref(), spec.p)?;
     let mut recorder = Recorder::new(usize::try_from(args.history_every).unwrap_or(usize::MAX));
