@@ -35,7 +35,7 @@ fn copy_dir(from: &Path, to: &Path) {
 }
 
 #[test]
-fn absurd_sizes_are_refused_before_anything_is_allocated_issue_9() {
+fn absurd_sizes_are_refused_before_anything_is_allocated() {
     let dir = tempdir();
     let d = dir.path();
     let grid = "[blocks]\np = [1.0]\neps = [0.8]\n";
@@ -83,7 +83,7 @@ fn absurd_sizes_are_refused_before_anything_is_allocated_issue_9() {
 }
 
 #[test]
-fn a_part_copied_over_another_chunk_is_recomputed_issue_9() {
+fn a_part_copied_over_another_chunk_is_recomputed() {
     let reference = tempdir();
     let ref_pipe = write_pipeline(reference.path(), "r", THREE_CHUNKS);
     let out = rocking(
@@ -134,7 +134,7 @@ fn a_part_copied_over_another_chunk_is_recomputed_issue_9() {
 }
 
 #[test]
-fn shards_beside_an_unsharded_sweep_are_refused_issue_9() {
+fn shards_beside_an_unsharded_sweep_are_refused() {
     let dir = tempdir();
     let d = dir.path();
     let pipe = write_pipeline(d, "s", THREE_CHUNKS);
@@ -177,7 +177,7 @@ fn shards_beside_an_unsharded_sweep_are_refused_issue_9() {
 }
 
 #[test]
-fn hints_name_what_the_command_accepts_issue_9() {
+fn hints_name_what_the_command_accepts() {
     let dir = tempdir();
     let d = dir.path();
     // A bad AT2 file under a pipeline: the hint is about the pipeline, not
@@ -269,7 +269,7 @@ fn hints_name_what_the_command_accepts_issue_9() {
 }
 
 #[test]
-fn thread_counts_beyond_the_cores_are_refused_issue_9() {
+fn thread_counts_beyond_the_cores_are_refused() {
     let dir = tempdir();
     let d = dir.path();
     let pipe = write_pipeline(
@@ -285,7 +285,7 @@ fn thread_counts_beyond_the_cores_are_refused_issue_9() {
 }
 
 #[test]
-fn file_contents_in_messages_are_escaped_issue_9() {
+fn file_contents_in_messages_are_escaped() {
     let dir = tempdir();
     let d = dir.path();
     fs::write(
@@ -304,7 +304,7 @@ fn file_contents_in_messages_are_escaped_issue_9() {
 }
 
 #[test]
-fn manifest_errors_name_the_file_line_issue_9() {
+fn manifest_errors_name_the_file_line() {
     let dir = tempdir();
     let d = dir.path();
     let src = root().join("records/fema-p695/far-field");
@@ -350,7 +350,7 @@ fn mini(dir: &Path) -> PathBuf {
 }
 
 #[test]
-fn a_copied_output_folder_and_another_working_folder_stay_fresh_issue_9() {
+fn a_copied_output_folder_and_another_working_folder_stay_fresh() {
     let dir = tempdir();
     let d = dir.path();
     mini(d);
@@ -375,7 +375,7 @@ fn a_copied_output_folder_and_another_working_folder_stay_fresh_issue_9() {
 }
 
 #[test]
-fn a_figure_deleted_or_edited_by_hand_is_drawn_again_issue_9() {
+fn a_figure_deleted_or_edited_by_hand_is_drawn_again() {
     let dir = tempdir();
     let d = dir.path();
     mini(d);
@@ -417,7 +417,7 @@ fn a_figure_deleted_or_edited_by_hand_is_drawn_again_issue_9() {
 }
 
 #[test]
-fn stale_reasons_are_typed_issue_9() {
+fn stale_reasons_are_typed() {
     let dir = tempdir();
     let d = dir.path();
     let pipe = mini(d);
@@ -465,7 +465,7 @@ fn assert_causes_are_not_repeated(err: &str) {
 }
 
 #[test]
-fn error_causes_are_printed_once_issue_9() {
+fn error_causes_are_printed_once() {
     let dir = tempdir();
     let d = dir.path();
     fs::write(d.join("garbage.parquet"), "not a parquet file").unwrap();
@@ -498,7 +498,7 @@ fn error_causes_are_printed_once_issue_9() {
 }
 
 #[test]
-fn an_incomplete_or_resharded_sweep_is_not_redone_behind_the_users_back_issue_9() {
+fn an_incomplete_or_resharded_sweep_is_not_redone_behind_the_users_back() {
     let dir = tempdir();
     let d = dir.path();
     let pipe = write_pipeline(d, "s", THREE_CHUNKS);
@@ -556,7 +556,7 @@ fn an_incomplete_or_resharded_sweep_is_not_redone_behind_the_users_back_issue_9(
 }
 
 #[test]
-fn commands_refuse_what_cannot_mean_anything_issue_9() {
+fn commands_refuse_what_cannot_mean_anything() {
     let dir = tempdir();
     let d = dir.path();
     let pipe = write_pipeline(

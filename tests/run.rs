@@ -181,7 +181,7 @@ fn wait_for(path: &Path, child: &mut std::process::Child) {
 }
 
 #[test]
-fn every_writer_takes_the_study_lock_issue_9() {
+fn every_writer_takes_the_study_lock() {
     let dir = tempdir();
     let d = dir.path();
     let pipe = busy_study(d);
@@ -244,7 +244,7 @@ fn every_writer_takes_the_study_lock_issue_9() {
 }
 
 #[test]
-fn a_lock_that_is_not_a_live_rocking_is_taken_over_issue_9() {
+fn a_lock_that_is_not_a_live_rocking_is_taken_over() {
     let dir = tempdir();
     let d = dir.path();
     let pipe = study(d, "0.9");

@@ -2,7 +2,7 @@
 //! PGAs, from the paper's regression or a pipeline's fit, and optionally the
 //! share of records it overturns under when run through them directly.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
@@ -89,6 +89,18 @@ pub enum FragilityError {
     Fit(#[from] FitError),
     #[error("{pipeline} has no regression to take fractiles from: {why}; use --from paper")]
     NoFit { pipeline: PathBuf, why: String },
+    #[error(
+        "the fit in {dir} is not {pipeline}'s as it stands ({why}): another pipeline of the \
+         same name, or an earlier version of this one, wrote it; run `rocking run {pipeline}` \
+         (`rocking status {pipeline}` shows what changed)",
+        dir = .dir.display(),
+        pipeline = .pipeline.display()
+    )]
+    StaleFit {
+        pipeline: PathBuf,
+        dir: PathBuf,
+        why: String,
+    },
     #[error("--direct")]
     Records(#[source] SelectError),
     #[error("--direct")]
@@ -200,6 +212,7 @@ pub fn laws(from: &Source) -> Result<Laws, FragilityError> {
                     why,
                 });
             }
+            refuse_stale_fit(&study, file)?;
             let laws = fit::read_laws(&study.dir, &file.display().to_string())?;
             Ok(Laws {
                 laws,
@@ -207,6 +220,30 @@ pub fn laws(from: &Source) -> Result<Laws, FragilityError> {
                 name: file.display().to_string(),
             })
         }
+    }
+}
+
+/// Refuses a fit that is not this pipeline's as it stands: written by
+/// another pipeline of the same `name`, by an earlier version of this one,
+/// or from sweep or reduce tables that have changed since (the fingerprints
+/// say, as `rocking status` does). It was used without a word.
+fn refuse_stale_fit(study: &Study, file: &Path) -> Result<(), FragilityError> {
+    use crate::stages::engine;
+    use crate::stages::fingerprint::Freshness;
+    let fit = engine::status(study)
+        .into_iter()
+        .find(|(name, _)| *name == "fit")
+        .map(|(_, f)| f)
+        .expect("fit is a stage");
+    match fit {
+        Freshness::Fresh | Freshness::FreshShards(_) => Ok(()),
+        // No fit at all: reading it says so, and how to make it.
+        _ if !study.path(fit::OUTPUTS[0]).exists() => Ok(()),
+        other => Err(FragilityError::StaleFit {
+            pipeline: file.to_path_buf(),
+            dir: study.dir.clone(),
+            why: other.to_string(),
+        }),
     }
 }
 
