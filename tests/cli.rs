@@ -597,3 +597,82 @@ fn outputs_never_overwrite_inputs() {
         assert_eq!(std::fs::read(d.join("X.AT2")).unwrap(), before);
     }
 }
+
+/// A history shows the fate its run reports when the block overturns after
+/// the record has ended (it once stopped at `record_end`, x = 0.51, while
+/// the run said "overturned at 1.48 s"). After the record the linearised
+/// block rocks freely about pivot 1: x(τ) = 1 + (x₀ − 1) cosh pτ + (v₀/p) sinh pτ.
+#[test]
+fn a_history_follows_an_overturn_after_the_record() {
+    let dir = tempdir();
+    let csv = dir.path().join("h.csv");
+    let args = |criterion: &'static str| {
+        let mut a = vec![
+            "simulate",
+            "--pulse",
+            "rect",
+            "--cycle",
+            "half",
+            "--p",
+            "0.5",
+            "--eps",
+            "0.9",
+            "--eta",
+            "0.2",
+            "--json",
+            "--overturn",
+            criterion,
+            "--history",
+        ];
+        a.push(csv.to_str().unwrap());
+        a
+    };
+    let read_rows = || -> Vec<(f64, f64, String)> {
+        let text = std::fs::read_to_string(&csv).unwrap();
+        text.lines()
+            .skip(1)
+            .map(|l| {
+                let r: Vec<&str> = l.split(',').collect();
+                (
+                    r[0].parse().unwrap(),
+                    r[1].parse().unwrap(),
+                    r[5].to_string(),
+                )
+            })
+            .collect()
+    };
+    let report = json(&rocking(&root(), &args("static")));
+    assert_eq!(report["overturn_after_record"], true);
+    let t_over = report["overturn_time_s"].as_f64().unwrap();
+    let rows = read_rows();
+    let end = rows.iter().position(|r| r.2 == "record_end").unwrap();
+    let last = rows.last().unwrap();
+    assert_eq!((last.0, last.2.as_str()), (t_over, "overturn"), "{last:?}");
+    assert!(
+        (last.1 - 1.0).abs() < 1e-12,
+        "at the static limit: {last:?}"
+    );
+    assert!(rows.len() - end > 20, "the free motion is sampled");
+    // Against the closed form from the record's end (x₀, v₀ from the file).
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let at_end: Vec<f64> = text
+        .lines()
+        .nth(end + 1)
+        .unwrap()
+        .split(',')
+        .take(3)
+        .map(|c| c.parse().unwrap())
+        .collect();
+    let (t0, x0, v0, p) = (at_end[0], at_end[1], at_end[2], 0.5f64);
+    for (t, x, _) in &rows[end + 1..] {
+        let tau = t - t0;
+        let exact = 1.0 + (x0 - 1.0) * (p * tau).cosh() + v0 / p * (p * tau).sinh();
+        assert!((x - exact).abs() < 1e-9, "t = {t}: {x} vs {exact}");
+    }
+    // Under `escape` the fate is decided at the record's end, and shown there.
+    let report = json(&rocking(&root(), &args("escape")));
+    let t_over = report["overturn_time_s"].as_f64().unwrap();
+    let rows = read_rows();
+    let last = rows.last().unwrap();
+    assert_eq!((last.0, last.2.as_str()), (t_over, "overturn"), "{last:?}");
+}

@@ -400,8 +400,10 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
             self.out.max_abs_x = f64::INFINITY;
             self.out.impacts += fate.impacts;
             self.out.overturn_time_s = Some(self.exc.duration_s());
+            self.emit(self.exc.duration_s(), 0.0, EventKind::Overturn);
             return;
         }
+        let at_record_end = st;
         self.out.max_abs_x = self.out.max_abs_x.max(self.limit);
         // At most one impact lies on the way to the limit.
         let mut t = self.exc.duration_s();
@@ -432,6 +434,55 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
                 StretchEnd::End => t += horizon,
             }
         }
+        if O::SAMPLES {
+            self.replay_after_record(at_record_end);
+        }
+    }
+
+    /// The free motion after the record as history points, so that a
+    /// history shows the overturning its run reports: a point every record
+    /// step, the impacts, and the overturning at the time the run found
+    /// (stepping over the longer stretches above, whose last bits the
+    /// replay's may not share). Only for an observer that takes samples.
+    fn replay_after_record(&mut self, mut st: Rocking) {
+        let Some(t_over) = self.out.overturn_time_s else {
+            return;
+        };
+        let mut t = self.exc.duration_s();
+        while t < t_over {
+            let len = self.exc.dt_s.min(t_over - t);
+            let stretch = Stretch {
+                tau0: 0.0,
+                len,
+                g_a: 0.0,
+                g1: 0.0,
+            };
+            let mut scratch = 0.0;
+            match self.stepper.rock(stretch, &mut st, &mut scratch) {
+                StretchEnd::End => {
+                    t += len;
+                    self.state = Some(st);
+                    if t < t_over {
+                        self.emit(t, 0.0, EventKind::Sample);
+                    }
+                }
+                StretchEnd::Impact { sigma, v } => {
+                    t += sigma;
+                    st = Rocking {
+                        x: 0.0,
+                        v: self.spec.eps * v,
+                        s: -st.s,
+                    };
+                    self.state = Some(st);
+                    self.emit(t, 0.0, EventKind::Impact);
+                }
+                StretchEnd::Overturn { .. } | StretchEnd::Settled { .. } => {
+                    self.state = Some(st);
+                    break;
+                }
+            }
+        }
+        self.emit(t_over, 0.0, EventKind::Overturn);
     }
 }
 
