@@ -112,7 +112,8 @@ impl FromStr for Restitution {
 
     /// `housner`, or a number (checked later, with the block).
     fn from_str(text: &str) -> Result<Self, BlockError> {
-        if text == "housner" {
+        let text = text.trim();
+        if text.eq_ignore_ascii_case("housner") {
             return Ok(Restitution::Housner);
         }
         text.parse::<f64>()

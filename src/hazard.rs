@@ -77,18 +77,41 @@ pub fn parse(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
     }
 }
 
-/// The value of `key=…` in OpenQuake's metadata line (quotes stripped).
+/// The value of `key=…` (or `key = …`) in OpenQuake's metadata line,
+/// quotes stripped; `key` as a whole word.
 fn meta_value<'a>(line: &'a str, key: &str) -> Option<&'a str> {
-    let at = line.find(&format!("{key}="))? + key.len() + 1;
-    let rest = &line[at..];
-    let end = rest.find([',', '"']).unwrap_or(rest.len());
-    let value = rest[..end].trim();
-    Some(value.trim_matches('\''))
+    let word = |c: char| c.is_alphanumeric() || c == '_';
+    let mut from = 0;
+    while let Some(i) = line[from..].find(key) {
+        let at = from + i;
+        from = at + key.len();
+        if line[..at].chars().next_back().is_some_and(word) {
+            continue;
+        }
+        let Some(rest) = line[from..].trim_start().strip_prefix('=') else {
+            continue;
+        };
+        let rest = rest.trim_start();
+        let (quoted, rest) = match rest.strip_prefix('\'') {
+            Some(r) => (true, r),
+            None => (false, rest),
+        };
+        let end = if quoted {
+            rest.find('\'').unwrap_or(rest.len())
+        } else {
+            rest.find([',', '"']).unwrap_or(rest.len())
+        };
+        return Some(rest[..end].trim());
+    }
+    None
 }
 
-/// Splits a CSV line; OpenQuake's data lines hold no quoted cells.
+/// Splits a CSV line; a cell's surrounding double quotes (as spreadsheets
+/// write headers) are dropped. Cells hold no commas in these files.
 fn cells(line: &str) -> Vec<&str> {
-    line.split(',').map(str::trim).collect()
+    line.split(',')
+        .map(|c| c.trim().trim_matches('"').trim())
+        .collect()
 }
 
 fn number(line: usize, column: &str, cell: &str) -> Result<f64, HazardError> {

@@ -133,6 +133,22 @@ pub fn default_intervals(shape: Shape, f: f64) -> usize {
     n + n % 2 // even: the exponential lobe's peak on a sample
 }
 
+/// Whether f = p·t_d can be mapped: a pulse is run with lobes of t_d = 1 s,
+/// so the block's p is f, and p must lie in [`crate::physics::P_RANGE`].
+pub fn check_f(f: f64) -> Result<(), String> {
+    let range = crate::physics::P_RANGE;
+    if range.contains(&f) {
+        Ok(())
+    } else {
+        Err(format!(
+            "f = p·t_d = {f} is outside [{}, {}]: pulses are run with t_d = 1 s, so the block's \
+             p is f, and p must lie in that range (1/s)",
+            range.start(),
+            range.end()
+        ))
+    }
+}
+
 /// The largest number of intervals per lobe a pulse may be sampled with.
 pub const MAX_INTERVALS: usize = 10_000_000;
 

@@ -12,7 +12,7 @@ use rocking::tables::read;
 use rocking::tables::risk::RiskRow;
 use serde_json::Value;
 
-use crate::util::{bundled_records, rocking, stderr, stdout, tempdir};
+use crate::util::{bundled_records, rocking, root, stderr, stdout, tempdir};
 
 /// Standard normal CDF, written here so that the checks do not lean on the
 /// tool's own Φ: the Maclaurin series of erf for |z| < 2 and the continued
@@ -497,4 +497,87 @@ fn the_readmes_worked_example_is_what_the_tool_prints() {
     let out = rocking(&crate::util::root(), &args);
     assert!(out.status.success(), "{}", stderr(&out));
     assert_eq!(stdout(&out), shown, "update the README's worked example");
+}
+
+/// What users write that the tool once misread: a quoted CSV header, spaces
+/// around `=` in OpenQuake's metadata, `Housner` capitalised; and an
+/// inventory's bad row named by its file, line and column, not by flags
+/// the user never gave.
+#[test]
+fn inputs_as_users_write_them_and_rows_named_by_line() {
+    let dir = tempdir();
+    let d = dir.path();
+    let rate = |args: &[&str]| -> f64 {
+        let v = json(&rocking(d, args));
+        v["sites"][0]["annual_rate"].as_f64().unwrap()
+    };
+    fs::write(
+        d.join("plain.csv"),
+        "pga_g,annual_rate\n0.1,0.01\n0.2,0.001\n0.4,0.0001\n",
+    )
+    .unwrap();
+    fs::write(
+        d.join("quoted.csv"),
+        "\"pga_g\",\"annual_rate\"\n0.1,0.01\n0.2,0.001\n0.4,0.0001\n",
+    )
+    .unwrap();
+    let one = ["--b", "0.2", "--h", "1", "--json"];
+    let plain = rate(&[&["risk", "--hazard", "plain.csv"][..], &one].concat());
+    assert_eq!(
+        rate(&[&["risk", "--hazard", "quoted.csv"][..], &one].concat()),
+        plain
+    );
+    let oq = fs::read_to_string(root().join("records/hazard/synthetic-openquake.csv")).unwrap();
+    fs::write(d.join("oq.csv"), &oq).unwrap();
+    fs::write(
+        d.join("oq-spaced.csv"),
+        oq.replace("imt='PGA'", "imt = 'PGA'"),
+    )
+    .unwrap();
+    assert_eq!(
+        rate(&[&["risk", "--hazard", "oq-spaced.csv"][..], &one].concat()),
+        rate(&[&["risk", "--hazard", "oq.csv"][..], &one].concat())
+    );
+    let inventory = |rows: &str| {
+        fs::write(
+            d.join("inv.csv"),
+            format!("name,b,h,eps\nfine,0.2,1.0,0.9\n{rows}"),
+        )
+        .unwrap();
+        rocking(
+            d,
+            &[
+                "risk",
+                "--hazard",
+                "plain.csv",
+                "--inventory",
+                "inv.csv",
+                "--out",
+                "r.parquet",
+            ],
+        )
+    };
+    assert!(inventory("vase,0.1,0.5,Housner\n").status.success());
+    for (row, expected) in [
+        (
+            "neg,-0.2,1.0,0.9\n",
+            "inv.csv:3: block `neg`: `b`, `h`: b = -0.2 m",
+        ),
+        (
+            "hot,0.2,1.0,1.5\n",
+            "inv.csv:3: block `hot`: `eps`: ε = 1.5",
+        ),
+        (
+            "squat,1.0,0.5,housner\n",
+            "inv.csv:3: block `squat`: `eps`: Housner's ε",
+        ),
+    ] {
+        let out = inventory(row);
+        let err = stderr(&out);
+        assert!(
+            !out.status.success() && err.contains(expected),
+            "{row}: {err}"
+        );
+        assert!(!err.contains("--b") && !err.contains("--eps"), "{err}");
+    }
 }

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use super::fragility::{self, DirectRecords, FragilityError, Laws, Source};
-use crate::block::{Block, Restitution};
+use crate::block::{Block, BlockError, Restitution};
 use crate::hazard::{self, HazardCurve, HazardError};
 use crate::label::Label;
 use crate::physics::LINEARIZATION_ERROR_PER_ALPHA2;
@@ -272,12 +272,26 @@ pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
                 .parse::<Restitution>()
                 .ok()
                 .filter(|e| !matches!(e, Restitution::Value(v) if !v.is_finite()))
-                .ok_or_else(|| bad(line, format!("`eps` = `{text}` is not a number")))?,
+                .ok_or_else(|| {
+                    bad(
+                        line,
+                        format!("`eps` = `{text}`: give a number in (0, 1] or `housner`"),
+                    )
+                })?,
         };
+        let (b_m, h_m) = (num(cb, "b")?, num(ch, "h")?);
+        // Checked here, so that the message names the file, line and column.
+        Block::new(b_m, h_m, eps).map_err(|e| {
+            let column = match e {
+                BlockError::Size { .. } => "`b`, `h`",
+                _ => "`eps`",
+            };
+            bad(line, format!("block `{name}`: {column}: {e}"))
+        })?;
         out.push(InventoryBlock {
             name,
-            b_m: num(cb, "b")?,
-            h_m: num(ch, "h")?,
+            b_m,
+            h_m,
             eps,
             line,
         });

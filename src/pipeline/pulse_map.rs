@@ -31,10 +31,8 @@ pub(super) fn resolve(raw: RawPipeline, name: String, base: &Path) -> Result<Pla
         .parse()
         .map_err(|e: crate::physics::PhysicsError| format!("`pulses.cycle`: {e}"))?;
     let f = values("pulses.f", &rp.f)?;
-    if let Some(bad) = f.iter().find(|f| !(f.is_finite() && **f > 0.0)) {
-        return Err(format!(
-            "`pulses.f` holds {bad}; f = p·t_d must be positive"
-        ));
+    for &x in &f {
+        crate::pulse::check_f(x).map_err(|e| format!("`pulses.f`: {e}"))?;
     }
     let mut eta = values("pulses.eta", &rp.eta)?;
     if let Some(bad) = eta.iter().find(|e| !(e.is_finite() && **e > 0.0)) {

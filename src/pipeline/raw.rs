@@ -149,11 +149,46 @@ impl Default for RawModel {
 }
 
 /// A list of values, or a range with a count.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(untagged)]
+#[derive(Debug, Clone)]
 pub enum RawValues {
     List(Vec<f64>),
     Range(RawRange),
+}
+
+/// By the value's shape, so that a bad range says what is wrong with it
+/// (an untagged enum said only "data did not match any variant").
+impl<'de> Deserialize<'de> for RawValues {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        match toml::Value::deserialize(d)? {
+            toml::Value::Array(items) => items
+                .into_iter()
+                .map(|v| match v {
+                    toml::Value::Float(x) => Ok(x),
+                    toml::Value::Integer(i) => Ok(i as f64),
+                    other => Err(D::Error::custom(format!(
+                        "a list of numbers holds a {}; give numbers",
+                        other.type_str()
+                    ))),
+                })
+                .collect::<Result<_, _>>()
+                .map(RawValues::List),
+            toml::Value::Table(t) => toml::Value::Table(t)
+                .try_into::<RawRange>()
+                .map(RawValues::Range)
+                .map_err(|e| {
+                    D::Error::custom(format!(
+                        "a range {{ from, to, count, spacing = \"linear\" | \"log\" }} with count \
+                         a whole number ≥ 1: {}",
+                        e.message()
+                    ))
+                }),
+            other => Err(D::Error::custom(format!(
+                "a {} where a list of numbers or a range {{ from, to, count }} goes",
+                other.type_str()
+            ))),
+        }
+    }
 }
 
 #[derive(Debug, Clone, Deserialize)]

@@ -70,6 +70,14 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
     let convergence = convergence(raw.convergence.as_ref()).map_err(err)?;
     let uncertainty = uncertainty(raw.uncertainty.as_ref()).map_err(err)?;
     if let Some(u) = uncertainty {
+        let no_manifest = matches!(&records, RecordSource::At2 { manifest: None, .. });
+        if u.unit == ResampleUnit::Pair && no_manifest {
+            return Err(err(
+                "`uncertainty.unit` = \"pair\" resamples the manifest's pairs, and `[records]` \
+                 gives no manifest: add `manifest`, or set unit = \"record\""
+                    .into(),
+            ));
+        }
         if u.resamples.saturating_mul(blocks.len()) > MAX_RESAMPLED_BLOCKS {
             return Err(err(format!(
                 "`uncertainty.resamples` = {} over {} blocks: resamples × blocks may be at most \
@@ -537,6 +545,29 @@ mod tests {
                  f = [1.0]\neta = [0.5]\neps = [0.9]\n"
                     .to_string(),
                 "`pulses.beta` holds 1.0 twice",
+            ),
+            (
+                MINIMAL.replace("count = 12", "count = -3"),
+                "count a whole number ≥ 1: invalid value: integer `-3`",
+            ),
+            (
+                MINIMAL.replace("spacing = \"log\"", "spacing = \"cubic\""),
+                "unknown variant `cubic`, expected `log` or `linear`",
+            ),
+            (
+                MINIMAL.replace("eps = [0.5, 0.95]", "eps = [0.5, \"a\"]"),
+                "a list of numbers holds a string",
+            ),
+            (
+                format!("{MINIMAL}\n[uncertainty]\nunit = \"pair\"\n")
+                    .replace("manifest = ", "# manifest = "),
+                "gives no manifest",
+            ),
+            (
+                "[model]\nkind = \"linearized\"\n[pulses]\nshape = \"rect\"\n\
+                 f = [1e6]\neta = [0.5]\neps = [0.9]\n"
+                    .to_string(),
+                "`pulses.f`: f = p·t_d = 1000000 is outside [0.01, 1000]",
             ),
             (
                 "[model]\nkind = \"linearized\"\n[pulses]\nshape = \"rect\"\n\

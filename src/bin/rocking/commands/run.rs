@@ -100,10 +100,17 @@ fn print_results(study: &Study, results: &[StageResult], started: Instant) {
         println!("{stage:<12} {seconds:.2} s");
     }
     let names: Vec<&str> = ran.iter().map(|r| r.0).collect();
+    // The report only when this run covered it (ran, or found it fresh):
+    // `--to sweep` leaves none, or one of an earlier state.
+    let html = study.path(rocking::stages::report::HTML);
+    let report = if results.iter().any(|r| r.stage == "report") && html.exists() {
+        format!("; report: {} (and report.md beside it)", html.display())
+    } else {
+        String::new()
+    };
     println!(
-        "ran {} in {:.1} s; report: {} (and report.md beside it)",
+        "ran {} in {:.1} s{report}",
         names.join(", "),
         started.elapsed().as_secs_f64(),
-        study.path(rocking::stages::report::HTML).display()
     );
 }

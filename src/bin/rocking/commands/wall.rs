@@ -75,8 +75,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let Some(pl) = args.pulse.pulse(1.0)? else {
         anyhow::bail!("`rocking wall` needs --pulse rect|exp");
     };
-    if !(args.f > 0.0 && args.f.is_finite()) {
-        anyhow::bail!("--f {}: f = p·t_d must be a positive number", args.f);
+    if let Err(e) = rocking::pulse::check_f(args.f) {
+        anyhow::bail!("--f {}: {e}", args.f);
     }
     if matches!(args.model, ModelArg::Auto) {
         anyhow::bail!("--model auto is not offered here: give linearized or nonlinear");
