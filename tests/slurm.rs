@@ -371,3 +371,40 @@ fn submit_without_sbatch_says_so() {
     // Refused before anything was written.
     assert!(!dir.path().join("quick").exists(), "{e}");
 }
+
+/// An `sbatch` that refuses the job leaves no scripts behind (they once
+/// stayed in `slurm/` beside nothing submitted).
+#[test]
+fn a_refused_submission_leaves_no_scripts() {
+    let dir = tempdir();
+    let bin = dir.path().join("bin");
+    std::fs::create_dir(&bin).unwrap();
+    let sbatch = bin.join("sbatch");
+    std::fs::write(
+        &sbatch,
+        "#!/bin/sh\necho 'sbatch: error: invalid partition' >&2\nexit 1\n",
+    )
+    .unwrap();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&sbatch, std::fs::Permissions::from_mode(0o755)).unwrap();
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_rocking"))
+        .args([
+            "submit",
+            "pipelines/quick.toml",
+            "--shards",
+            "2",
+            "--outputs",
+        ])
+        .arg(dir.path().join("out"))
+        .current_dir(root())
+        .env("PATH", &bin)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(e.contains("invalid partition"), "{e}");
+    assert!(!dir.path().join("out/quick/slurm").exists(), "{e}");
+}

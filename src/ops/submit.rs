@@ -186,10 +186,18 @@ pub fn submit(
     let later_script = logs.join("after.sbatch");
     atomic_write(&sweep_script, jobs.sweep_script().as_bytes())?;
     atomic_write(&later_script, jobs.later_script().as_bytes())?;
-    let sweep_job = cluster::job_id(&slurm(
-        &sbatch,
-        &["--parsable", &sweep_script.to_string_lossy()],
-    )?)?;
+    // Nothing submitted: no scripts left behind (the records table is a
+    // complete stage's, fingerprinted, and the next run reuses it).
+    let unwritten = |e: SubmitError| {
+        for s in [&sweep_script, &later_script] {
+            let _ = std::fs::remove_file(s);
+        }
+        let _ = std::fs::remove_dir(&logs); // only if empty
+        e
+    };
+    let sweep_job = slurm(&sbatch, &["--parsable", &sweep_script.to_string_lossy()])
+        .and_then(|out| Ok(cluster::job_id(&out)?))
+        .map_err(unwritten)?;
     let dependency = format!("--dependency=afterok:{sweep_job}");
     let later = slurm(
         &sbatch,
@@ -201,7 +209,7 @@ pub fn submit(
         Err(e) => {
             // No array without its later stages: cancel it, then say why.
             let _ = slurm(&client("scancel", &sbatch), &[&sweep_job.to_string()]);
-            return Err(e);
+            return Err(unwritten(e));
         }
     };
     Ok(Submitted {
