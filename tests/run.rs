@@ -11,6 +11,7 @@ use rocking::stages::sweep::read_capacities;
 
 use crate::util::{
     bundled_records, direct_capacity, dump_table, rocking, snapshot, stderr, stdout, tempdir,
+    write_pipeline,
 };
 
 const RECORDS: [&str; 3] = [
@@ -419,4 +420,45 @@ fn a_stage_command_runs_only_the_stages_it_reads_from() {
             || (l.starts_with("pulses") || l.starts_with("example")) && l.contains("not needed")),
         "{status}"
     );
+}
+
+/// A stage that fails after writing some of its tables says what it left
+/// (the finished tables whole, the others missing) and is not marked done:
+/// `status` shows it stale and the next run redoes it.
+#[test]
+fn a_stage_failing_midway_says_what_it_left_and_reruns() {
+    let dir = tempdir();
+    let d = dir.path();
+    let pipe = write_pipeline(
+        d,
+        "mid",
+        "ids = [\"RSN1111_KOBE_NIS000\", \"RSN169_IMPVALL_H-DLT352\"]\n\
+         [blocks]\np = [1.0, 2.0]\neps = [0.9]\n[im]\ncount = 20\n",
+    );
+    let p = pipe.to_str().unwrap();
+    let run = || rocking(d, &["run", p, "--outputs", "out", "--to", "reduce"]);
+    // A folder where reduce's fourth table goes: its write fails.
+    std::fs::create_dir_all(d.join("out/mid/lognormal.parquet/x")).unwrap();
+    let out = run();
+    assert!(!out.status.success());
+    let err = stderr(&out);
+    assert!(
+        err.contains("stage `reduce` failed") && err.contains("the next run redoes it"),
+        "{err}"
+    );
+    assert!(
+        d.join("out/mid/capacity_fractiles.parquet").exists(),
+        "written before"
+    );
+    let status = stdout(&rocking(d, &["status", p, "--outputs", "out"]));
+    let line = status
+        .lines()
+        .find(|l| l.starts_with("reduce"))
+        .unwrap_or("");
+    assert!(line.contains("stale"), "{status}");
+    std::fs::remove_dir_all(d.join("out/mid/lognormal.parquet")).unwrap();
+    let out = run();
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(stdout(&out).contains("reduce"), "{}", stdout(&out));
+    assert!(d.join("out/mid/lognormal.parquet").is_file());
 }

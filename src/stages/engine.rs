@@ -17,7 +17,10 @@ use super::STAGES;
 pub enum RunError {
     #[error(transparent)]
     Lock(#[from] LockError),
-    #[error("stage `{stage}` failed")]
+    #[error(
+        "stage `{stage}` failed; the tables it finished are whole, the rest are missing or of \
+         an earlier run, and the stage is not marked done: the next run redoes it"
+    )]
     Stage {
         stage: &'static str,
         #[source]
