@@ -30,7 +30,7 @@ pub const ALPHA_MIN: f64 = 1e-3;
 
 /// Whether α (rad) is in [[`ALPHA_MIN`], π/2); else the message.
 pub fn check_alpha(a: f64) -> Result<(), String> {
-    if a >= ALPHA_MIN && a < std::f64::consts::FRAC_PI_2 {
+    if (ALPHA_MIN..std::f64::consts::FRAC_PI_2).contains(&a) {
         Ok(())
     } else {
         Err(format!(

@@ -69,6 +69,20 @@ struct Report<'a> {
     stop: &'static str,
 }
 
+/// `--history` is a .csv or .parquet file that is not the record read.
+fn check_history(args: &Args) -> anyhow::Result<()> {
+    let Some(path) = &args.history else {
+        return Ok(());
+    };
+    let csv = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
+    let inputs: Vec<&std::path::Path> = args.record.as_deref().into_iter().collect();
+    let want = if csv { "csv" } else { "parquet" };
+    rocking::outpath::check("--history", path, want, &inputs)?;
+    Ok(())
+}
+
 pub fn run(args: Args) -> anyhow::Result<()> {
     let block = args.block.one()?;
     let eta = match (args.eta, args.pga, block.named.alpha_rad) {
@@ -86,14 +100,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         ..block.named.spec
     };
     spec.validate()?;
-    if let Some(path) = &args.history {
-        let csv = path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
-        let inputs: Vec<&std::path::Path> = args.record.as_deref().into_iter().collect();
-        let want = if csv { "csv" } else { "parquet" };
-        rocking::outpath::check("--history", path, want, &inputs)?;
-    }
+    check_history(&args)?;
     let (why, block_alpha) = (block.why, block.named.alpha_rad);
     let rec = args.block.excitation(args.record.as_deref(), spec.p)?;
     let mut recorder = Recorder::new(usize::try_from(args.history_every).unwrap_or(usize::MAX));
