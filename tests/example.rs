@@ -212,7 +212,10 @@ fn a_pipeline_without_an_example_draws_the_grid_middle_and_skips_the_stage() {
 fn bad_examples_are_refused_naming_the_key() {
     let dir = tempdir();
     let cases = [
-        ("[example]\np = -1.0\neps = 0.7\n", "`example.p` = -1"),
+        (
+            "[example]\np = -1.0\neps = 0.7\n",
+            "`example.p`: p = -1 1/s is outside",
+        ),
         ("[example]\np = 2.0\neps = 1.5\n", "`example.eps`"),
         (
             "[example]\np = 2.0\neps = \"housner\"\n",

@@ -541,8 +541,8 @@ fn capacity_bands_contain_their_estimates_and_repeat_to_the_byte() {
     .unwrap();
     assert!(run("one", "2")[0] != one[0], "the seed moves the bands");
 
-    // Without a manifest there are no pairs: refused, naming a record; by
-    // record it works.
+    // Without a manifest there are no pairs: refused with the pipeline,
+    // before any run; by record it works.
     let far = crate::util::bundled_records().join("far-field");
     let bare = dir.path().join("bare.toml");
     let text = |unit: &str| {
@@ -560,8 +560,14 @@ fn capacity_bands_contain_their_estimates_and_repeat_to_the_byte() {
     assert!(!o.status.success());
     let e = stderr(&o);
     assert!(
-        e.contains("unit = \"pair\"") && e.contains("RSN") && e.contains("unit = \"record\""),
+        e.contains("unit` = \"pair\"")
+            && e.contains("no manifest")
+            && e.contains("unit = \"record\""),
         "{e}"
+    );
+    assert!(
+        !dir.path().join("bare/bare/capacities.parquet").exists(),
+        "no sweep ran"
     );
     fs::write(&bare, text("record")).unwrap();
     let o = rocking(

@@ -74,6 +74,12 @@ pub fn check_p(p: f64) -> Result<(), String> {
     if P_RANGE.contains(&p) {
         Ok(())
     } else {
+        // 1e300 as such, not as its 301 digits.
+        let p = if (1e-4..1e7).contains(&p.abs()) {
+            format!("{p}")
+        } else {
+            format!("{p:e}")
+        };
         Err(format!(
             "p = {p} 1/s is outside [{}, {}] 1/s, the range the model is computed for \
              (a block's R = 3g/(4p²) from 74 km down to 7.4 µm)",
