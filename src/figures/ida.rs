@@ -80,6 +80,13 @@ pub(super) fn ida_curves(d: &StudyData) -> Vec<Figure> {
             color: qi + 1,
         });
     }
+    // Room above the fractiles for the legend, and never below a point: the
+    // strongest record's capacity can lie far above the 84 % fractile's end.
+    let highest = lines
+        .iter()
+        .flat_map(|l| l.points.iter().map(|q| q.1))
+        .fold(1.0, f64::max);
+    let y_top = (1.4 * cap_max.max(1.0)).max(1.05 * highest);
     vec![Figure {
         file: "fig05_ida_curves.svg".into(),
         chart: Chart {
@@ -88,11 +95,11 @@ pub(super) fn ida_curves(d: &StudyData) -> Vec<Figure> {
                 caps.len()
             ),
             x_desc: "θmax / α".into(),
-            y_desc: "A_g / (α g) = 1/η".into(),
+            y_desc: "PGA / (α g) = 1/η".into(),
             x_scale: Scale::Linear,
             y_scale: Scale::Linear,
             x_range: Some((0.0, 1.05)),
-            y_range: Some((0.0, 1.4 * cap_max.max(1.0))),
+            y_range: Some((0.0, y_top)),
             lines,
         },
         caption: format!(
@@ -125,7 +132,7 @@ pub(super) fn median_ida_across_p(d: &StudyData) -> Vec<Figure> {
         chart: Chart {
             title: format!("Median IDA curves across p, ε = {e_mid:.2}"),
             x_desc: "θmax / α (50 % fractile)".into(),
-            y_desc: "A_g / (α g) = 1/η".into(),
+            y_desc: "PGA / (α g) = 1/η".into(),
             x_scale: Scale::Linear,
             y_scale: Scale::Log,
             x_range: Some((0.0, 1.05)),
@@ -208,6 +215,31 @@ mod tests {
         // The intensity axis reaches 40 % above the highest fractile's end (1/η = 2).
         assert_eq!(c.y_range, Some((0.0, 2.8)));
         assert_eq!(c.x_range, Some((0.0, 1.05)));
+    }
+
+    /// The strongest record's capacity (1/η_c = 14.7, far above the 84 %
+    /// fractile's end at 2) lies inside the frame, not clamped to its top
+    /// (the paper study's Fig. 5 once cut its axis at 12.3).
+    #[test]
+    fn fig5_frame_holds_every_point() {
+        let mut d = study();
+        d.caps.push(cap(15, Some(1.0 / 14.7)));
+        let c = &ida_curves(&d)[0].chart;
+        let (x_range, y_range) = (c.x_range.unwrap(), c.y_range.unwrap());
+        for l in &c.lines {
+            for &(x, y) in &l.points {
+                assert!(
+                    x >= x_range.0 && x <= x_range.1,
+                    "x = {x} outside {x_range:?}"
+                );
+                assert!(
+                    y >= y_range.0 && y <= y_range.1,
+                    "y = {y} outside {y_range:?}"
+                );
+            }
+        }
+        assert!(y_range.1 < 1.1 * 14.7, "no more room than 5 %: {y_range:?}");
+        assert!(!c.y_desc.contains('_'), "{}", c.y_desc);
     }
 
     /// With `[example]`, Fig. 5 draws the example block's own runs (cases

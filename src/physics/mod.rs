@@ -75,7 +75,7 @@ pub fn check_p(p: f64) -> Result<(), String> {
         Ok(())
     } else {
         // 1e300 as such, not as its 301 digits.
-        let p = if (1e-4..1e7).contains(&p.abs()) {
+        let p = if p == 0.0 || !p.is_finite() || (1e-4..1e7).contains(&p.abs()) {
             format!("{p}")
         } else {
             format!("{p:e}")
