@@ -581,3 +581,81 @@ fn inputs_as_users_write_them_and_rows_named_by_line() {
         assert!(!err.contains("--b") && !err.contains("--eps"), "{err}");
     }
 }
+
+/// `fragility` warns exactly where `risk` does (it once printed a curve
+/// without a word for a stocky block, p or ε outside the regression's
+/// range), and `risk` says when its rate is mostly an extrapolation
+/// beyond the hazard curve's last IML.
+#[test]
+fn fragility_and_risk_warn_alike_and_risk_flags_extrapolation() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(
+        d.join("h.csv"),
+        "pga_g,annual_rate\n0.01,0.1\n0.02,0.02\n0.05,0.002\n",
+    )
+    .unwrap();
+    for (b, h, expected) in [
+        ("0.25", "1", vec!["α = 0.245 rad"]),
+        ("1", "0.5", vec!["α = 1.107 rad"]),
+        (
+            "0.01",
+            "0.05",
+            vec!["p = ", "1/s is outside the regression's 0.33–10 1/s"],
+        ),
+        (
+            "0.05",
+            "1",
+            vec!["ε = 0.996 is outside the regression's 0.5–0.95"],
+        ),
+        ("0.15", "1", vec![]),
+    ] {
+        let eps: &[&str] = match b {
+            "1" => &["--eps", "0.5"],
+            "0.15" => &["--eps", "0.8"],
+            _ => &[],
+        };
+        let f = json(&rocking(
+            d,
+            &[
+                &["fragility", "--b", b, "--h", h, "--pga", "0.3", "--json"][..],
+                eps,
+            ]
+            .concat(),
+        ));
+        let r = json(&rocking(
+            d,
+            &[
+                &[
+                    "risk", "--hazard", "h.csv", "--b", b, "--h", h, "--beyond", "stop", "--json",
+                ][..],
+                eps,
+            ]
+            .concat(),
+        ));
+        assert_eq!(f["warnings"], r["warnings"], "b = {b}, h = {h}");
+        let text = f["warnings"].to_string();
+        for e in &expected {
+            assert!(text.contains(e), "b = {b}, h = {h}: {text}");
+        }
+        if expected.is_empty() {
+            assert_eq!(f["warnings"].as_array().unwrap().len(), 0, "{text}");
+        }
+    }
+    // The curve ends at 0.05 g, far below this block's median (about
+    // 0.45 g): extrapolated, nearly all of the rate lies beyond it.
+    let r = json(&rocking(
+        d,
+        &[
+            "risk", "--hazard", "h.csv", "--b", "0.1", "--h", "1", "--json",
+        ],
+    ));
+    let share = r["sites"][0]["share_beyond_last_iml"].as_f64().unwrap();
+    assert!(share > 0.5, "{share}");
+    assert!(
+        r["warnings"]
+            .to_string()
+            .contains("beyond the hazard curve's last IML"),
+        "{r}"
+    );
+}

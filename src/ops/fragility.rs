@@ -9,7 +9,9 @@ use rayon::prelude::*;
 use crate::block::{Block, BlockError, Restitution};
 use crate::fragility::{self, FractileLaw};
 use crate::ida::{self, ImGrid};
-use crate::physics::{Excitation, ModelChoice, PhysicsError, RunSpec};
+use crate::physics::{
+    Excitation, ModelChoice, PhysicsError, RunSpec, LINEARIZATION_ERROR_PER_ALPHA2,
+};
 use crate::pipeline::Plan;
 use crate::stages::fit::{self, FitError};
 use crate::stages::ingest::{self, IngestError, OnBad};
@@ -28,6 +30,8 @@ pub struct Request {
     pub from: Source,
     /// Also run the block through the records.
     pub direct: bool,
+    /// The linearised model's accepted error in η_c; a stockier block is warned of.
+    pub auto_tol: f64,
 }
 
 /// Where the capacity fractiles come from.
@@ -64,10 +68,14 @@ pub struct Assessment {
     /// Records run with `--direct`.
     pub records: Option<usize>,
     pub points: Vec<Point>,
+    /// Where the regression is stretched for this block (none with `--direct`).
+    pub warnings: Vec<String>,
 }
 
 #[derive(Debug, thiserror::Error)]
 pub enum FragilityError {
+    #[error("--auto-tol: {0}")]
+    AutoTol(String),
     #[error("--b and --h must be positive (m); got b = {b}, h = {h}")]
     Size { b: f64, h: f64 },
     #[error("--eps = {0}: ε must be in (0, 1]")]
@@ -120,6 +128,7 @@ const RECORDS_HINT: &str = "fix them, or point --records at a folder of good AT2
 
 /// Checks the request and computes the fragility.
 pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
+    crate::physics::check_auto_tol(req.auto_tol).map_err(FragilityError::AutoTol)?;
     let block = block(req.b_m, req.h_m, req.eps)?;
     if req.pga_g.is_empty() {
         return Err(FragilityError::NoPga);
@@ -162,7 +171,38 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
         beta,
         records: capacities.as_ref().map(Vec::len),
         points,
+        warnings: if req.direct {
+            Vec::new()
+        } else {
+            warnings(&block, req.auto_tol)
+        },
     })
+}
+
+/// Where the paper's regression is stretched for a block (not for
+/// `--direct`): shared by `fragility` and `risk`, so both warn alike.
+pub fn warnings(block: &Block, auto_tol: f64) -> Vec<String> {
+    let mut w = Vec::new();
+    if !(0.5..=0.95).contains(&block.eps) {
+        w.push(format!(
+            "ε = {:.3} is outside the regression's 0.5–0.95",
+            block.eps
+        ));
+    }
+    let p = block.p();
+    if !(0.33..=10.0).contains(&p) {
+        w.push(format!(
+            "p = {p:.3} 1/s is outside the regression's 0.33–10 1/s"
+        ));
+    }
+    let alpha = block.alpha();
+    let err = LINEARIZATION_ERROR_PER_ALPHA2 * alpha * alpha;
+    if err > auto_tol {
+        w.push(format!(
+            "α = {alpha:.3} rad: the regression rests on the linearised model, which errs by about {err:.1e} > {auto_tol:e} in η_c here; use --direct (the nonlinear model)"
+        ));
+    }
+    w
 }
 
 /// A real block from its half-width and half-height (m) and ε (`None`:

@@ -13,7 +13,6 @@ use super::fragility::{self, DirectRecords, FragilityError, Laws, Source};
 use crate::block::{Block, BlockError, Restitution};
 use crate::hazard::{self, HazardCurve, HazardError};
 use crate::label::Label;
-use crate::physics::LINEARIZATION_ERROR_PER_ALPHA2;
 use crate::plot::{self, Bars, PlotError, Scale};
 use crate::risk::{self, Beyond, Fragility, SiteRisk};
 use crate::stats;
@@ -302,31 +301,6 @@ pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
     Ok(out)
 }
 
-/// Where the paper's regression is stretched for a block (not for `--direct`).
-pub fn warnings(block: &Block, auto_tol: f64) -> Vec<String> {
-    let mut w = Vec::new();
-    if !(0.5..=0.95).contains(&block.eps) {
-        w.push(format!(
-            "ε = {:.3} is outside the regression's 0.5–0.95",
-            block.eps
-        ));
-    }
-    let p = block.p();
-    if !(0.33..=10.0).contains(&p) {
-        w.push(format!(
-            "p = {p:.3} 1/s is outside the regression's 0.33–10 1/s"
-        ));
-    }
-    let alpha = block.alpha();
-    let err = LINEARIZATION_ERROR_PER_ALPHA2 * alpha * alpha;
-    if err > auto_tol {
-        w.push(format!(
-            "α = {alpha:.3} rad: the regression rests on the linearised model, which errs by about {err:.1e} > {auto_tol:e} in η_c here; use --direct (the nonlinear model)"
-        ));
-    }
-    w
-}
-
 /// The fragility of a block in PGA terms, and how to describe it.
 fn fragility_of(
     block: &Block,
@@ -446,10 +420,16 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
         };
         let block = fragility::block(e.b_m, e.h_m, e.eps).map_err(in_block)?;
         let (frag, info) = fragility_of(&block, &laws, records.as_ref()).map_err(in_block)?;
-        let site_infos = sites
+        let site_infos: Vec<SiteInfo> = sites
             .iter()
             .map(|(k, c)| site_info(*k, c, &risk::assess(c, &frag, req.beyond), req.years))
             .collect();
+        let mut warnings = if req.direct {
+            Vec::new()
+        } else {
+            fragility::warnings(&block, req.auto_tol)
+        };
+        warnings.extend(extrapolated(&site_infos));
         out.push(Assessment {
             block: BlockInfo {
                 name: e.name.clone(),
@@ -464,14 +444,30 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
             years: req.years,
             beyond: req.beyond.label(),
             sites: site_infos,
-            warnings: if req.direct {
-                Vec::new()
-            } else {
-                warnings(&block, req.auto_tol)
-            },
+            warnings,
         });
     }
     Ok(out)
+}
+
+/// Sites whose rate comes mostly (over half) from beyond the hazard
+/// curve's last IML, where the curve's last slope is extrapolated: the
+/// answer is then more the extrapolation's than the hazard model's.
+fn extrapolated(sites: &[SiteInfo]) -> Vec<String> {
+    sites
+        .iter()
+        .filter(|s| s.share_beyond_last_iml > 0.5)
+        .map(|s| {
+            format!(
+                "site {}: {:.0} % of the rate comes from beyond the hazard curve's last IML \
+                 ({} g), where its last slope is extrapolated; the rate and return period are \
+                 an extrapolation (compare --beyond stop)",
+                s.site,
+                100.0 * s.share_beyond_last_iml,
+                s.last_iml_g
+            )
+        })
+        .collect()
 }
 
 /// The rows of `risk.parquet`: one per block × site.

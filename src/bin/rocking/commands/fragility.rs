@@ -34,6 +34,9 @@ pub struct Args {
     /// Also run the block through the record suite and report the empirical fraction.
     #[arg(long)]
     direct: bool,
+    /// The linearised model's accepted error in η_c; a block whose α exceeds it is flagged.
+    #[arg(long, default_value_t = 0.01)]
+    auto_tol: f64,
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -47,8 +50,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         pga_g: args.pga.clone(),
         from: args.law.source(),
         direct: args.direct,
+        auto_tol: args.auto_tol,
     };
     let a = fragility::assess(&req)?;
+    for w in &a.warnings {
+        eprintln!("warning: {w}");
+    }
     if args.json {
         println!("{}", serde_json::to_string(&a)?);
         return Ok(());
