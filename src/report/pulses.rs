@@ -51,8 +51,9 @@ fn settings(md: &mut String, plan: &Plan, pp: &PulsePlan) {
     );
     let _ = writeln!(
         md,
-        "| model | {:?}, overturning {} |",
-        plan.model, plan.overturn
+        "| model | {}, overturning {} |",
+        super::study::model_text(plan.model),
+        plan.overturn
     );
     let _ = writeln!(md, "| ε | {} |", list(&pp.eps));
     let span = |v: &[f64], what: &str| {
@@ -187,5 +188,10 @@ mod tests {
         let mut md = String::new();
         walls(&mut md, &d);
         assert!(md.contains("| 1 | 0.0e0 |"), "{md}");
+        // The model by its name in the paper, not the Rust variant.
+        let mut md = String::new();
+        settings(&mut md, &d.plan, d.plan.pulse_map().unwrap());
+        assert!(md.contains("linearised equation (paper Eq. 8)"), "{md}");
+        assert!(!md.contains("Linearized"), "{md}");
     }
 }

@@ -44,8 +44,9 @@ fn settings(w: &mut String, d: &StudyData) {
     let _ = writeln!(w, "| records | {}{sets} |", d.n_records());
     let _ = writeln!(
         w,
-        "| model | {:?}, overturning {} |",
-        plan.model, plan.overturn
+        "| model | {}, overturning {} |",
+        model_text(plan.model),
+        plan.overturn
     );
     let _ = writeln!(
         w,
@@ -56,10 +57,38 @@ fn settings(w: &mut String, d: &StudyData) {
     );
     let _ = writeln!(
         w,
-        "| IM grid | {} {:?}-spaced levels of η from {} down to {}, capacity refined to Δη = {} |",
-        rs.grid.count, rs.grid.spacing, rs.grid.eta_max, rs.grid.eta_min, rs.tol
+        "| IM grid | {} {} levels of η from {} down to {}, capacity refined to Δη = {} |",
+        rs.grid.count,
+        match rs.grid.spacing {
+            crate::ida::Spacing::Log => "log-spaced",
+            crate::ida::Spacing::Linear => "evenly spaced",
+        },
+        rs.grid.eta_max,
+        rs.grid.eta_min,
+        rs.tol
     );
-    let _ = writeln!(w, "| fractiles | Hyndman–Fan {:?} |\n", rs.fractile);
+    let _ = writeln!(w, "| fractiles | {} |\n", fractile_text(rs.fractile));
+}
+
+/// The model as a reader names it (not the Rust variant).
+pub(super) fn model_text(m: crate::physics::ModelChoice) -> &'static str {
+    use crate::physics::ModelChoice::*;
+    match m {
+        Linearized => "linearised equation (paper Eq. 8)",
+        Nonlinear => "nonlinear equation (paper Eq. 7)",
+        Auto => "linearised equation where its error 0.45·α² is within `auto_tol`, else nonlinear",
+    }
+}
+
+/// The fractile definition as a reader names it.
+fn fractile_text(f: crate::stats::FractileDef) -> &'static str {
+    use crate::stats::FractileDef::*;
+    match f {
+        Type7 => "Hyndman & Fan type 7 (linear between order statistics; numpy's and R's default)",
+        Type5 => "Hyndman & Fan type 5 (MATLAB's prctile)",
+        Type6 => "Hyndman & Fan type 6 (Weibull plotting positions)",
+        Type8 => "Hyndman & Fan type 8 (approximately median-unbiased)",
+    }
 }
 
 fn runtime(w: &mut String, d: &StudyData) {
