@@ -349,10 +349,10 @@ fn submit_runs_the_quick_study_on_a_real_slurm() {
     );
 }
 
-#[test]
-fn submit_without_sbatch_says_so() {
-    let dir = tempdir();
-    let out = Command::new(env!("CARGO_BIN_EXE_rocking"))
+/// `rocking submit pipelines/quick.toml --shards 2` into `outputs`, with
+/// only `path` on PATH.
+fn submit_quick(outputs: &Path, path: &Path) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_rocking"))
         .args([
             "submit",
             "pipelines/quick.toml",
@@ -360,11 +360,17 @@ fn submit_without_sbatch_says_so() {
             "2",
             "--outputs",
         ])
-        .arg(dir.path())
+        .arg(outputs)
         .current_dir(root())
-        .env("PATH", dir.path())
+        .env("PATH", path)
         .output()
-        .unwrap();
+        .unwrap()
+}
+
+#[test]
+fn submit_without_sbatch_says_so() {
+    let dir = tempdir();
+    let out = submit_quick(dir.path(), dir.path());
     assert!(!out.status.success());
     let e = stderr(&out);
     assert!(e.contains("needs Slurm's `sbatch` on PATH"), "{e}");
@@ -390,19 +396,7 @@ fn a_refused_submission_leaves_no_scripts() {
         use std::os::unix::fs::PermissionsExt;
         std::fs::set_permissions(&sbatch, std::fs::Permissions::from_mode(0o755)).unwrap();
     }
-    let out = Command::new(env!("CARGO_BIN_EXE_rocking"))
-        .args([
-            "submit",
-            "pipelines/quick.toml",
-            "--shards",
-            "2",
-            "--outputs",
-        ])
-        .arg(dir.path().join("out"))
-        .current_dir(root())
-        .env("PATH", &bin)
-        .output()
-        .unwrap();
+    let out = submit_quick(&dir.path().join("out"), &bin);
     assert!(!out.status.success());
     let e = stderr(&out);
     assert!(e.contains("invalid partition"), "{e}");

@@ -101,11 +101,9 @@ pub(super) fn model(raw: &RawModel, default: Overturn) -> Result<(ModelChoice, O
     Ok((model, overturn))
 }
 
-/// ε under the key `key`: in (0, 1].
+/// ε under the key `key`: in (0, 1] ([`crate::block::check_eps`]).
 pub(super) fn check_eps(key: &str, e: f64) -> Result<(), String> {
-    if e > 0.0 && e <= 1.0 {
-        Ok(())
-    } else {
-        Err(format!("`{key}` holds ε = {e}; ε must be in (0, 1]"))
-    }
+    crate::block::check_eps(e)
+        .map(|_| ())
+        .map_err(|err| format!("`{key}` holds {err}"))
 }

@@ -108,28 +108,27 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
         .collect::<Result<Vec<_>, _>>()?;
     let mut rows = Vec::new();
     let (mut runs, mut shared) = (0u64, 0u64);
-    let total = plan.blocks().len() as u64;
+    let total = rs.blocks.len() as u64;
     // Finest grid first: the coarser grids' levels are among its levels (to
     // the bit), so their searches find most of their runs already done.
-    let mut order: Vec<usize> = (0..plan.convergence().len()).collect();
-    order.sort_by_key(|&gi| std::cmp::Reverse(plan.convergence()[gi]));
-    let specs: Vec<RunSpec> = rs.blocks.iter().map(|b| b.run).collect();
+    let mut order: Vec<usize> = (0..rs.convergence.len()).collect();
+    order.sort_by_key(|&gi| std::cmp::Reverse(rs.convergence[gi]));
     let n_records = excitations.len();
     let mut done = 0u64;
     // A few blocks at a time, every (block, record) pair in parallel: the
     // threads stay busy to the end of each group (records differ in length
     // tenfold), and progress is reported after each group.
-    for (group, blocks) in plan.blocks().chunks(BLOCKS_PER_GROUP).enumerate() {
+    for (group, blocks) in rs.blocks.chunks(BLOCKS_PER_GROUP).enumerate() {
         let first = group * BLOCKS_PER_GROUP;
         let pairs: Vec<(usize, usize)> = (first..first + blocks.len())
             .flat_map(|bi| (0..n_records).map(move |ri| (bi, ri)))
             .collect();
-        let results = search_pairs(rs, &excitations, &specs, &order, &pairs)?;
+        let results = search_pairs(rs, &excitations, &order, &pairs)?;
         for (k, block) in blocks.iter().enumerate() {
             let per_record = &results[k * n_records..(k + 1) * n_records];
             runs += per_record.iter().map(|r| r.1).sum::<u64>();
             shared += per_record.iter().map(|r| r.2).sum::<u64>();
-            let per_grid: Vec<Vec<f64>> = (0..plan.convergence().len())
+            let per_grid: Vec<Vec<f64>> = (0..rs.convergence.len())
                 .map(|gi| per_record.iter().map(|r| r.0[gi]).collect())
                 .collect();
             rows.extend(block_rows(rs, block, &per_grid));
@@ -149,14 +148,14 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
         &rows,
         &[(
             "rocking.convergence.levels".into(),
-            format!("{:?}", plan.convergence()),
+            format!("{:?}", rs.convergence),
         )],
     )?;
     Ok(Summary {
         lines: vec![format!(
             "capacity search at {:?} levels: {runs} simulations (the searches' {shared} runs \
              share the levels the grids have in common); wrote {}",
-            plan.convergence(),
+            rs.convergence,
             dest.display()
         )],
         also_wrote: Vec::new(),
@@ -178,7 +177,6 @@ type PerRecord = (Vec<f64>, u64, u64);
 fn search_pairs(
     plan: &RecordsPlan,
     excitations: &[Excitation],
-    specs: &[RunSpec],
     order: &[usize],
     pairs: &[(usize, usize)],
 ) -> Result<Vec<PerRecord>, ConvergenceError> {
@@ -194,7 +192,7 @@ fn search_pairs(
                     count: plan.convergence[gi],
                     ..plan.grid
                 };
-                let c = search(&mut memo, &specs[bi], &grid, plan.tol)
+                let c = search(&mut memo, &plan.blocks[bi].run, &grid, plan.tol)
                     .map_err(physics(&plan.blocks[bi]))?;
                 etas[gi] = c.eta_c.unwrap_or(0.0);
                 asked += c.runs() as u64;

@@ -11,21 +11,17 @@ use super::layout::{
     plan_hash, CHUNK_CASES, META_CHUNK, META_PLAN, META_PLAN_HASH, META_SETTINGS, META_SHARD,
 };
 use crate::ida;
-use crate::physics::{Excitation, RunSpec};
+use crate::physics::Excitation;
 use crate::pipeline::{BlockSpec, Plan};
 use crate::stages::records;
 use crate::stages::stage::{Shard, Study};
 use crate::tables::records::RecordRow;
 use crate::tables::sweep::{CapacityRow, IdaRow};
 
-/// Each block's run specification (resolved with the plan) and the
-/// reasons for the models.
-fn block_specs(blocks: &[BlockSpec]) -> (Vec<RunSpec>, Vec<String>) {
+/// The blocks' reasons for their models (resolved with the plan), each once.
+fn model_reasons(blocks: &[BlockSpec]) -> Vec<String> {
     let why: BTreeSet<&str> = blocks.iter().map(|b| b.model_why.as_str()).collect();
-    (
-        blocks.iter().map(|b| b.run).collect(),
-        why.into_iter().map(String::from).collect(),
-    )
+    why.into_iter().map(String::from).collect()
 }
 
 /// Everything a chunk needs, prepared once: the records, their
@@ -34,7 +30,6 @@ pub(in crate::stages) struct Prepared {
     pub(in crate::stages) records: Vec<RecordRow>,
     excitations: Vec<Excitation>,
     blocks: Vec<BlockSpec>,
-    specs: Vec<RunSpec>,
     grid: ida::ImGrid,
     tol: f64,
     trace: ida::Trace,
@@ -52,7 +47,7 @@ impl Prepared {
         let plan = &study.plan;
         let records = records::select(plan, &study.records_table())?;
         let rs = plan.records_study().map_err(records::SelectError::from)?;
-        let (specs, models) = block_specs(blocks);
+        let models = model_reasons(blocks);
         let excitations = records
             .par_iter()
             .map(|r| {
@@ -69,7 +64,6 @@ impl Prepared {
             records,
             excitations,
             blocks: blocks.to_vec(),
-            specs,
             grid: rs.grid,
             tol: rs.tol,
             trace: rs.trace,
@@ -126,7 +120,11 @@ pub(in crate::stages) struct CaseResult {
 pub(in crate::stages) fn run_case(case: usize, prep: &Prepared) -> Result<CaseResult, SweepError> {
     let n_blocks = prep.blocks.len();
     let (ri, bi) = (case / n_blocks, case % n_blocks);
-    let (record, spec, block) = (&prep.records[ri], prep.specs[bi], &prep.blocks[bi].name);
+    let (record, spec, block) = (
+        &prep.records[ri],
+        prep.blocks[bi].run,
+        &prep.blocks[bi].name,
+    );
     let certified = ida::capacity_certified(
         &prep.excitations[ri],
         &spec,

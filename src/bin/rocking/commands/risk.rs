@@ -1,6 +1,6 @@
 //! `rocking risk`: the annual rate of overturning at a site.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::ValueEnum;
 use rocking::ops::risk::{self, Assessment, Blocks, Request};
@@ -109,8 +109,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     let mut inputs = vec![args.hazard.as_path()];
     inputs.extend(args.inventory.as_deref());
-    if args.law.from != "paper" {
-        inputs.push(Path::new(&args.law.from));
+    if let rocking::ops::fragility::Source::Pipeline { file, .. } = &req.from {
+        inputs.push(file.as_path());
     }
     if args.inventory.is_some() {
         rocking::outpath::check("--out", &args.out, "parquet", &inputs)?;

@@ -47,8 +47,8 @@ pub struct Args {
     history: Option<PathBuf>,
     /// Keep every N-th sample in the history (events are always kept).
     #[arg(long, value_name = "N", default_value_t = 1,
-          value_parser = clap::value_parser!(u64).range(1..))]
-    history_every: u64,
+          value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
+    history_every: usize,
 }
 
 #[derive(Serialize)]
@@ -103,7 +103,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     check_history(&args)?;
     let (why, block_alpha) = (block.why, block.named.alpha_rad);
     let rec = args.block.excitation(args.record.as_deref(), spec.p)?;
-    let mut recorder = Recorder::new(usize::try_from(args.history_every).unwrap_or(usize::MAX));
+    let mut recorder = Recorder::new(args.history_every);
     let out = if args.history.is_some() {
         physics::simulate_observed(&rec.exc, &spec, &mut recorder)?
     } else {
