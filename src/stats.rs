@@ -38,6 +38,18 @@ pub enum FractileDef {
 impl FractileDef {
     pub const NAMES: &'static str = "type7 (default), type5 (MATLAB prctile), type6, type8";
 
+    /// The definition as a reader names it.
+    pub fn describe(self) -> &'static str {
+        match self {
+            FractileDef::Type7 => {
+                "Hyndman & Fan type 7 (linear between order statistics; numpy's and R's default)"
+            }
+            FractileDef::Type5 => "Hyndman & Fan type 5 (MATLAB's prctile)",
+            FractileDef::Type6 => "Hyndman & Fan type 6 (Weibull plotting positions)",
+            FractileDef::Type8 => "Hyndman & Fan type 8 (approximately median-unbiased)",
+        }
+    }
+
     pub fn parse(name: &str) -> Option<Self> {
         match name {
             "type7" => Some(FractileDef::Type7),
@@ -68,6 +80,20 @@ impl crate::label::Label for ResampleUnit {
     }
 }
 
+/// The 1-based position h in a sorted sample of `n ≥ 1` of its
+/// q-quantile by definition `def` (Hyndman & Fan 1996, Table 1), in [1, n]:
+/// the quantile interpolates between the ⌊h⌋-th and the ⌈h⌉-th values.
+pub fn position(n: usize, q: f64, def: FractileDef) -> f64 {
+    let nf = n as f64;
+    match def {
+        FractileDef::Type5 => nf * q + 0.5,
+        FractileDef::Type6 => (nf + 1.0) * q,
+        FractileDef::Type7 => (nf - 1.0) * q + 1.0,
+        FractileDef::Type8 => (nf + 1.0 / 3.0) * q + 1.0 / 3.0,
+    }
+    .clamp(1.0, nf.max(1.0))
+}
+
 /// The q-quantile (0 ≤ q ≤ 1) of `sorted` (ascending, +∞ allowed at the
 /// end, no NaN) by definition `def`. `None` for an empty sample.
 pub fn fractile(sorted: &[f64], q: f64, def: FractileDef) -> Option<f64> {
@@ -75,15 +101,7 @@ pub fn fractile(sorted: &[f64], q: f64, def: FractileDef) -> Option<f64> {
     if n == 0 {
         return None;
     }
-    let nf = n as f64;
-    // 1-based position h (Hyndman & Fan 1996, Table 1).
-    let h = match def {
-        FractileDef::Type5 => nf * q + 0.5,
-        FractileDef::Type6 => (nf + 1.0) * q,
-        FractileDef::Type7 => (nf - 1.0) * q + 1.0,
-        FractileDef::Type8 => (nf + 1.0 / 3.0) * q + 1.0 / 3.0,
-    }
-    .clamp(1.0, nf);
+    let h = position(n, q, def);
     let lo = h.floor();
     let frac = h - lo;
     let i = lo as usize - 1;

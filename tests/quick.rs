@@ -138,13 +138,75 @@ fn quick_study_is_unchanged_and_answers_the_documented_queries() {
         return;
     }
     compare_with_reference(&folder);
-    analyst_queries(dir.path(), &folder);
+    analyst_queries(dir.path(), "quick", &folder);
+    horizontal_is_the_kth_overturning(&folder);
+    // The paper's grid (p log-spaced: 2.1213…, ε a linear range): the same
+    // queries answer, by the blocks' indices and by a stated ε value.
+    let out = rocking(
+        &root(),
+        &[
+            "fit",
+            "pipelines/paper.toml",
+            "--outputs",
+            outputs.to_str().unwrap(),
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    analyst_queries(dir.path(), "paper", &outputs.join("paper"));
+    horizontal_is_the_kth_overturning(&outputs.join("paper"));
+}
+
+/// Fig. 7's horizontal capacity q-fractile is, exactly, the grid level at
+/// which the k-th most fragile record first overturned, k = ⌈1 + (n − 1)q⌉
+/// (type 7): the q-fractile of θmax/α given η is +∞ once k records are
+/// (+∞ in an interpolation is +∞ whatever its weight). Both it and the
+/// vertical fractile (between the (k − 1)-th and k-th capacities) are at
+/// most the k-th capacity (a record's η_c is at least the level it first
+/// overturned at); which is larger depends on the gap between the records.
+fn horizontal_is_the_kth_overturning(folder: &Path) {
+    use rocking::tables::sweep::CapacityRow;
+    let caps: Vec<CapacityRow> = read(&folder.join("capacities.parquet")).unwrap();
+    let fractiles: Vec<CapacityFractileRow> =
+        read(&folder.join("capacity_fractiles.parquet")).unwrap();
+    let mut checked = 0;
+    for f in &fractiles {
+        let mut first: Vec<f64> = caps
+            .iter()
+            .filter(|c| c.p == f.p && c.eps == f.eps)
+            .map(|c| c.level_overturned.unwrap_or(0.0))
+            .collect();
+        let mut eta_c: Vec<f64> = caps
+            .iter()
+            .filter(|c| c.p == f.p && c.eps == f.eps)
+            .map(|c| c.eta_c.unwrap_or(0.0))
+            .collect();
+        first.sort_by(|a, b| a.total_cmp(b));
+        eta_c.sort_by(|a, b| a.total_cmp(b));
+        let n = first.len();
+        assert_eq!(n as i64, f.n_records);
+        let k = (1.0 + (n - 1) as f64 * f.quantile).ceil() as usize;
+        let kth = first[k - 1];
+        let want = (kth > 0.0).then_some(kth);
+        assert_eq!(
+            f.eta_c_horizontal, want,
+            "{}: p = {}, ε = {}, q = {}",
+            folder.display(),
+            f.p,
+            f.eps,
+            f.quantile
+        );
+        assert!(f.eta_c <= eta_c[k - 1] && kth <= eta_c[k - 1]);
+        checked += 1;
+    }
+    assert!(checked >= 36, "{checked}");
 }
 
 /// The Python program: every `python` block of outputs/README.md, every
 /// `sql` block through DuckDB, and a JSON line of the answers to check.
-fn program() -> String {
-    let readme = std::fs::read_to_string(root().join("outputs/README.md")).unwrap();
+fn program(study: &str) -> String {
+    let readme = std::fs::read_to_string(root().join("outputs/README.md"))
+        .unwrap()
+        .replace("outputs/quick/", &format!("outputs/{study}/"));
     let blocks = |lang: &str| -> Vec<String> {
         let fence = format!("```{lang}\n");
         readme
@@ -155,7 +217,7 @@ fn program() -> String {
     };
     let (py, sql) = (blocks("python"), blocks("sql"));
     assert!(
-        !py.is_empty() && sql.len() >= 2,
+        !py.is_empty() && sql.len() >= 3,
         "the README shows its queries"
     );
     let mut prog = py.join("\n");
@@ -168,14 +230,18 @@ fn program() -> String {
          'records': records.select('record_id', 'pga_g').rows(),\n\
          'median': median.rows(),\n\
          'share': share.select('eta', 'share_overturned').rows(),\n\
+         'one': one.rows(),\n\
          'sql_median': sql_0,\n\
-         'sql_coefficients': sql_1,\n\
+         'sql_at_eps': sql_1,\n\
+         'sql_coefficients': sql_2,\n\
          }))\n",
     );
     prog
 }
 
-fn analyst_queries(cwd: &Path, folder: &Path) {
+/// Runs the README's queries on the study `study` (in `cwd/outputs`,
+/// which is `folder`) and checks their answers against its tables.
+fn analyst_queries(cwd: &Path, study: &str, folder: &Path) {
     let python = std::env::var("ROCKING_PYTHON").unwrap_or_else(|_| "python3".into());
     let probe = Command::new(&python)
         .args(["-c", "import polars, duckdb"])
@@ -187,7 +253,7 @@ fn analyst_queries(cwd: &Path, folder: &Path) {
         );
     }
     let out = Command::new(&python)
-        .args(["-c", &program()])
+        .args(["-c", &program(study)])
         .current_dir(cwd)
         .output()
         .unwrap();
@@ -226,9 +292,10 @@ fn analyst_queries(cwd: &Path, folder: &Path) {
             .unwrap()
             .eta_c
     };
+    let n_blocks = fractiles.len() / 3;
     for key in ["median", "sql_median"] {
         let rows = answers[key].as_array().unwrap();
-        assert_eq!(rows.len(), 12, "{key}: one row per block");
+        assert_eq!(rows.len(), n_blocks, "{key}: one row per block");
         for r in rows {
             let (p, e, v) = (
                 r[0].as_f64().unwrap(),
@@ -251,17 +318,36 @@ fn analyst_queries(cwd: &Path, folder: &Path) {
         read(&folder.join("overturn_fraction.parquet")).unwrap();
     let share = answers["share"].as_array().unwrap();
     assert!(share.len() > 20, "{share:?}");
+    // The block picked by its indices: the grid's third p, second ε.
+    let blocks: Vec<rocking::tables::reduce::BlockRow> =
+        read(&folder.join("blocks.parquet")).unwrap();
+    let ps = rocking::stats::distinct(blocks.iter().map(|b| b.p).collect());
+    let es = rocking::stats::distinct(blocks.iter().map(|b| b.eps).collect());
+    let (bp, be) = (ps[2], es[1]);
+    assert_eq!(answers["one"], serde_json::json!([[bp, be]]));
     for r in share {
         let (eta, s) = (r[0].as_f64().unwrap(), r[1].as_f64().unwrap());
         let row = fraction
             .iter()
-            .find(|f| f.p == 2.0 && f.eps == 0.7 && f.eta == eta)
+            .find(|f| f.p == bp && f.eps == be && f.eta == eta)
             .unwrap_or_else(|| panic!("no level η = {eta}"));
         let ours = row.fraction_resurrection;
         assert!(
             (s - ours).abs() <= 2.0 * f64::EPSILON * ours.max(f64::MIN_POSITIVE),
             "η = {eta}: {s} vs overturn_fraction {ours}"
         );
+    }
+
+    // ε = 0.7 by its value: every p's three fractiles, as the table holds them.
+    let at = answers["sql_at_eps"].as_array().unwrap();
+    let want: Vec<&CapacityFractileRow> = fractiles.iter().filter(|f| f.eps == 0.7).collect();
+    assert_eq!(at.len(), want.len());
+    assert_eq!(at.len(), 3 * ps.len(), "every p at ε = 0.7");
+    for r in at {
+        let (p, q, v) = (r[0].as_f64(), r[1].as_f64(), r[2].as_f64());
+        assert!(want
+            .iter()
+            .any(|f| Some(f.p) == p && Some(f.quantile) == q && Some(f.eta_c) == v));
     }
 
     // The coefficient rows DuckDB selects are the fit's, unchanged.

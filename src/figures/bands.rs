@@ -3,7 +3,7 @@
 //! paper's law (paper Fig. 8 per fractile).
 
 use super::figure::Figure;
-use super::shared::{law_at, PAPER_EQ, Q_NAMES, Q_VALUES};
+use super::shared::{law_at, ramp, PAPER_EQ, Q_NAMES, Q_VALUES};
 use crate::fragility;
 use crate::plot::{Chart, Line, Scale, Style};
 use crate::study::StudyData;
@@ -39,7 +39,7 @@ pub(super) fn capacity_bands(d: &StudyData) -> Vec<Figure> {
         .enumerate()
         .map(|(qi, &q)| {
             let mut lines = Vec::new();
-            for (k, (_, e)) in band_eps(&es).into_iter().enumerate() {
+            for (_, e) in band_eps(&es) {
                 let rows: Vec<&CapacityBandRow> = bands
                     .iter()
                     .filter(|b| b.quantile == q && b.eps == e)
@@ -49,13 +49,13 @@ pub(super) fn capacity_bands(d: &StudyData) -> Vec<Figure> {
                     name: Some(format!("{:.0} % band, ε = {e:.2}", 100.0 * level)),
                     points: outline(&band),
                     style: Style::Band,
-                    color: k,
+                    hue: ramp(&es, e),
                 });
                 lines.push(Line {
                     name: Some(format!("this study, ε = {e:.2}")),
                     points: rows.iter().map(|b| (b.p, b.eta_c)).collect(),
                     style: Style::LinePoints,
-                    color: k,
+                    hue: ramp(&es, e),
                 });
                 lines.push(Line {
                     name: Some(format!("paper Eq. {}, ε = {e:.2}", PAPER_EQ[qi])),
@@ -64,7 +64,7 @@ pub(super) fn capacity_bands(d: &StudyData) -> Vec<Figure> {
                         .map(|&p| (p, law_at(&paper[qi], p, e)))
                         .collect(),
                     style: Style::Dashed,
-                    color: k,
+                    hue: ramp(&es, e),
                 });
             }
             Figure {
@@ -80,6 +80,7 @@ pub(super) fn capacity_bands(d: &StudyData) -> Vec<Figure> {
                     y_scale: Scale::Linear,
                     x_range: None,
                     y_range: Some((0.0, 1.0)),
+                    x_ticks: None,
                     lines,
                 },
                 caption: format!(

@@ -2,8 +2,8 @@
 //! (paper Fig. 7) and the median capacity against p (paper Fig. 8).
 
 use super::figure::Figure;
-use super::shared::{capacity_points, middle, Q_NAMES, Q_VALUES};
-use crate::plot::{Chart, Line, Scale, Style};
+use super::shared::{capacity_points, middle, ramp, Q_NAMES, Q_VALUES};
+use crate::plot::{Chart, Hue, Line, Scale, Style};
 use crate::study::StudyData;
 
 /// Fig. 7: horizontal against vertical capacity fractiles.
@@ -19,13 +19,13 @@ pub(super) fn horizontal_vs_vertical(d: &StudyData) -> Vec<Figure> {
             name: Some(format!("{} vertical", Q_NAMES[qi])),
             points: capacity_points(cf, e_mid, q, |r| Some(r.eta_c)),
             style: Style::Line,
-            color: qi,
+            hue: Hue::Fractile(qi),
         });
         lines.push(Line {
             name: Some(format!("{} horizontal", Q_NAMES[qi])),
             points: capacity_points(cf, e_mid, q, |r| r.eta_c_horizontal),
             style: Style::Points,
-            color: qi,
+            hue: Hue::Fractile(qi),
         });
     }
     vec![Figure {
@@ -38,13 +38,57 @@ pub(super) fn horizontal_vs_vertical(d: &StudyData) -> Vec<Figure> {
             y_scale: Scale::Log,
             x_range: None,
             y_range: None,
+            x_ticks: None,
             lines,
         },
-        caption: "Capacity fractiles from the records' η_c (vertical statistics, lines) and from \
-                  the horizontal EDP fractiles reaching overturning (points, at grid resolution) \
-                  (paper Fig. 7): they coincide up to the grid step."
-            .into(),
+        caption: horizontal_caption(d, e_mid),
     }]
+}
+
+/// Fig. 7's caption: what the two statistics are, why they differ and by
+/// how much in the figure.
+fn horizontal_caption(d: &StudyData, e: f64) -> String {
+    let def = d.records_plan().fractile;
+    let n = d
+        .capacity_fractiles
+        .iter()
+        .find(|r| r.eps == e)
+        .map_or(0, |r| r.n_records as usize);
+    let ks: Vec<String> = Q_VALUES
+        .iter()
+        .map(|&q| format!("{:.0}", crate::stats::position(n.max(1), q, def).ceil()))
+        .collect();
+    // The largest gap of each fractile in the figure, and where.
+    let gaps: Vec<String> = Q_VALUES
+        .iter()
+        .enumerate()
+        .filter_map(|(qi, &q)| {
+            let v = capacity_points(&d.capacity_fractiles, e, q, |r| Some(r.eta_c));
+            let h = capacity_points(&d.capacity_fractiles, e, q, |r| r.eta_c_horizontal);
+            v.iter()
+                .zip(&h)
+                .map(|(a, b)| (a.0, b.1 / a.1 - 1.0))
+                .filter(|g| g.1.is_finite())
+                .max_by(|x, y| x.1.abs().total_cmp(&y.1.abs()))
+                .map(|(p, g)| {
+                    format!("{} {:+.0} % (p = {p:.2} 1/s)", Q_NAMES[qi], 100.0 * g)
+                })
+        })
+        .collect();
+    format!(
+        "Capacity fractiles from the records' η_c (vertical statistics, lines) and the \
+         lowest intensity at which the same fractile of θmax/α given η reaches overturning \
+         (horizontal statistics under the resurrection rule, points) (paper Fig. 7). They \
+         are not the same statistic. With {n} records and {} fractiles, the horizontal \
+         q-fractile is +∞ as soon as the k-th most fragile record has overturned (k = {} for \
+         16, 50, 84 %), since an interpolation with +∞ is +∞ whatever its weight; so each \
+         point is that record's first overturning level, at grid resolution. The vertical \
+         fractile interpolates between two records' capacities. They differ where those two \
+         records lie far apart; the largest differences here: {}.",
+        def.describe(),
+        ks.join(", "),
+        if gaps.is_empty() { "none".to_string() } else { gaps.join("; ") }
+    )
 }
 
 /// Fig. 8: capacity curves.
@@ -55,25 +99,24 @@ pub(super) fn capacity_curves(d: &StudyData) -> Vec<Figure> {
     let (ps, es) = d.ps_and_eps();
     let mut lines: Vec<Line> = es
         .iter()
-        .enumerate()
-        .map(|(k, &e)| Line {
+        .map(|&e| Line {
             name: Some(format!("ε = {e:.2}")),
             points: capacity_points(&d.capacity_fractiles, e, 0.5, |r| Some(r.eta_c)),
             style: Style::LinePoints,
-            color: k,
+            hue: ramp(&es, e),
         })
         .collect();
     // The paper draws the full-cycle rectangle's Mode 0 wall beside the
     // median (t_d = 1 s, so f = p): the shape its regression is built on.
     if !ps.is_empty() {
         lines.push(Line {
-            name: Some("Eq. 6: (1 − exp(−p·1 s))²".into()),
+            name: Some("paper Eq. 6: (1 − exp(−p·1 s))²".into()),
             points: crate::fit::p_curve(&ps)
                 .into_iter()
                 .map(|p| (p, crate::pulse::full_cycle_eq6(p)))
                 .collect(),
             style: Style::Dashed,
-            color: 9,
+            hue: Hue::Ink,
         });
     }
     vec![Figure {
@@ -83,14 +126,17 @@ pub(super) fn capacity_curves(d: &StudyData) -> Vec<Figure> {
             x_desc: "p (1/s)".into(),
             y_desc: "η_c,50".into(),
             x_scale: Scale::Log,
-            y_scale: Scale::Linear,
+            y_scale: Scale::Log,
             x_range: None,
-            y_range: Some((0.0, 1.0)),
+            y_range: None,
+            x_ticks: None,
             lines,
         },
-        caption: "The median capacity against the block's frequency parameter, one curve per ε, \
-                  with the full-cycle rectangular pulse's Mode 0 wall (Eq. 6, t_d = 1 s) dashed \
-                  as the paper draws it (paper Fig. 8)."
+        caption: "The median capacity against the block's frequency parameter, one curve per ε \
+                  (coloured by ε, as in every figure), with the full-cycle rectangular pulse's \
+                  Mode 0 wall (Eq. 6, t_d = 1 s), the paper's reference, dashed in black as the \
+                  paper draws it (paper Fig. 8). Both axes are logarithmic, so the small \
+                  capacities of slender-and-small blocks (p < 1 1/s) are not squashed."
             .into(),
     }]
 }
@@ -157,7 +203,13 @@ mod tests {
         assert_eq!(figs.len(), 1);
         let c = &figs[0].chart;
         assert_eq!(figs[0].file, "fig08_capacity_curves.svg");
-        assert_eq!((c.x_scale, c.y_range), (Scale::Log, Some((0.0, 1.0))));
+        // Both axes logarithmic: small capacities at small p are not squashed.
+        assert_eq!((c.x_scale, c.y_scale, c.y_range), (Scale::Log, Scale::Log, None));
+        // One colour per ε on the ramp; the paper's wall in black, so it
+        // cannot be read as one more ε.
+        assert_eq!(c.lines[0].hue, crate::plot::Hue::Ramp(0.0));
+        assert_eq!(c.lines[1].hue, crate::plot::Hue::Ramp(1.0));
+        assert_eq!(c.lines[2].hue, crate::plot::Hue::Ink);
         assert_eq!(c.lines.len(), 3);
         assert_eq!(c.lines[0].name.as_deref(), Some("ε = 0.50"));
         assert_eq!(c.lines[0].points, [(1.0, 0.25), (2.0, 0.375)]);

@@ -3,7 +3,7 @@
 //! finest grid, and their mean change.
 
 use super::figure::Figure;
-use crate::plot::{Chart, Line, Scale, Style};
+use crate::plot::{Chart, Hue, Line, Scale, Style};
 use crate::stats;
 use crate::study::StudyData;
 use crate::tables::convergence::ConvergenceRow;
@@ -62,15 +62,17 @@ pub(super) fn convergence_share(d: &StudyData) -> Vec<Figure> {
             y_scale: Scale::Linear,
             x_range: None,
             y_range: Some((0.0, top)),
+            x_ticks: Some(convergence_levels(conv).iter().map(|c| c.levels).collect()),
             lines: vec![Line {
                 name: Some("share changed".into()),
                 points: share,
                 style: Style::LinePoints,
-                color: 0,
+                hue: Hue::Series(0),
             }],
         },
         caption: "How many records' capacities move (by more than twice the refinement \
-                  tolerance) against the finest grid, as the grid is refined."
+                  tolerance) against the finest grid, as the grid is refined; every grid \
+                  studied is a labelled tick, the finest (the reference, 0 by definition) last."
             .into(),
     }]
 }
@@ -94,14 +96,17 @@ pub(super) fn convergence_mean(d: &StudyData) -> Vec<Figure> {
             y_scale: Scale::Linear,
             x_range: None,
             y_range: None,
+            x_ticks: Some(convergence_levels(conv).iter().map(|c| c.levels).collect()),
             lines: vec![Line {
                 name: Some("mean over records and blocks".into()),
                 points: mean,
                 style: Style::LinePoints,
-                color: 1,
+                hue: Hue::Series(0),
             }],
         },
-        caption: "Mean absolute change of η_c against the finest grid.".into(),
+        caption: "Mean absolute change of η_c against the finest grid (the last tick, the \
+                  reference: 0 by definition)."
+            .into(),
     }]
 }
 

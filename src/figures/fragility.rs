@@ -4,7 +4,7 @@
 use super::bands::outline;
 use super::figure::Figure;
 use crate::fragility;
-use crate::plot::{Chart, Line, Scale, Style};
+use crate::plot::{Chart, Hue, Line, Scale, Style};
 use crate::study::StudyData;
 
 /// The fragility of an example block, from this study's fit and the paper's.
@@ -30,12 +30,12 @@ pub(super) fn fragility_example(d: &StudyData) -> Vec<Figure> {
             )),
             points: outline(&band),
             style: Style::Band,
-            color: 0,
+            hue: Hue::Series(0),
         });
     }
-    for (name, laws, color) in [
-        ("this study", d.laws.to_vec(), 0),
-        ("paper", fragility::paper().to_vec(), 1),
+    for (name, laws, paper) in [
+        ("this study", d.laws.to_vec(), false),
+        ("paper", fragility::paper().to_vec(), true),
     ] {
         if let Some((m, beta)) = fragility::median_beta(&laws, block.p(), block.eps) {
             lines.push(Line {
@@ -44,12 +44,9 @@ pub(super) fn fragility_example(d: &StudyData) -> Vec<Figure> {
                     .iter()
                     .map(|&g| (g, fragility::probability(m, beta, block.alpha(), g)))
                     .collect(),
-                style: if color == 0 {
-                    Style::Line
-                } else {
-                    Style::Dashed
-                },
-                color,
+                // The paper's curve dashed, in the colour of the data it models.
+                style: if paper { Style::Dashed } else { Style::Line },
+                hue: Hue::Series(0),
             });
         }
     }
@@ -71,6 +68,7 @@ pub(super) fn fragility_example(d: &StudyData) -> Vec<Figure> {
             y_scale: Scale::Linear,
             x_range: Some((0.0, 1.2)),
             y_range: Some((0.0, 1.0)),
+            x_ticks: None,
             lines,
         },
         caption: format!(

@@ -3,9 +3,9 @@
 //! (paper Fig. 6).
 
 use super::figure::Figure;
-use super::shared::{middle, Q_NAMES};
+use super::shared::{middle, ramp, Q_NAMES};
 use crate::ida::RunKind;
-use crate::plot::{Chart, Line, Scale, Style};
+use crate::plot::{Chart, Hue, Line, Scale, Style};
 use crate::study::StudyData;
 use crate::tables::reduce::HorizontalRow;
 
@@ -67,7 +67,7 @@ pub(super) fn ida_curves(d: &StudyData) -> Vec<Figure> {
             name: None,
             points: pts,
             style: Style::Faint,
-            color: 0,
+            hue: Hue::Ink,
         });
     }
     for (qi, q_name) in Q_NAMES.iter().enumerate() {
@@ -77,7 +77,7 @@ pub(super) fn ida_curves(d: &StudyData) -> Vec<Figure> {
             name: Some(format!("{q_name} fractile")),
             points: pts,
             style: Style::Line,
-            color: qi + 1,
+            hue: Hue::Fractile(qi),
         });
     }
     // Room above the fractiles for the legend, and never below a point: the
@@ -100,6 +100,7 @@ pub(super) fn ida_curves(d: &StudyData) -> Vec<Figure> {
             y_scale: Scale::Linear,
             x_range: Some((0.0, 1.05)),
             y_range: Some((0.0, y_top)),
+            x_ticks: None,
             lines,
         },
         caption: format!(
@@ -119,12 +120,11 @@ pub(super) fn median_ida_across_p(d: &StudyData) -> Vec<Figure> {
     let (_, _, e_mid) = middle(d);
     let lines = ps
         .iter()
-        .enumerate()
-        .map(|(k, &p)| Line {
+        .map(|&p| Line {
             name: Some(format!("p = {p:.2} 1/s")),
             points: fractile_curve(&d.horizontal, p, e_mid, 1),
             style: Style::Line,
-            color: k,
+            hue: ramp(&ps, p),
         })
         .collect();
     vec![Figure {
@@ -137,6 +137,7 @@ pub(super) fn median_ida_across_p(d: &StudyData) -> Vec<Figure> {
             y_scale: Scale::Log,
             x_range: Some((0.0, 1.05)),
             y_range: None,
+            x_ticks: None,
             lines,
         },
         caption: "The 50 % horizontal fractile IDA curve for each p at the middle ε (paper \

@@ -2,7 +2,7 @@
 //! worst and the best fitting block by the Lilliefors test (paper Fig. 9).
 
 use super::figure::Figure;
-use crate::plot::{Chart, Line, Scale, Style};
+use crate::plot::{Chart, Hue, Line, Scale, Style};
 use crate::stats;
 use crate::study::StudyData;
 
@@ -61,18 +61,19 @@ pub(super) fn lognormal_plots(d: &StudyData) -> Vec<Figure> {
                 y_scale: Scale::Linear,
                 x_range: None,
                 y_range: None,
+                x_ticks: None,
                 lines: vec![
                     Line {
                         name: Some("records".into()),
                         points: pts,
                         style: Style::Points,
-                        color: 0,
+                        hue: Hue::Series(0),
                     },
                     Line {
                         name: Some("lognormal fit".into()),
                         points: fitted,
                         style: Style::Line,
-                        color: 1,
+                        hue: Hue::Ink,
                     },
                 ],
             },

@@ -3,7 +3,7 @@
 //! (paper Fig. 4).
 
 use super::figure::Figure;
-use crate::plot::{Chart, Line, Scale, Style};
+use crate::plot::{Chart, Hue, Line, Scale, Style};
 use crate::study::PulseData;
 
 /// Fig. 2: ψ̈ against t/t_d for each of the map's pulse shapes.
@@ -32,7 +32,7 @@ pub(super) fn pulse_waveforms(d: &PulseData) -> Vec<Figure> {
                 }),
                 points: pts,
                 style: Style::Line,
-                color: k,
+                hue: Hue::Series(k),
             }
         })
         .collect();
@@ -46,6 +46,7 @@ pub(super) fn pulse_waveforms(d: &PulseData) -> Vec<Figure> {
             y_scale: Scale::Linear,
             x_range: Some((0.0, lobes as f64)),
             y_range: Some(if lobes == 1 { (0.0, 1.1) } else { (-1.1, 1.1) }),
+            x_ticks: None,
             lines,
         },
         caption: "The pulse shapes of this map: the paper's exponential pulse (Eq. 4) for each β \
@@ -75,7 +76,7 @@ pub(super) fn pulse_walls(d: &PulseData) -> Vec<Figure> {
             name: Some(format!("{label}: η_w by simulation")),
             points: family_walls(d, beta, eps, |w| w.eta_w),
             style: Style::Line,
-            color: k,
+            hue: Hue::Series(k),
         });
         let closed = family_walls(d, beta, eps, |w| {
             w.closed_form
@@ -91,7 +92,7 @@ pub(super) fn pulse_walls(d: &PulseData) -> Vec<Figure> {
                 name: Some(format!("{label}: {eq}")),
                 points: closed,
                 style: Style::Dashed,
-                color: k,
+                hue: Hue::Series(k),
             });
         }
     }
@@ -112,6 +113,7 @@ pub(super) fn pulse_walls(d: &PulseData) -> Vec<Figure> {
             y_scale: Scale::Linear,
             x_range: None,
             y_range: Some((0.0, 1.0)),
+            x_ticks: None,
             lines,
         },
         caption: "The largest η at which the block overturns (its safety wall η_w) against f, one \
@@ -131,7 +133,7 @@ pub(super) fn pulse_modes(d: &PulseData) -> Vec<Figure> {
         if cells.is_empty() {
             continue;
         }
-        let class = |name: &str, color: usize, keep: &dyn Fn(bool, i64) -> bool| Line {
+        let class = |name: &str, hue: Hue, keep: &dyn Fn(bool, i64) -> bool| Line {
             name: Some(name.into()),
             points: cells
                 .iter()
@@ -139,19 +141,19 @@ pub(super) fn pulse_modes(d: &PulseData) -> Vec<Figure> {
                 .map(|c| (c.f, c.eta))
                 .collect(),
             style: Style::Points,
-            color,
+            hue,
         };
         let mut lines = vec![
-            class("Mode 0 (no impact)", 1, &|o, i| o && i == 0),
-            class("Mode 1 (one impact)", 2, &|o, i| o && i == 1),
-            class("Mode 2 or more", 4, &|o, i| o && i >= 2),
+            class("Mode 0 (no impact)", Hue::Series(1), &|o, i| o && i == 0),
+            class("Mode 1 (one impact)", Hue::Series(2), &|o, i| o && i == 1),
+            class("Mode 2 or more", Hue::Series(4), &|o, i| o && i >= 2),
         ];
         lines.retain(|l| !l.points.is_empty());
         lines.push(Line {
             name: Some("η_w,0 by simulation".into()),
             points: family_walls(d, beta, eps, |w| w.eta_w_mode0),
             style: Style::Line,
-            color: 0,
+            hue: Hue::Series(0),
         });
         let eq6 = family_walls(d, beta, eps, |w| {
             w.closed_form
@@ -162,7 +164,7 @@ pub(super) fn pulse_modes(d: &PulseData) -> Vec<Figure> {
                 name: Some("Eq. 6: (1 − exp(−f))²".into()),
                 points: eq6,
                 style: Style::Dashed,
-                color: 3,
+                hue: Hue::Series(0),
             });
         }
         let slug = match beta {
@@ -183,6 +185,7 @@ pub(super) fn pulse_modes(d: &PulseData) -> Vec<Figure> {
                 y_scale: Scale::Log,
                 x_range: None,
                 y_range: Some((eta_min * 0.9, 1.0)),
+                x_ticks: None,
                 lines,
             },
             caption: format!(

@@ -4,10 +4,10 @@
 
 use super::bands::{band_eps, outline};
 use super::figure::Figure;
-use super::shared::{capacity_points, law_at, PAPER_EQ, Q_NAMES, Q_VALUES};
+use super::shared::{capacity_points, law_at, ramp, PAPER_EQ, Q_NAMES, Q_VALUES};
 use crate::fit::polyval;
 use crate::fragility::{self, FractileLaw};
-use crate::plot::{Chart, Line, Scale, Style};
+use crate::plot::{Chart, Hue, Line, Scale, Style};
 use crate::study::StudyData;
 
 /// Fig. 10 (median) and Fig. 11 (16 % and 84 %): a fractile's regression
@@ -30,7 +30,7 @@ fn regression(d: &StudyData, qi: usize) -> Option<Figure> {
     let paper = &fragility::paper()[qi];
     let bands = d.fit_bands.as_ref();
     let mut lines = Vec::new();
-    for (k, (_, e)) in band_eps(&es).into_iter().enumerate() {
+    for (_, e) in band_eps(&es) {
         if let Some(b) = bands {
             let rows: Vec<(f64, f64, f64)> = b
                 .eta_c(q, e)
@@ -41,26 +41,26 @@ fn regression(d: &StudyData, qi: usize) -> Option<Figure> {
                 name: Some(format!("fit's band, ε = {e:.2}")),
                 points: outline(&rows),
                 style: Style::Band,
-                color: k,
+                hue: ramp(&es, e),
             });
         }
         lines.push(Line {
             name: Some(format!("data, ε = {e:.2}")),
             points: capacity_points(&d.capacity_fractiles, e, q, |r| Some(r.eta_c)),
             style: Style::Points,
-            color: k,
+            hue: ramp(&es, e),
         });
         lines.push(Line {
             name: Some(format!("fit, ε = {e:.2}")),
             points: p_dense.iter().map(|&p| (p, law_at(law, p, e))).collect(),
             style: Style::Line,
-            color: k,
+            hue: ramp(&es, e),
         });
         lines.push(Line {
             name: Some(format!("paper Eq. {}, ε = {e:.2}", PAPER_EQ[qi])),
             points: p_dense.iter().map(|&p| (p, law_at(paper, p, e))).collect(),
             style: Style::Dashed,
-            color: k,
+            hue: ramp(&es, e),
         });
     }
     let pct = (100.0 * q).round();
@@ -87,6 +87,7 @@ fn regression(d: &StudyData, qi: usize) -> Option<Figure> {
             y_scale: Scale::Linear,
             x_range: None,
             y_range: Some((0.0, 1.0)),
+            x_ticks: None,
             lines,
         },
         caption: format!(
@@ -125,7 +126,7 @@ pub(super) fn regression_coefficients(d: &StudyData) -> Vec<Figure> {
                 name: Some(format!("{} step 1", Q_NAMES[qi])),
                 points: pts,
                 style: Style::Points,
-                color: qi,
+                hue: Hue::Fractile(qi),
             });
             // A polynomial step 2 could not fit (too few converged fits) is not drawn.
             if let Some(c) = d
@@ -139,15 +140,15 @@ pub(super) fn regression_coefficients(d: &StudyData) -> Vec<Figure> {
                     name: Some(format!("{} fitted", Q_NAMES[qi])),
                     points: e_dense.iter().map(|&e| (e, polyval(&c, e))).collect(),
                     style: Style::Line,
-                    color: qi,
+                    hue: Hue::Fractile(qi),
                 });
             }
             let c = poly(&paper[qi]);
             lines.push(Line {
                 name: Some(format!("{} paper", Q_NAMES[qi])),
                 points: e_dense.iter().map(|&e| (e, polyval(&c, e))).collect(),
-                style: Style::Line,
-                color: qi + 3,
+                style: Style::Dashed,
+                hue: Hue::Fractile(qi),
             });
         }
         out.push(Figure {
@@ -160,6 +161,7 @@ pub(super) fn regression_coefficients(d: &StudyData) -> Vec<Figure> {
                 y_scale: Scale::Linear,
                 x_range: None,
                 y_range: None,
+                x_ticks: None,
                 lines,
             },
             caption: format!(

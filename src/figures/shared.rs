@@ -4,6 +4,7 @@
 
 use crate::fit::{curve, polyval};
 use crate::fragility::FractileLaw;
+use crate::plot::Hue;
 use crate::study::StudyData;
 use crate::tables::reduce::CapacityFractileRow;
 
@@ -46,4 +47,16 @@ pub(super) fn law_at(law: &FractileLaw, p: f64, e: f64) -> f64 {
         polyval(&law.c, e),
         p,
     )
+}
+
+/// The colour of `v`, one of the grid's `values` (its ε or p), on the
+/// ramp: by its place among them, so a value has one colour in every
+/// figure of a study.
+pub(super) fn ramp(values: &[f64], v: f64) -> Hue {
+    let k = values.iter().position(|&x| x == v).unwrap_or(0);
+    Hue::Ramp(if values.len() > 1 {
+        k as f64 / (values.len() - 1) as f64
+    } else {
+        0.0
+    })
 }

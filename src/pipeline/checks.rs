@@ -29,6 +29,22 @@ pub(super) fn refuse_repeats<T: PartialEq + std::fmt::Debug>(
     Ok(())
 }
 
+/// Linear steps as the pipeline states them: when every value lies within
+/// rounding (1e-12 relative) of a decimal of at most nine digits (0.5 to 0.95 in 10 values:
+/// 0.55, 0.6, 0.65…), that decimal, read as a number, so that a table's
+/// `eps` is 0.65, not 0.6499999999999999, and `eps = 0.65` finds it. Steps
+/// that are not decimal (0 to 1 in 4 values) keep their computed values.
+fn decimal_steps(values: Vec<f64>, step: f64) -> Vec<f64> {
+    let near = |v: f64, d: usize| {
+        let s = format!("{v:.d$}");
+        let r: f64 = s.parse().expect("a number");
+        ((r - v).abs() <= 1e-12 * v.abs().max(step.abs())).then_some(r)
+    };
+    (0..=9)
+        .find_map(|d| values.iter().map(|&v| near(v, d)).collect::<Option<Vec<f64>>>())
+        .unwrap_or(values)
+}
+
 fn expand(key: &str, v: &RawValues) -> Result<Vec<f64>, String> {
     match v {
         RawValues::List(list) => {
@@ -56,7 +72,7 @@ fn expand(key: &str, v: &RawValues) -> Result<Vec<f64>, String> {
                 ));
             }
             let n = (r.count - 1) as f64;
-            Ok((0..r.count)
+            let values: Vec<f64> = (0..r.count)
                 .map(|k| {
                     let f = k as f64 / n;
                     if k == r.count - 1 {
@@ -67,7 +83,11 @@ fn expand(key: &str, v: &RawValues) -> Result<Vec<f64>, String> {
                         Spacing::Log => r.from * (r.to / r.from).powf(f),
                     }
                 })
-                .collect())
+                .collect();
+            Ok(match r.spacing {
+                Spacing::Linear => decimal_steps(values, (r.to - r.from) / n),
+                Spacing::Log => values,
+            })
         }
     }
 }
@@ -106,4 +126,31 @@ pub(super) fn check_eps(key: &str, e: f64) -> Result<(), String> {
     crate::block::check_eps(e)
         .map(|_| ())
         .map_err(|err| format!("`{key}` holds {err}"))
+}
+
+#[cfg(test)]
+mod decimal_tests {
+    use super::*;
+
+    /// ε from 0.5 to 0.95 in ten values is the decimals 0.50, 0.55, …, 0.95
+    /// (the bare computation gave 0.6499999999999999 and 0.7999999999999999);
+    /// 0 to 1 in four values is thirds, not decimals.
+    #[test]
+    fn linear_steps_are_the_decimals_stated() {
+        let r = |from, to, count| RawValues::Range(RawRange {
+            from,
+            to,
+            count,
+            spacing: Spacing::Linear,
+        });
+        let eps = expand("eps", &r(0.5, 0.95, 10)).unwrap();
+        let want: Vec<f64> = ["0.5", "0.55", "0.6", "0.65", "0.7", "0.75", "0.8", "0.85", "0.9", "0.95"]
+            .iter()
+            .map(|s| s.parse().unwrap())
+            .collect();
+        assert_eq!(eps, want);
+        let thirds = expand("p", &r(0.0, 1.0, 4)).unwrap();
+        assert_eq!(thirds[1], 1.0 / 3.0);
+        assert_eq!(thirds[2], 2.0 / 3.0);
+    }
 }

@@ -3,7 +3,7 @@
 
 use plotters::prelude::*;
 
-use super::axes::{keep, tick_label, Scale, PALETTE};
+use super::axes::{keep, tick_label, Hue, Scale, CANVAS, FONT_DESC, FONT_TICK, FONT_TITLE};
 use super::error::{draw_err, PlotError};
 
 /// A horizontal bar chart: one labelled bar per entry, top to bottom in the
@@ -49,14 +49,14 @@ pub fn render_bars(chart: &Bars) -> Result<String, PlotError> {
     let height = (160 + 28 * n).clamp(300, 1600) as u32;
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (900, height)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, (CANVAS.0, height)).into_drawing_area();
         root.fill(&WHITE).map_err(&err)?;
         let mut builder = ChartBuilder::on(&root);
         builder
-            .caption(&chart.title, ("sans-serif", 20))
+            .caption(&chart.title, ("sans-serif", FONT_TITLE))
             .margin(18)
             .x_label_area_size(50)
-            .y_label_area_size((8 * longest as u32 + 20).clamp(60, 400));
+            .y_label_area_size((9 * longest as u32 + 24).clamp(60, 450));
         // Bar k is drawn around y = n − 1 − k, so the first bar is on top.
         let y_of = move |k: usize| (n - 1 - k) as f64;
         let label_at = move |y: &f64| {
@@ -77,12 +77,12 @@ pub fn render_bars(chart: &Bars) -> Result<String, PlotError> {
                     .x_label_formatter(&|v| tick_label(*v))
                     .y_labels(n.max(2))
                     .y_label_formatter(&label_at)
-                    .label_style(("sans-serif", 13))
-                    .axis_desc_style(("sans-serif", 15))
+                    .label_style(("sans-serif", FONT_TICK))
+                    .axis_desc_style(("sans-serif", FONT_DESC))
                     .light_line_style(WHITE.mix(0.0))
                     .draw()
                     .map_err(&err)?;
-                let color = PALETTE[0];
+                let color = Hue::Series(0).rgb();
                 c.draw_series(chart.bars.iter().enumerate().filter_map(|(k, b)| {
                     keep(chart.x_scale, b.1).then(|| {
                         Rectangle::new(

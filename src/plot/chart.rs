@@ -1,7 +1,7 @@
 //! A chart's specification (its series, how each is drawn, its axes) and
 //! the unbroken runs of its series that the axes can show.
 
-use super::axes::{keep, Scale};
+use super::axes::{keep, Hue, Scale};
 
 /// How a series is drawn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -25,8 +25,8 @@ pub struct Line {
     pub name: Option<String>,
     pub points: Vec<(f64, f64)>,
     pub style: Style,
-    /// Palette index (ignored for `Faint`).
-    pub color: usize,
+    /// What its colour means (ignored for `Faint`).
+    pub hue: Hue,
 }
 
 /// A 2-D chart with labelled axes and a legend.
@@ -40,6 +40,9 @@ pub struct Chart {
     /// Axis ranges in data units; `None` fits the data.
     pub x_range: Option<(f64, f64)>,
     pub y_range: Option<(f64, f64)>,
+    /// The x axis's labelled ticks, when the data has its own (levels that
+    /// double); `None` takes [`ticks`](super::ticks) of the axis range.
+    pub x_ticks: Option<Vec<f64>>,
     pub lines: Vec<Line>,
 }
 

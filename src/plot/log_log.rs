@@ -3,7 +3,7 @@
 
 use plotters::prelude::*;
 
-use super::axes::PALETTE;
+use super::axes::{Hue, CANVAS, FONT_LEGEND, FONT_TICK, FONT_TITLE};
 use super::error::{draw_err, PlotError};
 
 /// One named series of (x, y) points, drawn as markers joined by a line.
@@ -43,10 +43,10 @@ pub fn log_log(
     let (y0, y1) = (ymin / 10.0, ymax * 10.0);
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (900, 600)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, CANVAS).into_drawing_area();
         root.fill(&WHITE).map_err(&err)?;
         let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 22))
+            .caption(title, ("sans-serif", FONT_TITLE))
             .margin(20)
             .x_label_area_size(50)
             .y_label_area_size(80)
@@ -58,11 +58,11 @@ pub fn log_log(
             .y_desc(y_desc)
             .x_label_formatter(&|v| format!("{v:.0e}"))
             .y_label_formatter(&|v| format!("{v:.0e}"))
-            .label_style(("sans-serif", 14))
+            .label_style(("sans-serif", FONT_TICK))
             .draw()
             .map_err(&err)?;
         for (i, s) in series.iter().enumerate() {
-            let color = PALETTE[i % PALETTE.len()];
+            let color = Hue::Series(i).rgb();
             let pts: Vec<(f64, f64)> = s
                 .points
                 .iter()
@@ -84,7 +84,7 @@ pub fn log_log(
             .position(SeriesLabelPosition::UpperRight)
             .border_style(BLACK)
             .background_style(WHITE.mix(0.9))
-            .label_font(("sans-serif", 15))
+            .label_font(("sans-serif", FONT_LEGEND))
             .draw()
             .map_err(&err)?;
         root.present().map_err(&err)?;

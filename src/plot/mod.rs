@@ -11,7 +11,7 @@ mod legend;
 mod log_log;
 mod render;
 
-pub use axes::Scale;
+pub use axes::{ticks, Hue, Scale};
 pub use bars::{render_bars, Bars};
 pub use chart::{Chart, Line, Style};
 pub use error::PlotError;

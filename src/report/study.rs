@@ -67,7 +67,7 @@ fn settings(w: &mut String, d: &StudyData) {
         rs.grid.eta_min,
         rs.tol
     );
-    let _ = writeln!(w, "| fractiles | {} |\n", fractile_text(rs.fractile));
+    let _ = writeln!(w, "| fractiles | {} |\n", crate::stats::FractileDef::describe(rs.fractile));
 }
 
 /// The model as a reader names it (not the Rust variant).
@@ -77,17 +77,6 @@ pub(super) fn model_text(m: crate::physics::ModelChoice) -> &'static str {
         Linearized => "linearised equation (paper Eq. 8)",
         Nonlinear => "nonlinear equation (paper Eq. 7)",
         Auto => "linearised equation where its error 0.45·α² is within `auto_tol`, else nonlinear",
-    }
-}
-
-/// The fractile definition as a reader names it.
-fn fractile_text(f: crate::stats::FractileDef) -> &'static str {
-    use crate::stats::FractileDef::*;
-    match f {
-        Type7 => "Hyndman & Fan type 7 (linear between order statistics; numpy's and R's default)",
-        Type5 => "Hyndman & Fan type 5 (MATLAB's prctile)",
-        Type6 => "Hyndman & Fan type 6 (Weibull plotting positions)",
-        Type8 => "Hyndman & Fan type 8 (approximately median-unbiased)",
     }
 }
 

@@ -2,8 +2,32 @@
 //! block (`block` label, empty for the grid, `p`, `eps`); columns are
 //! documented in the README.
 
+use crate::physics::EquationKind;
 use crate::stats::ResampleUnit;
 use crate::table;
+
+table! {
+    /// The pipeline's blocks, one row each, in the pipeline's order: what
+    /// every other table's `p`, `eps` (and `block`) refer to, with their
+    /// places in the grid to filter and join on.
+    pub struct BlockRow = "blocks" v 1 {
+        /// The block's place in the pipeline (a sweep case's `case_id`
+        /// modulo the number of blocks).
+        pub block_index: i64,
+        pub block: String,
+        pub p: f64,
+        pub eps: f64,
+        /// The index of `p` among the grid's p values (`[blocks] p`, from 0);
+        /// null for `[[block]]` entries.
+        pub p_index: Option<i64>,
+        /// The index of `eps` among the grid's ε values; null for `[[block]]`.
+        pub eps_index: Option<i64>,
+        /// Slenderness α (rad) when the block has one (dimensions, or `model.alpha`).
+        pub alpha_rad: Option<f64>,
+        /// The equation it runs.
+        pub model: EquationKind,
+    }
+}
 
 table! {
     /// Horizontal statistics: EDP fractiles at one grid level of one block.

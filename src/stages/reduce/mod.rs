@@ -18,6 +18,7 @@ pub use error::ReduceError;
 
 use super::stage::{BoxError, Context, Shard, Stage, Study, Summary};
 use super::sweep::{self, DatasetError};
+use crate::tables::reduce::BlockRow;
 use crate::tables::sweep::{CapacityRow, IdaRow};
 use crate::tables::{self, TableError};
 use block_stats::{
@@ -30,12 +31,13 @@ use bootstrap::bands;
 pub struct Reduce;
 
 /// Output file names, in writing order.
-pub const OUTPUTS: [&str; 5] = [
+pub const OUTPUTS: [&str; 6] = [
     "fractiles_horizontal.parquet",
     "fractiles_vertical.parquet",
     "capacity_fractiles.parquet",
     "lognormal.parquet",
     "overturn_fraction.parquet",
+    "blocks.parquet",
 ];
 
 /// The bootstrap bands, written when the pipeline has `[uncertainty]`.
@@ -145,6 +147,7 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
     tables::write(&path(2), &out.capacity, &settings)?;
     tables::write(&path(3), &out.lognormal, &settings)?;
     tables::write(&path(4), &out.fraction, &settings)?;
+    tables::write(&path(5), &block_rows(&plan.blocks), &settings)?;
     if let (Some((band_rows, resample_rows)), Some(u)) = (&bands, plan.uncertainty) {
         let mut meta = settings.clone();
         meta.push((
@@ -163,13 +166,47 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
                 100.0 * kept as f64 / tested.max(1) as f64
             ),
             format!(
-                "wrote fractiles_horizontal, fractiles_vertical, capacity_fractiles, lognormal, overturn_fraction{} in {}",
+                "wrote fractiles_horizontal, fractiles_vertical, capacity_fractiles, lognormal, overturn_fraction, blocks{} in {}",
                 if bands.is_some() { ", capacity_bands, capacity_resamples" } else { "" },
                 study.dir.display()
             ),
         ],
         also_wrote: Vec::new(),
     })
+}
+
+/// The pipeline's blocks as rows; a grid's (unnamed blocks) with the
+/// indices of their p and ε among the grid's values.
+fn block_rows(blocks: &[crate::pipeline::BlockSpec]) -> Vec<BlockRow> {
+    let grid = blocks.iter().all(|b| b.name.is_empty());
+    let distinct = |f: fn(&crate::pipeline::BlockSpec) -> f64| {
+        let mut v: Vec<f64> = Vec::new();
+        for b in blocks {
+            if !v.contains(&f(b)) {
+                v.push(f(b));
+            }
+        }
+        v
+    };
+    let (ps, es) = (distinct(|b| b.p), distinct(|b| b.eps));
+    let index = |v: &[f64], x: f64| {
+        grid.then(|| v.iter().position(|&y| y == x).map(|i| i as i64))
+            .flatten()
+    };
+    blocks
+        .iter()
+        .enumerate()
+        .map(|(i, b)| BlockRow {
+            block_index: i as i64,
+            block: b.name.clone(),
+            p: b.p,
+            eps: b.eps,
+            p_index: index(&ps, b.p),
+            eps_index: index(&es, b.eps),
+            alpha_rad: b.alpha_rad,
+            model: b.run.model.equation.kind(),
+        })
+        .collect()
 }
 
 /// The sweep's capacities and IDA points, in case order, checked to be of
