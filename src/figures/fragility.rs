@@ -57,7 +57,7 @@ pub(super) fn fragility_example(d: &StudyData) -> Vec<Figure> {
         file: "fragility_example.svg".into(),
         chart: Chart {
             title: format!(
-                "Fragility of a block b = 0.25 m, h = 1.0 m (α = {:.3} rad, p = {:.2} 1/s, ε = {:.2})",
+                "Fragility of a block of half-width b = 0.25 m, half-height h = 1 m (α = {:.3} rad, p = {:.2} 1/s, ε = {:.2})",
                 block.alpha(),
                 block.p(),
                 block.eps

@@ -92,7 +92,7 @@ fn regression(d: &StudyData, qi: usize) -> Option<Figure> {
         },
         caption: format!(
             "The {} fractile of η_c of the records (points) for three ε, this study's \
-             a(ε)(1 − e^{{−b(ε)p}})^{{c(ε)}} (lines){band_note} and the paper's Eq. {} (dashed) \
+             law a(ε)·(1 − exp(−b(ε)·p))^c(ε) (lines){band_note} and the paper's Eq. {} (dashed) \
              (paper Fig. {}).",
             Q_NAMES[qi],
             PAPER_EQ[qi],
@@ -165,7 +165,8 @@ pub(super) fn regression_coefficients(d: &StudyData) -> Vec<Figure> {
                 lines,
             },
             caption: format!(
-                "Step-1 values of {coef} per ε (points), this study's step-2 polynomial (lines) and the paper's."
+                "Step-1 values of {coef} per ε (points), this study's step-2 polynomial (lines) and the \
+                 paper's (dashed), each fractile in its colour as in every figure."
             ),
         });
     }

@@ -67,6 +67,8 @@ pub struct Assessment {
     pub beta: f64,
     /// Records run with `--direct`.
     pub records: Option<usize>,
+    /// With `--direct`: the model the records were run with, and why.
+    pub model: Option<String>,
     pub points: Vec<Point>,
     /// Where the regression is stretched for this block (none with `--direct`).
     pub warnings: Vec<String>,
@@ -89,6 +91,14 @@ pub enum FragilityError {
     Pga(f64),
     #[error("--pga: give at least one acceleration")]
     NoPga,
+    #[error(
+        "--direct runs the block through a folder of AT2 records, and {} is not a folder{}: \
+         give --records FOLDER (the FEMA P695 far-field set is records/fema-p695/far-field \
+         in rocking's repository), or --from PIPELINE.toml to use a pipeline's records",
+        .0.display(),
+        if .0.is_relative() { " (relative to the current directory)" } else { "" }
+    )]
+    NoRecords(PathBuf),
     #[error("the regression gives no valid capacity fractiles at p = {p:.3}, ε = {eps:.3}")]
     NoFractiles { p: f64, eps: f64 },
     #[error(transparent)]
@@ -141,10 +151,12 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
     let (median, beta) = source.median_beta(&block)?;
     let capacities = if req.direct {
         let records = DirectRecords::load(&req.from, source.plan.as_ref())?;
-        Some(records.capacities(&block)?)
+        Some(records.capacities(&block, req.auto_tol)?)
     } else {
         None
     };
+    let model = capacities.as_ref().map(|c| c.1.clone());
+    let capacities = capacities.map(|c| c.0);
     let points = req
         .pga_g
         .iter()
@@ -170,6 +182,7 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
         eta_c_median: median,
         beta,
         records: capacities.as_ref().map(Vec::len),
+        model,
         points,
         warnings: if req.direct {
             Vec::new()
@@ -298,6 +311,9 @@ impl DirectRecords {
         let rows = match (from, plan) {
             (_, Some(plan)) => records::load(plan).map_err(FragilityError::Records)?,
             (Source::Paper { records }, None) => {
+                if !records.is_dir() {
+                    return Err(FragilityError::NoRecords(records.clone()));
+                }
                 ingest::collect(
                     std::slice::from_ref(records),
                     None,
@@ -332,11 +348,16 @@ impl DirectRecords {
     }
 
     /// The block's capacity η_c under every record (0 where it survives
-    /// every level), with the model `--model auto` would choose for its α,
-    /// by the certified search.
-    pub fn capacities(&self, block: &Block) -> Result<Vec<f64>, FragilityError> {
-        let (model, _) = ModelChoice::Auto
-            .resolve(Some(block.alpha()), crate::physics::DEFAULT_RTOL, 0.01)
+    /// every level), with the model `--model auto` would choose for its α
+    /// at `auto_tol`, by the certified search.
+    /// Returns them with why that model.
+    pub fn capacities(
+        &self,
+        block: &Block,
+        auto_tol: f64,
+    ) -> Result<(Vec<f64>, String), FragilityError> {
+        let (model, why) = ModelChoice::Auto
+            .resolve(Some(block.alpha()), crate::physics::DEFAULT_RTOL, auto_tol)
             .map_err(FragilityError::Model)?;
         let spec = RunSpec::new(block.p(), block.eps, 1.0, model);
         self.records
@@ -350,6 +371,7 @@ impl DirectRecords {
                 })?;
                 Ok(c.capacity.eta_c.unwrap_or(0.0))
             })
-            .collect()
+            .collect::<Result<Vec<f64>, FragilityError>>()
+            .map(|c| (c, why))
     }
 }

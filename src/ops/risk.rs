@@ -306,6 +306,7 @@ fn fragility_of(
     block: &Block,
     laws: &Laws,
     direct: Option<&DirectRecords>,
+    auto_tol: f64,
 ) -> Result<(Fragility, FragilityInfo), FragilityError> {
     let alpha = block.alpha();
     match direct {
@@ -328,7 +329,7 @@ fn fragility_of(
             ))
         }
         Some(records) => {
-            let caps = records.capacities(block)?;
+            let (caps, _) = records.capacities(block, auto_tol)?;
             // The PGA at which each record overturns the block; never: ∞.
             let mut thresholds: Vec<f64> = caps
                 .iter()
@@ -419,7 +420,7 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
             source,
         };
         let block = fragility::block(e.b_m, e.h_m, e.eps).map_err(in_block)?;
-        let (frag, info) = fragility_of(&block, &laws, records.as_ref()).map_err(in_block)?;
+        let (frag, info) = fragility_of(&block, &laws, records.as_ref(), req.auto_tol).map_err(in_block)?;
         let site_infos: Vec<SiteInfo> = sites
             .iter()
             .map(|(k, c)| site_info(*k, c, &risk::assess(c, &frag, req.beyond), req.years))

@@ -261,12 +261,12 @@ impl ModelChoice {
                 if err <= auto_tol {
                     Ok((
                         Model::LINEARIZED,
-                        format!("linearised model: its η_c error for α = {a} is about {err:.2e} ≤ {auto_tol:e}"),
+                        format!("linearised model: its η_c error for α = {a:.4} rad is about {err:.2e} ≤ {auto_tol:e}"),
                     ))
                 } else {
                     Ok((
                         Model::nonlinear(a, rtol),
-                        format!("nonlinear model: the linearised one would err by about {err:.2e} > {auto_tol:e} for α = {a}"),
+                        format!("nonlinear model: the linearised one would err by about {err:.2e} > {auto_tol:e} for α = {a:.4} rad"),
                     ))
                 }
             }

@@ -31,14 +31,16 @@ pub(super) fn bands(w: &mut String, d: &StudyData) {
         w,
         "| fractile | paper's curve | blocks (p ≥ 0.5 1/s) | paper inside the band | median band width / η_c |\n|---|---|---:|---:|---:|"
     );
+    let mut widest: f64 = 0.0;
     for (qi, q) in [0.16, 0.5, 0.84].into_iter().enumerate() {
         let rows: Vec<BandPoint> = bands
             .iter()
             .filter(|b| b.quantile == q && b.p >= 0.5)
             .map(|b| (b.p, b.eps, b.eta_c, b.lo, b.hi))
             .collect();
-        paper_against_band(w, qi, &rows);
+        widest = widest.max(paper_against_band(w, qi, &rows));
     }
+    wide_band_caveat(w, widest);
     let _ = writeln!(w);
 }
 
@@ -48,9 +50,10 @@ type BandPoint = (f64, f64, f64, f64, f64);
 /// One row of a "paper against the band" table for fractile `qi` (16, 50,
 /// 84 %): the points, how many hold the paper's law inside their band, and
 /// the median band width relative to the value. Nothing without points.
-fn paper_against_band(w: &mut String, qi: usize, rows: &[BandPoint]) {
+/// Returns that median width (0 without points).
+fn paper_against_band(w: &mut String, qi: usize, rows: &[BandPoint]) -> f64 {
     if rows.is_empty() {
-        return;
+        return 0.0;
     }
     let law = &fragility::paper()[qi];
     let inside = rows
@@ -75,6 +78,20 @@ fn paper_against_band(w: &mut String, qi: usize, rows: &[BandPoint]) {
         100.0 * inside as f64 / rows.len() as f64,
         100.0 * median
     );
+    median
+}
+
+/// After a band table: a caveat when some band is wider than the value.
+fn wide_band_caveat(w: &mut String, widest: f64) {
+    if widest > 1.0 {
+        let _ = writeln!(
+            w,
+            "
+A band wider than the value itself (here a median of {:.0} %) says this record              set cannot pin that fractile down: the paper's curve then lies inside the band              almost whatever it is, so \"inside\" carries little information there. More \
+             records narrow it.",
+            100.0 * widest
+        );
+    }
 }
 
 /// The regression's bootstrap bands: how the refits went, how often the
@@ -107,6 +124,7 @@ pub(super) fn fit_bands(w: &mut String, d: &StudyData) {
         w,
         "| fractile | paper's curve | points (p ≥ 0.5 1/s, every ε) | paper inside the fit's band | median band width / η_c |\n|---|---|---:|---:|---:|"
     );
+    let mut widest: f64 = 0.0;
     for (qi, q) in [0.16, 0.5, 0.84].into_iter().enumerate() {
         let rows: Vec<BandPoint> = b
             .rows
@@ -114,8 +132,9 @@ pub(super) fn fit_bands(w: &mut String, d: &StudyData) {
             .filter(|r| r.quantile == Some(q) && r.p >= 0.5)
             .filter_map(|r| Some((r.p, r.eps, r.value?, r.lo?, r.hi?)))
             .collect();
-        paper_against_band(w, qi, &rows);
+        widest = widest.max(paper_against_band(w, qi, &rows));
     }
+    wide_band_caveat(w, widest);
     let paper = fragility::paper();
     // The example fragility's median PGA: where each curve crosses 1/2.
     let frag = b.fragility();
@@ -136,7 +155,7 @@ pub(super) fn fit_bands(w: &mut String, d: &StudyData) {
     ) {
         let _ = writeln!(
             w,
-            "\nThe example block (b = 0.25 m, h = 1 m, Housner's ε) overturns with probability 1/2 \
+            "\nThe example block (half-width b = 0.25 m, half-height h = 1 m, Housner's ε) overturns with probability 1/2 \
              at PGA {mid:.3} g by this study's fit (band {lo:.3}–{hi:.3} g){}.",
             paper_median.map_or(String::new(), |g| format!("; by the paper's, at {g:.3} g"))
         );

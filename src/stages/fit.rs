@@ -43,7 +43,7 @@ impl Stage for Fit {
     }
 
     fn about(&self) -> &'static str {
-        "Fit the two-step regression η_c = a(1 − e^{−bp})^c, a, b, c polynomial in ε"
+        "Fit the two-step regression η_c = a·(1 − exp(−b·p))^c, a, b, c polynomial in ε"
     }
 
     fn not_needed(&self, study: &Study) -> Option<String> {

@@ -33,9 +33,23 @@ pub struct LawArgs {
     /// Root of the outputs (for --from PIPELINE.toml).
     #[arg(long, default_value = "outputs")]
     pub outputs: PathBuf,
-    /// Records for --direct when --from paper: a folder of AT2 files.
-    #[arg(long, default_value = "records/fema-p695/far-field")]
-    pub records: PathBuf,
+    /// Records for --direct when --from paper: a folder of AT2 files
+    /// [default: records/fema-p695/far-field in the current directory, or
+    /// else in the repository this binary was built from].
+    #[arg(long)]
+    pub records: Option<PathBuf>,
+}
+
+/// The bundled far-field records: in the current directory (the repository
+/// root), or else where the repository this binary was built from has them.
+fn default_records() -> PathBuf {
+    let here = PathBuf::from("records/fema-p695/far-field");
+    let built = Path::new(env!("CARGO_MANIFEST_DIR")).join(&here);
+    if !here.is_dir() && built.is_dir() {
+        built
+    } else {
+        here
+    }
 }
 
 impl LawArgs {
@@ -43,7 +57,7 @@ impl LawArgs {
         use rocking::ops::fragility::Source;
         if self.from == "paper" {
             Source::Paper {
-                records: self.records.clone(),
+                records: self.records.clone().unwrap_or_else(default_records),
             }
         } else {
             Source::Pipeline {

@@ -250,7 +250,7 @@ fn print_text(args: &Args, rec: &LoadedRecord, block: &AskedBlock, certified: &C
                 .map(|a| format!(", PGA {:.4} g", im::pga_of_eta(c, a)))
                 .unwrap_or_default();
             println!(
-                "η_c         {c:.6} (A_g = {:.4} αg{pga}), survives at η = {:.6}",
+                "η_c         {c:.6} (PGA = {:.4} αg{pga}), survives at η = {:.6}",
                 1.0 / c,
                 cap.eta_survived
             );

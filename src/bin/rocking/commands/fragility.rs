@@ -61,16 +61,22 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         return Ok(());
     }
     println!(
-        "block b = {} m, h = {} m: α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}; capacity from {}: median η_c = {:.4} (PGA {:.3} g), β = {:.3}",
+        "block of half-width b = {} m, half-height h = {} m: α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}; capacity from {}: median η_c = {:.4} (PGA {:.3} g), β = {:.3}",
         a.b_m, a.h_m, a.alpha_rad, a.p, a.eps, a.source, a.eta_c_median, a.alpha_rad / a.eta_c_median, a.beta
     );
     let direct = a.records.is_some();
+    if let (Some(n), Some(m)) = (a.records, &a.model) {
+        println!(
+            "--direct: {n} records run with the {m}; the last column is the share of them \
+             whose capacity the PGA exceeds"
+        );
+    }
     println!(
         "{:>10} {:>10} {:>14}{}",
         "PGA (g)",
         "η",
         "P(overturn)",
-        if direct { "  records overturned" } else { "" }
+        if direct { "  share overturned" } else { "" }
     );
     for pt in &a.points {
         match pt.empirical {

@@ -176,7 +176,7 @@ fn print_one(a: &Assessment) {
     let b = &a.block;
     let f = &a.fragility;
     println!(
-        "block b = {} m, h = {} m: α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}{}",
+        "block of half-width b = {} m, half-height h = {} m: α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}{}",
         b.b_m,
         b.h_m,
         b.alpha_rad,

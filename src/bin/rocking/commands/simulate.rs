@@ -14,7 +14,7 @@ use super::args::BlockArgs;
 #[derive(Debug, clap::Args)]
 #[command(
     long_about = "Run one record at one intensity and report the block's response.\n\n\
-    The record is normalised to unit peak and scaled to the intensity η = αg/A_g (smaller η is \
+    The record is normalised to unit peak and scaled to the intensity η = αg/PGA (smaller η is \
     stronger shaking). Prints θmax/α, whether and when the block overturned, the number of \
     impacts and the first uplift; --history writes the motion at every event and every \
     --history-every-th sample."
@@ -30,7 +30,7 @@ pub struct Args {
     record: Option<PathBuf>,
     #[command(flatten)]
     block: BlockArgs,
-    /// Uplift strength η = αg/A_g (> 0).
+    /// Uplift strength η = αg/PGA (> 0).
     #[arg(
         long,
         value_name = "η",

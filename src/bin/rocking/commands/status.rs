@@ -13,6 +13,21 @@ pub struct Args {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let study = args.pipeline.study()?;
+    // Where the study's outputs are looked for: said first, since a relative
+    // --outputs (the default) depends on the directory status runs in.
+    let dir = std::path::absolute(&study.dir).unwrap_or_else(|_| study.dir.clone());
+    println!("outputs of `{}`: {}", study.plan.name, dir.display());
+    if !study.dir.exists() {
+        println!(
+            "(nothing there yet{}: run `rocking run {}`, or pass --outputs DIR where it ran)",
+            if args.pipeline.outputs.is_relative() {
+                "; --outputs is relative to the current directory"
+            } else {
+                ""
+            },
+            args.pipeline.pipeline.display()
+        );
+    }
     for (stage, fresh) in engine::status(&study) {
         println!("{stage:<12} {fresh}");
     }
