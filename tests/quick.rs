@@ -140,6 +140,7 @@ fn quick_study_is_unchanged_and_answers_the_documented_queries() {
     compare_with_reference(&folder);
     analyst_queries(dir.path(), "quick", &folder);
     horizontal_is_the_kth_overturning(&folder);
+    reads_as_prose(&folder);
     // The paper's grid (p log-spaced: 2.1213…, ε a linear range): the same
     // queries answer, by the blocks' indices and by a stated ε value.
     let out = rocking(
@@ -154,6 +155,26 @@ fn quick_study_is_unchanged_and_answers_the_documented_queries() {
     assert!(out.status.success(), "{}", stderr(&out));
     analyst_queries(dir.path(), "paper", &outputs.join("paper"));
     horizontal_is_the_kth_overturning(&outputs.join("paper"));
+}
+
+/// The report names things as a reader does: no TeX source (`^{`, `_{`, a
+/// backslash command, A_g) and no Rust name of a setting (`Linearized`,
+/// `Type7`, `Log`, `Some(…)`) in report.md or report.html.
+fn reads_as_prose(folder: &Path) {
+    for file in ["report.md", "report.html"] {
+        let text = std::fs::read_to_string(folder.join(file)).unwrap();
+        for bad in [
+            "^{", "_{", "A_g", "$", "Linearized", "Nonlinear", "Type7", "Type5", "Log-spaced",
+            "Linear-spaced", "Some(", "None", "Pair", "Record ", "Static", "Dynamic",
+        ] {
+            assert!(!text.contains(bad), "{file} holds `{bad}`");
+        }
+        let tex = text
+            .as_bytes()
+            .windows(2)
+            .any(|w| w[0] == b'\\' && w[1].is_ascii_alphabetic());
+        assert!(!tex, "{file} holds a TeX command");
+    }
 }
 
 /// Fig. 7's horizontal capacity q-fractile is, exactly, the grid level at

@@ -7,10 +7,13 @@ use std::fmt::Write as _;
 /// figures scaled to the page.
 const STYLE: &str = "body{font-family:system-ui,-apple-system,'Segoe UI',sans-serif;\
 max-width:60rem;margin:2rem auto;padding:0 1rem;line-height:1.5;color:#222}\
-table{border-collapse:collapse;margin:1rem 0}th,td{border:1px solid #ccc;padding:.25rem .6rem}\
+table{border-collapse:collapse;margin:1rem 0;font-size:.9em}\
+th,td{border:1px solid #ccc;padding:.2rem .45rem}\
 th{background:#f3f3f3}td{font-variant-numeric:tabular-nums}\
 p>svg{display:block;max-width:100%;height:auto;margin:1.5rem auto .25rem}\
-code{background:#f3f3f3;padding:0 .2rem}h1,h2{border-bottom:1px solid #ddd}";
+code{background:#f3f3f3;padding:0 .2rem;overflow-wrap:anywhere}h1,h2{border-bottom:1px solid #ddd}\
+@media (max-width:50rem){body{margin:1rem auto;padding:0 .5rem}table{font-size:.78em}\
+th,td{padding:.15rem .25rem}}";
 
 /// The report as one self-contained HTML page: `markdown` (as [`render`](super::render)
 /// makes it, images as `figures/<file>`) with every figure's image replaced
