@@ -38,6 +38,16 @@ pub enum FractileDef {
 impl FractileDef {
     pub const NAMES: &'static str = "type7 (default), type5 (MATLAB prctile), type6, type8";
 
+    /// The name a pipeline gives it (`reduce.fractile`).
+    pub fn name(self) -> &'static str {
+        match self {
+            FractileDef::Type7 => "type7",
+            FractileDef::Type5 => "type5",
+            FractileDef::Type6 => "type6",
+            FractileDef::Type8 => "type8",
+        }
+    }
+
     /// The definition as a reader names it.
     pub fn describe(self) -> &'static str {
         match self {

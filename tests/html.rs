@@ -51,7 +51,13 @@ fn chromium() -> Option<&'static str> {
 fn probe(browser: &str, dir: &Path, page: &Path, width: u32) -> serde_json::Value {
     let profile = dir.join(format!("profile-{width}"));
     let dom = Command::new("timeout")
-        .args(["120", browser, "--headless", "--no-sandbox", "--disable-gpu"])
+        .args([
+            "120",
+            browser,
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+        ])
         .arg(format!("--user-data-dir={}", profile.display()))
         .arg(format!("--window-size={width},900"))
         .arg("--dump-dom")
@@ -68,7 +74,12 @@ fn probe(browser: &str, dir: &Path, page: &Path, width: u32) -> serde_json::Valu
         .split("data-probe=\"")
         .nth(1)
         .and_then(|rest| rest.split('"').next())
-        .unwrap_or_else(|| panic!("no probe in the dumped DOM: {}", &dom[..dom.len().min(2000)]));
+        .unwrap_or_else(|| {
+            panic!(
+                "no probe in the dumped DOM: {}",
+                &dom[..dom.len().min(2000)]
+            )
+        });
     let json = attr
         .replace("&quot;", "\"")
         .replace("&amp;", "&")
@@ -99,7 +110,12 @@ fn report_html_of_the_paper_study_reads_at_700_and_1400_px_in_chromium() {
     let out = dir.path().join("out");
     let o = rocking(
         &root(),
-        &["run", "pipelines/paper.toml", "--outputs", out.to_str().unwrap()],
+        &[
+            "run",
+            "pipelines/paper.toml",
+            "--outputs",
+            out.to_str().unwrap(),
+        ],
     );
     assert!(o.status.success(), "{}", stderr(&o));
     let study = out.join("paper");
@@ -133,26 +149,53 @@ fn report_html_of_the_paper_study_reads_at_700_and_1400_px_in_chromium() {
             "{width} px: the page scrolls sideways: {probe}"
         );
         let figs = probe["figures"].as_array().unwrap();
-        assert_eq!(figs.len(), listed.len(), "inline figures against the report's list: {probe}");
+        assert_eq!(
+            figs.len(),
+            listed.len(),
+            "inline figures against the report's list: {probe}"
+        );
         assert_eq!(probe["images"], 0, "a figure left as an image: {probe}");
         for (f, file) in figs.iter().zip(&listed) {
-            assert!(f["svg"].as_bool().unwrap(), "{file}: not parsed as SVG: {f}");
-            let (left, right, w, h) = (at(&f["rect"], 0), at(&f["rect"], 1), at(&f["rect"], 2), at(&f["rect"], 3));
+            assert!(
+                f["svg"].as_bool().unwrap(),
+                "{file}: not parsed as SVG: {f}"
+            );
+            let (left, right, w, h) = (
+                at(&f["rect"], 0),
+                at(&f["rect"], 1),
+                at(&f["rect"], 2),
+                at(&f["rect"], 3),
+            );
             let (vw, vh) = (at(&f["view"], 0), at(&f["view"], 1));
-            assert!(left >= 0.0 && right <= viewport, "{width} px, {file}: cut off: {f}");
-            assert!(w >= 0.95 * content.min(vw), "{width} px, {file}: {w} px of {content}: {f}");
-            assert!((h / w - vh / vw).abs() < 0.01, "{width} px, {file}: squeezed: {f}");
+            assert!(
+                left >= 0.0 && right <= viewport,
+                "{width} px, {file}: cut off: {f}"
+            );
+            assert!(
+                w >= 0.95 * content.min(vw),
+                "{width} px, {file}: {w} px of {content}: {f}"
+            );
+            assert!(
+                (h / w - vh / vw).abs() < 0.01,
+                "{width} px, {file}: squeezed: {f}"
+            );
             // A chart is axes, ticks, grid lines and its series: dozens of
             // marks, drawn over most of its canvas.
             let (bw, bh) = (at(&f["box"], 0), at(&f["box"], 1));
-            assert!(bw > 0.6 * vw && bh > 0.6 * vh, "{file}: draws a {bw} × {bh} box: {f}");
+            assert!(
+                bw > 0.6 * vw && bh > 0.6 * vh,
+                "{file}: draws a {bw} × {bh} box: {f}"
+            );
             assert!(f["marks"].as_u64().unwrap() >= 20, "{file}: {f}");
         }
         let tables = probe["tables"].as_array().unwrap();
         assert!(tables.len() >= 8, "{probe}");
         for t in tables {
             let (left, right) = (at(&t["rect"], 0), at(&t["rect"], 1));
-            assert!(left >= 0.0 && right <= viewport, "{width} px: a table runs off the page: {t}");
+            assert!(
+                left >= 0.0 && right <= viewport,
+                "{width} px: a table runs off the page: {t}"
+            );
             assert!(
                 t["scroll"].as_f64().unwrap() <= t["client"].as_f64().unwrap() + 1.0,
                 "{width} px: a table's content is cut: {t}"

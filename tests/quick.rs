@@ -164,8 +164,22 @@ fn reads_as_prose(folder: &Path) {
     for file in ["report.md", "report.html"] {
         let text = std::fs::read_to_string(folder.join(file)).unwrap();
         for bad in [
-            "^{", "_{", "A_g", "$", "Linearized", "Nonlinear", "Type7", "Type5", "Log-spaced",
-            "Linear-spaced", "Some(", "None", "Pair", "Record ", "Static", "Dynamic",
+            "^{",
+            "_{",
+            "A_g",
+            "$",
+            "Linearized",
+            "Nonlinear",
+            "Type7",
+            "Type5",
+            "Log-spaced",
+            "Linear-spaced",
+            "Some(",
+            "None",
+            "Pair",
+            "Record ",
+            "Static",
+            "Dynamic",
         ] {
             assert!(!text.contains(bad), "{file} holds `{bad}`");
         }
@@ -209,7 +223,8 @@ fn horizontal_is_the_kth_overturning(folder: &Path) {
         let kth = first[k - 1];
         let want = (kth > 0.0).then_some(kth);
         assert_eq!(
-            f.eta_c_horizontal, want,
+            f.eta_c_horizontal,
+            want,
             "{}: p = {}, ε = {}, q = {}",
             folder.display(),
             f.p,

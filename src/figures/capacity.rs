@@ -70,9 +70,7 @@ fn horizontal_caption(d: &StudyData, e: f64) -> String {
                 .map(|(a, b)| (a.0, b.1 / a.1 - 1.0))
                 .filter(|g| g.1.is_finite())
                 .max_by(|x, y| x.1.abs().total_cmp(&y.1.abs()))
-                .map(|(p, g)| {
-                    format!("{} {:+.0} % (p = {p:.2} 1/s)", Q_NAMES[qi], 100.0 * g)
-                })
+                .map(|(p, g)| format!("{} {:+.0} % (p = {p:.2} 1/s)", Q_NAMES[qi], 100.0 * g))
         })
         .collect();
     format!(
@@ -87,7 +85,11 @@ fn horizontal_caption(d: &StudyData, e: f64) -> String {
          records lie far apart; the largest differences here: {}.",
         def.describe(),
         ks.join(", "),
-        if gaps.is_empty() { "none".to_string() } else { gaps.join("; ") }
+        if gaps.is_empty() {
+            "none".to_string()
+        } else {
+            gaps.join("; ")
+        }
     )
 }
 
@@ -135,8 +137,8 @@ pub(super) fn capacity_curves(d: &StudyData) -> Vec<Figure> {
         caption: "The median capacity against the block's frequency parameter, one curve per ε \
                   (coloured by ε, as in every figure), with the full-cycle rectangular pulse's \
                   Mode 0 wall (Eq. 6, t_d = 1 s), the paper's reference, dashed in black as the \
-                  paper draws it (paper Fig. 8). Both axes are logarithmic, so the small \
-                  capacities of slender-and-small blocks (p < 1 1/s) are not squashed."
+                  paper draws it (paper Fig. 8). Both axes are logarithmic, so the small η_c \
+                  of large blocks (p < 1 1/s, which need strong shaking) is not squashed."
             .into(),
     }]
 }
@@ -204,7 +206,10 @@ mod tests {
         let c = &figs[0].chart;
         assert_eq!(figs[0].file, "fig08_capacity_curves.svg");
         // Both axes logarithmic: small capacities at small p are not squashed.
-        assert_eq!((c.x_scale, c.y_scale, c.y_range), (Scale::Log, Scale::Log, None));
+        assert_eq!(
+            (c.x_scale, c.y_scale, c.y_range),
+            (Scale::Log, Scale::Log, None)
+        );
         // One colour per ε on the ramp; the paper's wall in black, so it
         // cannot be read as one more ε.
         assert_eq!(c.lines[0].hue, crate::plot::Hue::Ramp(0.0));

@@ -399,7 +399,7 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
     let sites = read_hazard(&req.hazard, req.site)?;
     let entries: Vec<InventoryBlock> = match &req.blocks {
         Blocks::One { b_m, h_m, eps } => vec![InventoryBlock {
-            name: format!("b{b_m}xh{h_m}"),
+            name: format!("half-width {b_m} m × half-height {h_m} m"),
             b_m: *b_m,
             h_m: *h_m,
             eps: *eps,
@@ -420,7 +420,8 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
             source,
         };
         let block = fragility::block(e.b_m, e.h_m, e.eps).map_err(in_block)?;
-        let (frag, info) = fragility_of(&block, &laws, records.as_ref(), req.auto_tol).map_err(in_block)?;
+        let (frag, info) =
+            fragility_of(&block, &laws, records.as_ref(), req.auto_tol).map_err(in_block)?;
         let site_infos: Vec<SiteInfo> = sites
             .iter()
             .map(|(k, c)| site_info(*k, c, &risk::assess(c, &frag, req.beyond), req.years))

@@ -41,7 +41,12 @@ fn decimal_steps(values: Vec<f64>, step: f64) -> Vec<f64> {
         ((r - v).abs() <= 1e-12 * v.abs().max(step.abs())).then_some(r)
     };
     (0..=9)
-        .find_map(|d| values.iter().map(|&v| near(v, d)).collect::<Option<Vec<f64>>>())
+        .find_map(|d| {
+            values
+                .iter()
+                .map(|&v| near(v, d))
+                .collect::<Option<Vec<f64>>>()
+        })
         .unwrap_or(values)
 }
 
@@ -137,17 +142,21 @@ mod decimal_tests {
     /// 0 to 1 in four values is thirds, not decimals.
     #[test]
     fn linear_steps_are_the_decimals_stated() {
-        let r = |from, to, count| RawValues::Range(RawRange {
-            from,
-            to,
-            count,
-            spacing: Spacing::Linear,
-        });
+        let r = |from, to, count| {
+            RawValues::Range(RawRange {
+                from,
+                to,
+                count,
+                spacing: Spacing::Linear,
+            })
+        };
         let eps = expand("eps", &r(0.5, 0.95, 10)).unwrap();
-        let want: Vec<f64> = ["0.5", "0.55", "0.6", "0.65", "0.7", "0.75", "0.8", "0.85", "0.9", "0.95"]
-            .iter()
-            .map(|s| s.parse().unwrap())
-            .collect();
+        let want: Vec<f64> = [
+            "0.5", "0.55", "0.6", "0.65", "0.7", "0.75", "0.8", "0.85", "0.9", "0.95",
+        ]
+        .iter()
+        .map(|s| s.parse().unwrap())
+        .collect();
         assert_eq!(eps, want);
         let thirds = expand("p", &r(0.0, 1.0, 4)).unwrap();
         assert_eq!(thirds[1], 1.0 / 3.0);

@@ -74,7 +74,12 @@ impl Hue {
             Hue::Ink => RGBColor(0, 0, 0),
             Hue::Ramp(t) => {
                 // The ramp stops at 85 %: its pale yellow end is unreadable on white.
-                let x = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 } * 0.85 * 8.0;
+                let x = if t.is_finite() {
+                    t.clamp(0.0, 1.0)
+                } else {
+                    0.0
+                } * 0.85
+                    * 8.0;
                 let k = (x.floor() as usize).min(7);
                 let f = x - k as f64;
                 let (a, b) = (VIRIDIS[k], VIRIDIS[k + 1]);
@@ -92,7 +97,7 @@ impl Hue {
 /// powers of ten (every k-th one past ten decades) beyond. At least two
 /// ticks unless the axis is a point.
 pub fn ticks(scale: Scale, lo: f64, hi: f64) -> Vec<f64> {
-    if !(lo < hi) || !keep(scale, lo) || !keep(scale, hi) {
+    if !keep(scale, lo) || !keep(scale, hi) || lo >= hi {
         return Vec::new();
     }
     match scale {
@@ -204,11 +209,27 @@ mod tests {
     fn ticks_by_hand() {
         let lin = ticks(Scale::Linear, 0.0, 1.0);
         assert_eq!(lin, vec![0.0, 0.2, 0.4, 0.6, 0.8, 1.0]);
-        assert_eq!(ticks(Scale::Linear, 0.65, 0.88), vec![0.65, 0.7, 0.75, 0.8, 0.85]);
-        assert_eq!(ticks(Scale::Log, 0.25, 10.0), vec![0.5, 1.0, 2.0, 5.0, 10.0]);
-        assert_eq!(ticks(Scale::Log, 0.004, 0.7), vec![0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5]);
-        assert_eq!(ticks(Scale::Log, 3.0, 9.5), vec![3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]);
-        assert_eq!(ticks(Scale::Log, 1e-12, 1.0).len(), 7, "every second decade");
+        assert_eq!(
+            ticks(Scale::Linear, 0.65, 0.88),
+            vec![0.65, 0.7, 0.75, 0.8, 0.85]
+        );
+        assert_eq!(
+            ticks(Scale::Log, 0.25, 10.0),
+            vec![0.5, 1.0, 2.0, 5.0, 10.0]
+        );
+        assert_eq!(
+            ticks(Scale::Log, 0.004, 0.7),
+            vec![0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5]
+        );
+        assert_eq!(
+            ticks(Scale::Log, 3.0, 9.5),
+            vec![3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]
+        );
+        assert_eq!(
+            ticks(Scale::Log, 1e-12, 1.0).len(),
+            7,
+            "every second decade"
+        );
         assert!(ticks(Scale::Log, 0.0, 1.0).is_empty());
     }
 

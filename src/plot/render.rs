@@ -5,9 +5,7 @@
 use plotters::coord::ranged1d::Ranged;
 use plotters::prelude::*;
 
-use super::axes::{
-    axis_range, tick_label, ticks, Scale, CANVAS, FONT_DESC, FONT_TICK, FONT_TITLE,
-};
+use super::axes::{axis_range, tick_label, ticks, Scale, CANVAS, FONT_DESC, FONT_TICK, FONT_TITLE};
 use super::chart::{runs, Chart, Line, Run, Style};
 use super::error::{draw_err, PlotError};
 use super::legend::{has_legend, legend_panel, LEGEND_PANEL};
@@ -110,7 +108,6 @@ impl Ranged for Ticked {
     }
 }
 
-
 pub fn render(chart: &Chart) -> Result<String, PlotError> {
     let err = draw_err(&chart.title);
     let lines = runs(chart);
@@ -123,7 +120,13 @@ pub fn render(chart: &Chart) -> Result<String, PlotError> {
             title: chart.title.clone(),
         });
     }
-    let xa = Axis::new(chart.x_scale, chart.x_range, x0, x1, chart.x_ticks.as_deref());
+    let xa = Axis::new(
+        chart.x_scale,
+        chart.x_range,
+        x0,
+        x1,
+        chart.x_ticks.as_deref(),
+    );
     let ya = Axis::new(chart.y_scale, chart.y_range, y0, y1, None);
     // Every chart is drawn on one canvas; a legend takes a panel right of
     // the plot, so it never covers data.
@@ -267,7 +270,10 @@ mod tests {
     fn one_canvas_and_the_legend_beside_the_plot() {
         let diagonal: Vec<(f64, f64)> = (0..=20).map(|k| (k as f64, k as f64)).collect();
         for name in [None, Some("diagonal")] {
-            let both = vec![line(name, diagonal.clone()), line(Some("twice"), diagonal.clone())];
+            let both = vec![
+                line(name, diagonal.clone()),
+                line(Some("twice"), diagonal.clone()),
+            ];
             let svg = render(&chart(both, Scale::Linear)).unwrap();
             let head = format!("<svg width=\"{}\" height=\"{}\"", CANVAS.0, CANVAS.1);
             assert!(svg.starts_with(&head), "{}", &svg[..60]);
@@ -287,7 +293,11 @@ mod tests {
         let svg = render(&c).unwrap();
         let t = texts(&svg);
         for label in ["0.5", "1", "2", "5", "10"] {
-            assert_eq!(t.iter().filter(|s| **s == label).count(), 1, "{label} in {t:?}");
+            assert_eq!(
+                t.iter().filter(|s| **s == label).count(),
+                1,
+                "{label} in {t:?}"
+            );
         }
         // Given ticks replace them: levels that double, the last one included.
         c.x_range = Some((20.0, 2000.0));

@@ -67,7 +67,11 @@ fn settings(w: &mut String, d: &StudyData) {
         rs.grid.eta_min,
         rs.tol
     );
-    let _ = writeln!(w, "| fractiles | {} |\n", crate::stats::FractileDef::describe(rs.fractile));
+    let _ = writeln!(
+        w,
+        "| fractiles | {} |\n",
+        crate::stats::FractileDef::describe(rs.fractile)
+    );
 }
 
 /// The model as a reader names it (not the Rust variant).

@@ -106,7 +106,6 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
             })
         })
         .collect::<Result<Vec<_>, _>>()?;
-    let mut rows = Vec::new();
     let (mut runs, mut shared) = (0u64, 0u64);
     let total = rs.blocks.len() as u64;
     // Finest grid first: the coarser grids' levels are among its levels (to
@@ -117,23 +116,30 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
     let mut done = 0u64;
     // A few blocks at a time, every (block, record) pair in parallel: the
     // threads stay busy to the end of each group (records differ in length
-    // tenfold), and progress is reported after each group.
-    for (group, blocks) in rs.blocks.chunks(BLOCKS_PER_GROUP).enumerate() {
-        let first = group * BLOCKS_PER_GROUP;
-        let pairs: Vec<(usize, usize)> = (first..first + blocks.len())
-            .flat_map(|bi| (0..n_records).map(move |ri| (bi, ri)))
+    // tenfold), and progress is reported after each group. A group takes
+    // blocks spread over the plan (every n-th), not neighbours: blocks of
+    // small p search many more levels than those of large p, so groups of
+    // neighbours made the rate, and the ETA, drift fourfold over the run.
+    let n_blocks = rs.blocks.len();
+    let n_groups = n_blocks.div_ceil(BLOCKS_PER_GROUP);
+    let mut per_block: Vec<Vec<ConvergenceRow>> = vec![Vec::new(); n_blocks];
+    for group in 0..n_groups {
+        let members: Vec<usize> = (group..n_blocks).step_by(n_groups).collect();
+        let pairs: Vec<(usize, usize)> = members
+            .iter()
+            .flat_map(|&bi| (0..n_records).map(move |ri| (bi, ri)))
             .collect();
         let results = search_pairs(rs, &excitations, &order, &pairs)?;
-        for (k, block) in blocks.iter().enumerate() {
+        for (k, &bi) in members.iter().enumerate() {
             let per_record = &results[k * n_records..(k + 1) * n_records];
             runs += per_record.iter().map(|r| r.1).sum::<u64>();
             shared += per_record.iter().map(|r| r.2).sum::<u64>();
             let per_grid: Vec<Vec<f64>> = (0..rs.convergence.len())
                 .map(|gi| per_record.iter().map(|r| r.0[gi]).collect())
                 .collect();
-            rows.extend(block_rows(rs, block, &per_grid));
+            per_block[bi] = block_rows(rs, &rs.blocks[bi], &per_grid);
         }
-        done += blocks.len() as u64;
+        done += members.len() as u64;
         cx.reporter.progress(&Progress {
             stage: "convergence",
             done,
@@ -142,6 +148,7 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
             runs,
         });
     }
+    let rows: Vec<ConvergenceRow> = per_block.into_iter().flatten().collect();
     let dest = cx.study.path("capacity_convergence.parquet");
     tables::write(
         &dest,

@@ -25,7 +25,7 @@ impl Stage for Report {
     }
 
     fn about(&self) -> &'static str {
-        "Draw the study's figures (SVG) and write report.md"
+        "Draw the study's figures (SVG) and write report.md and report.html (one page, the figures inline)"
     }
 
     fn settings(&self, study: &Study) -> serde_json::Value {

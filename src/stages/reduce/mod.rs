@@ -134,7 +134,7 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
     let settings = vec![
         (
             "rocking.reduce.fractile".to_string(),
-            format!("{:?}", plan.fractile),
+            plan.fractile.name().to_string(),
         ),
         (
             "rocking.reduce.quantiles".to_string(),
@@ -161,8 +161,8 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
     Ok(Summary {
         lines: vec![
             format!(
-                "reduced {n_records} records × {n_blocks} blocks ({:?} fractiles): lognormality of η_c not rejected at 5 % in {kept} of {tested} blocks ({:.0} %)",
-                plan.fractile,
+                "reduced {n_records} records × {n_blocks} blocks ({} fractiles): lognormality of η_c not rejected at 5 % in {kept} of {tested} blocks ({:.0} %)",
+                plan.fractile.name(),
                 100.0 * kept as f64 / tested.max(1) as f64
             ),
             format!(

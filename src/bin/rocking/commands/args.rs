@@ -108,7 +108,7 @@ pub enum CycleArg {
 /// A pulse as the excitation (`simulate`, `capacity`, `wall`).
 #[derive(Debug, clap::Args)]
 pub struct PulseArgs {
-    /// A pulse instead of a record: rect or exp (paper Eq. 4).
+    /// Excite the block by a pulse (rect or exp, paper Eq. 4) rather than an AT2 record.
     #[arg(long, value_enum)]
     pub pulse: Option<ShapeArg>,
     /// Shape parameter β of the exponential pulse (→ −∞ rectangle, 0 triangle, → +∞ spike).

@@ -66,7 +66,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let sets: Vec<String> = report
         .per_set
         .iter()
-        .map(|(s, n)| format!("{s} {n}"))
+        .map(|(s, n)| match s.as_str() {
+            "(none)" => format!("{n} without a set in the manifest"),
+            s => format!("{n} {s}"),
+        })
         .collect();
     println!(
         "ingested {} records ({} samples; {}) into {} in {:.2} s{}",

@@ -150,7 +150,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         return Ok(());
     }
     if args.inventory.is_some() {
-        print_inventory(&all);
+        print_inventory(&all, args.years);
         println!(
             "wrote {} ({} rows){}",
             args.out.display(),
@@ -196,7 +196,7 @@ fn print_one(a: &Assessment) {
     for s in &a.sites {
         println!();
         let place = match (s.lon, s.lat) {
-            (Some(lon), Some(lat)) => format!(" ({lon}, {lat})"),
+            (Some(lon), Some(lat)) => format!(" (lon {lon}°, lat {lat}°)"),
             _ => String::new(),
         };
         println!("site {}{place}", s.site);
@@ -227,6 +227,10 @@ fn print_one(a: &Assessment) {
             format!("{:.1} % of the total", 100.0 * s.share_beyond_last_iml),
         );
         println!("  deaggregation by PGA:");
+        println!(
+            "    {:<24} {:>10}  {:>7}",
+            "PGA bin", "rate (1/yr)", "share"
+        );
         for bin in &s.deaggregation {
             let range = match bin.pga_to_g {
                 Some(to) if to > bin.pga_from_g => format!("{:.3}–{:.3} g", bin.pga_from_g, to),
@@ -242,15 +246,19 @@ fn print_one(a: &Assessment) {
     }
 }
 
-fn print_inventory(all: &[Assessment]) {
+fn print_inventory(all: &[Assessment], years: f64) {
     println!(
-        "{:<24} {:>5} {:>12} {:>14} {:>8}",
-        "block", "site", "rate (1/yr)", "return (yr)", "P(T yr)"
+        "{:<24} {:>5} {:>12} {:>14} {:>10}",
+        "block",
+        "site",
+        "rate (1/yr)",
+        "return (yr)",
+        format!("P({years} yr)")
     );
     for a in all {
         for s in &a.sites {
             println!(
-                "{:<24} {:>5} {:>12} {:>14} {:>8.4}",
+                "{:<24} {:>5} {:>12} {:>14} {:>10.4}",
                 a.block.name,
                 s.site,
                 rate(s.annual_rate),

@@ -99,6 +99,20 @@ fn print_results(study: &Study, results: &[StageResult], started: Instant) {
     for (stage, seconds) in &ran {
         println!("{stage:<12} {seconds:.2} s");
     }
+    // The headline results, as the stage commands print them: the
+    // lognormality share from reduce, the coefficients from fit.
+    for r in results {
+        if let Outcome::Ran { lines, .. } = &r.outcome {
+            let shown: &[String] = match r.stage {
+                "reduce" => &lines[..lines.len().min(1)],
+                "fit" => &lines[..lines.len().saturating_sub(1)],
+                _ => &[],
+            };
+            for line in shown {
+                println!("{}: {line}", r.stage);
+            }
+        }
+    }
     let names: Vec<&str> = ran.iter().map(|r| r.0).collect();
     // The report only when this run covered it (ran, or found it fresh):
     // `--to sweep` leaves none, or one of an earlier state.
