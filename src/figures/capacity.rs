@@ -33,7 +33,7 @@ pub(super) fn horizontal_vs_vertical(d: &StudyData) -> Vec<Figure> {
         chart: Chart {
             title: format!("Capacity fractiles, horizontal against vertical, ε = {e_mid:.2}"),
             x_desc: "p (1/s)".into(),
-            y_desc: "η_c".into(),
+            y_desc: "η_c = α g / PGA (dimensionless)".into(),
             x_scale: Scale::Log,
             y_scale: Scale::Log,
             x_range: None,
@@ -126,7 +126,7 @@ pub(super) fn capacity_curves(d: &StudyData) -> Vec<Figure> {
         chart: Chart {
             title: "Median capacity η_c,50 against p".into(),
             x_desc: "p (1/s)".into(),
-            y_desc: "η_c,50".into(),
+            y_desc: "η_c,50 = α g / PGA (dimensionless)".into(),
             x_scale: Scale::Log,
             y_scale: Scale::Log,
             x_range: None,

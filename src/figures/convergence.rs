@@ -91,7 +91,7 @@ pub(super) fn convergence_mean(d: &StudyData) -> Vec<Figure> {
         chart: Chart {
             title: "Mean |Δη_c| against the finest grid".into(),
             x_desc: "levels in the IM grid".into(),
-            y_desc: "mean |η_c − η_c(finest)|".into(),
+            y_desc: "mean |η_c − η_c(finest)| (dimensionless)".into(),
             x_scale: Scale::Log,
             y_scale: Scale::Linear,
             x_range: None,

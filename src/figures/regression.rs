@@ -82,7 +82,7 @@ fn regression(d: &StudyData, qi: usize) -> Option<Figure> {
         chart: Chart {
             title: format!("η_c,{pct}: data, this study's regression and the paper's"),
             x_desc: "p (1/s)".into(),
-            y_desc: format!("η_c,{pct}"),
+            y_desc: format!("η_c,{pct} = α g / PGA (dimensionless)"),
             x_scale: Scale::Log,
             y_scale: Scale::Linear,
             x_range: None,
@@ -156,7 +156,11 @@ pub(super) fn regression_coefficients(d: &StudyData) -> Vec<Figure> {
             chart: Chart {
                 title: format!("Regression coefficient {coef}(ε)"),
                 x_desc: "ε".into(),
-                y_desc: coef.to_string(),
+                y_desc: match *coef {
+                    // b·p is dimensionless, p in 1/s.
+                    "b" => "b (s)".to_string(),
+                    c => format!("{c} (dimensionless)"),
+                },
                 x_scale: Scale::Linear,
                 y_scale: Scale::Linear,
                 x_range: None,
@@ -263,8 +267,9 @@ mod tests {
         let a = &figs[0].chart;
         assert_eq!(
             (a.title.as_str(), a.y_desc.as_str()),
-            ("Regression coefficient a(ε)", "a")
+            ("Regression coefficient a(ε)", "a (dimensionless)")
         );
+        assert_eq!(figs[1].chart.y_desc, "b (s)", "b·p is dimensionless");
         // Per fractile: step 1 and the paper's; the median has a step 2 too.
         assert_eq!(a.lines.len(), 7);
         let named = |n: &str| {
@@ -282,6 +287,9 @@ mod tests {
         assert!(fitted.points[0].0 == 0.5 && (fitted.points[40].0 - 0.9).abs() < 1e-12);
         // The paper's a of the median: 0.44 + 0.43ε.
         let paper = named("50 % paper");
+        // The paper's curve dashed, in its fractile's colour, as this study's.
+        assert_eq!((paper.style, paper.hue), (Style::Dashed, fitted.hue));
+        assert_eq!(fitted.hue, crate::plot::Hue::Fractile(1));
         assert!((paper.points[0].1 - (0.44 + 0.43 * 0.5)).abs() < 1e-12);
         assert!((paper.points[40].1 - (0.44 + 0.43 * 0.9)).abs() < 1e-12);
         // Step 1 without b: not a number where b is drawn.
