@@ -117,11 +117,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let show =
         |e: Option<f64>| e.map_or("none above η = 1e-5".to_string(), |e| format!("{e:.10}"));
-    println!("pulse        {pl}, f = {} ({n} intervals per lobe)", args.f);
     println!(
-        "block        ε = {}, {} model, criterion {}",
+        "pulse        {pl}, f = p·t_d = {} (dimensionless; {n} intervals per lobe)",
+        args.f
+    );
+    println!(
+        "block        ε = {}, {} equation, overturning criterion {}",
         args.eps,
-        model.equation.kind().label(),
+        match model.equation.kind() {
+            rocking::physics::EquationKind::Linearized => "linearised (paper Eq. 8)",
+            rocking::physics::EquationKind::Nonlinear => "nonlinear (paper Eq. 7)",
+        },
         args.overturn
     );
     println!(
