@@ -62,6 +62,7 @@ pub mod plot;
 pub mod pulse;
 pub mod report;
 pub mod risk;
+pub mod sdof;
 pub mod stages;
 pub mod stats;
 pub mod study;
