@@ -86,8 +86,9 @@ fn wide_band_caveat(w: &mut String, widest: f64) {
     if widest > 1.0 {
         let _ = writeln!(
             w,
-            "
-A band wider than the value itself (here a median of {:.0} %) says this record              set cannot pin that fractile down: the paper's curve then lies inside the band              almost whatever it is, so \"inside\" carries little information there. More \
+            "\nA band wider than the value itself (here a median of {:.0} %) says this record \
+             set cannot pin that fractile down: the paper's curve then lies inside the band \
+             almost whatever it is, so \"inside\" carries little information there. More \
              records narrow it.",
             100.0 * widest
         );
@@ -161,4 +162,27 @@ pub(super) fn fit_bands(w: &mut String, d: &StudyData) {
         );
     }
     let _ = writeln!(w);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 292 %-wide band gets one paragraph of caveat, its width stated;
+    /// a band narrower than its value gets none.
+    #[test]
+    fn a_band_wider_than_its_value_gets_a_caveat() {
+        let mut w = String::new();
+        wide_band_caveat(&mut w, 2.92);
+        assert!(w.starts_with("\nA band wider than the value itself (here a median of 292 %)"));
+        assert_eq!(
+            w.lines().count(),
+            2,
+            "a blank line, then one paragraph: {w:?}"
+        );
+        assert!(!w.contains("  "), "{w:?}");
+        let mut none = String::new();
+        wide_band_caveat(&mut none, 0.9);
+        assert!(none.is_empty());
+    }
 }
