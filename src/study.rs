@@ -87,7 +87,7 @@ impl StudyData {
 
     /// Whether the blocks are the dimensionless p × ε grid (not physical blocks).
     pub fn is_grid(&self) -> bool {
-        self.records_plan().blocks.iter().all(|b| b.name.is_empty())
+        self.records_plan().is_grid()
     }
 
     /// The distinct p and ε of the blocks, ascending.

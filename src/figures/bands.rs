@@ -3,7 +3,7 @@
 //! paper's law (paper Fig. 8 per fractile).
 
 use super::figure::Figure;
-use super::shared::{law_at, ramp, PAPER_EQ, Q_NAMES, Q_VALUES};
+use super::shared::{eta_axis, law_at, ramp, PAPER_EQ, Q_NAMES, Q_VALUES};
 use crate::fragility;
 use crate::plot::{Chart, Line, Scale, Style};
 use crate::study::StudyData;
@@ -75,7 +75,7 @@ pub(super) fn capacity_bands(d: &StudyData) -> Vec<Figure> {
                         (100.0 * q).round()
                     ),
                     x_desc: "p (1/s)".into(),
-                    y_desc: format!("η_c,{} = α g / PGA (dimensionless)", (100.0 * q).round()),
+                    y_desc: eta_axis(&format!("η_c,{}", (100.0 * q).round())),
                     x_scale: Scale::Log,
                     y_scale: Scale::Linear,
                     x_range: None,

@@ -2,7 +2,7 @@
 //! (paper Fig. 7) and the median capacity against p (paper Fig. 8).
 
 use super::figure::Figure;
-use super::shared::{capacity_points, middle, ramp, Q_NAMES, Q_VALUES};
+use super::shared::{capacity_points, eta_axis, middle, ramp, Q_NAMES, Q_VALUES};
 use crate::plot::{Chart, Hue, Line, Scale, Style};
 use crate::study::StudyData;
 
@@ -33,7 +33,7 @@ pub(super) fn horizontal_vs_vertical(d: &StudyData) -> Vec<Figure> {
         chart: Chart {
             title: format!("Capacity fractiles, horizontal against vertical, ε = {e_mid:.2}"),
             x_desc: "p (1/s)".into(),
-            y_desc: "η_c = α g / PGA (dimensionless)".into(),
+            y_desc: eta_axis("η_c"),
             x_scale: Scale::Log,
             y_scale: Scale::Log,
             x_range: None,
@@ -126,7 +126,7 @@ pub(super) fn capacity_curves(d: &StudyData) -> Vec<Figure> {
         chart: Chart {
             title: "Median capacity η_c,50 against p".into(),
             x_desc: "p (1/s)".into(),
-            y_desc: "η_c,50 = α g / PGA (dimensionless)".into(),
+            y_desc: eta_axis("η_c,50"),
             x_scale: Scale::Log,
             y_scale: Scale::Log,
             x_range: None,

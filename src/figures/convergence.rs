@@ -47,7 +47,8 @@ pub(super) fn convergence_share(d: &StudyData) -> Vec<Figure> {
     let Some(conv) = &d.convergence else {
         return Vec::new();
     };
-    let share: Vec<(f64, f64)> = convergence_levels(conv)
+    let levels = convergence_levels(conv);
+    let share: Vec<(f64, f64)> = levels
         .iter()
         .map(|c| (c.levels, c.changed / c.total.max(1.0)))
         .collect();
@@ -62,7 +63,7 @@ pub(super) fn convergence_share(d: &StudyData) -> Vec<Figure> {
             y_scale: Scale::Linear,
             x_range: None,
             y_range: Some((0.0, top)),
-            x_ticks: Some(convergence_levels(conv).iter().map(|c| c.levels).collect()),
+            x_ticks: Some(levels.iter().map(|c| c.levels).collect()),
             lines: vec![Line {
                 name: Some("share changed".into()),
                 points: share,
@@ -82,7 +83,8 @@ pub(super) fn convergence_mean(d: &StudyData) -> Vec<Figure> {
     let Some(conv) = &d.convergence else {
         return Vec::new();
     };
-    let mean: Vec<(f64, f64)> = convergence_levels(conv)
+    let levels = convergence_levels(conv);
+    let mean: Vec<(f64, f64)> = levels
         .iter()
         .map(|c| (c.levels, c.mean_abs_change))
         .collect();
@@ -96,7 +98,7 @@ pub(super) fn convergence_mean(d: &StudyData) -> Vec<Figure> {
             y_scale: Scale::Linear,
             x_range: None,
             y_range: None,
-            x_ticks: Some(convergence_levels(conv).iter().map(|c| c.levels).collect()),
+            x_ticks: Some(levels.iter().map(|c| c.levels).collect()),
             lines: vec![Line {
                 name: Some("mean over records and blocks".into()),
                 points: mean,

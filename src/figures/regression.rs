@@ -4,7 +4,7 @@
 
 use super::bands::{band_eps, outline};
 use super::figure::Figure;
-use super::shared::{capacity_points, law_at, ramp, PAPER_EQ, Q_NAMES, Q_VALUES};
+use super::shared::{capacity_points, eta_axis, law_at, ramp, PAPER_EQ, Q_NAMES, Q_VALUES};
 use crate::fit::polyval;
 use crate::fragility::{self, FractileLaw};
 use crate::plot::{Chart, Hue, Line, Scale, Style};
@@ -82,7 +82,7 @@ fn regression(d: &StudyData, qi: usize) -> Option<Figure> {
         chart: Chart {
             title: format!("η_c,{pct}: data, this study's regression and the paper's"),
             x_desc: "p (1/s)".into(),
-            y_desc: format!("η_c,{pct} = α g / PGA (dimensionless)"),
+            y_desc: eta_axis(&format!("η_c,{pct}")),
             x_scale: Scale::Log,
             y_scale: Scale::Linear,
             x_range: None,

@@ -49,6 +49,11 @@ pub(super) fn law_at(law: &FractileLaw, p: f64, e: f64) -> f64 {
     )
 }
 
+/// The description of a capacity axis: `name` (η_c, η_c,50…) and what it is.
+pub(super) fn eta_axis(name: &str) -> String {
+    format!("{name} = α g / PGA (dimensionless)")
+}
+
 /// The colour of `v`, one of the grid's `values` (its ε or p), on the
 /// ramp: by its place among them, so a value has one colour in every
 /// figure of a study.

@@ -149,14 +149,13 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
     let (alpha, p, eps) = (block.alpha(), block.p(), block.eps);
     let source = laws(&req.from)?;
     let (median, beta) = source.median_beta(&block)?;
-    let capacities = if req.direct {
+    let (capacities, model) = if req.direct {
         let records = DirectRecords::load(&req.from, source.plan.as_ref())?;
         Some(records.capacities(&block, req.auto_tol)?)
     } else {
         None
-    };
-    let model = capacities.as_ref().map(|c| c.1.clone());
-    let capacities = capacities.map(|c| c.0);
+    }
+    .unzip();
     let points = req
         .pga_g
         .iter()

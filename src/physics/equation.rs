@@ -58,6 +58,16 @@ impl Label for EquationKind {
     }
 }
 
+impl EquationKind {
+    /// The equation as a reader names it (reports, command output).
+    pub fn describe(self) -> &'static str {
+        match self {
+            EquationKind::Linearized => "linearised equation (paper Eq. 8)",
+            EquationKind::Nonlinear => "nonlinear equation (paper Eq. 7)",
+        }
+    }
+}
+
 impl Equation {
     pub fn kind(self) -> EquationKind {
         match self {

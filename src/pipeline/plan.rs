@@ -114,6 +114,14 @@ pub struct RecordsPlan {
     pub example: Option<BlockSpec>,
 }
 
+impl RecordsPlan {
+    /// Whether the blocks are a p × ε grid (`[blocks]`, unnamed) rather
+    /// than physical `[[block]]` entries.
+    pub fn is_grid(&self) -> bool {
+        self.blocks.iter().all(|b| b.name.is_empty())
+    }
+}
+
 /// The resolved plan: what every stage of a pipeline sees.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Plan {

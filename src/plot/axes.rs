@@ -122,39 +122,40 @@ pub fn ticks(scale: Scale, lo: f64, hi: f64) -> Vec<f64> {
         Scale::Log => {
             let decades = (hi / lo).log10();
             let mantissas: &[f64] = match decades {
-                d if d <= 1.2 => &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0],
+                d if d <= 1.2 => &EVERY_MANTISSA,
                 d if d <= 3.2 => &[1.0, 2.0, 5.0],
                 d if d <= 5.2 => &[1.0, 3.0],
                 _ => &[1.0],
             };
             let every = (decades / 10.0).ceil().max(1.0) as i32;
-            let (d0, d1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
-            let mut out = Vec::new();
-            for d in (d0..=d1).filter(|d| d.rem_euclid(every) == 0) {
-                for &m in mantissas {
-                    // Parsed from text: 2e-2 is the double nearest 0.02.
-                    let v: f64 = format!("{m}e{d}").parse().expect("a number");
-                    if v >= lo * (1.0 - 1e-12) && v <= hi * (1.0 + 1e-12) {
-                        out.push(v);
-                    }
-                }
-            }
+            let out = log_values(lo, hi, mantissas, every);
             if out.len() < 2 && mantissas.len() < 9 {
                 // Too few on a short axis: every mantissa.
-                let mut all = Vec::new();
-                for d in d0..=d1 {
-                    for m in 1..=9 {
-                        let v: f64 = format!("{m}e{d}").parse().expect("a number");
-                        if v >= lo && v <= hi {
-                            all.push(v);
-                        }
-                    }
-                }
-                return all;
+                return log_values(lo, hi, &EVERY_MANTISSA, 1);
             }
             out
         }
     }
+}
+
+/// Every mantissa of a decade, for a log axis's short spans and its faint lines.
+pub(super) const EVERY_MANTISSA: [f64; 9] = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0];
+
+/// The values m·10^d in [lo, hi] (to rounding) for each mantissa m and every
+/// `every`-th decade d, ascending.
+pub(super) fn log_values(lo: f64, hi: f64, mantissas: &[f64], every: i32) -> Vec<f64> {
+    let (d0, d1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    let mut out = Vec::new();
+    for d in (d0..=d1).filter(|d| d.rem_euclid(every) == 0) {
+        for &m in mantissas {
+            // Parsed from text: 2e-2 is the double nearest 0.02.
+            let v: f64 = format!("{m}e{d}").parse().expect("a number");
+            if v >= lo * (1.0 - 1e-12) && v <= hi * (1.0 + 1e-12) {
+                out.push(v);
+            }
+        }
+    }
+    out
 }
 
 /// Axis scale. Log axes are drawn as log10 of the values on a linear axis,

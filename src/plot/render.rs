@@ -5,7 +5,10 @@
 use plotters::coord::ranged1d::Ranged;
 use plotters::prelude::*;
 
-use super::axes::{axis_range, tick_label, ticks, Scale, CANVAS, FONT_DESC, FONT_TICK, FONT_TITLE};
+use super::axes::{
+    axis_range, log_values, tick_label, ticks, Scale, CANVAS, EVERY_MANTISSA, FONT_DESC, FONT_TICK,
+    FONT_TITLE,
+};
 use super::chart::{runs, Chart, Line, Run, Style};
 use super::error::{draw_err, PlotError};
 use super::legend::{has_legend, legend_panel, LEGEND_PANEL};
@@ -29,36 +32,23 @@ impl Axis {
             Some(t) => t.iter().copied().filter(|&v| v >= a && v <= b).collect(),
             None => ticks(scale, a, b),
         };
-        let to = |v: f64| match scale {
-            Scale::Linear => v,
-            Scale::Log => v.log10(),
-        };
+        let to = |v: f64| drawn(scale, v);
+        // Faint lines at every mantissa, on log axes of up to six decades.
         let minor = match scale {
-            Scale::Linear => Vec::new(),
-            Scale::Log => {
-                let (d0, d1) = (a.log10().floor() as i32, b.log10().ceil() as i32);
-                let span = d1 - d0;
-                (d0..=d1)
-                    .flat_map(|d| (1..=9).map(move |m| m as f64 * 10f64.powi(d)))
-                    .filter(|&v| span <= 6 && v >= a && v <= b)
-                    .map(to)
-                    .collect()
-            }
+            Scale::Log if (b / a).log10() <= 6.0 => log_values(a, b, &EVERY_MANTISSA, 1),
+            _ => Vec::new(),
         };
         Axis {
             scale,
             range: (to(a), to(b)),
             ticks: values.into_iter().map(|v| (to(v), v)).collect(),
-            minor,
+            minor: minor.into_iter().map(to).collect(),
         }
     }
 
     /// A data value where plotters draws it.
     fn at(&self, v: f64) -> f64 {
-        match self.scale {
-            Scale::Linear => v,
-            Scale::Log => v.log10(),
-        }
+        drawn(self.scale, v)
     }
 
     /// The label of the tick drawn at `v`: the value it stands for.
@@ -75,6 +65,14 @@ impl Axis {
             bold: self.ticks.iter().map(|t| t.0).collect(),
             light: self.minor.clone(),
         }
+    }
+}
+
+/// Where a value is drawn on an axis of `scale`: log10 of it on a log axis.
+fn drawn(scale: Scale, v: f64) -> f64 {
+    match scale {
+        Scale::Linear => v,
+        Scale::Log => v.log10(),
     }
 }
 

@@ -78,8 +78,8 @@ fn settings(w: &mut String, d: &StudyData) {
 pub(super) fn model_text(m: crate::physics::ModelChoice) -> &'static str {
     use crate::physics::ModelChoice::*;
     match m {
-        Linearized => "linearised equation (paper Eq. 8)",
-        Nonlinear => "nonlinear equation (paper Eq. 7)",
+        Linearized => crate::physics::EquationKind::Linearized.describe(),
+        Nonlinear => crate::physics::EquationKind::Nonlinear.describe(),
         Auto => "linearised equation where its error 0.45·α² is within `auto_tol`, else nonlinear",
     }
 }

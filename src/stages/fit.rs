@@ -97,7 +97,7 @@ pub fn not_applicable(plan: &Plan) -> Option<String> {
     if let Some(why) = plan.pulse_map_skips() {
         return Some(why);
     }
-    if plan.blocks().iter().any(|b| !b.name.is_empty()) {
+    if plan.records_study().is_ok_and(|r| !r.is_grid()) {
         return Some("the pipeline has physical blocks, not a p × ε grid".into());
     }
     let count = |v: Vec<f64>| crate::stats::distinct(v).len();

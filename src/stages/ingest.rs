@@ -223,8 +223,8 @@ pub struct IngestReport {
     pub out: PathBuf,
     pub records: usize,
     pub samples: usize,
-    /// Records per manifest set (`(none)` for records without one).
-    pub per_set: BTreeMap<String, usize>,
+    /// Records per manifest set (`None`: records without one).
+    pub per_set: BTreeMap<Option<String>, usize>,
     pub skipped: Vec<BadFile>,
     /// Ingested records the manifest does not list.
     pub not_in_manifest: Vec<String>,
@@ -346,9 +346,7 @@ pub fn run(config: &IngestConfig) -> Result<IngestReport, IngestError> {
 
     let mut per_set = BTreeMap::new();
     for r in &rows {
-        *per_set
-            .entry(r.meta.set.clone().unwrap_or_else(|| "(none)".into()))
-            .or_insert(0) += 1;
+        *per_set.entry(r.meta.set.clone()).or_insert(0) += 1;
     }
     Ok(IngestReport {
         out: config.out.clone(),

@@ -147,7 +147,7 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
     tables::write(&path(2), &out.capacity, &settings)?;
     tables::write(&path(3), &out.lognormal, &settings)?;
     tables::write(&path(4), &out.fraction, &settings)?;
-    tables::write(&path(5), &block_rows(&plan.blocks), &settings)?;
+    tables::write(&path(5), &block_rows(plan), &settings)?;
     if let (Some((band_rows, resample_rows)), Some(u)) = (&bands, plan.uncertainty) {
         let mut meta = settings.clone();
         meta.push((
@@ -177,8 +177,8 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
 
 /// The pipeline's blocks as rows; a grid's (unnamed blocks) with the
 /// indices of their p and ε among the grid's values.
-fn block_rows(blocks: &[crate::pipeline::BlockSpec]) -> Vec<BlockRow> {
-    let grid = blocks.iter().all(|b| b.name.is_empty());
+fn block_rows(plan: &crate::pipeline::RecordsPlan) -> Vec<BlockRow> {
+    let (blocks, grid) = (&plan.blocks, plan.is_grid());
     let distinct = |f: fn(&crate::pipeline::BlockSpec) -> f64| {
         let mut v: Vec<f64> = Vec::new();
         for b in blocks {

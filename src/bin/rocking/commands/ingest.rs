@@ -66,9 +66,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let sets: Vec<String> = report
         .per_set
         .iter()
-        .map(|(s, n)| match s.as_str() {
-            "(none)" => format!("{n} without a set in the manifest"),
-            s => format!("{n} {s}"),
+        .map(|(s, n)| match s {
+            None => format!("{n} without a set in the manifest"),
+            Some(s) => format!("{n} {s}"),
         })
         .collect();
     println!(

@@ -122,12 +122,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         args.f
     );
     println!(
-        "block        ε = {}, {} equation, overturning criterion {}",
+        "block        ε = {}, {}, overturning criterion {}",
         args.eps,
-        match model.equation.kind() {
-            rocking::physics::EquationKind::Linearized => "linearised (paper Eq. 8)",
-            rocking::physics::EquationKind::Nonlinear => "nonlinear (paper Eq. 7)",
-        },
+        model.equation.kind().describe(),
         args.overturn
     );
     println!(
