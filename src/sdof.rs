@@ -107,24 +107,80 @@ pub fn displacements(
     Ok(out)
 }
 
+/// Sub-steps per natural period at least: the peak of |u| is then sought
+/// on every sub-step, between its ends by cubic Hermite interpolation of
+/// (u, u̇), whose error at 40 steps a period is below 1e-6 of the peak.
+pub const STEPS_PER_PERIOD: f64 = 40.0;
+
 /// Pseudo-spectral acceleration ω²·max|u| of the record `accel` (any unit;
 /// the result is in the same one) for period `period_s` and damping `zeta`,
-/// over the record's duration.
+/// over the record's duration (no free vibration after it).
+///
+/// The peak is that of the continuous response, not of its samples: a
+/// sample interval longer than T/40 is cut into equal sub-steps (the
+/// forcing stays linear on each, so they are exact too), and where the
+/// velocity changes sign within a sub-step the extremum is located on the
+/// cubic through the sub-step's end displacements and velocities.
 pub fn pseudo_acceleration(
     accel: &[f64],
     dt_s: f64,
     period_s: f64,
     zeta: f64,
 ) -> Result<f64, SdofError> {
-    let step = Step::new(period_s, zeta, dt_s)?;
+    Step::new(period_s, zeta, dt_s)?;
+    let n = (dt_s * STEPS_PER_PERIOD / period_s).ceil().max(1.0);
+    let h = dt_s / n;
+    let step = Step::new(period_s, zeta, h)?;
+    let n = n as usize;
     let w = std::f64::consts::TAU / period_s;
     let mut state = (0.0, 0.0);
     let mut peak: f64 = 0.0;
     for win in accel.windows(2) {
-        state = step.advance(state, win[0], win[1]);
-        peak = peak.max(state.0.abs());
+        let slope = (win[1] - win[0]) / n as f64;
+        for j in 0..n {
+            let a0 = win[0] + slope * j as f64;
+            let a1 = if j + 1 == n { win[1] } else { a0 + slope };
+            let next = step.advance(state, a0, a1);
+            peak = peak.max(next.0.abs());
+            if state.1 * next.1 < 0.0 {
+                peak = peak.max(hermite_extremum(state, next, h));
+            }
+            state = next;
+        }
     }
     Ok(w * w * peak)
+}
+
+/// The largest |u| inside a step of length `h` from `(u0, v0)` to
+/// `(u1, v1)`, on the cubic Hermite interpolant (where its slope is zero).
+fn hermite_extremum((u0, v0): (f64, f64), (u1, v1): (f64, f64), h: f64) -> f64 {
+    // u(s) = c0 + c1 s + c2 s² + c3 s³ on s ∈ [0, 1].
+    let c1 = h * v0;
+    let c2 = -3.0 * u0 - 2.0 * h * v0 + 3.0 * u1 - h * v1;
+    let c3 = 2.0 * u0 + h * v0 - 2.0 * u1 + h * v1;
+    let at = |s: f64| (u0 + s * (c1 + s * (c2 + s * c3))).abs();
+    // u'(s) = c1 + 2 c2 s + 3 c3 s².
+    let (qa, qb, qc) = (3.0 * c3, 2.0 * c2, c1);
+    let mut best: f64 = 0.0;
+    if qa.abs() < 1e-300 {
+        if qb != 0.0 {
+            let s = -qc / qb;
+            if (0.0..=1.0).contains(&s) {
+                best = best.max(at(s));
+            }
+        }
+        return best;
+    }
+    let disc = qb * qb - 4.0 * qa * qc;
+    if disc >= 0.0 {
+        let r = disc.sqrt();
+        for s in [(-qb + r) / (2.0 * qa), (-qb - r) / (2.0 * qa)] {
+            if (0.0..=1.0).contains(&s) {
+                best = best.max(at(s));
+            }
+        }
+    }
+    best
 }
 
 #[cfg(test)]
@@ -244,5 +300,38 @@ mod tests {
         assert_eq!(Step::new(0.0, 0.05, 0.01), Err(SdofError::Period(0.0)));
         assert_eq!(Step::new(1.0, 1.0, 0.01), Err(SdofError::Damping(1.0)));
         assert_eq!(Step::new(1.0, 0.05, -1.0), Err(SdofError::Step(-1.0)));
+    }
+
+    /// The continuous peak of a record sampled far coarser than the period:
+    /// the same record resampled 2000 times finer (exactly, since it is
+    /// linear between samples) and its peak taken at the fine samples,
+    /// whose miss is at most 1 − cos(π Δt/T) < 3e-6 here: agreement to 1e-5.
+    #[test]
+    fn the_peak_between_samples_is_found() {
+        let dt = 0.02;
+        let accel: Vec<f64> = (0..400)
+            .map(|k| {
+                let t = k as f64 * dt;
+                (7.0 * t).sin() * (-0.2 * t).exp() + 0.3 * (23.0 * t).cos()
+            })
+            .collect();
+        for period in [0.05, 0.1, 0.3, 1.0] {
+            let fine_n = 2000;
+            let mut fine = Vec::with_capacity(accel.len() * fine_n);
+            for w in accel.windows(2) {
+                for j in 0..fine_n {
+                    fine.push(w[0] + (w[1] - w[0]) * j as f64 / fine_n as f64);
+                }
+            }
+            fine.push(*accel.last().unwrap());
+            let u = displacements(&fine, dt / fine_n as f64, period, 0.05).unwrap();
+            let w = std::f64::consts::TAU / period;
+            let reference = w * w * u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let sa = pseudo_acceleration(&accel, dt, period, 0.05).unwrap();
+            assert!(
+                (sa / reference - 1.0).abs() < 1e-5,
+                "T = {period}: {sa} vs {reference}"
+            );
+        }
     }
 }

@@ -15,6 +15,8 @@
 //!   manifest lines, copied folders, hand-edited figures, typed reasons).
 //! - `html`: `report.html` loaded in headless Chromium, every figure drawn
 //!   (ROCKING_CHROMIUM=1; CI sets it).
+//! - `ims`: `rocking ims` (PGV against FEMA P695's table, the JSON, bad
+//!   input) and the ims stage's dispersions against the capacities by hand.
 //! - `ingest`: the records table from the bundled FEMA P695 files, checked
 //!   against the manifest and the files; bad input and atomic output.
 //! - `physics`: the solvers against closed forms, conservation laws,
@@ -45,6 +47,7 @@ mod cli;
 mod example;
 mod faults;
 mod html;
+mod ims;
 mod ingest;
 mod physics;
 mod pulse;

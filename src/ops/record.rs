@@ -56,8 +56,8 @@ pub enum RecordError {
     },
 }
 
-/// Reads and normalises one AT2 file.
-pub fn load(path: &Path) -> Result<LoadedRecord, RecordError> {
+/// Reads one AT2 file: its samples (g) and step (s), unscaled.
+pub fn read_samples(path: &Path) -> Result<(Vec<f64>, f64), RecordError> {
     let bytes = std::fs::read(path).map_err(|source| RecordError::Read {
         path: path.into(),
         source,
@@ -66,13 +66,17 @@ pub fn load(path: &Path) -> Result<LoadedRecord, RecordError> {
         path: path.into(),
         error,
     })?;
-    let pga_g = crate::motion::peak(&parsed.accel_g, parsed.dt_s).map_or(0.0, |p| p.pga_g);
-    let npts = parsed.accel_g.len();
-    let exc = Excitation::from_samples(parsed.accel_g, parsed.dt_s).map_err(|source| {
-        RecordError::Samples {
-            path: path.into(),
-            source,
-        }
+    Ok((parsed.accel_g, parsed.dt_s))
+}
+
+/// Reads and normalises one AT2 file.
+pub fn load(path: &Path) -> Result<LoadedRecord, RecordError> {
+    let (accel_g, dt_s) = read_samples(path)?;
+    let pga_g = crate::motion::peak(&accel_g, dt_s).map_or(0.0, |p| p.pga_g);
+    let npts = accel_g.len();
+    let exc = Excitation::from_samples(accel_g, dt_s).map_err(|source| RecordError::Samples {
+        path: path.into(),
+        source,
     })?;
     Ok(LoadedRecord {
         record_id: path

@@ -17,6 +17,7 @@ pub mod engine;
 pub mod example;
 pub mod fingerprint;
 pub mod fit;
+pub mod ims;
 pub mod ingest;
 pub mod lock;
 pub mod pulses;
@@ -39,6 +40,7 @@ pub static STAGES: &[&dyn Stage] = &[
     &sweep::Sweep,
     &convergence::Convergence,
     &reduce::Reduce,
+    &ims::Ims,
     &example::Example,
     &fit::Fit,
     &pulses::Pulses,

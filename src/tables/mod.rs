@@ -21,6 +21,7 @@ pub mod column;
 pub mod convergence;
 pub mod fit;
 pub mod history;
+pub mod ims;
 pub mod pulse;
 pub mod records;
 pub mod reduce;

@@ -10,6 +10,7 @@ mod args;
 mod bench;
 mod capacity;
 mod fragility;
+mod ims;
 mod ingest;
 mod risk;
 mod run;
@@ -39,6 +40,7 @@ struct Cli {
 #[derive(Debug, Subcommand)]
 enum Command {
     Ingest(ingest::Args),
+    Ims(ims::Args),
     Simulate(simulate::Args),
     Capacity(capacity::Args),
     Wall(wall::Args),
@@ -53,6 +55,7 @@ enum Command {
 fn dispatch(command: Command) -> anyhow::Result<()> {
     match command {
         Command::Ingest(a) => ingest::run(a),
+        Command::Ims(a) => ims::run(a),
         Command::Simulate(a) => simulate::run(a),
         Command::Capacity(a) => capacity::run(a),
         Command::Wall(a) => wall::run(a),

@@ -1,0 +1,77 @@
+//! `rocking ims`: the intensity measures of one record.
+
+use std::path::PathBuf;
+
+use anyhow::Context;
+use rocking::im::{self, RecordIms, SPECTRAL_DAMPING};
+use rocking::ops::record;
+
+/// Intensity measures of one record.
+#[derive(Debug, clap::Args)]
+#[command(
+    long_about = "Intensity measures of one AT2 record: PGA (g), PGV (cm/s) and PGD (cm) by exact \
+    integration of the piecewise-linear record from rest (no baseline correction), SA (g, 5 % \
+    damping) at 0.05–4 s and any --period, AvgSA (geometric mean of SA over 0.1–2 s), Arias \
+    intensity (m/s), CAV (g·s), the 5–95 % significant duration (s), PGV/PGA (s) and the mean \
+    period Tm (s, Rathje et al. 1998). Definitions: docs/MODEL.md §14."
+)]
+pub struct Args {
+    /// The AT2 file.
+    #[arg(long, value_name = "FILE.AT2")]
+    record: PathBuf,
+    /// A period (s) at which SA is also computed; repeatable.
+    #[arg(long = "period", value_name = "s")]
+    periods: Vec<f64>,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    if let Some(bad) = args.periods.iter().find(|t| !(**t > 0.0 && t.is_finite())) {
+        anyhow::bail!("--period {bad}: a period must be a positive number of seconds");
+    }
+    let (accel, dt) = record::read_samples(&args.record)?;
+    let ims = RecordIms::of_record(&accel, dt, &args.periods).with_context(|| {
+        format!(
+            "{}: the record has no motion (every sample is 0)",
+            args.record.display()
+        )
+    })?;
+    if args.json {
+        let mut value = serde_json::to_value(&ims)?;
+        let sa: serde_json::Map<String, serde_json::Value> = ims
+            .sa_g
+            .iter()
+            .map(|&(t, v)| (im::period_text(t), v.into()))
+            .collect();
+        value["sa_g"] = sa.into();
+        println!("{value}");
+        return Ok(());
+    }
+    println!(
+        "{} ({} samples at {} s)",
+        args.record.display(),
+        accel.len(),
+        dt
+    );
+    let rows = [
+        ("PGA", ims.pga_g, "g"),
+        ("PGV", ims.pgv_cm_s, "cm/s"),
+        ("PGD", ims.pgd_cm, "cm"),
+        ("AvgSA (0.1–2 s)", ims.avgsa_g, "g"),
+        ("Arias intensity", ims.arias_m_s, "m/s"),
+        ("CAV", ims.cav_g_s, "g·s"),
+        ("D5–95", ims.d5_95_s, "s"),
+        ("PGV/PGA", ims.pgv_pga_s, "s"),
+        ("Tm", ims.tm_s, "s"),
+    ];
+    for (name, v, unit) in rows {
+        println!("  {name:<16} {v:>10.4} {unit}");
+    }
+    println!("  SA ({:.0} % damping):", SPECTRAL_DAMPING * 100.0);
+    for (t, sa) in &ims.sa_g {
+        println!("    T = {:<6} s  {sa:>8.4} g", im::period_text(*t));
+    }
+    Ok(())
+}
