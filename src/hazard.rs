@@ -1,38 +1,46 @@
-//! Seismic hazard curves of PGA (pure: text in, curves out).
+//! Seismic hazard curves in any IM of [`crate::im::Im`] (pure: text in,
+//! curves out).
 //!
 //! Two formats:
 //!
-//! - **OpenQuake** hazard-curve CSV (`hazard_curve-<kind>-PGA_<id>.csv`): a
-//!   first line `#,,,,,"generated_by='OpenQuake engine …', …, kind='mean',
+//! - **OpenQuake** hazard-curve CSV (`hazard_curve-<kind>-<IMT>_<id>.csv`):
+//!   a first line `#,,,,,"generated_by='OpenQuake engine …', …, kind='mean',
 //!   investigation_time=50.0, imt='PGA'"`, a header `lon,lat,depth,poe-<iml>,…`
 //!   and one row per site. `poe` is the probability of exceedance of the IML
-//!   (g) within `investigation_time` years, so under the Poisson assumption the
-//!   annual rate of exceedance is `λ = −ln(1 − poe) / T`.
-//! - **Plain**: a header `pga_g,annual_rate` and one row per IML, one site.
+//!   within `investigation_time` years, so under the Poisson assumption the
+//!   annual rate of exceedance is `λ = −ln(1 − poe) / T`. The IMT is `PGA`
+//!   (g), `PGV` (cm/s), `SA(T)` (g) or `AvgSA` (g), OpenQuake's units.
+//! - **Plain**: a header `<im>_<unit>,annual_rate` (`pga_g`, `pgv_cm_s`,
+//!   `sa(1.0)_g`, `avgsa_g`, …) and one row per IML, one site.
 //!
-//! Refused, naming the line (and the column): an IMT other than PGA, a
+//! Refused, naming the line (and the column): an IMT this tool has no
+//! capacities in, a
 //! missing or non-positive `investigation_time`, a cell that is not a
 //! number, a probability outside [0, 1], a negative rate, IMLs that do not
 //! increase, a curve that rises with the IML.
 //!
 //! A curve keeps its points with a finite, positive rate: `poe = 1` at small
 //! IMLs (an infinite rate) is common and those points are dropped from the
-//! start; a rate of 0 ends the curve there (`ends_at_g`).
+//! start; a rate of 0 ends the curve there (`ends_at`).
 
 use std::fmt;
 
-/// One site's hazard curve: annual rates of exceedance of PGA.
+use crate::im::Im;
+
+/// One site's hazard curve: annual rates of exceedance of an IM.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HazardCurve {
+    /// The IM the levels are of (in its unit, [`Im::unit`]).
+    pub im: Im,
     pub lon: Option<f64>,
     pub lat: Option<f64>,
-    /// IMLs (PGA, g), increasing, each with a finite positive rate.
-    pub pga_g: Vec<f64>,
+    /// IMLs, increasing, each with a finite positive rate.
+    pub iml: Vec<f64>,
     /// Annual rate of exceedance at each IML, non-increasing.
     pub annual_rate: Vec<f64>,
     /// The IML at which the file gives a rate of exactly 0 (no exceedance
     /// beyond it), if it does.
-    pub ends_at_g: Option<f64>,
+    pub ends_at: Option<f64>,
     /// IMLs dropped from the start because their rate is infinite (poe = 1).
     pub dropped_below: usize,
 }
@@ -128,14 +136,21 @@ fn number(line: usize, column: &str, cell: &str) -> Result<f64, HazardError> {
 pub fn parse_openquake(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
     let (_, meta) = lines.next().ok_or_else(|| err(1, "the file is empty"))?;
-    let imt = meta_value(meta, "imt")
-        .ok_or_else(|| err(1, "no `imt=` in the metadata line; expected imt='PGA'"))?;
-    if imt != "PGA" {
-        return Err(err(
+    let imt = meta_value(meta, "imt").ok_or_else(|| {
+        err(
             1,
-            format!("imt = '{imt}': this tool's fragility is in PGA; give the PGA hazard curves (hazard_curve-…-PGA_….csv)"),
-        ));
-    }
+            "no `imt=` in the metadata line; expected imt='PGA', 'PGV', 'SA(T)' or 'AvgSA'",
+        )
+    })?;
+    let im = match imt.parse::<Im>() {
+        Ok(im @ (Im::Pga | Im::Pgv | Im::Sa(_) | Im::AvgSa)) => im,
+        _ => {
+            return Err(err(
+                1,
+                format!("imt = '{imt}': this tool's fragilities are in PGA, PGV, SA(T) or AvgSA; give the hazard curves of one of them (hazard_curve-…-PGA_….csv)"),
+            ))
+        }
+    };
     let t = meta_value(meta, "investigation_time")
         .ok_or_else(|| {
             err(
@@ -198,6 +213,7 @@ pub fn parse_openquake(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
             points.push((iml, -(-poe).ln_1p() / t));
         }
         let mut curve = curve_of(
+            im,
             &points,
             |_| line,
             |k| format!("column `{}`", header[imls[k].0]),
@@ -212,7 +228,16 @@ pub fn parse_openquake(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
     Ok(sites)
 }
 
-/// A plain `pga_g,annual_rate` file: one site.
+/// The IM of a plain file's first header cell, `<im>_<unit>` with the
+/// unit written as in column names (`pga_g`, `pgv_cm_s`, `sa(1.0)_g`).
+fn plain_im(cell: &str) -> Option<Im> {
+    let (name, unit) = cell.split_once('_')?;
+    let im = name.parse::<Im>().ok()?;
+    let written = im.unit().replace(['/', '·'], "_");
+    (unit == written).then_some(im)
+}
+
+/// A plain `<im>_<unit>,annual_rate` file: one site.
 pub fn parse_plain(text: &str) -> Result<HazardCurve, HazardError> {
     let mut lines = text
         .lines()
@@ -221,15 +246,20 @@ pub fn parse_plain(text: &str) -> Result<HazardCurve, HazardError> {
         .filter(|(_, l)| !l.trim().is_empty());
     let (hl, header) = lines.next().ok_or_else(|| err(1, "the file is empty"))?;
     let header = cells(header.trim_start_matches('\u{feff}'));
-    if header != ["pga_g", "annual_rate"] {
+    let im = match header[..] {
+        [first, "annual_rate"] => plain_im(first),
+        _ => None,
+    };
+    let Some(im) = im else {
         return Err(err(
             hl,
             format!(
-                "header `{}`: expected `pga_g,annual_rate` (or an OpenQuake hazard-curve file)",
+                "header `{}`: expected `pga_g,annual_rate` (or `pgv_cm_s`, `sa(1.0)_g`, `avgsa_g` first; or an OpenQuake hazard-curve file)",
                 header.join(",")
             ),
         ));
-    }
+    };
+    let column = header[0].to_string();
     let mut points = Vec::new();
     let mut line_of = Vec::new();
     for (line, row) in lines {
@@ -238,11 +268,11 @@ pub fn parse_plain(text: &str) -> Result<HazardCurve, HazardError> {
             return Err(err(line, format!("{} cells, expected 2", c.len())));
         }
         let (pga, rate) = (
-            number(line, "pga_g", c[0])?,
+            number(line, &column, c[0])?,
             number(line, "annual_rate", c[1])?,
         );
         if pga <= 0.0 {
-            return Err(err(line, format!("pga_g = {pga} must be positive")));
+            return Err(err(line, format!("{column} = {pga} must be positive")));
         }
         if rate < 0.0 {
             return Err(err(
@@ -254,7 +284,7 @@ pub fn parse_plain(text: &str) -> Result<HazardCurve, HazardError> {
             if pga <= prev {
                 return Err(err(
                     line,
-                    format!("pga_g must increase: {pga} follows {prev}"),
+                    format!("{column} must increase: {pga} follows {prev}"),
                 ));
             }
         }
@@ -265,6 +295,7 @@ pub fn parse_plain(text: &str) -> Result<HazardCurve, HazardError> {
         return Err(err(hl, "no rows after the header"));
     }
     curve_of(
+        im,
         &points,
         |k| line_of[k],
         |_| "column `annual_rate`".to_string(),
@@ -275,6 +306,7 @@ pub fn parse_plain(text: &str) -> Result<HazardCurve, HazardError> {
 /// never rises, drops infinite rates at the start, ends at the first zero.
 /// `line_of(k)` and `name(k)` say where point k is, for messages.
 fn curve_of(
+    im: Im,
     points: &[(f64, f64)],
     line_of: impl Fn(usize) -> usize,
     name: impl Fn(usize) -> String,
@@ -284,34 +316,36 @@ fn curve_of(
             return Err(err(
                 line_of(k + 1),
                 format!(
-                    "{}: the hazard curve rises with the IML ({} at {} g after {} at {} g); a rate of exceedance cannot",
+                    "{}: the hazard curve rises with the IML ({} at {} {unit} after {} at {} {unit}); a rate of exceedance cannot",
                     name(k + 1),
                     w[1].1,
                     w[1].0,
                     w[0].1,
-                    w[0].0
+                    w[0].0,
+                    unit = im.unit()
                 ),
             ));
         }
     }
     let dropped_below = points.iter().take_while(|p| p.1.is_infinite()).count();
     let mut curve = HazardCurve {
+        im,
         lon: None,
         lat: None,
-        pga_g: Vec::new(),
+        iml: Vec::new(),
         annual_rate: Vec::new(),
-        ends_at_g: None,
+        ends_at: None,
         dropped_below,
     };
     for &(iml, rate) in &points[dropped_below..] {
         if rate == 0.0 {
-            curve.ends_at_g = Some(iml);
+            curve.ends_at = Some(iml);
             break;
         }
-        curve.pga_g.push(iml);
+        curve.iml.push(iml);
         curve.annual_rate.push(rate);
     }
-    if curve.pga_g.is_empty() {
+    if curve.iml.is_empty() {
         return Err(err(
             line_of(0),
             "no IML with a finite, positive rate: every probability of exceedance is 1 or 0",
@@ -336,20 +370,21 @@ lon,lat,depth,poe-0.01,poe-0.1,poe-0.5,poe-1.0\n\
         let a = &sites[0];
         assert_eq!((a.lon, a.lat), (Some(23.7), Some(37.9)));
         // poe = 1 at 0.01 g is dropped; poe = 0 at 1 g ends the curve.
-        assert_eq!(a.pga_g, vec![0.1, 0.5]);
+        assert_eq!(a.iml, vec![0.1, 0.5]);
         assert_eq!(a.dropped_below, 1);
-        assert_eq!(a.ends_at_g, Some(1.0));
+        assert_eq!(a.ends_at, Some(1.0));
         // λ = −ln(1 − poe)/T: poe 0.5 in 50 years is ln 2 / 50 per year.
         assert!((a.annual_rate[0] - 2f64.ln() / 50.0).abs() < 1e-15);
         let b = &sites[1];
-        assert_eq!(b.pga_g.len(), 4);
+        assert_eq!(b.iml.len(), 4);
         assert!((b.annual_rate[3] - -(0.998f64.ln()) / 50.0).abs() < 1e-18);
     }
 
     #[test]
     fn refusals_name_the_line_and_the_problem() {
         let cases = [
-            (OQ.replace("imt='PGA'", "imt='SA(0.2)'"), 1, "SA(0.2)"),
+            (OQ.replace("imt='PGA'", "imt='CAV'"), 1, "imt = 'CAV'"),
+            (OQ.replace("imt='PGA'", "imt='SA(-1)'"), 1, "imt = 'SA(-1)'"),
             (
                 OQ.replace("investigation_time=50.0, ", ""),
                 1,
@@ -380,5 +415,31 @@ lon,lat,depth,poe-0.01,poe-0.1,poe-0.5,poe-1.0\n\
         assert_eq!(e.line, Some(1));
         let e = parse("pga_g,annual_rate\n0.1,x\n").unwrap_err();
         assert_eq!(e.line, Some(2));
+    }
+
+    /// The IMs OpenQuake writes and the plain headers of each, in their units.
+    #[test]
+    fn hazard_in_pgv_sa_and_avgsa() {
+        for (imt, im) in [
+            ("PGV", Im::Pgv),
+            ("SA(1.0)", Im::Sa(1.0)),
+            ("SA(0.3)", Im::Sa(0.3)),
+            ("AvgSA", Im::AvgSa),
+        ] {
+            let curves = parse(&OQ.replace("imt='PGA'", &format!("imt='{imt}'"))).unwrap();
+            assert!(curves.iter().all(|c| c.im == im), "{imt}");
+        }
+        for (header, im) in [
+            ("pga_g", Im::Pga),
+            ("pgv_cm_s", Im::Pgv),
+            ("sa(1.0)_g", Im::Sa(1.0)),
+            ("avgsa_g", Im::AvgSa),
+        ] {
+            let c = parse(&format!("{header},annual_rate\n1,0.01\n2,0.001\n")).unwrap();
+            assert_eq!(c[0].im, im, "{header}");
+        }
+        // A unit that is not the IM's is refused, naming the header.
+        let e = parse("pgv_g,annual_rate\n1,0.01\n").unwrap_err();
+        assert!(e.to_string().contains("header `pgv_g,annual_rate`"), "{e}");
     }
 }

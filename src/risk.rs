@@ -40,23 +40,21 @@ use crate::stats::normal_cdf;
 /// P(overturn | PGA) of a block.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Fragility {
-    /// `Φ(ln(a / median_pga_g) / beta)`.
-    Lognormal { median_pga_g: f64, beta: f64 },
-    /// The share of records whose overturning PGA lies below a: `thresholds_g`
+    /// `Φ(ln(a / median) / beta)`.
+    Lognormal { median: f64, beta: f64 },
+    /// The share of records whose overturning PGA lies below a: `thresholds`
     /// ascending, `f64::INFINITY` for a record that never overturns it.
-    Empirical { thresholds_g: Vec<f64> },
+    Empirical { thresholds: Vec<f64> },
 }
 
 impl Fragility {
     /// P(overturn | PGA = a).
     pub fn probability(&self, a: f64) -> f64 {
         match self {
-            Fragility::Lognormal { median_pga_g, beta } => {
-                normal_cdf((a / median_pga_g).ln() / beta)
-            }
-            Fragility::Empirical { thresholds_g } => {
-                let below = thresholds_g.partition_point(|&t| t < a);
-                below as f64 / thresholds_g.len().max(1) as f64
+            Fragility::Lognormal { median, beta } => normal_cdf((a / median).ln() / beta),
+            Fragility::Empirical { thresholds } => {
+                let below = thresholds.partition_point(|&t| t < a);
+                below as f64 / thresholds.len().max(1) as f64
             }
         }
     }
@@ -85,9 +83,9 @@ impl crate::label::Label for Beyond {
 /// The contribution of one range of PGA to the rate of overturning.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Bin {
-    pub pga_from_g: f64,
+    pub iml_from: f64,
     /// `None`: no upper end (beyond the last IML, extrapolated).
-    pub pga_to_g: Option<f64>,
+    pub iml_to: Option<f64>,
     pub annual_rate: f64,
 }
 
@@ -96,8 +94,8 @@ pub struct Bin {
 pub struct SiteRisk {
     /// λ_OT (1/year).
     pub annual_rate: f64,
-    pub first_iml_g: f64,
-    pub last_iml_g: f64,
+    pub first_iml: f64,
+    pub last_iml: f64,
     /// P(OT | first IML): overturning probability below where the curve starts.
     pub fragility_at_first_iml: f64,
     /// Share of λ_OT from beyond the last IML (0 with [`Beyond::Stop`]).
@@ -143,8 +141,8 @@ impl Segment {
 
     fn integral_of(&self, f: &Fragility) -> f64 {
         match f {
-            Fragility::Lognormal { median_pga_g, beta } => {
-                let closed = self.lognormal(median_pga_g.ln(), *beta, f);
+            Fragility::Lognormal { median, beta } => {
+                let closed = self.lognormal(median.ln(), *beta, f);
                 if closed.is_finite() {
                     closed
                 } else {
@@ -153,10 +151,10 @@ impl Segment {
                     self.quadrature(f)
                 }
             }
-            Fragility::Empirical { thresholds_g } => {
-                let n = thresholds_g.len().max(1) as f64;
+            Fragility::Empirical { thresholds } => {
+                let n = thresholds.len().max(1) as f64;
                 let end = self.rate(self.a1);
-                thresholds_g
+                thresholds
                     .iter()
                     .take_while(|&&t| t < self.a1)
                     .map(|&t| self.rate(t.max(self.a0)) - end)
@@ -231,7 +229,7 @@ impl Segment {
 /// The power-law pieces of a curve, and the beyond piece (if any) with the
 /// rate put at the curve's end when its file gives a rate of 0 there.
 fn segments(curve: &HazardCurve, beyond: Beyond) -> (Vec<Segment>, Option<(Segment, Option<f64>)>) {
-    let (a, r) = (&curve.pga_g, &curve.annual_rate);
+    let (a, r) = (&curve.iml, &curve.annual_rate);
     let slope = |i: usize| (r[i] / r[i + 1]).ln() / (a[i + 1] / a[i]).ln();
     let inner: Vec<Segment> = (0..a.len().saturating_sub(1))
         .map(|i| Segment {
@@ -248,11 +246,11 @@ fn segments(curve: &HazardCurve, beyond: Beyond) -> (Vec<Segment>, Option<(Segme
         (Beyond::Extrapolate, Some(s)) => Some((
             Segment {
                 a0: a[last],
-                a1: curve.ends_at_g.unwrap_or(f64::INFINITY),
+                a1: curve.ends_at.unwrap_or(f64::INFINITY),
                 rate0: r[last],
                 k: s.k,
             },
-            curve.ends_at_g,
+            curve.ends_at,
         )),
     };
     (inner, tail)
@@ -264,13 +262,13 @@ pub fn assess(curve: &HazardCurve, fragility: &Fragility, beyond: Beyond) -> Sit
     let mut bins: Vec<Bin> = inner
         .iter()
         .map(|s| Bin {
-            pga_from_g: s.a0,
-            pga_to_g: Some(s.a1),
+            iml_from: s.a0,
+            iml_to: Some(s.a1),
             annual_rate: s.integral(fragility),
         })
         .collect();
-    let first = curve.pga_g[0];
-    let last = *curve.pga_g.last().expect("a curve has a point");
+    let first = curve.iml[0];
+    let last = *curve.iml.last().expect("a curve has a point");
     let beyond_rate = match tail {
         None => 0.0,
         Some((s, end)) => {
@@ -280,8 +278,8 @@ pub fn assess(curve: &HazardCurve, fragility: &Fragility, beyond: Beyond) -> Sit
         }
     };
     bins.push(Bin {
-        pga_from_g: last,
-        pga_to_g: match (beyond, curve.ends_at_g) {
+        iml_from: last,
+        iml_to: match (beyond, curve.ends_at) {
             (Beyond::Stop, _) => Some(last),
             (Beyond::Extrapolate, end) => end,
         },
@@ -290,8 +288,8 @@ pub fn assess(curve: &HazardCurve, fragility: &Fragility, beyond: Beyond) -> Sit
     let total: f64 = bins.iter().map(|b| b.annual_rate).sum();
     SiteRisk {
         annual_rate: total,
-        first_iml_g: first,
-        last_iml_g: last,
+        first_iml: first,
+        last_iml: last,
         fragility_at_first_iml: fragility.probability(first),
         share_beyond_last_iml: if total > 0.0 {
             beyond_rate / total
@@ -313,15 +311,16 @@ mod tests {
 
     /// A power-law hazard λ(a) = k0 a^(−k) sampled at `n` IMLs from a_lo to a_hi.
     fn power_law(k0: f64, k: f64, a_lo: f64, a_hi: f64, n: usize) -> HazardCurve {
-        let pga_g: Vec<f64> = (0..n)
+        let iml: Vec<f64> = (0..n)
             .map(|i| a_lo * (a_hi / a_lo).powf(i as f64 / (n - 1) as f64))
             .collect();
         HazardCurve {
+            im: crate::im::Im::Pga,
             lon: None,
             lat: None,
-            annual_rate: pga_g.iter().map(|a| k0 * a.powf(-k)).collect(),
-            pga_g,
-            ends_at_g: None,
+            annual_rate: iml.iter().map(|a| k0 * a.powf(-k)).collect(),
+            iml,
+            ends_at: None,
             dropped_below: 0,
         }
     }
@@ -337,10 +336,7 @@ mod tests {
             (1e-5, 4.0, 1.2, 0.3),
         ] {
             let curve = power_law(k0, k, m * (-9.0 * beta).exp(), m * (3.0 * beta).exp(), 25);
-            let f = Fragility::Lognormal {
-                median_pga_g: m,
-                beta,
-            };
+            let f = Fragility::Lognormal { median: m, beta };
             let r = assess(&curve, &f, Beyond::Extrapolate);
             let exact = k0 * m.powf(-k) * (k * k * beta * beta / 2.0).exp();
             assert!(
@@ -363,20 +359,21 @@ mod tests {
     #[test]
     fn a_flat_hazard_has_no_events() {
         let curve = HazardCurve {
+            im: crate::im::Im::Pga,
             lon: None,
             lat: None,
-            pga_g: vec![0.1, 0.2, 0.3],
+            iml: vec![0.1, 0.2, 0.3],
             annual_rate: vec![0.01; 3],
-            ends_at_g: None,
+            ends_at: None,
             dropped_below: 0,
         };
         for f in [
             Fragility::Lognormal {
-                median_pga_g: 0.25,
+                median: 0.25,
                 beta: 0.4,
             },
             Fragility::Empirical {
-                thresholds_g: vec![0.15, 0.25],
+                thresholds: vec![0.15, 0.25],
             },
         ] {
             for beyond in [Beyond::Stop, Beyond::Extrapolate] {
@@ -392,7 +389,7 @@ mod tests {
             ..curve
         };
         let f = Fragility::Lognormal {
-            median_pga_g: 0.25,
+            median: 0.25,
             beta: 0.4,
         };
         let r = assess(&curve, &f, Beyond::Stop);
@@ -405,7 +402,7 @@ mod tests {
         let curve = power_law(2e-4, 3.0, 0.01, 2.0, 9);
         for m in [0.013, 0.05, 0.3, 1.7] {
             let f = Fragility::Empirical {
-                thresholds_g: vec![m],
+                thresholds: vec![m],
             };
             let r = assess(&curve, &f, Beyond::Extrapolate);
             let exact = 2e-4 * f64::powf(m, -3.0);
@@ -413,7 +410,7 @@ mod tests {
         }
         // Records that never overturn the block count in the share, not the rate.
         let f = Fragility::Empirical {
-            thresholds_g: vec![0.3, f64::INFINITY],
+            thresholds: vec![0.3, f64::INFINITY],
         };
         let r = assess(&curve, &f, Beyond::Extrapolate);
         assert!((r.annual_rate / (0.5 * 2e-4 * 0.3f64.powf(-3.0)) - 1.0).abs() < 1e-12);
@@ -423,15 +420,16 @@ mod tests {
     fn closed_form_agrees_with_quadrature_on_a_bent_curve() {
         // A curve whose slope changes at every point, and a file end at rate 0.
         let curve = HazardCurve {
+            im: crate::im::Im::Pga,
             lon: None,
             lat: None,
-            pga_g: vec![0.02, 0.05, 0.1, 0.2, 0.4, 0.8],
+            iml: vec![0.02, 0.05, 0.1, 0.2, 0.4, 0.8],
             annual_rate: vec![0.2, 0.05, 0.012, 0.002, 2e-4, 1e-5],
-            ends_at_g: Some(1.5),
+            ends_at: Some(1.5),
             dropped_below: 0,
         };
         let f = Fragility::Lognormal {
-            median_pga_g: 0.25,
+            median: 0.25,
             beta: 0.45,
         };
         let (inner, tail) = segments(&curve, Beyond::Extrapolate);

@@ -88,7 +88,7 @@ fn power_law_hazard_gives_cornells_closed_form() {
             "risk", "--hazard", "h.csv", "--b", "0.2", "--h", "0.9", "--json",
         ],
     ));
-    let m = v["fragility"]["median_pga_g"].as_f64().unwrap();
+    let m = v["fragility"]["median"].as_f64().unwrap();
     let beta = v["fragility"]["beta"].as_f64().unwrap();
     let expected = k0 * m.powf(-k) * (k * k * beta * beta / 2.0).exp();
     let site = &v["sites"][0];
@@ -185,7 +185,7 @@ fn openquake_sites_against_quadrature() {
             "--json",
         ],
     ));
-    let m = v["fragility"]["median_pga_g"].as_f64().unwrap();
+    let m = v["fragility"]["median"].as_f64().unwrap();
     let beta = v["fragility"]["beta"].as_f64().unwrap();
     let sites = v["sites"].as_array().unwrap();
     assert_eq!(sites.len(), 2);
@@ -207,7 +207,7 @@ fn openquake_sites_against_quadrature() {
             (got / expected - 1.0).abs() < 1e-8,
             "site {s}: {got} vs {expected}"
         );
-        assert_eq!(site["first_iml_g"].as_f64(), Some(a[0]));
+        assert_eq!(site["first_iml"].as_f64(), Some(a[0]));
         assert_eq!(site["imls_dropped"], if s == 0 { 1 } else { 0 });
     }
 }
@@ -371,9 +371,9 @@ fn bad_hazard_files_are_refused_naming_file_and_line() {
     let head = "#,,,,,\"generated_by='OpenQuake engine 3.16.0', kind='mean', investigation_time=50.0, imt='PGA'\"\nlon,lat,depth,poe-0.1,poe-0.2,poe-0.4\n";
     let cases = [
         (
-            head.replace("imt='PGA'", "imt='SA(1.0)'") + "1,2,0,0.5,0.2,0.1\n",
+            head.replace("imt='PGA'", "imt='MMI'") + "1,2,0,0.5,0.2,0.1\n",
             1,
-            "SA(1.0)",
+            "imt = 'MMI'",
         ),
         (
             head.replace("investigation_time=50.0, ", "") + "1,2,0,0.5,0.2,0.1\n",
@@ -657,5 +657,99 @@ fn fragility_and_risk_warn_alike_and_risk_flags_extrapolation() {
             .to_string()
             .contains("beyond the hazard curve's last IML"),
         "{r}"
+    );
+}
+
+/// A PGV hazard λ(v) = k0 v^(−k) (cm/s) and the block's lognormal PGV
+/// fragility from a study's IM table give Cornell's k0 m^(−k) e^{k²β²/2};
+/// for a block on a node of the study's grid, m and β are that node's
+/// (m = the dimensionless median p·PGV/(αg) turned back into cm/s), and
+/// `fragility --im pgv` says the same. A hazard in PGV with a fragility
+/// asked in PGA is refused.
+#[test]
+fn pgv_hazard_gives_cornells_closed_form() {
+    let dir = tempdir();
+    let d = dir.path();
+    let (b, h) = (0.2f64, 0.9f64);
+    let p = (3.0 * 9.80665 / (4.0 * (b * b + h * h).sqrt())).sqrt();
+    let alpha = (b / h).atan();
+    let pipeline = crate::util::write_pipeline(
+        d,
+        "pgvgrid",
+        &format!(
+            "sets = [\"far-field\"]\n[model]\nkind = \"linearized\"\n[blocks]\np = [1.0, {p:?}, 5.0]\neps = [0.6, 0.7, 0.8]\n"
+        ),
+    );
+    let outputs = d.join("out");
+    let (pipe, outs) = (pipeline.to_str().unwrap(), outputs.to_str().unwrap());
+    let run = rocking(d, &["run", pipe, "--outputs", outs]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let (k0, k) = (5e-3, 2.2);
+    let mut s = String::from("pgv_cm_s,annual_rate\n");
+    for i in 0..30 {
+        let v = 0.5 * (2000.0f64 / 0.5).powf(i as f64 / 29.0);
+        s.push_str(&format!("{v:?},{:?}\n", k0 * v.powf(-k)));
+    }
+    fs::write(d.join("pgv.csv"), s).unwrap();
+    let common = [
+        "--b",
+        "0.2",
+        "--h",
+        "0.9",
+        "--eps",
+        "0.7",
+        "--from",
+        pipe,
+        "--outputs",
+        outs,
+        "--json",
+    ];
+    let v = json(&rocking(
+        d,
+        &[&["risk", "--hazard", "pgv.csv"][..], &common].concat(),
+    ));
+    assert_eq!(v["fragility"]["im"], "pgv");
+    assert_eq!(v["fragility"]["unit"], "cm/s");
+    let m = v["fragility"]["median"].as_f64().unwrap();
+    let beta = v["fragility"]["beta"].as_f64().unwrap();
+    let got = v["sites"][0]["annual_rate"].as_f64().unwrap();
+    let expected = k0 * m.powf(-k) * (k * k * beta * beta / 2.0).exp();
+    assert!((got / expected - 1.0).abs() < 1e-9, "{got} vs {expected}");
+    // The node's values, by hand from the table.
+    let eff: Vec<rocking::tables::ims::EfficiencyRow> =
+        read(&outputs.join("pgvgrid/im_efficiency.parquet")).unwrap();
+    let node = eff
+        .iter()
+        .find(|e| e.im == "pgv" && (e.p - p).abs() < 1e-12 && e.eps == 0.7)
+        .unwrap();
+    let by_hand = node.median_dimensionless.unwrap() * alpha * 9.80665 * 100.0 / p;
+    assert!((m / by_hand - 1.0).abs() < 1e-9, "{m} vs {by_hand}");
+    assert!((beta - node.beta).abs() < 1e-9);
+    let f = json(&rocking(
+        d,
+        &[&["fragility", "--im", "pgv", "--at", "30,60"][..], &common].concat(),
+    ));
+    assert_eq!(f["median"].as_f64(), Some(m));
+    assert_eq!(f["points"][1]["iml"].as_f64(), Some(60.0));
+    // A PGV hazard and a PGA fragility do not mix.
+    let out = rocking(
+        d,
+        &[&["risk", "--hazard", "pgv.csv", "--im", "pga"][..], &common].concat(),
+    );
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("a hazard in pgv (cm/s), and the fragility asked for is in pga"),
+        "{}",
+        stderr(&out)
+    );
+    // The paper's regression has no PGV.
+    let out = rocking(
+        d,
+        &["risk", "--hazard", "pgv.csv", "--b", "0.2", "--h", "0.9"],
+    );
+    assert!(
+        stderr(&out).contains("the paper's regression is in PGA"),
+        "{}",
+        stderr(&out)
     );
 }

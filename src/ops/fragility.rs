@@ -1,14 +1,18 @@
 //! `rocking fragility`: the probability that a real block overturns at given
-//! PGAs, from the paper's regression or a pipeline's fit, and optionally the
-//! share of records it overturns under when run through them directly.
+//! levels of an IM: in PGA from the paper's regression or a pipeline's fit,
+//! in another IM from a study's IM table or the records' own capacities
+//! ([`super::im_fragility`]); optionally the share of records it overturns
+//! under when run through them directly.
 
 use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
+use super::im_fragility;
 use crate::block::{Block, BlockError, Restitution};
 use crate::fragility::{self, FractileLaw};
 use crate::ida::{self, ImGrid};
+use crate::im::{Im, RecordIms};
 use crate::physics::{
     Excitation, ModelChoice, PhysicsError, RunSpec, LINEARIZATION_ERROR_PER_ALPHA2,
 };
@@ -19,14 +23,16 @@ use crate::stages::records::{self, SelectError};
 use crate::stages::{LoadError, Study};
 
 /// What the user asks: the block (ε as given), where the capacities come
-/// from, the PGAs.
+/// from, the IM and its levels.
 #[derive(Debug, Clone)]
 pub struct Request {
     pub b_m: f64,
     pub h_m: f64,
     /// `None`: Housner's bound 1 − 1.5 sin²α.
     pub eps: Restitution,
-    pub pga_g: Vec<f64>,
+    pub im: Im,
+    /// Levels of `im`, in its unit.
+    pub levels: Vec<f64>,
     pub from: Source,
     /// Also run the block through the records.
     pub direct: bool,
@@ -43,11 +49,14 @@ pub enum Source {
     Pipeline { file: PathBuf, outputs: PathBuf },
 }
 
-/// One PGA of the answer.
+/// One level of the answer.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct Point {
-    pub pga_g: f64,
-    pub eta: f64,
+    /// The level, in the IM's unit.
+    pub iml: f64,
+    /// For PGA: the level again (g), and the block's η there.
+    pub pga_g: Option<f64>,
+    pub eta: Option<f64>,
     pub probability: f64,
     /// With `--direct`: the share of records whose capacity the block exceeds.
     pub empirical: Option<f64>,
@@ -61,9 +70,15 @@ pub struct Assessment {
     pub alpha_rad: f64,
     pub p: f64,
     pub eps: f64,
-    /// `paper` or the pipeline file.
+    /// The IM (`pga`, `pgv`, `sa(1.0)`, …) and its unit.
+    pub im: String,
+    pub unit: &'static str,
+    /// `paper`, the pipeline file, or `direct` (the records' capacities).
     pub source: String,
-    pub eta_c_median: f64,
+    /// The median capacity in the IM's unit.
+    pub median: f64,
+    /// For PGA: the median η_c.
+    pub eta_c_median: Option<f64>,
     pub beta: f64,
     /// Records run with `--direct`.
     pub records: Option<usize>,
@@ -87,10 +102,22 @@ pub enum FragilityError {
          (b/h = {ratio:.3}, α = {alpha:.3} rad): give --eps, a coefficient of restitution in (0, 1]"
     )]
     HousnerEps { eps: f64, ratio: f64, alpha: f64 },
-    #[error("--pga {0}: accelerations must be positive (g)")]
-    Pga(f64),
-    #[error("--pga: give at least one acceleration")]
-    NoPga,
+    #[error("--at {0}: levels must be positive")]
+    Level(f64),
+    #[error("give at least one level (--pga, or --im and --at)")]
+    NoLevel,
+    #[error(
+        "the paper's regression is in PGA; a fragility in {0} comes from a study's IM table (--from PIPELINE.toml, after `rocking run`) or from the records (--direct)"
+    )]
+    PaperIsPga(String),
+    #[error(transparent)]
+    ImTable(#[from] im_fragility::ImTableError),
+    #[error(
+        "{0}: SA is computed at the periods 0.05–4 s of docs/MODEL.md §14; ask for one of them"
+    )]
+    NoPeriod(String),
+    #[error("too few of the records overturn the block within the grid to fit a lognormal in {0}")]
+    FewCapacities(String),
     #[error(
         "--direct runs the block through a folder of AT2 records, and {} is not a folder{}: \
          give --records FOLDER (the FEMA P695 far-field set is records/fema-p695/far-field \
@@ -140,35 +167,59 @@ const RECORDS_HINT: &str = "fix them, or point --records at a folder of good AT2
 pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
     crate::physics::check_auto_tol(req.auto_tol).map_err(FragilityError::AutoTol)?;
     let block = block(req.b_m, req.h_m, req.eps)?;
-    if req.pga_g.is_empty() {
-        return Err(FragilityError::NoPga);
+    if req.levels.is_empty() {
+        return Err(FragilityError::NoLevel);
     }
-    if let Some(&bad) = req.pga_g.iter().find(|g| !(**g > 0.0 && g.is_finite())) {
-        return Err(FragilityError::Pga(bad));
+    if let Some(&bad) = req.levels.iter().find(|g| !(**g > 0.0 && g.is_finite())) {
+        return Err(FragilityError::Level(bad));
     }
     let (alpha, p, eps) = (block.alpha(), block.p(), block.eps);
+    let im = req.im;
     let source = laws(&req.from)?;
-    let (median, beta) = source.median_beta(&block)?;
-    let (capacities, model) = if req.direct {
+    let direct = if req.direct {
         let records = DirectRecords::load(&req.from, source.plan.as_ref())?;
-        Some(records.capacities(&block, req.auto_tol)?)
+        Some(records.thresholds(&block, im, req.auto_tol)?)
     } else {
         None
-    }
-    .unzip();
-    let points = req
-        .pga_g
-        .iter()
-        .map(|&pga| {
-            let eta = alpha / pga;
-            Point {
-                pga_g: pga,
-                eta,
-                probability: fragility::probability(median, beta, alpha, pga),
-                empirical: capacities
-                    .as_ref()
-                    .map(|c| c.iter().filter(|&&ec| eta < ec).count() as f64 / c.len() as f64),
+    };
+    let (median, beta, eta_c_median, name, mut warnings) = if im == Im::Pga {
+        let (eta50, beta) = source.median_beta(&block)?;
+        let w = if req.direct {
+            Vec::new()
+        } else {
+            warnings(&block, req.auto_tol)
+        };
+        (alpha / eta50, beta, Some(eta50), source.name.clone(), w)
+    } else {
+        match (&req.from, &direct) {
+            (Source::Pipeline { file, outputs }, None) => {
+                let study = Study::load(file, outputs)?;
+                let l =
+                    im_fragility::from_study(&study.dir, &file.display().to_string(), im, &block)?;
+                (l.median, l.beta, None, source.name.clone(), l.warnings)
             }
+            (_, Some((t, _))) => {
+                let (m, b) = im_fragility::lognormal_of(t)
+                    .ok_or_else(|| FragilityError::FewCapacities(im.name()))?;
+                (m, b, None, "direct".to_string(), Vec::new())
+            }
+            (Source::Paper { .. }, None) => return Err(FragilityError::PaperIsPga(im.name())),
+        }
+    };
+    if im != Im::Pga && !req.direct {
+        warnings.extend(warnings_alpha(&block, req.auto_tol));
+    }
+    let points = req
+        .levels
+        .iter()
+        .map(|&x| Point {
+            iml: x,
+            pga_g: (im == Im::Pga).then_some(x),
+            eta: (im == Im::Pga).then(|| alpha / x),
+            probability: crate::stats::normal_cdf((x / median).ln() / beta),
+            empirical: direct
+                .as_ref()
+                .map(|(t, _)| t.partition_point(|&c| c < x) as f64 / t.len() as f64),
         })
         .collect();
     Ok(Assessment {
@@ -177,18 +228,25 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
         alpha_rad: alpha,
         p,
         eps,
-        source: source.name,
-        eta_c_median: median,
+        im: im.name(),
+        unit: im.unit(),
+        source: name,
+        median,
+        eta_c_median,
         beta,
-        records: capacities.as_ref().map(Vec::len),
-        model,
+        records: direct.as_ref().map(|(t, _)| t.len()),
+        model: direct.map(|(_, m)| m),
         points,
-        warnings: if req.direct {
-            Vec::new()
-        } else {
-            warnings(&block, req.auto_tol)
-        },
+        warnings,
     })
+}
+
+/// The α warning alone (a study's IM table rests on its model too).
+pub fn warnings_alpha(block: &Block, auto_tol: f64) -> Vec<String> {
+    warnings(block, auto_tol)
+        .into_iter()
+        .filter(|w| w.starts_with("α ="))
+        .collect()
 }
 
 /// Where the paper's regression is stretched for a block (not for
@@ -302,6 +360,8 @@ fn refuse_stale_fit(study: &Study, file: &Path) -> Result<(), FragilityError> {
 /// The records a block is run through with `--direct`, read once.
 pub struct DirectRecords {
     records: Vec<(String, Excitation)>,
+    /// Each record's intensity measures, in the same order.
+    ims: Vec<RecordIms>,
 }
 
 impl DirectRecords {
@@ -323,6 +383,19 @@ impl DirectRecords {
             }
             (Source::Pipeline { .. }, None) => unreachable!("a pipeline source has a plan"),
         };
+        let ims = rows
+            .par_iter()
+            .map(|r| {
+                RecordIms::of_record(&r.accel_g, r.dt_s, &[]).ok_or_else(|| {
+                    FragilityError::Physics {
+                        record: r.record_id.clone(),
+                        source: PhysicsError::BadInput(
+                            "the record has no motion (every sample is 0)".into(),
+                        ),
+                    }
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
         let records = rows
             .into_iter()
             .map(|r| {
@@ -335,7 +408,33 @@ impl DirectRecords {
                 Ok((r.record_id, exc))
             })
             .collect::<Result<_, FragilityError>>()?;
-        Ok(DirectRecords { records })
+        Ok(DirectRecords { records, ims })
+    }
+
+    /// The block's capacity in `im` under each record (the certified η_c
+    /// converted; `f64::INFINITY` where it never overturns), sorted, with
+    /// the model's description.
+    pub fn thresholds(
+        &self,
+        block: &Block,
+        im: Im,
+        auto_tol: f64,
+    ) -> Result<(Vec<f64>, String), FragilityError> {
+        let (caps, model) = self.capacities(block, auto_tol)?;
+        let mut t: Vec<f64> = caps
+            .iter()
+            .zip(&self.ims)
+            .map(|(&c, r)| {
+                if c > 0.0 {
+                    crate::im::of_eta(im, c, block.alpha(), r)
+                        .ok_or(FragilityError::NoPeriod(im.name()))
+                } else {
+                    Ok(f64::INFINITY)
+                }
+            })
+            .collect::<Result<_, _>>()?;
+        t.sort_by(f64::total_cmp);
+        Ok((t, model))
     }
 
     pub fn len(&self) -> usize {

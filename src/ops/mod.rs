@@ -8,6 +8,7 @@
 pub mod bench;
 pub mod capacity;
 pub mod fragility;
+pub mod im_fragility;
 pub mod record;
 pub mod risk;
 pub mod submit;

@@ -6,7 +6,7 @@ use crate::table;
 
 table! {
     /// The annual rate of overturning of one block at one site.
-    pub struct RiskRow = "risk" v 1 {
+    pub struct RiskRow = "risk" v 2 {
         /// The block's name in the inventory.
         pub block: String,
         pub b_m: f64,
@@ -22,8 +22,12 @@ table! {
         pub lat: Option<f64>,
         /// `paper`, the pipeline file, or `direct`.
         pub fragility: String,
-        /// PGA (g) at which the block overturns with probability 0.5.
-        pub median_pga_g: Option<f64>,
+        /// The IM of the hazard and the fragility (`pga`, `pgv`, `sa(1.0)`,
+        /// `avgsa`), and its unit: every IML of the row is in it.
+        pub im: String,
+        pub unit: String,
+        /// The IML at which the block overturns with probability 0.5.
+        pub median: Option<f64>,
         /// Dispersion (ln) of the fragility.
         pub beta: Option<f64>,
         /// λ_OT (1/year).
@@ -33,8 +37,8 @@ table! {
         pub years: f64,
         /// 1 − exp(−λ_OT · years).
         pub p_overturn_in_years: f64,
-        pub first_iml_g: f64,
-        pub last_iml_g: f64,
+        pub first_iml: f64,
+        pub last_iml: f64,
         /// P(OT | first IML): overturning probability below where the hazard starts.
         pub fragility_at_first_iml: f64,
         /// Share of λ_OT from beyond the last IML.

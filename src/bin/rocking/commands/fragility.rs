@@ -1,5 +1,6 @@
-//! `rocking fragility`: P(overturn | PGA) of a real block.
+//! `rocking fragility`: P(overturn | IM) of a real block.
 
+use rocking::im::Im;
 use rocking::ops::fragility::{self, Request};
 
 use rocking::block::Restitution;
@@ -10,11 +11,14 @@ use super::args::{parse_restitution, LawArgs};
 #[derive(Debug, clap::Args)]
 #[command(
     allow_negative_numbers = true,
-    long_about = "Probability that a real block overturns at given peak ground accelerations.\n\n\
-    P(overturn | PGA) = Φ((ln η_c,50 − ln η)/β), η = αg/PGA, with the capacity fractiles from the \
-    paper's regression (--from paper, the default) or a pipeline's own fit (--from PIPELINE.toml). \
-    --direct also runs the block through a record suite (the pipeline's, or the bundled far-field \
-    set) and prints the share of records whose capacity it exceeds at each PGA."
+    long_about = "Probability that a real block overturns at given levels of an intensity measure.\n\n\
+    In PGA (--pga, the default IM): P(overturn | PGA) = Φ((ln η_c,50 − ln η)/β), η = αg/PGA, with \
+    the capacity fractiles from the paper's regression (--from paper, the default) or a pipeline's \
+    own fit (--from PIPELINE.toml). In another IM (--im pgv|pgd|sa(T)|avgsa|arias|cav --at …): \
+    lognormal, from a study's IM table carried over p and ε (--from PIPELINE.toml) or from the \
+    records' own capacities (--direct). --direct also runs the block through a record suite (the \
+    pipeline's, or the bundled far-field set) and prints the share of records whose capacity it \
+    exceeds at each level."
 )]
 pub struct Args {
     /// Half-width of the block (m).
@@ -26,9 +30,15 @@ pub struct Args {
     /// Coefficient of restitution, or `housner` for 1 − 1.5 sin²α.
     #[arg(long, default_value = "housner", value_parser = parse_restitution)]
     eps: Restitution,
-    /// Peak ground accelerations (g), comma-separated.
-    #[arg(long, value_name = "g[,g…]", value_delimiter = ',', required = true)]
+    /// Peak ground accelerations (g), comma-separated: the same as --im pga --at ….
+    #[arg(long, value_name = "g[,g…]", value_delimiter = ',', required_unless_present = "at", conflicts_with_all = ["at", "im"])]
     pga: Vec<f64>,
+    /// The intensity measure: pga, pgv (cm/s), pgd (cm), sa(T) (g, T in s), avgsa (g), arias (m/s), cav (g·s).
+    #[arg(long, default_value = "pga", value_parser = parse_im)]
+    im: Im,
+    /// Levels of --im in its unit, comma-separated.
+    #[arg(long, value_name = "IML[,IML…]", value_delimiter = ',')]
+    at: Vec<f64>,
     #[command(flatten)]
     law: LawArgs,
     /// Also run the block through the record suite and report the empirical fraction.
@@ -47,7 +57,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         b_m: args.b,
         h_m: args.h,
         eps: args.eps,
-        pga_g: args.pga.clone(),
+        im: args.im,
+        levels: if args.pga.is_empty() {
+            args.at.clone()
+        } else {
+            args.pga.clone()
+        },
         from: args.law.source(),
         direct: args.direct,
         auto_tol: args.auto_tol,
@@ -60,35 +75,40 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         println!("{}", serde_json::to_string(&a)?);
         return Ok(());
     }
+    let unit = a.unit;
+    let eta = a
+        .eta_c_median
+        .map_or(String::new(), |e| format!("median η_c = {e:.4}, "));
     println!(
-        "block of half-width b = {} m, half-height h = {} m: α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}; capacity from {}: median η_c = {:.4} (PGA {:.3} g), β = {:.3}",
-        a.b_m, a.h_m, a.alpha_rad, a.p, a.eps, a.source, a.eta_c_median, a.alpha_rad / a.eta_c_median, a.beta
+        "block of half-width b = {} m, half-height h = {} m: α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}; capacity in {} from {}: {eta}median {:.4} {unit}, β = {:.3}",
+        a.b_m, a.h_m, a.alpha_rad, a.p, a.eps, a.im, a.source, a.median, a.beta
     );
     let direct = a.records.is_some();
     if let (Some(n), Some(m)) = (a.records, &a.model) {
         println!(
             "--direct: {n} records run with the {m}; the last column is the share of them \
-             whose capacity the PGA exceeds"
+             whose capacity the level exceeds"
         );
     }
+    let head = format!("{} ({unit})", a.im.to_uppercase());
+    let pga = a.im == "pga";
     println!(
-        "{:>10} {:>10} {:>14}{}",
-        "PGA (g)",
-        "η",
+        "{head:>14} {:>10} {:>14}{}",
+        if pga { "η" } else { "" },
         "P(overturn)",
         if direct { "  share overturned" } else { "" }
     );
     for pt in &a.points {
-        match pt.empirical {
-            Some(e) => println!(
-                "{:>10.4} {:>10.4} {:>14.4}  {:>18.4}",
-                pt.pga_g, pt.eta, pt.probability, e
-            ),
-            None => println!(
-                "{:>10.4} {:>10.4} {:>14.4}",
-                pt.pga_g, pt.eta, pt.probability
-            ),
-        }
+        let eta = pt.eta.map_or(String::new(), |e| format!("{e:.4}"));
+        let share = pt
+            .empirical
+            .map_or(String::new(), |e| format!("  {e:>18.4}"));
+        println!("{:>14.4} {eta:>10} {:>14.4}{share}", pt.iml, pt.probability);
     }
     Ok(())
+}
+
+/// An IM by name (clap's parser).
+pub fn parse_im(text: &str) -> Result<Im, String> {
+    text.parse()
 }

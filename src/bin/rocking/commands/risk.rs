@@ -16,19 +16,24 @@ use super::args::{parse_restitution, LawArgs};
 #[command(
     allow_negative_numbers = true,
     long_about = "Annual rate of overturning of a block (or of every block of an inventory) at the \
-    sites of a PGA hazard curve.\n\n\
+    sites of a hazard curve in PGA, PGV, SA(T) or AvgSA.\n\n\
     λ_OT = ∫ P(OT | a) |dλ(a)|, the hazard interpolated log-log between its points (closed form on \
-    each segment), P(OT | a) from the paper's regression (default), a pipeline's fit (--from \
-    PIPELINE.toml) or the block's own capacities under the records (--direct). The hazard is an \
-    OpenQuake hazard-curve CSV (poe within investigation_time, several sites) or a plain CSV \
-    `pga_g,annual_rate` (one site). Prints per site the annual rate, the return period, the \
-    probability of overturning within --years, the fragility's median PGA and β, and the \
-    deaggregation by PGA. With --inventory, writes one row per block × site to --out (Parquet)."
+    each segment), P(OT | a) in the hazard's IM: in PGA from the paper's regression (default) or a \
+    pipeline's fit (--from PIPELINE.toml); in another IM from a study's IM table (--from \
+    PIPELINE.toml); or from the block's own capacities under the records (--direct). The hazard is \
+    an OpenQuake hazard-curve CSV (poe within investigation_time, several sites; imt='PGA', 'PGV' \
+    (cm/s), 'SA(T)' or 'AvgSA') or a plain CSV `pga_g,annual_rate` (or `pgv_cm_s`, `sa(1.0)_g`, \
+    `avgsa_g`; one site). Prints per site the annual rate, the return period, the probability of \
+    overturning within --years, the fragility's median and β, and the deaggregation by the IM. \
+    With --inventory, writes one row per block × site to --out (Parquet)."
 )]
 pub struct Args {
-    /// The hazard curves: OpenQuake's hazard_curve-…-PGA_….csv, or `pga_g,annual_rate`.
+    /// The hazard curves: OpenQuake's hazard_curve-…-<IMT>_….csv, or `pga_g,annual_rate`.
     #[arg(long, value_name = "FILE.csv")]
     hazard: PathBuf,
+    /// The fragility's IM; it must be the hazard's (the default).
+    #[arg(long, value_parser = super::fragility::parse_im)]
+    im: Option<rocking::im::Im>,
     /// Only this site of the file (index from 0).
     #[arg(long, value_name = "N")]
     site: Option<usize>,
@@ -102,6 +107,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         site: args.site,
         blocks,
         from: args.law.source(),
+        im: args.im,
         direct: args.direct,
         years: args.years,
         beyond,
@@ -184,11 +190,13 @@ fn print_one(a: &Assessment) {
         b.eps,
         if b.eps_housner { " (Housner)" } else { "" }
     );
+    let u = f.unit;
     println!(
-        "fragility from {} ({}): median PGA {}, β {}{}",
+        "fragility in {} from {} ({}): median {}, β {}{}",
+        f.im,
         f.source,
         f.kind,
-        f.median_pga_g.map_or("—".into(), |m| format!("{m:.3} g")),
+        f.median.map_or("—".into(), |m| format!("{m:.3} {u}")),
         f.beta.map_or("—".into(), |v| format!("{v:.3}")),
         f.records
             .map_or(String::new(), |n| format!(", {n} records"))
@@ -214,28 +222,30 @@ fn print_one(a: &Assessment) {
         row(
             "hazard curve used".into(),
             format!(
-                "{:.3}–{:.3} g ({} IML(s) with poe = 1 dropped below)",
-                s.first_iml_g, s.last_iml_g, s.imls_dropped
+                "{:.3}–{:.3} {u} ({} IML(s) with poe = 1 dropped below)",
+                s.first_iml, s.last_iml, s.imls_dropped
             ),
         );
         row(
-            format!("P(OT | {:.3} g), below the curve", s.first_iml_g),
+            format!("P(OT | {:.3} {u}), below the curve", s.first_iml),
             format!("{:.2e}", s.fragility_at_first_iml),
         );
         row(
-            format!("rate beyond {:.3} g ({})", s.last_iml_g, a.beyond),
+            format!("rate beyond {:.3} {u} ({})", s.last_iml, a.beyond),
             format!("{:.1} % of the total", 100.0 * s.share_beyond_last_iml),
         );
-        println!("  deaggregation by PGA:");
+        println!("  deaggregation by {}:", f.im.to_uppercase());
         println!(
             "    {:<24} {:>10}  {:>7}",
-            "PGA bin", "rate (1/yr)", "share"
+            format!("{} bin", f.im.to_uppercase()),
+            "rate (1/yr)",
+            "share"
         );
         for bin in &s.deaggregation {
-            let range = match bin.pga_to_g {
-                Some(to) if to > bin.pga_from_g => format!("{:.3}–{:.3} g", bin.pga_from_g, to),
-                Some(_) => format!("> {:.3} g (not counted)", bin.pga_from_g),
-                None => format!("> {:.3} g", bin.pga_from_g),
+            let range = match bin.iml_to {
+                Some(to) if to > bin.iml_from => format!("{:.3}–{:.3} {u}", bin.iml_from, to),
+                Some(_) => format!("> {:.3} {u} (not counted)", bin.iml_from),
+                None => format!("> {:.3} {u}", bin.iml_from),
             };
             println!(
                 "    {range:<24} {:>10}  {:>5.1} %",

@@ -5,6 +5,10 @@
 //! pipeline's fit, or `--direct` capacities under the records), says where
 //! the regression is stretched, and writes the table and the figures.
 
+mod charts;
+
+pub use charts::{deaggregation_chart, ranking_chart};
+
 use std::path::{Path, PathBuf};
 
 use serde::Serialize;
@@ -12,8 +16,9 @@ use serde::Serialize;
 use super::fragility::{self, DirectRecords, FragilityError, Laws, Source};
 use crate::block::{Block, BlockError, Restitution};
 use crate::hazard::{self, HazardCurve, HazardError};
+use crate::im::Im;
 use crate::label::Label;
-use crate::plot::{self, Bars, PlotError, Scale};
+use crate::plot::PlotError;
 use crate::risk::{self, Beyond, Fragility, SiteRisk};
 use crate::stats;
 use crate::tables::risk::RiskRow;
@@ -40,6 +45,8 @@ pub struct Request {
     pub site: Option<usize>,
     pub blocks: Blocks,
     pub from: Source,
+    /// The fragility's IM; `None`: the hazard's.
+    pub im: Option<Im>,
     pub direct: bool,
     /// For the probability of overturning within this many years.
     pub years: f64,
@@ -65,22 +72,26 @@ pub struct BlockInfo {
 pub struct FragilityInfo {
     /// `paper`, the pipeline file, or `direct`.
     pub source: String,
-    /// `lognormal` (from a regression) or `empirical` (records, `--direct`).
+    /// `lognormal` (from a regression or a study's IM table) or
+    /// `empirical` (records, `--direct`).
     pub kind: &'static str,
-    /// PGA (g) at which P(OT) = 0.5; `None` when more than half the records
-    /// never overturn the block.
-    pub median_pga_g: Option<f64>,
+    /// The IM of the fragility and of the hazard, and its unit.
+    pub im: String,
+    pub unit: &'static str,
+    /// The IM level (in `unit`) at which P(OT) = 0.5; `None` when more than
+    /// half the records never overturn the block.
+    pub median: Option<f64>,
     pub beta: Option<f64>,
     /// Records run, with `--direct`.
     pub records: Option<usize>,
 }
 
-/// One range of PGA in the deaggregation.
+/// One range of the IM in the deaggregation.
 #[derive(Debug, Clone, Serialize)]
 pub struct BinInfo {
-    pub pga_from_g: f64,
+    pub iml_from: f64,
     /// `None`: extrapolated without end.
-    pub pga_to_g: Option<f64>,
+    pub iml_to: Option<f64>,
     pub annual_rate: f64,
     pub share: f64,
 }
@@ -96,8 +107,8 @@ pub struct SiteInfo {
     /// `None` when the rate is 0.
     pub return_period_years: Option<f64>,
     pub p_overturn_in_years: f64,
-    pub first_iml_g: f64,
-    pub last_iml_g: f64,
+    pub first_iml: f64,
+    pub last_iml: f64,
     /// P(OT | first IML): overturning probability below where the curve starts.
     pub fragility_at_first_iml: f64,
     /// IMLs dropped at the start because their probability of exceedance is 1.
@@ -120,6 +131,17 @@ pub struct Assessment {
 
 #[derive(Debug, thiserror::Error)]
 pub enum RiskError {
+    #[error(
+        "{path} is a hazard in {hazard} ({unit}), and the fragility asked for is in {asked}: \
+         give --im {hazard}, or the hazard curves of {asked}",
+        path = .path.display()
+    )]
+    ImMismatch {
+        path: PathBuf,
+        hazard: String,
+        unit: &'static str,
+        asked: String,
+    },
     #[error("{path}: cannot read")]
     Read {
         path: PathBuf,
@@ -200,11 +222,11 @@ pub fn read_hazard(
         Some(k) => vec![(k, curves[k].clone())],
         None => curves.into_iter().enumerate().collect(),
     };
-    if let Some((k, c)) = chosen.iter().find(|(_, c)| c.pga_g.len() < 2) {
+    if let Some((k, c)) = chosen.iter().find(|(_, c)| c.iml.len() < 2) {
         return Err(RiskError::OnePoint {
             path: path.into(),
             site: *k,
-            iml: c.pga_g[0],
+            iml: c.iml[0],
         });
     }
     Ok(chosen)
@@ -301,41 +323,60 @@ pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
     Ok(out)
 }
 
-/// The fragility of a block in PGA terms, and how to describe it.
+/// The fragility of a block in terms of `im`, and how to describe it.
 fn fragility_of(
     block: &Block,
     laws: &Laws,
+    from: &Source,
+    im: Im,
     direct: Option<&DirectRecords>,
     auto_tol: f64,
 ) -> Result<(Fragility, FragilityInfo), FragilityError> {
     let alpha = block.alpha();
+    let (name, unit) = (im.name(), im.unit());
     match direct {
+        None if im != Im::Pga => {
+            let Source::Pipeline { file, outputs } = from else {
+                return Err(FragilityError::PaperIsPga(name));
+            };
+            let study = crate::stages::Study::load(file, outputs)?;
+            let l = super::im_fragility::from_study(&study.dir, &laws.name, im, block)?;
+            Ok((
+                Fragility::Lognormal {
+                    median: l.median,
+                    beta: l.beta,
+                },
+                FragilityInfo {
+                    source: laws.name.clone(),
+                    kind: "lognormal",
+                    im: name,
+                    unit,
+                    median: Some(l.median),
+                    beta: Some(l.beta),
+                    records: None,
+                },
+            ))
+        }
         None => {
             let (eta50, beta) = laws.median_beta(block)?;
             // η = α/PGA: P(OT | PGA) = Φ((ln PGA − ln(α/η50))/β).
             let median = alpha / eta50;
             Ok((
-                Fragility::Lognormal {
-                    median_pga_g: median,
-                    beta,
-                },
+                Fragility::Lognormal { median, beta },
                 FragilityInfo {
                     source: laws.name.clone(),
                     kind: "lognormal",
-                    median_pga_g: Some(median),
+                    im: name,
+                    unit,
+                    median: Some(median),
                     beta: Some(beta),
                     records: None,
                 },
             ))
         }
         Some(records) => {
-            let (caps, _) = records.capacities(block, auto_tol)?;
-            // The PGA at which each record overturns the block; never: ∞.
-            let mut thresholds: Vec<f64> = caps
-                .iter()
-                .map(|&c| if c > 0.0 { alpha / c } else { f64::INFINITY })
-                .collect();
-            thresholds.sort_by(|a, b| a.total_cmp(b));
+            // The level at which each record overturns the block; never: ∞.
+            let (thresholds, _) = records.thresholds(block, im, auto_tol)?;
             let q = |q: f64| {
                 stats::fractile(&thresholds, q, crate::stats::FractileDef::Type7)
                     .filter(|v| v.is_finite())
@@ -346,14 +387,16 @@ fn fragility_of(
             };
             Ok((
                 Fragility::Empirical {
-                    thresholds_g: thresholds.clone(),
+                    thresholds: thresholds.clone(),
                 },
                 FragilityInfo {
                     source: "direct".into(),
                     kind: "empirical",
-                    median_pga_g: q(0.5),
+                    im: name,
+                    unit,
+                    median: q(0.5),
                     beta,
-                    records: Some(caps.len()),
+                    records: Some(thresholds.len()),
                 },
             ))
         }
@@ -368,8 +411,8 @@ fn site_info(k: usize, curve: &HazardCurve, r: &SiteRisk, years: f64) -> SiteInf
         annual_rate: r.annual_rate,
         return_period_years: (r.annual_rate > 0.0).then(|| 1.0 / r.annual_rate),
         p_overturn_in_years: risk::probability_in(r.annual_rate, years),
-        first_iml_g: r.first_iml_g,
-        last_iml_g: r.last_iml_g,
+        first_iml: r.first_iml,
+        last_iml: r.last_iml,
         fragility_at_first_iml: r.fragility_at_first_iml,
         imls_dropped: curve.dropped_below,
         share_beyond_last_iml: r.share_beyond_last_iml,
@@ -377,8 +420,8 @@ fn site_info(k: usize, curve: &HazardCurve, r: &SiteRisk, years: f64) -> SiteInf
             .bins
             .iter()
             .map(|b| BinInfo {
-                pga_from_g: b.pga_from_g,
-                pga_to_g: b.pga_to_g,
+                iml_from: b.iml_from,
+                iml_to: b.iml_to,
                 annual_rate: b.annual_rate,
                 share: if r.annual_rate > 0.0 {
                     b.annual_rate / r.annual_rate
@@ -407,6 +450,7 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
         }],
         Blocks::Inventory(path) => read_inventory(path)?,
     };
+    let im = hazard_im(&req.hazard, &sites, req.im)?;
     let laws = fragility::laws(&req.from)?;
     let records = if req.direct {
         Some(DirectRecords::load(&req.from, laws.plan.as_ref())?)
@@ -421,15 +465,17 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
         };
         let block = fragility::block(e.b_m, e.h_m, e.eps).map_err(in_block)?;
         let (frag, info) =
-            fragility_of(&block, &laws, records.as_ref(), req.auto_tol).map_err(in_block)?;
+            fragility_of(&block, &laws, &req.from, im, records.as_ref(), req.auto_tol)
+                .map_err(in_block)?;
         let site_infos: Vec<SiteInfo> = sites
             .iter()
             .map(|(k, c)| site_info(*k, c, &risk::assess(c, &frag, req.beyond), req.years))
             .collect();
-        let mut warnings = if req.direct {
-            Vec::new()
-        } else {
-            fragility::warnings(&block, req.auto_tol)
+        let mut warnings = match (req.direct, im) {
+            (true, _) => Vec::new(),
+            (false, Im::Pga) => fragility::warnings(&block, req.auto_tol),
+            // A study's IM table: its α warning; the grid's are the table's own.
+            (false, _) => fragility::warnings_alpha(&block, req.auto_tol),
         };
         warnings.extend(extrapolated(&site_infos));
         out.push(Assessment {
@@ -452,6 +498,25 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
     Ok(out)
 }
 
+/// The hazard's IM, the same at every site, and the fragility's when it is
+/// asked for: they must agree.
+fn hazard_im(
+    path: &Path,
+    sites: &[(usize, HazardCurve)],
+    asked: Option<Im>,
+) -> Result<Im, RiskError> {
+    let im = sites.first().map_or(Im::Pga, |(_, c)| c.im);
+    match asked {
+        Some(a) if a != im => Err(RiskError::ImMismatch {
+            path: path.into(),
+            hazard: im.name(),
+            unit: im.unit(),
+            asked: a.name(),
+        }),
+        _ => Ok(im),
+    }
+}
+
 /// Sites whose rate comes mostly (over half) from beyond the hazard
 /// curve's last IML, where the curve's last slope is extrapolated: the
 /// answer is then more the extrapolation's than the hazard model's.
@@ -466,7 +531,7 @@ fn extrapolated(sites: &[SiteInfo]) -> Vec<String> {
                  an extrapolation (compare --beyond stop)",
                 s.site,
                 100.0 * s.share_beyond_last_iml,
-                s.last_iml_g
+                s.last_iml
             )
         })
         .collect()
@@ -489,14 +554,16 @@ pub fn rows(assessments: &[Assessment], beyond: Beyond) -> Vec<RiskRow> {
                 lon: s.lon,
                 lat: s.lat,
                 fragility: a.fragility.source.clone(),
-                median_pga_g: a.fragility.median_pga_g,
+                im: a.fragility.im.clone(),
+                unit: a.fragility.unit.to_string(),
+                median: a.fragility.median,
                 beta: a.fragility.beta,
                 annual_rate: s.annual_rate,
                 return_period_years: s.return_period_years,
                 years: a.years,
                 p_overturn_in_years: s.p_overturn_in_years,
-                first_iml_g: s.first_iml_g,
-                last_iml_g: s.last_iml_g,
+                first_iml: s.first_iml,
+                last_iml: s.last_iml,
                 fragility_at_first_iml: s.fragility_at_first_iml,
                 share_beyond_last_iml: s.share_beyond_last_iml,
                 beyond,
@@ -513,49 +580,4 @@ pub fn write_table(dest: &Path, rows: &[RiskRow], hazard: &Path) -> Result<(), R
         rows,
         &[("rocking.risk.hazard".into(), hazard.display().to_string())],
     )?)
-}
-
-/// The deaggregation of one block at one site as a bar chart (SVG).
-pub fn deaggregation_chart(a: &Assessment, site: &SiteInfo) -> Result<String, RiskError> {
-    let bars = site
-        .deaggregation
-        .iter()
-        .map(|b| {
-            let label = match b.pga_to_g {
-                Some(to) if to > b.pga_from_g => format!("{:.3}–{:.3} g", b.pga_from_g, to),
-                Some(_) => format!("> {:.3} g (not counted)", b.pga_from_g),
-                None => format!("> {:.3} g (extrapolated)", b.pga_from_g),
-            };
-            (label, 100.0 * b.share)
-        })
-        .collect();
-    Ok(plot::render_bars(&Bars {
-        title: format!(
-            "Deaggregation of the overturning rate of {} at site {} (λ = {:.2e}/yr)",
-            a.block.name, site.site, site.annual_rate
-        ),
-        x_desc: "share of the annual rate of overturning (%)".into(),
-        x_scale: Scale::Linear,
-        bars,
-    })?)
-}
-
-/// The blocks ranked by their annual rate at `site` (SVG).
-pub fn ranking_chart(assessments: &[Assessment], site: usize) -> Result<String, RiskError> {
-    let mut bars: Vec<(String, f64)> = assessments
-        .iter()
-        .filter_map(|a| {
-            a.sites
-                .iter()
-                .find(|s| s.site == site)
-                .map(|s| (a.block.name.clone(), s.annual_rate))
-        })
-        .collect();
-    bars.sort_by(|a, b| b.1.total_cmp(&a.1));
-    Ok(plot::render_bars(&Bars {
-        title: format!("Blocks ranked by their annual rate of overturning, site {site}"),
-        x_desc: "annual rate of overturning (1/year)".into(),
-        x_scale: Scale::Log,
-        bars,
-    })?)
 }

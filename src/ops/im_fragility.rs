@@ -1,0 +1,211 @@
+//! A block's fragility in an IM other than PGA (docs/MODEL.md §14): from
+//! the records' capacities (`--direct`), or carried over p and ε from a
+//! study's `im_efficiency` table.
+//!
+//! A study gives, for each block of its grid, the median capacity in the
+//! IM's dimensionless form (p·PGV/(αg), SA/(αg), …) and the dispersion β.
+//! Both vary smoothly with p and ε (the paper's regression rests on the
+//! same smoothness for η_c), so for a real block they are interpolated
+//! bilinearly in (ln p, ε) between the four grid blocks around it, the
+//! median on a log scale; outside the grid the nearest edge is used and the
+//! user is told the fragility is stretched there. The dimensionless median
+//! then becomes the block's own through its α and p.
+
+use std::path::Path;
+use std::path::PathBuf;
+
+use crate::block::Block;
+use crate::im::Im;
+use crate::tables::ims::EfficiencyRow;
+
+/// Why a study's IM table gives no fragility for a block.
+#[derive(Debug, thiserror::Error)]
+pub enum ImTableError {
+    #[error(
+        "{path} does not exist: the study of {pipeline} has no IM table yet; run \
+         `rocking run {pipeline}`, or use --direct", path = .path.display()
+    )]
+    Missing { pipeline: String, path: PathBuf },
+    #[error("the study's IM table: {0}")]
+    Bad(String),
+    #[error("{0} has no dimensionless form to carry a study's capacities to another block; use --direct")]
+    NoDimensionless(String),
+}
+
+/// A lognormal capacity in an IM: median (in the IM's unit) and β.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Lognormal {
+    pub median: f64,
+    pub beta: f64,
+    /// Where it is stretched (outside the study's grid).
+    pub warnings: Vec<String>,
+}
+
+/// The block's capacity in `im` from the study in `dir` (its
+/// `im_efficiency.parquet`), named `study` in messages.
+pub fn from_study(
+    dir: &Path,
+    study: &str,
+    im: Im,
+    block: &Block,
+) -> Result<Lognormal, ImTableError> {
+    let path = dir.join("im_efficiency.parquet");
+    if !path.exists() {
+        return Err(ImTableError::Missing {
+            pipeline: study.to_string(),
+            path,
+        });
+    }
+    let rows: Vec<EfficiencyRow> =
+        crate::tables::read(&path).map_err(|e| ImTableError::Bad(e.to_string()))?;
+    let name = im.name();
+    let rows: Vec<&EfficiencyRow> = rows.iter().filter(|r| r.im == name).collect();
+    let (p, eps) = (block.p(), block.eps);
+    let Some((factor, _)) = im.dimensionless(block.alpha(), p) else {
+        return Err(ImTableError::NoDimensionless(name));
+    };
+    let grid = Grid::of(&rows).ok_or_else(|| {
+        ImTableError::Bad(format!(
+            "{} has no full grid of p × ε for {name} (a study of [blocks] p and eps carries over to other blocks; one of [[block]] entries does not)",
+            path.display()
+        ))
+    })?;
+    let (ln_median, beta, warnings) = grid.at(p, eps);
+    Ok(Lognormal {
+        median: ln_median.exp() / factor,
+        beta,
+        warnings,
+    })
+}
+
+/// A study's p × ε grid of one IM: ln of the dimensionless median and β.
+struct Grid {
+    ps: Vec<f64>,
+    es: Vec<f64>,
+    /// Row-major by p then ε.
+    values: Vec<(f64, f64)>,
+}
+
+impl Grid {
+    fn of(rows: &[&EfficiencyRow]) -> Option<Grid> {
+        let mut ps: Vec<f64> = rows.iter().map(|r| r.p).collect();
+        let mut es: Vec<f64> = rows.iter().map(|r| r.eps).collect();
+        for v in [&mut ps, &mut es] {
+            v.sort_by(f64::total_cmp);
+            v.dedup();
+        }
+        let mut values = Vec::with_capacity(ps.len() * es.len());
+        for &p in &ps {
+            for &e in &es {
+                let r = rows.iter().find(|r| r.p == p && r.eps == e)?;
+                values.push((r.median_dimensionless?.ln(), r.beta));
+            }
+        }
+        (ps.len() >= 2 && es.len() >= 2).then_some(Grid { ps, es, values })
+    }
+
+    /// Bilinear in (ln p, ε), clamped to the grid, with what was clamped.
+    fn at(&self, p: f64, eps: f64) -> (f64, f64, Vec<String>) {
+        let mut warnings = Vec::new();
+        let lnp: Vec<f64> = self.ps.iter().map(|v| v.ln()).collect();
+        let (ip, tp) = bracket(&lnp, p.ln());
+        let (ie, te) = bracket(&self.es, eps);
+        let (p0, p1) = (self.ps[0], *self.ps.last().unwrap());
+        if !(p0..=p1).contains(&p) {
+            warnings.push(format!(
+                "p = {p:.3} 1/s is outside the study's {p0:.3}–{p1:.3} 1/s: the capacity of the nearest edge is used"
+            ));
+        }
+        let (e0, e1) = (self.es[0], *self.es.last().unwrap());
+        if !(e0..=e1).contains(&eps) {
+            warnings.push(format!(
+                "ε = {eps:.3} is outside the study's {e0:.3}–{e1:.3}: the capacity of the nearest edge is used"
+            ));
+        }
+        let n = self.es.len();
+        let v = |i: usize, j: usize| self.values[i * n + j];
+        let mix = |f: fn((f64, f64)) -> f64| {
+            let a = f(v(ip, ie)) * (1.0 - te) + f(v(ip, ie + 1)) * te;
+            let b = f(v(ip + 1, ie)) * (1.0 - te) + f(v(ip + 1, ie + 1)) * te;
+            a * (1.0 - tp) + b * tp
+        };
+        (mix(|x| x.0), mix(|x| x.1), warnings)
+    }
+}
+
+/// The cell of sorted `xs` holding `x` and the weight of its upper end,
+/// clamped to [0, 1] outside.
+fn bracket(xs: &[f64], x: f64) -> (usize, f64) {
+    let i = xs.partition_point(|&v| v <= x).clamp(1, xs.len() - 1) - 1;
+    let t = ((x - xs[i]) / (xs[i + 1] - xs[i])).clamp(0.0, 1.0);
+    (i, t)
+}
+
+/// The lognormal of the finite `thresholds`: exp(mean ln), sd ln (n − 1).
+pub fn lognormal_of(thresholds: &[f64]) -> Option<(f64, f64)> {
+    let logs: Vec<f64> = thresholds
+        .iter()
+        .filter(|t| t.is_finite())
+        .map(|t| t.ln())
+        .collect();
+    (logs.len() >= 3).then(|| {
+        let (m, s) = crate::stats::mean_sd(&logs);
+        (m.exp(), s)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(p: f64, eps: f64, median: f64, beta: f64) -> EfficiencyRow {
+        EfficiencyRow {
+            block_index: 0,
+            block: String::new(),
+            p,
+            eps,
+            im: "pgv".into(),
+            unit: "cm/s".into(),
+            n: 44,
+            median: None,
+            median_dimensionless: Some(median),
+            dimensionless: Some("p·PGV/(αg)".into()),
+            beta,
+            lilliefors_p: None,
+            rank: Some(1),
+            slope: None,
+        }
+    }
+
+    /// Values that are exactly bilinear in (ln p, ε) (ln median) are given
+    /// back between the nodes; outside, the edge and a warning.
+    #[test]
+    fn bilinear_in_ln_p_and_eps() {
+        let f = |p: f64, e: f64| (0.3 + 0.5 * p.ln() - 0.8 * e, 0.4 + 0.1 * p.ln() + 0.2 * e);
+        let rows: Vec<EfficiencyRow> = [0.5, 1.0, 2.0, 4.0]
+            .iter()
+            .flat_map(|&p| [0.5, 0.7, 0.9].map(move |e| (p, e)))
+            .map(|(p, e)| row(p, e, f(p, e).0.exp(), f(p, e).1))
+            .collect();
+        let refs: Vec<&EfficiencyRow> = rows.iter().collect();
+        let g = Grid::of(&refs).unwrap();
+        for (p, e) in [(0.7, 0.55), (1.3, 0.81), (3.9, 0.5), (0.5, 0.9)] {
+            let (m, b, w) = g.at(p, e);
+            let (wm, wb) = f(p, e);
+            assert!((m - wm).abs() < 1e-12 && (b - wb).abs() < 1e-12, "{p} {e}");
+            assert!(w.is_empty());
+        }
+        let (m, _, w) = g.at(8.0, 0.95);
+        assert!((m - f(4.0, 0.9).0).abs() < 1e-12);
+        assert_eq!(w.len(), 2, "{w:?}");
+        // A grid with a hole is not a grid.
+        assert!(Grid::of(&refs[1..]).is_none());
+    }
+
+    #[test]
+    fn lognormal_of_finite_thresholds() {
+        let (m, s) = lognormal_of(&[1.0, 10.0, 100.0, f64::INFINITY]).unwrap();
+        assert!((m - 10.0).abs() < 1e-12 && (s - 10f64.ln()).abs() < 1e-12);
+        assert!(lognormal_of(&[1.0, f64::INFINITY]).is_none());
+    }
+}

@@ -1,0 +1,51 @@
+//! The charts of `rocking risk`: a block's deaggregation at a site, and an
+//! inventory ranked by its annual rate.
+
+use super::{Assessment, RiskError, SiteInfo};
+use crate::plot::{self, Bars, Scale};
+
+/// The deaggregation of one block at one site as a bar chart (SVG).
+pub fn deaggregation_chart(a: &Assessment, site: &SiteInfo) -> Result<String, RiskError> {
+    let bars = site
+        .deaggregation
+        .iter()
+        .map(|b| {
+            let u = a.fragility.unit;
+            let label = match b.iml_to {
+                Some(to) if to > b.iml_from => format!("{:.3}–{:.3} {u}", b.iml_from, to),
+                Some(_) => format!("> {:.3} {u} (not counted)", b.iml_from),
+                None => format!("> {:.3} {u} (extrapolated)", b.iml_from),
+            };
+            (label, 100.0 * b.share)
+        })
+        .collect();
+    Ok(plot::render_bars(&Bars {
+        title: format!(
+            "Deaggregation of the overturning rate of {} at site {} (λ = {:.2e}/yr)",
+            a.block.name, site.site, site.annual_rate
+        ),
+        x_desc: "share of the annual rate of overturning (%)".into(),
+        x_scale: Scale::Linear,
+        bars,
+    })?)
+}
+
+/// The blocks ranked by their annual rate at `site` (SVG).
+pub fn ranking_chart(assessments: &[Assessment], site: usize) -> Result<String, RiskError> {
+    let mut bars: Vec<(String, f64)> = assessments
+        .iter()
+        .filter_map(|a| {
+            a.sites
+                .iter()
+                .find(|s| s.site == site)
+                .map(|s| (a.block.name.clone(), s.annual_rate))
+        })
+        .collect();
+    bars.sort_by(|a, b| b.1.total_cmp(&a.1));
+    Ok(plot::render_bars(&Bars {
+        title: format!("Blocks ranked by their annual rate of overturning, site {site}"),
+        x_desc: "annual rate of overturning (1/year)".into(),
+        x_scale: Scale::Log,
+        bars,
+    })?)
+}
