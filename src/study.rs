@@ -33,6 +33,8 @@ pub struct StudyData {
     pub fit_bands: Option<FitBands>,
     /// The example block's runs, when the pipeline names one.
     pub example: Option<ExampleData>,
+    /// Each block's capacity dispersion in every IM (the ims stage).
+    pub efficiency: Vec<crate::tables::ims::EfficiencyRow>,
     /// Seconds each stage took when it last ran, in run order.
     pub stage_seconds: Vec<(String, Option<f64>)>,
 }

@@ -19,6 +19,7 @@ mod convergence;
 mod figure;
 mod fragility;
 mod ida;
+pub mod ims;
 mod lognormal;
 mod pulse;
 mod regression;
@@ -41,6 +42,7 @@ pub const FIGURES: &[FigureFn] = &[
     regression::regression_coefficients,
     lognormal::lognormal_plots,
     fragility::fragility_example,
+    ims::im_efficiency,
     convergence::convergence_share,
     convergence::convergence_mean,
 ];

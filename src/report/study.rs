@@ -26,6 +26,7 @@ pub fn render(d: &StudyData, figures: &[Figure]) -> String {
     regression(&mut md, d);
     fit_bands(&mut md, d);
     convergence(&mut md, d);
+    super::ims::ims_section(&mut md, d);
     figures_section(&mut md, figures);
     md
 }

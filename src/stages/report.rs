@@ -59,6 +59,7 @@ impl Stage for Report {
             Err(e) => return Err(e.into()),
         };
         inputs.extend(REDUCE_OUTPUTS.iter().map(|n| study.path(n)));
+        inputs.push(study.path(super::ims::OUTPUTS[2]));
         if fit::not_applicable(&study.plan).is_none() {
             inputs.extend(fit::OUTPUTS.iter().map(|n| study.path(n)));
         }
@@ -162,6 +163,7 @@ pub fn load(
             }
             None => None,
         },
+        efficiency: tables::read(&dir.join(super::ims::OUTPUTS[2]))?,
         stage_seconds: other_stages(stage_seconds),
     })
 }

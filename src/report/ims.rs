@@ -1,0 +1,102 @@
+//! The report's IM section: which intensity measure predicts a block's
+//! overturning best, over the grid and at one ε.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+use crate::figures::ims::{best_periods, display_name, shown_eps};
+use crate::im::efficiency::VECTOR;
+use crate::study::StudyData;
+use crate::tables::ims::EfficiencyRow;
+
+/// `## Which IM predicts overturning`, when the ims stage has run.
+pub(super) fn ims_section(w: &mut String, d: &StudyData) {
+    let rows = &d.efficiency;
+    let Some(eps) = shown_eps(d) else { return };
+    if rows.is_empty() {
+        return;
+    }
+    let _ = writeln!(w, "## Which IM predicts overturning\n");
+    let _ = writeln!(
+        w,
+        "Each record's capacity is converted into each intensity measure (the IM of the record \
+         scaled to overturn the block), and β is the standard deviation of its logarithm over the \
+         records that overturn the block: the smaller β, the tighter the fragility in that IM. In \
+         risk, a lognormal fragility multiplies the rate by exp(k²β²/2) (Cornell), so with a \
+         hazard slope k = 3 a β of 0.3 instead of 0.6 divides the rate by {:.1}. Definitions: \
+         docs/MODEL.md §14; every value in `im_efficiency.parquet`.\n",
+        (9.0f64 * (0.36 - 0.09) / 2.0).exp()
+    );
+    let mut best: BTreeMap<&str, usize> = BTreeMap::new();
+    let mut blocks = 0;
+    for r in rows.iter().filter(|r| r.rank == Some(1)) {
+        *best.entry(r.im.as_str()).or_default() += 1;
+        blocks += 1;
+    }
+    let mut counts: Vec<(&str, usize)> = best.into_iter().collect();
+    counts.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
+    let text: Vec<String> = counts
+        .iter()
+        .map(|(im, n)| format!("{} in {n}", display_name(im)))
+        .collect();
+    let _ = writeln!(
+        w,
+        "The IM of smallest β, over the {blocks} blocks: {}.\n",
+        text.join(", ")
+    );
+    let beta = |p: f64, im: &str| -> Option<&EfficiencyRow> {
+        rows.iter().find(|r| r.p == p && r.eps == eps && r.im == im)
+    };
+    let periods = best_periods(rows, eps);
+    let _ = writeln!(w, "At ε = {eps}:\n");
+    let _ = writeln!(
+        w,
+        "| p (1/s) | best IM (β) | β of PGA | β of PGV | β of AvgSA | best SA(T): T (s), β | β of PGA given PGV/PGA |"
+    );
+    let _ = writeln!(w, "|---|---|---|---|---|---|---|");
+    let f = |r: Option<&EfficiencyRow>| r.map_or("—".to_string(), |r| format!("{:.3}", r.beta));
+    for &(p, t, b) in &periods {
+        let top = rows
+            .iter()
+            .find(|r| r.p == p && r.eps == eps && r.rank == Some(1))
+            .map_or("—".to_string(), |r| {
+                format!("{} ({:.3})", display_name(&r.im), r.beta)
+            });
+        let _ = writeln!(
+            w,
+            "| {p:.3} | {top} | {} | {} | {} | {}, {b:.3} | {} |",
+            f(beta(p, "pga")),
+            f(beta(p, "pgv")),
+            f(beta(p, "avgsa")),
+            crate::im::period_text(t),
+            f(beta(p, VECTOR)),
+        );
+    }
+    if let (Some(first), Some(last)) = (periods.first(), periods.last()) {
+        let _ = writeln!(
+            w,
+            "\nThe best SA period moves from {} s at p = {:.2} 1/s to {} s at p = {:.2} 1/s: \
+             a larger block (smaller p) is overturned by the record's longer periods.",
+            crate::im::period_text(first.1),
+            first.0,
+            crate::im::period_text(last.1),
+            last.0
+        );
+    }
+    let lower = rows
+        .iter()
+        .filter(|r| r.im == VECTOR)
+        .filter(|v| {
+            rows.iter()
+                .find(|r| r.block_index == v.block_index && r.rank == Some(1))
+                .is_some_and(|b| v.beta < b.beta)
+        })
+        .count();
+    let total = rows.iter().filter(|r| r.im == VECTOR).count();
+    let _ = writeln!(
+        w,
+        "\nPGA given PGV/PGA (PGV/PGA does not change when a record is scaled, so the capacity \
+         in PGA can be conditioned on it: ln PGA_c regressed on ln(PGV/PGA)) has a smaller \
+         dispersion than the best single IM in {lower} of {total} blocks.\n"
+    );
+}
