@@ -267,12 +267,12 @@ pub fn parse_plain(text: &str) -> Result<HazardCurve, HazardError> {
         if c.len() != 2 {
             return Err(err(line, format!("{} cells, expected 2", c.len())));
         }
-        let (pga, rate) = (
+        let (iml, rate) = (
             number(line, &column, c[0])?,
             number(line, "annual_rate", c[1])?,
         );
-        if pga <= 0.0 {
-            return Err(err(line, format!("{column} = {pga} must be positive")));
+        if iml <= 0.0 {
+            return Err(err(line, format!("{column} = {iml} must be positive")));
         }
         if rate < 0.0 {
             return Err(err(
@@ -281,14 +281,14 @@ pub fn parse_plain(text: &str) -> Result<HazardCurve, HazardError> {
             ));
         }
         if let Some(&(prev, _)) = points.last() {
-            if pga <= prev {
+            if iml <= prev {
                 return Err(err(
                     line,
-                    format!("{column} must increase: {pga} follows {prev}"),
+                    format!("{column} must increase: {iml} follows {prev}"),
                 ));
             }
         }
-        points.push((pga, rate));
+        points.push((iml, rate));
         line_of.push(line);
     }
     if points.is_empty() {

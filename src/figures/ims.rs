@@ -42,11 +42,10 @@ fn series(rows: &[EfficiencyRow], im: &str, eps: f64) -> Vec<(f64, f64)> {
 /// The SA period of smallest β for each block at ε, in increasing p.
 pub fn best_periods(rows: &[EfficiencyRow], eps: f64) -> Vec<(f64, f64, f64)> {
     let mut best: Vec<(f64, f64, f64)> = Vec::new();
-    for r in rows
-        .iter()
-        .filter(|r| r.eps == eps && r.im.starts_with("sa("))
-    {
-        let t: f64 = r.im[3..r.im.len() - 1].parse().unwrap_or(f64::NAN);
+    for r in rows.iter().filter(|r| r.eps == eps) {
+        let Ok(crate::im::Im::Sa(t)) = r.im.parse() else {
+            continue;
+        };
         match best.iter_mut().find(|b| b.0 == r.p) {
             Some(b) if r.beta < b.2 => *b = (r.p, t, r.beta),
             Some(_) => {}

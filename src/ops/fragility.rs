@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
-use super::im_fragility;
+use super::im_fragility::{self, ImTable};
 use crate::block::{Block, BlockError, Restitution};
 use crate::fragility::{self, FractileLaw};
 use crate::ida::{self, ImGrid};
@@ -182,7 +182,7 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
     } else {
         None
     };
-    let (median, beta, eta_c_median, name, mut warnings) = if im == Im::Pga {
+    let (median, beta, eta_c_median, name, warnings) = if im == Im::Pga {
         let (eta50, beta) = source.median_beta(&block)?;
         let w = if req.direct {
             Vec::new()
@@ -191,24 +191,21 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
         };
         (alpha / eta50, beta, Some(eta50), source.name.clone(), w)
     } else {
-        match (&req.from, &direct) {
-            (Source::Pipeline { file, outputs }, None) => {
-                let study = Study::load(file, outputs)?;
-                let l =
-                    im_fragility::from_study(&study.dir, &file.display().to_string(), im, &block)?;
-                (l.median, l.beta, None, source.name.clone(), l.warnings)
+        match &direct {
+            None => {
+                let l = source.im_table(im)?.capacity(&block)?;
+                let mut w = l.warnings;
+                // The study's table rests on its model, as the regression does.
+                w.extend(alpha_warning(&block, req.auto_tol));
+                (l.median, l.beta, None, source.name.clone(), w)
             }
-            (_, Some((t, _))) => {
+            Some((t, _)) => {
                 let (m, b) = im_fragility::lognormal_of(t)
                     .ok_or_else(|| FragilityError::FewCapacities(im.name()))?;
                 (m, b, None, "direct".to_string(), Vec::new())
             }
-            (Source::Paper { .. }, None) => return Err(FragilityError::PaperIsPga(im.name())),
         }
     };
-    if im != Im::Pga && !req.direct {
-        warnings.extend(warnings_alpha(&block, req.auto_tol));
-    }
     let points = req
         .levels
         .iter()
@@ -241,12 +238,14 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
     })
 }
 
-/// The α warning alone (a study's IM table rests on its model too).
-pub fn warnings_alpha(block: &Block, auto_tol: f64) -> Vec<String> {
-    warnings(block, auto_tol)
-        .into_iter()
-        .filter(|w| w.starts_with("α ="))
-        .collect()
+/// Where the linearised model behind a regression or a study's table errs
+/// by more than `auto_tol` for the block's α.
+pub fn alpha_warning(block: &Block, auto_tol: f64) -> Option<String> {
+    let alpha = block.alpha();
+    let err = LINEARIZATION_ERROR_PER_ALPHA2 * alpha * alpha;
+    (err > auto_tol).then(|| format!(
+        "α = {alpha:.3} rad: the regression rests on the linearised model, which errs by about {err:.1e} > {auto_tol:e} in η_c here; use --direct (the nonlinear model)"
+    ))
 }
 
 /// Where the paper's regression is stretched for a block (not for
@@ -265,13 +264,7 @@ pub fn warnings(block: &Block, auto_tol: f64) -> Vec<String> {
             "p = {p:.3} 1/s is outside the regression's 0.33–10 1/s"
         ));
     }
-    let alpha = block.alpha();
-    let err = LINEARIZATION_ERROR_PER_ALPHA2 * alpha * alpha;
-    if err > auto_tol {
-        w.push(format!(
-            "α = {alpha:.3} rad: the regression rests on the linearised model, which errs by about {err:.1e} > {auto_tol:e} in η_c here; use --direct (the nonlinear model)"
-        ));
-    }
+    w.extend(alpha_warning(block, auto_tol));
     w
 }
 
@@ -294,6 +287,8 @@ pub struct Laws {
     pub laws: Vec<FractileLaw>,
     /// The pipeline's plan, for `--from PIPELINE.toml`.
     pub plan: Option<Plan>,
+    /// The pipeline's study folder, for `--from PIPELINE.toml`.
+    pub dir: Option<PathBuf>,
     /// `paper` or the pipeline file.
     pub name: String,
 }
@@ -304,6 +299,15 @@ impl Laws {
         let (p, eps) = (block.p(), block.eps);
         fragility::median_beta(&self.laws, p, eps).ok_or(FragilityError::NoFractiles { p, eps })
     }
+
+    /// The study's capacities in `im` (not PGA), to carry to any block;
+    /// the paper's regression has none.
+    pub fn im_table(&self, im: Im) -> Result<ImTable, FragilityError> {
+        match &self.dir {
+            Some(dir) => Ok(ImTable::load(dir, &self.name, im)?),
+            None => Err(FragilityError::PaperIsPga(im.name())),
+        }
+    }
 }
 
 /// The paper's laws or a pipeline's fitted ones.
@@ -312,6 +316,7 @@ pub fn laws(from: &Source) -> Result<Laws, FragilityError> {
         Source::Paper { .. } => Ok(Laws {
             laws: fragility::paper().to_vec(),
             plan: None,
+            dir: None,
             name: "paper".to_string(),
         }),
         Source::Pipeline { file, outputs } => {
@@ -327,6 +332,7 @@ pub fn laws(from: &Source) -> Result<Laws, FragilityError> {
             Ok(Laws {
                 laws,
                 plan: Some(study.plan),
+                dir: Some(study.dir),
                 name: file.display().to_string(),
             })
         }
@@ -360,8 +366,9 @@ fn refuse_stale_fit(study: &Study, file: &Path) -> Result<(), FragilityError> {
 /// The records a block is run through with `--direct`, read once.
 pub struct DirectRecords {
     records: Vec<(String, Excitation)>,
-    /// Each record's intensity measures, in the same order.
-    ims: Vec<RecordIms>,
+    /// Each record's intensity measures, in the same order, computed the
+    /// first time an IM other than PGA asks for them.
+    ims: std::sync::OnceLock<Vec<RecordIms>>,
 }
 
 impl DirectRecords {
@@ -383,19 +390,6 @@ impl DirectRecords {
             }
             (Source::Pipeline { .. }, None) => unreachable!("a pipeline source has a plan"),
         };
-        let ims = rows
-            .par_iter()
-            .map(|r| {
-                RecordIms::of_record(&r.accel_g, r.dt_s, &[]).ok_or_else(|| {
-                    FragilityError::Physics {
-                        record: r.record_id.clone(),
-                        source: PhysicsError::BadInput(
-                            "the record has no motion (every sample is 0)".into(),
-                        ),
-                    }
-                })
-            })
-            .collect::<Result<Vec<_>, _>>()?;
         let records = rows
             .into_iter()
             .map(|r| {
@@ -408,7 +402,10 @@ impl DirectRecords {
                 Ok((r.record_id, exc))
             })
             .collect::<Result<_, FragilityError>>()?;
-        Ok(DirectRecords { records, ims })
+        Ok(DirectRecords {
+            records,
+            ims: std::sync::OnceLock::new(),
+        })
     }
 
     /// The block's capacity in `im` under each record (the certified η_c
@@ -421,20 +418,42 @@ impl DirectRecords {
         auto_tol: f64,
     ) -> Result<(Vec<f64>, String), FragilityError> {
         let (caps, model) = self.capacities(block, auto_tol)?;
-        let mut t: Vec<f64> = caps
-            .iter()
-            .zip(&self.ims)
-            .map(|(&c, r)| {
-                if c > 0.0 {
-                    crate::im::of_eta(im, c, block.alpha(), r)
-                        .ok_or(FragilityError::NoPeriod(im.name()))
-                } else {
-                    Ok(f64::INFINITY)
-                }
-            })
-            .collect::<Result<_, _>>()?;
+        let alpha = block.alpha();
+        let mut t: Vec<f64> = if im == Im::Pga {
+            // α/η_c, as `im::of_eta` gives it: no other IM of the record needed.
+            caps.iter()
+                .map(|&c| if c > 0.0 { alpha / c } else { f64::INFINITY })
+                .collect()
+        } else {
+            caps.iter()
+                .zip(self.ims())
+                .map(|(&c, r)| {
+                    if c > 0.0 {
+                        crate::im::of_eta(im, c, alpha, r)
+                            .ok_or(FragilityError::NoPeriod(im.name()))
+                    } else {
+                        Ok(f64::INFINITY)
+                    }
+                })
+                .collect::<Result<_, _>>()?
+        };
         t.sort_by(f64::total_cmp);
         Ok((t, model))
+    }
+
+    /// The records' IMs, from their forcing normalised to a PGA of 1 g:
+    /// the ratios IM/PGA^power that convert a capacity are those of the
+    /// record as recorded.
+    fn ims(&self) -> &[RecordIms] {
+        self.ims.get_or_init(|| {
+            self.records
+                .par_iter()
+                .map(|(_, exc)| {
+                    RecordIms::of_record(&exc.psi, exc.dt_s, &[])
+                        .expect("an excitation's forcing has a peak of 1")
+                })
+                .collect()
+        })
     }
 
     pub fn len(&self) -> usize {

@@ -41,41 +41,53 @@ pub struct Lognormal {
     pub warnings: Vec<String>,
 }
 
-/// The block's capacity in `im` from the study in `dir` (its
-/// `im_efficiency.parquet`), named `study` in messages.
-pub fn from_study(
-    dir: &Path,
-    study: &str,
+/// A study's capacities in one IM, read once, to carry to any block.
+pub struct ImTable {
     im: Im,
-    block: &Block,
-) -> Result<Lognormal, ImTableError> {
-    let path = dir.join("im_efficiency.parquet");
-    if !path.exists() {
-        return Err(ImTableError::Missing {
-            pipeline: study.to_string(),
-            path,
-        });
+    grid: Grid,
+}
+
+impl ImTable {
+    /// The table of `im` in the study folder `dir` (its
+    /// `im_efficiency.parquet`); `study` names the pipeline in messages.
+    pub fn load(dir: &Path, study: &str, im: Im) -> Result<ImTable, ImTableError> {
+        let name = im.name();
+        if im.dimensionless(1.0, 1.0).is_none() {
+            return Err(ImTableError::NoDimensionless(name));
+        }
+        let path = dir.join("im_efficiency.parquet");
+        if !path.exists() {
+            return Err(ImTableError::Missing {
+                pipeline: study.to_string(),
+                path,
+            });
+        }
+        let rows: Vec<EfficiencyRow> =
+            crate::tables::read(&path).map_err(|e| ImTableError::Bad(e.to_string()))?;
+        let rows: Vec<&EfficiencyRow> = rows.iter().filter(|r| r.im == name).collect();
+        let grid = Grid::of(&rows).ok_or_else(|| {
+            ImTableError::Bad(format!(
+                "{} has no full grid of p × ε for {name} (a study of [blocks] p and eps carries over to other blocks; one of [[block]] entries does not)",
+                path.display()
+            ))
+        })?;
+        Ok(ImTable { im, grid })
     }
-    let rows: Vec<EfficiencyRow> =
-        crate::tables::read(&path).map_err(|e| ImTableError::Bad(e.to_string()))?;
-    let name = im.name();
-    let rows: Vec<&EfficiencyRow> = rows.iter().filter(|r| r.im == name).collect();
-    let (p, eps) = (block.p(), block.eps);
-    let Some((factor, _)) = im.dimensionless(block.alpha(), p) else {
-        return Err(ImTableError::NoDimensionless(name));
-    };
-    let grid = Grid::of(&rows).ok_or_else(|| {
-        ImTableError::Bad(format!(
-            "{} has no full grid of p × ε for {name} (a study of [blocks] p and eps carries over to other blocks; one of [[block]] entries does not)",
-            path.display()
-        ))
-    })?;
-    let (ln_median, beta, warnings) = grid.at(p, eps);
-    Ok(Lognormal {
-        median: ln_median.exp() / factor,
-        beta,
-        warnings,
-    })
+
+    /// The block's lognormal capacity, its median in the IM's unit.
+    pub fn capacity(&self, block: &Block) -> Result<Lognormal, ImTableError> {
+        let (p, eps) = (block.p(), block.eps);
+        let (factor, _) = self
+            .im
+            .dimensionless(block.alpha(), p)
+            .ok_or_else(|| ImTableError::NoDimensionless(self.im.name()))?;
+        let (ln_median, beta, warnings) = self.grid.at(p, eps);
+        Ok(Lognormal {
+            median: ln_median.exp() / factor,
+            beta,
+            warnings,
+        })
+    }
 }
 
 /// A study's p × ε grid of one IM: ln of the dimensionless median and β.

@@ -166,9 +166,8 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
 pub fn record_ims(rows: &[RecordRow]) -> Result<Vec<RecordIms>, ReduceError> {
     rows.par_iter()
         .map(|r| {
-            RecordIms::of_record(&r.accel_g, r.dt_s, &[]).ok_or_else(|| {
-                ReduceError::Mismatch(format!("record {} has no motion", r.record_id))
-            })
+            RecordIms::of_record(&r.accel_g, r.dt_s, &[])
+                .ok_or_else(|| ReduceError::NoMotion(r.record_id.clone()))
         })
         .collect()
 }

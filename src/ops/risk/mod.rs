@@ -14,6 +14,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use super::fragility::{self, DirectRecords, FragilityError, Laws, Source};
+use super::im_fragility::ImTable;
 use crate::block::{Block, BlockError, Restitution};
 use crate::hazard::{self, HazardCurve, HazardError};
 use crate::im::Im;
@@ -327,20 +328,16 @@ pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
 fn fragility_of(
     block: &Block,
     laws: &Laws,
-    from: &Source,
+    table: Option<&ImTable>,
     im: Im,
     direct: Option<&DirectRecords>,
     auto_tol: f64,
 ) -> Result<(Fragility, FragilityInfo), FragilityError> {
     let alpha = block.alpha();
     let (name, unit) = (im.name(), im.unit());
-    match direct {
-        None if im != Im::Pga => {
-            let Source::Pipeline { file, outputs } = from else {
-                return Err(FragilityError::PaperIsPga(name));
-            };
-            let study = crate::stages::Study::load(file, outputs)?;
-            let l = super::im_fragility::from_study(&study.dir, &laws.name, im, block)?;
+    match (direct, table) {
+        (None, Some(table)) => {
+            let l = table.capacity(block)?;
             Ok((
                 Fragility::Lognormal {
                     median: l.median,
@@ -357,7 +354,7 @@ fn fragility_of(
                 },
             ))
         }
-        None => {
+        (None, None) => {
             let (eta50, beta) = laws.median_beta(block)?;
             // η = α/PGA: P(OT | PGA) = Φ((ln PGA − ln(α/η50))/β).
             let median = alpha / eta50;
@@ -374,7 +371,7 @@ fn fragility_of(
                 },
             ))
         }
-        Some(records) => {
+        (Some(records), _) => {
             // The level at which each record overturns the block; never: ∞.
             let (thresholds, _) = records.thresholds(block, im, auto_tol)?;
             let q = |q: f64| {
@@ -457,6 +454,12 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
     } else {
         None
     };
+    // Another IM than PGA without --direct: the study's table, read once.
+    let table = if im != Im::Pga && !req.direct {
+        Some(laws.im_table(im)?)
+    } else {
+        None
+    };
     let mut out = Vec::with_capacity(entries.len());
     for e in &entries {
         let in_block = |source| RiskError::Block {
@@ -464,9 +467,15 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
             source,
         };
         let block = fragility::block(e.b_m, e.h_m, e.eps).map_err(in_block)?;
-        let (frag, info) =
-            fragility_of(&block, &laws, &req.from, im, records.as_ref(), req.auto_tol)
-                .map_err(in_block)?;
+        let (frag, info) = fragility_of(
+            &block,
+            &laws,
+            table.as_ref(),
+            im,
+            records.as_ref(),
+            req.auto_tol,
+        )
+        .map_err(in_block)?;
         let site_infos: Vec<SiteInfo> = sites
             .iter()
             .map(|(k, c)| site_info(*k, c, &risk::assess(c, &frag, req.beyond), req.years))
@@ -475,7 +484,9 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
             (true, _) => Vec::new(),
             (false, Im::Pga) => fragility::warnings(&block, req.auto_tol),
             // A study's IM table: its α warning; the grid's are the table's own.
-            (false, _) => fragility::warnings_alpha(&block, req.auto_tol),
+            (false, _) => fragility::alpha_warning(&block, req.auto_tol)
+                .into_iter()
+                .collect(),
         };
         warnings.extend(extrapolated(&site_infos));
         out.push(Assessment {

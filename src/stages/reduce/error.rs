@@ -18,6 +18,8 @@ pub enum ReduceError {
          none: give the pipeline a manifest with pairs, or set unit = \"record\""
     )]
     NoPair(String),
+    #[error("record {0} has no motion (every sample is 0)")]
+    NoMotion(String),
     #[error(transparent)]
     NotRecords(#[from] crate::pipeline::NotRecords),
 }
