@@ -476,27 +476,55 @@ fn a_flat_hazard_curve_gives_no_overturning() {
 }
 
 #[test]
-fn the_readmes_worked_example_is_what_the_tool_prints() {
-    // The README shows a command and its output; they must agree.
+fn the_readmes_worked_examples_are_what_the_tool_prints() {
+    // The README shows commands and their output; they must agree. A shown
+    // output ending in "  …" is the start of what the tool prints.
     let readme = fs::read_to_string(crate::util::root().join("README.md")).unwrap();
-    let at = readme
-        .find(
-            "cargo run --release -- risk --hazard records/hazard/synthetic-openquake.csv --site 1",
-        )
-        .expect("the worked example is in the README");
-    let command = readme[at..].lines().next().unwrap();
-    let args: Vec<&str> = command
-        .trim_start_matches("cargo run --release -- ")
-        .split_whitespace()
-        .collect();
-    let shown = readme[at..]
-        .split("```text\n")
-        .nth(1)
-        .and_then(|r| r.split("```").next())
-        .unwrap();
-    let out = rocking(&crate::util::root(), &args);
-    assert!(out.status.success(), "{}", stderr(&out));
-    assert_eq!(stdout(&out), shown, "update the README's worked example");
+    let check = |command: &str, nth_output: usize| {
+        let at = readme
+            .find(command)
+            .unwrap_or_else(|| panic!("the README shows `{command}`"));
+        let args: Vec<&str> = command
+            .trim_start_matches("cargo run --release -- ")
+            .split_whitespace()
+            .collect();
+        let shown = readme[at..]
+            .split("```text\n")
+            .nth(nth_output)
+            .and_then(|r| r.split("```").next())
+            .unwrap();
+        let out = rocking(&crate::util::root(), &args);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let printed = stdout(&out);
+        match shown.strip_suffix("  …\n") {
+            Some(start) => assert!(
+                printed.starts_with(start),
+                "update the README's output of `{command}`:\n{printed}"
+            ),
+            None => assert_eq!(printed, shown, "update the README's worked example"),
+        }
+    };
+    check(
+        "cargo run --release -- risk --hazard records/hazard/synthetic-openquake.csv --site 1 --b 0.2 --h 0.9 --eps 0.85",
+        1,
+    );
+    let pga = "cargo run --release -- risk --hazard records/hazard/synthetic-site.csv --b 0.2 --h 0.9 --direct";
+    let pgv = "cargo run --release -- risk --hazard records/hazard/synthetic-site-pgv.csv --b 0.2 --h 0.9 --direct";
+    check(pga, 1);
+    check(pgv, 2);
+    // What the README concludes from them: the same 44 capacities scatter
+    // less in PGV than in PGA for this block.
+    let beta = |command: &str| {
+        let mut args: Vec<&str> = command
+            .trim_start_matches("cargo run --release -- ")
+            .split_whitespace()
+            .collect();
+        args.push("--json");
+        json(&rocking(&root(), &args))["fragility"]["beta"]
+            .as_f64()
+            .unwrap()
+    };
+    assert!(beta(pgv) < beta(pga) - 0.05);
 }
 
 /// What users write that the tool once misread: a quoted CSV header, spaces

@@ -130,6 +130,21 @@ pub fn period_text(t: f64) -> String {
     format!("{t:?}")
 }
 
+/// A level of an IM as printed: four significant digits, trailing zeros
+/// dropped (0.05 g, 2 g, 48.31 cm/s, 300 cm/s).
+pub fn level_text(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let decimals = (3 - v.abs().log10().floor() as i32).max(0) as usize;
+    let text = format!("{v:.decimals$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    }
+}
+
 impl fmt::Display for Im {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(&self.name())
@@ -195,6 +210,22 @@ pub fn of_eta(im: Im, eta: f64, alpha_rad: f64, record: &RecordIms) -> Option<f6
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn levels_print_with_four_significant_digits_and_no_trailing_zeros() {
+        for (v, text) in [
+            (0.05, "0.05"),
+            (2.0, "2"),
+            (300.0, "300"),
+            (48.312332, "48.31"),
+            (0.530449, "0.5304"),
+            (12345.6, "12346"),
+            (0.0, "0"),
+            (-1.5, "-1.5"),
+        ] {
+            assert_eq!(level_text(v), text, "{v}");
+        }
+    }
 
     #[test]
     fn pga_and_eta_are_inverse_through_alpha() {

@@ -4,7 +4,7 @@
 //! ([`super::im_fragility`]); optionally the share of records it overturns
 //! under when run through them directly.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use rayon::prelude::*;
 
@@ -17,7 +17,9 @@ use crate::physics::{
     Excitation, ModelChoice, PhysicsError, RunSpec, LINEARIZATION_ERROR_PER_ALPHA2,
 };
 use crate::pipeline::Plan;
+use crate::stages::fingerprint::Freshness;
 use crate::stages::fit::{self, FitError};
+use crate::stages::ims;
 use crate::stages::ingest::{self, IngestError, OnBad};
 use crate::stages::records::{self, SelectError};
 use crate::stages::{LoadError, Study};
@@ -135,13 +137,15 @@ pub enum FragilityError {
     #[error("{pipeline} has no regression to take fractiles from: {why}; use --from paper")]
     NoFit { pipeline: PathBuf, why: String },
     #[error(
-        "the fit in {dir} is not {pipeline}'s as it stands ({why}): another pipeline of the \
+        "the {what} in {dir} is not {pipeline}'s as it stands ({why}): another pipeline of the \
          same name, or an earlier version of this one, wrote it; run `rocking run {pipeline}` \
          (`rocking status {pipeline}` shows what changed)",
         dir = .dir.display(),
         pipeline = .pipeline.display()
     )]
-    StaleFit {
+    Stale {
+        /// `fit` or `IM table`.
+        what: &'static str,
         pipeline: PathBuf,
         dir: PathBuf,
         why: String,
@@ -183,13 +187,23 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
         None
     };
     let (median, beta, eta_c_median, name, warnings) = if im == Im::Pga {
-        let (eta50, beta) = source.median_beta(&block)?;
-        let w = if req.direct {
-            Vec::new()
-        } else {
-            warnings(&block, req.auto_tol)
-        };
-        (alpha / eta50, beta, Some(eta50), source.name.clone(), w)
+        match (source.median_beta(&block), &direct) {
+            (Ok((eta50, beta)), _) => {
+                let w = if req.direct {
+                    Vec::new()
+                } else {
+                    warnings(&block, req.auto_tol)
+                };
+                (alpha / eta50, beta, Some(eta50), source.name.clone(), w)
+            }
+            // A pipeline without a regression: the records' own lognormal.
+            (Err(FragilityError::NoFit { .. }), Some((t, _))) => {
+                let (m, b) = im_fragility::lognormal_of(t)
+                    .ok_or_else(|| FragilityError::FewCapacities(im.name()))?;
+                (m, b, Some(alpha / m), "direct".to_string(), Vec::new())
+            }
+            (Err(e), _) => return Err(e),
+        }
     } else {
         match &direct {
             None => {
@@ -284,27 +298,67 @@ pub fn block(b_m: f64, h_m: f64, eps: Restitution) -> Result<Block, FragilityErr
 /// The regression a fragility comes from.
 #[derive(Debug, Clone)]
 pub struct Laws {
-    pub laws: Vec<FractileLaw>,
+    /// The fitted laws, or why a pipeline has none to use; only a PGA
+    /// fragility without `--direct` needs them.
+    regression: Result<Vec<FractileLaw>, NoRegression>,
     /// The pipeline's plan, for `--from PIPELINE.toml`.
     pub plan: Option<Plan>,
     /// The pipeline's study folder, for `--from PIPELINE.toml`.
     pub dir: Option<PathBuf>,
     /// `paper` or the pipeline file.
     pub name: String,
+    /// Why the study's IM table is not the pipeline's as it stands, if so.
+    ims_stale: Option<String>,
+}
+
+/// Why a pipeline's regression cannot be used.
+#[derive(Debug, Clone)]
+enum NoRegression {
+    /// The pipeline's blocks cannot have one (why).
+    NotApplicable(String),
+    /// The fit on disk is not the pipeline's as it stands (why).
+    Stale(String),
+    /// No fit was run: the file it would have written.
+    NotRun(PathBuf),
 }
 
 impl Laws {
     /// η_c,50 and β of a block.
     pub fn median_beta(&self, block: &Block) -> Result<(f64, f64), FragilityError> {
+        let laws = self.regression.as_ref().map_err(|no| match no {
+            NoRegression::NotApplicable(why) => FragilityError::NoFit {
+                pipeline: PathBuf::from(&self.name),
+                why: why.clone(),
+            },
+            NoRegression::Stale(why) => FragilityError::Stale {
+                what: "fit",
+                pipeline: PathBuf::from(&self.name),
+                dir: self.dir.clone().unwrap_or_default(),
+                why: why.clone(),
+            },
+            NoRegression::NotRun(path) => {
+                FragilityError::Fit(FitError::NoFit(path.clone(), self.name.clone()))
+            }
+        })?;
         let (p, eps) = (block.p(), block.eps);
-        fragility::median_beta(&self.laws, p, eps).ok_or(FragilityError::NoFractiles { p, eps })
+        fragility::median_beta(laws, p, eps).ok_or(FragilityError::NoFractiles { p, eps })
     }
 
     /// The study's capacities in `im` (not PGA), to carry to any block;
     /// the paper's regression has none.
     pub fn im_table(&self, im: Im) -> Result<ImTable, FragilityError> {
         match &self.dir {
-            Some(dir) => Ok(ImTable::load(dir, &self.name, im)?),
+            Some(dir) => {
+                if let Some(why) = &self.ims_stale {
+                    return Err(FragilityError::Stale {
+                        what: "IM table",
+                        pipeline: PathBuf::from(&self.name),
+                        dir: dir.clone(),
+                        why: why.clone(),
+                    });
+                }
+                Ok(ImTable::load(dir, &self.name, im)?)
+            }
             None => Err(FragilityError::PaperIsPga(im.name())),
         }
     }
@@ -314,52 +368,56 @@ impl Laws {
 pub fn laws(from: &Source) -> Result<Laws, FragilityError> {
     match from {
         Source::Paper { .. } => Ok(Laws {
-            laws: fragility::paper().to_vec(),
+            regression: Ok(fragility::paper().to_vec()),
             plan: None,
             dir: None,
             name: "paper".to_string(),
+            ims_stale: None,
         }),
         Source::Pipeline { file, outputs } => {
             let study = Study::load(file, outputs)?;
-            if let Some(why) = fit::not_applicable(&study.plan) {
-                return Err(FragilityError::NoFit {
-                    pipeline: file.clone(),
-                    why,
-                });
-            }
-            refuse_stale_fit(&study, file)?;
-            let laws = fit::read_laws(&study.dir, &file.display().to_string())?;
+            let status = crate::stages::engine::status(&study);
+            let name = file.display().to_string();
+            let regression = if let Some(why) = fit::not_applicable(&study.plan) {
+                Err(NoRegression::NotApplicable(why))
+            } else if let Some(why) = staleness(&study, &status, "fit", fit::OUTPUTS[0]) {
+                Err(NoRegression::Stale(why))
+            } else if !study.path(fit::OUTPUTS[1]).exists() {
+                Err(NoRegression::NotRun(study.path(fit::OUTPUTS[1])))
+            } else {
+                Ok(fit::read_laws(&study.dir, &name)?)
+            };
+            let ims_stale = staleness(&study, &status, "ims", ims::OUTPUTS[2]);
             Ok(Laws {
-                laws,
+                regression,
                 plan: Some(study.plan),
                 dir: Some(study.dir),
-                name: file.display().to_string(),
+                name,
+                ims_stale,
             })
         }
     }
 }
 
-/// Refuses a fit that is not this pipeline's as it stands: written by
-/// another pipeline of the same `name`, by an earlier version of this one,
-/// or from sweep or reduce tables that have changed since (the fingerprints
-/// say, as `rocking status` does). It was used without a word.
-fn refuse_stale_fit(study: &Study, file: &Path) -> Result<(), FragilityError> {
-    use crate::stages::engine;
-    use crate::stages::fingerprint::Freshness;
-    let fit = engine::status(study)
-        .into_iter()
-        .find(|(name, _)| *name == "fit")
-        .map(|(_, f)| f)
-        .expect("fit is a stage");
-    match fit {
-        Freshness::Fresh | Freshness::FreshShards(_) => Ok(()),
-        // No fit at all: reading it says so, and how to make it.
-        _ if !study.path(fit::OUTPUTS[0]).exists() => Ok(()),
-        other => Err(FragilityError::StaleFit {
-            pipeline: file.to_path_buf(),
-            dir: study.dir.clone(),
-            why: other.to_string(),
-        }),
+/// Why a stage's tables are not this pipeline's as it stands: written by
+/// another pipeline of the same `name`, by an earlier version of this one, or
+/// from upstream tables that have changed since (the fingerprints say, as
+/// `rocking status` does). `None` when they are, or when there are none:
+/// reading them then says so, and how to make them.
+fn staleness(
+    study: &Study,
+    status: &[(&'static str, Freshness)],
+    stage: &str,
+    output: &str,
+) -> Option<String> {
+    let (_, freshness) = status
+        .iter()
+        .find(|(name, _)| *name == stage)
+        .expect("a stage of the engine");
+    match freshness {
+        Freshness::Fresh | Freshness::FreshShards(_) => None,
+        _ if !study.path(output).exists() => None,
+        other => Some(other.to_string()),
     }
 }
 

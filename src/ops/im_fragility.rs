@@ -113,44 +113,54 @@ impl Grid {
                 values.push((r.median_dimensionless?.ln(), r.beta));
             }
         }
-        (ps.len() >= 2 && es.len() >= 2).then_some(Grid { ps, es, values })
+        (!values.is_empty()).then_some(Grid { ps, es, values })
     }
 
     /// Bilinear in (ln p, ε), clamped to the grid, with what was clamped.
+    /// An axis of one value is used as it is.
     fn at(&self, p: f64, eps: f64) -> (f64, f64, Vec<String>) {
         let mut warnings = Vec::new();
         let lnp: Vec<f64> = self.ps.iter().map(|v| v.ln()).collect();
-        let (ip, tp) = bracket(&lnp, p.ln());
-        let (ie, te) = bracket(&self.es, eps);
-        let (p0, p1) = (self.ps[0], *self.ps.last().unwrap());
-        if !(p0..=p1).contains(&p) {
-            warnings.push(format!(
-                "p = {p:.3} 1/s is outside the study's {p0:.3}–{p1:.3} 1/s: the capacity of the nearest edge is used"
-            ));
-        }
-        let (e0, e1) = (self.es[0], *self.es.last().unwrap());
-        if !(e0..=e1).contains(&eps) {
-            warnings.push(format!(
-                "ε = {eps:.3} is outside the study's {e0:.3}–{e1:.3}: the capacity of the nearest edge is used"
-            ));
-        }
+        let (ip, jp, tp) = bracket(&lnp, p.ln());
+        let (ie, je, te) = bracket(&self.es, eps);
+        warnings.extend(outside("p", " 1/s", &self.ps, p));
+        warnings.extend(outside("ε", "", &self.es, eps));
         let n = self.es.len();
         let v = |i: usize, j: usize| self.values[i * n + j];
         let mix = |f: fn((f64, f64)) -> f64| {
-            let a = f(v(ip, ie)) * (1.0 - te) + f(v(ip, ie + 1)) * te;
-            let b = f(v(ip + 1, ie)) * (1.0 - te) + f(v(ip + 1, ie + 1)) * te;
+            let a = f(v(ip, ie)) * (1.0 - te) + f(v(ip, je)) * te;
+            let b = f(v(jp, ie)) * (1.0 - te) + f(v(jp, je)) * te;
             a * (1.0 - tp) + b * tp
         };
         (mix(|x| x.0), mix(|x| x.1), warnings)
     }
 }
 
-/// The cell of sorted `xs` holding `x` and the weight of its upper end,
-/// clamped to [0, 1] outside.
-fn bracket(xs: &[f64], x: f64) -> (usize, f64) {
+/// A warning when `x` lies outside the study's sorted values `xs` of `name`.
+fn outside(name: &str, unit: &str, xs: &[f64], x: f64) -> Option<String> {
+    let (lo, hi) = (xs[0], xs[xs.len() - 1]);
+    if (lo..=hi).contains(&x) {
+        None
+    } else if xs.len() == 1 {
+        Some(format!(
+            "{name} = {x:.3}{unit} is not the study's only {name} = {lo:.3}{unit}: its capacity is used"
+        ))
+    } else {
+        Some(format!(
+            "{name} = {x:.3}{unit} is outside the study's {lo:.3}–{hi:.3}{unit}: the capacity of the nearest edge is used"
+        ))
+    }
+}
+
+/// The cell `(i, j)` of sorted `xs` holding `x` and the weight of `j`,
+/// clamped to [0, 1] outside; `i = j` when `xs` has one value.
+fn bracket(xs: &[f64], x: f64) -> (usize, usize, f64) {
+    if xs.len() == 1 {
+        return (0, 0, 0.0);
+    }
     let i = xs.partition_point(|&v| v <= x).clamp(1, xs.len() - 1) - 1;
     let t = ((x - xs[i]) / (xs[i + 1] - xs[i])).clamp(0.0, 1.0);
-    (i, t)
+    (i, i + 1, t)
 }
 
 /// The lognormal of the finite `thresholds`: exp(mean ln), sd ln (n − 1).
@@ -212,6 +222,26 @@ mod tests {
         assert_eq!(w.len(), 2, "{w:?}");
         // A grid with a hole is not a grid.
         assert!(Grid::of(&refs[1..]).is_none());
+    }
+
+    /// A study of one ε: linear in ln p along it, its value at any ε, and a
+    /// warning where the block's ε is not the study's.
+    #[test]
+    fn one_eps_is_used_as_it_is() {
+        let f = |p: f64| (0.3 + 0.5 * p.ln(), 0.4 + 0.1 * p.ln());
+        let rows: Vec<EfficiencyRow> = [1.0, 4.0]
+            .iter()
+            .map(|&p| row(p, 0.7, f(p).0.exp(), f(p).1))
+            .collect();
+        let refs: Vec<&EfficiencyRow> = rows.iter().collect();
+        let g = Grid::of(&refs).unwrap();
+        let (m, b, w) = g.at(2.0, 0.7);
+        assert!((m - f(2.0).0).abs() < 1e-12 && (b - f(2.0).1).abs() < 1e-12);
+        assert!(w.is_empty(), "{w:?}");
+        let (m, _, w) = g.at(2.0, 0.75);
+        assert!((m - f(2.0).0).abs() < 1e-12);
+        assert_eq!(w.len(), 1);
+        assert!(w[0].contains("only ε = 0.700"), "{w:?}");
     }
 
     #[test]

@@ -1,23 +1,28 @@
 //! The charts of `rocking risk`: a block's deaggregation at a site, and an
 //! inventory ranked by its annual rate.
 
-use super::{Assessment, RiskError, SiteInfo};
+use super::{Assessment, BinInfo, RiskError, SiteInfo};
+use crate::im::level_text;
 use crate::plot::{self, Bars, Scale};
+
+impl BinInfo {
+    /// The bin's range of IM levels in `unit`, as the text and the chart say it.
+    pub fn range_text(&self, unit: &str) -> String {
+        let from = level_text(self.iml_from);
+        match self.iml_to {
+            Some(to) if to > self.iml_from => format!("{from}–{} {unit}", level_text(to)),
+            Some(_) => format!("> {from} {unit} (not counted)"),
+            None => format!("> {from} {unit} (extrapolated)"),
+        }
+    }
+}
 
 /// The deaggregation of one block at one site as a bar chart (SVG).
 pub fn deaggregation_chart(a: &Assessment, site: &SiteInfo) -> Result<String, RiskError> {
     let bars = site
         .deaggregation
         .iter()
-        .map(|b| {
-            let u = a.fragility.unit;
-            let label = match b.iml_to {
-                Some(to) if to > b.iml_from => format!("{:.3}–{:.3} {u}", b.iml_from, to),
-                Some(_) => format!("> {:.3} {u} (not counted)", b.iml_from),
-                None => format!("> {:.3} {u} (extrapolated)", b.iml_from),
-            };
-            (label, 100.0 * b.share)
-        })
+        .map(|b| (b.range_text(a.fragility.unit), 100.0 * b.share))
         .collect();
     Ok(plot::render_bars(&Bars {
         title: format!(

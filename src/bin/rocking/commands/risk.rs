@@ -8,6 +8,7 @@ use rocking::risk::Beyond;
 use rocking::tables::atomic_write;
 
 use rocking::block::Restitution;
+use rocking::im::level_text;
 
 use super::args::{parse_restitution, LawArgs};
 
@@ -196,7 +197,8 @@ fn print_one(a: &Assessment) {
         f.im,
         f.source,
         f.kind,
-        f.median.map_or("—".into(), |m| format!("{m:.3} {u}")),
+        f.median
+            .map_or("—".into(), |m| format!("{} {u}", level_text(m))),
         f.beta.map_or("—".into(), |v| format!("{v:.3}")),
         f.records
             .map_or(String::new(), |n| format!(", {n} records"))
@@ -208,47 +210,65 @@ fn print_one(a: &Assessment) {
             _ => String::new(),
         };
         println!("site {}{place}", s.site);
-        let row = |label: String, value: String| println!("  {label:<34} {value}");
-        row("annual rate of overturning".into(), rate(s.annual_rate));
-        row(
-            "return period".into(),
-            s.return_period_years
-                .map_or("∞ (never)".into(), |t| format!("{t:.0} years")),
-        );
-        row(
-            format!("P(overturn within {} years)", a.years),
-            format!("{:.4}", s.p_overturn_in_years),
-        );
-        row(
-            "hazard curve used".into(),
-            format!(
-                "{:.3}–{:.3} {u} ({} IML(s) with poe = 1 dropped below)",
-                s.first_iml, s.last_iml, s.imls_dropped
+        let lv = level_text;
+        let rows = [
+            (
+                "annual rate of overturning".to_string(),
+                rate(s.annual_rate),
             ),
-        );
-        row(
-            format!("P(OT | {:.3} {u}), below the curve", s.first_iml),
-            format!("{:.2e}", s.fragility_at_first_iml),
-        );
-        row(
-            format!("rate beyond {:.3} {u} ({})", s.last_iml, a.beyond),
-            format!("{:.1} % of the total", 100.0 * s.share_beyond_last_iml),
-        );
-        println!("  deaggregation by {}:", f.im.to_uppercase());
+            (
+                "return period".into(),
+                s.return_period_years
+                    .map_or("∞ (never)".into(), |t| format!("{t:.0} years")),
+            ),
+            (
+                format!("P(overturn within {} years)", a.years),
+                format!("{:.4}", s.p_overturn_in_years),
+            ),
+            (
+                "hazard curve used".into(),
+                format!(
+                    "{}–{} {u} ({} IML(s) with poe = 1 dropped below)",
+                    lv(s.first_iml),
+                    lv(s.last_iml),
+                    s.imls_dropped
+                ),
+            ),
+            (
+                format!("P(OT | {} {u}), below the curve", lv(s.first_iml)),
+                format!("{:.2e}", s.fragility_at_first_iml),
+            ),
+            (
+                format!("rate beyond {} {u} ({})", lv(s.last_iml), a.beyond),
+                format!("{:.1} % of the total", 100.0 * s.share_beyond_last_iml),
+            ),
+        ];
+        let width = rows
+            .iter()
+            .map(|(l, _)| l.chars().count())
+            .max()
+            .unwrap_or(0);
+        for (label, value) in &rows {
+            println!("  {label:<width$} {value}");
+        }
+        let im = f.im.to_uppercase();
+        println!("  deaggregation by {im}:");
+        let ranges: Vec<String> = s.deaggregation.iter().map(|b| b.range_text(u)).collect();
+        let width = ranges
+            .iter()
+            .map(|r| r.chars().count())
+            .max()
+            .unwrap_or(0)
+            .max(im.len() + 4);
         println!(
-            "    {:<24} {:>10}  {:>7}",
-            format!("{} bin", f.im.to_uppercase()),
+            "    {:<width$} {:>11}  {:>7}",
+            format!("{im} bin"),
             "rate (1/yr)",
             "share"
         );
-        for bin in &s.deaggregation {
-            let range = match bin.iml_to {
-                Some(to) if to > bin.iml_from => format!("{:.3}–{:.3} {u}", bin.iml_from, to),
-                Some(_) => format!("> {:.3} {u} (not counted)", bin.iml_from),
-                None => format!("> {:.3} {u}", bin.iml_from),
-            };
+        for (range, bin) in ranges.iter().zip(&s.deaggregation) {
             println!(
-                "    {range:<24} {:>10}  {:>5.1} %",
+                "    {range:<width$} {:>11}  {:>5.1} %",
                 rate(bin.annual_rate),
                 100.0 * bin.share
             );
