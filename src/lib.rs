@@ -19,6 +19,7 @@
 //! - [`decimal`]: correctly rounded decimal reading (Clinger's fast path), no I/O;
 //! - [`physics`]: the equations, integrators and events, no I/O;
 //! - [`ida`]: capacity of one record by incremental dynamic analysis, no I/O;
+//! - [`damage`]: limit states on the IDA curve, their capacities and lognormal fits, no I/O;
 //! - [`pulse`]: rectangular and exponential pulses, their closed-form walls
 //!   (paper Eqs. 3, 5, 6) and walls by simulation, no I/O;
 //! - [`pipeline`]: pipeline files (TOML text) → a typed plan, no I/O;
@@ -43,6 +44,7 @@ pub mod at2;
 pub mod bench;
 pub mod block;
 pub mod cluster;
+pub mod damage;
 pub mod decimal;
 pub mod figures;
 pub mod fit;

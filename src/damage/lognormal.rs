@@ -1,0 +1,202 @@
+//! A lognormal fitted to the records' capacities in an IM (MODEL.md §15):
+//!
+//! - by the paper's **fractile method**: median the 50 % fractile, β half
+//!   the log distance between the 16 % and 84 % fractiles (records that never
+//!   reach the state count as +∞, as the paper's survivors do);
+//! - by **maximum likelihood** (Baker 2015, Earthquake Spectra 31(1)): the
+//!   mean and standard deviation (n in the denominator) of ln capacity, with
+//!   the records that never reach the state right-censored at the strongest
+//!   intensity they were run at (their capacity lies above it). The censored
+//!   likelihood is maximised by expectation–maximisation, which raises it at
+//!   every step.
+
+use crate::stats::{self, FractileDef};
+
+/// How the lognormal is fitted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FitMethod {
+    /// The paper's: 16/50/84 % fractiles.
+    Fractile,
+    /// Maximum likelihood, censored.
+    MaxLikelihood,
+}
+
+impl FitMethod {
+    pub const ALL: [FitMethod; 2] = [FitMethod::Fractile, FitMethod::MaxLikelihood];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            FitMethod::Fractile => "fractile",
+            FitMethod::MaxLikelihood => "mle",
+        }
+    }
+
+    pub fn parse(text: &str) -> Option<FitMethod> {
+        FitMethod::ALL
+            .into_iter()
+            .find(|m| m.name().eq_ignore_ascii_case(text.trim()))
+    }
+}
+
+/// A lognormal capacity: median θ (in the IM's unit) and dispersion β.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Lognormal {
+    pub median: f64,
+    pub beta: f64,
+}
+
+impl Lognormal {
+    /// P(capacity ≤ x).
+    pub fn cdf(&self, x: f64) -> f64 {
+        if x <= 0.0 {
+            return 0.0;
+        }
+        stats::normal_cdf((x / self.median).ln() / self.beta)
+    }
+}
+
+/// The fractile method on capacities (+∞ for a record that never reaches
+/// the state). `None` when the 84 % fractile is +∞ (more records never
+/// reach it than the fractile allows) or a fractile is not positive.
+pub fn fractile_method(capacities: &[f64], def: FractileDef) -> Option<Lognormal> {
+    let mut sorted = capacities.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let q = |q: f64| stats::fractile(&sorted, q, def).filter(|v| v.is_finite() && *v > 0.0);
+    let (q16, q50, q84) = (q(0.16)?, q(0.5)?, q(0.84)?);
+    Some(Lognormal {
+        median: q50,
+        beta: 0.5 * (q84 / q16).ln(),
+    })
+}
+
+/// Maximum likelihood on `reached` capacities, with `censored` ones known
+/// only to exceed the given levels. `None` with fewer than two reached
+/// values or reached values all equal.
+pub fn max_likelihood(reached: &[f64], censored: &[f64]) -> Option<Lognormal> {
+    let y: Vec<f64> = reached.iter().map(|v| v.ln()).collect();
+    let c: Vec<f64> = censored.iter().map(|v| v.ln()).collect();
+    if y.len() < 2 || y.iter().chain(&c).any(|v| !v.is_finite()) {
+        return None;
+    }
+    let n = (y.len() + c.len()) as f64;
+    let sum_y: f64 = y.iter().sum();
+    let sum_y2: f64 = y.iter().map(|v| v * v).sum();
+    let m = sum_y / y.len() as f64;
+    let mut s = (y.iter().map(|v| (v - m).powi(2)).sum::<f64>() / y.len() as f64).sqrt();
+    if s <= 0.0 {
+        return None;
+    }
+    let mut mu = m;
+    // EM for right-censored normal data: the censored values replaced by
+    // their conditional moments E[y | y > c] = μ + σλ and
+    // E[y² | y > c] = μ² + σ² + σ(c + μ)λ, λ = φ(w)/Q(w), w = (c − μ)/σ.
+    for _ in 0..100_000 {
+        let (mut e1, mut e2) = (0.0, 0.0);
+        for &ck in &c {
+            let w = (ck - mu) / s;
+            let lambda = inverse_mills(w);
+            e1 += mu + s * lambda;
+            e2 += mu * mu + s * s + s * (ck + mu) * lambda;
+        }
+        let mu_next = (sum_y + e1) / n;
+        let var = (sum_y2 + e2) / n - mu_next * mu_next;
+        let s_next = var.max(0.0).sqrt();
+        let done =
+            (mu_next - mu).abs() <= 1e-14 * (1.0 + mu.abs()) && (s_next - s).abs() <= 1e-14 * s;
+        mu = mu_next;
+        s = s_next;
+        if done || c.is_empty() {
+            break;
+        }
+    }
+    (s > 0.0 && s.is_finite()).then(|| Lognormal {
+        median: mu.exp(),
+        beta: s,
+    })
+}
+
+/// φ(w)/(1 − Φ(w)), accurate far into the upper tail.
+fn inverse_mills(w: f64) -> f64 {
+    let q = stats::normal_cdf(-w);
+    let phi = (-0.5 * w * w).exp() / (2.0 * std::f64::consts::PI).sqrt();
+    if q > 1e-300 {
+        phi / q
+    } else {
+        // Q(w) ~ φ(w)/w (1 − 1/w² + 3/w⁴): λ ~ w + 1/w − 2/w³.
+        w + 1.0 / w - 2.0 / w.powi(3)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::stats::SplitMix64;
+
+    fn normal(rng: &mut SplitMix64) -> f64 {
+        // Box–Muller on two uniforms in (0, 1).
+        let u = |r: &mut SplitMix64| ((r.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
+        let (a, b) = (u(rng), u(rng));
+        (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
+    }
+
+    #[test]
+    fn without_censoring_the_mle_is_the_log_mean_and_n_denominator_sd() {
+        let x = [0.2, 0.35, 0.5, 0.9, 1.4];
+        let logs: Vec<f64> = x.iter().map(|v: &f64| v.ln()).collect();
+        let m = logs.iter().sum::<f64>() / 5.0;
+        let s = (logs.iter().map(|v| (v - m).powi(2)).sum::<f64>() / 5.0).sqrt();
+        let l = max_likelihood(&x, &[]).unwrap();
+        assert!((l.median.ln() - m).abs() < 1e-15 && (l.beta - s).abs() < 1e-15);
+    }
+
+    /// 200,000 draws of a lognormal (median 0.5, β 0.4), every capacity
+    /// above 0.8 censored there (about 12 %): the censored MLE recovers the
+    /// truth within sampling error (standard errors about 1e-3), while the
+    /// mean of the reached ones alone is biased low by about 0.07.
+    #[test]
+    fn censored_mle_recovers_a_known_lognormal() {
+        let mut rng = SplitMix64::new(7);
+        let (ln_median, beta, cut) = (0.5f64.ln(), 0.4, 0.8);
+        let (mut reached, mut censored) = (Vec::new(), Vec::new());
+        for _ in 0..200_000 {
+            let v = (ln_median + beta * normal(&mut rng)).exp();
+            if v > cut {
+                censored.push(cut);
+            } else {
+                reached.push(v);
+            }
+        }
+        let share = censored.len() as f64 / 200_000.0;
+        assert!((share - 0.1195).abs() < 0.005, "{share}");
+        let l = max_likelihood(&reached, &censored).unwrap();
+        assert!((l.median.ln() - ln_median).abs() < 5e-3, "{l:?}");
+        assert!((l.beta - beta).abs() < 5e-3, "{l:?}");
+        let naive = max_likelihood(&reached, &[]).unwrap();
+        assert!(naive.median.ln() < ln_median - 0.05);
+    }
+
+    /// The fractile method by hand on five values (type 7: the 16 % point
+    /// at h = 1.64, the 84 % at 4.36), and +∞ beyond 84 % gives none.
+    #[test]
+    fn fractile_method_by_hand() {
+        let x = [1.0, 2.0, 4.0, 8.0, 16.0];
+        let l = fractile_method(&x, FractileDef::Type7).unwrap();
+        let q16: f64 = 1.0 + 0.64 * 1.0;
+        let q84 = 8.0 + 0.36 * 8.0;
+        assert!((l.median - 4.0).abs() < 1e-15);
+        assert!((l.beta - 0.5 * (q84 / q16).ln()).abs() < 1e-15);
+        let inf = f64::INFINITY;
+        assert!(fractile_method(&[1.0, 2.0, 4.0, inf, inf], FractileDef::Type7).is_none());
+        assert!((l.cdf(4.0) - 0.5).abs() < 1e-15);
+    }
+
+    #[test]
+    fn the_inverse_mills_ratio_is_continuous_into_the_tail() {
+        // Exact values: λ(0) = 2φ(0) = 0.7978845608; λ(3) = 3.2830987.
+        assert!((inverse_mills(0.0) - 0.797_884_560_802_865_4).abs() < 1e-12);
+        assert!((inverse_mills(3.0) - 3.283_098_654_930_434).abs() < 1e-9);
+        let (a, b) = (inverse_mills(37.0), inverse_mills(40.0));
+        assert!((a - (37.0 + 1.0 / 37.0)).abs() < 1e-3 && b > a);
+    }
+}
