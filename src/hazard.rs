@@ -87,6 +87,13 @@ pub fn parse(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
 
 /// The value of `key=…` (or `key = …`) in OpenQuake's metadata line,
 /// quotes stripped; `key` as a whole word.
+/// The `investigation_time` (years) of an OpenQuake hazard-curve file's
+/// metadata line; `None` for a plain CSV.
+pub fn investigation_time(text: &str) -> Option<f64> {
+    let meta = text.lines().next()?;
+    meta_value(meta, "investigation_time")?.parse().ok()
+}
+
 fn meta_value<'a>(line: &'a str, key: &str) -> Option<&'a str> {
     let word = |c: char| c.is_alphanumeric() || c == '_';
     let mut from = 0;

@@ -20,6 +20,7 @@
 //! - [`physics`]: the equations, integrators and events, no I/O;
 //! - [`ida`]: capacity of one record by incremental dynamic analysis, no I/O;
 //! - [`damage`]: limit states on the IDA curve, their capacities and lognormal fits, no I/O;
+//! - [`export`]: damage-state fragilities as OpenQuake NRML and pelicun CSV text, no I/O;
 //! - [`pulse`]: rectangular and exponential pulses, their closed-form walls
 //!   (paper Eqs. 3, 5, 6) and walls by simulation, no I/O;
 //! - [`pipeline`]: pipeline files (TOML text) → a typed plan, no I/O;
@@ -46,6 +47,7 @@ pub mod block;
 pub mod cluster;
 pub mod damage;
 pub mod decimal;
+pub mod export;
 pub mod figures;
 pub mod fit;
 pub mod fragility;

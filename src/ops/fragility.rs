@@ -93,6 +93,11 @@ pub struct Assessment {
 
 #[derive(Debug, thiserror::Error)]
 pub enum FragilityError {
+    #[error(
+        "damage state `{state}`: {from}'s regression knows only overturning; the other states \
+         come from the records' runs (--direct)"
+    )]
+    StatesNeedRecords { from: String, state: String },
     #[error("--auto-tol: {0}")]
     AutoTol(String),
     #[error("--b and --h must be positive (m); got b = {b}, h = {h}")]
@@ -502,7 +507,7 @@ impl DirectRecords {
     /// The records' IMs, from their forcing normalised to a PGA of 1 g:
     /// the ratios IM/PGA^power that convert a capacity are those of the
     /// record as recorded.
-    fn ims(&self) -> &[RecordIms] {
+    pub fn ims(&self) -> &[RecordIms] {
         self.ims.get_or_init(|| {
             self.records
                 .par_iter()
@@ -531,6 +536,17 @@ impl DirectRecords {
         block: &Block,
         auto_tol: f64,
     ) -> Result<(Vec<f64>, String), FragilityError> {
+        let (runs, why) = self.runs(block, auto_tol)?;
+        Ok((runs.iter().map(|c| c.eta_c.unwrap_or(0.0)).collect(), why))
+    }
+
+    /// The block's certified search under every record, its runs included,
+    /// in the records' order, and why the model it used.
+    pub fn runs(
+        &self,
+        block: &Block,
+        auto_tol: f64,
+    ) -> Result<(Vec<ida::Capacity>, String), FragilityError> {
         let (model, why) = ModelChoice::Auto
             .resolve(Some(block.alpha()), crate::physics::DEFAULT_RTOL, auto_tol)
             .map_err(FragilityError::Model)?;
@@ -544,9 +560,9 @@ impl DirectRecords {
                     record: id.clone(),
                     source,
                 })?;
-                Ok(c.capacity.eta_c.unwrap_or(0.0))
+                Ok(c.capacity)
             })
-            .collect::<Result<Vec<f64>, FragilityError>>()
+            .collect::<Result<Vec<_>, FragilityError>>()
             .map(|c| (c, why))
     }
 }

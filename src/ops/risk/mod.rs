@@ -511,7 +511,7 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
 
 /// The hazard's IM, the same at every site, and the fragility's when it is
 /// asked for: they must agree.
-fn hazard_im(
+pub fn hazard_im(
     path: &Path,
     sites: &[(usize, HazardCurve)],
     asked: Option<Im>,

@@ -9,6 +9,7 @@ use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 mod args;
 mod bench;
 mod capacity;
+mod export;
 mod fragility;
 mod ims;
 mod ingest;
@@ -47,6 +48,7 @@ enum Command {
     Bench(bench::Args),
     Fragility(fragility::Args),
     Risk(risk::Args),
+    Export(export::Args),
     Run(run::Args),
     Status(status::Args),
     Submit(submit::Args),
@@ -62,6 +64,7 @@ fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Bench(a) => bench::run(a),
         Command::Fragility(a) => fragility::run(a),
         Command::Risk(a) => risk::run(a),
+        Command::Export(a) => export::run(a),
         Command::Run(a) => run::run(a),
         Command::Status(a) => status::run(a),
         Command::Submit(a) => submit::run(a),

@@ -1,0 +1,205 @@
+//! `rocking export`: damage-state fragilities for OpenQuake or pelicun.
+
+use std::path::PathBuf;
+
+use clap::ValueEnum;
+use rocking::block::Restitution;
+use rocking::damage::{DamageStates, FitMethod};
+use rocking::im::level_text;
+use rocking::ops::export::{self, Format, Request};
+use rocking::ops::risk::Blocks;
+
+use super::args::{parse_restitution, LawArgs};
+
+/// Damage-state fragilities of a block (or an inventory) as OpenQuake NRML or pelicun CSV.
+#[derive(Debug, clap::Args)]
+#[command(
+    allow_negative_numbers = true,
+    long_about = "Damage-state fragilities of a block (or of every block of an inventory) in the \
+    formats of the loss and risk engines.\n\n\
+    --format nrml writes OpenQuake's NRML 0.5 fragility model (continuous, logncdf; one \
+    fragilityFunction per block, its taxonomy the block's name; OpenQuake's mean and stddev are \
+    those of the IML: mean = θ·exp(β²/2), stddev = mean·√(exp(β²) − 1)) and, with --hazard (an \
+    OpenQuake hazard-curve CSV), an exposure placing one of each block at each of its sites and a \
+    job.ini for classical_damage: `oq engine --run job.ini` in --out.\n\n\
+    --format pelicun writes pelicun's fragility CSV (one component per block; LSk-Theta_0 the \
+    median, LSk-Theta_1 β) and its metadata JSON.\n\n\
+    The states (--states, default rocking=0.1,large_rocking=0.5,overturned=overturned: θmax/α \
+    thresholds, then overturning) come from the block's runs under the records (--direct), each \
+    record's capacity the first crossing as intensity rises; the lognormal by the paper's \
+    fractiles (--method fractile) or censored maximum likelihood (--method mle). Without \
+    --direct, the regression (the paper's or --from PIPELINE.toml) gives overturning only."
+)]
+pub struct Args {
+    /// The engine: OpenQuake (nrml) or pelicun.
+    #[arg(long, value_enum)]
+    format: FormatArg,
+    /// Half-width of the block (m).
+    #[arg(
+        long,
+        value_name = "m",
+        required_unless_present = "inventory",
+        conflicts_with = "inventory"
+    )]
+    b: Option<f64>,
+    /// Half-height of the block (m).
+    #[arg(
+        long,
+        value_name = "m",
+        required_unless_present = "inventory",
+        conflicts_with = "inventory"
+    )]
+    h: Option<f64>,
+    /// Coefficient of restitution, or `housner` for 1 − 1.5 sin²α.
+    #[arg(long, default_value = "housner", value_parser = parse_restitution, conflicts_with = "inventory")]
+    eps: Restitution,
+    /// A CSV of blocks `name,b,h[,eps]` (m); a name's spaces become `_` in its taxonomy.
+    #[arg(long, value_name = "BLOCKS.csv")]
+    inventory: Option<PathBuf>,
+    #[command(flatten)]
+    law: LawArgs,
+    /// Use the block's own runs under the records: every damage state.
+    #[arg(long)]
+    direct: bool,
+    /// The limit states, lightest first: NAME=X (θmax/α ≥ X) or NAME=overturned.
+    #[arg(long, default_value = rocking::damage::DEFAULT, value_parser = parse_states)]
+    states: DamageStates,
+    /// The lognormal's fit: the paper's 16/50/84 % fractiles, or censored maximum likelihood.
+    #[arg(long, value_enum, default_value = "fractile")]
+    method: MethodArg,
+    /// The IM [default: the hazard's, or PGA].
+    #[arg(long, value_parser = super::fragility::parse_im)]
+    im: Option<rocking::im::Im>,
+    /// OpenQuake hazard curves (nrml): the exposure's sites and the job's hazard.
+    #[arg(long, value_name = "FILE.csv")]
+    hazard: Option<PathBuf>,
+    /// The job's risk investigation time (years).
+    #[arg(long, default_value_t = 50.0)]
+    years: f64,
+    /// The linearised model's accepted error in η_c (--direct picks the model by it).
+    #[arg(long, default_value_t = 0.01)]
+    auto_tol: f64,
+    /// The folder to write (created if needed).
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Print the fragilities as JSON (an array, one object per block).
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum FormatArg {
+    Nrml,
+    Pelicun,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum MethodArg {
+    Fractile,
+    Mle,
+}
+
+fn parse_states(text: &str) -> Result<DamageStates, String> {
+    DamageStates::parse(text).map_err(|e| e.to_string())
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let blocks = match (&args.inventory, args.b, args.h) {
+        (Some(path), _, _) => Blocks::Inventory(path.clone()),
+        (None, Some(b_m), Some(h_m)) => Blocks::One {
+            b_m,
+            h_m,
+            eps: args.eps,
+        },
+        _ => unreachable!("clap requires --b and --h without --inventory"),
+    };
+    let (states, asked_states) = if args.direct {
+        (args.states.clone(), true)
+    } else {
+        // A regression knows overturning only: without --direct the
+        // default is that state alone, and any other is refused by name.
+        let only_overturning = args.states == DamageStates::default();
+        if only_overturning {
+            (DamageStates::parse("overturned=overturned")?, false)
+        } else {
+            (args.states.clone(), true)
+        }
+    };
+    let req = Request {
+        format: match args.format {
+            FormatArg::Nrml => Format::Nrml,
+            FormatArg::Pelicun => Format::Pelicun,
+        },
+        blocks,
+        from: args.law.source(),
+        direct: args.direct,
+        states,
+        method: match args.method {
+            MethodArg::Fractile => FitMethod::Fractile,
+            MethodArg::Mle => FitMethod::MaxLikelihood,
+        },
+        im: args.im,
+        hazard: args.hazard.clone(),
+        years: args.years,
+        auto_tol: args.auto_tol,
+        out: args.out.clone(),
+    };
+    let written = export::export(&req)?;
+    for (b, f) in &written.blocks {
+        for w in &f.warnings {
+            eprintln!("warning: block {}: {w}", b.name);
+        }
+    }
+    if args.json {
+        let all: Vec<_> = written.blocks.iter().map(|(_, f)| f).collect();
+        println!("{}", serde_json::to_string(&all)?);
+        return Ok(());
+    }
+    if !asked_states {
+        eprintln!(
+            "note: the regression gives overturning only; --direct runs the records for every damage state"
+        );
+    }
+    for (b, f) in &written.blocks {
+        println!(
+            "{} (half-width {} m, half-height {} m): {} from {}{}",
+            b.name,
+            b.b_m,
+            b.h_m,
+            f.im.to_uppercase(),
+            f.source,
+            f.records
+                .map_or(String::new(), |n| format!(", {n} records"))
+        );
+        println!(
+            "  {:<16} {:<16} {:>22} {:>22} {:>8}",
+            "state",
+            "criterion",
+            format!("fractile median, β"),
+            format!("mle median, β"),
+            "reached"
+        );
+        for s in &f.states {
+            let show = |l: Option<rocking::damage::Lognormal>| {
+                l.map_or("—".to_string(), |l| {
+                    format!("{} {}, {:.3}", level_text(l.median), f.unit, l.beta)
+                })
+            };
+            println!(
+                "  {:<16} {:<16} {:>22} {:>22} {:>8}",
+                s.name,
+                s.criterion,
+                show(s.fractile),
+                show(s.mle),
+                s.reached.map_or("—".to_string(), |r| format!(
+                    "{r}/{}",
+                    f.records.unwrap_or(0)
+                ))
+            );
+        }
+    }
+    for f in &written.files {
+        println!("wrote {}", f.display());
+    }
+    Ok(())
+}

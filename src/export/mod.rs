@@ -1,0 +1,94 @@
+//! Damage-state fragilities in the formats of the loss and risk engines
+//! (pure text, no I/O; README "Into OpenQuake and pelicun"):
+//!
+//! - `nrml`: OpenQuake's NRML 0.5 `fragilityModel` (continuous, logncdf),
+//!   an exposure model and a `job.ini` for `classical_damage`;
+//! - `pelicun`: pelicun's fragility CSV and its metadata JSON.
+
+pub mod nrml;
+pub mod pelicun;
+
+use crate::damage::Lognormal;
+use crate::im::Im;
+
+/// One block's fragility function: its taxonomy and a lognormal per state.
+#[derive(Debug, Clone)]
+pub struct Entry {
+    /// The taxonomy (block name): letters, digits, `_`, `-`, `.`.
+    pub id: String,
+    /// The block in words (half-dimensions, α, p, ε, the source).
+    pub description: String,
+    /// The IM below which the block cannot move (its uplift level), if one
+    /// is known in the IM.
+    pub no_damage_limit: Option<f64>,
+    /// A lognormal for each of the model's limit states, in their order.
+    pub states: Vec<Lognormal>,
+}
+
+/// A site of the exposure.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Site {
+    pub lon: f64,
+    pub lat: f64,
+}
+
+/// What the engines cannot take.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ExportError {
+    #[error("{format} has no IM for {im}; export in PGA, PGV, SA(T) or AvgSA")]
+    Im { format: &'static str, im: String },
+    #[error(
+        "taxonomy `{0}`: use letters, digits, `_`, `-` and `.` only (the block's name is its \
+         taxonomy in the engines)"
+    )]
+    Taxonomy(String),
+    #[error("taxonomy `{0}` is given twice")]
+    Repeated(String),
+    #[error("nothing to export")]
+    Empty,
+}
+
+/// Refuses taxonomies the engines would misread, and repeats.
+pub fn check_entries(entries: &[Entry]) -> Result<(), ExportError> {
+    if entries.is_empty() {
+        return Err(ExportError::Empty);
+    }
+    for (k, e) in entries.iter().enumerate() {
+        let ok = |c: char| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.');
+        if e.id.is_empty() || !e.id.chars().all(ok) {
+            return Err(ExportError::Taxonomy(e.id.clone()));
+        }
+        if entries[..k].iter().any(|o| o.id == e.id) {
+            return Err(ExportError::Repeated(e.id.clone()));
+        }
+    }
+    Ok(())
+}
+
+/// The range of IMLs a fragility function spans: from the smallest
+/// state's median·e^(−4β) to the largest one's median·e^(4β), where
+/// P(state) is below 3.2e-5 and above 1 − 3.2e-5.
+pub fn iml_range(entry: &Entry) -> (f64, f64) {
+    let lo = entry
+        .states
+        .iter()
+        .map(|l| l.median * (-4.0 * l.beta).exp())
+        .fold(f64::INFINITY, f64::min);
+    let hi = entry
+        .states
+        .iter()
+        .map(|l| l.median * (4.0 * l.beta).exp())
+        .fold(0.0, f64::max);
+    (lo, hi)
+}
+
+/// OpenQuake's name of the IM.
+pub fn openquake_imt(im: Im) -> Result<String, ExportError> {
+    match im {
+        Im::Pga | Im::Pgv | Im::Sa(_) | Im::AvgSa => Ok(im.openquake().expect("a known IMT")),
+        _ => Err(ExportError::Im {
+            format: "OpenQuake",
+            im: im.name(),
+        }),
+    }
+}

@@ -1,0 +1,124 @@
+//! pelicun's fragility CSV (one row per component: its demand, then
+//! `LSk-Family`, `LSk-Theta_0` (the median), `LSk-Theta_1` (β) per limit
+//! state, lognormal) and the metadata JSON beside it (descriptions of each
+//! component and damage state), as pelicun 3.10's damage model reads them.
+
+use std::fmt::Write;
+
+use serde_json::{json, Map, Value};
+
+use super::{Entry, ExportError};
+use crate::im::{period_text, Im};
+
+pub const CSV_FILE: &str = "fragility.csv";
+pub const JSON_FILE: &str = "fragility.json";
+
+/// pelicun's demand type and unit for the IM: its demand vocabulary
+/// (`pelicun.base.EDP_TYPES`) and unit names (`settings/default_units.json`).
+pub fn demand(im: Im) -> Result<(String, &'static str), ExportError> {
+    match im {
+        Im::Pga => Ok(("Peak Ground Acceleration".into(), "g")),
+        Im::Pgv => Ok(("Peak Ground Velocity".into(), "cmps")),
+        Im::Sa(t) => Ok((format!("Spectral Acceleration|{}", period_text(t)), "g")),
+        _ => Err(ExportError::Im {
+            format: "pelicun",
+            im: im.name(),
+        }),
+    }
+}
+
+/// The CSV: one component per block, one limit state per damage state.
+pub fn fragility_csv(entries: &[Entry], n_states: usize, im: Im) -> Result<String, ExportError> {
+    super::check_entries(entries)?;
+    let (demand, unit) = demand(im)?;
+    let mut x =
+        String::from("ID,Incomplete,Demand-Type,Demand-Unit,Demand-Offset,Demand-Directional");
+    for k in 1..=n_states {
+        let _ = write!(
+            x,
+            ",LS{k}-Family,LS{k}-Theta_0,LS{k}-Theta_1,LS{k}-DamageStateWeights"
+        );
+    }
+    x.push('\n');
+    for e in entries {
+        let _ = write!(x, "{},0,{demand},{unit},0,0", e.id);
+        for l in &e.states {
+            let _ = write!(x, ",lognormal,{:e},{:e},", l.median, l.beta);
+        }
+        x.push('\n');
+    }
+    Ok(x)
+}
+
+/// The metadata: each component described, and its damage states named.
+pub fn metadata_json(
+    entries: &[Entry],
+    limit_states: &[(String, String)],
+    description: &str,
+) -> Result<String, ExportError> {
+    super::check_entries(entries)?;
+    let mut root = Map::new();
+    root.insert(
+        "_GeneralInformation".into(),
+        json!({
+            "ShortName": "rocking blocks",
+            "Description": description,
+            "Version": env!("CARGO_PKG_VERSION"),
+        }),
+    );
+    for e in entries {
+        let mut states = Map::new();
+        for (k, (name, criterion)) in limit_states.iter().enumerate() {
+            states.insert(
+                format!("LS{}", k + 1),
+                json!({ format!("DS{}", k + 1): { "Description": format!("{name}: {criterion}") } }),
+            );
+        }
+        root.insert(
+            e.id.clone(),
+            json!({
+                "Description": e.description,
+                "SuggestedComponentBlockSize": "1 EA",
+                "RoundUpToIntegerQuantity": "True",
+                "LimitStates": Value::Object(states),
+            }),
+        );
+    }
+    Ok(serde_json::to_string_pretty(&Value::Object(root)).expect("JSON of strings") + "\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::damage::Lognormal;
+
+    #[test]
+    fn one_row_per_block_with_median_and_beta_per_state() {
+        let e = Entry {
+            id: "statue".into(),
+            description: "a statue".into(),
+            no_damage_limit: None,
+            states: vec![
+                Lognormal {
+                    median: 0.25,
+                    beta: 0.4,
+                },
+                Lognormal {
+                    median: 0.5,
+                    beta: 0.3,
+                },
+            ],
+        };
+        let csv = fragility_csv(std::slice::from_ref(&e), 2, Im::Pga).unwrap();
+        let lines: Vec<&str> = csv.lines().collect();
+        assert_eq!(lines[0].split(',').count(), 6 + 2 * 4);
+        assert_eq!(
+            lines[1],
+            "statue,0,Peak Ground Acceleration,g,0,0,lognormal,2.5e-1,4e-1,,lognormal,5e-1,3e-1,"
+        );
+        assert!(fragility_csv(std::slice::from_ref(&e), 2, Im::Sa(1.0))
+            .unwrap()
+            .contains("Spectral Acceleration|1.0,g"));
+        assert!(fragility_csv(&[e], 2, Im::AvgSa).is_err());
+    }
+}

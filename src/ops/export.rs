@@ -1,0 +1,336 @@
+//! `rocking export`: a block's (or an inventory's) damage-state fragilities
+//! written for OpenQuake (NRML, with an exposure and a `classical_damage`
+//! job on a hazard file's sites) or pelicun (fragility CSV and metadata).
+
+use std::path::{Path, PathBuf};
+
+use super::damage::{self, DamageFragility};
+use super::fragility::{self, DirectRecords, FragilityError, Source};
+use super::risk::{self, Blocks, InventoryBlock, RiskError};
+use crate::block::Block;
+use crate::damage::{DamageStates, FitMethod};
+use crate::export::{nrml, pelicun, Entry, ExportError, Site};
+use crate::im::Im;
+use crate::stats::FractileDef;
+use crate::tables::{atomic_write, TableError};
+
+/// The engine to write for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    Nrml,
+    Pelicun,
+}
+
+#[derive(Debug, Clone)]
+pub struct Request {
+    pub format: Format,
+    pub blocks: Blocks,
+    pub from: Source,
+    pub direct: bool,
+    pub states: DamageStates,
+    pub method: FitMethod,
+    /// The IM; with `--hazard` it must be the hazard's (the default).
+    pub im: Option<Im>,
+    /// OpenQuake hazard curves: their sites make the exposure, and the job
+    /// runs on them (NRML only).
+    pub hazard: Option<PathBuf>,
+    /// The risk investigation time of the job (years).
+    pub years: f64,
+    pub auto_tol: f64,
+    pub out: PathBuf,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum ExportOpError {
+    #[error(transparent)]
+    Risk(#[from] RiskError),
+    #[error("block {name}")]
+    Block {
+        name: String,
+        #[source]
+        source: FragilityError,
+    },
+    #[error(transparent)]
+    Fragility(#[from] FragilityError),
+    #[error(transparent)]
+    Format(#[from] ExportError),
+    #[error(
+        "block {block}, state `{state}`: the {method} fit has no lognormal ({why}); try --method \
+         {other}, or fewer states"
+    )]
+    NoFit {
+        block: String,
+        state: String,
+        method: &'static str,
+        other: &'static str,
+        why: &'static str,
+    },
+    #[error(
+        "--hazard {}: OpenQuake's job needs its hazard-curve CSV with sites (lon, lat) and an \
+         investigation_time; a plain `<im>,annual_rate` file has neither",
+        .0.display()
+    )]
+    PlainHazard(PathBuf),
+    #[error("--hazard is for --format nrml (the job's sites); pelicun takes demands, not hazard")]
+    HazardForPelicun,
+    #[error("--out {}: {why}", path.display())]
+    Out { path: PathBuf, why: String },
+    #[error(transparent)]
+    Write(#[from] TableError),
+}
+
+/// What was written, and the fragilities behind it.
+#[derive(Debug)]
+pub struct Written {
+    pub files: Vec<PathBuf>,
+    pub blocks: Vec<(InventoryBlock, DamageFragility)>,
+}
+
+/// Computes every block's fragilities and writes the engine's files.
+pub fn export(req: &Request) -> Result<Written, ExportOpError> {
+    crate::physics::check_auto_tol(req.auto_tol).map_err(FragilityError::AutoTol)?;
+    let hazard = match (&req.hazard, req.format) {
+        (Some(_), Format::Pelicun) => return Err(ExportOpError::HazardForPelicun),
+        (Some(path), Format::Nrml) => Some(read_sites(path, req.im)?),
+        (None, _) => None,
+    };
+    let im = hazard.as_ref().map_or(req.im.unwrap_or(Im::Pga), |h| h.im);
+    check_out(&req.out, req)?;
+    let entries = match &req.blocks {
+        Blocks::One { b_m, h_m, eps } => vec![InventoryBlock {
+            name: format!("b{b_m}_h{h_m}"),
+            b_m: *b_m,
+            h_m: *h_m,
+            eps: *eps,
+            line: 0,
+        }],
+        Blocks::Inventory(path) => risk::read_inventory(path)?,
+    };
+    let laws = fragility::laws(&req.from)?;
+    let records = if req.direct {
+        Some(DirectRecords::load(&req.from, laws.plan.as_ref())?)
+    } else {
+        None
+    };
+    let mut blocks = Vec::with_capacity(entries.len());
+    let mut export = Vec::with_capacity(entries.len());
+    for e in entries {
+        let in_block = |source| ExportOpError::Block {
+            name: e.name.clone(),
+            source,
+        };
+        let block = fragility::block(e.b_m, e.h_m, e.eps).map_err(in_block)?;
+        let f = damage::of_block(
+            &block,
+            &req.states,
+            im,
+            &laws,
+            records.as_ref(),
+            FractileDef::Type7,
+            req.auto_tol,
+        )
+        .map_err(in_block)?;
+        export.push(entry(&e, &block, &f, req.method, im)?);
+        blocks.push((e, f));
+    }
+    let source = blocks.first().map_or("", |(_, f)| f.source.as_str());
+    let files = write_files(req, hazard.as_ref(), &export, im, source)?;
+    Ok(Written { files, blocks })
+}
+
+/// Writes the engine's files into `req.out`, and says which.
+fn write_files(
+    req: &Request,
+    hazard: Option<&HazardSites>,
+    export: &[Entry],
+    im: Im,
+    source: &str,
+) -> Result<Vec<PathBuf>, ExportOpError> {
+    let names: Vec<String> = req.states.states().iter().map(|s| s.name.clone()).collect();
+    let description = format!(
+        "Damage states of free-standing rigid blocks ({}), {} fit, from {} (rocking {})",
+        req.states
+            .states()
+            .iter()
+            .map(|s| format!("{}: {}", s.name, s.describe()))
+            .collect::<Vec<_>>()
+            .join("; "),
+        req.method.name(),
+        source,
+        env!("CARGO_PKG_VERSION")
+    );
+    std::fs::create_dir_all(&req.out).map_err(|e| ExportOpError::Out {
+        path: req.out.clone(),
+        why: e.to_string(),
+    })?;
+    let mut files = Vec::new();
+    let mut put = |name: &str, text: &str| -> Result<(), ExportOpError> {
+        let path = req.out.join(name);
+        atomic_write(&path, text.as_bytes())?;
+        files.push(path);
+        Ok(())
+    };
+    match req.format {
+        Format::Nrml => {
+            put(
+                nrml::FRAGILITY_FILE,
+                &nrml::fragility_model(export, &names, im, &description)?,
+            )?;
+            if let Some(h) = hazard {
+                let (xml, csv) = nrml::exposure_model(export, &h.sites)?;
+                put(nrml::EXPOSURE_FILE, &xml)?;
+                put(nrml::ASSETS_FILE, &csv)?;
+                put(nrml::HAZARD_FILE, &h.text)?;
+                put(
+                    nrml::JOB_FILE,
+                    &nrml::job_ini(req.years, h.investigation_time),
+                )?;
+            }
+        }
+        Format::Pelicun => {
+            let states: Vec<(String, String)> = req
+                .states
+                .states()
+                .iter()
+                .map(|s| (s.name.clone(), s.describe()))
+                .collect();
+            put(
+                pelicun::CSV_FILE,
+                &pelicun::fragility_csv(export, names.len(), im)?,
+            )?;
+            put(
+                pelicun::JSON_FILE,
+                &pelicun::metadata_json(export, &states, &description)?,
+            )?;
+        }
+    }
+    Ok(files)
+}
+
+/// The block's entry: its states' lognormals by `method`.
+fn entry(
+    e: &InventoryBlock,
+    block: &Block,
+    f: &DamageFragility,
+    method: FitMethod,
+    im: Im,
+) -> Result<Entry, ExportOpError> {
+    let states = f
+        .states
+        .iter()
+        .map(|s| {
+            s.by(method).ok_or_else(|| ExportOpError::NoFit {
+                block: e.name.clone(),
+                state: s.name.clone(),
+                method: method.name(),
+                other: match method {
+                    FitMethod::Fractile => FitMethod::MaxLikelihood.name(),
+                    FitMethod::MaxLikelihood => FitMethod::Fractile.name(),
+                },
+                why: match (method, f.source.as_str()) {
+                    (FitMethod::MaxLikelihood, s) if s != "direct" => {
+                        "a regression has no likelihood fit; use --direct"
+                    }
+                    (FitMethod::Fractile, _) => {
+                        "more than 16 % of the records never reach the state"
+                    }
+                    _ => "fewer than two records reach the state",
+                },
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(Entry {
+        id: taxonomy(&e.name),
+        description: format!(
+            "{}: half-width {} m, half-height {} m, α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}",
+            e.name,
+            e.b_m,
+            e.h_m,
+            block.alpha(),
+            block.p(),
+            block.eps
+        ),
+        // The block cannot uplift below PGA = g·tan α.
+        no_damage_limit: (im == Im::Pga).then(|| block.alpha().tan()),
+        states,
+    })
+}
+
+/// The block's name as a taxonomy the engines read as one key: every
+/// character but letters, digits, `_`, `-` and `.` becomes `_`.
+pub fn taxonomy(name: &str) -> String {
+    name.trim()
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// An OpenQuake hazard file: its text, IM, sites and investigation time.
+struct HazardSites {
+    text: String,
+    im: Im,
+    sites: Vec<Site>,
+    investigation_time: f64,
+}
+
+fn read_sites(path: &Path, asked: Option<Im>) -> Result<HazardSites, ExportOpError> {
+    let curves = risk::read_hazard(path, None)?;
+    let im = risk::hazard_im(path, &curves, asked)?;
+    let text = std::fs::read_to_string(path).map_err(|source| RiskError::Read {
+        path: path.into(),
+        source,
+    })?;
+    let investigation_time = crate::hazard::investigation_time(&text)
+        .ok_or_else(|| ExportOpError::PlainHazard(path.into()))?;
+    let sites = curves
+        .iter()
+        .map(|(_, c)| match (c.lon, c.lat) {
+            (Some(lon), Some(lat)) => Ok(Site { lon, lat }),
+            _ => Err(ExportOpError::PlainHazard(path.into())),
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(HazardSites {
+        text,
+        im,
+        sites,
+        investigation_time,
+    })
+}
+
+/// `--out` is a folder that holds none of the command's inputs.
+fn check_out(out: &Path, req: &Request) -> Result<(), ExportOpError> {
+    if out.is_file() {
+        return Err(ExportOpError::Out {
+            path: out.into(),
+            why: "a file, not a folder".into(),
+        });
+    }
+    let resolved = |p: &Path| std::fs::canonicalize(p).ok();
+    let inputs: Vec<&Path> = [req.hazard.as_deref()]
+        .into_iter()
+        .chain([match &req.blocks {
+            Blocks::Inventory(p) => Some(p.as_path()),
+            Blocks::One { .. } => None,
+        }])
+        .flatten()
+        .collect();
+    for input in inputs {
+        let dir = resolved(input).and_then(|p| p.parent().map(Path::to_path_buf));
+        if dir.is_some() && dir == resolved(out) {
+            return Err(ExportOpError::Out {
+                path: out.into(),
+                why: format!(
+                    "it holds {}, an input of this command; write the export to a folder of its own",
+                    input.display()
+                ),
+            });
+        }
+    }
+    Ok(())
+}
