@@ -7,6 +7,9 @@
 //!   stepper's verdicts under a one-ulp change of the record.
 //! - `cli`: `simulate` and `capacity` through the binary: JSON, history
 //!   files, the definitions of η_c, bad input.
+//! - `engines`: `rocking export` read by OpenQuake (classical_damage against
+//!   `rocking risk` and its own formula) and pelicun (damage shares against
+//!   the stated lognormals) (ROCKING_ENGINES=venv; CI makes one).
 //! - `example`: `[example]`, the report's Fig. 5 block run off the grid:
 //!   capacities against direct calls, fractiles by hand, the same block on
 //!   the grid against the sweep, reruns, refusals.
@@ -44,6 +47,7 @@
 
 mod certify;
 mod cli;
+mod engines;
 mod example;
 mod faults;
 mod html;

@@ -56,6 +56,20 @@ impl Lognormal {
     }
 }
 
+/// Where the curve of a heavier state `b` rises above that of the lighter
+/// state `a` (fitted lognormals of unequal β always cross once): the IML
+/// and the probability there, when that probability lies within
+/// [1e-3, 1 − 1e-3], where an engine's damage-state shares feel it.
+pub fn crossing(a: &Lognormal, b: &Lognormal) -> Option<(f64, f64)> {
+    if a.beta == b.beta {
+        return None;
+    }
+    let ln_x = (b.beta * a.median.ln() - a.beta * b.median.ln()) / (b.beta - a.beta);
+    let x = ln_x.exp();
+    let p = a.cdf(x);
+    (1e-3..=1.0 - 1e-3).contains(&p).then_some((x, p))
+}
+
 /// The fractile method on capacities (+∞ for a record that never reaches
 /// the state). `None` when the 84 % fractile is +∞ (more records never
 /// reach it than the fractile allows) or a fractile is not positive.
@@ -189,6 +203,31 @@ mod tests {
         let inf = f64::INFINITY;
         assert!(fractile_method(&[1.0, 2.0, 4.0, inf, inf], FractileDef::Type7).is_none());
         assert!((l.cdf(4.0) - 0.5).abs() < 1e-15);
+    }
+
+    /// Two curves crossing by hand: medians 1 and 2, β 0.2 and 0.6 meet
+    /// where ln x/0.2 = (ln x − ln 2)/0.6, ln x = −ln 2/2, P = Φ(−1.733).
+    #[test]
+    fn crossing_by_hand() {
+        let a = Lognormal {
+            median: 1.0,
+            beta: 0.2,
+        };
+        let b = Lognormal {
+            median: 2.0,
+            beta: 0.6,
+        };
+        let (x, p) = crossing(&a, &b).unwrap();
+        assert!((x - 0.5f64.sqrt()).abs() < 1e-15);
+        assert!((p - stats::normal_cdf(-0.5 * 2f64.ln() / 0.2)).abs() < 1e-15);
+        assert!((b.cdf(x) - p).abs() < 1e-12);
+        // Far apart: they cross where both are ~0.
+        let c = Lognormal {
+            median: 100.0,
+            beta: 0.21,
+        };
+        assert!(crossing(&a, &c).is_none());
+        assert!(crossing(&a, &a).is_none());
     }
 
     #[test]

@@ -15,7 +15,7 @@
 
 mod lognormal;
 
-pub use lognormal::{fractile_method, max_likelihood, FitMethod, Lognormal};
+pub use lognormal::{crossing, fractile_method, max_likelihood, FitMethod, Lognormal};
 
 use crate::ida::IdaPoint;
 

@@ -41,7 +41,10 @@ pub fn fragility_csv(entries: &[Entry], n_states: usize, im: Im) -> Result<Strin
     }
     x.push('\n');
     for e in entries {
-        let _ = write!(x, "{},0,{demand},{unit},0,0", e.id);
+        // Directional: the capacity is of one horizontal component, as the
+        // records are; 0 would make pelicun take the larger of two
+        // directions times its non-directional multiplier (1.2 by default).
+        let _ = write!(x, "{},0,{demand},{unit},0,1", e.id);
         for l in &e.states {
             let _ = write!(x, ",lognormal,{:e},{:e},", l.median, l.beta);
         }
@@ -114,7 +117,7 @@ mod tests {
         assert_eq!(lines[0].split(',').count(), 6 + 2 * 4);
         assert_eq!(
             lines[1],
-            "statue,0,Peak Ground Acceleration,g,0,0,lognormal,2.5e-1,4e-1,,lognormal,5e-1,3e-1,"
+            "statue,0,Peak Ground Acceleration,g,0,1,lognormal,2.5e-1,4e-1,,lognormal,5e-1,3e-1,"
         );
         assert!(fragility_csv(std::slice::from_ref(&e), 2, Im::Sa(1.0))
             .unwrap()

@@ -1,0 +1,515 @@
+//! `rocking export` proven against the real engines (`ROCKING_ENGINES`: a
+//! venv with OpenQuake engine 3.26 and pelicun 3.10, which `.ci/run`
+//! installs): OpenQuake's `classical_damage` on the exported NRML against
+//! `rocking risk` and against its own discrete formula, and pelicun's damage
+//! model on the exported CSV against the lognormals the export states.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use serde_json::Value;
+
+use crate::util::{rocking, root, stderr, stdout, tempdir};
+
+/// The engines' venv, or `None` (the test is skipped) when unset.
+fn engines() -> Option<PathBuf> {
+    let Ok(venv) = std::env::var("ROCKING_ENGINES") else {
+        eprintln!("skipped: set ROCKING_ENGINES to a venv with openquake.engine and pelicun (.ci/run makes one)");
+        return None;
+    };
+    let venv = PathBuf::from(venv);
+    assert!(
+        venv.join("bin/oq").exists(),
+        "ROCKING_ENGINES={} has no bin/oq",
+        venv.display()
+    );
+    Some(venv)
+}
+
+/// Φ, from statrs (as scipy's, which OpenQuake uses, accurate to ~1e-16).
+fn phi(x: f64) -> f64 {
+    use statrs::distribution::{ContinuousCDF, Normal};
+    Normal::standard().cdf(x)
+}
+
+/// A hazard-curve CSV in OpenQuake's layout: three sites, power laws
+/// λ(a) = k0·a^−k at 100 IMLs log-spaced over 0.25–5 g, poe in 50 years.
+/// Every IML lies above the uplift PGA (g·tan α ≤ 0.222 g) of the blocks
+/// tested, so OpenQuake's noDamageLimit never sets a probability to 0.
+fn hazard(path: &Path) -> (Vec<f64>, Vec<Vec<f64>>) {
+    let imls: Vec<f64> = (0..100)
+        .map(|i| 0.25 * 20f64.powf(i as f64 / 99.0))
+        .collect();
+    let sites = [
+        (21.73, 38.25, 1e-3, 2.2),
+        (23.73, 37.98, 4e-4, 2.6),
+        (22.0, 38.0, 2e-3, 3.0),
+    ];
+    let mut text = String::from(
+        "#,,,,\"generated_by='rocking tests', start_date='2026-01-01T00:00:00', checksum=0, kind='mean', investigation_time=50.0, imt='PGA'\"\nlon,lat,depth",
+    );
+    for a in &imls {
+        text.push_str(&format!(",poe-{a}"));
+    }
+    text.push('\n');
+    let mut poes = Vec::new();
+    for (lon, lat, k0, k) in sites {
+        let p: Vec<f64> = imls
+            .iter()
+            .map(|a| -(-50.0 * k0 * a.powf(-k)).exp_m1())
+            .collect();
+        text.push_str(&format!("{lon},{lat},0.0"));
+        for v in &p {
+            text.push_str(&format!(",{v:.9e}"));
+        }
+        text.push('\n');
+        poes.push(p);
+    }
+    fs::write(path, text).unwrap();
+    (imls, poes)
+}
+
+/// OpenQuake's classical_damage for one fragility curve F at the hazard's
+/// IMLs (openquake/risklib/scientific.py `classical_damage`, steps per
+/// interval 1): the rates of occurrence are differences of the padded
+/// midpoints of the rates of exceedance, P = 1 − exp(−T Σ rate·F).
+fn discrete(imls: &[f64], poes: &[f64], f: impl Fn(f64) -> f64, t_haz: f64, t: f64) -> f64 {
+    let afoe: Vec<f64> = poes.iter().map(|p| -(1.0 - p).ln() / t_haz).collect();
+    let n = afoe.len();
+    let mut padded = vec![afoe[0]];
+    padded.extend(&afoe);
+    padded.push(afoe[n - 1]);
+    let mids: Vec<f64> = padded.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect();
+    let fx: f64 = (0..n).map(|i| (mids[i] - mids[i + 1]) * f(imls[i])).sum();
+    -(-fx * t).exp_m1()
+}
+
+/// Runs the job in `dir` and reads the damage-state shares per asset.
+fn openquake(venv: &Path, dir: &Path) -> Vec<(String, Vec<f64>)> {
+    let data = dir.join("oqdata");
+    fs::create_dir_all(&data).unwrap();
+    let out = Command::new(venv.join("bin/oq"))
+        .args(["run", "job.ini", "--exports", "csv"])
+        .current_dir(dir)
+        .env("CI", "true")
+        .env("OQ_DISTRIBUTE", "no")
+        .env("NUMBA_DISABLE_JIT", "1")
+        .env("OQ_DATADIR", &data)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "oq run failed:\n{}\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| {
+            p.file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with("damages-rlz")
+        })
+        .expect("oq exported its damages");
+    let text = fs::read_to_string(csv).unwrap();
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let id = header.iter().position(|h| *h == "asset_id").unwrap();
+    let states: Vec<usize> = (0..header.len())
+        .filter(|&i| header[i].starts_with("structural-"))
+        .collect();
+    lines
+        .map(|l| {
+            let cells: Vec<&str> = l.split(',').collect();
+            let shares = states.iter().map(|&i| cells[i].parse().unwrap()).collect();
+            (cells[id].to_string(), shares)
+        })
+        .collect()
+}
+
+/// The lognormals an export states, per block: (median, β) per state.
+fn stated(json: &Value) -> Vec<Vec<(f64, f64)>> {
+    json.as_array()
+        .unwrap()
+        .iter()
+        .map(|b| {
+            b["states"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|s| {
+                    (
+                        s["fractile"]["median"].as_f64().unwrap(),
+                        s["fractile"]["beta"].as_f64().unwrap(),
+                    )
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// OpenQuake's probability of overturning within 50 years at three sites,
+/// from the exported paper regression, against `rocking risk`, which
+/// integrates the same lognormal exactly over the log-log interpolated
+/// curve (`--beyond stop`: OpenQuake ignores the rate beyond the last IML).
+/// OpenQuake's sum equals its discrete formula computed here to 2e-6
+/// relative (hazard poes read as float32), so the difference from `rocking
+/// risk` is that formula's discretisation alone: a midpoint rule in the
+/// rate, with half-bins at both ends, on a grid of Δ ln a = 0.030. Its
+/// error, of order Δ², is 0.05–0.08 % on these curves (measured); the
+/// tolerance is 0.5 %. A mean and stddev taken as the median and β would
+/// move OpenQuake's answer by several per cent.
+#[test]
+fn openquake_classical_damage_agrees_with_rocking_risk() {
+    let Some(venv) = engines() else { return };
+    let dir = tempdir();
+    let d = dir.path();
+    let (imls, poes) = hazard(&d.join("hazard.csv"));
+    let job = d.join("job");
+    let block = ["--b", "0.2", "--h", "0.9", "--eps", "0.85"];
+    let out = rocking(
+        d,
+        &[
+            &[
+                "export",
+                "--format",
+                "nrml",
+                "--hazard",
+                "hazard.csv",
+                "--out",
+                "job",
+                "--json",
+            ][..],
+            &block,
+        ]
+        .concat(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let states = stated(&serde_json::from_str(&stdout(&out)).unwrap());
+    let (median, beta) = states[0][0];
+    let risk = rocking(
+        d,
+        &[
+            &[
+                "risk",
+                "--hazard",
+                "hazard.csv",
+                "--beyond",
+                "stop",
+                "--json",
+            ][..],
+            &block,
+        ]
+        .concat(),
+    );
+    assert!(risk.status.success(), "{}", stderr(&risk));
+    let risk: Value = serde_json::from_str(&stdout(&risk)).unwrap();
+    assert!((risk["fragility"]["median"].as_f64().unwrap() - median).abs() < 1e-12);
+    let oq = openquake(&venv, &job);
+    assert_eq!(oq.len(), 3);
+    for (k, (id, shares)) in oq.iter().enumerate() {
+        assert_eq!(id, &format!("b0.2_h0.9_{k}"));
+        let p_oq = shares[1];
+        let f = |a: f64| phi((a / median).ln() / beta);
+        let p_discrete = discrete(&imls, &poes[k], f, 50.0, 50.0);
+        let p_risk = risk["sites"][k]["p_overturn_in_years"].as_f64().unwrap();
+        assert!(
+            (p_oq - p_discrete).abs() <= 2e-6 * p_discrete + 1e-9,
+            "site {k}: OpenQuake {p_oq} against its formula {p_discrete}"
+        );
+        assert!(
+            (p_oq - p_risk).abs() <= 0.005 * p_risk,
+            "site {k}: OpenQuake {p_oq} against rocking risk {p_risk}"
+        );
+        assert!((shares[0] + shares[1] - 1.0).abs() < 1e-6);
+    }
+}
+
+/// Every damage state of a block from its runs: OpenQuake's share of each
+/// state at each site equals the difference of its discrete formula for
+/// consecutive states (the lognormals the export prints), and the shares
+/// sum to 1.
+#[test]
+fn openquake_reads_every_damage_state() {
+    let Some(venv) = engines() else { return };
+    let dir = tempdir();
+    let d = dir.path();
+    let (imls, poes) = hazard(&d.join("hazard.csv"));
+    let out = rocking(
+        d,
+        &[
+            "export",
+            "--format",
+            "nrml",
+            "--hazard",
+            "hazard.csv",
+            "--out",
+            "job",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--direct",
+            "--records",
+        ]
+        .into_iter()
+        .chain([root().join("records/fema-p695/far-field").to_str().unwrap()])
+        .chain(["--json"])
+        .collect::<Vec<_>>(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let states = &stated(&serde_json::from_str(&stdout(&out)).unwrap())[0];
+    assert_eq!(states.len(), 3);
+    let oq = openquake(&venv, &d.join("job"));
+    for (k, (_, shares)) in oq.iter().enumerate() {
+        let exceed: Vec<f64> = states
+            .iter()
+            .map(|&(m, b)| discrete(&imls, &poes[k], |a| phi((a / m).ln() / b), 50.0, 50.0))
+            .collect();
+        let mut want = vec![1.0 - exceed[0]];
+        want.extend(exceed.windows(2).map(|w| w[0] - w[1]));
+        want.push(exceed[2]);
+        for (s, (got, want)) in shares.iter().zip(&want).enumerate() {
+            assert!(
+                (got - want).abs() <= 2e-6,
+                "site {k}, state {s}: OpenQuake {got} against {want}"
+            );
+        }
+        assert!((shares.iter().sum::<f64>() - 1.0).abs() < 1e-6);
+    }
+}
+
+/// pelicun's damage model on the exported CSV, 20,000 realisations at five
+/// PGAs: the share at or above each damage state against the stated
+/// lognormals. pelicun samples the states' capacities perfectly
+/// correlated and assigns the highest state exceeded, so the share at or
+/// above state k is the largest exceedance probability of the states from
+/// k up (equal to state k's own where the curves do not cross). Its
+/// sampling (Latin hypercube) errs by less than a binomial standard error,
+/// at most 0.0035 for 20,000 draws; the tolerance is 0.01. Overturning is
+/// also checked against `rocking fragility` for the paper regression.
+#[test]
+fn pelicun_damage_states_agree_with_the_fragility() {
+    let Some(venv) = engines() else { return };
+    let dir = tempdir();
+    let d = dir.path();
+    let pgas = ["0.2", "0.3", "0.45", "0.7", "1.2"];
+    let script = root().join("tests/engines/pelicun_damage.py");
+    let shares = |folder: &str, id: &str| -> Vec<Vec<f64>> {
+        let out = Command::new(venv.join("bin/python"))
+            .arg(&script)
+            .arg(d.join(folder).join("fragility.csv"))
+            .args([id, "20000"])
+            .args(pgas)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+        v["shares"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| {
+                r.as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|x| x.as_f64().unwrap())
+                    .collect()
+            })
+            .collect()
+    };
+    let at_or_above = |s: &[f64], k: usize| s[k..].iter().sum::<f64>();
+
+    // Every state, from the block's runs.
+    let records = root().join("records/fema-p695/far-field");
+    let out = rocking(
+        d,
+        &[
+            "export",
+            "--format",
+            "pelicun",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--direct",
+            "--records",
+            records.to_str().unwrap(),
+            "--out",
+            "direct",
+            "--json",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let states = &stated(&serde_json::from_str(&stdout(&out)).unwrap())[0];
+    let got = shares("direct", "b0.2_h0.9");
+    for (i, pga) in pgas.iter().enumerate() {
+        let a: f64 = pga.parse().unwrap();
+        let exceed: Vec<f64> = states.iter().map(|&(m, b)| phi((a / m).ln() / b)).collect();
+        for k in 0..3 {
+            let want = exceed[k..].iter().cloned().fold(0.0, f64::max);
+            let share = at_or_above(&got[i], k + 1);
+            assert!(
+                (share - want).abs() < 0.01,
+                "PGA {a} g, state {}: pelicun {share} against {want}",
+                k + 1
+            );
+        }
+    }
+
+    // Overturning from the paper's regression, against `rocking fragility`.
+    let out = rocking(
+        d,
+        &[
+            "export", "--format", "pelicun", "--b", "0.2", "--h", "0.9", "--eps", "0.85", "--out",
+            "paper",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let got = shares("paper", "b0.2_h0.9");
+    let frag = rocking(
+        d,
+        &[
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--eps",
+            "0.85",
+            "--pga",
+            &pgas.join(","),
+            "--json",
+        ],
+    );
+    let frag: Value = serde_json::from_str(&stdout(&frag)).unwrap();
+    for (i, point) in frag["points"].as_array().unwrap().iter().enumerate() {
+        let want = point["probability"].as_f64().unwrap();
+        assert!(
+            (got[i][1] - want).abs() < 0.01,
+            "PGA {}: pelicun {} against rocking fragility {want}",
+            pgas[i],
+            got[i][1]
+        );
+    }
+}
+
+/// The README's export example prints what the README shows, and writes
+/// the files it names.
+#[test]
+fn the_readmes_export_example_is_what_the_tool_prints() {
+    let readme = fs::read_to_string(root().join("README.md")).unwrap();
+    let command = "cargo run --release -- export --format nrml --b 0.2 --h 0.9 --direct --hazard records/hazard/synthetic-openquake.csv --out outputs/statue-nrml";
+    let at = readme.find(command).expect("the README shows the export");
+    let shown = readme[at..]
+        .split("```text\n")
+        .nth(1)
+        .and_then(|r| r.split("```").next())
+        .unwrap();
+    let dir = tempdir();
+    let out_dir = dir.path().join("statue-nrml");
+    let mut args: Vec<&str> = command
+        .trim_start_matches("cargo run --release -- ")
+        .split_whitespace()
+        .collect();
+    let n = args.len();
+    args[n - 1] = out_dir.to_str().unwrap();
+    let out = rocking(&root(), &args);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stdout(&out).starts_with(shown),
+        "update the README:\n{}",
+        stdout(&out)
+    );
+    for f in [
+        "fragility_model.xml",
+        "exposure_model.xml",
+        "assets.csv",
+        "hazard_curves.csv",
+        "job.ini",
+    ] {
+        assert!(out_dir.join(f).exists(), "{f}");
+    }
+}
+
+/// Refusals name what is wrong: states out of order, an IM the engine
+/// has no name for, states a regression cannot give, a plain hazard for
+/// OpenQuake's job, an output folder that holds an input; and a block
+/// outside the regression is warned about as `risk` does.
+#[test]
+fn export_refusals_name_what_is_wrong() {
+    let dir = tempdir();
+    let d = dir.path();
+    let fails = |args: &[&str], what: &str| {
+        let out = rocking(d, args);
+        assert!(!out.status.success(), "{args:?} succeeded");
+        assert!(stderr(&out).contains(what), "{args:?}: {}", stderr(&out));
+    };
+    let block = [
+        "export", "--b", "0.2", "--h", "0.9", "--eps", "0.85", "--out", "x",
+    ];
+    fails(
+        &[&block[..], &["--format", "nrml", "--states", "a=0.5,b=0.1"]].concat(),
+        "`b` (θmax/α ≥ 0.1) follows `a` (θmax/α ≥ 0.5)",
+    );
+    fails(
+        &[
+            &block[..],
+            &["--format", "pelicun", "--im", "avgsa", "--direct"],
+        ]
+        .concat(),
+        "pelicun has no IM for avgsa",
+    );
+    fails(
+        &[
+            &block[..],
+            &[
+                "--format",
+                "nrml",
+                "--states",
+                "light=0.2,overturned=overturned",
+            ],
+        ]
+        .concat(),
+        "damage state `light`: paper's regression knows only overturning",
+    );
+    fs::write(
+        d.join("plain.csv"),
+        "pga_g,annual_rate\n0.1,0.01\n0.2,0.001\n",
+    )
+    .unwrap();
+    fails(
+        &[&block[..], &["--format", "nrml", "--hazard", "plain.csv"]].concat(),
+        "a plain `<im>,annual_rate` file has neither",
+    );
+    fs::create_dir(d.join("in")).unwrap();
+    let oq = fs::read_to_string(root().join("records/hazard/synthetic-openquake.csv")).unwrap();
+    fs::write(d.join("in/h.csv"), oq).unwrap();
+    fails(
+        &[
+            "export", "--format", "nrml", "--b", "0.2", "--h", "0.9", "--hazard", "in/h.csv",
+            "--out", "in",
+        ],
+        "holds in/h.csv, an input of this command",
+    );
+    // Outside the regression (ε = 0.97): the warning `risk` gives.
+    let out = rocking(
+        d,
+        &[
+            "export", "--format", "nrml", "--b", "0.2", "--h", "0.9", "--eps", "0.97", "--out", "y",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("ε = 0.970 is outside the regression"),
+        "{}",
+        stderr(&out)
+    );
+}
