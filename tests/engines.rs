@@ -437,6 +437,16 @@ fn the_readmes_export_example_is_what_the_tool_prints() {
     ] {
         assert!(out_dir.join(f).exists(), "{f}");
     }
+    // And OpenQuake runs it as the README says (its TOML metadata reader
+    // once refused the bundled file's quoted apostrophe).
+    if let Some(venv) = engines() {
+        let oq = openquake(&venv, &out_dir);
+        assert_eq!(oq.len(), 3);
+        for (_, shares) in &oq {
+            assert_eq!(shares.len(), 4);
+            assert!((shares.iter().sum::<f64>() - 1.0).abs() < 1e-6);
+        }
+    }
 }
 
 /// Refusals name what is wrong: states out of order, an IM the engine
