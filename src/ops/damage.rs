@@ -82,7 +82,7 @@ fn from_regression(
             state: s.name.clone(),
         });
     }
-    let (lognormal, mut w) = if im == Im::Pga {
+    let (lognormal, w) = if im == Im::Pga {
         let (eta50, beta) = laws.median_beta(block)?;
         let l = Lognormal {
             median: block.alpha() / eta50,
@@ -101,7 +101,6 @@ fn from_regression(
             w,
         )
     };
-    w.dedup();
     Ok(DamageFragility {
         im: im.name(),
         unit: im.unit(),

@@ -120,7 +120,7 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
             source,
         };
         let block = fragility::block(e.b_m, e.h_m, e.eps).map_err(in_block)?;
-        let f = damage::of_block(
+        let mut f = damage::of_block(
             &block,
             &req.states,
             im,
@@ -131,7 +131,6 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
         )
         .map_err(in_block)?;
         let entry = entry(&e, &block, &f, req.method, im)?;
-        let mut f = f;
         f.warnings.extend(crossings(&req.states, &entry, f.unit));
         export.push(entry);
         blocks.push((e, f));
