@@ -5,6 +5,7 @@
 use crate::fragility::FractileLaw;
 use crate::pipeline::{BlockSpec, Plan, RecordsPlan};
 use crate::tables::convergence::ConvergenceRow;
+use crate::tables::damage::{DamageStateRow, StateCapacityRow};
 use crate::tables::fit::{BandCurve, FitBandRow, FitStep1Row};
 use crate::tables::reduce::{CapacityBandRow, CapacityFractileRow, HorizontalRow, LognormalRow};
 use crate::tables::sweep::{CapacityRow, IdaRow};
@@ -35,6 +36,8 @@ pub struct StudyData {
     pub example: Option<ExampleData>,
     /// Each block's capacity dispersion in every IM (the ims stage).
     pub efficiency: Vec<crate::tables::ims::EfficiencyRow>,
+    /// Every block's limit-state capacities and fits (the damage stage).
+    pub damage: DamageData,
     /// Seconds each stage took when it last ran, in run order.
     pub stage_seconds: Vec<(String, Option<f64>)>,
 }
@@ -48,6 +51,16 @@ pub struct ExampleData {
     pub caps: Vec<CapacityRow>,
     pub ida: Vec<IdaRow>,
     pub horizontal: Vec<HorizontalRow>,
+    /// Its limit-state capacities and fits.
+    pub damage: DamageData,
+}
+
+/// Limit-state capacities and their lognormals (`state_capacities`,
+/// `damage_states`), of some blocks.
+#[derive(Debug, Clone, Default)]
+pub struct DamageData {
+    pub states: Vec<DamageStateRow>,
+    pub capacities: Vec<StateCapacityRow>,
 }
 
 /// The fit's bootstrap bands and how the refits went.

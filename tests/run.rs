@@ -61,7 +61,7 @@ fn stages_rerun_only_when_something_they_read_changed() {
     let pipe = study(d, "0.9");
     let (out, log) = run(d, &pipe);
     assert!(
-        out.contains("ran ingest, sweep, reduce, ims, fit, report"),
+        out.contains("ran ingest, sweep, reduce, ims, damage, fit, report"),
         "{out}"
     );
     assert!(line(&log, "convergence").contains("not needed"), "{log}");
@@ -112,7 +112,10 @@ fn stages_rerun_only_when_something_they_read_changed() {
         line(&log, "reduce").contains("running: input capacities.parquet changed"),
         "{log}"
     );
-    assert!(out.contains("ran sweep, reduce, ims, fit, report"), "{out}");
+    assert!(
+        out.contains("ran sweep, reduce, ims, damage, fit, report"),
+        "{out}"
+    );
 
     // A missing and a corrupted fingerprint rerun their stage, saying why.
     let notes = d.join("out/mini/.fingerprints");
@@ -363,12 +366,12 @@ fn mini_study_snapshot() {
     data.version = "(version)".into();
     let figures = rocking::figures::all(&data);
     // Figs. 5–8, the 84 % regression (Fig. 11), the coefficients a, b, c and
-    // the fragility example, the two IM figures; no Fig. 9 (the Lilliefors test needs 5
+    // the fragility example, the damage states, the two IM figures; no Fig. 9 (the Lilliefors test needs 5
     // records, the mini study has 3), no Fig. 10 nor the 16 % regression
     // (too few converged step-1 fits of those fractiles for their b and c),
     // no convergence figures (no [convergence]), no bands (no [uncertainty]).
     let files: Vec<&str> = figures.iter().map(|f| f.file.as_str()).collect();
-    assert_eq!(files.len(), 11, "{files:?}");
+    assert_eq!(files.len(), 12, "{files:?}");
     assert!(files.contains(&"fig11_regression_q84.svg"), "{files:?}");
     assert!(!files.iter().any(|f| f.starts_with("fig09")
         || f.starts_with("fig10")

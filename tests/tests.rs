@@ -7,6 +7,9 @@
 //!   stepper's verdicts under a one-ulp change of the record.
 //! - `cli`: `simulate` and `capacity` through the binary: JSON, history
 //!   files, the definitions of η_c, bad input.
+//! - `damage`: the damage stage's state capacities against the runs, its
+//!   fits against the fractiles by hand and the likelihood's maximum; the
+//!   states of `fragility` and `risk` from a study; refusals and staleness.
 //! - `engines`: `rocking export` read by OpenQuake (classical_damage against
 //!   `rocking risk` and its own formula) and pelicun (damage shares against
 //!   the stated lognormals) (ROCKING_ENGINES=venv; CI makes one).
@@ -47,6 +50,7 @@
 
 mod certify;
 mod cli;
+mod damage;
 mod engines;
 mod example;
 mod faults;

@@ -39,6 +39,13 @@ impl FitMethod {
     }
 }
 
+impl crate::label::Label for FitMethod {
+    const ALL: &'static [Self] = &FitMethod::ALL;
+    fn label(self) -> &'static str {
+        self.name()
+    }
+}
+
 /// A lognormal capacity: median θ (in the IM's unit) and dispersion β.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Lognormal {

@@ -11,13 +11,14 @@
 //! - this file: the states ([`LimitState`], [`DamageStates`]) and a
 //!   record's capacities ([`capacities`]);
 //! - `lognormal`: a lognormal fitted to the records' capacities, by the
-//!   paper's fractiles or by maximum likelihood with censoring.
+//!   paper's fractiles or by maximum likelihood with censoring;
+//! - `fit`: every state's lognormals over a suite of records, in one IM.
 
+mod fit;
 mod lognormal;
 
+pub use fit::{fit_states, StateFit};
 pub use lognormal::{crossing, fractile_method, max_likelihood, FitMethod, Lognormal};
-
-use crate::ida::IdaPoint;
 
 /// What reaching a limit state means.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -58,6 +59,14 @@ impl LimitState {
         match self.criterion {
             Criterion::Rotation(x) => format!("{}={x}", self.name),
             Criterion::Overturned => format!("{}=overturned", self.name),
+        }
+    }
+
+    /// The θmax/α threshold; none for overturning.
+    pub fn threshold(&self) -> Option<f64> {
+        match self.criterion {
+            Criterion::Rotation(x) => Some(x),
+            Criterion::Overturned => None,
         }
     }
 
@@ -161,6 +170,11 @@ impl DamageStates {
         DamageStates::new(states)
     }
 
+    /// Whether these are the [`DEFAULT`] states.
+    pub fn is_default(&self) -> bool {
+        *self == DamageStates::default()
+    }
+
     pub fn states(&self) -> &[LimitState] {
         &self.0
     }
@@ -200,17 +214,15 @@ impl StateCapacity {
     }
 }
 
-/// The record's capacity for each state, from its runs (any order) and its
-/// overturning capacity `eta_c` (`None`: it survived every level).
+/// The record's capacity for each state, from its runs `(η, θmax/α,
+/// overturned)` in any order and its overturning capacity `eta_c` (`None`:
+/// it survived every level).
 pub fn capacities(
     states: &DamageStates,
-    points: &[IdaPoint],
+    runs: impl IntoIterator<Item = (f64, f64, bool)>,
     eta_c: Option<f64>,
 ) -> Vec<StateCapacity> {
-    let mut runs: Vec<(f64, f64, bool)> = points
-        .iter()
-        .map(|p| (p.eta, p.outcome.max_abs_x, p.outcome.overturned()))
-        .collect();
+    let mut runs: Vec<(f64, f64, bool)> = runs.into_iter().collect();
     // Intensity rising: η falling.
     runs.sort_by(|a, b| b.0.total_cmp(&a.0));
     let strongest = runs.last().map_or(f64::NAN, |r| r.0);
@@ -254,27 +266,13 @@ fn first_reaching(runs: &[(f64, f64, bool)], x: f64, strongest: f64) -> StateCap
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ida::RunKind;
-    use crate::physics::{Outcome, Stop};
 
-    fn run(eta: f64, edp: f64, overturned: bool) -> IdaPoint {
-        IdaPoint {
+    fn run(eta: f64, edp: f64, overturned: bool) -> (f64, f64, bool) {
+        (
             eta,
-            kind: RunKind::Level,
-            outcome: Outcome {
-                max_abs_x: if overturned { 1.0 } else { edp },
-                stop: if overturned {
-                    Stop::Overturned
-                } else {
-                    Stop::Survived
-                },
-                overturn_time_s: None,
-                overturn_after_record: false,
-                impacts: 0,
-                first_uplift_s: None,
-                intervals: 0,
-            },
-        }
+            if overturned { f64::INFINITY } else { edp },
+            overturned,
+        )
     }
 
     #[test]
@@ -311,7 +309,7 @@ mod tests {
             run(0.17, 0.9, false),
         ];
         let d = DamageStates::parse("a=0.1,b=0.5,c=0.95,ot=overturned").unwrap();
-        let caps = capacities(&d, &points, Some(0.16));
+        let caps = capacities(&d, points, Some(0.16));
         // a: between η 0.5 (0.05) and 0.25 (0.3): 1/η = 2 + (0.05/0.25)·2 = 2.4.
         assert!((caps[0].reached().unwrap() - 1.0 / 2.4).abs() < 1e-15);
         // b: between 0.25 (0.3) and 0.2 (0.7): 1/η = 4 + 0.5·1 = 4.5.
@@ -321,7 +319,7 @@ mod tests {
         assert_eq!(caps[3], StateCapacity::Reached(0.16));
         // A record that never overturns and never reaches 0.5.
         let calm = [run(1.0, 0.0, false), run(0.01, 0.2, false)];
-        let caps = capacities(&d, &calm, None);
+        let caps = capacities(&d, calm, None);
         assert!((caps[0].reached().unwrap() - 1.0 / 50.5).abs() < 1e-12);
         assert_eq!(caps[1], StateCapacity::NotReached(0.01));
         assert_eq!(caps[3], StateCapacity::NotReached(0.01));
@@ -338,7 +336,7 @@ mod tests {
             run(0.3, 0.2, true),
         ];
         let d = DamageStates::default();
-        let caps: Vec<f64> = capacities(&d, &points, Some(0.3))
+        let caps: Vec<f64> = capacities(&d, points, Some(0.3))
             .iter()
             .map(|c| c.reached().unwrap())
             .collect();

@@ -43,6 +43,7 @@ fn study(text: &str) -> StudyData {
         bands: None,
         fit_bands: None,
         example: None,
+        damage: Default::default(),
         efficiency: Vec::new(),
         stage_seconds: Vec::new(),
     }

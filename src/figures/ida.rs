@@ -255,6 +255,7 @@ mod tests {
             caps: vec![cap(0, Some(0.25))],
             ida: vec![run(0, 1.0, 0.5, false)],
             horizontal: vec![horizontal(3.0, 0.6, 1.0, [0.25, 0.5, 0.75])],
+            damage: Default::default(),
         });
         let figs = ida_curves(&d);
         let c = &figs[0].chart;

@@ -16,6 +16,7 @@
 mod bands;
 mod capacity;
 mod convergence;
+pub mod damage;
 mod figure;
 mod fragility;
 mod ida;
@@ -42,6 +43,7 @@ pub const FIGURES: &[FigureFn] = &[
     regression::regression_coefficients,
     lognormal::lognormal_plots,
     fragility::fragility_example,
+    damage::damage_states,
     ims::im_efficiency,
     convergence::convergence_share,
     convergence::convergence_mean,

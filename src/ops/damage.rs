@@ -1,8 +1,11 @@
 //! A block's fragility for each damage state, in one IM: from the records'
-//! own runs (`--direct`: every state, both fits), or from a regression
-//! (the paper's or a pipeline's: overturning only).
+//! own runs (`--direct`: every state, both fits), or from a study
+//! (`--from PIPELINE.toml`: overturning from its regression or IM table, as
+//! `fragility` and `risk` take it, the other states from its damage table);
+//! the paper's regression gives overturning only.
 
-use super::fragility::{warnings, DirectRecords, FragilityError, Laws};
+use super::fragility::{DirectRecords, FragilityError, Laws, Request};
+use super::im_fragility::DamageTable;
 use crate::block::Block;
 use crate::damage::{self, Criterion, DamageStates, FitMethod, Lognormal, StateCapacity};
 use crate::im::{self, Im};
@@ -65,6 +68,10 @@ pub fn of_block(
     }
 }
 
+/// Overturning from the regression (in PGA) or the study's IM table, as
+/// `fragility` and `risk` take it; the other states, and overturning's
+/// maximum-likelihood fit, from the study's damage table carried to the
+/// block. The paper's regression gives overturning only.
 fn from_regression(
     block: &Block,
     states: &DamageStates,
@@ -72,55 +79,110 @@ fn from_regression(
     laws: &Laws,
     auto_tol: f64,
 ) -> Result<DamageFragility, FragilityError> {
-    if let Some(s) = states
+    let need_table = states
         .states()
         .iter()
-        .find(|s| s.criterion != Criterion::Overturned)
-    {
-        return Err(FragilityError::StatesNeedRecords {
-            from: laws.name.clone(),
-            state: s.name.clone(),
+        .any(|s| s.criterion != Criterion::Overturned);
+    let tables = [FitMethod::Fractile, FitMethod::MaxLikelihood].map(|m| {
+        if need_table {
+            laws.damage_table(im, m)
+        } else {
+            Ok(None)
+        }
+    });
+    let [fractile_table, mle_table] = tables;
+    let (fractile_table, mle_table) = (fractile_table?, mle_table?);
+    let mut warnings = super::fragility::alpha_warning(block, auto_tol)
+        .into_iter()
+        .collect::<Vec<_>>();
+    let mut out = Vec::with_capacity(states.states().len());
+    for s in states.states() {
+        let from_table = |t: &Option<DamageTable>, w: &mut Vec<String>| {
+            t.as_ref()
+                .map(|t| t.capacity(block, s))
+                .transpose()
+                .map(|l| {
+                    l.map(|l| {
+                        w.extend(l.warnings);
+                        Lognormal {
+                            median: l.median,
+                            beta: l.beta,
+                        }
+                    })
+                })
+        };
+        let (fractile, mle) = match s.criterion {
+            Criterion::Overturned => {
+                let l = match overturning(block, im, laws, auto_tol, &mut warnings) {
+                    Ok(l) => l,
+                    // A study too small for a regression: its damage table.
+                    Err(FragilityError::NoFit { .. }) if fractile_table.is_some() => {
+                        from_table(&fractile_table, &mut warnings)?.expect("a table")
+                    }
+                    Err(e) => return Err(e),
+                };
+                // The table's overturning by maximum likelihood, where it has one.
+                let mle = from_table(&mle_table, &mut Vec::new()).ok().flatten();
+                (Some(l), mle)
+            }
+            Criterion::Rotation(_) => {
+                let Some(f) = from_table(&fractile_table, &mut warnings)? else {
+                    return Err(FragilityError::StatesNeedRecords {
+                        from: laws.name.clone(),
+                        state: s.name.clone(),
+                    });
+                };
+                (
+                    Some(f),
+                    from_table(&mle_table, &mut Vec::new()).ok().flatten(),
+                )
+            }
+        };
+        out.push(StateFragility {
+            name: s.name.clone(),
+            criterion: s.describe(),
+            threshold: s.threshold(),
+            fractile,
+            mle,
+            reached: None,
         });
     }
-    let (lognormal, w) = if im == Im::Pga {
-        let (eta50, beta) = laws.median_beta(block)?;
-        let l = Lognormal {
-            median: block.alpha() / eta50,
-            beta,
-        };
-        (l, warnings(block, auto_tol))
-    } else {
-        let l = laws.im_table(im)?.capacity(block)?;
-        let mut w = l.warnings;
-        w.extend(super::fragility::alpha_warning(block, auto_tol));
-        (
-            Lognormal {
-                median: l.median,
-                beta: l.beta,
-            },
-            w,
-        )
-    };
+    warnings.sort();
+    warnings.dedup();
     Ok(DamageFragility {
         im: im.name(),
         unit: im.unit(),
         source: laws.name.clone(),
         records: None,
         model: None,
-        states: states
-            .states()
-            .iter()
-            .map(|s| StateFragility {
-                name: s.name.clone(),
-                criterion: s.describe(),
-                threshold: None,
-                fractile: Some(lognormal),
-                mle: None,
-                reached: None,
-            })
-            .collect(),
-        warnings: w,
+        states: out,
+        warnings,
     })
+}
+
+/// Overturning's lognormal from the regression (PGA) or the IM table.
+fn overturning(
+    block: &Block,
+    im: Im,
+    laws: &Laws,
+    auto_tol: f64,
+    warnings: &mut Vec<String>,
+) -> Result<Lognormal, FragilityError> {
+    if im == Im::Pga {
+        let (eta50, beta) = laws.median_beta(block)?;
+        warnings.extend(super::fragility::warnings(block, auto_tol));
+        Ok(Lognormal {
+            median: block.alpha() / eta50,
+            beta,
+        })
+    } else {
+        let l = laws.im_table(im)?.capacity(block)?;
+        warnings.extend(l.warnings);
+        Ok(Lognormal {
+            median: l.median,
+            beta: l.beta,
+        })
+    }
 }
 
 fn from_records(
@@ -134,46 +196,43 @@ fn from_records(
     let (runs, why) = records.runs(block, auto_tol)?;
     let alpha = block.alpha();
     let ims = (im != Im::Pga).then(|| records.ims());
-    let in_im = |eta: f64, k: usize| -> Result<f64, FragilityError> {
-        match ims {
-            None => Ok(im::pga_of_eta(eta, alpha)),
-            Some(ims) => {
-                im::of_eta(im, eta, alpha, &ims[k]).ok_or(FragilityError::NoPeriod(im.name()))
-            }
-        }
-    };
     let per_record: Vec<Vec<StateCapacity>> = runs
         .iter()
-        .map(|c| damage::capacities(states, &c.points, c.eta_c))
+        .map(|c| {
+            let points = c.points.iter();
+            let runs = points.map(|p| (p.eta, p.outcome.max_abs_x, p.outcome.overturned()));
+            damage::capacities(states, runs, c.eta_c)
+        })
         .collect();
-    let mut out = Vec::with_capacity(states.states().len());
-    for (j, s) in states.states().iter().enumerate() {
-        let (mut reached, mut censored, mut all) = (Vec::new(), Vec::new(), Vec::new());
-        for (k, caps) in per_record.iter().enumerate() {
-            match caps[j] {
-                StateCapacity::Reached(eta) => {
-                    let v = in_im(eta, k)?;
-                    reached.push(v);
-                    all.push(v);
-                }
-                StateCapacity::NotReached(eta) => {
-                    censored.push(in_im(eta, k)?);
-                    all.push(f64::INFINITY);
-                }
-            }
-        }
-        out.push(StateFragility {
+    let n = states.states().len();
+    let fits = match ims {
+        None => damage::fit_states(
+            n,
+            &per_record,
+            |_, eta| Some(im::pga_of_eta(eta, alpha)),
+            def,
+        ),
+        Some(ims) => damage::fit_states(
+            n,
+            &per_record,
+            |k, eta| im::of_eta(im, eta, alpha, &ims[k]),
+            def,
+        ),
+    }
+    .ok_or(FragilityError::NoPeriod(im.name()))?;
+    let out = states
+        .states()
+        .iter()
+        .zip(fits)
+        .map(|(s, f)| StateFragility {
             name: s.name.clone(),
             criterion: s.describe(),
-            threshold: match s.criterion {
-                Criterion::Rotation(x) => Some(x),
-                Criterion::Overturned => None,
-            },
-            fractile: damage::fractile_method(&all, def),
-            mle: damage::max_likelihood(&reached, &censored),
-            reached: Some(reached.len()),
-        });
-    }
+            threshold: s.threshold(),
+            fractile: f.fractile,
+            mle: f.mle,
+            reached: Some(f.reached),
+        })
+        .collect();
     Ok(DamageFragility {
         im: im.name(),
         unit: im.unit(),
@@ -182,5 +241,98 @@ fn from_records(
         model: Some(why),
         states: out,
         warnings: Vec::new(),
+    })
+}
+
+/// Warnings where a heavier state's fitted curve (by `method`) rises above
+/// a lighter one's.
+pub fn crossings(f: &DamageFragility, method: FitMethod) -> Vec<String> {
+    f.states
+        .windows(2)
+        .filter_map(|w| {
+            let (x, p) = crate::damage::crossing(&w[0].by(method)?, &w[1].by(method)?)?;
+            Some(format!(
+                "the fitted curves of `{}` and `{}` cross at {} {} (P = {:.2} %): on one side \
+                 the heavier state is the likelier, which no record is; there OpenQuake gives a \
+                 state a negative share and pelicun (capacities sampled together) counts it in \
+                 the heavier state",
+                w[0].name,
+                w[1].name,
+                crate::im::level_text(x),
+                f.unit,
+                100.0 * p
+            ))
+        })
+        .collect()
+}
+
+/// `fragility --states`: each state's probability of being reached at
+/// each level, by one method.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct StatesAssessment {
+    pub b_m: f64,
+    pub h_m: f64,
+    pub alpha_rad: f64,
+    pub p: f64,
+    pub eps: f64,
+    /// `fractile` or `mle`: the fit the probabilities use.
+    pub method: &'static str,
+    pub fragility: DamageFragility,
+    pub points: Vec<StatesPoint>,
+}
+
+/// One level: P(state reached | IM = iml) for each state, in order; `None`
+/// where the method has no fit of the state.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct StatesPoint {
+    pub iml: f64,
+    pub probabilities: Vec<Option<f64>>,
+}
+
+/// The block's damage-state fragilities at the request's levels.
+pub fn assess(
+    req: &Request,
+    states: &DamageStates,
+    method: FitMethod,
+) -> Result<StatesAssessment, FragilityError> {
+    let block = super::fragility::check(req)?;
+    let laws = super::fragility::laws(&req.from)?;
+    let records = if req.direct {
+        Some(DirectRecords::load(&req.from, laws.plan.as_ref())?)
+    } else {
+        None
+    };
+    let mut fragility = of_block(
+        &block,
+        states,
+        req.im,
+        &laws,
+        records.as_ref(),
+        FractileDef::Type7,
+        req.auto_tol,
+    )?;
+    let crossed = crossings(&fragility, method);
+    fragility.warnings.extend(crossed);
+    let points = req
+        .levels
+        .iter()
+        .map(|&x| StatesPoint {
+            iml: x,
+            probabilities: fragility
+                .states
+                .iter()
+                .map(|s| s.by(method).map(|l| l.cdf(x)))
+                .collect(),
+        })
+        .collect();
+    Ok(StatesAssessment {
+        b_m: req.b_m,
+        h_m: req.h_m,
+        alpha_rad: block.alpha(),
+        p: block.p(),
+        eps: block.eps,
+        method: method.name(),
+        fragility,
+        points,
     })
 }

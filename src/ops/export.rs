@@ -131,7 +131,7 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
         )
         .map_err(in_block)?;
         let entry = entry(&e, &block, &f, req.method, im)?;
-        f.warnings.extend(crossings(&req.states, &entry, f.unit));
+        f.warnings.extend(damage::crossings(&f, req.method));
         export.push(entry);
         blocks.push((e, f));
     }
@@ -207,28 +207,6 @@ fn write_files(
         }
     }
     Ok(files)
-}
-
-/// Warnings where a heavier state's fitted curve rises above a lighter one's.
-fn crossings(states: &DamageStates, entry: &Entry, unit: &str) -> Vec<String> {
-    let names = states.states();
-    entry
-        .states
-        .windows(2)
-        .enumerate()
-        .filter_map(|(k, w)| {
-            let (x, p) = crate::damage::crossing(&w[0], &w[1])?;
-            Some(format!(
-                "the fitted curves of `{}` and `{}` cross at {} {unit} (P = {:.2} %): on one side \
-                 the heavier state is the likelier, where OpenQuake gives a state a negative share \
-                 and pelicun (capacities sampled together) counts it in the heavier state",
-                names[k].name,
-                names[k + 1].name,
-                crate::im::level_text(x),
-                100.0 * p
-            ))
-        })
-        .collect()
 }
 
 /// The block's entry: its states' lognormals by `method`.

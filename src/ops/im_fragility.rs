@@ -1,6 +1,7 @@
 //! A block's fragility in an IM other than PGA (docs/MODEL.md §14): from
 //! the records' capacities (`--direct`), or carried over p and ε from a
-//! study's `im_efficiency` table.
+//! study's `im_efficiency` table; likewise a damage state's in any IM from
+//! its `damage_states` table (§15).
 //!
 //! A study gives, for each block of its grid, the median capacity in the
 //! IM's dimensionless form (p·PGV/(αg), SA/(αg), …) and the dispersion β.
@@ -15,17 +16,44 @@ use std::path::Path;
 use std::path::PathBuf;
 
 use crate::block::Block;
+use crate::damage::{FitMethod, LimitState};
 use crate::im::Im;
+use crate::tables::damage::DamageStateRow;
 use crate::tables::ims::EfficiencyRow;
 
 /// Why a study's IM table gives no fragility for a block.
 #[derive(Debug, thiserror::Error)]
 pub enum ImTableError {
     #[error(
-        "{path} does not exist: the study of {pipeline} has no IM table yet; run \
+        "{path} does not exist: the study of {pipeline} has no {what} yet; run \
          `rocking run {pipeline}`, or use --direct", path = .path.display()
     )]
-    Missing { pipeline: String, path: PathBuf },
+    Missing {
+        what: &'static str,
+        pipeline: String,
+        path: PathBuf,
+    },
+    #[error(
+        "damage state `{state}` ({criterion}) is not one of the study's ({have}); set \
+         `[damage] states` in {pipeline} and run it, or use --direct"
+    )]
+    NoState {
+        state: String,
+        criterion: String,
+        have: String,
+        pipeline: String,
+    },
+    #[error(
+        "damage state `{state}` in {im} by the {method} method: some blocks of the study's grid \
+         have no fit (too few records reach the state), so it cannot be carried to other blocks; \
+         try --method {other}, or --direct"
+    )]
+    StateHoles {
+        state: String,
+        im: String,
+        method: &'static str,
+        other: &'static str,
+    },
     #[error("the study's IM table: {0}")]
     Bad(String),
     #[error("{0} has no dimensionless form to carry a study's capacities to another block; use --direct")]
@@ -58,14 +86,19 @@ impl ImTable {
         let path = dir.join("im_efficiency.parquet");
         if !path.exists() {
             return Err(ImTableError::Missing {
+                what: "IM table",
                 pipeline: study.to_string(),
                 path,
             });
         }
         let rows: Vec<EfficiencyRow> =
             crate::tables::read(&path).map_err(|e| ImTableError::Bad(e.to_string()))?;
-        let rows: Vec<&EfficiencyRow> = rows.iter().filter(|r| r.im == name).collect();
-        let grid = Grid::of(&rows).ok_or_else(|| {
+        let nodes: Vec<Node> = rows
+            .iter()
+            .filter(|r| r.im == name)
+            .map(|r| (r.p, r.eps, r.median_dimensionless, Some(r.beta)))
+            .collect();
+        let grid = Grid::of(&nodes).ok_or_else(|| {
             ImTableError::Bad(format!(
                 "{} has no full grid of p × ε for {name} (a study of [blocks] p and eps carries over to other blocks; one of [[block]] entries does not)",
                 path.display()
@@ -90,6 +123,100 @@ impl ImTable {
     }
 }
 
+/// A study's damage-state fits in one IM by one method (its
+/// `damage_states.parquet`), to carry to any block as [`ImTable`] does.
+pub struct DamageTable {
+    im: Im,
+    pipeline: String,
+    /// Each state's name, criterion and grid (`None`: holes in the grid).
+    states: Vec<(String, String, Option<Grid>)>,
+    method: FitMethod,
+}
+
+impl DamageTable {
+    /// The fits of `im` by `method` in the study folder `dir`; `study`
+    /// names the pipeline in messages.
+    pub fn load(dir: &Path, study: &str, im: Im, method: FitMethod) -> Result<Self, ImTableError> {
+        if im.dimensionless(1.0, 1.0).is_none() {
+            return Err(ImTableError::NoDimensionless(im.name()));
+        }
+        let path = dir.join(crate::stages::damage::STATES);
+        if !path.exists() {
+            return Err(ImTableError::Missing {
+                what: "damage table",
+                pipeline: study.to_string(),
+                path,
+            });
+        }
+        let rows: Vec<DamageStateRow> =
+            crate::tables::read(&path).map_err(|e| ImTableError::Bad(e.to_string()))?;
+        let name = im.name();
+        let mut states: Vec<(String, String, Option<Grid>)> = Vec::new();
+        for r in rows.iter().filter(|r| r.im == name && r.method == method) {
+            if !states.iter().any(|s| s.0 == r.state) {
+                let nodes: Vec<Node> = rows
+                    .iter()
+                    .filter(|o| o.im == name && o.method == method && o.state == r.state)
+                    .map(|o| (o.p, o.eps, o.median_dimensionless, o.beta))
+                    .collect();
+                states.push((r.state.clone(), r.criterion.clone(), Grid::of(&nodes)));
+            }
+        }
+        Ok(DamageTable {
+            im,
+            pipeline: study.to_string(),
+            states,
+            method,
+        })
+    }
+
+    /// The block's lognormal capacity for `state`, its median in the IM's
+    /// unit; the state must be the study's, by name and criterion.
+    pub fn capacity(&self, block: &Block, state: &LimitState) -> Result<Lognormal, ImTableError> {
+        let criterion = state.describe();
+        let found = self
+            .states
+            .iter()
+            .find(|s| s.0 == state.name && s.1 == criterion);
+        let Some((_, _, grid)) = found else {
+            let have: Vec<String> = self
+                .states
+                .iter()
+                .map(|s| format!("{}: {}", s.0, s.1))
+                .collect();
+            return Err(ImTableError::NoState {
+                state: state.name.clone(),
+                criterion,
+                have: have.join(", "),
+                pipeline: self.pipeline.clone(),
+            });
+        };
+        let grid = grid.as_ref().ok_or_else(|| ImTableError::StateHoles {
+            state: state.name.clone(),
+            im: self.im.name(),
+            method: self.method.name(),
+            other: match self.method {
+                FitMethod::Fractile => FitMethod::MaxLikelihood.name(),
+                FitMethod::MaxLikelihood => FitMethod::Fractile.name(),
+            },
+        })?;
+        let (factor, _) = self
+            .im
+            .dimensionless(block.alpha(), block.p())
+            .ok_or_else(|| ImTableError::NoDimensionless(self.im.name()))?;
+        let (ln_median, beta, warnings) = grid.at(block.p(), block.eps);
+        Ok(Lognormal {
+            median: ln_median.exp() / factor,
+            beta,
+            warnings,
+        })
+    }
+}
+
+/// A study's block: p, ε, the dimensionless median and β (`None` where it
+/// has no fit).
+type Node = (f64, f64, Option<f64>, Option<f64>);
+
 /// A study's p × ε grid of one IM: ln of the dimensionless median and β.
 struct Grid {
     ps: Vec<f64>,
@@ -99,9 +226,9 @@ struct Grid {
 }
 
 impl Grid {
-    fn of(rows: &[&EfficiencyRow]) -> Option<Grid> {
-        let mut ps: Vec<f64> = rows.iter().map(|r| r.p).collect();
-        let mut es: Vec<f64> = rows.iter().map(|r| r.eps).collect();
+    fn of(rows: &[Node]) -> Option<Grid> {
+        let mut ps: Vec<f64> = rows.iter().map(|r| r.0).collect();
+        let mut es: Vec<f64> = rows.iter().map(|r| r.1).collect();
         for v in [&mut ps, &mut es] {
             v.sort_by(f64::total_cmp);
             v.dedup();
@@ -109,8 +236,8 @@ impl Grid {
         let mut values = Vec::with_capacity(ps.len() * es.len());
         for &p in &ps {
             for &e in &es {
-                let r = rows.iter().find(|r| r.p == p && r.eps == e)?;
-                values.push((r.median_dimensionless?.ln(), r.beta));
+                let r = rows.iter().find(|r| r.0 == p && r.1 == e)?;
+                values.push((r.2?.ln(), r.3?));
             }
         }
         (!values.is_empty()).then_some(Grid { ps, es, values })
@@ -199,6 +326,12 @@ mod tests {
         }
     }
 
+    fn nodes(rows: &[EfficiencyRow]) -> Vec<Node> {
+        rows.iter()
+            .map(|r| (r.p, r.eps, r.median_dimensionless, Some(r.beta)))
+            .collect()
+    }
+
     /// Values that are exactly bilinear in (ln p, ε) (ln median) are given
     /// back between the nodes; outside, the edge and a warning.
     #[test]
@@ -209,7 +342,7 @@ mod tests {
             .flat_map(|&p| [0.5, 0.7, 0.9].map(move |e| (p, e)))
             .map(|(p, e)| row(p, e, f(p, e).0.exp(), f(p, e).1))
             .collect();
-        let refs: Vec<&EfficiencyRow> = rows.iter().collect();
+        let refs = nodes(&rows);
         let g = Grid::of(&refs).unwrap();
         for (p, e) in [(0.7, 0.55), (1.3, 0.81), (3.9, 0.5), (0.5, 0.9)] {
             let (m, b, w) = g.at(p, e);
@@ -233,7 +366,7 @@ mod tests {
             .iter()
             .map(|&p| row(p, 0.7, f(p).0.exp(), f(p).1))
             .collect();
-        let refs: Vec<&EfficiencyRow> = rows.iter().collect();
+        let refs = nodes(&rows);
         let g = Grid::of(&refs).unwrap();
         let (m, b, w) = g.at(2.0, 0.7);
         assert!((m - f(2.0).0).abs() < 1e-12 && (b - f(2.0).1).abs() < 1e-12);

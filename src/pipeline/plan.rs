@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
+use crate::damage::DamageStates;
 use crate::ida::{ImGrid, Trace};
 use crate::physics::{ModelChoice, Overturn, RunSpec};
 use crate::stats::{FractileDef, ResampleUnit};
@@ -112,6 +113,9 @@ pub struct RecordsPlan {
     /// `example` stage whether or not it is one of `blocks`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub example: Option<BlockSpec>,
+    /// The limit states of the damage stage (`[damage]`).
+    #[serde(skip_serializing_if = "DamageStates::is_default")]
+    pub damage: DamageStates,
 }
 
 impl RecordsPlan {
@@ -283,6 +287,7 @@ impl Serialize for Plan {
                     convergence: Vec::new(),
                     uncertainty: None,
                     example: None,
+                    damage: DamageStates::default(),
                 };
                 (std::borrow::Cow::Owned(empty), Some(p))
             }

@@ -27,6 +27,15 @@ pub struct RawPipeline {
     pub convergence: Option<RawConvergence>,
     pub uncertainty: Option<RawUncertainty>,
     pub example: Option<RawExample>,
+    pub damage: Option<RawDamage>,
+}
+
+/// `[damage]`: the limit states the damage stage fits, as `--states`
+/// writes them (`rocking=0.1,large_rocking=0.5,overturned=overturned`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawDamage {
+    pub states: String,
 }
 
 /// `[example]`: the block the report's Fig. 5 draws, run over the records

@@ -7,6 +7,7 @@ use super::checks::{check_eps, model, refuse_repeats, values};
 use super::plan::*;
 use super::raw::*;
 use crate::block::{Block, BlockError, Restitution};
+use crate::damage::DamageStates;
 use crate::ida::{ImGrid, Trace, MAX_LEVELS};
 use crate::physics::{ModelChoice, Overturn, RunSpec};
 use crate::stats::{FractileDef, ResampleUnit};
@@ -68,6 +69,11 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
         ))
     })?;
     let convergence = convergence(raw.convergence.as_ref()).map_err(err)?;
+    let damage = match &raw.damage {
+        None => DamageStates::default(),
+        Some(d) => DamageStates::parse(&d.states)
+            .map_err(|e| err(format!("`damage.states` = \"{}\": {e}", d.states)))?,
+    };
     let uncertainty = uncertainty(raw.uncertainty.as_ref()).map_err(err)?;
     if let Some(u) = uncertainty {
         let no_manifest = matches!(&records, RecordSource::At2 { manifest: None, .. });
@@ -115,6 +121,7 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
             convergence,
             uncertainty,
             example,
+            damage,
         })),
         base: base.to_path_buf(),
     })

@@ -1,12 +1,13 @@
 //! The study's report as Markdown (pure): settings, run times, counts,
 //! capacity fractiles against the paper's Eq. 10, lognormality, the fitted
 //! against the published coefficients, the capacity-convergence finding and
-//! which IM predicts overturning and the figures. The report stage loads the data, draws the figures, calls
+//! which IM predicts overturning, the damage states and the figures. The report stage loads the data, draws the figures, calls
 //! [`render`] (or [`render_pulses`] for a pulse map) and writes the text;
 //! the tests snapshot [`render`]'s output. [`render_html`] turns that
 //! Markdown into one self-contained page, the figures inline.
 
 mod bands;
+mod damage;
 mod html;
 mod ims;
 mod pulses;

@@ -27,6 +27,7 @@ pub fn render(d: &StudyData, figures: &[Figure]) -> String {
     fit_bands(&mut md, d);
     convergence(&mut md, d);
     super::ims::ims_section(&mut md, d);
+    super::damage::damage_section(&mut md, d);
     figures_section(&mut md, figures);
     md
 }

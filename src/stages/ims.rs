@@ -172,6 +172,39 @@ pub fn record_ims(rows: &[RecordRow]) -> Result<Vec<RecordIms>, ReduceError> {
         .collect()
 }
 
+/// The records' IMs as the stage wrote them (`record_ims` and
+/// `record_spectra` of the study folder `dir`), by record id.
+pub fn read_record_ims(dir: &std::path::Path) -> Result<BTreeMap<String, RecordIms>, ReduceError> {
+    let rows: Vec<RecordImRow> = reduce::read(dir, OUTPUTS[0])?;
+    let spectra: Vec<SpectrumRow> = reduce::read(dir, OUTPUTS[1])?;
+    let mut sa: BTreeMap<&str, Vec<(f64, f64)>> = BTreeMap::new();
+    for s in &spectra {
+        sa.entry(&s.record_id)
+            .or_default()
+            .push((s.period_s, s.sa_g));
+    }
+    Ok(rows
+        .into_iter()
+        .map(|r| {
+            let mut sa_g = sa.remove(r.record_id.as_str()).unwrap_or_default();
+            sa_g.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let ims = RecordIms {
+                pga_g: r.pga_g,
+                pgv_cm_s: r.pgv_cm_s,
+                pgd_cm: r.pgd_cm,
+                arias_m_s: r.arias_m_s,
+                cav_g_s: r.cav_g_s,
+                d5_95_s: r.d5_95_s,
+                pgv_pga_s: r.pgv_pga_s,
+                tm_s: r.tm_s,
+                avgsa_g: r.avgsa_g,
+                sa_g,
+            };
+            (r.record_id, ims)
+        })
+        .collect())
+}
+
 fn im_rows(rows: &[RecordRow], ims: &[RecordIms]) -> (Vec<RecordImRow>, Vec<SpectrumRow>) {
     let mut spectra = Vec::new();
     let table = rows

@@ -13,6 +13,7 @@
 //! command follow from that line.
 
 pub mod convergence;
+pub mod damage;
 pub mod engine;
 pub mod example;
 pub mod fingerprint;
@@ -42,6 +43,7 @@ pub static STAGES: &[&dyn Stage] = &[
     &reduce::Reduce,
     &ims::Ims,
     &example::Example,
+    &damage::Damage,
     &fit::Fit,
     &pulses::Pulses,
     &report::Report,

@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
+use super::damage;
 use super::fingerprint;
 use super::fit;
 use super::reduce::OUTPUTS as REDUCE_OUTPUTS;
@@ -10,7 +11,7 @@ use super::stage::{BoxError, Context, Shard, Stage, Study, Summary};
 use super::sweep::{self, DatasetError};
 use crate::figures;
 use crate::plot::{self, PlotError};
-use crate::study::{ExampleData, FitBands, PulseData, StudyData};
+use crate::study::{DamageData, ExampleData, FitBands, PulseData, StudyData};
 use crate::tables::{self, TableError};
 
 /// The report stage.
@@ -60,11 +61,14 @@ impl Stage for Report {
         };
         inputs.extend(REDUCE_OUTPUTS.iter().map(|n| study.path(n)));
         inputs.push(study.path(super::ims::OUTPUTS[2]));
+        inputs.extend([damage::STATES, damage::CAPACITIES].map(|n| study.path(n)));
         if fit::not_applicable(&study.plan).is_none() {
             inputs.extend(fit::OUTPUTS.iter().map(|n| study.path(n)));
         }
         if study.plan.example().is_some() {
             inputs.extend(super::example::OUTPUTS.iter().map(|n| study.path(n)));
+            let example = [damage::EXAMPLE_STATES, damage::EXAMPLE_CAPACITIES];
+            inputs.extend(example.map(|n| study.path(n)));
         }
         if !study.plan.convergence().is_empty() {
             inputs.push(study.path("capacity_convergence.parquet"));
@@ -159,12 +163,22 @@ pub fn load(
                     ida: tables::read(&dir.join(IDA))?,
                     caps: tables::read(&dir.join(CAPACITIES))?,
                     horizontal: tables::read(&dir.join(HORIZONTAL))?,
+                    damage: read_damage(dir, damage::EXAMPLE_STATES, damage::EXAMPLE_CAPACITIES)?,
                 })
             }
             None => None,
         },
         efficiency: tables::read(&dir.join(super::ims::OUTPUTS[2]))?,
+        damage: read_damage(dir, damage::STATES, damage::CAPACITIES)?,
         stage_seconds: other_stages(stage_seconds),
+    })
+}
+
+/// A damage table pair of the study folder `dir`.
+fn read_damage(dir: &Path, states: &str, capacities: &str) -> Result<DamageData, ReportError> {
+    Ok(DamageData {
+        states: tables::read(&dir.join(states))?,
+        capacities: tables::read(&dir.join(capacities))?,
     })
 }
 

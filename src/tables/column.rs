@@ -248,6 +248,7 @@ label_columns!(
     super::fit::BandCurve,
     crate::risk::Beyond,
     crate::stats::ResampleUnit,
+    crate::damage::FitMethod,
 );
 
 /// Defines a table's row type and, from the same field list, its schema,

@@ -19,6 +19,7 @@
 
 pub mod column;
 pub mod convergence;
+pub mod damage;
 pub mod fit;
 pub mod history;
 pub mod ims;

@@ -51,7 +51,7 @@ pub(super) fn grid_levels(plan: &RecordsPlan) -> Result<Vec<f64>, ReduceError> {
 
 /// The IDA points of each of `n_cases` cases (case ids 0 … n_cases − 1),
 /// in table order.
-pub(super) fn split_by_case(
+pub(in crate::stages) fn split_by_case(
     ida: &[IdaRow],
     n_cases: usize,
 ) -> Result<Vec<Vec<&IdaRow>>, ReduceError> {

@@ -12,7 +12,7 @@ mod error;
 
 use std::path::{Path, PathBuf};
 
-pub(super) use block_stats::horizontal_of_block;
+pub(super) use block_stats::{horizontal_of_block, split_by_case};
 pub use block_stats::{EDP_LEVELS, QUANTILES};
 pub use error::ReduceError;
 
@@ -22,8 +22,8 @@ use crate::tables::reduce::BlockRow;
 use crate::tables::sweep::{CapacityRow, IdaRow};
 use crate::tables::{self, TableError};
 use block_stats::{
-    capacity_fractiles, check_block, grid_levels, horizontal, lognormal, split_by_case, vertical,
-    RecordIda, Tables,
+    capacity_fractiles, check_block, grid_levels, horizontal, lognormal, vertical, RecordIda,
+    Tables,
 };
 use bootstrap::bands;
 
@@ -211,7 +211,7 @@ fn block_rows(plan: &crate::pipeline::RecordsPlan) -> Vec<BlockRow> {
 
 /// The sweep's capacities and IDA points, in case order, checked to be of
 /// this pipeline's settings (a leftover from an edit is refused).
-fn load(study: &Study) -> Result<(Vec<CapacityRow>, Vec<IdaRow>), ReduceError> {
+pub(super) fn load(study: &Study) -> Result<(Vec<CapacityRow>, Vec<IdaRow>), ReduceError> {
     let plan = &study.plan;
     let (ida_files, cap_files) = sweep::dataset(&study.dir)?;
     for f in &cap_files {

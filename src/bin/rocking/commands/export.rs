@@ -4,12 +4,13 @@ use std::path::PathBuf;
 
 use clap::ValueEnum;
 use rocking::block::Restitution;
-use rocking::damage::{DamageStates, FitMethod};
-use rocking::im::level_text;
+use rocking::damage::DamageStates;
 use rocking::ops::export::{self, Format, Request};
+use rocking::ops::fragility::Source;
 use rocking::ops::risk::Blocks;
 
 use super::args::{parse_restitution, LawArgs};
+use super::states::{parse_states, print_fits, MethodArg};
 
 /// Damage-state fragilities of a block (or an inventory) as OpenQuake NRML or pelicun CSV.
 #[derive(Debug, clap::Args)]
@@ -27,8 +28,11 @@ use super::args::{parse_restitution, LawArgs};
     The states (--states, default rocking=0.1,large_rocking=0.5,overturned=overturned: θmax/α \
     thresholds, then overturning) come from the block's runs under the records (--direct), each \
     record's capacity the first crossing as intensity rises; the lognormal by the paper's \
-    fractiles (--method fractile) or censored maximum likelihood (--method mle). Without \
-    --direct, the regression (the paper's or --from PIPELINE.toml) gives overturning only."
+    fractiles (--method fractile) or censored maximum likelihood (--method mle). With --from \
+    PIPELINE.toml, overturning comes from the study's regression (in PGA) or IM table, as in \
+    `fragility` and `risk`, and the other states from its damage table (`damage_states.parquet`, \
+    the pipeline's [damage] states) carried over p and ε; the paper's regression (--from paper, \
+    the default) gives overturning only."
 )]
 pub struct Args {
     /// The engine: OpenQuake (nrml) or pelicun.
@@ -93,16 +97,6 @@ enum FormatArg {
     Pelicun,
 }
 
-#[derive(Debug, Clone, Copy, ValueEnum)]
-enum MethodArg {
-    Fractile,
-    Mle,
-}
-
-fn parse_states(text: &str) -> Result<DamageStates, String> {
-    DamageStates::parse(text).map_err(|e| e.to_string())
-}
-
 pub fn run(args: Args) -> anyhow::Result<()> {
     let blocks = match (&args.inventory, args.b, args.h) {
         (Some(path), _, _) => Blocks::Inventory(path.clone()),
@@ -113,11 +107,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         },
         _ => unreachable!("clap requires --b and --h without --inventory"),
     };
-    let (states, asked_states) = if args.direct {
+    let from = args.law.source();
+    let (states, asked_states) = if args.direct || !matches!(from, Source::Paper { .. }) {
         (args.states.clone(), true)
     } else {
-        // A regression knows overturning only: without --direct the
-        // default is that state alone, and any other is refused by name.
+        // The paper's regression knows overturning only: without --direct
+        // the default is that state alone, and any other is refused by name.
         let only_overturning = args.states == DamageStates::default();
         if only_overturning {
             (DamageStates::parse("overturned=overturned")?, false)
@@ -131,13 +126,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             FormatArg::Pelicun => Format::Pelicun,
         },
         blocks,
-        from: args.law.source(),
+        from,
         direct: args.direct,
         states,
-        method: match args.method {
-            MethodArg::Fractile => FitMethod::Fractile,
-            MethodArg::Mle => FitMethod::MaxLikelihood,
-        },
+        method: args.method.method(),
         im: args.im,
         hazard: args.hazard.clone(),
         years: args.years,
@@ -157,7 +149,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     if !asked_states {
         eprintln!(
-            "note: the regression gives overturning only; --direct runs the records for every damage state"
+            "note: the paper's regression gives overturning only; --direct runs the records, and \
+             --from PIPELINE.toml takes a study's damage table, for every damage state"
         );
     }
     for (b, f) in &written.blocks {
@@ -171,32 +164,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             f.records
                 .map_or(String::new(), |n| format!(", {n} records"))
         );
-        println!(
-            "  {:<16} {:<16} {:>22} {:>22} {:>8}",
-            "state",
-            "criterion",
-            format!("fractile median, β"),
-            format!("mle median, β"),
-            "reached"
-        );
-        for s in &f.states {
-            let show = |l: Option<rocking::damage::Lognormal>| {
-                l.map_or("—".to_string(), |l| {
-                    format!("{} {}, {:.3}", level_text(l.median), f.unit, l.beta)
-                })
-            };
-            println!(
-                "  {:<16} {:<16} {:>22} {:>22} {:>8}",
-                s.name,
-                s.criterion,
-                show(s.fractile),
-                show(s.mle),
-                s.reached.map_or("—".to_string(), |r| format!(
-                    "{r}/{}",
-                    f.records.unwrap_or(0)
-                ))
-            );
-        }
+        print_fits(f);
     }
     for f in &written.files {
         println!("wrote {}", f.display());

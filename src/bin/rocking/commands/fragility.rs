@@ -1,11 +1,14 @@
 //! `rocking fragility`: P(overturn | IM) of a real block.
 
+use rocking::damage::DamageStates;
 use rocking::im::Im;
+use rocking::ops::damage;
 use rocking::ops::fragility::{self, Request};
 
 use rocking::block::Restitution;
 
 use super::args::{parse_restitution, LawArgs};
+use super::states::{parse_states, print_fits, MethodArg};
 
 /// Probability that a real block overturns at given PGAs.
 #[derive(Debug, clap::Args)]
@@ -18,7 +21,11 @@ use super::args::{parse_restitution, LawArgs};
     lognormal, from a study's IM table carried over p and ε (--from PIPELINE.toml) or from the \
     records' own capacities (--direct). --direct also runs the block through a record suite (the \
     pipeline's, or the bundled far-field set) and prints the share of records whose capacity it \
-    exceeds at each level."
+    exceeds at each level.\n\n\
+    --states gives several damage states instead (θmax/α thresholds, then overturning; \
+    docs/MODEL.md §15): from the records' runs (--direct), or from a study (--from \
+    PIPELINE.toml: overturning from its regression or IM table, the other states from its \
+    damage table carried over p and ε); the paper's regression knows overturning only."
 )]
 pub struct Args {
     /// Half-width of the block (m).
@@ -47,6 +54,14 @@ pub struct Args {
     /// The linearised model's accepted error in η_c; a block whose α exceeds it is flagged.
     #[arg(long, default_value_t = 0.01)]
     auto_tol: f64,
+    /// Damage states instead of overturning alone, lightest first: NAME=X
+    /// (θmax/α ≥ X) or NAME=overturned, e.g.
+    /// rocking=0.1,large_rocking=0.5,overturned=overturned.
+    #[arg(long, value_parser = parse_states)]
+    states: Option<DamageStates>,
+    /// With --states: the lognormal's fit, the paper's 16/50/84 % fractiles or censored maximum likelihood.
+    #[arg(long, value_enum, default_value = "fractile", requires = "states")]
+    method: MethodArg,
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -67,6 +82,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         direct: args.direct,
         auto_tol: args.auto_tol,
     };
+    if let Some(states) = &args.states {
+        return run_states(&req, states, args.method, args.json);
+    }
     let a = fragility::assess(&req)?;
     for w in &a.warnings {
         eprintln!("warning: {w}");
@@ -104,6 +122,57 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .empirical
             .map_or(String::new(), |e| format!("  {e:>18.4}"));
         println!("{:>14.4} {eta:>10} {:>14.4}{share}", pt.iml, pt.probability);
+    }
+    Ok(())
+}
+
+/// `--states`: each state's fits, then its probability at each level.
+fn run_states(
+    req: &Request,
+    states: &DamageStates,
+    method: MethodArg,
+    json: bool,
+) -> anyhow::Result<()> {
+    let a = damage::assess(req, states, method.method())?;
+    let f = &a.fragility;
+    for w in &f.warnings {
+        eprintln!("warning: {w}");
+    }
+    if json {
+        println!("{}", serde_json::to_string(&a)?);
+        return Ok(());
+    }
+    println!(
+        "block of half-width b = {} m, half-height h = {} m: α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}; damage states in {} from {}{}",
+        a.b_m,
+        a.h_m,
+        a.alpha_rad,
+        a.p,
+        a.eps,
+        f.im,
+        f.source,
+        f.records.map_or(String::new(), |n| format!(" ({n} records)"))
+    );
+    print_fits(f);
+    println!(
+        "P(state reached | {}) by the {} fit:",
+        f.im.to_uppercase(),
+        a.method
+    );
+    let head = format!("{} ({})", f.im.to_uppercase(), f.unit);
+    let names: String = f
+        .states
+        .iter()
+        .map(|s| format!(" {:>14}", s.name))
+        .collect();
+    println!("{head:>14}{names}");
+    for pt in &a.points {
+        let cells: String = pt
+            .probabilities
+            .iter()
+            .map(|p| p.map_or(format!(" {:>14}", "—"), |p| format!(" {p:>14.4}")))
+            .collect();
+        println!("{:>14.4}{cells}", pt.iml);
     }
     Ok(())
 }

@@ -17,6 +17,7 @@ mod risk;
 mod run;
 mod simulate;
 mod stage;
+mod states;
 mod status;
 mod submit;
 mod wall;

@@ -8,9 +8,11 @@ use rocking::risk::Beyond;
 use rocking::tables::atomic_write;
 
 use rocking::block::Restitution;
+use rocking::damage::DamageStates;
 use rocking::im::level_text;
 
 use super::args::{parse_restitution, LawArgs};
+use super::states::{parse_states, MethodArg};
 
 /// Annual rate of overturning of a block (or an inventory) at the sites of a hazard file.
 #[derive(Debug, clap::Args)]
@@ -26,7 +28,11 @@ use super::args::{parse_restitution, LawArgs};
     (cm/s), 'SA(T)' or 'AvgSA') or a plain CSV `pga_g,annual_rate` (or `pgv_cm_s`, `sa(1.0)_g`, \
     `avgsa_g`; one site). Prints per site the annual rate, the return period, the probability of \
     overturning within --years, the fragility's median and β, and the deaggregation by the IM. \
-    With --inventory, writes one row per block × site to --out (Parquet)."
+    With --inventory, writes one row per block × site to --out (Parquet).\n\n\
+    --states gives the annual rate at which each damage state is reached instead (θmax/α \
+    thresholds, then overturning; docs/MODEL.md §15), each from its lognormal fragility (by \
+    --method) as in `fragility --states`: from the records' runs (--direct) or a study (--from \
+    PIPELINE.toml); printed, or JSON with --json."
 )]
 pub struct Args {
     /// The hazard curves: OpenQuake's hazard_curve-…-<IMT>_….csv, or `pga_g,annual_rate`.
@@ -81,6 +87,13 @@ pub struct Args {
     /// or with --inventory the blocks ranked by their rate at --site.
     #[arg(long, value_name = "FILE.svg")]
     plot: Option<PathBuf>,
+    /// The rate of each damage state instead of overturning alone, lightest
+    /// first: NAME=X (θmax/α ≥ X) or NAME=overturned (prints only; no table, no chart).
+    #[arg(long, value_parser = parse_states, conflicts_with = "plot")]
+    states: Option<DamageStates>,
+    /// With --states: the lognormal's fit, the paper's 16/50/84 % fractiles or censored maximum likelihood.
+    #[arg(long, value_enum, default_value = "fractile", requires = "states")]
+    method: MethodArg,
     /// Print JSON instead of text (one object; an array with --inventory).
     #[arg(long)]
     json: bool,
@@ -114,6 +127,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         beyond,
         auto_tol: args.auto_tol,
     };
+    if let Some(states) = &args.states {
+        return run_states(&req, states, args.method, args.json);
+    }
     let mut inputs = vec![args.hazard.as_path()];
     inputs.extend(args.inventory.as_deref());
     if let rocking::ops::fragility::Source::Pipeline { file, .. } = &req.from {
@@ -170,6 +186,74 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         print_one(&all[0]);
         if let Some(p) = &args.plot {
             println!("deaggregation chart: {}", p.display());
+        }
+    }
+    Ok(())
+}
+
+/// `--states`: each block's states at each site.
+fn run_states(
+    req: &Request,
+    states: &DamageStates,
+    method: MethodArg,
+    json: bool,
+) -> anyhow::Result<()> {
+    let all = risk::assess_states(req, states, method.method())?;
+    for a in &all {
+        for w in &a.warnings {
+            eprintln!("warning: block {}: {w}", a.block.name);
+        }
+    }
+    if json {
+        let text = match &req.blocks {
+            Blocks::Inventory(_) => serde_json::to_string(&all)?,
+            Blocks::One { .. } => serde_json::to_string(&all[0])?,
+        };
+        println!("{text}");
+        return Ok(());
+    }
+    for a in &all {
+        let b = &a.block;
+        println!(
+            "{}: α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}; damage states in {} from {}, {} fit{}",
+            b.name,
+            b.alpha_rad,
+            b.p,
+            b.eps,
+            a.im,
+            a.source,
+            a.method,
+            a.records
+                .map_or(String::new(), |n| format!(" ({n} records)"))
+        );
+        println!(
+            "  {:>5} {:<16} {:<16} {:>20} {:>12} {:>16} {:>10}",
+            "site",
+            "state",
+            "criterion",
+            "median, β",
+            "annual rate",
+            "return period",
+            format!("P({} yr)", a.years)
+        );
+        for site in &a.sites {
+            for s in &site.states {
+                let fit = match (s.median, s.beta) {
+                    (Some(m), Some(b)) => format!("{} {}, {b:.3}", level_text(m), a.unit),
+                    _ => "no fit".to_string(),
+                };
+                println!(
+                    "  {:>5} {:<16} {:<16} {:>20} {:>12} {:>16} {:>10}",
+                    site.site,
+                    s.state,
+                    s.criterion,
+                    fit,
+                    s.annual_rate.map_or("—".to_string(), rate),
+                    s.return_period_years
+                        .map_or("—".to_string(), |t| format!("{t:.0} yr")),
+                    s.p_in_years.map_or("—".to_string(), |p| format!("{p:.4}")),
+                );
+            }
         }
     }
     Ok(())

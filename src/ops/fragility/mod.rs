@@ -3,26 +3,28 @@
 //! in another IM from a study's IM table or the records' own capacities
 //! ([`super::im_fragility`]); optionally the share of records it overturns
 //! under when run through them directly.
+//!
+//! - this file: the request, the assessment and `--direct`'s records;
+//! - `laws`: where the capacities come from (the paper, a study's fit, IM
+//!   and damage tables), checked to be the pipeline's as it stands;
+//! - `error`: every refusal.
 
-use std::path::PathBuf;
+mod error;
+mod laws;
 
 use rayon::prelude::*;
 
-use super::im_fragility::{self, ImTable};
+use super::im_fragility;
+
 use crate::block::{Block, BlockError, Restitution};
-use crate::fragility::{self, FractileLaw};
 use crate::ida::{self, ImGrid};
 use crate::im::{Im, RecordIms};
-use crate::physics::{
-    Excitation, ModelChoice, PhysicsError, RunSpec, LINEARIZATION_ERROR_PER_ALPHA2,
-};
+use crate::physics::{Excitation, ModelChoice, RunSpec, LINEARIZATION_ERROR_PER_ALPHA2};
 use crate::pipeline::Plan;
-use crate::stages::fingerprint::Freshness;
-use crate::stages::fit::{self, FitError};
-use crate::stages::ims;
-use crate::stages::ingest::{self, IngestError, OnBad};
-use crate::stages::records::{self, SelectError};
-use crate::stages::{LoadError, Study};
+use crate::stages::ingest::{self, OnBad};
+use crate::stages::records;
+pub use error::FragilityError;
+pub use laws::{laws, Laws, Source};
 
 /// What the user asks: the block (ε as given), where the capacities come
 /// from, the IM and its levels.
@@ -40,15 +42,6 @@ pub struct Request {
     pub direct: bool,
     /// The linearised model's accepted error in η_c; a stockier block is warned of.
     pub auto_tol: f64,
-}
-
-/// Where the capacity fractiles come from.
-#[derive(Debug, Clone)]
-pub enum Source {
-    /// The paper's published coefficients; `--direct` runs the AT2 files of `records`.
-    Paper { records: PathBuf },
-    /// A pipeline's own fit, in `<outputs>/<name>/`; `--direct` runs its records.
-    Pipeline { file: PathBuf, outputs: PathBuf },
 }
 
 /// One level of the answer.
@@ -91,97 +84,12 @@ pub struct Assessment {
     pub warnings: Vec<String>,
 }
 
-#[derive(Debug, thiserror::Error)]
-pub enum FragilityError {
-    #[error(
-        "damage state `{state}`: {from}'s regression knows only overturning; the other states \
-         come from the records' runs (--direct)"
-    )]
-    StatesNeedRecords { from: String, state: String },
-    #[error("--auto-tol: {0}")]
-    AutoTol(String),
-    #[error("--b and --h must be positive (m); got b = {b}, h = {h}")]
-    Size { b: f64, h: f64 },
-    #[error("--eps = {0}: ε must be in (0, 1]")]
-    Eps(f64),
-    #[error(
-        "Housner's ε = 1 − 1.5 sin²α = {eps:.3} is not positive for a block this stocky \
-         (b/h = {ratio:.3}, α = {alpha:.3} rad): give --eps, a coefficient of restitution in (0, 1]"
-    )]
-    HousnerEps { eps: f64, ratio: f64, alpha: f64 },
-    #[error("--at {0}: levels must be positive")]
-    Level(f64),
-    #[error("give at least one level (--pga, or --im and --at)")]
-    NoLevel,
-    #[error(
-        "the paper's regression is in PGA; a fragility in {0} comes from a study's IM table (--from PIPELINE.toml, after `rocking run`) or from the records (--direct)"
-    )]
-    PaperIsPga(String),
-    #[error(transparent)]
-    ImTable(#[from] im_fragility::ImTableError),
-    #[error(
-        "{0}: SA is computed at the periods 0.05–4 s of docs/MODEL.md §14; ask for one of them"
-    )]
-    NoPeriod(String),
-    #[error("too few of the records overturn the block within the grid to fit a lognormal in {0}")]
-    FewCapacities(String),
-    #[error(
-        "--direct runs the block through a folder of AT2 records, and {} is not a folder{}: \
-         give --records FOLDER (the FEMA P695 far-field set is records/fema-p695/far-field \
-         in rocking's repository), or --from PIPELINE.toml to use a pipeline's records",
-        .0.display(),
-        if .0.is_relative() { " (relative to the current directory)" } else { "" }
-    )]
-    NoRecords(PathBuf),
-    #[error("the regression gives no valid capacity fractiles at p = {p:.3}, ε = {eps:.3}")]
-    NoFractiles { p: f64, eps: f64 },
-    #[error(transparent)]
-    Pipeline(#[from] LoadError),
-    #[error(transparent)]
-    Fit(#[from] FitError),
-    #[error("{pipeline} has no regression to take fractiles from: {why}; use --from paper")]
-    NoFit { pipeline: PathBuf, why: String },
-    #[error(
-        "the {what} in {dir} is not {pipeline}'s as it stands ({why}): another pipeline of the \
-         same name, or an earlier version of this one, wrote it; run `rocking run {pipeline}` \
-         (`rocking status {pipeline}` shows what changed)",
-        dir = .dir.display(),
-        pipeline = .pipeline.display()
-    )]
-    Stale {
-        /// `fit` or `IM table`.
-        what: &'static str,
-        pipeline: PathBuf,
-        dir: PathBuf,
-        why: String,
-    },
-    #[error("--direct")]
-    Records(#[source] SelectError),
-    #[error("--direct")]
-    Ingest(#[source] IngestError),
-    #[error("--direct: the model for this block")]
-    Model(#[source] PhysicsError),
-    #[error("--direct: record {record}")]
-    Physics {
-        record: String,
-        #[source]
-        source: PhysicsError,
-    },
-}
-
 /// What `--direct` says about bad files in `--records`.
 const RECORDS_HINT: &str = "fix them, or point --records at a folder of good AT2 files";
 
 /// Checks the request and computes the fragility.
 pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
-    crate::physics::check_auto_tol(req.auto_tol).map_err(FragilityError::AutoTol)?;
-    let block = block(req.b_m, req.h_m, req.eps)?;
-    if req.levels.is_empty() {
-        return Err(FragilityError::NoLevel);
-    }
-    if let Some(&bad) = req.levels.iter().find(|g| !(**g > 0.0 && g.is_finite())) {
-        return Err(FragilityError::Level(bad));
-    }
+    let block = check(req)?;
     let (alpha, p, eps) = (block.alpha(), block.p(), block.eps);
     let im = req.im;
     let source = laws(&req.from)?;
@@ -257,6 +165,19 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
     })
 }
 
+/// The request's block, its levels and tolerance checked.
+pub fn check(req: &Request) -> Result<Block, FragilityError> {
+    crate::physics::check_auto_tol(req.auto_tol).map_err(FragilityError::AutoTol)?;
+    let block = block(req.b_m, req.h_m, req.eps)?;
+    if req.levels.is_empty() {
+        return Err(FragilityError::NoLevel);
+    }
+    if let Some(&bad) = req.levels.iter().find(|g| !(**g > 0.0 && g.is_finite())) {
+        return Err(FragilityError::Level(bad));
+    }
+    Ok(block)
+}
+
 /// Where the linearised model behind a regression or a study's table errs
 /// by more than `auto_tol` for the block's α.
 pub fn alpha_warning(block: &Block, auto_tol: f64) -> Option<String> {
@@ -298,132 +219,6 @@ pub fn block(b_m: f64, h_m: f64, eps: Restitution) -> Result<Block, FragilityErr
         }
         BlockError::Restitution(_) => unreachable!("ε is given as a number or Housner's"),
     })
-}
-
-/// The regression a fragility comes from.
-#[derive(Debug, Clone)]
-pub struct Laws {
-    /// The fitted laws, or why a pipeline has none to use; only a PGA
-    /// fragility without `--direct` needs them.
-    regression: Result<Vec<FractileLaw>, NoRegression>,
-    /// The pipeline's plan, for `--from PIPELINE.toml`.
-    pub plan: Option<Plan>,
-    /// The pipeline's study folder, for `--from PIPELINE.toml`.
-    pub dir: Option<PathBuf>,
-    /// `paper` or the pipeline file.
-    pub name: String,
-    /// Why the study's IM table is not the pipeline's as it stands, if so.
-    ims_stale: Option<String>,
-}
-
-/// Why a pipeline's regression cannot be used.
-#[derive(Debug, Clone)]
-enum NoRegression {
-    /// The pipeline's blocks cannot have one (why).
-    NotApplicable(String),
-    /// The fit on disk is not the pipeline's as it stands (why).
-    Stale(String),
-    /// No fit was run: the file it would have written.
-    NotRun(PathBuf),
-}
-
-impl Laws {
-    /// η_c,50 and β of a block.
-    pub fn median_beta(&self, block: &Block) -> Result<(f64, f64), FragilityError> {
-        let laws = self.regression.as_ref().map_err(|no| match no {
-            NoRegression::NotApplicable(why) => FragilityError::NoFit {
-                pipeline: PathBuf::from(&self.name),
-                why: why.clone(),
-            },
-            NoRegression::Stale(why) => FragilityError::Stale {
-                what: "fit",
-                pipeline: PathBuf::from(&self.name),
-                dir: self.dir.clone().unwrap_or_default(),
-                why: why.clone(),
-            },
-            NoRegression::NotRun(path) => {
-                FragilityError::Fit(FitError::NoFit(path.clone(), self.name.clone()))
-            }
-        })?;
-        let (p, eps) = (block.p(), block.eps);
-        fragility::median_beta(laws, p, eps).ok_or(FragilityError::NoFractiles { p, eps })
-    }
-
-    /// The study's capacities in `im` (not PGA), to carry to any block;
-    /// the paper's regression has none.
-    pub fn im_table(&self, im: Im) -> Result<ImTable, FragilityError> {
-        match &self.dir {
-            Some(dir) => {
-                if let Some(why) = &self.ims_stale {
-                    return Err(FragilityError::Stale {
-                        what: "IM table",
-                        pipeline: PathBuf::from(&self.name),
-                        dir: dir.clone(),
-                        why: why.clone(),
-                    });
-                }
-                Ok(ImTable::load(dir, &self.name, im)?)
-            }
-            None => Err(FragilityError::PaperIsPga(im.name())),
-        }
-    }
-}
-
-/// The paper's laws or a pipeline's fitted ones.
-pub fn laws(from: &Source) -> Result<Laws, FragilityError> {
-    match from {
-        Source::Paper { .. } => Ok(Laws {
-            regression: Ok(fragility::paper().to_vec()),
-            plan: None,
-            dir: None,
-            name: "paper".to_string(),
-            ims_stale: None,
-        }),
-        Source::Pipeline { file, outputs } => {
-            let study = Study::load(file, outputs)?;
-            let status = crate::stages::engine::status(&study);
-            let name = file.display().to_string();
-            let regression = if let Some(why) = fit::not_applicable(&study.plan) {
-                Err(NoRegression::NotApplicable(why))
-            } else if let Some(why) = staleness(&study, &status, "fit", fit::OUTPUTS[0]) {
-                Err(NoRegression::Stale(why))
-            } else if !study.path(fit::OUTPUTS[1]).exists() {
-                Err(NoRegression::NotRun(study.path(fit::OUTPUTS[1])))
-            } else {
-                Ok(fit::read_laws(&study.dir, &name)?)
-            };
-            let ims_stale = staleness(&study, &status, "ims", ims::OUTPUTS[2]);
-            Ok(Laws {
-                regression,
-                plan: Some(study.plan),
-                dir: Some(study.dir),
-                name,
-                ims_stale,
-            })
-        }
-    }
-}
-
-/// Why a stage's tables are not this pipeline's as it stands: written by
-/// another pipeline of the same `name`, by an earlier version of this one, or
-/// from upstream tables that have changed since (the fingerprints say, as
-/// `rocking status` does). `None` when they are, or when there are none:
-/// reading them then says so, and how to make them.
-fn staleness(
-    study: &Study,
-    status: &[(&'static str, Freshness)],
-    stage: &str,
-    output: &str,
-) -> Option<String> {
-    let (_, freshness) = status
-        .iter()
-        .find(|(name, _)| *name == stage)
-        .expect("a stage of the engine");
-    match freshness {
-        Freshness::Fresh | Freshness::FreshShards(_) => None,
-        _ if !study.path(output).exists() => None,
-        other => Some(other.to_string()),
-    }
 }
 
 /// The records a block is run through with `--direct`, read once.

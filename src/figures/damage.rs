@@ -1,0 +1,265 @@
+//! The damage states' fragility curves of one block: each limit state's
+//! lognormal in PGA/(αg) (the paper's fractile method) over the share of
+//! records that reach it.
+
+use super::figure::Figure;
+use super::shared::middle;
+use crate::damage::{FitMethod, Lognormal};
+use crate::plot::{Chart, Hue, Line, Scale, Style};
+use crate::study::{DamageData, StudyData};
+use crate::tables::damage::{DamageStateRow, StateCapacityRow};
+
+/// The block the damage figure and table show, with its rows in PGA.
+pub struct Shown<'a> {
+    /// Which block, in words.
+    pub which: &'static str,
+    pub p: f64,
+    pub eps: f64,
+    /// The states' names, lightest first.
+    pub names: Vec<String>,
+    /// Its fits in PGA, both methods.
+    pub fits: Vec<&'a DamageStateRow>,
+    pub capacities: Vec<&'a StateCapacityRow>,
+}
+
+impl Shown<'_> {
+    /// The lognormal of `state` by `method`, in PGA/(αg).
+    pub fn lognormal(&self, state: &str, method: FitMethod) -> Option<Lognormal> {
+        let r = self
+            .fits
+            .iter()
+            .find(|r| r.state == state && r.method == method)?;
+        Some(Lognormal {
+            median: r.median_dimensionless?,
+            beta: r.beta?,
+        })
+    }
+
+    /// The fit row of `state` (any method: the counts are the same).
+    pub fn row(&self, state: &str) -> Option<&DamageStateRow> {
+        self.fits.iter().copied().find(|r| r.state == state)
+    }
+
+    /// The capacities (PGA/(αg)) of the records that reach `state`, ascending,
+    /// and how many records there are.
+    pub fn reached(&self, state: &str) -> (Vec<f64>, usize) {
+        let of_state: Vec<&&StateCapacityRow> = self
+            .capacities
+            .iter()
+            .filter(|c| c.state == state)
+            .collect();
+        let mut v: Vec<f64> = of_state
+            .iter()
+            .filter(|c| c.reached)
+            .map(|c| 1.0 / c.eta)
+            .collect();
+        v.sort_by(f64::total_cmp);
+        (v, of_state.len())
+    }
+}
+
+/// The example block's damage rows when the pipeline names one, else the
+/// grid's middle block's; `None` without damage tables.
+pub fn shown(d: &StudyData) -> Option<Shown<'_>> {
+    let (which, p, eps, data, index): (_, _, _, &DamageData, Option<i64>) = match &d.example {
+        Some(x) => (
+            "the pipeline's example block (`[example]`)",
+            x.block.p,
+            x.block.eps,
+            &x.damage,
+            None,
+        ),
+        None => {
+            let (bi, p, e) = middle(d);
+            ("the grid's middle block", p, e, &d.damage, Some(bi as i64))
+        }
+    };
+    let of_block = move |i: i64| index.is_none_or(|b| b == i);
+    let fits: Vec<&DamageStateRow> = data
+        .states
+        .iter()
+        .filter(|r| of_block(r.block_index) && r.im == "pga")
+        .collect();
+    if fits.is_empty() {
+        return None;
+    }
+    Some(Shown {
+        which,
+        p,
+        eps,
+        names: d
+            .records_plan()
+            .damage
+            .states()
+            .iter()
+            .map(|s| s.name.clone())
+            .collect(),
+        fits,
+        capacities: data
+            .capacities
+            .iter()
+            .filter(|c| of_block(c.block_index))
+            .collect(),
+    })
+}
+
+/// The states' fragility curves of the shown block.
+pub(super) fn damage_states(d: &StudyData) -> Vec<Figure> {
+    let Some(s) = shown(d) else {
+        return Vec::new();
+    };
+    let n = s.names.len();
+    let fitted: Vec<(usize, Lognormal)> = (0..n)
+        .filter_map(|j| Some((j, s.lognormal(&s.names[j], FitMethod::Fractile)?)))
+        .collect();
+    // To the 97.7 % point of the heaviest fitted state.
+    let x_max = fitted
+        .iter()
+        .map(|(_, l)| l.median * (2.0 * l.beta).exp())
+        .fold(0.0, f64::max);
+    if !(x_max > 0.0 && x_max.is_finite()) {
+        return Vec::new();
+    }
+    let mut lines = Vec::new();
+    for (j, name) in s.names.iter().enumerate() {
+        let hue = Hue::Ramp(if n > 1 {
+            j as f64 / (n - 1) as f64
+        } else {
+            0.0
+        });
+        let (reached, total) = s.reached(name);
+        let criterion = s.row(name).map_or(String::new(), |r| r.criterion.clone());
+        if !reached.is_empty() {
+            lines.push(Line {
+                name: None,
+                points: reached
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, &x)| x <= x_max)
+                    .map(|(k, &x)| (x, (k + 1) as f64 / total as f64))
+                    .collect(),
+                style: Style::Points,
+                hue,
+            });
+        }
+        if let Some((_, l)) = fitted.iter().find(|(k, _)| *k == j) {
+            lines.push(Line {
+                name: Some(if criterion == "overturned" || criterion.is_empty() {
+                    name.clone()
+                } else {
+                    format!("{name} ({criterion})")
+                }),
+                points: (1..=200)
+                    .map(|i| {
+                        let x = x_max * i as f64 / 200.0;
+                        (x, l.cdf(x))
+                    })
+                    .collect(),
+                style: Style::Line,
+                hue,
+            });
+        }
+    }
+    vec![Figure {
+        file: "damage_states.svg".into(),
+        chart: Chart {
+            title: format!(
+                "Damage-state fragility of {} (p = {:.2} 1/s, ε = {:.2})",
+                s.which.split(" (").next().unwrap_or(s.which),
+                s.p,
+                s.eps
+            ),
+            x_desc: "PGA/(αg) = 1/η (dimensionless)".into(),
+            y_desc: "P(state reached | PGA)".into(),
+            x_scale: Scale::Linear,
+            y_scale: Scale::Linear,
+            x_range: Some((0.0, x_max)),
+            y_range: Some((0.0, 1.0)),
+            x_ticks: None,
+            lines,
+        },
+        caption: format!(
+            "Each limit state of `[damage]` for {}: the points are the records' own capacities \
+             (the share of the {} records whose first crossing of the state lies at or below \
+             that intensity; `state_capacities.parquet`), the line its lognormal by the paper's \
+             fractile method (`damage_states.parquet`, which also holds the censored maximum \
+             likelihood fit and every other IM). In PGA multiply the axis by αg.",
+            s.which,
+            s.capacities.len() / n.max(1),
+        ),
+    }]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::figures::fixture::grid_study;
+
+    fn cap(state: &str, eta: f64, reached: bool) -> StateCapacityRow {
+        StateCapacityRow {
+            block_index: 0,
+            block: String::new(),
+            p: 1.0,
+            eps: 0.5,
+            record_id: "r".into(),
+            state: state.into(),
+            eta,
+            reached,
+        }
+    }
+
+    fn fit(state: &str, method: FitMethod, median: f64, beta: f64) -> DamageStateRow {
+        DamageStateRow {
+            block_index: 0,
+            block: String::new(),
+            p: 1.0,
+            eps: 0.5,
+            state: state.into(),
+            criterion: "θmax/α ≥ 0.1".into(),
+            threshold: Some(0.1),
+            im: "pga".into(),
+            unit: "g".into(),
+            method,
+            n_records: 4,
+            n_reached: 3,
+            median: None,
+            median_dimensionless: Some(median),
+            dimensionless: Some("PGA/(αg)".into()),
+            beta: Some(beta),
+        }
+    }
+
+    /// Records' shares step by 1/n at their capacities (1/η), one record
+    /// censored never counts; the lognormal is ½ at its median; the axis
+    /// ends at the heaviest fitted state's median·e^(2β).
+    #[test]
+    fn points_are_the_records_and_lines_their_lognormals() {
+        let mut d = grid_study(&[1.0], &[0.5]);
+        d.damage.capacities = vec![
+            cap("rocking", 0.5, true),
+            cap("rocking", 0.25, true),
+            cap("rocking", 1.0, true),
+            cap("rocking", 0.1, false),
+        ];
+        d.damage.states = vec![
+            fit("rocking", FitMethod::Fractile, 2.0, 0.5),
+            fit("rocking", FitMethod::MaxLikelihood, 2.2, 0.6),
+        ];
+        let figs = damage_states(&d);
+        assert_eq!(figs.len(), 1);
+        let c = &figs[0].chart;
+        let x_max = 2.0 * 1.0f64.exp();
+        assert_eq!(c.x_range, Some((0.0, x_max)));
+        // The default states: rocking has points and a line, the others no fit.
+        assert_eq!(
+            c.lines[0].points,
+            vec![(1.0, 0.25), (2.0, 0.5), (4.0, 0.75)]
+        );
+        for &(x, y) in &c.lines[1].points {
+            assert_eq!(y > 0.5, x > 2.0, "{x}: {y}");
+        }
+        // The other default states have neither capacities nor fits.
+        assert_eq!(c.lines.len(), 2);
+        assert!(damage_states(&grid_study(&[1.0], &[0.5])).is_empty());
+    }
+}

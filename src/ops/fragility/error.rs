@@ -1,0 +1,91 @@
+//! Why a fragility cannot be made: every refusal of `fragility`, `risk` and
+//! `export` about a block, its capacities or its records.
+
+use std::path::PathBuf;
+
+use crate::ops::im_fragility;
+use crate::physics::PhysicsError;
+use crate::stages::fit::FitError;
+use crate::stages::ingest::IngestError;
+use crate::stages::records::SelectError;
+use crate::stages::LoadError;
+
+/// Why a block's fragility cannot be made.
+#[derive(Debug, thiserror::Error)]
+pub enum FragilityError {
+    #[error(
+        "damage state `{state}`: {from}'s regression knows only overturning; the other states \
+         come from a study's damage table (--from PIPELINE.toml, after `rocking run`) or the \
+         records' runs (--direct)"
+    )]
+    StatesNeedRecords { from: String, state: String },
+    #[error("--auto-tol: {0}")]
+    AutoTol(String),
+    #[error("--b and --h must be positive (m); got b = {b}, h = {h}")]
+    Size { b: f64, h: f64 },
+    #[error("--eps = {0}: ε must be in (0, 1]")]
+    Eps(f64),
+    #[error(
+        "Housner's ε = 1 − 1.5 sin²α = {eps:.3} is not positive for a block this stocky \
+         (b/h = {ratio:.3}, α = {alpha:.3} rad): give --eps, a coefficient of restitution in (0, 1]"
+    )]
+    HousnerEps { eps: f64, ratio: f64, alpha: f64 },
+    #[error("--at {0}: levels must be positive")]
+    Level(f64),
+    #[error("give at least one level (--pga, or --im and --at)")]
+    NoLevel,
+    #[error(
+        "the paper's regression is in PGA; a fragility in {0} comes from a study's IM table (--from PIPELINE.toml, after `rocking run`) or from the records (--direct)"
+    )]
+    PaperIsPga(String),
+    #[error(transparent)]
+    ImTable(#[from] im_fragility::ImTableError),
+    #[error(
+        "{0}: SA is computed at the periods 0.05–4 s of docs/MODEL.md §14; ask for one of them"
+    )]
+    NoPeriod(String),
+    #[error("too few of the records overturn the block within the grid to fit a lognormal in {0}")]
+    FewCapacities(String),
+    #[error(
+        "--direct runs the block through a folder of AT2 records, and {} is not a folder{}: \
+         give --records FOLDER (the FEMA P695 far-field set is records/fema-p695/far-field \
+         in rocking's repository), or --from PIPELINE.toml to use a pipeline's records",
+        .0.display(),
+        if .0.is_relative() { " (relative to the current directory)" } else { "" }
+    )]
+    NoRecords(PathBuf),
+    #[error("the regression gives no valid capacity fractiles at p = {p:.3}, ε = {eps:.3}")]
+    NoFractiles { p: f64, eps: f64 },
+    #[error(transparent)]
+    Pipeline(#[from] LoadError),
+    #[error(transparent)]
+    Fit(#[from] FitError),
+    #[error("{pipeline} has no regression to take fractiles from: {why}; use --from paper")]
+    NoFit { pipeline: PathBuf, why: String },
+    #[error(
+        "the {what} in {dir} is not {pipeline}'s as it stands ({why}): another pipeline of the \
+         same name, or an earlier version of this one, wrote it; run `rocking run {pipeline}` \
+         (`rocking status {pipeline}` shows what changed)",
+        dir = .dir.display(),
+        pipeline = .pipeline.display()
+    )]
+    Stale {
+        /// `fit`, `IM table` or `damage table`.
+        what: &'static str,
+        pipeline: PathBuf,
+        dir: PathBuf,
+        why: String,
+    },
+    #[error("--direct")]
+    Records(#[source] SelectError),
+    #[error("--direct")]
+    Ingest(#[source] IngestError),
+    #[error("--direct: the model for this block")]
+    Model(#[source] PhysicsError),
+    #[error("--direct: record {record}")]
+    Physics {
+        record: String,
+        #[source]
+        source: PhysicsError,
+    },
+}

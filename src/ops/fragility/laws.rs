@@ -1,0 +1,177 @@
+//! Where a fragility's capacities come from: the paper's regression, or a
+//! pipeline's study (its fit, IM table and damage table), each checked to
+//! be the pipeline's as it stands.
+
+use std::path::PathBuf;
+
+use super::error::FragilityError;
+use crate::block::Block;
+use crate::damage::FitMethod;
+use crate::fragility::{self, FractileLaw};
+use crate::im::Im;
+use crate::ops::im_fragility::{DamageTable, ImTable};
+use crate::pipeline::Plan;
+use crate::stages::fingerprint::Freshness;
+use crate::stages::fit::{self, FitError};
+use crate::stages::{damage, ims, Study};
+
+/// Where the capacity fractiles come from.
+#[derive(Debug, Clone)]
+pub enum Source {
+    /// The paper's published coefficients; `--direct` runs the AT2 files of `records`.
+    Paper { records: PathBuf },
+    /// A pipeline's own fit, in `<outputs>/<name>/`; `--direct` runs its records.
+    Pipeline { file: PathBuf, outputs: PathBuf },
+}
+
+/// The regression a fragility comes from.
+#[derive(Debug, Clone)]
+pub struct Laws {
+    /// The fitted laws, or why a pipeline has none to use; only a PGA
+    /// fragility without `--direct` needs them.
+    regression: Result<Vec<FractileLaw>, NoRegression>,
+    /// The pipeline's plan, for `--from PIPELINE.toml`.
+    pub plan: Option<Plan>,
+    /// The pipeline's study folder, for `--from PIPELINE.toml`.
+    pub dir: Option<PathBuf>,
+    /// `paper` or the pipeline file.
+    pub name: String,
+    /// Why the study's IM table is not the pipeline's as it stands, if so.
+    ims_stale: Option<String>,
+    /// The same of its damage table.
+    damage_stale: Option<String>,
+}
+
+/// Why a pipeline's regression cannot be used.
+#[derive(Debug, Clone)]
+enum NoRegression {
+    /// The pipeline's blocks cannot have one (why).
+    NotApplicable(String),
+    /// The fit on disk is not the pipeline's as it stands (why).
+    Stale(String),
+    /// No fit was run: the file it would have written.
+    NotRun(PathBuf),
+}
+
+impl Laws {
+    /// η_c,50 and β of a block.
+    pub fn median_beta(&self, block: &Block) -> Result<(f64, f64), FragilityError> {
+        let laws = self.regression.as_ref().map_err(|no| match no {
+            NoRegression::NotApplicable(why) => FragilityError::NoFit {
+                pipeline: PathBuf::from(&self.name),
+                why: why.clone(),
+            },
+            NoRegression::Stale(why) => FragilityError::Stale {
+                what: "fit",
+                pipeline: PathBuf::from(&self.name),
+                dir: self.dir.clone().unwrap_or_default(),
+                why: why.clone(),
+            },
+            NoRegression::NotRun(path) => {
+                FragilityError::Fit(FitError::NoFit(path.clone(), self.name.clone()))
+            }
+        })?;
+        let (p, eps) = (block.p(), block.eps);
+        fragility::median_beta(laws, p, eps).ok_or(FragilityError::NoFractiles { p, eps })
+    }
+
+    /// The study's capacities in `im` (not PGA), to carry to any block;
+    /// the paper's regression has none.
+    pub fn im_table(&self, im: Im) -> Result<ImTable, FragilityError> {
+        match &self.dir {
+            Some(dir) => {
+                if let Some(why) = &self.ims_stale {
+                    return Err(FragilityError::Stale {
+                        what: "IM table",
+                        pipeline: PathBuf::from(&self.name),
+                        dir: dir.clone(),
+                        why: why.clone(),
+                    });
+                }
+                Ok(ImTable::load(dir, &self.name, im)?)
+            }
+            None => Err(FragilityError::PaperIsPga(im.name())),
+        }
+    }
+
+    /// The study's damage-state fits in `im` by `method`, to carry to any
+    /// block; `None` for the paper's regression, which has none.
+    pub fn damage_table(
+        &self,
+        im: Im,
+        method: FitMethod,
+    ) -> Result<Option<DamageTable>, FragilityError> {
+        let Some(dir) = &self.dir else {
+            return Ok(None);
+        };
+        if let Some(why) = &self.damage_stale {
+            return Err(FragilityError::Stale {
+                what: "damage table",
+                pipeline: PathBuf::from(&self.name),
+                dir: dir.clone(),
+                why: why.clone(),
+            });
+        }
+        Ok(Some(DamageTable::load(dir, &self.name, im, method)?))
+    }
+}
+
+/// The paper's laws or a pipeline's fitted ones.
+pub fn laws(from: &Source) -> Result<Laws, FragilityError> {
+    match from {
+        Source::Paper { .. } => Ok(Laws {
+            regression: Ok(fragility::paper().to_vec()),
+            plan: None,
+            dir: None,
+            name: "paper".to_string(),
+            ims_stale: None,
+            damage_stale: None,
+        }),
+        Source::Pipeline { file, outputs } => {
+            let study = Study::load(file, outputs)?;
+            let status = crate::stages::engine::status(&study);
+            let name = file.display().to_string();
+            let regression = if let Some(why) = fit::not_applicable(&study.plan) {
+                Err(NoRegression::NotApplicable(why))
+            } else if let Some(why) = staleness(&study, &status, "fit", fit::OUTPUTS[0]) {
+                Err(NoRegression::Stale(why))
+            } else if !study.path(fit::OUTPUTS[1]).exists() {
+                Err(NoRegression::NotRun(study.path(fit::OUTPUTS[1])))
+            } else {
+                Ok(fit::read_laws(&study.dir, &name)?)
+            };
+            let ims_stale = staleness(&study, &status, "ims", ims::OUTPUTS[2]);
+            let damage_stale = staleness(&study, &status, "damage", damage::STATES);
+            Ok(Laws {
+                regression,
+                plan: Some(study.plan),
+                dir: Some(study.dir),
+                name,
+                ims_stale,
+                damage_stale,
+            })
+        }
+    }
+}
+
+/// Why a stage's tables are not this pipeline's as it stands: written by
+/// another pipeline of the same `name`, by an earlier version of this one, or
+/// from upstream tables that have changed since (the fingerprints say, as
+/// `rocking status` does). `None` when they are, or when there are none:
+/// reading them then says so, and how to make them.
+fn staleness(
+    study: &Study,
+    status: &[(&'static str, Freshness)],
+    stage: &str,
+    output: &str,
+) -> Option<String> {
+    let (_, freshness) = status
+        .iter()
+        .find(|(name, _)| *name == stage)
+        .expect("a stage of the engine");
+    match freshness {
+        Freshness::Fresh | Freshness::FreshShards(_) => None,
+        _ if !study.path(output).exists() => None,
+        other => Some(other.to_string()),
+    }
+}

@@ -1,0 +1,123 @@
+//! The blocks `risk` and `export` assess: one block, or an inventory CSV
+//! `name,b,h[,eps]` read with every error naming its line.
+
+use std::path::Path;
+
+use super::{Blocks, RiskError};
+use crate::block::{Block, BlockError, Restitution};
+
+/// One inventory entry.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InventoryBlock {
+    pub name: String,
+    pub b_m: f64,
+    pub h_m: f64,
+    pub eps: Restitution,
+    /// Line in the file (1-based).
+    pub line: u64,
+}
+
+/// Reads an inventory CSV: a header with `name`, `b`, `h` and optionally
+/// `eps` (a number, or empty or `housner` for Housner's bound).
+pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
+    let bytes = std::fs::read(path).map_err(|source| RiskError::Read {
+        path: path.into(),
+        source,
+    })?;
+    let bad = |line: u64, message: String| RiskError::Inventory {
+        path: path.into(),
+        line,
+        message,
+    };
+    let line_of = |byte: u64| {
+        1 + bytes[..(byte as usize).min(bytes.len())]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count() as u64
+    };
+    let mut csv = csv::ReaderBuilder::new().from_reader(bytes.as_slice());
+    let headers = csv.headers().map_err(|e| bad(1, e.to_string()))?.clone();
+    let col = |name: &str| headers.iter().position(|h| h.trim() == name);
+    let (Some(cn), Some(cb), Some(ch)) = (col("name"), col("b"), col("h")) else {
+        return Err(bad(
+            1,
+            "the header needs `name`, `b` and `h` (half-width and half-height, m), and may have `eps`".into(),
+        ));
+    };
+    let ce = col("eps");
+    let mut out: Vec<InventoryBlock> = Vec::new();
+    for row in csv.records() {
+        let row =
+            row.map_err(|e| bad(e.position().map_or(0, |p| line_of(p.byte())), e.to_string()))?;
+        let line = row.position().map_or(0, |p| {
+            // Skip the line breaks a position may point at.
+            let mut at = p.byte() as usize;
+            while at < bytes.len() && matches!(bytes[at], b'\n' | b'\r') {
+                at += 1;
+            }
+            line_of(at as u64)
+        });
+        let cell = |c: usize| row.get(c).map(str::trim).unwrap_or("");
+        let num = |c: usize, what: &str| -> Result<f64, RiskError> {
+            cell(c)
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| bad(line, format!("`{what}` = `{}` is not a number", cell(c))))
+        };
+        let name = cell(cn).to_string();
+        if name.is_empty() {
+            return Err(bad(line, "a block needs a name".into()));
+        }
+        if out.iter().any(|b| b.name == name) {
+            return Err(bad(line, format!("block `{name}` is listed twice")));
+        }
+        let eps = match ce.map(cell) {
+            None | Some("") => Restitution::Housner,
+            Some(text) => text
+                .parse::<Restitution>()
+                .ok()
+                .filter(|e| !matches!(e, Restitution::Value(v) if !v.is_finite()))
+                .ok_or_else(|| {
+                    bad(
+                        line,
+                        format!("`eps` = `{text}`: give a number in (0, 1] or `housner`"),
+                    )
+                })?,
+        };
+        let (b_m, h_m) = (num(cb, "b")?, num(ch, "h")?);
+        // Checked here, so that the message names the file, line and column.
+        Block::new(b_m, h_m, eps).map_err(|e| {
+            let column = match e {
+                BlockError::Size { .. } => "`b`, `h`",
+                _ => "`eps`",
+            };
+            bad(line, format!("block `{name}`: {column}: {e}"))
+        })?;
+        out.push(InventoryBlock {
+            name,
+            b_m,
+            h_m,
+            eps,
+            line,
+        });
+    }
+    if out.is_empty() {
+        return Err(bad(1, "no blocks after the header".into()));
+    }
+    Ok(out)
+}
+
+/// The blocks asked: one (named by its dimensions) or an inventory's.
+pub(super) fn entries(blocks: &Blocks) -> Result<Vec<InventoryBlock>, RiskError> {
+    Ok(match blocks {
+        Blocks::One { b_m, h_m, eps } => vec![InventoryBlock {
+            name: format!("half-width {b_m} m × half-height {h_m} m"),
+            b_m: *b_m,
+            h_m: *h_m,
+            eps: *eps,
+            line: 0,
+        }],
+        Blocks::Inventory(path) => read_inventory(path)?,
+    })
+}

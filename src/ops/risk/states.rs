@@ -1,0 +1,145 @@
+//! `risk --states`: the annual rate at which each damage state is reached
+//! at each site, from the states' lognormal fragilities
+//! ([`crate::ops::damage`]) and the same hazard integral as overturning.
+
+use serde::Serialize;
+
+use super::{entries, hazard_im, read_hazard, BlockInfo, Request, RiskError};
+use crate::block::Restitution;
+use crate::damage::{DamageStates, FitMethod};
+use crate::ops::damage;
+use crate::ops::fragility::{self, DirectRecords};
+use crate::risk::{self, Fragility};
+use crate::stats::FractileDef;
+
+/// One state at one site.
+#[derive(Debug, Clone, Serialize)]
+pub struct StateRisk {
+    pub state: String,
+    pub criterion: String,
+    /// The lognormal used (`None`: the method has no fit; no rate).
+    pub median: Option<f64>,
+    pub beta: Option<f64>,
+    pub annual_rate: Option<f64>,
+    pub return_period_years: Option<f64>,
+    /// P(the state is reached at least once within `years`), Poisson.
+    pub p_in_years: Option<f64>,
+}
+
+/// Every state at one site.
+#[derive(Debug, Clone, Serialize)]
+pub struct StatesSite {
+    pub site: usize,
+    pub lon: Option<f64>,
+    pub lat: Option<f64>,
+    pub states: Vec<StateRisk>,
+}
+
+/// One block's damage states at every site asked.
+#[derive(Debug, Clone, Serialize)]
+pub struct StatesAssessment {
+    pub block: BlockInfo,
+    /// `paper`, the pipeline file, or `direct`.
+    pub source: String,
+    pub im: String,
+    pub unit: &'static str,
+    /// `fractile` or `mle`: the fit whose lognormal is integrated.
+    pub method: &'static str,
+    pub records: Option<usize>,
+    pub years: f64,
+    pub beyond: &'static str,
+    pub sites: Vec<StatesSite>,
+    pub warnings: Vec<String>,
+}
+
+/// Every block asked, each of `states` by `method`, at every site asked.
+pub fn assess_states(
+    req: &Request,
+    states: &DamageStates,
+    method: FitMethod,
+) -> Result<Vec<StatesAssessment>, RiskError> {
+    if !(req.years > 0.0 && req.years.is_finite()) {
+        return Err(RiskError::Years(req.years));
+    }
+    crate::physics::check_auto_tol(req.auto_tol).map_err(RiskError::AutoTol)?;
+    let sites = read_hazard(&req.hazard, req.site)?;
+    let im = hazard_im(&req.hazard, &sites, req.im)?;
+    let laws = fragility::laws(&req.from)?;
+    let records = if req.direct {
+        Some(DirectRecords::load(&req.from, laws.plan.as_ref())?)
+    } else {
+        None
+    };
+    let mut out = Vec::new();
+    for e in entries(&req.blocks)? {
+        let in_block = |source| RiskError::Block {
+            name: e.name.clone(),
+            source,
+        };
+        let block = fragility::block(e.b_m, e.h_m, e.eps).map_err(in_block)?;
+        let mut f = damage::of_block(
+            &block,
+            states,
+            im,
+            &laws,
+            records.as_ref(),
+            FractileDef::Type7,
+            req.auto_tol,
+        )
+        .map_err(in_block)?;
+        let crossed = damage::crossings(&f, method);
+        f.warnings.extend(crossed);
+        let sites = sites
+            .iter()
+            .map(|(k, curve)| StatesSite {
+                site: *k,
+                lon: curve.lon,
+                lat: curve.lat,
+                states: f
+                    .states
+                    .iter()
+                    .map(|s| {
+                        let l = s.by(method);
+                        let rate = l.map(|l| {
+                            let frag = Fragility::Lognormal {
+                                median: l.median,
+                                beta: l.beta,
+                            };
+                            risk::assess(curve, &frag, req.beyond).annual_rate
+                        });
+                        StateRisk {
+                            state: s.name.clone(),
+                            criterion: s.criterion.clone(),
+                            median: l.map(|l| l.median),
+                            beta: l.map(|l| l.beta),
+                            annual_rate: rate,
+                            return_period_years: rate.filter(|r| *r > 0.0).map(|r| 1.0 / r),
+                            p_in_years: rate.map(|r| risk::probability_in(r, req.years)),
+                        }
+                    })
+                    .collect(),
+            })
+            .collect();
+        out.push(StatesAssessment {
+            block: BlockInfo {
+                name: e.name.clone(),
+                b_m: e.b_m,
+                h_m: e.h_m,
+                alpha_rad: block.alpha(),
+                p: block.p(),
+                eps: block.eps,
+                eps_housner: e.eps == Restitution::Housner,
+            },
+            source: f.source,
+            im: f.im,
+            unit: f.unit,
+            method: method.name(),
+            records: f.records,
+            years: req.years,
+            beyond: crate::label::Label::label(req.beyond),
+            sites,
+            warnings: f.warnings,
+        });
+    }
+    Ok(out)
+}

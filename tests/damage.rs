@@ -1,0 +1,375 @@
+//! The damage stage and the damage states of `fragility`, `risk` and
+//! `export --from PIPELINE.toml`: each record's state capacities against its
+//! runs, the fits against the paper's fractiles by hand and the likelihood's
+//! maximum, the example block against the same block of the grid, the
+//! table carried to another block, refusals and staleness.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use crate::util::{rocking, stderr, stdout, tempdir, write_pipeline, TempDir};
+use rocking::damage::FitMethod;
+use rocking::tables::damage::{DamageStateRow, StateCapacityRow};
+use rocking::tables::ims::RecordImRow;
+use rocking::tables::sweep::{CapacityRow, IdaRow};
+
+const STATES: &str = "light=0.2,heavy=0.6,overturned=overturned";
+
+/// Two blocks of the grid (p = 1 and 4 1/s, ε = 0.7) and the example
+/// block p = 1, ε = 0.7 (the grid's first, run again by the example stage).
+fn study() -> (TempDir, PathBuf, PathBuf) {
+    let dir = tempdir();
+    let body = format!(
+        "sets = [\"far-field\"]\n[model]\nkind = \"linearized\"\n[blocks]\np = [1.0, 4.0]\n\
+         eps = [0.7]\n[example]\np = 1.0\neps = 0.7\n[damage]\nstates = \"{STATES}\"\n"
+    );
+    let pipeline = write_pipeline(dir.path(), "dmg", &body);
+    let outputs = dir.path().join("out");
+    let out = rocking(dir.path(), &["run", s(&pipeline), "--outputs", s(&outputs)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    (dir, pipeline, outputs)
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn read<T: rocking::tables::Table>(dir: &Path, name: &str) -> Vec<T> {
+    rocking::tables::read(&dir.join(name)).unwrap()
+}
+
+/// Type 7 fractile of sorted values, written out (numpy's default).
+fn type7(sorted: &[f64], q: f64) -> f64 {
+    let h = (sorted.len() - 1) as f64 * q;
+    let (lo, t) = (h.floor() as usize, h - h.floor());
+    if t == 0.0 {
+        sorted[lo]
+    } else {
+        sorted[lo] + t * (sorted[lo + 1] - sorted[lo])
+    }
+}
+
+/// The censored normal log-likelihood of ln capacities.
+fn log_likelihood(reached: &[f64], censored: &[f64], mu: f64, sigma: f64) -> f64 {
+    let n = statrs::distribution::Normal::new(0.0, 1.0).unwrap();
+    use statrs::distribution::{Continuous, ContinuousCDF};
+    let a: f64 = reached
+        .iter()
+        .map(|y| n.ln_pdf((y.ln() - mu) / sigma) - sigma.ln())
+        .sum();
+    let b: f64 = censored
+        .iter()
+        .map(|c| n.sf((c.ln() - mu) / sigma).ln())
+        .sum();
+    a + b
+}
+
+#[test]
+fn damage_tables_against_the_runs_and_the_fits_by_hand() {
+    let (_dir, _pipeline, outputs) = study();
+    let dir = outputs.join("dmg");
+    let caps: Vec<CapacityRow> = read(&dir, "capacities.parquet");
+    let ida: Vec<IdaRow> = read(&dir, "ida_points.parquet");
+    let state_caps: Vec<StateCapacityRow> = read(&dir, "state_capacities.parquet");
+    let fits: Vec<DamageStateRow> = read(&dir, "damage_states.parquet");
+    let ims: Vec<RecordImRow> = read(&dir, "record_ims.parquet");
+    assert_eq!(state_caps.len(), caps.len() * 3);
+    let thresholds = [
+        ("light", Some(0.2)),
+        ("heavy", Some(0.6)),
+        ("overturned", None),
+    ];
+    let n_blocks = 2;
+    for c in &caps {
+        let block = c.case_id as usize % n_blocks;
+        let mut runs: Vec<&IdaRow> = ida.iter().filter(|r| r.case_id == c.case_id).collect();
+        runs.sort_by(|a, b| b.eta.total_cmp(&a.eta));
+        for (name, x) in thresholds {
+            let row = state_caps
+                .iter()
+                .find(|r| {
+                    r.block_index as usize == block && r.record_id == c.record_id && r.state == name
+                })
+                .unwrap();
+            let Some(x) = x else {
+                // Overturning is η_c itself, or censored at the strongest run.
+                match c.eta_c {
+                    Some(eta) => assert!(row.reached && row.eta == eta),
+                    None => assert!(!row.reached && row.eta == runs.last().unwrap().eta),
+                }
+                continue;
+            };
+            // The first run, as intensity rises, at or past the threshold.
+            let first = runs.iter().position(|r| r.overturned || r.edp >= x);
+            match first {
+                None => assert!(!row.reached && row.eta == runs.last().unwrap().eta),
+                Some(k) => {
+                    assert!(row.reached, "{} {name}", c.record_id);
+                    let at = runs[k];
+                    let want = if at.overturned || k == 0 || runs[k - 1].edp >= at.edp {
+                        at.eta
+                    } else {
+                        // Linear in 1/η between the run before and this one.
+                        let b = runs[k - 1];
+                        let t = (x - b.edp) / (at.edp - b.edp);
+                        1.0 / (1.0 / b.eta + t * (1.0 / at.eta - 1.0 / b.eta))
+                    };
+                    assert!(
+                        (row.eta / want - 1.0).abs() < 1e-12,
+                        "{} {name}: {} against {want}",
+                        c.record_id,
+                        row.eta
+                    );
+                }
+            }
+        }
+    }
+    // The fits in PGA/(αg) and p·PGV/(αg), by the paper's fractiles by hand.
+    let pga_of: BTreeMap<&str, &RecordImRow> =
+        ims.iter().map(|r| (r.record_id.as_str(), r)).collect();
+    for (block, p) in [(0, 1.0), (1, 4.0)] {
+        for (name, _) in thresholds {
+            let of_state: Vec<&StateCapacityRow> = state_caps
+                .iter()
+                .filter(|r| r.block_index == block && r.state == name)
+                .collect();
+            for (im, to_im) in [
+                (
+                    "pga",
+                    Box::new(|_: &str, eta: f64| 1.0 / eta) as Box<dyn Fn(&str, f64) -> f64>,
+                ),
+                (
+                    "pgv",
+                    Box::new(|id: &str, eta: f64| {
+                        let r = pga_of[id];
+                        p / 100.0 / 9.80665 * r.pgv_cm_s * (1.0 / eta) / r.pga_g
+                    }),
+                ),
+            ] {
+                let mut all: Vec<f64> = of_state
+                    .iter()
+                    .map(|r| {
+                        if r.reached {
+                            to_im(&r.record_id, r.eta)
+                        } else {
+                            f64::INFINITY
+                        }
+                    })
+                    .collect();
+                all.sort_by(f64::total_cmp);
+                let fit = |m: FitMethod| {
+                    fits.iter()
+                        .find(|f| {
+                            f.block_index == block && f.state == name && f.im == im && f.method == m
+                        })
+                        .unwrap()
+                };
+                let fr = fit(FitMethod::Fractile);
+                assert_eq!(fr.n_records, 44);
+                assert_eq!(
+                    fr.n_reached as usize,
+                    of_state.iter().filter(|r| r.reached).count()
+                );
+                let (q16, q50, q84) = (type7(&all, 0.16), type7(&all, 0.5), type7(&all, 0.84));
+                if q84.is_finite() {
+                    let m = fr.median_dimensionless.unwrap();
+                    assert!(
+                        (m / q50 - 1.0).abs() < 1e-12,
+                        "{name} {im}: {m} against {q50}"
+                    );
+                    let beta = 0.5 * (q84 / q16).ln();
+                    assert!((fr.beta.unwrap() - beta).abs() < 1e-12);
+                } else {
+                    assert!(fr.median_dimensionless.is_none());
+                }
+                // Maximum likelihood: no step in μ or σ raises the likelihood.
+                let ml = fit(FitMethod::MaxLikelihood);
+                let (Some(m), Some(beta)) = (ml.median_dimensionless, ml.beta) else {
+                    continue;
+                };
+                let reached: Vec<f64> = all.iter().copied().filter(|v| v.is_finite()).collect();
+                let censored: Vec<f64> = of_state
+                    .iter()
+                    .filter(|r| !r.reached)
+                    .map(|r| to_im(&r.record_id, r.eta))
+                    .collect();
+                let best = log_likelihood(&reached, &censored, m.ln(), beta);
+                for (dm, ds) in [(1e-4, 0.0), (-1e-4, 0.0), (0.0, 1e-4), (0.0, -1e-4)] {
+                    let other = log_likelihood(&reached, &censored, m.ln() + dm, beta + ds);
+                    assert!(other <= best + 1e-9, "{name} {im}: {other} > {best}");
+                }
+            }
+        }
+    }
+    // The example block is the grid's first: the same rows, by another run.
+    let example: Vec<DamageStateRow> = read(&dir, "example_damage_states.parquet");
+    let grid_first: Vec<&DamageStateRow> = fits.iter().filter(|f| f.block_index == 0).collect();
+    assert_eq!(example.len(), grid_first.len());
+    for (a, b) in example.iter().zip(grid_first) {
+        assert_eq!(
+            (a.median_dimensionless, a.beta, &a.state, &a.im),
+            (b.median_dimensionless, b.beta, &b.state, &b.im)
+        );
+    }
+    let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(report.contains("## Damage states"), "{report}");
+    assert!(report.contains("| light | θmax/α ≥ 0.2 |"), "{report}");
+    assert!(dir.join("figures/damage_states.svg").exists());
+}
+
+/// `fragility --states --from`: the study's fits carried to a block between
+/// its two p (linear in ln p, the median on a log scale), at the study's ε;
+/// the probabilities are the lognormals'; `risk --states` gives the same
+/// overturning rate as `risk`; a state the study lacks, an edited [damage]
+/// and the paper's regression are refused by name.
+#[test]
+fn states_from_a_study_carried_to_a_block() {
+    let (dir, pipeline, outputs) = study();
+    let table: Vec<DamageStateRow> = read(&outputs.join("dmg"), "damage_states.parquet");
+    let (b, h) = ("0.1", "1.0");
+    let common = |extra: &[&str]| {
+        let mut a = vec![
+            "--b",
+            b,
+            "--h",
+            h,
+            "--eps",
+            "0.7",
+            "--from",
+            s(&pipeline),
+            "--outputs",
+            s(&outputs),
+            "--states",
+            STATES,
+        ];
+        a.extend(extra);
+        a.iter().map(|x| x.to_string()).collect::<Vec<_>>()
+    };
+    let run = |args: Vec<String>| {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        rocking(dir.path(), &args)
+    };
+    let mut args = vec!["fragility".to_string()];
+    args.extend(common(&["--pga", "0.05,0.1", "--json"]));
+    let out = run(args);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&out)).unwrap();
+    let (alpha, p) = (v["alpha_rad"].as_f64().unwrap(), v["p"].as_f64().unwrap());
+    assert!(p > 1.0 && p < 4.0, "{p}");
+    let t = (p.ln() - 1f64.ln()) / (4f64.ln() - 1f64.ln());
+    for (j, name) in ["light", "heavy", "overturned"].iter().enumerate() {
+        let node = |block: i64| {
+            let r = table
+                .iter()
+                .find(|r| {
+                    r.block_index == block
+                        && r.state == *name
+                        && r.im == "pga"
+                        && r.method == FitMethod::Fractile
+                })
+                .unwrap();
+            (r.median_dimensionless.unwrap().ln(), r.beta.unwrap())
+        };
+        let ((m0, b0), (m1, b1)) = (node(0), node(1));
+        let median = alpha * (m0 + t * (m1 - m0)).exp();
+        let beta = b0 + t * (b1 - b0);
+        let state = &v["fragility"]["states"][j];
+        let got = state["fractile"]["median"].as_f64().unwrap();
+        assert!(
+            (got / median - 1.0).abs() < 1e-12,
+            "{name}: {got} against {median}"
+        );
+        assert!((state["fractile"]["beta"].as_f64().unwrap() - beta).abs() < 1e-12);
+        let prob = v["points"][1]["probabilities"][j].as_f64().unwrap();
+        let want = rocking::stats::normal_cdf((0.1f64 / median).ln() / beta);
+        assert!((prob - want).abs() < 1e-14, "{name}: {prob} against {want}");
+    }
+    // risk --states on a power-law hazard λ(a) = k0 a^−k: each state's rate
+    // is Cornell's closed form k0 m^−k exp(k²β²/2) of its lognormal.
+    let (k0, k) = (2e-4, 2.6);
+    let mut text = String::from("pga_g,annual_rate\n");
+    for i in 0..30 {
+        let a = 0.001 * (10.0f64 / 0.001).powf(i as f64 / 29.0);
+        text.push_str(&format!("{a:?},{:?}\n", k0 * a.powf(-k)));
+    }
+    let hazard = dir.path().join("h.csv");
+    std::fs::write(&hazard, text).unwrap();
+    let mut args = vec![
+        "risk".to_string(),
+        "--hazard".into(),
+        s(&hazard).into(),
+        "--json".into(),
+    ];
+    args.extend(common(&[]));
+    let out = run(args);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&out)).unwrap();
+    let rows = v["sites"][0]["states"].as_array().unwrap();
+    assert_eq!(rows.len(), 3);
+    for r in rows {
+        let (m, beta) = (r["median"].as_f64().unwrap(), r["beta"].as_f64().unwrap());
+        let want = k0 * m.powf(-k) * (k * k * beta * beta / 2.0).exp();
+        let got = r["annual_rate"].as_f64().unwrap();
+        assert!(
+            (got / want - 1.0).abs() < 1e-9,
+            "{}: {got} against {want}",
+            r["state"]
+        );
+        let p50 = 1.0 - (-50.0 * got).exp();
+        assert!((r["p_in_years"].as_f64().unwrap() - p50).abs() < 1e-15);
+    }
+    // Refusals.
+    let mut args = vec!["fragility".to_string()];
+    args.extend(common(&["--pga", "0.1"]));
+    let k = args.iter().position(|a| a == STATES).unwrap();
+    args[k] = "moved=0.3,overturned=overturned".into();
+    let out = run(args.clone());
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("damage state `moved`"),
+        "{}",
+        stderr(&out)
+    );
+    let paper: Vec<String> = vec![
+        "fragility",
+        "--b",
+        b,
+        "--h",
+        h,
+        "--pga",
+        "0.1",
+        "--states",
+        STATES,
+    ]
+    .into_iter()
+    .map(String::from)
+    .collect();
+    let out = run(paper);
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(e.contains("`light`") && e.contains("--direct"), "{e}");
+    // An edited [damage]: the table on disk is not the pipeline's.
+    let text = std::fs::read_to_string(&pipeline).unwrap();
+    std::fs::write(&pipeline, text.replace("heavy=0.6", "heavy=0.7")).unwrap();
+    args[k] = STATES.into();
+    let out = run(args);
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("damage table"), "{}", stderr(&out));
+}
+
+#[test]
+fn unordered_damage_states_in_a_pipeline_are_refused_by_key() {
+    let dir = tempdir();
+    let pipeline = write_pipeline(
+        dir.path(),
+        "bad",
+        "sets = [\"far-field\"]\n[blocks]\np = [1.0]\neps = [0.7]\n[damage]\nstates = \"a=0.5,b=0.2\"\n",
+    );
+    let out = rocking(
+        dir.path(),
+        &["run", s(&pipeline), "--outputs", s(&dir.path().join("o"))],
+    );
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(e.contains("damage.states") && e.contains("`b`"), "{e}");
+}
