@@ -63,7 +63,7 @@ impl Shown<'_> {
 pub fn shown(d: &StudyData) -> Option<Shown<'_>> {
     let (which, p, eps, data, index): (_, _, _, &DamageData, Option<i64>) = match &d.example {
         Some(x) => (
-            "the pipeline's example block (`[example]`)",
+            "the pipeline's example block",
             x.block.p,
             x.block.eps,
             &x.damage,
@@ -165,9 +165,7 @@ pub(super) fn damage_states(d: &StudyData) -> Vec<Figure> {
         chart: Chart {
             title: format!(
                 "Damage-state fragility of {} (p = {:.2} 1/s, ε = {:.2})",
-                s.which.split(" (").next().unwrap_or(s.which),
-                s.p,
-                s.eps
+                s.which, s.p, s.eps
             ),
             x_desc: "PGA/(αg) = 1/η (dimensionless)".into(),
             y_desc: "P(state reached | PGA)".into(),

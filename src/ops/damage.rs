@@ -52,6 +52,10 @@ pub struct DamageFragility {
     pub warnings: Vec<String>,
 }
 
+/// The fractile definition of the records' fits (`--direct`): numpy's and
+/// R's default, as the paper's.
+const DIRECT_FRACTILE: FractileDef = FractileDef::Type7;
+
 /// The block's fragility for each of `states` in `im`.
 pub fn of_block(
     block: &Block,
@@ -59,11 +63,10 @@ pub fn of_block(
     im: Im,
     laws: &Laws,
     direct: Option<&DirectRecords>,
-    def: FractileDef,
     auto_tol: f64,
 ) -> Result<DamageFragility, FragilityError> {
     match direct {
-        Some(records) => from_records(block, states, im, records, def, auto_tol),
+        Some(records) => from_records(block, states, im, records, auto_tol),
         None => from_regression(block, states, im, laws, auto_tol),
     }
 }
@@ -83,34 +86,30 @@ fn from_regression(
         .states()
         .iter()
         .any(|s| s.criterion != Criterion::Overturned);
-    let tables = [FitMethod::Fractile, FitMethod::MaxLikelihood].map(|m| {
+    let table = |m| {
         if need_table {
             laws.damage_table(im, m)
         } else {
             Ok(None)
         }
-    });
-    let [fractile_table, mle_table] = tables;
-    let (fractile_table, mle_table) = (fractile_table?, mle_table?);
+    };
+    let fractile_table = table(FitMethod::Fractile)?;
+    let mle_table = table(FitMethod::MaxLikelihood)?;
     let mut warnings = super::fragility::alpha_warning(block, auto_tol)
         .into_iter()
         .collect::<Vec<_>>();
     let mut out = Vec::with_capacity(states.states().len());
     for s in states.states() {
-        let from_table = |t: &Option<DamageTable>, w: &mut Vec<String>| {
-            t.as_ref()
-                .map(|t| t.capacity(block, s))
-                .transpose()
-                .map(|l| {
-                    l.map(|l| {
-                        w.extend(l.warnings);
-                        Lognormal {
-                            median: l.median,
-                            beta: l.beta,
-                        }
-                    })
-                })
-        };
+        let from_table =
+            |t: &Option<DamageTable>, w: &mut Vec<String>| -> Result<_, FragilityError> {
+                let Some(t) = t else { return Ok(None) };
+                let l = t.capacity(block, s)?;
+                w.extend(l.warnings);
+                Ok(Some(Lognormal {
+                    median: l.median,
+                    beta: l.beta,
+                }))
+            };
         let (fractile, mle) = match s.criterion {
             Criterion::Overturned => {
                 let l = match overturning(block, im, laws, auto_tol, &mut warnings) {
@@ -190,9 +189,9 @@ fn from_records(
     states: &DamageStates,
     im: Im,
     records: &DirectRecords,
-    def: FractileDef,
     auto_tol: f64,
 ) -> Result<DamageFragility, FragilityError> {
+    let def = DIRECT_FRACTILE;
     let (runs, why) = records.runs(block, auto_tol)?;
     let alpha = block.alpha();
     let ims = (im != Im::Pga).then(|| records.ims());
@@ -296,19 +295,13 @@ pub fn assess(
     method: FitMethod,
 ) -> Result<StatesAssessment, FragilityError> {
     let block = super::fragility::check(req)?;
-    let laws = super::fragility::laws(&req.from)?;
-    let records = if req.direct {
-        Some(DirectRecords::load(&req.from, laws.plan.as_ref())?)
-    } else {
-        None
-    };
+    let (laws, records) = super::fragility::laws_and_records(&req.from, req.direct)?;
     let mut fragility = of_block(
         &block,
         states,
         req.im,
         &laws,
         records.as_ref(),
-        FractileDef::Type7,
         req.auto_tol,
     )?;
     let crossed = crossings(&fragility, method);

@@ -5,13 +5,12 @@
 use std::path::{Path, PathBuf};
 
 use super::damage::{self, DamageFragility};
-use super::fragility::{self, DirectRecords, FragilityError, Source};
+use super::fragility::{self, FragilityError, Source};
 use super::risk::{self, Blocks, InventoryBlock, RiskError};
 use crate::block::Block;
 use crate::damage::{DamageStates, FitMethod};
 use crate::export::{nrml, pelicun, Entry, ExportError, Site};
 use crate::im::Im;
-use crate::stats::FractileDef;
 use crate::tables::{atomic_write, TableError};
 
 /// The engine to write for.
@@ -106,12 +105,7 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
         }],
         Blocks::Inventory(path) => risk::read_inventory(path)?,
     };
-    let laws = fragility::laws(&req.from)?;
-    let records = if req.direct {
-        Some(DirectRecords::load(&req.from, laws.plan.as_ref())?)
-    } else {
-        None
-    };
+    let (laws, records) = fragility::laws_and_records(&req.from, req.direct)?;
     let mut blocks = Vec::with_capacity(entries.len());
     let mut export = Vec::with_capacity(entries.len());
     for e in entries {
@@ -126,7 +120,6 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
             im,
             &laws,
             records.as_ref(),
-            FractileDef::Type7,
             req.auto_tol,
         )
         .map_err(in_block)?;

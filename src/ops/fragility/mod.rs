@@ -165,6 +165,20 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
     })
 }
 
+/// Where the capacities come from, and with `direct` the records a block
+/// is run through (read once for every block).
+pub fn laws_and_records(
+    from: &Source,
+    direct: bool,
+) -> Result<(Laws, Option<DirectRecords>), FragilityError> {
+    let laws = laws(from)?;
+    let records = match direct {
+        true => Some(DirectRecords::load(from, laws.plan.as_ref())?),
+        false => None,
+    };
+    Ok((laws, records))
+}
+
 /// The request's block, its levels and tolerance checked.
 pub fn check(req: &Request) -> Result<Block, FragilityError> {
     crate::physics::check_auto_tol(req.auto_tol).map_err(FragilityError::AutoTol)?;

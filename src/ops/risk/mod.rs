@@ -342,12 +342,7 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
     let sites = read_hazard(&req.hazard, req.site)?;
     let entries = entries(&req.blocks)?;
     let im = hazard_im(&req.hazard, &sites, req.im)?;
-    let laws = fragility::laws(&req.from)?;
-    let records = if req.direct {
-        Some(DirectRecords::load(&req.from, laws.plan.as_ref())?)
-    } else {
-        None
-    };
+    let (laws, records) = fragility::laws_and_records(&req.from, req.direct)?;
     // Another IM than PGA without --direct: the study's table, read once.
     let table = if im != Im::Pga && !req.direct {
         Some(laws.im_table(im)?)

@@ -8,9 +8,8 @@ use super::{entries, hazard_im, read_hazard, BlockInfo, Request, RiskError};
 use crate::block::Restitution;
 use crate::damage::{DamageStates, FitMethod};
 use crate::ops::damage;
-use crate::ops::fragility::{self, DirectRecords};
+use crate::ops::fragility;
 use crate::risk::{self, Fragility};
-use crate::stats::FractileDef;
 
 /// One state at one site.
 #[derive(Debug, Clone, Serialize)]
@@ -64,12 +63,7 @@ pub fn assess_states(
     crate::physics::check_auto_tol(req.auto_tol).map_err(RiskError::AutoTol)?;
     let sites = read_hazard(&req.hazard, req.site)?;
     let im = hazard_im(&req.hazard, &sites, req.im)?;
-    let laws = fragility::laws(&req.from)?;
-    let records = if req.direct {
-        Some(DirectRecords::load(&req.from, laws.plan.as_ref())?)
-    } else {
-        None
-    };
+    let (laws, records) = fragility::laws_and_records(&req.from, req.direct)?;
     let mut out = Vec::new();
     for e in entries(&req.blocks)? {
         let in_block = |source| RiskError::Block {
@@ -77,16 +71,8 @@ pub fn assess_states(
             source,
         };
         let block = fragility::block(e.b_m, e.h_m, e.eps).map_err(in_block)?;
-        let mut f = damage::of_block(
-            &block,
-            states,
-            im,
-            &laws,
-            records.as_ref(),
-            FractileDef::Type7,
-            req.auto_tol,
-        )
-        .map_err(in_block)?;
+        let mut f = damage::of_block(&block, states, im, &laws, records.as_ref(), req.auto_tol)
+            .map_err(in_block)?;
         let crossed = damage::crossings(&f, method);
         f.warnings.extend(crossed);
         let sites = sites
