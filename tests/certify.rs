@@ -10,7 +10,7 @@ use rocking::ida::{
     Trace,
 };
 use rocking::ops::bench::accuracy::HARD_CASES;
-use rocking::physics::{simulate, Model, RunSpec, DEFAULT_RTOL};
+use rocking::physics::{simulate, Model, RunSpec, DEFAULT_RTOL, DEFAULT_TAYLOR_TOL};
 use rocking::stages::sweep::read_capacities;
 
 use crate::util::{bundled, rocking, root, stderr, tempdir, write_pipeline};
@@ -40,7 +40,7 @@ fn the_issues_case_at_the_default_matches_a_tight_search() {
     let c = HARD_CASES[0];
     assert_eq!(c.record, "RSN1633_MANJIL_ABBAR--L");
     let exc = far(c.record);
-    let spec = |rtol| RunSpec::new(c.p, c.eps, 1.0, Model::nonlinear(c.alpha, rtol));
+    let spec = |rtol| RunSpec::new(c.p, c.eps, 1.0, Model::dp5(c.alpha, rtol));
     let plain = |rtol| {
         capacity_traced(&exc, &spec(rtol), &c.grid, c.tol, Trace::StopAtFirst)
             .unwrap()
@@ -111,7 +111,7 @@ fn hard_cases_certify_to_the_tight_search_or_say_they_cannot() {
     let mut certified = 0;
     for c in &HARD_CASES[1..] {
         let exc = far(c.record);
-        let spec = |rtol| RunSpec::new(c.p, c.eps, 1.0, Model::nonlinear(c.alpha, rtol));
+        let spec = |rtol| RunSpec::new(c.p, c.eps, 1.0, Model::dp5(c.alpha, rtol));
         let reference = capacity_traced(&exc, &spec(1e-13), &c.grid, c.tol, Trace::StopAtFirst)
             .unwrap()
             .eta_c
@@ -238,23 +238,45 @@ fn capacities_say_how_they_were_certified() {
     let dir = tempdir();
     let d = dir.path();
     let body = "ids = [\"RSN1111_KOBE_NIS000\", \"RSN953_NORTHR_MUL009\"]\n\
-                [model]\nkind = \"nonlinear\"\nalpha = 0.15\n\
+                [model]\nkind = \"nonlinear\"\nalpha = 0.15\nINTEGRATOR\
                 [blocks]\np = [2.0]\neps = [0.8]\n[im]\ncount = 60\neta_min = 0.01\n";
-    let pipe = write_pipeline(d, "cert", body);
-    let out = rocking(d, &["sweep", pipe.to_str().unwrap(), "--outputs", "out"]);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let caps = read_capacities(&d.join("out/cert")).unwrap();
-    assert_eq!(caps.len(), 2);
-    for c in &caps {
-        assert!(c.certified, "{c:?}");
-        assert_eq!(c.rtol, Some(DEFAULT_RTOL), "{c:?}");
-        assert_eq!(c.certification, CertificationKind::Tolerance);
-        assert!(
-            c.certification_note
-                .starts_with("rtol 1e-10; decisive runs agree at 1e-12"),
-            "{c:?}"
-        );
+    // The default integrator (Taylor) and DP5, each at its default tolerance,
+    // certified 100× tighter; both find the same capacities.
+    let mut found = Vec::new();
+    for (name, line, integrator, rtol, note) in [
+        (
+            "taylor",
+            "",
+            "taylor",
+            DEFAULT_TAYLOR_TOL,
+            "rtol 1e-12; decisive runs agree at 1e-14",
+        ),
+        (
+            "dp5",
+            "integrator = \"dp5\"\n",
+            "dp5",
+            DEFAULT_RTOL,
+            "rtol 1e-10; decisive runs agree at 1e-12",
+        ),
+    ] {
+        let pipe = write_pipeline(d, name, &body.replace("INTEGRATOR", line));
+        let out = rocking(d, &["sweep", pipe.to_str().unwrap(), "--outputs", "out"]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let caps = read_capacities(&d.join("out").join(name)).unwrap();
+        assert_eq!(caps.len(), 2);
+        for c in &caps {
+            assert!(c.certified, "{c:?}");
+            assert_eq!(
+                (c.integrator.as_str(), c.rtol),
+                (integrator, Some(rtol)),
+                "{c:?}"
+            );
+            assert_eq!(c.certification, CertificationKind::Tolerance);
+            assert!(c.certification_note.starts_with(note), "{c:?}");
+        }
+        found.push(caps.iter().map(|c| c.eta_c).collect::<Vec<_>>());
     }
+    assert_eq!(found[0], found[1]);
     // The linearised model: certified as exact, no tolerance.
     let lin = write_pipeline(
         d,
@@ -268,6 +290,7 @@ fn capacities_say_how_they_were_certified() {
     );
     let caps = read_capacities(&d.join("out/lin")).unwrap();
     assert!(caps[0].certified && caps[0].rtol.is_none());
+    assert_eq!(caps[0].integrator, "exact");
     assert_eq!(caps[0].certification, CertificationKind::Exact);
 }
 
@@ -278,7 +301,7 @@ fn tolerances_too_tight_to_certify_are_refused() {
     // certified, so it is refused with the key or flag named.
     let dir = tempdir();
     let d = dir.path();
-    let body = "[model]\nkind = \"nonlinear\"\nalpha = 0.2\nrtol = 1e-14\n\
+    let body = "[model]\nkind = \"nonlinear\"\nalpha = 0.2\nintegrator = \"dp5\"\nrtol = 1e-14\n\
                 [blocks]\np = [1.0]\neps = [0.8]\n";
     let pipe = write_pipeline(d, "tight", body);
     let out = rocking(d, &["run", pipe.to_str().unwrap(), "--outputs", "out"]);
@@ -304,6 +327,8 @@ fn tolerances_too_tight_to_certify_are_refused() {
             "0.2",
             "--levels",
             "20",
+            "--integrator",
+            "dp5",
             "--rtol",
             rtol,
             "--json",
@@ -388,7 +413,7 @@ fn the_parallel_search_finds_what_the_sequential_one_finds() {
     use rocking::ops::record::capacity_certified_parallel;
     let p_flip = 0.33 * (10.0f64 / 0.33).powf(5.0 / 11.0);
     let lin = |p, eps| RunSpec::new(p, eps, 1.0, Model::LINEARIZED);
-    let nonlinear = RunSpec::new(2.0, 0.8, 1.0, Model::nonlinear(0.2, DEFAULT_RTOL));
+    let nonlinear = RunSpec::new(2.0, 0.8, 1.0, Model::dp5(0.2, DEFAULT_RTOL));
     let cases = [
         ("RSN953_NORTHR_MUL009", lin(2.0, 0.7), 200),
         ("RSN1111_KOBE_NIS000", lin(5.0, 0.9), 200),

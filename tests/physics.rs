@@ -322,10 +322,7 @@ fn a_sample_exactly_at_the_threshold_does_not_lift_the_block() {
     for dt in [0.01, 0.02, 0.005] {
         let exc = Excitation::new(&samples, dt).unwrap();
         // The uplift threshold is η·tan α / α for the nonlinear equation (MODEL.md §3).
-        for (model, alpha_factor) in [
-            (LIN, 1.0),
-            (Model::nonlinear(0.1, 1e-9), 0.1f64.tan() / 0.1),
-        ] {
+        for (model, alpha_factor) in [(LIN, 1.0), (Model::dp5(0.1, 1e-9), 0.1f64.tan() / 0.1)] {
             let out = run(&exc, 2.0, 0.8, 0.9 / alpha_factor, model);
             let t = out.first_uplift_s.expect("the later peak lifts it");
             assert!(
@@ -346,7 +343,7 @@ fn flipping_the_record_gives_the_same_response() {
         let exc = bundled(stem);
         let neg = exc.negated();
         for (p, eps, eta) in [(1.0, 0.8, 0.3), (3.0, 0.6, 0.2), (8.0, 0.95, 0.5)] {
-            for model in [LIN, Model::nonlinear(0.2, 1e-8)] {
+            for model in [LIN, Model::dp5(0.2, 1e-8)] {
                 let a = run(&exc, p, eps, eta, model);
                 let b = run(&neg, p, eps, eta, model);
                 assert_eq!(a.overturned(), b.overturned(), "{stem} {p} {eps} {eta}");
@@ -446,7 +443,7 @@ fn nonlinear_capacity_tends_to_linearised_as_alpha_vanishes() {
     let gaps: Vec<f64> = [0.2, 0.1, 0.05, 0.025]
         .iter()
         .map(|&alpha| {
-            let spec = RunSpec::new(f, 0.8, 1.0, Model::nonlinear(alpha, 1e-10));
+            let spec = RunSpec::new(f, 0.8, 1.0, Model::dp5(alpha, 1e-10));
             (eta_c(&exc, spec, 1e-10) - exact).abs()
         })
         .collect();
@@ -465,7 +462,7 @@ fn nonlinear_solver_converges_with_its_tolerance() {
     // θmax/α on a real record: tightening rtol converges; rtol 1e-6 is within
     // 1e-4 relative of rtol 1e-11.
     let exc = bundled("far-field/RSN1111_KOBE_NIS000");
-    let at = |rtol| run(&exc, 2.0, 0.8, 0.3, Model::nonlinear(0.15, rtol)).max_abs_x;
+    let at = |rtol| run(&exc, 2.0, 0.8, 0.3, Model::dp5(0.15, rtol)).max_abs_x;
     let reference = at(1e-11);
     assert!(
         reference > 0.05 && reference < 1.0,
@@ -482,7 +479,7 @@ fn nonlinear_free_rocking_conserves_energy_with_elastic_impacts() {
     let (p, alpha, x0) = (2.0f64, 0.25f64, 0.6f64);
     let quiet = Excitation::new(&vec![0.0; 2001], 0.01).unwrap();
     let w = (2.0 * p * p / (alpha * alpha) * ((alpha * (1.0 - x0)).cos() - alpha.cos())).sqrt();
-    let spec = RunSpec::new(p, 1.0, 0.5, Model::nonlinear(alpha, 1e-10));
+    let spec = RunSpec::new(p, 1.0, 0.5, Model::dp5(alpha, 1e-10));
     let mut rec = Recorder::new(usize::MAX);
     simulate_from(
         &quiet,

@@ -35,8 +35,14 @@ use crate::util::{columns_of, dump_columns, rocking, root, schema_of, snapshot, 
 /// made, with what they add.
 const ADDED: &[(&str, &[&str], &str)] = &[(
     "capacities.parquet",
-    &["certified", "certification", "certification_note", "rtol"],
-    "certified capacities",
+    &[
+        "certified",
+        "certification",
+        "certification_note",
+        "integrator",
+        "rtol",
+    ],
+    "certified capacities, and the integrator that found them",
 )];
 
 /// Schema, rows and digest of one table's `columns` (all when `None`).

@@ -27,6 +27,9 @@
 //!   against the manifest and the files; bad input and atomic output.
 //! - `physics`: the solvers against closed forms, conservation laws,
 //!   symmetry and the hard cases (`ops::bench::accuracy::HARD_CASES`).
+//! - `taylor`: the Taylor stepper of the nonlinear equation against the
+//!   energy of free rocking, DP5 at 1e-13, the linearised closed form as
+//!   α → 0, and the hard cases; choosing it and refusals.
 //! - `pulse`: pulses and `escape`: the walls against Eqs. 3, 5 and 6, the
 //!   full-cycle modes against a piecewise closed form, the pulse-map
 //!   pipeline, refusals.
@@ -66,4 +69,5 @@ mod run;
 mod slurm;
 mod sweep;
 mod tables;
+mod taylor;
 mod util;

@@ -86,6 +86,7 @@ pub fn cap(case_id: i64, eta_c: Option<f64>) -> CapacityRow {
         certified: true,
         certification: CertificationKind::Exact,
         certification_note: String::new(),
+        integrator: "exact".into(),
         rtol: None,
     }
 }

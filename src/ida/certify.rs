@@ -132,10 +132,6 @@ impl crate::label::Label for CertificationKind {
 /// How much tighter the check of a search is than the search.
 pub const TIGHTEN: f64 = 100.0;
 
-/// The tightest tolerance a check may use: below it DP5's error estimate
-/// is rounding noise.
-pub const TIGHTEST_RTOL: f64 = 1e-14;
-
 /// A capacity with its certification.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Certified {
@@ -150,7 +146,8 @@ pub struct Certified {
 /// [`capacity_traced`], certified: for a tolerance-controlled integrator the
 /// decisive runs ([`decisive_runs`]) are rerun at a [`TIGHTEN`]× tighter
 /// tolerance; if a verdict flips, the whole search is redone at that
-/// tolerance and checked again, down to [`TIGHTEST_RTOL`]. Once they agree,
+/// tolerance and checked again, down to the integrator's tightest
+/// ([`crate::physics::Integrator::tightest_tol`]). Once they agree,
 /// every decisive run is probed for chaos (η moved by ±[`CHAOS_PROBE`] at
 /// the tighter tolerance). The exact stepper has no tolerance: its decisive
 /// runs are only probed for chaos. RK4 is not certified.
@@ -178,13 +175,14 @@ pub fn capacity_certified_in(
 ) -> Result<Certified, PhysicsError> {
     use crate::physics::Integrator;
     let start = runs.work();
-    let Integrator::Dp5 { rtol: asked } = run.model.integrator else {
+    let integrator = run.model.integrator;
+    let Some(asked) = integrator.tol() else {
         // The exact stepper's probes are run with the search's own spec:
         // with a batch, they can start while the bisection runs.
-        let exact = run.model.integrator == Integrator::Exact;
+        let exact = integrator == Integrator::Exact;
         let capacity = search(runs, run, grid, tol, trace, exact)?;
         let searched = runs.work();
-        let certification = match run.model.integrator {
+        let certification = match integrator {
             Integrator::Exact => match chaos_probe(runs, run, &capacity, grid)? {
                 Some(eta) => Certification::Chaotic { rtol: None, eta },
                 None => Certification::Exact,
@@ -198,9 +196,10 @@ pub fn capacity_certified_in(
             extra: runs.work().since(searched),
         });
     };
+    let tightest = integrator.tightest_tol();
     let with_rtol = |rtol: f64| RunSpec {
         model: crate::physics::Model {
-            integrator: Integrator::Dp5 { rtol },
+            integrator: integrator.with_tol(rtol),
             ..run.model
         },
         ..*run
@@ -212,7 +211,7 @@ pub fn capacity_certified_in(
         let before = runs.work();
         let capacity = capacity_in(runs, &spec, grid, tol, trace)?;
         let search = runs.work().since(before);
-        let checked_rtol = (rtol / TIGHTEN).max(TIGHTEST_RTOL);
+        let checked_rtol = (rtol / TIGHTEN).max(tightest);
         let check = with_rtol(checked_rtol);
         let mut flipped = None;
         for (eta, overturned) in decisive_runs(&capacity, grid) {
@@ -235,7 +234,7 @@ pub fn capacity_certified_in(
                 checked_rtol,
                 searches,
             },
-            (Some(eta), _) if rtol / (TIGHTEN * TIGHTEN) < TIGHTEST_RTOL => Certification::Failed {
+            (Some(eta), _) if rtol / (TIGHTEN * TIGHTEN) < tightest => Certification::Failed {
                 rtol: checked_rtol,
                 eta,
             },

@@ -23,8 +23,7 @@ mod search;
 
 pub use capacity::{Capacity, IdaPoint, RunKind, Trace};
 pub use certify::{
-    capacity_certified, capacity_certified_in, Certification, CertificationKind, Certified,
-    TIGHTEN, TIGHTEST_RTOL,
+    capacity_certified, capacity_certified_in, Certification, CertificationKind, Certified, TIGHTEN,
 };
 pub use decisive::{decisive_runs, CHAOS_PROBE, NEAR_MISS};
 pub use grid::{ImGrid, Spacing, MAX_LEVELS};

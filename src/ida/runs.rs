@@ -229,6 +229,7 @@ fn run_key(spec: &RunSpec) -> [u64; 8] {
         Integrator::Exact => (0, 0),
         Integrator::Dp5 { rtol } => (1, rtol.to_bits()),
         Integrator::Rk4 { substeps } => (2, u64::from(substeps)),
+        Integrator::Taylor { tol } => (3, tol.to_bits()),
     };
     let alpha = match spec.model.equation {
         Equation::Linearized => u64::MAX,

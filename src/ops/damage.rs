@@ -295,7 +295,7 @@ pub fn assess(
     method: FitMethod,
 ) -> Result<StatesAssessment, FragilityError> {
     let block = super::fragility::check(req)?;
-    let (laws, records) = super::fragility::laws_and_records(&req.from, req.direct)?;
+    let (laws, records) = super::fragility::laws_and_records(&req.from, req.direct, &req.progress)?;
     let mut fragility = of_block(
         &block,
         states,

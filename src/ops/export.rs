@@ -26,6 +26,8 @@ pub struct Request {
     pub blocks: Blocks,
     pub from: Source,
     pub direct: bool,
+    /// Where `--direct` reports its progress.
+    pub progress: fragility::DirectProgress,
     pub states: DamageStates,
     pub method: FitMethod,
     /// The IM; with `--hazard` it must be the hazard's (the default).
@@ -105,7 +107,10 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
         }],
         Blocks::Inventory(path) => risk::read_inventory(path)?,
     };
-    let (laws, records) = fragility::laws_and_records(&req.from, req.direct)?;
+    let (laws, records) = fragility::laws_and_records(&req.from, req.direct, &req.progress)?;
+    if let Some(records) = &records {
+        records.expect_blocks(entries.len());
+    }
     let mut blocks = Vec::with_capacity(entries.len());
     let mut export = Vec::with_capacity(entries.len());
     for e in entries {

@@ -16,7 +16,7 @@ use super::driver::{self, Outcome};
 use super::equation::{Equation, LinearRhs, NonlinearRhs, LINEARIZATION_ERROR_PER_ALPHA2};
 use super::history::Observer;
 use super::step::Rocking;
-use super::{dp5, exact, rk4, Excitation, PhysicsError, RunSpec};
+use super::{dp5, exact, rk4, taylor, Excitation, PhysicsError, RunSpec};
 
 /// How the equation is advanced.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -26,6 +26,9 @@ pub enum Integrator {
     Exact,
     /// Dormand–Prince 5(4) with dense output ([`dp5`]) at relative tolerance `rtol`.
     Dp5 { rtol: f64 },
+    /// The nonlinear equation's Taylor series, one step per sample interval
+    /// ([`taylor`]), its tail below `tol` relative.
+    Taylor { tol: f64 },
     /// Classical fixed-step RK4 with `substeps` steps per sample interval and
     /// events by linear interpolation ([`rk4`]): the baseline a user would
     /// write, for benchmarks only.
@@ -38,15 +41,37 @@ impl Integrator {
         match self {
             Integrator::Exact => "exact",
             Integrator::Dp5 { .. } => "dp5",
+            Integrator::Taylor { .. } => "taylor",
             Integrator::Rk4 { .. } => "rk4",
         }
     }
 
-    /// DP5's relative tolerance, if it is DP5.
-    pub fn rtol(self) -> Option<f64> {
+    /// The tolerance of a tolerance-controlled integrator (DP5's per step,
+    /// the Taylor series' tail per sample interval).
+    pub fn tol(self) -> Option<f64> {
         match self {
             Integrator::Dp5 { rtol } => Some(rtol),
-            _ => None,
+            Integrator::Taylor { tol } => Some(tol),
+            Integrator::Exact | Integrator::Rk4 { .. } => None,
+        }
+    }
+
+    /// The tightest tolerance a certification may check at: below 1e-14
+    /// DP5's error estimate is rounding noise; the Taylor series' tail can
+    /// be asked below the rounding of the sum (a few more terms).
+    pub fn tightest_tol(self) -> f64 {
+        match self {
+            Integrator::Taylor { .. } => TAYLOR_TIGHTEST_TOL,
+            _ => DP5_TIGHTEST_RTOL,
+        }
+    }
+
+    /// The same integrator at tolerance `tol` (itself if it has none).
+    pub fn with_tol(self, tol: f64) -> Integrator {
+        match self {
+            Integrator::Dp5 { .. } => Integrator::Dp5 { rtol: tol },
+            Integrator::Taylor { .. } => Integrator::Taylor { tol },
+            other => other,
         }
     }
 
@@ -55,6 +80,7 @@ impl Integrator {
         match self {
             Integrator::Exact => "exact".to_string(),
             Integrator::Dp5 { rtol } => format!("rtol {rtol:e}"),
+            Integrator::Taylor { tol } => format!("tail {tol:e}"),
             Integrator::Rk4 { substeps } => format!("{substeps} steps/dt"),
         }
     }
@@ -72,6 +98,14 @@ impl Integrator {
                 bad(format!("nonlinear tolerance {rtol} must be in (0, 0.01)"))
             }
             (Integrator::Dp5 { .. }, _) => Ok(()),
+            (Integrator::Taylor { .. }, Equation::Linearized) => bad(
+                "the Taylor stepper integrates the nonlinear equation only; the linearised one is stepped exactly"
+                    .into(),
+            ),
+            (Integrator::Taylor { tol }, _) if !(tol > 0.0 && tol < 1e-2) => {
+                bad(format!("Taylor tolerance {tol} must be in (0, 0.01)"))
+            }
+            (Integrator::Taylor { .. }, _) => Ok(()),
             (Integrator::Rk4 { substeps: 0 }, _) => {
                 bad("RK4 needs at least one step per sample interval".into())
             }
@@ -123,6 +157,12 @@ impl Integrator {
                     limit
                 ))
             }
+            (Integrator::Taylor { .. }, Equation::Linearized) => {
+                unreachable!("validate() refuses the Taylor stepper for the linearised equation")
+            }
+            (Integrator::Taylor { tol }, Equation::Nonlinear { alpha_rad }) => {
+                with!(taylor::Taylor::new(p, eta, alpha_rad, tol, limit))
+            }
             (Integrator::Rk4 { substeps }, Equation::Linearized) => {
                 with!(rk4::Rk4::new(LinearRhs::new(p, eta), dt, substeps, limit))
             }
@@ -152,11 +192,28 @@ impl Model {
         integrator: Integrator::Exact,
     };
 
+    /// The nonlinear equation for slenderness `alpha_rad` by `solver`.
+    pub fn nonlinear(alpha_rad: f64, solver: Solver) -> Model {
+        Model {
+            equation: Equation::Nonlinear { alpha_rad },
+            integrator: solver.integrator(),
+        }
+    }
+
     /// The nonlinear equation for slenderness `alpha_rad` by DP5 at `rtol`.
-    pub fn nonlinear(alpha_rad: f64, rtol: f64) -> Model {
+    pub fn dp5(alpha_rad: f64, rtol: f64) -> Model {
         Model {
             equation: Equation::Nonlinear { alpha_rad },
             integrator: Integrator::Dp5 { rtol },
+        }
+    }
+
+    /// The nonlinear equation for slenderness `alpha_rad` by the Taylor
+    /// stepper with tail tolerance `tol`.
+    pub fn taylor(alpha_rad: f64, tol: f64) -> Model {
+        Model {
+            equation: Equation::Nonlinear { alpha_rad },
+            integrator: Integrator::Taylor { tol },
         }
     }
 
@@ -166,6 +223,80 @@ impl Model {
     }
 }
 
+/// The nonlinear equation's integrators, as a user names them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NonlinearIntegrator {
+    /// The Taylor stepper ([`super::taylor`]): the default.
+    Taylor,
+    /// Dormand–Prince 5(4) ([`super::dp5`]).
+    Dp5,
+}
+
+impl crate::label::Label for NonlinearIntegrator {
+    const ALL: &'static [Self] = &[NonlinearIntegrator::Taylor, NonlinearIntegrator::Dp5];
+    fn label(self) -> &'static str {
+        match self {
+            NonlinearIntegrator::Taylor => "taylor",
+            NonlinearIntegrator::Dp5 => "dp5",
+        }
+    }
+}
+
+/// How the nonlinear equation is integrated: which integrator, at which
+/// tolerance (checked by [`Solver::new`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Solver {
+    pub integrator: NonlinearIntegrator,
+    pub tol: f64,
+}
+
+impl Default for Solver {
+    fn default() -> Self {
+        Solver {
+            integrator: NonlinearIntegrator::Taylor,
+            tol: DEFAULT_TAYLOR_TOL,
+        }
+    }
+}
+
+impl Solver {
+    /// `integrator` at `tol`, or at its default tolerance; the tolerance
+    /// checked against the integrator's range.
+    pub fn new(integrator: NonlinearIntegrator, tol: Option<f64>) -> Result<Solver, String> {
+        let tol = match (integrator, tol) {
+            (NonlinearIntegrator::Taylor, None) => DEFAULT_TAYLOR_TOL,
+            (NonlinearIntegrator::Dp5, None) => DEFAULT_RTOL,
+            (NonlinearIntegrator::Taylor, Some(t)) => {
+                if !(TAYLOR_TIGHTEST_TOL..1e-2).contains(&t) {
+                    return Err(format!(
+                        "the Taylor stepper's tolerance {t:e} must be in [{TAYLOR_TIGHTEST_TOL:e}, 0.01)"
+                    ));
+                }
+                t
+            }
+            (NonlinearIntegrator::Dp5, Some(t)) => {
+                check_rtol(t)?;
+                t
+            }
+        };
+        Ok(Solver { integrator, tol })
+    }
+
+    pub fn integrator(self) -> Integrator {
+        match self.integrator {
+            NonlinearIntegrator::Taylor => Integrator::Taylor { tol: self.tol },
+            NonlinearIntegrator::Dp5 => Integrator::Dp5 { rtol: self.tol },
+        }
+    }
+}
+
+/// The Taylor stepper's default tolerance: the tail of each sample
+/// interval's series below 1e-12 of its largest terms. Chosen from `rocking
+/// bench --sections tolerance` (docs/BENCHMARKS.md): every capacity of the
+/// tolerance study equals DP5's at 1e-13.
+pub const DEFAULT_TAYLOR_TOL: f64 = 1e-12;
+
 /// DP5's default relative tolerance. Chosen from `rocking bench --sections
 /// tolerance` (docs/BENCHMARKS.md): over 528 far-field cases a plain search
 /// at 1e-10 moves 0.2 % of the capacities against 1.3 % at 1e-8; certified,
@@ -173,6 +304,13 @@ impl Model {
 /// checked at 1e-12, far below the probe; 1.3 % of the cases are chaotic.
 /// It costs 0.100 s per certified capacity against 0.071 s from 1e-8.
 pub const DEFAULT_RTOL: f64 = 1e-10;
+
+/// The tightest tolerance DP5 is checked at (its error estimate is
+/// rounding noise below).
+pub const DP5_TIGHTEST_RTOL: f64 = 1e-14;
+
+/// The tightest tail the Taylor stepper is checked at.
+pub const TAYLOR_TIGHTEST_TOL: f64 = 1e-16;
 
 /// The tightest DP5 tolerance a user may ask for: capacities are certified
 /// at a 100× tighter one, and below 1e-14 DP5's error estimate is rounding
@@ -234,19 +372,16 @@ impl ModelChoice {
     pub fn resolve(
         self,
         alpha_rad: Option<f64>,
-        rtol: f64,
+        solver: Solver,
         auto_tol: f64,
     ) -> Result<(Model, String), PhysicsError> {
-        if self != ModelChoice::Linearized {
-            check_rtol(rtol).map_err(PhysicsError::BadInput)?;
-        }
         check_auto_tol(auto_tol).map_err(PhysicsError::BadInput)?;
         match (self, alpha_rad) {
             (ModelChoice::Linearized, _) => {
                 Ok((Model::LINEARIZED, "linearised model, as asked".into()))
             }
             (ModelChoice::Nonlinear, Some(a)) => Ok((
-                Model::nonlinear(a, rtol),
+                Model::nonlinear(a, solver),
                 "nonlinear model, as asked".into(),
             )),
             (ModelChoice::Nonlinear, None) => Err(PhysicsError::BadInput(
@@ -265,7 +400,7 @@ impl ModelChoice {
                     ))
                 } else {
                     Ok((
-                        Model::nonlinear(a, rtol),
+                        Model::nonlinear(a, solver),
                         format!("nonlinear model: the linearised one would err by about {err:.2e} > {auto_tol:e} for α = {a:.4} rad"),
                     ))
                 }

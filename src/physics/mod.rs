@@ -23,7 +23,8 @@
 //! - **after the record** the fate is decided from the free-rocking energy
 //!   ([`energy`]) instead of integrating a tail of quiet.
 //!
-//! Integrators: [`exact`] (closed form, linearised), [`dp5`]
+//! Integrators: [`exact`] (closed form, linearised), [`taylor`] (the
+//! nonlinear equation's Taylor series, one step per sample interval), [`dp5`]
 //! (Dormand–Prince 5(4)), [`rk4`] (fixed-step baseline for benchmarks).
 //! Time inside an interval is a local offset from the interval's first
 //! sample, so events always advance it.
@@ -39,6 +40,7 @@ mod integrator;
 pub mod rk4;
 mod simulate;
 mod step;
+pub mod taylor;
 
 use std::fmt;
 
@@ -49,7 +51,8 @@ pub use equation::{
 };
 pub use history::{EventKind, HistoryPoint, Observer, Recorder};
 pub use integrator::{
-    check_auto_tol, check_rtol, Integrator, Model, ModelChoice, DEFAULT_RTOL, MIN_RTOL,
+    check_auto_tol, check_rtol, Integrator, Model, ModelChoice, NonlinearIntegrator, Solver,
+    DEFAULT_RTOL, DEFAULT_TAYLOR_TOL, DP5_TIGHTEST_RTOL, MIN_RTOL, TAYLOR_TIGHTEST_TOL,
 };
 pub use simulate::{simulate, simulate_from, simulate_observed, simulate_on, simulate_pair};
 pub use step::{Rocking, Stepper, Stretch, StretchEnd};

@@ -4,7 +4,8 @@
 use super::plan::MAX_RANGE_VALUES;
 use super::raw::*;
 use crate::ida::Spacing;
-use crate::physics::{ModelChoice, Overturn};
+use crate::label::Label;
+use crate::physics::{ModelChoice, NonlinearIntegrator, Overturn, Solver};
 
 /// A list of values, or a `{ from, to, count, spacing }` range expanded,
 /// under the key `key`.
@@ -98,7 +99,10 @@ fn expand(key: &str, v: &RawValues) -> Result<Vec<f64>, String> {
 }
 
 /// `[model]`: the equation choice and the overturning criterion.
-pub(super) fn model(raw: &RawModel, default: Overturn) -> Result<(ModelChoice, Overturn), String> {
+pub(super) fn model(
+    raw: &RawModel,
+    default: Overturn,
+) -> Result<(ModelChoice, Overturn, Solver), String> {
     let model = match raw.kind.as_str() {
         "linearized" => ModelChoice::Linearized,
         "nonlinear" => ModelChoice::Nonlinear,
@@ -118,12 +122,17 @@ pub(super) fn model(raw: &RawModel, default: Overturn) -> Result<(ModelChoice, O
     if overturn == Overturn::OnSide && model == ModelChoice::Linearized {
         return Err("`model.overturn` = \"on-side\" needs the nonlinear model".into());
     }
-    crate::physics::check_rtol(raw.rtol).map_err(|e| format!("`model.rtol`: {e}"))?;
+    let integrator = match raw.integrator.as_deref() {
+        None => NonlinearIntegrator::Taylor,
+        Some(name) => NonlinearIntegrator::from_label(name)
+            .ok_or_else(|| format!("`model.integrator` = \"{name}\"; valid: taylor, dp5"))?,
+    };
+    let solver = Solver::new(integrator, raw.rtol).map_err(|e| format!("`model.rtol`: {e}"))?;
     crate::physics::check_auto_tol(raw.auto_tol).map_err(|e| format!("`model.auto_tol`: {e}"))?;
     if let Some(a) = raw.alpha {
         crate::physics::check_alpha(a).map_err(|e| format!("`model.alpha`: {e}"))?;
     }
-    Ok((model, overturn))
+    Ok((model, overturn, solver))
 }
 
 /// ε under the key `key`: in (0, 1] ([`crate::block::check_eps`]).

@@ -7,7 +7,7 @@ use serde::Serialize;
 
 use crate::damage::DamageStates;
 use crate::ida::{ImGrid, Trace};
-use crate::physics::{ModelChoice, Overturn, RunSpec};
+use crate::physics::{ModelChoice, Overturn, RunSpec, Solver};
 use crate::stats::{FractileDef, ResampleUnit};
 
 /// Most values a `{ from, to, count }` range may expand to.
@@ -132,7 +132,8 @@ pub struct Plan {
     pub name: String,
     pub description: String,
     pub model: ModelChoice,
-    pub rtol: f64,
+    /// The nonlinear equation's integrator and tolerance.
+    pub solver: Solver,
     pub auto_tol: f64,
     pub overturn: Overturn,
     pub study: StudyKind,
@@ -239,7 +240,7 @@ impl Plan {
             "sets": r.sets,
             "ids": r.ids,
             "model": self.model,
-            "rtol": self.rtol,
+            "solver": self.solver,
             "auto_tol": self.auto_tol,
             "overturn": self.overturn,
             "blocks": r.blocks,
@@ -263,7 +264,7 @@ impl Serialize for Plan {
             #[serde(flatten)]
             records: std::borrow::Cow<'a, RecordsPlan>,
             model: ModelChoice,
-            rtol: f64,
+            solver: Solver,
             auto_tol: f64,
             overturn: Overturn,
             pulses: Option<&'a PulsePlan>,
@@ -297,7 +298,7 @@ impl Serialize for Plan {
             description: &self.description,
             records,
             model: self.model,
-            rtol: self.rtol,
+            solver: self.solver,
             auto_tol: self.auto_tol,
             overturn: self.overturn,
             pulses,

@@ -15,7 +15,7 @@ pub(super) fn resolve(raw: RawPipeline, name: String, base: &Path) -> Result<Pla
     use crate::pulse::Cycle;
     let rp = raw.pulses.as_ref().expect("called for [pulses]");
     refuse_stray_sections(&raw)?;
-    let (model, overturn) = model(&raw.model, Overturn::Escape)?;
+    let (model, overturn, solver) = model(&raw.model, Overturn::Escape)?;
     if model == ModelChoice::Auto {
         return Err("a pulse map takes `model.kind` = \"linearized\" or \"nonlinear\"".into());
     }
@@ -62,7 +62,7 @@ pub(super) fn resolve(raw: RawPipeline, name: String, base: &Path) -> Result<Pla
         name,
         description: raw.description.unwrap_or_default(),
         model,
-        rtol: raw.model.rtol,
+        solver,
         auto_tol: raw.model.auto_tol,
         overturn,
         study: StudyKind::PulseMap(PulsePlan {

@@ -128,8 +128,10 @@ pub struct RawModel {
     #[serde(default = "default_kind")]
     pub kind: String,
     pub alpha: Option<f64>,
-    #[serde(default = "default_rtol")]
-    pub rtol: f64,
+    /// The nonlinear equation's integrator: `taylor` (default) or `dp5`.
+    pub integrator: Option<String>,
+    /// Its tolerance; the integrator's default when absent.
+    pub rtol: Option<f64>,
     #[serde(default = "default_auto_tol")]
     pub auto_tol: f64,
     /// `static` by default (`escape` for a pulse map).
@@ -139,9 +141,6 @@ pub struct RawModel {
 fn default_kind() -> String {
     "linearized".into()
 }
-fn default_rtol() -> f64 {
-    crate::physics::DEFAULT_RTOL
-}
 fn default_auto_tol() -> f64 {
     0.01
 }
@@ -150,7 +149,8 @@ impl Default for RawModel {
         RawModel {
             kind: default_kind(),
             alpha: None,
-            rtol: default_rtol(),
+            integrator: None,
+            rtol: None,
             auto_tol: default_auto_tol(),
             overturn: None,
         }

@@ -9,7 +9,7 @@ use super::raw::*;
 use crate::block::{Block, BlockError, Restitution};
 use crate::damage::DamageStates;
 use crate::ida::{ImGrid, Trace, MAX_LEVELS};
-use crate::physics::{ModelChoice, Overturn, RunSpec};
+use crate::physics::{ModelChoice, Overturn, RunSpec, Solver};
 use crate::stats::{FractileDef, ResampleUnit};
 
 /// Parses and resolves a pipeline file's text. `path` names the file in
@@ -43,7 +43,7 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
         ));
     };
     let records = records(&raw_records, base).map_err(err)?;
-    let (model, overturn) = model(&raw.model, Overturn::Static).map_err(err)?;
+    let (model, overturn, solver) = model(&raw.model, Overturn::Static).map_err(err)?;
     let blocks = blocks(&raw.blocks, &raw.block, raw.model.alpha).map_err(err)?;
     let example = raw
         .example
@@ -93,8 +93,8 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
             )));
         }
     }
-    let (model, rtol, auto_tol) = (model, raw.model.rtol, raw.model.auto_tol);
-    let run = |b: Unresolved| block_run(b, model, rtol, auto_tol, overturn);
+    let auto_tol = raw.model.auto_tol;
+    let run = |b: Unresolved| block_run(b, model, solver, auto_tol, overturn);
     let blocks = blocks.into_iter().map(run).collect::<Result<Vec<_>, _>>();
     let blocks = blocks.map_err(err)?;
     let example = example.map(run).transpose().map_err(err)?;
@@ -102,7 +102,7 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
         name,
         description: raw.description.unwrap_or_default(),
         model,
-        rtol,
+        solver,
         auto_tol,
         overturn,
         study: StudyKind::Records(Box::new(RecordsPlan {
@@ -133,7 +133,7 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
 fn block_run(
     b: Unresolved,
     model: ModelChoice,
-    rtol: f64,
+    solver: Solver,
     auto_tol: f64,
     overturn: Overturn,
 ) -> Result<BlockSpec, String> {
@@ -142,7 +142,7 @@ fn block_run(
         name => format!("block `{name}`"),
     };
     let (model, why) = model
-        .resolve(b.alpha_rad, rtol, auto_tol)
+        .resolve(b.alpha_rad, solver, auto_tol)
         .map_err(|e| format!("{}: {e}", what()))?;
     let run = RunSpec {
         overturn,

@@ -47,7 +47,7 @@ impl Stage for Pulses {
         serde_json::json!({
             "pulses": plan.pulse_map(),
             "model": plan.model,
-            "rtol": plan.rtol,
+            "solver": plan.solver,
             "overturn": plan.overturn,
         })
     }
@@ -146,7 +146,7 @@ fn run(cx: &Context) -> Result<Summary, PulsesError> {
     let pp = plan.pulse_map().expect("not_needed without [pulses]");
     let (model, _) = plan
         .model
-        .resolve(pp.alpha, plan.rtol, plan.auto_tol)
+        .resolve(pp.alpha, plan.solver, plan.auto_tol)
         .map_err(PulsesError::Model)?;
     let base = RunSpec {
         overturn: plan.overturn,

@@ -29,7 +29,7 @@ table! {
 
 table! {
     /// The capacity of one record for one block.
-    pub struct CapacityRow = "capacities" v 2 {
+    pub struct CapacityRow = "capacities" v 3 {
         pub case_id: i64,
         pub record_id: String,
         pub block: String,
@@ -52,9 +52,11 @@ table! {
         pub certification: CertificationKind,
         /// The same in a sentence, with the tolerances and the η concerned.
         pub certification_note: String,
-        /// DP5's tolerance of the search reported (tighter than the
-        /// pipeline's when a looser one flipped a verdict); empty for the
-        /// exact stepper.
+        /// The integrator: `exact` (linearised), `taylor` or `dp5` (nonlinear).
+        pub integrator: String,
+        /// The nonlinear integrator's tolerance of the search reported
+        /// (tighter than the pipeline's when a looser one flipped a
+        /// verdict); empty for the exact stepper.
         pub rtol: Option<f64>,
     }
 }
@@ -88,7 +90,8 @@ impl CapacityRow {
             certified: certified.certification.certified(),
             certification: certified.certification.kind(),
             certification_note: certified.certification.to_string(),
-            rtol: certified.model.integrator.rtol(),
+            integrator: certified.model.integrator.name().to_string(),
+            rtol: certified.model.integrator.tol(),
         }
     }
 }

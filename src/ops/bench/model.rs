@@ -45,7 +45,7 @@ pub(super) fn linearisation_table(
                         1e-4,
                     )?
                     .eta_c;
-                    let nl = Model::nonlinear(alpha, 1e-8);
+                    let nl = Model::dp5(alpha, 1e-8);
                     let n = capacity(exc, &RunSpec::new(p, eps, 1.0, nl), &grid, 1e-4)?.eta_c;
                     if let (Some(l), Some(n)) = (l, n) {
                         rel.push(((n - l) / l).abs());
@@ -104,7 +104,7 @@ pub(super) fn criteria_table(args: &BenchOptions, n_records: usize) -> Result<St
         for exc in &recs {
             for p in [1.0, 3.0, 8.0] {
                 for eps in [0.6, 0.9] {
-                    let model = Model::nonlinear(alpha, 1e-8);
+                    let model = Model::dp5(alpha, 1e-8);
                     let base = RunSpec::new(p, eps, 1.0, model);
                     let st = capacity(exc, &base, &grid, 1e-4)?.eta_c;
                     let other = capacity(

@@ -70,7 +70,7 @@ pub(super) fn solvers(
     // a tolerance far below any setting measured for the nonlinear one.
     let reference = |s: &Solver| match s.model.equation {
         Equation::Linearized => Model::LINEARIZED,
-        Equation::Nonlinear { alpha_rad } => Model::nonlinear(alpha_rad, 1e-13),
+        Equation::Nonlinear { alpha_rad } => Model::dp5(alpha_rad, 1e-13),
     };
     let grid = ImGrid::default();
     let tol = 1e-6;
@@ -124,7 +124,19 @@ fn solver_list(quick: bool) -> Vec<Solver> {
         solvers.push(Solver {
             family: "DP5 (nonlinear, α = 0.1)",
             setting: rtol,
-            model: Model::nonlinear(ALPHA_NL, rtol),
+            model: Model::dp5(ALPHA_NL, rtol),
+        });
+    }
+    let tails: &[f64] = if quick {
+        &[crate::physics::DEFAULT_TAYLOR_TOL]
+    } else {
+        &[1e-8, 1e-10, 1e-12, 1e-14]
+    };
+    for &tol in tails {
+        solvers.push(Solver {
+            family: "Taylor (nonlinear, α = 0.1)",
+            setting: tol,
+            model: Model::taylor(ALPHA_NL, tol),
         });
     }
     let rk_nl: &[u32] = if quick { &[4] } else { &[1, 4, 16, 64] };

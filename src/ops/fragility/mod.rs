@@ -4,25 +4,22 @@
 //! ([`super::im_fragility`]); optionally the share of records it overturns
 //! under when run through them directly.
 //!
-//! - this file: the request, the assessment and `--direct`'s records;
+//! - this file: the request and the assessment;
+//! - `direct`: `--direct`'s records and the progress of their searches;
 //! - `laws`: where the capacities come from (the paper, a study's fit, IM
 //!   and damage tables), checked to be the pipeline's as it stands;
 //! - `error`: every refusal.
 
+mod direct;
 mod error;
 mod laws;
-
-use rayon::prelude::*;
 
 use super::im_fragility;
 
 use crate::block::{Block, BlockError, Restitution};
-use crate::ida::{self, ImGrid};
-use crate::im::{Im, RecordIms};
-use crate::physics::{Excitation, ModelChoice, RunSpec, LINEARIZATION_ERROR_PER_ALPHA2};
-use crate::pipeline::Plan;
-use crate::stages::ingest::{self, OnBad};
-use crate::stages::records;
+use crate::im::Im;
+use crate::physics::LINEARIZATION_ERROR_PER_ALPHA2;
+pub use direct::{DirectProgress, DirectRecords};
 pub use error::FragilityError;
 pub use laws::{laws, Laws, Source};
 
@@ -40,6 +37,8 @@ pub struct Request {
     pub from: Source,
     /// Also run the block through the records.
     pub direct: bool,
+    /// Where `--direct` reports its progress.
+    pub progress: DirectProgress,
     /// The linearised model's accepted error in η_c; a stockier block is warned of.
     pub auto_tol: f64,
 }
@@ -84,9 +83,6 @@ pub struct Assessment {
     pub warnings: Vec<String>,
 }
 
-/// What `--direct` says about bad files in `--records`.
-const RECORDS_HINT: &str = "fix them, or point --records at a folder of good AT2 files";
-
 /// Checks the request and computes the fragility.
 pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
     let block = check(req)?;
@@ -94,7 +90,7 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
     let im = req.im;
     let source = laws(&req.from)?;
     let direct = if req.direct {
-        let records = DirectRecords::load(&req.from, source.plan.as_ref())?;
+        let records = DirectRecords::load(&req.from, source.plan.as_ref(), req.progress.clone())?;
         Some(records.thresholds(&block, im, req.auto_tol)?)
     } else {
         None
@@ -170,10 +166,15 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
 pub fn laws_and_records(
     from: &Source,
     direct: bool,
+    progress: &DirectProgress,
 ) -> Result<(Laws, Option<DirectRecords>), FragilityError> {
     let laws = laws(from)?;
     let records = match direct {
-        true => Some(DirectRecords::load(from, laws.plan.as_ref())?),
+        true => Some(DirectRecords::load(
+            from,
+            laws.plan.as_ref(),
+            progress.clone(),
+        )?),
         false => None,
     };
     Ok((laws, records))
@@ -233,145 +234,4 @@ pub fn block(b_m: f64, h_m: f64, eps: Restitution) -> Result<Block, FragilityErr
         }
         BlockError::Restitution(_) => unreachable!("ε is given as a number or Housner's"),
     })
-}
-
-/// The records a block is run through with `--direct`, read once.
-pub struct DirectRecords {
-    records: Vec<(String, Excitation)>,
-    /// Each record's intensity measures, in the same order, computed the
-    /// first time an IM other than PGA asks for them.
-    ims: std::sync::OnceLock<Vec<RecordIms>>,
-}
-
-impl DirectRecords {
-    /// The pipeline's records, or the AT2 folder of `--records`.
-    pub fn load(from: &Source, plan: Option<&Plan>) -> Result<Self, FragilityError> {
-        let rows = match (from, plan) {
-            (_, Some(plan)) => records::load(plan).map_err(FragilityError::Records)?,
-            (Source::Paper { records }, None) => {
-                if !records.is_dir() {
-                    return Err(FragilityError::NoRecords(records.clone()));
-                }
-                ingest::collect(
-                    std::slice::from_ref(records),
-                    None,
-                    OnBad::Refuse(RECORDS_HINT),
-                )
-                .map_err(FragilityError::Ingest)?
-                .rows
-            }
-            (Source::Pipeline { .. }, None) => unreachable!("a pipeline source has a plan"),
-        };
-        let records = rows
-            .into_iter()
-            .map(|r| {
-                let exc = Excitation::new(&r.accel_g, r.dt_s).map_err(|source| {
-                    FragilityError::Physics {
-                        record: r.record_id.clone(),
-                        source,
-                    }
-                })?;
-                Ok((r.record_id, exc))
-            })
-            .collect::<Result<_, FragilityError>>()?;
-        Ok(DirectRecords {
-            records,
-            ims: std::sync::OnceLock::new(),
-        })
-    }
-
-    /// The block's capacity in `im` under each record (the certified η_c
-    /// converted; `f64::INFINITY` where it never overturns), sorted, with
-    /// the model's description.
-    pub fn thresholds(
-        &self,
-        block: &Block,
-        im: Im,
-        auto_tol: f64,
-    ) -> Result<(Vec<f64>, String), FragilityError> {
-        let (caps, model) = self.capacities(block, auto_tol)?;
-        let alpha = block.alpha();
-        let mut t: Vec<f64> = if im == Im::Pga {
-            // α/η_c, as `im::of_eta` gives it: no other IM of the record needed.
-            caps.iter()
-                .map(|&c| if c > 0.0 { alpha / c } else { f64::INFINITY })
-                .collect()
-        } else {
-            caps.iter()
-                .zip(self.ims())
-                .map(|(&c, r)| {
-                    if c > 0.0 {
-                        crate::im::of_eta(im, c, alpha, r)
-                            .ok_or(FragilityError::NoPeriod(im.name()))
-                    } else {
-                        Ok(f64::INFINITY)
-                    }
-                })
-                .collect::<Result<_, _>>()?
-        };
-        t.sort_by(f64::total_cmp);
-        Ok((t, model))
-    }
-
-    /// The records' IMs, from their forcing normalised to a PGA of 1 g:
-    /// the ratios IM/PGA^power that convert a capacity are those of the
-    /// record as recorded.
-    pub fn ims(&self) -> &[RecordIms] {
-        self.ims.get_or_init(|| {
-            self.records
-                .par_iter()
-                .map(|(_, exc)| {
-                    RecordIms::of_record(&exc.psi, exc.dt_s, &[])
-                        .expect("an excitation's forcing has a peak of 1")
-                })
-                .collect()
-        })
-    }
-
-    pub fn len(&self) -> usize {
-        self.records.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.records.is_empty()
-    }
-
-    /// The block's capacity η_c under every record (0 where it survives
-    /// every level), with the model `--model auto` would choose for its α
-    /// at `auto_tol`, by the certified search.
-    /// Returns them with why that model.
-    pub fn capacities(
-        &self,
-        block: &Block,
-        auto_tol: f64,
-    ) -> Result<(Vec<f64>, String), FragilityError> {
-        let (runs, why) = self.runs(block, auto_tol)?;
-        Ok((runs.iter().map(|c| c.eta_c.unwrap_or(0.0)).collect(), why))
-    }
-
-    /// The block's certified search under every record, its runs included,
-    /// in the records' order, and why the model it used.
-    pub fn runs(
-        &self,
-        block: &Block,
-        auto_tol: f64,
-    ) -> Result<(Vec<ida::Capacity>, String), FragilityError> {
-        let (model, why) = ModelChoice::Auto
-            .resolve(Some(block.alpha()), crate::physics::DEFAULT_RTOL, auto_tol)
-            .map_err(FragilityError::Model)?;
-        let spec = RunSpec::new(block.p(), block.eps, 1.0, model);
-        self.records
-            .par_iter()
-            .map(|(id, exc)| {
-                let grid = ImGrid::default();
-                let c = ida::capacity_certified(exc, &spec, &grid, 1e-4, ida::Trace::StopAtFirst)
-                    .map_err(|source| FragilityError::Physics {
-                    record: id.clone(),
-                    source,
-                })?;
-                Ok(c.capacity)
-            })
-            .collect::<Result<Vec<_>, FragilityError>>()
-            .map(|c| (c, why))
-    }
 }

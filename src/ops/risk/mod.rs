@@ -54,6 +54,8 @@ pub struct Request {
     /// The fragility's IM; `None`: the hazard's.
     pub im: Option<Im>,
     pub direct: bool,
+    /// Where `--direct` reports its progress.
+    pub progress: fragility::DirectProgress,
     /// For the probability of overturning within this many years.
     pub years: f64,
     pub beyond: Beyond,
@@ -342,7 +344,10 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
     let sites = read_hazard(&req.hazard, req.site)?;
     let entries = entries(&req.blocks)?;
     let im = hazard_im(&req.hazard, &sites, req.im)?;
-    let (laws, records) = fragility::laws_and_records(&req.from, req.direct)?;
+    let (laws, records) = fragility::laws_and_records(&req.from, req.direct, &req.progress)?;
+    if let Some(records) = &records {
+        records.expect_blocks(entries.len());
+    }
     // Another IM than PGA without --direct: the study's table, read once.
     let table = if im != Im::Pga && !req.direct {
         Some(laws.im_table(im)?)

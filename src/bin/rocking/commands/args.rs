@@ -73,7 +73,7 @@ impl LawArgs {
 pub enum ModelArg {
     /// Paper Eq. 8, exact stepping (depends on p, η, ε only).
     Linearized,
-    /// Paper Eq. 7 by Dormand–Prince 5(4); needs --alpha.
+    /// Paper Eq. 7 (by --integrator); needs --alpha.
     Nonlinear,
     /// Linearised where its error for --alpha is below --auto-tol, else nonlinear.
     Auto,
@@ -86,6 +86,40 @@ impl From<ModelArg> for ModelChoice {
             ModelArg::Nonlinear => ModelChoice::Nonlinear,
             ModelArg::Auto => ModelChoice::Auto,
         }
+    }
+}
+
+/// The nonlinear equation's integrator on the command line.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum IntegratorArg {
+    /// Its Taylor series, one step per sample interval (the default).
+    Taylor,
+    /// Dormand–Prince 5(4).
+    Dp5,
+}
+
+/// How the nonlinear equation is integrated.
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct SolverArgs {
+    /// The nonlinear model's integrator.
+    #[arg(long, value_enum, default_value = "taylor")]
+    pub integrator: IntegratorArg,
+    /// Its tolerance (capacities are then certified at a 100× tighter one):
+    /// the Taylor series' tail per sample interval (default 1e-12), or DP5's
+    /// relative tolerance per step (default 1e-10).
+    #[arg(long)]
+    pub rtol: Option<f64>,
+}
+
+impl SolverArgs {
+    /// The solver asked for, its tolerance checked.
+    pub fn solver(&self) -> anyhow::Result<rocking::physics::Solver> {
+        use rocking::physics::{NonlinearIntegrator, Solver};
+        let integrator = match self.integrator {
+            IntegratorArg::Taylor => NonlinearIntegrator::Taylor,
+            IntegratorArg::Dp5 => NonlinearIntegrator::Dp5,
+        };
+        Solver::new(integrator, self.rtol).map_err(|e| anyhow::anyhow!("--rtol: {e}"))
     }
 }
 
@@ -201,10 +235,8 @@ pub struct BlockArgs {
     /// and a PGA; from the dimensions when they are given.
     #[arg(long, value_name = "rad", conflicts_with_all = ["b", "width"])]
     pub alpha: Option<f64>,
-    /// Relative tolerance of the nonlinear integrator (capacities are then
-    /// certified at a 100× tighter one).
-    #[arg(long, default_value_t = rocking::physics::DEFAULT_RTOL)]
-    pub rtol: f64,
+    #[command(flatten)]
+    pub solver: SolverArgs,
     /// For --model auto: the relative error in η_c accepted from the linearisation.
     #[arg(long, default_value_t = AUTO_TOL)]
     pub auto_tol: f64,
@@ -302,7 +334,7 @@ impl BlockArgs {
         alpha: Option<f64>,
     ) -> anyhow::Result<AskedBlock> {
         let (model, why) =
-            ModelChoice::from(self.model).resolve(alpha, self.rtol, self.auto_tol)?;
+            ModelChoice::from(self.model).resolve(alpha, self.solver.solver()?, self.auto_tol)?;
         let spec = rocking::physics::RunSpec {
             overturn: self.overturn,
             ..rocking::physics::RunSpec::new(p, eps, 1.0, model)
@@ -329,4 +361,14 @@ fn pairs(a_name: &str, a: &[f64], b_name: &str, b: &[f64]) -> anyhow::Result<Vec
         );
     }
     Ok(a.iter().copied().zip(b.iter().copied()).collect())
+}
+
+/// `--direct`'s progress on stderr (a bar on a terminal, log lines
+/// otherwise), or none without `--direct`.
+pub fn direct_progress(direct: bool) -> rocking::ops::fragility::DirectProgress {
+    use rocking::ops::fragility::DirectProgress;
+    match direct {
+        true => DirectProgress::to(std::sync::Arc::new(crate::reporter::Terminal::new())),
+        false => DirectProgress::default(),
+    }
 }

@@ -94,7 +94,9 @@ struct Report<'a> {
     /// Whether the decisive verdicts were confirmed, and how.
     certified: bool,
     certification: String,
-    /// DP5's tolerance of the search reported (nonlinear model).
+    /// The integrator: exact (linearised), taylor or dp5 (nonlinear).
+    integrator: &'static str,
+    /// The nonlinear integrator's tolerance of the search reported.
     rtol: Option<f64>,
     /// Runs spent on the certification (checks and searches redone).
     certification_runs: usize,
@@ -211,7 +213,8 @@ fn report<'a>(
         refinement_runs: refinement_runs(certified),
         certified: certified.certification.certified(),
         certification: certified.certification.to_string(),
-        rtol: certified.model.integrator.rtol(),
+        integrator: certified.model.integrator.name(),
+        rtol: certified.model.integrator.tol(),
         certification_runs: certified.extra.runs,
         tol: args.tol,
         levels: args.levels,

@@ -9,7 +9,7 @@ use rocking::ops::export::{self, Format, Request};
 use rocking::ops::fragility::Source;
 use rocking::ops::risk::Blocks;
 
-use super::args::{parse_restitution, LawArgs};
+use super::args::{direct_progress, parse_restitution, LawArgs};
 use super::states::{parse_states, print_fits, MethodArg};
 
 /// Damage-state fragilities of a block (or an inventory) as OpenQuake NRML or pelicun CSV.
@@ -128,6 +128,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         blocks,
         from,
         direct: args.direct,
+        progress: direct_progress(args.direct),
         states,
         method: args.method.method(),
         im: args.im,

@@ -7,7 +7,7 @@ use rocking::ops::fragility::{self, Request};
 
 use rocking::block::Restitution;
 
-use super::args::{parse_restitution, LawArgs};
+use super::args::{direct_progress, parse_restitution, LawArgs};
 use super::states::{parse_states, print_fits, MethodArg};
 
 /// Probability that a real block overturns at given PGAs.
@@ -80,6 +80,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         },
         from: args.law.source(),
         direct: args.direct,
+        progress: direct_progress(args.direct),
         auto_tol: args.auto_tol,
     };
     if let Some(states) = &args.states {

@@ -11,7 +11,7 @@ use rocking::block::Restitution;
 use rocking::damage::DamageStates;
 use rocking::im::level_text;
 
-use super::args::{parse_restitution, LawArgs};
+use super::args::{direct_progress, parse_restitution, LawArgs};
 use super::states::{parse_states, MethodArg};
 
 /// Annual rate of overturning of a block (or an inventory) at the sites of a hazard file.
@@ -123,6 +123,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         from: args.law.source(),
         im: args.im,
         direct: args.direct,
+        progress: direct_progress(args.direct),
         years: args.years,
         beyond,
         auto_tol: args.auto_tol,

@@ -37,9 +37,8 @@ pub struct Args {
     /// Slenderness α = atan(b/h) (rad), for the nonlinear model.
     #[arg(long, value_name = "rad")]
     alpha: Option<f64>,
-    /// Relative tolerance of the nonlinear integrator.
-    #[arg(long, default_value_t = rocking::physics::DEFAULT_RTOL)]
-    rtol: f64,
+    #[command(flatten)]
+    solver: super::args::SolverArgs,
     /// Intervals per lobe (even); by default enough for the shape (see rocking::pulse).
     #[arg(long, value_name = "N")]
     intervals: Option<usize>,
@@ -81,7 +80,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if matches!(args.model, ModelArg::Auto) {
         anyhow::bail!("--model auto is not offered here: give linearized or nonlinear");
     }
-    let (model, _) = ModelChoice::from(args.model).resolve(args.alpha, args.rtol, 0.01)?;
+    let (model, _) =
+        ModelChoice::from(args.model).resolve(args.alpha, args.solver.solver()?, 0.01)?;
     let base = RunSpec {
         overturn: args.overturn,
         ..RunSpec::new(args.f, args.eps, 1.0, model)

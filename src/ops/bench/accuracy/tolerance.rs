@@ -1,6 +1,7 @@
-//! The `tolerance` section: how η_c of the nonlinear model moves with DP5's
-//! tolerance over far-field records × p × ε × α, how often the decisive
-//! verdicts flip, and the certified search at candidate defaults.
+//! The `tolerance` section: how η_c of the nonlinear model moves with the
+//! integrator and its tolerance (DP5's rtol, the Taylor stepper's tail) over
+//! far-field records × p × ε × α against DP5 at 1e-13, how often the
+//! decisive verdicts flip, and the certified search at candidate defaults.
 
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -11,7 +12,7 @@ use super::hard_cases::hard_cases_markdown;
 use crate::ida::{self, capacity_certified, capacity_traced, decisive_runs, ImGrid, Trace};
 use crate::ops::bench::options::{BenchError, BenchOptions};
 use crate::ops::bench::records::named_records;
-use crate::physics::{simulate, Excitation, Model, RunSpec};
+use crate::physics::{simulate, Equation, Excitation, Integrator, Model, RunSpec};
 
 /// Fractile `q` of a sorted slice (nearest rank), NaN when empty.
 fn at(sorted: &[f64], q: f64) -> f64 {
@@ -46,10 +47,40 @@ struct CaseResult {
     certified: Vec<(Answer, ida::Certification, usize)>,
 }
 
-const RTOLS: [f64; 8] = [1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13];
-const QUICK_RTOLS: [f64; 4] = [1e-6, 1e-8, 1e-10, 1e-13];
-/// The defaults whose certified search is measured.
-pub const CANDIDATES: [f64; 2] = [1e-8, 1e-10];
+const RTOLS: [f64; 7] = [1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12];
+const QUICK_RTOLS: [f64; 3] = [1e-6, 1e-8, 1e-10];
+const TAYLOR_TOLS: [f64; 4] = [1e-8, 1e-10, 1e-12, 1e-14];
+const QUICK_TAYLOR_TOLS: [f64; 1] = [crate::physics::DEFAULT_TAYLOR_TOL];
+
+/// The reference every search is compared with: DP5 at 1e-13.
+pub const REFERENCE: Integrator = Integrator::Dp5 { rtol: 1e-13 };
+
+/// The defaults whose certified search is measured: DP5 at 1e-8 and 1e-10,
+/// the Taylor stepper at its default.
+pub const CANDIDATES: [Integrator; 3] = [
+    Integrator::Dp5 { rtol: 1e-8 },
+    Integrator::Dp5 { rtol: 1e-10 },
+    Integrator::Taylor {
+        tol: crate::physics::DEFAULT_TAYLOR_TOL,
+    },
+];
+
+/// The plain searches measured, the reference last.
+fn settings(quick: bool) -> Vec<Integrator> {
+    let (rtols, tails): (&[f64], &[f64]) = if quick {
+        (&QUICK_RTOLS, &QUICK_TAYLOR_TOLS)
+    } else {
+        (&RTOLS, &TAYLOR_TOLS)
+    };
+    let dp5 = rtols.iter().map(|&rtol| Integrator::Dp5 { rtol });
+    let taylor = tails.iter().map(|&tol| Integrator::Taylor { tol });
+    dp5.chain(taylor).chain([REFERENCE]).collect()
+}
+
+/// A setting as the tables name it: `dp5 1e-10`, `taylor 1e-12`.
+fn named(i: Integrator) -> String {
+    format!("{} {:e}", i.name(), i.tol().unwrap_or(0.0))
+}
 
 /// η_c against DP5's tolerance over far-field records × p × ε × α, and the
 /// certified search at candidate defaults.
@@ -59,7 +90,8 @@ pub fn tolerance_table(
 ) -> Result<String, BenchError> {
     let named = named_records(args, if args.quick { 2 } else { 44 })?;
     let (names, recs): (Vec<String>, Vec<Excitation>) = named.into_iter().unzip();
-    let rtols: &[f64] = if args.quick { &QUICK_RTOLS } else { &RTOLS };
+    let settings = settings(args.quick);
+    let rtols = &settings[..];
     let (ps, epss, alphas): (&[f64], &[f64], &[f64]) = if args.quick {
         (&[2.0], &[0.9], &[0.15])
     } else {
@@ -95,11 +127,24 @@ pub fn tolerance_table(
 fn study_case(
     exc: &Excitation,
     case: Case,
-    rtols: &[f64],
+    rtols: &[Integrator],
     grid: &ImGrid,
     tol: f64,
 ) -> Result<CaseResult, crate::physics::PhysicsError> {
-    let spec = |rtol: f64| RunSpec::new(case.p, case.eps, 1.0, Model::nonlinear(case.alpha, rtol));
+    let equation = Equation::Nonlinear {
+        alpha_rad: case.alpha,
+    };
+    let spec = |integrator: Integrator| {
+        RunSpec::new(
+            case.p,
+            case.eps,
+            1.0,
+            Model {
+                equation,
+                integrator,
+            },
+        )
+    };
     let mut plain = Vec::new();
     let mut caps = Vec::new();
     for &rtol in rtols {
@@ -149,7 +194,7 @@ fn study_case(
 /// the certified ones and the cases that move most.
 fn tolerance_markdown(
     results: &[CaseResult],
-    rtols: &[f64],
+    rtols: &[Integrator],
     names: &[String],
     ps: &[f64],
     epss: &[f64],
@@ -158,17 +203,21 @@ fn tolerance_markdown(
 ) -> String {
     let last = rtols.len() - 1;
     let mut s = String::new();
-    let _ = writeln!(s, "## Nonlinear model: η_c against DP5's tolerance\n");
+    let _ = writeln!(
+        s,
+        "## Nonlinear model: η_c against the integrator and its tolerance\n"
+    );
     let _ = writeln!(
         s,
         "{} cases: {} far-field records × p ∈ {ps:?} 1/s × ε ∈ {epss:?} × α ∈ {alphas:?} rad, \
          default IM grid (200 log-spaced levels), refined to Δη = {tol:e}. Each case's capacity is \
-         searched at every tolerance and compared with the search at rtol {:e}; \"decisive verdicts \
-         flipped\" reruns that reference search's decisive runs (`ida::decisive_runs`: the bracket before \
-         refinement, every refinement run, the near misses) at the looser tolerance. Generated by `rocking bench --sections tolerance`.\n",
+         searched by DP5 at every rtol and by the Taylor stepper at every tail tolerance, and compared \
+         with the search by {}; \"decisive verdicts flipped\" reruns that reference search's decisive \
+         runs (`ida::decisive_runs`: the bracket before refinement, every refinement run, the near \
+         misses) with the setting of the row. Generated by `rocking bench --sections tolerance`.\n",
         results.len(),
         names.len(),
-        rtols[last]
+        named(rtols[last])
     );
     plain_searches(&mut s, results, rtols, tol);
     certified_searches(&mut s, results, rtols, tol);
@@ -179,11 +228,11 @@ fn tolerance_markdown(
 
 /// The plain searches at each tolerance against the tightest: how far η_c
 /// moves, how many capacities change, how many decisive verdicts flip.
-fn plain_searches(s: &mut String, results: &[CaseResult], rtols: &[f64], tol: f64) {
+fn plain_searches(s: &mut String, results: &[CaseResult], rtols: &[Integrator], tol: f64) {
     let last = rtols.len() - 1;
     let _ = writeln!(
         s,
-        "| rtol | median \\|Δη_c\\| | 90 % | 99 % | max | capacities changed (> 2·Δη) | decisive verdicts flipped | mean time per capacity (s) |"
+        "| integrator, tolerance | median \\|Δη_c\\| | 90 % | 99 % | max | capacities changed (> 2·Δη) | decisive verdicts flipped | mean time per capacity (s) |"
     );
     let _ = writeln!(s, "|---:|---:|---:|---:|---:|---:|---:|---:|");
     let decisive_total: usize = results.iter().map(|r| r.certified[0].2).sum();
@@ -198,7 +247,8 @@ fn plain_searches(s: &mut String, results: &[CaseResult], rtols: &[f64], tol: f6
         let secs = results.iter().map(|r| r.plain[k].secs).sum::<f64>() / results.len() as f64;
         let _ = writeln!(
             s,
-            "| {rtol:e} | {:.1e} | {:.1e} | {:.1e} | {:.1e} | {changed} ({:.1} %) | {flipped} of {decisive_total} ({:.2} %) | {secs:.3} |",
+            "| {} | {:.1e} | {:.1e} | {:.1e} | {:.1e} | {changed} ({:.1} %) | {flipped} of {decisive_total} ({:.2} %) | {secs:.3} |",
+            named(rtol),
             at(&d, 0.5),
             at(&d, 0.9),
             at(&d, 0.99),
@@ -211,7 +261,7 @@ fn plain_searches(s: &mut String, results: &[CaseResult], rtols: &[f64], tol: f6
 
 /// The certified search from each candidate default: how it certified,
 /// and how far its η_c lies from the tightest plain search's.
-fn certified_searches(s: &mut String, results: &[CaseResult], rtols: &[f64], tol: f64) {
+fn certified_searches(s: &mut String, results: &[CaseResult], rtols: &[Integrator], tol: f64) {
     let last = rtols.len() - 1;
     let _ = writeln!(
         s,
@@ -224,8 +274,8 @@ fn certified_searches(s: &mut String, results: &[CaseResult], rtols: &[f64], tol
     );
     let _ = writeln!(
         s,
-        "| default rtol | certified at the first search | searched again | chaotic | flips to the tightest | max \\|Δη_c\\| of the certified vs rtol {:e} | certified that differ (> 2·Δη) | max \\|Δη_c\\| of the chaotic | mean time per capacity (s) |",
-        rtols[last]
+        "| default | certified at the first search | searched again | chaotic | flips to the tightest | max \\|Δη_c\\| of the certified vs {} | certified that differ (> 2·Δη) | max \\|Δη_c\\| of the chaotic | mean time per capacity (s) |",
+        named(rtols[last])
     );
     let _ = writeln!(s, "|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for (ci, &rtol) in CANDIDATES.iter().enumerate() {
@@ -254,7 +304,8 @@ fn certified_searches(s: &mut String, results: &[CaseResult], rtols: &[f64], tol
         let pct = |k: usize| 100.0 * k as f64 / n;
         let _ = writeln!(
             s,
-            "| {rtol:e} | {first} ({:.1} %) | {again} ({:.1} %) | {chaotic} ({:.1} %) | {failed} | {worst:.1e} | {changed} | {worst_chaotic:.1e} | {:.3} |",
+            "| {} | {first} ({:.1} %) | {again} ({:.1} %) | {chaotic} ({:.1} %) | {failed} | {worst:.1e} | {changed} | {worst_chaotic:.1e} | {:.3} |",
+            named(rtol),
             pct(first),
             pct(again),
             pct(chaotic),
@@ -264,14 +315,17 @@ fn certified_searches(s: &mut String, results: &[CaseResult], rtols: &[f64], tol
 }
 
 /// The cases that move most at rtol 1e-8, with the certified search from there.
-fn worst_cases(s: &mut String, results: &[CaseResult], rtols: &[f64], names: &[String]) {
+fn worst_cases(s: &mut String, results: &[CaseResult], rtols: &[Integrator], names: &[String]) {
     let last = rtols.len() - 1;
     let _ = writeln!(
         s,
-        "\nThe cases that move most at rtol 1e-8 (plain search), against rtol {:e}:\n",
-        rtols[last]
+        "\nThe cases that move most with DP5 at 1e-8 (plain search), against {}:\n",
+        named(rtols[last])
     );
-    let k8 = rtols.iter().position(|&r| r == 1e-8).unwrap_or(0);
+    let k8 = rtols
+        .iter()
+        .position(|&r| r == Integrator::Dp5 { rtol: 1e-8 })
+        .unwrap_or(0);
     let mut worst: Vec<&CaseResult> = results.iter().collect();
     let delta = |r: &CaseResult| (r.plain[k8].eta_c - r.plain[last].eta_c).abs();
     worst.sort_by(|a, b| delta(b).total_cmp(&delta(a)));

@@ -1,0 +1,231 @@
+//! `--direct`: the records a block is run through, read once, and the
+//! progress of their certified searches (a bar on a terminal, log lines
+//! otherwise, as the sweep's).
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
+
+use rayon::prelude::*;
+
+use super::error::FragilityError;
+use super::laws::Source;
+use crate::block::Block;
+use crate::ida::{self, ImGrid};
+use crate::im::{Im, RecordIms};
+use crate::physics::{Excitation, ModelChoice, RunSpec};
+use crate::pipeline::Plan;
+use crate::stages::ingest::{self, OnBad};
+use crate::stages::{records, Progress, Reporter};
+
+/// What `--direct` says about bad files in `--records`.
+const RECORDS_HINT: &str = "fix them, or point --records at a folder of good AT2 files";
+
+/// Where `--direct` reports the records it has run: the CLI's reporter, or
+/// nowhere (the default).
+#[derive(Clone, Default)]
+pub struct DirectProgress(Option<Arc<dyn Reporter + Send>>);
+
+impl DirectProgress {
+    pub fn to(reporter: Arc<dyn Reporter + Send>) -> Self {
+        DirectProgress(Some(reporter))
+    }
+}
+
+impl std::fmt::Debug for DirectProgress {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(if self.0.is_some() {
+            "DirectProgress(reporter)"
+        } else {
+            "DirectProgress(none)"
+        })
+    }
+}
+
+/// Records run so far, in all, and the simulations they took.
+#[derive(Default)]
+struct Counts {
+    done: AtomicU64,
+    total: AtomicU64,
+    runs: AtomicU64,
+}
+
+/// The records a block is run through with `--direct`, read once.
+pub struct DirectRecords {
+    records: Vec<(String, Excitation)>,
+    progress: DirectProgress,
+    counts: Counts,
+    /// Each record's intensity measures, in the same order, computed the
+    /// first time an IM other than PGA asks for them.
+    ims: std::sync::OnceLock<Vec<RecordIms>>,
+}
+
+impl DirectRecords {
+    /// The pipeline's records, or the AT2 folder of `--records`.
+    pub fn load(
+        from: &Source,
+        plan: Option<&Plan>,
+        progress: DirectProgress,
+    ) -> Result<Self, FragilityError> {
+        let rows = match (from, plan) {
+            (_, Some(plan)) => records::load(plan).map_err(FragilityError::Records)?,
+            (Source::Paper { records }, None) => {
+                if !records.is_dir() {
+                    return Err(FragilityError::NoRecords(records.clone()));
+                }
+                ingest::collect(
+                    std::slice::from_ref(records),
+                    None,
+                    OnBad::Refuse(RECORDS_HINT),
+                )
+                .map_err(FragilityError::Ingest)?
+                .rows
+            }
+            (Source::Pipeline { .. }, None) => unreachable!("a pipeline source has a plan"),
+        };
+        let records = rows
+            .into_iter()
+            .map(|r| {
+                let exc = Excitation::new(&r.accel_g, r.dt_s).map_err(|source| {
+                    FragilityError::Physics {
+                        record: r.record_id.clone(),
+                        source,
+                    }
+                })?;
+                Ok((r.record_id, exc))
+            })
+            .collect::<Result<_, FragilityError>>()?;
+        Ok(DirectRecords {
+            records,
+            progress,
+            counts: Counts::default(),
+            ims: std::sync::OnceLock::new(),
+        })
+    }
+
+    /// The block's capacity in `im` under each record (the certified η_c
+    /// converted; `f64::INFINITY` where it never overturns), sorted, with
+    /// the model's description.
+    pub fn thresholds(
+        &self,
+        block: &Block,
+        im: Im,
+        auto_tol: f64,
+    ) -> Result<(Vec<f64>, String), FragilityError> {
+        let (caps, model) = self.capacities(block, auto_tol)?;
+        let alpha = block.alpha();
+        let mut t: Vec<f64> = if im == Im::Pga {
+            // α/η_c, as `im::of_eta` gives it: no other IM of the record needed.
+            caps.iter()
+                .map(|&c| if c > 0.0 { alpha / c } else { f64::INFINITY })
+                .collect()
+        } else {
+            caps.iter()
+                .zip(self.ims())
+                .map(|(&c, r)| {
+                    if c > 0.0 {
+                        crate::im::of_eta(im, c, alpha, r)
+                            .ok_or(FragilityError::NoPeriod(im.name()))
+                    } else {
+                        Ok(f64::INFINITY)
+                    }
+                })
+                .collect::<Result<_, _>>()?
+        };
+        t.sort_by(f64::total_cmp);
+        Ok((t, model))
+    }
+
+    /// The records' IMs, from their forcing normalised to a PGA of 1 g:
+    /// the ratios IM/PGA^power that convert a capacity are those of the
+    /// record as recorded.
+    pub fn ims(&self) -> &[RecordIms] {
+        self.ims.get_or_init(|| {
+            self.records
+                .par_iter()
+                .map(|(_, exc)| {
+                    RecordIms::of_record(&exc.psi, exc.dt_s, &[])
+                        .expect("an excitation's forcing has a peak of 1")
+                })
+                .collect()
+        })
+    }
+
+    pub fn len(&self) -> usize {
+        self.records.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.records.is_empty()
+    }
+
+    /// The block's capacity η_c under every record (0 where it survives
+    /// every level), with the model `--model auto` would choose for its α
+    /// at `auto_tol`, by the certified search.
+    /// Returns them with why that model.
+    pub fn capacities(
+        &self,
+        block: &Block,
+        auto_tol: f64,
+    ) -> Result<(Vec<f64>, String), FragilityError> {
+        let (runs, why) = self.runs(block, auto_tol)?;
+        Ok((runs.iter().map(|c| c.eta_c.unwrap_or(0.0)).collect(), why))
+    }
+
+    /// The block's certified search under every record, its runs included,
+    /// in the records' order, and why the model it used.
+    pub fn runs(
+        &self,
+        block: &Block,
+        auto_tol: f64,
+    ) -> Result<(Vec<ida::Capacity>, String), FragilityError> {
+        let (model, why) = ModelChoice::Auto
+            .resolve(
+                Some(block.alpha()),
+                crate::physics::Solver::default(),
+                auto_tol,
+            )
+            .map_err(FragilityError::Model)?;
+        let spec = RunSpec::new(block.p(), block.eps, 1.0, model);
+        let n = self.records.len() as u64;
+        let before = self.counts.done.load(Ordering::Relaxed);
+        self.counts.total.fetch_max(before + n, Ordering::Relaxed);
+        self.report();
+        self.records
+            .par_iter()
+            .map(|(id, exc)| {
+                let grid = ImGrid::default();
+                let c = ida::capacity_certified(exc, &spec, &grid, 1e-4, ida::Trace::StopAtFirst)
+                    .map_err(|source| FragilityError::Physics {
+                    record: id.clone(),
+                    source,
+                })?;
+                let runs = (c.capacity.runs() + c.extra.runs) as u64;
+                self.counts.runs.fetch_add(runs, Ordering::Relaxed);
+                self.counts.done.fetch_add(1, Ordering::Relaxed);
+                self.report();
+                Ok(c.capacity)
+            })
+            .collect::<Result<Vec<_>, FragilityError>>()
+            .map(|c| (c, why))
+    }
+
+    /// Says that `blocks` blocks will be run, so that the progress counts
+    /// them all from the start.
+    pub fn expect_blocks(&self, blocks: usize) {
+        let n = (blocks * self.records.len()) as u64;
+        self.counts.total.fetch_max(n, Ordering::Relaxed);
+    }
+
+    fn report(&self) {
+        if let Some(reporter) = &self.progress.0 {
+            let c = &self.counts;
+            reporter.progress(&Progress {
+                stage: "direct",
+                done: c.done.load(Ordering::Relaxed),
+                total: c.total.load(Ordering::Relaxed),
+                resumed: 0,
+                runs: c.runs.load(Ordering::Relaxed),
+            });
+        }
+    }
+}

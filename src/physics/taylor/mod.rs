@@ -1,0 +1,314 @@
+//! The Taylor stepper of the nonlinear equation (paper Eq. 7): one step per
+//! sample interval, its Taylor series built by recurrences, its truncation
+//! bounded by the series' tail, events located on the polynomial.
+//!
+//! With `y = s·x` on pivot `s` and `u = α(1 − y)`, the equation is
+//!
+//! ```text
+//! ÿ = −(p²/α) sin u + s (p²/η) (g_a + g1 σ) cos u,    u̇ = −α ẏ
+//! ```
+//!
+//! In the step's own time `τ = σ/h ∈ [0, 1]` write `Y(τ) = Σ Y_k τ^k` and
+//! `V = dY/dτ`, `E = sin u`, `D = cos u` likewise. Because the forcing is
+//! linear in time and `E' = −α D V`, `D' = α E V`, every coefficient follows
+//! from lower ones (the automatic differentiation of Moore, *Interval
+//! Analysis*, 1966; Jorba & Zou, *Exp. Math.* 14, 2005):
+//!
+//! ```text
+//! (k+1) V_{k+1} = −h²(p²/α) E_k + s h²(p²/η) (g_a D_k + g1 h D_{k−1})
+//! (k+1) Y_{k+1} = V_k
+//! (k+1) E_{k+1} = −α Σ_{j≤k} D_j V_{k−j}
+//! (k+1) D_{k+1} =  α Σ_{j≤k} E_j V_{k−j}
+//! ```
+//!
+//! The series is grown until the last two coefficients of `Y` and `V` are
+//! below `tol` times the largest (and those of `E`, `D` below `tol·α`): the
+//! solution is analytic with a radius of convergence far beyond a sample
+//! interval (`p·Δt ≤ 0.2` on the bundled records), so its coefficients
+//! fall geometrically and the omitted tail is smaller than the last terms
+//! kept (Jorba & Zou's criterion). A series that has not converged by
+//! [`MAX_ORDER`] is thrown away and the step halved: the step is then
+//! shorter than the sample interval (long free-rocking stretches after the
+//! record; extreme forcing), never longer, so the forcing's kinks fall on
+//! step boundaries. `Y' = V` holds exactly for the polynomials, so the
+//! turning points, impacts and overturning are the roots of polynomials,
+//! found to a few ulps by the Illinois method; the state at an event is the
+//! series evaluated there, as accurate as at the step's end.
+//!
+//! `sin u` and `cos u` at the next step's start are the series' values at
+//! its end (no `sin_cos` per step), recomputed exactly after an impact or an
+//! uplift (`y = 0`: `sin α`, `cos α`) and whenever the driver hands over a
+//! state this stepper did not leave.
+
+mod poly;
+
+use super::step::{Rocking, Stepper, Stretch, StretchEnd};
+use poly::{poly, root, sum, turning_points, Turns};
+
+/// The highest order of a step's series; a series not converged by then is
+/// thrown away and the step halved.
+pub const MAX_ORDER: usize = 24;
+
+/// The lowest order accepted, so that coefficients small by symmetry (a
+/// step from rest under a forcing at the threshold) cannot end a series.
+const MIN_ORDER: usize = 4;
+
+const LEN: usize = MAX_ORDER + 2;
+
+/// 1/k for k < LEN (1/0 unused).
+const INV: [f64; LEN] = {
+    let mut t = [0.0; LEN];
+    let mut k = 1;
+    while k < LEN {
+        t[k] = 1.0 / k as f64;
+        k += 1;
+    }
+    t
+};
+
+/// The Taylor stepper of the nonlinear equation; one per run.
+pub struct Taylor {
+    p2_over_alpha: f64,
+    p2_over_eta: f64,
+    alpha: f64,
+    sin_alpha: f64,
+    cos_alpha: f64,
+    tol: f64,
+    limit: f64,
+    /// The longest step tried (s): halved when a series does not converge,
+    /// grown again after steps it cut short.
+    h: f64,
+    /// The state this stepper last returned, with `sin u` and `cos u` there.
+    left: Option<(Rocking, f64, f64)>,
+    /// The current step's coefficients (in τ): Y to degree n + 1, V, E, D to n.
+    y: [f64; LEN],
+    v: [f64; LEN],
+    e: [f64; LEN],
+    d: [f64; LEN],
+    /// Steps taken and series thrown away (for benchmarks).
+    pub steps: u64,
+    pub rejected: u64,
+}
+
+impl Taylor {
+    /// The stepper for a block of frequency parameter `p`, at `eta`, of
+    /// slenderness `alpha` (rad), with tail tolerance `tol`, stopping at `|x|
+    /// = limit`.
+    pub fn new(p: f64, eta: f64, alpha: f64, tol: f64, limit: f64) -> Self {
+        let (sin_alpha, cos_alpha) = alpha.sin_cos();
+        Taylor {
+            p2_over_alpha: p * p / alpha,
+            p2_over_eta: p * p / eta,
+            alpha,
+            sin_alpha,
+            cos_alpha,
+            tol,
+            limit,
+            h: f64::INFINITY,
+            left: None,
+            y: [0.0; LEN],
+            v: [0.0; LEN],
+            e: [0.0; LEN],
+            d: [0.0; LEN],
+            steps: 0,
+            rejected: 0,
+        }
+    }
+
+    /// `sin u`, `cos u` at `state`.
+    #[inline]
+    fn sin_cos_at(&self, state: &Rocking) -> (f64, f64) {
+        if state.x == 0.0 {
+            return (self.sin_alpha, self.cos_alpha);
+        }
+        match self.left {
+            Some((left, e, d)) if left == *state => (e, d),
+            _ => (self.alpha * (1.0 - state.s * state.x)).sin_cos(),
+        }
+    }
+
+    /// Builds the series of a step of length `h` from `y0`, `ẏ0 = w0`, `sin
+    /// u0 = e0`, `cos u0 = d0` on pivot `s` under `g_a + g1·σ`, order by
+    /// order until its tail is below the tolerance; returns the degree `n`
+    /// of V (Y's is n + 1), or `None` if the tail is still above the
+    /// tolerance at [`MAX_ORDER`].
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    fn series(
+        &mut self,
+        s: f64,
+        y0: f64,
+        w0: f64,
+        e0: f64,
+        d0: f64,
+        h: f64,
+        g_a: f64,
+        g1: f64,
+    ) -> Option<usize> {
+        let h2 = h * h;
+        let k_sin = h2 * self.p2_over_alpha;
+        let f = s * h2 * self.p2_over_eta;
+        let (f0, f1) = (f * g_a, f * g1 * h);
+        let a = self.alpha;
+        let (tol, tol_e) = (self.tol, self.tol * a);
+        let (y, v, e, d) = (&mut self.y, &mut self.v, &mut self.e, &mut self.d);
+        let v0 = h * w0;
+        y[0] = y0;
+        v[0] = v0;
+        e[0] = e0;
+        d[0] = d0;
+        // The newest coefficients stay in registers; the convolutions read
+        // from memory only the ones stored an order or more before.
+        let (mut yk, mut vk, mut ek, mut dk, mut d_prev) = (y0, v0, e0, d0, 0.0);
+        // The coefficients fall geometrically: the largest is among the first three.
+        let (mut scale_y, mut scale_v) = (y0.abs(), v0.abs());
+        for k in 0..MAX_ORDER {
+            let (m, inv) = (k + 1, INV[k + 1]);
+            let vm = (f0 * dk + f1 * d_prev - k_sin * ek) * inv;
+            let ym = vk * inv;
+            let (mut se, mut sd) = (0.0, 0.0);
+            for j in 1..k {
+                se += d[j] * v[k - j];
+                sd += e[j] * v[k - j];
+            }
+            if k > 0 {
+                se += dk * v0;
+                sd += ek * v0;
+            }
+            let em = -a * inv * (se + d0 * vk);
+            let dm = a * inv * (sd + e0 * vk);
+            (y[m], v[m], e[m], d[m]) = (ym, vm, em, dm);
+            if m <= 2 {
+                scale_y = scale_y.max(ym.abs());
+                scale_v = scale_v.max(vm.abs());
+            } else if m >= MIN_ORDER
+                && ym.abs() + yk.abs() <= tol * scale_y
+                && vm.abs() + vk.abs() <= tol * scale_v
+                && em.abs() + ek.abs() <= tol_e
+                && dm.abs() + dk.abs() <= tol_e
+            {
+                y[m + 1] = vm * INV[m + 1];
+                return Some(m);
+            }
+            (yk, vk, ek, d_prev, dk) = (ym, vm, em, dk, dm);
+        }
+        None
+    }
+
+    /// The first event of the step just built (degree `n`), if any: the
+    /// step cut at its turning points (every root of V, [`turning_points`])
+    /// into pieces on which Y is monotone; the first piece whose end reaches
+    /// the limit or the pivot holds it. Returns the event's τ and the event;
+    /// raises `max_abs_x` to the turning points passed.
+    #[inline]
+    fn event(&self, n: usize, y_end: f64, max_abs_x: &mut f64) -> Option<(f64, Event)> {
+        let (yc, vc) = (&self.y[..n + 2], &self.v[..n + 1]);
+        let mut turns = Turns::default();
+        turning_points(vc, &mut turns);
+        let (mut lo, mut y_lo) = (0.0, yc[0]);
+        let ends = turns.as_slice().iter().copied().chain([1.0]);
+        for hi in ends {
+            let y_hi = if hi == 1.0 { y_end } else { poly(yc, hi) };
+            if y_hi >= self.limit {
+                let mut shifted = [0.0; LEN];
+                shifted[..yc.len()].copy_from_slice(yc);
+                shifted[0] -= self.limit;
+                return Some((root(&shifted[..yc.len()], lo, hi), Event::Overturn));
+            }
+            if y_hi <= 0.0 {
+                if y_lo <= 0.0 {
+                    // A departure swamped by rounding: it never left the pivot.
+                    return Some((hi, Event::Settled));
+                }
+                return Some((root(yc, lo, hi), Event::Impact));
+            }
+            *max_abs_x = max_abs_x.max(y_hi);
+            (lo, y_lo) = (hi, y_hi);
+        }
+        None
+    }
+}
+
+enum Event {
+    Impact,
+    Overturn,
+    Settled,
+}
+
+impl Stepper for Taylor {
+    fn set_limit(&mut self, limit: f64) {
+        self.limit = limit;
+    }
+
+    fn rock(&mut self, st: Stretch, state: &mut Rocking, max_abs_x: &mut f64) -> StretchEnd {
+        let s = state.s;
+        let (mut y0, mut w0) = (s * state.x, s * state.v);
+        let (mut e0, mut d0) = self.sin_cos_at(state);
+        let mut sigma = 0.0;
+        while sigma < st.len {
+            let remaining = st.len - sigma;
+            let cut = self.h < remaining && remaining - self.h > 0.01 * self.h;
+            let h = if cut { self.h } else { remaining };
+            let g_a = st.g_a + st.g1 * sigma;
+            let Some(n) = self.series(s, y0, w0, e0, d0, h, g_a, st.g1) else {
+                self.rejected += 1;
+                self.h = 0.5 * h;
+                continue;
+            };
+            self.steps += 1;
+            let y_end = sum(&self.y[..n + 2]);
+            let v_end = sum(&self.v[..n + 1]);
+            if let Some((t, event)) = self.event(n, y_end, max_abs_x) {
+                let at = sigma + t * h;
+                let w = poly(&self.v[..n + 1], t) / h;
+                self.left = None;
+                return match event {
+                    Event::Impact => {
+                        *state = Rocking {
+                            x: s * poly(&self.y[..n + 2], t),
+                            v: s * w,
+                            s,
+                        };
+                        StretchEnd::Impact {
+                            sigma: at,
+                            v: s * w,
+                        }
+                    }
+                    Event::Overturn => {
+                        *max_abs_x = max_abs_x.max(self.limit);
+                        *state = Rocking {
+                            x: s * self.limit,
+                            v: s * w,
+                            s,
+                        };
+                        StretchEnd::Overturn { sigma: at }
+                    }
+                    Event::Settled => {
+                        *state = Rocking { x: 0.0, v: 0.0, s };
+                        StretchEnd::Settled { sigma: at }
+                    }
+                };
+            }
+            *max_abs_x = max_abs_x.max(y_end);
+            y0 = y_end;
+            w0 = v_end / h;
+            e0 = sum(&self.e[..n + 1]);
+            d0 = sum(&self.d[..n + 1]);
+            if cut {
+                sigma += h;
+                if n <= MAX_ORDER * 2 / 3 {
+                    self.h *= 1.5;
+                }
+            } else {
+                sigma = st.len;
+            }
+        }
+        *state = Rocking {
+            x: s * y0,
+            v: s * w0,
+            s,
+        };
+        self.left = Some((*state, e0, d0));
+        StretchEnd::End
+    }
+}

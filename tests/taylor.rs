@@ -1,0 +1,259 @@
+//! The Taylor stepper of the nonlinear equation against independent truths:
+//! its free motion conserves the nonlinear energy; its runs equal DP5's at
+//! rtol 1e-13 (another engine) on bundled records; as α → 0 it tends to
+//! the exact linearised stepper's closed form; an interval holding two
+//! turning points keeps its impact; the hard cases certify to DP5's tight
+//! search or are flagged chaotic where DP5's certification is; the
+//! command line and pipelines choose it and refuse bad settings.
+
+use rocking::ida::{capacity_certified, capacity_traced, Certification, Trace};
+use rocking::ops::bench::accuracy::HARD_CASES;
+use rocking::physics::taylor::Taylor;
+use rocking::physics::{
+    simulate, Model, Rocking, RunSpec, Stepper, Stretch, StretchEnd, DEFAULT_RTOL,
+    DEFAULT_TAYLOR_TOL,
+};
+
+use crate::util::{bundled, rocking, root, stderr, tempdir, write_pipeline};
+
+fn far(stem: &str) -> rocking::physics::Excitation {
+    bundled(&format!("far-field/{stem}"))
+}
+
+/// The free motion on one pivot (`ÿ = −(p²/α) sin(α(1 − y))`) conserves
+/// `E = ẏ²/2 + (p²/α²) cos(α(1 − y))`. Stepped in record-like intervals of
+/// 0.01 s from y = 0.5 upward until it falls back to the pivot, E at every
+/// step's end and at the impact equals its start to 1e-13 (relative), the
+/// series' tail being 1e-12 of its largest terms per step, and rounding.
+#[test]
+fn free_rocking_conserves_the_nonlinear_energy() {
+    let (p, alpha) = (2.0, 0.3);
+    let energy = |y: f64, w: f64| 0.5 * w * w + p * p / (alpha * alpha) * (alpha * (1.0 - y)).cos();
+    for s in [1.0, -1.0] {
+        let mut stepper = Taylor::new(p, 1.0, alpha, DEFAULT_TAYLOR_TOL, 10.0);
+        let mut st = Rocking {
+            x: 0.5 * s,
+            v: 0.4 * s,
+            s,
+        };
+        let e0 = energy(0.5, 0.4);
+        let mut max = 0.0;
+        let mut steps = 0;
+        loop {
+            let stretch = Stretch {
+                tau0: 0.0,
+                len: 0.01,
+                g_a: 0.0,
+                g1: 0.0,
+            };
+            let end = stepper.rock(stretch, &mut st, &mut max);
+            let e = energy(s * st.x, s * st.v);
+            assert!(
+                ((e - e0) / e0).abs() < 1e-13,
+                "step {steps}: {e} against {e0}"
+            );
+            steps += 1;
+            match end {
+                StretchEnd::End => assert!(steps < 10_000, "never came back"),
+                StretchEnd::Impact { v, .. } => {
+                    assert!((s * st.x).abs() < 1e-12, "impact at x = {}", st.x);
+                    let e = energy(0.0, s * v);
+                    assert!(((e - e0) / e0).abs() < 1e-13, "at impact: {e} against {e0}");
+                    break;
+                }
+                other => panic!("{other:?}"),
+            }
+        }
+        // Its highest point, where ẏ = 0: cos(α(1 − y)) = E α²/p².
+        let apex = 1.0 - (e0 * alpha * alpha / (p * p)).acos() / alpha;
+        assert!((max - apex).abs() < 1e-12, "θmax/α {max} against {apex}");
+    }
+}
+
+/// Every run's outcome equals DP5's at rtol 1e-13, an independent engine:
+/// the same stop, impacts and overturning, θmax/α within 1e-9 (DP5's
+/// global error at 1e-13 over a record is about 1e-10), and the overturning
+/// time within 1e-9 s.
+#[test]
+fn runs_equal_dp5_at_its_tightest() {
+    let cases = [
+        ("RSN1111_KOBE_NIS000", 2.0, 0.25),
+        ("RSN848_LANDERS_CLW-LN", 1.0, 0.15),
+        ("RSN1633_MANJIL_ABBAR--L", 4.0, 0.4),
+    ];
+    for (stem, p, alpha) in cases {
+        let exc = far(stem);
+        for eta in [0.6, 0.4, 0.3, 0.2, 0.15, 0.1] {
+            let run = |m| simulate(&exc, &RunSpec::new(p, 0.8, eta, m)).unwrap();
+            let (t, d) = (
+                run(Model::taylor(alpha, DEFAULT_TAYLOR_TOL)),
+                run(Model::dp5(alpha, 1e-13)),
+            );
+            let what = format!("{stem} p = {p} α = {alpha} η = {eta}: {t:?} against {d:?}");
+            assert_eq!((t.stop, t.impacts), (d.stop, d.impacts), "{what}");
+            assert!(
+                (t.max_abs_x - d.max_abs_x).abs() <= 1e-9 * d.max_abs_x.max(1.0),
+                "{what}"
+            );
+            match (t.overturn_time_s, d.overturn_time_s) {
+                (Some(a), Some(b)) => assert!((a - b).abs() < 1e-9, "{what}"),
+                (a, b) => assert_eq!(a, b, "{what}"),
+            }
+        }
+    }
+}
+
+/// As α → 0 the nonlinear equation tends to the linearised one, their
+/// difference in the motion of order α² (MODEL.md §2): θmax/α by the Taylor
+/// stepper approaches the exact stepper's closed form, the difference
+/// falling fourfold each time α halves (4 ± 5 %, from 4e-3 to 1e-3 rad).
+#[test]
+fn a_slender_block_tends_to_the_linearised_closed_form_at_second_order() {
+    let exc = far("RSN1111_KOBE_NIS000");
+    for eta in [0.6, 0.4] {
+        let run = |m| simulate(&exc, &RunSpec::new(2.0, 0.8, eta, m)).unwrap();
+        let lin = run(Model::LINEARIZED);
+        assert!(!lin.overturned() && lin.max_abs_x > 0.01, "{lin:?}");
+        let diff =
+            |alpha| (run(Model::taylor(alpha, DEFAULT_TAYLOR_TOL)).max_abs_x - lin.max_abs_x).abs();
+        let d = [diff(4e-3), diff(2e-3), diff(1e-3)];
+        for w in d.windows(2) {
+            let ratio = w[0] / w[1];
+            assert!((ratio - 4.0).abs() < 0.2, "η = {eta}: differences {d:?}");
+        }
+    }
+}
+
+/// One sample interval of Cape Mendocino (Δt = 0.02 s) holds two turning
+/// points of a small rocking swing with ẋ of one sign at both ends: a
+/// stepper that looked for one turning point only let the block settle
+/// there and survive, where DP5 at 1e-13 (small steps) finds the impact
+/// and the overturning 3 s later.
+#[test]
+fn an_interval_with_two_turning_points_keeps_its_impact() {
+    let exc = far("RSN829_CAPEMEND_RIO360");
+    let run = |m| simulate(&exc, &RunSpec::new(1.0, 0.7, 0.021077, m)).unwrap();
+    let (t, d) = (
+        run(Model::taylor(0.3, DEFAULT_TAYLOR_TOL)),
+        run(Model::dp5(0.3, 1e-13)),
+    );
+    assert!(d.overturned() && t.overturned(), "{t:?} against {d:?}");
+    assert_eq!(t.impacts, d.impacts);
+    let (a, b) = (t.overturn_time_s.unwrap(), d.overturn_time_s.unwrap());
+    assert!((a - b).abs() < 1e-9, "{a} against {b}");
+}
+
+/// The hard cases (`ops::bench::accuracy::HARD_CASES`): certified from the
+/// Taylor stepper's default, a capacity equals the plain search by DP5 at
+/// 1e-13 within the search's resolution, or is flagged chaotic where
+/// DP5's certification from its default flags it too; no new flags.
+#[test]
+fn hard_cases_certify_to_dp5s_tight_search_or_are_chaotic_where_it_says() {
+    for c in &HARD_CASES {
+        let exc = far(c.record);
+        let spec = |m| RunSpec::new(c.p, c.eps, 1.0, m);
+        let by_taylor = capacity_certified(
+            &exc,
+            &spec(Model::taylor(c.alpha, DEFAULT_TAYLOR_TOL)),
+            &c.grid,
+            c.tol,
+            Trace::StopAtFirst,
+        )
+        .unwrap();
+        let by_dp5 = capacity_certified(
+            &exc,
+            &spec(Model::dp5(c.alpha, DEFAULT_RTOL)),
+            &c.grid,
+            c.tol,
+            Trace::StopAtFirst,
+        )
+        .unwrap();
+        let what = format!(
+            "{c:?}: {} / {}",
+            by_taylor.certification, by_dp5.certification
+        );
+        assert_eq!(
+            by_taylor.certification.kind(),
+            by_dp5.certification.kind(),
+            "{what}"
+        );
+        if by_taylor.certification.certified() {
+            let tight = capacity_traced(
+                &exc,
+                &spec(Model::dp5(c.alpha, 1e-13)),
+                &c.grid,
+                c.tol,
+                Trace::StopAtFirst,
+            )
+            .unwrap();
+            let (got, want) = (by_taylor.capacity.eta_c.unwrap(), tight.eta_c.unwrap());
+            assert!(
+                (got - want).abs() <= 2.0 * c.tol,
+                "{what}: {got} against {want}"
+            );
+            assert!(
+                matches!(by_taylor.certification, Certification::Tolerance { rtol, checked_rtol, .. }
+                    if rtol == DEFAULT_TAYLOR_TOL && checked_rtol == DEFAULT_TAYLOR_TOL / 100.0),
+                "{what}"
+            );
+        }
+    }
+}
+
+/// `capacity` runs the Taylor stepper unless told otherwise, says so, and
+/// gives DP5's capacity; a tolerance outside the integrator's range and an
+/// unknown integrator in a pipeline are refused, naming the flag or key.
+#[test]
+fn the_command_line_and_pipelines_choose_the_integrator() {
+    let dir = tempdir();
+    let d = dir.path();
+    let record = root().join("records/fema-p695/far-field/RSN1111_KOBE_NIS000.AT2");
+    let capacity = |extra: &[&str]| {
+        let mut args = vec![
+            "capacity",
+            "--record",
+            record.to_str().unwrap(),
+            "--p",
+            "2",
+            "--eps",
+            "0.8",
+            "--model",
+            "nonlinear",
+            "--alpha",
+            "0.25",
+            "--levels",
+            "40",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        rocking(d, &args)
+    };
+    let json = |out: std::process::Output| -> serde_json::Value {
+        assert!(out.status.success(), "{}", stderr(&out));
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let taylor = json(capacity(&[]));
+    let dp5 = json(capacity(&["--integrator", "dp5"]));
+    assert_eq!(taylor["integrator"], "taylor");
+    assert_eq!(taylor["rtol"], DEFAULT_TAYLOR_TOL);
+    assert_eq!(dp5["integrator"], "dp5");
+    assert_eq!(dp5["rtol"], DEFAULT_RTOL);
+    assert_eq!(taylor["eta_c"], dp5["eta_c"]);
+    let out = capacity(&["--rtol", "1e-17"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr(&out).contains("--rtol") && stderr(&out).contains("1e-16"),
+        "{}",
+        stderr(&out)
+    );
+    let body = "[model]\nkind = \"nonlinear\"\nalpha = 0.2\nintegrator = \"rk4\"\n\
+                [blocks]\np = [1.0]\neps = [0.8]\n";
+    let pipe = write_pipeline(d, "bad", body);
+    let out = rocking(d, &["run", pipe.to_str().unwrap(), "--outputs", "out"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr(&out).contains("`model.integrator`") && stderr(&out).contains("taylor, dp5"),
+        "{}",
+        stderr(&out)
+    );
+}
