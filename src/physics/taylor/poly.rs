@@ -107,14 +107,18 @@ pub(super) fn sum(c: &[f64]) -> f64 {
 /// r^{j−1}`, for `v` is then monotone. The whole step is tried with the
 /// coefficients as they are (about τ = 0, where the first test settles
 /// nearly every step); an interval that passes neither test is halved, down
-/// to 2⁻²⁰ of a step, where a sign change at the ends decides. A root at
-/// τ = 0 (a step from rest) is divided out first.
+/// to 2⁻²⁰ of a step (and [`MAX_HALVES`] intervals in all), where a sign
+/// change at the ends decides. A root at τ = 0 (a step from rest) is
+/// divided out first; a polynomial that is not finite has none.
 pub(super) fn turning_points(v: &[f64], out: &mut Turns) {
     // A step from rest starts at a root of V (τ = 0, not inside the step):
     // its roots in (0, 1) are those of V/τ.
     let mut v = v;
     while v.len() > 1 && v[0] == 0.0 {
         v = &v[1..];
+    }
+    if !v.iter().all(|c| c.is_finite()) {
+        return;
     }
     let tail = |from: usize, weight: fn(usize) -> f64| {
         v[from..]
@@ -130,8 +134,13 @@ pub(super) fn turning_points(v: &[f64], out: &mut Turns) {
         crossing(v, 0.0, 1.0, poly(v, 0.0), poly(v, 1.0), out);
         return;
     }
-    halves(v, 0.0, 1.0, poly(v, 0.0), poly(v, 1.0), 0, out);
+    let mut budget = MAX_HALVES;
+    halves(v, 0.0, 1.0, poly(v, 0.0), poly(v, 1.0), 0, &mut budget, out);
 }
+
+/// The most intervals [`turning_points`] examines in one step: each root
+/// needs about 20 on its way down, and a step has one or two.
+const MAX_HALVES: u32 = 256;
 
 /// The turning points found so far, in order.
 #[derive(Default)]
@@ -164,7 +173,18 @@ fn crossing(v: &[f64], a: f64, b: f64, va: f64, vb: f64, out: &mut Turns) {
 }
 
 /// [`turning_points`] on [a, b] by the tests on its Taylor shift, halving.
-fn halves(v: &[f64], a: f64, b: f64, va: f64, vb: f64, depth: u32, out: &mut Turns) {
+#[allow(clippy::too_many_arguments)]
+fn halves(
+    v: &[f64],
+    a: f64,
+    b: f64,
+    va: f64,
+    vb: f64,
+    depth: u32,
+    budget: &mut u32,
+    out: &mut Turns,
+) {
+    *budget = budget.saturating_sub(1);
     let (m, r) = (0.5 * (a + b), 0.5 * (b - a));
     let mut c = [0.0; 32];
     let c = shifted(v, m, &mut c[..v.len()]);
@@ -180,16 +200,16 @@ fn halves(v: &[f64], a: f64, b: f64, va: f64, vb: f64, depth: u32, out: &mut Tur
     if c[0].abs() > tail0 {
         return;
     }
-    if c[1].abs() > tail1 || depth >= 20 {
+    if c[1].abs() > tail1 || depth >= 20 || *budget == 0 {
         crossing(v, a, b, va, vb, out);
         return;
     }
     let vm = c[0];
-    halves(v, a, m, va, vm, depth + 1, out);
+    halves(v, a, m, va, vm, depth + 1, budget, out);
     if vm == 0.0 && m > a {
         out.push(m);
     }
-    halves(v, m, b, vm, vb, depth + 1, out);
+    halves(v, m, b, vm, vb, depth + 1, budget, out);
 }
 
 /// The coefficients of `v(m + d)` in powers of d (repeated synthetic division).
