@@ -655,3 +655,43 @@ fn both_compilations_of_the_exact_stepper_agree_to_the_bit() {
         "{overturned} of {runs}"
     );
 }
+
+/// The Taylor stepper is compiled for both too (its step and series are
+/// `#[inline(always)]` into the event loop): every outcome identical to the
+/// bit, over records of every time step, slender and stocky blocks, and
+/// levels from no uplift to overturning at once.
+#[test]
+fn both_compilations_of_the_taylor_stepper_agree_to_the_bit() {
+    use rocking::physics::{simulate_on, Isa, DEFAULT_TAYLOR_TOL};
+    if !Isa::V3.available() {
+        eprintln!("skipped: this CPU lacks x86-64-v3, so only the baseline compilation runs");
+        return;
+    }
+    let (mut runs, mut overturned) = (0, 0);
+    for stem in [
+        "far-field/RSN848_LANDERS_CLW-LN",
+        "far-field/RSN1111_KOBE_NIS000",
+        "far-field/RSN1633_MANJIL_ABBAR--L",
+    ] {
+        let exc = bundled(stem);
+        for (p, alpha) in [(0.5, 0.1), (2.0, 0.25), (8.0, 0.4)] {
+            for j in 0..12 {
+                let eta = 10f64.powf(-1.5 * j as f64 / 11.0);
+                let spec = RunSpec::new(p, 0.8, eta, Model::taylor(alpha, DEFAULT_TAYLOR_TOL));
+                let base = simulate_on(&exc, &spec, Isa::Baseline).unwrap();
+                let v3 = simulate_on(&exc, &spec, Isa::V3).unwrap();
+                assert_eq!(
+                    format!("{base:?}"),
+                    format!("{v3:?}"),
+                    "{stem} p = {p}, α = {alpha}, η = {eta}"
+                );
+                runs += 1;
+                overturned += usize::from(base.overturned());
+            }
+        }
+    }
+    assert!(
+        overturned > runs / 5 && overturned < runs * 4 / 5,
+        "{overturned} of {runs}"
+    );
+}

@@ -1,12 +1,13 @@
-//! The CPU dispatch of the exact stepper's event loop: [`Isa`] names the
-//! compilations (the x86-64 baseline and x86-64-v3), and the functions here
-//! compile the event loop ([`driver::drive`], [`driver::drive_pair`]) with the
-//! exact stepper once per compilation and pick one at run time.
+//! The CPU dispatch of the event loop: [`Isa`] names the compilations (the
+//! x86-64 baseline and x86-64-v3), and the functions here compile the event
+//! loop ([`driver::drive`], [`driver::drive_pair`]) with the exact stepper,
+//! and [`driver::drive`] with the Taylor stepper, once per compilation and
+//! pick one at run time.
 
 use super::driver::{self, Outcome};
 use super::exact::Exact;
 use super::history::Observer;
-use super::step::Rocking;
+use super::step::{Rocking, Stepper};
 use super::{Excitation, RunSpec};
 
 /// Which compilation of the exact stepper's event loop runs. The loop and
@@ -62,15 +63,15 @@ impl Isa {
     }
 }
 
-/// [`driver::drive`] with the exact stepper, compiled for `isa`
-/// (see [`Isa`]).
+/// [`driver::drive`] with a stepper whose methods are `#[inline(always)]`
+/// (the exact stepper, the Taylor stepper), compiled for `isa` (see [`Isa`]).
 #[inline]
-pub(super) fn drive<O: Observer>(
+pub(super) fn drive<S: Stepper, O: Observer>(
     exc: &Excitation,
     spec: &RunSpec,
     start: Option<Rocking>,
     limit: f64,
-    stepper: &mut Exact,
+    stepper: &mut S,
     obs: &mut O,
     isa: Isa,
 ) -> Outcome {
@@ -92,12 +93,12 @@ pub(super) fn drive<O: Observer>(
 /// The CPU must have the features enabled here.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx,avx2,bmi1,bmi2,fma,lzcnt,movbe,popcnt")]
-unsafe fn drive_v3<O: Observer>(
+unsafe fn drive_v3<S: Stepper, O: Observer>(
     exc: &Excitation,
     spec: &RunSpec,
     start: Option<Rocking>,
     limit: f64,
-    stepper: &mut Exact,
+    stepper: &mut S,
     obs: &mut O,
 ) -> Outcome {
     driver::drive(exc, spec, start, limit, stepper, obs)

@@ -160,9 +160,15 @@ impl Integrator {
             (Integrator::Taylor { .. }, Equation::Linearized) => {
                 unreachable!("validate() refuses the Taylor stepper for the linearised equation")
             }
-            (Integrator::Taylor { tol }, Equation::Nonlinear { alpha_rad }) => {
-                with!(taylor::Taylor::new(p, eta, alpha_rad, tol, limit))
-            }
+            (Integrator::Taylor { tol }, Equation::Nonlinear { alpha_rad }) => dispatch::drive(
+                exc,
+                spec,
+                start,
+                limit,
+                &mut taylor::Taylor::new(p, eta, alpha_rad, tol, limit),
+                obs,
+                isa,
+            ),
             (Integrator::Rk4 { substeps }, Equation::Linearized) => {
                 with!(rk4::Rk4::new(LinearRhs::new(p, eta), dt, substeps, limit))
             }

@@ -134,7 +134,7 @@ impl Taylor {
     /// order until its tail is below the tolerance; returns the degree `n`
     /// of V (Y's is n + 1), or `None` if the tail is still above the
     /// tolerance at [`MAX_ORDER`].
-    #[inline]
+    #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn series(
         &mut self,
@@ -242,6 +242,7 @@ impl Stepper for Taylor {
         self.limit = limit;
     }
 
+    #[inline(always)]
     fn rock(&mut self, st: Stretch, state: &mut Rocking, max_abs_x: &mut f64) -> StretchEnd {
         let s = state.s;
         let (mut y0, mut w0) = (s * state.x, s * state.v);
