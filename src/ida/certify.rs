@@ -99,7 +99,7 @@ impl std::fmt::Display for Certification {
 pub enum CertificationKind {
     /// The exact stepper, decisive verdicts not chaotic.
     Exact,
-    /// DP5: the decisive verdicts agree at a 100× tighter tolerance.
+    /// Taylor or DP5: the decisive verdicts agree at a 100× tighter tolerance.
     Tolerance,
     /// A verdict changes when η moves by 1e-9: decided by no tolerance
     /// nor by exact stepping.

@@ -295,7 +295,8 @@ pub fn assess(
     method: FitMethod,
 ) -> Result<StatesAssessment, FragilityError> {
     let block = super::fragility::check(req)?;
-    let (laws, records) = super::fragility::laws_and_records(&req.from, req.direct, &req.progress)?;
+    let (laws, records) =
+        super::fragility::laws_and_records(&req.from, req.direct, &req.progress, 1)?;
     let mut fragility = of_block(
         &block,
         states,

@@ -107,10 +107,8 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
         }],
         Blocks::Inventory(path) => risk::read_inventory(path)?,
     };
-    let (laws, records) = fragility::laws_and_records(&req.from, req.direct, &req.progress)?;
-    if let Some(records) = &records {
-        records.expect_blocks(entries.len());
-    }
+    let (laws, records) =
+        fragility::laws_and_records(&req.from, req.direct, &req.progress, entries.len())?;
     let mut blocks = Vec::with_capacity(entries.len());
     let mut export = Vec::with_capacity(entries.len());
     for e in entries {

@@ -178,7 +178,7 @@ fn dense(sigma0: f64, h: f64, y0: Y, y1: Y, k1: Y, ks: [Y; 5]) -> Step {
 /// Root of `g` in (lo, hi] with `g(lo)` and `g(hi)` of opposite signs (or
 /// `g(hi) = 0`), by the Illinois variant of regula falsi; returns the end
 /// where `g` has the sign of `g(hi)` (or is zero).
-pub(super) fn illinois(g: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
+fn illinois(g: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
     let (mut glo, mut ghi) = (g(lo), g(hi));
     if ghi == 0.0 {
         return hi;

@@ -211,7 +211,7 @@ impl DirectRecords {
 
     /// Says that `blocks` blocks will be run, so that the progress counts
     /// them all from the start.
-    pub fn expect_blocks(&self, blocks: usize) {
+    pub(super) fn expect_blocks(&self, blocks: usize) {
         let n = (blocks * self.records.len()) as u64;
         self.counts.total.fetch_max(n, Ordering::Relaxed);
     }

@@ -161,20 +161,22 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
     })
 }
 
-/// Where the capacities come from, and with `direct` the records a block
-/// is run through (read once for every block).
+/// Where the capacities come from, and with `direct` the records the
+/// `blocks` blocks are run through (read once for every block; the progress
+/// counts them all).
 pub fn laws_and_records(
     from: &Source,
     direct: bool,
     progress: &DirectProgress,
+    blocks: usize,
 ) -> Result<(Laws, Option<DirectRecords>), FragilityError> {
     let laws = laws(from)?;
     let records = match direct {
-        true => Some(DirectRecords::load(
-            from,
-            laws.plan.as_ref(),
-            progress.clone(),
-        )?),
+        true => {
+            let records = DirectRecords::load(from, laws.plan.as_ref(), progress.clone())?;
+            records.expect_blocks(blocks);
+            Some(records)
+        }
         false => None,
     };
     Ok((laws, records))

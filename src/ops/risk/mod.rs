@@ -344,10 +344,8 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
     let sites = read_hazard(&req.hazard, req.site)?;
     let entries = entries(&req.blocks)?;
     let im = hazard_im(&req.hazard, &sites, req.im)?;
-    let (laws, records) = fragility::laws_and_records(&req.from, req.direct, &req.progress)?;
-    if let Some(records) = &records {
-        records.expect_blocks(entries.len());
-    }
+    let (laws, records) =
+        fragility::laws_and_records(&req.from, req.direct, &req.progress, entries.len())?;
     // Another IM than PGA without --direct: the study's table, read once.
     let table = if im != Im::Pga && !req.direct {
         Some(laws.im_table(im)?)

@@ -63,11 +63,9 @@ pub fn assess_states(
     crate::physics::check_auto_tol(req.auto_tol).map_err(RiskError::AutoTol)?;
     let sites = read_hazard(&req.hazard, req.site)?;
     let im = hazard_im(&req.hazard, &sites, req.im)?;
-    let (laws, records) = fragility::laws_and_records(&req.from, req.direct, &req.progress)?;
     let entries = entries(&req.blocks)?;
-    if let Some(records) = &records {
-        records.expect_blocks(entries.len());
-    }
+    let (laws, records) =
+        fragility::laws_and_records(&req.from, req.direct, &req.progress, entries.len())?;
     let mut out = Vec::new();
     for e in entries {
         let in_block = |source| RiskError::Block {

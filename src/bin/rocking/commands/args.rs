@@ -372,3 +372,48 @@ pub fn direct_progress(direct: bool) -> rocking::ops::fragility::DirectProgress 
         false => DirectProgress::default(),
     }
 }
+
+/// One block by its half sizes, or every block of an inventory (`risk`,
+/// `export`).
+#[derive(Debug, Clone, clap::Args)]
+pub struct BlocksArgs {
+    /// Half-width of the block (m).
+    #[arg(
+        long,
+        value_name = "m",
+        required_unless_present = "inventory",
+        conflicts_with = "inventory"
+    )]
+    pub b: Option<f64>,
+    /// Half-height of the block (m).
+    #[arg(
+        long,
+        value_name = "m",
+        required_unless_present = "inventory",
+        conflicts_with = "inventory"
+    )]
+    pub h: Option<f64>,
+    /// Coefficient of restitution, or `housner` for 1 − 1.5 sin²α.
+    #[arg(long, default_value = "housner", value_parser = parse_restitution, conflicts_with = "inventory")]
+    pub eps: Restitution,
+    /// A CSV of blocks `name,b,h[,eps]` (m; eps empty or `housner` for
+    /// Housner's bound; in an export, a name's spaces become `_` in its
+    /// taxonomy).
+    #[arg(long, value_name = "BLOCKS.csv")]
+    pub inventory: Option<PathBuf>,
+}
+
+impl BlocksArgs {
+    pub fn blocks(&self) -> rocking::ops::risk::Blocks {
+        use rocking::ops::risk::Blocks;
+        match (&self.inventory, self.b, self.h) {
+            (Some(path), _, _) => Blocks::Inventory(path.clone()),
+            (None, Some(b_m), Some(h_m)) => Blocks::One {
+                b_m,
+                h_m,
+                eps: self.eps,
+            },
+            _ => unreachable!("clap requires --b and --h without --inventory"),
+        }
+    }
+}

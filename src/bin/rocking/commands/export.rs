@@ -3,13 +3,11 @@
 use std::path::PathBuf;
 
 use clap::ValueEnum;
-use rocking::block::Restitution;
 use rocking::damage::DamageStates;
 use rocking::ops::export::{self, Format, Request};
 use rocking::ops::fragility::Source;
-use rocking::ops::risk::Blocks;
 
-use super::args::{direct_progress, parse_restitution, LawArgs};
+use super::args::{direct_progress, BlocksArgs, LawArgs};
 use super::states::{parse_states, print_fits, MethodArg};
 
 /// Damage-state fragilities of a block (or an inventory) as OpenQuake NRML or pelicun CSV.
@@ -38,28 +36,8 @@ pub struct Args {
     /// The engine: OpenQuake (nrml) or pelicun.
     #[arg(long, value_enum)]
     format: FormatArg,
-    /// Half-width of the block (m).
-    #[arg(
-        long,
-        value_name = "m",
-        required_unless_present = "inventory",
-        conflicts_with = "inventory"
-    )]
-    b: Option<f64>,
-    /// Half-height of the block (m).
-    #[arg(
-        long,
-        value_name = "m",
-        required_unless_present = "inventory",
-        conflicts_with = "inventory"
-    )]
-    h: Option<f64>,
-    /// Coefficient of restitution, or `housner` for 1 − 1.5 sin²α.
-    #[arg(long, default_value = "housner", value_parser = parse_restitution, conflicts_with = "inventory")]
-    eps: Restitution,
-    /// A CSV of blocks `name,b,h[,eps]` (m); a name's spaces become `_` in its taxonomy.
-    #[arg(long, value_name = "BLOCKS.csv")]
-    inventory: Option<PathBuf>,
+    #[command(flatten)]
+    blocks: BlocksArgs,
     #[command(flatten)]
     law: LawArgs,
     /// Use the block's own runs under the records: every damage state.
@@ -98,15 +76,7 @@ enum FormatArg {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let blocks = match (&args.inventory, args.b, args.h) {
-        (Some(path), _, _) => Blocks::Inventory(path.clone()),
-        (None, Some(b_m), Some(h_m)) => Blocks::One {
-            b_m,
-            h_m,
-            eps: args.eps,
-        },
-        _ => unreachable!("clap requires --b and --h without --inventory"),
-    };
+    let blocks = args.blocks.blocks();
     let from = args.law.source();
     let (states, asked_states) = if args.direct || !matches!(from, Source::Paper { .. }) {
         (args.states.clone(), true)

@@ -7,11 +7,10 @@ use rocking::ops::risk::{self, Assessment, Blocks, Request};
 use rocking::risk::Beyond;
 use rocking::tables::atomic_write;
 
-use rocking::block::Restitution;
 use rocking::damage::DamageStates;
 use rocking::im::level_text;
 
-use super::args::{direct_progress, parse_restitution, LawArgs};
+use super::args::{direct_progress, BlocksArgs, LawArgs};
 use super::states::{parse_states, MethodArg};
 
 /// Annual rate of overturning of a block (or an inventory) at the sites of a hazard file.
@@ -44,28 +43,8 @@ pub struct Args {
     /// Only this site of the file (index from 0).
     #[arg(long, value_name = "N")]
     site: Option<usize>,
-    /// Half-width of the block (m).
-    #[arg(
-        long,
-        value_name = "m",
-        required_unless_present = "inventory",
-        conflicts_with = "inventory"
-    )]
-    b: Option<f64>,
-    /// Half-height of the block (m).
-    #[arg(
-        long,
-        value_name = "m",
-        required_unless_present = "inventory",
-        conflicts_with = "inventory"
-    )]
-    h: Option<f64>,
-    /// Coefficient of restitution, or `housner` for 1 − 1.5 sin²α.
-    #[arg(long, default_value = "housner", value_parser = parse_restitution, conflicts_with = "inventory")]
-    eps: Restitution,
-    /// A CSV of blocks `name,b,h[,eps]` (m; eps empty or `housner` for Housner's bound).
-    #[arg(long, value_name = "BLOCKS.csv")]
-    inventory: Option<PathBuf>,
+    #[command(flatten)]
+    blocks: BlocksArgs,
     /// Where --inventory's table goes (one row per block × site).
     #[arg(long, value_name = "FILE.parquet", default_value = "risk.parquet")]
     out: PathBuf,
@@ -110,12 +89,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         BeyondArg::Extrapolate => Beyond::Extrapolate,
         BeyondArg::Stop => Beyond::Stop,
     };
-    let eps = args.eps;
-    let blocks = match (&args.inventory, args.b, args.h) {
-        (Some(path), _, _) => Blocks::Inventory(path.clone()),
-        (None, Some(b_m), Some(h_m)) => Blocks::One { b_m, h_m, eps },
-        _ => unreachable!("clap requires --b and --h without --inventory"),
-    };
+    let blocks = args.blocks.blocks();
     let req = Request {
         hazard: args.hazard.clone(),
         site: args.site,
@@ -132,11 +106,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         return run_states(&req, states, args.method, args.json);
     }
     let mut inputs = vec![args.hazard.as_path()];
-    inputs.extend(args.inventory.as_deref());
+    inputs.extend(args.blocks.inventory.as_deref());
     if let rocking::ops::fragility::Source::Pipeline { file, .. } = &req.from {
         inputs.push(file.as_path());
     }
-    if args.inventory.is_some() {
+    if args.blocks.inventory.is_some() {
         rocking::outpath::check("--out", &args.out, "parquet", &inputs)?;
         inputs.push(args.out.as_path());
     }
@@ -145,7 +119,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let all = risk::assess(&req)?;
     let chart_site = args.site.unwrap_or(0);
-    if args.inventory.is_some() {
+    if args.blocks.inventory.is_some() {
         risk::write_table(&args.out, &risk::rows(&all, beyond), &args.hazard)?;
         if let Some(plot) = &args.plot {
             atomic_write(plot, risk::ranking_chart(&all, chart_site)?.as_bytes())?;
@@ -165,7 +139,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
     }
     if args.json {
-        let text = if args.inventory.is_some() {
+        let text = if args.blocks.inventory.is_some() {
             serde_json::to_string(&all)?
         } else {
             serde_json::to_string(&all[0])?
@@ -173,7 +147,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         println!("{text}");
         return Ok(());
     }
-    if args.inventory.is_some() {
+    if args.blocks.inventory.is_some() {
         print_inventory(&all, args.years);
         println!(
             "wrote {} ({} rows){}",
