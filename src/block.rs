@@ -44,6 +44,8 @@ pub enum BlockError {
     HousnerEps { eps: f64, ratio: f64, alpha: f64 },
     #[error("`{0}`: give a number in (0, 1] or `housner`")]
     Restitution(String),
+    #[error("friction coefficient μ = {0} must be finite and not negative")]
+    Mu(f64),
 }
 
 impl Block {
@@ -107,6 +109,36 @@ pub fn check_eps(eps: f64) -> Result<f64, BlockError> {
     }
 }
 
+/// `mu` when it is a friction coefficient: finite and ≥ 0.
+pub fn check_mu(mu: f64) -> Result<f64, BlockError> {
+    if mu >= 0.0 && mu.is_finite() {
+        Ok(mu)
+    } else {
+        Err(BlockError::Mu(mu))
+    }
+}
+
+/// Whether a block of slenderness `alpha_rad` on a base of static friction
+/// coefficient `mu` slides before it rocks under horizontal ground shaking
+/// (docs/MODEL.md §17): uplift needs a horizontal inertia force of m·g·b/h
+/// (moments about the corner), while the base can transmit at most μ·m·g
+/// before it slips, so the block slides first when μ < b/h = tan α
+/// (Ishiyama 1982, EESD 10(5); Shenton 1996, J. Eng. Mech. 122(7)). Then
+/// the rocking model, which assumes no sliding, does not apply.
+pub fn slides_first(mu: f64, alpha_rad: f64) -> bool {
+    mu < alpha_rad.tan()
+}
+
+/// What every command says of a block that slides before it rocks.
+pub fn sliding_warning(mu: f64, alpha_rad: f64) -> String {
+    format!(
+        "the block slides before it rocks: friction μ = {mu} is below b/h = tan α = {:.4} \
+         (Ishiyama 1982; Shenton 1996); the rocking results assume it does not slide, so \
+         they hold only if it is restrained against sliding",
+        alpha_rad.tan()
+    )
+}
+
 impl FromStr for Restitution {
     type Err = BlockError;
 
@@ -134,6 +166,28 @@ impl fmt::Display for Restitution {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The issue's two blocks of b/h = 0.4: μ = 0.2 slides first (a base
+    /// slipping at 0.2 g cannot give the 0.4 g uplift needs), μ = 0.6 rocks;
+    /// the boundary is μ = b/h itself, where both start together and the
+    /// block is taken to rock.
+    #[test]
+    fn a_block_slides_first_when_friction_is_below_its_aspect_ratio() {
+        let block = Block::new(0.4, 1.0, Restitution::Value(0.9)).unwrap();
+        assert!(slides_first(0.2, block.alpha()));
+        assert!(!slides_first(0.6, block.alpha()));
+        assert!(!slides_first(
+            0.5,
+            Block::new(0.5, 1.0, Restitution::Value(0.9))
+                .unwrap()
+                .alpha()
+                - 1e-12
+        ));
+        assert!(sliding_warning(0.2, block.alpha()).contains("b/h = tan α = 0.4000"));
+        assert_eq!(check_mu(0.3), Ok(0.3));
+        assert_eq!(check_mu(-0.1), Err(BlockError::Mu(-0.1)));
+        assert!(check_mu(f64::NAN).is_err());
+    }
 
     #[test]
     fn geometry_by_hand() {

@@ -50,6 +50,7 @@ pub mod decimal;
 pub mod export;
 pub mod figures;
 pub mod fit;
+pub mod floor;
 pub mod fragility;
 pub mod hash;
 pub mod hazard;

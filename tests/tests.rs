@@ -19,6 +19,8 @@
 //! - `faults`: the faults a hostile user finds (absurd sizes, corrupt parts, mixed
 //!   shards, misleading hints, thread counts, escaped file contents,
 //!   manifest lines, copied folders, hand-edited figures, typed reasons).
+//! - `floor`: a block on a building's floor (the floor motion is what runs,
+//!   PFA/PGA, the ground's PGA) and the sliding check in every command.
 //! - `html`: `report.html` loaded in headless Chromium, every figure drawn
 //!   (ROCKING_CHROMIUM=1; CI sets it).
 //! - `ims`: `rocking ims` (PGV against FEMA P695's table, the JSON, bad
@@ -57,6 +59,7 @@ mod damage;
 mod engines;
 mod example;
 mod faults;
+mod floor;
 mod html;
 mod ims;
 mod ingest;

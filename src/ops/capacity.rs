@@ -45,12 +45,16 @@ pub enum CapacityError {
 }
 
 /// The records at `paths` (AT2 files, or folders searched recursively for
-/// `*.AT2`), sorted by path, each read once.
-pub fn load_records(paths: &[PathBuf]) -> Result<Vec<LoadedRecord>, CapacityError> {
+/// `*.AT2`), sorted by path, each read once; on the floor of `building`
+/// when one is given.
+pub fn load_records(
+    paths: &[PathBuf],
+    building: Option<&crate::floor::Building>,
+) -> Result<Vec<LoadedRecord>, CapacityError> {
     let files = crate::stages::ingest::discover(paths)?;
     files
         .par_iter()
-        .map(|f| record::load(f).map_err(CapacityError::from))
+        .map(|f| record::load_on(f, building).map_err(CapacityError::from))
         .collect()
 }
 

@@ -8,6 +8,7 @@ use std::sync::{Condvar, Mutex, OnceLock, PoisonError};
 use rayon::prelude::*;
 
 use crate::at2::{self, At2Error};
+use crate::floor::Building;
 use crate::ida::{run_pair, Batch, Hand};
 use crate::physics::{simulate, Excitation, Outcome, PhysicsError, RunSpec, Stop};
 use crate::pulse::Pulse;
@@ -22,6 +23,21 @@ pub struct LoadedRecord {
     pub exc: Excitation,
     /// The pulse this excitation is, when it is one (no physical PGA then).
     pub pulse: Option<Pulse>,
+    /// On a building's floor: the ground record's peak and the building's
+    /// amplification of it (`pga_g` and `exc` are then the floor motion's).
+    pub floor: Option<OnFloor>,
+}
+
+/// A record run on a building's floor rather than on the ground.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OnFloor {
+    /// The ground record's PGA (g), unscaled.
+    pub ground_pga_g: f64,
+    /// The floor motion's peak over the ground's, PFA/PGA, for the record
+    /// as recorded (and at any scale: the building is linear).
+    pub pfa_over_pga: f64,
+    /// The floor motion's samples per record step.
+    pub substeps: usize,
 }
 
 /// A pulse as a record: its name as the id, sampled at the default step
@@ -34,6 +50,7 @@ pub fn from_pulse(pulse: &Pulse, p: f64) -> Result<LoadedRecord, PhysicsError> {
         pga_g: f64::NAN,
         exc,
         pulse: Some(*pulse),
+        floor: None,
     })
 }
 
@@ -54,6 +71,12 @@ pub enum RecordError {
         #[source]
         source: PhysicsError,
     },
+    #[error("{path}: its floor motion")]
+    Floor {
+        path: PathBuf,
+        #[source]
+        source: crate::floor::FloorError,
+    },
 }
 
 /// Reads one AT2 file: its samples (g) and step (s), unscaled.
@@ -71,8 +94,33 @@ pub fn read_samples(path: &Path) -> Result<(Vec<f64>, f64), RecordError> {
 
 /// Reads and normalises one AT2 file.
 pub fn load(path: &Path) -> Result<LoadedRecord, RecordError> {
-    let (accel_g, dt_s) = read_samples(path)?;
-    let pga_g = crate::motion::peak(&accel_g, dt_s).map_or(0.0, |p| p.pga_g);
+    load_on(path, None)
+}
+
+/// Reads one AT2 file and normalises it, or the motion of the floor of
+/// `building` under it.
+pub fn load_on(path: &Path, building: Option<&Building>) -> Result<LoadedRecord, RecordError> {
+    let (ground, ground_dt_s) = read_samples(path)?;
+    let peak = |a: &[f64], dt| crate::motion::peak(a, dt).map_or(0.0, |p| p.pga_g);
+    let (accel_g, dt_s, floor) = match building {
+        None => (ground, ground_dt_s, None),
+        Some(b) => {
+            let f = b
+                .floor_motion(&ground, ground_dt_s)
+                .map_err(|source| RecordError::Floor {
+                    path: path.into(),
+                    source,
+                })?;
+            let ground_pga_g = peak(&ground, ground_dt_s);
+            let on = OnFloor {
+                ground_pga_g,
+                pfa_over_pga: peak(&f.accel_g, f.dt_s) / ground_pga_g,
+                substeps: f.substeps,
+            };
+            (f.accel_g, f.dt_s, Some(on))
+        }
+    };
+    let pga_g = peak(&accel_g, dt_s);
     let npts = accel_g.len();
     let exc = Excitation::from_samples(accel_g, dt_s).map_err(|source| RecordError::Samples {
         path: path.into(),
@@ -87,6 +135,7 @@ pub fn load(path: &Path) -> Result<LoadedRecord, RecordError> {
         pga_g,
         exc,
         pulse: None,
+        floor,
     })
 }
 

@@ -234,6 +234,8 @@ pub fn block(b_m: f64, h_m: f64, eps: Restitution) -> Result<Block, FragilityErr
         BlockError::HousnerEps { eps, ratio, alpha } => {
             FragilityError::HousnerEps { eps, ratio, alpha }
         }
-        BlockError::Restitution(_) => unreachable!("ε is given as a number or Housner's"),
+        BlockError::Restitution(_) | BlockError::Mu(_) => {
+            unreachable!("ε is given as a number or Housner's, and μ is not part of a block")
+        }
     })
 }

@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use clap::ValueEnum;
 use rocking::block::{Block, Restitution};
+use rocking::floor::{Building, Mode};
 use rocking::ops::capacity::NamedSpec;
 use rocking::physics::{ModelChoice, Overturn};
 
@@ -244,9 +245,69 @@ pub struct BlockArgs {
     /// nonlinear), escape (never comes back: θ = π/2 nonlinear; linearised, proven unbounded).
     #[arg(long, default_value_t = Overturn::Static, value_parser = parse_overturn)]
     pub overturn: Overturn,
+    #[command(flatten)]
+    pub scene: SceneArgs,
     /// Print JSON (one object a line) instead of text.
     #[arg(long)]
     pub json: bool,
+}
+
+/// Where the block stands: on the ground, or on a building's floor; and
+/// how firmly (its base's friction).
+#[derive(Debug, Clone, clap::Args)]
+pub struct SceneArgs {
+    /// The block stands on a floor of a linear building: one mode of it as
+    /// T,ZETA,GAMMA_PHI (period in s, damping ratio, participation factor ×
+    /// mode shape at the floor); repeat for each mode. The records are the
+    /// ground's; the block feels the floor's absolute acceleration.
+    #[arg(long = "floor", value_name = "T,ZETA,GAMMA_PHI", value_parser = parse_mode)]
+    pub floor: Vec<Mode>,
+    /// Static friction coefficient μ between the block and its base: a block
+    /// with μ below b/h slides before it rocks, and is warned of.
+    #[arg(long, value_name = "μ")]
+    pub mu: Option<f64>,
+}
+
+pub fn parse_mode(text: &str) -> Result<Mode, String> {
+    text.parse::<Mode>().map_err(|e| e.to_string())
+}
+
+impl SceneArgs {
+    /// The building asked for, checked; `None` on the ground.
+    pub fn building(&self) -> anyhow::Result<Option<Building>> {
+        if self.floor.is_empty() {
+            return Ok(None);
+        }
+        Building::new(self.floor.clone())
+            .map(Some)
+            .map_err(|e| anyhow::anyhow!("--floor: {e}"))
+    }
+
+    /// μ checked.
+    pub fn mu(&self) -> anyhow::Result<Option<f64>> {
+        self.mu
+            .map(rocking::block::check_mu)
+            .transpose()
+            .map_err(|e| anyhow::anyhow!("--mu: {e}"))
+    }
+
+    /// Whether the block of slenderness `alpha` slides first (`None`
+    /// without --mu); says so on stderr when it does. --mu needs α.
+    pub fn sliding(&self, alpha: Option<f64>) -> anyhow::Result<Option<bool>> {
+        let Some(mu) = self.mu()? else {
+            return Ok(None);
+        };
+        let Some(alpha) = alpha else {
+            anyhow::bail!(
+                "--mu is compared with the block's b/h: give --b --h, --width --height or --alpha"
+            );
+        };
+        let slides = rocking::block::slides_first(mu, alpha);
+        if slides {
+            eprintln!("warning: {}", rocking::block::sliding_warning(mu, alpha));
+        }
+        Ok(Some(slides))
+    }
 }
 
 pub fn parse_overturn(text: &str) -> Result<Overturn, String> {
@@ -273,8 +334,11 @@ impl BlockArgs {
     ) -> anyhow::Result<rocking::ops::record::LoadedRecord> {
         use rocking::ops::record;
         match (path, self.pulse.pulse(self.td)?) {
+            (_, Some(_)) if !self.scene.floor.is_empty() => {
+                anyhow::bail!("--floor filters a ground record through a building; a pulse is given as the block's own excitation")
+            }
             (_, Some(pulse)) => Ok(record::from_pulse(&pulse, p)?),
-            (Some(path), None) => Ok(record::load(path)?),
+            (Some(path), None) => Ok(record::load_on(path, self.scene.building()?.as_ref())?),
             (None, None) => anyhow::bail!("give --record FILE.AT2 or --pulse rect|exp"),
         }
     }

@@ -81,11 +81,25 @@ struct Report<'a> {
     model: &'static str,
     alpha_rad: Option<f64>,
     overturn: String,
+    /// With respect to the peak of the motion the block feels: the
+    /// record's PGA, or on a floor the floor motion's peak (PFA).
     eta_c: Option<f64>,
     /// A_g at the capacity in units of αg (= 1/η_c).
     pga_scale_c: Option<f64>,
-    /// The PGA at the capacity (g), α/η_c, when α is known.
+    /// The peak acceleration the block feels at the capacity (g), α/η_c,
+    /// when α is known: the PGA, or on a floor the PFA.
     pga_c_g: Option<f64>,
+    /// On a floor: the building's modes as --floor takes them.
+    floor: Option<String>,
+    /// On a floor: the floor motion's peak over the ground record's,
+    /// PFA/PGA, as recorded (the same at every scale).
+    pfa_over_pga: Option<f64>,
+    /// On a floor: the ground's PGA at the capacity (g), pga_c_g / pfa_over_pga.
+    ground_pga_c_g: Option<f64>,
+    /// The base's friction coefficient, with --mu.
+    mu: Option<f64>,
+    /// With --mu: whether the block slides before it rocks (μ < b/h).
+    slides_first: Option<bool>,
     eta_survived: f64,
     level_survived: f64,
     level_overturned: Option<f64>,
@@ -120,6 +134,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     // Checked before any record is read: an absurd --levels is refused at once.
     grid.levels()?;
     let blocks = args.block.blocks()?;
+    let building = args.block.scene.building()?;
+    let sliding = blocks
+        .iter()
+        .map(|b| args.block.scene.sliding(b.named.alpha_rad))
+        .collect::<anyhow::Result<Vec<_>>>()?;
     if let Some(out) = &args.out {
         capacity::check_out(out, &args.record)?;
     }
@@ -129,7 +148,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
         vec![args.block.excitation(None, blocks[0].named.spec.p)?]
     } else {
-        capacity::load_records(&args.record)?
+        capacity::load_records(&args.record, building.as_ref())?
     };
     let named: Vec<NamedSpec> = blocks.iter().map(|b| b.named.clone()).collect();
     let total = records.len() * named.len();
@@ -152,12 +171,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     drop(terminal);
     let cases = results.iter().enumerate().map(|(case, certified)| {
         let (r, b) = (case / named.len(), case % named.len());
-        (case, &records[r], &blocks[b], certified)
+        (case, &records[r], &blocks[b], sliding[b], certified)
     });
     if let Some(out) = &args.out {
         let rows: Vec<_> = cases
             .clone()
-            .map(|(case, rec, block, c)| {
+            .map(|(case, rec, block, _, c)| {
                 let b = &block.named;
                 CapacityRow::of(case, &rec.record_id, &b.name, &b.spec, b.alpha_rad, c)
             })
@@ -173,8 +192,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             eprintln!("{total} capacities, one JSON object a line (--json says so explicitly)");
         }
         let mut stdout = std::io::stdout().lock();
-        for (_, rec, block, certified) in cases {
-            let report = report(&args, rec, &block.named, certified, spacing);
+        for (_, rec, block, slides, certified) in cases {
+            let mut report = report(&args, rec, &block.named, certified, spacing);
+            report.slides_first = slides;
             writeln!(stdout, "{}", serde_json::to_string(&report)?)?;
         }
         return Ok(());
@@ -192,6 +212,11 @@ fn report<'a>(
     spacing: Spacing,
 ) -> Report<'a> {
     let (spec, cap) = (&block.spec, &certified.capacity);
+    let pga_c_g = cap
+        .eta_c
+        .zip(block.alpha_rad)
+        .map(|(e, a)| im::pga_of_eta(e, a));
+    let on_floor = rec.floor;
     Report {
         record_id: &rec.record_id,
         block: &block.name,
@@ -202,10 +227,12 @@ fn report<'a>(
         overturn: spec.overturn.to_string(),
         eta_c: cap.eta_c,
         pga_scale_c: cap.eta_c.map(|e| 1.0 / e),
-        pga_c_g: cap
-            .eta_c
-            .zip(block.alpha_rad)
-            .map(|(e, a)| im::pga_of_eta(e, a)),
+        pga_c_g,
+        floor: on_floor.map(|_| floor_text(&args.block.scene.floor)),
+        pfa_over_pga: on_floor.map(|f| f.pfa_over_pga),
+        ground_pga_c_g: on_floor.zip(pga_c_g).map(|(f, pga)| pga / f.pfa_over_pga),
+        mu: args.block.scene.mu,
+        slides_first: None,
         eta_survived: cap.eta_survived,
         level_survived: cap.level_survived,
         level_overturned: cap.level_overturned,
@@ -226,6 +253,15 @@ fn report<'a>(
     }
 }
 
+/// The modes as `--floor` takes them, `; ` between.
+fn floor_text(modes: &[rocking::floor::Mode]) -> String {
+    modes
+        .iter()
+        .map(|m| m.to_string())
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
 fn refinement_runs(certified: &Certified) -> usize {
     let points = &certified.capacity.points;
     points
@@ -241,22 +277,35 @@ fn print_text(args: &Args, rec: &LoadedRecord, block: &AskedBlock, certified: &C
         "record      {} ({} samples, dt {} s)",
         rec.record_id, rec.npts, rec.exc.dt_s
     );
+    if let Some(f) = rec.floor {
+        println!(
+            "floor       PFA/PGA = {:.4} (ground PGA {:.4} g, floor motion sampled {}× finer); η is the floor's",
+            f.pfa_over_pga, f.ground_pga_g, f.substeps
+        );
+    }
     println!(
         "block       p = {} 1/s, ε = {} ({})",
         spec.p, spec.eps, block.why
     );
     match cap.eta_c {
         Some(c) => {
+            let peak = if rec.floor.is_some() { "PFA" } else { "PGA" };
             let pga = block
                 .named
                 .alpha_rad
-                .map(|a| format!(", PGA {:.4} g", im::pga_of_eta(c, a)))
+                .map(|a| format!(", {peak} {:.4} g", im::pga_of_eta(c, a)))
                 .unwrap_or_default();
             println!(
-                "η_c         {c:.6} (PGA = {:.4} αg{pga}), survives at η = {:.6}",
+                "η_c         {c:.6} ({peak} = {:.4} αg{pga}), survives at η = {:.6}",
                 1.0 / c,
                 cap.eta_survived
             );
+            if let (Some(f), Some(a)) = (rec.floor, block.named.alpha_rad) {
+                println!(
+                    "ground      PGA {:.4} g at the capacity",
+                    im::pga_of_eta(c, a) / f.pfa_over_pga
+                );
+            }
             println!(
                 "bracket     grid levels {:.6} (survived) → {:.6} (overturned), refined to {:e}",
                 cap.level_survived,

@@ -39,7 +39,8 @@ pub struct Args {
     )]
     eta: Option<f64>,
     /// The record's PGA after scaling (g), instead of η: η = α/PGA (needs α:
-    /// the block's dimensions or --alpha).
+    /// the block's dimensions or --alpha). With --floor, the ground's PGA:
+    /// η = α/(PGA · PFA/PGA).
     #[arg(long, value_name = "g")]
     pga: Option<f64>,
     /// Write the response history (t, x, ẋ, pivot, ψ̈, event) to a .parquet or .csv file.
@@ -67,6 +68,13 @@ struct Report<'a> {
     impacts: u64,
     first_uplift_s: Option<f64>,
     stop: &'static str,
+    /// On a floor: the floor motion's peak over the ground record's, PFA/PGA
+    /// (η is then with respect to the floor's peak).
+    pfa_over_pga: Option<f64>,
+    /// The base's friction coefficient, with --mu.
+    mu: Option<f64>,
+    /// With --mu: whether the block slides before it rocks (μ < b/h).
+    slides_first: Option<bool>,
 }
 
 /// `--history` is a .csv or .parquet file that is not the record read.
@@ -85,10 +93,16 @@ fn check_history(args: &Args) -> anyhow::Result<()> {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let block = args.block.one()?;
+    let slides_first = args.block.scene.sliding(block.named.alpha_rad)?;
+    check_history(&args)?;
+    let rec = args
+        .block
+        .excitation(args.record.as_deref(), block.named.spec.p)?;
+    let amplification = rec.floor.map_or(1.0, |f| f.pfa_over_pga);
     let eta = match (args.eta, args.pga, block.named.alpha_rad) {
         (Some(eta), _, _) => eta,
         (None, Some(pga), Some(alpha)) if pga > 0.0 && pga.is_finite() => {
-            im::eta_of_pga(pga, alpha)
+            im::eta_of_pga(pga * amplification, alpha)
         }
         (None, Some(pga), Some(_)) => anyhow::bail!("--pga {pga}: a PGA must be positive (g)"),
         _ => anyhow::bail!(
@@ -100,9 +114,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         ..block.named.spec
     };
     spec.validate()?;
-    check_history(&args)?;
     let (why, block_alpha) = (block.why, block.named.alpha_rad);
-    let rec = args.block.excitation(args.record.as_deref(), spec.p)?;
     let mut recorder = Recorder::new(args.history_every);
     let out = if args.history.is_some() {
         physics::simulate_observed(&rec.exc, &spec, &mut recorder)?
@@ -137,6 +149,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         impacts: out.impacts,
         first_uplift_s: out.first_uplift_s,
         stop: out.stop.label(),
+        pfa_over_pga: rec.floor.map(|f| f.pfa_over_pga),
+        mu: args.block.scene.mu,
+        slides_first,
     };
     if args.block.json {
         println!("{}", serde_json::to_string(&report)?);
@@ -154,6 +169,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             "record      {} ({} samples, dt {} s, PGA {:.4} g)",
             rec.record_id, rec.npts, rec.exc.dt_s, rec.pga_g
         ),
+    }
+    if let Some(f) = rec.floor {
+        println!(
+            "floor       PFA/PGA = {:.4} (ground PGA {:.4} g, floor motion sampled {}× finer); η is the floor's",
+            f.pfa_over_pga, f.ground_pga_g, f.substeps
+        );
     }
     println!(
         "block       p = {} 1/s, ε = {}, η = {} ({why})",
