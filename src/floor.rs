@@ -370,8 +370,8 @@ mod tests {
             .floor_motion(&ground, dt)
             .unwrap();
         assert_eq!((f.substeps, f1.substeps, f2.substeps), (1, 1, 1));
-        for i in 0..ground.len() {
-            let sum = f1.accel_g[i] + f2.accel_g[i] - ground[i];
+        for (i, g) in ground.iter().enumerate() {
+            let sum = f1.accel_g[i] + f2.accel_g[i] - g;
             assert!((f.accel_g[i] - sum).abs() < 1e-13, "{i}");
         }
         let scaled: Vec<f64> = ground.iter().map(|g| 2.5 * g).collect();
