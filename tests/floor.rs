@@ -217,3 +217,254 @@ fn bad_floors_are_refused_by_name() {
         stderr(&out)
     );
 }
+
+/// `fragility --direct --floor`: the share of records overturning the block
+/// at each ground PGA is the share whose ground PGA at capacity, from
+/// `capacity --floor` over the same records, is at most that level (the two
+/// commands reach the floor by their own paths); a building whose floor is
+/// a node of its mode (Γφ = 0) gives the ground's shares.
+#[test]
+fn fragility_on_a_floor_counts_the_records_by_their_ground_capacity() {
+    let far = bundled_records().join("far-field");
+    let far = far.to_str().unwrap();
+    // α = atan 0.1: the linearised model at the default --auto-tol.
+    let block = ["--b", "0.1", "--h", "1", "--eps", "0.9"];
+    let levels = [0.03, 0.06, 0.1, 0.2];
+    let levels_arg = "0.03,0.06,0.1,0.2";
+    let fragility = |floor: &str| {
+        let mut args = vec![
+            "fragility",
+            "--records",
+            far,
+            "--direct",
+            "--json",
+            "--pga",
+            levels_arg,
+        ];
+        args.extend(block);
+        args.extend(["--floor", floor]);
+        json(&rocking(&root(), &args))
+    };
+    let f = fragility("0.5,0.05,1.3");
+    assert_eq!(f["floor"], "0.5,0.05,1.3");
+    assert_eq!(f["source"], "direct");
+    let mut args = vec![
+        "capacity",
+        "--record",
+        far,
+        "--json",
+        "--floor",
+        "0.5,0.05,1.3",
+    ];
+    args.extend(block);
+    let out = rocking(&root(), &args);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let caps: Vec<f64> = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| {
+            let v: Value = serde_json::from_str(l).unwrap();
+            v["ground_pga_c_g"].as_f64().unwrap_or(f64::INFINITY)
+        })
+        .collect();
+    assert_eq!(caps.len(), 44);
+    let points = f["points"].as_array().unwrap();
+    for (pt, x) in points.iter().zip(levels) {
+        let share = caps.iter().filter(|&&c| c <= x).count() as f64 / caps.len() as f64;
+        assert_eq!(pt["empirical"].as_f64().unwrap(), share, "PGA {x}");
+    }
+    // The floor overturns the block under more records than the ground does.
+    let g = {
+        let mut args = vec![
+            "fragility",
+            "--records",
+            far,
+            "--direct",
+            "--json",
+            "--pga",
+            levels_arg,
+        ];
+        args.extend(block);
+        json(&rocking(&root(), &args))
+    };
+    let node = fragility("0.5,0.05,0");
+    let share = |v: &Value, i: usize| v["points"][i]["empirical"].as_f64().unwrap();
+    for i in 0..levels.len() {
+        assert_eq!(share(&node, i), share(&g, i), "level {i}");
+        assert!(share(&f, i) >= share(&g, i), "level {i}");
+    }
+    assert!(share(&f, 1) > share(&g, 1));
+}
+
+/// The block (b/h = 0.4) with μ = 0.2 is warned of by `fragility`
+/// (and its `--states`), `risk` (one block and an inventory's `mu` column,
+/// flagged in risk.parquet) and `export`; with μ = 0.6 it is not. A floor
+/// without --direct is refused: the regressions are of blocks on the ground.
+#[test]
+fn fragility_risk_and_export_warn_of_a_block_that_slides_first() {
+    let hazard = root().join("records/hazard/synthetic-site.csv");
+    let hazard = hazard.to_str().unwrap();
+    let block = ["--b", "0.4", "--h", "1", "--eps", "0.8"];
+    for (mu, slides) in [("0.2", true), ("0.6", false)] {
+        let mut args = vec!["fragility", "--pga", "0.3", "--json", "--mu", mu];
+        args.extend(block);
+        let out = rocking(&root(), &args);
+        let f = json(&out);
+        assert_eq!(f["slides_first"], slides, "μ {mu}");
+        let warned = |v: &Value| {
+            v["warnings"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .any(|w| w.as_str().unwrap().contains("slides before it rocks"))
+        };
+        assert_eq!(warned(&f), slides, "fragility μ {mu}");
+
+        let mut args = vec!["risk", "--hazard", hazard, "--json", "--mu", mu];
+        args.extend(block);
+        let out = rocking(&root(), &args);
+        let r = json(&out);
+        let r = if r.is_array() { r[0].clone() } else { r };
+        assert_eq!(r["block"]["slides_first"], slides, "risk μ {mu}");
+        assert_eq!(warned(&r), slides, "risk μ {mu}");
+        assert_eq!(stderr(&out).contains("slides before it rocks"), slides);
+    }
+    let dir = tempdir();
+    let inventory = dir.path().join("blocks.csv");
+    std::fs::write(
+        &inventory,
+        "name,b,h,eps,mu\nslides,0.4,1,0.8,0.2\nrocks,0.4,1,0.8,0.6\nunknown,0.4,1,0.8,\n",
+    )
+    .unwrap();
+    let table = dir.path().join("risk.parquet");
+    let out = rocking(
+        &root(),
+        &[
+            "risk",
+            "--hazard",
+            hazard,
+            "--inventory",
+            inventory.to_str().unwrap(),
+            "--out",
+            table.to_str().unwrap(),
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(stderr(&out).contains("warning: block slides: the block slides before it rocks"));
+    assert!(!stderr(&out).contains("block rocks: the block slides"));
+    let rows = rocking::tables::read::<rocking::tables::risk::RiskRow>(&table).unwrap();
+    let flags: Vec<(&str, Option<f64>, bool)> = rows
+        .iter()
+        .map(|r| (r.block.as_str(), r.mu, r.slides_first))
+        .collect();
+    assert_eq!(
+        flags,
+        [
+            ("slides", Some(0.2), true),
+            ("rocks", Some(0.6), false),
+            ("unknown", None, false)
+        ]
+    );
+    std::fs::write(&inventory, "name,b,h,mu\nbad,0.4,1,-1\n").unwrap();
+    let out = rocking(
+        &root(),
+        &[
+            "risk",
+            "--hazard",
+            hazard,
+            "--inventory",
+            inventory.to_str().unwrap(),
+            "--out",
+            table.to_str().unwrap(),
+        ],
+    );
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains(":2: block `bad`: `mu`: friction coefficient μ = -1"),
+        "{}",
+        stderr(&out)
+    );
+
+    let mut args = vec![
+        "fragility",
+        "--pga",
+        "0.3",
+        "--json",
+        "--mu",
+        "0.2",
+        "--direct",
+        "--states",
+        "rocking=0.5,overturned=overturned",
+        "--records",
+    ];
+    let few = dir.path().join("few");
+    std::fs::create_dir(&few).unwrap();
+    for id in [
+        "RSN1111_KOBE_NIS000",
+        "RSN1116_KOBE_SHI000",
+        "RSN1148_KOCAELI_ARC000",
+    ] {
+        let name = format!("{id}.AT2");
+        std::fs::copy(
+            bundled_records().join("far-field").join(&name),
+            few.join(&name),
+        )
+        .unwrap();
+    }
+    args.push(few.to_str().unwrap());
+    args.extend(block);
+    let out = rocking(&root(), &args);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("slides before it rocks"),
+        "{}",
+        stderr(&out)
+    );
+
+    let out = rocking(
+        &root(),
+        &[
+            "export",
+            "--format",
+            "pelicun",
+            "--b",
+            "0.4",
+            "--h",
+            "1",
+            "--eps",
+            "0.8",
+            "--mu",
+            "0.2",
+            "--direct",
+            "--records",
+            few.to_str().unwrap(),
+            "--states",
+            "rocking=0.5,overturned=overturned",
+            "--out",
+            dir.path().join("pelicun").to_str().unwrap(),
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("slides before it rocks"),
+        "{}",
+        stderr(&out)
+    );
+
+    for command in ["fragility", "risk"] {
+        let mut args = vec![command, "--floor", "0.5,0.05,1.3"];
+        if command == "fragility" {
+            args.extend(["--pga", "0.3"]);
+        } else {
+            args.extend(["--hazard", hazard]);
+        }
+        args.extend(block);
+        let out = rocking(&root(), &args);
+        assert!(!out.status.success(), "{command}");
+        assert!(
+            stderr(&out).contains("are of blocks on the ground")
+                && stderr(&out).contains("add --direct"),
+            "{command}: {}",
+            stderr(&out)
+        );
+    }
+}

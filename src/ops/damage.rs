@@ -295,8 +295,13 @@ pub fn assess(
     method: FitMethod,
 ) -> Result<StatesAssessment, FragilityError> {
     let block = super::fragility::check(req)?;
-    let (laws, records) =
-        super::fragility::laws_and_records(&req.from, req.direct, &req.progress, 1)?;
+    let (laws, records) = super::fragility::laws_and_records(
+        &req.from,
+        req.direct,
+        &req.progress,
+        1,
+        req.floor.as_ref(),
+    )?;
     let mut fragility = of_block(
         &block,
         states,
@@ -307,6 +312,14 @@ pub fn assess(
     )?;
     let crossed = crossings(&fragility, method);
     fragility.warnings.extend(crossed);
+    if let Some(mu) = req
+        .mu
+        .filter(|&mu| crate::block::slides_first(mu, block.alpha()))
+    {
+        fragility
+            .warnings
+            .push(crate::block::sliding_warning(mu, block.alpha()));
+    }
     let points = req
         .levels
         .iter()

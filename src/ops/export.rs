@@ -98,17 +98,18 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
     let im = hazard.as_ref().map_or(req.im.unwrap_or(Im::Pga), |h| h.im);
     check_out(&req.out, req)?;
     let entries = match &req.blocks {
-        Blocks::One { b_m, h_m, eps } => vec![InventoryBlock {
+        Blocks::One { b_m, h_m, eps, mu } => vec![InventoryBlock {
             name: format!("b{b_m}_h{h_m}"),
             b_m: *b_m,
             h_m: *h_m,
             eps: *eps,
+            mu: *mu,
             line: 0,
         }],
         Blocks::Inventory(path) => risk::read_inventory(path)?,
     };
     let (laws, records) =
-        fragility::laws_and_records(&req.from, req.direct, &req.progress, entries.len())?;
+        fragility::laws_and_records(&req.from, req.direct, &req.progress, entries.len(), None)?;
     let mut blocks = Vec::with_capacity(entries.len());
     let mut export = Vec::with_capacity(entries.len());
     for e in entries {
@@ -128,6 +129,12 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
         .map_err(in_block)?;
         let entry = entry(&e, &block, &f, req.method, im)?;
         f.warnings.extend(damage::crossings(&f, req.method));
+        if let Some(mu) =
+            e.mu.filter(|&mu| crate::block::slides_first(mu, block.alpha()))
+        {
+            f.warnings
+                .push(crate::block::sliding_warning(mu, block.alpha()));
+        }
         export.push(entry);
         blocks.push((e, f));
     }

@@ -6,7 +6,7 @@ use crate::table;
 
 table! {
     /// The annual rate of overturning of one block at one site.
-    pub struct RiskRow = "risk" v 2 {
+    pub struct RiskRow = "risk" v 3 {
         /// The block's name in the inventory.
         pub block: String,
         pub b_m: f64,
@@ -16,6 +16,15 @@ table! {
         pub eps: f64,
         /// Whether ε is Housner's bound (the inventory gave none).
         pub eps_housner: bool,
+        /// The base's friction coefficient, when given (`--mu`, the inventory's `mu`).
+        pub mu: Option<f64>,
+        /// Whether the block slides before it rocks (μ < b/h): its rocking
+        /// results then hold only if it is restrained against sliding.
+        /// False when μ is not given.
+        pub slides_first: bool,
+        /// The building's modes `T,ζ,Γφ; …` when the block stands on a
+        /// floor (`--floor`); the IMs are still the ground's.
+        pub floor: Option<String>,
         /// Index of the site in the hazard file, from 0.
         pub site: i64,
         pub lon: Option<f64>,

@@ -10,6 +10,7 @@ use rayon::prelude::*;
 use super::error::FragilityError;
 use super::laws::Source;
 use crate::block::Block;
+use crate::floor::Building;
 use crate::ida::{self, ImGrid};
 use crate::im::{Im, RecordIms};
 use crate::physics::{Excitation, ModelChoice, RunSpec};
@@ -49,9 +50,19 @@ struct Counts {
     runs: AtomicU64,
 }
 
+/// One record as `--direct` runs it.
+struct DirectRecord {
+    id: String,
+    /// The motion the block feels: the ground's, or its floor's.
+    exc: Excitation,
+    /// On a floor: the ground's motion (its IMs are the hazard's) and the
+    /// floor's peak over the ground's, PFA/PGA.
+    ground: Option<(Excitation, f64)>,
+}
+
 /// The records a block is run through with `--direct`, read once.
 pub struct DirectRecords {
-    records: Vec<(String, Excitation)>,
+    records: Vec<DirectRecord>,
     progress: DirectProgress,
     counts: Counts,
     /// Each record's intensity measures, in the same order, computed the
@@ -60,11 +71,14 @@ pub struct DirectRecords {
 }
 
 impl DirectRecords {
-    /// The pipeline's records, or the AT2 folder of `--records`.
+    /// The pipeline's records, or the AT2 folder of `--records`; with a
+    /// building, the block stands on its floor (capacities are then stated
+    /// in the ground's η and IMs).
     pub fn load(
         from: &Source,
         plan: Option<&Plan>,
         progress: DirectProgress,
+        floor: Option<&Building>,
     ) -> Result<Self, FragilityError> {
         let rows = match (from, plan) {
             (_, Some(plan)) => records::load(plan).map_err(FragilityError::Records)?,
@@ -83,15 +97,34 @@ impl DirectRecords {
             (Source::Pipeline { .. }, None) => unreachable!("a pipeline source has a plan"),
         };
         let records = rows
-            .into_iter()
+            .into_par_iter()
             .map(|r| {
-                let exc = Excitation::new(&r.accel_g, r.dt_s).map_err(|source| {
-                    FragilityError::Physics {
+                let physics = |source| FragilityError::Physics {
+                    record: r.record_id.clone(),
+                    source,
+                };
+                let ground = Excitation::new(&r.accel_g, r.dt_s).map_err(physics)?;
+                let Some(building) = floor else {
+                    return Ok(DirectRecord {
+                        id: r.record_id,
+                        exc: ground,
+                        ground: None,
+                    });
+                };
+                let f = building
+                    .floor_motion(&r.accel_g, r.dt_s)
+                    .map_err(|source| FragilityError::Floor {
                         record: r.record_id.clone(),
                         source,
-                    }
-                })?;
-                Ok((r.record_id, exc))
+                    })?;
+                let exc = Excitation::new(&f.accel_g, f.dt_s).map_err(physics)?;
+                let peak = |a: &[f64], dt| crate::motion::peak(a, dt).map_or(0.0, |p| p.pga_g);
+                let ratio = peak(&f.accel_g, f.dt_s) / peak(&r.accel_g, r.dt_s);
+                Ok(DirectRecord {
+                    id: r.record_id,
+                    exc,
+                    ground: Some((ground, ratio)),
+                })
             })
             .collect::<Result<_, FragilityError>>()?;
         Ok(DirectRecords {
@@ -142,7 +175,8 @@ impl DirectRecords {
         self.ims.get_or_init(|| {
             self.records
                 .par_iter()
-                .map(|(_, exc)| {
+                .map(|r| {
+                    let exc = r.ground.as_ref().map_or(&r.exc, |(g, _)| g);
                     RecordIms::of_record(&exc.psi, exc.dt_s, &[])
                         .expect("an excitation's forcing has a peak of 1")
                 })
@@ -172,7 +206,8 @@ impl DirectRecords {
     }
 
     /// The block's certified search under every record, its runs included,
-    /// in the records' order, and why the model it used.
+    /// in the records' order, and why the model it used. On a floor every η
+    /// is restated as the ground's, η·PFA/PGA (the building is linear).
     pub fn runs(
         &self,
         block: &Block,
@@ -192,21 +227,30 @@ impl DirectRecords {
         self.report();
         self.records
             .par_iter()
-            .map(|(id, exc)| {
+            .map(|r| {
                 let grid = ImGrid::default();
-                let c = ida::capacity_certified(exc, &spec, &grid, 1e-4, ida::Trace::StopAtFirst)
-                    .map_err(|source| FragilityError::Physics {
-                    record: id.clone(),
-                    source,
-                })?;
+                let c =
+                    ida::capacity_certified(&r.exc, &spec, &grid, 1e-4, ida::Trace::StopAtFirst)
+                        .map_err(|source| FragilityError::Physics {
+                            record: r.id.clone(),
+                            source,
+                        })?;
                 let runs = (c.capacity.runs() + c.extra.runs) as u64;
                 self.counts.runs.fetch_add(runs, Ordering::Relaxed);
                 self.counts.done.fetch_add(1, Ordering::Relaxed);
                 self.report();
-                Ok(c.capacity)
+                Ok(match &r.ground {
+                    Some((_, ratio)) => in_ground_eta(c.capacity, *ratio),
+                    None => c.capacity,
+                })
             })
             .collect::<Result<Vec<_>, FragilityError>>()
             .map(|c| (c, why))
+    }
+
+    /// Whether the block stands on a floor.
+    pub fn on_floor(&self) -> bool {
+        self.records.iter().any(|r| r.ground.is_some())
     }
 
     /// Says that `blocks` blocks will be run, so that the progress counts
@@ -228,4 +272,19 @@ impl DirectRecords {
             });
         }
     }
+}
+
+/// A search on a floor's motion restated in the ground's η: the floor's
+/// peak is `pfa_over_pga` times the ground's at every scale, so a run at
+/// the floor's η is one at the ground's η·PFA/PGA.
+fn in_ground_eta(mut c: ida::Capacity, pfa_over_pga: f64) -> ida::Capacity {
+    let k = pfa_over_pga;
+    c.eta_c = c.eta_c.map(|e| e * k);
+    c.eta_survived *= k;
+    c.level_survived *= k;
+    c.level_overturned = c.level_overturned.map(|e| e * k);
+    for p in &mut c.points {
+        p.eta *= k;
+    }
+    c
 }

@@ -30,6 +30,8 @@ pub enum FragilityError {
          (b/h = {ratio:.3}, α = {alpha:.3} rad): give --eps, a coefficient of restitution in (0, 1]"
     )]
     HousnerEps { eps: f64, ratio: f64, alpha: f64 },
+    #[error("--mu")]
+    Mu(#[source] crate::block::BlockError),
     #[error("--at {0}: levels must be positive")]
     Level(f64),
     #[error("give at least one level (--pga, or --im and --at)")]
@@ -82,6 +84,17 @@ pub enum FragilityError {
     Ingest(#[source] IngestError),
     #[error("--direct: the model for this block")]
     Model(#[source] PhysicsError),
+    #[error("--direct: record {record}: its floor motion")]
+    Floor {
+        record: String,
+        #[source]
+        source: crate::floor::FloorError,
+    },
+    #[error(
+        "--floor: the capacities of {from} are of blocks on the ground; a block on a floor is \
+         run through the building with the records (add --direct)"
+    )]
+    FloorNeedsDirect { from: String },
     #[error("--direct: record {record}")]
     Physics {
         record: String,

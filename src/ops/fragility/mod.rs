@@ -17,6 +17,7 @@ mod laws;
 use super::im_fragility;
 
 use crate::block::{Block, BlockError, Restitution};
+use crate::floor::Building;
 use crate::im::Im;
 use crate::physics::LINEARIZATION_ERROR_PER_ALPHA2;
 pub use direct::{DirectProgress, DirectRecords};
@@ -41,6 +42,11 @@ pub struct Request {
     pub progress: DirectProgress,
     /// The linearised model's accepted error in η_c; a stockier block is warned of.
     pub auto_tol: f64,
+    /// The building whose floor the block stands on (`--direct` only);
+    /// `None`: the ground.
+    pub floor: Option<Building>,
+    /// The base's friction coefficient, checked: a block with μ < b/h is warned of.
+    pub mu: Option<f64>,
 }
 
 /// One level of the answer.
@@ -79,7 +85,15 @@ pub struct Assessment {
     /// With `--direct`: the model the records were run with, and why.
     pub model: Option<String>,
     pub points: Vec<Point>,
-    /// Where the regression is stretched for this block (none with `--direct`).
+    /// On a floor: the building's modes (`T,ζ,Γφ; …`); levels and
+    /// capacities are then the ground's.
+    pub floor: Option<String>,
+    /// The base's friction coefficient, when given.
+    pub mu: Option<f64>,
+    /// With `mu`: whether the block slides before it rocks (μ < b/h).
+    pub slides_first: Option<bool>,
+    /// Where the regression is stretched for this block (none with
+    /// `--direct`), and a block that slides first.
     pub warnings: Vec<String>,
 }
 
@@ -88,15 +102,21 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
     let block = check(req)?;
     let (alpha, p, eps) = (block.alpha(), block.p(), block.eps);
     let im = req.im;
-    let source = laws(&req.from)?;
-    let direct = if req.direct {
-        let records = DirectRecords::load(&req.from, source.plan.as_ref(), req.progress.clone())?;
-        Some(records.thresholds(&block, im, req.auto_tol)?)
-    } else {
-        None
+    let (source, records) =
+        laws_and_records(&req.from, req.direct, &req.progress, 1, req.floor.as_ref())?;
+    let direct = match records {
+        Some(records) => Some(records.thresholds(&block, im, req.auto_tol)?),
+        None => None,
     };
-    let (median, beta, eta_c_median, name, warnings) = if im == Im::Pga {
-        match (source.median_beta(&block), &direct) {
+    let (median, beta, eta_c_median, name, mut warnings) = if im == Im::Pga {
+        // On a floor only the records run through the building know the block.
+        let law = match req.floor {
+            Some(_) => Err(FragilityError::FloorNeedsDirect {
+                from: source.name.clone(),
+            }),
+            None => source.median_beta(&block),
+        };
+        match (law, &direct) {
             (Ok((eta50, beta)), _) => {
                 let w = if req.direct {
                     Vec::new()
@@ -105,8 +125,11 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
                 };
                 (alpha / eta50, beta, Some(eta50), source.name.clone(), w)
             }
-            // A pipeline without a regression: the records' own lognormal.
-            (Err(FragilityError::NoFit { .. }), Some((t, _))) => {
+            // A pipeline without a regression, or a floor: the records' own lognormal.
+            (
+                Err(FragilityError::NoFit { .. } | FragilityError::FloorNeedsDirect { .. }),
+                Some((t, _)),
+            ) => {
                 let (m, b) = im_fragility::lognormal_of(t)
                     .ok_or_else(|| FragilityError::FewCapacities(im.name()))?;
                 (m, b, Some(alpha / m), "direct".to_string(), Vec::new())
@@ -142,6 +165,10 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
                 .map(|(t, _)| t.partition_point(|&c| c < x) as f64 / t.len() as f64),
         })
         .collect();
+    let slides_first = req.mu.map(|mu| crate::block::slides_first(mu, alpha));
+    if slides_first == Some(true) {
+        warnings.push(crate::block::sliding_warning(req.mu.unwrap_or(0.0), alpha));
+    }
     Ok(Assessment {
         b_m: req.b_m,
         h_m: req.h_m,
@@ -157,6 +184,9 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
         records: direct.as_ref().map(|(t, _)| t.len()),
         model: direct.map(|(_, m)| m),
         points,
+        floor: req.floor.as_ref().map(|b| b.to_string()),
+        mu: req.mu,
+        slides_first,
         warnings,
     })
 }
@@ -169,11 +199,17 @@ pub fn laws_and_records(
     direct: bool,
     progress: &DirectProgress,
     blocks: usize,
+    floor: Option<&Building>,
 ) -> Result<(Laws, Option<DirectRecords>), FragilityError> {
     let laws = laws(from)?;
+    if floor.is_some() && !direct {
+        return Err(FragilityError::FloorNeedsDirect {
+            from: laws.name.clone(),
+        });
+    }
     let records = match direct {
         true => {
-            let records = DirectRecords::load(from, laws.plan.as_ref(), progress.clone())?;
+            let records = DirectRecords::load(from, laws.plan.as_ref(), progress.clone(), floor)?;
             records.expect_blocks(blocks);
             Some(records)
         }
@@ -185,6 +221,9 @@ pub fn laws_and_records(
 /// The request's block, its levels and tolerance checked.
 pub fn check(req: &Request) -> Result<Block, FragilityError> {
     crate::physics::check_auto_tol(req.auto_tol).map_err(FragilityError::AutoTol)?;
+    if let Some(mu) = req.mu {
+        crate::block::check_mu(mu).map_err(FragilityError::Mu)?;
+    }
     let block = block(req.b_m, req.h_m, req.eps)?;
     if req.levels.is_empty() {
         return Err(FragilityError::NoLevel);

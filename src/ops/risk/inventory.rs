@@ -13,12 +13,15 @@ pub struct InventoryBlock {
     pub b_m: f64,
     pub h_m: f64,
     pub eps: Restitution,
+    /// The base's friction coefficient (column `mu`, optional).
+    pub mu: Option<f64>,
     /// Line in the file (1-based).
     pub line: u64,
 }
 
 /// Reads an inventory CSV: a header with `name`, `b`, `h` and optionally
-/// `eps` (a number, or empty or `housner` for Housner's bound).
+/// `eps` (a number, or empty or `housner` for Housner's bound) and `mu`
+/// (the base's friction coefficient; empty: not known).
 pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
     let bytes = std::fs::read(path).map_err(|source| RiskError::Read {
         path: path.into(),
@@ -45,6 +48,7 @@ pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
         ));
     };
     let ce = col("eps");
+    let cm = col("mu");
     let mut out: Vec<InventoryBlock> = Vec::new();
     for row in csv.records() {
         let row =
@@ -86,6 +90,15 @@ pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
                 })?,
         };
         let (b_m, h_m) = (num(cb, "b")?, num(ch, "h")?);
+        let mu = match cm.map(cell) {
+            None | Some("") => None,
+            Some(_) => {
+                let mu = num(cm.unwrap_or_default(), "mu")?;
+                crate::block::check_mu(mu)
+                    .map_err(|e| bad(line, format!("block `{name}`: `mu`: {e}")))?;
+                Some(mu)
+            }
+        };
         // Checked here, so that the message names the file, line and column.
         Block::new(b_m, h_m, eps).map_err(|e| {
             let column = match e {
@@ -99,6 +112,7 @@ pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
             b_m,
             h_m,
             eps,
+            mu,
             line,
         });
     }
@@ -111,11 +125,12 @@ pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
 /// The blocks asked: one (named by its dimensions) or an inventory's.
 pub(super) fn entries(blocks: &Blocks) -> Result<Vec<InventoryBlock>, RiskError> {
     Ok(match blocks {
-        Blocks::One { b_m, h_m, eps } => vec![InventoryBlock {
+        Blocks::One { b_m, h_m, eps, mu } => vec![InventoryBlock {
             name: format!("half-width {b_m} m × half-height {h_m} m"),
             b_m: *b_m,
             h_m: *h_m,
             eps: *eps,
+            mu: *mu,
             line: 0,
         }],
         Blocks::Inventory(path) => read_inventory(path)?,

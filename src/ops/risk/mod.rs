@@ -38,6 +38,8 @@ pub enum Blocks {
         b_m: f64,
         h_m: f64,
         eps: Restitution,
+        /// The base's friction coefficient, when given.
+        mu: Option<f64>,
     },
     /// A CSV `name,b,h[,eps]`.
     Inventory(PathBuf),
@@ -61,6 +63,8 @@ pub struct Request {
     pub beyond: Beyond,
     /// The linearised model's accepted error in η_c, for the α warning.
     pub auto_tol: f64,
+    /// The building whose floor the blocks stand on (`--direct` only).
+    pub floor: Option<crate::floor::Building>,
 }
 
 /// A block as assessed.
@@ -73,6 +77,12 @@ pub struct BlockInfo {
     pub p: f64,
     pub eps: f64,
     pub eps_housner: bool,
+    /// The base's friction coefficient, when given.
+    pub mu: Option<f64>,
+    /// With `mu`: whether the block slides before it rocks (μ < b/h).
+    pub slides_first: Option<bool>,
+    /// On a floor: the building's modes (`T,ζ,Γφ; …`).
+    pub floor: Option<String>,
 }
 
 /// A block's fragility, as used.
@@ -344,8 +354,13 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
     let sites = read_hazard(&req.hazard, req.site)?;
     let entries = entries(&req.blocks)?;
     let im = hazard_im(&req.hazard, &sites, req.im)?;
-    let (laws, records) =
-        fragility::laws_and_records(&req.from, req.direct, &req.progress, entries.len())?;
+    let (laws, records) = fragility::laws_and_records(
+        &req.from,
+        req.direct,
+        &req.progress,
+        entries.len(),
+        req.floor.as_ref(),
+    )?;
     // Another IM than PGA without --direct: the study's table, read once.
     let table = if im != Im::Pga && !req.direct {
         Some(laws.im_table(im)?)
@@ -381,16 +396,10 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
                 .collect(),
         };
         warnings.extend(extrapolated(&site_infos));
+        let assessed = block_info(e, &block, req.floor.as_ref());
+        warnings.extend(sliding_warning(&assessed));
         out.push(Assessment {
-            block: BlockInfo {
-                name: e.name.clone(),
-                b_m: e.b_m,
-                h_m: e.h_m,
-                alpha_rad: block.alpha(),
-                p: block.p(),
-                eps: block.eps,
-                eps_housner: e.eps == Restitution::Housner,
-            },
+            block: assessed,
             fragility: info,
             years: req.years,
             beyond: req.beyond.label(),
@@ -399,6 +408,34 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
         });
     }
     Ok(out)
+}
+
+/// A block as assessed: its geometry, and whether it slides first.
+pub(super) fn block_info(
+    e: &InventoryBlock,
+    block: &Block,
+    floor: Option<&crate::floor::Building>,
+) -> BlockInfo {
+    BlockInfo {
+        name: e.name.clone(),
+        b_m: e.b_m,
+        h_m: e.h_m,
+        alpha_rad: block.alpha(),
+        p: block.p(),
+        eps: block.eps,
+        eps_housner: e.eps == Restitution::Housner,
+        mu: e.mu,
+        slides_first: e.mu.map(|mu| crate::block::slides_first(mu, block.alpha())),
+        floor: floor.map(|b| b.to_string()),
+    }
+}
+
+/// The warning of a block that slides before it rocks.
+pub(super) fn sliding_warning(b: &BlockInfo) -> Option<String> {
+    match (b.mu, b.slides_first) {
+        (Some(mu), Some(true)) => Some(crate::block::sliding_warning(mu, b.alpha_rad)),
+        _ => None,
+    }
 }
 
 /// The hazard's IM, the same at every site, and the fragility's when it is
@@ -453,6 +490,9 @@ pub fn rows(assessments: &[Assessment], beyond: Beyond) -> Vec<RiskRow> {
                 p: a.block.p,
                 eps: a.block.eps,
                 eps_housner: a.block.eps_housner,
+                mu: a.block.mu,
+                slides_first: a.block.slides_first == Some(true),
+                floor: a.block.floor.clone(),
                 site: s.site as i64,
                 lon: s.lon,
                 lat: s.lat,

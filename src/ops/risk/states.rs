@@ -5,7 +5,6 @@
 use serde::Serialize;
 
 use super::{entries, hazard_im, read_hazard, BlockInfo, Request, RiskError};
-use crate::block::Restitution;
 use crate::damage::{DamageStates, FitMethod};
 use crate::ops::damage;
 use crate::ops::fragility;
@@ -64,8 +63,13 @@ pub fn assess_states(
     let sites = read_hazard(&req.hazard, req.site)?;
     let im = hazard_im(&req.hazard, &sites, req.im)?;
     let entries = entries(&req.blocks)?;
-    let (laws, records) =
-        fragility::laws_and_records(&req.from, req.direct, &req.progress, entries.len())?;
+    let (laws, records) = fragility::laws_and_records(
+        &req.from,
+        req.direct,
+        &req.progress,
+        entries.len(),
+        req.floor.as_ref(),
+    )?;
     let mut out = Vec::new();
     for e in entries {
         let in_block = |source| RiskError::Block {
@@ -108,16 +112,10 @@ pub fn assess_states(
                     .collect(),
             })
             .collect();
+        let assessed = super::block_info(&e, &block, req.floor.as_ref());
+        f.warnings.extend(super::sliding_warning(&assessed));
         out.push(StatesAssessment {
-            block: BlockInfo {
-                name: e.name.clone(),
-                b_m: e.b_m,
-                h_m: e.h_m,
-                alpha_rad: block.alpha(),
-                p: block.p(),
-                eps: block.eps,
-                eps_housner: e.eps == Restitution::Housner,
-            },
+            block: assessed,
             source: f.source,
             im: f.im,
             unit: f.unit,

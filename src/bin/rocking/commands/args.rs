@@ -252,16 +252,35 @@ pub struct BlockArgs {
     pub json: bool,
 }
 
-/// Where the block stands: on the ground, or on a building's floor; and
-/// how firmly (its base's friction).
+/// The building whose floor the block stands on.
 #[derive(Debug, Clone, clap::Args)]
-pub struct SceneArgs {
+pub struct FloorArgs {
     /// The block stands on a floor of a linear building: one mode of it as
     /// T,ZETA,GAMMA_PHI (period in s, damping ratio, participation factor ×
     /// mode shape at the floor); repeat for each mode. The records are the
     /// ground's; the block feels the floor's absolute acceleration.
     #[arg(long = "floor", value_name = "T,ZETA,GAMMA_PHI", value_parser = parse_mode)]
     pub floor: Vec<Mode>,
+}
+
+impl FloorArgs {
+    /// The building asked for, checked; `None` on the ground.
+    pub fn building(&self) -> anyhow::Result<Option<Building>> {
+        if self.floor.is_empty() {
+            return Ok(None);
+        }
+        Building::new(self.floor.clone())
+            .map(Some)
+            .map_err(|e| anyhow::anyhow!("--floor: {e}"))
+    }
+}
+
+/// Where the block stands: on the ground, or on a building's floor; and
+/// how firmly (its base's friction).
+#[derive(Debug, Clone, clap::Args)]
+pub struct SceneArgs {
+    #[command(flatten)]
+    pub floor: FloorArgs,
     /// Static friction coefficient μ between the block and its base: a block
     /// with μ below b/h slides before it rocks, and is warned of.
     #[arg(long, value_name = "μ")]
@@ -273,14 +292,8 @@ pub fn parse_mode(text: &str) -> Result<Mode, String> {
 }
 
 impl SceneArgs {
-    /// The building asked for, checked; `None` on the ground.
     pub fn building(&self) -> anyhow::Result<Option<Building>> {
-        if self.floor.is_empty() {
-            return Ok(None);
-        }
-        Building::new(self.floor.clone())
-            .map(Some)
-            .map_err(|e| anyhow::anyhow!("--floor: {e}"))
+        self.floor.building()
     }
 
     /// μ checked.
@@ -334,7 +347,7 @@ impl BlockArgs {
     ) -> anyhow::Result<rocking::ops::record::LoadedRecord> {
         use rocking::ops::record;
         match (path, self.pulse.pulse(self.td)?) {
-            (_, Some(_)) if !self.scene.floor.is_empty() => {
+            (_, Some(_)) if !self.scene.floor.floor.is_empty() => {
                 anyhow::bail!("--floor filters a ground record through a building; a pulse is given as the block's own excitation")
             }
             (_, Some(pulse)) => Ok(record::from_pulse(&pulse, p)?),
@@ -460,24 +473,35 @@ pub struct BlocksArgs {
     /// Coefficient of restitution, or `housner` for 1 − 1.5 sin²α.
     #[arg(long, default_value = "housner", value_parser = parse_restitution, conflicts_with = "inventory")]
     pub eps: Restitution,
-    /// A CSV of blocks `name,b,h[,eps]` (m; eps empty or `housner` for
-    /// Housner's bound; in an export, a name's spaces become `_` in its
-    /// taxonomy).
+    /// A CSV of blocks `name,b,h[,eps][,mu]` (m; eps empty or `housner` for
+    /// Housner's bound; mu the base's friction coefficient, empty if not
+    /// known; in an export, a name's spaces become `_` in its taxonomy).
     #[arg(long, value_name = "BLOCKS.csv")]
     pub inventory: Option<PathBuf>,
+    /// Static friction coefficient μ between the block and its base: a block
+    /// with μ below b/h slides before it rocks, and is warned of (an
+    /// inventory gives it in its `mu` column).
+    #[arg(long, value_name = "μ", conflicts_with = "inventory")]
+    pub mu: Option<f64>,
 }
 
 impl BlocksArgs {
-    pub fn blocks(&self) -> rocking::ops::risk::Blocks {
+    pub fn blocks(&self) -> anyhow::Result<rocking::ops::risk::Blocks> {
         use rocking::ops::risk::Blocks;
-        match (&self.inventory, self.b, self.h) {
+        let mu = self
+            .mu
+            .map(rocking::block::check_mu)
+            .transpose()
+            .map_err(|e| anyhow::anyhow!("--mu: {e}"))?;
+        Ok(match (&self.inventory, self.b, self.h) {
             (Some(path), _, _) => Blocks::Inventory(path.clone()),
             (None, Some(b_m), Some(h_m)) => Blocks::One {
                 b_m,
                 h_m,
                 eps: self.eps,
+                mu,
             },
             _ => unreachable!("clap requires --b and --h without --inventory"),
-        }
+        })
     }
 }

@@ -228,7 +228,7 @@ fn report<'a>(
         eta_c: cap.eta_c,
         pga_scale_c: cap.eta_c.map(|e| 1.0 / e),
         pga_c_g,
-        floor: on_floor.map(|_| floor_text(&args.block.scene.floor)),
+        floor: on_floor.map(|_| floor_text(&args.block.scene.floor.floor)),
         pfa_over_pga: on_floor.map(|f| f.pfa_over_pga),
         ground_pga_c_g: on_floor.zip(pga_c_g).map(|(f, pga)| pga / f.pfa_over_pga),
         mu: args.block.scene.mu,

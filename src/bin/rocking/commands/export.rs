@@ -76,7 +76,7 @@ enum FormatArg {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let blocks = args.blocks.blocks();
+    let blocks = args.blocks.blocks()?;
     let from = args.law.source();
     let (states, asked_states) = if args.direct || !matches!(from, Source::Paper { .. }) {
         (args.states.clone(), true)

@@ -7,7 +7,7 @@ use rocking::ops::fragility::{self, Request};
 
 use rocking::block::Restitution;
 
-use super::args::{direct_progress, parse_restitution, LawArgs};
+use super::args::{direct_progress, parse_restitution, LawArgs, SceneArgs};
 use super::states::{parse_states, print_fits, MethodArg};
 
 /// Probability that a real block overturns at given PGAs.
@@ -51,6 +51,8 @@ pub struct Args {
     /// Also run the block through the record suite and report the empirical fraction.
     #[arg(long)]
     direct: bool,
+    #[command(flatten)]
+    scene: SceneArgs,
     /// The linearised model's accepted error in η_c; a block whose α exceeds it is flagged.
     #[arg(long, default_value_t = 0.01)]
     auto_tol: f64,
@@ -82,6 +84,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         direct: args.direct,
         progress: direct_progress(args.direct),
         auto_tol: args.auto_tol,
+        floor: args.scene.building()?,
+        mu: args.scene.mu()?,
     };
     if let Some(states) = &args.states {
         return run_states(&req, states, args.method, args.json);
@@ -103,6 +107,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         a.b_m, a.h_m, a.alpha_rad, a.p, a.eps, a.im, a.source, a.median, a.beta
     );
     let direct = a.records.is_some();
+    if let Some(floor) = &a.floor {
+        println!(
+            "on the floor of a building with modes T,ζ,Γφ = {floor}: the records run through it; \
+             levels and capacities are the ground's"
+        );
+    }
     if let (Some(n), Some(m)) = (a.records, &a.model) {
         println!(
             "--direct: {n} records run with the {m}; the last column is the share of them \

@@ -10,7 +10,7 @@ use rocking::tables::atomic_write;
 use rocking::damage::DamageStates;
 use rocking::im::level_text;
 
-use super::args::{direct_progress, BlocksArgs, LawArgs};
+use super::args::{direct_progress, BlocksArgs, FloorArgs, LawArgs};
 use super::states::{parse_states, MethodArg};
 
 /// Annual rate of overturning of a block (or an inventory) at the sites of a hazard file.
@@ -53,6 +53,9 @@ pub struct Args {
     /// Use the block's own capacities under the records instead of a regression.
     #[arg(long)]
     direct: bool,
+    /// With --direct: the blocks stand on a building's floor (see `--floor` below).
+    #[command(flatten)]
+    floor: FloorArgs,
     /// Years for the probability of overturning within them.
     #[arg(long, default_value_t = 50.0)]
     years: f64,
@@ -89,7 +92,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         BeyondArg::Extrapolate => Beyond::Extrapolate,
         BeyondArg::Stop => Beyond::Stop,
     };
-    let blocks = args.blocks.blocks();
+    let blocks = args.blocks.blocks()?;
     let req = Request {
         hazard: args.hazard.clone(),
         site: args.site,
@@ -101,6 +104,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         years: args.years,
         beyond,
         auto_tol: args.auto_tol,
+        floor: args.floor.building()?,
     };
     if let Some(states) = &args.states {
         return run_states(&req, states, args.method, args.json);
