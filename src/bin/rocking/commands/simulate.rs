@@ -157,6 +157,19 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         println!("{}", serde_json::to_string(&report)?);
         return Ok(());
     }
+    print_text(&args, &rec, &spec, &why, &out, recorder.points.len());
+    Ok(())
+}
+
+/// The response as text.
+fn print_text(
+    args: &Args,
+    rec: &rocking::ops::record::LoadedRecord,
+    spec: &physics::RunSpec,
+    why: &str,
+    out: &physics::Outcome,
+    history_points: usize,
+) {
     match rec.pulse {
         Some(pulse) => println!(
             "pulse       {} (f = p·t_d = {}; {} samples, dt {} s)",
@@ -195,11 +208,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         None => println!("uplift      never (the record stays below the uplift threshold)"),
     }
     if let Some(path) = &args.history {
-        println!(
-            "history     {} points in {}",
-            recorder.points.len(),
-            path.display()
-        );
+        println!("history     {history_points} points in {}", path.display());
     }
-    Ok(())
 }
