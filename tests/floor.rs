@@ -468,3 +468,181 @@ fn fragility_risk_and_export_warn_of_a_block_that_slides_first() {
         );
     }
 }
+
+/// A `[floor]` pipeline: the sweep's capacities are `capacity --floor`'s
+/// for each record (the stage and the command reach the floor by their own
+/// paths), with each record's PFA/PGA and the sliding flag; a floor at a
+/// node of its mode (Γφ = 0) gives the ground study's capacities to the bit;
+/// `fragility --from` the study needs --direct, and then runs its records
+/// through its building.
+#[test]
+fn a_floor_study_runs_the_floor_motion_in_every_stage() {
+    use crate::util::write_pipeline;
+    let dir = tempdir();
+    let ids =
+        "ids = [\"RSN1111_KOBE_NIS000\", \"RSN1116_KOBE_SHI000\", \"RSN1148_KOCAELI_ARC000\"]\n";
+    let blocks = "[model]\nkind = \"auto\"\n\
+        [[block]]\nname = \"rack\"\nb = 0.3\nh = 1.0\neps = 0.75\nmu = 0.4\n\
+        [[block]]\nname = \"cabinet\"\nb = 0.1\nh = 1.0\neps = 0.85\nmu = 0.05\n";
+    let floor = write_pipeline(
+        dir.path(),
+        "on-floor",
+        &format!("{ids}{blocks}[floor]\nmodes = [[0.5, 0.05, 1.3], [0.2, 0.05, -0.3]]\n"),
+    );
+    let node = write_pipeline(
+        dir.path(),
+        "on-node",
+        &format!("{ids}{blocks}[floor]\nmodes = [[0.5, 0.05, 0.0]]\n"),
+    );
+    let ground = write_pipeline(dir.path(), "on-ground", &format!("{ids}{blocks}"));
+    let outputs = dir.path().join("out");
+    let out_s = outputs.to_str().unwrap();
+    for p in [&floor, &node, &ground] {
+        let out = rocking(
+            dir.path(),
+            &["run", p.to_str().unwrap(), "--outputs", out_s],
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+    }
+    let caps = |name: &str| rocking::stages::sweep::read_capacities(&outputs.join(name)).unwrap();
+    let on_floor = caps("on-floor");
+    assert_eq!(on_floor.len(), 6);
+    for c in &on_floor {
+        let record = bundled_records().join(format!("far-field/{}.AT2", c.record_id));
+        let (b, h, eps, mu) = if c.block == "rack" {
+            ("0.3", "1.0", "0.75", "0.4")
+        } else {
+            ("0.1", "1.0", "0.85", "0.05")
+        };
+        let one = json(&rocking(
+            &root(),
+            &[
+                "capacity",
+                "--record",
+                record.to_str().unwrap(),
+                "--b",
+                b,
+                "--h",
+                h,
+                "--eps",
+                eps,
+                "--model",
+                "auto",
+                "--mu",
+                mu,
+                "--floor",
+                "0.5,0.05,1.3",
+                "--floor",
+                "0.2,0.05,-0.3",
+                "--json",
+            ],
+        ));
+        assert_eq!(
+            c.eta_c,
+            one["eta_c"].as_f64(),
+            "{} {}",
+            c.record_id,
+            c.block
+        );
+        assert_eq!(c.pfa_over_pga, one["pfa_over_pga"].as_f64());
+        assert_eq!(c.slides_first, one["slides_first"] == true);
+        assert_eq!(c.slides_first, c.block == "cabinet");
+    }
+    let (on_node, on_ground) = (caps("on-node"), caps("on-ground"));
+    for (n, g) in on_node.iter().zip(&on_ground) {
+        assert_eq!((n.eta_c, n.runs), (g.eta_c, g.runs), "{}", n.record_id);
+        assert_eq!(n.pfa_over_pga, Some(1.0));
+        assert_eq!(g.pfa_over_pga, None);
+    }
+    let report = std::fs::read_to_string(outputs.join("on-floor/report.md")).unwrap();
+    assert!(report.contains("## On a building's floor"), "{report}");
+    assert!(
+        report.contains("`cabinet` (μ = 0.05, b/h = 0.100) slides before it rocks"),
+        "{report}"
+    );
+    assert!(outputs.join("on-floor/figures/floor_capacity.svg").exists());
+
+    let from = floor.to_str().unwrap();
+    let base = [
+        "fragility",
+        "--b",
+        "0.3",
+        "--h",
+        "1",
+        "--eps",
+        "0.75",
+        "--pga",
+        "0.1,0.3",
+        "--json",
+    ];
+    let mut args = base.to_vec();
+    args.extend(["--from", from, "--outputs", out_s]);
+    let out = rocking(dir.path(), &args);
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("add --direct"), "{}", stderr(&out));
+    args.push("--direct");
+    let by_study = json(&rocking(dir.path(), &args));
+    let mut args = base.to_vec();
+    args.extend([
+        "--from",
+        from,
+        "--outputs",
+        out_s,
+        "--direct",
+        "--floor",
+        "1,0.05,1",
+    ]);
+    let out = rocking(dir.path(), &args);
+    assert!(
+        stderr(&out).contains("has its own building"),
+        "{}",
+        stderr(&out)
+    );
+    // The rack's share at each PGA: its study capacities restated in the ground's η.
+    let alpha = (0.3f64).atan();
+    for (i, x) in [0.1, 0.3].iter().enumerate() {
+        let rack: Vec<&rocking::tables::sweep::CapacityRow> =
+            on_floor.iter().filter(|c| c.block == "rack").collect();
+        let over = rack
+            .iter()
+            .filter(|c| {
+                c.eta_c
+                    .is_some_and(|e| alpha / (e * c.pfa_over_pga.unwrap()) <= *x)
+            })
+            .count();
+        let share = by_study["points"][i]["empirical"].as_f64().unwrap();
+        assert_eq!(share, over as f64 / 3.0, "PGA {x}");
+    }
+
+    for (body, says) in [
+        (
+            "[floor]\nmodes = [[0.5, 0.05]]\n",
+            "`floor.modes[0]` has 2 numbers",
+        ),
+        (
+            "[floor]\nmodes = [[0.5, 1.2, 1.0]]\n",
+            "`floor.modes`: mode 1: damping ratio ζ = 1.2",
+        ),
+        (
+            "[floor]\nmodes = []\n",
+            "`floor.modes`: a floor needs at least one mode",
+        ),
+        (
+            "[[block]]\nb = 0.3\nh = 1.0\neps = 0.75\nmu = -0.4\n",
+            "`block[0].mu`: friction coefficient μ = -0.4",
+        ),
+    ] {
+        let body = if body.starts_with("[floor]") {
+            format!("{ids}{blocks}{body}")
+        } else {
+            format!("{ids}{body}")
+        };
+        let bad = write_pipeline(dir.path(), "bad", &body);
+        let out = rocking(
+            dir.path(),
+            &["run", bad.to_str().unwrap(), "--outputs", out_s],
+        );
+        assert!(!out.status.success(), "{body}");
+        assert!(stderr(&out).contains(says), "{body}: {}", stderr(&out));
+    }
+}

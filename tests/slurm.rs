@@ -326,6 +326,40 @@ fn submit_runs_the_quick_study_on_a_real_slurm() {
     assert!(here.status.success(), "{}", stderr(&here));
     assert_same_tables(&local.join("quick"), &study);
 
+    // A floor study (`[floor]`) in 2 array tasks: the capacities a local run
+    // finds, each record's PFA/PGA and sliding flag included.
+    let floor_out = out.path().join("floor-slurm");
+    let floor_args = [
+        "submit",
+        "pipelines/floor.toml",
+        "--shards",
+        "2",
+        "--wait",
+        "--poll",
+        "0.5",
+        "--outputs",
+        floor_out.to_str().unwrap(),
+    ];
+    let run = cluster.rocking(&floor_args, &[], limit);
+    assert!(run.status.success(), "{}\n{}", stderr(&run), cluster.logs());
+    let here = cluster.rocking(
+        &[
+            "run",
+            "pipelines/floor.toml",
+            "--outputs",
+            local.to_str().unwrap(),
+        ],
+        &[],
+        limit,
+    );
+    assert!(here.status.success(), "{}", stderr(&here));
+    let caps = |dir: &Path| rocking::stages::sweep::read_capacities(&dir.join("floor")).unwrap();
+    let (submitted_caps, local_caps) = (caps(&floor_out), caps(&local));
+    assert_eq!(submitted_caps.len(), 44 * 4);
+    assert_eq!(submitted_caps, local_caps);
+    assert!(submitted_caps.iter().all(|c| c.pfa_over_pga.is_some()));
+    assert!(floor_out.join("floor/figures/floor_capacity.svg").exists());
+
     // Tasks that crash (the fault-injection hook aborts each task once its
     // first chunk is complete): --wait fails, naming a task and its log, and the later
     // stages never run.

@@ -26,6 +26,15 @@ pub fn block_study() -> StudyData {
     )
 }
 
+/// A study of one named block (b = 0.2, h = 1) on the floor of a
+/// one-mode building.
+pub fn floor_study() -> StudyData {
+    study(
+        "[records]\nat2 = [\"r\"]\n[floor]\nmodes = [[0.5, 0.05, 1.3]]\n\
+         [[block]]\nname = \"rack\"\nb = 0.2\nh = 1.0\neps = 0.8\nmu = 0.1\n",
+    )
+}
+
 fn study(text: &str) -> StudyData {
     let plan = load_str(text, std::path::Path::new("t.toml")).expect("a valid pipeline");
     StudyData {
@@ -88,6 +97,8 @@ pub fn cap(case_id: i64, eta_c: Option<f64>) -> CapacityRow {
         certification_note: String::new(),
         integrator: "exact".into(),
         rtol: None,
+        pfa_over_pga: None,
+        slides_first: false,
     }
 }
 

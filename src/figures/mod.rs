@@ -18,6 +18,7 @@ mod capacity;
 mod convergence;
 pub mod damage;
 mod figure;
+pub mod floor;
 mod fragility;
 mod ida;
 pub mod ims;
@@ -38,6 +39,7 @@ pub const FIGURES: &[FigureFn] = &[
     ida::median_ida_across_p,
     capacity::horizontal_vs_vertical,
     capacity::capacity_curves,
+    floor::floor_capacities,
     bands::capacity_bands,
     regression::regressions,
     regression::regression_coefficients,

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use crate::damage::DamageStates;
+use crate::floor::Building;
 use crate::ida::{ImGrid, Trace};
 use crate::physics::{ModelChoice, Overturn, RunSpec, Solver};
 use crate::stats::{FractileDef, ResampleUnit};
@@ -74,6 +75,9 @@ pub struct BlockSpec {
     pub eps: f64,
     /// Slenderness, when known (physical blocks, or the model's `alpha`).
     pub alpha_rad: Option<f64>,
+    /// The base's friction coefficient (`[[block]]`'s `mu`), when given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mu: Option<f64>,
     /// The block's run at η = 1, its model resolved and the whole checked
     /// when the plan is built (the IDA sets η).
     #[serde(skip)]
@@ -116,6 +120,34 @@ pub struct RecordsPlan {
     /// The limit states of the damage stage (`[damage]`).
     #[serde(skip_serializing_if = "DamageStates::is_default")]
     pub damage: DamageStates,
+    /// The building whose floor the blocks stand on (`[floor]`): every
+    /// stage runs the floor's motion under each record.
+    #[serde(
+        skip_serializing_if = "Option::is_none",
+        serialize_with = "floor_modes"
+    )]
+    pub floor: Option<Building>,
+}
+
+/// A building as its modes `[T, ζ, Γφ]`, as `[floor]` writes them.
+fn floor_modes<S: serde::Serializer>(b: &Option<Building>, s: S) -> Result<S::Ok, S::Error> {
+    let modes: Option<Vec<[f64; 3]>> = b.as_ref().map(|b| {
+        b.modes()
+            .iter()
+            .map(|m| [m.period_s, m.zeta, m.gamma_phi])
+            .collect()
+    });
+    modes.serialize(s)
+}
+
+impl BlockSpec {
+    /// Whether the block slides before it rocks (μ < b/h), when its μ and
+    /// α are known.
+    pub fn slides_first(&self) -> bool {
+        self.mu
+            .zip(self.alpha_rad)
+            .is_some_and(|(mu, a)| crate::block::slides_first(mu, a))
+    }
 }
 
 impl RecordsPlan {
@@ -236,7 +268,7 @@ impl Plan {
         let Ok(r) = self.records_study() else {
             return serde_json::Value::Null;
         };
-        serde_json::json!({
+        let mut v = serde_json::json!({
             "sets": r.sets,
             "ids": r.ids,
             "model": self.model,
@@ -247,7 +279,11 @@ impl Plan {
             "grid": r.grid,
             "tol": r.tol,
             "trace": r.trace,
-        })
+        });
+        if let Some(b) = &r.floor {
+            v["floor"] = serde_json::Value::String(b.to_string());
+        }
+        v
     }
 }
 
@@ -289,6 +325,7 @@ impl Serialize for Plan {
                     uncertainty: None,
                     example: None,
                     damage: DamageStates::default(),
+                    floor: None,
                 };
                 (std::borrow::Cow::Owned(empty), Some(p))
             }

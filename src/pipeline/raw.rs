@@ -28,6 +28,15 @@ pub struct RawPipeline {
     pub uncertainty: Option<RawUncertainty>,
     pub example: Option<RawExample>,
     pub damage: Option<RawDamage>,
+    pub floor: Option<RawFloor>,
+}
+
+/// `[floor]`: the blocks stand on a floor of a linear building, given by
+/// its modes `[T (s), ζ, Γφ]` as `--floor` takes them.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawFloor {
+    pub modes: Vec<Vec<f64>>,
 }
 
 /// `[damage]`: the limit states the damage stage fits, as `--states`
@@ -231,6 +240,8 @@ pub struct RawBlock {
     pub b: f64,
     pub h: f64,
     pub eps: toml::Value,
+    /// The base's static friction coefficient, when known.
+    pub mu: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]

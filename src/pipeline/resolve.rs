@@ -69,12 +69,9 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
         ))
     })?;
     let convergence = convergence(raw.convergence.as_ref()).map_err(err)?;
-    let damage = match &raw.damage {
-        None => DamageStates::default(),
-        Some(d) => DamageStates::parse(&d.states)
-            .map_err(|e| err(format!("`damage.states` = \"{}\": {e}", d.states)))?,
-    };
+    let damage = damage(raw.damage.as_ref()).map_err(err)?;
     let uncertainty = uncertainty(raw.uncertainty.as_ref()).map_err(err)?;
+    let floor = raw.floor.as_ref().map(floor).transpose().map_err(err)?;
     if let Some(u) = uncertainty {
         let no_manifest = matches!(&records, RecordSource::At2 { manifest: None, .. });
         if u.unit == ResampleUnit::Pair && no_manifest {
@@ -122,6 +119,7 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
             uncertainty,
             example,
             damage,
+            floor,
         })),
         base: base.to_path_buf(),
     })
@@ -154,6 +152,7 @@ fn block_run(
         p: b.p,
         eps: b.eps,
         alpha_rad: b.alpha_rad,
+        mu: b.mu,
         run,
         model_why: why,
     })
@@ -165,6 +164,37 @@ struct Unresolved {
     p: f64,
     eps: f64,
     alpha_rad: Option<f64>,
+    mu: Option<f64>,
+}
+
+/// `[damage]`: the limit states, or the default (overturning alone).
+fn damage(raw: Option<&crate::pipeline::raw::RawDamage>) -> Result<DamageStates, String> {
+    match raw {
+        None => Ok(DamageStates::default()),
+        Some(d) => DamageStates::parse(&d.states)
+            .map_err(|e| format!("`damage.states` = \"{}\": {e}", d.states)),
+    }
+}
+
+/// `[floor]`: the building's modes, each `[T, ζ, Γφ]`, checked.
+fn floor(raw: &crate::pipeline::raw::RawFloor) -> Result<crate::floor::Building, String> {
+    let modes = raw
+        .modes
+        .iter()
+        .enumerate()
+        .map(|(i, m)| match m[..] {
+            [period_s, zeta, gamma_phi] => Ok(crate::floor::Mode {
+                period_s,
+                zeta,
+                gamma_phi,
+            }),
+            _ => Err(format!(
+                "`floor.modes[{i}]` has {} numbers; a mode is [T (s), ζ, Γφ], e.g. [0.5, 0.05, 1.3]",
+                m.len()
+            )),
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    crate::floor::Building::new(modes).map_err(|e| format!("`floor.modes`: {e}"))
 }
 
 /// `name`, or the file's stem: a plain folder name.
@@ -242,6 +272,7 @@ fn blocks(
                         p,
                         eps,
                         alpha_rad: model_alpha,
+                        mu: None,
                     })
                 })
                 .collect())
@@ -297,6 +328,7 @@ fn example(e: &RawExample, model_alpha: Option<f64>) -> Result<Unresolved, Strin
                 p,
                 eps,
                 alpha_rad: model_alpha,
+                mu: None,
             })
         }
         (None, Some(b), Some(h)) => physical(
@@ -306,6 +338,7 @@ fn example(e: &RawExample, model_alpha: Option<f64>) -> Result<Unresolved, Strin
                 b,
                 h,
                 eps: e.eps.clone(),
+                mu: None,
             },
         ),
         _ => {
@@ -339,6 +372,10 @@ fn physical(key: &str, b: &RawBlock) -> Result<Unresolved, String> {
         BlockError::Eps(e) => format!("`{key}.eps` holds ε = {e}; ε must be in (0, 1]"),
         other => format!("`{key}.eps`: {other}"),
     })?;
+    let mu =
+        b.mu.map(crate::block::check_mu)
+            .transpose()
+            .map_err(|e| format!("`{key}.mu`: {e}"))?;
     Ok(Unresolved {
         name: b
             .name
@@ -347,6 +384,7 @@ fn physical(key: &str, b: &RawBlock) -> Result<Unresolved, String> {
         p: block.p(),
         eps: block.eps,
         alpha_rad: Some(block.alpha()),
+        mu,
     })
 }
 

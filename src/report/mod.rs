@@ -8,6 +8,7 @@
 
 mod bands;
 mod damage;
+mod floor;
 mod html;
 mod ims;
 mod pulses;

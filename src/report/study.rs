@@ -21,6 +21,7 @@ pub fn render(d: &StudyData, figures: &[Figure]) -> String {
     settings(&mut md, d);
     runtime(&mut md, d);
     capacity_fractiles(&mut md, d);
+    super::floor::scene_section(&mut md, d);
     bands(&mut md, d);
     lognormality(&mut md, d);
     regression(&mut md, d);

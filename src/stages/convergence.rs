@@ -100,10 +100,12 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
     let excitations = records
         .par_iter()
         .map(|r| {
-            Excitation::new(&r.accel_g, r.dt_s).map_err(|source| ConvergenceError::Record {
-                record: r.record_id.clone(),
-                source,
-            })
+            records::felt(rs.floor.as_ref(), r)
+                .map(|(exc, _)| exc)
+                .map_err(|source| ConvergenceError::Record {
+                    record: r.record_id.clone(),
+                    source,
+                })
         })
         .collect::<Result<Vec<_>, _>>()?;
     let (mut runs, mut shared) = (0u64, 0u64);

@@ -216,10 +216,15 @@ fn of_block(
         }
         per_record.push(found);
     }
+    let amp: Vec<f64> = records
+        .iter()
+        .map(|(c, _)| c.pfa_over_pga.unwrap_or(1.0))
+        .collect();
     let n = states.states().len();
     let mut rows = Vec::new();
     for im in Im::all() {
-        let at_unit_alpha = |k: usize, eta: f64| im::of_eta(im, eta, 1.0, ims[k]);
+        // On a floor, the ground's η (the IMs are the ground record's).
+        let at_unit_alpha = |k: usize, eta: f64| im::of_eta(im, eta * amp[k], 1.0, ims[k]);
         let Some(fits) = damage::fit_states(n, &per_record, at_unit_alpha, def) else {
             continue;
         };

@@ -98,7 +98,8 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
                         c.case_id, c.record_id, rows[ri].record_id
                     )));
                 }
-                Ok(c.eta_c)
+                // On a floor, the ground's η (the IMs are the ground record's).
+                Ok(c.eta_c.map(|e| e * c.pfa_over_pga.unwrap_or(1.0)))
             })
             .collect::<Result<_, _>>()?;
         let mut found = efficiency::of_block(&eta, &ims, b.p, b.alpha_rad);

@@ -7,6 +7,8 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use super::ingest::{self, IngestError, OnBad};
+use crate::floor::Building;
+use crate::physics::{Excitation, PhysicsError};
 use crate::pipeline::{NotRecords, Plan, RecordSource, RecordsPlan};
 use crate::tables::records::RecordRow;
 use crate::tables::{self, TableError};
@@ -30,6 +32,24 @@ pub enum SelectError {
     Empty,
     #[error(transparent)]
     NotRecords(#[from] NotRecords),
+}
+
+/// The motion a plan's blocks feel under one record: the record itself,
+/// or the floor's under it (`[floor]`), with the floor's peak over the
+/// record's (PFA/PGA).
+pub fn felt(
+    floor: Option<&Building>,
+    r: &RecordRow,
+) -> Result<(Excitation, Option<f64>), PhysicsError> {
+    let Some(building) = floor else {
+        return Ok((Excitation::new(&r.accel_g, r.dt_s)?, None));
+    };
+    let f = building
+        .floor_motion(&r.accel_g, r.dt_s)
+        .map_err(|e| PhysicsError::BadInput(format!("its floor motion: {e}")))?;
+    let peak = |a: &[f64], dt| crate::motion::peak(a, dt).map_or(0.0, |p| p.pga_g);
+    let ratio = peak(&f.accel_g, f.dt_s) / peak(&r.accel_g, r.dt_s);
+    Ok((Excitation::from_samples(f.accel_g, f.dt_s)?, Some(ratio)))
 }
 
 /// The plan's records from the table at `table`, filtered and sorted.

@@ -29,7 +29,7 @@ table! {
 
 table! {
     /// The capacity of one record for one block.
-    pub struct CapacityRow = "capacities" v 3 {
+    pub struct CapacityRow = "capacities" v 4 {
         pub case_id: i64,
         pub record_id: String,
         pub block: String,
@@ -58,6 +58,13 @@ table! {
         /// (tighter than the pipeline's when a looser one flipped a
         /// verdict); empty for the exact stepper.
         pub rtol: Option<f64>,
+        /// On a building's floor (`[floor]`, `--floor`): the floor motion's
+        /// peak over the ground record's, PFA/PGA. η is then the floor's;
+        /// the ground's is η·PFA/PGA. Empty on the ground.
+        pub pfa_over_pga: Option<f64>,
+        /// Whether the block slides before it rocks (its μ below b/h): the
+        /// row then holds only for a block restrained against sliding.
+        pub slides_first: bool,
     }
 }
 
@@ -92,6 +99,8 @@ impl CapacityRow {
             certification_note: certified.certification.to_string(),
             integrator: certified.model.integrator.name().to_string(),
             rtol: certified.model.integrator.tol(),
+            pfa_over_pga: None,
+            slides_first: false,
         }
     }
 }

@@ -95,6 +95,15 @@ pub enum FragilityError {
          run through the building with the records (add --direct)"
     )]
     FloorNeedsDirect { from: String },
+    #[error(
+        "--floor: {0} has its own building (`[floor]`); its records run through it with --direct"
+    )]
+    FloorTwice(String),
+    #[error(
+        "{0} is a study of blocks on a building's floor (`[floor]`): its regression is in the \
+         floor's η; add --direct to run its records through its building for this block"
+    )]
+    FloorStudy(String),
     #[error("--direct: record {record}")]
     Physics {
         record: String,

@@ -202,6 +202,17 @@ pub fn laws_and_records(
     floor: Option<&Building>,
 ) -> Result<(Laws, Option<DirectRecords>), FragilityError> {
     let laws = laws(from)?;
+    // A floor study's blocks stand on its building's floor.
+    let planned = laws
+        .plan
+        .as_ref()
+        .and_then(|p| p.records_study().ok())
+        .and_then(|r| r.floor.as_ref());
+    let floor = match (floor, planned) {
+        (Some(_), Some(_)) => return Err(FragilityError::FloorTwice(laws.name.clone())),
+        (None, Some(_)) if !direct => return Err(FragilityError::FloorStudy(laws.name.clone())),
+        (asked, planned) => asked.or(planned),
+    };
     if floor.is_some() && !direct {
         return Err(FragilityError::FloorNeedsDirect {
             from: laws.name.clone(),

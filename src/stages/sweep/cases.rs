@@ -29,6 +29,8 @@ fn model_reasons(blocks: &[BlockSpec]) -> Vec<String> {
 pub(in crate::stages) struct Prepared {
     pub(in crate::stages) records: Vec<RecordRow>,
     excitations: Vec<Excitation>,
+    /// On a floor: each record's PFA/PGA.
+    amplification: Vec<Option<f64>>,
     blocks: Vec<BlockSpec>,
     grid: ida::ImGrid,
     tol: f64,
@@ -48,21 +50,24 @@ impl Prepared {
         let records = records::select(plan, &study.records_table())?;
         let rs = plan.records_study().map_err(records::SelectError::from)?;
         let models = model_reasons(blocks);
-        let excitations = records
+        let (excitations, amplification) = records
             .par_iter()
             .map(|r| {
-                Excitation::new(&r.accel_g, r.dt_s).map_err(|source| SweepError::Record {
+                records::felt(rs.floor.as_ref(), r).map_err(|source| SweepError::Record {
                     record: r.record_id.clone(),
                     source,
                 })
             })
-            .collect::<Result<Vec<_>, _>>()?;
+            .collect::<Result<Vec<_>, _>>()?
+            .into_iter()
+            .unzip();
         let prepared = Prepared {
             hash: plan_hash(plan, &records),
             plan_json: plan.portable_json().to_string(),
             n_cases: records.len() * blocks.len(),
             records,
             excitations,
+            amplification,
             blocks: blocks.to_vec(),
             grid: rs.grid,
             tol: rs.tol,
@@ -162,7 +167,11 @@ pub(in crate::stages) fn run_case(case: usize, prep: &Prepared) -> Result<CaseRe
             model,
         })
         .collect();
-    let row = CapacityRow::of(case, &record.record_id, block, &spec, alpha_rad, &certified);
+    let row = CapacityRow {
+        pfa_over_pga: prep.amplification[ri],
+        slides_first: prep.blocks[bi].slides_first(),
+        ..CapacityRow::of(case, &record.record_id, block, &spec, alpha_rad, &certified)
+    };
     Ok(CaseResult {
         ida,
         capacity: row,

@@ -176,9 +176,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if let Some(out) = &args.out {
         let rows: Vec<_> = cases
             .clone()
-            .map(|(case, rec, block, _, c)| {
+            .map(|(case, rec, block, slides, c)| {
                 let b = &block.named;
-                CapacityRow::of(case, &rec.record_id, &b.name, &b.spec, b.alpha_rad, c)
+                CapacityRow {
+                    pfa_over_pga: rec.floor.map(|f| f.pfa_over_pga),
+                    slides_first: slides == Some(true),
+                    ..CapacityRow::of(case, &rec.record_id, &b.name, &b.spec, b.alpha_rad, c)
+                }
             })
             .collect();
         let settings = vec![(

@@ -1,0 +1,97 @@
+//! The report's scene section: the building whose floor the blocks stand
+//! on (each block's capacity on the floor and in the ground's PGA), and
+//! the blocks that slide before they rock.
+
+use std::fmt::Write as _;
+
+use crate::figures::floor::floor_fractiles;
+use crate::study::StudyData;
+
+/// `## On a building's floor` for a `[floor]` study, and `## Blocks that
+/// slide first` when a block's μ is below its b/h.
+pub(super) fn scene_section(w: &mut String, d: &StudyData) {
+    let plan = d.records_plan();
+    if let Some(building) = &plan.floor {
+        let _ = writeln!(w, "## On a building's floor\n");
+        let _ = writeln!(
+            w,
+            "Every record is run through a linear building with modes T, ζ, Γφ = {building} \
+             (docs/MODEL.md §16), and the blocks feel its floor's absolute acceleration. η is the \
+             floor motion's throughout the tables (α g over its peak, the PFA); \
+             `capacities.parquet` holds each record's PFA/PGA, and the ground's η is η·PFA/PGA. \
+             The IM tables are in the ground's IMs, the hazard's.\n"
+        );
+        let ratios: Vec<f64> = d
+            .caps
+            .iter()
+            .step_by(plan.blocks.len().max(1))
+            .filter_map(|c| c.pfa_over_pga)
+            .collect();
+        if let (Some(lo), Some(hi)) = (
+            ratios.iter().copied().reduce(f64::min),
+            ratios.iter().copied().reduce(f64::max),
+        ) {
+            let _ = writeln!(
+                w,
+                "The building amplifies the records' peaks by PFA/PGA = {lo:.2} to {hi:.2}.\n"
+            );
+        }
+        let _ = writeln!(
+            w,
+            "| block | p (1/s) | median PFA_c (g) | median ground PGA_c (g) | ratio |\n|---|---|---|---|---|"
+        );
+        for r in floor_fractiles(d) {
+            let g = |v: f64| {
+                if v.is_finite() {
+                    format!("{v:.3}")
+                } else {
+                    "survives".into()
+                }
+            };
+            let _ = writeln!(
+                w,
+                "| {} | {:.3} | {} | {} | {} |",
+                r.block,
+                r.p,
+                g(r.pfa_g[1]),
+                g(r.ground_pga_g[1]),
+                g(r.pfa_g[1] / r.ground_pga_g[1])
+            );
+        }
+        let _ = writeln!(w);
+    }
+    let sliding: Vec<String> = plan
+        .blocks
+        .iter()
+        .filter(|b| b.slides_first())
+        .map(|b| {
+            format!(
+                "`{}` (μ = {}, b/h = {:.3})",
+                b.name,
+                b.mu.unwrap_or(f64::NAN),
+                b.alpha_rad.unwrap_or(f64::NAN).tan()
+            )
+        })
+        .collect();
+    if !sliding.is_empty() {
+        let _ = writeln!(w, "## Blocks that slide first\n");
+        let _ = writeln!(
+            w,
+            "{} {} before {}: the base's friction coefficient μ is below b/h, so the \
+             base slips before the shaking can lift a corner (Ishiyama 1982; Shenton 1996; \
+             docs/MODEL.md §17). The capacities assume no sliding and hold only for a block \
+             restrained against it; `slides_first` marks the rows in `capacities.parquet`.\n",
+            sliding.join(", "),
+            if sliding.len() == 1 {
+                "slides"
+            } else {
+                "slide"
+            },
+            if sliding.len() == 1 {
+                "it rocks"
+            } else {
+                "they rock"
+            }
+        );
+    }
+}
