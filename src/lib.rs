@@ -14,7 +14,10 @@
 //! Module map (see `ARCHITECTURE.md` for the invariants):
 //!
 //! - [`at2`], [`manifest`], [`motion`]: parsing and record summaries, no I/O;
-//! - [`block`]: a block's geometry (α, R, p) and restitution, defined once, no I/O;
+//! - [`block`]: a block's geometry (α, R, p) and restitution, defined once,
+//!   and whether it slides before it rocks, no I/O;
+//! - [`sdof`], [`floor`]: a linear oscillator stepped exactly; a building's
+//!   floor motion under a record, no I/O;
 //! - [`im`]: intensity measures, and a capacity in η as a capacity in an IM, no I/O;
 //! - [`decimal`]: correctly rounded decimal reading (Clinger's fast path), no I/O;
 //! - [`physics`]: the equations, integrators and events, no I/O;

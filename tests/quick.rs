@@ -33,17 +33,24 @@ use crate::util::{columns_of, dump_columns, rocking, root, schema_of, snapshot, 
 
 /// Columns added to a table of the quick study since the reference was
 /// made, with what they add.
-const ADDED: &[(&str, &[&str], &str)] = &[(
-    "capacities.parquet",
-    &[
-        "certified",
-        "certification",
-        "certification_note",
-        "integrator",
-        "rtol",
-    ],
-    "certified capacities, and the integrator that found them",
-)];
+const ADDED: &[(&str, &[&str], &str)] = &[
+    (
+        "capacities.parquet",
+        &[
+            "certified",
+            "certification",
+            "certification_note",
+            "integrator",
+            "rtol",
+        ],
+        "certified capacities, and the integrator that found them",
+    ),
+    (
+        "capacities.parquet",
+        &["pfa_over_pga", "slides_first"],
+        "a block on a building's floor, and one that slides before it rocks",
+    ),
+];
 
 /// Schema, rows and digest of one table's `columns` (all when `None`).
 fn digest(path: &Path, columns: Option<&[String]>) -> String {
