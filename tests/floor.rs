@@ -646,3 +646,83 @@ fn a_floor_study_runs_the_floor_motion_in_every_stage() {
         assert!(stderr(&out).contains(says), "{body}: {}", stderr(&out));
     }
 }
+
+/// Through a building whose floor is a node of its mode (Γφ = 0), the
+/// records' capacities are the ground's: `fragility --direct --im pgv`
+/// gives the ground's lognormal to the bit, and `export --direct` the
+/// ground's fragility file but for its description, which names the floor.
+#[test]
+fn a_node_floor_gives_the_grounds_fragility_in_any_im_and_export() {
+    let dir = tempdir();
+    let few = dir.path().join("few");
+    std::fs::create_dir(&few).unwrap();
+    for id in [
+        "RSN1111_KOBE_NIS000",
+        "RSN1116_KOBE_SHI000",
+        "RSN1148_KOCAELI_ARC000",
+        "RSN1148_KOCAELI_ARC090",
+    ] {
+        let name = format!("{id}.AT2");
+        std::fs::copy(
+            bundled_records().join("far-field").join(&name),
+            few.join(&name),
+        )
+        .unwrap();
+    }
+    let few_s = few.to_str().unwrap();
+    let block = ["--b", "0.1", "--h", "1", "--eps", "0.85"];
+    let pgv = |floor: Option<&str>| {
+        let mut args = vec![
+            "fragility",
+            "--direct",
+            "--records",
+            few_s,
+            "--im",
+            "pgv",
+            "--at",
+            "20,60",
+            "--json",
+        ];
+        args.extend(block);
+        if let Some(f) = floor {
+            args.extend(["--floor", f]);
+        }
+        json(&rocking(&root(), &args))
+    };
+    let (g, n, f) = (
+        pgv(None),
+        pgv(Some("0.5,0.05,0")),
+        pgv(Some("0.5,0.05,1.3")),
+    );
+    assert_eq!((&n["median"], &n["beta"]), (&g["median"], &g["beta"]));
+    assert_ne!(f["median"], g["median"]);
+    let export = |floor: Option<&str>, out: &str| {
+        let out = dir.path().join(out);
+        let mut args = vec![
+            "export",
+            "--format",
+            "nrml",
+            "--direct",
+            "--records",
+            few_s,
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend(block);
+        if let Some(f) = floor {
+            args.extend(["--floor", f]);
+        }
+        let run = rocking(&root(), &args);
+        assert!(run.status.success(), "{}", stderr(&run));
+        std::fs::read_to_string(out.join(rocking::export::nrml::FRAGILITY_FILE)).unwrap()
+    };
+    let (g, n) = (export(None, "ground"), export(Some("0.5,0.05,0"), "node"));
+    assert!(n.contains("on the floor of a building of modes T,zeta,Gamma-phi = 0.5,0.05,0"));
+    let body = |x: &str| {
+        x.lines()
+            .filter(|l| !l.contains("<description>"))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    assert_eq!(body(&g), body(&n));
+}

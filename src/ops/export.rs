@@ -38,6 +38,8 @@ pub struct Request {
     /// The risk investigation time of the job (years).
     pub years: f64,
     pub auto_tol: f64,
+    /// The building whose floor the blocks stand on (`--direct` only).
+    pub floor: Option<crate::floor::Building>,
     pub out: PathBuf,
 }
 
@@ -108,8 +110,13 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
         }],
         Blocks::Inventory(path) => risk::read_inventory(path)?,
     };
-    let (laws, records) =
-        fragility::laws_and_records(&req.from, req.direct, &req.progress, entries.len(), None)?;
+    let (laws, records) = fragility::laws_and_records(
+        &req.from,
+        req.direct,
+        &req.progress,
+        entries.len(),
+        req.floor.as_ref(),
+    )?;
     let mut blocks = Vec::with_capacity(entries.len());
     let mut export = Vec::with_capacity(entries.len());
     for e in entries {
@@ -152,8 +159,11 @@ fn write_files(
     source: &str,
 ) -> Result<Vec<PathBuf>, ExportOpError> {
     let names: Vec<String> = req.states.states().iter().map(|s| s.name.clone()).collect();
+    let floor = req.floor.as_ref().map_or(String::new(), |b| {
+        format!(" on the floor of a building of modes T,zeta,Gamma-phi = {b} (IMs of the ground)")
+    });
     let description = format!(
-        "Damage states of free-standing rigid blocks ({}), {} fit, from {} (rocking {})",
+        "Damage states of free-standing rigid blocks{floor} ({}), {} fit, from {} (rocking {})",
         req.states
             .states()
             .iter()

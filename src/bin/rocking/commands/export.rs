@@ -43,6 +43,9 @@ pub struct Args {
     /// Use the block's own runs under the records: every damage state.
     #[arg(long)]
     direct: bool,
+    /// With --direct: the blocks stand on a building's floor (see `--floor` below).
+    #[command(flatten)]
+    floor: super::args::FloorArgs,
     /// The limit states, lightest first: NAME=X (θmax/α ≥ X) or NAME=overturned.
     #[arg(long, default_value = rocking::damage::DEFAULT, value_parser = parse_states)]
     states: DamageStates,
@@ -105,6 +108,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         hazard: args.hazard.clone(),
         years: args.years,
         auto_tol: args.auto_tol,
+        floor: args.floor.building()?,
         out: args.out.clone(),
     };
     let written = export::export(&req)?;
