@@ -28,6 +28,15 @@ use crate::sdof::{self, SdofError};
 /// every h is then off by at most 1 − cos(πh/T) ≤ 0.31 % of its amplitude.
 pub const SAMPLES_PER_PERIOD: f64 = 40.0;
 
+/// After the record the ground is still but the building rings on: the
+/// floor motion goes on until the slowest-decaying mode that moves the
+/// floor (Γφ ≠ 0) has decayed to this share of its amplitude, e^(−ζωt).
+pub const RING_DOWN: f64 = 0.01;
+
+/// The longest the free vibration after the record is followed (s): an
+/// undamped or barely damped mode is cut there.
+pub const MAX_RING_S: f64 = 60.0;
+
 /// The most sub-samples a record step is cut into (modes shorter than 16
 /// record steps over 40 are sampled more coarsely; they respond almost
 /// quasi-statically and carry little of the floor's motion).
@@ -115,11 +124,33 @@ impl Building {
         }
     }
 
+    /// How long the floor moves on after the record (s): until every mode
+    /// with Γφ ≠ 0 has decayed to [`RING_DOWN`] (at most [`MAX_RING_S`]).
+    pub fn ring_s(&self) -> f64 {
+        self.modes
+            .iter()
+            .filter(|m| m.gamma_phi != 0.0)
+            .map(|m| {
+                let decay = m.zeta * std::f64::consts::TAU / m.period_s;
+                (-RING_DOWN.ln() / decay).min(MAX_RING_S)
+            })
+            .fold(0.0, f64::max)
+    }
+
     /// The floor's absolute acceleration under the ground record `accel`
     /// (g, sampled every `dt_s`, the building at rest at its first sample),
-    /// in g, sampled every `dt_s / n` with n = [`Building::substeps`].
+    /// in g, sampled every `dt_s / n` with n = [`Building::substeps`], and
+    /// on after the record (the ground still) for [`Building::ring_s`].
     pub fn floor_motion(&self, accel: &[f64], dt_s: f64) -> Result<FloorMotion, FloorError> {
         let n = self.substeps(dt_s);
+        let ring = if accel.is_empty() {
+            0
+        } else {
+            (self.ring_s() / dt_s).ceil() as usize
+        };
+        let still = std::iter::repeat_n(0.0, ring);
+        let ground: Vec<f64> = accel.iter().copied().chain(still).collect();
+        let accel = &ground[..];
         let h = dt_s / n as f64;
         let steps = self
             .modes
@@ -157,7 +188,15 @@ impl Building {
                 out.push(floor(a1, &states));
             }
         }
+        let peak = |a: &[f64]| a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let ground_peak = peak(accel);
         Ok(FloorMotion {
+            // A record of zeros moves no floor: its amplification is taken as 1.
+            pfa_over_pga: if ground_peak > 0.0 {
+                peak(&out) / ground_peak
+            } else {
+                1.0
+            },
             accel_g: out,
             dt_s: h,
             substeps: n,
@@ -168,8 +207,12 @@ impl Building {
 /// A floor's absolute acceleration history.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FloorMotion {
-    /// Samples (g), the first at the record's first.
+    /// Samples (g), the first at the record's first, the last after the
+    /// building's ring-down.
     pub accel_g: Vec<f64>,
+    /// The floor's peak over the ground record's, PFA/PGA (1 for a record
+    /// of zeros): the same at every scale of the record.
+    pub pfa_over_pga: f64,
     /// Its step (s): the record's over `substeps`.
     pub dt_s: f64,
     pub substeps: usize,
@@ -250,8 +293,8 @@ mod tests {
                 let b = one(period, zeta, gamma_phi);
                 assert_eq!(b.substeps(dt), 1);
                 let f = b.floor_motion(&ground, dt).unwrap();
-                assert_eq!(f.accel_g.len(), n);
-                let amplitude = f.accel_g[settle..]
+                assert_eq!(f.accel_g.len(), n + (b.ring_s() / dt).ceil() as usize);
+                let amplitude = f.accel_g[settle..n]
                     .iter()
                     .fold(0.0f64, |m, a| m.max(a.abs()));
                 // 1 + Γφ r²/(1 − r² + 2iζr) = (x + iy)/(d + iy).
@@ -379,6 +422,38 @@ mod tests {
         for (a, b) in fs.accel_g.iter().zip(&f.accel_g) {
             assert!((a - 2.5 * b).abs() < 1e-13);
         }
+    }
+
+    /// After the record the building rings on, the ground still: the floor
+    /// motion lasts ln(1/0.01)/(ζω) longer (by hand: 7.33 s for T = 0.5 s,
+    /// ζ = 5 %), and its envelope decays as e^(−ζωt): the peak over the
+    /// last period is within a factor 1.5 of 1 % of the peak over the first
+    /// period after the record, times e^(ζωT) (one period of decay apart).
+    #[test]
+    fn the_building_rings_down_after_the_record() {
+        let (period, zeta, dt) = (0.5, 0.05, 0.005);
+        let w = TAU / period;
+        let b = one(period, zeta, 1.3);
+        let ring = (100f64).ln() / (zeta * w);
+        assert!((b.ring_s() - 7.329).abs() < 1e-3, "{}", b.ring_s());
+        let ground: Vec<f64> = (0..2000).map(|k| (9.0 * k as f64 * dt).sin()).collect();
+        let f = b.floor_motion(&ground, dt).unwrap();
+        let extra = (ring / dt).ceil() as usize;
+        assert_eq!(f.accel_g.len(), ground.len() + extra);
+        let per = (period / dt) as usize;
+        let peak = |a: &[f64]| a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let first = peak(&f.accel_g[ground.len()..ground.len() + per]);
+        let last = peak(&f.accel_g[f.accel_g.len() - per..]);
+        let expected = first * RING_DOWN * (zeta * w * period).exp();
+        assert!(first > 0.1, "the building rings: {first}");
+        assert!(
+            last < 1.5 * expected && last > expected / 1.5,
+            "{last} vs {expected}"
+        );
+        // A floor at a node of every mode does not ring: no samples added.
+        assert_eq!(one(0.5, 0.05, 0.0).ring_s(), 0.0);
+        // An undamped mode rings at most MAX_RING_S.
+        assert_eq!(one(0.5, 0.0, 1.0).ring_s(), MAX_RING_S);
     }
 
     #[test]

@@ -582,6 +582,8 @@ fn a_floor_study_runs_the_floor_motion_in_every_stage() {
     assert!(stderr(&out).contains("add --direct"), "{}", stderr(&out));
     args.push("--direct");
     let by_study = json(&rocking(dir.path(), &args));
+    assert_eq!(by_study["floor"], "0.5,0.05,1.3; 0.2,0.05,-0.3");
+    assert_eq!(by_study["source"], "direct");
     let mut args = base.to_vec();
     args.extend([
         "--from",
@@ -614,6 +616,22 @@ fn a_floor_study_runs_the_floor_motion_in_every_stage() {
         assert_eq!(share, over as f64 / 3.0, "PGA {x}");
     }
 
+    let pulses = dir.path().join("pulse-floor.toml");
+    std::fs::write(
+        &pulses,
+        "[pulses]\nshape = \"rect\"\nf = [1.0]\neta = [0.5]\neps = [0.9]\n\
+         [floor]\nmodes = [[0.5, 0.05, 1.3]]\n",
+    )
+    .unwrap();
+    let out = rocking(
+        dir.path(),
+        &["run", pulses.to_str().unwrap(), "--outputs", out_s],
+    );
+    assert!(
+        stderr(&out).contains("runs no records: remove [floor]"),
+        "{}",
+        stderr(&out)
+    );
     for (body, says) in [
         (
             "[floor]\nmodes = [[0.5, 0.05]]\n",

@@ -9,6 +9,10 @@ use crate::study::StudyData;
 
 /// The fragility of an example block, from this study's fit and the paper's.
 pub(super) fn fragility_example(d: &StudyData) -> Vec<Figure> {
+    // A floor study's capacities are in its floor's peak, not the paper's PGA.
+    if d.records_plan().floor.is_some() {
+        return Vec::new();
+    }
     let block = fragility::example_block();
     let pgas = fragility::example_pgas();
     let mut lines = Vec::new();

@@ -146,7 +146,8 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
         blocks.push((e, f));
     }
     let source = blocks.first().map_or("", |(_, f)| f.source.as_str());
-    let files = write_files(req, hazard.as_ref(), &export, im, source)?;
+    let floor = records.as_ref().and_then(|r| r.floor());
+    let files = write_files(req, hazard.as_ref(), &export, im, source, floor)?;
     Ok(Written { files, blocks })
 }
 
@@ -157,9 +158,10 @@ fn write_files(
     export: &[Entry],
     im: Im,
     source: &str,
+    floor: Option<&crate::floor::Building>,
 ) -> Result<Vec<PathBuf>, ExportOpError> {
     let names: Vec<String> = req.states.states().iter().map(|s| s.name.clone()).collect();
-    let floor = req.floor.as_ref().map_or(String::new(), |b| {
+    let floor = floor.map_or(String::new(), |b| {
         format!(" on the floor of a building of modes T,zeta,Gamma-phi = {b} (IMs of the ground)")
     });
     let description = format!(

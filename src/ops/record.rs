@@ -111,10 +111,9 @@ pub fn load_on(path: &Path, building: Option<&Building>) -> Result<LoadedRecord,
                     path: path.into(),
                     source,
                 })?;
-            let ground_pga_g = peak(&ground, ground_dt_s);
             let on = OnFloor {
-                ground_pga_g,
-                pfa_over_pga: peak(&f.accel_g, f.dt_s) / ground_pga_g,
+                ground_pga_g: peak(&ground, ground_dt_s),
+                pfa_over_pga: f.pfa_over_pga,
                 substeps: f.substeps,
             };
             (f.accel_g, f.dt_s, Some(on))

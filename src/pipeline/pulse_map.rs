@@ -90,6 +90,7 @@ fn refuse_stray_sections(raw: &RawPipeline) -> Result<(), String> {
         ("[convergence]", raw.convergence.is_some()),
         ("[uncertainty]", raw.uncertainty.is_some()),
         ("[example]", raw.example.is_some()),
+        ("[floor]", raw.floor.is_some()),
     ];
     if let Some((section, _)) = stray.iter().find(|(_, present)| *present) {
         return Err(format!(

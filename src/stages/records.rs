@@ -47,8 +47,7 @@ pub fn felt(
     let f = building
         .floor_motion(&r.accel_g, r.dt_s)
         .map_err(|e| PhysicsError::BadInput(format!("its floor motion: {e}")))?;
-    let peak = |a: &[f64], dt| crate::motion::peak(a, dt).map_or(0.0, |p| p.pga_g);
-    let ratio = peak(&f.accel_g, f.dt_s) / peak(&r.accel_g, r.dt_s);
+    let ratio = f.pfa_over_pga;
     Ok((Excitation::from_samples(f.accel_g, f.dt_s)?, Some(ratio)))
 }
 

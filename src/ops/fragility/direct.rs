@@ -63,6 +63,8 @@ struct DirectRecord {
 /// The records a block is run through with `--direct`, read once.
 pub struct DirectRecords {
     records: Vec<DirectRecord>,
+    /// The building whose floor the block stands on, if any.
+    floor: Option<Building>,
     progress: DirectProgress,
     counts: Counts,
     /// Each record's intensity measures, in the same order, computed the
@@ -117,9 +119,8 @@ impl DirectRecords {
                         record: r.record_id.clone(),
                         source,
                     })?;
-                let exc = Excitation::new(&f.accel_g, f.dt_s).map_err(physics)?;
-                let peak = |a: &[f64], dt| crate::motion::peak(a, dt).map_or(0.0, |p| p.pga_g);
-                let ratio = peak(&f.accel_g, f.dt_s) / peak(&r.accel_g, r.dt_s);
+                let ratio = f.pfa_over_pga;
+                let exc = Excitation::from_samples(f.accel_g, f.dt_s).map_err(physics)?;
                 Ok(DirectRecord {
                     id: r.record_id,
                     exc,
@@ -129,6 +130,7 @@ impl DirectRecords {
             .collect::<Result<_, FragilityError>>()?;
         Ok(DirectRecords {
             records,
+            floor: floor.cloned(),
             progress,
             counts: Counts::default(),
             ims: std::sync::OnceLock::new(),
@@ -248,9 +250,10 @@ impl DirectRecords {
             .map(|c| (c, why))
     }
 
-    /// Whether the block stands on a floor.
-    pub fn on_floor(&self) -> bool {
-        self.records.iter().any(|r| r.ground.is_some())
+    /// The building whose floor the block stands on (`--floor`, or the
+    /// study's `[floor]`); `None` on the ground.
+    pub fn floor(&self) -> Option<&Building> {
+        self.floor.as_ref()
     }
 
     /// Says that `blocks` blocks will be run, so that the progress counts

@@ -100,8 +100,9 @@ pub enum FragilityError {
     )]
     FloorTwice(String),
     #[error(
-        "{0} is a study of blocks on a building's floor (`[floor]`): its regression is in the \
-         floor's η; add --direct to run its records through its building for this block"
+        "{0} is a study of blocks on a building's floor (`[floor]`): its fit and tables are \
+         not carried to another block; add --direct to run its records through its building \
+         for this one"
     )]
     FloorStudy(String),
     #[error("--direct: record {record}")]

@@ -104,13 +104,17 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
     let im = req.im;
     let (source, records) =
         laws_and_records(&req.from, req.direct, &req.progress, 1, req.floor.as_ref())?;
+    let floor = records
+        .as_ref()
+        .and_then(|r| r.floor())
+        .map(|b| b.to_string());
     let direct = match records {
         Some(records) => Some(records.thresholds(&block, im, req.auto_tol)?),
         None => None,
     };
     let (median, beta, eta_c_median, name, mut warnings) = if im == Im::Pga {
         // On a floor only the records run through the building know the block.
-        let law = match req.floor {
+        let law = match floor {
             Some(_) => Err(FragilityError::FloorNeedsDirect {
                 from: source.name.clone(),
             }),
@@ -184,7 +188,7 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
         records: direct.as_ref().map(|(t, _)| t.len()),
         model: direct.map(|(_, m)| m),
         points,
-        floor: req.floor.as_ref().map(|b| b.to_string()),
+        floor,
         mu: req.mu,
         slides_first,
         warnings,

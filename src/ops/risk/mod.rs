@@ -396,7 +396,7 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
                 .collect(),
         };
         warnings.extend(extrapolated(&site_infos));
-        let assessed = block_info(e, &block, req.floor.as_ref());
+        let assessed = block_info(e, &block, records.as_ref().and_then(|r| r.floor()));
         warnings.extend(sliding_warning(&assessed));
         out.push(Assessment {
             block: assessed,

@@ -112,7 +112,7 @@ pub fn assess_states(
                     .collect(),
             })
             .collect();
-        let assessed = super::block_info(&e, &block, req.floor.as_ref());
+        let assessed = super::block_info(&e, &block, records.as_ref().and_then(|r| r.floor()));
         f.warnings.extend(super::sliding_warning(&assessed));
         out.push(StatesAssessment {
             block: assessed,

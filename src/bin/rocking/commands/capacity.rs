@@ -278,8 +278,15 @@ fn refinement_runs(certified: &Certified) -> usize {
 fn print_text(args: &Args, rec: &LoadedRecord, block: &AskedBlock, certified: &Certified) {
     let (spec, cap) = (&block.named.spec, &certified.capacity);
     println!(
-        "record      {} ({} samples, dt {} s)",
-        rec.record_id, rec.npts, rec.exc.dt_s
+        "record      {} ({} samples, dt {} s{})",
+        rec.record_id,
+        rec.npts,
+        rec.exc.dt_s,
+        if rec.floor.is_some() {
+            ": its floor motion's"
+        } else {
+            ""
+        }
     );
     if let Some(f) = rec.floor {
         println!(

@@ -179,8 +179,16 @@ fn print_text(
             rec.exc.dt_s
         ),
         None => println!(
-            "record      {} ({} samples, dt {} s, PGA {:.4} g)",
-            rec.record_id, rec.npts, rec.exc.dt_s, rec.pga_g
+            "record      {} ({} samples, dt {} s, {} {:.4} g)",
+            rec.record_id,
+            rec.npts,
+            rec.exc.dt_s,
+            if rec.floor.is_some() {
+                "its floor motion's, PFA"
+            } else {
+                "PGA"
+            },
+            rec.pga_g
         ),
     }
     if let Some(f) = rec.floor {
