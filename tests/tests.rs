@@ -35,6 +35,8 @@
 //! - `pulse`: pulses and `escape`: the walls against Eqs. 3, 5 and 6, the
 //!   full-cycle modes against a piecewise closed form, the pulse-map
 //!   pipeline, refusals.
+//! - `python`: the Python package's pytest suite against the command line's
+//!   JSON, and the README's two Python lines (ROCKING_PYPKG; CI sets it).
 //! - `quick`: the quick study unchanged from before the redesign, and the
 //!   analyst queries of outputs/README.md checked against its tables
 //!   (ROCKING_SLOW=1).
@@ -65,6 +67,7 @@ mod ims;
 mod ingest;
 mod physics;
 mod pulse;
+mod python;
 mod quick;
 mod reduce;
 mod risk;

@@ -26,6 +26,46 @@ pub struct NamedSpec {
     pub spec: RunSpec,
 }
 
+/// How a block is to be run, as a user asks: the model and its integrator,
+/// the linearisation's accepted error and the overturning criterion.
+#[derive(Debug, Clone, Copy)]
+pub struct Asked {
+    pub model: crate::physics::ModelChoice,
+    pub solver: crate::physics::Solver,
+    pub auto_tol: f64,
+    pub overturn: crate::physics::Overturn,
+}
+
+impl NamedSpec {
+    /// The block `name` (p, ε and α when known) run as `asked`, its model
+    /// resolved and its run specification at η = 1 checked; with why that
+    /// model.
+    pub fn ask(
+        name: String,
+        p: f64,
+        eps: f64,
+        alpha_rad: Option<f64>,
+        asked: &Asked,
+    ) -> Result<(NamedSpec, String), PhysicsError> {
+        let (model, why) = asked
+            .model
+            .resolve(alpha_rad, asked.solver, asked.auto_tol)?;
+        let spec = RunSpec {
+            overturn: asked.overturn,
+            ..RunSpec::new(p, eps, 1.0, model)
+        };
+        spec.validate()?;
+        Ok((
+            NamedSpec {
+                name,
+                alpha_rad,
+                spec,
+            },
+            why,
+        ))
+    }
+}
+
 /// A case that failed, named.
 #[derive(Debug, thiserror::Error)]
 pub enum CapacityError {

@@ -12,5 +12,6 @@ pub mod export;
 pub mod fragility;
 pub mod im_fragility;
 pub mod record;
+pub mod reports;
 pub mod risk;
 pub mod submit;

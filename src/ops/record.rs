@@ -100,17 +100,47 @@ pub fn load(path: &Path) -> Result<LoadedRecord, RecordError> {
 /// Reads one AT2 file and normalises it, or the motion of the floor of
 /// `building` under it.
 pub fn load_on(path: &Path, building: Option<&Building>) -> Result<LoadedRecord, RecordError> {
-    let (ground, ground_dt_s) = read_samples(path)?;
+    let (ground, dt_s) = read_samples(path)?;
+    let record_id = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    from_samples(record_id, ground, dt_s, building).map_err(|e| match e {
+        SampleError::Samples(source) => RecordError::Samples {
+            path: path.into(),
+            source,
+        },
+        SampleError::Floor(source) => RecordError::Floor {
+            path: path.into(),
+            source,
+        },
+    })
+}
+
+/// Why samples cannot be a record.
+#[derive(Debug, thiserror::Error)]
+pub enum SampleError {
+    #[error(transparent)]
+    Samples(PhysicsError),
+    #[error("its floor motion")]
+    Floor(#[source] crate::floor::FloorError),
+}
+
+/// A ground record given by its samples (g) and step (s), named
+/// `record_id`, normalised; or the motion of the floor of `building` under it.
+pub fn from_samples(
+    record_id: String,
+    ground: Vec<f64>,
+    ground_dt_s: f64,
+    building: Option<&Building>,
+) -> Result<LoadedRecord, SampleError> {
     let peak = |a: &[f64], dt| crate::motion::peak(a, dt).map_or(0.0, |p| p.pga_g);
     let (accel_g, dt_s, floor) = match building {
         None => (ground, ground_dt_s, None),
         Some(b) => {
             let f = b
                 .floor_motion(&ground, ground_dt_s)
-                .map_err(|source| RecordError::Floor {
-                    path: path.into(),
-                    source,
-                })?;
+                .map_err(SampleError::Floor)?;
             let on = OnFloor {
                 ground_pga_g: peak(&ground, ground_dt_s),
                 pfa_over_pga: f.pfa_over_pga,
@@ -121,15 +151,9 @@ pub fn load_on(path: &Path, building: Option<&Building>) -> Result<LoadedRecord,
     };
     let pga_g = peak(&accel_g, dt_s);
     let npts = accel_g.len();
-    let exc = Excitation::from_samples(accel_g, dt_s).map_err(|source| RecordError::Samples {
-        path: path.into(),
-        source,
-    })?;
+    let exc = Excitation::from_samples(accel_g, dt_s).map_err(SampleError::Samples)?;
     Ok(LoadedRecord {
-        record_id: path
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default(),
+        record_id,
         npts,
         pga_g,
         exc,

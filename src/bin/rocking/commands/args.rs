@@ -410,21 +410,14 @@ impl BlockArgs {
         eps: f64,
         alpha: Option<f64>,
     ) -> anyhow::Result<AskedBlock> {
-        let (model, why) =
-            ModelChoice::from(self.model).resolve(alpha, self.solver.solver()?, self.auto_tol)?;
-        let spec = rocking::physics::RunSpec {
+        let asked = rocking::ops::capacity::Asked {
+            model: ModelChoice::from(self.model),
+            solver: self.solver.solver()?,
+            auto_tol: self.auto_tol,
             overturn: self.overturn,
-            ..rocking::physics::RunSpec::new(p, eps, 1.0, model)
         };
-        spec.validate()?;
-        Ok(AskedBlock {
-            named: NamedSpec {
-                name,
-                alpha_rad: alpha,
-                spec,
-            },
-            why,
-        })
+        let (named, why) = NamedSpec::ask(name, p, eps, alpha, &asked)?;
+        Ok(AskedBlock { named, why })
     }
 }
 

@@ -5,14 +5,13 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use clap::ValueEnum;
-use rocking::ida::{Certified, ImGrid, RunKind, Spacing};
+use rocking::ida::{Certified, ImGrid, Spacing};
 use rocking::im;
-use rocking::label::Label;
 use rocking::ops::capacity::{self, NamedSpec};
 use rocking::ops::record::LoadedRecord;
+use rocking::ops::reports::{self, CapacityReport, Scene, Search};
 use rocking::stages::{Progress, Reporter};
 use rocking::tables::sweep::CapacityRow;
-use serde::Serialize;
 
 use super::args::{AskedBlock, BlockArgs};
 use crate::reporter::Terminal;
@@ -69,55 +68,6 @@ pub struct Args {
 enum SpacingArg {
     Log,
     Linear,
-}
-
-#[derive(Serialize)]
-struct Report<'a> {
-    record_id: &'a str,
-    /// The block's name: `b<b>xh<h>` for one given by its dimensions, else empty.
-    block: &'a str,
-    p: f64,
-    eps: f64,
-    model: &'static str,
-    alpha_rad: Option<f64>,
-    overturn: String,
-    /// With respect to the peak of the motion the block feels: the
-    /// record's PGA, or on a floor the floor motion's peak (PFA).
-    eta_c: Option<f64>,
-    /// A_g at the capacity in units of αg (= 1/η_c).
-    pga_scale_c: Option<f64>,
-    /// The peak acceleration the block feels at the capacity (g), α/η_c,
-    /// when α is known: the PGA, or on a floor the PFA.
-    pga_c_g: Option<f64>,
-    /// On a floor: the building's modes as --floor takes them.
-    floor: Option<String>,
-    /// On a floor: the floor motion's peak over the ground record's,
-    /// PFA/PGA, as recorded (the same at every scale).
-    pfa_over_pga: Option<f64>,
-    /// On a floor: the ground's PGA at the capacity (g), pga_c_g / pfa_over_pga.
-    ground_pga_c_g: Option<f64>,
-    /// The base's friction coefficient, with --mu.
-    mu: Option<f64>,
-    /// With --mu: whether the block slides before it rocks (μ < b/h).
-    slides_first: Option<bool>,
-    eta_survived: f64,
-    level_survived: f64,
-    level_overturned: Option<f64>,
-    runs: usize,
-    refinement_runs: usize,
-    /// Whether the decisive verdicts were confirmed, and how.
-    certified: bool,
-    certification: String,
-    /// The integrator: exact (linearised), taylor or dp5 (nonlinear).
-    integrator: &'static str,
-    /// The nonlinear integrator's tolerance of the search reported.
-    rtol: Option<f64>,
-    /// Runs spent on the certification (checks and searches redone).
-    certification_runs: usize,
-    tol: f64,
-    levels: usize,
-    eta_min: f64,
-    spacing: &'static str,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -196,65 +146,23 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             eprintln!("{total} capacities, one JSON object a line (--json says so explicitly)");
         }
         let mut stdout = std::io::stdout().lock();
+        let search = Search {
+            grid,
+            tol: args.tol,
+        };
         for (_, rec, block, slides, certified) in cases {
-            let mut report = report(&args, rec, &block.named, certified, spacing);
-            report.slides_first = slides;
+            let scene = Scene {
+                floor: Some(floor_text(&args.block.scene.floor.floor)),
+                mu: args.block.scene.mu,
+                slides_first: slides,
+            };
+            let report = CapacityReport::new(rec, &block.named, certified, &search, &scene);
             writeln!(stdout, "{}", serde_json::to_string(&report)?)?;
         }
         return Ok(());
     }
     print_text(&args, &records[0], &blocks[0], &results[0]);
     Ok(())
-}
-
-/// The JSON line of one capacity.
-fn report<'a>(
-    args: &Args,
-    rec: &'a LoadedRecord,
-    block: &'a NamedSpec,
-    certified: &Certified,
-    spacing: Spacing,
-) -> Report<'a> {
-    let (spec, cap) = (&block.spec, &certified.capacity);
-    let pga_c_g = cap
-        .eta_c
-        .zip(block.alpha_rad)
-        .map(|(e, a)| im::pga_of_eta(e, a));
-    let on_floor = rec.floor;
-    Report {
-        record_id: &rec.record_id,
-        block: &block.name,
-        p: spec.p,
-        eps: spec.eps,
-        model: spec.model.equation.kind().label(),
-        alpha_rad: block.alpha_rad,
-        overturn: spec.overturn.to_string(),
-        eta_c: cap.eta_c,
-        pga_scale_c: cap.eta_c.map(|e| 1.0 / e),
-        pga_c_g,
-        floor: on_floor.map(|_| floor_text(&args.block.scene.floor.floor)),
-        pfa_over_pga: on_floor.map(|f| f.pfa_over_pga),
-        ground_pga_c_g: on_floor.zip(pga_c_g).map(|(f, pga)| pga / f.pfa_over_pga),
-        mu: args.block.scene.mu,
-        slides_first: None,
-        eta_survived: cap.eta_survived,
-        level_survived: cap.level_survived,
-        level_overturned: cap.level_overturned,
-        runs: cap.runs(),
-        refinement_runs: refinement_runs(certified),
-        certified: certified.certification.certified(),
-        certification: certified.certification.to_string(),
-        integrator: certified.model.integrator.name(),
-        rtol: certified.model.integrator.tol(),
-        certification_runs: certified.extra.runs,
-        tol: args.tol,
-        levels: args.levels,
-        eta_min: args.eta_min,
-        spacing: match spacing {
-            Spacing::Log => "log",
-            Spacing::Linear => "linear",
-        },
-    }
 }
 
 /// The modes as `--floor` takes them, `; ` between.
@@ -264,14 +172,6 @@ fn floor_text(modes: &[rocking::floor::Mode]) -> String {
         .map(|m| m.to_string())
         .collect::<Vec<_>>()
         .join("; ")
-}
-
-fn refinement_runs(certified: &Certified) -> usize {
-    let points = &certified.capacity.points;
-    points
-        .iter()
-        .filter(|q| q.kind == RunKind::Refinement)
-        .count()
 }
 
 /// One capacity as text.
@@ -329,7 +229,7 @@ fn print_text(args: &Args, rec: &LoadedRecord, block: &AskedBlock, certified: &C
             args.eta_min
         ),
     }
-    let refinements = refinement_runs(certified);
+    let refinements = reports::refinement_runs(certified);
     println!(
         "runs        {} ({} levels, {} refinements){}",
         cap.runs(),

@@ -4,9 +4,9 @@ use std::path::PathBuf;
 
 use rocking::im;
 use rocking::label::Label;
+use rocking::ops::reports::{Scene, SimulateReport};
 use rocking::physics::{self, Recorder};
 use rocking::tables;
-use serde::Serialize;
 
 use super::args::BlockArgs;
 
@@ -50,31 +50,6 @@ pub struct Args {
     #[arg(long, value_name = "N", default_value_t = 1,
           value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
     history_every: usize,
-}
-
-#[derive(Serialize)]
-struct Report<'a> {
-    record_id: &'a str,
-    p: f64,
-    eps: f64,
-    eta: f64,
-    model: &'static str,
-    alpha_rad: Option<f64>,
-    overturn: String,
-    theta_max_over_alpha: f64,
-    overturned: bool,
-    overturn_time_s: Option<f64>,
-    overturn_after_record: bool,
-    impacts: u64,
-    first_uplift_s: Option<f64>,
-    stop: &'static str,
-    /// On a floor: the floor motion's peak over the ground record's, PFA/PGA
-    /// (η is then with respect to the floor's peak).
-    pfa_over_pga: Option<f64>,
-    /// The base's friction coefficient, with --mu.
-    mu: Option<f64>,
-    /// With --mu: whether the block slides before it rocks (μ < b/h).
-    slides_first: Option<bool>,
 }
 
 /// `--history` is a .csv or .parquet file that is not the record read.
@@ -134,25 +109,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         ];
         tables::history::write(path, &recorder.points, &settings)?;
     }
-    let report = Report {
-        record_id: &rec.record_id,
-        p: spec.p,
-        eps: spec.eps,
-        eta: spec.eta,
-        model: spec.model.equation.kind().label(),
-        alpha_rad: block_alpha,
-        overturn: spec.overturn.to_string(),
-        theta_max_over_alpha: out.max_abs_x,
-        overturned: out.overturned(),
-        overturn_time_s: out.overturn_time_s,
-        overturn_after_record: out.overturn_after_record,
-        impacts: out.impacts,
-        first_uplift_s: out.first_uplift_s,
-        stop: out.stop.label(),
-        pfa_over_pga: rec.floor.map(|f| f.pfa_over_pga),
+    let scene = Scene {
+        floor: None,
         mu: args.block.scene.mu,
         slides_first,
     };
+    let report = SimulateReport::new(&rec, &spec, block_alpha, &out, &scene);
     if args.block.json {
         println!("{}", serde_json::to_string(&report)?);
         return Ok(());

@@ -1,0 +1,242 @@
+"""The Python package against the command line: the same inputs give the
+same JSON, float for float (both print serde's shortest round-trip text,
+read back exactly). Run by tests/python.rs, which sets ROCKING_BIN (the
+`rocking` binary built with the package) and runs from the repository root.
+"""
+
+import json
+import math
+import os
+import subprocess
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import polars as pl
+import pytest
+
+import rocking
+
+ROOT = Path(os.environ.get("ROCKING_ROOT", Path(__file__).resolve().parents[2]))
+BIN = os.environ.get("ROCKING_BIN", str(ROOT / "target" / "release" / "rocking"))
+FAR = ROOT / "records" / "fema-p695" / "far-field"
+KOBE = FAR / "RSN1111_KOBE_NIS000.AT2"
+HAZARD = ROOT / "records" / "hazard" / "synthetic-site.csv"
+
+
+def cli(*args):
+    out = subprocess.run([BIN, *map(str, args)], cwd=ROOT, capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    return out.stdout
+
+
+def cli_json(*args):
+    return json.loads(cli(*args, "--json"))
+
+
+def cli_lines(*args):
+    return [json.loads(line) for line in cli(*args, "--json").splitlines()]
+
+
+def same(a, b, skip=()):
+    """Equal dicts, floats to the bit (NaN-free JSON: == is bitwise here)."""
+    assert set(a) == set(b), set(a) ^ set(b)
+    for k in a:
+        if k in skip:
+            continue
+        assert a[k] == b[k], (k, a[k], b[k])
+
+
+def plain_at2(path):
+    """An AT2 reader of its own (the bundled files' layout): skip four lines, read every token."""
+    lines = Path(path).read_text().splitlines()
+    header = lines[3]
+    dt = float(header.split("DT=")[1].split()[0])
+    return np.array([float(t) for line in lines[4:] for t in line.split()]), dt
+
+
+def test_read_at2_is_the_file():
+    acc, dt = rocking.read_at2(KOBE)
+    ref, ref_dt = plain_at2(KOBE)
+    assert acc.dtype == np.float64 and acc.ndim == 1
+    assert dt == ref_dt == 0.01
+    assert np.array_equal(acc, ref)
+
+
+@pytest.mark.parametrize(
+    "py, args",
+    [
+        (dict(p=2.0, eps=0.7), ["--p", "2", "--eps", "0.7"]),
+        (
+            dict(b=0.2, h=0.9, eps="housner", model="auto"),
+            ["--b", "0.2", "--h", "0.9", "--eps", "housner", "--model", "auto"],
+        ),
+        (
+            dict(width=0.6, height=2.0, eps=0.8, model="nonlinear", integrator="dp5", rtol=1e-9),
+            ["--width", "0.6", "--height", "2", "--eps", "0.8", "--model", "nonlinear",
+             "--integrator", "dp5", "--rtol", "1e-9"],
+        ),
+        (
+            dict(p=1.5, eps=0.9, alpha=0.15, overturn="escape", tol=1e-3, levels=80, eta_min=0.01,
+                 spacing="linear"),
+            ["--p", "1.5", "--eps", "0.9", "--alpha", "0.15", "--overturn", "escape", "--tol",
+             "1e-3", "--levels", "80", "--eta-min", "0.01", "--spacing", "linear"],
+        ),
+        (
+            dict(b=0.3, h=1.0, eps=0.75, floor=[(0.5, 0.05, 1.3), (0.2, 0.05, -0.3)], mu=0.4),
+            ["--b", "0.3", "--h", "1", "--eps", "0.75", "--floor", "0.5,0.05,1.3", "--floor",
+             "0.2,0.05,-0.3", "--mu", "0.4"],
+        ),
+    ],
+)
+def test_capacity_is_the_commands(py, args):
+    ours = rocking.capacity(KOBE, **py)
+    theirs = cli_json("capacity", "--record", KOBE, *args)
+    same(ours, theirs)
+    # The same record as an array: the same capacity (its id aside).
+    acc, dt = rocking.read_at2(KOBE)
+    from_array = rocking.capacity(acc, dt, record_id="RSN1111_KOBE_NIS000", **py)
+    same(from_array, theirs)
+
+
+def test_simulate_is_the_commands():
+    for py, args in [
+        (dict(p=2.0, eps=0.7, eta=0.3), ["--p", "2", "--eps", "0.7", "--eta", "0.3"]),
+        (dict(b=0.2, h=1.0, eps=0.9, pga=0.4, model="auto"),
+         ["--b", "0.2", "--h", "1", "--eps", "0.9", "--pga", "0.4", "--model", "auto"]),
+        (dict(b=0.2, h=1.0, eps=0.9, pga=0.1, floor=[(0.5, 0.05, 1.3)]),
+         ["--b", "0.2", "--h", "1", "--eps", "0.9", "--pga", "0.1", "--floor", "0.5,0.05,1.3"]),
+    ]:
+        same(rocking.simulate(KOBE, **py), cli_json("simulate", "--record", KOBE, *args))
+
+
+def test_a_batch_is_the_commands_batch():
+    blocks = [dict(p=2.0, eps=0.7), dict(b=0.15, h=1.0, eps=0.85, model="auto")]
+    table = rocking.capacities(FAR, blocks)
+    theirs = cli_lines("capacity", "--record", FAR, "--p", "2", "--eps", "0.7")
+    theirs2 = cli_lines("capacity", "--record", FAR, "--b", "0.15", "--h", "1", "--eps", "0.85",
+                        "--model", "auto")
+    assert table.height == 88
+    rows = table.to_dicts()
+    for i, (a, b) in enumerate(zip(theirs, theirs2)):
+        same(rows[2 * i], a)
+        same(rows[2 * i + 1], b)
+    # Arrays in, as a dict: the same capacities.
+    recs = {p.stem: rocking.read_at2(p) for p in sorted(FAR.glob("*.AT2"))[:5]}
+    t2 = rocking.capacities(recs, blocks[:1])
+    assert t2["eta_c"].to_list() == [r["eta_c"] for r in theirs[:5]]
+    assert t2["record_id"].to_list() == list(recs)
+
+
+def test_fragility_and_risk_are_the_commands():
+    same(
+        rocking.fragility(0.2, 0.9, eps=0.85, pga=[0.1, 0.3, 0.6]),
+        cli_json("fragility", "--b", "0.2", "--h", "0.9", "--eps", "0.85", "--pga", "0.1,0.3,0.6"),
+    )
+    same(
+        rocking.fragility(0.1, 1.0, eps=0.9, im="pgv", at=[20, 60], direct=True, records=FAR),
+        cli_json("fragility", "--b", "0.1", "--h", "1", "--eps", "0.9", "--im", "pgv", "--at",
+                 "20,60", "--direct", "--records", FAR),
+    )
+    same(
+        rocking.risk(HAZARD, b=0.2, h=0.9, eps=0.85, mu=0.3),
+        cli_json("risk", "--hazard", HAZARD, "--b", "0.2", "--h", "0.9", "--eps", "0.85", "--mu",
+                 "0.3"),
+    )
+    inv = ROOT / "records" / "hazard" / "museum-inventory.csv"
+    ours = rocking.risk(HAZARD, inventory=inv)
+    theirs = json.loads(cli("risk", "--hazard", HAZARD, "--inventory", inv, "--json", "--out",
+                            "/tmp/rocking-pytest-risk.parquet"))
+    assert len(ours) == len(theirs) == 6
+    for a, b in zip(ours, theirs):
+        same(a, b)
+    # The hazard as arrays: the same rate as from its file.
+    text = HAZARD.read_text().splitlines()
+    assert text[0].startswith("pga_g,annual_rate")
+    pts = [tuple(map(float, line.split(","))) for line in text[1:] if line.strip()]
+    levels, rates = zip(*pts)
+    arr = rocking.risk((np.array(levels), np.array(rates)), b=0.2, h=0.9, eps=0.85)
+    one = rocking.risk(HAZARD, b=0.2, h=0.9, eps=0.85)
+    assert arr["sites"][0]["annual_rate"] == one["sites"][0]["annual_rate"]
+
+
+def test_bad_input_raises_value_errors_with_the_librarys_message(tmp_path):
+    bad = tmp_path / "bad.AT2"
+    bad.write_text("A\nB\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS= 3, DT= 0.01 SEC\n0.1 x 0.3\n")
+    with pytest.raises(ValueError, match=r"bad\.AT2:5:"):
+        rocking.read_at2(bad)
+    acc = np.zeros(100)
+    acc[10] = np.nan
+    with pytest.raises(ValueError, match="non-finite sample nan at index 10"):
+        rocking.capacity(acc, 0.01, p=2, eps=0.7)
+    with pytest.raises(ValueError, match="dt = -0.01"):
+        rocking.capacity(np.ones(10), -0.01, p=2, eps=0.7)
+    with pytest.raises(ValueError, match="1-D array"):
+        rocking.capacity(np.ones((10, 2)), 0.01, p=2, eps=0.7)
+    with pytest.raises(ValueError, match="model = \"quadratic\""):
+        rocking.capacity(KOBE, p=2, eps=0.7, model="quadratic")
+    with pytest.raises(ValueError, match=r"ε = 1.5 must be in \(0, 1\]"):
+        rocking.capacity(KOBE, p=2, eps=1.5)
+    with pytest.raises(ValueError, match="mu is compared with the block's b/h"):
+        rocking.capacity(KOBE, p=2, eps=0.7, mu=0.3)
+    with pytest.raises(ValueError, match="floor: mode 1: damping ratio"):
+        rocking.capacity(KOBE, p=2, eps=0.7, floor=[(0.5, 1.5, 1.0)])
+    with pytest.raises(ValueError, match="add --direct"):
+        rocking.fragility(0.2, 0.9, pga=[0.3], floor=[(0.5, 0.05, 1.3)])
+    with pytest.raises(ValueError, match="blocks\\[0\\]: unknown key"):
+        rocking.capacities(FAR, [dict(p=2, eps=0.7, colour="red")])
+    with pytest.warns(UserWarning, match="slides before it rocks"):
+        r = rocking.capacity(KOBE, b=0.4, h=1.0, eps=0.8, mu=0.2)
+    assert r["slides_first"] is True
+
+
+def test_the_gil_is_released_while_a_batch_computes():
+    count = [0]
+    running = threading.Event()
+    stop = threading.Event()
+
+    def counter():
+        running.set()
+        while not stop.is_set():
+            count[0] += 1
+
+    t = threading.Thread(target=counter)
+    t.start()
+    running.wait()
+    before = count[0]
+    started = time.perf_counter()
+    rocking.capacities(FAR, [dict(b=0.2, h=0.9, eps=0.85, model="nonlinear")])
+    seconds = time.perf_counter() - started
+    during = count[0] - before
+    stop.set()
+    t.join()
+    # Holding the GIL the whole call would let the counter take only the
+    # interpreter's switch intervals (5 ms) at the call's edges.
+    assert seconds > 0.05, seconds
+    assert during > 10_000, (during, seconds)
+
+
+def test_run_and_load_give_the_commands_tables(tmp_path):
+    rec = ROOT / "records" / "fema-p695"
+    pipeline = tmp_path / "tiny.toml"
+    pipeline.write_text(
+        'name = "tiny"\n[records]\n'
+        f'at2 = ["{rec}"]\nmanifest = "{rec / "manifest.csv"}"\n'
+        'ids = ["RSN1111_KOBE_NIS000", "RSN1116_KOBE_SHI000", "RSN1148_KOCAELI_ARC000"]\n'
+        "[blocks]\np = [1.0, 3.0]\neps = [0.7, 0.9]\n"
+    )
+    ran = rocking.run(pipeline, tmp_path / "py")
+    assert [r["stage"] for r in ran if r["ran"]][:2] == ["ingest", "sweep"]
+    again = rocking.run(pipeline, tmp_path / "py")
+    assert not any(r["ran"] for r in again)
+    cli("run", pipeline, "--outputs", tmp_path / "cli")
+    ours = rocking.load(pipeline, tmp_path / "py")
+    theirs = rocking.load(pipeline, tmp_path / "cli")
+    assert {"capacities", "ida_points", "capacity_fractiles", "records"} <= set(ours)
+    assert set(ours) == set(theirs)
+    for name in ours:
+        assert ours[name].equals(theirs[name]), name
+    assert ours["capacities"].height == 12
+    with pytest.raises(ValueError, match="no study here yet"):
+        rocking.load(pipeline, tmp_path / "nowhere")

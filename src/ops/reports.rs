@@ -1,0 +1,197 @@
+//! The JSON objects of `simulate` (one run) and `capacity` (one capacity),
+//! defined once: the command line prints them, the Python package returns
+//! them, so both give the same fields and the same numbers.
+
+use serde::Serialize;
+
+use super::capacity::NamedSpec;
+use super::record::LoadedRecord;
+use crate::ida::{Certified, ImGrid, RunKind, Spacing};
+use crate::im;
+use crate::label::Label;
+use crate::physics::{Outcome, RunSpec};
+
+/// Where a block stands and how firmly, as the reports state it.
+#[derive(Debug, Clone, Default)]
+pub struct Scene {
+    /// The building's modes as `--floor` takes them (`T,ζ,Γφ; …`), on a floor.
+    pub floor: Option<String>,
+    /// The base's friction coefficient, when given.
+    pub mu: Option<f64>,
+    /// With `mu`: whether the block slides before it rocks.
+    pub slides_first: Option<bool>,
+}
+
+/// One run of `simulate`.
+#[derive(Debug, Clone, Serialize)]
+pub struct SimulateReport {
+    pub record_id: String,
+    pub p: f64,
+    pub eps: f64,
+    pub eta: f64,
+    pub model: &'static str,
+    pub alpha_rad: Option<f64>,
+    pub overturn: String,
+    pub theta_max_over_alpha: f64,
+    pub overturned: bool,
+    pub overturn_time_s: Option<f64>,
+    pub overturn_after_record: bool,
+    pub impacts: u64,
+    pub first_uplift_s: Option<f64>,
+    pub stop: &'static str,
+    /// On a floor: the floor motion's peak over the ground record's, PFA/PGA
+    /// (η is then with respect to the floor's peak).
+    pub pfa_over_pga: Option<f64>,
+    /// The base's friction coefficient, with --mu.
+    pub mu: Option<f64>,
+    /// With --mu: whether the block slides before it rocks (μ < b/h).
+    pub slides_first: Option<bool>,
+}
+
+impl SimulateReport {
+    pub fn new(
+        rec: &LoadedRecord,
+        spec: &RunSpec,
+        alpha_rad: Option<f64>,
+        out: &Outcome,
+        scene: &Scene,
+    ) -> SimulateReport {
+        SimulateReport {
+            record_id: rec.record_id.clone(),
+            p: spec.p,
+            eps: spec.eps,
+            eta: spec.eta,
+            model: spec.model.equation.kind().label(),
+            alpha_rad,
+            overturn: spec.overturn.to_string(),
+            theta_max_over_alpha: out.max_abs_x,
+            overturned: out.overturned(),
+            overturn_time_s: out.overturn_time_s,
+            overturn_after_record: out.overturn_after_record,
+            impacts: out.impacts,
+            first_uplift_s: out.first_uplift_s,
+            stop: out.stop.label(),
+            pfa_over_pga: rec.floor.map(|f| f.pfa_over_pga),
+            mu: scene.mu,
+            slides_first: scene.slides_first,
+        }
+    }
+}
+
+/// The capacity search's settings: the grid of levels and the bracket's
+/// tolerance.
+#[derive(Debug, Clone, Copy)]
+pub struct Search {
+    pub grid: ImGrid,
+    pub tol: f64,
+}
+
+/// One capacity of `capacity`.
+#[derive(Debug, Clone, Serialize)]
+pub struct CapacityReport {
+    pub record_id: String,
+    /// The block's name: `b<b>xh<h>` for one given by its dimensions, else empty.
+    pub block: String,
+    pub p: f64,
+    pub eps: f64,
+    pub model: &'static str,
+    pub alpha_rad: Option<f64>,
+    pub overturn: String,
+    /// With respect to the peak of the motion the block feels: the
+    /// record's PGA, or on a floor the floor motion's peak (PFA).
+    pub eta_c: Option<f64>,
+    /// A_g at the capacity in units of αg (= 1/η_c).
+    pub pga_scale_c: Option<f64>,
+    /// The peak acceleration the block feels at the capacity (g), α/η_c,
+    /// when α is known: the PGA, or on a floor the PFA.
+    pub pga_c_g: Option<f64>,
+    /// On a floor: the building's modes as --floor takes them.
+    pub floor: Option<String>,
+    /// On a floor: the floor motion's peak over the ground record's,
+    /// PFA/PGA, as recorded (the same at every scale).
+    pub pfa_over_pga: Option<f64>,
+    /// On a floor: the ground's PGA at the capacity (g), pga_c_g / pfa_over_pga.
+    pub ground_pga_c_g: Option<f64>,
+    /// The base's friction coefficient, with --mu.
+    pub mu: Option<f64>,
+    /// With --mu: whether the block slides before it rocks (μ < b/h).
+    pub slides_first: Option<bool>,
+    pub eta_survived: f64,
+    pub level_survived: f64,
+    pub level_overturned: Option<f64>,
+    pub runs: usize,
+    pub refinement_runs: usize,
+    /// Whether the decisive verdicts were confirmed, and how.
+    pub certified: bool,
+    pub certification: String,
+    /// The integrator: exact (linearised), taylor or dp5 (nonlinear).
+    pub integrator: &'static str,
+    /// The nonlinear integrator's tolerance of the search reported.
+    pub rtol: Option<f64>,
+    /// Runs spent on the certification (checks and searches redone).
+    pub certification_runs: usize,
+    pub tol: f64,
+    pub levels: usize,
+    pub eta_min: f64,
+    pub spacing: &'static str,
+}
+
+impl CapacityReport {
+    pub fn new(
+        rec: &LoadedRecord,
+        block: &NamedSpec,
+        certified: &Certified,
+        search: &Search,
+        scene: &Scene,
+    ) -> CapacityReport {
+        let (spec, cap) = (&block.spec, &certified.capacity);
+        let pga_c_g = cap
+            .eta_c
+            .zip(block.alpha_rad)
+            .map(|(e, a)| im::pga_of_eta(e, a));
+        let on_floor = rec.floor;
+        CapacityReport {
+            record_id: rec.record_id.clone(),
+            block: block.name.clone(),
+            p: spec.p,
+            eps: spec.eps,
+            model: spec.model.equation.kind().label(),
+            alpha_rad: block.alpha_rad,
+            overturn: spec.overturn.to_string(),
+            eta_c: cap.eta_c,
+            pga_scale_c: cap.eta_c.map(|e| 1.0 / e),
+            pga_c_g,
+            floor: on_floor.and(scene.floor.clone()),
+            pfa_over_pga: on_floor.map(|f| f.pfa_over_pga),
+            ground_pga_c_g: on_floor.zip(pga_c_g).map(|(f, pga)| pga / f.pfa_over_pga),
+            mu: scene.mu,
+            slides_first: scene.slides_first,
+            eta_survived: cap.eta_survived,
+            level_survived: cap.level_survived,
+            level_overturned: cap.level_overturned,
+            runs: cap.runs(),
+            refinement_runs: refinement_runs(certified),
+            certified: certified.certification.certified(),
+            certification: certified.certification.to_string(),
+            integrator: certified.model.integrator.name(),
+            rtol: certified.model.integrator.tol(),
+            certification_runs: certified.extra.runs,
+            tol: search.tol,
+            levels: search.grid.count,
+            eta_min: search.grid.eta_min,
+            spacing: match search.grid.spacing {
+                Spacing::Log => "log",
+                Spacing::Linear => "linear",
+            },
+        }
+    }
+}
+
+/// The runs of a search that refined its bracket by bisection.
+pub fn refinement_runs(certified: &Certified) -> usize {
+    let points = &certified.capacity.points;
+    points
+        .iter()
+        .filter(|q| q.kind == RunKind::Refinement)
+        .count()
+}
