@@ -14,6 +14,29 @@ fn kobe() -> std::path::PathBuf {
     bundled_records().join("far-field/RSN1111_KOBE_NIS000.AT2")
 }
 
+/// Far-field records some tests run through, fewer for speed.
+const FEW: [&str; 4] = [
+    "RSN1111_KOBE_NIS000",
+    "RSN1116_KOBE_SHI000",
+    "RSN1148_KOCAELI_ARC000",
+    "RSN1148_KOCAELI_ARC090",
+];
+
+/// A folder `dir/few` holding copies of the far-field records `ids`.
+fn few_far_field(dir: &Path, ids: &[&str]) -> std::path::PathBuf {
+    let few = dir.join("few");
+    std::fs::create_dir(&few).unwrap();
+    for id in ids {
+        let name = format!("{id}.AT2");
+        std::fs::copy(
+            bundled_records().join("far-field").join(&name),
+            few.join(&name),
+        )
+        .unwrap();
+    }
+    few
+}
+
 fn json(out: &std::process::Output) -> Value {
     assert!(out.status.success(), "{}", stderr(out));
     serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
@@ -396,20 +419,7 @@ fn fragility_risk_and_export_warn_of_a_block_that_slides_first() {
         "rocking=0.5,overturned=overturned",
         "--records",
     ];
-    let few = dir.path().join("few");
-    std::fs::create_dir(&few).unwrap();
-    for id in [
-        "RSN1111_KOBE_NIS000",
-        "RSN1116_KOBE_SHI000",
-        "RSN1148_KOCAELI_ARC000",
-    ] {
-        let name = format!("{id}.AT2");
-        std::fs::copy(
-            bundled_records().join("far-field").join(&name),
-            few.join(&name),
-        )
-        .unwrap();
-    }
+    let few = few_far_field(dir.path(), &FEW[..3]);
     args.push(few.to_str().unwrap());
     args.extend(block);
     let out = rocking(&root(), &args);
@@ -672,21 +682,7 @@ fn a_floor_study_runs_the_floor_motion_in_every_stage() {
 #[test]
 fn a_node_floor_gives_the_grounds_fragility_in_any_im_and_export() {
     let dir = tempdir();
-    let few = dir.path().join("few");
-    std::fs::create_dir(&few).unwrap();
-    for id in [
-        "RSN1111_KOBE_NIS000",
-        "RSN1116_KOBE_SHI000",
-        "RSN1148_KOCAELI_ARC000",
-        "RSN1148_KOCAELI_ARC090",
-    ] {
-        let name = format!("{id}.AT2");
-        std::fs::copy(
-            bundled_records().join("far-field").join(&name),
-            few.join(&name),
-        )
-        .unwrap();
-    }
+    let few = few_far_field(dir.path(), &FEW);
     let few_s = few.to_str().unwrap();
     let block = ["--b", "0.1", "--h", "1", "--eps", "0.85"];
     let pgv = |floor: Option<&str>| {

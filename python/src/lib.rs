@@ -10,7 +10,7 @@
 //! library's message and its causes (a bad AT2 file names its line); the
 //! long computations release the GIL.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -365,36 +365,6 @@ fn capacities(
     json(&reports)
 }
 
-/// Where `--direct` finds its records when none are given: the bundled
-/// far-field set, here or in the repository this package was built from.
-fn default_records() -> PathBuf {
-    let here = PathBuf::from("records/fema-p695/far-field");
-    let built = Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(&here);
-    if !here.is_dir() && built.is_dir() {
-        built
-    } else {
-        here
-    }
-}
-
-fn source(
-    from: &str,
-    outputs: PathBuf,
-    records: Option<PathBuf>,
-) -> rocking::ops::fragility::Source {
-    use rocking::ops::fragility::Source;
-    if from == "paper" {
-        Source::Paper {
-            records: records.unwrap_or_else(default_records),
-        }
-    } else {
-        Source::Pipeline {
-            file: PathBuf::from(from),
-            outputs,
-        }
-    }
-}
-
 fn damage_states(states: Option<&str>) -> PyResult<Option<rocking::damage::DamageStates>> {
     states
         .map(|s| {
@@ -446,7 +416,7 @@ fn fragility(
         eps: eps.parse().map_err(value_error)?,
         im: im(im_name)?,
         levels,
-        from: source(from_, outputs, records),
+        from: rocking::ops::fragility::Source::named(from_, outputs, records),
         direct,
         progress: Default::default(),
         auto_tol,
@@ -523,7 +493,7 @@ fn risk(
         hazard,
         site,
         blocks,
-        from: source(from_, outputs, records),
+        from: rocking::ops::fragility::Source::named(from_, outputs, records),
         im: im_name.map(im).transpose()?,
         direct,
         progress: Default::default(),

@@ -105,26 +105,17 @@ impl DirectRecords {
                     record: r.record_id.clone(),
                     source,
                 };
-                let ground = Excitation::new(&r.accel_g, r.dt_s).map_err(physics)?;
-                let Some(building) = floor else {
-                    return Ok(DirectRecord {
-                        id: r.record_id,
-                        exc: ground,
-                        ground: None,
-                    });
+                let (exc, ratio) = records::felt(floor, &r).map_err(physics)?;
+                let ground = match ratio {
+                    Some(ratio) => {
+                        Some((Excitation::new(&r.accel_g, r.dt_s).map_err(physics)?, ratio))
+                    }
+                    None => None,
                 };
-                let f = building
-                    .floor_motion(&r.accel_g, r.dt_s)
-                    .map_err(|source| FragilityError::Floor {
-                        record: r.record_id.clone(),
-                        source,
-                    })?;
-                let ratio = f.pfa_over_pga;
-                let exc = Excitation::from_samples(f.accel_g, f.dt_s).map_err(physics)?;
                 Ok(DirectRecord {
                     id: r.record_id,
                     exc,
-                    ground: Some((ground, ratio)),
+                    ground,
                 })
             })
             .collect::<Result<_, FragilityError>>()?;

@@ -84,12 +84,6 @@ pub enum FragilityError {
     Ingest(#[source] IngestError),
     #[error("--direct: the model for this block")]
     Model(#[source] PhysicsError),
-    #[error("--direct: record {record}: its floor motion")]
-    Floor {
-        record: String,
-        #[source]
-        source: crate::floor::FloorError,
-    },
     #[error(
         "--floor: the capacities of {from} are of blocks on the ground; a block on a floor is \
          run through the building with the records (add --direct)"

@@ -24,6 +24,36 @@ pub enum Source {
     Pipeline { file: PathBuf, outputs: PathBuf },
 }
 
+impl Source {
+    /// The source a user names: `paper`, or a pipeline file whose study is
+    /// under `outputs`; `records` for `--direct` with the paper (default:
+    /// [`default_records`]).
+    pub fn named(from: &str, outputs: PathBuf, records: Option<PathBuf>) -> Source {
+        if from == "paper" {
+            Source::Paper {
+                records: records.unwrap_or_else(default_records),
+            }
+        } else {
+            Source::Pipeline {
+                file: PathBuf::from(from),
+                outputs,
+            }
+        }
+    }
+}
+
+/// The bundled far-field records: in the current directory (the repository
+/// root), or else where the repository this library was built from has them.
+pub fn default_records() -> PathBuf {
+    let here = PathBuf::from("records/fema-p695/far-field");
+    let built = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(&here);
+    if !here.is_dir() && built.is_dir() {
+        built
+    } else {
+        here
+    }
+}
+
 /// The regression a fragility comes from.
 #[derive(Debug, Clone)]
 pub struct Laws {

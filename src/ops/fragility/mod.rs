@@ -22,7 +22,7 @@ use crate::im::Im;
 use crate::physics::LINEARIZATION_ERROR_PER_ALPHA2;
 pub use direct::{DirectProgress, DirectRecords};
 pub use error::FragilityError;
-pub use laws::{laws, Laws, Source};
+pub use laws::{default_records, laws, Laws, Source};
 
 /// What the user asks: the block (ε as given), where the capacities come
 /// from, the IM and its levels.

@@ -41,31 +41,13 @@ pub struct LawArgs {
     pub records: Option<PathBuf>,
 }
 
-/// The bundled far-field records: in the current directory (the repository
-/// root), or else where the repository this binary was built from has them.
-fn default_records() -> PathBuf {
-    let here = PathBuf::from("records/fema-p695/far-field");
-    let built = Path::new(env!("CARGO_MANIFEST_DIR")).join(&here);
-    if !here.is_dir() && built.is_dir() {
-        built
-    } else {
-        here
-    }
-}
-
 impl LawArgs {
     pub fn source(&self) -> rocking::ops::fragility::Source {
-        use rocking::ops::fragility::Source;
-        if self.from == "paper" {
-            Source::Paper {
-                records: self.records.clone().unwrap_or_else(default_records),
-            }
-        } else {
-            Source::Pipeline {
-                file: PathBuf::from(&self.from),
-                outputs: self.outputs.clone(),
-            }
-        }
+        rocking::ops::fragility::Source::named(
+            &self.from,
+            self.outputs.clone(),
+            self.records.clone(),
+        )
     }
 }
 

@@ -152,7 +152,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         };
         for (_, rec, block, slides, certified) in cases {
             let scene = Scene {
-                floor: Some(floor_text(&args.block.scene.floor.floor)),
+                floor: building.as_ref().map(|b| b.to_string()),
                 mu: args.block.scene.mu,
                 slides_first: slides,
             };
@@ -163,15 +163,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     print_text(&args, &records[0], &blocks[0], &results[0]);
     Ok(())
-}
-
-/// The modes as `--floor` takes them, `; ` between.
-fn floor_text(modes: &[rocking::floor::Mode]) -> String {
-    modes
-        .iter()
-        .map(|m| m.to_string())
-        .collect::<Vec<_>>()
-        .join("; ")
 }
 
 /// One capacity as text.
