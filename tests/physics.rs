@@ -543,14 +543,34 @@ fn the_fast_path_and_the_event_by_event_walk_agree_to_the_bit() {
 /// for most of the record) and pairs 2 % and 30 % apart (runs that part at
 /// the first uplift, one catching up to the other at each event), either
 /// order, records of every time step, slender to squat blocks and the
-/// overturning criteria that stop the stepper differently.
+/// overturning criteria that stop the stepper differently; for the exact
+/// stepper of the linearised equation and the Taylor stepper of the
+/// nonlinear one.
 #[test]
 fn runs_in_step_agree_with_runs_alone_to_the_bit() {
-    use rocking::physics::{simulate_pair, Isa};
+    use rocking::physics::Isa;
     if Isa::detected() != Isa::V3 {
         eprintln!("skipped: runs are kept in step only by the x86-64-v3 compilation");
         return;
     }
+    runs_in_step_agree(
+        LIN,
+        &[Overturn::Static, Overturn::Escape, Overturn::Cap(2.0)],
+        16,
+    );
+    // The Taylor stepper: a squat block (α = 0.25), far from the
+    // linearised model, at its default tail and at the checking one.
+    for tol in [1e-12, 1e-14] {
+        runs_in_step_agree(
+            Model::taylor(0.25, tol),
+            &[Overturn::Static, Overturn::Escape],
+            8,
+        );
+    }
+}
+
+fn runs_in_step_agree(model: Model, overturns: &[Overturn], levels: usize) {
+    use rocking::physics::simulate_pair;
     let (mut pairs, mut overturned, mut split) = (0, 0, 0);
     for stem in [
         "far-field/RSN848_LANDERS_CLW-LN",
@@ -560,9 +580,9 @@ fn runs_in_step_agree_with_runs_alone_to_the_bit() {
         let exc = bundled(stem);
         for p in [0.5, 2.0, 8.0] {
             for eps in [0.5, 0.9] {
-                for overturn in [Overturn::Static, Overturn::Escape, Overturn::Cap(2.0)] {
-                    for j in 0..16 {
-                        let eta = 10f64.powf(-1.6 * j as f64 / 15.0);
+                for &overturn in overturns {
+                    for j in 0..levels {
+                        let eta = 10f64.powf(-1.6 * j as f64 / (levels - 1) as f64);
                         for moved in [
                             eta * (1.0 + 1e-9),
                             eta * (1.0 - 1e-9),
@@ -571,7 +591,7 @@ fn runs_in_step_agree_with_runs_alone_to_the_bit() {
                         ] {
                             let spec = |eta| RunSpec {
                                 overturn,
-                                ..RunSpec::new(p, eps, eta, LIN)
+                                ..RunSpec::new(p, eps, eta, model)
                             };
                             let (a, b) = (spec(eta), spec(moved));
                             let alone = [simulate(&exc, &a).unwrap(), simulate(&exc, &b).unwrap()];
@@ -580,7 +600,8 @@ fn runs_in_step_agree_with_runs_alone_to_the_bit() {
                             assert_eq!(
                                 format!("{alone:?}"),
                                 format!("{in_step:?}"),
-                                "{stem} p = {p}, ε = {eps}, η = {eta} and {moved}, {overturn:?}"
+                                "{model:?}: {stem} p = {p}, ε = {eps}, η = {eta} and {moved}, \
+                                 {overturn:?}"
                             );
                             let [qb, qa] =
                                 simulate_pair(&exc, [&b, &a]).expect("v3 runs a pair in step");
@@ -601,7 +622,7 @@ fn runs_in_step_agree_with_runs_alone_to_the_bit() {
     // Both verdicts, and pairs whose runs end differently, were compared.
     assert!(
         overturned > pairs / 5 && overturned < pairs * 4 / 5 && split > 20,
-        "{overturned} overturned, {split} split, of {pairs}"
+        "{model:?}: {overturned} overturned, {split} split, of {pairs}"
     );
 }
 

@@ -213,16 +213,24 @@ pub fn capacity_certified_in(
         let search = runs.work().since(before);
         let checked_rtol = (rtol / TIGHTEN).max(tightest);
         let check = with_rtol(checked_rtol);
-        let mut flipped = None;
-        for (eta, overturned) in decisive_runs(&capacity, grid) {
-            if runs.outcome(&RunSpec { eta, ..check })?.overturned() != overturned {
-                flipped = Some(eta);
-                break;
+        // The probes, run at the tighter tolerance, check it too: where
+        // every one gives its decisive run's verdict, the verdicts stand at
+        // that tolerance an η step of 1e-9 away on both sides. Only where
+        // one does not are the decisive runs themselves rerun there, to
+        // tell a verdict the tolerance flips (search again, tighter) from
+        // a chaotic one.
+        let (flipped, chaos) = match chaos_probe(runs, &check, &capacity, grid)? {
+            None => (None, None),
+            Some(chaotic) => {
+                let mut flipped = None;
+                for (eta, overturned) in decisive_runs(&capacity, grid) {
+                    if runs.outcome(&RunSpec { eta, ..check })?.overturned() != overturned {
+                        flipped = Some(eta);
+                        break;
+                    }
+                }
+                (flipped, flipped.is_none().then_some(chaotic))
             }
-        }
-        let chaos = match flipped {
-            Some(_) => None,
-            None => chaos_probe(runs, &check, &capacity, grid)?,
         };
         let certification = match (flipped, chaos) {
             (None, Some(eta)) => Certification::Chaotic {

@@ -1,11 +1,10 @@
 //! The CPU dispatch of the event loop: [`Isa`] names the compilations (the
 //! x86-64 baseline and x86-64-v3), and the functions here compile the event
-//! loop ([`driver::drive`], [`driver::drive_pair`]) with the exact stepper,
-//! and [`driver::drive`] with the Taylor stepper, once per compilation and
-//! pick one at run time.
+//! loop ([`driver::drive`], [`driver::drive_pair`]) with the exact stepper
+//! and with the Taylor stepper, once per compilation, and pick one at run
+//! time.
 
 use super::driver::{self, Outcome};
-use super::exact::Exact;
 use super::history::Observer;
 use super::step::{Rocking, Stepper};
 use super::{Excitation, RunSpec};
@@ -111,11 +110,11 @@ unsafe fn drive_v3<S: Stepper, O: Observer>(
 /// The CPU must have the features enabled here.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx,avx2,bmi1,bmi2,fma,lzcnt,movbe,popcnt")]
-pub(super) unsafe fn drive_pair_v3(
+pub(super) unsafe fn drive_pair_v3<S: driver::CruisePair>(
     exc: &Excitation,
     specs: [&RunSpec; 2],
     limits: [f64; 2],
-    steppers: [&mut Exact; 2],
+    steppers: [&mut S; 2],
 ) -> [Outcome; 2] {
     driver::drive_pair(exc, specs, limits, steppers)
 }

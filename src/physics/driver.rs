@@ -3,8 +3,6 @@
 //! end and the fate after it. An integrator only advances on one pivot
 //! ([`Stepper::rock`]); everything an event changes is done here, once.
 
-#[cfg(target_arch = "x86_64")]
-use super::exact::{self, Exact};
 use super::history::{EventKind, HistoryPoint, Observer};
 use super::step::{Rocking, Stepper, Stretch, StretchEnd};
 use super::{Excitation, RunSpec, MAX_EVENTS};
@@ -106,20 +104,19 @@ pub(super) fn drive<S: Stepper, O: Observer>(
     d.out
 }
 
-/// Two runs of the exact stepper that differ only in η (the two runs of a
-/// chaos probe), kept in step: while both rock through the same eventless
-/// intervals they are advanced together, two lanes of one vector
-/// ([`super::exact::cruise_pair`]); every other interval each run walks on
+/// Two runs that differ only in η (the two runs of a chaos probe), kept in
+/// step: while both rock through the same eventless intervals they are
+/// advanced together, two lanes of one vector ([`CruisePair`]: the exact
+/// stepper, the Taylor stepper); every other interval each run walks on
 /// its own, and the one behind catches up to the other before they go on
 /// together. Each run does the same operations in the same order as it
 /// would alone ([`drive`]), so its outcome is the same to the bit.
-#[cfg(target_arch = "x86_64")]
 #[inline(always)]
-pub(super) fn drive_pair(
+pub(super) fn drive_pair<S: CruisePair>(
     exc: &Excitation,
     specs: [&RunSpec; 2],
     limits: [f64; 2],
-    steppers: [&mut Exact; 2],
+    steppers: [&mut S; 2],
 ) -> [Outcome; 2] {
     let [stepper_a, stepper_b] = steppers;
     let (mut obs_a, mut obs_b) = ((), ());
@@ -145,8 +142,8 @@ pub(super) fn drive_pair(
             (true, true) if kb < ka => live_b = b.advance(&mut kb, n, ka) == Flow::Going,
             (true, true) => {
                 if let (Some(st_a), Some(st_b)) = (a.state.as_mut(), b.state.as_mut()) {
-                    let next = exact::cruise_pair(
-                        [&*a.stepper, &*b.stepper],
+                    let next = S::cruise_pair(
+                        [&mut *a.stepper, &mut *b.stepper],
                         exc,
                         ka,
                         [st_a, st_b],
@@ -168,6 +165,25 @@ pub(super) fn drive_pair(
         }
     }
     [a.out, b.out]
+}
+
+/// A stepper that crosses the eventless whole intervals of two runs of
+/// the same block and record at two values of η together
+/// ([`drive_pair`]).
+pub(super) trait CruisePair: Stepper {
+    /// [`Stepper::cruise`] for two runs at once, both rocking at sample
+    /// `k`: their whole intervals, one lane each, for as long as both are
+    /// proved eventless; stops at the first interval either must leave to
+    /// [`Stepper::cruise`] or [`Stepper::rock`] (the other is left there
+    /// too, and crosses it on its own) and returns it. Each lane does what
+    /// `cruise` does alone, operation for operation.
+    fn cruise_pair(
+        steppers: [&mut Self; 2],
+        exc: &Excitation,
+        k: usize,
+        states: [&mut Rocking; 2],
+        tops: [&mut f64; 2],
+    ) -> usize;
 }
 
 /// Whether a run goes on after [`Driver::advance`].

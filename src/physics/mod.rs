@@ -37,6 +37,9 @@ pub mod equation;
 pub mod exact;
 mod history;
 mod integrator;
+#[cfg(target_arch = "x86_64")]
+#[allow(unused_unsafe)] // the SSE2 intrinsics are safe to call from Rust 1.87 on
+mod lanes;
 pub mod rk4;
 mod simulate;
 mod step;

@@ -14,6 +14,8 @@ use super::history::Observer;
 #[cfg(target_arch = "x86_64")]
 use super::integrator::Integrator;
 use super::step::Rocking;
+#[cfg(target_arch = "x86_64")]
+use super::taylor::Taylor;
 use super::{Excitation, PhysicsError, RunSpec};
 
 /// Runs one record at one intensity.
@@ -42,19 +44,18 @@ pub fn simulate_from(
 }
 
 /// Two runs that differ in η alone (a chaos probe's pair), run in step
-/// (`driver::drive_pair`: their eventless intervals cost about one run's), each
-/// with the outcome [`simulate`] gives it, to the bit. `None` where they
-/// cannot be: another integrator or equation, specs that differ in more
-/// than η or that [`simulate`] refuses, or a CPU without the exact
-/// stepper's x86-64-v3 compilation (run them one by one there).
+/// (`driver::drive_pair`: their eventless intervals cost little more than
+/// one run's), each with the outcome [`simulate`] gives it, to the bit.
+/// `None` where they cannot be: an integrator other than the exact and
+/// Taylor steppers, specs that differ in more than η or that [`simulate`]
+/// refuses, or a CPU without the steppers' x86-64-v3 compilation (run them
+/// one by one there).
 pub fn simulate_pair(exc: &Excitation, specs: [&RunSpec; 2]) -> Option<[Outcome; 2]> {
     #[cfg(target_arch = "x86_64")]
     {
         let [a, b] = specs;
         let same_but_eta = RunSpec { eta: a.eta, ..*b } == *a;
-        let exact =
-            a.model.integrator == Integrator::Exact && a.model.equation == Equation::Linearized;
-        if !(same_but_eta && exact && Isa::detected() == Isa::V3) {
+        if !(same_but_eta && Isa::detected() == Isa::V3) {
             return None;
         }
         let limit = |s: &RunSpec| {
@@ -62,12 +63,20 @@ pub fn simulate_pair(exc: &Excitation, specs: [&RunSpec; 2]) -> Option<[Outcome;
             s.model.equation.overturn_limit(s.overturn).ok()
         };
         let limits = [limit(a)?, limit(b)?];
-        let new = |s: &RunSpec, limit| Exact::new(s.p, s.eta, exc.dt_s, limit);
-        let (mut stepper_a, mut stepper_b) = (new(a, limits[0]), new(b, limits[1]));
-        // SAFETY: `Isa::detected()` is V3 only where the CPU has its features.
-        Some(unsafe {
-            dispatch::drive_pair_v3(exc, specs, limits, [&mut stepper_a, &mut stepper_b])
-        })
+        // SAFETY (both arms): `Isa::detected()` is V3 only where the CPU has its features.
+        match (a.model.integrator, a.model.equation) {
+            (Integrator::Exact, Equation::Linearized) => {
+                let new = |s: &RunSpec, limit| Exact::new(s.p, s.eta, exc.dt_s, limit);
+                let (mut sa, mut sb) = (new(a, limits[0]), new(b, limits[1]));
+                Some(unsafe { dispatch::drive_pair_v3(exc, specs, limits, [&mut sa, &mut sb]) })
+            }
+            (Integrator::Taylor { tol }, Equation::Nonlinear { alpha_rad }) => {
+                let new = |s: &RunSpec, limit| Taylor::new(s.p, s.eta, alpha_rad, tol, limit);
+                let (mut sa, mut sb) = (new(a, limits[0]), new(b, limits[1]));
+                Some(unsafe { dispatch::drive_pair_v3(exc, specs, limits, [&mut sa, &mut sb]) })
+            }
+            _ => None,
+        }
     }
     #[cfg(not(target_arch = "x86_64"))]
     {

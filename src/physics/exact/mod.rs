@@ -9,7 +9,6 @@
 mod closed_form;
 mod hop;
 #[cfg(target_arch = "x86_64")]
-#[allow(unused_unsafe)] // the SSE2 intrinsics are safe to call from Rust 1.87 on
 mod lanes;
 mod locate;
 mod proofs;
@@ -17,6 +16,4 @@ mod rock;
 mod stepper;
 
 pub use closed_form::{cosh_m1, sinhc_m1};
-#[cfg(target_arch = "x86_64")]
-pub(super) use lanes::cruise_pair;
 pub use stepper::Exact;

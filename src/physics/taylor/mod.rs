@@ -40,9 +40,12 @@
 //! uplift (`y = 0`: `sin α`, `cos α`) and whenever the driver hands over a
 //! state this stepper did not leave.
 
+#[cfg(target_arch = "x86_64")]
+mod pair;
 mod poly;
 
 use super::step::{Rocking, Stepper, Stretch, StretchEnd};
+use super::Excitation;
 use poly::{poly, root, sum, turning_points, Turns};
 
 /// The highest order of a step's series; a series not converged by then is
@@ -86,6 +89,13 @@ pub struct Taylor {
     v: [f64; LEN],
     e: [f64; LEN],
     d: [f64; LEN],
+    /// The current step's sums.
+    ends: Ends,
+    /// What the current step's series was built from (`s`, `y0`, `ẏ0`,
+    /// `sin u0`, `cos u0`, `h`, `g_a`, `g1`, as bits) and its degree, when
+    /// [`Stepper::cruise`] built it and left the step to [`Stepper::rock`]:
+    /// `rock` asked for the same series takes it as it is.
+    built: Option<([u64; 8], usize)>,
     /// Steps taken and series thrown away (for benchmarks).
     pub steps: u64,
     pub rejected: u64,
@@ -112,6 +122,8 @@ impl Taylor {
             v: [0.0; LEN],
             e: [0.0; LEN],
             d: [0.0; LEN],
+            ends: Ends::default(),
+            built: None,
             steps: 0,
             rejected: 0,
         }
@@ -133,7 +145,13 @@ impl Taylor {
     /// u0 = e0`, `cos u0 = d0` on pivot `s` under `g_a + g1·σ`, order by
     /// order until its tail is below the tolerance; returns the degree `n`
     /// of V (Y's is n + 1), or `None` if the tail is still above the
-    /// tolerance at [`MAX_ORDER`].
+    /// tolerance at [`MAX_ORDER`]. On success [`Taylor::ends`] holds the
+    /// series' sums (its values at τ = 1) and `Σ_{j≥1} |V_j|`.
+    ///
+    /// Each order depends on the one before through a product and two
+    /// sums (the constants multiplied out beforehand, the convolutions'
+    /// older terms summed first): the chain of orders is what bounds the
+    /// step's time, the rest runs beside it.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn series(
@@ -147,6 +165,7 @@ impl Taylor {
         g_a: f64,
         g1: f64,
     ) -> Option<usize> {
+        self.built = None;
         let h2 = h * h;
         let k_sin = h2 * self.p2_over_alpha;
         let f = s * h2 * self.p2_over_eta;
@@ -159,27 +178,41 @@ impl Taylor {
         v[0] = v0;
         e[0] = e0;
         d[0] = d0;
+        let (a_v0, a_e0, a_d0) = (a * v0, a * e0, a * d0);
         // The newest coefficients stay in registers; the convolutions read
         // from memory only the ones stored an order or more before.
         let (mut yk, mut vk, mut ek, mut dk, mut d_prev) = (y0, v0, e0, d0, 0.0);
         // The coefficients fall geometrically: the largest is among the first three.
         let (mut scale_y, mut scale_v) = (y0.abs(), v0.abs());
+        // The sums of the terms past the first (each far below the first,
+        // so summed in any order they round as one sum), and Σ |V_j|.
+        let (mut ty, mut tv, mut te, mut td, mut abs_v) = (0.0, 0.0, 0.0, 0.0, 0.0);
         for k in 0..MAX_ORDER {
             let (m, inv) = (k + 1, INV[k + 1]);
-            let vm = (f0 * dk + f1 * d_prev - k_sin * ek) * inv;
-            let ym = vk * inv;
+            // Off the chain: what does not depend on order k.
+            let (c0, cs, t1) = (f0 * inv, k_sin * inv, (f1 * inv) * d_prev);
             let (mut se, mut sd) = (0.0, 0.0);
             for j in 1..k {
                 se += d[j] * v[k - j];
                 sd += e[j] * v[k - j];
             }
-            if k > 0 {
-                se += dk * v0;
-                sd += ek * v0;
-            }
-            let em = -a * inv * (se + d0 * vk);
-            let dm = a * inv * (sd + e0 * vk);
+            let ai = a * inv;
+            let (se, sd) = (ai * se, ai * sd);
+            let (cv, cd, ce) = (a_v0 * inv, a_d0 * inv, a_e0 * inv);
+            // On the chain: order k's values, each through a product and two sums.
+            let vm = (c0 * dk + t1) - cs * ek;
+            let ym = vk * inv;
+            let (em, dm) = if k > 0 {
+                (-(se + cv * dk) - cd * vk, (sd + cv * ek) + ce * vk)
+            } else {
+                (-(cd * vk), ce * vk)
+            };
             (y[m], v[m], e[m], d[m]) = (ym, vm, em, dm);
+            ty += ym;
+            tv += vm;
+            te += em;
+            td += dm;
+            abs_v += vm.abs();
             if m <= 2 {
                 scale_y = scale_y.max(ym.abs());
                 scale_v = scale_v.max(vm.abs());
@@ -189,12 +222,58 @@ impl Taylor {
                 && em.abs() + ek.abs() <= tol_e
                 && dm.abs() + dk.abs() <= tol_e
             {
-                y[m + 1] = vm * INV[m + 1];
+                let y_last = vm * INV[m + 1];
+                y[m + 1] = y_last;
+                self.ends = Ends {
+                    y: y0 + (ty + y_last),
+                    v: v0 + tv,
+                    e: e0 + te,
+                    d: d0 + td,
+                    abs_v_tail: abs_v,
+                };
                 return Some(m);
             }
             (yk, vk, ek, d_prev, dk) = (ym, vm, em, dk, dm);
         }
         None
+    }
+
+    /// The series just built, not converged, taken as it is to
+    /// [`MAX_ORDER`] (a state that is not finite): its degree.
+    fn as_it_is(&mut self) -> usize {
+        self.y[MAX_ORDER + 1] = self.v[MAX_ORDER] * INV[MAX_ORDER + 1];
+        self.ends = Ends {
+            y: sum(&self.y),
+            v: sum(&self.v[..LEN - 1]),
+            e: sum(&self.e[..LEN - 1]),
+            d: sum(&self.d[..LEN - 1]),
+            abs_v_tail: f64::INFINITY,
+        };
+        MAX_ORDER
+    }
+
+    /// The series of a step from these inputs (as [`Taylor::series`]):
+    /// the one [`Taylor::built`] holds if it was built from them, else
+    /// built now.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn build(
+        &mut self,
+        s: f64,
+        y0: f64,
+        w0: f64,
+        e0: f64,
+        d0: f64,
+        h: f64,
+        g_a: f64,
+        g1: f64,
+    ) -> Option<usize> {
+        if let Some((from, n)) = self.built.take() {
+            if from == [s, y0, w0, e0, d0, h, g_a, g1].map(f64::to_bits) {
+                return Some(n);
+            }
+        }
+        self.series(s, y0, w0, e0, d0, h, g_a, g1)
     }
 
     /// The first event of the step just built (degree `n`), if any: the
@@ -231,6 +310,17 @@ impl Taylor {
     }
 }
 
+/// A step's series at its end (τ = 1), and how far its velocity can be
+/// from its first term: `Σ_{j≥1} |V_j|`.
+#[derive(Default, Clone, Copy)]
+struct Ends {
+    y: f64,
+    v: f64,
+    e: f64,
+    d: f64,
+    abs_v_tail: f64,
+}
+
 enum Event {
     Impact,
     Overturn,
@@ -240,6 +330,58 @@ enum Event {
 impl Stepper for Taylor {
     fn set_limit(&mut self, limit: f64) {
         self.limit = limit;
+    }
+
+    /// Whole intervals while each is one step (the step not cut) whose
+    /// series converges and proves it eventless, as [`Taylor::rock`] would
+    /// take them, without leaving the loop. The first interval it cannot
+    /// prove is left to `rock` with its series built ([`Taylor::built`]).
+    #[inline(always)]
+    fn cruise(
+        &mut self,
+        exc: &Excitation,
+        mut k: usize,
+        end: usize,
+        state: &mut Rocking,
+        max_abs_x: &mut f64,
+    ) -> usize {
+        let dt = exc.dt_s;
+        if self.h < dt && dt - self.h > 0.01 * self.h {
+            return k;
+        }
+        let (psi, slope) = (&exc.psi[..], &exc.slope[..]);
+        let n = slope.len().min(psi.len()).min(end);
+        let s = state.s;
+        let (mut y0, mut w0) = (s * state.x, s * state.v);
+        let (mut e0, mut d0) = self.sin_cos_at(state);
+        let mut top = *max_abs_x;
+        let start = k;
+        while k < n {
+            // `rock`'s forcing at the stretch's start, to the bit.
+            let (g_a, g1) = (psi[k] + slope[k] * 0.0, slope[k]);
+            let Some(order) = self.build(s, y0, w0, e0, d0, dt, g_a, g1) else {
+                break;
+            };
+            let e = self.ends;
+            if !(self.v[0].abs() > e.abs_v_tail && e.y > 0.0 && e.y < self.limit) {
+                self.built = Some(([s, y0, w0, e0, d0, dt, g_a, g1].map(f64::to_bits), order));
+                break;
+            }
+            self.steps += 1;
+            top = top.max(e.y);
+            (y0, w0, e0, d0) = (e.y, e.v / dt, e.e, e.d);
+            k += 1;
+        }
+        if k > start {
+            *state = Rocking {
+                x: s * y0,
+                v: s * w0,
+                s,
+            };
+            self.left = Some((*state, e0, d0));
+            *max_abs_x = top;
+        }
+        k
     }
 
     #[inline(always)]
@@ -253,14 +395,11 @@ impl Stepper for Taylor {
             let cut = self.h < remaining && remaining - self.h > 0.01 * self.h;
             let h = if cut { self.h } else { remaining };
             let g_a = st.g_a + st.g1 * sigma;
-            let n = match self.series(s, y0, w0, e0, d0, h, g_a, st.g1) {
+            let n = match self.build(s, y0, w0, e0, d0, h, g_a, st.g1) {
                 Some(n) => n,
                 // Only a state that is not finite fails at steps this short
                 // (p·h = 1e-9): take the series as it is, so time goes on.
-                None if h * self.p <= 1e-9 => {
-                    self.y[MAX_ORDER + 1] = self.v[MAX_ORDER] * INV[MAX_ORDER + 1];
-                    MAX_ORDER
-                }
+                None if h * self.p <= 1e-9 => self.as_it_is(),
                 None => {
                     self.rejected += 1;
                     self.h = 0.5 * h;
@@ -268,9 +407,23 @@ impl Stepper for Taylor {
                 }
             };
             self.steps += 1;
-            let y_end = sum(&self.y[..n + 2]);
-            let v_end = sum(&self.v[..n + 1]);
-            if let Some((t, event)) = self.event(n, y_end, max_abs_x) {
+            let Ends {
+                y: y_end,
+                v: v_end,
+                e: e_end,
+                d: d_end,
+                abs_v_tail,
+            } = self.ends;
+            // No turning point inside (|V| > 0 on the step, its first term
+            // above the sum of the others'): Y is monotone, and an end
+            // inside (0, limit) says the step holds no event.
+            let quiet = self.v[0].abs() > abs_v_tail && y_end > 0.0 && y_end < self.limit;
+            let event = if quiet {
+                None
+            } else {
+                self.event(n, y_end, max_abs_x)
+            };
+            if let Some((t, event)) = event {
                 let at = sigma + t * h;
                 let w = poly(&self.v[..n + 1], t) / h;
                 self.left = None;
@@ -304,8 +457,8 @@ impl Stepper for Taylor {
             *max_abs_x = max_abs_x.max(y_end);
             y0 = y_end;
             w0 = v_end / h;
-            e0 = sum(&self.e[..n + 1]);
-            d0 = sum(&self.d[..n + 1]);
+            e0 = e_end;
+            d0 = d_end;
             if cut {
                 sigma += h;
                 if n <= MAX_ORDER * 2 / 3 {

@@ -6,22 +6,53 @@
 /// two; more would be rounding noise about a double root).
 pub(super) const MAX_TURNS: usize = 8;
 
-/// `Σ c_k t^k` by Horner's rule.
+/// `Σ c_k t^k` by Horner's rule on its even and odd terms at once (in
+/// `t²`, joined at the end): half of Horner's chain of dependent products
+/// and sums, which is what an evaluation's time is on these short
+/// polynomials; rounded, as Horner's, within a few ulps of `Σ |c_k| t^k`.
 #[inline]
 pub(super) fn poly(c: &[f64], t: f64) -> f64 {
-    c.iter().rev().fold(0.0, |acc, &ck| acc * t + ck)
+    let t2 = t * t;
+    let pairs = c.chunks_exact(2);
+    // An odd count: the last term is the even part's highest.
+    let mut even = pairs.remainder().first().copied().unwrap_or(0.0);
+    let mut odd = 0.0;
+    for pair in pairs.rev() {
+        even = even * t2 + pair[0];
+        odd = odd * t2 + pair[1];
+    }
+    even + odd * t
 }
 
-/// `Σ c_k t^k`, its derivative and `Σ |c_k| t^k` (for `t ≥ 0`), by Horner's rule.
+/// `Σ c_k t^k`, its derivative and `Σ |c_k| t^k` (for `t ≥ 0`), each as
+/// [`poly`] evaluates it.
 #[inline]
 fn poly_d(c: &[f64], t: f64) -> (f64, f64, f64) {
-    let (mut p, mut dp, mut m) = (0.0, 0.0, 0.0);
-    for &ck in c.iter().rev() {
-        dp = dp * t + p;
-        p = p * t + ck;
-        m = m * t + ck.abs();
+    let t2 = t * t;
+    let pairs = c.chunks_exact(2);
+    let top = pairs.remainder().first().copied().unwrap_or(0.0);
+    let (mut even, mut odd, mut m_even, mut m_odd) = (top, 0.0, top.abs(), 0.0);
+    // The derivative's terms k c_k t^{k−1}: odd powers from even k.
+    let n = c.len();
+    let (mut d_even, mut d_odd) = if n % 2 == 1 && n > 1 {
+        (0.0, (n - 1) as f64 * top)
+    } else {
+        (0.0, 0.0)
+    };
+    for (i, pair) in pairs.enumerate().rev() {
+        let k = 2 * i;
+        even = even * t2 + pair[0];
+        odd = odd * t2 + pair[1];
+        m_even = m_even * t2 + pair[0].abs();
+        m_odd = m_odd * t2 + pair[1].abs();
+        // k c_k t^{k−1} (odd power, k even, none for k = 0) and
+        // (k+1) c_{k+1} t^k (even power).
+        d_even = d_even * t2 + (k + 1) as f64 * pair[1];
+        if k > 0 {
+            d_odd = d_odd * t2 + k as f64 * pair[0];
+        }
     }
-    (p, dp, m)
+    (even + odd * t, d_even + d_odd * t, m_even + m_odd * t)
 }
 
 /// The root of the polynomial `c` in `(lo, hi]`, where `c(lo)` and `c(hi)`
@@ -29,9 +60,24 @@ fn poly_d(c: &[f64], t: f64) -> (f64, f64, f64) {
 /// of the quadratic Taylor model at `lo` (the start that matters where `lo`
 /// is a turning point and the root nearly double), kept inside the bracket
 /// (which every step narrows; bisection when Newton leaves it), until the
-/// value is below the rounding of its evaluation or a step moves it by a
-/// few ulps.
-pub(super) fn root(c: &[f64], mut lo: f64, mut hi: f64) -> f64 {
+/// value is below the rounding of its evaluation or a step moves it, or
+/// the next step is foretold to move it, by at most `last_step` (relative;
+/// a few ulps for an event's time).
+pub(super) fn root(c: &[f64], lo: f64, hi: f64) -> f64 {
+    root_to(c, lo, hi, 4.0 * f64::EPSILON)
+}
+
+/// A turning point of the velocity polynomial `v` in `(lo, hi]`, as
+/// [`root`] finds it, but done once a Newton step moves it by 1e-6 or less
+/// (relative): the step after it would move it by about the square of
+/// that, and the position there, all a turning point is used for besides
+/// splitting the step, is stationary: an error δ in τ moves it by
+/// `Y''δ²/2`, far below its rounding.
+fn turn(v: &[f64], lo: f64, hi: f64) -> f64 {
+    root_to(v, lo, hi, 1e-6)
+}
+
+fn root_to(c: &[f64], mut lo: f64, mut hi: f64, last_step: f64) -> f64 {
     let f_hi = poly(c, hi);
     if f_hi == 0.0 {
         return hi;
@@ -45,6 +91,9 @@ pub(super) fn root(c: &[f64], mut lo: f64, mut hi: f64) -> f64 {
             t = 0.5 * (lo + hi);
         }
     }
+    // The last Newton step (NaN after a bisection): where steps shrink
+    // quadratically, `e_{k+1} ≈ δ_k³/δ_{k−1}²` foretells the next one.
+    let mut last = f64::NAN;
     for _ in 0..100 {
         let (f, df, m) = poly_d(c, t);
         // Below the rounding of its evaluation, f is zero.
@@ -57,13 +106,19 @@ pub(super) fn root(c: &[f64], mut lo: f64, mut hi: f64) -> f64 {
             lo = t;
         }
         let mut next = t - f / df;
+        let mut step = (next - t).abs();
         if !(next > lo && next < hi) {
             next = 0.5 * (lo + hi);
+            step = f64::NAN;
         }
-        if (next - t).abs() <= 4.0 * f64::EPSILON * t.abs() || hi - lo <= 4.0 * f64::EPSILON * hi {
+        let done = last_step * next.abs();
+        if step <= done
+            || step * (step / last) * (step / last) <= done
+            || hi - lo <= 4.0 * f64::EPSILON * hi
+        {
             return next;
         }
-        t = next;
+        (t, last) = (next, step);
     }
     t
 }
@@ -165,7 +220,7 @@ impl Turns {
 /// A root in (a, b) if `v` changes sign between the ends.
 fn crossing(v: &[f64], a: f64, b: f64, va: f64, vb: f64, out: &mut Turns) {
     if (va > 0.0 && vb < 0.0) || (va < 0.0 && vb > 0.0) {
-        let t = root(v, a, b);
+        let t = turn(v, a, b);
         if t > a && t < b {
             out.push(t);
         }
