@@ -1,5 +1,6 @@
-//! Certification of a capacity: its decisive verdicts rerun at a tighter
-//! tolerance (the search redone if one flips) and probed for chaos.
+//! Certification of a capacity: its decisive verdicts probed for chaos at a
+//! tighter tolerance, and rerun there (the search redone if one flips)
+//! where a probe disagrees.
 
 use super::capacity::{Capacity, Trace};
 use super::decisive::{chaos_probe, decisive_runs, CHAOS_PROBE};
@@ -11,9 +12,11 @@ use crate::physics::{Excitation, PhysicsError, RunSpec};
 /// How a capacity's decisive verdicts were checked.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Certification {
-    /// Searched at `rtol` and the decisive runs gave the same verdicts at
-    /// `checked_rtol` = rtol/[`TIGHTEN`]; `searches` > 1 when looser
-    /// searches had to be redone.
+    /// Searched at `rtol`, and every decisive verdict stands at
+    /// `checked_rtol` = rtol/[`TIGHTEN`]: the runs with η moved by
+    /// ±[`CHAOS_PROBE`] there give it (where one did not, the run itself
+    /// gave it there, and the next search tighter was certified so);
+    /// `searches` > 1 when looser searches had to be redone.
     Tolerance {
         rtol: f64,
         checked_rtol: f64,
@@ -99,7 +102,7 @@ impl std::fmt::Display for Certification {
 pub enum CertificationKind {
     /// The exact stepper, decisive verdicts not chaotic.
     Exact,
-    /// Taylor or DP5: the decisive verdicts agree at a 100× tighter tolerance.
+    /// Taylor or DP5: the decisive verdicts stand at a 100× tighter tolerance.
     Tolerance,
     /// A verdict changes when η moves by 1e-9: decided by no tolerance
     /// nor by exact stepping.
@@ -143,14 +146,17 @@ pub struct Certified {
     pub extra: Work,
 }
 
-/// [`capacity_traced`], certified: for a tolerance-controlled integrator the
-/// decisive runs ([`decisive_runs`]) are rerun at a [`TIGHTEN`]× tighter
-/// tolerance; if a verdict flips, the whole search is redone at that
-/// tolerance and checked again, down to the integrator's tightest
-/// ([`crate::physics::Integrator::tightest_tol`]). Once they agree,
-/// every decisive run is probed for chaos (η moved by ±[`CHAOS_PROBE`] at
-/// the tighter tolerance). The exact stepper has no tolerance: its decisive
-/// runs are only probed for chaos. RK4 is not certified.
+/// [`capacity_traced`], certified: for a tolerance-controlled integrator
+/// every decisive run ([`decisive_runs`]) is probed for chaos at a
+/// [`TIGHTEN`]× tighter tolerance (η moved by ±[`CHAOS_PROBE`]). Where every
+/// probe gives its run's verdict, the verdicts stand at that tolerance (and
+/// an η step of 1e-9 away): certified. Where one does not, the decisive
+/// runs themselves are rerun at that tolerance: if a verdict flips, the
+/// whole search is redone at that tolerance and checked again, down to the
+/// integrator's tightest ([`crate::physics::Integrator::tightest_tol`]);
+/// if none does, the capacity is chaotic. The exact stepper has no
+/// tolerance: its decisive runs are only probed for chaos. RK4 is not
+/// certified.
 ///
 /// [`capacity_traced`]: super::capacity_traced
 pub fn capacity_certified(

@@ -113,7 +113,7 @@ fn runtime(w: &mut String, d: &StudyData) {
     );
     let _ = write!(
         w,
-        "Certification: {certified} of {} capacities certified ({exact} by the exact stepper, {tolerance} at DP5's tolerance with their decisive runs agreeing at a 100× tighter one; in both, no decisive verdict changes when η moves by 1e-9)",
+        "Certification: {certified} of {} capacities certified ({exact} by the exact stepper, {tolerance} at an integrator's tolerance with their decisive verdicts standing at a 100× tighter one; in both, no decisive verdict changes when η moves by 1e-9)",
         d.caps.len()
     );
     let (chaotic, flips) = (

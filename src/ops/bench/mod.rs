@@ -2,11 +2,12 @@
 //! closed-form pulses, and rewrites the marked sections of `BENCHMARKS.md`
 //! (and the plot beside it). Each section is measured in its own module:
 //! `solvers`, `model` (linearisation, criteria), [`accuracy`]
-//! (tolerance, rounding) and `calls`; the options, errors and record
+//! (tolerance, rounding), `calls` and `certified`; the options, errors and record
 //! loading they share sit below them all.
 
 pub mod accuracy;
 mod calls;
+mod certified;
 mod model;
 mod options;
 mod records;
@@ -47,6 +48,7 @@ pub fn run(opts: &BenchOptions, mut log: impl FnMut(&str)) -> Result<(), BenchEr
             Section::Tolerance => accuracy::tolerance_table(opts, &mut say)?,
             Section::Rounding => accuracy::rounding_table(opts, &mut say)?,
             Section::Calls => calls::calls_table(opts, &mut say)?,
+            Section::Certified => certified::certified_table(opts, &mut say)?,
         };
         md = replace_section(&md, section.label(), &text);
         atomic_write(&md_path, md.as_bytes())?;

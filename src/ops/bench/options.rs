@@ -41,6 +41,8 @@ pub enum Section {
     Rounding,
     /// `rocking capacity` per call, process start included.
     Calls,
+    /// A certified nonlinear capacity against the linearised one.
+    Certified,
 }
 
 impl crate::label::Label for Section {
@@ -51,6 +53,7 @@ impl crate::label::Label for Section {
         Section::Tolerance,
         Section::Rounding,
         Section::Calls,
+        Section::Certified,
     ];
     fn label(self) -> &'static str {
         match self {
@@ -60,6 +63,7 @@ impl crate::label::Label for Section {
             Section::Tolerance => "tolerance",
             Section::Rounding => "rounding",
             Section::Calls => "calls",
+            Section::Certified => "certified",
         }
     }
 }

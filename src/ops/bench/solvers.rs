@@ -181,7 +181,8 @@ fn series(rows: &[Row], floor: &bench::Floor) -> Vec<Series> {
     out
 }
 
-fn machine() -> String {
+/// The CPU, the cores available, one thread, the profile.
+pub(super) fn machine() -> String {
     let cpu = std::fs::read_to_string("/proc/cpuinfo")
         .ok()
         .and_then(|s| {

@@ -32,13 +32,18 @@
 //! record; extreme forcing), never longer, so the forcing's kinks fall on
 //! step boundaries. `Y' = V` holds exactly for the polynomials, so the
 //! turning points, impacts and overturning are the roots of polynomials,
-//! found to a few ulps by the Illinois method; the state at an event is the
-//! series evaluated there, as accurate as at the step's end.
+//! found by safeguarded Newton (impacts and overturning to a few ulps,
+//! turning points as finely as their use needs); the state at an event is
+//! the series evaluated there, as accurate as at the step's end.
 //!
 //! `sin u` and `cos u` at the next step's start are the series' values at
 //! its end (no `sin_cos` per step), recomputed exactly after an impact or an
 //! uplift (`y = 0`: `sin α`, `cos α`) and whenever the driver hands over a
 //! state this stepper did not leave.
+//!
+//! Whole intervals a step proves eventless are crossed by
+//! [`Stepper::cruise`] without returning to the driver, and the two runs of
+//! a chaos probe in step (`pair`, one lane each).
 
 #[cfg(target_arch = "x86_64")]
 mod pair;

@@ -28,7 +28,8 @@ pub struct Args {
     quick: bool,
     /// The sections to measure (the others keep their text): solvers,
     /// linearisation, criteria, tolerance, rounding, calls (`rocking
-    /// capacity` per call, process start included). Default: all.
+    /// capacity` per call, process start included), certified (a certified
+    /// nonlinear capacity against the linearised one). Default: all.
     #[arg(long, value_delimiter = ',', value_parser = parse_section)]
     sections: Vec<Section>,
 }

@@ -267,10 +267,10 @@ fn certified_searches(s: &mut String, results: &[CaseResult], rtols: &[Integrato
         s,
         "\n**Certified search** (`ida::capacity_certified`): after the search, its decisive runs (the bracket \
          before refinement, every refinement run, and the near misses: surviving levels before the \
-         first overturning that reached θmax/α ≥ 0.5) are rerun at a 100× tighter \
-         tolerance; a flipped verdict means the search is redone at that tolerance and checked again. \
-         Once they agree, every decisive run is rerun with η moved by ±1e-9 (relative): a verdict \
-         that changes marks the capacity *chaotic*, decided by no tolerance.\n"
+         first overturning that reached θmax/α ≥ 0.5) are rerun with η moved by ±1e-9 (relative) \
+         at a 100× tighter tolerance. Where a probe disagrees, the decisive runs are rerun at that \
+         tolerance: a flipped verdict means the search is redone at that tolerance and checked \
+         again; none flipped marks the capacity *chaotic*, decided by no tolerance.\n"
     );
     let _ = writeln!(
         s,
