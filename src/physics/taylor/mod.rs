@@ -96,10 +96,9 @@ pub struct Taylor {
     d: [f64; LEN],
     /// The current step's sums.
     ends: Ends,
-    /// What the current step's series was built from (`s`, `y0`, `ẏ0`,
-    /// `sin u0`, `cos u0`, `h`, `g_a`, `g1`, as bits) and its degree, when
-    /// [`Stepper::cruise`] built it and left the step to [`Stepper::rock`]:
-    /// `rock` asked for the same series takes it as it is.
+    /// What the current step's series was built from ([`Step::key`]) and
+    /// its degree, when [`Stepper::cruise`] built it and left the step to
+    /// [`Stepper::rock`]: `rock` asked for the same series takes it as it is.
     built: Option<([u64; 8], usize)>,
     /// Steps taken and series thrown away (for benchmarks).
     pub steps: u64,
@@ -158,18 +157,17 @@ impl Taylor {
     /// older terms summed first): the chain of orders is what bounds the
     /// step's time, the rest runs beside it.
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    fn series(
-        &mut self,
-        s: f64,
-        y0: f64,
-        w0: f64,
-        e0: f64,
-        d0: f64,
-        h: f64,
-        g_a: f64,
-        g1: f64,
-    ) -> Option<usize> {
+    fn series(&mut self, from: Step) -> Option<usize> {
+        let Step {
+            s,
+            y0,
+            w0,
+            e0,
+            d0,
+            h,
+            g_a,
+            g1,
+        } = from;
         self.built = None;
         let h2 = h * h;
         let k_sin = h2 * self.p2_over_alpha;
@@ -261,24 +259,20 @@ impl Taylor {
     /// the one [`Taylor::built`] holds if it was built from them, else
     /// built now.
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    fn build(
-        &mut self,
-        s: f64,
-        y0: f64,
-        w0: f64,
-        e0: f64,
-        d0: f64,
-        h: f64,
-        g_a: f64,
-        g1: f64,
-    ) -> Option<usize> {
-        if let Some((from, n)) = self.built.take() {
-            if from == [s, y0, w0, e0, d0, h, g_a, g1].map(f64::to_bits) {
+    fn build(&mut self, from: Step) -> Option<usize> {
+        if let Some((key, n)) = self.built.take() {
+            if key == from.key() {
                 return Some(n);
             }
         }
-        self.series(s, y0, w0, e0, d0, h, g_a, g1)
+        self.series(from)
+    }
+
+    /// Whether a stretch of `len` left is cut into steps of [`Taylor::h`]
+    /// (a last piece under 1 % of a step is taken with the one before).
+    #[inline(always)]
+    fn cuts(&self, len: f64) -> bool {
+        self.h < len && len - self.h > 0.01 * self.h
     }
 
     /// The first event of the step just built (degree `n`), if any: the
@@ -312,6 +306,30 @@ impl Taylor {
             (lo, y_lo) = (hi, y_hi);
         }
         None
+    }
+}
+
+/// What a step's series is built from: the pivot `s`, `y0`, `ẏ0 = w0`,
+/// `sin u0 = e0`, `cos u0 = d0`, the step `h` and the forcing `g_a + g1·σ`.
+#[derive(Clone, Copy)]
+struct Step {
+    s: f64,
+    y0: f64,
+    w0: f64,
+    e0: f64,
+    d0: f64,
+    h: f64,
+    g_a: f64,
+    g1: f64,
+}
+
+impl Step {
+    /// Every number, as bits: two steps with one key build one series.
+    fn key(&self) -> [u64; 8] {
+        [
+            self.s, self.y0, self.w0, self.e0, self.d0, self.h, self.g_a, self.g1,
+        ]
+        .map(f64::to_bits)
     }
 }
 
@@ -351,7 +369,7 @@ impl Stepper for Taylor {
         max_abs_x: &mut f64,
     ) -> usize {
         let dt = exc.dt_s;
-        if self.h < dt && dt - self.h > 0.01 * self.h {
+        if self.cuts(dt) {
             return k;
         }
         let (psi, slope) = (&exc.psi[..], &exc.slope[..]);
@@ -363,13 +381,22 @@ impl Stepper for Taylor {
         let start = k;
         while k < n {
             // `rock`'s forcing at the stretch's start, to the bit.
-            let (g_a, g1) = (psi[k] + slope[k] * 0.0, slope[k]);
-            let Some(order) = self.build(s, y0, w0, e0, d0, dt, g_a, g1) else {
+            let from = Step {
+                s,
+                y0,
+                w0,
+                e0,
+                d0,
+                h: dt,
+                g_a: psi[k] + slope[k] * 0.0,
+                g1: slope[k],
+            };
+            let Some(order) = self.build(from) else {
                 break;
             };
             let e = self.ends;
             if !(self.v[0].abs() > e.abs_v_tail && e.y > 0.0 && e.y < self.limit) {
-                self.built = Some(([s, y0, w0, e0, d0, dt, g_a, g1].map(f64::to_bits), order));
+                self.built = Some((from.key(), order));
                 break;
             }
             self.steps += 1;
@@ -397,10 +424,19 @@ impl Stepper for Taylor {
         let mut sigma = 0.0;
         while sigma < st.len {
             let remaining = st.len - sigma;
-            let cut = self.h < remaining && remaining - self.h > 0.01 * self.h;
+            let cut = self.cuts(remaining);
             let h = if cut { self.h } else { remaining };
-            let g_a = st.g_a + st.g1 * sigma;
-            let n = match self.build(s, y0, w0, e0, d0, h, g_a, st.g1) {
+            let from = Step {
+                s,
+                y0,
+                w0,
+                e0,
+                d0,
+                h,
+                g_a: st.g_a + st.g1 * sigma,
+                g1: st.g1,
+            };
+            let n = match self.build(from) {
                 Some(n) => n,
                 // Only a state that is not finite fails at steps this short
                 // (p·h = 1e-9): take the series as it is, so time goes on.

@@ -5,7 +5,7 @@
 //! operations [`Taylor::series`] does, in its order, so each run's outcome
 //! is the one it has alone, to the bit.
 
-use super::{Ends, Taylor, INV, LEN, MAX_ORDER, MIN_ORDER};
+use super::{Ends, Step, Taylor, INV, LEN, MAX_ORDER, MIN_ORDER};
 use crate::physics::driver::CruisePair;
 use crate::physics::lanes::F2;
 use crate::physics::step::Rocking;
@@ -142,10 +142,10 @@ impl PairSeries {
         }
     }
 
-    /// Hands lane `lane`'s step (built from `inputs`) to `stepper`, as if it
+    /// Hands lane `lane`'s step (built from `from`) to `stepper`, as if it
     /// had built it: [`Taylor::rock`] or [`Taylor::cruise`] asked for it take
     /// it as it is.
-    fn hand(&self, lane: usize, inputs: [f64; 8], stepper: &mut Taylor) {
+    fn hand(&self, lane: usize, from: Step, stepper: &mut Taylor) {
         let Some(n) = self.n[lane] else { return };
         for i in 0..n + 2 {
             stepper.y[i] = self.y[i].lanes()[lane];
@@ -156,7 +156,7 @@ impl PairSeries {
             stepper.d[i] = self.d[i].lanes()[lane];
         }
         stepper.ends = self.ends[lane];
-        stepper.built = Some((inputs.map(f64::to_bits), n));
+        stepper.built = Some((from.key(), n));
     }
 }
 
@@ -176,8 +176,7 @@ impl CruisePair for Taylor {
     ) -> usize {
         let [ta, tb] = steppers;
         let dt = exc.dt_s;
-        let cut = |t: &Taylor| t.h < dt && dt - t.h > 0.01 * t.h;
-        if cut(ta) || cut(tb) || ta.p != tb.p || ta.alpha != tb.alpha || ta.tol != tb.tol {
+        if ta.cuts(dt) || tb.cuts(dt) || ta.p != tb.p || ta.alpha != tb.alpha || ta.tol != tb.tol {
             return k;
         }
         let (psi, slope) = (&exc.psi[..], &exc.slope[..]);
@@ -217,9 +216,18 @@ impl CruisePair for Taylor {
                     && e.y < limit[lane]
             };
             if !(quiet(0) && quiet(1)) {
-                let inputs = |l: usize| [s[l], y0[l], w0[l], e0[l], d0[l], dt, g_a, g1];
-                pair.hand(0, inputs(0), ta);
-                pair.hand(1, inputs(1), tb);
+                let from = |l: usize| Step {
+                    s: s[l],
+                    y0: y0[l],
+                    w0: w0[l],
+                    e0: e0[l],
+                    d0: d0[l],
+                    h: dt,
+                    g_a,
+                    g1,
+                };
+                pair.hand(0, from(0), ta);
+                pair.hand(1, from(1), tb);
                 break;
             }
             for (lane, t) in [(0, &mut *ta), (1, &mut *tb)] {
