@@ -1,0 +1,189 @@
+//! The series of one Taylor step, order by order: the recurrences of the
+//! module's header, the constants of a step multiplied out beforehand, the
+//! first orders each their own straight code, the tail tested as the series
+//! grows ([`Taylor::series`]).
+
+use super::poly::sum;
+use super::{Ends, Step, Taylor, INV, LEN, MAX_ORDER, MIN_ORDER};
+
+impl Taylor {
+    /// Builds the series of a step of length `h` from `y0`, `ẏ0 = w0`, `sin
+    /// u0 = e0`, `cos u0 = d0` on pivot `s` under `g_a + g1·σ`, order by
+    /// order until its tail is below the tolerance; returns the degree `n`
+    /// of V (Y's is n + 1), or `None` if the tail is still above the
+    /// tolerance at [`MAX_ORDER`]. On success [`Taylor::ends`] holds the
+    /// series' sums (its values at τ = 1) and `Σ_{j≥1} |V_j|`.
+    #[inline(always)]
+    pub(super) fn series(&mut self, from: Step) -> Option<usize> {
+        let Step {
+            s,
+            y0,
+            w0,
+            e0,
+            d0,
+            h,
+            g_a,
+            g1,
+        } = from;
+        self.built = None;
+        let h2 = h * h;
+        let k_sin = h2 * self.p2_over_alpha;
+        let f = s * h2 * self.p2_over_eta;
+        let a = self.alpha;
+        let v0 = h * w0;
+        (self.y[0], self.v[0], self.e[0], self.d[0]) = (y0, v0, e0, d0);
+        let c = Consts {
+            f0: f * g_a,
+            f1: f * g1 * h,
+            k_sin,
+            a,
+            a_v0: a * v0,
+            a_e0: a * e0,
+            a_d0: a * d0,
+            tol: self.tol,
+            tol_e: self.tol * a,
+        };
+        // The newest coefficients stay in registers; the convolutions read
+        // from memory only the ones stored an order or more before. The
+        // coefficients fall geometrically: the largest is among the first
+        // three. The sums of the terms past the first (each far below the
+        // first, so summed in any order they round as one sum), and Σ |V_j|.
+        let mut g = Grow {
+            yk: y0,
+            vk: v0,
+            ek: e0,
+            dk: d0,
+            d_prev: 0.0,
+            scale_y: y0.abs(),
+            scale_v: v0.abs(),
+            ty: 0.0,
+            tv: 0.0,
+            te: 0.0,
+            td: 0.0,
+            abs_v: 0.0,
+        };
+        // The orders nearly every step needs, each its own straight code
+        // (its convolutions unrolled); the rare longer series in a loop.
+        macro_rules! unrolled {
+            ($($k:literal)*) => {$(
+                if self.order($k, &c, &mut g) {
+                    return Some($k + 1);
+                }
+            )*};
+        }
+        unrolled!(0 1 2 3 4 5 6 7 8);
+        for k in 9..MAX_ORDER {
+            if self.order(k, &c, &mut g) {
+                return Some(k + 1);
+            }
+        }
+        None
+    }
+
+    /// Order `k + 1` of the series [`Taylor::series`] grows: its
+    /// coefficients stored, its sums and the newest values in `g` moved on;
+    /// true when the tail is below the tolerance there ([`Taylor::ends`]
+    /// then set and the series done).
+    ///
+    /// Each order depends on the one before through a product and two
+    /// sums (the constants multiplied out beforehand, the convolutions'
+    /// older terms summed first): the chain of orders is what bounds the
+    /// step's time, the rest runs beside it.
+    #[inline(always)]
+    fn order(&mut self, k: usize, c: &Consts, g: &mut Grow) -> bool {
+        let (m, inv) = (k + 1, INV[k + 1]);
+        let (y, v, e, d) = (&mut self.y, &mut self.v, &mut self.e, &mut self.d);
+        // Off the chain: what does not depend on order k.
+        let (c0, cs, t1) = (c.f0 * inv, c.k_sin * inv, (c.f1 * inv) * g.d_prev);
+        let (mut se, mut sd) = (0.0, 0.0);
+        for j in 1..k {
+            se += d[j] * v[k - j];
+            sd += e[j] * v[k - j];
+        }
+        let ai = c.a * inv;
+        let (se, sd) = (ai * se, ai * sd);
+        let (cv, cd, ce) = (c.a_v0 * inv, c.a_d0 * inv, c.a_e0 * inv);
+        // On the chain: order k's values, each through a product and two sums.
+        let (yk, vk, ek, dk) = (g.yk, g.vk, g.ek, g.dk);
+        let vm = (c0 * dk + t1) - cs * ek;
+        let ym = vk * inv;
+        let (em, dm) = if k > 0 {
+            (-(se + cv * dk) - cd * vk, (sd + cv * ek) + ce * vk)
+        } else {
+            (-(cd * vk), ce * vk)
+        };
+        (y[m], v[m], e[m], d[m]) = (ym, vm, em, dm);
+        g.ty += ym;
+        g.tv += vm;
+        g.te += em;
+        g.td += dm;
+        g.abs_v += vm.abs();
+        if m <= 2 {
+            g.scale_y = g.scale_y.max(ym.abs());
+            g.scale_v = g.scale_v.max(vm.abs());
+        } else if m >= MIN_ORDER
+            && ym.abs() + yk.abs() <= c.tol * g.scale_y
+            && vm.abs() + vk.abs() <= c.tol * g.scale_v
+            && em.abs() + ek.abs() <= c.tol_e
+            && dm.abs() + dk.abs() <= c.tol_e
+        {
+            let y_last = vm * INV[m + 1];
+            y[m + 1] = y_last;
+            self.ends = Ends {
+                y: y[0] + (g.ty + y_last),
+                v: v[0] + g.tv,
+                e: e[0] + g.te,
+                d: d[0] + g.td,
+                abs_v_tail: g.abs_v,
+            };
+            return true;
+        }
+        (g.yk, g.vk, g.ek, g.d_prev, g.dk) = (ym, vm, em, dk, dm);
+        false
+    }
+
+    /// The series just built, not converged, taken as it is to
+    /// [`MAX_ORDER`] (a state that is not finite): its degree.
+    pub(super) fn as_it_is(&mut self) -> usize {
+        self.y[MAX_ORDER + 1] = self.v[MAX_ORDER] * INV[MAX_ORDER + 1];
+        self.ends = Ends {
+            y: sum(&self.y),
+            v: sum(&self.v[..LEN - 1]),
+            e: sum(&self.e[..LEN - 1]),
+            d: sum(&self.d[..LEN - 1]),
+            abs_v_tail: f64::INFINITY,
+        };
+        MAX_ORDER
+    }
+}
+
+/// A step's constants, as every order of its series uses them.
+pub(super) struct Consts {
+    f0: f64,
+    f1: f64,
+    k_sin: f64,
+    a: f64,
+    a_v0: f64,
+    a_e0: f64,
+    a_d0: f64,
+    tol: f64,
+    tol_e: f64,
+}
+
+/// A series as it grows: the newest coefficients (`d_prev` the one before
+/// `dk`), the scales of Y and V, the sums of the terms past the first and
+/// `Σ |V_j|`.
+pub(super) struct Grow {
+    yk: f64,
+    vk: f64,
+    ek: f64,
+    dk: f64,
+    d_prev: f64,
+    scale_y: f64,
+    scale_v: f64,
+    ty: f64,
+    tv: f64,
+    te: f64,
+    td: f64,
+    abs_v: f64,
+}
