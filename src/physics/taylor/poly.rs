@@ -128,10 +128,17 @@ fn root_to(c: &[f64], mut lo: f64, mut hi: f64, last_step: f64) -> f64 {
 #[inline]
 fn quadratic_start(c: &[f64], t: f64) -> Option<f64> {
     let (mut p, mut dp, mut ddp) = (0.0, 0.0, 0.0);
-    for &ck in c.iter().rev() {
-        ddp = ddp * t + dp;
-        dp = dp * t + p;
-        p = p * t + ck;
+    if t == 0.0 {
+        // What the loop below gives at t = 0, to the bit: the step's start,
+        // where nearly every root is sought from.
+        let at = |k: usize| c.get(k).copied().unwrap_or(0.0);
+        (p, dp, ddp) = (at(0), at(1), at(2));
+    } else {
+        for &ck in c.iter().rev() {
+            ddp = ddp * t + dp;
+            dp = dp * t + p;
+            p = p * t + ck;
+        }
     }
     let (a, b, q) = (ddp, dp, p); // q + b δ + a δ² (a is c''/2)
     let disc = b * b - 4.0 * a * q;
@@ -141,10 +148,13 @@ fn quadratic_start(c: &[f64], t: f64) -> Option<f64> {
     // The two roots without cancellation.
     let r = -0.5 * (b + b.signum() * disc.sqrt());
     let (d1, d2) = (r / a, if r != 0.0 { q / r } else { f64::NAN });
-    [d1, d2]
-        .into_iter()
-        .filter(|d| *d > 0.0)
-        .min_by(f64::total_cmp)
+    // The smaller positive one (NaN and zeros are neither).
+    match (d1 > 0.0, d2 > 0.0) {
+        (true, true) => Some(if d2 < d1 { d2 } else { d1 }),
+        (true, false) => Some(d1),
+        (false, true) => Some(d2),
+        (false, false) => None,
+    }
 }
 
 /// `Σ c_k`, smallest terms first.
