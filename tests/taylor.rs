@@ -2,7 +2,8 @@
 //! its free motion conserves the nonlinear energy; its runs equal DP5's at
 //! rtol 1e-13 (another engine) on bundled records; as α → 0 it tends to
 //! the exact linearised stepper's closed form; an interval holding two
-//! turning points keeps its impact; the hard cases certify to DP5's tight
+//! turning points keeps its impact; a lift settled within the rounding of
+//! time rests on, as DP5's does; the hard cases certify to DP5's tight
 //! search or are flagged chaotic where DP5's certification is; the
 //! command line and pipelines choose it and refuse bad settings.
 
@@ -101,6 +102,34 @@ fn runs_equal_dp5_at_its_tightest() {
             }
         }
     }
+}
+
+/// A block lifted by a forcing past the threshold only by rounding, and
+/// falling back within the rounding of the interval's time (RSN900 at the
+/// α = 0.3 paper grid's second p, ε = 0.5, η = 0.0653): it rests on until
+/// the forcing lifts it anew, instead of lifting and settling at the same
+/// instant until the event cap. The run then equals DP5's at rtol 1e-13
+/// (another engine): the same stop and 521 impacts, θmax/α within 1e-12.
+#[test]
+fn a_lift_settled_within_the_rounding_of_time_rests_on() {
+    let exc = far("RSN900_LANDERS_YER360");
+    let p = 0.33 * (10.0f64 / 0.33).powf(1.0 / 11.0);
+    let spec = |m| RunSpec {
+        eta: 0.06531305526474723,
+        ..RunSpec::new(p, 0.5, 1.0, m)
+    };
+    let t = simulate(&exc, &spec(Model::taylor(0.3, DEFAULT_TAYLOR_TOL))).unwrap();
+    let d = simulate(&exc, &spec(Model::dp5(0.3, 1e-13))).unwrap();
+    assert_eq!(
+        (t.stop, t.impacts),
+        (d.stop, d.impacts),
+        "{t:?} against {d:?}"
+    );
+    assert_eq!(t.impacts, 521);
+    assert!(
+        (t.max_abs_x - d.max_abs_x).abs() < 1e-12,
+        "{t:?} against {d:?}"
+    );
 }
 
 /// As α → 0 the nonlinear equation tends to the linearised one, their

@@ -311,6 +311,8 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
         let mut tau = 0.0;
         // Forcing at `tau`; exactly ±threshold at an uplift instant.
         let mut g_a = g0;
+        // At rest after a settling within τ's rounding, on the side of `g_a`.
+        let mut held = false;
         while tau < dt {
             self.events += 1;
             if self.events > MAX_EVENTS {
@@ -319,7 +321,8 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
             }
             let Some(mut st) = self.state else {
                 // At rest: find where |ψ̈| first exceeds the threshold in [tau, dt].
-                let (at, side) = uplift_in(g_a, g_end, g1, dt - tau, self.threshold)?;
+                let (at, side) = uplift_in(g_a, g_end, g1, dt - tau, self.threshold, held)?;
+                held = false;
                 tau += at;
                 // The forcing at the crossing is exactly ±threshold (or beyond it
                 // when the block was already pushed past it at rest).
@@ -368,7 +371,11 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
                     return Some(Stop::Overturned);
                 }
                 StretchEnd::Settled { sigma } => {
-                    tau += sigma;
+                    // Settled within τ's rounding (a lift the forcing cannot
+                    // sustain): time moves on by an ulp (MODEL.md §3, uplift).
+                    let moved = tau + sigma > tau;
+                    held = !moved && g1 * g_a <= 0.0;
+                    tau = if moved { tau + sigma } else { tau.next_up() };
                     g_a = g0 + g1 * tau;
                     self.state = None;
                     self.emit(t_k + tau, g_a, EventKind::Rest);
@@ -506,8 +513,23 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
 /// Strict: a record that only touches the threshold does not lift the block.
 /// `g_b` is the forcing at the end of the stretch, the next sample itself
 /// (not `g_a + g1·len`, which can round past a threshold the sample only touches).
+/// `held`: the block has just settled within τ's rounding with `g_a` past the
+/// threshold and growing no stronger on its side (`g1·g_a ≤ 0`): it lifts
+/// off the other side only, where the forcing crosses it there.
 #[inline(always)]
-fn uplift_in(g_a: f64, g_b: f64, g1: f64, len: f64, threshold: f64) -> Option<(f64, f64)> {
+fn uplift_in(
+    g_a: f64,
+    g_b: f64,
+    g1: f64,
+    len: f64,
+    threshold: f64,
+    held: bool,
+) -> Option<(f64, f64)> {
+    if held {
+        let side = -g_a.signum();
+        let sigma = ((side * threshold - g_a) / g1).clamp(0.0, len);
+        return (side * g_b > threshold).then_some((sigma, side));
+    }
     if g_a.abs() > threshold {
         return Some((0.0, g_a.signum()));
     }
