@@ -166,21 +166,11 @@ impl Taylor {
         self.h < len && len - self.h > 0.01 * self.h
     }
 
-    /// Whether the step just built holds no event and raises the largest
-    /// `y` met before (`top`) to its end at most: either it has no turning
-    /// point inside (|V| > 0 on the step, its first term above the sum of
-    /// the others') and its end is inside (0, limit), for Y is monotone; or
-    /// [`calm`] proves it.
+    /// [`quiet`] for the step just built.
     #[inline(always)]
     fn quiet(&self, top: f64) -> bool {
-        let e = &self.ends;
-        (self.v[0].abs() > e.abs_v_tail && e.y > 0.0 && e.y < self.limit)
-            || calm(
-                [self.y[0], self.y[1], self.y[2], self.v[1]],
-                e,
-                top,
-                self.limit,
-            )
+        let (y, v) = ([self.y[0], self.y[1], self.y[2]], [self.v[0], self.v[1]]);
+        quiet(y, v, &self.ends, top, self.limit)
     }
 
     /// The first event of the step just built (degree `n`), if any: the
@@ -215,6 +205,17 @@ impl Taylor {
         }
         None
     }
+}
+
+/// Whether a step (its first coefficients `[Y_0, Y_1, Y_2]`, `[V_0, V_1]`
+/// and its sums) holds no event and raises the largest `y` met before
+/// (`top`) to its end at most: either it has no turning point inside (|V| >
+/// 0 on the step, its first term above the sum of the others') and its end
+/// is inside (0, limit), for Y is monotone; or [`calm`] proves it.
+#[inline(always)]
+fn quiet([y0, y1, y2]: [f64; 3], [v0, v1]: [f64; 2], ends: &Ends, top: f64, limit: f64) -> bool {
+    (v0.abs() > ends.abs_v_tail && ends.y > 0.0 && ends.y < limit)
+        || calm([y0, y1, y2, v1], ends, top, limit)
 }
 
 /// Whether a step (its first coefficients `[Y_0, Y_1, Y_2, V_1]` and its

@@ -5,7 +5,7 @@
 //! operations [`Taylor::series`] does, in its order, so each run's outcome
 //! is the one it has alone, to the bit.
 
-use super::{calm, Ends, Step, Taylor, INV, LEN, MAX_ORDER, MIN_ORDER};
+use super::{quiet, Ends, Step, Taylor, INV, LEN, MAX_ORDER, MIN_ORDER};
 use crate::physics::driver::CruisePair;
 use crate::physics::lanes::F2;
 use crate::physics::step::Rocking;
@@ -207,14 +207,13 @@ impl CruisePair for Taylor {
                 g_a,
                 g1,
             );
-            let v0 = pair.v[0].lanes();
             let quiet = |lane: usize| {
-                let e = &pair.ends[lane];
-                let first =
-                    [&pair.y[0], &pair.y[1], &pair.y[2], &pair.v[1]].map(|c| c.lanes()[lane]);
-                pair.n[lane].is_some()
-                    && ((v0[lane].abs() > e.abs_v_tail && e.y > 0.0 && e.y < limit[lane])
-                        || calm(first, e, top[lane], limit[lane]))
+                let at = |c: &F2| c.lanes()[lane];
+                let (y, v) = (
+                    [&pair.y[0], &pair.y[1], &pair.y[2]].map(at),
+                    [&pair.v[0], &pair.v[1]].map(at),
+                );
+                pair.n[lane].is_some() && quiet(y, v, &pair.ends[lane], top[lane], limit[lane])
             };
             if !(quiet(0) && quiet(1)) {
                 let from = |l: usize| Step {
