@@ -191,14 +191,15 @@ impl Taylor {
                 let mut shifted = [0.0; LEN];
                 shifted[..yc.len()].copy_from_slice(yc);
                 shifted[0] -= self.limit;
-                return Some((root(&shifted[..yc.len()], lo, hi), Event::Overturn));
+                let over = y_hi - self.limit;
+                return Some((root(&shifted[..yc.len()], lo, hi, over), Event::Overturn));
             }
             if y_hi <= 0.0 {
                 if y_lo <= 0.0 {
                     // A departure swamped by rounding: it never left the pivot.
                     return Some((hi, Event::Settled));
                 }
-                return Some((root(yc, lo, hi), Event::Impact));
+                return Some((root(yc, lo, hi, y_hi), Event::Impact));
             }
             *max_abs_x = max_abs_x.max(y_hi);
             (lo, y_lo) = (hi, y_hi);

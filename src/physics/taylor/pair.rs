@@ -5,6 +5,7 @@
 //! operations [`Taylor::series`] does, in its order, so each run's outcome
 //! is the one it has alone, to the bit.
 
+use super::series::convolutions;
 use super::{quiet, Ends, Step, Taylor, INV, LEN, MAX_ORDER, MIN_ORDER};
 use crate::physics::driver::CruisePair;
 use crate::physics::lanes::F2;
@@ -78,11 +79,7 @@ impl PairSeries {
             let m = k + 1;
             let inv = F2::splat(INV[m]);
             let (c0, cs, t1) = (f0 * inv, k_sin * inv, (f1 * inv) * d_prev);
-            let (mut se, mut sd) = (zero, zero);
-            for j in 1..k {
-                se = se + d[j] * v[k - j];
-                sd = sd + e[j] * v[k - j];
-            }
+            let (se, sd) = convolutions(&d[..], &e[..], &v[..], k, zero);
             let ai = F2::splat(a * INV[m]);
             let (se, sd) = (ai * se, ai * sd);
             let (cv, cd, ce) = (a_v0 * inv, a_d0 * inv, a_e0 * inv);

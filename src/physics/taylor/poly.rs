@@ -55,16 +55,18 @@ fn poly_d(c: &[f64], t: f64) -> (f64, f64, f64) {
     (even + odd * t, d_even + d_odd * t, m_even + m_odd * t)
 }
 
-/// The root of the polynomial `c` in `(lo, hi]`, where `c(lo)` and `c(hi)`
-/// have opposite signs (or `c(hi) = 0`): Newton's method from the first root
+/// The root of the polynomial `c` in `(lo, hi]`, where `c(lo)` and `f_hi`
+/// (its value at `hi` as the caller found it, the value that decided there
+/// is an event: not evaluated again) have opposite signs (or `f_hi = 0`,
+/// the root `hi`): Newton's method from the first root
 /// of the quadratic Taylor model at `lo` (the start that matters where `lo`
 /// is a turning point and the root nearly double), kept inside the bracket
 /// (which every step narrows; bisection when Newton leaves it), until the
 /// value is below the rounding of its evaluation or a step moves it, or
 /// the next step is foretold to move it, by at most `last_step` (relative;
 /// a few ulps for an event's time).
-pub(super) fn root(c: &[f64], lo: f64, hi: f64) -> f64 {
-    root_to(c, lo, hi, 4.0 * f64::EPSILON)
+pub(super) fn root(c: &[f64], lo: f64, hi: f64, f_hi: f64) -> f64 {
+    root_to(c, lo, hi, f_hi, 4.0 * f64::EPSILON)
 }
 
 /// A turning point of the velocity polynomial `v` in `(lo, hi]`, as
@@ -73,12 +75,11 @@ pub(super) fn root(c: &[f64], lo: f64, hi: f64) -> f64 {
 /// that, and the position there, all a turning point is used for besides
 /// splitting the step, is stationary: an error δ in τ moves it by
 /// `Y''δ²/2`, far below its rounding.
-fn turn(v: &[f64], lo: f64, hi: f64) -> f64 {
-    root_to(v, lo, hi, 1e-6)
+fn turn(v: &[f64], lo: f64, hi: f64, f_hi: f64) -> f64 {
+    root_to(v, lo, hi, f_hi, 1e-6)
 }
 
-fn root_to(c: &[f64], mut lo: f64, mut hi: f64, last_step: f64) -> f64 {
-    let f_hi = poly(c, hi);
+fn root_to(c: &[f64], mut lo: f64, mut hi: f64, f_hi: f64, last_step: f64) -> f64 {
     if f_hi == 0.0 {
         return hi;
     }
@@ -113,7 +114,7 @@ fn root_to(c: &[f64], mut lo: f64, mut hi: f64, last_step: f64) -> f64 {
         }
         let done = last_step * next.abs();
         if step <= done
-            || step * (step / last) * (step / last) <= done
+            || step * step * step <= done * last * last
             || hi - lo <= 4.0 * f64::EPSILON * hi
         {
             return next;
@@ -230,7 +231,7 @@ impl Turns {
 /// A root in (a, b) if `v` changes sign between the ends.
 fn crossing(v: &[f64], a: f64, b: f64, va: f64, vb: f64, out: &mut Turns) {
     if (va > 0.0 && vb < 0.0) || (va < 0.0 && vb > 0.0) {
-        let t = turn(v, a, b);
+        let t = turn(v, a, b, vb);
         if t > a && t < b {
             out.push(t);
         }
@@ -332,7 +333,12 @@ mod tests {
     #[test]
     fn newton_finds_roots_to_ulps() {
         // (τ − 1/3)(τ + 2) = τ² + 5τ/3 − 2/3
-        let r = root(&[-2.0 / 3.0, 5.0 / 3.0, 1.0], 0.0, 1.0);
+        let r = root(
+            &[-2.0 / 3.0, 5.0 / 3.0, 1.0],
+            0.0,
+            1.0,
+            1.0 + 5.0 / 3.0 - 2.0 / 3.0,
+        );
         assert!((r - 1.0 / 3.0).abs() <= 2.0 * f64::EPSILON, "{r}");
     }
 }

@@ -95,11 +95,7 @@ impl Taylor {
         let (y, v, e, d) = (&mut self.y, &mut self.v, &mut self.e, &mut self.d);
         // Off the chain: what does not depend on order k.
         let (c0, cs, t1) = (c.f0 * inv, c.k_sin * inv, (c.f1 * inv) * g.d_prev);
-        let (mut se, mut sd) = (0.0, 0.0);
-        for j in 1..k {
-            se += d[j] * v[k - j];
-            sd += e[j] * v[k - j];
-        }
+        let (se, sd) = convolutions(&d[..], &e[..], &v[..], k, 0.0);
         let ai = c.a * inv;
         let (se, sd) = (ai * se, ai * sd);
         let (cv, cd, ce) = (c.a_v0 * inv, c.a_d0 * inv, c.a_e0 * inv);
@@ -155,6 +151,36 @@ impl Taylor {
         };
         MAX_ORDER
     }
+}
+
+/// `Σ_{j=1}^{k−1} D_j V_{k−j}` and `Σ E_j V_{k−j}` (order k's convolutions
+/// without their terms in `D_0`, `E_0`, `V_0`), for [`Taylor::series`] and
+/// the pair's lanes alike. Summed from the inside out: the terms pair as
+/// `(j, k − j)`, and a pair needs order `max(j, k − j)`, so the oldest
+/// terms are summed first and the two of the newest stored order (j = 1, k
+/// − 1) last, not first: the sum then waits for that order by a product
+/// and two sums only, and the chain of orders stays three operations an
+/// order.
+#[inline(always)]
+pub(super) fn convolutions<T>(d: &[T], e: &[T], v: &[T], k: usize, zero: T) -> (T, T)
+where
+    T: Copy + std::ops::Add<Output = T> + std::ops::Mul<Output = T>,
+{
+    let (mut se, mut sd) = (zero, zero);
+    if k < 2 {
+        return (se, sd);
+    }
+    let (mut lo, mut hi) = (k / 2, k - k / 2);
+    if lo == hi {
+        (se, sd) = (d[lo] * v[lo], e[lo] * v[lo]);
+        (lo, hi) = (lo - 1, hi + 1);
+    }
+    while lo >= 1 {
+        se = se + (d[lo] * v[hi] + d[hi] * v[lo]);
+        sd = sd + (e[lo] * v[hi] + e[hi] * v[lo]);
+        (lo, hi) = (lo - 1, hi + 1);
+    }
+    (se, sd)
 }
 
 /// A step's constants, as every order of its series uses them.
