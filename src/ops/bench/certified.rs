@@ -46,16 +46,12 @@ pub(super) fn certified_table(
         records.push(record::load(f)?.exc);
     }
     let grid = ImGrid::default();
+    let taylor = format!("nonlinear, Taylor (tail {DEFAULT_TAYLOR_TOL:e})");
+    let dp5 = format!("nonlinear, DP5 (rtol {DEFAULT_RTOL:e})");
     let models = [
         ("linearised (exact stepper)", Model::LINEARIZED),
-        (
-            "nonlinear, Taylor (tail 1e-12)",
-            Model::taylor(ALPHA, DEFAULT_TAYLOR_TOL),
-        ),
-        (
-            "nonlinear, DP5 (rtol 1e-10)",
-            Model::dp5(ALPHA, DEFAULT_RTOL),
-        ),
+        (taylor.as_str(), Model::taylor(ALPHA, DEFAULT_TAYLOR_TOL)),
+        (dp5.as_str(), Model::dp5(ALPHA, DEFAULT_RTOL)),
     ];
     let mut rows = Vec::new();
     for (name, model) in models {

@@ -88,7 +88,7 @@ pub struct SolverArgs {
     #[arg(long, value_enum, default_value = "taylor")]
     pub integrator: IntegratorArg,
     /// Its tolerance (capacities are then certified at a 100× tighter one):
-    /// the Taylor series' tail per sample interval (default 1e-12), or DP5's
+    /// the Taylor series' tail per sample interval (default 1e-10), or DP5's
     /// relative tolerance per step (default 1e-10).
     #[arg(long)]
     pub rtol: Option<f64>,

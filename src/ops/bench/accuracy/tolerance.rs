@@ -56,13 +56,13 @@ const QUICK_TAYLOR_TOLS: [f64; 1] = [crate::physics::DEFAULT_TAYLOR_TOL];
 pub const REFERENCE: Integrator = Integrator::Dp5 { rtol: 1e-13 };
 
 /// The defaults whose certified search is measured: DP5 at 1e-8 and 1e-10,
-/// the Taylor stepper at its default.
-pub const CANDIDATES: [Integrator; 3] = [
+/// the Taylor stepper at 1e-8, 1e-10 and 1e-12 (its default among them).
+pub const CANDIDATES: [Integrator; 5] = [
     Integrator::Dp5 { rtol: 1e-8 },
     Integrator::Dp5 { rtol: 1e-10 },
-    Integrator::Taylor {
-        tol: crate::physics::DEFAULT_TAYLOR_TOL,
-    },
+    Integrator::Taylor { tol: 1e-8 },
+    Integrator::Taylor { tol: 1e-10 },
+    Integrator::Taylor { tol: 1e-12 },
 ];
 
 /// The plain searches measured, the reference last.
