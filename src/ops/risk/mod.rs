@@ -345,8 +345,19 @@ fn site_info(k: usize, curve: &HazardCurve, r: &SiteRisk, years: f64) -> SiteInf
     }
 }
 
-/// Assesses every block asked at every site asked.
-pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
+/// What an assessment reads before its first block: the request checked,
+/// the sites' hazard curves and their IM, the blocks asked, and the
+/// capacities (the study's laws, or the records for `--direct`).
+pub(super) struct Prepared {
+    pub sites: Vec<(usize, HazardCurve)>,
+    pub im: Im,
+    pub entries: Vec<InventoryBlock>,
+    pub laws: Laws,
+    pub records: Option<DirectRecords>,
+}
+
+/// [`Prepared`] for `req`, for [`assess`] and `states::assess_states`.
+pub(super) fn prepare(req: &Request) -> Result<Prepared, RiskError> {
     if !(req.years > 0.0 && req.years.is_finite()) {
         return Err(RiskError::Years(req.years));
     }
@@ -361,6 +372,24 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
         entries.len(),
         req.floor.as_ref(),
     )?;
+    Ok(Prepared {
+        sites,
+        im,
+        entries,
+        laws,
+        records,
+    })
+}
+
+/// Assesses every block asked at every site asked.
+pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
+    let Prepared {
+        sites,
+        im,
+        entries,
+        laws,
+        records,
+    } = prepare(req)?;
     // Another IM than PGA without --direct: the study's table, read once.
     let table = if im != Im::Pga && !req.direct {
         Some(laws.im_table(im)?)

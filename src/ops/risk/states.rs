@@ -4,7 +4,7 @@
 
 use serde::Serialize;
 
-use super::{entries, hazard_im, read_hazard, BlockInfo, Request, RiskError};
+use super::{prepare, BlockInfo, Prepared, Request, RiskError};
 use crate::damage::{DamageStates, FitMethod};
 use crate::ops::damage;
 use crate::ops::fragility;
@@ -56,20 +56,13 @@ pub fn assess_states(
     states: &DamageStates,
     method: FitMethod,
 ) -> Result<Vec<StatesAssessment>, RiskError> {
-    if !(req.years > 0.0 && req.years.is_finite()) {
-        return Err(RiskError::Years(req.years));
-    }
-    crate::physics::check_auto_tol(req.auto_tol).map_err(RiskError::AutoTol)?;
-    let sites = read_hazard(&req.hazard, req.site)?;
-    let im = hazard_im(&req.hazard, &sites, req.im)?;
-    let entries = entries(&req.blocks)?;
-    let (laws, records) = fragility::laws_and_records(
-        &req.from,
-        req.direct,
-        &req.progress,
-        entries.len(),
-        req.floor.as_ref(),
-    )?;
+    let Prepared {
+        sites,
+        im,
+        entries,
+        laws,
+        records,
+    } = prepare(req)?;
     let mut out = Vec::new();
     for e in entries {
         let in_block = |source| RiskError::Block {
