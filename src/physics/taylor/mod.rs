@@ -21,9 +21,10 @@
 //! (k+1) D_{k+1} =  α Σ_{j≤k} E_j V_{k−j}
 //! ```
 //!
-//! The series is grown until the last two coefficients of `Y` and `V` are
-//! below `tol` times the largest (and those of `E`, `D` below `tol·α`): the
-//! solution is analytic with a radius of convergence far beyond a sample
+//! The series is grown until the last two coefficients of `V` are below
+//! `tol` times its largest (and those of `E`, `D` below `tol·α`; `Y`, kept
+//! to degree n + 1, has an omitted tail that is the integral of `V`'s, so
+//! no larger, docs/MODEL.md §3.5): the solution is analytic with a radius of convergence far beyond a sample
 //! interval (`p·Δt ≤ 0.2` on the bundled records), so its coefficients
 //! fall geometrically and the omitted tail is smaller than the last terms
 //! kept (Jorba & Zou's criterion). A series that has not converged by

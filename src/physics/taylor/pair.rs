@@ -71,8 +71,8 @@ impl PairSeries {
         d[0] = d0;
         let fa = F2::splat(a);
         let (a_v0, a_e0, a_d0) = (fa * v0, fa * e0, fa * d0);
-        let (mut yk, mut vk, mut ek, mut dk, mut d_prev) = (y0, v0, e0, d0, zero);
-        let (mut scale_y, mut scale_v) = (y0.abs(), v0.abs());
+        let (mut vk, mut ek, mut dk, mut d_prev) = (v0, e0, d0, zero);
+        let (mut scale_v, mut tol_v) = (v0.abs(), zero);
         let (mut ty, mut tv, mut te, mut td, mut abs_v) = (zero, zero, zero, zero, zero);
         self.n = [None; 2];
         for k in 0..MAX_ORDER {
@@ -97,11 +97,10 @@ impl PairSeries {
             td = td + dm;
             abs_v = abs_v + vm.abs();
             if m <= 2 {
-                scale_y = scale_y.max(ym.abs());
                 scale_v = scale_v.max(vm.abs());
+                tol_v = tol * scale_v;
             } else if m >= MIN_ORDER {
-                let done = (ym.abs() + yk.abs()).le(tol * scale_y)
-                    & (vm.abs() + vk.abs()).le(tol * scale_v)
+                let done = (vm.abs() + vk.abs()).le(tol_v)
                     & (em.abs() + ek.abs()).le(tol_e)
                     & (dm.abs() + dk.abs()).le(tol_e);
                 let bits = done.bits();
@@ -135,7 +134,7 @@ impl PairSeries {
                     }
                 }
             }
-            (yk, vk, ek, d_prev, dk) = (ym, vm, em, dk, dm);
+            (vk, ek, d_prev, dk) = (vm, em, dk, dm);
         }
     }
 

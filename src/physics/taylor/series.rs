@@ -45,17 +45,16 @@ impl Taylor {
         };
         // The newest coefficients stay in registers; the convolutions read
         // from memory only the ones stored an order or more before. The
-        // coefficients fall geometrically: the largest is among the first
+        // coefficients fall geometrically: V's largest is among its first
         // three. The sums of the terms past the first (each far below the
         // first, so summed in any order they round as one sum), and Σ |V_j|.
         let mut g = Grow {
-            yk: y0,
             vk: v0,
             ek: e0,
             dk: d0,
             d_prev: 0.0,
-            scale_y: y0.abs(),
             scale_v: v0.abs(),
+            tol_v: 0.0,
             ty: 0.0,
             tv: 0.0,
             te: 0.0,
@@ -100,7 +99,7 @@ impl Taylor {
         let (se, sd) = (ai * se, ai * sd);
         let (cv, cd, ce) = (c.a_v0 * inv, c.a_d0 * inv, c.a_e0 * inv);
         // On the chain: order k's values, each through a product and two sums.
-        let (yk, vk, ek, dk) = (g.yk, g.vk, g.ek, g.dk);
+        let (vk, ek, dk) = (g.vk, g.ek, g.dk);
         let vm = (c0 * dk + t1) - cs * ek;
         let ym = vk * inv;
         let (em, dm) = if k > 0 {
@@ -115,11 +114,10 @@ impl Taylor {
         g.td += dm;
         g.abs_v += vm.abs();
         if m <= 2 {
-            g.scale_y = g.scale_y.max(ym.abs());
             g.scale_v = g.scale_v.max(vm.abs());
+            g.tol_v = c.tol * g.scale_v;
         } else if m >= MIN_ORDER
-            && ym.abs() + yk.abs() <= c.tol * g.scale_y
-            && vm.abs() + vk.abs() <= c.tol * g.scale_v
+            && vm.abs() + vk.abs() <= g.tol_v
             && em.abs() + ek.abs() <= c.tol_e
             && dm.abs() + dk.abs() <= c.tol_e
         {
@@ -134,7 +132,7 @@ impl Taylor {
             };
             return true;
         }
-        (g.yk, g.vk, g.ek, g.d_prev, g.dk) = (ym, vm, em, dk, dm);
+        (g.vk, g.ek, g.d_prev, g.dk) = (vm, em, dk, dm);
         false
     }
 
@@ -197,16 +195,15 @@ pub(super) struct Consts {
 }
 
 /// A series as it grows: the newest coefficients (`d_prev` the one before
-/// `dk`), the scales of Y and V, the sums of the terms past the first and
-/// `Σ |V_j|`.
+/// `dk`), V's scale and `tol` times it (set by order 2), the sums of the
+/// terms past the first and `Σ |V_j|`.
 pub(super) struct Grow {
-    yk: f64,
     vk: f64,
     ek: f64,
     dk: f64,
     d_prev: f64,
-    scale_y: f64,
     scale_v: f64,
+    tol_v: f64,
     ty: f64,
     tv: f64,
     te: f64,
