@@ -113,7 +113,7 @@ fn runs_equal_dp5_at_its_tightest() {
 /// (another engine): the same stop and 521 impacts, and θmax/α at least as
 /// close to it as DP5's at its default rtol 1e-10 (what the Taylor stepper's
 /// default must match; here DP5 errs by about 6e-12, the Taylor stepper by
-/// about 1e-12: 521 impacts of slow rocking at p·Δt = 0.0045, where the
+/// about 5e-15: 521 impacts of slow rocking at p·Δt = 0.0045, where the
 /// series of sin u and cos u set the order).
 #[test]
 fn a_lift_settled_within_the_rounding_of_time_rests_on() {

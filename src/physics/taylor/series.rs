@@ -4,7 +4,7 @@
 //! grows ([`Taylor::series`]).
 
 use super::poly::sum;
-use super::{Ends, Step, Taylor, INV, LEN, MAX_ORDER, MIN_ORDER};
+use super::{Ends, Step, Taylor, INV, LEN, MAX_ORDER, MIN_ORDER, SIN_COS_TAIL};
 
 impl Taylor {
     /// Builds the series of a step of length `h` from `y0`, `ẏ0 = w0`, `sin
@@ -41,7 +41,7 @@ impl Taylor {
             a_e0: a * e0,
             a_d0: a * d0,
             tol: self.tol,
-            tol_e: self.tol * a,
+            tol_e: self.tol * a * SIN_COS_TAIL,
         };
         // The newest coefficients stay in registers; the convolutions read
         // from memory only the ones stored an order or more before. The
