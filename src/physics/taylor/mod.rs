@@ -416,8 +416,10 @@ impl Stepper for Taylor {
                 self.left = None;
                 return match event {
                     Event::Impact => {
+                        // At the root of Y: x = 0 (the driver starts the
+                        // next pivot there), not Y evaluated again.
                         *state = Rocking {
-                            x: s * poly(&self.y[..n + 2], t),
+                            x: 0.0,
                             v: s * w,
                             s,
                         };
