@@ -298,13 +298,14 @@ impl Solver {
 }
 
 /// The Taylor stepper's default tolerance: the last two terms of each
-/// sample interval's series below 1e-10 of its largest terms. Chosen from
+/// sample interval's series of the velocity below 1e-10 of its largest
+/// (those of `sin u` and `cos u` below a tenth of 1e-10·α). Chosen from
 /// `rocking bench` (docs/BENCHMARKS.md): certified from 1e-8, 1e-10 or
 /// 1e-12, every capacity of the tolerance study equals DP5's at 1e-13 and
 /// the same 7 are chaotic; on the solver table its θmax/α error (median
-/// 8e-14) is a hundredth of DP5's at its default rtol 1e-10, where 1e-8's
-/// (4e-12, max 7e-11) is within a factor two of it; 1e-10 costs about 7 %
-/// more than 1e-8 and 9 % less than 1e-12.
+/// 1e-14, max 2e-12) is under a sixtieth of DP5's at its default rtol
+/// 1e-10, where 1e-8's (2e-12, max 3e-11) is a fifth of it; 1e-10 costs
+/// about 10 % more than 1e-8 and 14 % less than 1e-12.
 pub const DEFAULT_TAYLOR_TOL: f64 = 1e-10;
 
 /// DP5's default relative tolerance. Chosen from `rocking bench --sections
