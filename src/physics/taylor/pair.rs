@@ -5,7 +5,7 @@
 //! operations [`Taylor::series`] does, in its order, so each run's outcome
 //! is the one it has alone, to the bit.
 
-use super::series::convolutions;
+use super::series::{convolutions, ends};
 use super::{quiet, Ends, Step, Taylor, INV, LEN, MAX_ORDER, MIN_ORDER, SIN_COS_TAIL};
 use crate::physics::driver::CruisePair;
 use crate::physics::lanes::F2;
@@ -73,7 +73,6 @@ impl PairSeries {
         let (a_v0, a_e0, a_d0) = (fa * v0, fa * e0, fa * d0);
         let (mut vk, mut ek, mut dk, mut d_prev) = (v0, e0, d0, zero);
         let (mut scale_v, mut tol_v) = (v0.abs(), zero);
-        let (mut ty, mut tv, mut te, mut td, mut abs_v) = (zero, zero, zero, zero, zero);
         self.n = [None; 2];
         for k in 0..MAX_ORDER {
             let m = k + 1;
@@ -91,11 +90,6 @@ impl PairSeries {
                 (-(cd * vk), ce * vk)
             };
             (y[m], v[m], e[m], d[m]) = (ym, vm, em, dm);
-            ty = ty + ym;
-            tv = tv + vm;
-            te = te + em;
-            td = td + dm;
-            abs_v = abs_v + vm.abs();
             if m <= 2 {
                 scale_v = scale_v.max(vm.abs());
                 tol_v = tol * scale_v;
@@ -105,31 +99,25 @@ impl PairSeries {
                     & (dm.abs() + dk.abs()).le(tol_e);
                 let bits = done.bits();
                 if bits != 0 {
-                    let y_last = vm * F2::splat(INV[m + 1]);
-                    let ends = (
-                        (y0 + (ty + y_last)).lanes(),
-                        (v0 + tv).lanes(),
-                        (e0 + te).lanes(),
-                        (d0 + td).lanes(),
-                        abs_v.lanes(),
-                    );
+                    // Y's last term, as the next order's `ym` would be.
+                    y[m + 1] = vm * F2::splat(INV[m + 1]);
+                    let sums = ends(&y[..], &v[..], &e[..], &d[..], m, zero, F2::abs);
+                    let [ye, ve, ee, de, ae] = sums.map(F2::lanes);
                     for lane in 0..2 {
                         if bits & (1 << lane) != 0 && self.n[lane].is_none() {
                             self.n[lane] = Some(m);
                             self.ends[lane] = Ends {
-                                y: ends.0[lane],
-                                v: ends.1[lane],
-                                e: ends.2[lane],
-                                d: ends.3[lane],
-                                abs_v_tail: ends.4[lane],
+                                y: ye[lane],
+                                v: ve[lane],
+                                e: ee[lane],
+                                d: de[lane],
+                                abs_v_tail: ae[lane],
                             };
                         }
                     }
                     if self.n[0].is_some() && self.n[1].is_some() {
-                        // Y's last term; a lane that was done an order or
-                        // more before has its own there already (the next
-                        // order's `ym` is that term).
-                        y[m + 1] = y_last;
+                        // A lane done an order or more before has its own
+                        // last term of Y already: this order's `ym`.
                         return;
                     }
                 }

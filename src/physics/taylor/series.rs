@@ -46,8 +46,7 @@ impl Taylor {
         // The newest coefficients stay in registers; the convolutions read
         // from memory only the ones stored an order or more before. The
         // coefficients fall geometrically: V's largest is among its first
-        // three. The sums of the terms past the first (each far below the
-        // first, so summed in any order they round as one sum), and Σ |V_j|.
+        // three.
         let mut g = Grow {
             vk: v0,
             ek: e0,
@@ -55,11 +54,6 @@ impl Taylor {
             d_prev: 0.0,
             scale_v: v0.abs(),
             tol_v: 0.0,
-            ty: 0.0,
-            tv: 0.0,
-            te: 0.0,
-            td: 0.0,
-            abs_v: 0.0,
         };
         // The orders nearly every step needs, each its own straight code
         // (its convolutions unrolled); the rare longer series in a loop.
@@ -108,11 +102,6 @@ impl Taylor {
             (-(cd * vk), ce * vk)
         };
         (y[m], v[m], e[m], d[m]) = (ym, vm, em, dm);
-        g.ty += ym;
-        g.tv += vm;
-        g.te += em;
-        g.td += dm;
-        g.abs_v += vm.abs();
         if m <= 2 {
             g.scale_v = g.scale_v.max(vm.abs());
             g.tol_v = c.tol * g.scale_v;
@@ -121,14 +110,14 @@ impl Taylor {
             && em.abs() + ek.abs() <= c.tol_e
             && dm.abs() + dk.abs() <= c.tol_e
         {
-            let y_last = vm * INV[m + 1];
-            y[m + 1] = y_last;
+            y[m + 1] = vm * INV[m + 1];
+            let [y, v, e, d, abs_v_tail] = ends(&y[..], &v[..], &e[..], &d[..], m, 0.0, f64::abs);
             self.ends = Ends {
-                y: y[0] + (g.ty + y_last),
-                v: v[0] + g.tv,
-                e: e[0] + g.te,
-                d: d[0] + g.td,
-                abs_v_tail: g.abs_v,
+                y,
+                v,
+                e,
+                d,
+                abs_v_tail,
             };
             return true;
         }
@@ -181,6 +170,42 @@ where
     (se, sd)
 }
 
+/// A series' sums at τ = 1 (Y to degree m + 1, V, E, D to m) and `Σ_{j≥1}
+/// |V_j|`, for [`Taylor::series`] and the pair's lanes alike: the terms
+/// past the first summed from the first order up (each far below the
+/// first, so summed in any order they round as one sum), after the series
+/// is done rather than as it grows, which keeps the registers for the
+/// chain of orders.
+#[inline(always)]
+pub(super) fn ends<T>(
+    y: &[T],
+    v: &[T],
+    e: &[T],
+    d: &[T],
+    m: usize,
+    zero: T,
+    abs: impl Fn(T) -> T,
+) -> [T; 5]
+where
+    T: Copy + std::ops::Add<Output = T>,
+{
+    let (mut ty, mut tv, mut te, mut td, mut abs_v) = (zero, zero, zero, zero, zero);
+    for j in 1..=m {
+        ty = ty + y[j];
+        tv = tv + v[j];
+        te = te + e[j];
+        td = td + d[j];
+        abs_v = abs_v + abs(v[j]);
+    }
+    [
+        y[0] + (ty + y[m + 1]),
+        v[0] + tv,
+        e[0] + te,
+        d[0] + td,
+        abs_v,
+    ]
+}
+
 /// A step's constants, as every order of its series uses them.
 pub(super) struct Consts {
     f0: f64,
@@ -195,8 +220,7 @@ pub(super) struct Consts {
 }
 
 /// A series as it grows: the newest coefficients (`d_prev` the one before
-/// `dk`), V's scale and `tol` times it (set by order 2), the sums of the
-/// terms past the first and `Σ |V_j|`.
+/// `dk`), V's scale and `tol` times it (set by order 2).
 pub(super) struct Grow {
     vk: f64,
     ek: f64,
@@ -204,9 +228,4 @@ pub(super) struct Grow {
     d_prev: f64,
     scale_v: f64,
     tol_v: f64,
-    ty: f64,
-    tv: f64,
-    te: f64,
-    td: f64,
-    abs_v: f64,
 }
