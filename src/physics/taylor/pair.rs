@@ -74,55 +74,72 @@ impl PairSeries {
         let (mut vk, mut ek, mut dk, mut d_prev) = (v0, e0, d0, zero);
         let (mut scale_v, mut tol_v) = (v0.abs(), zero);
         self.n = [None; 2];
-        for k in 0..MAX_ORDER {
-            let m = k + 1;
-            let inv = F2::splat(INV[m]);
-            let (c0, cs, t1) = (f0 * inv, k_sin * inv, (f1 * inv) * d_prev);
-            let (se, sd) = convolutions(&d[..], &e[..], &v[..], k, zero);
-            let ai = F2::splat(a * INV[m]);
-            let (se, sd) = (ai * se, ai * sd);
-            let (cv, cd, ce) = (a_v0 * inv, a_d0 * inv, a_e0 * inv);
-            let vm = (c0 * dk + t1) - cs * ek;
-            let ym = vk * inv;
-            let (em, dm) = if k > 0 {
-                (-(se + cv * dk) - cd * vk, (sd + cv * ek) + ce * vk)
-            } else {
-                (-(cd * vk), ce * vk)
-            };
-            (y[m], v[m], e[m], d[m]) = (ym, vm, em, dm);
-            if m <= 2 {
-                scale_v = scale_v.max(vm.abs());
-                tol_v = tol * scale_v;
-            } else if m >= MIN_ORDER {
-                let done = (vm.abs() + vk.abs()).le(tol_v)
-                    & (em.abs() + ek.abs()).le(tol_e)
-                    & (dm.abs() + dk.abs()).le(tol_e);
-                let bits = done.bits();
-                if bits != 0 {
-                    // Y's last term, as the next order's `ym` would be.
-                    y[m + 1] = vm * F2::splat(INV[m + 1]);
-                    let sums = ends(&y[..], &v[..], &e[..], &d[..], m, zero, F2::abs);
-                    let [ye, ve, ee, de, ae] = sums.map(F2::lanes);
-                    for lane in 0..2 {
-                        if bits & (1 << lane) != 0 && self.n[lane].is_none() {
-                            self.n[lane] = Some(m);
-                            self.ends[lane] = Ends {
-                                y: ye[lane],
-                                v: ve[lane],
-                                e: ee[lane],
-                                d: de[lane],
-                                abs_v_tail: ae[lane],
-                            };
+        // Order by order as [`Taylor::series`] grows them: the orders nearly
+        // every step needs each its own straight code, the rest in a loop.
+        macro_rules! order {
+            ($k:expr) => {{
+                let k: usize = $k;
+                let m = k + 1;
+                let inv = F2::splat(INV[m]);
+                let (c0, cs, t1) = (f0 * inv, k_sin * inv, (f1 * inv) * d_prev);
+                let (se, sd) = convolutions(&d[..], &e[..], &v[..], k, zero);
+                let ai = F2::splat(a * INV[m]);
+                let (se, sd) = (ai * se, ai * sd);
+                let (cv, cd, ce) = (a_v0 * inv, a_d0 * inv, a_e0 * inv);
+                let vm = (c0 * dk + t1) - cs * ek;
+                let ym = vk * inv;
+                let (em, dm) = if k > 0 {
+                    (-(se + cv * dk) - cd * vk, (sd + cv * ek) + ce * vk)
+                } else {
+                    (-(cd * vk), ce * vk)
+                };
+                (y[m], v[m], e[m], d[m]) = (ym, vm, em, dm);
+                if m <= 2 {
+                    scale_v = scale_v.max(vm.abs());
+                    tol_v = tol * scale_v;
+                } else if m >= MIN_ORDER {
+                    let done = (vm.abs() + vk.abs()).le(tol_v)
+                        & (em.abs() + ek.abs()).le(tol_e)
+                        & (dm.abs() + dk.abs()).le(tol_e);
+                    let bits = done.bits();
+                    if bits != 0 {
+                        // Y's last term, as the next order's `ym` would be.
+                        y[m + 1] = vm * F2::splat(INV[m + 1]);
+                        let sums = ends(&y[..], &v[..], &e[..], &d[..], m, zero, F2::abs);
+                        let [ye, ve, ee, de, ae] = sums.map(F2::lanes);
+                        for lane in 0..2 {
+                            if bits & (1 << lane) != 0 && self.n[lane].is_none() {
+                                self.n[lane] = Some(m);
+                                self.ends[lane] = Ends {
+                                    y: ye[lane],
+                                    v: ve[lane],
+                                    e: ee[lane],
+                                    d: de[lane],
+                                    abs_v_tail: ae[lane],
+                                };
+                            }
+                        }
+                        if self.n[0].is_some() && self.n[1].is_some() {
+                            // A lane done an order or more before has its own
+                            // last term of Y already: this order's `ym`.
+                            return;
                         }
                     }
-                    if self.n[0].is_some() && self.n[1].is_some() {
-                        // A lane done an order or more before has its own
-                        // last term of Y already: this order's `ym`.
-                        return;
-                    }
                 }
-            }
-            (vk, ek, d_prev, dk) = (vm, em, dk, dm);
+                (vk, ek, d_prev, dk) = (vm, em, dk, dm);
+            }};
+        }
+        order!(0);
+        order!(1);
+        order!(2);
+        order!(3);
+        order!(4);
+        order!(5);
+        order!(6);
+        order!(7);
+        order!(8);
+        for k in 9..MAX_ORDER {
+            order!(k);
         }
     }
 
