@@ -146,6 +146,13 @@ impl Taylor {
         }
     }
 
+    /// What the last two coefficients of `sin u` and `cos u` must fall
+    /// below for a series to be done: [`SIN_COS_TAIL`] of `tol·α`.
+    #[inline(always)]
+    fn tol_sin_cos(&self) -> f64 {
+        self.tol * self.alpha * SIN_COS_TAIL
+    }
+
     /// `sin u`, `cos u` at `state`.
     #[inline]
     fn sin_cos_at(&self, state: &Rocking) -> (f64, f64) {

@@ -6,7 +6,7 @@
 //! is the one it has alone, to the bit.
 
 use super::series::{convolutions, ends};
-use super::{quiet, Ends, Step, Taylor, INV, LEN, MAX_ORDER, MIN_ORDER, SIN_COS_TAIL};
+use super::{quiet, Ends, Step, Taylor, INV, LEN, MAX_ORDER, MIN_ORDER};
 use crate::physics::driver::CruisePair;
 use crate::physics::lanes::F2;
 use crate::physics::step::Rocking;
@@ -62,7 +62,7 @@ impl PairSeries {
         let f = (s * F2::splat(h2)) * F2::new(ta.p2_over_eta, tb.p2_over_eta);
         let (f0, f1) = (f * F2::splat(g_a), (f * F2::splat(g1)) * F2::splat(h));
         let a = ta.alpha;
-        let (tol, tol_e) = (F2::splat(ta.tol), F2::splat(ta.tol * a * SIN_COS_TAIL));
+        let (tol, tol_e) = (F2::splat(ta.tol), F2::splat(ta.tol_sin_cos()));
         let (y, v, e, d) = (&mut self.y, &mut self.v, &mut self.e, &mut self.d);
         let v0 = F2::splat(h) * w0;
         y[0] = y0;

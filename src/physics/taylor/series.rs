@@ -4,7 +4,7 @@
 //! grows ([`Taylor::series`]).
 
 use super::poly::sum;
-use super::{Ends, Step, Taylor, INV, LEN, MAX_ORDER, MIN_ORDER, SIN_COS_TAIL};
+use super::{Ends, Step, Taylor, INV, LEN, MAX_ORDER, MIN_ORDER};
 
 impl Taylor {
     /// Builds the series of a step of length `h` from `y0`, `ẏ0 = w0`, `sin
@@ -41,7 +41,7 @@ impl Taylor {
             a_e0: a * e0,
             a_d0: a * d0,
             tol: self.tol,
-            tol_e: self.tol * a * SIN_COS_TAIL,
+            tol_e: self.tol_sin_cos(),
         };
         // The newest coefficients stay in registers; the convolutions read
         // from memory only the ones stored an order or more before. The
@@ -74,9 +74,9 @@ impl Taylor {
     }
 
     /// Order `k + 1` of the series [`Taylor::series`] grows: its
-    /// coefficients stored, its sums and the newest values in `g` moved on;
-    /// true when the tail is below the tolerance there ([`Taylor::ends`]
-    /// then set and the series done).
+    /// coefficients stored and the newest values in `g` moved on; true when
+    /// the tail is below the tolerance there ([`Taylor::ends`] then set from
+    /// the stored coefficients, [`ends`], and the series done).
     ///
     /// Each order depends on the one before through a product and two
     /// sums (the constants multiplied out beforehand, the convolutions'
@@ -111,12 +111,13 @@ impl Taylor {
             && dm.abs() + dk.abs() <= c.tol_e
         {
             y[m + 1] = vm * INV[m + 1];
-            let [y, v, e, d, abs_v_tail] = ends(&y[..], &v[..], &e[..], &d[..], m, 0.0, f64::abs);
+            let [y_end, v_end, e_end, d_end, abs_v_tail] =
+                ends(&y[..], &v[..], &e[..], &d[..], m, 0.0, f64::abs);
             self.ends = Ends {
-                y,
-                v,
-                e,
-                d,
+                y: y_end,
+                v: v_end,
+                e: e_end,
+                d: d_end,
                 abs_v_tail,
             };
             return true;
