@@ -398,6 +398,60 @@ fn grids_sharing_runs_find_what_each_finds_alone() {
     );
 }
 
+/// Alone, a search runs the grid levels two at a time, each with the next,
+/// in step. That must change nothing but the time: each level's outcome is
+/// the one `simulate` gives alone, to the bit, the levels run are the
+/// grid's up to the first overturning, and the work counts those alone
+/// (the level after it, run in vain, is not counted). The exact stepper and
+/// the Taylor stepper, both of which pair their runs.
+#[test]
+fn levels_run_in_pairs_are_the_levels_run_alone() {
+    use rocking::ida::{capacity_in, RunKind, Runs};
+    let grid = ImGrid::default();
+    let levels = grid.levels().unwrap();
+    let mut depths = Vec::new();
+    for model in [Model::LINEARIZED, Model::taylor(0.25, DEFAULT_TAYLOR_TOL)] {
+        for stem in [
+            "RSN1111_KOBE_NIS000",
+            "RSN848_LANDERS_CLW-LN",
+            "RSN953_NORTHR_MUL009",
+        ] {
+            let exc = far(stem);
+            let spec = RunSpec::new(2.0, 0.7, 1.0, model);
+            let mut runs = Runs::new(&exc);
+            let cap = capacity_in(&mut runs, &spec, &grid, 1e-4, Trace::StopAtFirst).unwrap();
+            let scanned: Vec<_> = cap
+                .points
+                .iter()
+                .filter(|q| q.kind == RunKind::Level)
+                .collect();
+            // The definition, level by level, each run alone.
+            let first = levels
+                .iter()
+                .position(|&eta| {
+                    simulate(&exc, &RunSpec { eta, ..spec })
+                        .unwrap()
+                        .overturned()
+                })
+                .expect("overturns within the grid");
+            assert_eq!(scanned.len(), first + 1, "{stem} {model:?}");
+            for (q, &eta) in scanned.iter().zip(&levels) {
+                let alone = simulate(&exc, &RunSpec { eta, ..spec }).unwrap();
+                assert_eq!(q.eta.to_bits(), eta.to_bits());
+                assert_eq!(
+                    format!("{:?}", q.outcome),
+                    format!("{alone:?}"),
+                    "{stem} η = {eta}"
+                );
+            }
+            assert_eq!(runs.work().runs, cap.points.len(), "{stem} {model:?}");
+            depths.push(first);
+        }
+    }
+    // Scans of dozens of levels each: many pairs, rocking alike and apart.
+    assert!(depths.iter().all(|&d| d > 40), "{depths:?}");
+}
+
 /// `capacity` scans the grid levels on every core, each worker
 /// taking the next level as soon as it is free, runs the exact stepper's
 /// chaos probes on the other workers while the bisection goes on, and the
