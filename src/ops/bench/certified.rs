@@ -104,7 +104,8 @@ fn render(rows: &[Row], n: usize, reps: usize) -> String {
          search (`ida::capacity_certified`) and plain search (`ida::capacity_traced`) per \
          record, the best of {reps} passes over the records. The ratio is to the linearised \
          model's certified capacity on the same records and block. Runs and intervals are \
-         summed over the records (a probe's two runs count as two, though run together).\n",
+         summed over the records (a probe's two runs, and two grid levels run in step, \
+         count as two; the level run in vain after the first overturning is not counted).\n",
         super::solvers::machine(),
     );
     let _ = writeln!(

@@ -1,6 +1,7 @@
 //! Two runs of the Taylor stepper in step, one lane each of an SSE2
 //! register ([`F2`]): the two runs of a chaos probe follow nearly the same
-//! motion, so their steps can share the series' chain of orders, which
+//! motion, and two neighbouring grid levels of a search rock alike for
+//! stretches, so their steps can share the series' chain of orders, which
 //! bounds a step's time (docs/MODEL.md §3.5). Each lane does the
 //! operations [`Taylor::series`] does, in its order, so each run's outcome
 //! is the one it has alone, to the bit.
