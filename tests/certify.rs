@@ -425,27 +425,31 @@ fn levels_run_in_pairs_are_the_levels_run_alone() {
                 .iter()
                 .filter(|q| q.kind == RunKind::Level)
                 .collect();
-            // The definition, level by level, each run alone.
-            let first = levels
-                .iter()
-                .position(|&eta| {
-                    simulate(&exc, &RunSpec { eta, ..spec })
-                        .unwrap()
-                        .overturned()
-                })
-                .expect("overturns within the grid");
-            assert_eq!(scanned.len(), first + 1, "{stem} {model:?}");
-            for (q, &eta) in scanned.iter().zip(&levels) {
-                let alone = simulate(&exc, &RunSpec { eta, ..spec }).unwrap();
+            // The definition, level by level, each run alone, up to the
+            // first that overturns.
+            let mut alone = Vec::new();
+            for &eta in &levels {
+                let out = simulate(&exc, &RunSpec { eta, ..spec }).unwrap();
+                alone.push((eta, out));
+                if out.overturned() {
+                    break;
+                }
+            }
+            assert!(
+                alone.last().unwrap().1.overturned(),
+                "overturns within the grid"
+            );
+            assert_eq!(scanned.len(), alone.len(), "{stem} {model:?}");
+            for (q, (eta, out)) in scanned.iter().zip(&alone) {
                 assert_eq!(q.eta.to_bits(), eta.to_bits());
                 assert_eq!(
                     format!("{:?}", q.outcome),
-                    format!("{alone:?}"),
+                    format!("{out:?}"),
                     "{stem} η = {eta}"
                 );
             }
             assert_eq!(runs.work().runs, cap.points.len(), "{stem} {model:?}");
-            depths.push(first);
+            depths.push(alone.len() - 1);
         }
     }
     // Scans of dozens of levels each: many pairs, rocking alike and apart.
