@@ -545,7 +545,8 @@ fn the_fast_path_and_the_event_by_event_walk_agree_to_the_bit() {
 /// order, records of every time step, slender to squat blocks and the
 /// overturning criteria that stop the stepper differently; for the exact
 /// stepper of the linearised equation and the Taylor stepper of the
-/// nonlinear one.
+/// nonlinear one. Four runs in step (`simulate_four`, the Taylor stepper's
+/// four lanes; refused for the exact stepper) likewise, in two orders.
 #[test]
 fn runs_in_step_agree_with_runs_alone_to_the_bit() {
     use rocking::physics::Isa;
@@ -571,8 +572,11 @@ fn runs_in_step_agree_with_runs_alone_to_the_bit() {
 }
 
 fn runs_in_step_agree(model: Model, overturns: &[Overturn], levels: usize) {
-    use rocking::physics::simulate_pair;
+    use rocking::physics::{simulate_four, simulate_pair, Integrator};
     let (mut pairs, mut overturned, mut split) = (0, 0, 0);
+    let (mut fours, mut mixed) = (0, 0);
+    // Four lanes are the Taylor stepper's; the exact stepper runs two.
+    let four_lanes = matches!(model.integrator, Integrator::Taylor { .. });
     for stem in [
         "far-field/RSN848_LANDERS_CLW-LN",
         "far-field/RSN1111_KOBE_NIS000",
@@ -615,6 +619,37 @@ fn runs_in_step_agree(model: Model, overturns: &[Overturn], levels: usize) {
                             overturned += usize::from(alone[0].overturned());
                             split += usize::from(alone[0].overturned() != alone[1].overturned());
                         }
+                        // Four at once (two probes' pairs, and levels that
+                        // part), in two orders: lanes end at different
+                        // times, and the others go on without them.
+                        let spec = |eta| RunSpec {
+                            overturn,
+                            ..RunSpec::new(p, eps, eta, model)
+                        };
+                        let etas = [
+                            eta * (1.0 + 1e-9),
+                            eta * 1.02,
+                            eta * (1.0 - 1e-9),
+                            eta / 1.3,
+                        ];
+                        for order in [[0, 1, 2, 3], [3, 2, 1, 0]] {
+                            let four = order.map(|i| spec(etas[i]));
+                            let alone = four.each_ref().map(|s| simulate(&exc, s).unwrap());
+                            match simulate_four(&exc, four.each_ref()) {
+                                Some(in_step) => assert_eq!(
+                                    format!("{alone:?}"),
+                                    format!("{in_step:?}"),
+                                    "{model:?}: {stem} p = {p}, ε = {eps}, η = {etas:?} \
+                                     in the order {order:?}, {overturn:?}"
+                                ),
+                                None => {
+                                    assert!(!four_lanes, "{model:?}: four runs in step refused")
+                                }
+                            }
+                            fours += 1;
+                            let over = alone.iter().filter(|o| o.overturned()).count();
+                            mixed += usize::from(over > 0 && over < 4);
+                        }
                     }
                 }
             }
@@ -624,6 +659,10 @@ fn runs_in_step_agree(model: Model, overturns: &[Overturn], levels: usize) {
     assert!(
         overturned > pairs / 5 && overturned < pairs * 4 / 5 && split > 20,
         "{model:?}: {overturned} overturned, {split} split, of {pairs}"
+    );
+    assert!(
+        mixed > 10,
+        "{model:?}: {mixed} of {fours} fours end both ways"
     );
 }
 

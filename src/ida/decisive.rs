@@ -66,7 +66,10 @@ pub(super) fn probes(check: &RunSpec, eta: f64) -> [RunSpec; 2] {
 }
 
 /// The first decisive run whose verdict changes when η moves by
-/// ±[`CHAOS_PROBE`], if any.
+/// ±[`CHAOS_PROBE`], if any. Each run's two probes are run in step with the
+/// next run's two ([`Runs::run_ahead`]: four lanes for the Taylor stepper,
+/// a pair otherwise); where a run's probes disagree, the next run's were
+/// run in vain.
 pub(super) fn chaos_probe(
     runs: &mut Runs,
     check: &RunSpec,
@@ -79,8 +82,10 @@ pub(super) fn chaos_probe(
         .collect();
     let all: Vec<RunSpec> = decisive.iter().flat_map(|d| d.2).collect();
     runs.prefetch(&all);
-    for (eta, overturned, pair) in decisive {
-        runs.pair_ahead(&pair);
+    for (i, &(eta, overturned, pair)) in decisive.iter().enumerate() {
+        // This run's probes with the next run's, in step.
+        let next = decisive.get(i + 1).map_or(&[][..], |d| &d.2[..]);
+        runs.run_ahead(&[&pair[..], next].concat());
         for spec in &pair {
             if runs.outcome(spec)?.overturned() != overturned {
                 return Ok(Some(eta));

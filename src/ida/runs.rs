@@ -1,7 +1,9 @@
 //! The simulations of one record, remembered (and run ahead of need by a
 //! [`Batch`] of workers), and the work they counted.
 
-use crate::physics::{simulate, simulate_pair, Excitation, Outcome, PhysicsError, RunSpec};
+use crate::physics::{
+    simulate, simulate_four, simulate_pair, Excitation, Outcome, PhysicsError, RunSpec,
+};
 
 /// The simulations of one record, remembered: a search or check that asks
 /// for a run already done (the same η and model) gets its outcome without
@@ -18,7 +20,7 @@ use crate::physics::{simulate, simulate_pair, Excitation, Outcome, PhysicsError,
 pub struct Runs<'a> {
     pub(super) exc: &'a Excitation,
     memo: std::collections::HashMap<[u64; 8], Outcome>,
-    /// Runs done ahead of need by [`Runs::pair_ahead`], not yet asked for:
+    /// Runs done ahead of need by [`Runs::run_ahead`], not yet asked for:
     /// counted in [`Runs::work`] (and checked for the event cap) when they
     /// are, so the work reported is the same as if each ran when asked.
     ahead: std::collections::HashMap<[u64; 8], Outcome>,
@@ -175,26 +177,38 @@ impl<'a> Runs<'a> {
         self.remember(spec, out)
     }
 
-    /// Runs two specs that differ in η alone (a chaos probe's two runs)
-    /// together, in step, when neither is known yet and they can be
-    /// ([`simulate_pair`]: about the price of one where they rock alike).
-    /// Their outcomes wait until asked for ([`Runs::outcome`]).
-    pub fn pair_ahead(&mut self, specs: &[RunSpec; 2]) {
-        let keys = specs.each_ref().map(run_key);
-        if keys[0] == keys[1]
-            || keys
-                .iter()
-                .any(|k| self.memo.contains_key(k) || self.ahead.contains_key(k))
-        {
+    /// Runs specs that differ in η alone (a chaos probe's two runs, two
+    /// probes' four, two grid levels) ahead of need, together, in step,
+    /// when the first is not known yet: the first four not known where they
+    /// can be ([`simulate_four`]: the Taylor stepper), else the first two
+    /// ([`simulate_pair`]), each set at about the price of one run where its
+    /// runs rock alike; the others are left to be run when asked for. The
+    /// outcomes wait until asked for ([`Runs::outcome`]).
+    pub fn run_ahead(&mut self, specs: &[RunSpec]) {
+        let known = |k: &[u64; 8]| self.memo.contains_key(k) || self.ahead.contains_key(k);
+        if specs.first().is_none_or(|first| known(&run_key(first))) {
             return;
         }
-        if let Some(outs) = simulate_pair(self.exc, specs.each_ref()) {
-            self.ahead.extend(keys.into_iter().zip(outs));
+        let mut todo: Vec<(&RunSpec, [u64; 8])> = Vec::with_capacity(4);
+        for spec in specs {
+            let key = run_key(spec);
+            if !known(&key) && todo.iter().all(|(_, k)| *k != key) {
+                todo.push((spec, key));
+            }
         }
+        let outs: Option<Vec<Outcome>> = match &todo[..] {
+            [a, b, c, d, ..] => simulate_four(self.exc, [a.0, b.0, c.0, d.0])
+                .map(Vec::from)
+                .or_else(|| simulate_pair(self.exc, [a.0, b.0]).map(Vec::from)),
+            [a, b, ..] => simulate_pair(self.exc, [a.0, b.0]).map(Vec::from),
+            _ => None,
+        };
+        let keys = todo.iter().map(|(_, k)| *k);
+        self.ahead.extend(keys.zip(outs.unwrap_or_default()));
     }
 
     /// Keeps outcomes run ahead of need (by [`Batch::alongside`]) until they
-    /// are asked for, as [`Runs::pair_ahead`] does; failures are dropped, to
+    /// are asked for, as [`Runs::run_ahead`] does; failures are dropped, to
     /// be run again and reported if they are ever asked for.
     pub(super) fn keep_ahead(&mut self, outs: Vec<(RunSpec, Result<Outcome, PhysicsError>)>) {
         for (spec, out) in outs {

@@ -1,6 +1,6 @@
 //! The CPU dispatch of the event loop: [`Isa`] names the compilations (the
 //! x86-64 baseline and x86-64-v3), and the functions here compile the event
-//! loop ([`driver::drive`], [`driver::drive_pair`]) with the exact stepper
+//! loop ([`driver::drive`], [`driver::drive_pair`], [`driver::drive_lanes`]) with the exact stepper
 //! and with the Taylor stepper, once per compilation, and pick one at run
 //! time.
 
@@ -104,7 +104,7 @@ unsafe fn drive_v3<S: Stepper, O: Observer>(
 }
 
 /// [`driver::drive_pair`] compiled for x86-64-v3, the one
-/// compilation with a paired path ([`super::simulate_pair`]).
+/// compilation with runs in step ([`super::simulate_pair`]).
 ///
 /// # Safety
 /// The CPU must have the features enabled here.
@@ -117,4 +117,19 @@ pub(super) unsafe fn drive_pair_v3<S: driver::CruisePair>(
     steppers: [&mut S; 2],
 ) -> [Outcome; 2] {
     driver::drive_pair(exc, specs, limits, steppers)
+}
+
+/// [`driver::drive_lanes`] compiled for x86-64-v3 ([`super::simulate_four`]).
+///
+/// # Safety
+/// The CPU must have the features enabled here.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx,avx2,bmi1,bmi2,fma,lzcnt,movbe,popcnt")]
+pub(super) unsafe fn drive_lanes_v3<S: driver::CruiseLanes<N>, const N: usize>(
+    exc: &Excitation,
+    specs: [&RunSpec; N],
+    limits: [f64; N],
+    steppers: [&mut S; N],
+) -> [Outcome; N] {
+    driver::drive_lanes(exc, specs, limits, steppers)
 }

@@ -57,7 +57,9 @@ pub use integrator::{
     check_auto_tol, check_rtol, Integrator, Model, ModelChoice, NonlinearIntegrator, Solver,
     DEFAULT_RTOL, DEFAULT_TAYLOR_TOL, DP5_TIGHTEST_RTOL, MIN_RTOL, TAYLOR_TIGHTEST_TOL,
 };
-pub use simulate::{simulate, simulate_from, simulate_observed, simulate_on, simulate_pair};
+pub use simulate::{
+    simulate, simulate_four, simulate_from, simulate_observed, simulate_on, simulate_pair,
+};
 pub use step::{Rocking, Stepper, Stretch, StretchEnd};
 
 /// Speed below which a block is at rest after an impact, relative to `p`:

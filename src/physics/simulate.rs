@@ -53,17 +53,10 @@ pub fn simulate_from(
 pub fn simulate_pair(exc: &Excitation, specs: [&RunSpec; 2]) -> Option<[Outcome; 2]> {
     #[cfg(target_arch = "x86_64")]
     {
+        let limits = in_step(specs)?;
         let [a, b] = specs;
-        let same_but_eta = RunSpec { eta: a.eta, ..*b } == *a;
-        if !(same_but_eta && Isa::detected() == Isa::V3) {
-            return None;
-        }
-        let limit = |s: &RunSpec| {
-            s.validate().ok()?;
-            s.model.equation.overturn_limit(s.overturn).ok()
-        };
-        let limits = [limit(a)?, limit(b)?];
-        // SAFETY (both arms): `Isa::detected()` is V3 only where the CPU has its features.
+        // SAFETY (both arms): `in_step` is Some only where `Isa::detected()`
+        // is V3, where the CPU has its features.
         match (a.model.integrator, a.model.equation) {
             (Integrator::Exact, Equation::Linearized) => {
                 let new = |s: &RunSpec, limit| Exact::new(s.p, s.eta, exc.dt_s, limit);
@@ -83,6 +76,56 @@ pub fn simulate_pair(exc: &Excitation, specs: [&RunSpec; 2]) -> Option<[Outcome;
         let _ = (exc, specs);
         None
     }
+}
+
+/// Four runs that differ in η alone (two chaos probes' pairs, four grid
+/// levels), run in step as [`simulate_pair`] runs two: the Taylor stepper
+/// only, in the four lanes of one AVX register. `None` where they cannot
+/// be: another integrator, specs that differ in more than η or that
+/// [`simulate`] refuses, a CPU without x86-64-v3.
+pub fn simulate_four(exc: &Excitation, specs: [&RunSpec; 4]) -> Option<[Outcome; 4]> {
+    #[cfg(target_arch = "x86_64")]
+    {
+        let limits = in_step(specs)?;
+        match (specs[0].model.integrator, specs[0].model.equation) {
+            (Integrator::Taylor { tol }, Equation::Nonlinear { alpha_rad }) => {
+                let mut steppers: [Taylor; 4] = std::array::from_fn(|i| {
+                    Taylor::new(specs[i].p, specs[i].eta, alpha_rad, tol, limits[i])
+                });
+                // SAFETY: `in_step` is Some only where `Isa::detected()` is
+                // V3, where the CPU has its features.
+                Some(unsafe { dispatch::drive_lanes_v3(exc, specs, limits, steppers.each_mut()) })
+            }
+            _ => None,
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let _ = (exc, specs);
+        None
+    }
+}
+
+/// The overturning limits of runs that can be run in step: on a CPU with
+/// x86-64-v3, specs that [`simulate`] takes and that differ in η alone.
+#[cfg(target_arch = "x86_64")]
+fn in_step<const N: usize>(specs: [&RunSpec; N]) -> Option<[f64; N]> {
+    let first = specs[0];
+    let same_but_eta = specs.iter().all(|s| {
+        RunSpec {
+            eta: first.eta,
+            ..**s
+        } == *first
+    });
+    if !(same_but_eta && Isa::detected() == Isa::V3) {
+        return None;
+    }
+    let mut limits = [0.0; N];
+    for (limit, s) in limits.iter_mut().zip(specs) {
+        s.validate().ok()?;
+        *limit = s.model.equation.overturn_limit(s.overturn).ok()?;
+    }
+    Some(limits)
 }
 
 /// [`simulate`] with the exact stepper's event loop as compiled for `isa`

@@ -44,8 +44,9 @@
 //! state this stepper did not leave.
 //!
 //! Whole intervals a step proves eventless are crossed by
-//! [`Stepper::cruise`] without returning to the driver, and the two runs of
-//! a chaos probe in step (`pair`, one lane each).
+//! [`Stepper::cruise`] without returning to the driver, and those of runs
+//! in step (`pair`, one lane each: a chaos probe's two runs, the four
+//! probes of two decisive runs, two grid levels).
 
 #[cfg(target_arch = "x86_64")]
 mod pair;

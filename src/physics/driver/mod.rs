@@ -8,6 +8,9 @@ use super::step::{Rocking, Stepper, Stretch, StretchEnd};
 use super::{Excitation, RunSpec, MAX_EVENTS};
 use crate::label::Label;
 
+mod in_step;
+pub(super) use in_step::{drive_lanes, drive_pair, CruiseLanes, CruisePair, Lane};
+
 /// Why a run ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Stop {
@@ -102,88 +105,6 @@ pub(super) fn drive<S: Stepper, O: Observer>(
     }
     d.finish();
     d.out
-}
-
-/// Two runs that differ only in η (the two runs of a chaos probe), kept in
-/// step: while both rock through the same eventless intervals they are
-/// advanced together, two lanes of one vector ([`CruisePair`]: the exact
-/// stepper, the Taylor stepper); every other interval each run walks on
-/// its own, and the one behind catches up to the other before they go on
-/// together. Each run does the same operations in the same order as it
-/// would alone ([`drive`]), so its outcome is the same to the bit.
-#[inline(always)]
-pub(super) fn drive_pair<S: CruisePair>(
-    exc: &Excitation,
-    specs: [&RunSpec; 2],
-    limits: [f64; 2],
-    steppers: [&mut S; 2],
-) -> [Outcome; 2] {
-    let [stepper_a, stepper_b] = steppers;
-    let (mut obs_a, mut obs_b) = ((), ());
-    let mut a = Driver::new(exc, specs[0], None, limits[0], stepper_a, &mut obs_a);
-    let mut b = Driver::new(exc, specs[1], None, limits[1], stepper_b, &mut obs_b);
-    let n = exc.psi.len().saturating_sub(1);
-    let (mut ka, mut kb) = (0, 0);
-    let (mut live_a, mut live_b) = (true, true);
-    loop {
-        if live_a && ka >= n {
-            a.finish();
-            live_a = false;
-        }
-        if live_b && kb >= n {
-            b.finish();
-            live_b = false;
-        }
-        match (live_a, live_b) {
-            (false, false) => break,
-            (true, false) => live_a = a.advance(&mut ka, n, n) == Flow::Going,
-            (false, true) => live_b = b.advance(&mut kb, n, n) == Flow::Going,
-            (true, true) if ka < kb => live_a = a.advance(&mut ka, n, kb) == Flow::Going,
-            (true, true) if kb < ka => live_b = b.advance(&mut kb, n, ka) == Flow::Going,
-            (true, true) => {
-                if let (Some(st_a), Some(st_b)) = (a.state.as_mut(), b.state.as_mut()) {
-                    let next = S::cruise_pair(
-                        [&mut *a.stepper, &mut *b.stepper],
-                        exc,
-                        ka,
-                        [st_a, st_b],
-                        [&mut a.out.max_abs_x, &mut b.out.max_abs_x],
-                    );
-                    a.out.intervals += (next - ka) as u64;
-                    b.out.intervals += (next - kb) as u64;
-                    (ka, kb) = (next, next);
-                    if next == n {
-                        continue;
-                    }
-                }
-                // One of them (or both) has an event in interval `ka`, or
-                // is at rest: `a` walks that interval alone (or skips its
-                // quiet), then `b` catches up.
-                let cap = ka + 1;
-                live_a = a.advance(&mut ka, n, cap) == Flow::Going;
-            }
-        }
-    }
-    [a.out, b.out]
-}
-
-/// A stepper that crosses the eventless whole intervals of two runs of
-/// the same block and record at two values of η together
-/// ([`drive_pair`]).
-pub(super) trait CruisePair: Stepper {
-    /// [`Stepper::cruise`] for two runs at once, both rocking at sample
-    /// `k`: their whole intervals, one lane each, for as long as both are
-    /// proved eventless; stops at the first interval either must leave to
-    /// [`Stepper::cruise`] or [`Stepper::rock`] (the other is left there
-    /// too, and crosses it on its own) and returns it. Each lane does what
-    /// `cruise` does alone, operation for operation.
-    fn cruise_pair(
-        steppers: [&mut Self; 2],
-        exc: &Excitation,
-        k: usize,
-        states: [&mut Rocking; 2],
-        tops: [&mut f64; 2],
-    ) -> usize;
 }
 
 /// Whether a run goes on after [`Driver::advance`].
