@@ -214,11 +214,15 @@ pub fn capacity_certified_in(
     loop {
         searches += 1;
         let spec = with_rtol(rtol);
-        let before = runs.work();
-        let capacity = capacity_in(runs, &spec, grid, tol, trace)?;
-        let search = runs.work().since(before);
         let checked_rtol = (rtol / TIGHTEN).max(tightest);
         let check = with_rtol(checked_rtol);
+        let before = runs.work();
+        // Alone, the refinement runs go with their probes, in step.
+        runs.probe_with = runs.batch.is_none().then_some(check.model);
+        let capacity = capacity_in(runs, &spec, grid, tol, trace);
+        runs.probe_with = None;
+        let capacity = capacity?;
+        let search = runs.work().since(before);
         // The probes, run at the tighter tolerance, check it too: where
         // every one gives its decisive run's verdict, the verdicts stand at
         // that tolerance an η step of 1e-9 away on both sides. Only where

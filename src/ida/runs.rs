@@ -2,7 +2,7 @@
 //! [`Batch`] of workers), and the work they counted.
 
 use crate::physics::{
-    simulate, simulate_four, simulate_pair, Excitation, Outcome, PhysicsError, RunSpec,
+    simulate, simulate_lanes, simulate_pair, Excitation, Model, Outcome, PhysicsError, RunSpec,
 };
 
 /// The simulations of one record, remembered: a search or check that asks
@@ -26,6 +26,10 @@ pub struct Runs<'a> {
     ahead: std::collections::HashMap<[u64; 8], Outcome>,
     done: Work,
     pub(super) batch: Option<&'a dyn Batch>,
+    /// The model a certification will probe the decisive runs with, while
+    /// the search runs (`capacity_certified_in`, without a batch): each
+    /// refinement run, decisive, is run in step with its two probes.
+    pub(super) probe_with: Option<Model>,
 }
 
 /// Runs simulations of one record together: what a caller with spare cores
@@ -82,6 +86,7 @@ impl<'a> Runs<'a> {
             ahead: std::collections::HashMap::new(),
             done: Work::default(),
             batch: None,
+            probe_with: None,
         }
     }
 
@@ -178,9 +183,10 @@ impl<'a> Runs<'a> {
     }
 
     /// Runs specs that differ in η alone (a chaos probe's two runs, two
-    /// probes' four, two grid levels) ahead of need, together, in step,
+    /// grid levels; for the Taylor stepper, in the tolerance too: a run
+    /// with its probes, two runs' probes) ahead of need, together, in step,
     /// when the first is not known yet: the first four not known where they
-    /// can be ([`simulate_four`]: the Taylor stepper), else the first two
+    /// can be ([`simulate_lanes`]: the Taylor stepper), else the first two
     /// ([`simulate_pair`]), each set at about the price of one run where its
     /// runs rock alike; the others are left to be run when asked for. The
     /// outcomes wait until asked for ([`Runs::outcome`]).
@@ -189,22 +195,20 @@ impl<'a> Runs<'a> {
         if specs.first().is_none_or(|first| known(&run_key(first))) {
             return;
         }
-        let mut todo: Vec<(&RunSpec, [u64; 8])> = Vec::with_capacity(4);
+        let (mut todo, mut keys) = (Vec::with_capacity(4), Vec::with_capacity(4));
         for spec in specs {
             let key = run_key(spec);
-            if !known(&key) && todo.iter().all(|(_, k)| *k != key) {
-                todo.push((spec, key));
+            if !known(&key) && !keys.contains(&key) && todo.len() < 4 {
+                todo.push(*spec);
+                keys.push(key);
             }
         }
-        let outs: Option<Vec<Outcome>> = match &todo[..] {
-            [a, b, c, d, ..] => simulate_four(self.exc, [a.0, b.0, c.0, d.0])
-                .map(Vec::from)
-                .or_else(|| simulate_pair(self.exc, [a.0, b.0]).map(Vec::from)),
-            [a, b, ..] => simulate_pair(self.exc, [a.0, b.0]).map(Vec::from),
+        let outs = simulate_lanes(self.exc, &todo).or_else(|| match &todo[..] {
+            [a, b, ..] => simulate_pair(self.exc, [a, b]).map(Vec::from),
             _ => None,
-        };
-        let keys = todo.iter().map(|(_, k)| *k);
-        self.ahead.extend(keys.zip(outs.unwrap_or_default()));
+        });
+        self.ahead
+            .extend(keys.into_iter().zip(outs.unwrap_or_default()));
     }
 
     /// Keeps outcomes run ahead of need (by [`Batch::alongside`]) until they

@@ -16,7 +16,9 @@
 //! each alone (`rocking bench --sections certified`). The outcomes are the
 //! ones each run has alone, to the bit, so the capacity is too; the level
 //! after the first overturning is run in vain (and not counted in
-//! [`super::Work`]).
+//! [`super::Work`]). In a certified search each refinement run, decisive,
+//! goes with its two chaos probes at the checking tolerance
+//! ([`Runs::run_ahead`]; counted when the certification asks for them).
 
 use super::capacity::{Capacity, IdaPoint, RunKind, Trace};
 use super::decisive::{decisive_runs, probes};
@@ -227,7 +229,13 @@ fn bisect(
         if mid <= *over || mid >= *survived {
             break;
         }
-        let outcome = runs.outcome(&RunSpec { eta: mid, ..*run })?;
+        let spec = RunSpec { eta: mid, ..*run };
+        if let Some(model) = runs.probe_with {
+            // With its chaos probes, in step: the certification asks for them.
+            let [up, down] = probes(&RunSpec { model, ..spec }, mid);
+            runs.run_ahead(&[spec, up, down]);
+        }
+        let outcome = runs.outcome(&spec)?;
         points.push(IdaPoint {
             eta: mid,
             kind: RunKind::Refinement,

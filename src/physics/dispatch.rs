@@ -119,7 +119,7 @@ pub(super) unsafe fn drive_pair_v3<S: driver::CruisePair>(
     driver::drive_pair(exc, specs, limits, steppers)
 }
 
-/// [`driver::drive_lanes`] compiled for x86-64-v3 ([`super::simulate_four`]).
+/// [`driver::drive_lanes`] compiled for x86-64-v3 ([`super::simulate_lanes`]).
 ///
 /// # Safety
 /// The CPU must have the features enabled here.
@@ -130,6 +130,7 @@ pub(super) unsafe fn drive_lanes_v3<S: driver::CruiseLanes<N>, const N: usize>(
     specs: [&RunSpec; N],
     limits: [f64; N],
     steppers: [&mut S; N],
+    present: [bool; N],
 ) -> [Outcome; N] {
-    driver::drive_lanes(exc, specs, limits, steppers)
+    driver::drive_lanes(exc, specs, limits, steppers, present)
 }

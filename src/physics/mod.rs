@@ -58,7 +58,7 @@ pub use integrator::{
     DEFAULT_RTOL, DEFAULT_TAYLOR_TOL, DP5_TIGHTEST_RTOL, MIN_RTOL, TAYLOR_TIGHTEST_TOL,
 };
 pub use simulate::{
-    simulate, simulate_four, simulate_from, simulate_observed, simulate_on, simulate_pair,
+    simulate, simulate_from, simulate_lanes, simulate_observed, simulate_on, simulate_pair,
 };
 pub use step::{Rocking, Stepper, Stretch, StretchEnd};
 

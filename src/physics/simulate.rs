@@ -16,6 +16,8 @@ use super::integrator::Integrator;
 use super::step::Rocking;
 #[cfg(target_arch = "x86_64")]
 use super::taylor::Taylor;
+#[cfg(target_arch = "x86_64")]
+use super::Model;
 use super::{Excitation, PhysicsError, RunSpec};
 
 /// Runs one record at one intensity.
@@ -43,11 +45,12 @@ pub fn simulate_from(
     run(exc, spec, start, obs, Isa::detected())
 }
 
-/// Two runs that differ in η alone (a chaos probe's pair), run in step
+/// Two runs that differ in η alone (a chaos probe's pair; for the Taylor
+/// stepper, in its tolerance too), run in step
 /// (`driver::drive_pair`: their eventless intervals cost little more than
 /// one run's), each with the outcome [`simulate`] gives it, to the bit.
 /// `None` where they cannot be: an integrator other than the exact and
-/// Taylor steppers, specs that differ in more than η or that [`simulate`]
+/// Taylor steppers, specs that differ in more or that [`simulate`]
 /// refuses, or a CPU without the steppers' x86-64-v3 compilation (run them
 /// one by one there).
 pub fn simulate_pair(exc: &Excitation, specs: [&RunSpec; 2]) -> Option<[Outcome; 2]> {
@@ -63,8 +66,9 @@ pub fn simulate_pair(exc: &Excitation, specs: [&RunSpec; 2]) -> Option<[Outcome;
                 let (mut sa, mut sb) = (new(a, limits[0]), new(b, limits[1]));
                 Some(unsafe { dispatch::drive_pair_v3(exc, specs, limits, [&mut sa, &mut sb]) })
             }
-            (Integrator::Taylor { tol }, Equation::Nonlinear { alpha_rad }) => {
-                let new = |s: &RunSpec, limit| Taylor::new(s.p, s.eta, alpha_rad, tol, limit);
+            (Integrator::Taylor { .. }, Equation::Nonlinear { alpha_rad }) => {
+                let new =
+                    |s: &RunSpec, limit| Taylor::new(s.p, s.eta, alpha_rad, taylor_tol(s), limit);
                 let (mut sa, mut sb) = (new(a, limits[0]), new(b, limits[1]));
                 Some(unsafe { dispatch::drive_pair_v3(exc, specs, limits, [&mut sa, &mut sb]) })
             }
@@ -78,26 +82,46 @@ pub fn simulate_pair(exc: &Excitation, specs: [&RunSpec; 2]) -> Option<[Outcome;
     }
 }
 
-/// Four runs that differ in η alone (two chaos probes' pairs, four grid
-/// levels), run in step as [`simulate_pair`] runs two: the Taylor stepper
-/// only, in the four lanes of one AVX register. `None` where they cannot
-/// be: another integrator, specs that differ in more than η or that
-/// [`simulate`] refuses, a CPU without x86-64-v3.
-pub fn simulate_four(exc: &Excitation, specs: [&RunSpec; 4]) -> Option<[Outcome; 4]> {
+/// Two to four Taylor runs that differ in η and the tolerance alone (a
+/// decisive run with its chaos probes at the tighter tolerance, two runs'
+/// probes), run in step as [`simulate_pair`] runs two: four lanes of one
+/// AVX register, a lane left empty for three. Each outcome is the one
+/// [`simulate`] gives, to the bit, in the order of `specs`. `None` where
+/// they cannot be: another integrator, fewer than two specs or more than
+/// four, specs that differ in more or that [`simulate`] refuses, a CPU
+/// without x86-64-v3.
+pub fn simulate_lanes(exc: &Excitation, specs: &[RunSpec]) -> Option<Vec<Outcome>> {
     #[cfg(target_arch = "x86_64")]
     {
-        let limits = in_step(specs)?;
-        match (specs[0].model.integrator, specs[0].model.equation) {
-            (Integrator::Taylor { tol }, Equation::Nonlinear { alpha_rad }) => {
-                let mut steppers: [Taylor; 4] = std::array::from_fn(|i| {
-                    Taylor::new(specs[i].p, specs[i].eta, alpha_rad, tol, limits[i])
-                });
-                // SAFETY: `in_step` is Some only where `Isa::detected()` is
-                // V3, where the CPU has its features.
-                Some(unsafe { dispatch::drive_lanes_v3(exc, specs, limits, steppers.each_mut()) })
-            }
-            _ => None,
+        let (Integrator::Taylor { .. }, Equation::Nonlinear { alpha_rad }) =
+            (specs.first()?.model.integrator, specs[0].model.equation)
+        else {
+            return None;
+        };
+        if let [a, b] = specs {
+            return simulate_pair(exc, [a, b]).map(Vec::from);
         }
+        if specs.len() > 4 {
+            return None;
+        }
+        // An empty lane repeats the first run, and is not kept.
+        let four: [&RunSpec; 4] = std::array::from_fn(|i| specs.get(i).unwrap_or(&specs[0]));
+        let limits = in_step(four)?;
+        let mut steppers: [Taylor; 4] = std::array::from_fn(|i| {
+            Taylor::new(
+                four[i].p,
+                four[i].eta,
+                alpha_rad,
+                taylor_tol(four[i]),
+                limits[i],
+            )
+        });
+        let present = std::array::from_fn(|i| i < specs.len());
+        // SAFETY: `in_step` is Some only where `Isa::detected()` is V3,
+        // where the CPU has its features.
+        let outs =
+            unsafe { dispatch::drive_lanes_v3(exc, four, limits, steppers.each_mut(), present) };
+        Some(outs[..specs.len()].to_vec())
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
@@ -106,18 +130,34 @@ pub fn simulate_four(exc: &Excitation, specs: [&RunSpec; 4]) -> Option<[Outcome;
     }
 }
 
+/// A Taylor run's tolerance (NaN for another integrator, never asked).
+#[cfg(target_arch = "x86_64")]
+fn taylor_tol(spec: &RunSpec) -> f64 {
+    spec.model.integrator.tol().unwrap_or(f64::NAN)
+}
+
 /// The overturning limits of runs that can be run in step: on a CPU with
-/// x86-64-v3, specs that [`simulate`] takes and that differ in η alone.
+/// x86-64-v3, specs that [`simulate`] takes and that differ in η alone (and
+/// the Taylor stepper's tolerance).
 #[cfg(target_arch = "x86_64")]
 fn in_step<const N: usize>(specs: [&RunSpec; N]) -> Option<[f64; N]> {
     let first = specs[0];
-    let same_but_eta = specs.iter().all(|s| {
+    let alike = |s: &RunSpec| {
+        let integrator = match (s.model.integrator, first.model.integrator) {
+            (Integrator::Taylor { .. }, Integrator::Taylor { .. }) => first.model.integrator,
+            (other, _) => other,
+        };
+        let model = Model {
+            integrator,
+            ..s.model
+        };
         RunSpec {
             eta: first.eta,
-            ..**s
+            model,
+            ..*s
         } == *first
-    });
-    if !(same_but_eta && Isa::detected() == Isa::V3) {
+    };
+    if !(specs.iter().all(|s| alike(s)) && Isa::detected() == Isa::V3) {
         return None;
     }
     let mut limits = [0.0; N];

@@ -103,6 +103,7 @@ pub(in crate::physics) fn drive_lanes<S: CruiseLanes<N>, const N: usize>(
     specs: [&RunSpec; N],
     limits: [f64; N],
     steppers: [&mut S; N],
+    present: [bool; N],
 ) -> [Outcome; N] {
     let mut obs = [(); N];
     let mut pairs = steppers.into_iter().zip(obs.each_mut());
@@ -112,7 +113,7 @@ pub(in crate::physics) fn drive_lanes<S: CruiseLanes<N>, const N: usize>(
     });
     let n = exc.psi.len().saturating_sub(1);
     let mut ks = [0usize; N];
-    let mut live = [true; N];
+    let mut live = present;
     loop {
         for i in 0..N {
             if live[i] && ks[i] >= n {

@@ -46,7 +46,8 @@
 //! Whole intervals a step proves eventless are crossed by
 //! [`Stepper::cruise`] without returning to the driver, and those of runs
 //! in step (`pair`, one lane each: a chaos probe's two runs, the four
-//! probes of two decisive runs, two grid levels).
+//! probes of two decisive runs, a refinement run with its two probes at a
+//! tighter tolerance, two grid levels).
 
 #[cfg(target_arch = "x86_64")]
 mod pair;

@@ -1,8 +1,9 @@
 //! Runs of the Taylor stepper in step, one lane each of a vector: two in
 //! an SSE2 register ([`F2`]), four in an AVX one ([`F4`]). The two runs of
-//! a chaos probe follow nearly the same motion, the probes of neighbouring
-//! decisive runs and neighbouring grid levels of a search rock alike for
-//! stretches, so their steps can share the series' chain of orders, which
+//! a chaos probe follow nearly the same motion, as do a run and its probes
+//! at a tighter tolerance (each lane has its own); the probes of
+//! neighbouring decisive runs and neighbouring grid levels of a search rock
+//! alike for stretches, so their steps can share the series' chain of orders, which
 //! bounds a step's time (docs/MODEL.md §3.5): four lanes cost about what
 //! two do. Each lane does the operations [`Taylor::series`] does, in its
 //! order, so each run's outcome is the one it has alone, to the bit.
@@ -26,13 +27,15 @@ struct LaneSeries<T, const N: usize> {
     ends: [Ends; N],
 }
 
-/// What the lanes' steppers share (the same `p`, α and tolerance), as
-/// [`Taylor::series`] uses it.
-struct Shared {
+/// What the lanes' steppers share (the same `p` and α), as
+/// [`Taylor::series`] uses it, and what each has of its own (η, the
+/// tolerance: a run and its chaos probes at a tighter one go together).
+struct Shared<T> {
     p2_over_alpha: f64,
     alpha: f64,
-    tol: f64,
-    tol_e: f64,
+    p2_over_eta: T,
+    tol: T,
+    tol_e: T,
 }
 
 impl<T: Lanes<N>, const N: usize> LaneSeries<T, N> {
@@ -50,15 +53,13 @@ impl<T: Lanes<N>, const N: usize> LaneSeries<T, N> {
     }
 
     /// [`Taylor::series`] for `N` steppers sharing `c` (each lane its own
-    /// η, `p²/η` in `p2_over_eta`, on its own pivot `s`) over the same
-    /// step, lane by lane, until every lane's tail is below the tolerance
+    /// η and tolerance, on its own pivot `s`) over the same step, lane by lane, until every lane's tail is below the tolerance
     /// (or [`MAX_ORDER`]).
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn build(
         &mut self,
-        c: &Shared,
-        p2_over_eta: T,
+        c: &Shared<T>,
         s: T,
         y0: T,
         w0: T,
@@ -71,10 +72,10 @@ impl<T: Lanes<N>, const N: usize> LaneSeries<T, N> {
         let zero = T::splat(0.0);
         let h2 = h * h;
         let k_sin = T::splat(h2 * c.p2_over_alpha);
-        let f = (s * T::splat(h2)) * p2_over_eta;
+        let f = (s * T::splat(h2)) * c.p2_over_eta;
         let (f0, f1) = (f * T::splat(g_a), (f * T::splat(g1)) * T::splat(h));
         let a = c.alpha;
-        let (tol, tol_e) = (T::splat(c.tol), T::splat(c.tol_e));
+        let (tol, tol_e) = (c.tol, c.tol_e);
         let (y, v, e, d) = (&mut self.y, &mut self.v, &mut self.e, &mut self.d);
         let v0 = T::splat(h) * w0;
         y[0] = y0;
@@ -242,13 +243,8 @@ fn cruise_lanes<T: Lanes<N>, const N: usize>(
     };
     let dt = exc.dt_s;
     let t0 = &*first.stepper;
-    let c = Shared {
-        p2_over_alpha: t0.p2_over_alpha,
-        alpha: t0.alpha,
-        tol: t0.tol,
-        tol_e: t0.tol_sin_cos(),
-    };
-    let differs = |t: &Taylor| t.cuts(dt) || t.p != t0.p || t.alpha != t0.alpha || t.tol != t0.tol;
+    let (p2_over_alpha, alpha) = (t0.p2_over_alpha, t0.alpha);
+    let differs = |t: &Taylor| t.cuts(dt) || t.p != t0.p || t.alpha != t0.alpha;
     if runs.iter().flatten().any(|r| differs(r.stepper)) {
         return k;
     }
@@ -256,6 +252,7 @@ fn cruise_lanes<T: Lanes<N>, const N: usize>(
     let (mut s, mut y0, mut w0, mut e0, mut d0) =
         ([0.0; N], [0.0; N], [0.0; N], [0.0; N], [0.0; N]);
     let (mut top, mut limit, mut p2_over_eta) = ([0.0; N], [0.0; N], [0.0; N]);
+    let (mut tol, mut tol_e) = ([0.0; N], [0.0; N]);
     for i in 0..N {
         let r = runs[i]
             .as_ref()
@@ -265,10 +262,18 @@ fn cruise_lanes<T: Lanes<N>, const N: usize>(
         (s[i], y0[i], w0[i]) = (st.s, st.s * st.x, st.s * st.v);
         (e0[i], d0[i]) = t.sin_cos_at(st);
         (top[i], limit[i], p2_over_eta[i]) = (*r.top, t.limit, t.p2_over_eta);
+        (tol[i], tol_e[i]) = (t.tol, t.tol_sin_cos());
     }
     let (psi, slope) = (&exc.psi[..], &exc.slope[..]);
     let n = slope.len().min(psi.len());
-    let (lanes_s, lanes_p) = (T::from_lanes(s), T::from_lanes(p2_over_eta));
+    let c = Shared {
+        p2_over_alpha,
+        alpha,
+        p2_over_eta: T::from_lanes(p2_over_eta),
+        tol: T::from_lanes(tol),
+        tol_e: T::from_lanes(tol_e),
+    };
+    let lanes_s = T::from_lanes(s);
     let start = k;
     let mut series = LaneSeries::<T, N>::new();
     while k < n {
@@ -276,7 +281,6 @@ fn cruise_lanes<T: Lanes<N>, const N: usize>(
         let (g_a, g1) = (psi[k] + slope[k] * 0.0, slope[k]);
         series.build(
             &c,
-            lanes_p,
             lanes_s,
             T::from_lanes(y0),
             T::from_lanes(w0),
