@@ -13,7 +13,7 @@ use crate::physics::{Excitation, RunSpec};
 /// stepper, the Taylor stepper); every other interval each run walks on
 /// its own, and the one behind catches up to the other before they go on
 /// together. Each run does the same operations in the same order as it
-/// would alone ([`drive`]), so its outcome is the same to the bit.
+/// would alone ([`super::drive`]), so its outcome is the same to the bit.
 #[inline(always)]
 pub(in crate::physics) fn drive_pair<S: CruisePair>(
     exc: &Excitation,
@@ -89,14 +89,16 @@ pub(in crate::physics) trait CruisePair: Stepper {
     ) -> usize;
 }
 
-/// `N` runs that differ only in η (the two runs of a chaos probe, grid
-/// levels side by side), kept in step: while two or more of them rock
-/// through the same eventless intervals they are advanced together, lanes
-/// of one vector ([`CruiseLanes`]: the exact stepper two at a time, the
-/// Taylor stepper two or four); every other interval each run walks on its
-/// own, and those behind catch up with the one ahead before they go on
-/// together. Each run does the same operations in the same order as it
-/// would alone ([`drive`]), so its outcome is the same to the bit.
+/// Up to `N` runs that differ only in η and the stepper's tolerance (two
+/// decisive runs' chaos probes, a refinement run with its probes), kept in
+/// step: while two or more of them rock through the same eventless
+/// intervals they are advanced together, lanes of one vector
+/// ([`CruiseLanes`]: the Taylor stepper's four); every other interval each
+/// run walks on its own, and those behind catch up with the one ahead
+/// before they go on together. A run not `present` fills a place and is
+/// never run (its outcome means nothing). Each run does the same
+/// operations in the same order as it would alone ([`super::drive`]), so
+/// its outcome is the same to the bit.
 #[inline(always)]
 pub(in crate::physics) fn drive_lanes<S: CruiseLanes<N>, const N: usize>(
     exc: &Excitation,
