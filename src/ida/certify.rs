@@ -6,7 +6,7 @@ use super::capacity::{Capacity, Trace};
 use super::decisive::{chaos_probe, decisive_runs, CHAOS_PROBE};
 use super::grid::ImGrid;
 use super::runs::{Runs, Work};
-use super::search::{capacity_in, search};
+use super::search::{search, Ahead};
 use crate::physics::{Excitation, PhysicsError, RunSpec};
 
 /// How a capacity's decisive verdicts were checked.
@@ -185,8 +185,11 @@ pub fn capacity_certified_in(
     let Some(asked) = integrator.tol() else {
         // The exact stepper's probes are run with the search's own spec:
         // with a batch, they can start while the bisection runs.
-        let exact = integrator == Integrator::Exact;
-        let capacity = search(runs, run, grid, tol, trace, exact)?;
+        let ahead = match integrator {
+            Integrator::Exact => Ahead::ProbesAlongside,
+            _ => Ahead::Nothing,
+        };
+        let capacity = search(runs, run, grid, tol, trace, ahead)?;
         let searched = runs.work();
         let certification = match integrator {
             Integrator::Exact => match chaos_probe(runs, run, &capacity, grid)? {
@@ -218,10 +221,8 @@ pub fn capacity_certified_in(
         let check = with_rtol(checked_rtol);
         let before = runs.work();
         // Alone, the refinement runs go with their probes, in step.
-        runs.probe_with = runs.batch.is_none().then_some(check.model);
-        let capacity = capacity_in(runs, &spec, grid, tol, trace);
-        runs.probe_with = None;
-        let capacity = capacity?;
+        let ahead = Ahead::ProbesInStep(check.model);
+        let capacity = search(runs, &spec, grid, tol, trace, ahead)?;
         let search = runs.work().since(before);
         // The probes, run at the tighter tolerance, check it too: where
         // every one gives its decisive run's verdict, the verdicts stand at

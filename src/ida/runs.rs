@@ -2,7 +2,7 @@
 //! [`Batch`] of workers), and the work they counted.
 
 use crate::physics::{
-    simulate, simulate_lanes, simulate_pair, Excitation, Model, Outcome, PhysicsError, RunSpec,
+    simulate, simulate_lanes, simulate_pair, Excitation, Outcome, PhysicsError, RunSpec,
 };
 
 /// The simulations of one record, remembered: a search or check that asks
@@ -26,10 +26,6 @@ pub struct Runs<'a> {
     ahead: std::collections::HashMap<[u64; 8], Outcome>,
     done: Work,
     pub(super) batch: Option<&'a dyn Batch>,
-    /// The model a certification will probe the decisive runs with, while
-    /// the search runs (`capacity_certified_in`, without a batch): each
-    /// refinement run, decisive, is run in step with its two probes.
-    pub(super) probe_with: Option<Model>,
 }
 
 /// Runs simulations of one record together: what a caller with spare cores
@@ -86,7 +82,6 @@ impl<'a> Runs<'a> {
             ahead: std::collections::HashMap::new(),
             done: Work::default(),
             batch: None,
-            probe_with: None,
         }
     }
 

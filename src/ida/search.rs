@@ -24,7 +24,7 @@ use super::capacity::{Capacity, IdaPoint, RunKind, Trace};
 use super::decisive::{decisive_runs, probes};
 use super::grid::ImGrid;
 use super::runs::Runs;
-use crate::physics::{Excitation, PhysicsError, RunSpec};
+use crate::physics::{Excitation, Model, PhysicsError, RunSpec};
 
 /// Traces the IDA of one record up to its first overturning and refines it.
 /// `run.eta` is ignored (set per level).
@@ -57,23 +57,34 @@ pub fn capacity_in(
     tol: f64,
     trace: Trace,
 ) -> Result<Capacity, PhysicsError> {
-    search(runs, run, grid, tol, trace, false)
+    search(runs, run, grid, tol, trace, Ahead::Nothing)
 }
 
-/// [`capacity_in`]; with `probe_early` and a batch, the chaos probes of the
-/// decisive runs ([`chaos_probe`]'s, for a check with the search's own
-/// spec) are run by the other workers while the bisection goes on
-/// ([`Batch::alongside`]), and wait in [`Runs`] until asked for.
+/// What a search runs ahead of need for the certification after it: the
+/// chaos probes of its decisive runs ([`chaos_probe`]'s), which wait in
+/// [`Runs`] until asked for.
 ///
 /// [`chaos_probe`]: super::decisive::chaos_probe
-/// [`Batch::alongside`]: super::Batch::alongside
+#[derive(Debug, Clone, Copy)]
+pub(super) enum Ahead {
+    Nothing,
+    /// With a batch, the probes for a check with the search's own spec,
+    /// run by the other workers while the bisection goes on
+    /// ([`Batch::alongside`](super::Batch::alongside)).
+    ProbesAlongside,
+    /// Without a batch, each refinement run in step with its two probes
+    /// for a check with this model ([`Runs::run_ahead`]).
+    ProbesInStep(Model),
+}
+
+/// [`capacity_in`], running `ahead` what the certification after it asks for.
 pub(super) fn search(
     runs: &mut Runs,
     run: &RunSpec,
     grid: &ImGrid,
     tol: f64,
     trace: Trace,
-    probe_early: bool,
+    ahead: Ahead,
 ) -> Result<Capacity, PhysicsError> {
     if !(tol > 0.0 && tol.is_finite()) {
         return Err(PhysicsError::BadInput(format!(
@@ -114,7 +125,7 @@ pub(super) fn search(
             run,
             grid,
             tol,
-            probe_early,
+            ahead,
             [&mut survived, &mut over],
             &mut points,
         )?;
@@ -146,22 +157,33 @@ pub(super) fn search(
 
 /// Refines the bracket `[over, survived]` of the first overturning (its
 /// ends the first grid level that overturned and the last that survived
-/// before it) by [`bisect`]; with `probe_early` and a batch, the chaos
-/// probes of the decisive runs are handed to the other workers meanwhile,
-/// those known before the bisection first.
+/// before it) by [`bisect`]; with [`Ahead::ProbesAlongside`] and a batch,
+/// the chaos probes of the decisive runs are handed to the other workers
+/// meanwhile, those known before the bisection first.
 fn refine(
     runs: &mut Runs,
     run: &RunSpec,
     grid: &ImGrid,
     tol: f64,
-    probe_early: bool,
+    ahead: Ahead,
     [survived, over]: [&mut f64; 2],
     points: &mut Vec<IdaPoint>,
 ) -> Result<(), PhysicsError> {
     let (level_survived, level_overturned) = (*survived, *over);
-    match runs.batch.filter(|_| probe_early) {
-        None => bisect(runs, run, tol, [survived, over], points, &|_| {})?,
-        Some(batch) => {
+    match (runs.batch, ahead) {
+        (None, Ahead::ProbesInStep(model)) => bisect(
+            runs,
+            run,
+            tol,
+            Some(model),
+            [survived, over],
+            points,
+            &|_| {},
+        )?,
+        (None, _) | (Some(_), Ahead::Nothing | Ahead::ProbesInStep(_)) => {
+            bisect(runs, run, tol, None, [survived, over], points, &|_| {})?
+        }
+        (Some(batch), Ahead::ProbesAlongside) => {
             // The decisive runs known before the bisection: the bracket
             // and the near misses (those of a capacity refined no further).
             let known = decisive_runs(
@@ -181,7 +203,8 @@ fn refine(
                     hand(probes(run, eta));
                 }
                 let each = |eta| hand(probes(run, eta));
-                bisected = bisect(runs, run, tol, [&mut *survived, &mut *over], points, &each);
+                let bracket = [&mut *survived, &mut *over];
+                bisected = bisect(runs, run, tol, None, bracket, points, &each);
             });
             runs.keep_ahead(outs);
             bisected?;
@@ -215,11 +238,14 @@ fn levels_past(
 }
 
 /// Bisects the bracket `[over, survived]` of `run`'s η down to `tol`,
-/// recording each refinement run and calling `refined` with its η.
+/// recording each refinement run and calling `refined` with its η; with
+/// `probe_with`, each refinement run in step with its chaos probes for a
+/// check with that model.
 fn bisect(
     runs: &mut Runs,
     run: &RunSpec,
     tol: f64,
+    probe_with: Option<Model>,
     [survived, over]: [&mut f64; 2],
     points: &mut Vec<IdaPoint>,
     refined: &dyn Fn(f64),
@@ -230,7 +256,7 @@ fn bisect(
             break;
         }
         let spec = RunSpec { eta: mid, ..*run };
-        if let Some(model) = runs.probe_with {
+        if let Some(model) = probe_with {
             // With its chaos probes, in step: the certification asks for them.
             let [up, down] = probes(&RunSpec { model, ..spec }, mid);
             runs.run_ahead(&[spec, up, down]);

@@ -1,8 +1,8 @@
 //! The CPU dispatch of the event loop: [`Isa`] names the compilations (the
 //! x86-64 baseline and x86-64-v3), and the functions here compile the event
-//! loop ([`driver::drive`], [`driver::drive_pair`], [`driver::drive_lanes`]) with the exact stepper
-//! and with the Taylor stepper, once per compilation, and pick one at run
-//! time.
+//! loop ([`driver::drive`], [`driver::drive_pair`], [`driver::drive_lanes`])
+//! with the exact stepper and with the Taylor stepper, once per
+//! compilation, and pick one at run time.
 
 use super::driver::{self, Outcome};
 use super::history::Observer;

@@ -101,7 +101,7 @@ pub fn simulate_lanes(exc: &Excitation, specs: &[RunSpec]) -> Option<Vec<Outcome
         if let [a, b] = specs {
             return simulate_pair(exc, [a, b]).map(Vec::from);
         }
-        if specs.len() > 4 {
+        if !(3..=4).contains(&specs.len()) {
             return None;
         }
         // An empty lane repeats the first run, and is not kept.

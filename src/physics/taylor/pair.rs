@@ -3,9 +3,9 @@
 //! a chaos probe follow nearly the same motion, as do a run and its probes
 //! at a tighter tolerance (each lane has its own); the probes of
 //! neighbouring decisive runs and neighbouring grid levels of a search rock
-//! alike for stretches, so their steps can share the series' chain of orders, which
-//! bounds a step's time (docs/MODEL.md §3.5): four lanes cost about what
-//! two do. Each lane does the operations [`Taylor::series`] does, in its
+//! alike for stretches, so their steps can share the series' chain of
+//! orders, which bounds a step's time (docs/MODEL.md §3.5): four lanes cost
+//! about what two do. Each lane does the operations [`Taylor::series`] does, in its
 //! order, so each run's outcome is the one it has alone, to the bit.
 
 use super::series::{convolutions, ends};
@@ -53,8 +53,9 @@ impl<T: Lanes<N>, const N: usize> LaneSeries<T, N> {
     }
 
     /// [`Taylor::series`] for `N` steppers sharing `c` (each lane its own
-    /// η and tolerance, on its own pivot `s`) over the same step, lane by lane, until every lane's tail is below the tolerance
-    /// (or [`MAX_ORDER`]).
+    /// η and tolerance, on its own pivot `s`) over the same step, lane by
+    /// lane, until every lane's tail is below its tolerance (or
+    /// [`MAX_ORDER`]).
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn build(
@@ -254,10 +255,7 @@ fn cruise_lanes<T: Lanes<N>, const N: usize>(
     let (mut top, mut limit, mut p2_over_eta) = ([0.0; N], [0.0; N], [0.0; N]);
     let (mut tol, mut tol_e) = ([0.0; N], [0.0; N]);
     for i in 0..N {
-        let r = runs[i]
-            .as_ref()
-            .or(runs.iter().flatten().next())
-            .expect("a run");
+        let r = runs[i].as_ref().unwrap_or(first);
         let (t, st) = (&*r.stepper, &*r.state);
         (s[i], y0[i], w0[i]) = (st.s, st.s * st.x, st.s * st.v);
         (e0[i], d0[i]) = t.sin_cos_at(st);
