@@ -72,6 +72,74 @@ fn free_rocking_conserves_the_nonlinear_energy() {
     }
 }
 
+/// A hop: the block leaves the pivot with a small speed `w0` against a
+/// forcing that pulls it back, and lands within the stretch (most impacts
+/// of a run are such hops). Under a constant forcing `g_a` the motion on
+/// pivot `s` conserves `E = ẏ²/2 + (p²/α²) cos u + (c/α) sin u` (`c = s
+/// p² g_a / η`, `u = α(1 − y)`), equal at both ends on the pivot: it lands
+/// at the speed it left with, to 1e-12. So low, the hop follows `ÿ = a0 +
+/// k y` (the equation's value and slope at the pivot), whose landing is
+/// `t = 2 atanh(w0 √k / |a0|) / √k`: the terms left out (`y²` and up, y ≤
+/// 1e-8) move it by less than 1e-15 (relative). The step lands there to
+/// 1e-13 whether it takes the hop by its hop path (the largest `|x|` met
+/// before above the hop) or by locating its turning point (nothing met
+/// before).
+#[test]
+fn a_hop_lands_as_it_left() {
+    let (p, eta, alpha): (f64, f64, f64) = (2.0, 0.3, 0.25);
+    let uplift = eta * alpha.tan() / alpha;
+    for s in [1.0, -1.0] {
+        for g in [-1.0, 0.0, 0.5, 0.9] {
+            for w0 in [1e-7, 1e-5, 1e-4] {
+                let g_a = s * g * uplift;
+                let c = p * p * (s * g_a) / eta;
+                let a0 = -(p * p / alpha) * alpha.sin() + c * alpha.cos();
+                let k = p * p * alpha.cos() + c * alpha * alpha.sin();
+                let landing = 2.0 * (w0 * k.sqrt() / a0.abs()).atanh() / k.sqrt();
+                let stretch = Stretch {
+                    tau0: 0.0,
+                    len: 0.01,
+                    g_a,
+                    g1: 0.0,
+                };
+                let land = |top: f64| {
+                    let mut stepper = Taylor::new(p, eta, alpha, DEFAULT_TAYLOR_TOL, 1.0);
+                    let (mut st, mut max) = (
+                        Rocking {
+                            x: 0.0,
+                            v: s * w0,
+                            s,
+                        },
+                        top,
+                    );
+                    match stepper.rock(stretch, &mut st, &mut max) {
+                        StretchEnd::Impact { sigma, v } => (sigma, v, max),
+                        other => panic!("s {s}, g {g}, w0 {w0}: {other:?}"),
+                    }
+                };
+                let case = format!("s {s}, g {g}, w0 {w0}");
+                let (t_hop, v_hop, max_hop) = land(1.0);
+                let (t_turn, v_turn, max_turn) = land(0.0);
+                for (t, v) in [(t_hop, v_hop), (t_turn, v_turn)] {
+                    assert!((v + s * w0).abs() <= 1e-12 * w0, "{case}: lands at {v}");
+                    assert!(
+                        (t - landing).abs() <= 1e-13 * landing,
+                        "{case}: {t} against {landing}"
+                    );
+                }
+                // The hop path leaves the largest |x| as it was; the turning
+                // point raises it to the hop's height, w0²/(2|a0|) nearly.
+                assert_eq!(max_hop, 1.0, "{case}");
+                let height = w0 * w0 / (2.0 * a0.abs());
+                assert!(
+                    (max_turn - height).abs() < 1e-3 * height,
+                    "{case}: {max_turn}"
+                );
+            }
+        }
+    }
+}
+
 /// Every run's outcome equals DP5's at rtol 1e-13, an independent engine:
 /// the same stop, impacts and overturning, θmax/α within 1e-9 (DP5's
 /// global error at 1e-13 over a record is about 1e-10), and the overturning

@@ -36,7 +36,10 @@
 //! turning points, impacts and overturning are the roots of polynomials,
 //! found by safeguarded Newton (impacts and overturning to a few ulps,
 //! turning points as finely as their use needs); the state at an event is
-//! the series evaluated there, as accurate as at the step's end.
+//! the series evaluated there, as accurate as at the step's end. A hop (a
+//! step from the pivot back to it, most of a run's impacts) is proven
+//! simple from its coefficients and its landing found without its turning
+//! point ([`hop`]).
 //!
 //! `sin u` and `cos u` at the next step's start are the series' values at
 //! its end (no `sin_cos` per step), recomputed exactly after an impact or an
@@ -202,6 +205,9 @@ impl Taylor {
     #[inline]
     fn event(&self, n: usize, y_end: f64, max_abs_x: &mut f64) -> Option<(f64, Event)> {
         let (yc, vc) = (&self.y[..n + 2], &self.v[..n + 1]);
+        if let Some(t) = hop(yc, y_end, *max_abs_x, self.limit) {
+            return Some((t, Event::Impact));
+        }
         let mut turns = Turns::default();
         turning_points(vc, &mut turns);
         let (mut lo, mut y_lo) = (0.0, yc[0]);
@@ -227,6 +233,36 @@ impl Taylor {
         }
         None
     }
+}
+
+/// The impact of a hop, if the step (Y's coefficients `y`, its end
+/// `y_end`) is one that is proven simple: from the pivot (`Y_0 = 0`) up
+/// (`Y_1 > 0`) and back to it or below by the step's end, with `Z = Y/τ`
+/// decreasing on [0, 1] (`−Z_1 > Σ_{k≥2} k |Z_k|`, so `Z' < 0` there) and
+/// `Z(0) = Y_1` no higher than `top` (the largest `y` met before) and below
+/// `limit`. Then Z has one root in (0, 1], the impact; before it `0 < Y =
+/// τZ ≤ Z(0)`, so the step neither overturns nor raises `top`: the turning
+/// point [`Taylor::event`] would locate changes nothing, and the impact is
+/// the root of Z, found from Z's quadratic model at τ = 0 (its first three
+/// coefficients, nothing evaluated). Most impacts are such hops: a block
+/// driven past its uplift, lifting off and landing again within a sample
+/// interval.
+#[inline]
+fn hop(y: &[f64], y_end: f64, top: f64, limit: f64) -> Option<f64> {
+    // NaN fails every test, as it should.
+    let from_pivot_back = y.len() >= 3 && y[0] == 0.0 && y[1] > 0.0 && y_end <= 0.0;
+    if !from_pivot_back {
+        return None;
+    }
+    let z = &y[1..];
+    let mut slope_tail = 0.0;
+    for (k, zk) in z.iter().enumerate().skip(2) {
+        slope_tail += k as f64 * zk.abs();
+    }
+    // Widened by far more than the rounding of the sum (a few ulps of it).
+    let decreasing = -z[1] > slope_tail * (1.0 + 1e-9);
+    let low = z[0] * (1.0 + 1e-9) <= top && z[0] < limit;
+    (decreasing && low).then(|| root(z, 0.0, 1.0, y_end))
 }
 
 /// Whether a step (its first coefficients `[Y_0, Y_1, Y_2]`, `[V_0, V_1]`
