@@ -36,6 +36,7 @@ pub mod energy;
 pub mod equation;
 pub mod exact;
 mod history;
+mod hop;
 mod integrator;
 #[cfg(target_arch = "x86_64")]
 #[allow(unused_unsafe)] // the SSE2 intrinsics are safe to call from Rust 1.87 on
