@@ -80,10 +80,10 @@ fn free_rocking_conserves_the_nonlinear_energy() {
 /// at the speed it left with, to 1e-12. So low, the hop follows `ÿ = a0 +
 /// k y` (the equation's value and slope at the pivot), whose landing is
 /// `t = 2 atanh(w0 √k / |a0|) / √k`: the terms left out (`y²` and up, y ≤
-/// 1e-8) move it by less than 1e-15 (relative). The step lands there to
-/// 1e-13 whether it takes the hop by its hop path (the largest `|x|` met
-/// before above the hop) or by locating its turning point (nothing met
-/// before).
+/// 1e-8) move it by less than 1e-15 (relative). The stepper lands there
+/// to 1e-13 whether it takes the hop in closed form (the largest `|x|` met
+/// before above the hop) or steps it and locates its turning point
+/// (nothing met before).
 #[test]
 fn a_hop_lands_as_it_left() {
     let (p, eta, alpha): (f64, f64, f64) = (2.0, 0.3, 0.25);
@@ -127,8 +127,9 @@ fn a_hop_lands_as_it_left() {
                         "{case}: {t} against {landing}"
                     );
                 }
-                // The hop path leaves the largest |x| as it was; the turning
-                // point raises it to the hop's height, w0²/(2|a0|) nearly.
+                // The closed form leaves the largest |x| as it was; the
+                // turning point raises it to the hop's height, w0²/(2|a0|)
+                // nearly.
                 assert_eq!(max_hop, 1.0, "{case}");
                 let height = w0 * w0 / (2.0 * a0.abs());
                 assert!(

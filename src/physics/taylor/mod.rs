@@ -39,7 +39,9 @@
 //! the series evaluated there, as accurate as at the step's end. A hop (a
 //! step from the pivot back to it, most of a run's impacts) is proven
 //! simple from its coefficients and its landing found without its turning
-//! point ([`hop`]).
+//! point ([`hop`]); a hop low enough is not stepped at all, but solved in
+//! closed form as the linearised equation's are ([`Taylor::low_hop`],
+//! docs/MODEL.md §3.5).
 //!
 //! `sin u` and `cos u` at the next step's start are the series' values at
 //! its end (no `sin_cos` per step), recomputed exactly after an impact or an
@@ -52,6 +54,7 @@
 //! probes of two decisive runs, a refinement run with its two probes at a
 //! tighter tolerance, two grid levels).
 
+mod hops;
 #[cfg(target_arch = "x86_64")]
 mod pair;
 mod poly;
@@ -59,6 +62,7 @@ mod series;
 
 use super::step::{Rocking, Stepper, Stretch, StretchEnd};
 use super::Excitation;
+use hops::hop;
 use poly::{poly, root, turning_points, Turns};
 
 /// The highest order of a step's series; a series not converged by then is
@@ -235,36 +239,6 @@ impl Taylor {
     }
 }
 
-/// The impact of a hop, if the step (Y's coefficients `y`, its end
-/// `y_end`) is one that is proven simple: from the pivot (`Y_0 = 0`) up
-/// (`Y_1 > 0`) and back to it or below by the step's end, with `Z = Y/τ`
-/// decreasing on [0, 1] (`−Z_1 > Σ_{k≥2} k |Z_k|`, so `Z' < 0` there) and
-/// `Z(0) = Y_1` no higher than `top` (the largest `y` met before) and below
-/// `limit`. Then Z has one root in (0, 1], the impact; before it `0 < Y =
-/// τZ ≤ Z(0)`, so the step neither overturns nor raises `top`: the turning
-/// point [`Taylor::event`] would locate changes nothing, and the impact is
-/// the root of Z, found from Z's quadratic model at τ = 0 (its first three
-/// coefficients, nothing evaluated). Most impacts are such hops: a block
-/// driven past its uplift, lifting off and landing again within a sample
-/// interval.
-#[inline]
-fn hop(y: &[f64], y_end: f64, top: f64, limit: f64) -> Option<f64> {
-    // NaN fails every test, as it should.
-    let from_pivot_back = y.len() >= 3 && y[0] == 0.0 && y[1] > 0.0 && y_end <= 0.0;
-    if !from_pivot_back {
-        return None;
-    }
-    let z = &y[1..];
-    let mut slope_tail = 0.0;
-    for (k, zk) in z.iter().enumerate().skip(2) {
-        slope_tail += k as f64 * zk.abs();
-    }
-    // Widened by far more than the rounding of the sum (a few ulps of it).
-    let decreasing = -z[1] > slope_tail * (1.0 + 1e-9);
-    let low = z[0] * (1.0 + 1e-9) <= top && z[0] < limit;
-    (decreasing && low).then(|| root(z, 0.0, 1.0, y_end))
-}
-
 /// Whether a step (its first coefficients `[Y_0, Y_1, Y_2]`, `[V_0, V_1]`
 /// and its sums) holds no event and raises the largest `y` met before
 /// (`top`) to its end at most: either it has no turning point inside (|V| >
@@ -419,6 +393,11 @@ impl Stepper for Taylor {
         let mut sigma = 0.0;
         while sigma < st.len {
             let remaining = st.len - sigma;
+            if y0 == 0.0 {
+                if let Some(end) = self.low_hop_end(st, sigma, w0, *max_abs_x, state) {
+                    return end;
+                }
+            }
             let cut = self.cuts(remaining);
             let h = if cut { self.h } else { remaining };
             let from = Step {
@@ -489,10 +468,7 @@ impl Stepper for Taylor {
                 };
             }
             *max_abs_x = max_abs_x.max(y_end);
-            y0 = y_end;
-            w0 = v_end / h;
-            e0 = e_end;
-            d0 = d_end;
+            (y0, w0, e0, d0) = (y_end, v_end / h, e_end, d_end);
             if cut {
                 sigma += h;
                 if n <= MAX_ORDER * 2 / 3 {
