@@ -83,9 +83,9 @@ impl Taylor {
 /// τZ ≤ Z(0)`, so the step neither overturns nor raises `top`: the turning
 /// point [`Taylor::event`] would locate changes nothing, and the impact is
 /// the root of Z, found from Z's quadratic model at τ = 0 (its first three
-/// coefficients, nothing evaluated). Most impacts are such hops: a block
-/// driven past its uplift, lifting off and landing again within a sample
-/// interval.
+/// coefficients, nothing evaluated). Most impacts are such hops: after an
+/// impact the block lifts off the other corner and the forcing brings it
+/// back within the interval (a Zeno sequence, docs/MODEL.md §3).
 #[inline]
 pub(super) fn hop(y: &[f64], y_end: f64, top: f64, limit: f64) -> Option<f64> {
     // NaN fails every test, as it should.
