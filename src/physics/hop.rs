@@ -16,9 +16,21 @@ pub(in crate::physics) const HOP_Z: f64 = 1e-2;
 /// above it, two Newton steps from the second-order guess.
 pub(in crate::physics) const HOP_SERIES: f64 = 2e-3;
 
+/// A hop's return to the pivot ([`hop_return`]), with the expansion
+/// parameters it was found from.
+pub(in crate::physics) struct HopReturn {
+    /// The return's time σ (s).
+    pub sigma: f64,
+    /// The speed there over the speed out, `V` (`ẏ = −w·V`).
+    pub v_ratio: f64,
+    /// `β = bσ₀/|a|`, the forcing's relative change over the hop.
+    pub beta: f64,
+    /// `q = z² = (pσ₀)²`.
+    pub q: f64,
+}
+
 /// The return to the pivot of a hop of `ÿ = p²y + a + bσ` from `y = 0`,
-/// `ẏ = w > 0`: its time σ and the ratio `V` of the speed there to `w`
-/// (`ẏ = −w·V`), when both expansion parameters are at most [`HOP_Z`],
+/// `ẏ = w > 0`, when both expansion parameters are at most [`HOP_Z`],
 /// the return lies inside `(0, len)` and the apex provably stays below
 /// `top`. `None` otherwise.
 #[inline(always)]
@@ -29,7 +41,7 @@ pub(in crate::physics) fn hop_return(
     b: f64,
     len: f64,
     top: f64,
-) -> Option<(f64, f64)> {
+) -> Option<HopReturn> {
     if a.is_nan() || a >= 0.0 {
         return None;
     }
@@ -53,7 +65,12 @@ pub(in crate::physics) fn hop_return(
     if !(sigma > 0.0 && sigma < len) {
         return None;
     }
-    Some((sigma, v_ratio))
+    Some(HopReturn {
+        sigma,
+        v_ratio,
+        beta,
+        q,
+    })
 }
 
 /// A hop's return time `T = σ/σ₀` and speed ratio `V` to fifth order in

@@ -25,8 +25,8 @@ impl Exact {
             return None;
         }
         let p2 = self.p * self.p;
-        let (sigma, v_ratio) = hop_return(self.p, w, p2 * s * m.u, p2 * s * m.g1e, len, max_abs_x)?;
-        Some((sigma, -s * w * v_ratio))
+        let hop = hop_return(self.p, w, p2 * s * m.u, p2 * s * m.g1e, len, max_abs_x)?;
+        Some((hop.sigma, -s * w * hop.v_ratio))
     }
 }
 

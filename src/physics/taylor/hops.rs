@@ -45,18 +45,18 @@ impl Taylor {
         if k0.is_nan() || k0 <= 0.0 {
             return None;
         }
-        let (sigma, v_ratio) = hop_return(k0.sqrt(), w0, a, b, len, top)?;
+        let hop = hop_return(k0.sqrt(), w0, a, b, len, top)?;
+        let t = hop.sigma;
         let k1 = c * g1 * alpha * e0;
         let f2 = 0.5 * alpha * (p2 * e0 - c * g * alpha * d0);
         let apex = w0 * w0 * (1.0 + 4.0 * HOP_Z) / (-2.0 * a);
-        let left_out = (k1.abs() * sigma * apex + f2.abs() * apex * apex) / -a;
-        let speed = -w0 * v_ratio;
+        let left_out = (k1.abs() * t * apex + f2.abs() * apex * apex) / -a;
+        let speed = -w0 * hop.v_ratio;
         if left_out <= HOP_LEFT_OUT * self.tol {
-            return Some((sigma, speed));
+            return Some((t, speed));
         }
         // The two terms' first-order effect on the return, from the motion
         // to leading order, `y ≈ w0·σ + a·σ²/2` (docs/MODEL.md §3.5).
-        let t = sigma;
         let (t3, t4) = (t * t * t, t * t * t * t);
         let ww = w0 * w0;
         let drift = k1 * t4 * (w0 / 12.0 + a * t / 40.0)
@@ -67,9 +67,7 @@ impl Taylor {
         let (sigma, speed) = (t + later, speed + (a + b * t) * later + drift_rate);
         // What the correction misses: its own share of the motion left out
         // of `y` (the next terms, β and z² of it) and the second order.
-        let sigma0 = -2.0 * w0 / a;
-        let (beta, z2) = ((b / a * sigma0).abs(), k0 * sigma0 * sigma0);
-        let missed = left_out * (2.0 * (beta + z2) + left_out);
+        let missed = left_out * (2.0 * (hop.beta.abs() + hop.q) + left_out);
         (missed <= HOP_LEFT_OUT * self.tol && sigma > 0.0 && sigma < len).then_some((sigma, speed))
     }
 
