@@ -8,15 +8,12 @@
 //! driver's ([`super::simulate`]).
 //!
 //! Adding an integrator: its file with a [`super::Stepper`], a variant of
-//! [`Integrator`], and its arms in [`Integrator::validate`] and
-//! [`Integrator::drive`] below; the compiler points at each.
+//! [`Integrator`], its arms in [`Integrator::validate`] below and in the
+//! stepper's construction in `simulate.rs` (`drive`); the compiler points
+//! at each.
 
-use super::dispatch::{self, Isa};
-use super::driver::{self, Outcome};
-use super::equation::{Equation, LinearRhs, NonlinearRhs, LINEARIZATION_ERROR_PER_ALPHA2};
-use super::history::Observer;
-use super::step::Rocking;
-use super::{dp5, exact, rk4, taylor, Excitation, PhysicsError, RunSpec};
+use super::equation::{Equation, LINEARIZATION_ERROR_PER_ALPHA2};
+use super::error::PhysicsError;
 
 /// How the equation is advanced.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -110,76 +107,6 @@ impl Integrator {
                 bad("RK4 needs at least one step per sample interval".into())
             }
             (Integrator::Rk4 { .. }, _) => Ok(()),
-        }
-    }
-
-    /// Runs the event driver with this integrator on `equation` (validated);
-    /// the exact stepper's as compiled for `isa` (available on this CPU).
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn drive(
-        self,
-        equation: Equation,
-        exc: &Excitation,
-        spec: &RunSpec,
-        start: Option<Rocking>,
-        limit: f64,
-        obs: &mut impl Observer,
-        isa: Isa,
-    ) -> Outcome {
-        let (p, eta, dt) = (spec.p, spec.eta, exc.dt_s);
-        // One monomorphised event loop per (integrator, equation).
-        macro_rules! with {
-            ($stepper:expr) => {
-                driver::drive(exc, spec, start, limit, &mut $stepper, obs)
-            };
-        }
-        match (self, equation) {
-            (Integrator::Exact, Equation::Linearized) => dispatch::drive(
-                exc,
-                spec,
-                start,
-                limit,
-                &mut exact::Exact::new(p, eta, dt, limit),
-                obs,
-                isa,
-            ),
-            (Integrator::Exact, Equation::Nonlinear { .. }) => {
-                unreachable!("validate() refuses the exact stepper for the nonlinear equation")
-            }
-            (Integrator::Dp5 { rtol }, Equation::Linearized) => {
-                with!(dp5::Dp5::new(LinearRhs::new(p, eta), p, rtol, limit))
-            }
-            (Integrator::Dp5 { rtol }, Equation::Nonlinear { alpha_rad }) => {
-                with!(dp5::Dp5::new(
-                    NonlinearRhs::new(p, eta, alpha_rad),
-                    p,
-                    rtol,
-                    limit
-                ))
-            }
-            (Integrator::Taylor { .. }, Equation::Linearized) => {
-                unreachable!("validate() refuses the Taylor stepper for the linearised equation")
-            }
-            (Integrator::Taylor { tol }, Equation::Nonlinear { alpha_rad }) => dispatch::drive(
-                exc,
-                spec,
-                start,
-                limit,
-                &mut taylor::Taylor::new(p, eta, alpha_rad, tol, limit),
-                obs,
-                isa,
-            ),
-            (Integrator::Rk4 { substeps }, Equation::Linearized) => {
-                with!(rk4::Rk4::new(LinearRhs::new(p, eta), dt, substeps, limit))
-            }
-            (Integrator::Rk4 { substeps }, Equation::Nonlinear { alpha_rad }) => {
-                with!(rk4::Rk4::new(
-                    NonlinearRhs::new(p, eta, alpha_rad),
-                    dt,
-                    substeps,
-                    limit
-                ))
-            }
         }
     }
 }

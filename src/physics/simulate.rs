@@ -1,24 +1,23 @@
 //! The public entry points of a run ([`simulate`] and its variants): they
-//! check the run, pick the compilation of the exact stepper's event loop
-//! ([`Isa`]) and hand the run to the integrator.
+//! check the run, pick the compilation of the event loop ([`Isa`]), build
+//! the integrator's steppers (the one place that does: a lone run in
+//! `drive`, runs in step in [`simulate_pair`] and [`simulate_lanes`]) and
+//! hand them to the driver.
 
-#[cfg(target_arch = "x86_64")]
-use super::dispatch;
-use super::dispatch::Isa;
-use super::driver::Outcome;
-#[cfg(target_arch = "x86_64")]
-use super::equation::Equation;
-#[cfg(target_arch = "x86_64")]
-use super::exact::Exact;
+use super::dispatch::{self, Isa};
+use super::driver::{self, Outcome};
+use super::equation::{Equation, LinearRhs, NonlinearRhs};
+use super::error::PhysicsError;
+use super::exact::{self, Exact};
+use super::excitation::Excitation;
 use super::history::Observer;
-#[cfg(target_arch = "x86_64")]
 use super::integrator::Integrator;
+#[cfg(target_arch = "x86_64")]
+use super::integrator::Model;
+use super::run::RunSpec;
 use super::step::Rocking;
-#[cfg(target_arch = "x86_64")]
-use super::taylor::Taylor;
-#[cfg(target_arch = "x86_64")]
-use super::Model;
-use super::{Excitation, PhysicsError, RunSpec};
+use super::taylor::{self, Taylor};
+use super::{dp5, rk4};
 
 /// Runs one record at one intensity.
 pub fn simulate(exc: &Excitation, spec: &RunSpec) -> Result<Outcome, PhysicsError> {
@@ -207,8 +206,85 @@ fn run(
             )));
         }
     }
-    Ok(spec
-        .model
-        .integrator
-        .drive(equation, exc, spec, start, limit, obs, isa))
+    Ok(drive(
+        spec.model.integrator,
+        equation,
+        exc,
+        spec,
+        start,
+        limit,
+        obs,
+        isa,
+    ))
+}
+
+/// Runs the event driver with `integrator` on `equation` (validated): the
+/// one place a lone run's stepper is built; the exact and Taylor
+/// steppers' event loops as compiled for `isa` (available on this CPU).
+#[allow(clippy::too_many_arguments)]
+fn drive(
+    integrator: Integrator,
+    equation: Equation,
+    exc: &Excitation,
+    spec: &RunSpec,
+    start: Option<Rocking>,
+    limit: f64,
+    obs: &mut impl Observer,
+    isa: Isa,
+) -> Outcome {
+    let (p, eta, dt) = (spec.p, spec.eta, exc.dt_s);
+    // One monomorphised event loop per (integrator, equation).
+    macro_rules! with {
+        ($stepper:expr) => {
+            driver::drive(exc, spec, start, limit, &mut $stepper, obs)
+        };
+    }
+    match (integrator, equation) {
+        (Integrator::Exact, Equation::Linearized) => dispatch::drive(
+            exc,
+            spec,
+            start,
+            limit,
+            &mut exact::Exact::new(p, eta, dt, limit),
+            obs,
+            isa,
+        ),
+        (Integrator::Exact, Equation::Nonlinear { .. }) => {
+            unreachable!("validate() refuses the exact stepper for the nonlinear equation")
+        }
+        (Integrator::Dp5 { rtol }, Equation::Linearized) => {
+            with!(dp5::Dp5::new(LinearRhs::new(p, eta), p, rtol, limit))
+        }
+        (Integrator::Dp5 { rtol }, Equation::Nonlinear { alpha_rad }) => {
+            with!(dp5::Dp5::new(
+                NonlinearRhs::new(p, eta, alpha_rad),
+                p,
+                rtol,
+                limit
+            ))
+        }
+        (Integrator::Taylor { .. }, Equation::Linearized) => {
+            unreachable!("validate() refuses the Taylor stepper for the linearised equation")
+        }
+        (Integrator::Taylor { tol }, Equation::Nonlinear { alpha_rad }) => dispatch::drive(
+            exc,
+            spec,
+            start,
+            limit,
+            &mut taylor::Taylor::new(p, eta, alpha_rad, tol, limit),
+            obs,
+            isa,
+        ),
+        (Integrator::Rk4 { substeps }, Equation::Linearized) => {
+            with!(rk4::Rk4::new(LinearRhs::new(p, eta), dt, substeps, limit))
+        }
+        (Integrator::Rk4 { substeps }, Equation::Nonlinear { alpha_rad }) => {
+            with!(rk4::Rk4::new(
+                NonlinearRhs::new(p, eta, alpha_rad),
+                dt,
+                substeps,
+                limit
+            ))
+        }
+    }
 }

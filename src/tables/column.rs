@@ -7,17 +7,20 @@
 //! implement [`Label`]: they are written as their label and read back as
 //! the enum, and an unknown label is an error that lists the valid ones.
 
+use std::path::Path;
 use std::sync::Arc;
 
 use arrow_array::builder::{Float64Builder, ListBuilder};
 use arrow_array::cast::AsArray;
 use arrow_array::types::{Float64Type, Int64Type, Int8Type};
 use arrow_array::{
-    Array, ArrayRef, BooleanArray, Float64Array, Int64Array, Int8Array, StringArray,
+    Array, ArrayRef, BooleanArray, Float64Array, Int64Array, Int8Array, RecordBatch, StringArray,
 };
 use arrow_schema::{DataType, Field};
 
 use crate::label::Label;
+
+use super::error::TableError;
 
 /// A type that is stored as one column.
 pub trait Column: Sized {
@@ -251,75 +254,22 @@ label_columns!(
     crate::damage::FitMethod,
 );
 
-/// Defines a table's row type and, from the same field list, its schema,
-/// batch builder and reader ([`Table`](super::Table)). Field names are the
-/// column names, in order; field types are [`Column`]s.
-///
-/// ```ignore
-/// table! {
-///     /// One row per block × quantile.
-///     pub struct CapacityFractileRow = "capacity_fractiles" v1 {
-///         pub block: String,
-///         pub eta_c: f64,
-///         pub eta_c_horizontal: Option<f64>,
-///     }
-/// }
-/// ```
-#[macro_export]
-macro_rules! table {
-    (
-        $(#[$meta:meta])*
-        pub struct $name:ident = $table:literal v $version:literal {
-            $( $(#[$fmeta:meta])* pub $field:ident : $ty:ty, )*
-        }
-    ) => {
-        $(#[$meta])*
-        #[derive(Debug, Clone, PartialEq)]
-        pub struct $name {
-            $( $(#[$fmeta])* pub $field: $ty, )*
-        }
-
-        impl $crate::tables::Table for $name {
-            const KIND: $crate::tables::TableKind = $crate::tables::TableKind {
-                name: $table,
-                schema_version: $version,
-            };
-
-            fn schema() -> ::std::sync::Arc<::arrow_schema::Schema> {
-                static SCHEMA: ::std::sync::OnceLock<::std::sync::Arc<::arrow_schema::Schema>> =
-                    ::std::sync::OnceLock::new();
-                SCHEMA
-                    .get_or_init(|| {
-                        ::std::sync::Arc::new(::arrow_schema::Schema::new(vec![
-                            $( <$ty as $crate::tables::Column>::field(stringify!($field)), )*
-                        ]))
-                    })
-                    .clone()
-            }
-
-            fn to_batch(
-                rows: &[Self],
-            ) -> Result<::arrow_array::RecordBatch, ::arrow_schema::ArrowError> {
-                ::arrow_array::RecordBatch::try_new(
-                    Self::schema(),
-                    vec![ $( <$ty as $crate::tables::Column>::build(rows.iter().map(|r| &r.$field)), )* ],
-                )
-            }
-
-            fn from_batch(
-                batch: &::arrow_array::RecordBatch,
-                path: &::std::path::Path,
-            ) -> Result<Vec<Self>, $crate::tables::TableError> {
-                $( let mut $field = $crate::tables::read_column::<$ty>(batch, stringify!($field), path)?
-                    .into_iter(); )*
-                let mut rows = Vec::with_capacity(batch.num_rows());
-                for _ in 0..batch.num_rows() {
-                    rows.push($name {
-                        $( $field: $field.next().expect("a column holds one value per row"), )*
-                    });
-                }
-                Ok(rows)
-            }
-        }
-    };
+/// One column of a batch as values of type `C`; errors name file and column.
+pub fn read_column<C: Column>(
+    batch: &RecordBatch,
+    name: &'static str,
+    path: &Path,
+) -> Result<Vec<C>, TableError> {
+    let array: &ArrayRef = batch
+        .column_by_name(name)
+        .ok_or_else(|| TableError::Column {
+            path: path.into(),
+            column: name,
+            problem: "missing".into(),
+        })?;
+    C::read(array).map_err(|problem| TableError::Column {
+        path: path.into(),
+        column: name,
+        problem,
+    })
 }

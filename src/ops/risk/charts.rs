@@ -1,7 +1,8 @@
 //! The charts of `rocking risk`: a block's deaggregation at a site, and an
 //! inventory ranked by its annual rate.
 
-use super::{Assessment, BinInfo, RiskError, SiteInfo};
+use super::answer::{Assessment, BinInfo, SiteInfo};
+use super::error::RiskError;
 use crate::im::level_text;
 use crate::plot::{self, Bars, Scale};
 

@@ -3,7 +3,8 @@
 
 use std::path::Path;
 
-use super::{Blocks, RiskError};
+use super::error::RiskError;
+use super::request::Blocks;
 use crate::block::{Block, BlockError, Restitution};
 
 /// One inventory entry.

@@ -4,7 +4,10 @@
 
 use serde::Serialize;
 
-use super::{prepare, BlockInfo, Prepared, Request, RiskError};
+use super::answer::BlockInfo;
+use super::assess::{block_info, prepare, sliding_warning, Prepared};
+use super::error::RiskError;
+use super::request::Request;
 use crate::damage::{DamageStates, FitMethod};
 use crate::ops::damage;
 use crate::ops::fragility;
@@ -105,8 +108,8 @@ pub fn assess_states(
                     .collect(),
             })
             .collect();
-        let assessed = super::block_info(&e, &block, records.as_ref().and_then(|r| r.floor()));
-        f.warnings.extend(super::sliding_warning(&assessed));
+        let assessed = block_info(&e, &block, records.as_ref().and_then(|r| r.floor()));
+        f.warnings.extend(sliding_warning(&assessed));
         out.push(StatesAssessment {
             block: assessed,
             source: f.source,

@@ -1,0 +1,328 @@
+//! Limit states on a block's IDA curve ([`LimitState`], ordered in
+//! [`DamageStates`]) and a record's capacity for each ([`capacities`]).
+
+/// What reaching a limit state means.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Criterion {
+    /// θmax/α at least this (0 < x < 1).
+    Rotation(f64),
+    /// The overturning criterion in force (the run's verdict).
+    Overturned,
+}
+
+/// A named limit state.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct LimitState {
+    pub name: String,
+    pub criterion: Criterion,
+}
+
+impl LimitState {
+    /// `name=x` (θmax/α ≥ x) or `name=overturned`.
+    pub fn parse(text: &str) -> Result<LimitState, DamageError> {
+        let bad = || DamageError::Syntax(text.to_string());
+        let (name, what) = text.split_once('=').ok_or_else(bad)?;
+        let (name, what) = (name.trim(), what.trim());
+        let criterion = if what.eq_ignore_ascii_case("overturned") {
+            Criterion::Overturned
+        } else {
+            Criterion::Rotation(what.parse().map_err(|_| bad())?)
+        };
+        Ok(LimitState {
+            name: name.to_string(),
+            criterion,
+        })
+    }
+
+    /// As [`LimitState::parse`] reads it.
+    pub fn text(&self) -> String {
+        match self.criterion {
+            Criterion::Rotation(x) => format!("{}={x}", self.name),
+            Criterion::Overturned => format!("{}=overturned", self.name),
+        }
+    }
+
+    /// The θmax/α threshold; none for overturning.
+    pub fn threshold(&self) -> Option<f64> {
+        match self.criterion {
+            Criterion::Rotation(x) => Some(x),
+            Criterion::Overturned => None,
+        }
+    }
+
+    /// The criterion in words, with its unit.
+    pub fn describe(&self) -> String {
+        match self.criterion {
+            Criterion::Rotation(x) => format!("θmax/α ≥ {x}"),
+            Criterion::Overturned => "overturned".to_string(),
+        }
+    }
+}
+
+/// Why a list of limit states cannot be used.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DamageError {
+    #[error("limit state `{0}`: write NAME=X (θmax/α ≥ X, 0 < X < 1) or NAME=overturned")]
+    Syntax(String),
+    #[error("no limit states")]
+    Empty,
+    #[error(
+        "limit state name `{0}`: use letters, digits, `_` and `-` only (OpenQuake's NRML and \
+         pelicun's CSV take it as a key)"
+    )]
+    Name(String),
+    #[error("limit state `{0}` is given twice")]
+    Repeated(String),
+    #[error(
+        "limit state `{name}`: θmax/α ≥ {x} must lie strictly between 0 and 1 (1 is overturning)"
+    )]
+    Threshold { name: String, x: f64 },
+    #[error(
+        "limit states must be ordered from the lightest to overturning: `{later}` ({later_is}) \
+         follows `{earlier}` ({earlier_is})"
+    )]
+    Order {
+        earlier: String,
+        earlier_is: String,
+        later: String,
+        later_is: String,
+    },
+}
+
+/// Ordered limit states, the lightest first; checked on construction.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct DamageStates(Vec<LimitState>);
+
+/// The default states: `rocking` (θmax/α ≥ 0.1: the block has uplifted
+/// and rocked visibly, enough to shift contents and strain anchors or
+/// cables), `large_rocking` (≥ 0.5: halfway to the overturning angle, where
+/// the restoring moment of a slender block has halved) and `overturned`.
+pub const DEFAULT: &str = "rocking=0.1,large_rocking=0.5,overturned=overturned";
+
+impl DamageStates {
+    pub fn new(states: Vec<LimitState>) -> Result<DamageStates, DamageError> {
+        if states.is_empty() {
+            return Err(DamageError::Empty);
+        }
+        for (k, s) in states.iter().enumerate() {
+            let key_like = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-';
+            if s.name.is_empty() || !s.name.chars().all(key_like) {
+                return Err(DamageError::Name(s.name.clone()));
+            }
+            if states[..k].iter().any(|o| o.name == s.name) {
+                return Err(DamageError::Repeated(s.name.clone()));
+            }
+            if let Criterion::Rotation(x) = s.criterion {
+                if !(x > 0.0 && x < 1.0) {
+                    return Err(DamageError::Threshold {
+                        name: s.name.clone(),
+                        x,
+                    });
+                }
+            }
+            if k > 0 {
+                let prev = &states[k - 1];
+                let ordered = match (prev.criterion, s.criterion) {
+                    (Criterion::Rotation(a), Criterion::Rotation(b)) => a < b,
+                    (Criterion::Rotation(_), Criterion::Overturned) => true,
+                    (Criterion::Overturned, _) => false,
+                };
+                if !ordered {
+                    return Err(DamageError::Order {
+                        earlier: prev.name.clone(),
+                        earlier_is: prev.describe(),
+                        later: s.name.clone(),
+                        later_is: s.describe(),
+                    });
+                }
+            }
+        }
+        Ok(DamageStates(states))
+    }
+
+    /// `NAME=X,…` as the command line and the pipeline write it.
+    pub fn parse(text: &str) -> Result<DamageStates, DamageError> {
+        let states = text
+            .split(',')
+            .filter(|t| !t.trim().is_empty())
+            .map(LimitState::parse)
+            .collect::<Result<Vec<_>, _>>()?;
+        DamageStates::new(states)
+    }
+
+    /// Whether these are the [`DEFAULT`] states.
+    pub fn is_default(&self) -> bool {
+        *self == DamageStates::default()
+    }
+
+    pub fn states(&self) -> &[LimitState] {
+        &self.0
+    }
+
+    /// The states as [`DamageStates::parse`] reads them.
+    pub fn text(&self) -> String {
+        self.0
+            .iter()
+            .map(LimitState::text)
+            .collect::<Vec<_>>()
+            .join(",")
+    }
+}
+
+impl Default for DamageStates {
+    fn default() -> Self {
+        DamageStates::parse(DEFAULT).expect("the default states are ordered")
+    }
+}
+
+/// A record's capacity for one limit state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum StateCapacity {
+    /// Reached at this η (αg/PGA).
+    Reached(f64),
+    /// Not reached by the strongest run, at this η: the capacity is below
+    /// it (a right-censored capacity in intensity).
+    NotReached(f64),
+}
+
+impl StateCapacity {
+    pub fn reached(self) -> Option<f64> {
+        match self {
+            StateCapacity::Reached(eta) => Some(eta),
+            StateCapacity::NotReached(_) => None,
+        }
+    }
+}
+
+/// The record's capacity for each state, from its runs `(η, θmax/α,
+/// overturned)` in any order and its overturning capacity `eta_c` (`None`:
+/// it survived every level).
+pub fn capacities(
+    states: &DamageStates,
+    runs: impl IntoIterator<Item = (f64, f64, bool)>,
+    eta_c: Option<f64>,
+) -> Vec<StateCapacity> {
+    let mut runs: Vec<(f64, f64, bool)> = runs.into_iter().collect();
+    // Intensity rising: η falling.
+    runs.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let strongest = runs.last().map_or(f64::NAN, |r| r.0);
+    states
+        .states()
+        .iter()
+        .map(|s| match s.criterion {
+            Criterion::Overturned => match eta_c {
+                Some(eta) => StateCapacity::Reached(eta),
+                None => StateCapacity::NotReached(strongest),
+            },
+            Criterion::Rotation(x) => first_reaching(&runs, x, strongest),
+        })
+        .collect()
+}
+
+/// The first crossing of θmax/α = x along runs sorted by rising intensity,
+/// interpolated linearly in 1/η from the run before; an overturned run
+/// reaches every state at its own η.
+fn first_reaching(runs: &[(f64, f64, bool)], x: f64, strongest: f64) -> StateCapacity {
+    let mut before: Option<(f64, f64)> = None;
+    for &(eta, edp, overturned) in runs {
+        if overturned {
+            return StateCapacity::Reached(eta);
+        }
+        if edp >= x {
+            let at = match before {
+                Some((eta0, edp0)) if edp > edp0 => {
+                    let (i0, i1) = (1.0 / eta0, 1.0 / eta);
+                    1.0 / (i0 + (x - edp0) / (edp - edp0) * (i1 - i0))
+                }
+                _ => eta,
+            };
+            return StateCapacity::Reached(at);
+        }
+        before = Some((eta, edp));
+    }
+    StateCapacity::NotReached(strongest)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(eta: f64, edp: f64, overturned: bool) -> (f64, f64, bool) {
+        (
+            eta,
+            if overturned { f64::INFINITY } else { edp },
+            overturned,
+        )
+    }
+
+    #[test]
+    fn the_default_states_are_ordered_and_read_back() {
+        let d = DamageStates::default();
+        assert_eq!(d.states().len(), 3);
+        assert_eq!(DamageStates::parse(&d.text()).unwrap(), d);
+        assert_eq!(d.states()[2].criterion, Criterion::Overturned);
+    }
+
+    #[test]
+    fn refusals_name_what_is_wrong() {
+        let e = |t: &str| DamageStates::parse(t).unwrap_err().to_string();
+        assert!(e("a=0.5,b=0.1").contains("`b` (θmax/α ≥ 0.1) follows `a` (θmax/α ≥ 0.5)"));
+        assert!(e("a=overturned,b=0.3").contains("follows `a` (overturned)"));
+        assert!(e("a=0.1,a=0.2").contains("`a` is given twice"));
+        assert!(e("big rock=0.1").contains("`big rock`"));
+        assert!(e("a=1.2").contains("strictly between 0 and 1"));
+        assert!(e("a=lots").contains("NAME=X"));
+        assert!(e("").contains("no limit states"));
+    }
+
+    /// An IDA curve worked by hand: θmax/α 0, 0.05, 0.3, 0.7 at η 1, 0.5,
+    /// 0.25, 0.2, then overturning at 0.15 (η_c 0.16 after refinement).
+    #[test]
+    fn capacities_by_hand() {
+        let points = [
+            run(1.0, 0.0, false),
+            run(0.5, 0.05, false),
+            run(0.25, 0.3, false),
+            run(0.2, 0.7, false),
+            run(0.15, 1.0, true),
+            run(0.16, 1.0, true),
+            run(0.17, 0.9, false),
+        ];
+        let d = DamageStates::parse("a=0.1,b=0.5,c=0.95,ot=overturned").unwrap();
+        let caps = capacities(&d, points, Some(0.16));
+        // a: between η 0.5 (0.05) and 0.25 (0.3): 1/η = 2 + (0.05/0.25)·2 = 2.4.
+        assert!((caps[0].reached().unwrap() - 1.0 / 2.4).abs() < 1e-15);
+        // b: between 0.25 (0.3) and 0.2 (0.7): 1/η = 4 + 0.5·1 = 4.5.
+        assert!((caps[1].reached().unwrap() - 1.0 / 4.5).abs() < 1e-15);
+        // c: after 0.17 (0.9) the next run overturns, at η 0.16.
+        assert_eq!(caps[2], StateCapacity::Reached(0.16));
+        assert_eq!(caps[3], StateCapacity::Reached(0.16));
+        // A record that never overturns and never reaches 0.5.
+        let calm = [run(1.0, 0.0, false), run(0.01, 0.2, false)];
+        let caps = capacities(&d, calm, None);
+        assert!((caps[0].reached().unwrap() - 1.0 / 50.5).abs() < 1e-12);
+        assert_eq!(caps[1], StateCapacity::NotReached(0.01));
+        assert_eq!(caps[3], StateCapacity::NotReached(0.01));
+    }
+
+    /// The states are reached in order under any IDA curve, even one that
+    /// falls back (the resurrection rule keeps the first crossing).
+    #[test]
+    fn capacities_are_ordered() {
+        let points = [
+            run(1.0, 0.0, false),
+            run(0.6, 0.6, false),
+            run(0.5, 0.05, false),
+            run(0.3, 0.2, true),
+        ];
+        let d = DamageStates::default();
+        let caps: Vec<f64> = capacities(&d, points, Some(0.3))
+            .iter()
+            .map(|c| c.reached().unwrap())
+            .collect();
+        assert!(caps.windows(2).all(|w| w[0] >= w[1]), "{caps:?}");
+        // The 0.1 crossing is the first, on the way to η 0.6.
+        assert!((caps[0] - 1.0 / (1.0 + (0.1 / 0.6) * (1.0 / 0.6 - 1.0))).abs() < 1e-15);
+    }
+}

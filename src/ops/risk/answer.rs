@@ -1,0 +1,84 @@
+//! What `risk` answers: each block at each site, with its fragility and
+//! deaggregation.
+
+use serde::Serialize;
+
+/// A block as assessed.
+#[derive(Debug, Clone, Serialize)]
+pub struct BlockInfo {
+    pub name: String,
+    pub b_m: f64,
+    pub h_m: f64,
+    pub alpha_rad: f64,
+    pub p: f64,
+    pub eps: f64,
+    pub eps_housner: bool,
+    /// The base's friction coefficient, when given.
+    pub mu: Option<f64>,
+    /// With `mu`: whether the block slides before it rocks (μ < b/h).
+    pub slides_first: Option<bool>,
+    /// On a floor: the building's modes (`T,ζ,Γφ; …`).
+    pub floor: Option<String>,
+}
+
+/// A block's fragility, as used.
+#[derive(Debug, Clone, Serialize)]
+pub struct FragilityInfo {
+    /// `paper`, the pipeline file, or `direct`.
+    pub source: String,
+    /// `lognormal` (from a regression or a study's IM table) or
+    /// `empirical` (records, `--direct`).
+    pub kind: &'static str,
+    /// The IM of the fragility and of the hazard, and its unit.
+    pub im: String,
+    pub unit: &'static str,
+    /// The IM level (in `unit`) at which P(OT) = 0.5; `None` when more than
+    /// half the records never overturn the block.
+    pub median: Option<f64>,
+    pub beta: Option<f64>,
+    /// Records run, with `--direct`.
+    pub records: Option<usize>,
+}
+
+/// One range of the IM in the deaggregation.
+#[derive(Debug, Clone, Serialize)]
+pub struct BinInfo {
+    pub iml_from: f64,
+    /// `None`: extrapolated without end.
+    pub iml_to: Option<f64>,
+    pub annual_rate: f64,
+    pub share: f64,
+}
+
+/// The result at one site.
+#[derive(Debug, Clone, Serialize)]
+pub struct SiteInfo {
+    /// Index in the hazard file, from 0.
+    pub site: usize,
+    pub lon: Option<f64>,
+    pub lat: Option<f64>,
+    pub annual_rate: f64,
+    /// `None` when the rate is 0.
+    pub return_period_years: Option<f64>,
+    pub p_overturn_in_years: f64,
+    pub first_iml: f64,
+    pub last_iml: f64,
+    /// P(OT | first IML): overturning probability below where the curve starts.
+    pub fragility_at_first_iml: f64,
+    /// IMLs dropped at the start because their probability of exceedance is 1.
+    pub imls_dropped: usize,
+    pub share_beyond_last_iml: f64,
+    pub deaggregation: Vec<BinInfo>,
+}
+
+/// One block at every site asked.
+#[derive(Debug, Clone, Serialize)]
+pub struct Assessment {
+    pub block: BlockInfo,
+    pub fragility: FragilityInfo,
+    pub years: f64,
+    pub beyond: &'static str,
+    pub sites: Vec<SiteInfo>,
+    /// Where the regression is stretched for this block.
+    pub warnings: Vec<String>,
+}

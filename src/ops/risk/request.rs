@@ -1,0 +1,46 @@
+//! What `risk` is asked: the blocks, the hazard, where the capacities come
+//! from.
+
+use std::path::PathBuf;
+
+use crate::block::Restitution;
+use crate::im::Im;
+use crate::ops::fragility::{self, Source};
+use crate::risk::Beyond;
+
+/// The blocks to assess.
+#[derive(Debug, Clone)]
+pub enum Blocks {
+    /// One block: half-width, half-height (m), ε.
+    One {
+        b_m: f64,
+        h_m: f64,
+        eps: Restitution,
+        /// The base's friction coefficient, when given.
+        mu: Option<f64>,
+    },
+    /// A CSV `name,b,h[,eps]`.
+    Inventory(PathBuf),
+}
+
+/// What the user asks.
+#[derive(Debug, Clone)]
+pub struct Request {
+    pub hazard: PathBuf,
+    /// One site of the file (index from 0); all when `None`.
+    pub site: Option<usize>,
+    pub blocks: Blocks,
+    pub from: Source,
+    /// The fragility's IM; `None`: the hazard's.
+    pub im: Option<Im>,
+    pub direct: bool,
+    /// Where `--direct` reports its progress.
+    pub progress: fragility::DirectProgress,
+    /// For the probability of overturning within this many years.
+    pub years: f64,
+    pub beyond: Beyond,
+    /// The linearised model's accepted error in η_c, for the α warning.
+    pub auto_tol: f64,
+    /// The building whose floor the blocks stand on (`--direct` only).
+    pub floor: Option<crate::floor::Building>,
+}
