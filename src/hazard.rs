@@ -146,15 +146,21 @@ pub fn parse_openquake(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
     let imt = meta_value(meta, "imt").ok_or_else(|| {
         err(
             1,
-            "no `imt=` in the metadata line; expected imt='PGA', 'PGV', 'SA(T)' or 'AvgSA'",
+            format!(
+                "no `imt=` in the metadata line; expected the IMT of a hazard curve: {}",
+                Im::listed(Im::hazard, true)
+            ),
         )
     })?;
     let im = match imt.parse::<Im>() {
-        Ok(im @ (Im::Pga | Im::Pgv | Im::Sa(_) | Im::AvgSa)) => im,
+        Ok(im) if im.hazard() => im,
         _ => {
             return Err(err(
                 1,
-                format!("imt = '{imt}': this tool's fragilities are in PGA, PGV, SA(T) or AvgSA; give the hazard curves of one of them (hazard_curve-…-PGA_….csv)"),
+                format!(
+                    "imt = '{imt}': this tool's hazard curves are in {}; give the hazard curves of one of them (hazard_curve-…-PGA_….csv)",
+                    Im::listed(Im::hazard, true)
+                ),
             ))
         }
     };
@@ -235,13 +241,24 @@ pub fn parse_openquake(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
     Ok(sites)
 }
 
-/// The IM of a plain file's first header cell, `<im>_<unit>` with the
-/// unit written as in column names (`pga_g`, `pgv_cm_s`, `sa(1.0)_g`).
+/// The IM of a plain file's first header cell: its key (`pga_g`,
+/// `pgv_cm_s`, `sa(1.0)_g`, [`Im::key`]), for an IM a hazard may be in.
 fn plain_im(cell: &str) -> Option<Im> {
-    let (name, unit) = cell.split_once('_')?;
-    let im = name.parse::<Im>().ok()?;
-    let written = im.unit().replace(['/', '·'], "_");
-    (unit == written).then_some(im)
+    Im::from_key(cell).filter(|im| im.hazard())
+}
+
+/// The first columns a plain file may have, for messages: `pga_g`,
+/// `pgv_cm_s`, `avgsa_g`, `sa(T)_g`.
+fn hazard_columns() -> String {
+    Im::kinds()
+        .into_iter()
+        .filter(|im| im.hazard())
+        .map(|im| match im {
+            Im::Sa(_) => "`sa(T)_g`".to_string(),
+            im => format!("`{}`", im.key()),
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// A plain `<im>_<unit>,annual_rate` file: one site.
@@ -261,8 +278,9 @@ pub fn parse_plain(text: &str) -> Result<HazardCurve, HazardError> {
         return Err(err(
             hl,
             format!(
-                "header `{}`: expected `pga_g,annual_rate` (or `pgv_cm_s`, `sa(1.0)_g`, `avgsa_g` first; or an OpenQuake hazard-curve file)",
-                header.join(",")
+                "header `{}`: expected `pga_g,annual_rate` (or another IM's column first: {}; or an OpenQuake hazard-curve file)",
+                header.join(","),
+                hazard_columns()
             ),
         ));
     };

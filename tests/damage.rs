@@ -125,8 +125,11 @@ fn damage_tables_against_the_runs_and_the_fits_by_hand() {
         }
     }
     // The fits in PGA/(αg) and p·PGV/(αg), by the paper's fractiles by hand.
-    let pga_of: BTreeMap<&str, &RecordImRow> =
-        ims.iter().map(|r| (r.record_id.as_str(), r)).collect();
+    // The long table: one row per record × measure.
+    let value: BTreeMap<(&str, &str), f64> = ims
+        .iter()
+        .map(|r| ((r.record_id.as_str(), r.im.as_str()), r.value))
+        .collect();
     for (block, p) in [(0, 1.0), (1, 4.0)] {
         for (name, _) in thresholds {
             let of_state: Vec<&StateCapacityRow> = state_caps
@@ -141,8 +144,8 @@ fn damage_tables_against_the_runs_and_the_fits_by_hand() {
                 (
                     "pgv",
                     Box::new(|id: &str, eta: f64| {
-                        let r = pga_of[id];
-                        p / 100.0 / 9.80665 * r.pgv_cm_s * (1.0 / eta) / r.pga_g
+                        let (pgv, pga) = (value[&(id, "pgv")], value[&(id, "pga")]);
+                        p / 100.0 / 9.80665 * pgv * (1.0 / eta) / pga
                     }),
                 ),
             ] {

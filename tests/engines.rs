@@ -596,7 +596,7 @@ fn export_refusals_name_what_is_wrong() {
             &["--format", "pelicun", "--im", "avgsa", "--direct"],
         ]
         .concat(),
-        "pelicun has no IM for avgsa",
+        "pelicun: no fragility in avgsa can be exported; export in PGA, PGV or SA(T)",
     );
     fails(
         &[

@@ -148,8 +148,12 @@ fn efficiency_is_the_capacities_dispersion_by_hand() {
         rocking::tables::read(&study.join("im_efficiency.parquet")).unwrap();
     let blocks: Vec<BlockRow> = rocking::tables::read(&study.join("blocks.parquet")).unwrap();
     assert_eq!(blocks.len(), 2);
-    let by_id: BTreeMap<&str, &RecordImRow> =
-        ims.iter().map(|r| (r.record_id.as_str(), r)).collect();
+    // The long table: one row per record × measure.
+    let value: BTreeMap<(&str, &str), f64> = ims
+        .iter()
+        .map(|r| ((r.record_id.as_str(), r.im.as_str()), r.value))
+        .collect();
+    let by_id = |id: &str, im: &str| value[&(id, im)];
     let sd = |x: &[f64]| {
         let n = x.len() as f64;
         let m = x.iter().sum::<f64>() / n;
@@ -161,10 +165,10 @@ fn efficiency_is_the_capacities_dispersion_by_hand() {
             .filter(|c| c.p == b.p && c.eps == b.eps)
             .collect();
         assert_eq!(mine.len(), 44);
-        let beta_of = |f: &dyn Fn(&RecordImRow) -> f64| {
+        let beta_of = |f: &dyn Fn(&str) -> f64| {
             let logs: Vec<f64> = mine
                 .iter()
-                .filter_map(|c| c.eta_c.map(|e| (f(by_id[c.record_id.as_str()]) / e).ln()))
+                .filter_map(|c| c.eta_c.map(|e| (f(c.record_id.as_str()) / e).ln()))
                 .collect();
             sd(&logs)
         };
@@ -174,8 +178,8 @@ fn efficiency_is_the_capacities_dispersion_by_hand() {
                 .unwrap()
         };
         let pga = beta_of(&|_| 1.0);
-        let pgv = beta_of(&|r| r.pgv_cm_s / r.pga_g);
-        let avgsa = beta_of(&|r| r.avgsa_g / r.pga_g);
+        let pgv = beta_of(&|id| by_id(id, "pgv") / by_id(id, "pga"));
+        let avgsa = beta_of(&|id| by_id(id, "avgsa") / by_id(id, "pga"));
         for (im, want) in [("pga", pga), ("pgv", pgv), ("avgsa", avgsa)] {
             let got = row(im).beta;
             assert!(

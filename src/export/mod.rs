@@ -35,8 +35,12 @@ pub struct Site {
 /// What the engines cannot take.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ExportError {
-    #[error("{format} has no IM for {im}; export in PGA, PGV, SA(T) or AvgSA")]
-    Im { format: &'static str, im: String },
+    #[error("{format}: no fragility in {im} can be exported; export in {valid}")]
+    Im {
+        format: &'static str,
+        im: String,
+        valid: String,
+    },
     #[error(
         "taxonomy `{0}`: use letters, digits, `_`, `-` and `.` only (the block's name is its \
          taxonomy in the engines)"
@@ -87,11 +91,11 @@ pub fn iml_range(entry: &Entry) -> (f64, f64) {
 
 /// OpenQuake's name of the IM.
 pub fn openquake_imt(im: Im) -> Result<String, ExportError> {
-    match im {
-        Im::Pga | Im::Pgv | Im::Sa(_) | Im::AvgSa => Ok(im.openquake().expect("a known IMT")),
-        _ => Err(ExportError::Im {
+    im.openquake()
+        .filter(|_| im.hazard())
+        .ok_or_else(|| ExportError::Im {
             format: "OpenQuake",
             im: im.name(),
-        }),
-    }
+            valid: Im::listed(|im| im.hazard() && im.openquake().is_some(), true),
+        })
 }

@@ -8,7 +8,7 @@ use std::fmt::Write;
 use serde_json::{json, Map, Value};
 
 use super::{Entry, ExportError};
-use crate::im::{period_text, Im};
+use crate::im::Im;
 
 pub const CSV_FILE: &str = "fragility.csv";
 pub const JSON_FILE: &str = "fragility.json";
@@ -16,15 +16,11 @@ pub const JSON_FILE: &str = "fragility.json";
 /// pelicun's demand type and unit for the IM: its demand vocabulary
 /// (`pelicun.base.EDP_TYPES`) and unit names (`settings/default_units.json`).
 pub fn demand(im: Im) -> Result<(String, &'static str), ExportError> {
-    match im {
-        Im::Pga => Ok(("Peak Ground Acceleration".into(), "g")),
-        Im::Pgv => Ok(("Peak Ground Velocity".into(), "cmps")),
-        Im::Sa(t) => Ok((format!("Spectral Acceleration|{}", period_text(t)), "g")),
-        _ => Err(ExportError::Im {
-            format: "pelicun",
-            im: im.name(),
-        }),
-    }
+    im.pelicun().ok_or_else(|| ExportError::Im {
+        format: "pelicun",
+        im: im.name(),
+        valid: Im::listed(|im| im.pelicun().is_some(), true),
+    })
 }
 
 /// The CSV: one component per block, one limit state per damage state.

@@ -3,20 +3,32 @@
 
 use super::figure::Figure;
 use super::shared::ramp;
+use crate::im::Im;
 use crate::plot::{Chart, Hue, Line, Scale, Style};
 use crate::study::StudyData;
 use crate::tables::ims::EfficiencyRow;
 
-/// The IMs drawn against p, in legend order (SA at three periods).
-pub const SHOWN: [&str; 9] = [
-    "pga", "pgv", "pgd", "avgsa", "sa(0.3)", "sa(1.0)", "sa(3.0)", "arias", "cav",
-];
+/// The SA periods (s) drawn against p; every other capacity measure is
+/// drawn.
+pub const SHOWN_PERIODS_S: [f64; 3] = [0.3, 1.0, 3.0];
 
-/// An IM's name as a reader writes it: PGA, SA(1.0), AvgSA, Arias, CAV.
+/// The IMs drawn against p, in legend order: every capacity measure, SA at
+/// [`SHOWN_PERIODS_S`] only.
+pub fn shown() -> Vec<Im> {
+    Im::capacity_measures()
+        .into_iter()
+        .filter(|im| match im {
+            Im::Sa(t) => SHOWN_PERIODS_S.contains(t),
+            _ => true,
+        })
+        .collect()
+}
+
+/// An IM's name as a reader writes it ([`Im::short`]: PGA, SA(1.0),
+/// AvgSA, Arias, CAV), or the efficiency table's vector row in capitals.
 pub fn display_name(im: &str) -> String {
-    im.to_uppercase()
-        .replace("AVGSA", "AvgSA")
-        .replace("ARIAS", "Arias")
+    im.parse::<Im>()
+        .map_or_else(|_| im.to_uppercase(), |im| im.short())
 }
 
 /// The ε the β-against-p figure is drawn at: the grid's nearest to 0.75
@@ -43,7 +55,7 @@ fn series(rows: &[EfficiencyRow], im: &str, eps: f64) -> Vec<(f64, f64)> {
 pub fn best_periods(rows: &[EfficiencyRow], eps: f64) -> Vec<(f64, f64, f64)> {
     let mut best: Vec<(f64, f64, f64)> = Vec::new();
     for r in rows.iter().filter(|r| r.eps == eps) {
-        let Ok(crate::im::Im::Sa(t)) = r.im.parse() else {
+        let Ok(Im::Sa(t)) = r.im.parse() else {
             continue;
         };
         match best.iter_mut().find(|b| b.0 == r.p) {
@@ -66,12 +78,12 @@ pub(super) fn im_efficiency(d: &StudyData) -> Vec<Figure> {
     if d.efficiency.is_empty() || ps.len() < 2 {
         return Vec::new();
     }
-    let mut lines: Vec<Line> = SHOWN
-        .iter()
+    let mut lines: Vec<Line> = shown()
+        .into_iter()
         .enumerate()
         .map(|(i, im)| Line {
-            name: Some(display_name(im)),
-            points: series(&d.efficiency, im, eps),
+            name: Some(im.short()),
+            points: series(&d.efficiency, &im.name(), eps),
             style: Style::Line,
             hue: Hue::Series(i),
         })

@@ -36,7 +36,7 @@ pub struct Efficiency {
     pub slope: Option<f64>,
 }
 
-/// Every IM of [`Im::all`] for one block of frequency parameter `p` (1/s)
+/// Every IM of [`Im::capacity_measures`] for one block of frequency parameter `p` (1/s)
 /// and slenderness `alpha_rad` (if it has one), from each record's η_c
 /// (`None`: never overturned) and IMs, in the same order; then the vector
 /// (PGA, PGV/PGA). Empty with fewer than 3 capacities.
@@ -55,7 +55,7 @@ pub fn of_block(
     if pairs.len() < 3 {
         return Vec::new();
     }
-    let mut out: Vec<Efficiency> = Im::all()
+    let mut out: Vec<Efficiency> = Im::capacity_measures()
         .into_iter()
         .filter_map(|im| {
             // ln IM_c at α = 1: ln IM − power (ln PGA + ln η_c).
@@ -63,7 +63,7 @@ pub fn of_block(
                 .iter()
                 .map(|(eta, r)| {
                     let k = f64::from(im.power());
-                    Some(r.value(im)?.ln() - k * (r.pga_g.ln() + eta.ln()))
+                    Some(r.value(im)?.ln() - k * (r.pga_g().ln() + eta.ln()))
                 })
                 .collect::<Option<Vec<f64>>>()?;
             let (mean, beta) = stats::mean_sd(&logs);
@@ -94,7 +94,10 @@ fn vector(pairs: &[(f64, &RecordIms)]) -> Option<Efficiency> {
     if pairs.len() < 4 {
         return None;
     }
-    let x: Vec<f64> = pairs.iter().map(|(_, r)| r.pgv_pga_s.ln()).collect();
+    let x: Vec<f64> = pairs
+        .iter()
+        .map(|(_, r)| Some(r.value(Im::PgvPga)?.ln()))
+        .collect::<Option<_>>()?;
     let y: Vec<f64> = pairs.iter().map(|(eta, _)| -eta.ln()).collect();
     let n = x.len() as f64;
     let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
@@ -130,18 +133,17 @@ mod tests {
     use super::*;
 
     fn record(pga: f64, pgv: f64) -> RecordIms {
-        RecordIms {
-            pga_g: pga,
-            pgv_cm_s: pgv,
-            pgd_cm: 1.0,
-            arias_m_s: 1.0,
-            cav_g_s: 1.0,
-            d5_95_s: 1.0,
-            pgv_pga_s: pgv / 100.0 / (pga * super::super::G_M_S2),
-            tm_s: 1.0,
-            avgsa_g: 1.0,
-            sa_g: vec![(1.0, 2.0 * pga)],
-        }
+        let mut values: Vec<(Im, f64)> = Im::record_measures()
+            .into_iter()
+            .filter(|im| !matches!(im, Im::Sa(_)))
+            .map(|im| (im, 1.0))
+            .collect();
+        values[0] = (Im::Pga, pga);
+        values[1] = (Im::Pgv, pgv);
+        let ratio = values.iter_mut().find(|(im, _)| *im == Im::PgvPga).unwrap();
+        ratio.1 = pgv / 100.0 / (pga * super::super::G_M_S2);
+        values.push((Im::Sa(1.0), 2.0 * pga));
+        RecordIms::from_values(values).unwrap()
     }
 
     /// Capacities that are exactly a constant PGV (each record overturns
@@ -164,7 +166,7 @@ mod tests {
         // PGV_c = 50: the scale factor is 50/PGV, the PGA at overturning 50 PGA/PGV.
         let eta: Vec<Option<f64>> = records
             .iter()
-            .map(|r| Some(alpha / (r.pga_g * 50.0 / r.pgv_cm_s)))
+            .map(|r| Some(alpha / (r.pga_g() * 50.0 / r.value(Im::Pgv).unwrap())))
             .collect();
         let all = of_block(&eta, &records, 2.0, Some(alpha));
         let get = |name: &str| all.iter().find(|e| e.im == name).unwrap();
@@ -172,7 +174,7 @@ mod tests {
         assert!((get("pgv").median.unwrap() - 50.0).abs() < 1e-9);
         let ln_ratio: Vec<f64> = records
             .iter()
-            .map(|r| (r.pga_g / r.pgv_cm_s).ln())
+            .map(|r| (r.pga_g() / r.value(Im::Pgv).unwrap()).ln())
             .collect();
         let (_, sd) = stats::mean_sd(&ln_ratio);
         assert!((get("pga").beta - sd).abs() < 1e-12);

@@ -9,22 +9,8 @@
 //! significant duration where the Husid curve, cubic per interval, crosses
 //! 5 % and 95 %; SA by the exact oscillator step of [`crate::sdof`].
 
-use super::{Im, G_M_S2};
+use super::measure::{Im, AVGSA_PERIODS_S, G_M_S2, PERIODS_S, SPECTRAL_DAMPING};
 use crate::sdof;
-
-/// Damping ratio of every spectral IM.
-pub const SPECTRAL_DAMPING: f64 = 0.05;
-
-/// The periods (s) at which every record's SA is computed: the periods
-/// common to OpenQuake's ground-motion models and hazard outputs.
-pub const PERIODS_S: [f64; 15] = [
-    0.05, 0.075, 0.1, 0.15, 0.2, 0.25, 0.3, 0.4, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0,
-];
-
-/// The periods (s) whose SA AvgSA averages geometrically: those of
-/// [`PERIODS_S`] from 0.1 to 2 s. A hazard in AvgSA must be computed over
-/// the same periods (OpenQuake's `GenericGmpeAvgSA` takes them as a list).
-pub const AVGSA_PERIODS_S: [f64; 11] = [0.1, 0.15, 0.2, 0.25, 0.3, 0.4, 0.5, 0.75, 1.0, 1.5, 2.0];
 
 /// The band of Fourier frequencies (Hz) over which the mean period is
 /// averaged, and the finest frequency step it is computed on (Rathje,
@@ -35,42 +21,65 @@ pub const TM_MAX_STEP_HZ: f64 = 0.05;
 /// cm/s² in one g.
 const CM_S2_PER_G: f64 = G_M_S2 * 100.0;
 
-/// A record's intensity measures, unscaled.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+/// A record's measures, unscaled: each [`Im`] with its value, in the order
+/// of [`Im::record_measures`] (SA by period, with any period asked for).
+#[derive(Debug, Clone, PartialEq)]
 pub struct RecordIms {
-    /// Peak ground acceleration (g).
-    pub pga_g: f64,
-    /// Peak ground velocity (cm/s), from rest, no baseline correction.
-    pub pgv_cm_s: f64,
-    /// Peak ground displacement (cm), likewise.
-    pub pgd_cm: f64,
-    /// Arias intensity `π/(2g) ∫ a² dt` (m/s).
-    pub arias_m_s: f64,
-    /// Cumulative absolute velocity `∫ |a| dt` (g·s).
-    pub cav_g_s: f64,
-    /// Significant duration: time from 5 % to 95 % of the Arias intensity (s).
-    pub d5_95_s: f64,
-    /// PGV/PGA (s), both in SI units.
-    pub pgv_pga_s: f64,
-    /// Mean period `Σ C²/f / Σ C²` over 0.25–20 Hz (s; Rathje et al. 1998).
-    pub tm_s: f64,
-    /// Geometric mean of SA over [`AVGSA_PERIODS_S`] (g).
-    pub avgsa_g: f64,
-    /// SA (g, 5 % damping) by period (s), ascending: [`PERIODS_S`] and any
-    /// period asked for.
-    pub sa_g: Vec<(f64, f64)>,
+    values: Vec<(Im, f64)>,
+}
+
+/// What several measures share, computed once for a record.
+struct Shared<'a> {
+    accel_g: &'a [f64],
+    dt_s: f64,
+    pga_g: f64,
+    /// Peak velocity (cm/s) and displacement (cm).
+    peaks: (f64, f64),
+    /// SA (g) by period, ascending.
+    sa_g: Vec<(f64, f64)>,
+}
+
+impl Shared<'_> {
+    fn sa(&self, t: f64) -> Option<f64> {
+        self.sa_g.iter().find(|(p, _)| *p == t).map(|&(_, v)| v)
+    }
+}
+
+impl Im {
+    /// This measure of the record `s` describes (SA only at a period `s`
+    /// computed).
+    fn of_record(self, s: &Shared) -> Option<f64> {
+        Some(match self {
+            Im::Pga => s.pga_g,
+            Im::Pgv => s.peaks.0,
+            Im::Pgd => s.peaks.1,
+            Im::Sa(t) => s.sa(t)?,
+            Im::AvgSa => {
+                let logs: f64 = AVGSA_PERIODS_S
+                    .iter()
+                    .map(|&t| s.sa(t).map(f64::ln))
+                    .sum::<Option<f64>>()?;
+                (logs / AVGSA_PERIODS_S.len() as f64).exp()
+            }
+            Im::Arias => arias_m_s(s.accel_g, s.dt_s),
+            Im::Cav => cav_g_s(s.accel_g, s.dt_s),
+            Im::D5_95 => significant_duration_s(s.accel_g, s.dt_s, 0.05, 0.95),
+            Im::PgvPga => s.peaks.0 / 100.0 / (s.pga_g * G_M_S2),
+            Im::Tm => mean_period_s(s.accel_g, s.dt_s),
+        })
+    }
 }
 
 impl RecordIms {
-    /// The IMs of a record sampled at `dt_s` (accelerations in g), SA at
-    /// [`PERIODS_S`] and `extra_periods_s` (positive; `None` for a record
-    /// without a positive peak or a bad period).
+    /// The measures of a record sampled at `dt_s` (accelerations in g):
+    /// every one of [`Im::record_measures`], and SA at `extra_periods_s`
+    /// too (positive; `None` for a record without a positive peak or a bad
+    /// period).
     pub fn of_record(accel_g: &[f64], dt_s: f64, extra_periods_s: &[f64]) -> Option<RecordIms> {
         let pga_g = crate::motion::peak(accel_g, dt_s)?.pga_g;
         if !(pga_g > 0.0 && dt_s > 0.0) {
             return None;
         }
-        let (pgv_cm_s, pgd_cm) = peak_velocity_displacement(accel_g, dt_s);
         let mut periods: Vec<f64> = PERIODS_S.iter().chain(extra_periods_s).copied().collect();
         periods.sort_by(f64::total_cmp);
         periods.dedup();
@@ -81,36 +90,75 @@ impl RecordIms {
             })
             .collect::<Result<Vec<_>, _>>()
             .ok()?;
-        let sa_at = |t: f64| sa_g.iter().find(|(p, _)| *p == t).map(|&(_, v)| v);
-        let logs: f64 = AVGSA_PERIODS_S
-            .iter()
-            .map(|&t| sa_at(t).expect("AvgSA periods are in PERIODS_S").ln())
-            .sum();
-        Some(RecordIms {
+        let shared = Shared {
+            accel_g,
+            dt_s,
             pga_g,
-            pgv_cm_s,
-            pgd_cm,
-            arias_m_s: arias_m_s(accel_g, dt_s),
-            cav_g_s: cav_g_s(accel_g, dt_s),
-            d5_95_s: significant_duration_s(accel_g, dt_s, 0.05, 0.95),
-            pgv_pga_s: pgv_cm_s / 100.0 / (pga_g * G_M_S2),
-            tm_s: mean_period_s(accel_g, dt_s),
-            avgsa_g: (logs / AVGSA_PERIODS_S.len() as f64).exp(),
+            peaks: peak_velocity_displacement(accel_g, dt_s),
             sa_g,
-        })
+        };
+        let mut values: Vec<(Im, f64)> = Im::record_measures()
+            .into_iter()
+            .filter(|im| !matches!(im, Im::Sa(_)))
+            .map(|im| Some((im, im.of_record(&shared)?)))
+            .collect::<Option<_>>()?;
+        values.extend(shared.sa_g.iter().map(|&(t, v)| (Im::Sa(t), v)));
+        Some(RecordIms { values })
+    }
+
+    /// Measures as read back (a table's rows): `pga` must be among them.
+    pub fn from_values(values: Vec<(Im, f64)>) -> Option<RecordIms> {
+        let ims = RecordIms { values };
+        ims.value(Im::Pga).map(|_| ims)
     }
 
     /// The record's value of `im` (`None`: an SA period not computed).
     pub fn value(&self, im: Im) -> Option<f64> {
-        Some(match im {
-            Im::Pga => self.pga_g,
-            Im::Pgv => self.pgv_cm_s,
-            Im::Pgd => self.pgd_cm,
-            Im::AvgSa => self.avgsa_g,
-            Im::Arias => self.arias_m_s,
-            Im::Cav => self.cav_g_s,
-            Im::Sa(t) => return self.sa_g.iter().find(|(p, _)| *p == t).map(|&(_, v)| v),
+        self.values.iter().find(|(m, _)| *m == im).map(|&(_, v)| v)
+    }
+
+    /// The record's PGA (g).
+    pub fn pga_g(&self) -> f64 {
+        self.value(Im::Pga)
+            .expect("every record's measures hold its PGA")
+    }
+
+    /// Every measure with its value, in order.
+    pub fn iter(&self) -> impl Iterator<Item = (Im, f64)> + '_ {
+        self.values.iter().copied()
+    }
+
+    /// SA (g) by period (s), ascending.
+    pub fn spectrum(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        self.values.iter().filter_map(|&(im, v)| match im {
+            Im::Sa(t) => Some((t, v)),
+            _ => None,
         })
+    }
+}
+
+/// As `rocking ims --json` prints it: each measure but SA under its key
+/// ([`Im::key`]: `pga_g`, `pgv_cm_s`, …), and `sa_g`, an object from the
+/// period in seconds as text ([`super::period_text`]: `"1.0"`) to SA in g.
+impl serde::Serialize for RecordIms {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        struct Spectrum<'a>(&'a RecordIms);
+        impl serde::Serialize for Spectrum<'_> {
+            fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+                serializer.collect_map(
+                    self.0
+                        .spectrum()
+                        .map(|(t, v)| (super::measure::period_text(t), v)),
+                )
+            }
+        }
+        let mut map = serializer.serialize_map(None)?;
+        for (im, v) in self.iter().filter(|(im, _)| !matches!(im, Im::Sa(_))) {
+            map.serialize_entry(&im.key(), &v)?;
+        }
+        map.serialize_entry("sa_g", &Spectrum(self))?;
+        map.end()
     }
 }
 
@@ -303,7 +351,7 @@ mod tests {
         let d = significant_duration_s(&accel, dt, 0.05, 0.95);
         assert!((d - 0.9 * t).abs() < 1e-9, "{d}");
         let ims = RecordIms::of_record(&accel, dt, &[]).unwrap();
-        assert!((ims.pgv_pga_s - t).abs() < 1e-9);
+        assert!((ims.value(Im::PgvPga).unwrap() - t).abs() < 1e-9);
     }
 
     /// A ramp a = t (g) on [0, 1] s: the Husid curve is t³/3, so D5–95 =
@@ -398,8 +446,9 @@ mod tests {
             .map(|k| 0.2 * (3.0 * k as f64 * dt).sin() * (-0.1 * k as f64 * dt).exp())
             .collect();
         let ims = RecordIms::of_record(&accel, dt, &[0.33, 1.0]).unwrap();
-        assert_eq!(ims.sa_g.len(), PERIODS_S.len() + 1);
-        assert!(ims.sa_g.windows(2).all(|w| w[0].0 < w[1].0));
+        let spectrum: Vec<(f64, f64)> = ims.spectrum().collect();
+        assert_eq!(spectrum.len(), PERIODS_S.len() + 1);
+        assert!(spectrum.windows(2).all(|w| w[0].0 < w[1].0));
         let sa1 = sdof::pseudo_acceleration(&accel, dt, 1.0, 0.05).unwrap();
         assert_eq!(ims.value(Im::Sa(1.0)), Some(sa1));
         assert!(ims.value(Im::Sa(0.33)).is_some());
@@ -408,7 +457,7 @@ mod tests {
             .map(|&t| ims.value(Im::Sa(t)).unwrap())
             .product();
         let geo = product.powf(1.0 / AVGSA_PERIODS_S.len() as f64);
-        assert!((ims.avgsa_g / geo - 1.0).abs() < 1e-12);
+        assert!((ims.value(Im::AvgSa).unwrap() / geo - 1.0).abs() < 1e-12);
         assert!(RecordIms::of_record(&[0.0, 0.0], dt, &[]).is_none());
     }
 

@@ -68,7 +68,7 @@ impl Stage for Damage {
             ],
         };
         inputs.push(study.records_table());
-        inputs.extend(ims::OUTPUTS[..2].iter().map(|n| study.path(n)));
+        inputs.push(study.path(ims::RECORD_IMS));
         if study.plan.example().is_some() {
             inputs.extend([example::IDA, example::CAPACITIES].map(|n| study.path(n)));
         }
@@ -147,7 +147,7 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
             format!(
                 "limit states of {n_blocks} blocks × {n_records} records, fitted in {} IMs; \
                  capacities reached within the grid: {}",
-                Im::all().len(),
+                Im::capacity_measures().len(),
                 shares.join(", ")
             ),
             format!("wrote {} in {}", wrote.join(", "), study.dir.display()),
@@ -222,7 +222,7 @@ fn of_block(
         .collect();
     let n = states.states().len();
     let mut rows = Vec::new();
-    for im in Im::all() {
+    for im in Im::capacity_measures() {
         // On a floor, the ground's η (the IMs are the ground record's).
         let at_unit_alpha = |k: usize, eta: f64| im::of_eta(im, eta * amp[k], 1.0, ims[k]);
         let Some(fits) = damage::fit_states(n, &per_record, at_unit_alpha, def) else {

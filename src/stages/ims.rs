@@ -13,20 +13,20 @@ use rayon::prelude::*;
 use super::reduce::{self, ReduceError};
 use super::stage::{BoxError, Context, Shard, Stage, Study, Summary};
 use super::{records, sweep};
-use crate::im::{efficiency, RecordIms};
-use crate::tables::ims::{EfficiencyRow, RecordImRow, SpectrumRow};
+use crate::im::{efficiency, Im, RecordIms};
+use crate::tables::ims::{EfficiencyRow, RecordImRow};
 use crate::tables::reduce::BlockRow;
 use crate::tables::{self, records::RecordRow};
 
 /// The ims stage.
 pub struct Ims;
 
+/// The records' measures.
+pub const RECORD_IMS: &str = "record_ims.parquet";
+/// Each block's capacity dispersion in every IM.
+pub const IM_EFFICIENCY: &str = "im_efficiency.parquet";
 /// Output file names, in writing order.
-pub const OUTPUTS: [&str; 3] = [
-    "record_ims.parquet",
-    "record_spectra.parquet",
-    "im_efficiency.parquet",
-];
+pub const OUTPUTS: [&str; 2] = [RECORD_IMS, IM_EFFICIENCY];
 
 impl Stage for Ims {
     fn name(&self) -> &'static str {
@@ -137,10 +137,8 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
         "rocking.ims.damping".to_string(),
         crate::im::SPECTRAL_DAMPING.to_string(),
     )];
-    let (im_rows, spectra) = im_rows(&rows, &ims);
-    tables::write(&study.path(OUTPUTS[0]), &im_rows, &settings)?;
-    tables::write(&study.path(OUTPUTS[1]), &spectra, &settings)?;
-    tables::write(&study.path(OUTPUTS[2]), &eff, &settings)?;
+    tables::write(&study.path(RECORD_IMS), &im_rows(&rows, &ims), &settings)?;
+    tables::write(&study.path(IM_EFFICIENCY), &eff, &settings)?;
     let mut ranking: Vec<(String, usize)> = best.into_iter().collect();
     ranking.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
     let ranking: Vec<String> = ranking
@@ -155,7 +153,7 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
                 ranking.join(", ")
             ),
             format!(
-                "wrote record_ims, record_spectra, im_efficiency in {}",
+                "wrote record_ims, im_efficiency in {}",
                 study.dir.display()
             ),
         ],
@@ -173,63 +171,43 @@ pub fn record_ims(rows: &[RecordRow]) -> Result<Vec<RecordIms>, ReduceError> {
         .collect()
 }
 
-/// The records' IMs as the stage wrote them (`record_ims` and
-/// `record_spectra` of the study folder `dir`), by record id.
+/// The records' IMs as the stage wrote them (`record_ims` of the study
+/// folder `dir`), by record id.
 pub fn read_record_ims(dir: &std::path::Path) -> Result<BTreeMap<String, RecordIms>, ReduceError> {
-    let rows: Vec<RecordImRow> = reduce::read(dir, OUTPUTS[0])?;
-    let spectra: Vec<SpectrumRow> = reduce::read(dir, OUTPUTS[1])?;
-    let mut sa: BTreeMap<&str, Vec<(f64, f64)>> = BTreeMap::new();
-    for s in &spectra {
-        sa.entry(&s.record_id)
-            .or_default()
-            .push((s.period_s, s.sa_g));
+    let rows: Vec<RecordImRow> = reduce::read(dir, RECORD_IMS)?;
+    let mut values: BTreeMap<String, Vec<(Im, f64)>> = BTreeMap::new();
+    for r in rows {
+        let im = r.im.parse::<Im>().map_err(|e| {
+            ReduceError::Mismatch(format!("record_ims: record {}: {e}", r.record_id))
+        })?;
+        values.entry(r.record_id).or_default().push((im, r.value));
     }
-    Ok(rows
+    values
         .into_iter()
-        .map(|r| {
-            let mut sa_g = sa.remove(r.record_id.as_str()).unwrap_or_default();
-            sa_g.sort_by(|a, b| a.0.total_cmp(&b.0));
-            let ims = RecordIms {
-                pga_g: r.pga_g,
-                pgv_cm_s: r.pgv_cm_s,
-                pgd_cm: r.pgd_cm,
-                arias_m_s: r.arias_m_s,
-                cav_g_s: r.cav_g_s,
-                d5_95_s: r.d5_95_s,
-                pgv_pga_s: r.pgv_pga_s,
-                tm_s: r.tm_s,
-                avgsa_g: r.avgsa_g,
-                sa_g,
-            };
-            (r.record_id, ims)
+        .map(|(id, v)| {
+            let ims = RecordIms::from_values(v).ok_or_else(|| {
+                ReduceError::Mismatch(format!("record_ims: record {id} has no PGA"))
+            })?;
+            Ok((id, ims))
         })
-        .collect())
+        .collect()
 }
 
-fn im_rows(rows: &[RecordRow], ims: &[RecordIms]) -> (Vec<RecordImRow>, Vec<SpectrumRow>) {
-    let mut spectra = Vec::new();
-    let table = rows
-        .iter()
+/// One row per record × measure, records in order.
+fn im_rows(rows: &[RecordRow], ims: &[RecordIms]) -> Vec<RecordImRow> {
+    rows.iter()
         .zip(ims)
-        .map(|(r, m)| {
-            spectra.extend(m.sa_g.iter().map(|&(t, sa)| SpectrumRow {
+        .flat_map(|(r, m)| {
+            m.iter().map(|(im, value)| RecordImRow {
                 record_id: r.record_id.clone(),
-                period_s: t,
-                sa_g: sa,
-            }));
-            RecordImRow {
-                record_id: r.record_id.clone(),
-                pga_g: m.pga_g,
-                pgv_cm_s: m.pgv_cm_s,
-                pgd_cm: m.pgd_cm,
-                arias_m_s: m.arias_m_s,
-                cav_g_s: m.cav_g_s,
-                d5_95_s: m.d5_95_s,
-                pgv_pga_s: m.pgv_pga_s,
-                tm_s: m.tm_s,
-                avgsa_g: m.avgsa_g,
-            }
+                im: im.name(),
+                unit: im.unit().to_string(),
+                period_s: match im {
+                    Im::Sa(t) => Some(t),
+                    _ => None,
+                },
+                value,
+            })
         })
-        .collect();
-    (table, spectra)
+        .collect()
 }

@@ -60,7 +60,7 @@ impl Stage for Report {
             Err(e) => return Err(e.into()),
         };
         inputs.extend(REDUCE_OUTPUTS.iter().map(|n| study.path(n)));
-        inputs.push(study.path(super::ims::OUTPUTS[2]));
+        inputs.push(study.path(super::ims::IM_EFFICIENCY));
         inputs.extend([damage::STATES, damage::CAPACITIES].map(|n| study.path(n)));
         if fit::not_applicable(&study.plan).is_none() {
             inputs.extend(fit::OUTPUTS.iter().map(|n| study.path(n)));
@@ -168,7 +168,7 @@ pub fn load(
             }
             None => None,
         },
-        efficiency: tables::read(&dir.join(super::ims::OUTPUTS[2]))?,
+        efficiency: tables::read(&dir.join(super::ims::IM_EFFICIENCY))?,
         damage: read_damage(dir, damage::STATES, damage::CAPACITIES)?,
         stage_seconds: other_stages(stage_seconds),
     })

@@ -5,28 +5,19 @@
 use crate::table;
 
 table! {
-    /// One record's intensity measures, unscaled (SA in `record_spectra`).
-    pub struct RecordImRow = "record_ims" v 1 {
+    /// One measure of one record, unscaled (docs/MODEL.md §14): every
+    /// measure of `Im::record_measures` (the capacity measures, the record's
+    /// properties, SA at each period), records in order.
+    pub struct RecordImRow = "record_ims" v 2 {
         pub record_id: String,
-        pub pga_g: f64,
-        /// From rest, no baseline correction.
-        pub pgv_cm_s: f64,
-        pub pgd_cm: f64,
-        pub arias_m_s: f64,
-        pub cav_g_s: f64,
-        pub d5_95_s: f64,
-        pub pgv_pga_s: f64,
-        pub tm_s: f64,
-        pub avgsa_g: f64,
-    }
-}
-
-table! {
-    /// One record's 5 %-damped pseudo-spectral acceleration at one period.
-    pub struct SpectrumRow = "record_spectra" v 1 {
-        pub record_id: String,
-        pub period_s: f64,
-        pub sa_g: f64,
+        /// `pga`, `pgv`, `pgd`, `avgsa`, `arias`, `cav`, `d5_95`, `pgv_pga`,
+        /// `tm`, `sa(T)`.
+        pub im: String,
+        pub unit: String,
+        /// SA's period (s); null for the other measures.
+        pub period_s: Option<f64>,
+        /// In `unit`; PGV and PGD from rest, no baseline correction.
+        pub value: f64,
     }
 }
 

@@ -170,7 +170,7 @@ pub fn laws(from: &Source) -> Result<Laws, FragilityError> {
             } else {
                 Ok(fit::read_laws(&study.dir, &name)?)
             };
-            let ims_stale = staleness(&study, &status, "ims", ims::OUTPUTS[2]);
+            let ims_stale = staleness(&study, &status, "ims", ims::IM_EFFICIENCY);
             let damage_stale = staleness(&study, &status, "damage", damage::STATES);
             Ok(Laws {
                 regression,

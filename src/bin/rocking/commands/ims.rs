@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use anyhow::Context;
-use rocking::im::{self, RecordIms, SPECTRAL_DAMPING};
+use rocking::im::{self, Im, RecordIms, SPECTRAL_DAMPING};
 use rocking::ops::record;
 
 /// Intensity measures of one record.
@@ -39,14 +39,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         )
     })?;
     if args.json {
-        let mut value = serde_json::to_value(&ims)?;
-        let sa: serde_json::Map<String, serde_json::Value> = ims
-            .sa_g
-            .iter()
-            .map(|&(t, v)| (im::period_text(t), v.into()))
-            .collect();
-        value["sa_g"] = sa.into();
-        println!("{value}");
+        // Through a JSON value: its keys sorted, as they always were.
+        println!("{}", serde_json::to_value(&ims)?);
         return Ok(());
     }
     println!(
@@ -55,23 +49,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         accel.len(),
         dt
     );
-    let rows = [
-        ("PGA", ims.pga_g, "g"),
-        ("PGV", ims.pgv_cm_s, "cm/s"),
-        ("PGD", ims.pgd_cm, "cm"),
-        ("AvgSA (0.1–2 s)", ims.avgsa_g, "g"),
-        ("Arias intensity", ims.arias_m_s, "m/s"),
-        ("CAV", ims.cav_g_s, "g·s"),
-        ("D5–95", ims.d5_95_s, "s"),
-        ("PGV/PGA", ims.pgv_pga_s, "s"),
-        ("Tm", ims.tm_s, "s"),
-    ];
-    for (name, v, unit) in rows {
-        println!("  {name:<16} {v:>10.4} {unit}");
+    for (im, v) in ims.iter().filter(|(im, _)| !matches!(im, Im::Sa(_))) {
+        println!("  {:<16} {v:>10.4} {}", im.title(), im.unit());
     }
     println!("  SA ({:.0} % damping):", SPECTRAL_DAMPING * 100.0);
-    for (t, sa) in &ims.sa_g {
-        println!("    T = {:<6} s  {sa:>8.4} g", im::period_text(*t));
+    for (t, sa) in ims.spectrum() {
+        println!("    T = {:<6} s  {sa:>8.4} g", im::period_text(t));
     }
     Ok(())
 }

@@ -1,0 +1,413 @@
+//! The intensity measures ([`Im`]) and every fact about each: its names
+//! (the tool's, a table column's, OpenQuake's, pelicun's), its unit, how it
+//! scales with the record, its dimensionless form, and which doors it may
+//! pass (a capacity, a hazard curve, an export). Everything that lists,
+//! parses, checks or names an IM asks it here; nothing else holds a list of
+//! IMs (docs/MODEL.md §14).
+
+use std::fmt;
+use std::str::FromStr;
+
+/// Standard gravity (m/s²), the g of every IM in g.
+pub const G_M_S2: f64 = 9.806_65;
+
+/// Damping ratio of every spectral IM.
+pub const SPECTRAL_DAMPING: f64 = 0.05;
+
+/// The periods (s) at which every record's SA is computed: the periods
+/// common to OpenQuake's ground-motion models and hazard outputs.
+pub const PERIODS_S: [f64; 15] = [
+    0.05, 0.075, 0.1, 0.15, 0.2, 0.25, 0.3, 0.4, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0,
+];
+
+/// The periods (s) whose SA AvgSA averages geometrically: those of
+/// [`PERIODS_S`] from 0.1 to 2 s. A hazard in AvgSA must be computed over
+/// the same periods (OpenQuake's `GenericGmpeAvgSA` takes them as a list).
+pub const AVGSA_PERIODS_S: [f64; 11] = [0.1, 0.15, 0.2, 0.25, 0.3, 0.4, 0.5, 0.75, 1.0, 1.5, 2.0];
+
+/// A measure of a ground motion: the intensity measures that scale with
+/// the record (a capacity can be stated in them) and the record's
+/// properties that do not (its significant duration, PGV/PGA, its mean
+/// period: a capacity can be conditioned on them, not stated in them).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Im {
+    /// Peak ground acceleration (g).
+    Pga,
+    /// Peak ground velocity (cm/s).
+    Pgv,
+    /// Peak ground displacement (cm).
+    Pgd,
+    /// 5 %-damped pseudo-spectral acceleration at a period (s), in g.
+    Sa(f64),
+    /// Geometric mean of SA over [`AVGSA_PERIODS_S`] (g).
+    AvgSa,
+    /// Arias intensity (m/s); scales with the square of the record.
+    Arias,
+    /// Cumulative absolute velocity (g·s).
+    Cav,
+    /// Significant duration, 5 % to 95 % of the Arias intensity (s).
+    D5_95,
+    /// PGV/PGA (s), both in SI units.
+    PgvPga,
+    /// Mean period over 0.25–20 Hz (s; Rathje, Abrahamson & Bray 1998).
+    Tm,
+}
+
+/// One member per kind, SA at 1 s standing for every period: the order
+/// every list of IMs follows (the capacity measures first).
+const KINDS: [Im; 10] = [
+    Im::Pga,
+    Im::Pgv,
+    Im::Pgd,
+    Im::AvgSa,
+    Im::Arias,
+    Im::Cav,
+    Im::Sa(1.0),
+    Im::D5_95,
+    Im::PgvPga,
+    Im::Tm,
+];
+
+/// What `fragility`, `risk` and the exports may be asked for, and what the
+/// record's table holds.
+impl Im {
+    /// The IMs a capacity is stated and ranked in (the ims stage, the
+    /// damage stage's fits): every scaling measure, SA at every period of
+    /// [`PERIODS_S`].
+    pub fn capacity_measures() -> Vec<Im> {
+        Im::expand(|im| im.scales())
+    }
+
+    /// Every measure computed for a record (`rocking ims`, the
+    /// `record_ims` table): the capacity measures, then the record's
+    /// properties, then SA by period.
+    pub fn record_measures() -> Vec<Im> {
+        let mut out: Vec<Im> = KINDS
+            .iter()
+            .copied()
+            .filter(|im| !matches!(im, Im::Sa(_)))
+            .collect();
+        out.extend(PERIODS_S.iter().map(|&t| Im::Sa(t)));
+        out
+    }
+
+    /// One member of each kind (SA at 1 s standing for every period), in
+    /// the order every list follows: to enumerate what a door accepts.
+    pub fn kinds() -> [Im; 10] {
+        KINDS
+    }
+
+    /// The kinds that pass `keep`, SA expanded to every period of
+    /// [`PERIODS_S`] in its place.
+    fn expand(keep: impl Fn(Im) -> bool) -> Vec<Im> {
+        let mut out = Vec::new();
+        for im in KINDS.into_iter().filter(|&im| keep(im)) {
+            match im {
+                Im::Sa(_) => out.extend(PERIODS_S.iter().map(|&t| Im::Sa(t))),
+                other => out.push(other),
+            }
+        }
+        out
+    }
+
+    /// "a, b or c": the names of the kinds that pass `keep` (SA as
+    /// `sa(T)`, or `SA(T)` in OpenQuake's names), for messages.
+    pub fn listed(keep: impl Fn(Im) -> bool, openquake: bool) -> String {
+        let names: Vec<String> = KINDS
+            .into_iter()
+            .filter(|&im| keep(im))
+            .map(|im| match (im, openquake) {
+                (Im::Sa(_), false) => "sa(T)".to_string(),
+                (Im::Sa(_), true) => "SA(T)".to_string(),
+                (im, false) => im.name(),
+                (im, true) => im.openquake().unwrap_or_else(|| im.name()),
+            })
+            .collect();
+        match names.split_last() {
+            None => String::new(),
+            Some((last, [])) => last.clone(),
+            Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+        }
+    }
+
+    /// The name on the command line, in pipelines and in tables: `pga`,
+    /// `pgv`, `pgd`, `sa(1.0)`, `avgsa`, `arias`, `cav`, `d5_95`,
+    /// `pgv_pga`, `tm`.
+    pub fn name(self) -> String {
+        match self {
+            Im::Pga => "pga".into(),
+            Im::Pgv => "pgv".into(),
+            Im::Pgd => "pgd".into(),
+            Im::Sa(t) => format!("sa({})", period_text(t)),
+            Im::AvgSa => "avgsa".into(),
+            Im::Arias => "arias".into(),
+            Im::Cav => "cav".into(),
+            Im::D5_95 => "d5_95".into(),
+            Im::PgvPga => "pgv_pga".into(),
+            Im::Tm => "tm".into(),
+        }
+    }
+
+    /// The name with its unit, as a column or a JSON key: `pga_g`,
+    /// `pgv_cm_s`, `sa(1.0)_g`, `cav_g_s`, `d5_95_s`.
+    pub fn key(self) -> String {
+        format!("{}_{}", self.name(), self.unit().replace(['/', '·'], "_"))
+    }
+
+    /// The IM whose [`Im::key`] is `key`.
+    pub fn from_key(key: &str) -> Option<Im> {
+        // `d5_95_s` and `pgv_pga_s` hold `_` in their names: try every split.
+        key.match_indices('_')
+            .filter_map(|(i, _)| key[..i].parse::<Im>().ok())
+            .find(|im| im.key() == key)
+    }
+
+    /// As a reader writes it in a figure's legend: PGA, SA(1.0), AvgSA,
+    /// Arias, CAV, D5–95, PGV/PGA, Tm.
+    pub fn short(self) -> String {
+        match self {
+            Im::Pga => "PGA".into(),
+            Im::Pgv => "PGV".into(),
+            Im::Pgd => "PGD".into(),
+            Im::Sa(t) => format!("SA({})", period_text(t)),
+            Im::AvgSa => "AvgSA".into(),
+            Im::Arias => "Arias".into(),
+            Im::Cav => "CAV".into(),
+            Im::D5_95 => "D5–95".into(),
+            Im::PgvPga => "PGV/PGA".into(),
+            Im::Tm => "Tm".into(),
+        }
+    }
+
+    /// As a listing of a record's measures names it (`rocking ims`).
+    pub fn title(self) -> String {
+        match self {
+            Im::AvgSa => "AvgSA (0.1–2 s)".into(),
+            Im::Arias => "Arias intensity".into(),
+            other => other.short(),
+        }
+    }
+
+    /// The name as OpenQuake writes it in `imt=`, for the measures
+    /// OpenQuake's hazard library defines (`openquake.hazardlib.imt`: PGA,
+    /// PGV, PGD, SA(T), AvgSA, IA, CAV, RSD595).
+    pub fn openquake(self) -> Option<String> {
+        match self {
+            Im::Pga => Some("PGA".into()),
+            Im::Pgv => Some("PGV".into()),
+            Im::Pgd => Some("PGD".into()),
+            Im::Sa(t) => Some(format!("SA({})", period_text(t))),
+            Im::AvgSa => Some("AvgSA".into()),
+            Im::Arias => Some("IA".into()),
+            Im::Cav => Some("CAV".into()),
+            Im::D5_95 => Some("RSD595".into()),
+            Im::PgvPga | Im::Tm => None,
+        }
+    }
+
+    /// pelicun's demand type and unit name, for the measures its damage
+    /// model has a demand for (`pelicun.base.EDP_TYPES`, its
+    /// `default_units.json`).
+    pub fn pelicun(self) -> Option<(String, &'static str)> {
+        match self {
+            Im::Pga => Some(("Peak Ground Acceleration".into(), "g")),
+            Im::Pgv => Some(("Peak Ground Velocity".into(), "cmps")),
+            Im::Sa(t) => Some((format!("Spectral Acceleration|{}", period_text(t)), "g")),
+            _ => None,
+        }
+    }
+
+    /// The unit its values are given in.
+    pub fn unit(self) -> &'static str {
+        match self {
+            Im::Pga | Im::Sa(_) | Im::AvgSa => "g",
+            Im::Pgv => "cm/s",
+            Im::Pgd => "cm",
+            Im::Arias => "m/s",
+            Im::Cav => "g·s",
+            Im::D5_95 | Im::PgvPga | Im::Tm => "s",
+        }
+    }
+
+    /// How it scales with the record: a record scaled by `k` has this
+    /// measure scaled by `k^power` (0: it does not change).
+    pub fn power(self) -> i32 {
+        match self {
+            Im::Arias => 2,
+            Im::D5_95 | Im::PgvPga | Im::Tm => 0,
+            _ => 1,
+        }
+    }
+
+    /// Whether it scales with the record, so that a capacity can be stated
+    /// in it (`fragility --im`, the ims and damage stages).
+    pub fn scales(self) -> bool {
+        self.power() != 0
+    }
+
+    /// Whether a hazard curve may be stated in it (`risk --hazard`, the
+    /// exports' `--hazard` and `--im`): the capacity measures OpenQuake's
+    /// ground-motion models give hazard for at large (PGA, PGV, SA(T),
+    /// AvgSA).
+    pub fn hazard(self) -> bool {
+        matches!(self, Im::Pga | Im::Pgv | Im::Sa(_) | Im::AvgSa)
+    }
+
+    /// Its standard dimensionless form for a block of slenderness α and
+    /// frequency parameter p (1/s), where there is one: the factor that
+    /// multiplies the IM, and its name. PGA/(αg) is 1/η (Housner; the
+    /// paper), p·PGV/(αg) and p²·PGD/(αg) follow from the similarity
+    /// groups of Dimitrakopoulos & DeJong (2012), SA/(αg) as the PGA.
+    pub fn dimensionless(self, alpha_rad: f64, p: f64) -> Option<(f64, &'static str)> {
+        let ag = alpha_rad * G_M_S2;
+        match self {
+            Im::Pga => Some((1.0 / alpha_rad, "PGA/(αg)")),
+            Im::Sa(_) => Some((1.0 / alpha_rad, "SA/(αg)")),
+            Im::AvgSa => Some((1.0 / alpha_rad, "AvgSA/(αg)")),
+            Im::Pgv => Some((p / 100.0 / ag, "p·PGV/(αg)")),
+            Im::Pgd => Some((p * p / 100.0 / ag, "p²·PGD/(αg)")),
+            Im::Arias | Im::Cav | Im::D5_95 | Im::PgvPga | Im::Tm => None,
+        }
+    }
+}
+
+/// A period as text: Rust's shortest round-trip form, always with a
+/// decimal point (`1.0`, `0.05`, `0.075`).
+pub fn period_text(t: f64) -> String {
+    format!("{t:?}")
+}
+
+/// A level of an IM as printed: four significant digits, trailing zeros
+/// dropped (0.05 g, 2 g, 48.31 cm/s, 300 cm/s).
+pub fn level_text(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let decimals = (3 - v.abs().log10().floor() as i32).max(0) as usize;
+    let text = format!("{v:.decimals$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    }
+}
+
+impl fmt::Display for Im {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.name())
+    }
+}
+
+impl FromStr for Im {
+    type Err = String;
+
+    /// Any case; `sa(T)` with T in seconds; OpenQuake's names (`IA`, `RSD595`).
+    fn from_str(text: &str) -> Result<Self, String> {
+        let lower = text.trim().to_ascii_lowercase();
+        if let Some(inner) = lower.strip_prefix("sa(").and_then(|r| r.strip_suffix(')')) {
+            return match inner.trim().parse::<f64>() {
+                Ok(t) if t > 0.0 && t.is_finite() => Ok(Im::Sa(t)),
+                _ => Err(format!(
+                    "`{text}`: the period of SA(T) must be a positive number of seconds, as in sa(1.0)"
+                )),
+            };
+        }
+        let found = KINDS.into_iter().find(|im| {
+            !matches!(im, Im::Sa(_))
+                && (im.name() == lower
+                    || im
+                        .openquake()
+                        .is_some_and(|o| o.to_ascii_lowercase() == lower))
+        });
+        found.ok_or_else(|| {
+            format!(
+                "`{text}` is not an intensity measure; valid: {}",
+                Im::listed(|_| true, false).replace(" or ", ", ")
+            )
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn levels_print_with_four_significant_digits_and_no_trailing_zeros() {
+        for (v, text) in [
+            (0.05, "0.05"),
+            (2.0, "2"),
+            (300.0, "300"),
+            (48.312332, "48.31"),
+            (0.530449, "0.5304"),
+            (12345.6, "12346"),
+            (0.0, "0"),
+            (-1.5, "-1.5"),
+        ] {
+            assert_eq!(level_text(v), text, "{v}");
+        }
+    }
+
+    #[test]
+    fn names_and_keys_round_trip() {
+        for im in Im::record_measures() {
+            assert_eq!(im.name().parse::<Im>(), Ok(im));
+            assert_eq!(Im::from_key(&im.key()), Some(im), "{}", im.key());
+            if let Some(oq) = im.openquake() {
+                assert_eq!(oq.parse::<Im>(), Ok(im), "{oq}");
+            }
+        }
+        assert_eq!("SA(1)".parse::<Im>(), Ok(Im::Sa(1.0)));
+        assert_eq!(Im::Sa(1.0).name(), "sa(1.0)");
+        assert_eq!(Im::Sa(0.075).openquake().unwrap(), "SA(0.075)");
+        assert_eq!("PGV".parse::<Im>(), Ok(Im::Pgv));
+        assert_eq!("AvgSA".parse::<Im>(), Ok(Im::AvgSa));
+        assert_eq!("IA".parse::<Im>(), Ok(Im::Arias));
+        // The columns of the plain hazard file and of `rocking ims --json`.
+        let keys: Vec<String> = [Im::Pga, Im::Pgv, Im::Cav, Im::Arias, Im::D5_95, Im::PgvPga]
+            .iter()
+            .map(|im| im.key())
+            .collect();
+        assert_eq!(
+            keys,
+            [
+                "pga_g",
+                "pgv_cm_s",
+                "cav_g_s",
+                "arias_m_s",
+                "d5_95_s",
+                "pgv_pga_s"
+            ]
+        );
+        assert_eq!(Im::Sa(1.0).key(), "sa(1.0)_g");
+        assert_eq!(Im::from_key("pga_cm"), None);
+        assert!("pgv2".parse::<Im>().unwrap_err().contains("valid: pga"));
+        assert!("sa(-1)".parse::<Im>().unwrap_err().contains("positive"));
+    }
+
+    /// The sets by hand: 6 scalar capacity measures and 15 SA periods; the
+    /// record's three properties do not scale.
+    #[test]
+    fn the_sets_by_their_members_answers() {
+        let caps = Im::capacity_measures();
+        assert_eq!(caps.len(), 6 + PERIODS_S.len());
+        assert_eq!(&caps[..3], &[Im::Pga, Im::Pgv, Im::Pgd]);
+        assert!(caps.iter().all(|im| im.scales()));
+        let all = Im::record_measures();
+        assert_eq!(all.len(), 9 + PERIODS_S.len());
+        assert!(!Im::Tm.scales() && !Im::D5_95.scales() && !Im::PgvPga.scales());
+        assert_eq!(Im::listed(Im::hazard, false), "pga, pgv, avgsa or sa(T)");
+        assert_eq!(Im::listed(Im::hazard, true), "PGA, PGV, AvgSA or SA(T)");
+    }
+
+    /// The dimensionless forms by hand: α = 0.2 rad, p = 2 1/s; PGV 98.0665
+    /// cm/s is 0.980665 m/s, so p·PGV/(αg) = 2·0.980665/(0.2·9.80665) = 1.
+    #[test]
+    fn dimensionless_forms_by_hand() {
+        let (f, name) = Im::Pgv.dimensionless(0.2, 2.0).unwrap();
+        assert!((98.0665 * f - 1.0).abs() < 1e-14, "{name}");
+        let (f, _) = Im::Pga.dimensionless(0.2, 2.0).unwrap();
+        assert_eq!(0.2 * f, 1.0);
+        assert!(Im::Cav.dimensionless(0.2, 2.0).is_none());
+    }
+}
