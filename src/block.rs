@@ -163,6 +163,22 @@ impl fmt::Display for Restitution {
     }
 }
 
+/// A number in (0, 1] (checked with the block) or `"housner"`.
+impl<'de> serde::Deserialize<'de> for Restitution {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        #[derive(serde::Deserialize)]
+        #[serde(untagged)]
+        enum Given {
+            Number(f64),
+            Text(String),
+        }
+        match Given::deserialize(d)? {
+            Given::Number(e) => Ok(Restitution::Value(e)),
+            Given::Text(t) => t.parse().map_err(serde::de::Error::custom),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

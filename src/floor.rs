@@ -259,6 +259,27 @@ impl fmt::Display for Building {
     }
 }
 
+/// A mode as `[T, ζ, Γφ]` or as the text `T,ZETA,GAMMA_PHI`; the values
+/// are checked by [`Building::new`].
+impl<'de> serde::Deserialize<'de> for Mode {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        #[derive(serde::Deserialize)]
+        #[serde(untagged)]
+        enum Given {
+            Numbers(f64, f64, f64),
+            Text(String),
+        }
+        match Given::deserialize(d)? {
+            Given::Numbers(period_s, zeta, gamma_phi) => Ok(Mode {
+                period_s,
+                zeta,
+                gamma_phi,
+            }),
+            Given::Text(t) => t.parse().map_err(serde::de::Error::custom),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -327,6 +327,52 @@ pub fn parse_plain(text: &str) -> Result<HazardCurve, HazardError> {
     )
 }
 
+/// One site's curve from its levels (in `im`'s unit) and annual rates of
+/// exceedance, checked as a plain file's rows are (positive, increasing
+/// levels; finite rates, not negative, never rising); a problem names the
+/// point (from 1) where a file would name the line.
+pub fn from_arrays(im: Im, levels: &[f64], rates: &[f64]) -> Result<HazardCurve, HazardError> {
+    if !im.hazard() {
+        return Err(HazardError {
+            line: None,
+            message: format!(
+                "a hazard curve in {im}: this tool's hazard curves are in {}",
+                Im::listed(Im::hazard, false)
+            ),
+        });
+    }
+    if levels.len() != rates.len() || levels.is_empty() {
+        return Err(HazardError {
+            line: None,
+            message: format!(
+                "{} levels and {} rates: give one annual rate for each level",
+                levels.len(),
+                rates.len()
+            ),
+        });
+    }
+    let point = |k: usize, m: String| err(k + 1, format!("point {}: {m}", k + 1));
+    for (k, (&iml, &rate)) in levels.iter().zip(rates).enumerate() {
+        if !(iml > 0.0 && iml.is_finite()) {
+            return Err(point(k, format!("level {iml} must be positive and finite")));
+        }
+        if !(rate >= 0.0 && rate.is_finite()) {
+            return Err(point(
+                k,
+                format!("annual rate {rate} must be finite and not negative"),
+            ));
+        }
+        if k > 0 && iml <= levels[k - 1] {
+            return Err(point(
+                k,
+                format!("levels must increase: {iml} follows {}", levels[k - 1]),
+            ));
+        }
+    }
+    let points: Vec<(f64, f64)> = levels.iter().copied().zip(rates.iter().copied()).collect();
+    curve_of(im, &points, |k| k + 1, |k| format!("point {}", k + 1))
+}
+
 /// A curve from (IML, rate) points in increasing IML: checks that the rate
 /// never rises, drops infinite rates at the start, ends at the first zero.
 /// `line_of(k)` and `name(k)` say where point k is, for messages.

@@ -44,6 +44,7 @@
 //! The command line is the `rocking` binary (`src/bin/rocking/`); the library
 //! does not know clap.
 
+pub mod ask;
 pub mod at2;
 pub mod bench;
 pub mod block;

@@ -36,6 +36,30 @@ pub enum Shape {
     },
 }
 
+/// A lobe's shape as a user names it (its parameter given apart).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ShapeKind {
+    Rect,
+    Exp,
+}
+
+impl crate::label::Label for ShapeKind {
+    const ALL: &'static [Self] = &[ShapeKind::Rect, ShapeKind::Exp];
+    const WHAT: &'static str = "pulse shape";
+    fn label(self) -> &'static str {
+        match self {
+            ShapeKind::Rect => "rect",
+            ShapeKind::Exp => "exp",
+        }
+    }
+    fn help(self) -> &'static str {
+        match self {
+            ShapeKind::Rect => "rectangular lobe (Housner's pulse)",
+            ShapeKind::Exp => "the paper's exponential lobe (Eq. 4), shape β",
+        }
+    }
+}
+
 /// One lobe, or the lobe followed by its negative.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -43,6 +67,25 @@ pub enum Cycle {
     Half,
     Full,
 }
+
+impl crate::label::Label for Cycle {
+    const ALL: &'static [Self] = &[Cycle::Half, Cycle::Full];
+    const WHAT: &'static str = "pulse cycle";
+    fn label(self) -> &'static str {
+        match self {
+            Cycle::Half => "half",
+            Cycle::Full => "full",
+        }
+    }
+    fn help(self) -> &'static str {
+        match self {
+            Cycle::Half => "one lobe",
+            Cycle::Full => "the lobe, then its negative",
+        }
+    }
+}
+
+crate::deserialize_by_label!(ShapeKind, Cycle);
 
 /// A pulse: shape, cycle and the lobe's duration.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -107,13 +150,7 @@ impl Cycle {
 impl std::str::FromStr for Cycle {
     type Err = PhysicsError;
     fn from_str(text: &str) -> Result<Self, PhysicsError> {
-        match text {
-            "half" => Ok(Cycle::Half),
-            "full" => Ok(Cycle::Full),
-            _ => Err(PhysicsError::BadInput(format!(
-                "unknown pulse cycle `{text}`; valid: half, full"
-            ))),
-        }
+        <Cycle as crate::label::Label>::parse_label(text).map_err(PhysicsError::BadInput)
     }
 }
 

@@ -72,13 +72,22 @@ pub enum Beyond {
 
 impl crate::label::Label for Beyond {
     const ALL: &'static [Self] = &[Beyond::Extrapolate, Beyond::Stop];
+    const WHAT: &'static str = "rule beyond the hazard curve";
     fn label(self) -> &'static str {
         match self {
             Beyond::Extrapolate => "extrapolate",
             Beyond::Stop => "stop",
         }
     }
+    fn help(self) -> &'static str {
+        match self {
+            Beyond::Extrapolate => "continue the curve's last log-log slope",
+            Beyond::Stop => "count no exceedance beyond the last IML",
+        }
+    }
 }
+
+crate::deserialize_by_label!(Beyond);
 
 /// The contribution of one range of PGA to the rate of overturning.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]

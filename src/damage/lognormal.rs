@@ -41,10 +41,19 @@ impl FitMethod {
 
 impl crate::label::Label for FitMethod {
     const ALL: &'static [Self] = &FitMethod::ALL;
+    const WHAT: &'static str = "fit";
     fn label(self) -> &'static str {
         self.name()
     }
+    fn help(self) -> &'static str {
+        match self {
+            FitMethod::Fractile => "the paper's 16/50/84 % fractiles",
+            FitMethod::MaxLikelihood => "censored maximum likelihood",
+        }
+    }
 }
+
+crate::deserialize_by_label!(FitMethod);
 
 /// A lognormal capacity: median θ (in the IM's unit) and dispersion β.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]

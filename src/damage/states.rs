@@ -244,6 +244,16 @@ fn first_reaching(runs: &[(f64, f64, bool)], x: f64, strongest: f64) -> StateCap
     StateCapacity::NotReached(strongest)
 }
 
+impl std::str::FromStr for DamageStates {
+    type Err = DamageError;
+    /// `NAME=X,…,NAME=overturned`, lightest first ([`DamageStates::parse`]).
+    fn from_str(text: &str) -> Result<Self, DamageError> {
+        DamageStates::parse(text)
+    }
+}
+
+crate::deserialize_by_from_str!(DamageStates);
+
 #[cfg(test)]
 mod tests {
     use super::*;

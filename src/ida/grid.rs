@@ -13,7 +13,7 @@ use crate::physics::PhysicsError;
 pub const MAX_LEVELS: usize = 100_000;
 
 /// How the η levels are spaced.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Spacing {
     /// Equal ratios between levels.
@@ -21,6 +21,25 @@ pub enum Spacing {
     /// Equal differences between levels.
     Linear,
 }
+
+impl crate::label::Label for Spacing {
+    const ALL: &'static [Self] = &[Spacing::Log, Spacing::Linear];
+    const WHAT: &'static str = "spacing";
+    fn label(self) -> &'static str {
+        match self {
+            Spacing::Log => "log",
+            Spacing::Linear => "linear",
+        }
+    }
+    fn help(self) -> &'static str {
+        match self {
+            Spacing::Log => "equal ratios between levels",
+            Spacing::Linear => "equal differences between levels",
+        }
+    }
+}
+
+crate::deserialize_by_label!(Spacing);
 
 /// A grid of intensity levels, from `eta_max` (exclusive) down to `eta_min`
 /// (inclusive), `count` levels.

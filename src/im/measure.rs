@@ -328,6 +328,8 @@ impl FromStr for Im {
     }
 }
 
+crate::deserialize_by_from_str!(Im);
+
 #[cfg(test)]
 mod tests {
     use super::*;

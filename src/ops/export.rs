@@ -20,6 +20,25 @@ pub enum Format {
     Pelicun,
 }
 
+impl crate::label::Label for Format {
+    const ALL: &'static [Self] = &[Format::Nrml, Format::Pelicun];
+    const WHAT: &'static str = "export format";
+    fn label(self) -> &'static str {
+        match self {
+            Format::Nrml => "nrml",
+            Format::Pelicun => "pelicun",
+        }
+    }
+    fn help(self) -> &'static str {
+        match self {
+            Format::Nrml => "OpenQuake's NRML 0.5 fragility model (and exposure and job.ini)",
+            Format::Pelicun => "pelicun's fragility CSV and its metadata JSON",
+        }
+    }
+}
+
+crate::deserialize_by_label!(Format);
+
 #[derive(Debug, Clone)]
 pub struct Request {
     pub format: Format,
@@ -297,7 +316,7 @@ struct HazardSites {
 }
 
 fn read_sites(path: &Path, asked: Option<Im>) -> Result<HazardSites, ExportOpError> {
-    let curves = risk::read_hazard(path, None)?;
+    let curves = risk::read_hazard(&risk::Hazard::File(path.into()), None)?;
     let im = risk::hazard_im(path, &curves, asked)?;
     let text = std::fs::read_to_string(path).map_err(|source| RiskError::Read {
         path: path.into(),

@@ -71,12 +71,41 @@ pub enum RecordError {
         #[source]
         source: PhysicsError,
     },
+    /// A record and a pulse together, a pulse on a floor, or neither.
+    #[error("{0}")]
+    Asked(String),
     #[error("{path}: its floor motion")]
     Floor {
         path: PathBuf,
         #[source]
         source: crate::floor::FloorError,
     },
+}
+
+/// What shakes the block: the record at `path` (on the floor of `building`
+/// when one is given), or `pulse` sampled for the block's `p`.
+pub fn excitation(
+    path: Option<&Path>,
+    pulse: Option<&Pulse>,
+    building: Option<&Building>,
+    p: f64,
+) -> Result<LoadedRecord, RecordError> {
+    match (path, pulse, building) {
+        (Some(_), Some(_), _) => Err(RecordError::Asked(
+            "give a record or a pulse, not both".into(),
+        )),
+        (None, Some(_), Some(_)) => Err(RecordError::Asked(
+            "a floor filters a ground record through a building; a pulse is given as the block's own excitation".into(),
+        )),
+        (None, Some(pulse), None) => from_pulse(pulse, p).map_err(|source| RecordError::Samples {
+            path: PathBuf::from(pulse.to_string()),
+            source,
+        }),
+        (Some(path), None, _) => load_on(path, building),
+        (None, None, _) => Err(RecordError::Asked(
+            "give a record (--record FILE.AT2) or a pulse (--pulse rect|exp)".into(),
+        )),
+    }
 }
 
 /// Reads one AT2 file: its samples (g) and step (s), unscaled.

@@ -168,10 +168,17 @@ pub enum NonlinearIntegrator {
 
 impl crate::label::Label for NonlinearIntegrator {
     const ALL: &'static [Self] = &[NonlinearIntegrator::Taylor, NonlinearIntegrator::Dp5];
+    const WHAT: &'static str = "integrator";
     fn label(self) -> &'static str {
         match self {
             NonlinearIntegrator::Taylor => "taylor",
             NonlinearIntegrator::Dp5 => "dp5",
+        }
+    }
+    fn help(self) -> &'static str {
+        match self {
+            NonlinearIntegrator::Taylor => "its Taylor series, one step per sample interval",
+            NonlinearIntegrator::Dp5 => "Dormand–Prince 5(4)",
         }
     }
 }
@@ -296,6 +303,7 @@ impl crate::label::Label for ModelChoice {
         ModelChoice::Nonlinear,
         ModelChoice::Auto,
     ];
+    const WHAT: &'static str = "model";
     fn label(self) -> &'static str {
         match self {
             ModelChoice::Linearized => "linearized",
@@ -303,7 +311,24 @@ impl crate::label::Label for ModelChoice {
             ModelChoice::Auto => "auto",
         }
     }
+    fn help(self) -> &'static str {
+        match self {
+            ModelChoice::Linearized => "paper Eq. 8, exact stepping (depends on p, η, ε only)",
+            ModelChoice::Nonlinear => "paper Eq. 7, by the integrator asked; needs α",
+            ModelChoice::Auto => {
+                "linearised where its error for α is within the accepted one, else nonlinear"
+            }
+        }
+    }
+    fn aliases(self) -> &'static [&'static str] {
+        match self {
+            ModelChoice::Linearized => &["linearised"],
+            _ => &[],
+        }
+    }
 }
+
+crate::deserialize_by_label!(ModelChoice, NonlinearIntegrator);
 
 impl ModelChoice {
     /// The model to run and a sentence saying why.

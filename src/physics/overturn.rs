@@ -104,3 +104,5 @@ impl fmt::Display for Overturn {
         }
     }
 }
+
+crate::deserialize_by_from_str!(Overturn);

@@ -103,16 +103,7 @@ pub(super) fn model(
     raw: &RawModel,
     default: Overturn,
 ) -> Result<(ModelChoice, Overturn, Solver), String> {
-    let model = match raw.kind.as_str() {
-        "linearized" => ModelChoice::Linearized,
-        "nonlinear" => ModelChoice::Nonlinear,
-        "auto" => ModelChoice::Auto,
-        other => {
-            return Err(format!(
-                "`model.kind` = \"{other}\"; valid: linearized, nonlinear, auto"
-            ));
-        }
-    };
+    let model = ModelChoice::parse_label(&raw.kind).map_err(|e| format!("`model.kind`: {e}"))?;
     let overturn: Overturn = match &raw.overturn {
         None => default,
         Some(text) => text
@@ -124,8 +115,8 @@ pub(super) fn model(
     }
     let integrator = match raw.integrator.as_deref() {
         None => NonlinearIntegrator::Taylor,
-        Some(name) => NonlinearIntegrator::from_label(name)
-            .ok_or_else(|| format!("`model.integrator` = \"{name}\"; valid: taylor, dp5"))?,
+        Some(name) => NonlinearIntegrator::parse_label(name)
+            .map_err(|e| format!("`model.integrator`: {e}"))?,
     };
     let solver = Solver::new(integrator, raw.rtol).map_err(|e| format!("`model.rtol`: {e}"))?;
     crate::physics::check_auto_tol(raw.auto_tol).map_err(|e| format!("`model.auto_tol`: {e}"))?;

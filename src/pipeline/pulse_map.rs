@@ -102,13 +102,15 @@ fn refuse_stray_sections(raw: &RawPipeline) -> Result<(), String> {
 
 /// `pulses.shape` and `pulses.beta`: the pulse shapes of the map.
 fn pulse_shapes(rp: &RawPulses) -> Result<Vec<crate::pulse::Shape>, String> {
-    use crate::pulse::Shape;
-    let shapes = match (rp.shape.as_str(), &rp.beta) {
-        ("rect", None) => vec![Shape::Rect],
-        ("rect", Some(_)) => {
+    use crate::label::Label;
+    use crate::pulse::{Shape, ShapeKind};
+    let kind = ShapeKind::parse_label(&rp.shape).map_err(|e| format!("`pulses.shape`: {e}"))?;
+    let shapes = match (kind, &rp.beta) {
+        (ShapeKind::Rect, None) => vec![Shape::Rect],
+        (ShapeKind::Rect, Some(_)) => {
             return Err("`pulses.beta` is the exponential pulse's shape; `rect` takes none".into())
         }
-        ("exp", Some(betas)) if !betas.is_empty() => betas
+        (ShapeKind::Exp, Some(betas)) if !betas.is_empty() => betas
             .iter()
             .map(|&beta| {
                 if beta.is_finite() && beta.abs() <= 500.0 {
@@ -118,10 +120,9 @@ fn pulse_shapes(rp: &RawPulses) -> Result<Vec<crate::pulse::Shape>, String> {
                 }
             })
             .collect::<Result<_, _>>()?,
-        ("exp", _) => {
+        (ShapeKind::Exp, _) => {
             return Err("`pulses.shape` = \"exp\" needs `pulses.beta`, a list of β".into())
         }
-        (other, _) => return Err(format!("`pulses.shape` = \"{other}\"; valid: rect, exp")),
     };
     Ok(shapes)
 }

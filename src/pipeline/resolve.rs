@@ -597,7 +597,7 @@ mod tests {
             ),
             (
                 MINIMAL.replace("spacing = \"log\"", "spacing = \"cubic\""),
-                "unknown variant `cubic`, expected `log` or `linear`",
+                "unknown spacing `cubic`; valid: log, linear",
             ),
             (
                 MINIMAL.replace("eps = [0.5, 0.95]", "eps = [0.5, \"a\"]"),

@@ -6,7 +6,7 @@ use std::path::Path;
 use super::answer::{Assessment, BinInfo, BlockInfo, FragilityInfo, SiteInfo};
 use super::error::RiskError;
 use super::inventory::{entries, InventoryBlock};
-use super::request::Request;
+use super::request::{Hazard, Request};
 use crate::block::{Block, Restitution};
 use crate::hazard::{self, HazardCurve};
 use crate::im::Im;
@@ -18,17 +18,24 @@ use crate::stats;
 
 /// Reads the hazard file: the curves of the sites asked, with their indices.
 pub fn read_hazard(
-    path: &Path,
+    hazard: &Hazard,
     site: Option<usize>,
 ) -> Result<Vec<(usize, HazardCurve)>, RiskError> {
-    let text = std::fs::read_to_string(path).map_err(|source| RiskError::Read {
-        path: path.into(),
-        source,
-    })?;
-    let curves = hazard::parse(&text).map_err(|error| RiskError::Hazard {
-        path: path.into(),
-        error,
-    })?;
+    let curves = match hazard {
+        Hazard::File(path) => {
+            let text = std::fs::read_to_string(path).map_err(|source| RiskError::Read {
+                path: path.into(),
+                source,
+            })?;
+            hazard::parse(&text).map_err(|error| RiskError::Hazard {
+                path: path.into(),
+                error,
+            })?
+        }
+        Hazard::Curve(curve) => vec![curve.clone()],
+    };
+    let path = hazard.name();
+    let path = path.as_path();
     let n = curves.len();
     let chosen: Vec<(usize, HazardCurve)> = match site {
         Some(k) if k >= n => {
@@ -176,7 +183,7 @@ pub(super) fn prepare(req: &Request) -> Result<Prepared, RiskError> {
     crate::physics::check_auto_tol(req.auto_tol).map_err(RiskError::AutoTol)?;
     let sites = read_hazard(&req.hazard, req.site)?;
     let entries = entries(&req.blocks)?;
-    let im = hazard_im(&req.hazard, &sites, req.im)?;
+    let im = hazard_im(&req.hazard.name(), &sites, req.im)?;
     let (laws, records) = fragility::laws_and_records(
         &req.from,
         req.direct,

@@ -19,6 +19,6 @@ pub use assess::{assess, hazard_im, read_hazard};
 pub use charts::{deaggregation_chart, ranking_chart};
 pub use error::RiskError;
 pub use inventory::{read_inventory, InventoryBlock};
-pub use request::{Blocks, Request};
+pub use request::{Blocks, Hazard, Request};
 pub use states::{assess_states, StateRisk, StatesAssessment, StatesSite};
 pub use table::{rows, write_table};

@@ -3,6 +3,8 @@
 
 use std::path::PathBuf;
 
+use crate::hazard::HazardCurve;
+
 use crate::block::Restitution;
 use crate::im::Im;
 use crate::ops::fragility::{self, Source};
@@ -23,10 +25,29 @@ pub enum Blocks {
     Inventory(PathBuf),
 }
 
+/// A site's hazard: a file of one or several sites' curves, or one curve
+/// given as values.
+#[derive(Debug, Clone)]
+pub enum Hazard {
+    File(PathBuf),
+    Curve(HazardCurve),
+}
+
+impl Hazard {
+    /// What messages and the table's metadata call it: the file, or
+    /// `hazard (levels, rates)`.
+    pub fn name(&self) -> PathBuf {
+        match self {
+            Hazard::File(path) => path.clone(),
+            Hazard::Curve(_) => PathBuf::from("hazard (levels, rates)"),
+        }
+    }
+}
+
 /// What the user asks.
 #[derive(Debug, Clone)]
 pub struct Request {
-    pub hazard: PathBuf,
+    pub hazard: Hazard,
     /// One site of the file (index from 0); all when `None`.
     pub site: Option<usize>,
     pub blocks: Blocks,

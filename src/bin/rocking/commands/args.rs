@@ -1,12 +1,42 @@
-//! Arguments shared by several commands.
+//! Arguments shared by several commands. Each group parses into the
+//! library's request vocabulary (`rocking::ask`), which does every check;
+//! closed sets take their possible values from the library's labels
+//! ([`label`]), so a new member appears here without a line changed.
 
 use std::path::{Path, PathBuf};
 
-use clap::ValueEnum;
-use rocking::block::{Block, Restitution};
-use rocking::floor::{Building, Mode};
-use rocking::ops::capacity::NamedSpec;
-use rocking::physics::{ModelChoice, Overturn};
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+use rocking::ask::{AskedBlock, BlockAsk, LawAsk, PulseAsk, Spelling};
+use rocking::block::Restitution;
+use rocking::damage::{DamageStates, FitMethod};
+use rocking::floor::Mode;
+use rocking::im::Im;
+use rocking::label::Label;
+use rocking::physics::{ModelChoice, NonlinearIntegrator, Overturn};
+use rocking::pulse::{Cycle, ShapeKind};
+
+/// The value parser of a closed set: its labels as the possible values,
+/// each with its help, its aliases accepted.
+pub fn label<T: Label + Clone + Send + Sync>() -> impl TypedValueParser<Value = T> {
+    PossibleValuesParser::new(T::ALL.iter().map(|m| {
+        let value = PossibleValue::new(m.label()).aliases(m.aliases().iter().copied());
+        match m.help() {
+            "" => value,
+            help => value.help(help),
+        }
+    }))
+    .map(|text| T::parse_label(&text).expect("clap admits the possible values only"))
+}
+
+/// A value parsed by the library's `FromStr` (an IM, ε, a floor's mode,
+/// the overturning criterion, damage states), its message as the error.
+pub fn parsed<T>(text: &str) -> Result<T, String>
+where
+    T: std::str::FromStr,
+    T::Err: std::fmt::Display,
+{
+    text.parse::<T>().map_err(|e| e.to_string())
+}
 
 /// A pipeline and where its outputs go.
 #[derive(Debug, clap::Args)]
@@ -25,7 +55,8 @@ impl PipelineArgs {
     }
 }
 
-/// Where a block's capacity law comes from, for `fragility` and `risk`.
+/// Where a block's capacity law comes from, for `fragility`, `risk` and
+/// `export`.
 #[derive(Debug, clap::Args)]
 pub struct LawArgs {
     /// `paper` (published coefficients) or a pipeline file whose fit to use.
@@ -42,131 +73,40 @@ pub struct LawArgs {
 }
 
 impl LawArgs {
-    pub fn source(&self) -> rocking::ops::fragility::Source {
-        rocking::ops::fragility::Source::named(
-            &self.from,
-            self.outputs.clone(),
-            self.records.clone(),
-        )
-    }
-}
-
-/// The model as chosen on the command line.
-#[derive(Debug, Clone, Copy, ValueEnum)]
-pub enum ModelArg {
-    /// Paper Eq. 8, exact stepping (depends on p, η, ε only).
-    Linearized,
-    /// Paper Eq. 7 (by --integrator); needs --alpha.
-    Nonlinear,
-    /// Linearised where its error for --alpha is below --auto-tol, else nonlinear.
-    Auto,
-}
-
-impl From<ModelArg> for ModelChoice {
-    fn from(m: ModelArg) -> Self {
-        match m {
-            ModelArg::Linearized => ModelChoice::Linearized,
-            ModelArg::Nonlinear => ModelChoice::Nonlinear,
-            ModelArg::Auto => ModelChoice::Auto,
+    pub fn ask(&self) -> LawAsk {
+        LawAsk {
+            source: self.from.clone(),
+            outputs: self.outputs.clone(),
+            records: self.records.clone(),
         }
     }
-}
-
-/// The nonlinear equation's integrator on the command line.
-#[derive(Debug, Clone, Copy, ValueEnum)]
-pub enum IntegratorArg {
-    /// Its Taylor series, one step per sample interval (the default).
-    Taylor,
-    /// Dormand–Prince 5(4).
-    Dp5,
-}
-
-/// How the nonlinear equation is integrated.
-#[derive(Debug, Clone, Copy, clap::Args)]
-pub struct SolverArgs {
-    /// The nonlinear model's integrator.
-    #[arg(long, value_enum, default_value = "taylor")]
-    pub integrator: IntegratorArg,
-    /// Its tolerance (capacities are then certified at a 100× tighter one):
-    /// the Taylor series' tail per sample interval (default 1e-10), or DP5's
-    /// relative tolerance per step (default 1e-10).
-    #[arg(long)]
-    pub rtol: Option<f64>,
-}
-
-impl SolverArgs {
-    /// The solver asked for, its tolerance checked.
-    pub fn solver(&self) -> anyhow::Result<rocking::physics::Solver> {
-        use rocking::physics::{NonlinearIntegrator, Solver};
-        let integrator = match self.integrator {
-            IntegratorArg::Taylor => NonlinearIntegrator::Taylor,
-            IntegratorArg::Dp5 => NonlinearIntegrator::Dp5,
-        };
-        Solver::new(integrator, self.rtol).map_err(|e| anyhow::anyhow!("--rtol: {e}"))
-    }
-}
-
-/// A pulse's shape on the command line.
-#[derive(Debug, Clone, Copy, ValueEnum)]
-pub enum ShapeArg {
-    /// Rectangular lobe (Housner's pulse).
-    Rect,
-    /// The paper's exponential lobe (Eq. 4), shape --beta.
-    Exp,
-}
-
-/// Half cycle (one lobe) or full cycle (the lobe, then its negative).
-#[derive(Debug, Clone, Copy, ValueEnum)]
-pub enum CycleArg {
-    Half,
-    Full,
 }
 
 /// A pulse as the excitation (`simulate`, `capacity`, `wall`).
 #[derive(Debug, clap::Args)]
 pub struct PulseArgs {
-    /// Excite the block by a pulse (rect or exp, paper Eq. 4) rather than an AT2 record.
-    #[arg(long, value_enum)]
-    pub pulse: Option<ShapeArg>,
+    /// Excite the block by a pulse rather than an AT2 record.
+    #[arg(long, value_parser = label::<ShapeKind>())]
+    pub pulse: Option<ShapeKind>,
     /// Shape parameter β of the exponential pulse (→ −∞ rectangle, 0 triangle, → +∞ spike).
-    #[arg(long, value_name = "β", requires = "pulse")]
+    #[arg(long, value_name = "β")]
     pub beta: Option<f64>,
     /// One lobe (half) or the lobe followed by its negative (full).
-    #[arg(long, value_enum, default_value_t = CycleArg::Half)]
-    pub cycle: CycleArg,
+    #[arg(long, value_parser = label::<Cycle>(), default_value = "half")]
+    pub cycle: Cycle,
 }
 
 impl PulseArgs {
-    /// The pulse with lobes of `t_d_s`, if one was asked for.
-    pub fn pulse(&self, t_d_s: f64) -> anyhow::Result<Option<rocking::pulse::Pulse>> {
-        use rocking::pulse::{Cycle, Pulse, Shape};
-        let shape = match (self.pulse, self.beta) {
-            (None, _) => return Ok(None),
-            (Some(ShapeArg::Rect), None) => Shape::Rect,
-            (Some(ShapeArg::Rect), Some(_)) => {
-                anyhow::bail!("--beta is the exponential pulse's shape; --pulse rect takes none")
-            }
-            (Some(ShapeArg::Exp), Some(beta)) => Shape::Exp { beta },
-            (Some(ShapeArg::Exp), None) => anyhow::bail!("--pulse exp needs --beta"),
-        };
-        let cycle = match self.cycle {
-            CycleArg::Half => Cycle::Half,
-            CycleArg::Full => Cycle::Full,
-        };
-        let pulse = Pulse {
-            shape,
-            cycle,
-            t_d_s,
-        };
-        pulse.validate()?;
-        Ok(Some(pulse))
+    /// The pulse asked, with lobes of `td` seconds.
+    pub fn ask(&self, td: f64) -> PulseAsk {
+        PulseAsk {
+            pulse: self.pulse,
+            beta: self.beta,
+            cycle: self.cycle,
+            td,
+        }
     }
 }
-
-/// A pulse's lobe duration when none is given (s).
-const TD_S: f64 = 1.0;
-/// `--auto-tol` when none is given.
-const AUTO_TOL: f64 = 0.01;
 
 /// The block (or blocks) and the model, for `simulate` and `capacity`: by
 /// p and ε, or by its dimensions (half `--b --h`, or full `--width
@@ -178,54 +118,48 @@ pub struct BlockArgs {
     #[command(flatten)]
     pub pulse: PulseArgs,
     /// The pulse's lobe duration t_d (s); f = p·t_d.
-    #[arg(long, value_name = "s", default_value_t = TD_S, requires = "pulse")]
+    #[arg(long, value_name = "s", default_value_t = rocking::ask::excitation::TD_S)]
     pub td: f64,
     /// Frequency parameter p = sqrt(3g/(4R)) of the block (1/s).
-    #[arg(
-        long,
-        value_name = "1/s",
-        value_delimiter = ',',
-        required_unless_present_any = ["b", "width"],
-        conflicts_with_all = ["b", "width"]
-    )]
+    #[arg(long, value_name = "1/s", value_delimiter = ',')]
     pub p: Vec<f64>,
     /// Half-width b of the block (m); with --h, instead of --p (α = atan(b/h)).
-    #[arg(
-        long,
-        value_name = "m",
-        value_delimiter = ',',
-        requires = "h",
-        conflicts_with = "width"
-    )]
+    #[arg(long, value_name = "m", value_delimiter = ',')]
     pub b: Vec<f64>,
     /// Half-height h of the block (m), with --b.
-    #[arg(long, value_name = "m", value_delimiter = ',', requires = "b")]
+    #[arg(long, value_name = "m", value_delimiter = ',')]
     pub h: Vec<f64>,
     /// Full width 2b of the block (m); with --height, instead of --p.
-    #[arg(long, value_name = "m", value_delimiter = ',', requires = "height")]
+    #[arg(long, value_name = "m", value_delimiter = ',')]
     pub width: Vec<f64>,
     /// Full height 2h of the block (m), with --width.
-    #[arg(long, value_name = "m", value_delimiter = ',', requires = "width")]
+    #[arg(long, value_name = "m", value_delimiter = ',')]
     pub height: Vec<f64>,
     /// Coefficient of restitution ε in (0, 1], or `housner` (1 − 1.5 sin²α;
     /// needs the block's dimensions).
-    #[arg(long, value_name = "ε", value_delimiter = ',', required = true, value_parser = parse_restitution)]
+    #[arg(long, value_name = "ε", value_delimiter = ',', required = true, value_parser = parsed::<Restitution>)]
     pub eps: Vec<Restitution>,
     /// Equation of motion.
-    #[arg(long, value_enum, default_value_t = ModelArg::Linearized)]
-    pub model: ModelArg,
+    #[arg(long, value_parser = label::<ModelChoice>(), default_value = "linearized")]
+    pub model: ModelChoice,
     /// Slenderness α = atan(b/h) of the block (rad), for the nonlinear model
     /// and a PGA; from the dimensions when they are given.
-    #[arg(long, value_name = "rad", conflicts_with_all = ["b", "width"])]
+    #[arg(long, value_name = "rad")]
     pub alpha: Option<f64>,
-    #[command(flatten)]
-    pub solver: SolverArgs,
+    /// The nonlinear model's integrator.
+    #[arg(long, value_parser = label::<NonlinearIntegrator>(), default_value = "taylor")]
+    pub integrator: NonlinearIntegrator,
+    /// Its tolerance (capacities are then certified at a 100× tighter one):
+    /// the Taylor series' tail per sample interval (default 1e-10), or DP5's
+    /// relative tolerance per step (default 1e-10).
+    #[arg(long)]
+    pub rtol: Option<f64>,
     /// For --model auto: the relative error in η_c accepted from the linearisation.
-    #[arg(long, default_value_t = AUTO_TOL)]
+    #[arg(long, default_value_t = rocking::ask::block::AUTO_TOL)]
     pub auto_tol: f64,
     /// Overturning criterion: static (|θ| ≥ α), cap:<c> (|θ| ≥ cα), on-side (θ = π/2,
     /// nonlinear), escape (never comes back: θ = π/2 nonlinear; linearised, proven unbounded).
-    #[arg(long, default_value_t = Overturn::Static, value_parser = parse_overturn)]
+    #[arg(long, default_value_t = Overturn::Static, value_parser = parsed::<Overturn>)]
     pub overturn: Overturn,
     #[command(flatten)]
     pub scene: SceneArgs,
@@ -241,20 +175,8 @@ pub struct FloorArgs {
     /// T,ZETA,GAMMA_PHI (period in s, damping ratio, participation factor ×
     /// mode shape at the floor); repeat for each mode. The records are the
     /// ground's; the block feels the floor's absolute acceleration.
-    #[arg(long = "floor", value_name = "T,ZETA,GAMMA_PHI", value_parser = parse_mode)]
+    #[arg(long = "floor", value_name = "T,ZETA,GAMMA_PHI", value_parser = parsed::<Mode>)]
     pub floor: Vec<Mode>,
-}
-
-impl FloorArgs {
-    /// The building asked for, checked; `None` on the ground.
-    pub fn building(&self) -> anyhow::Result<Option<Building>> {
-        if self.floor.is_empty() {
-            return Ok(None);
-        }
-        Building::new(self.floor.clone())
-            .map(Some)
-            .map_err(|e| anyhow::anyhow!("--floor: {e}"))
-    }
 }
 
 /// Where the block stands: on the ground, or on a building's floor; and
@@ -269,108 +191,35 @@ pub struct SceneArgs {
     pub mu: Option<f64>,
 }
 
-pub fn parse_mode(text: &str) -> Result<Mode, String> {
-    text.parse::<Mode>().map_err(|e| e.to_string())
-}
-
-impl SceneArgs {
-    pub fn building(&self) -> anyhow::Result<Option<Building>> {
-        self.floor.building()
-    }
-
-    /// μ checked.
-    pub fn mu(&self) -> anyhow::Result<Option<f64>> {
-        self.mu
-            .map(rocking::block::check_mu)
-            .transpose()
-            .map_err(|e| anyhow::anyhow!("--mu: {e}"))
-    }
-
-    /// Whether the block of slenderness `alpha` slides first (`None`
-    /// without --mu); says so on stderr when it does. --mu needs α.
-    pub fn sliding(&self, alpha: Option<f64>) -> anyhow::Result<Option<bool>> {
-        let Some(mu) = self.mu()? else {
-            return Ok(None);
-        };
-        let Some(alpha) = alpha else {
-            anyhow::bail!(
-                "--mu is compared with the block's b/h: give --b --h, --width --height or --alpha"
-            );
-        };
-        let slides = rocking::block::slides_first(mu, alpha);
-        if slides {
-            eprintln!("warning: {}", rocking::block::sliding_warning(mu, alpha));
-        }
-        Ok(Some(slides))
-    }
-}
-
-pub fn parse_overturn(text: &str) -> Result<Overturn, String> {
-    text.parse::<Overturn>().map_err(|e| e.to_string())
-}
-
-pub fn parse_restitution(text: &str) -> Result<Restitution, String> {
-    text.parse::<Restitution>().map_err(|e| e.to_string())
-}
-
-/// One block as asked for: its name (empty for p and ε), its run
-/// specification at η = 1, and why that model.
-pub struct AskedBlock {
-    pub named: NamedSpec,
-    pub why: String,
-}
-
 impl BlockArgs {
-    /// The record at `path`, or the pulse sampled for the block's p.
-    pub fn excitation(
-        &self,
-        path: Option<&Path>,
-        p: f64,
-    ) -> anyhow::Result<rocking::ops::record::LoadedRecord> {
-        use rocking::ops::record;
-        match (path, self.pulse.pulse(self.td)?) {
-            (_, Some(_)) if !self.scene.floor.floor.is_empty() => {
-                anyhow::bail!("--floor filters a ground record through a building; a pulse is given as the block's own excitation")
-            }
-            (_, Some(pulse)) => Ok(record::from_pulse(&pulse, p)?),
-            (Some(path), None) => Ok(record::load_on(path, self.scene.building()?.as_ref())?),
-            (None, None) => anyhow::bail!("give --record FILE.AT2 or --pulse rect|exp"),
+    /// The block asked, in the library's vocabulary.
+    pub fn ask(&self) -> BlockAsk {
+        BlockAsk {
+            p: self.p.clone(),
+            b: self.b.clone(),
+            h: self.h.clone(),
+            width: self.width.clone(),
+            height: self.height.clone(),
+            eps: self.eps.clone(),
+            alpha: self.alpha,
+            model: self.model,
+            integrator: self.integrator,
+            rtol: self.rtol,
+            auto_tol: self.auto_tol,
+            overturn: self.overturn,
+            mu: self.scene.mu,
+            floor: self.scene.floor.floor.clone(),
         }
     }
 
-    /// The blocks asked for, in order (p outer and ε inner; or each size,
-    /// then ε), each checked, at η = 1.
+    /// The blocks asked, in order, each checked, at η = 1; a block that
+    /// slides first is warned of on stderr.
     pub fn blocks(&self) -> anyhow::Result<Vec<AskedBlock>> {
-        let sizes: Vec<(f64, f64)> = match (&self.b[..], &self.width[..]) {
-            ([], []) => Vec::new(),
-            (b, []) => pairs("--b", b, "--h", &self.h)?,
-            ([], w) => pairs("--width", w, "--height", &self.height)?
-                .into_iter()
-                .map(|(w, h)| (w / 2.0, h / 2.0))
-                .collect(),
-            _ => anyhow::bail!("give the block's half sizes --b --h or its full --width --height"),
-        };
-        let mut out = Vec::new();
-        if sizes.is_empty() {
-            for &p in &self.p {
-                for &eps in &self.eps {
-                    let Restitution::Value(eps) = eps else {
-                        anyhow::bail!(
-                            "--eps housner needs the block's dimensions (--b --h or --width --height)"
-                        );
-                    };
-                    out.push(self.asked(String::new(), p, eps, self.alpha)?);
-                }
-            }
+        let blocks = self.ask().resolve(Spelling::Cli)?;
+        for w in blocks.iter().filter_map(AskedBlock::sliding_warning) {
+            eprintln!("warning: {w}");
         }
-        for &(b_m, h_m) in &sizes {
-            for &eps in &self.eps {
-                let block = Block::new(b_m, h_m, eps)?;
-                let name = format!("b{b_m}xh{h_m}");
-                out.push(self.asked(name, block.p(), block.eps, Some(block.alpha()))?);
-            }
-        }
-        Ok(out)
+        Ok(blocks)
     }
 
     /// The one block of a command that takes one.
@@ -385,34 +234,21 @@ impl BlockArgs {
         Ok(blocks.remove(0))
     }
 
-    fn asked(
+    /// The record at `path`, or the pulse sampled for the block's p.
+    pub fn excitation(
         &self,
-        name: String,
+        path: Option<&Path>,
         p: f64,
-        eps: f64,
-        alpha: Option<f64>,
-    ) -> anyhow::Result<AskedBlock> {
-        let asked = rocking::ops::capacity::Asked {
-            model: ModelChoice::from(self.model),
-            solver: self.solver.solver()?,
-            auto_tol: self.auto_tol,
-            overturn: self.overturn,
-        };
-        let (named, why) = NamedSpec::ask(name, p, eps, alpha, &asked)?;
-        Ok(AskedBlock { named, why })
+    ) -> anyhow::Result<rocking::ops::record::LoadedRecord> {
+        let pulse = self.pulse.ask(self.td).resolve(Spelling::Cli)?;
+        let building = self.ask().building(Spelling::Cli)?;
+        Ok(rocking::ops::record::excitation(
+            path,
+            pulse.as_ref(),
+            building.as_ref(),
+            p,
+        )?)
     }
-}
-
-/// `a` and `b` as pairs, when they are as long as each other.
-fn pairs(a_name: &str, a: &[f64], b_name: &str, b: &[f64]) -> anyhow::Result<Vec<(f64, f64)>> {
-    if a.len() != b.len() {
-        anyhow::bail!(
-            "{a_name} has {} values and {b_name} {}: give one {b_name} for each {a_name}",
-            a.len(),
-            b.len()
-        );
-    }
-    Ok(a.iter().copied().zip(b.iter().copied()).collect())
 }
 
 /// `--direct`'s progress on stderr (a bar on a terminal, log lines
@@ -430,23 +266,13 @@ pub fn direct_progress(direct: bool) -> rocking::ops::fragility::DirectProgress 
 #[derive(Debug, Clone, clap::Args)]
 pub struct BlocksArgs {
     /// Half-width of the block (m).
-    #[arg(
-        long,
-        value_name = "m",
-        required_unless_present = "inventory",
-        conflicts_with = "inventory"
-    )]
+    #[arg(long, value_name = "m", required_unless_present = "inventory")]
     pub b: Option<f64>,
     /// Half-height of the block (m).
-    #[arg(
-        long,
-        value_name = "m",
-        required_unless_present = "inventory",
-        conflicts_with = "inventory"
-    )]
+    #[arg(long, value_name = "m", required_unless_present = "inventory")]
     pub h: Option<f64>,
     /// Coefficient of restitution, or `housner` for 1 − 1.5 sin²α.
-    #[arg(long, default_value = "housner", value_parser = parse_restitution, conflicts_with = "inventory")]
+    #[arg(long, default_value = "housner", value_parser = parsed::<Restitution>)]
     pub eps: Restitution,
     /// A CSV of blocks `name,b,h[,eps][,mu]` (m; eps empty or `housner` for
     /// Housner's bound; mu the base's friction coefficient, empty if not
@@ -456,27 +282,36 @@ pub struct BlocksArgs {
     /// Static friction coefficient μ between the block and its base: a block
     /// with μ below b/h slides before it rocks, and is warned of (an
     /// inventory gives it in its `mu` column).
-    #[arg(long, value_name = "μ", conflicts_with = "inventory")]
+    #[arg(long, value_name = "μ")]
     pub mu: Option<f64>,
 }
 
 impl BlocksArgs {
-    pub fn blocks(&self) -> anyhow::Result<rocking::ops::risk::Blocks> {
-        use rocking::ops::risk::Blocks;
-        let mu = self
-            .mu
-            .map(rocking::block::check_mu)
-            .transpose()
-            .map_err(|e| anyhow::anyhow!("--mu: {e}"))?;
-        Ok(match (&self.inventory, self.b, self.h) {
-            (Some(path), _, _) => Blocks::Inventory(path.clone()),
-            (None, Some(b_m), Some(h_m)) => Blocks::One {
-                b_m,
-                h_m,
-                eps: self.eps,
-                mu,
-            },
-            _ => unreachable!("clap requires --b and --h without --inventory"),
-        })
+    pub fn ask(&self) -> rocking::ask::BlocksAsk {
+        rocking::ask::BlocksAsk {
+            b: self.b,
+            h: self.h,
+            eps: self.eps,
+            inventory: self.inventory.clone(),
+            mu: self.mu,
+        }
     }
+}
+
+/// Damage states instead of overturning alone, and their fit.
+#[derive(Debug, Clone, clap::Args)]
+pub struct StatesArgs {
+    /// Damage states instead of overturning alone, lightest first: NAME=X
+    /// (θmax/α ≥ X) or NAME=overturned, e.g.
+    /// rocking=0.1,large_rocking=0.5,overturned=overturned.
+    #[arg(long, value_parser = parsed::<DamageStates>)]
+    pub states: Option<DamageStates>,
+    /// The lognormal's fit of each state.
+    #[arg(long, value_parser = label::<FitMethod>(), default_value = "fractile")]
+    pub method: FitMethod,
+}
+
+/// The IM of a fragility.
+pub fn parse_im(text: &str) -> Result<Im, String> {
+    parsed::<Im>(text)
 }

@@ -4,16 +4,16 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use clap::ValueEnum;
-use rocking::ida::{Certified, ImGrid, Spacing};
+use rocking::ask::{AskedBlock, SearchAsk, Spelling};
+use rocking::ida::{Certified, Spacing};
 use rocking::im;
 use rocking::ops::capacity::{self, NamedSpec};
 use rocking::ops::record::LoadedRecord;
-use rocking::ops::reports::{self, CapacityReport, Scene, Search};
+use rocking::ops::reports::{self, CapacityReport, Scene};
 use rocking::stages::{Progress, Reporter};
 use rocking::tables::sweep::CapacityRow;
 
-use super::args::{AskedBlock, BlockArgs};
+use super::args::{label, BlockArgs};
 use crate::reporter::Terminal;
 
 /// Find a record's overturning capacity η_c by incremental dynamic analysis.
@@ -37,13 +37,7 @@ use crate::reporter::Terminal;
 pub struct Args {
     /// AT2 records, or folders searched recursively for `*.AT2` (several:
     /// one capacity per record and block, one JSON line each).
-    #[arg(
-        long,
-        value_name = "PATH",
-        num_args = 1..,
-        required_unless_present = "pulse",
-        conflicts_with = "pulse"
-    )]
+    #[arg(long, value_name = "PATH", num_args = 1..)]
     record: Vec<PathBuf>,
     #[command(flatten)]
     block: BlockArgs,
@@ -57,38 +51,24 @@ pub struct Args {
     #[arg(long, default_value_t = 1e-3)]
     eta_min: f64,
     /// Spacing of the levels in η.
-    #[arg(long, value_enum, default_value_t = SpacingArg::Log)]
-    spacing: SpacingArg,
+    #[arg(long, value_parser = label::<Spacing>(), default_value = "log")]
+    spacing: Spacing,
     /// Also write the capacities as a Parquet table (the sweep's `capacities` schema).
     #[arg(long, value_name = "FILE.parquet")]
     out: Option<PathBuf>,
 }
 
-#[derive(Debug, Clone, Copy, ValueEnum)]
-enum SpacingArg {
-    Log,
-    Linear,
-}
-
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let spacing = match args.spacing {
-        SpacingArg::Log => Spacing::Log,
-        SpacingArg::Linear => Spacing::Linear,
-    };
-    let grid = ImGrid {
-        eta_max: 1.0,
+    let search = SearchAsk {
+        levels: args.levels,
         eta_min: args.eta_min,
-        count: args.levels,
-        spacing,
-    };
+        spacing: args.spacing,
+        tol: args.tol,
+    }
     // Checked before any record is read: an absurd --levels is refused at once.
-    grid.levels()?;
+    .resolve()?;
     let blocks = args.block.blocks()?;
-    let building = args.block.scene.building()?;
-    let sliding = blocks
-        .iter()
-        .map(|b| args.block.scene.sliding(b.named.alpha_rad))
-        .collect::<anyhow::Result<Vec<_>>>()?;
+    let building = args.block.ask().building(Spelling::Cli)?;
     if let Some(out) = &args.out {
         capacity::check_out(out, &args.record)?;
     }
@@ -98,6 +78,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
         vec![args.block.excitation(None, blocks[0].named.spec.p)?]
     } else {
+        if args.block.pulse.pulse.is_some() {
+            anyhow::bail!("give records (--record) or a pulse (--pulse), not both");
+        }
         capacity::load_records(&args.record, building.as_ref())?
     };
     let named: Vec<NamedSpec> = blocks.iter().map(|b| b.named.clone()).collect();
@@ -117,20 +100,20 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             runs: runs.fetch_add(ran, Ordering::Relaxed) + ran,
         });
     };
-    let results = capacity::capacities(&records, &named, &grid, args.tol, &tick)?;
+    let results = capacity::capacities(&records, &named, &search.grid, search.tol, &tick)?;
     drop(terminal);
     let cases = results.iter().enumerate().map(|(case, certified)| {
         let (r, b) = (case / named.len(), case % named.len());
-        (case, &records[r], &blocks[b], sliding[b], certified)
+        (case, &records[r], &blocks[b], certified)
     });
     if let Some(out) = &args.out {
         let rows: Vec<_> = cases
             .clone()
-            .map(|(case, rec, block, slides, c)| {
+            .map(|(case, rec, block, c)| {
                 let b = &block.named;
                 CapacityRow {
                     pfa_over_pga: rec.floor.map(|f| f.pfa_over_pga),
-                    slides_first: slides == Some(true),
+                    slides_first: block.slides_first == Some(true),
                     ..CapacityRow::of(case, &rec.record_id, &b.name, &b.spec, b.alpha_rad, c)
                 }
             })
@@ -146,15 +129,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             eprintln!("{total} capacities, one JSON object a line (--json says so explicitly)");
         }
         let mut stdout = std::io::stdout().lock();
-        let search = Search {
-            grid,
-            tol: args.tol,
-        };
-        for (_, rec, block, slides, certified) in cases {
+        for (_, rec, block, certified) in cases {
             let scene = Scene {
                 floor: building.as_ref().map(|b| b.to_string()),
-                mu: args.block.scene.mu,
-                slides_first: slides,
+                mu: block.mu,
+                slides_first: block.slides_first,
             };
             let report = CapacityReport::new(rec, &block.named, certified, &search, &scene);
             writeln!(stdout, "{}", serde_json::to_string(&report)?)?;

@@ -2,13 +2,12 @@
 
 use std::path::PathBuf;
 
-use clap::ValueEnum;
-use rocking::damage::DamageStates;
-use rocking::ops::export::{self, Format, Request};
-use rocking::ops::fragility::Source;
+use rocking::ask::{ExportAsk, Spelling};
+use rocking::damage::{DamageStates, FitMethod};
+use rocking::ops::export::{self, Format};
 
-use super::args::{direct_progress, BlocksArgs, LawArgs};
-use super::states::{parse_states, print_fits, MethodArg};
+use super::args::{direct_progress, label, parse_im, parsed, BlocksArgs, LawArgs};
+use super::states::print_fits;
 
 /// Damage-state fragilities of a block (or an inventory) as OpenQuake NRML or pelicun CSV.
 #[derive(Debug, clap::Args)]
@@ -33,9 +32,9 @@ use super::states::{parse_states, print_fits, MethodArg};
     the default) gives overturning only."
 )]
 pub struct Args {
-    /// The engine: OpenQuake (nrml) or pelicun.
-    #[arg(long, value_enum)]
-    format: FormatArg,
+    /// The engine.
+    #[arg(long, value_parser = label::<Format>())]
+    format: Format,
     #[command(flatten)]
     blocks: BlocksArgs,
     #[command(flatten)]
@@ -46,14 +45,16 @@ pub struct Args {
     /// With --direct: the blocks stand on a building's floor (see `--floor` below).
     #[command(flatten)]
     floor: super::args::FloorArgs,
-    /// The limit states, lightest first: NAME=X (θmax/α ≥ X) or NAME=overturned.
-    #[arg(long, default_value = rocking::damage::DEFAULT, value_parser = parse_states)]
-    states: DamageStates,
-    /// The lognormal's fit: the paper's 16/50/84 % fractiles, or censored maximum likelihood.
-    #[arg(long, value_enum, default_value = "fractile")]
-    method: MethodArg,
+    /// The limit states, lightest first: NAME=X (θmax/α ≥ X) or NAME=overturned
+    /// [default: rocking=0.1,large_rocking=0.5,overturned=overturned; from the
+    /// paper's regression, overturned=overturned alone].
+    #[arg(long, value_parser = parsed::<DamageStates>)]
+    states: Option<DamageStates>,
+    /// The lognormal's fit of each state.
+    #[arg(long, value_parser = label::<FitMethod>(), default_value = "fractile")]
+    method: FitMethod,
     /// The IM [default: the hazard's, or PGA].
-    #[arg(long, value_parser = super::fragility::parse_im)]
+    #[arg(long, value_parser = parse_im)]
     im: Option<rocking::im::Im>,
     /// OpenQuake hazard curves (nrml): the exposure's sites and the job's hazard.
     #[arg(long, value_name = "FILE.csv")]
@@ -62,7 +63,7 @@ pub struct Args {
     #[arg(long, default_value_t = 50.0)]
     years: f64,
     /// The linearised model's accepted error in η_c (--direct picks the model by it).
-    #[arg(long, default_value_t = 0.01)]
+    #[arg(long, default_value_t = rocking::ask::block::AUTO_TOL)]
     auto_tol: f64,
     /// The folder to write (created if needed).
     #[arg(long, value_name = "DIR")]
@@ -72,45 +73,22 @@ pub struct Args {
     json: bool,
 }
 
-#[derive(Debug, Clone, Copy, ValueEnum)]
-enum FormatArg {
-    Nrml,
-    Pelicun,
-}
-
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let blocks = args.blocks.blocks()?;
-    let from = args.law.source();
-    let (states, asked_states) = if args.direct || !matches!(from, Source::Paper { .. }) {
-        (args.states.clone(), true)
-    } else {
-        // The paper's regression knows overturning only: without --direct
-        // the default is that state alone, and any other is refused by name.
-        let only_overturning = args.states == DamageStates::default();
-        if only_overturning {
-            (DamageStates::parse("overturned=overturned")?, false)
-        } else {
-            (args.states.clone(), true)
-        }
-    };
-    let req = Request {
-        format: match args.format {
-            FormatArg::Nrml => Format::Nrml,
-            FormatArg::Pelicun => Format::Pelicun,
-        },
-        blocks,
-        from,
+    let ask = ExportAsk {
+        format: args.format,
+        blocks: args.blocks.ask(),
+        law: args.law.ask(),
         direct: args.direct,
-        progress: direct_progress(args.direct),
-        states,
-        method: args.method.method(),
+        floor: args.floor.floor.clone(),
+        states: args.states.clone(),
+        method: args.method,
         im: args.im,
         hazard: args.hazard.clone(),
         years: args.years,
         auto_tol: args.auto_tol,
-        floor: args.floor.building()?,
         out: args.out.clone(),
     };
+    let (req, asked_states) = ask.resolve(Spelling::Cli, direct_progress(args.direct))?;
     let written = export::export(&req)?;
     for (b, f) in &written.blocks {
         for w in &f.warnings {

@@ -1,14 +1,14 @@
 //! `rocking fragility`: P(overturn | IM) of a real block.
 
-use rocking::damage::DamageStates;
+use rocking::ask::{FragilityAsk, Spelling};
+use rocking::block::Restitution;
+use rocking::damage::{DamageStates, FitMethod};
 use rocking::im::Im;
 use rocking::ops::damage;
 use rocking::ops::fragility::{self, Request};
 
-use rocking::block::Restitution;
-
-use super::args::{direct_progress, parse_restitution, LawArgs, SceneArgs};
-use super::states::{parse_states, print_fits, MethodArg};
+use super::args::{direct_progress, parse_im, parsed, LawArgs, SceneArgs, StatesArgs};
+use super::states::print_fits;
 
 /// Probability that a real block overturns at given PGAs.
 #[derive(Debug, clap::Args)]
@@ -35,10 +35,10 @@ pub struct Args {
     #[arg(long, value_name = "m")]
     h: f64,
     /// Coefficient of restitution, or `housner` for 1 − 1.5 sin²α.
-    #[arg(long, default_value = "housner", value_parser = parse_restitution)]
+    #[arg(long, default_value = "housner", value_parser = parsed::<Restitution>)]
     eps: Restitution,
     /// Peak ground accelerations (g), comma-separated: the same as --im pga --at ….
-    #[arg(long, value_name = "g[,g…]", value_delimiter = ',', required_unless_present = "at", conflicts_with_all = ["at", "im"])]
+    #[arg(long, value_name = "g[,g…]", value_delimiter = ',')]
     pga: Vec<f64>,
     /// The intensity measure: pga, pgv (cm/s), pgd (cm), sa(T) (g, T in s), avgsa (g), arias (m/s), cav (g·s).
     #[arg(long, default_value = "pga", value_parser = parse_im)]
@@ -54,41 +54,37 @@ pub struct Args {
     #[command(flatten)]
     scene: SceneArgs,
     /// The linearised model's accepted error in η_c; a block whose α exceeds it is flagged.
-    #[arg(long, default_value_t = 0.01)]
+    #[arg(long, default_value_t = rocking::ask::block::AUTO_TOL)]
     auto_tol: f64,
-    /// Damage states instead of overturning alone, lightest first: NAME=X
-    /// (θmax/α ≥ X) or NAME=overturned, e.g.
-    /// rocking=0.1,large_rocking=0.5,overturned=overturned.
-    #[arg(long, value_parser = parse_states)]
-    states: Option<DamageStates>,
-    /// With --states: the lognormal's fit, the paper's 16/50/84 % fractiles or censored maximum likelihood.
-    #[arg(long, value_enum, default_value = "fractile", requires = "states")]
-    method: MethodArg,
+    #[command(flatten)]
+    states: StatesArgs,
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let req = Request {
-        b_m: args.b,
-        h_m: args.h,
+    let law = args.law.ask();
+    let ask = FragilityAsk {
+        b: args.b,
+        h: args.h,
         eps: args.eps,
+        pga: args.pga.clone(),
         im: args.im,
-        levels: if args.pga.is_empty() {
-            args.at.clone()
-        } else {
-            args.pga.clone()
-        },
-        from: args.law.source(),
+        at: args.at.clone(),
+        source: law.source,
+        outputs: law.outputs,
+        records: law.records,
         direct: args.direct,
-        progress: direct_progress(args.direct),
         auto_tol: args.auto_tol,
-        floor: args.scene.building()?,
-        mu: args.scene.mu()?,
+        floor: args.scene.floor.floor.clone(),
+        mu: args.scene.mu,
+        states: args.states.states.clone(),
+        method: args.states.method,
     };
-    if let Some(states) = &args.states {
-        return run_states(&req, states, args.method, args.json);
+    let (req, states) = ask.resolve(Spelling::Cli, direct_progress(args.direct))?;
+    if let Some(s) = &states.states {
+        return run_states(&req, s, states.method, args.json);
     }
     let a = fragility::assess(&req)?;
     for w in &a.warnings {
@@ -141,10 +137,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 fn run_states(
     req: &Request,
     states: &DamageStates,
-    method: MethodArg,
+    method: FitMethod,
     json: bool,
 ) -> anyhow::Result<()> {
-    let a = damage::assess(req, states, method.method())?;
+    let a = damage::assess(req, states, method)?;
     let f = &a.fragility;
     for w in &f.warnings {
         eprintln!("warning: {w}");
@@ -186,9 +182,4 @@ fn run_states(
         println!("{:>14.4}{cells}", pt.iml);
     }
     Ok(())
-}
-
-/// An IM by name (clap's parser).
-pub fn parse_im(text: &str) -> Result<Im, String> {
-    text.parse()
 }

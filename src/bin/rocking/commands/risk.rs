@@ -2,16 +2,14 @@
 
 use std::path::PathBuf;
 
-use clap::ValueEnum;
+use rocking::ask::{HazardAsk, RiskAsk, Spelling};
+use rocking::damage::{DamageStates, FitMethod};
+use rocking::im::level_text;
 use rocking::ops::risk::{self, Assessment, Blocks, Request};
 use rocking::risk::Beyond;
 use rocking::tables::atomic_write;
 
-use rocking::damage::DamageStates;
-use rocking::im::level_text;
-
-use super::args::{direct_progress, BlocksArgs, FloorArgs, LawArgs};
-use super::states::{parse_states, MethodArg};
+use super::args::{direct_progress, label, parse_im, BlocksArgs, FloorArgs, LawArgs, StatesArgs};
 
 /// Annual rate of overturning of a block (or an inventory) at the sites of a hazard file.
 #[derive(Debug, clap::Args)]
@@ -38,7 +36,7 @@ pub struct Args {
     #[arg(long, value_name = "FILE.csv")]
     hazard: PathBuf,
     /// The fragility's IM; it must be the hazard's (the default).
-    #[arg(long, value_parser = super::fragility::parse_im)]
+    #[arg(long, value_parser = parse_im)]
     im: Option<rocking::im::Im>,
     /// Only this site of the file (index from 0).
     #[arg(long, value_name = "N")]
@@ -59,55 +57,53 @@ pub struct Args {
     /// Years for the probability of overturning within them.
     #[arg(long, default_value_t = 50.0)]
     years: f64,
-    /// Beyond the hazard's last IML: continue its last log-log slope, or stop.
-    #[arg(long, value_enum, default_value = "extrapolate")]
-    beyond: BeyondArg,
+    /// Beyond the hazard's last IML.
+    #[arg(long, value_parser = label::<Beyond>(), default_value = "extrapolate")]
+    beyond: Beyond,
     /// The linearised model's accepted error in η_c; a block whose α exceeds it is flagged.
-    #[arg(long, default_value_t = 0.01)]
+    #[arg(long, default_value_t = rocking::ask::block::AUTO_TOL)]
     auto_tol: f64,
     /// Write a bar chart (SVG): the deaggregation of the block at --site (default 0),
     /// or with --inventory the blocks ranked by their rate at --site.
     #[arg(long, value_name = "FILE.svg")]
     plot: Option<PathBuf>,
-    /// The rate of each damage state instead of overturning alone, lightest
-    /// first: NAME=X (θmax/α ≥ X) or NAME=overturned (prints only; no table, no chart).
-    #[arg(long, value_parser = parse_states, conflicts_with = "plot")]
-    states: Option<DamageStates>,
-    /// With --states: the lognormal's fit, the paper's 16/50/84 % fractiles or censored maximum likelihood.
-    #[arg(long, value_enum, default_value = "fractile", requires = "states")]
-    method: MethodArg,
+    /// The rate of each damage state (prints only; no table, no chart), and its fit.
+    #[command(flatten)]
+    states: StatesArgs,
     /// Print JSON instead of text (one object; an array with --inventory).
     #[arg(long)]
     json: bool,
 }
 
-#[derive(Debug, Clone, Copy, ValueEnum)]
-enum BeyondArg {
-    Extrapolate,
-    Stop,
-}
-
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let beyond = match args.beyond {
-        BeyondArg::Extrapolate => Beyond::Extrapolate,
-        BeyondArg::Stop => Beyond::Stop,
-    };
-    let blocks = args.blocks.blocks()?;
-    let req = Request {
-        hazard: args.hazard.clone(),
+    let law = args.law.ask();
+    let ask = RiskAsk {
+        hazard: Some(HazardAsk::File(args.hazard.clone())),
         site: args.site,
-        blocks,
-        from: args.law.source(),
+        b: args.blocks.b,
+        h: args.blocks.h,
+        eps: args.blocks.eps,
+        inventory: args.blocks.inventory.clone(),
+        mu: args.blocks.mu,
         im: args.im,
+        source: law.source,
+        outputs: law.outputs,
+        records: law.records,
         direct: args.direct,
-        progress: direct_progress(args.direct),
         years: args.years,
-        beyond,
+        beyond: args.beyond,
         auto_tol: args.auto_tol,
-        floor: args.floor.building()?,
+        floor: args.floor.floor.clone(),
+        states: args.states.states.clone(),
+        method: args.states.method,
     };
-    if let Some(states) = &args.states {
-        return run_states(&req, states, args.method, args.json);
+    let (req, states) = ask.resolve(Spelling::Cli, direct_progress(args.direct))?;
+    let beyond = req.beyond;
+    if let Some(s) = &states.states {
+        if args.plot.is_some() {
+            anyhow::bail!("--plot draws overturning alone; --states prints each state's rate");
+        }
+        return run_states(&req, s, states.method, args.json);
     }
     let mut inputs = vec![args.hazard.as_path()];
     inputs.extend(args.blocks.inventory.as_deref());
@@ -124,7 +120,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let all = risk::assess(&req)?;
     let chart_site = args.site.unwrap_or(0);
     if args.blocks.inventory.is_some() {
-        risk::write_table(&args.out, &risk::rows(&all, beyond), &args.hazard)?;
+        risk::write_table(&args.out, &risk::rows(&all, beyond), &req.hazard.name())?;
         if let Some(plot) = &args.plot {
             atomic_write(plot, risk::ranking_chart(&all, chart_site)?.as_bytes())?;
         }
@@ -174,10 +170,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 fn run_states(
     req: &Request,
     states: &DamageStates,
-    method: MethodArg,
+    method: FitMethod,
     json: bool,
 ) -> anyhow::Result<()> {
-    let all = risk::assess_states(req, states, method.method())?;
+    let all = risk::assess_states(req, states, method)?;
     for a in &all {
         for w in &a.warnings {
             eprintln!("warning: block {}: {w}", a.block.name);

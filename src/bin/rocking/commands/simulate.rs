@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use rocking::im;
+use rocking::ask::Spelling;
 use rocking::label::Label;
 use rocking::ops::reports::{Scene, SimulateReport};
 use rocking::physics::{self, Recorder};
@@ -21,22 +21,12 @@ use super::args::BlockArgs;
 )]
 pub struct Args {
     /// The AT2 record (acceleration in g).
-    #[arg(
-        long,
-        value_name = "FILE.AT2",
-        required_unless_present = "pulse",
-        conflicts_with = "pulse"
-    )]
+    #[arg(long, value_name = "FILE.AT2")]
     record: Option<PathBuf>,
     #[command(flatten)]
     block: BlockArgs,
     /// Uplift strength η = αg/PGA (> 0).
-    #[arg(
-        long,
-        value_name = "η",
-        required_unless_present = "pga",
-        conflicts_with = "pga"
-    )]
+    #[arg(long, value_name = "η")]
     eta: Option<f64>,
     /// The record's PGA after scaling (g), instead of η: η = α/PGA (needs α:
     /// the block's dimensions or --alpha). With --floor, the ground's PGA:
@@ -68,28 +58,24 @@ fn check_history(args: &Args) -> anyhow::Result<()> {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let block = args.block.one()?;
-    let slides_first = args.block.scene.sliding(block.named.alpha_rad)?;
     check_history(&args)?;
     let rec = args
         .block
         .excitation(args.record.as_deref(), block.named.spec.p)?;
     let amplification = rec.floor.map_or(1.0, |f| f.pfa_over_pga);
-    let eta = match (args.eta, args.pga, block.named.alpha_rad) {
-        (Some(eta), _, _) => eta,
-        (None, Some(pga), Some(alpha)) if pga > 0.0 && pga.is_finite() => {
-            im::eta_of_pga(pga * amplification, alpha)
-        }
-        (None, Some(pga), Some(_)) => anyhow::bail!("--pga {pga}: a PGA must be positive (g)"),
-        _ => anyhow::bail!(
-            "--pga needs the block's slenderness α: give --b --h, --width --height or --alpha"
-        ),
-    };
+    let eta = rocking::ask::excitation::eta(
+        Spelling::Cli,
+        args.eta,
+        args.pga,
+        block.named.alpha_rad,
+        amplification,
+    )?;
     let spec = physics::RunSpec {
         eta,
         ..block.named.spec
     };
     spec.validate()?;
-    let (why, block_alpha) = (block.why, block.named.alpha_rad);
+    let (why, block_alpha) = (&block.why, block.named.alpha_rad);
     let mut recorder = Recorder::new(args.history_every);
     let out = if args.history.is_some() {
         physics::simulate_observed(&rec.exc, &spec, &mut recorder)?
@@ -111,15 +97,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let scene = Scene {
         floor: None,
-        mu: args.block.scene.mu,
-        slides_first,
+        mu: block.mu,
+        slides_first: block.slides_first,
     };
     let report = SimulateReport::new(&rec, &spec, block_alpha, &out, &scene);
     if args.block.json {
         println!("{}", serde_json::to_string(&report)?);
         return Ok(());
     }
-    print_text(&args, &rec, &spec, &why, &out, recorder.points.len());
+    print_text(&args, &rec, &spec, why, &out, recorder.points.len());
     Ok(())
 }
 

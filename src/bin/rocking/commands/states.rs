@@ -1,31 +1,9 @@
-//! What `fragility`, `risk` and `export` share about damage states: the
-//! `--method` choice, `--states` parsing and the table of states' fits.
+//! What `fragility`, `risk` and `export` print of damage states: the table
+//! of the states' fits.
 
-use clap::ValueEnum;
-use rocking::damage::{DamageStates, FitMethod, Lognormal};
+use rocking::damage::Lognormal;
 use rocking::im::level_text;
 use rocking::ops::damage::DamageFragility;
-
-/// The lognormal's fit.
-#[derive(Debug, Clone, Copy, ValueEnum)]
-pub enum MethodArg {
-    Fractile,
-    Mle,
-}
-
-impl MethodArg {
-    pub fn method(self) -> FitMethod {
-        match self {
-            MethodArg::Fractile => FitMethod::Fractile,
-            MethodArg::Mle => FitMethod::MaxLikelihood,
-        }
-    }
-}
-
-/// `--states` (clap's parser).
-pub fn parse_states(text: &str) -> Result<DamageStates, String> {
-    DamageStates::parse(text).map_err(|e| e.to_string())
-}
 
 /// The states' fits, one line each, indented by two spaces.
 pub fn print_fits(f: &DamageFragility) {

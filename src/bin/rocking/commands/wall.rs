@@ -1,11 +1,13 @@
 //! `rocking wall`: a pulse's safety wall by simulation, beside its closed form.
 
+use rocking::ask::{BlockAsk, Spelling};
+use rocking::block::Restitution;
 use rocking::label::Label;
-use rocking::physics::{ModelChoice, Overturn, RunSpec};
+use rocking::physics::{ModelChoice, NonlinearIntegrator, Overturn};
 use rocking::pulse::{self, WallKind, WallSearch};
 use serde::Serialize;
 
-use super::args::{parse_overturn, ModelArg, PulseArgs};
+use super::args::{label, parsed, PulseArgs};
 
 /// Find a pulse's safety wall: the largest η at which the block overturns.
 #[derive(Debug, clap::Args)]
@@ -29,16 +31,21 @@ pub struct Args {
     #[arg(long, value_name = "ε", default_value_t = 0.7)]
     eps: f64,
     /// Overturning criterion: escape, static, cap:<c>, on-side (nonlinear).
-    #[arg(long, default_value = "escape", value_parser = parse_overturn)]
+    #[arg(long, default_value = "escape", value_parser = parsed::<Overturn>)]
     overturn: Overturn,
     /// Equation of motion (auto is not offered: the wall is of one model).
-    #[arg(long, value_enum, default_value = "linearized")]
-    model: ModelArg,
+    #[arg(long, value_parser = label::<ModelChoice>(), default_value = "linearized")]
+    model: ModelChoice,
     /// Slenderness α = atan(b/h) (rad), for the nonlinear model.
     #[arg(long, value_name = "rad")]
     alpha: Option<f64>,
-    #[command(flatten)]
-    solver: super::args::SolverArgs,
+    /// The nonlinear model's integrator.
+    #[arg(long, value_parser = label::<NonlinearIntegrator>(), default_value = "taylor")]
+    integrator: NonlinearIntegrator,
+    /// Its tolerance (the Taylor series' tail per sample interval, or DP5's
+    /// relative tolerance per step; default 1e-10).
+    #[arg(long)]
+    rtol: Option<f64>,
     /// Intervals per lobe (even); by default enough for the shape (see rocking::pulse).
     #[arg(long, value_name = "N")]
     intervals: Option<usize>,
@@ -71,22 +78,28 @@ struct Report {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let Some(pl) = args.pulse.pulse(1.0)? else {
+    let Some(pl) = args.pulse.ask(1.0).resolve(Spelling::Cli)? else {
         anyhow::bail!("`rocking wall` needs --pulse rect|exp");
     };
     if let Err(e) = rocking::pulse::check_f(args.f) {
         anyhow::bail!("--f {}: {e}", args.f);
     }
-    if matches!(args.model, ModelArg::Auto) {
+    if args.model == ModelChoice::Auto {
         anyhow::bail!("--model auto is not offered here: give linearized or nonlinear");
     }
-    let (model, _) =
-        ModelChoice::from(args.model).resolve(args.alpha, args.solver.solver()?, 0.01)?;
-    let base = RunSpec {
+    let block = BlockAsk {
+        p: vec![args.f],
+        eps: vec![Restitution::Value(args.eps)],
+        alpha: args.alpha,
+        model: args.model,
+        integrator: args.integrator,
+        rtol: args.rtol,
         overturn: args.overturn,
-        ..RunSpec::new(args.f, args.eps, 1.0, model)
-    };
-    base.validate()?;
+        ..BlockAsk::default()
+    }
+    .resolve_one(Spelling::Cli)?;
+    let base = block.named.spec;
+    let model = base.model;
     let n = args
         .intervals
         .unwrap_or_else(|| pulse::default_intervals(pl.shape, args.f));

@@ -1,0 +1,384 @@
+//! What `fragility`, `risk` and `export` are asked, in one vocabulary: the
+//! blocks (one by its half sizes, or an inventory), where their capacities
+//! come from, the levels or the hazard, the damage states. Each `resolve`
+//! checks the combination and builds the library's request.
+
+use std::path::PathBuf;
+
+use serde::Deserialize;
+
+use super::block::{building, one_or_many, AUTO_TOL};
+use super::spelling::{AskError, Spelling};
+use crate::block::{check_mu, Restitution};
+use crate::damage::{DamageStates, FitMethod};
+use crate::floor::Mode;
+use crate::hazard;
+use crate::im::Im;
+use crate::ops::export::{self, Format};
+use crate::ops::fragility::{self, DirectProgress, Source};
+use crate::ops::risk::{self, Blocks, Hazard};
+use crate::risk::Beyond;
+
+/// Where the capacities come from: `paper` (the published regression) or
+/// a pipeline file whose study is under `outputs`; `records` for `direct`
+/// with the paper (default: the bundled far-field set).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct LawAsk {
+    pub source: String,
+    pub outputs: PathBuf,
+    pub records: Option<PathBuf>,
+}
+
+impl Default for LawAsk {
+    fn default() -> Self {
+        LawAsk {
+            source: "paper".into(),
+            outputs: PathBuf::from("outputs"),
+            records: None,
+        }
+    }
+}
+
+impl LawAsk {
+    pub fn resolve(&self) -> Source {
+        Source::named(&self.source, self.outputs.clone(), self.records.clone())
+    }
+}
+
+/// One block by its half sizes (m), its restitution and friction, or every
+/// block of an inventory CSV.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BlocksAsk {
+    pub b: Option<f64>,
+    pub h: Option<f64>,
+    pub eps: Restitution,
+    pub inventory: Option<PathBuf>,
+    pub mu: Option<f64>,
+}
+
+impl BlocksAsk {
+    pub fn resolve(&self, sp: Spelling) -> Result<Blocks, AskError> {
+        let mu = self
+            .mu
+            .map(check_mu)
+            .transpose()
+            .map_err(|e| AskError::of(sp, "mu", e))?;
+        match (&self.inventory, self.b, self.h) {
+            (Some(path), None, None) => {
+                if mu.is_some() {
+                    return Err(AskError(format!(
+                        "{} is an inventory's column (`mu`): give it there",
+                        sp.key("mu")
+                    )));
+                }
+                Ok(Blocks::Inventory(path.clone()))
+            }
+            (None, Some(b_m), Some(h_m)) => Ok(Blocks::One {
+                b_m,
+                h_m,
+                eps: self.eps,
+                mu,
+            }),
+            _ => Err(AskError(format!(
+                "give one block's {}, or {}, not both",
+                sp.keys(&["b", "h"]),
+                sp.key("inventory")
+            ))),
+        }
+    }
+}
+
+/// Damage states instead of overturning alone, and the lognormal's fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StatesAsk {
+    pub states: Option<DamageStates>,
+    pub method: FitMethod,
+}
+
+/// `rocking fragility`: P(state | IM) of one block at given levels.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct FragilityAsk {
+    pub b: f64,
+    pub h: f64,
+    pub eps: Restitution,
+    /// Levels in PGA (g): the same as `im = pga` with `at`.
+    #[serde(deserialize_with = "one_or_many")]
+    pub pga: Vec<f64>,
+    pub im: Im,
+    /// Levels of `im`, in its unit.
+    #[serde(deserialize_with = "one_or_many")]
+    pub at: Vec<f64>,
+    #[serde(alias = "from")]
+    pub source: String,
+    pub outputs: PathBuf,
+    pub records: Option<PathBuf>,
+    pub direct: bool,
+    pub auto_tol: f64,
+    pub floor: Vec<Mode>,
+    pub mu: Option<f64>,
+    pub states: Option<DamageStates>,
+    pub method: FitMethod,
+}
+
+impl Default for FragilityAsk {
+    fn default() -> Self {
+        let law = LawAsk::default();
+        FragilityAsk {
+            b: f64::NAN,
+            h: f64::NAN,
+            eps: Restitution::Housner,
+            pga: Vec::new(),
+            im: Im::Pga,
+            at: Vec::new(),
+            source: law.source,
+            outputs: law.outputs,
+            records: None,
+            direct: false,
+            auto_tol: AUTO_TOL,
+            floor: Vec::new(),
+            mu: None,
+            states: None,
+            method: FitMethod::Fractile,
+        }
+    }
+}
+
+impl FragilityAsk {
+    /// The request, and the damage states asked (with their fit), if any.
+    pub fn resolve(
+        &self,
+        sp: Spelling,
+        progress: DirectProgress,
+    ) -> Result<(fragility::Request, StatesAsk), AskError> {
+        let levels = match (&self.pga[..], &self.at[..]) {
+            ([], []) => {
+                return Err(AskError(format!(
+                    "give the levels: {} (g), or {} and {}",
+                    sp.key("pga"),
+                    sp.key("im"),
+                    sp.key("at")
+                )))
+            }
+            (pga, []) if self.im == Im::Pga => pga.to_vec(),
+            ([], at) => at.to_vec(),
+            _ => {
+                return Err(AskError(format!(
+                    "give {}, or {} and {}, not both",
+                    sp.key("pga"),
+                    sp.key("im"),
+                    sp.key("at")
+                )))
+            }
+        };
+        let mu = self
+            .mu
+            .map(check_mu)
+            .transpose()
+            .map_err(|e| AskError::of(sp, "mu", e))?;
+        let law = LawAsk {
+            source: self.source.clone(),
+            outputs: self.outputs.clone(),
+            records: self.records.clone(),
+        };
+        let req = fragility::Request {
+            b_m: self.b,
+            h_m: self.h,
+            eps: self.eps,
+            im: self.im,
+            levels,
+            from: law.resolve(),
+            direct: self.direct,
+            progress,
+            auto_tol: self.auto_tol,
+            floor: building(&self.floor, sp)?,
+            mu,
+        };
+        let states = StatesAsk {
+            states: self.states.clone(),
+            method: self.method,
+        };
+        Ok((req, states))
+    }
+}
+
+/// A site's hazard: a file (OpenQuake's hazard-curve CSV or a plain CSV),
+/// or one curve given as its levels (in `im`'s unit) and annual rates of
+/// exceedance.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(untagged)]
+pub enum HazardAsk {
+    File(PathBuf),
+    Arrays {
+        im: Im,
+        levels: Vec<f64>,
+        rates: Vec<f64>,
+    },
+}
+
+impl HazardAsk {
+    pub fn resolve(&self, sp: Spelling) -> Result<Hazard, AskError> {
+        match self {
+            HazardAsk::File(path) => Ok(Hazard::File(path.clone())),
+            HazardAsk::Arrays { im, levels, rates } => hazard::from_arrays(*im, levels, rates)
+                .map(Hazard::Curve)
+                .map_err(|e| AskError::of(sp, "hazard", e)),
+        }
+    }
+}
+
+/// `rocking risk`: the annual rate of overturning (or of each damage
+/// state) of a block or an inventory at a hazard's sites.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RiskAsk {
+    pub hazard: Option<HazardAsk>,
+    pub site: Option<usize>,
+    pub b: Option<f64>,
+    pub h: Option<f64>,
+    pub eps: Restitution,
+    pub inventory: Option<PathBuf>,
+    pub mu: Option<f64>,
+    pub im: Option<Im>,
+    #[serde(alias = "from")]
+    pub source: String,
+    pub outputs: PathBuf,
+    pub records: Option<PathBuf>,
+    pub direct: bool,
+    pub years: f64,
+    pub beyond: Beyond,
+    pub auto_tol: f64,
+    pub floor: Vec<Mode>,
+    pub states: Option<DamageStates>,
+    pub method: FitMethod,
+}
+
+impl Default for RiskAsk {
+    fn default() -> Self {
+        let law = LawAsk::default();
+        RiskAsk {
+            hazard: None,
+            site: None,
+            b: None,
+            h: None,
+            eps: Restitution::Housner,
+            inventory: None,
+            mu: None,
+            im: None,
+            source: law.source,
+            outputs: law.outputs,
+            records: None,
+            direct: false,
+            years: 50.0,
+            beyond: Beyond::Extrapolate,
+            auto_tol: AUTO_TOL,
+            floor: Vec::new(),
+            states: None,
+            method: FitMethod::Fractile,
+        }
+    }
+}
+
+impl RiskAsk {
+    /// The blocks asked.
+    pub fn blocks(&self) -> BlocksAsk {
+        BlocksAsk {
+            b: self.b,
+            h: self.h,
+            eps: self.eps,
+            inventory: self.inventory.clone(),
+            mu: self.mu,
+        }
+    }
+
+    /// The request, and the damage states asked (with their fit), if any.
+    pub fn resolve(
+        &self,
+        sp: Spelling,
+        progress: DirectProgress,
+    ) -> Result<(risk::Request, StatesAsk), AskError> {
+        let Some(hazard) = &self.hazard else {
+            return Err(AskError(format!("give {}", sp.key("hazard"))));
+        };
+        let law = LawAsk {
+            source: self.source.clone(),
+            outputs: self.outputs.clone(),
+            records: self.records.clone(),
+        };
+        let req = risk::Request {
+            hazard: hazard.resolve(sp)?,
+            site: self.site,
+            blocks: self.blocks().resolve(sp)?,
+            from: law.resolve(),
+            im: self.im,
+            direct: self.direct,
+            progress,
+            years: self.years,
+            beyond: self.beyond,
+            auto_tol: self.auto_tol,
+            floor: building(&self.floor, sp)?,
+        };
+        let states = StatesAsk {
+            states: self.states.clone(),
+            method: self.method,
+        };
+        Ok((req, states))
+    }
+}
+
+/// `rocking export`: damage-state fragilities for OpenQuake or pelicun.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExportAsk {
+    pub format: Format,
+    pub blocks: BlocksAsk,
+    pub law: LawAsk,
+    pub direct: bool,
+    pub floor: Vec<Mode>,
+    /// `None`: the default states ([`crate::damage::DEFAULT`]), or, from
+    /// the paper's regression, which knows overturning only, that alone.
+    pub states: Option<DamageStates>,
+    pub method: FitMethod,
+    pub im: Option<Im>,
+    pub hazard: Option<PathBuf>,
+    pub years: f64,
+    pub auto_tol: f64,
+    pub out: PathBuf,
+}
+
+impl ExportAsk {
+    /// The request, and whether the states are the ones asked (`false`:
+    /// overturning alone, the paper's regression knowing no other).
+    pub fn resolve(
+        &self,
+        sp: Spelling,
+        progress: DirectProgress,
+    ) -> Result<(export::Request, bool), AskError> {
+        let from = self.law.resolve();
+        let paper_alone = !self.direct && matches!(from, Source::Paper { .. });
+        let (states, asked) = match &self.states {
+            Some(s) => (s.clone(), true),
+            None if paper_alone => (
+                DamageStates::parse("overturned=overturned").expect("a valid state"),
+                false,
+            ),
+            None => (DamageStates::default(), true),
+        };
+        let req = export::Request {
+            format: self.format,
+            blocks: self.blocks.resolve(sp)?,
+            from,
+            direct: self.direct,
+            progress,
+            states,
+            method: self.method,
+            im: self.im,
+            hazard: self.hazard.clone(),
+            years: self.years,
+            auto_tol: self.auto_tol,
+            floor: building(&self.floor, sp)?,
+            out: self.out.clone(),
+        };
+        Ok((req, asked))
+    }
+}

@@ -1,0 +1,374 @@
+//! A block as a user asks for it ([`BlockAsk`]): by p (and α), or by its
+//! half sizes `b`, `h` or full `width`, `height`; its restitution; the
+//! model and how to run it; where it stands (a floor) and how firmly (μ).
+//! [`BlockAsk::resolve`] checks it all and gives each block's run
+//! specification at η = 1 ([`AskedBlock`]).
+
+use serde::Deserialize;
+
+use super::spelling::{AskError, Spelling};
+use crate::block::{check_mu, slides_first, Block, Restitution};
+use crate::floor::{Building, Mode};
+use crate::ops::capacity::{Asked, NamedSpec};
+use crate::physics::{ModelChoice, NonlinearIntegrator, Overturn, Solver};
+
+/// `--auto-tol` when none is given: the linearised model is accepted where
+/// it errs by at most 1 % in η_c.
+pub const AUTO_TOL: f64 = 0.01;
+
+/// The block (or blocks: each list a value or several, p × ε or each size
+/// × ε) and how to run it. Python's keyword arguments deserialise into it
+/// (a list or one number where a list is taken); unknown keys are refused.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct BlockAsk {
+    /// Frequency parameter p = √(3g/(4R)) (1/s).
+    #[serde(deserialize_with = "one_or_many")]
+    pub p: Vec<f64>,
+    /// Half-width and half-height (m).
+    #[serde(deserialize_with = "one_or_many")]
+    pub b: Vec<f64>,
+    #[serde(deserialize_with = "one_or_many")]
+    pub h: Vec<f64>,
+    /// Full width and height (m): b = width/2, h = height/2.
+    #[serde(deserialize_with = "one_or_many")]
+    pub width: Vec<f64>,
+    #[serde(deserialize_with = "one_or_many")]
+    pub height: Vec<f64>,
+    /// Coefficient of restitution, or Housner's bound (needs the sizes).
+    #[serde(deserialize_with = "one_or_many")]
+    pub eps: Vec<Restitution>,
+    /// Slenderness α (rad) of a block given by p: for the nonlinear model,
+    /// a PGA, μ.
+    pub alpha: Option<f64>,
+    pub model: ModelChoice,
+    pub integrator: NonlinearIntegrator,
+    /// The integrator's tolerance; its default when `None`.
+    pub rtol: Option<f64>,
+    /// The linearised model's accepted error in η_c (`model = auto`, and
+    /// the warnings of a regression).
+    pub auto_tol: f64,
+    pub overturn: Overturn,
+    /// The base's static friction coefficient: μ < b/h slides first.
+    pub mu: Option<f64>,
+    /// The building whose floor the block stands on, mode by mode.
+    pub floor: Vec<Mode>,
+}
+
+impl Default for BlockAsk {
+    fn default() -> Self {
+        BlockAsk {
+            p: Vec::new(),
+            b: Vec::new(),
+            h: Vec::new(),
+            width: Vec::new(),
+            height: Vec::new(),
+            eps: Vec::new(),
+            alpha: None,
+            model: ModelChoice::Linearized,
+            integrator: NonlinearIntegrator::Taylor,
+            rtol: None,
+            auto_tol: AUTO_TOL,
+            overturn: Overturn::Static,
+            mu: None,
+            floor: Vec::new(),
+        }
+    }
+}
+
+/// One block as asked, checked: its name (empty for p and ε, `b{b}xh{h}`
+/// for sizes), its run specification at η = 1 and why that model; whether
+/// it slides first (with μ).
+#[derive(Debug, Clone)]
+pub struct AskedBlock {
+    pub named: NamedSpec,
+    pub why: String,
+    pub mu: Option<f64>,
+    pub slides_first: Option<bool>,
+}
+
+impl AskedBlock {
+    /// What every front end says of a block that slides before it rocks.
+    pub fn sliding_warning(&self) -> Option<String> {
+        match (self.slides_first, self.mu, self.named.alpha_rad) {
+            (Some(true), Some(mu), Some(alpha)) => Some(crate::block::sliding_warning(mu, alpha)),
+            _ => None,
+        }
+    }
+}
+
+impl BlockAsk {
+    /// Every block asked, in order (p outer and ε inner; or each size, then
+    /// ε), each checked, at η = 1.
+    pub fn resolve(&self, sp: Spelling) -> Result<Vec<AskedBlock>, AskError> {
+        let sizes = self.sizes(sp)?;
+        if self.eps.is_empty() {
+            return Err(AskError(format!("give {}", sp.key("eps"))));
+        }
+        if !sizes.is_empty() && !self.p.is_empty() {
+            return Err(AskError(format!(
+                "give the block by {} or by its sizes, not both",
+                sp.key("p")
+            )));
+        }
+        if !sizes.is_empty() && self.alpha.is_some() {
+            return Err(AskError(format!(
+                "{} comes from the block's sizes; give one or the other",
+                sp.key("alpha")
+            )));
+        }
+        if sizes.is_empty() && self.p.is_empty() {
+            return Err(AskError(format!(
+                "give the block by {}, or by its half sizes {} or full {}",
+                sp.key("p"),
+                sp.keys(&["b", "h"]),
+                sp.keys(&["width", "height"])
+            )));
+        }
+        let asked = Asked {
+            model: self.model,
+            solver: Solver::new(self.integrator, self.rtol)
+                .map_err(|e| AskError::of(sp, "rtol", e))?,
+            auto_tol: self.auto_tol,
+            overturn: self.overturn,
+        };
+        let mu = self
+            .mu
+            .map(check_mu)
+            .transpose()
+            .map_err(|e| AskError::of(sp, "mu", e))?;
+        let mut out = Vec::new();
+        for &p in &self.p {
+            for &eps in &self.eps {
+                let Restitution::Value(eps) = eps else {
+                    return Err(AskError(format!(
+                        "{} needs the block's dimensions ({} or {})",
+                        sp.set("eps", "housner"),
+                        sp.keys(&["b", "h"]),
+                        sp.keys(&["width", "height"])
+                    )));
+                };
+                out.push(self.one(sp, String::new(), p, eps, self.alpha, &asked, mu)?);
+            }
+        }
+        for &(b_m, h_m) in &sizes {
+            for &eps in &self.eps {
+                let block = Block::new(b_m, h_m, eps).map_err(|e| AskError(e.to_string()))?;
+                let name = format!("b{b_m}xh{h_m}");
+                out.push(self.one(
+                    sp,
+                    name,
+                    block.p(),
+                    block.eps,
+                    Some(block.alpha()),
+                    &asked,
+                    mu,
+                )?);
+            }
+        }
+        Ok(out)
+    }
+
+    /// The one block of a command that runs one.
+    pub fn resolve_one(&self, sp: Spelling) -> Result<AskedBlock, AskError> {
+        let mut blocks = self.resolve(sp)?;
+        if blocks.len() != 1 {
+            return Err(AskError(format!(
+                "{} blocks given; this runs one (give one value to each block option)",
+                blocks.len()
+            )));
+        }
+        Ok(blocks.remove(0))
+    }
+
+    /// The building whose floor the blocks stand on, checked; `None` on the
+    /// ground.
+    pub fn building(&self, sp: Spelling) -> Result<Option<Building>, AskError> {
+        building(&self.floor, sp)
+    }
+
+    /// The half sizes asked, paired: `b` with `h`, or `width`/2 with
+    /// `height`/2.
+    fn sizes(&self, sp: Spelling) -> Result<Vec<(f64, f64)>, AskError> {
+        let half = !self.b.is_empty() || !self.h.is_empty();
+        let full = !self.width.is_empty() || !self.height.is_empty();
+        match (half, full) {
+            (false, false) => Ok(Vec::new()),
+            (true, true) => Err(AskError(format!(
+                "give the block's half sizes {} or its full {}, not both",
+                sp.keys(&["b", "h"]),
+                sp.keys(&["width", "height"])
+            ))),
+            (true, false) => pairs(sp, ("b", &self.b), ("h", &self.h)),
+            (false, true) => Ok(pairs(sp, ("width", &self.width), ("height", &self.height))?
+                .into_iter()
+                .map(|(w, h)| (w / 2.0, h / 2.0))
+                .collect()),
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn one(
+        &self,
+        sp: Spelling,
+        name: String,
+        p: f64,
+        eps: f64,
+        alpha: Option<f64>,
+        asked: &Asked,
+        mu: Option<f64>,
+    ) -> Result<AskedBlock, AskError> {
+        let (named, why) =
+            NamedSpec::ask(name, p, eps, alpha, asked).map_err(|e| AskError(e.to_string()))?;
+        let slides_first = match (mu, alpha) {
+            (None, _) => None,
+            (Some(mu), Some(alpha)) => Some(slides_first(mu, alpha)),
+            (Some(_), None) => {
+                return Err(AskError(format!(
+                    "{} is compared with the block's b/h: give {}, {} or {}",
+                    sp.key("mu"),
+                    sp.keys(&["b", "h"]),
+                    sp.keys(&["width", "height"]),
+                    sp.key("alpha")
+                )))
+            }
+        };
+        Ok(AskedBlock {
+            named,
+            why,
+            mu,
+            slides_first,
+        })
+    }
+}
+
+/// A building from its modes, checked; `None` for none.
+pub fn building(modes: &[Mode], sp: Spelling) -> Result<Option<Building>, AskError> {
+    if modes.is_empty() {
+        return Ok(None);
+    }
+    Building::new(modes.to_vec())
+        .map(Some)
+        .map_err(|e| AskError::of(sp, "floor", e))
+}
+
+/// `a` and `b` as pairs, when they are as long as each other.
+fn pairs(
+    sp: Spelling,
+    (a_name, a): (&str, &[f64]),
+    (b_name, b): (&str, &[f64]),
+) -> Result<Vec<(f64, f64)>, AskError> {
+    if a.len() != b.len() {
+        return Err(AskError(format!(
+            "{} has {} values and {} {}: give one {} for each {}",
+            sp.key(a_name),
+            a.len(),
+            sp.key(b_name),
+            b.len(),
+            sp.key(b_name),
+            sp.key(a_name)
+        )));
+    }
+    Ok(a.iter().copied().zip(b.iter().copied()).collect())
+}
+
+/// A list, or one value standing for a list of one.
+pub(super) fn one_or_many<'de, D, T>(d: D) -> Result<Vec<T>, D::Error>
+where
+    D: serde::Deserializer<'de>,
+    T: Deserialize<'de>,
+{
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum Given<T> {
+        Many(Vec<T>),
+        One(T),
+    }
+    Ok(match Option::<Given<T>>::deserialize(d)? {
+        None => Vec::new(),
+        Some(Given::Many(v)) => v,
+        Some(Given::One(v)) => vec![v],
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ask(json: &str) -> Result<BlockAsk, serde_json::Error> {
+        serde_json::from_str(json)
+    }
+
+    /// One block by its sizes, as Python gives it: α, p and Housner's ε by
+    /// hand (b/h = 0.25: ε = 1 − 1.5/17), the nonlinear model by `auto`.
+    #[test]
+    fn a_block_by_its_sizes() {
+        let a =
+            ask(r#"{"b": 0.25, "h": 1.0, "eps": "housner", "model": "auto", "mu": 0.5}"#).unwrap();
+        let one = a.resolve_one(Spelling::Python).unwrap();
+        assert_eq!(one.named.name, "b0.25xh1");
+        assert!((one.named.spec.eps - (1.0 - 1.5 / 17.0)).abs() < 1e-15);
+        assert_eq!(one.named.alpha_rad, Some(0.25f64.atan()));
+        assert_eq!(one.slides_first, Some(false));
+        assert!(one.why.contains("nonlinear"), "{}", one.why);
+    }
+
+    /// A grid p × ε, p outer.
+    #[test]
+    fn a_grid_of_blocks_in_order() {
+        let a = ask(r#"{"p": [1.0, 2.0], "eps": [0.7, 0.8, 0.9]}"#).unwrap();
+        let all = a.resolve(Spelling::Cli).unwrap();
+        let got: Vec<(f64, f64)> = all
+            .iter()
+            .map(|b| (b.named.spec.p, b.named.spec.eps))
+            .collect();
+        assert_eq!(got[..4], [(1.0, 0.7), (1.0, 0.8), (1.0, 0.9), (2.0, 0.7)]);
+        assert_eq!(all.len(), 6);
+    }
+
+    /// Each refusal names the option as the front end spells it.
+    #[test]
+    fn refusals_name_the_option_in_each_spelling() {
+        let e = |json: &str, sp| ask(json).unwrap().resolve(sp).unwrap_err().0;
+        assert!(e(r#"{"p": 2, "eps": "housner"}"#, Spelling::Cli)
+            .contains("--eps housner needs the block's dimensions (--b --h or --width --height)"));
+        assert!(
+            e(r#"{"p": 2, "eps": "housner"}"#, Spelling::Python).contains(
+                "eps=\"housner\" needs the block's dimensions (b and h or width and height)"
+            )
+        );
+        assert!(e(r#"{"b": [0.1, 0.2], "h": 1, "eps": 0.8}"#, Spelling::Cli)
+            .contains("--b has 2 values and --h 1"));
+        assert!(e(r#"{"p": 2, "eps": 0.8, "mu": 0.3}"#, Spelling::Python)
+            .starts_with("mu is compared with the block's b/h"));
+        assert!(e(
+            r#"{"b": 0.2, "h": 1, "eps": 0.8, "mu": -0.3}"#,
+            Spelling::Cli
+        )
+        .starts_with("--mu: friction coefficient μ = -0.3"));
+        assert!(e(
+            r#"{"p": 2, "eps": 0.8, "rtol": 1e-17, "model": "nonlinear", "alpha": 0.2}"#,
+            Spelling::Cli
+        )
+        .starts_with("--rtol: "));
+        assert!(e(
+            r#"{"b": 0.2, "h": 1, "width": 1, "height": 2, "eps": 0.8}"#,
+            Spelling::Python
+        )
+        .contains("not both"));
+        // Closed sets and unknown keys are refused as they are read.
+        let bad = ask(r#"{"p": 2, "eps": 0.8, "model": "exact"}"#)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            bad.contains("unknown model `exact`; valid: linearized, nonlinear, auto"),
+            "{bad}"
+        );
+        assert!(ask(r#"{"p": 2, "eps": 0.8, "colour": 1}"#).is_err());
+        // The alias of the British spelling.
+        assert_eq!(
+            ask(r#"{"model": "linearised"}"#).unwrap().model,
+            ModelChoice::Linearized
+        );
+    }
+}

@@ -1,0 +1,137 @@
+//! What shakes the block, and how its capacity is searched for: a pulse
+//! instead of a record ([`PulseAsk`]), and the IDA's levels and tolerance
+//! ([`SearchAsk`]).
+
+use serde::Deserialize;
+
+use super::spelling::{AskError, Spelling};
+use crate::ida::{ImGrid, Spacing};
+use crate::ops::reports::Search;
+use crate::pulse::{Cycle, Pulse, Shape, ShapeKind};
+
+/// A pulse's lobe duration when none is given (s).
+pub const TD_S: f64 = 1.0;
+
+/// A pulse as the excitation, if one is asked.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PulseAsk {
+    pub pulse: Option<ShapeKind>,
+    /// The exponential lobe's shape β.
+    pub beta: Option<f64>,
+    pub cycle: Cycle,
+    /// The lobe's duration t_d (s).
+    pub td: f64,
+}
+
+impl PulseAsk {
+    /// The pulse asked, checked; `None` without one.
+    pub fn resolve(&self, sp: Spelling) -> Result<Option<Pulse>, AskError> {
+        let shape = match (self.pulse, self.beta) {
+            (None, None) => return Ok(None),
+            (None, Some(_)) => {
+                return Err(AskError(format!(
+                    "{} is the exponential pulse's shape: give {}",
+                    sp.key("beta"),
+                    sp.set("pulse", "exp")
+                )))
+            }
+            (Some(ShapeKind::Rect), None) => Shape::Rect,
+            (Some(ShapeKind::Rect), Some(_)) => {
+                return Err(AskError(format!(
+                    "{} is the exponential pulse's shape; {} takes none",
+                    sp.key("beta"),
+                    sp.set("pulse", "rect")
+                )))
+            }
+            (Some(ShapeKind::Exp), Some(beta)) => Shape::Exp { beta },
+            (Some(ShapeKind::Exp), None) => {
+                return Err(AskError(format!(
+                    "{} needs {}",
+                    sp.set("pulse", "exp"),
+                    sp.key("beta")
+                )))
+            }
+        };
+        let pulse = Pulse {
+            shape,
+            cycle: self.cycle,
+            t_d_s: self.td,
+        };
+        pulse.validate().map_err(|e| AskError(e.to_string()))?;
+        Ok(Some(pulse))
+    }
+}
+
+/// The intensity of one run: η itself, or the PGA (g) the record is scaled
+/// to (on a floor, the ground's: η = α/(PGA · `pfa_over_pga`)), which
+/// needs the block's slenderness.
+pub fn eta(
+    sp: Spelling,
+    eta: Option<f64>,
+    pga: Option<f64>,
+    alpha_rad: Option<f64>,
+    pfa_over_pga: f64,
+) -> Result<f64, AskError> {
+    match (eta, pga, alpha_rad) {
+        (Some(eta), None, _) => Ok(eta),
+        (None, Some(pga), Some(alpha)) if pga > 0.0 && pga.is_finite() => {
+            Ok(crate::im::eta_of_pga(pga * pfa_over_pga, alpha))
+        }
+        (None, Some(pga), Some(_)) => Err(AskError(format!(
+            "{}: a PGA must be positive (g)",
+            sp.set("pga", &pga.to_string())
+        ))),
+        (None, Some(_), None) => Err(AskError(format!(
+            "{} needs the block's slenderness α: give {}, {} or {}",
+            sp.key("pga"),
+            sp.keys(&["b", "h"]),
+            sp.keys(&["width", "height"]),
+            sp.key("alpha")
+        ))),
+        _ => Err(AskError(format!(
+            "give {} or {}, one of them",
+            sp.key("eta"),
+            sp.key("pga")
+        ))),
+    }
+}
+
+/// The capacity search: `levels` intensity levels from η = 1 down to
+/// `eta_min`, spaced by `spacing`, the capacity refined to `tol` in η.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SearchAsk {
+    pub levels: usize,
+    pub eta_min: f64,
+    pub spacing: Spacing,
+    pub tol: f64,
+}
+
+impl Default for SearchAsk {
+    fn default() -> Self {
+        SearchAsk {
+            levels: 200,
+            eta_min: 1e-3,
+            spacing: Spacing::Log,
+            tol: 1e-4,
+        }
+    }
+}
+
+impl SearchAsk {
+    /// The search, its grid checked (an absurd count is refused before
+    /// anything is allocated).
+    pub fn resolve(&self) -> Result<Search, AskError> {
+        let grid = ImGrid {
+            eta_max: 1.0,
+            eta_min: self.eta_min,
+            count: self.levels,
+            spacing: self.spacing,
+        };
+        grid.levels().map_err(|e| AskError(e.to_string()))?;
+        Ok(Search {
+            grid,
+            tol: self.tol,
+        })
+    }
+}
