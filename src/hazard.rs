@@ -351,7 +351,10 @@ pub fn from_arrays(im: Im, levels: &[f64], rates: &[f64]) -> Result<HazardCurve,
             ),
         });
     }
-    let point = |k: usize, m: String| err(k + 1, format!("point {}: {m}", k + 1));
+    let point = |k: usize, m: String| HazardError {
+        line: None,
+        message: format!("point {}: {m}", k + 1),
+    };
     for (k, (&iml, &rate)) in levels.iter().zip(rates).enumerate() {
         if !(iml > 0.0 && iml.is_finite()) {
             return Err(point(k, format!("level {iml} must be positive and finite")));
@@ -370,7 +373,9 @@ pub fn from_arrays(im: Im, levels: &[f64], rates: &[f64]) -> Result<HazardCurve,
         }
     }
     let points: Vec<(f64, f64)> = levels.iter().copied().zip(rates.iter().copied()).collect();
+    // The points are not lines of a file: the message names the point.
     curve_of(im, &points, |k| k + 1, |k| format!("point {}", k + 1))
+        .map_err(|e| HazardError { line: None, ..e })
 }
 
 /// A curve from (IML, rate) points in increasing IML: checks that the rate

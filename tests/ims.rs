@@ -237,3 +237,82 @@ fn efficiency_is_the_capacities_dispersion_by_hand() {
     let r = fragility(&pgv);
     assert!(r.status.success(), "{}", stderr(&r));
 }
+
+/// Every IM passes or is refused at each door by its own answers, never by
+/// a list of names kept elsewhere: the command line's `--im` (a fragility
+/// is stated only in a measure that scales), the hazard reader (plain and
+/// OpenQuake files, by `hazard`), the exports (OpenQuake by `hazard` and
+/// its name there, pelicun by its demand name) and `rocking ims --json`
+/// (every measure under its key). Python's door: python/tests.
+#[test]
+fn every_im_is_accepted_or_refused_by_its_own_answers() {
+    use rocking::im::Im;
+    let json = ims_json(
+        &bundled_records().join("far-field/RSN1111_KOBE_NIS000.AT2"),
+        &[],
+    );
+    let mut measures = Im::record_measures();
+    measures.push(Im::Sa(0.33));
+    for im in measures {
+        let name = im.name();
+        // rocking ims --json: every measure under its key (SA by period).
+        match im {
+            Im::Sa(t) if rocking::im::PERIODS_S.contains(&t) => {
+                assert!(json["sa_g"][rocking::im::period_text(t)].is_f64(), "{name}")
+            }
+            Im::Sa(_) => {}
+            _ => assert!(json[im.key()].is_f64(), "{}", im.key()),
+        }
+        // fragility --im: refused, by its message, exactly when it does not scale.
+        let out = rocking(
+            &root(),
+            &[
+                "fragility",
+                "--b",
+                "0.2",
+                "--h",
+                "0.9",
+                "--im",
+                &name,
+                "--at",
+                "1",
+            ],
+        );
+        let refused = stderr(&out).contains("a capacity cannot be stated in");
+        assert_eq!(
+            refused,
+            !im.scales(),
+            "fragility --im {name}: {}",
+            stderr(&out)
+        );
+        // The hazard reader, plain and OpenQuake.
+        let plain = format!("{},annual_rate\n0.1,0.01\n0.2,0.001\n", im.key());
+        assert_eq!(
+            rocking::hazard::parse(&plain).is_ok(),
+            im.hazard(),
+            "plain hazard in {name}"
+        );
+        if let Some(imt) = im.openquake() {
+            let oq = format!(
+                "#,,,,,\"generated_by='OpenQuake engine 3.26', kind='mean', investigation_time=50.0, imt='{imt}'\"\n\
+                 lon,lat,depth,poe-0.1,poe-0.2\n10.0,45.0,0.0,0.4,0.1\n"
+            );
+            assert_eq!(
+                rocking::hazard::parse(&oq).is_ok(),
+                im.hazard(),
+                "OpenQuake hazard in {imt}"
+            );
+        }
+        // The exports.
+        assert_eq!(
+            rocking::export::openquake_imt(im).is_ok(),
+            im.hazard() && im.openquake().is_some(),
+            "nrml in {name}"
+        );
+        assert_eq!(
+            rocking::export::pelicun::demand(im).is_ok(),
+            im.pelicun().is_some(),
+            "pelicun in {name}"
+        );
+    }
+}

@@ -1,66 +1,71 @@
-"""The compiled half of ``rocking`` (PyO3): JSON in, JSON out; see ``rocking``."""
+"""The compiled half of ``rocking`` (PyO3): keyword arguments into the
+library's request types, answers as Python objects or Parquet bytes; see
+``rocking``."""
 
-from typing import List, Optional, Sequence, Tuple
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 Mode = Tuple[float, float, float]
+Number = Union[float, int]
+
+class Block:
+    """A block (or a grid: p × eps, or each size × eps) and how to run it,
+    checked when made. Keywords: ``p`` (1/s) or half sizes ``b``, ``h``
+    or full ``width``, ``height`` (m), each a number or a list; ``eps`` (a
+    number in (0, 1] or ``"housner"``, needs the sizes; or a list);
+    ``alpha`` (rad, with ``p``); ``model`` (``linearized``, ``nonlinear``,
+    ``auto``); ``integrator`` (``taylor``, ``dp5``) and ``rtol``;
+    ``auto_tol``; ``overturn`` (``static``, ``cap:<c>``, ``on-side``,
+    ``escape``); ``mu`` (the base's friction: μ < b/h slides first);
+    ``floor`` (the building's modes ``[(T, zeta, gamma_phi), …]``)."""
+
+    def __init__(
+        self,
+        *,
+        p: Union[Number, Sequence[Number], None] = None,
+        b: Union[Number, Sequence[Number], None] = None,
+        h: Union[Number, Sequence[Number], None] = None,
+        width: Union[Number, Sequence[Number], None] = None,
+        height: Union[Number, Sequence[Number], None] = None,
+        eps: Union[Number, str, Sequence[Union[Number, str]]] = ...,
+        alpha: Optional[float] = None,
+        model: str = "linearized",
+        integrator: str = "taylor",
+        rtol: Optional[float] = None,
+        auto_tol: float = 0.01,
+        overturn: str = "static",
+        mu: Optional[float] = None,
+        floor: Optional[Sequence[Mode]] = None,
+    ) -> None: ...
+    def __len__(self) -> int: ...
+    @property
+    def why(self) -> List[str]: ...
+    @property
+    def warnings(self) -> List[str]: ...
 
 def version() -> str: ...
 def read_at2(path: str) -> Tuple[bytes, float]: ...
 def simulate(
-    block_json: str,
+    block: Block,
     eta: Optional[float] = None,
     pga: Optional[float] = None,
     path: Optional[str] = None,
     accel: Optional[bytes] = None,
     dt: Optional[float] = None,
     record_id: Optional[str] = None,
-    floor: Optional[Sequence[Mode]] = None,
-) -> str: ...
+) -> Dict[str, Any]: ...
 def capacities(
-    blocks_json: List[str],
+    blocks: List[Block],
     paths: List[str],
     arrays: List[Tuple[str, bytes, float]],
-    levels: int,
-    eta_min: float,
-    spacing: str,
-    tol: float,
-    floor: Optional[Sequence[Mode]] = None,
-) -> str: ...
-def fragility(
-    b: float,
-    h: float,
-    eps: str,
-    im_name: str,
-    levels: List[float],
-    from_: str,
-    outputs: str,
-    records: Optional[str],
-    direct: bool,
-    auto_tol: float,
-    floor: Optional[Sequence[Mode]] = None,
-    mu: Optional[float] = None,
-    states: Optional[str] = None,
-    method: str = "fractile",
-) -> str: ...
-def risk(
-    hazard: str,
-    b: Optional[float],
-    h: Optional[float],
-    eps: str,
-    inventory: Optional[str],
-    site: Optional[int],
-    im_name: Optional[str],
-    from_: str,
-    outputs: str,
-    records: Optional[str],
-    direct: bool,
-    years: float,
-    beyond: str,
-    auto_tol: float,
-    floor: Optional[Sequence[Mode]] = None,
-    mu: Optional[float] = None,
-    states: Optional[str] = None,
-    method: str = "fractile",
-) -> str: ...
-def run(pipeline: str, outputs: str, force: bool = False) -> Tuple[str, str]: ...
+    table: bool,
+    *,
+    levels: int = 200,
+    eta_min: float = 1e-3,
+    spacing: str = "log",
+    tol: float = 1e-4,
+) -> Union[bytes, List[Dict[str, Any]]]: ...
+def fragility(**kwargs: Any) -> Dict[str, Any]: ...
+def risk(**kwargs: Any) -> Union[Dict[str, Any], List[Dict[str, Any]]]: ...
+def ims() -> List[Dict[str, Any]]: ...
+def run(pipeline: str, outputs: str, force: bool = False) -> Tuple[List[Dict[str, Any]], str]: ...
 def study_dir(pipeline: str, outputs: str) -> str: ...

@@ -152,6 +152,15 @@ impl FragilityAsk {
         sp: Spelling,
         progress: DirectProgress,
     ) -> Result<(fragility::Request, StatesAsk), AskError> {
+        if !self.im.scales() {
+            return Err(AskError(format!(
+                "{}: a capacity cannot be stated in {} (it does not scale with the record); \
+                 give one of {}",
+                sp.set("im", &self.im.name()),
+                self.im.short(),
+                Im::listed(Im::scales, false)
+            )));
+        }
         let levels = match (&self.pga[..], &self.at[..]) {
             ([], []) => {
                 return Err(AskError(format!(
@@ -301,6 +310,14 @@ impl RiskAsk {
         let Some(hazard) = &self.hazard else {
             return Err(AskError(format!("give {}", sp.key("hazard"))));
         };
+        if let Some(im) = self.im.filter(|im| !im.hazard()) {
+            return Err(AskError(format!(
+                "{}: a hazard curve is in {}, never in {}",
+                sp.set("im", &im.name()),
+                Im::listed(Im::hazard, false),
+                im.short()
+            )));
+        }
         let law = LawAsk {
             source: self.source.clone(),
             outputs: self.outputs.clone(),

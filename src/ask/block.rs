@@ -77,20 +77,19 @@ impl Default for BlockAsk {
 }
 
 /// One block as asked, checked: its name (empty for p and ε, `b{b}xh{h}`
-/// for sizes), its run specification at η = 1 and why that model; whether
-/// it slides first (with μ).
+/// for sizes), its run specification at η = 1, its friction and whether
+/// it slides first (with μ); and why that model.
 #[derive(Debug, Clone)]
 pub struct AskedBlock {
     pub named: NamedSpec,
     pub why: String,
-    pub mu: Option<f64>,
-    pub slides_first: Option<bool>,
 }
 
 impl AskedBlock {
     /// What every front end says of a block that slides before it rocks.
     pub fn sliding_warning(&self) -> Option<String> {
-        match (self.slides_first, self.mu, self.named.alpha_rad) {
+        let n = &self.named;
+        match (n.slides_first, n.mu, n.alpha_rad) {
             (Some(true), Some(mu), Some(alpha)) => Some(crate::block::sliding_warning(mu, alpha)),
             _ => None,
         }
@@ -218,7 +217,7 @@ impl BlockAsk {
         asked: &Asked,
         mu: Option<f64>,
     ) -> Result<AskedBlock, AskError> {
-        let (named, why) =
+        let (mut named, why) =
             NamedSpec::ask(name, p, eps, alpha, asked).map_err(|e| AskError(e.to_string()))?;
         let slides_first = match (mu, alpha) {
             (None, _) => None,
@@ -233,12 +232,9 @@ impl BlockAsk {
                 )))
             }
         };
-        Ok(AskedBlock {
-            named,
-            why,
-            mu,
-            slides_first,
-        })
+        named.mu = mu;
+        named.slides_first = slides_first;
+        Ok(AskedBlock { named, why })
     }
 }
 
@@ -309,7 +305,7 @@ mod tests {
         assert_eq!(one.named.name, "b0.25xh1");
         assert!((one.named.spec.eps - (1.0 - 1.5 / 17.0)).abs() < 1e-15);
         assert_eq!(one.named.alpha_rad, Some(0.25f64.atan()));
-        assert_eq!(one.slides_first, Some(false));
+        assert_eq!(one.named.slides_first, Some(false));
         assert!(one.why.contains("nonlinear"), "{}", one.why);
     }
 

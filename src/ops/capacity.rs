@@ -15,15 +15,19 @@ use rayon::prelude::*;
 use super::record::{self, LoadedRecord, RecordError};
 use crate::ida::{self, Certified, ImGrid, Trace};
 use crate::physics::{PhysicsError, RunSpec};
+use crate::tables::sweep::CapacityRow;
 
 /// One block of a batch: its name (empty for a p × ε block), its
 /// slenderness when known (from its dimensions or given; the linearised
-/// model itself needs none) and its run specification at η = 1.
+/// model itself needs none), its run specification at η = 1, and its
+/// base's friction with whether it slides first (when μ is given).
 #[derive(Debug, Clone)]
 pub struct NamedSpec {
     pub name: String,
     pub alpha_rad: Option<f64>,
     pub spec: RunSpec,
+    pub mu: Option<f64>,
+    pub slides_first: Option<bool>,
 }
 
 /// How a block is to be run, as a user asks: the model and its integrator,
@@ -60,6 +64,8 @@ impl NamedSpec {
                 name,
                 alpha_rad,
                 spec,
+                mu: None,
+                slides_first: None,
             },
             why,
         ))
@@ -139,6 +145,27 @@ pub fn capacities(
     } else {
         cases.par_iter().map(|c| one(c, false)).collect()
     }
+}
+
+/// The batch's capacities as the `capacities` table's rows (the sweep's
+/// schema), in case order: `capacity --out`'s table, and Python's.
+pub fn rows(
+    records: &[LoadedRecord],
+    blocks: &[NamedSpec],
+    results: &[Certified],
+) -> Vec<CapacityRow> {
+    results
+        .iter()
+        .enumerate()
+        .map(|(case, c)| {
+            let (rec, b) = (&records[case / blocks.len()], &blocks[case % blocks.len()]);
+            CapacityRow {
+                pfa_over_pga: rec.floor.map(|f| f.pfa_over_pga),
+                slides_first: b.slides_first == Some(true),
+                ..CapacityRow::of(case, &rec.record_id, &b.name, &b.spec, b.alpha_rad, c)
+            }
+        })
+        .collect()
 }
 
 /// A block as errors name it: its name, or its p and ε.

@@ -6,6 +6,7 @@ use serde::Serialize;
 
 use super::capacity::NamedSpec;
 use super::record::LoadedRecord;
+use crate::floor::Building;
 use crate::ida::{Certified, ImGrid, RunKind, Spacing};
 use crate::im;
 use crate::label::Label;
@@ -185,6 +186,29 @@ impl CapacityReport {
             },
         }
     }
+}
+
+/// The batch's capacities as `capacity --json` states each, in case order.
+pub fn capacity_reports(
+    records: &[LoadedRecord],
+    blocks: &[NamedSpec],
+    results: &[Certified],
+    search: &Search,
+    building: Option<&Building>,
+) -> Vec<CapacityReport> {
+    results
+        .iter()
+        .enumerate()
+        .map(|(case, c)| {
+            let (rec, b) = (&records[case / blocks.len()], &blocks[case % blocks.len()]);
+            let scene = Scene {
+                floor: building.map(|b| b.to_string()),
+                mu: b.mu,
+                slides_first: b.slides_first,
+            };
+            CapacityReport::new(rec, b, c, search, &scene)
+        })
+        .collect()
 }
 
 /// The runs of a search that refined its bracket by bisection.

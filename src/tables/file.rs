@@ -44,6 +44,66 @@ impl<T> Batches<T> {
     }
 }
 
+/// The writer's properties of every table: zstd, row groups of
+/// [`ROW_GROUP_ROWS`], the metadata (table, schema and crate versions, and
+/// `settings`).
+fn properties(kind: TableKind, settings: &[(String, String)]) -> WriterProperties {
+    let mut kv = vec![
+        KeyValue::new(META_TABLE.to_string(), kind.name.to_string()),
+        KeyValue::new(
+            META_SCHEMA_VERSION.to_string(),
+            kind.schema_version.to_string(),
+        ),
+        KeyValue::new(
+            META_CRATE_VERSION.to_string(),
+            env!("CARGO_PKG_VERSION").to_string(),
+        ),
+    ];
+    kv.extend(
+        settings
+            .iter()
+            .map(|(k, v)| KeyValue::new(k.clone(), v.clone())),
+    );
+    WriterProperties::builder()
+        .set_compression(Compression::ZSTD(
+            ZstdLevel::try_new(ZSTD_LEVEL).expect("zstd level 3 is valid"),
+        ))
+        .set_key_value_metadata(Some(kv))
+        .set_max_row_group_row_count(Some(ROW_GROUP_ROWS))
+        .build()
+}
+
+/// `rows` as the bytes of a Parquet file, written as [`write`] writes a
+/// file (the same schema, metadata and compression): for a front end that
+/// hands a table on in memory, its columns typed (Python).
+pub fn to_bytes<T: Table>(
+    rows: &[T],
+    settings: &[(String, String)],
+) -> Result<Vec<u8>, TableError> {
+    let path = || PathBuf::from("(a table in memory)");
+    let mut bytes = Vec::new();
+    let mut w = ArrowWriter::try_new(&mut bytes, T::schema(), Some(properties(T::KIND, settings)))
+        .map_err(|source| TableError::Parquet {
+            path: path(),
+            source,
+        })?;
+    for chunk in rows.chunks(T::BATCH_ROWS) {
+        let batch = T::to_batch(chunk).map_err(|source| TableError::Arrow {
+            path: path(),
+            source,
+        })?;
+        w.write(&batch).map_err(|source| TableError::Parquet {
+            path: path(),
+            source,
+        })?;
+    }
+    w.close().map_err(|source| TableError::Parquet {
+        path: path(),
+        source,
+    })?;
+    Ok(bytes)
+}
+
 /// Writes `batches` to `dest` atomically, with `settings` in the metadata.
 pub fn write_batches<T: Table>(
     dest: &Path,
@@ -209,29 +269,7 @@ impl AtomicTableWriter {
             path: tmp.clone(),
             source,
         })?;
-        let mut kv = vec![
-            KeyValue::new(META_TABLE.to_string(), kind.name.to_string()),
-            KeyValue::new(
-                META_SCHEMA_VERSION.to_string(),
-                kind.schema_version.to_string(),
-            ),
-            KeyValue::new(
-                META_CRATE_VERSION.to_string(),
-                env!("CARGO_PKG_VERSION").to_string(),
-            ),
-        ];
-        kv.extend(
-            settings
-                .iter()
-                .map(|(k, v)| KeyValue::new(k.clone(), v.clone())),
-        );
-        let props = WriterProperties::builder()
-            .set_compression(Compression::ZSTD(
-                ZstdLevel::try_new(ZSTD_LEVEL).expect("zstd level 3 is valid"),
-            ))
-            .set_key_value_metadata(Some(kv))
-            .set_max_row_group_row_count(Some(ROW_GROUP_ROWS))
-            .build();
+        let props = properties(kind, settings);
         // Constructed before the writer so that a failure below removes the file.
         let mut this = AtomicTableWriter {
             dest: dest.to_path_buf(),

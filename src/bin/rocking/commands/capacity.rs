@@ -9,9 +9,8 @@ use rocking::ida::{Certified, Spacing};
 use rocking::im;
 use rocking::ops::capacity::{self, NamedSpec};
 use rocking::ops::record::LoadedRecord;
-use rocking::ops::reports::{self, CapacityReport, Scene};
+use rocking::ops::reports::{self};
 use rocking::stages::{Progress, Reporter};
-use rocking::tables::sweep::CapacityRow;
 
 use super::args::{label, BlockArgs};
 use crate::reporter::Terminal;
@@ -102,40 +101,25 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     let results = capacity::capacities(&records, &named, &search.grid, search.tol, &tick)?;
     drop(terminal);
-    let cases = results.iter().enumerate().map(|(case, certified)| {
-        let (r, b) = (case / named.len(), case % named.len());
-        (case, &records[r], &blocks[b], certified)
-    });
     if let Some(out) = &args.out {
-        let rows: Vec<_> = cases
-            .clone()
-            .map(|(case, rec, block, c)| {
-                let b = &block.named;
-                CapacityRow {
-                    pfa_over_pga: rec.floor.map(|f| f.pfa_over_pga),
-                    slides_first: block.slides_first == Some(true),
-                    ..CapacityRow::of(case, &rec.record_id, &b.name, &b.spec, b.alpha_rad, c)
-                }
-            })
-            .collect();
         let settings = vec![(
             "rocking.capacity.command".to_string(),
             std::env::args().skip(1).collect::<Vec<_>>().join(" "),
         )];
-        rocking::tables::write(out, &rows, &settings)?;
+        rocking::tables::write(out, &capacity::rows(&records, &named, &results), &settings)?;
     }
     if args.block.json || total > 1 {
         if !args.block.json {
             eprintln!("{total} capacities, one JSON object a line (--json says so explicitly)");
         }
         let mut stdout = std::io::stdout().lock();
-        for (_, rec, block, certified) in cases {
-            let scene = Scene {
-                floor: building.as_ref().map(|b| b.to_string()),
-                mu: block.mu,
-                slides_first: block.slides_first,
-            };
-            let report = CapacityReport::new(rec, &block.named, certified, &search, &scene);
+        for report in rocking::ops::reports::capacity_reports(
+            &records,
+            &named,
+            &results,
+            &search,
+            building.as_ref(),
+        ) {
             writeln!(stdout, "{}", serde_json::to_string(&report)?)?;
         }
         return Ok(());

@@ -97,8 +97,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let scene = Scene {
         floor: None,
-        mu: block.mu,
-        slides_first: block.slides_first,
+        mu: block.named.mu,
+        slides_first: block.named.slides_first,
     };
     let report = SimulateReport::new(&rec, &spec, block_alpha, &out, &scene);
     if args.block.json {
