@@ -34,19 +34,17 @@
 //!   annual rate of overturning, no I/O;
 //! - [`study`], [`figures`], [`report`]: a study's results, its figures as
 //!   chart specifications and its Markdown report, no I/O;
-//! - [`bench`]: speed-against-error measurements of the solvers (timing only);
 //! - [`plot`]: figures as SVG text;
 //! - [`label`], [`hash`]: enum labels; SHA-256;
 //! - [`tables`]: the only module that touches Parquet;
 //! - [`stages`]: glue, one file per stage, the engine that runs them;
-//! - [`ops`]: what the other commands do (simulate's record, fragility, bench).
+//! - [`ops`]: what the other commands do (simulate's record, fragility, risk, export).
 //!
 //! The command line is the `rocking` binary (`src/bin/rocking/`); the library
 //! does not know clap.
 
 pub mod ask;
 pub mod at2;
-pub mod bench;
 pub mod block;
 pub mod cluster;
 pub mod damage;

@@ -5,11 +5,11 @@
 //! answered; the exact stepper's verdicts stable under a one-ulp change of
 //! the record; the certification in `capacities.parquet` and `capacity --json`.
 
+use rocking::ida::HARD_CASES;
 use rocking::ida::{
     capacity_certified, capacity_traced, decisive_runs, Certification, CertificationKind, ImGrid,
     Trace,
 };
-use rocking::ops::bench::accuracy::HARD_CASES;
 use rocking::physics::{simulate, Model, RunSpec, DEFAULT_RTOL, DEFAULT_TAYLOR_TOL};
 use rocking::stages::sweep::read_capacities;
 

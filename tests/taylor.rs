@@ -7,8 +7,8 @@
 //! search or are flagged chaotic where DP5's certification is; the
 //! command line and pipelines choose it and refuse bad settings.
 
+use rocking::ida::HARD_CASES;
 use rocking::ida::{capacity_certified, capacity_traced, Certification, Trace};
-use rocking::ops::bench::accuracy::HARD_CASES;
 use rocking::physics::taylor::Taylor;
 use rocking::physics::{
     simulate, Model, Rocking, RunSpec, Stepper, Stretch, StretchEnd, DEFAULT_RTOL,
@@ -251,7 +251,7 @@ fn an_interval_with_two_turning_points_keeps_its_impact() {
     assert!((a - b).abs() < 1e-9, "{a} against {b}");
 }
 
-/// The hard cases (`ops::bench::accuracy::HARD_CASES`): certified from the
+/// The hard cases (`ida::HARD_CASES`): certified from the
 /// Taylor stepper's default, a capacity equals the plain search by DP5 at
 /// 1e-13 within the search's resolution, or is flagged chaotic where
 /// DP5's certification from its default flags it too; no new flags.

@@ -28,7 +28,7 @@
 //! - `ingest`: the records table from the bundled FEMA P695 files, checked
 //!   against the manifest and the files; bad input and atomic output.
 //! - `physics`: the solvers against closed forms, conservation laws,
-//!   symmetry and the hard cases (`ops::bench::accuracy::HARD_CASES`).
+//!   symmetry and the hard cases (`ida::HARD_CASES`).
 //! - `taylor`: the Taylor stepper of the nonlinear equation against the
 //!   energy of free rocking, DP5 at 1e-13, the linearised closed form as
 //!   α → 0, and the hard cases; choosing it and refusals.

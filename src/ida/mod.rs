@@ -18,6 +18,7 @@ mod capacity;
 mod certify;
 mod decisive;
 mod grid;
+mod hard_cases;
 mod runs;
 mod search;
 
@@ -27,5 +28,6 @@ pub use certify::{
 };
 pub use decisive::{decisive_runs, CHAOS_PROBE, NEAR_MISS};
 pub use grid::{ImGrid, Spacing, MAX_LEVELS};
+pub use hard_cases::{HardCase, HARD_CASES};
 pub use runs::{run_pair, Batch, Hand, Runs, Work};
 pub use search::{capacity, capacity_in, capacity_traced};

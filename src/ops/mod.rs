@@ -1,11 +1,9 @@
 //! What the commands that are not stages do, as library calls the binary
 //! wraps: load one record for the solvers ([`record`]), many capacities in one process ([`capacity`]), the fragility of a
 //! real block ([`fragility`]) and of its damage states ([`damage`]) written for OpenQuake and pelicun ([`export`]), the annual rate of overturning at a site
-//! ([`risk`]), a study submitted to Slurm ([`submit`]), and the solver benchmark that rewrites `docs/BENCHMARKS.md`
-//! ([`bench`]). Input checks live here, not in the
+//! ([`risk`]), and a study submitted to Slurm ([`submit`]). Input checks live here, not in the
 //! argument parser, so tests and other front ends get them too.
 
-pub mod bench;
 pub mod capacity;
 pub mod damage;
 pub mod export;

@@ -7,7 +7,6 @@ use std::process::ExitCode;
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 mod args;
-mod bench;
 mod capacity;
 mod export;
 mod fragility;
@@ -46,7 +45,6 @@ enum Command {
     Simulate(simulate::Args),
     Capacity(capacity::Args),
     Wall(wall::Args),
-    Bench(bench::Args),
     Fragility(fragility::Args),
     Risk(risk::Args),
     Export(export::Args),
@@ -62,7 +60,6 @@ fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Simulate(a) => simulate::run(a),
         Command::Capacity(a) => capacity::run(a),
         Command::Wall(a) => wall::run(a),
-        Command::Bench(a) => bench::run(a),
         Command::Fragility(a) => fragility::run(a),
         Command::Risk(a) => risk::run(a),
         Command::Export(a) => export::run(a),

@@ -1,12 +1,25 @@
-//! `rocking bench`: the solvers' speed against their error.
+//! `rocking-bench`: the solvers' speed against their error, written into
+//! the marked sections of `docs/BENCHMARKS.md` (and the plot beside it).
+//! The harness is not part of the library or the wheel: it is this
+//! workspace member, run from the repository root with
+//! `cargo run --release -p rocking-bench -- [--sections …]`.
+//!
+//! - [`timing`]: timing helpers (medians of repeated runs, no files);
+//! - [`sections`]: one module per section of BENCHMARKS.md.
+
+mod sections;
+mod timing;
 
 use std::path::PathBuf;
+use std::process::ExitCode;
 
+use clap::Parser;
 use rocking::label::Label;
-use rocking::ops::bench::{self, BenchOptions, Section};
+use sections::{BenchOptions, Section};
 
 /// Measure the solvers' speed against their error; write docs/BENCHMARKS.md sections and a plot.
-#[derive(Debug, clap::Args)]
+#[derive(Debug, Parser)]
+#[command(name = "rocking-bench", version)]
 #[command(long_about = "Measure the solvers' speed against their error.\n\n\
     Times the exact linearised stepper, fixed-step RK4 at several step sizes and the nonlinear \
     Dormand–Prince integrator at several tolerances on bundled records and closed-form pulses, \
@@ -26,6 +39,11 @@ pub struct Args {
     /// Fewer cases and settings: a smoke run, not for the record.
     #[arg(long)]
     quick: bool,
+    /// The `rocking` binary whose `capacity` command the `calls` section
+    /// times per call, process start included (build it first with `cargo
+    /// build --release`).
+    #[arg(long, default_value = "target/release/rocking")]
+    rocking: PathBuf,
     /// The sections to measure (the others keep their text): solvers,
     /// linearisation, criteria, tolerance, rounding, calls (`rocking
     /// capacity` per call, process start included), certified (a certified
@@ -39,7 +57,20 @@ fn parse_section(s: &str) -> Result<Section, String> {
         .ok_or_else(|| format!("unknown section `{s}`; valid: {}", Section::labels()))
 }
 
-pub fn run(args: Args) -> anyhow::Result<()> {
+fn main() -> ExitCode {
+    match run(Args::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            for cause in e.chain().skip(1) {
+                eprintln!("  caused by: {cause}");
+            }
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(args: Args) -> anyhow::Result<()> {
     let opts = BenchOptions {
         records: args.records,
         out_dir: args.out_dir,
@@ -50,8 +81,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         } else {
             args.sections
         },
-        exe: std::env::current_exe()?,
+        exe: args.rocking,
     };
-    bench::run(&opts, |line| eprintln!("{line}"))?;
+    if opts.sections.contains(&Section::Calls) && !opts.exe.is_file() {
+        anyhow::bail!(
+            "--rocking {}: no such binary; the calls section times it (cargo build --release)",
+            opts.exe.display()
+        );
+    }
+    sections::run(&opts, |line| eprintln!("{line}"))?;
     Ok(())
 }

@@ -6,8 +6,8 @@ use std::fmt::Write as _;
 
 use super::options::{BenchError, BenchOptions};
 use super::records::spread_records;
-use crate::ida::{capacity, ImGrid};
-use crate::physics::{Model, Overturn, RunSpec, LINEARIZATION_ERROR_PER_ALPHA2};
+use rocking::ida::{capacity, ImGrid};
+use rocking::physics::{Model, Overturn, RunSpec, LINEARIZATION_ERROR_PER_ALPHA2};
 
 /// Median relative |η_c(nonlinear) − η_c(linearised)| / η_c over records × p × ε, per α.
 pub(super) fn linearisation_table(

@@ -1,4 +1,4 @@
-//! Speed against error of the solvers (`rocking bench`).
+//! Speed against error of the solvers (`rocking-bench`).
 //!
 //! For each solver setting, on every case (bundled records and closed-form
 //! pulses, each at a few blocks): the capacity search and one run at
@@ -9,8 +9,8 @@
 
 use std::time::Instant;
 
-use crate::ida::{capacity, ImGrid};
-use crate::physics::{simulate, Equation, Excitation, Model, PhysicsError, RunSpec};
+use rocking::ida::{capacity, ImGrid};
+use rocking::physics::{simulate, Equation, Excitation, Model, PhysicsError, RunSpec};
 
 /// One loading case: a record (or pulse) and one block.
 pub struct Case {
@@ -26,7 +26,6 @@ pub struct Case {
 #[derive(Debug, Clone, Copy)]
 pub struct Solver {
     pub family: &'static str,
-    pub setting: f64,
     pub model: Model,
 }
 
@@ -129,11 +128,11 @@ pub struct Floor {
     pub ns_per_interval: f64,
 }
 
-/// Times [`crate::physics::exact::Exact::bare_pass`] on every case.
+/// Times [`rocking::physics::exact::Exact::bare_pass`] on every case.
 pub fn floor(cases: &[Case], reps: usize) -> Floor {
     let (mut per_pass, mut ns) = (Vec::new(), Vec::new());
     for case in cases {
-        let exact = crate::physics::exact::Exact::new(case.p, 0.5, case.exc.dt_s, 1.0);
+        let exact = rocking::physics::exact::Exact::new(case.p, 0.5, case.exc.dt_s, 1.0);
         let mut times = Vec::with_capacity(reps);
         for _ in 0..reps {
             let t = Instant::now();

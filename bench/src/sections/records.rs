@@ -4,8 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use super::options::{BenchError, BenchOptions};
-use crate::ops::record;
-use crate::physics::Excitation;
+use rocking::ops::record;
+use rocking::physics::Excitation;
 
 pub(super) fn load(dir: &Path, stem: &str) -> Result<Excitation, BenchError> {
     let path = dir.join("far-field").join(format!("{stem}.AT2"));

@@ -1,12 +1,12 @@
-//! What `rocking bench` is asked and how it fails: its options, the
+//! What `rocking-bench` is asked and how it fails: its options, the
 //! sections of BENCHMARKS.md it can rewrite, and its errors.
 
 use std::path::PathBuf;
 
-use crate::ops::record::RecordError;
-use crate::physics::PhysicsError;
-use crate::plot::PlotError;
-use crate::tables::TableError;
+use rocking::ops::record::RecordError;
+use rocking::physics::PhysicsError;
+use rocking::plot::PlotError;
+use rocking::tables::TableError;
 
 /// What to measure and where to write it.
 #[derive(Debug, Clone)]
@@ -45,7 +45,7 @@ pub enum Section {
     Certified,
 }
 
-impl crate::label::Label for Section {
+impl rocking::label::Label for Section {
     const ALL: &'static [Self] = &[
         Section::Solvers,
         Section::Linearisation,

@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use super::options::{BenchError, BenchOptions};
 use super::records::far_field_files;
-use crate::bench;
+use crate::timing;
 
 /// The budget of one `rocking capacity` call in a script's loop, process
 /// start included.
@@ -45,7 +45,7 @@ pub fn summarise_calls(per_record: &[(String, f64)]) -> Option<CallSummary> {
         .map(|(r, t)| (r.clone(), *t))?;
     Some(CallSummary {
         records: ms.len(),
-        median_ms: bench::median(&mut ms),
+        median_ms: timing::median(&mut ms),
         mean_ms: ms.iter().sum::<f64>() / ms.len() as f64,
         fastest_ms: ms.iter().copied().fold(f64::INFINITY, f64::min),
         slowest_ms,
@@ -128,7 +128,7 @@ fn per_record_times(
             }
         }
         for (j, mut t) in times.into_iter().enumerate() {
-            per_p[j].push((stem.clone(), bench::median(&mut t)));
+            per_p[j].push((stem.clone(), timing::median(&mut t)));
         }
     }
     Ok(per_p)
@@ -161,7 +161,7 @@ fn batch_times(
             let mut t: Vec<f64> = (0..reps)
                 .map(|_| time_call(exe, &a))
                 .collect::<Result<_, _>>()?;
-            Ok(bench::median(&mut t))
+            Ok(timing::median(&mut t))
         })
         .collect()
 }
@@ -190,7 +190,7 @@ pub(super) fn calls_table(
     let mut alone: Vec<f64> = (0..args.reps.max(20))
         .map(|_| time_call(exe, &version))
         .collect::<Result<_, _>>()?;
-    let alone_ms = bench::median(&mut alone);
+    let alone_ms = timing::median(&mut alone);
     let p_text: Vec<String> = ps.iter().map(|p| p.to_string()).collect();
     let eps = CALL_EPS.to_string();
     let per_p = per_record_times(exe, files, &p_text, &eps, args.reps, say)?;
@@ -206,7 +206,7 @@ pub(super) fn calls_table(
         s,
         "Each far-field record's median of {} calls (after {CALL_WARMUP} warm-up calls) of \
          `rocking capacity --record R --p P --eps {CALL_EPS}`, each a new process timed from spawn \
-         to exit by `rocking bench`, its output discarded; the blocks alternate call by call; \
+         to exit by `rocking-bench`, its output discarded; the blocks alternate call by call; \
          the loop is those calls added up, one per record. The batch is one call over all the \
          records (`--record R1 R2 … --json`, the same capacities), median of {} calls. The \
          process alone (`rocking --version`, median \
