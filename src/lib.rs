@@ -36,6 +36,8 @@
 //!   chart specifications and its Markdown report, no I/O;
 //! - [`plot`]: figures as SVG text;
 //! - [`label`], [`hash`]: enum labels; SHA-256;
+//! - [`records`]: the records runs shake blocks with: AT2 files found, read,
+//!   checked and loaded, a pipeline's selection (reads files);
 //! - [`tables`]: the only module that touches Parquet;
 //! - [`stages`]: glue, one file per stage, the engine that runs them;
 //! - [`ops`]: what the other commands do (simulate's record, fragility, risk, export).
@@ -67,6 +69,7 @@ pub mod physics;
 pub mod pipeline;
 pub mod plot;
 pub mod pulse;
+pub mod records;
 pub mod report;
 pub mod risk;
 pub mod sdof;

@@ -468,7 +468,7 @@ fn levels_run_in_pairs_are_the_levels_run_alone() {
 /// whatever the number of workers.
 #[test]
 fn the_parallel_search_finds_what_the_sequential_one_finds() {
-    use rocking::ops::record::capacity_certified_parallel;
+    use rocking::ops::pool::capacity_certified_parallel;
     let p_flip = 0.33 * (10.0f64 / 0.33).powf(5.0 / 11.0);
     let lin = |p, eps| RunSpec::new(p, eps, 1.0, Model::LINEARIZED);
     let nonlinear = RunSpec::new(2.0, 0.8, 1.0, Model::dp5(0.2, DEFAULT_RTOL));

@@ -216,88 +216,6 @@ fn capacity_help_and_errors_come_from_the_command_tree() {
     assert!(stderr(&out).contains("Usage: rocking capacity"));
 }
 
-/// `rocking bench --sections calls` times `rocking capacity` as a new
-/// process per call: in the quick run, the first three far-field records
-/// (by name) at p = 2. The row's figures must be ordered (fastest ≤ median
-/// ≤ slowest), the slowest must be one of those records, and a record the
-/// command refuses must stop the benchmark with the call and its error.
-#[test]
-fn bench_times_capacity_calls_and_reports_a_failing_call() {
-    let dir = tempdir();
-    let bench = |records: &std::path::Path, reps: &str| {
-        rocking(
-            &root(),
-            &[
-                "bench",
-                "--quick",
-                "--sections",
-                "calls",
-                "--reps",
-                reps,
-                "--records",
-                records.to_str().unwrap(),
-                "--out-dir",
-                dir.path().to_str().unwrap(),
-            ],
-        )
-    };
-    let records = bundled_records();
-    let out = bench(&records, "3");
-    assert!(out.status.success(), "{}", stderr(&out));
-    let md = std::fs::read_to_string(dir.path().join("BENCHMARKS.md")).unwrap();
-    let row = md
-        .lines()
-        .find(|l| l.starts_with("| 2 | 3 |"))
-        .unwrap_or_else(|| panic!("no row for p = 2 over 3 records:\n{md}"));
-    // | p | records | median | mean | fastest | slowest (record) | within 3 ms | loop | batch |
-    let cells: Vec<&str> = row.split('|').map(str::trim).collect();
-    let ms = |cell: &str| -> f64 {
-        let t = cell.split(" ms").next().unwrap();
-        t.parse().unwrap_or_else(|_| panic!("{cell:?} in {row}"))
-    };
-    let (median, mean) = (ms(cells[3]), ms(cells[4]));
-    let (fastest, slowest) = (ms(cells[5]), ms(cells[6]));
-    assert!(
-        0.0 < fastest && fastest <= median && median <= slowest,
-        "{row}"
-    );
-    // A mean lies between the extremes (to the table's 0.01 ms rounding).
-    assert!(fastest <= mean && mean <= slowest, "{row}");
-    let mut files: Vec<String> = std::fs::read_dir(records.join("far-field"))
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|f| f.ends_with(".AT2"))
-        .collect();
-    files.sort();
-    let first_three: Vec<&str> = files[..3]
-        .iter()
-        .map(|f| f.trim_end_matches(".AT2"))
-        .collect();
-    assert!(
-        first_three.iter().any(|r| row.contains(&format!("({r})"))),
-        "{row} names none of {first_three:?}"
-    );
-    let within: usize = cells[7].strip_suffix(" of 3").unwrap().parse().unwrap();
-    assert!(within <= 3, "{row}");
-    // The loop is the three records' calls added up: three times their mean
-    // (to the 1 ms rounding of the column); the batch call took some time.
-    let (looped, batch) = (ms(cells[8]), ms(cells[9]));
-    assert!((looped - 3.0 * mean).abs() <= 0.5 + 0.015, "{row}");
-    assert!(batch > 0.0, "{row}");
-
-    let bad = tempdir();
-    std::fs::create_dir(bad.path().join("far-field")).unwrap();
-    std::fs::write(bad.path().join("far-field/BROKEN.AT2"), "not a record\n").unwrap();
-    let out = bench(bad.path(), "1");
-    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
-    let err = stderr(&out);
-    assert!(
-        err.contains("capacity --record") && err.contains("BROKEN.AT2"),
-        "{err}"
-    );
-    assert!(err.contains("failed"), "{err}");
-}
-
 /// JSON lines of stdout.
 fn json_lines(out: &std::process::Output) -> Vec<Value> {
     assert!(out.status.success(), "{}", stderr(out));
@@ -675,4 +593,36 @@ fn a_history_follows_an_overturn_after_the_record() {
     let rows = read_rows();
     let last = rows.last().unwrap();
     assert_eq!((last.0, last.2.as_str()), (t_over, "overturn"), "{last:?}");
+}
+
+/// Two records of one file stem in two folders are two records of one id:
+/// `capacity --record DIR` refuses them, naming both, as `ingest` does.
+#[test]
+fn capacity_refuses_two_records_of_one_stem() {
+    let dir = tempdir();
+    let kobe = bundled_records().join("far-field/RSN1111_KOBE_NIS000.AT2");
+    for sub in ["a", "b"] {
+        std::fs::create_dir(dir.path().join(sub)).unwrap();
+        std::fs::copy(&kobe, dir.path().join(sub).join("RSN1111_KOBE_NIS000.AT2")).unwrap();
+    }
+    let out = rocking(
+        &root(),
+        &[
+            "capacity",
+            "--record",
+            dir.path().to_str().unwrap(),
+            "--p",
+            "2",
+            "--eps",
+            "0.7",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(1));
+    let err = stderr(&out);
+    assert!(
+        err.contains("two records of one id `RSN1111_KOBE_NIS000`")
+            && err.contains("/a/")
+            && err.contains("/b/"),
+        "{err}"
+    );
 }

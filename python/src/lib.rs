@@ -22,9 +22,9 @@ use pythonize::{depythonize, pythonize};
 use rocking::ask::{AskedBlock, BlockAsk, FragilityAsk, RiskAsk, SearchAsk, Spelling};
 use rocking::floor::Building;
 use rocking::ops::capacity::{self as batch, NamedSpec};
-use rocking::ops::record::{self, LoadedRecord};
 use rocking::ops::reports::{Scene, SimulateReport};
 use rocking::physics::RunSpec;
+use rocking::records::{self, LoadedRecord};
 
 /// The error and its causes, as the command line prints them, on one line.
 fn message(e: &(dyn std::error::Error + 'static)) -> String {
@@ -143,8 +143,8 @@ fn load_record(
     floor: Option<&Building>,
 ) -> PyResult<LoadedRecord> {
     match (path, accel, dt) {
-        (Some(p), None, _) => record::load_on(&p, floor).map_err(value_error),
-        (None, Some(a), Some(dt)) => record::from_samples(
+        (Some(p), None, _) => records::load_on(&p, floor).map_err(value_error),
+        (None, Some(a), Some(dt)) => records::from_samples(
             record_id.unwrap_or_else(|| "record".into()),
             samples(a.as_bytes()),
             dt,
@@ -160,7 +160,7 @@ fn load_record(
 /// Reads a PEER AT2 file: its samples (little-endian f64 bytes, g) and step (s).
 #[pyfunction]
 fn read_at2(py: Python<'_>, path: PathBuf) -> PyResult<(Py<PyBytes>, f64)> {
-    let (accel, dt) = record::read_samples(&path).map_err(value_error)?;
+    let (accel, dt) = records::read_samples(&path).map_err(value_error)?;
     let bytes: Vec<u8> = accel.iter().flat_map(|a| a.to_le_bytes()).collect();
     Ok((PyBytes::new(py, &bytes).unbind(), dt))
 }
@@ -250,7 +250,7 @@ fn capacities(
             };
             for (id, accel, dt) in arrays {
                 records.push(
-                    record::from_samples(id, accel, dt, building.as_ref())
+                    records::from_samples(id, accel, dt, building.as_ref())
                         .map_err(|e| message(&e))?,
                 );
             }

@@ -30,7 +30,7 @@ pub struct Runs<'a> {
 
 /// Runs simulations of one record together: what a caller with spare cores
 /// lends one capacity search (the `capacity` command runs them in
-/// parallel, [`crate::ops::record::capacity_certified_parallel`]).
+/// parallel, [`crate::ops::pool::capacity_certified_parallel`]).
 pub trait Batch: Sync {
     /// [`simulate`]'s result for each spec, in order.
     fn each(&self, exc: &Excitation, specs: &[RunSpec]) -> Vec<Result<Outcome, PhysicsError>>;

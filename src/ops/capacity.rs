@@ -4,7 +4,7 @@
 //!
 //! A case's capacity does not depend on how the cases are spread over the
 //! workers: a case alone runs its search with the runs ahead of need on
-//! every core ([`super::record::capacity_certified_parallel`]), several
+//! every core ([`super::pool::capacity_certified_parallel`]), several
 //! cases run one search per worker, and both give the sequential search's
 //! result.
 
@@ -12,9 +12,10 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
-use super::record::{self, LoadedRecord, RecordError};
+use super::pool;
 use crate::ida::{self, Certified, ImGrid, Trace};
 use crate::physics::{PhysicsError, RunSpec};
+use crate::records::{self as record, LoadedRecord, RecordError};
 use crate::tables::sweep::CapacityRow;
 
 /// One block of a batch: its name (empty for a p × ε block), its
@@ -76,7 +77,7 @@ impl NamedSpec {
 #[derive(Debug, thiserror::Error)]
 pub enum CapacityError {
     #[error(transparent)]
-    Discover(#[from] crate::stages::ingest::IngestError),
+    Discover(#[from] crate::records::CollectError),
     #[error(transparent)]
     Record(#[from] RecordError),
     #[error("record {record}, block {block}")]
@@ -88,6 +89,12 @@ pub enum CapacityError {
     },
     #[error(transparent)]
     OutPath(#[from] crate::outpath::OutPathError),
+    #[error(
+        "{} and {}: two records of one id `{id}` (the file stem); record ids must be unique",
+        a.display(),
+        b.display()
+    )]
+    SameId { id: String, a: PathBuf, b: PathBuf },
 }
 
 /// The records at `paths` (AT2 files, or folders searched recursively for
@@ -97,7 +104,24 @@ pub fn load_records(
     paths: &[PathBuf],
     building: Option<&crate::floor::Building>,
 ) -> Result<Vec<LoadedRecord>, CapacityError> {
-    let files = crate::stages::ingest::discover(paths)?;
+    let files = crate::records::discover(paths)?;
+    // A record's id is its file stem, as in a records table: two files of
+    // one stem (in two folders) would be two records of one id.
+    let mut seen = std::collections::BTreeMap::new();
+    for f in &files {
+        let stem = f
+            .file_stem()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned();
+        if let Some(other) = seen.insert(stem.clone(), f) {
+            return Err(CapacityError::SameId {
+                id: stem,
+                a: other.clone(),
+                b: f.clone(),
+            });
+        }
+    }
     files
         .par_iter()
         .map(|f| record::load_on(f, building).map_err(CapacityError::from))
@@ -119,13 +143,7 @@ pub fn capacities(
     let one = |&(r, b): &(usize, usize), alone: bool| {
         let (rec, block) = (&records[r], &blocks[b]);
         let certified = if alone {
-            record::capacity_certified_parallel(
-                &rec.exc,
-                &block.spec,
-                grid,
-                tol,
-                Trace::StopAtFirst,
-            )
+            pool::capacity_certified_parallel(&rec.exc, &block.spec, grid, tol, Trace::StopAtFirst)
         } else {
             ida::capacity_certified(&rec.exc, &block.spec, grid, tol, Trace::StopAtFirst)
         };

@@ -9,7 +9,7 @@ pub mod damage;
 pub mod export;
 pub mod fragility;
 pub mod im_fragility;
-pub mod record;
+pub mod pool;
 pub mod reports;
 pub mod risk;
 pub mod submit;

@@ -5,12 +5,12 @@
 use serde::Serialize;
 
 use super::capacity::NamedSpec;
-use super::record::LoadedRecord;
 use crate::floor::Building;
 use crate::ida::{Certified, ImGrid, RunKind, Spacing};
 use crate::im;
 use crate::label::Label;
 use crate::physics::{Outcome, RunSpec};
+use crate::records::LoadedRecord;
 
 /// Where a block stands and how firmly, as the reports state it.
 #[derive(Debug, Clone, Default)]

@@ -14,12 +14,12 @@ use std::path::PathBuf;
 
 use rayon::prelude::*;
 
-use super::records::{self, SelectError};
 use super::reduce::QUANTILES;
 use super::stage::{BoxError, Context, Progress, Shard, Stage, Study, Summary};
 use crate::ida::{self, ImGrid};
 use crate::physics::{Excitation, PhysicsError, RunSpec};
 use crate::pipeline::{BlockSpec, RecordsPlan};
+use crate::records::{self, SelectError};
 use crate::stats;
 use crate::tables::convergence::ConvergenceRow;
 use crate::tables::{self, TableError};

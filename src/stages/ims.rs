@@ -12,8 +12,9 @@ use rayon::prelude::*;
 
 use super::reduce::{self, ReduceError};
 use super::stage::{BoxError, Context, Shard, Stage, Study, Summary};
-use super::{records, sweep};
+use super::sweep;
 use crate::im::{efficiency, Im, RecordIms};
+use crate::records;
 use crate::tables::ims::{EfficiencyRow, RecordImRow};
 use crate::tables::reduce::BlockRow;
 use crate::tables::{self, records::RecordRow};

@@ -4,9 +4,10 @@
 //! stage of a pipeline whose records are AT2 files ([`Ingest`], writing
 //! `<study>/records.parquet`).
 //!
-//! Glue only: finds the files, reads them, hands the bytes to [`crate::at2`],
-//! joins the manifest and writes through [`crate::tables::records`]. Prints
-//! nothing; the caller reports the returned [`IngestReport`].
+//! Glue only: the records found, read and checked by [`crate::records`]
+//! (files, manifest, duplicates), written through
+//! [`crate::tables::records`]. Prints nothing; the caller reports the
+//! returned [`IngestReport`].
 //!
 //! Order: rows are sorted by record id (the file stem, unique), so the table
 //! does not depend on the order of the paths given or of the directory walk.
@@ -15,26 +16,15 @@
 //! listed in the report.
 
 use std::collections::BTreeMap;
-use std::fmt;
-use std::fs;
-use std::io;
 use std::path::{Path, PathBuf};
 
-use rayon::prelude::*;
-
 use super::stage::{BoxError, Context, Shard, Stage, Study, Summary};
-use crate::at2;
-use crate::manifest::{self, Manifest, RecordMeta};
-use crate::motion;
 use crate::pipeline::RecordSource;
-use crate::tables::{self, records::RecordRow};
+pub use crate::records::{collect, discover, BadFile, CollectError, OnBad, PIPELINE_HINT};
+use crate::tables;
 
 /// The ingest stage of a pipeline that names AT2 files.
 pub struct Ingest;
-
-/// What to say when a pipeline's AT2 files are bad.
-pub const PIPELINE_HINT: &str =
-    "fix them, or take them out of the folders the pipeline's `records.at2` names";
 
 impl Stage for Ingest {
     fn name(&self) -> &'static str {
@@ -76,7 +66,7 @@ impl Stage for Ingest {
         else {
             return Ok(Vec::new());
         };
-        let mut files = discover(paths)?;
+        let mut files = discover(paths).map_err(IngestError::from)?;
         files.extend(manifest.iter().cloned());
         Ok(files)
     }
@@ -114,15 +104,6 @@ impl Stage for Ingest {
     }
 }
 
-/// What to do with files that cannot be ingested.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum OnBad {
-    /// Ingest the rest and list them in the report.
-    Skip,
-    /// Fail, write nothing, and end the message with this hint.
-    Refuse(&'static str),
-}
-
 /// The hint of `rocking ingest`.
 pub const SKIP_BAD_HINT: &str = "use --skip-bad to ingest the rest";
 
@@ -136,83 +117,12 @@ pub struct IngestConfig {
     pub on_bad: OnBad,
 }
 
-/// A file that could not be ingested, and why.
-#[derive(Debug)]
-pub struct BadFile {
-    pub path: PathBuf,
-    pub problem: Problem,
-}
-
-#[derive(Debug)]
-pub enum Problem {
-    Read(io::Error),
-    Parse(at2::At2Error),
-    /// The manifest's NPTS or DT disagrees with the file.
-    ManifestMismatch {
-        manifest: PathBuf,
-        line: u64,
-        what: String,
-    },
-    DuplicateId {
-        other: PathBuf,
-    },
-}
-
-impl fmt::Display for BadFile {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let path = self.path.display();
-        match &self.problem {
-            Problem::Read(e) => write!(f, "{path}: cannot read: {e}"),
-            Problem::Parse(e) => write!(f, "{path}:{}: {}", e.line, e.kind),
-            Problem::ManifestMismatch {
-                manifest,
-                line,
-                what,
-            } => {
-                write!(
-                    f,
-                    "{path}: disagrees with {}:{line}: {what}",
-                    manifest.display()
-                )
-            }
-            Problem::DuplicateId { other } => write!(
-                f,
-                "{path}: same record id (file stem) as {}; record ids must be unique",
-                other.display()
-            ),
-        }
-    }
-}
-
 #[derive(Debug, thiserror::Error)]
 pub enum IngestError {
     #[error(transparent)]
     OutPath(#[from] crate::outpath::OutPathError),
-    #[error("{path}")]
-    Path {
-        path: PathBuf,
-        #[source]
-        source: io::Error,
-    },
-    #[error("no AT2 files found in {0}")]
-    NoFiles(String),
-    #[error("manifest {path}")]
-    Manifest {
-        path: PathBuf,
-        #[source]
-        source: manifest::ManifestError,
-    },
-    #[error(
-        "{} bad file(s); nothing was written ({hint}):\n  {}",
-        .files.len(),
-        .files.iter().map(|b| b.to_string()).collect::<Vec<_>>().join("\n  ")
-    )]
-    BadFiles {
-        files: Vec<BadFile>,
-        hint: &'static str,
-    },
-    #[error("every file was bad; nothing was written:\n  {}", .0.iter().map(|b| b.to_string()).collect::<Vec<_>>().join("\n  "))]
-    AllBad(Vec<BadFile>),
+    #[error(transparent)]
+    Collect(#[from] CollectError),
     #[error(transparent)]
     Table(#[from] tables::TableError),
 }
@@ -230,97 +140,6 @@ pub struct IngestReport {
     pub not_in_manifest: Vec<String>,
     /// Manifest columns that were not understood and so not stored.
     pub ignored_manifest_columns: Vec<String>,
-}
-
-/// Records read and checked, not yet written.
-#[derive(Debug)]
-pub struct Collected {
-    pub rows: Vec<RecordRow>,
-    pub skipped: Vec<BadFile>,
-    pub not_in_manifest: Vec<String>,
-    pub ignored_manifest_columns: Vec<String>,
-}
-
-/// Reads, checks and joins the records, without writing: the part of ingest
-/// that the sweep also uses when a pipeline names AT2 files directly.
-pub fn collect(
-    paths: &[PathBuf],
-    manifest_path: Option<&Path>,
-    on_bad: OnBad,
-) -> Result<Collected, IngestError> {
-    let files = discover(paths)?;
-    let manifest = match manifest_path {
-        Some(path) => Some((path.to_path_buf(), load_manifest(path)?)),
-        None => None,
-    };
-
-    let results: Vec<Result<RecordRow, BadFile>> = files.par_iter().map(|p| read_one(p)).collect();
-    let mut rows = Vec::with_capacity(results.len());
-    let mut bad = Vec::new();
-    for r in results {
-        match r {
-            Ok(row) => rows.push(row),
-            Err(b) => bad.push(b),
-        }
-    }
-
-    // Record ids are file stems: two files with one stem are both refused.
-    rows.sort_by(|a, b| a.record_id.cmp(&b.record_id).then(a.source.cmp(&b.source)));
-    let mut unique: Vec<RecordRow> = Vec::with_capacity(rows.len());
-    for row in rows {
-        match unique.last() {
-            Some(prev) if prev.record_id == row.record_id => bad.push(BadFile {
-                path: PathBuf::from(&row.source),
-                problem: Problem::DuplicateId {
-                    other: PathBuf::from(&prev.source),
-                },
-            }),
-            _ => unique.push(row),
-        }
-    }
-    let mut rows = unique;
-
-    let mut not_in_manifest = Vec::new();
-    if let Some((manifest_path, manifest)) = &manifest {
-        let mut joined = Vec::with_capacity(rows.len());
-        for mut row in rows {
-            match manifest.entries.get(&row.record_id) {
-                None => {
-                    not_in_manifest.push(row.record_id.clone());
-                    joined.push(row);
-                }
-                Some(entry) => match check_against_manifest(&row, entry) {
-                    Some(what) => bad.push(BadFile {
-                        path: PathBuf::from(&row.source),
-                        problem: Problem::ManifestMismatch {
-                            manifest: manifest_path.clone(),
-                            line: entry.line,
-                            what,
-                        },
-                    }),
-                    None => {
-                        row.meta = entry.meta.clone();
-                        joined.push(row);
-                    }
-                },
-            }
-        }
-        rows = joined;
-    }
-
-    bad.sort_by(|a, b| a.path.cmp(&b.path));
-    if let (false, OnBad::Refuse(hint)) = (bad.is_empty(), on_bad) {
-        return Err(IngestError::BadFiles { files: bad, hint });
-    }
-    if rows.is_empty() {
-        return Err(IngestError::AllBad(bad));
-    }
-    Ok(Collected {
-        rows,
-        skipped: bad,
-        not_in_manifest,
-        ignored_manifest_columns: manifest.map(|(_, m)| m.ignored_columns).unwrap_or_default(),
-    })
 }
 
 /// Runs the ingest stage.
@@ -357,112 +176,4 @@ pub fn run(config: &IngestConfig) -> Result<IngestReport, IngestError> {
         not_in_manifest: collected.not_in_manifest,
         ignored_manifest_columns: collected.ignored_manifest_columns,
     })
-}
-
-fn load_manifest(path: &Path) -> Result<Manifest, IngestError> {
-    let file = fs::File::open(path).map_err(|source| IngestError::Path {
-        path: path.into(),
-        source,
-    })?;
-    manifest::read(io::BufReader::new(file)).map_err(|source| IngestError::Manifest {
-        path: path.into(),
-        source,
-    })
-}
-
-/// The AT2 files named by `paths`: files as given, folders walked recursively
-/// for `*.AT2` in any case. Sorted, without duplicates.
-pub fn discover(paths: &[PathBuf]) -> Result<Vec<PathBuf>, IngestError> {
-    let mut found = Vec::new();
-    for path in paths {
-        let meta = fs::metadata(path).map_err(|source| IngestError::Path {
-            path: path.clone(),
-            source,
-        })?;
-        if meta.is_dir() {
-            walk(path, &mut found)?;
-        } else {
-            found.push(path.clone());
-        }
-    }
-    found.sort();
-    found.dedup();
-    if found.is_empty() {
-        let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
-        return Err(IngestError::NoFiles(names.join(", ")));
-    }
-    Ok(found)
-}
-
-fn walk(dir: &Path, found: &mut Vec<PathBuf>) -> Result<(), IngestError> {
-    let entries = fs::read_dir(dir).map_err(|source| IngestError::Path {
-        path: dir.into(),
-        source,
-    })?;
-    for entry in entries {
-        let entry = entry.map_err(|source| IngestError::Path {
-            path: dir.into(),
-            source,
-        })?;
-        let path = entry.path();
-        let meta = fs::metadata(&path).map_err(|source| IngestError::Path {
-            path: path.clone(),
-            source,
-        })?;
-        if meta.is_dir() {
-            walk(&path, found)?;
-        } else if path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("at2"))
-        {
-            found.push(path);
-        }
-    }
-    Ok(())
-}
-
-fn read_one(path: &Path) -> Result<RecordRow, BadFile> {
-    let bad = |problem| BadFile {
-        path: path.to_path_buf(),
-        problem,
-    };
-    let bytes = fs::read(path).map_err(|e| bad(Problem::Read(e)))?;
-    let parsed = at2::parse(&bytes).map_err(|e| bad(Problem::Parse(e)))?;
-    let peak =
-        motion::peak(&parsed.accel_g, parsed.dt_s).expect("NPTS > 0 is checked by the parser");
-    Ok(RecordRow {
-        record_id: path
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default(),
-        source: path.display().to_string(),
-        sha256: crate::hash::sha256_hex(&bytes),
-        dt_s: parsed.dt_s,
-        pga_g: peak.pga_g,
-        pga_time_s: peak.time_s,
-        duration_s: motion::duration_s(parsed.accel_g.len(), parsed.dt_s),
-        header: parsed.header,
-        header_layout: parsed.layout.as_str().to_string(),
-        meta: RecordMeta::default(),
-        accel_g: parsed.accel_g,
-    })
-}
-
-/// NPTS must match exactly; DT to 1e-9 relative (a manifest may print 0.01
-/// where the file says .0100).
-fn check_against_manifest(row: &RecordRow, entry: &manifest::ManifestEntry) -> Option<String> {
-    if let Some(n) = entry.npts {
-        if n as usize != row.accel_g.len() {
-            return Some(format!(
-                "manifest npts = {n}, file NPTS = {}",
-                row.accel_g.len()
-            ));
-        }
-    }
-    if let Some(dt) = entry.dt_s {
-        if (dt - row.dt_s).abs() > 1e-9 * row.dt_s {
-            return Some(format!("manifest dt = {dt} s, file DT = {} s", row.dt_s));
-        }
-    }
-    None
 }

@@ -23,7 +23,6 @@ pub mod ingest;
 pub mod lock;
 pub mod pulses;
 pub mod reason;
-pub mod records;
 pub mod reduce;
 pub mod report;
 pub mod stage;

@@ -9,8 +9,8 @@ use std::time::Instant;
 use super::options::{BenchError, BenchOptions};
 use super::records::far_field_files;
 use rocking::ida::{capacity_certified, capacity_traced, ImGrid, Trace};
-use rocking::ops::record;
 use rocking::physics::{Excitation, Model, RunSpec, DEFAULT_RTOL, DEFAULT_TAYLOR_TOL};
+use rocking::records;
 
 /// The block: p = 2 1/s, ε = 0.7, α = 0.25 rad (b/h ≈ 0.26, a stocky block
 /// the `auto` rule sends to the nonlinear model).
@@ -43,7 +43,7 @@ pub(super) fn certified_table(
     let files = far_field_files(opts)?;
     let mut records: Vec<Excitation> = Vec::new();
     for f in files.iter().take(n) {
-        records.push(record::load(f)?.exc);
+        records.push(records::load(f)?.exc);
     }
     let grid = ImGrid::default();
     let taylor = format!("nonlinear, Taylor (tail {DEFAULT_TAYLOR_TOL:e})");

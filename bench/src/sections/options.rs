@@ -3,9 +3,9 @@
 
 use std::path::PathBuf;
 
-use rocking::ops::record::RecordError;
 use rocking::physics::PhysicsError;
 use rocking::plot::PlotError;
+use rocking::records::RecordError;
 use rocking::tables::TableError;
 
 /// What to measure and where to write it.

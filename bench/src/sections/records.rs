@@ -4,12 +4,12 @@
 use std::path::{Path, PathBuf};
 
 use super::options::{BenchError, BenchOptions};
-use rocking::ops::record;
 use rocking::physics::Excitation;
+use rocking::records;
 
 pub(super) fn load(dir: &Path, stem: &str) -> Result<Excitation, BenchError> {
     let path = dir.join("far-field").join(format!("{stem}.AT2"));
-    Ok(record::load(&path)?.exc)
+    Ok(records::load(&path)?.exc)
 }
 
 /// `n` far-field records spread over the set (every k-th by file name).

@@ -15,8 +15,8 @@ use crate::ida::{self, ImGrid};
 use crate::im::{Im, RecordIms};
 use crate::physics::{Excitation, ModelChoice, RunSpec};
 use crate::pipeline::Plan;
-use crate::stages::ingest::{self, OnBad};
-use crate::stages::{records, Progress, Reporter};
+use crate::records::{self, OnBad};
+use crate::stages::{Progress, Reporter};
 
 /// What `--direct` says about bad files in `--records`.
 const RECORDS_HINT: &str = "fix them, or point --records at a folder of good AT2 files";
@@ -83,12 +83,12 @@ impl DirectRecords {
         floor: Option<&Building>,
     ) -> Result<Self, FragilityError> {
         let rows = match (from, plan) {
-            (_, Some(plan)) => records::load(plan).map_err(FragilityError::Records)?,
+            (_, Some(plan)) => records::of_plan(plan).map_err(FragilityError::Records)?,
             (Source::Paper { records }, None) => {
                 if !records.is_dir() {
                     return Err(FragilityError::NoRecords(records.clone()));
                 }
-                ingest::collect(
+                records::collect(
                     std::slice::from_ref(records),
                     None,
                     OnBad::Refuse(RECORDS_HINT),

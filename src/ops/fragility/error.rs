@@ -5,9 +5,9 @@ use std::path::PathBuf;
 
 use crate::ops::im_fragility;
 use crate::physics::PhysicsError;
+use crate::records::CollectError;
+use crate::records::SelectError;
 use crate::stages::fit::FitError;
-use crate::stages::ingest::IngestError;
-use crate::stages::records::SelectError;
 use crate::stages::LoadError;
 
 /// Why a block's fragility cannot be made.
@@ -81,7 +81,7 @@ pub enum FragilityError {
     #[error("--direct")]
     Records(#[source] SelectError),
     #[error("--direct")]
-    Ingest(#[source] IngestError),
+    Ingest(#[source] CollectError),
     #[error("--direct: the model for this block")]
     Model(#[source] PhysicsError),
     #[error(

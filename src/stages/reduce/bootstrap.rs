@@ -99,7 +99,7 @@ fn unit_of(
         return Ok((0..n_records).collect());
     }
     // Case k = ri·n_blocks + bi.
-    let rows = crate::stages::records::select(plan, &study.records_table())?;
+    let rows = crate::records::select(plan, &study.records_table())?;
     let pair_of: std::collections::HashMap<&str, &str> = rows
         .iter()
         .filter_map(|r| Some((r.record_id.as_str(), r.meta.pair.as_deref()?)))

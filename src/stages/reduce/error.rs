@@ -12,7 +12,7 @@ pub enum ReduceError {
     #[error("the sweep tables do not match the pipeline: {0}; rerun `rocking sweep`")]
     Mismatch(String),
     #[error(transparent)]
-    Records(#[from] crate::stages::records::SelectError),
+    Records(#[from] crate::records::SelectError),
     #[error(
         "[uncertainty] unit = \"pair\" resamples the manifest's pairs, and record {0} has \
          none: give the pipeline a manifest with pairs, or set unit = \"record\""

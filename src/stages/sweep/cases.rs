@@ -13,7 +13,7 @@ use super::layout::{
 use crate::ida;
 use crate::physics::Excitation;
 use crate::pipeline::{BlockSpec, Plan};
-use crate::stages::records;
+use crate::records;
 use crate::stages::stage::{Shard, Study};
 use crate::tables::records::RecordRow;
 use crate::tables::sweep::{CapacityRow, IdaRow};

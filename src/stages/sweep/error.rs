@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use super::dataset::DatasetError;
 use super::layout::CHUNK_CASES;
 use crate::physics::PhysicsError;
-use crate::stages::records::SelectError;
+use crate::records::SelectError;
 use crate::stages::stage::Shard;
 use crate::tables::TableError;
 

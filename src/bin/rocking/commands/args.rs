@@ -239,10 +239,10 @@ impl BlockArgs {
         &self,
         path: Option<&Path>,
         p: f64,
-    ) -> anyhow::Result<rocking::ops::record::LoadedRecord> {
+    ) -> anyhow::Result<rocking::records::LoadedRecord> {
         let pulse = self.pulse.ask(self.td).resolve(Spelling::Cli)?;
         let building = self.ask().building(Spelling::Cli)?;
-        Ok(rocking::ops::record::excitation(
+        Ok(rocking::records::excitation(
             path,
             pulse.as_ref(),
             building.as_ref(),

@@ -8,8 +8,8 @@ use rocking::ask::{AskedBlock, SearchAsk, Spelling};
 use rocking::ida::{Certified, Spacing};
 use rocking::im;
 use rocking::ops::capacity::{self, NamedSpec};
-use rocking::ops::record::LoadedRecord;
 use rocking::ops::reports::{self};
+use rocking::records::LoadedRecord;
 use rocking::stages::{Progress, Reporter};
 
 use super::args::{label, BlockArgs};

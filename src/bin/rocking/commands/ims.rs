@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 use rocking::im::{self, Im, RecordIms, SPECTRAL_DAMPING};
-use rocking::ops::record;
+use rocking::records;
 
 /// Intensity measures of one record.
 #[derive(Debug, clap::Args)]
@@ -31,7 +31,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if let Some(bad) = args.periods.iter().find(|t| !(**t > 0.0 && t.is_finite())) {
         anyhow::bail!("--period {bad}: a period must be a positive number of seconds");
     }
-    let (accel, dt) = record::read_samples(&args.record)?;
+    let (accel, dt) = records::read_samples(&args.record)?;
     let ims = RecordIms::of_record(&accel, dt, &args.periods).with_context(|| {
         format!(
             "{}: the record has no motion (every sample is 0)",

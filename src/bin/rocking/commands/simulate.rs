@@ -112,7 +112,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// The response as text.
 fn print_text(
     args: &Args,
-    rec: &rocking::ops::record::LoadedRecord,
+    rec: &rocking::records::LoadedRecord,
     spec: &physics::RunSpec,
     why: &str,
     out: &physics::Outcome,

@@ -1,12 +1,13 @@
 //! The records a pipeline selects: read from a records table (or straight
 //! from AT2 files), filtered by `records.sets` and `records.ids`, sorted by
-//! record id. Glue shared by the sweep, the convergence study and
+//! record id; and the motion its blocks feel under each. Shared by the
+//! sweep, the convergence study, the ims stage, the bootstrap and
 //! `fragility --direct`.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
-use super::ingest::{self, IngestError, OnBad};
+use super::collect::{self, CollectError, OnBad, PIPELINE_HINT};
 use crate::floor::Building;
 use crate::physics::{Excitation, PhysicsError};
 use crate::pipeline::{NotRecords, Plan, RecordSource, RecordsPlan};
@@ -23,7 +24,7 @@ pub enum SelectError {
     #[error(transparent)]
     Table(#[from] TableError),
     #[error("the pipeline's AT2 records")]
-    Ingest(#[source] IngestError),
+    Collect(#[source] CollectError),
     #[error("`records.sets` names \"{set}\", which no record has; available: {available}")]
     UnknownSet { set: String, available: String },
     #[error("`records.ids`: no record {0}")]
@@ -61,18 +62,14 @@ pub fn select(plan: &Plan, table: &Path) -> Result<Vec<RecordRow>, SelectError> 
 
 /// The plan's records wherever the pipeline names them (a table, or AT2
 /// files read directly), filtered and sorted.
-pub fn load(plan: &Plan) -> Result<Vec<RecordRow>, SelectError> {
+pub fn of_plan(plan: &Plan) -> Result<Vec<RecordRow>, SelectError> {
     let rs = plan.records_study()?;
     match &rs.records {
         RecordSource::Table(path) => select(plan, path),
         RecordSource::At2 { paths, manifest } => {
-            let rows = ingest::collect(
-                paths,
-                manifest.as_deref(),
-                OnBad::Refuse(ingest::PIPELINE_HINT),
-            )
-            .map_err(SelectError::Ingest)?
-            .rows;
+            let rows = collect::collect(paths, manifest.as_deref(), OnBad::Refuse(PIPELINE_HINT))
+                .map_err(SelectError::Collect)?
+                .rows;
             filter(rs, rows)
         }
     }

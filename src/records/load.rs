@@ -1,0 +1,188 @@
+//! One record ready to run ([`LoadedRecord`]): an AT2 file read and
+//! normalised, samples given as values, or a pulse sampled for a block;
+//! on a building's floor, the floor's motion under it.
+
+use std::path::{Path, PathBuf};
+
+use crate::at2::{self, At2Error};
+use crate::floor::Building;
+use crate::physics::{Excitation, PhysicsError};
+use crate::pulse::Pulse;
+
+/// A record ready to run, with what the reports show.
+#[derive(Debug, Clone)]
+pub struct LoadedRecord {
+    /// The file stem.
+    pub record_id: String,
+    pub npts: usize,
+    pub pga_g: f64,
+    pub exc: Excitation,
+    /// The pulse this excitation is, when it is one (no physical PGA then).
+    pub pulse: Option<Pulse>,
+    /// On a building's floor: the ground record's peak and the building's
+    /// amplification of it (`pga_g` and `exc` are then the floor motion's).
+    pub floor: Option<OnFloor>,
+}
+
+/// A record run on a building's floor rather than on the ground.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OnFloor {
+    /// The ground record's PGA (g), unscaled.
+    pub ground_pga_g: f64,
+    /// The floor motion's peak over the ground's, PFA/PGA, for the record
+    /// as recorded (and at any scale: the building is linear).
+    pub pfa_over_pga: f64,
+    /// The floor motion's samples per record step.
+    pub substeps: usize,
+}
+
+/// A pulse as a record: its name as the id, sampled at the default step
+/// for a block of frequency `p`.
+pub fn from_pulse(pulse: &Pulse, p: f64) -> Result<LoadedRecord, PhysicsError> {
+    let exc = pulse.excitation_for(p)?;
+    Ok(LoadedRecord {
+        record_id: pulse.to_string(),
+        npts: exc.psi.len(),
+        pga_g: f64::NAN,
+        exc,
+        pulse: Some(*pulse),
+        floor: None,
+    })
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum RecordError {
+    #[error("{path}: cannot read")]
+    Read {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// The parse error's line and text are in the message.
+    #[error("{path}:{}: {}", .error.line, .error.kind)]
+    Parse { path: PathBuf, error: At2Error },
+    #[error("{path}")]
+    Samples {
+        path: PathBuf,
+        #[source]
+        source: PhysicsError,
+    },
+    /// A record and a pulse together, a pulse on a floor, or neither.
+    #[error("{0}")]
+    Asked(String),
+    #[error("{path}: its floor motion")]
+    Floor {
+        path: PathBuf,
+        #[source]
+        source: crate::floor::FloorError,
+    },
+}
+
+/// What shakes the block: the record at `path` (on the floor of `building`
+/// when one is given), or `pulse` sampled for the block's `p`.
+pub fn excitation(
+    path: Option<&Path>,
+    pulse: Option<&Pulse>,
+    building: Option<&Building>,
+    p: f64,
+) -> Result<LoadedRecord, RecordError> {
+    match (path, pulse, building) {
+        (Some(_), Some(_), _) => Err(RecordError::Asked(
+            "give a record or a pulse, not both".into(),
+        )),
+        (None, Some(_), Some(_)) => Err(RecordError::Asked(
+            "a floor filters a ground record through a building; a pulse is given as the block's own excitation".into(),
+        )),
+        (None, Some(pulse), None) => from_pulse(pulse, p).map_err(|source| RecordError::Samples {
+            path: PathBuf::from(pulse.to_string()),
+            source,
+        }),
+        (Some(path), None, _) => load_on(path, building),
+        (None, None, _) => Err(RecordError::Asked(
+            "give a record (--record FILE.AT2) or a pulse (--pulse rect|exp)".into(),
+        )),
+    }
+}
+
+/// Reads one AT2 file: its samples (g) and step (s), unscaled.
+pub fn read_samples(path: &Path) -> Result<(Vec<f64>, f64), RecordError> {
+    let bytes = std::fs::read(path).map_err(|source| RecordError::Read {
+        path: path.into(),
+        source,
+    })?;
+    let parsed = at2::parse(&bytes).map_err(|error| RecordError::Parse {
+        path: path.into(),
+        error,
+    })?;
+    Ok((parsed.accel_g, parsed.dt_s))
+}
+
+/// Reads and normalises one AT2 file.
+pub fn load(path: &Path) -> Result<LoadedRecord, RecordError> {
+    load_on(path, None)
+}
+
+/// Reads one AT2 file and normalises it, or the motion of the floor of
+/// `building` under it.
+pub fn load_on(path: &Path, building: Option<&Building>) -> Result<LoadedRecord, RecordError> {
+    let (ground, dt_s) = read_samples(path)?;
+    let record_id = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    from_samples(record_id, ground, dt_s, building).map_err(|e| match e {
+        SampleError::Samples(source) => RecordError::Samples {
+            path: path.into(),
+            source,
+        },
+        SampleError::Floor(source) => RecordError::Floor {
+            path: path.into(),
+            source,
+        },
+    })
+}
+
+/// Why samples cannot be a record.
+#[derive(Debug, thiserror::Error)]
+pub enum SampleError {
+    #[error(transparent)]
+    Samples(PhysicsError),
+    #[error("its floor motion")]
+    Floor(#[source] crate::floor::FloorError),
+}
+
+/// A ground record given by its samples (g) and step (s), named
+/// `record_id`, normalised; or the motion of the floor of `building` under it.
+pub fn from_samples(
+    record_id: String,
+    ground: Vec<f64>,
+    ground_dt_s: f64,
+    building: Option<&Building>,
+) -> Result<LoadedRecord, SampleError> {
+    let peak = |a: &[f64], dt| crate::motion::peak(a, dt).map_or(0.0, |p| p.pga_g);
+    let (accel_g, dt_s, floor) = match building {
+        None => (ground, ground_dt_s, None),
+        Some(b) => {
+            let f = b
+                .floor_motion(&ground, ground_dt_s)
+                .map_err(SampleError::Floor)?;
+            let on = OnFloor {
+                ground_pga_g: peak(&ground, ground_dt_s),
+                pfa_over_pga: f.pfa_over_pga,
+                substeps: f.substeps,
+            };
+            (f.accel_g, f.dt_s, Some(on))
+        }
+    };
+    let pga_g = peak(&accel_g, dt_s);
+    let npts = accel_g.len();
+    let exc = Excitation::from_samples(accel_g, dt_s).map_err(SampleError::Samples)?;
+    Ok(LoadedRecord {
+        record_id,
+        npts,
+        pga_g,
+        exc,
+        pulse: None,
+        floor,
+    })
+}
