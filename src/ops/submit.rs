@@ -156,11 +156,10 @@ pub fn submit(
     let binary = std::env::current_exe()
         .and_then(|p| p.canonicalize())
         .map_err(SubmitError::OwnPath)?;
-    let ingest = engine::find("ingest").expect("the ingest stage is registered");
     engine::run(
         study,
         &RunOptions {
-            target: Target::Through(ingest),
+            target: Target::Through(&crate::stages::ingest::Ingest),
             command: opts.command.clone(),
             ..RunOptions::default()
         },

@@ -167,6 +167,7 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
             rs.convergence,
             dest.display()
         )],
+        headline: 0,
         also_wrote: Vec::new(),
     })
 }

@@ -14,6 +14,7 @@ use std::path::PathBuf;
 
 use rayon::prelude::*;
 
+use super::ims::ImsError;
 use super::reduce::{self, ReduceError};
 use super::stage::{BoxError, Context, Shard, Stage, Study, Summary};
 use super::{example, ims, sweep};
@@ -88,7 +89,24 @@ impl Stage for Damage {
     }
 }
 
-fn run(study: &Study) -> Result<Summary, ReduceError> {
+/// Why the damage stage fails.
+#[derive(Debug, thiserror::Error)]
+pub enum DamageStageError {
+    /// The sweep's tables, read as reduce reads them.
+    #[error(transparent)]
+    Sweep(#[from] ReduceError),
+    /// The records' IMs, as the ims stage wrote them.
+    #[error(transparent)]
+    Ims(#[from] ImsError),
+    #[error(transparent)]
+    Table(#[from] crate::tables::TableError),
+    #[error(transparent)]
+    NotRecords(#[from] crate::pipeline::NotRecords),
+    #[error("record {0} has no row in record_ims; rerun the ims stage (`rocking run`)")]
+    NoIms(String),
+}
+
+fn run(study: &Study) -> Result<Summary, DamageStageError> {
     let plan = study.plan.records_study()?;
     let states = &plan.damage;
     let (caps, ida) = reduce::load(study)?;
@@ -152,6 +170,7 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
             ),
             format!("wrote {} in {}", wrote.join(", "), study.dir.display()),
         ],
+        headline: 0,
         also_wrote: Vec::new(),
     })
 }
@@ -182,17 +201,17 @@ fn of_block(
     record_ims: &BTreeMap<String, RecordIms>,
     states: &DamageStates,
     def: FractileDef,
-) -> Result<BlockDamage, ReduceError> {
+) -> Result<BlockDamage, DamageStageError> {
     let mut ims = Vec::with_capacity(records.len());
     let mut per_record = Vec::with_capacity(records.len());
     let mut capacities = Vec::new();
     for (cap, runs) in records {
         let id = &cap.record_id;
-        ims.push(record_ims.get(id).ok_or_else(|| {
-            ReduceError::Mismatch(format!(
-                "record {id} has no row in record_ims; rerun the ims stage"
-            ))
-        })?);
+        ims.push(
+            record_ims
+                .get(id)
+                .ok_or_else(|| DamageStageError::NoIms(id.clone()))?,
+        );
         let found = damage::capacities(
             states,
             runs.iter().map(|r| (r.eta, r.edp, r.overturned)),

@@ -125,6 +125,8 @@ pub enum Outcome {
         reason: Reason,
         seconds: f64,
         lines: Vec<String>,
+        /// The first lines that are the stage's headline results.
+        headline: usize,
     },
     Skipped(Skip),
 }
@@ -402,6 +404,7 @@ fn run_one(
             reason,
             seconds,
             lines: summary.lines,
+            headline: summary.headline,
         },
     })
 }

@@ -157,6 +157,7 @@ fn run(cx: &Context) -> Result<Summary, ExampleError> {
                 study.dir.display()
             ),
         ],
+        headline: 0,
         also_wrote: Vec::new(),
     })
 }

@@ -229,6 +229,8 @@ fn run(study: &Study) -> Result<Summary, FitError> {
         study.dir.display()
     ));
     Ok(Summary {
+        // The coefficients, not where they were written.
+        headline: lines.len() - 1,
         lines,
         also_wrote: Vec::new(),
     })

@@ -15,8 +15,10 @@ use super::stage::{BoxError, Context, Shard, Stage, Study, Summary};
 use super::sweep;
 use crate::im::{efficiency, Im, RecordIms};
 use crate::records;
+use crate::records::SelectError;
 use crate::tables::ims::{EfficiencyRow, RecordImRow};
 use crate::tables::reduce::BlockRow;
+use crate::tables::TableError;
 use crate::tables::{self, records::RecordRow};
 
 /// The ims stage.
@@ -74,14 +76,34 @@ impl Stage for Ims {
     }
 }
 
-fn run(study: &Study) -> Result<Summary, ReduceError> {
+/// Why the ims stage fails.
+#[derive(Debug, thiserror::Error)]
+pub enum ImsError {
+    /// The sweep's tables, read as reduce reads them.
+    #[error(transparent)]
+    Sweep(#[from] ReduceError),
+    #[error(transparent)]
+    Table(#[from] TableError),
+    #[error(transparent)]
+    Records(#[from] SelectError),
+    #[error(transparent)]
+    NotRecords(#[from] crate::pipeline::NotRecords),
+    #[error("the ims stage's inputs disagree: {0}; rerun `rocking run`")]
+    Mismatch(String),
+    #[error("{0}: the table is not the ims stage's (rerun `rocking run`)")]
+    RecordIms(String),
+    #[error("record {0} has no motion (every sample is 0)")]
+    NoMotion(String),
+}
+
+fn run(study: &Study) -> Result<Summary, ImsError> {
     let rows = records::select(&study.plan, &study.records_table())?;
     let ims = record_ims(&rows)?;
-    let caps = sweep::read_capacities(&study.dir)?;
+    let caps = sweep::read_capacities(&study.dir).map_err(ReduceError::from)?;
     let blocks: Vec<BlockRow> = reduce::read(&study.dir, "blocks.parquet")?;
     let n_blocks = blocks.len();
     if n_blocks == 0 || caps.len() != rows.len() * n_blocks {
-        return Err(ReduceError::Mismatch(format!(
+        return Err(ImsError::Mismatch(format!(
             "{} capacities for {} records × {n_blocks} blocks",
             caps.len(),
             rows.len()
@@ -94,7 +116,7 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
             .map(|ri| {
                 let c = &caps[ri * n_blocks + bi];
                 if c.record_id != rows[ri].record_id {
-                    return Err(ReduceError::Mismatch(format!(
+                    return Err(ImsError::Mismatch(format!(
                         "capacity {} is of record {}, the records table's is {}",
                         c.case_id, c.record_id, rows[ri].record_id
                     )));
@@ -158,36 +180,38 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
                 study.dir.display()
             ),
         ],
+        headline: 0,
         also_wrote: Vec::new(),
     })
 }
 
 /// Every record's IMs, on every core.
-pub fn record_ims(rows: &[RecordRow]) -> Result<Vec<RecordIms>, ReduceError> {
+pub fn record_ims(rows: &[RecordRow]) -> Result<Vec<RecordIms>, ImsError> {
     rows.par_iter()
         .map(|r| {
             RecordIms::of_record(&r.accel_g, r.dt_s, &[])
-                .ok_or_else(|| ReduceError::NoMotion(r.record_id.clone()))
+                .ok_or_else(|| ImsError::NoMotion(r.record_id.clone()))
         })
         .collect()
 }
 
 /// The records' IMs as the stage wrote them (`record_ims` of the study
 /// folder `dir`), by record id.
-pub fn read_record_ims(dir: &std::path::Path) -> Result<BTreeMap<String, RecordIms>, ReduceError> {
+pub fn read_record_ims(dir: &std::path::Path) -> Result<BTreeMap<String, RecordIms>, ImsError> {
     let rows: Vec<RecordImRow> = reduce::read(dir, RECORD_IMS)?;
     let mut values: BTreeMap<String, Vec<(Im, f64)>> = BTreeMap::new();
     for r in rows {
-        let im = r.im.parse::<Im>().map_err(|e| {
-            ReduceError::Mismatch(format!("record_ims: record {}: {e}", r.record_id))
-        })?;
+        let im = r
+            .im
+            .parse::<Im>()
+            .map_err(|e| ImsError::RecordIms(format!("record_ims: record {}: {e}", r.record_id)))?;
         values.entry(r.record_id).or_default().push((im, r.value));
     }
     values
         .into_iter()
         .map(|(id, v)| {
             let ims = RecordIms::from_values(v).ok_or_else(|| {
-                ReduceError::Mismatch(format!("record_ims: record {id} has no PGA"))
+                ImsError::RecordIms(format!("record_ims: record {id} has no PGA"))
             })?;
             Ok((id, ims))
         })

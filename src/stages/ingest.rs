@@ -99,6 +99,7 @@ impl Stage for Ingest {
                 report.samples,
                 report.out.display()
             )],
+            headline: 0,
             also_wrote: Vec::new(),
         })
     }

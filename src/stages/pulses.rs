@@ -223,6 +223,7 @@ fn run(cx: &Context) -> Result<Summary, PulsesError> {
     }
     Ok(Summary {
         lines,
+        headline: 0,
         also_wrote: Vec::new(),
     })
 }

@@ -274,6 +274,7 @@ fn run(cx: &Context) -> Result<Summary, ReportError> {
             figs.len(),
             fig_dir.display()
         )],
+        headline: 0,
         also_wrote: written,
     })
 }

@@ -156,6 +156,10 @@ pub struct Context<'a> {
 pub struct Summary {
     /// Lines for the user, most important first.
     pub lines: Vec<String>,
+    /// How many of the first `lines` are the stage's headline results,
+    /// which `rocking run` repeats once every stage is done (the
+    /// lognormality share, the fitted coefficients); 0 for none.
+    pub headline: usize,
     /// Files written beyond [`Stage::outputs`] (figures), to fingerprint.
     pub also_wrote: Vec<PathBuf>,
 }

@@ -13,6 +13,7 @@ use crate::ops::im_fragility::{DamageTable, ImTable};
 use crate::pipeline::Plan;
 use crate::stages::fingerprint::Freshness;
 use crate::stages::fit::{self, FitError};
+use crate::stages::Stage as _;
 use crate::stages::{damage, ims, Study};
 
 /// Where the capacity fractiles come from.
@@ -163,15 +164,15 @@ pub fn laws(from: &Source) -> Result<Laws, FragilityError> {
             let name = file.display().to_string();
             let regression = if let Some(why) = fit::not_applicable(&study.plan) {
                 Err(NoRegression::NotApplicable(why))
-            } else if let Some(why) = staleness(&study, &status, "fit", fit::OUTPUTS[0]) {
+            } else if let Some(why) = staleness(&study, &status, fit::Fit.name(), fit::OUTPUTS[0]) {
                 Err(NoRegression::Stale(why))
             } else if !study.path(fit::OUTPUTS[1]).exists() {
                 Err(NoRegression::NotRun(study.path(fit::OUTPUTS[1])))
             } else {
                 Ok(fit::read_laws(&study.dir, &name)?)
             };
-            let ims_stale = staleness(&study, &status, "ims", ims::IM_EFFICIENCY);
-            let damage_stale = staleness(&study, &status, "damage", damage::STATES);
+            let ims_stale = staleness(&study, &status, ims::Ims.name(), ims::IM_EFFICIENCY);
+            let damage_stale = staleness(&study, &status, damage::Damage.name(), damage::STATES);
             Ok(Laws {
                 regression,
                 plan: Some(study.plan),

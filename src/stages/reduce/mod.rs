@@ -171,6 +171,7 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
                 study.dir.display()
             ),
         ],
+        headline: 1,
         also_wrote: Vec::new(),
     })
 }

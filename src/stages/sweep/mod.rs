@@ -328,6 +328,7 @@ fn summary(
     ));
     Summary {
         lines,
+        headline: 0,
         also_wrote: Vec::new(),
     }
 }

@@ -99,16 +99,13 @@ fn print_results(study: &Study, results: &[StageResult], started: Instant) {
     for (stage, seconds) in &ran {
         println!("{stage:<12} {seconds:.2} s");
     }
-    // The headline results, as the stage commands print them: the
-    // lognormality share from reduce, the coefficients from fit.
+    // The headline results, as each stage marks them.
     for r in results {
-        if let Outcome::Ran { lines, .. } = &r.outcome {
-            let shown: &[String] = match r.stage {
-                "reduce" => &lines[..lines.len().min(1)],
-                "fit" => &lines[..lines.len().saturating_sub(1)],
-                _ => &[],
-            };
-            for line in shown {
+        if let Outcome::Ran {
+            lines, headline, ..
+        } = &r.outcome
+        {
+            for line in &lines[..(*headline).min(lines.len())] {
                 println!("{}: {line}", r.stage);
             }
         }
@@ -117,7 +114,11 @@ fn print_results(study: &Study, results: &[StageResult], started: Instant) {
     // The report only when this run covered it (ran, or found it fresh):
     // `--to sweep` leaves none, or one of an earlier state.
     let html = study.path(rocking::stages::report::HTML);
-    let report = if results.iter().any(|r| r.stage == "report") && html.exists() {
+    let report = if results
+        .iter()
+        .any(|r| r.stage == rocking::stages::report::Report.name())
+        && html.exists()
+    {
         format!("; report: {} (and report.md beside it)", html.display())
     } else {
         String::new()
