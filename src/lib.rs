@@ -2,24 +2,32 @@
 //!
 //! The tool follows Voyagaki, Psycharis, Mylonakis & Vamvatsikos,
 //! "Probabilistic characterization of overturning capacity for
-//! simply-supported rigid blocks", as a pipeline of stages over Parquet tables:
+//! simply-supported rigid blocks", as a pipeline of stages over Parquet
+//! tables ([`stages::STAGES`], in run order):
 //!
 //! 1. **ingest**: PEER AT2 files (+ manifest) → `records.parquet`;
 //! 2. **sweep**: rocking simulations over an IDA grid → IDA points, capacities;
 //! 3. **convergence**: the capacity search at several grid resolutions;
-//! 4. **reduce**: fractile statistics with the resurrection rule;
-//! 5. **fit**: the two-step regression of the capacity against p and ε;
-//! 6. **report**: the paper's figures and `report.md`.
+//! 4. **reduce**: fractile statistics with the resurrection rule, bands;
+//! 5. **ims**: the records' intensity measures, the capacity's dispersion in each;
+//! 6. **example**: the report's example block over every record;
+//! 7. **damage**: damage states' capacities and lognormals in every IM;
+//! 8. **fit**: the two-step regression of the capacity against p and ε;
+//! 9. **pulses**: the pulse map (safety walls, overturning modes);
+//! 10. **report**: the paper's figures, `report.md` and `report.html`.
 //!
-//! Module map (see `ARCHITECTURE.md` for the invariants):
+//! Module map (`ARCHITECTURE.md` has the invariants):
 //!
-//! - [`at2`], [`manifest`], [`motion`]: parsing and record summaries, no I/O;
+//! - [`ask`]: what a user asks (a block, a search, a fragility, a risk, an
+//!   export), one vocabulary for the command line and Python, checked once;
+//! - [`at2`], [`manifest`], [`motion`], [`decimal`]: parsing and record
+//!   summaries, no I/O;
 //! - [`block`]: a block's geometry (α, R, p) and restitution, defined once,
 //!   and whether it slides before it rocks, no I/O;
 //! - [`sdof`], [`floor`]: a linear oscillator stepped exactly; a building's
 //!   floor motion under a record, no I/O;
-//! - [`im`]: intensity measures, and a capacity in η as a capacity in an IM, no I/O;
-//! - [`decimal`]: correctly rounded decimal reading (Clinger's fast path), no I/O;
+//! - [`im`]: the intensity measures, every fact about each, a record's
+//!   measures, a capacity in any IM, no I/O;
 //! - [`physics`]: the equations, integrators and events, no I/O;
 //! - [`ida`]: capacity of one record by incremental dynamic analysis, no I/O;
 //! - [`damage`]: limit states on the IDA curve, their capacities and lognormal fits, no I/O;
@@ -27,20 +35,20 @@
 //! - [`pulse`]: rectangular and exponential pulses, their closed-form walls
 //!   (paper Eqs. 3, 5, 6) and walls by simulation, no I/O;
 //! - [`pipeline`]: pipeline files (TOML text) → a typed plan, no I/O;
-//! - [`stats`]: fractiles (+∞ allowed), Lilliefors, normal distribution, no I/O;
-//! - [`fit`]: the two-step regression (Levenberg–Marquardt, polynomials), no I/O;
-//! - [`fragility`]: P(overturn | PGA) of a real block from the regression, no I/O;
-//! - [`hazard`], [`risk`]: site hazard curves (OpenQuake, plain CSV) and the
-//!   annual rate of overturning, no I/O;
-//! - [`study`], [`figures`], [`report`]: a study's results, its figures as
-//!   chart specifications and its Markdown report, no I/O;
-//! - [`plot`]: figures as SVG text;
-//! - [`label`], [`hash`]: enum labels; SHA-256;
+//! - [`stats`], [`fit`]: fractiles (+∞ allowed), Lilliefors, the bootstrap;
+//!   the two-step regression, no I/O;
+//! - [`fragility`], [`hazard`], [`risk`]: P(overturn | PGA) from the
+//!   regression; hazard curves; the annual rate of overturning, no I/O;
+//! - [`study`], [`figures`], [`report`], [`plot`]: a study's results, its
+//!   figures as chart specifications, its report, SVG, no I/O;
+//! - [`label`], [`hash`], [`cluster`], [`outpath`]: closed sets' labels;
+//!   SHA-256; Slurm as text; output paths checked;
 //! - [`records`]: the records runs shake blocks with: AT2 files found, read,
 //!   checked and loaded, a pipeline's selection (reads files);
 //! - [`tables`]: the only module that touches Parquet;
 //! - [`stages`]: glue, one file per stage, the engine that runs them;
-//! - [`ops`]: what the other commands do (simulate's record, fragility, risk, export).
+//! - [`ops`]: what the other commands do (capacity batches, fragility,
+//!   damage states, risk, export, Slurm submission).
 //!
 //! The command line is the `rocking` binary (`src/bin/rocking/`); the library
 //! does not know clap.

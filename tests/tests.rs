@@ -10,6 +10,9 @@
 //! - `damage`: the damage stage's state capacities against the runs, its
 //!   fits against the fractiles by hand and the likelihood's maximum; the
 //!   states of `fragility` and `risk` from a study; refusals and staleness.
+//! - `docs`: the generated references (docs/cli.md, docs/tables.md) equal
+//!   what the code generates; every table and stage listed wherever they
+//!   are; the README's and the guide's commands print what they show.
 //! - `engines`: `rocking export` read by OpenQuake (classical_damage against
 //!   `rocking risk` and its own formula) and pelicun (damage shares against
 //!   the stated lognormals) (ROCKING_ENGINES=venv; CI makes one).
@@ -58,6 +61,7 @@
 mod certify;
 mod cli;
 mod damage;
+mod docs;
 mod engines;
 mod example;
 mod faults;

@@ -33,6 +33,11 @@ pub trait Column: Sized {
     /// Reads a column back. `Err` says what is wrong (a type this build
     /// does not expect, a null where none is allowed, an unknown label).
     fn read(array: &ArrayRef) -> Result<Vec<Self>, String>;
+    /// The values a text column may hold, for the reference
+    /// (`docs/tables.md`): a closed set's labels; `None` for any.
+    fn values() -> Option<String> {
+        None
+    }
 }
 
 fn wrong_type(array: &ArrayRef, expected: &str) -> String {
@@ -235,6 +240,9 @@ macro_rules! label_columns {
                         })
                     })
                     .collect()
+            }
+            fn values() -> Option<String> {
+                Some(<$t as Label>::labels())
             }
         }
     )*};

@@ -1,56 +1,91 @@
 //! The damage stage's tables (docs/MODEL.md §15): each record's capacity for
-//! each limit state, and each state's lognormal in every IM. Columns are
-//! documented in the README.
+//! each limit state, and each state's lognormal in every IM. Each column is
+//! documented on its field (generated into docs/tables.md).
 
 use crate::damage::FitMethod;
 use crate::table;
 
 table! {
-    /// One record's capacity for one limit state of one block.
+    /// One row per block × record × limit state.
+    ///
+    /// Written by the damage stage in `outputs/<name>/state_capacities.parquet`: each
+    /// record's capacity for each of the pipeline's `[damage] states` (default
+    /// `rocking=0.1,large_rocking=0.5,overturned=overturned`; docs/MODEL.md §15). With
+    /// `[example]`, `example_state_capacities.parquet` holds the same of the example block
+    /// (`block_index` 0). The metadata holds `rocking.damage.states`.
     pub struct StateCapacityRow = "state_capacities" v 1 {
         /// The block's row in `blocks.parquet` (0 for the example block).
         pub block_index: i64,
+        /// The block's label; empty for the p × ε grid.
         pub block: String,
+        /// The block's frequency parameter p (1/s).
         pub p: f64,
+        /// The block's coefficient of restitution ε.
         pub eps: f64,
+        /// The record (its AT2 file stem).
         pub record_id: String,
         /// The state's name (`[damage] states`), lightest first.
         pub state: String,
-        /// Where the record reaches the state: η = αg/PGA of the first
-        /// crossing as intensity rises (interpolated in 1/η); where it does
-        /// not, the η of its strongest run (the capacity lies beyond it).
+        /// Where the record reaches the state: η = αg/PGA of the first crossing as
+        /// intensity rises (interpolated in 1/η between the runs around it; η_c for
+        /// overturning). Where it does not: the η of its strongest run (the capacity lies
+        /// beyond it). On a building's floor, the floor motion's η, as in `capacities`.
         pub eta: f64,
+        /// Whether the record reaches the state within its runs.
         pub reached: bool,
     }
 }
 
 table! {
-    /// One limit state's lognormal fragility of one block in one IM, by one method.
+    /// One row per block × limit state × IM × method: the state's lognormal fragility.
+    ///
+    /// Written by the damage stage in `outputs/<name>/damage_states.parquet`: each of the
+    /// pipeline's `[damage] states` (default
+    /// `rocking=0.1,large_rocking=0.5,overturned=overturned`; docs/MODEL.md §15) fitted in
+    /// every IM a capacity is stated in, by the paper's fractiles and by censored maximum
+    /// likelihood. On a building's floor the IMs are the ground record's. With `[example]`,
+    /// `example_damage_states.parquet` holds the same of the example block (`block_index`
+    /// 0). The metadata holds `rocking.damage.states`.
     pub struct DamageStateRow = "damage_states" v 1 {
+        /// The block's row in `blocks.parquet` (0 for the example block).
         pub block_index: i64,
+        /// The block's label; empty for the p × ε grid.
         pub block: String,
+        /// The block's frequency parameter p (1/s).
         pub p: f64,
+        /// The block's coefficient of restitution ε.
         pub eps: f64,
+        /// The state's name (`[damage] states`), lightest first.
         pub state: String,
-        /// `θmax/α ≥ 0.1` or `overturned`.
+        /// The state's criterion: `θmax/α ≥ x` (e.g. `θmax/α ≥ 0.1`) or `overturned`.
         pub criterion: String,
-        /// The θmax/α threshold; null for overturning.
+        /// The criterion's θmax/α threshold x; empty for overturning.
         pub threshold: Option<f64>,
-        /// `pga`, `pgv`, `sa(1.0)`, … as in `im_efficiency`.
+        /// The IM: `pga`, `pgv`, `pgd`, `avgsa`, `arias`, `cav`, or `sa(T)` with T the
+        /// period in s (e.g. `sa(1.0)`).
         pub im: String,
+        /// The IM's unit: g (PGA, SA, AvgSA), cm/s (PGV), cm (PGD), m/s (Arias intensity)
+        /// or g·s (CAV).
         pub unit: String,
-        /// `fractile` (the paper's 16/50/84 %) or `mle` (censored maximum likelihood).
+        /// `fractile` (the paper's 16/50/84 % fractiles, records not reaching the state at
+        /// +∞) or `mle` (censored maximum likelihood, records not reaching the state
+        /// censored at their strongest run).
         pub method: FitMethod,
+        /// Number of records.
         pub n_records: i64,
         /// Records that reach the state within their runs.
         pub n_reached: i64,
-        /// The median capacity in `unit`; null for a block without α.
+        /// The median capacity, in `unit`; empty for a block without α, or without a fit.
         pub median: Option<f64>,
-        /// The median in the IM's dimensionless form (`dimensionless`).
+        /// The median in the IM's dimensionless form (named in `dimensionless`); empty
+        /// without a fit, or for an IM without one (`arias`, `cav`).
         pub median_dimensionless: Option<f64>,
+        /// The name of the IM's dimensionless form (`PGA/(αg)`, `p·PGV/(αg)`,
+        /// `p²·PGD/(αg)`, `SA/(αg)`, `AvgSA/(αg)`); empty for an IM without one.
         pub dimensionless: Option<String>,
-        /// Dispersion: the standard deviation of ln capacity. Median and β
-        /// are null where the method has no fit (too few records reach the state).
+        /// The dispersion β, the standard deviation of ln capacity; empty without a fit
+        /// (the 84 % fractile beyond the runs, or fewer than two records reaching the
+        /// state).
         pub beta: Option<f64>,
     }
 }

@@ -9,18 +9,26 @@ use crate::physics::{EventKind, HistoryPoint};
 use crate::table;
 
 table! {
-    /// One point of the response history.
+    /// One row per event or kept sample of the response history.
+    ///
+    /// Written by `rocking simulate --history FILE` as Parquet (`.parquet`) or CSV
+    /// (`.csv`, the same columns): the motion at every event and at every
+    /// `--history-every`-th sample. A run that settles for good or overturns ends there.
+    /// The Parquet metadata holds `rocking.simulate.record` (the record) and
+    /// `rocking.simulate.spec` (the run's specification).
     pub struct HistoryRow = "history" v 1 {
         /// Time from the first sample (s).
         pub t_s: f64,
-        /// θ/α, signed.
+        /// The rotation θ/α, signed.
         pub x: f64,
         /// dx/dt (1/s).
         pub v_per_s: f64,
-        /// +1 or −1 while rocking, 0 at rest.
+        /// The pivot: +1 or −1 while rocking, 0 at rest.
         pub pivot: i8,
         /// ψ̈, the record normalised to unit peak, at that instant.
         pub psi: f64,
+        /// What the row is: `sample` (a kept sample) or an event: `start`, `uplift`,
+        /// `impact` (the state after it), `rest`, `overturn` or `record_end`.
         pub event: EventKind,
     }
 }

@@ -1,51 +1,88 @@
 //! The ims stage's tables (docs/MODEL.md §14): the records' intensity
-//! measures and each block's capacity dispersion in every IM. Columns are
-//! documented in the README.
+//! measures and each block's capacity dispersion in every IM. Each column is
+//! documented on its field (generated into docs/tables.md).
 
 use crate::table;
 
 table! {
-    /// One measure of one record, unscaled (docs/MODEL.md §14): every
-    /// measure of `Im::record_measures` (the capacity measures, the record's
-    /// properties, SA at each period), records in order.
+    /// One row per record × measure.
+    ///
+    /// Written by the ims stage in `outputs/<name>/record_ims.parquet`: every measure of
+    /// every record, unscaled, records in order (definitions: docs/MODEL.md §14). The
+    /// measures are those of `Im::record_measures`: the capacity measures, the record's
+    /// properties, then SA at each period. PGV and PGD come from exact integration from
+    /// rest, with no baseline correction; SA is the pseudo-spectral acceleration at 5 %
+    /// damping at the periods 0.05–4 s; AvgSA is the geometric mean of SA over 0.1–2 s. The
+    /// metadata holds `rocking.ims.damping` (0.05). Version 2 is this long format; version 1
+    /// had one row per record, one column per measure, and SA in a table of its own
+    /// (`record_spectra`).
     pub struct RecordImRow = "record_ims" v 2 {
+        /// The record (its AT2 file stem).
         pub record_id: String,
-        /// `pga`, `pgv`, `pgd`, `avgsa`, `arias`, `cav`, `d5_95`, `pgv_pga`,
-        /// `tm`, `sa(T)`.
+        /// The measure: `pga`, `pgv`, `pgd`, `avgsa`, `arias`, `cav`, `d5_95`, `pgv_pga`,
+        /// `tm`, or `sa(T)` with T the period in s (e.g. `sa(1.0)`). `pga` is the peak
+        /// ground acceleration, `pgv` and `pgd` the peak ground velocity and displacement,
+        /// `avgsa` the geometric mean of SA over 0.1–2 s, `arias` the Arias intensity,
+        /// `cav` the cumulative absolute velocity, `d5_95` the 5–95 % significant duration,
+        /// `pgv_pga` PGV/PGA, `tm` the mean period (Rathje et al. 1998), `sa(T)` the
+        /// pseudo-spectral acceleration at 5 % damping at period T.
         pub im: String,
+        /// The measure's unit: g (PGA, SA, AvgSA), cm/s (PGV), cm (PGD), m/s (Arias
+        /// intensity), g·s (CAV) or s (D5–95, PGV/PGA, Tm).
         pub unit: String,
-        /// SA's period (s); null for the other measures.
+        /// SA's period (s); empty for the other measures.
         pub period_s: Option<f64>,
-        /// In `unit`; PGV and PGD from rest, no baseline correction.
+        /// The measure's value, in `unit`.
         pub value: f64,
     }
 }
 
 table! {
-    /// One IM's capacity dispersion for one block.
+    /// One row per block × IM.
+    ///
+    /// Written by the ims stage in `outputs/<name>/im_efficiency.parquet`: how well each IM
+    /// predicts the block's overturning, by the dispersion of its capacities IM_c over the
+    /// records that overturn the block (IM_c is the record's IM when scaled to the block's
+    /// capacity η_c; on a building's floor, the ground record's). The IMs are `pga`, `pgv`,
+    /// `pgd`, `avgsa`, `arias`, `cav`, `sa(T)` at each period, and the vector
+    /// `pga | pgv/pga`. A block with fewer than three capacities has no rows; the vector
+    /// needs four. The metadata holds `rocking.ims.damping` (0.05).
     pub struct EfficiencyRow = "im_efficiency" v 1 {
         /// The block's row in `blocks.parquet`.
         pub block_index: i64,
+        /// The block's label; empty for the p × ε grid.
         pub block: String,
+        /// The block's frequency parameter p (1/s).
         pub p: f64,
+        /// The block's coefficient of restitution ε.
         pub eps: f64,
-        /// `pga`, `pgv`, `pgd`, `sa(T)`, `avgsa`, `arias`, `cav`, or
-        /// `pga | pgv/pga` (PGA given PGV/PGA).
+        /// `pga`, `pgv`, `pgd`, `sa(T)`, `avgsa`, `arias`, `cav`, or `pga | pgv/pga` (PGA
+        /// given PGV/PGA).
         pub im: String,
+        /// The IM's unit: g (PGA, SA, AvgSA, and the vector), cm/s (PGV), cm (PGD), m/s
+        /// (Arias intensity) or g·s (CAV).
         pub unit: String,
-        /// Records that overturn the block within the grid.
+        /// Records that overturn the block within the grid (the others are left out).
         pub n: i64,
-        /// exp(mean ln IM_c), in `unit`; null for a block without α.
+        /// exp(mean ln IM_c), in `unit`; empty for a block without α (the linearised
+        /// grid) and for the vector.
         pub median: Option<f64>,
-        /// The median in the IM's dimensionless form (`dimensionless`).
+        /// The median in the IM's dimensionless form (named in `dimensionless`); empty for
+        /// an IM without one (`arias`, `cav`, the vector).
         pub median_dimensionless: Option<f64>,
+        /// The name of the IM's dimensionless form: `PGA/(αg)`, `p·PGV/(αg)`,
+        /// `p²·PGD/(αg)`, `SA/(αg)` or `AvgSA/(αg)`; empty for an IM without one.
         pub dimensionless: Option<String>,
-        /// Standard deviation of ln IM_c (of the residuals for the vector).
+        /// The sample standard deviation of ln IM_c (n − 1); for the vector, of the
+        /// residuals of ln PGA_c on ln(PGV/PGA) (n − 2).
         pub beta: f64,
+        /// The Lilliefors p-value of ln IM_c (of the residuals for the vector); empty when
+        /// untested (fewer than five records, or no spread).
         pub lilliefors_p: Option<f64>,
-        /// 1 for the scalar IM with the smallest β of the block; null for the vector.
+        /// The scalar IM's rank by β within the block: 1 for the smallest β; empty for the
+        /// vector.
         pub rank: Option<i64>,
-        /// The vector's d ln PGA_c / d ln(PGV/PGA).
+        /// The vector's d ln PGA_c / d ln(PGV/PGA); empty for the scalar IMs.
         pub slope: Option<f64>,
     }
 }

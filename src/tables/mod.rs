@@ -28,6 +28,7 @@ pub mod ims;
 pub mod pulse;
 pub mod records;
 pub mod reduce;
+pub mod reference;
 pub mod risk;
 pub mod sweep;
 mod table;

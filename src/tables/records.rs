@@ -1,7 +1,8 @@
 //! The `records` table: one row per ground-motion record, samples included.
 //!
-//! Written by `rocking ingest`, read by every later stage. Column meanings are
-//! documented in `outputs/README.md`; this schema is their single definition.
+//! Written by `rocking ingest`, read by every later stage. This schema is
+//! the columns' single definition, [`COLUMN_DOCS`] their meanings
+//! (`docs/tables.md`).
 
 use std::path::Path;
 use std::sync::{Arc, OnceLock};
@@ -11,6 +12,56 @@ use arrow_schema::{DataType, Field, Schema};
 
 use super::{read_column, Column, Table, TableError, TableKind};
 use crate::manifest::RecordMeta;
+
+/// The table's description, as the tables' reference (`docs/tables.md`) gives it.
+pub const DOC: &str = "One row per record.\n\n\
+    Written by `rocking ingest` (default `outputs/records.parquet`) and by the ingest stage, \
+    for a pipeline that names AT2 files, as `outputs/<name>/records.parquet`; every later \
+    stage reads it. Rows are sorted by record id, the samples included. The metadata holds \
+    `rocking.ingest.paths` (the paths ingested) and, with a manifest, \
+    `rocking.ingest.manifest`. The columns that may be empty, `set` to \
+    `lowest_usable_freq_hz`, come from the manifest: they are empty for a record the \
+    manifest does not list (and where its row leaves a cell blank).";
+
+/// Each column's name and meaning, in schema order ([`schema`]).
+pub const COLUMN_DOCS: &[(&str, &[&str])] = &[
+    ("record_id", &["The record's id: its AT2 file stem, e.g. `RSN953_NORTHR_MUL009`; unique."]),
+    ("source", &["Path of the AT2 file as given or found."]),
+    ("sha256", &["SHA-256 of the file's bytes (lower-case hex)."]),
+    ("npts", &["Number of samples."]),
+    ("dt_s", &["Time step (s)."]),
+    ("pga_g", &["Peak absolute acceleration (g), from the samples."]),
+    ("pga_time_s", &["Time of the first sample at the peak (s), sample 0 at t = 0."]),
+    ("duration_s", &["Duration `(npts − 1)·dt_s` (s)."]),
+    ("header_1", &["The file's first header line."]),
+    ("header_2", &["The file's second header line."]),
+    ("header_3", &["The file's third header line."]),
+    ("header_4", &["The file's fourth header line."]),
+    ("header_layout", &["`keyed` (`NPTS=…, DT=…`) or `positional` (`2999 0.01 NPTS, DT`)."]),
+    ("set", &["Record set, e.g. `far-field`, `near-field-pulse`, `near-field-no-pulse`; empty for a \
+         record the manifest does not list."]),
+    ("pair", &["FEMA P695 record (pair) number; empty for a record the manifest does not list."]),
+    ("pair_component", &["Component within the pair, `a` or `b`; empty for a record the manifest does not list."]),
+    ("rsn", &["PEER record sequence number; empty for a record the manifest does not list."]),
+    ("event", &["The earthquake; empty for a record the manifest does not list."]),
+    ("year", &["The earthquake's year; empty for a record the manifest does not list."]),
+    ("magnitude", &["The earthquake's magnitude; empty for a record the manifest does not list."]),
+    ("station", &["Recording station; empty for a record the manifest does not list."]),
+    ("component", &["Recorded component; empty for a record the manifest does not list."]),
+    ("pga_max_pair_g", &["Peak ground acceleration of the pair as tabulated by FEMA P695 (g); empty for a record \
+         the manifest does not list."]),
+    ("pgv_max_pair_cm_s", &["Peak ground velocity of the pair as tabulated by FEMA P695 (cm/s); empty for a record the \
+         manifest does not list."]),
+    ("normalization_factor", &["FEMA P695 normalisation factor of the pair; empty for a record the manifest does not \
+         list."]),
+    ("site_class", &["NEHRP site class; empty for a record the manifest does not list."]),
+    ("vs30_m_s", &["Vs30 (m/s); empty for a record the manifest does not list."]),
+    ("fault_type", &["Faulting mechanism; empty for a record the manifest does not list."]),
+    ("r_jb_km", &["Joyner–Boore distance (km); empty for a record the manifest does not list."]),
+    ("r_rup_km", &["Rupture distance (km); empty for a record the manifest does not list."]),
+    ("lowest_usable_freq_hz", &["Lowest usable frequency (Hz); empty for a record the manifest does not list."]),
+    ("accel_g", &["The samples, in g."]),
+];
 
 pub const KIND: TableKind = TableKind {
     name: "records",
@@ -97,6 +148,12 @@ impl Table for RecordRow {
     const KIND: TableKind = KIND;
     /// A few records' samples at a time: bounds the writer's memory.
     const BATCH_ROWS: usize = 16;
+    const DOC: &'static [&'static str] = &[DOC];
+    const COLUMN_DOCS: &'static [(&'static str, &'static [&'static str])] = COLUMN_DOCS;
+
+    fn column_values() -> Vec<Option<String>> {
+        vec![None; COLUMN_DOCS.len()]
+    }
 
     fn schema() -> Arc<Schema> {
         schema()

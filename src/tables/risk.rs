@@ -1,59 +1,87 @@
 //! The `risk` table of `rocking risk --inventory`: one row per block × site.
-//! Columns are documented in the README.
+//! Each column is documented on its field (generated into docs/tables.md).
 
 use crate::risk::Beyond;
 use crate::table;
 
 table! {
-    /// The annual rate of overturning of one block at one site.
+    /// One row per block × site: the block's annual rate of overturning at the site.
+    ///
+    /// Written by `rocking risk --inventory BLOCKS.csv` in `--out` (default
+    /// `risk.parquet`): every block of the inventory assessed at every site of the hazard
+    /// file. The metadata holds `rocking.risk.hazard` (the hazard file). Version 3 added
+    /// `mu`, `slides_first` and `floor`.
     pub struct RiskRow = "risk" v 3 {
         /// The block's name in the inventory.
         pub block: String,
+        /// The block's half-width b (m).
         pub b_m: f64,
+        /// The block's half-height h (m).
         pub h_m: f64,
+        /// The block's slenderness α (rad).
         pub alpha_rad: f64,
+        /// The block's frequency parameter p (1/s).
         pub p: f64,
+        /// The block's coefficient of restitution ε.
         pub eps: f64,
         /// Whether ε is Housner's bound (the inventory gave none).
         pub eps_housner: bool,
-        /// The base's friction coefficient, when given (`--mu`, the inventory's `mu`).
+        /// The base's friction coefficient μ (`--mu`, the inventory's `mu`); empty when not
+        /// given.
         pub mu: Option<f64>,
-        /// Whether the block slides before it rocks (μ < b/h): its rocking
-        /// results then hold only if it is restrained against sliding.
-        /// False when μ is not given.
+        /// Whether μ is below b/h: the block slides before it rocks, and its rate holds
+        /// only if it is restrained against sliding (docs/MODEL.md §17). False when μ is
+        /// not given.
         pub slides_first: bool,
-        /// The building's modes `T,ζ,Γφ; …` when the block stands on a
-        /// floor (`--floor`); the IMs are still the ground's.
+        /// With `--floor`, or `--from` a `[floor]` study (both with `--direct`): the
+        /// building's modes `T,ζ,Γφ; …`, the block standing on its floor; the IMs stay the
+        /// ground's. Empty for a block on the ground.
         pub floor: Option<String>,
         /// Index of the site in the hazard file, from 0.
         pub site: i64,
+        /// The site's longitude (degrees; OpenQuake files); empty for a plain hazard CSV.
         pub lon: Option<f64>,
+        /// The site's latitude (degrees; OpenQuake files); empty for a plain hazard CSV.
         pub lat: Option<f64>,
-        /// `paper`, the pipeline file, or `direct`.
+        /// Where the fragility comes from: `paper`, the pipeline file, or `direct`.
         pub fragility: String,
-        /// The IM of the hazard and the fragility (`pga`, `pgv`, `sa(1.0)`,
-        /// `avgsa`), and its unit: every IML of the row is in it.
+        /// The IM of the hazard and the fragility (`pga`, `pgv`, `sa(1.0)`, `avgsa`): every
+        /// level of the row is in its unit.
         pub im: String,
+        /// The IM's unit: g (PGA, SA, AvgSA) or cm/s (PGV).
         pub unit: String,
-        /// The IML at which the block overturns with probability 0.5.
+        /// The fragility's median, in `unit`: the IML at which the block overturns with
+        /// probability 0.5. Empty where undefined (`--direct` with most records never
+        /// overturning the block).
         pub median: Option<f64>,
-        /// Dispersion (ln) of the fragility.
+        /// The fragility's dispersion (of ln IM). Empty where undefined (`--direct` with
+        /// most records never overturning the block).
         pub beta: Option<f64>,
-        /// λ_OT (1/year).
+        /// λ_OT, the annual rate of overturning (1/year).
         pub annual_rate: f64,
-        /// 1/λ_OT; empty when the rate is 0.
+        /// The return period 1/λ_OT (years); empty when the rate is 0.
         pub return_period_years: Option<f64>,
+        /// The exposure time T (years, `--years`).
         pub years: f64,
-        /// 1 − exp(−λ_OT · years).
+        /// The probability of overturning within `years`, 1 − exp(−λ_OT T) (Poisson
+        /// arrivals).
         pub p_overturn_in_years: f64,
+        /// The first IML of the part of the hazard curve used (in `unit`).
         pub first_iml: f64,
+        /// The last IML of the part of the hazard curve used (in `unit`).
         pub last_iml: f64,
-        /// P(OT | first IML): overturning probability below where the hazard starts.
+        /// P(OT | first IML): the overturning probability below where the hazard curve
+        /// starts.
         pub fragility_at_first_iml: f64,
-        /// Share of λ_OT from beyond the last IML.
+        /// The share of λ_OT from beyond the last IML.
         pub share_beyond_last_iml: f64,
+        /// What the curve does beyond its last IML: `extrapolate` (its last log-log slope
+        /// continues) or `stop` (no exceedance is counted).
         pub beyond: Beyond,
-        /// Where the regression is stretched for this block, `; `-separated.
+        /// Where the regression is stretched for this block, each site whose rate comes
+        /// mostly (over half) from beyond the hazard curve's last IML, and a block that
+        /// slides first, `; `-separated (the same on each of the block's rows); empty when
+        /// there is nothing to say.
         pub warnings: String,
     }
 }

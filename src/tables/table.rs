@@ -26,6 +26,14 @@ pub struct TableKind {
 /// disagree.
 pub trait Table: Sized {
     const KIND: TableKind;
+    /// The row type's doc comment, line by line: what a row is, where the
+    /// table is written (`docs/tables.md`).
+    const DOC: &'static [&'static str];
+    /// Each column's name and doc comment, in order.
+    const COLUMN_DOCS: &'static [(&'static str, &'static [&'static str])];
+    /// The labels each column may hold where it is a closed set's, in
+    /// order ([`super::Column::values`]).
+    fn column_values() -> Vec<Option<String>>;
     /// Rows per batch (and so at most per row group) when writing.
     const BATCH_ROWS: usize = ROW_GROUP_ROWS;
     fn schema() -> Arc<Schema>;
@@ -35,8 +43,10 @@ pub trait Table: Sized {
 }
 
 /// Defines a table's row type and, from the same field list, its schema,
-/// batch builder and reader ([`Table`]). Field names are the
-/// column names, in order; field types are [`Column`]s.
+/// batch builder, reader and reference ([`Table`]). Field names are the
+/// column names, in order; field types are [`Column`]s; the doc comments
+/// of the struct and of each field (the only attributes allowed) are the
+/// table's documentation (`docs/tables.md`, [`super::reference`]).
 ///
 /// ```ignore
 /// table! {
@@ -51,15 +61,15 @@ pub trait Table: Sized {
 #[macro_export]
 macro_rules! table {
     (
-        $(#[$meta:meta])*
+        $(#[doc = $doc:literal])*
         pub struct $name:ident = $table:literal v $version:literal {
-            $( $(#[$fmeta:meta])* pub $field:ident : $ty:ty, )*
+            $( $(#[doc = $fdoc:literal])* pub $field:ident : $ty:ty, )*
         }
     ) => {
-        $(#[$meta])*
+        $(#[doc = $doc])*
         #[derive(Debug, Clone, PartialEq)]
         pub struct $name {
-            $( $(#[$fmeta])* pub $field: $ty, )*
+            $( $(#[doc = $fdoc])* pub $field: $ty, )*
         }
 
         impl $crate::tables::Table for $name {
@@ -67,6 +77,13 @@ macro_rules! table {
                 name: $table,
                 schema_version: $version,
             };
+            const DOC: &'static [&'static str] = &[$($doc),*];
+            const COLUMN_DOCS: &'static [(&'static str, &'static [&'static str])] =
+                &[$( (stringify!($field), &[$($fdoc),*]) ),*];
+
+            fn column_values() -> Vec<Option<String>> {
+                vec![ $( <$ty as $crate::tables::Column>::values(), )* ]
+            }
 
             fn schema() -> ::std::sync::Arc<::arrow_schema::Schema> {
                 static SCHEMA: ::std::sync::OnceLock<::std::sync::Arc<::arrow_schema::Schema>> =

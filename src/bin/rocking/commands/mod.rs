@@ -12,6 +12,7 @@ mod export;
 mod fragility;
 mod ims;
 mod ingest;
+mod reference;
 mod risk;
 mod run;
 mod simulate;
@@ -51,6 +52,8 @@ enum Command {
     Run(run::Args),
     Status(status::Args),
     Submit(submit::Args),
+    #[command(hide = true)]
+    Reference(reference::Args),
 }
 
 fn dispatch(command: Command) -> anyhow::Result<()> {
@@ -66,12 +69,18 @@ fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Run(a) => run::run(a),
         Command::Status(a) => status::run(a),
         Command::Submit(a) => submit::run(a),
+        Command::Reference(a) => reference::run(a, full_command()),
     }
+}
+
+/// The whole command tree: the commands, and one per stage that has one.
+fn full_command() -> clap::Command {
+    stage::augment(run::describe(Cli::command()))
 }
 
 /// Parses the command line, runs the command, prints errors with their causes.
 pub fn main() -> ExitCode {
-    let matches = stage::augment(run::describe(Cli::command())).get_matches();
+    let matches = full_command().get_matches();
     let result = match stage::matching(&matches) {
         Some((stage, sub)) => stage::run(stage, sub),
         None => match Cli::from_arg_matches(&matches) {
