@@ -2,7 +2,7 @@
 //! [`Batch`] of workers), and the work they counted.
 
 use crate::physics::{
-    simulate, simulate_lanes, simulate_pair, Excitation, Outcome, PhysicsError, RunSpec,
+    simulate, simulate_in_step, Excitation, Outcome, PhysicsError, RunSpec,
 };
 
 /// The simulations of one record, remembered: a search or check that asks
@@ -65,12 +65,12 @@ pub trait Batch: Sync {
 pub type Hand<'a> = dyn Fn([RunSpec; 2]) + 'a;
 
 /// Two runs that differ in η alone (a chaos probe's pair): together, in step,
-/// where [`simulate_pair`] can, else one after the other. Each result is
+/// where [`simulate_in_step`] can, else one after the other. Each result is
 /// [`simulate`]'s for that spec alone.
 pub fn run_pair(exc: &Excitation, pair: &[RunSpec; 2]) -> [Result<Outcome, PhysicsError>; 2] {
-    match simulate_pair(exc, pair.each_ref()) {
-        Some(outs) => outs.map(Ok),
-        None => pair.each_ref().map(|s| simulate(exc, s)),
+    match simulate_in_step(exc, pair)[..] {
+        [a, b] => [Ok(a), Ok(b)],
+        _ => pair.each_ref().map(|s| simulate(exc, s)),
     }
 }
 
@@ -180,30 +180,26 @@ impl<'a> Runs<'a> {
     /// Runs specs that differ in η alone (a chaos probe's two runs, two
     /// grid levels; for the Taylor stepper, in the tolerance too: a run
     /// with its probes, two runs' probes) ahead of need, together, in step,
-    /// when the first is not known yet: the first four not known where they
-    /// can be ([`simulate_lanes`]: the Taylor stepper), else the first two
-    /// ([`simulate_pair`]), each set at about the price of one run where its
-    /// runs rock alike; the others are left to be run when asked for. The
-    /// outcomes wait until asked for ([`Runs::outcome`]).
+    /// when the first is not known yet: as many of those not known as the
+    /// physics keeps in step ([`simulate_in_step`]), the set at about the
+    /// price of one run where its runs rock alike; the others are left to
+    /// be run when asked for. The outcomes wait until asked for
+    /// ([`Runs::outcome`]).
     pub fn run_ahead(&mut self, specs: &[RunSpec]) {
         let known = |k: &[u64; 8]| self.memo.contains_key(k) || self.ahead.contains_key(k);
         if specs.first().is_none_or(|first| known(&run_key(first))) {
             return;
         }
-        let (mut todo, mut keys) = (Vec::with_capacity(4), Vec::with_capacity(4));
+        let (mut todo, mut keys) = (Vec::with_capacity(specs.len()), Vec::with_capacity(specs.len()));
         for spec in specs {
             let key = run_key(spec);
-            if !known(&key) && !keys.contains(&key) && todo.len() < 4 {
+            if !known(&key) && !keys.contains(&key) {
                 todo.push(*spec);
                 keys.push(key);
             }
         }
-        let outs = simulate_lanes(self.exc, &todo).or_else(|| match &todo[..] {
-            [a, b, ..] => simulate_pair(self.exc, [a, b]).map(Vec::from),
-            _ => None,
-        });
-        self.ahead
-            .extend(keys.into_iter().zip(outs.unwrap_or_default()));
+        let outs = simulate_in_step(self.exc, &todo);
+        self.ahead.extend(keys.into_iter().zip(outs));
     }
 
     /// Keeps outcomes run ahead of need (by [`Batch::alongside`]) until they

@@ -40,8 +40,6 @@ mod excitation;
 mod history;
 mod hop;
 mod integrator;
-#[cfg(target_arch = "x86_64")]
-#[allow(unused_unsafe)] // the SSE2 intrinsics are safe to call from Rust 1.87 on
 mod lanes;
 mod overturn;
 pub mod rk4;
@@ -61,7 +59,8 @@ pub use integrator::{
     DEFAULT_RTOL, DEFAULT_TAYLOR_TOL, DP5_TIGHTEST_RTOL, MIN_RTOL, TAYLOR_TIGHTEST_TOL,
 };
 pub use simulate::{
-    simulate, simulate_from, simulate_lanes, simulate_observed, simulate_on, simulate_pair,
+    simulate, simulate_from, simulate_in_step, simulate_lanes, simulate_observed, simulate_on,
+    simulate_pair,
 };
 pub use step::{Rocking, Stepper, Stretch, StretchEnd};
 

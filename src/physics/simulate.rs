@@ -44,6 +44,31 @@ pub fn simulate_from(
     run(exc, spec, start, obs, Isa::detected())
 }
 
+/// Runs that differ in η alone (for the Taylor stepper, in its tolerance
+/// too), as many of them, from the first, as the integrator keeps in step
+/// on this CPU: two for the exact stepper ([`simulate_pair`]), two to four
+/// for the Taylor stepper ([`simulate_lanes`]). Their outcomes, each the
+/// one [`simulate`] gives it alone, to the bit, in the order of `specs`;
+/// empty where none can be run in step (one spec, another integrator,
+/// specs that differ in more, a CPU without x86-64-v3). The caller runs
+/// the rest as it wishes: it need not know the width.
+pub fn simulate_in_step(exc: &Excitation, specs: &[RunSpec]) -> Vec<Outcome> {
+    let Some(first) = specs.first() else {
+        return Vec::new();
+    };
+    let width = match first.model.integrator {
+        Integrator::Exact => 2,
+        Integrator::Taylor { .. } => 4,
+        _ => 1,
+    };
+    let specs = &specs[..specs.len().min(width)];
+    match specs {
+        [_] | [] => Vec::new(),
+        [a, b] => simulate_pair(exc, [a, b]).map(Vec::from).unwrap_or_default(),
+        more => simulate_lanes(exc, more).unwrap_or_default(),
+    }
+}
+
 /// Two runs that differ in η alone (a chaos probe's pair; for the Taylor
 /// stepper, in its tolerance too), run in step
 /// (`driver::drive_pair`: their eventless intervals cost little more than

@@ -3,6 +3,8 @@
 //! ([`Coeffs`], [`cosh_m1`], [`sinhc_m1`]) and its turning points.
 //! Derivation: docs/MODEL.md, §3.1–3.2.
 
+use crate::physics::lanes::Lane;
+
 /// `cosh z − 1`, without cancellation: `z²/2 · (1 + z²/12 + …)`, its
 /// Taylor series to z¹⁴ for |z| < 0.5 (to z⁶ below |z| = 0.01, where the
 /// first dropped term is below 2⁻⁵³ of the sum), `2 sinh²(z/2)` above.
@@ -49,20 +51,33 @@ pub fn sinhc_m1(z: f64) -> f64 {
     }
 }
 
-/// The functions of `z = pσ` the step needs.
+/// The functions of `z = pσ` the step needs (in every lane of `T`: one
+/// stretch's for runs in step).
 #[derive(Debug, Clone, Copy)]
-pub(super) struct Coeffs {
-    pub(super) sigma: f64,
-    pub(super) sinh: f64,
+pub(super) struct Coeffs<T = f64> {
+    pub(super) sigma: T,
+    pub(super) sinh: T,
     /// cosh z − 1
-    pub(super) c: f64,
+    pub(super) c: T,
     /// σ·sinh(z)/z = sinh(z)/p
-    pub(super) s_sigma: f64,
+    pub(super) s_sigma: T,
     /// σ·(sinh(z)/z − 1)
-    pub(super) s1_sigma: f64,
+    pub(super) s1_sigma: T,
 }
 
 impl Coeffs {
+    /// The same coefficients in every lane of `T`.
+    #[inline(always)]
+    pub(super) fn splat<T: Lane>(&self) -> Coeffs<T> {
+        Coeffs {
+            sigma: T::splat(self.sigma),
+            sinh: T::splat(self.sinh),
+            c: T::splat(self.c),
+            s_sigma: T::splat(self.s_sigma),
+            s1_sigma: T::splat(self.s1_sigma),
+        }
+    }
+
     #[inline(always)]
     pub(super) fn new(p: f64, sigma: f64) -> Self {
         // Below |z| = 0.5 (every sample interval up to p·dt = 0.5) these are
@@ -79,26 +94,44 @@ impl Coeffs {
     }
 }
 
-/// The motion on one stretch, evaluable at any σ.
+/// The motion on one stretch, evaluable at any σ; written once for any
+/// number of runs in step (`T` a [`Lane`]: `f64` for one run).
 #[derive(Debug, Clone, Copy)]
-pub(super) struct Motion {
-    pub(super) p: f64,
-    pub(super) x_a: f64,
-    pub(super) v_a: f64,
+pub(super) struct Motion<T = f64> {
+    pub(super) p: T,
+    pub(super) x_a: T,
+    pub(super) v_a: T,
     /// u = x_a − s + g_a/η
-    pub(super) u: f64,
+    pub(super) u: T,
     /// g1/η
-    pub(super) g1e: f64,
+    pub(super) g1e: T,
 }
 
-impl Motion {
+impl<T: Lane> Motion<T> {
+    /// The motion on pivot `s` from `(x, v)` under the forcing `g_a + g1·σ`,
+    /// for a block of frequency parameter `p` at `s·η` and `1/η`.
     #[inline(always)]
-    pub(super) fn at(&self, c: &Coeffs) -> (f64, f64) {
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn new(p: T, s_eta: T, inv_eta: T, x: T, v: T, g_a: T, g1: T) -> Motion<T> {
+        Motion {
+            p,
+            x_a: x,
+            v_a: v,
+            u: x + (g_a - s_eta) * inv_eta,
+            g1e: g1 * inv_eta,
+        }
+    }
+
+    /// `(x, v)` at the end of a stretch of `c.sigma`.
+    #[inline(always)]
+    pub(super) fn at(&self, c: &Coeffs<T>) -> (T, T) {
         let x = self.x_a + self.u * c.c + self.v_a * c.s_sigma + self.g1e * c.s1_sigma;
         let v = self.v_a + self.p * self.u * c.sinh + (self.v_a + self.g1e) * c.c;
         (x, v)
     }
+}
 
+impl Motion {
     /// The size of the largest term of x(σ): the scale of its rounding error.
     #[inline(always)]
     pub(super) fn scale(&self, c: &Coeffs) -> f64 {

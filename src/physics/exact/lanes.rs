@@ -1,9 +1,12 @@
 //! [`crate::physics::Stepper::cruise`] of the exact stepper for two runs at
-//! once, one lane each ([`super::super::lanes::F2`]).
+//! once, one lane each ([`super::super::lanes::F2`]): the lone run's
+//! motion ([`Motion::new`], [`Motion::at`]) and sign tests
+//! ([`Motion::monotone`]), written once, in two lanes.
 
+use super::closed_form::Motion;
 use super::stepper::Exact;
 use crate::physics::driver::CruisePair;
-use crate::physics::lanes::F2;
+use crate::physics::lanes::{Mask, F2};
 use crate::physics::step::Rocking;
 use crate::physics::Excitation;
 
@@ -44,16 +47,9 @@ fn cruise_pair(
     let [top_a, top_b] = tops;
     let (psi, slope) = (&exc.psi[..], &exc.slope[..]);
     let n = slope.len().min(psi.len()).min(exc.psi_end().len());
-    let full = &sa.full;
-    let (p, c, s_sigma, s1_sigma, sinh, delta_max) = (
-        F2::splat(sa.p),
-        F2::splat(full.c),
-        F2::splat(full.s_sigma),
-        F2::splat(full.s1_sigma),
-        F2::splat(full.sinh),
-        F2::splat(sa.full_expm1),
-    );
-    let (zero, two) = (F2::splat(0.0), F2::splat(2.0));
+    let full = sa.full.splat::<F2>();
+    let (p, delta_max) = (F2::splat(sa.p), F2::splat(sa.full_expm1));
+    let zero = F2::splat(0.0);
     let s = F2::new(st_a.s, st_b.s);
     let s_eta = s * F2::new(sa.eta, sb.eta);
     let inv_eta = F2::new(sa.inv_eta, sb.inv_eta);
@@ -61,23 +57,15 @@ fn cruise_pair(
     let (mut x, mut v) = (F2::new(st_a.x, st_b.x), F2::new(st_a.v, st_b.v));
     let mut top = F2::new(*top_a, *top_b);
     while k < n {
-        let (g0, g1) = (psi[k], slope[k]);
-        // `Exact::motion`, `Motion::at` and `Motion::monotone`, lane-wise.
-        let u = x + (F2::splat(g0) - s_eta) * inv_eta;
-        let g1e = F2::splat(g1) * inv_eta;
-        let x_hi = x + u * c + v * s_sigma + g1e * s1_sigma;
-        let pu = p * u;
-        let v_hi = v + pu * sinh + (v + g1e) * c;
+        // The lone run's motion and sign tests, in two lanes.
+        let m = Motion::new(p, s_eta, inv_eta, x, v, F2::splat(psi[k]), F2::splat(slope[k]));
+        let (x_hi, v_hi) = m.at(&full);
         let y_hi = s * x_hi;
         let inside = y_hi.lt(limit) & y_hi.gt(zero);
-        let b = pu + v;
-        let a = b + g1e;
-        let vertex_inside = (a * b).lt(zero) & b.abs().lt(a.abs() * delta_max) & (a * v).gt(zero);
-        let turn_free = !vertex_inside | (b * b - a * (two * v)).lt(zero);
         // A lane with a turning point inside (or an event) leaves the pair
         // to cross that interval on its own, by `cruise`'s other bounds or
         // `rock`: kept out of this loop, they would crowd its registers.
-        if (inside & (v * v_hi).gt(zero) & turn_free).bits() != 0b11 {
+        if !(inside & m.monotone(v_hi, delta_max)).all() {
             break;
         }
         // y_hi lies in (0, limit) on both lanes: `max` is `f64::max` there.

@@ -5,9 +5,10 @@
 
 use super::closed_form::Motion;
 use super::stepper::Exact;
+use crate::physics::lanes::Lane;
 use crate::physics::Excitation;
 
-impl Motion {
+impl<T: Lane> Motion<T> {
     /// Whether the velocity provably keeps its sign on the stretch, given
     /// its value `v_end` at the end and `delta_max = e^{p·len} − 1`: then x
     /// is monotone and has no turning point inside. `2e^z·v(σ)` is the
@@ -18,15 +19,18 @@ impl Motion {
     /// vertex's side and the roots, if any, straddle the stretch) and the
     /// discriminant is not negative. Only sign tests and products: no division, root or
     /// logarithm.
+    /// Lane by lane for runs in step.
     #[inline(always)]
-    pub(super) fn monotone(&self, v_end: f64, delta_max: f64) -> bool {
+    pub(super) fn monotone(&self, v_end: T, delta_max: T) -> T::Mask {
         // Same strict sign at both ends (NaN: no claim). The tests are
         // combined without short circuits: one branch for the caller.
-        let same_sign = self.v_a * v_end > 0.0;
+        let zero = T::splat(0.0);
+        let same_sign = (self.v_a * v_end).gt(zero);
         let b = self.p * self.u + self.v_a;
         let a = b + self.g1e;
-        let vertex_inside = (a * b < 0.0) & (b.abs() < a.abs() * delta_max) & (a * self.v_a > 0.0);
-        same_sign & (!vertex_inside | (b * b - a * (2.0 * self.v_a) < 0.0))
+        let vertex_inside =
+            (a * b).lt(zero) & b.abs().lt(a.abs() * delta_max) & (a * self.v_a).gt(zero);
+        same_sign & (!vertex_inside | (b * b - a * (T::splat(2.0) * self.v_a)).lt(zero))
     }
 }
 

@@ -31,12 +31,6 @@ impl Exact {
     /// The motion on pivot `s` from `(x, v)` under the forcing `g_a + g1·σ`.
     #[inline(always)]
     pub(super) fn motion(&self, x: f64, v: f64, s: f64, g_a: f64, g1: f64) -> Motion {
-        Motion {
-            p: self.p,
-            x_a: x,
-            v_a: v,
-            u: x + (g_a - s * self.eta) * self.inv_eta,
-            g1e: g1 * self.inv_eta,
-        }
+        Motion::new(self.p, s * self.eta, self.inv_eta, x, v, g_a, g1)
     }
 }

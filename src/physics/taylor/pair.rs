@@ -5,11 +5,12 @@
 //! neighbouring decisive runs and neighbouring grid levels of a search rock
 //! alike for stretches, so their steps can share the series' chain of
 //! orders, which bounds a step's time (docs/MODEL.md §3.5): four lanes cost
-//! about what two do. Each lane does the operations [`Taylor::series`] does, in its
-//! order, so each run's outcome is the one it has alone, to the bit.
+//! about what two do. The series is [`build`]'s, the one the lone run's
+//! [`Taylor::series`] is the one-lane case of, so each run's outcome is the
+//! one it has alone, to the bit.
 
-use super::series::{convolutions, ends};
-use super::{quiet, Ends, Step, Taylor, INV, LEN, MAX_ORDER, MIN_ORDER};
+use super::series::{build, Coefficients, Shared};
+use super::{quiet, Ends, Step, Taylor, LEN};
 use crate::physics::driver::{CruiseLanes, CruisePair, Lane};
 use crate::physics::lanes::{Lanes, F2, F4};
 use crate::physics::step::Rocking;
@@ -27,17 +28,6 @@ struct LaneSeries<T, const N: usize> {
     ends: [Ends; N],
 }
 
-/// What the lanes' steppers share (the same `p` and α), as
-/// [`Taylor::series`] uses it, and what each has of its own (η, the
-/// tolerance: a run and its chaos probes at a tighter one go together).
-struct Shared<T> {
-    p2_over_alpha: f64,
-    alpha: f64,
-    p2_over_eta: T,
-    tol: T,
-    tol_e: T,
-}
-
 impl<T: Lanes<N>, const N: usize> LaneSeries<T, N> {
     #[inline(always)]
     fn new() -> Self {
@@ -52,110 +42,17 @@ impl<T: Lanes<N>, const N: usize> LaneSeries<T, N> {
         }
     }
 
-    /// [`Taylor::series`] for `N` steppers sharing `c` (each lane its own
-    /// η and tolerance, on its own pivot `s`) over the same step, lane by
-    /// lane, until every lane's tail is below its tolerance (or
-    /// [`MAX_ORDER`]).
+    /// The series of the lanes' steps ([`build`]), kept here until
+    /// [`LaneSeries::hand`] gives each to its stepper.
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    fn build(
-        &mut self,
-        c: &Shared<T>,
-        s: T,
-        y0: T,
-        w0: T,
-        e0: T,
-        d0: T,
-        h: f64,
-        g_a: f64,
-        g1: f64,
-    ) {
-        let zero = T::splat(0.0);
-        let h2 = h * h;
-        let k_sin = T::splat(h2 * c.p2_over_alpha);
-        let f = (s * T::splat(h2)) * c.p2_over_eta;
-        let (f0, f1) = (f * T::splat(g_a), (f * T::splat(g1)) * T::splat(h));
-        let a = c.alpha;
-        let (tol, tol_e) = (c.tol, c.tol_e);
-        let (y, v, e, d) = (&mut self.y, &mut self.v, &mut self.e, &mut self.d);
-        let v0 = T::splat(h) * w0;
-        y[0] = y0;
-        v[0] = v0;
-        e[0] = e0;
-        d[0] = d0;
-        let fa = T::splat(a);
-        let (a_v0, a_e0, a_d0) = (fa * v0, fa * e0, fa * d0);
-        let (mut vk, mut ek, mut dk, mut d_prev) = (v0, e0, d0, zero);
-        let (mut scale_v, mut tol_v) = (v0.abs(), zero);
-        self.n = [None; N];
-        // Order by order as [`Taylor::series`] grows them: the orders nearly
-        // every step needs each its own straight code, the rest in a loop.
-        macro_rules! order {
-            ($k:expr) => {{
-                let k: usize = $k;
-                let m = k + 1;
-                let inv = T::splat(INV[m]);
-                let (c0, cs, t1) = (f0 * inv, k_sin * inv, (f1 * inv) * d_prev);
-                let (se, sd) = convolutions(&d[..], &e[..], &v[..], k, zero);
-                let ai = T::splat(a * INV[m]);
-                let (se, sd) = (ai * se, ai * sd);
-                let (cv, cd, ce) = (a_v0 * inv, a_d0 * inv, a_e0 * inv);
-                let vm = (c0 * dk + t1) - cs * ek;
-                let ym = vk * inv;
-                let (em, dm) = if k > 0 {
-                    (-(se + cv * dk) - cd * vk, (sd + cv * ek) + ce * vk)
-                } else {
-                    (-(cd * vk), ce * vk)
-                };
-                (y[m], v[m], e[m], d[m]) = (ym, vm, em, dm);
-                if m <= 2 {
-                    scale_v = scale_v.max(vm.abs());
-                    tol_v = tol * scale_v;
-                } else if m >= MIN_ORDER {
-                    let tails = (
-                        vm.abs() + vk.abs(),
-                        em.abs() + ek.abs(),
-                        dm.abs() + dk.abs(),
-                    );
-                    let bits = tails.0.le3(tol_v, tails.1, tol_e, tails.2, tol_e);
-                    if bits != 0 {
-                        // Y's last term, as the next order's `ym` would be.
-                        y[m + 1] = vm * T::splat(INV[m + 1]);
-                        let [ye, ve, ee, de, ae] = lane_ends(&y[..], &v[..], &e[..], &d[..], m);
-                        for lane in 0..N {
-                            if bits & (1 << lane) != 0 && self.n[lane].is_none() {
-                                self.n[lane] = Some(m);
-                                self.ends[lane] = Ends {
-                                    y: ye[lane],
-                                    v: ve[lane],
-                                    e: ee[lane],
-                                    d: de[lane],
-                                    abs_v_tail: ae[lane],
-                                };
-                            }
-                        }
-                        if self.n.iter().all(Option::is_some) {
-                            // A lane done an order or more before has its own
-                            // last term of Y already: this order's `ym`.
-                            return;
-                        }
-                    }
-                }
-                (vk, ek, d_prev, dk) = (vm, em, dk, dm);
-            }};
-        }
-        order!(0);
-        order!(1);
-        order!(2);
-        order!(3);
-        order!(4);
-        order!(5);
-        order!(6);
-        order!(7);
-        order!(8);
-        for k in 9..MAX_ORDER {
-            order!(k);
-        }
+    fn build(&mut self, c: &Shared<T>, start: [T; 5], h: f64, g_a: f64, g1: f64) {
+        let coeffs = Coefficients {
+            y: &mut self.y,
+            v: &mut self.v,
+            e: &mut self.e,
+            d: &mut self.d,
+        };
+        (self.n, self.ends) = build(coeffs, c, start, h, g_a, g1);
     }
 
     /// Hands lane `lane`'s step (built from `from`) to `stepper`, as if it
@@ -175,25 +72,6 @@ impl<T: Lanes<N>, const N: usize> LaneSeries<T, N> {
         stepper.ends = self.ends[lane];
         stepper.built = Some((from.key(), n));
     }
-}
-
-/// [`ends`] of the lanes' series, lane by lane.
-#[inline(always)]
-fn lane_ends<T: Lanes<N>, const N: usize>(
-    y: &[T],
-    v: &[T],
-    e: &[T],
-    d: &[T],
-    m: usize,
-) -> [[f64; N]; 5] {
-    let [ye, ve, ee, de, ae] = ends(y, v, e, d, m, T::splat(0.0), T::abs);
-    [
-        ye.to_lanes(),
-        ve.to_lanes(),
-        ee.to_lanes(),
-        de.to_lanes(),
-        ae.to_lanes(),
-    ]
 }
 
 impl CruisePair for Taylor {
@@ -277,17 +155,14 @@ fn cruise_lanes<T: Lanes<N>, const N: usize>(
     while k < n {
         // `rock`'s forcing at the stretch's start, to the bit.
         let (g_a, g1) = (psi[k] + slope[k] * 0.0, slope[k]);
-        series.build(
-            &c,
+        let from = [
             lanes_s,
             T::from_lanes(y0),
             T::from_lanes(w0),
             T::from_lanes(e0),
             T::from_lanes(d0),
-            dt,
-            g_a,
-            g1,
-        );
+        ];
+        series.build(&c, from, dt, g_a, g1);
         // No `array::map` here nor in `lane_ends`: its closures are not
         // compiled with the vector features, and would call the lanes'
         // instructions.

@@ -1,10 +1,13 @@
-//! The series of one Taylor step, order by order: the recurrences of the
-//! module's header, the constants of a step multiplied out beforehand, the
-//! first orders each their own straight code, the tail tested as the series
-//! grows ([`Taylor::series`]).
+//! The series of a Taylor step, order by order, written once for any
+//! number of lanes ([`build`]; the lone run's [`Taylor::series`] is its
+//! one-lane case, the runs in step of `pair` its two- and four-lane ones):
+//! the recurrences of the module's header, the constants of a step
+//! multiplied out beforehand, the first orders each their own straight
+//! code, the tail tested as the series grows.
 
 use super::poly::sum;
 use super::{Ends, Step, Taylor, INV, LEN, MAX_ORDER, MIN_ORDER};
+use crate::physics::lanes::Lanes;
 
 impl Taylor {
     /// Builds the series of a step of length `h` from `y0`, `ẏ0 = w0`, `sin
@@ -12,7 +15,8 @@ impl Taylor {
     /// order until its tail is below the tolerance; returns the degree `n`
     /// of V (Y's is n + 1), or `None` if the tail is still above the
     /// tolerance at [`MAX_ORDER`]. On success [`Taylor::ends`] holds the
-    /// series' sums (its values at τ = 1) and `Σ_{j≥1} |V_j|`.
+    /// series' sums (its values at τ = 1) and `Σ_{j≥1} |V_j|`. The one-lane
+    /// case of [`build`].
     #[inline(always)]
     pub(super) fn series(&mut self, from: Step) -> Option<usize> {
         let Step {
@@ -26,104 +30,24 @@ impl Taylor {
             g1,
         } = from;
         self.built = None;
-        let h2 = h * h;
-        let k_sin = h2 * self.p2_over_alpha;
-        let f = s * h2 * self.p2_over_eta;
-        let a = self.alpha;
-        let v0 = h * w0;
-        (self.y[0], self.v[0], self.e[0], self.d[0]) = (y0, v0, e0, d0);
-        let c = Consts {
-            f0: f * g_a,
-            f1: f * g1 * h,
-            k_sin,
-            a,
-            a_v0: a * v0,
-            a_e0: a * e0,
-            a_d0: a * d0,
+        let c = Shared {
+            p2_over_alpha: self.p2_over_alpha,
+            alpha: self.alpha,
+            p2_over_eta: self.p2_over_eta,
             tol: self.tol,
             tol_e: self.tol_sin_cos(),
         };
-        // The newest coefficients stay in registers; the convolutions read
-        // from memory only the ones stored an order or more before. The
-        // coefficients fall geometrically: V's largest is among its first
-        // three.
-        let mut g = Grow {
-            vk: v0,
-            ek: e0,
-            dk: d0,
-            d_prev: 0.0,
-            scale_v: v0.abs(),
-            tol_v: 0.0,
+        let coeffs = Coefficients {
+            y: &mut self.y,
+            v: &mut self.v,
+            e: &mut self.e,
+            d: &mut self.d,
         };
-        // The orders nearly every step needs, each its own straight code
-        // (its convolutions unrolled); the rare longer series in a loop.
-        macro_rules! unrolled {
-            ($($k:literal)*) => {$(
-                if self.order($k, &c, &mut g) {
-                    return Some($k + 1);
-                }
-            )*};
+        let ([n], [ends]) = build::<f64, 1>(coeffs, &c, [s, y0, w0, e0, d0], h, g_a, g1);
+        if n.is_some() {
+            self.ends = ends;
         }
-        unrolled!(0 1 2 3 4 5 6 7 8);
-        for k in 9..MAX_ORDER {
-            if self.order(k, &c, &mut g) {
-                return Some(k + 1);
-            }
-        }
-        None
-    }
-
-    /// Order `k + 1` of the series [`Taylor::series`] grows: its
-    /// coefficients stored and the newest values in `g` moved on; true when
-    /// the tail is below the tolerance there ([`Taylor::ends`] then set from
-    /// the stored coefficients, [`ends`], and the series done).
-    ///
-    /// Each order depends on the one before through a product and two
-    /// sums (the constants multiplied out beforehand, the convolutions'
-    /// older terms summed first): the chain of orders is what bounds the
-    /// step's time, the rest runs beside it.
-    #[inline(always)]
-    fn order(&mut self, k: usize, c: &Consts, g: &mut Grow) -> bool {
-        let (m, inv) = (k + 1, INV[k + 1]);
-        let (y, v, e, d) = (&mut self.y, &mut self.v, &mut self.e, &mut self.d);
-        // Off the chain: what does not depend on order k.
-        let (c0, cs, t1) = (c.f0 * inv, c.k_sin * inv, (c.f1 * inv) * g.d_prev);
-        let (se, sd) = convolutions(&d[..], &e[..], &v[..], k, 0.0);
-        let ai = c.a * inv;
-        let (se, sd) = (ai * se, ai * sd);
-        let (cv, cd, ce) = (c.a_v0 * inv, c.a_d0 * inv, c.a_e0 * inv);
-        // On the chain: order k's values, each through a product and two sums.
-        let (vk, ek, dk) = (g.vk, g.ek, g.dk);
-        let vm = (c0 * dk + t1) - cs * ek;
-        let ym = vk * inv;
-        let (em, dm) = if k > 0 {
-            (-(se + cv * dk) - cd * vk, (sd + cv * ek) + ce * vk)
-        } else {
-            (-(cd * vk), ce * vk)
-        };
-        (y[m], v[m], e[m], d[m]) = (ym, vm, em, dm);
-        if m <= 2 {
-            g.scale_v = g.scale_v.max(vm.abs());
-            g.tol_v = c.tol * g.scale_v;
-        } else if m >= MIN_ORDER
-            && vm.abs() + vk.abs() <= g.tol_v
-            && em.abs() + ek.abs() <= c.tol_e
-            && dm.abs() + dk.abs() <= c.tol_e
-        {
-            y[m + 1] = vm * INV[m + 1];
-            let [y_end, v_end, e_end, d_end, abs_v_tail] =
-                ends(&y[..], &v[..], &e[..], &d[..], m, 0.0, f64::abs);
-            self.ends = Ends {
-                y: y_end,
-                v: v_end,
-                e: e_end,
-                d: d_end,
-                abs_v_tail,
-            };
-            return true;
-        }
-        (g.vk, g.ek, g.d_prev, g.dk) = (vm, em, dk, dm);
-        false
+        n
     }
 
     /// The series just built, not converged, taken as it is to
@@ -207,26 +131,137 @@ where
     ]
 }
 
-/// A step's constants, as every order of its series uses them.
-pub(super) struct Consts {
-    f0: f64,
-    f1: f64,
-    k_sin: f64,
-    a: f64,
-    a_v0: f64,
-    a_e0: f64,
-    a_d0: f64,
-    tol: f64,
-    tol_e: f64,
+/// What the steps of the lanes share (the same `p` and α), as a series
+/// uses it, and what each lane has of its own (η, the tolerance: a run and
+/// its chaos probes at a tighter one go together).
+pub(super) struct Shared<T> {
+    pub(super) p2_over_alpha: f64,
+    pub(super) alpha: f64,
+    pub(super) p2_over_eta: T,
+    pub(super) tol: T,
+    pub(super) tol_e: T,
 }
 
-/// A series as it grows: the newest coefficients (`d_prev` the one before
-/// `dk`), V's scale and `tol` times it (set by order 2).
-pub(super) struct Grow {
-    vk: f64,
-    ek: f64,
-    dk: f64,
-    d_prev: f64,
-    scale_v: f64,
-    tol_v: f64,
+/// Where a series' coefficients (in τ) go: Y to degree n + 1, V, E, D to n.
+pub(super) struct Coefficients<'c, T> {
+    pub(super) y: &'c mut [T; LEN],
+    pub(super) v: &'c mut [T; LEN],
+    pub(super) e: &'c mut [T; LEN],
+    pub(super) d: &'c mut [T; LEN],
+}
+
+/// The series of `N` steps over the same stretch of length `h` under `g_a
+/// + g1·σ` (one lane each, each from its own `[s, y0, w0, e0, d0]`: its
+/// pivot, `y`, `ẏ`, `sin u`, `cos u`), order by order as the module's
+/// recurrences grow them, until every lane's tail is below its tolerance
+/// (or [`MAX_ORDER`]): each lane's degree (`None` where its tail is still
+/// above it) and sums. The orders nearly every step needs are each their
+/// own straight code (their convolutions unrolled), the rare longer series
+/// a loop. A lane done an order or more before the others keeps its own
+/// last term of Y: that order's.
+///
+/// Each order depends on the one before through a product and two sums
+/// (the constants multiplied out beforehand, the convolutions' older terms
+/// summed first): the chain of orders is what bounds the step's time, the
+/// rest runs beside it, and lanes share the chain.
+#[inline(always)]
+pub(super) fn build<T: Lanes<N>, const N: usize>(
+    co: Coefficients<'_, T>,
+    c: &Shared<T>,
+    [s, y0, w0, e0, d0]: [T; 5],
+    h: f64,
+    g_a: f64,
+    g1: f64,
+) -> ([Option<usize>; N], [Ends; N]) {
+    let zero = T::splat(0.0);
+    let h2 = h * h;
+    let k_sin = T::splat(h2 * c.p2_over_alpha);
+    let f = (s * T::splat(h2)) * c.p2_over_eta;
+    let (f0, f1) = (f * T::splat(g_a), (f * T::splat(g1)) * T::splat(h));
+    let a = c.alpha;
+    let (tol, tol_e) = (c.tol, c.tol_e);
+    let Coefficients { y, v, e, d } = co;
+    let v0 = T::splat(h) * w0;
+    y[0] = y0;
+    v[0] = v0;
+    e[0] = e0;
+    d[0] = d0;
+    let fa = T::splat(a);
+    let (a_v0, a_e0, a_d0) = (fa * v0, fa * e0, fa * d0);
+    // The newest coefficients stay in registers; the convolutions read from
+    // memory only the ones stored an order or more before. The
+    // coefficients fall geometrically: V's largest is among its first three.
+    let (mut vk, mut ek, mut dk, mut d_prev) = (v0, e0, d0, zero);
+    let (mut scale_v, mut tol_v) = (v0.abs(), zero);
+    let mut n = [None; N];
+    let mut sums = [Ends::default(); N];
+    macro_rules! order {
+        ($k:expr) => {{
+            let k: usize = $k;
+            let m = k + 1;
+            let inv = T::splat(INV[m]);
+            // Off the chain: what does not depend on order k.
+            let (c0, cs, t1) = (f0 * inv, k_sin * inv, (f1 * inv) * d_prev);
+            let (se, sd) = convolutions(&d[..], &e[..], &v[..], k, zero);
+            let ai = T::splat(a * INV[m]);
+            let (se, sd) = (ai * se, ai * sd);
+            let (cv, cd, ce) = (a_v0 * inv, a_d0 * inv, a_e0 * inv);
+            // On the chain: order k's values, each through a product and two sums.
+            let vm = (c0 * dk + t1) - cs * ek;
+            let ym = vk * inv;
+            let (em, dm) = if k > 0 {
+                (-(se + cv * dk) - cd * vk, (sd + cv * ek) + ce * vk)
+            } else {
+                (-(cd * vk), ce * vk)
+            };
+            (y[m], v[m], e[m], d[m]) = (ym, vm, em, dm);
+            if m <= 2 {
+                scale_v = scale_v.max(vm.abs());
+                tol_v = tol * scale_v;
+            } else if m >= MIN_ORDER {
+                let tails = (
+                    vm.abs() + vk.abs(),
+                    em.abs() + ek.abs(),
+                    dm.abs() + dk.abs(),
+                );
+                let bits = tails.0.le3(tol_v, tails.1, tol_e, tails.2, tol_e);
+                if bits != 0 {
+                    // Y's last term, as the next order's `ym` would be.
+                    y[m + 1] = vm * T::splat(INV[m + 1]);
+                    let [ye, ve, ee, de, ae] = ends(&y[..], &v[..], &e[..], &d[..], m, zero, T::abs);
+                    let [ye, ve, ee, de, ae] =
+                        [ye.to_lanes(), ve.to_lanes(), ee.to_lanes(), de.to_lanes(), ae.to_lanes()];
+                    for lane in 0..N {
+                        if bits & (1 << lane) != 0 && n[lane].is_none() {
+                            n[lane] = Some(m);
+                            sums[lane] = Ends {
+                                y: ye[lane],
+                                v: ve[lane],
+                                e: ee[lane],
+                                d: de[lane],
+                                abs_v_tail: ae[lane],
+                            };
+                        }
+                    }
+                    if n.iter().all(Option::is_some) {
+                        return (n, sums);
+                    }
+                }
+            }
+            (vk, ek, d_prev, dk) = (vm, em, dk, dm);
+        }};
+    }
+    order!(0);
+    order!(1);
+    order!(2);
+    order!(3);
+    order!(4);
+    order!(5);
+    order!(6);
+    order!(7);
+    order!(8);
+    for k in 9..MAX_ORDER {
+        order!(k);
+    }
+    (n, sums)
 }

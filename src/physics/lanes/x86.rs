@@ -1,10 +1,10 @@
-//! Runs in one vector register: [`F2`] holds two `f64` lanes of an SSE2
-//! register and [`F4`] four of an AVX one, their operations the scalar IEEE
-//! ones, for the steppers that cross the eventless intervals of several
-//! runs at once (`exact::lanes`, two; `taylor::pair`, two or four through
-//! [`Lanes`]).
+//! Lanes of x86-64 vector registers: [`F2`] holds two `f64` lanes of an
+//! SSE2 register and [`F4`] four of an AVX one, their operations the scalar
+//! IEEE ones ([`Lanes`]).
 
 use std::arch::x86_64::*;
+
+use super::{Lane, Lanes, Mask};
 use std::ops::{Add, BitAnd, BitOr, Mul, Neg, Not, Sub};
 
 /// Two `f64` lanes of one SSE2 register: the arithmetic of two runs at once,
@@ -100,36 +100,18 @@ impl Neg for F2 {
     }
 }
 
-/// What the Taylor stepper's lanes need of a vector of `N` runs: the IEEE
-/// operations lane by lane (each lane's results the scalar ones, to the
-/// bit), and the lanes in and out.
-pub trait Lanes<const N: usize>:
-    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Neg<Output = Self>
-{
-    fn splat(x: f64) -> Self;
-    fn from_lanes(x: [f64; N]) -> Self;
-    fn to_lanes(self) -> [f64; N];
-    fn abs(self) -> Self;
-    /// `self.max(o)` lane by lane, for operands that are not NaN and not
-    /// both zero.
-    fn max(self, o: Self) -> Self;
-    /// Bit i set where lane i of `self` is at most `o`'s, and `also`'s
-    /// at most `also_o`'s, and `and`'s at most `and_o`'s.
-    fn le3(self, o: Self, also: Self, also_o: Self, and: Self, and_o: Self) -> u32;
+impl Mask for M2 {
+    #[inline(always)]
+    fn all(self) -> bool {
+        self.bits() == 0b11
+    }
 }
 
-impl Lanes<2> for F2 {
+impl Lane for F2 {
+    type Mask = M2;
     #[inline(always)]
     fn splat(x: f64) -> F2 {
         F2::splat(x)
-    }
-    #[inline(always)]
-    fn from_lanes([a, b]: [f64; 2]) -> F2 {
-        F2::new(a, b)
-    }
-    #[inline(always)]
-    fn to_lanes(self) -> [f64; 2] {
-        self.lanes()
     }
     #[inline(always)]
     fn abs(self) -> F2 {
@@ -138,6 +120,25 @@ impl Lanes<2> for F2 {
     #[inline(always)]
     fn max(self, o: F2) -> F2 {
         F2::max(self, o)
+    }
+    #[inline(always)]
+    fn lt(self, o: F2) -> M2 {
+        F2::lt(self, o)
+    }
+    #[inline(always)]
+    fn gt(self, o: F2) -> M2 {
+        F2::gt(self, o)
+    }
+}
+
+impl Lanes<2> for F2 {
+    #[inline(always)]
+    fn from_lanes([a, b]: [f64; 2]) -> F2 {
+        F2::new(a, b)
+    }
+    #[inline(always)]
+    fn to_lanes(self) -> [f64; 2] {
+        self.lanes()
     }
     #[inline(always)]
     fn le3(self, o: F2, also: F2, also_o: F2, and: F2, and_o: F2) -> u32 {
@@ -154,11 +155,31 @@ pub struct F4(__m256d);
 // SAFETY (every `unsafe` below): `F4` is only built and used in functions
 // compiled with AVX enabled, which run only where the CPU has it
 // (`dispatch::drive_lanes_v3`, called after `Isa::detected()` is V3).
-impl Lanes<4> for F4 {
+impl Lane for F4 {
+    type Mask = M4;
     #[inline(always)]
     fn splat(x: f64) -> F4 {
         F4(unsafe { _mm256_set1_pd(x) })
     }
+    #[inline(always)]
+    fn abs(self) -> F4 {
+        F4(unsafe { _mm256_andnot_pd(_mm256_set1_pd(-0.0), self.0) })
+    }
+    #[inline(always)]
+    fn max(self, o: F4) -> F4 {
+        F4(unsafe { _mm256_max_pd(self.0, o.0) })
+    }
+    #[inline(always)]
+    fn lt(self, o: F4) -> M4 {
+        M4(unsafe { _mm256_cmp_pd::<_CMP_LT_OQ>(self.0, o.0) })
+    }
+    #[inline(always)]
+    fn gt(self, o: F4) -> M4 {
+        M4(unsafe { _mm256_cmp_pd::<_CMP_GT_OQ>(self.0, o.0) })
+    }
+}
+
+impl Lanes<4> for F4 {
     #[inline(always)]
     fn from_lanes([a, b, c, d]: [f64; 4]) -> F4 {
         F4(unsafe { _mm256_setr_pd(a, b, c, d) })
@@ -168,14 +189,6 @@ impl Lanes<4> for F4 {
         let mut out = [0.0; 4];
         unsafe { _mm256_storeu_pd(out.as_mut_ptr(), self.0) };
         out
-    }
-    #[inline(always)]
-    fn abs(self) -> F4 {
-        F4(unsafe { _mm256_andnot_pd(_mm256_set1_pd(-0.0), self.0) })
-    }
-    #[inline(always)]
-    fn max(self, o: F4) -> F4 {
-        F4(unsafe { _mm256_max_pd(self.0, o.0) })
     }
     #[inline(always)]
     fn le3(self, o: F4, also: F4, also_o: F4, and: F4, and_o: F4) -> u32 {
@@ -192,10 +205,31 @@ impl Lanes<4> for F4 {
     }
 }
 
+/// A lane-wise comparison of [`F4`]s: all ones where it holds.
+#[derive(Clone, Copy)]
+pub struct M4(__m256d);
+
+impl Mask for M4 {
+    #[inline(always)]
+    fn all(self) -> bool {
+        unsafe { _mm256_movemask_pd(self.0) == 0b1111 }
+    }
+}
+
+impl Not for M4 {
+    type Output = M4;
+    #[inline(always)]
+    fn not(self) -> M4 {
+        M4(unsafe { _mm256_xor_pd(self.0, _mm256_castsi256_pd(_mm256_set1_epi32(-1))) })
+    }
+}
+
 lane_wise! {
     Add, add, F4, _mm256_add_pd;
     Sub, sub, F4, _mm256_sub_pd;
     Mul, mul, F4, _mm256_mul_pd;
+    BitAnd, bitand, M4, _mm256_and_pd;
+    BitOr, bitor, M4, _mm256_or_pd;
 }
 impl Neg for F4 {
     type Output = F4;
