@@ -484,7 +484,10 @@ fn the_guides_statue_scatters_less_in_pgv_than_in_pga() {
     let pga = "cargo run --release -- risk --hazard records/hazard/synthetic-site.csv --b 0.2 --h 0.9 --direct";
     let pgv = "cargo run --release -- risk --hazard records/hazard/synthetic-site-pgv.csv --b 0.2 --h 0.9 --direct";
     for command in [pga, pgv] {
-        assert!(guide.contains(&format!("{command}\n")), "the guide shows `{command}`");
+        assert!(
+            guide.contains(&format!("{command}\n")),
+            "the guide shows `{command}`"
+        );
     }
     let beta = |command: &str| {
         let mut args: Vec<&str> = command

@@ -1,9 +1,7 @@
 //! The simulations of one record, remembered (and run ahead of need by a
 //! [`Batch`] of workers), and the work they counted.
 
-use crate::physics::{
-    simulate, simulate_in_step, Excitation, Outcome, PhysicsError, RunSpec,
-};
+use crate::physics::{simulate, simulate_in_step, Excitation, Outcome, PhysicsError, RunSpec};
 
 /// The simulations of one record, remembered: a search or check that asks
 /// for a run already done (the same η and model) gets its outcome without
@@ -190,7 +188,10 @@ impl<'a> Runs<'a> {
         if specs.first().is_none_or(|first| known(&run_key(first))) {
             return;
         }
-        let (mut todo, mut keys) = (Vec::with_capacity(specs.len()), Vec::with_capacity(specs.len()));
+        let (mut todo, mut keys) = (
+            Vec::with_capacity(specs.len()),
+            Vec::with_capacity(specs.len()),
+        );
         for spec in specs {
             let key = run_key(spec);
             if !known(&key) && !keys.contains(&key) {

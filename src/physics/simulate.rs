@@ -64,7 +64,9 @@ pub fn simulate_in_step(exc: &Excitation, specs: &[RunSpec]) -> Vec<Outcome> {
     let specs = &specs[..specs.len().min(width)];
     match specs {
         [_] | [] => Vec::new(),
-        [a, b] => simulate_pair(exc, [a, b]).map(Vec::from).unwrap_or_default(),
+        [a, b] => simulate_pair(exc, [a, b])
+            .map(Vec::from)
+            .unwrap_or_default(),
         more => simulate_lanes(exc, more).unwrap_or_default(),
     }
 }

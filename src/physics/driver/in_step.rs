@@ -3,7 +3,7 @@
 //! ([`drive_lanes`]), their eventless intervals crossed together by a
 //! stepper's lanes ([`CruisePair`], [`CruiseLanes`]).
 
-use super::{Driver, Flow, Outcome};
+use super::event_loop::{Driver, Flow, Outcome};
 use crate::physics::step::{Rocking, Stepper};
 use crate::physics::{Excitation, RunSpec};
 

@@ -58,7 +58,15 @@ fn cruise_pair(
     let mut top = F2::new(*top_a, *top_b);
     while k < n {
         // The lone run's motion and sign tests, in two lanes.
-        let m = Motion::new(p, s_eta, inv_eta, x, v, F2::splat(psi[k]), F2::splat(slope[k]));
+        let m = Motion::new(
+            p,
+            s_eta,
+            inv_eta,
+            x,
+            v,
+            F2::splat(psi[k]),
+            F2::splat(slope[k]),
+        );
         let (x_hi, v_hi) = m.at(&full);
         let y_hi = s * x_hi;
         let inside = y_hi.lt(limit) & y_hi.gt(zero);

@@ -4,7 +4,7 @@
 
 use std::arch::x86_64::*;
 
-use super::{Lane, Lanes, Mask};
+use super::lane::{Lane, Lanes, Mask};
 use std::ops::{Add, BitAnd, BitOr, Mul, Neg, Not, Sub};
 
 /// Two `f64` lanes of one SSE2 register: the arithmetic of two runs at once,

@@ -62,8 +62,7 @@ mod series;
 
 use super::step::{Rocking, Stepper, Stretch, StretchEnd};
 use super::Excitation;
-use hops::hop;
-use poly::{poly, root, turning_points, Turns};
+use poly::{hop, poly, root, turning_points, Turns};
 
 /// The highest order of a step's series; a series not converged by then is
 /// thrown away and the step halved.

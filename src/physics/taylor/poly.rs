@@ -290,6 +290,36 @@ fn shifted<'a>(v: &[f64], m: f64, c: &'a mut [f64]) -> &'a [f64] {
     c
 }
 
+/// The impact of a hop, if the step (Y's coefficients `y`, its end
+/// `y_end`) is one that is proven simple: from the pivot (`Y_0 = 0`) up
+/// (`Y_1 > 0`) and back to it or below by the step's end, with `Z = Y/τ`
+/// decreasing on [0, 1] (`−Z_1 > Σ_{k≥2} k |Z_k|`, so `Z' < 0` there) and
+/// `Z(0) = Y_1` no higher than `top` (the largest `y` met before) and below
+/// `limit`. Then Z has one root in (0, 1], the impact; before it `0 < Y =
+/// τZ ≤ Z(0)`, so the step neither overturns nor raises `top`: the turning
+/// point [`Taylor::event`] would locate changes nothing, and the impact is
+/// the root of Z, found from Z's quadratic model at τ = 0 (its first three
+/// coefficients, nothing evaluated). Most impacts are such hops: after an
+/// impact the block lifts off the other corner and the forcing brings it
+/// back within the interval (a Zeno sequence, docs/MODEL.md §3).
+#[inline]
+pub(super) fn hop(y: &[f64], y_end: f64, top: f64, limit: f64) -> Option<f64> {
+    // NaN fails every test, as it should.
+    let from_pivot_back = y.len() >= 3 && y[0] == 0.0 && y[1] > 0.0 && y_end <= 0.0;
+    if !from_pivot_back {
+        return None;
+    }
+    let z = &y[1..];
+    let mut slope_tail = 0.0;
+    for (k, zk) in z.iter().enumerate().skip(2) {
+        slope_tail += k as f64 * zk.abs();
+    }
+    // Widened by far more than the rounding of the sum (a few ulps of it).
+    let decreasing = -z[1] > slope_tail * (1.0 + 1e-9);
+    let low = z[0] * (1.0 + 1e-9) <= top && z[0] < limit;
+    (decreasing && low).then(|| root(z, 0.0, 1.0, y_end))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

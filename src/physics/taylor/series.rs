@@ -150,8 +150,8 @@ pub(super) struct Coefficients<'c, T> {
     pub(super) d: &'c mut [T; LEN],
 }
 
-/// The series of `N` steps over the same stretch of length `h` under `g_a
-/// + g1·σ` (one lane each, each from its own `[s, y0, w0, e0, d0]`: its
+/// The series of `N` steps over the same stretch of length `h` under
+/// `g_a + g1·σ` (one lane each, each from its own `[s, y0, w0, e0, d0]`: its
 /// pivot, `y`, `ẏ`, `sin u`, `cos u`), order by order as the module's
 /// recurrences grow them, until every lane's tail is below its tolerance
 /// (or [`MAX_ORDER`]): each lane's degree (`None` where its tail is still
@@ -228,9 +228,15 @@ pub(super) fn build<T: Lanes<N>, const N: usize>(
                 if bits != 0 {
                     // Y's last term, as the next order's `ym` would be.
                     y[m + 1] = vm * T::splat(INV[m + 1]);
-                    let [ye, ve, ee, de, ae] = ends(&y[..], &v[..], &e[..], &d[..], m, zero, T::abs);
                     let [ye, ve, ee, de, ae] =
-                        [ye.to_lanes(), ve.to_lanes(), ee.to_lanes(), de.to_lanes(), ae.to_lanes()];
+                        ends(&y[..], &v[..], &e[..], &d[..], m, zero, T::abs);
+                    let [ye, ve, ee, de, ae] = [
+                        ye.to_lanes(),
+                        ve.to_lanes(),
+                        ee.to_lanes(),
+                        de.to_lanes(),
+                        ae.to_lanes(),
+                    ];
                     for lane in 0..N {
                         if bits & (1 << lane) != 0 && n[lane].is_none() {
                             n[lane] = Some(m);
