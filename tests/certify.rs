@@ -152,7 +152,7 @@ fn hard_cases_certify_to_the_tight_search_or_say_they_cannot() {
 
 #[test]
 fn the_exact_steppers_verdicts_do_not_hang_on_rounding() {
-    // A small version of `rocking bench --sections rounding`: the decisive
+    // A small version of `rocking-bench --sections rounding`: the decisive
     // runs of capacities certified `exact`, rerun with every sample one ulp
     // up and one ulp down, keep their verdict.
     let grid = ImGrid::default();

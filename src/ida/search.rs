@@ -13,7 +13,7 @@
 //! with the next, in step ([`Runs::run_ahead`]): where both runs rock
 //! through the same eventless intervals, the Taylor stepper builds their
 //! two series in the lanes of one vector, at about 0.7 of the price of
-//! each alone (`rocking bench --sections certified`). The outcomes are the
+//! each alone (`rocking-bench --sections certified`). The outcomes are the
 //! ones each run has alone, to the bit, so the capacity is too; the level
 //! after the first overturning is run in vain (and not counted in
 //! [`super::Work`]). In a certified search each refinement run, decisive,

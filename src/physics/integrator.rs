@@ -234,7 +234,7 @@ impl Solver {
 /// The Taylor stepper's default tolerance: the last two terms of each
 /// sample interval's series of the velocity below 1e-10 of its largest
 /// (those of `sin u` and `cos u` below a tenth of 1e-10·α). Chosen from
-/// `rocking bench` (docs/BENCHMARKS.md): certified from 1e-8, 1e-10 or
+/// `rocking-bench` (docs/BENCHMARKS.md): certified from 1e-8, 1e-10 or
 /// 1e-12, every capacity of the tolerance study equals DP5's at 1e-13 and
 /// the same 7 are chaotic; on the solver table its θmax/α error (median
 /// 1e-14, max 2e-12) is under a sixtieth of DP5's at its default rtol
@@ -242,7 +242,7 @@ impl Solver {
 /// about 10 % more than 1e-8 and 14 % less than 1e-12.
 pub const DEFAULT_TAYLOR_TOL: f64 = 1e-10;
 
-/// DP5's default relative tolerance. Chosen from `rocking bench --sections
+/// DP5's default relative tolerance. Chosen from `rocking-bench --sections
 /// tolerance` (docs/BENCHMARKS.md): over 528 far-field cases a plain search
 /// at 1e-10 moves 0.2 % of the capacities against 1.3 % at 1e-8; certified,
 /// it redoes no search (0.9 % from 1e-8) and its chaos probe (η ± 1e-9) is

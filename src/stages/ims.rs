@@ -2,7 +2,7 @@
 //! capacity dispersion in every IM (docs/MODEL.md §14).
 //!
 //! Glue: reads the pipeline's records, capacities and blocks, calls
-//! [`crate::im`] and writes `record_ims`, `record_spectra` and
+//! [`crate::im`] and writes `record_ims` and
 //! `im_efficiency` through [`crate::tables::ims`].
 
 use std::collections::BTreeMap;

@@ -1,7 +1,7 @@
 //! The cruise proofs: sign tests that prove a whole sample interval
 //! eventless (the motion monotone, or its one turning point a maximum below
 //! θmax so far or a minimum above the pivot), and the stepper's floor for
-//! `rocking bench` ([`Exact::bare_pass`]).
+//! `rocking-bench` ([`Exact::bare_pass`]).
 
 use super::closed_form::Motion;
 use super::stepper::Exact;
@@ -35,7 +35,7 @@ impl<T: Lane> Motion<T> {
 }
 
 impl Exact {
-    /// The floor of the stepper, for `rocking bench`: every whole interval
+    /// The floor of the stepper, for `rocking-bench`: every whole interval
     /// of `exc` advanced by the closed form with the sign tests of
     /// [`crate::physics::Stepper::cruise`] (monotone, the pivot, the limit) but no event
     /// ever handled, from `x = s/2` at rest. Returns the final state and
