@@ -93,6 +93,13 @@ impl Block {
         (3.0 * G / (4.0 * self.r_m())).sqrt()
     }
 
+    /// The PGA (g) at which the block lifts off on the ground, `b/h = tan α`:
+    /// below it nothing moves (the inertia force m·a cannot tip it about a
+    /// corner against m·g, docs/MODEL.md §1).
+    pub fn uplift_pga_g(&self) -> f64 {
+        self.b_m / self.h_m
+    }
+
     /// Housner's upper bound of ε for a rectangle, 1 − 1.5 sin²α.
     pub fn housner_eps(b_m: f64, h_m: f64) -> f64 {
         let a = (b_m / h_m).atan();

@@ -109,6 +109,12 @@ impl Building {
         &self.modes
     }
 
+    /// Whether the floor moves as the ground does (every Γφ is 0: a node
+    /// of every mode).
+    pub fn moves_as_ground(&self) -> bool {
+        self.modes.iter().all(|m| m.gamma_phi == 0.0)
+    }
+
     /// Sub-samples per record step for a record sampled every `dt_s`.
     pub fn substeps(&self, dt_s: f64) -> usize {
         let t_min = self

@@ -48,6 +48,19 @@ pub enum Fragility {
 }
 
 impl Fragility {
+    /// P(state | IM) as the IM grows without bound: 1 for a lognormal, the
+    /// share of the records that reach the state at some level for the
+    /// step curve.
+    pub fn limit(&self) -> f64 {
+        match self {
+            Fragility::Lognormal { .. } => 1.0,
+            Fragility::Empirical { thresholds } => {
+                let reached = thresholds.iter().filter(|t| t.is_finite()).count();
+                reached as f64 / thresholds.len().max(1) as f64
+            }
+        }
+    }
+
     /// P(overturn | PGA = a).
     pub fn probability(&self, a: f64) -> f64 {
         match self {
@@ -125,6 +138,21 @@ struct Segment {
 }
 
 impl Segment {
+    /// The part of the segment at or above `cut` (`None` when none is).
+    fn above(self, cut: f64) -> Option<Segment> {
+        if self.a1 <= cut {
+            return None;
+        }
+        if self.a0 >= cut {
+            return Some(self);
+        }
+        Some(Segment {
+            a0: cut,
+            rate0: self.rate(cut),
+            ..self
+        })
+    }
+
     fn rate(&self, a: f64) -> f64 {
         if a.is_infinite() {
             return if self.k > 0.0 { 0.0 } else { self.rate0 };
@@ -267,23 +295,44 @@ fn segments(curve: &HazardCurve, beyond: Beyond) -> (Vec<Segment>, Option<(Segme
 
 /// λ_OT at one site, with its deaggregation by PGA.
 pub fn assess(curve: &HazardCurve, fragility: &Fragility, beyond: Beyond) -> SiteRisk {
+    assess_above(curve, fragility, beyond, 0.0)
+}
+
+/// [`assess`] for a fragility that is 0 below the IM level `cut` (a block
+/// on the ground cannot move below its uplift PGA, g·tan α: its fragility
+/// is cut there, as the OpenQuake export's `noDamageLimit` cuts it; 0 for
+/// none; docs/MODEL.md §13). A curve whose last segment is flat under
+/// [`Beyond::Extrapolate`] says that events at that rate exceed every
+/// level: its rate is carried beyond the curve at the fragility's limit
+/// (P → 1 for a lognormal), the limit of an extrapolation whose slope
+/// tends to 0, so that a flat curve and a nearly flat one agree.
+pub fn assess_above(
+    curve: &HazardCurve,
+    fragility: &Fragility,
+    beyond: Beyond,
+    cut: f64,
+) -> SiteRisk {
     let (inner, tail) = segments(curve, beyond);
     let mut bins: Vec<Bin> = inner
         .iter()
         .map(|s| Bin {
             iml_from: s.a0,
             iml_to: Some(s.a1),
-            annual_rate: s.integral(fragility),
+            annual_rate: s.above(cut).map_or(0.0, |s| s.integral(fragility)),
         })
         .collect();
     let first = curve.iml[0];
     let last = *curve.iml.last().expect("a curve has a point");
     let beyond_rate = match tail {
         None => 0.0,
+        // A flat end: its events exceed every level.
+        Some((s, None)) if s.k == 0.0 => s.rate0 * fragility.limit(),
         Some((s, end)) => {
             // Events still exceeding the end where the file says 0: at the end.
-            let at_end = end.map_or(0.0, |e| fragility.probability(e) * s.rate(e));
-            s.integral(fragility) + at_end
+            let at_end = end
+                .filter(|&e| e >= cut)
+                .map_or(0.0, |e| fragility.probability(e) * s.rate(e));
+            s.above(cut).map_or(0.0, |s| s.integral(fragility)) + at_end
         }
     };
     bins.push(Bin {
@@ -299,7 +348,11 @@ pub fn assess(curve: &HazardCurve, fragility: &Fragility, beyond: Beyond) -> Sit
         annual_rate: total,
         first_iml: first,
         last_iml: last,
-        fragility_at_first_iml: fragility.probability(first),
+        fragility_at_first_iml: if first < cut {
+            0.0
+        } else {
+            fragility.probability(first)
+        },
         share_beyond_last_iml: if total > 0.0 {
             beyond_rate / total
         } else {
@@ -366,7 +419,7 @@ mod tests {
     /// A flat hazard curve has no events: the rate and every bin are 0
     /// exactly (not 1.5e-18 with bins of −14 % and 113 %), and not −0.
     #[test]
-    fn a_flat_hazard_has_no_events() {
+    fn a_flat_hazard_carries_its_rate_beyond_the_curve() {
         let curve = HazardCurve {
             im: crate::im::Im::Pga,
             lon: None,
@@ -376,22 +429,50 @@ mod tests {
             ends_at: None,
             dropped_below: 0,
         };
-        for f in [
-            Fragility::Lognormal {
-                median: 0.25,
-                beta: 0.4,
-            },
-            Fragility::Empirical {
-                thresholds: vec![0.15, 0.25],
-            },
+        for (f, limit) in [
+            (
+                Fragility::Lognormal {
+                    median: 0.25,
+                    beta: 0.4,
+                },
+                1.0,
+            ),
+            (
+                Fragility::Empirical {
+                    thresholds: vec![0.15, 0.25, f64::INFINITY, f64::INFINITY],
+                },
+                0.5,
+            ),
         ] {
-            for beyond in [Beyond::Stop, Beyond::Extrapolate] {
-                let r = assess(&curve, &f, beyond);
-                assert_eq!(r.annual_rate.to_bits(), 0, "{f:?}, {beyond:?}");
-                assert!(r.bins.iter().all(|b| b.annual_rate.to_bits() == 0), "{r:?}");
-                assert_eq!(r.share_beyond_last_iml.to_bits(), 0);
-            }
+            // No event inside the curve: its rate never drops.
+            let stop = assess(&curve, &f, Beyond::Stop);
+            assert_eq!(stop.annual_rate.to_bits(), 0, "{f:?}");
+            assert!(stop.bins.iter().all(|b| b.annual_rate.to_bits() == 0));
+            // Beyond it, 0.01/yr exceed every level: P there is the limit.
+            let r = assess(&curve, &f, Beyond::Extrapolate);
+            assert_eq!(r.annual_rate, 0.01 * limit, "{f:?}");
+            assert_eq!(r.share_beyond_last_iml, 1.0);
+            // A nearly flat tail tends to it (the slope 1e-9 spreads its
+            // events over levels ~e^(1e9) times the last: P there is 1).
+            let nearly = HazardCurve {
+                annual_rate: vec![0.01, 0.01, 0.01 * (1.0 - 1e-9 * 1.5f64.ln())],
+                ..curve.clone()
+            };
+            let n = assess(&nearly, &f, Beyond::Extrapolate);
+            assert!((n.annual_rate / r.annual_rate - 1.0).abs() < 1e-6, "{n:?}");
         }
+        // The fault's curve: 1e-3/yr exceed 0.6 g, where P(OT) ≥ 0.63.
+        let fault = HazardCurve {
+            iml: vec![0.1, 0.3, 0.6],
+            annual_rate: vec![0.01, 0.001, 0.001],
+            ..curve.clone()
+        };
+        let f = Fragility::Lognormal {
+            median: 0.5,
+            beta: 0.4,
+        };
+        let r = assess(&fault, &f, Beyond::Extrapolate);
+        assert!(r.annual_rate >= 1e-3 * f.probability(0.6), "{r:?}");
         // A nearly flat piece: never negative, and bins sum to the rate.
         let curve = HazardCurve {
             annual_rate: vec![0.01, 0.01 * (1.0 - 1e-15), 0.001],

@@ -252,11 +252,20 @@ fn states_from_a_study_carried_to_a_block() {
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
         rocking(dir.path(), &args)
     };
-    let mut args = vec!["fragility".to_string()];
-    args.extend(common(&["--pga", "0.05,0.1", "--json"]));
-    let out = run(args);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let v: serde_json::Value = serde_json::from_str(&stdout(&out)).unwrap();
+    let fragility = |dispersion: &str| {
+        let mut args = vec!["fragility".to_string()];
+        args.extend(common(&[
+            "--pga",
+            "0.05,0.1",
+            "--dispersion",
+            dispersion,
+            "--json",
+        ]));
+        let out = run(args);
+        assert!(out.status.success(), "{}", stderr(&out));
+        serde_json::from_str::<serde_json::Value>(&stdout(&out)).unwrap()
+    };
+    let v = fragility("each");
     let (alpha, p) = (v["alpha_rad"].as_f64().unwrap(), v["p"].as_f64().unwrap());
     assert!(p > 1.0 && p < 4.0, "{p}");
     let t = (p.ln() - 1f64.ln()) / (4f64.ln() - 1f64.ln());
@@ -287,6 +296,19 @@ fn states_from_a_study_carried_to_a_block() {
         let want = rocking::stats::normal_cdf((0.1f64 / median).ln() / beta);
         assert!((prob - want).abs() < 1e-14, "{name}: {prob} against {want}");
     }
+    // By default the states share the heaviest's β, medians in order
+    // (docs/MODEL.md §15): the same fits, made sequential.
+    let each = &v["fragility"]["states"];
+    let v = fragility("common");
+    assert_eq!(v["fragility"]["dispersion"], "common");
+    let heaviest = each[2]["fractile"]["beta"].as_f64().unwrap();
+    let mut floor = 0.0f64;
+    for j in 0..3 {
+        let state = &v["fragility"]["states"][j];
+        floor = floor.max(each[j]["fractile"]["median"].as_f64().unwrap());
+        assert_eq!(state["fractile"]["median"].as_f64(), Some(floor));
+        assert_eq!(state["fractile"]["beta"].as_f64(), Some(heaviest));
+    }
     // risk --states on a power-law hazard λ(a) = k0 a^−k: each state's rate
     // is Cornell's closed form k0 m^−k exp(k²β²/2) of its lognormal.
     let (k0, k) = (2e-4, 2.6);
@@ -311,7 +333,8 @@ fn states_from_a_study_carried_to_a_block() {
     assert_eq!(rows.len(), 3);
     for r in rows {
         let (m, beta) = (r["median"].as_f64().unwrap(), r["beta"].as_f64().unwrap());
-        let want = k0 * m.powf(-k) * (k * k * beta * beta / 2.0).exp();
+        // Cut at the block's uplift PGA, b/h g (MODEL.md §13).
+        let want = crate::util::cornell_above(k0, k, m, beta, 0.1);
         let got = r["annual_rate"].as_f64().unwrap();
         assert!(
             (got / want - 1.0).abs() < 1e-9,
@@ -375,4 +398,152 @@ fn unordered_damage_states_in_a_pipeline_are_refused_by_key() {
     assert!(!out.status.success());
     let e = stderr(&out);
     assert!(e.contains("damage.states") && e.contains("`b`"), "{e}");
+}
+
+/// The rates of `risk --states` (JSON of one block or an inventory), per
+/// block and site, lightest state first.
+fn state_rates(v: &serde_json::Value) -> Vec<(String, Vec<f64>)> {
+    let blocks = v.as_array().cloned().unwrap_or_else(|| vec![v.clone()]);
+    let mut out = Vec::new();
+    for b in &blocks {
+        for site in b["sites"].as_array().unwrap() {
+            let rates = site["states"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|s| s["annual_rate"].as_f64().unwrap())
+                .collect();
+            out.push((format!("{} at site {}", b["block"]["name"], site["site"]), rates));
+        }
+    }
+    out
+}
+
+/// A heavier state is never reached more often than a lighter one: every
+/// record passes θmax/α = 0.1 before it overturns. Fitted each on its own,
+/// the states' lognormals cross, and on a steep hazard the block of the
+/// fault (b = 0.2, h = 0.9) overturned 10⁵ times more often than it
+/// rocked (1.31e-6 against 1.10e-11/yr); the server rack of the bundled
+/// inventory had large_rocking below overturned at two sites. By default
+/// the states share one β, and the rates are ordered at every site.
+#[test]
+fn damage_state_rates_never_invert() {
+    let dir = tempdir();
+    let d = dir.path();
+    std::fs::write(
+        d.join("steep.csv"),
+        "pga_g,annual_rate\n0.01,1\n0.05,0.1\n0.1,1e-2\n0.15,1e-4\n0.2,1e-7\n0.25,1e-12\n",
+    )
+    .unwrap();
+    let hazard = crate::util::root().join("records/hazard");
+    let (oq, museum) = (
+        hazard.join("synthetic-openquake.csv"),
+        hazard.join("museum-inventory.csv"),
+    );
+    let states = "rocking=0.1,large_rocking=0.5,overturned=overturned";
+    let risk = |hazard: &str, blocks: &[&str], dispersion: &str| {
+        let mut args = vec![
+            "risk",
+            "--hazard",
+            hazard,
+            "--direct",
+            "--states",
+            states,
+            "--dispersion",
+            dispersion,
+            "--json",
+        ];
+        args.extend(blocks);
+        let out = rocking(d, &args);
+        assert!(out.status.success(), "{}", stderr(&out));
+        serde_json::from_str::<serde_json::Value>(&stdout(&out)).unwrap()
+    };
+    let ordered = |rates: &[f64]| rates.windows(2).all(|w| w[1] <= w[0]);
+    let statue = ["--b", "0.2", "--h", "0.9"];
+    let inventory = ["--inventory", s(&museum)];
+    let cases = [
+        ("steep.csv", &statue[..]),
+        (s(&oq), &inventory[..]),
+        ("steep.csv", &inventory[..]),
+    ];
+    for (hazard, blocks) in cases {
+        for (name, rates) in state_rates(&risk(hazard, blocks, "common")) {
+            assert_eq!(rates.len(), 3);
+            assert!(ordered(&rates), "{hazard}, {name}: {rates:?}");
+        }
+    }
+    // Each its own fit: the fault, which the default removes.
+    let each = state_rates(&risk("steep.csv", &statue, "each"));
+    assert!(!ordered(&each[0].1), "{each:?}");
+}
+
+/// The same, for any fits and any hazard: a property over 2,000 sets of
+/// three states' lognormals (random medians and β, pseudo-random but
+/// fixed) made sequential, each probability ordered at 400 levels, and
+/// each rate ordered on steep, power-law, flat-tailed and ending curves,
+/// with and without a lower cut.
+#[test]
+fn sequential_states_are_ordered_at_every_level_and_on_every_curve() {
+    use rocking::damage::{common_dispersion, Lognormal};
+    use rocking::hazard::HazardCurve;
+    use rocking::risk::{assess_above, Beyond, Fragility};
+    let mut seed = 0x2545_f491_4f6c_dd1du64;
+    let mut uniform = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let curve = |iml: &[f64], rate: &[f64], ends_at: Option<f64>| HazardCurve {
+        im: rocking::im::Im::Pga,
+        lon: None,
+        lat: None,
+        iml: iml.to_vec(),
+        annual_rate: rate.to_vec(),
+        ends_at,
+        dropped_below: 0,
+    };
+    let curves = [
+        curve(
+            &[0.01, 0.05, 0.1, 0.15, 0.2, 0.25],
+            &[1.0, 0.1, 1e-2, 1e-4, 1e-7, 1e-12],
+            None,
+        ),
+        curve(&[0.005, 0.1, 1.0, 3.0], &[2.0, 2e-2, 2e-4, 1e-5], None),
+        curve(&[0.1, 0.3, 0.6], &[0.01, 1e-3, 1e-3], None),
+        curve(&[0.05, 0.2, 0.5], &[0.05, 2e-3, 1e-4], Some(0.8)),
+    ];
+    for _ in 0..2000 {
+        let mut fits: Vec<Option<Lognormal>> = (0..3)
+            .map(|_| {
+                Some(Lognormal {
+                    median: 0.02 * 10f64.powf(2.0 * uniform()),
+                    beta: 0.05 + 0.8 * uniform(),
+                })
+            })
+            .collect();
+        common_dispersion(&mut fits);
+        let fits: Vec<Lognormal> = fits.into_iter().flatten().collect();
+        for i in 0..400 {
+            let x = 1e-3 * 1e4f64.powf(i as f64 / 399.0);
+            let p: Vec<f64> = fits.iter().map(|l| l.cdf(x)).collect();
+            assert!(p[1] <= p[0] && p[2] <= p[1], "{fits:?} at {x}: {p:?}");
+        }
+        let cut = 0.2 * uniform();
+        for c in &curves {
+            for beyond in [Beyond::Stop, Beyond::Extrapolate] {
+                let r: Vec<f64> = fits
+                    .iter()
+                    .map(|l| {
+                        let f = Fragility::Lognormal {
+                            median: l.median,
+                            beta: l.beta,
+                        };
+                        assess_above(c, &f, beyond, cut).annual_rate
+                    })
+                    .collect();
+                assert!(r[1] <= r[0] && r[2] <= r[1], "{fits:?}, {c:?}: {r:?}");
+            }
+        }
+    }
 }

@@ -12,50 +12,8 @@ use rocking::tables::read;
 use rocking::tables::risk::RiskRow;
 use serde_json::Value;
 
-use crate::util::{bundled_records, rocking, root, stderr, stdout, tempdir};
+use crate::util::{bundled_records, cornell_above, phi, rocking, root, stderr, stdout, tempdir};
 
-/// Standard normal CDF, written here so that the checks do not lean on the
-/// tool's own Φ: the Maclaurin series of erf for |z| < 2 and the continued
-/// fraction of erfc (Lentz's method) beyond, both to about 1e-16.
-fn phi(x: f64) -> f64 {
-    // Series of erf for small |z|, continued fraction of erfc for large.
-    let z = x / std::f64::consts::SQRT_2;
-    if z.abs() < 2.0 {
-        let mut term = z;
-        let mut sum = z;
-        for n in 1..200 {
-            term *= -z * z / n as f64;
-            let add = term / (2 * n + 1) as f64;
-            sum += add;
-            if add.abs() < 1e-17 * sum.abs() {
-                break;
-            }
-        }
-        0.5 * (1.0 + 2.0 / std::f64::consts::PI.sqrt() * sum)
-    } else {
-        // erfc(|z|) by Lentz's continued fraction.
-        let a = z.abs();
-        let mut f = a;
-        let (mut c, mut d) = (a, 0.0);
-        for n in 1..300 {
-            let an = n as f64 / 2.0;
-            d = a + an * d;
-            d = 1.0 / d;
-            c = a + an / c;
-            let delta = c * d;
-            f *= delta;
-            if (delta - 1.0).abs() < 1e-16 {
-                break;
-            }
-        }
-        let erfc = (-a * a).exp() / (f * std::f64::consts::PI.sqrt());
-        if z > 0.0 {
-            1.0 - 0.5 * erfc
-        } else {
-            0.5 * erfc
-        }
-    }
-}
 
 fn json(out: &std::process::Output) -> Value {
     assert!(out.status.success(), "{}", stderr(out));
@@ -90,7 +48,9 @@ fn power_law_hazard_gives_cornells_closed_form() {
     ));
     let m = v["fragility"]["median"].as_f64().unwrap();
     let beta = v["fragility"]["beta"].as_f64().unwrap();
-    let expected = k0 * m.powf(-k) * (k * k * beta * beta / 2.0).exp();
+    // The block cannot move below its uplift PGA c = g·tan α = b/h g: P is
+    // cut there (MODEL.md §13).
+    let expected = cornell_above(k0, k, m, beta, 0.2 / 0.9);
     let site = &v["sites"][0];
     let got = site["annual_rate"].as_f64().unwrap();
     assert!((got / expected - 1.0).abs() < 1e-9, "{got} vs {expected}");
@@ -122,18 +82,23 @@ fn power_law_hazard_gives_cornells_closed_form() {
     assert!(((got - stopped) / beyond - 1.0).abs() < 1e-9);
 }
 
-/// ∫ P |dλ| by the midpoint rule on 200,000 steps in ln a, the hazard
-/// interpolated log-log between `imls` (nothing beyond the last): an
-/// implementation independent of the tool's closed forms.
-fn quadrature(imls: &[f64], rates: &[f64], m: f64, beta: f64) -> f64 {
+/// ∫ P |dλ| over a ≥ `cut` by the midpoint rule on 20,000 steps in ln a
+/// a segment, the hazard interpolated log-log between `imls` (nothing
+/// beyond the last): an implementation independent of the tool's closed
+/// forms.
+fn quadrature(imls: &[f64], rates: &[f64], m: f64, beta: f64, cut: f64) -> f64 {
     let mut sum = 0.0;
     for w in 0..imls.len() - 1 {
         let (a0, a1, r0, r1) = (imls[w], imls[w + 1], rates[w], rates[w + 1]);
         let k = (r0 / r1).ln() / (a1 / a0).ln();
+        if a1 <= cut {
+            continue;
+        }
+        let from = a0.max(cut);
         let steps = 20_000;
-        let h = (a1 / a0).ln() / steps as f64;
+        let h = (a1 / from).ln() / steps as f64;
         for j in 0..steps {
-            let u = a0.ln() + (j as f64 + 0.5) * h;
+            let u = from.ln() + (j as f64 + 0.5) * h;
             let lam = r0 * (-k * (u - a0.ln())).exp();
             sum += phi((u - m.ln()) / beta) * k * lam * h;
         }
@@ -201,7 +166,8 @@ fn openquake_sites_against_quadrature() {
             .map(|(&a, p): (&f64, f64)| (a, -(1.0 - p).ln() / 50.0))
             .collect();
         let (a, r): (Vec<f64>, Vec<f64>) = keep.into_iter().unzip();
-        let expected = quadrature(&a, &r, m, beta);
+        // Cut at the block's uplift PGA, b/h g (MODEL.md §13).
+        let expected = quadrature(&a, &r, m, beta, 0.25);
         let got = site["annual_rate"].as_f64().unwrap();
         assert!(
             (got / expected - 1.0).abs() < 1e-8,
@@ -250,10 +216,14 @@ fn direct_uses_the_records_own_capacities() {
             "--direct",
             "--records",
             "recs",
+            "--method",
+            "empirical",
             "--json",
         ],
     ));
-    assert_eq!(v["fragility"]["kind"], "empirical");
+    assert_eq!(v["fragility"]["fit"], "empirical");
+    assert_eq!(v["fragility"]["source"], "direct");
+    assert_eq!(v["fragility"]["records_folder"], "recs");
     assert_eq!(v["fragility"]["records"], 3);
     assert!(v["warnings"].as_array().unwrap().is_empty());
     // P steps up at each record's overturning PGA t = α/η_c: λ_OT = mean λ(t).
@@ -448,10 +418,14 @@ fn bad_hazard_files_are_refused_naming_file_and_line() {
     }
 }
 
-/// A flat hazard curve has no events: the rate is 0 exactly and no bin is
-/// negative (once 1.5e-18 with bins of −14 % and 113 %, and −0 with --direct).
+/// A flat hazard curve has no events within it: with `--beyond stop` the
+/// rate is 0 exactly and no bin is negative (once 1.5e-18 with bins of
+/// −14 % and 113 %, and −0 with --direct); extrapolated, its rate exceeds
+/// every level and all of it overturns the block (once 0). A flat last
+/// segment likewise carries λ(last IML) beyond the curve (once 2.8e-5/yr
+/// and "0 % beyond" where 1e-3/yr exceed 0.6 g).
 #[test]
-fn a_flat_hazard_curve_gives_no_overturning() {
+fn a_flat_hazard_tail_is_carried_beyond_the_curve() {
     let dir = tempdir();
     let d = dir.path();
     fs::write(
@@ -459,12 +433,15 @@ fn a_flat_hazard_curve_gives_no_overturning() {
         "pga_g,annual_rate\n0.1,0.01\n0.2,0.01\n0.3,0.01\n",
     )
     .unwrap();
-    let v = json(&rocking(
-        d,
-        &[
-            "risk", "--hazard", "flat.csv", "--b", "0.2", "--h", "0.9", "--json",
-        ],
-    ));
+    let risk = |file: &str, beyond: &str| {
+        json(&rocking(
+            d,
+            &[
+                "risk", "--hazard", file, "--b", "0.2", "--h", "0.9", "--beyond", beyond, "--json",
+            ],
+        ))
+    };
+    let v = risk("flat.csv", "stop");
     let site = &v["sites"][0];
     assert_eq!(site["annual_rate"].as_f64(), Some(0.0), "{site}");
     for bin in site["deaggregation"].as_array().unwrap() {
@@ -473,6 +450,27 @@ fn a_flat_hazard_curve_gives_no_overturning() {
             assert_eq!(x.to_bits(), 0, "{key} = {x:e} (+0 exactly): {bin}");
         }
     }
+    let v = risk("flat.csv", "extrapolate");
+    assert_eq!(v["sites"][0]["annual_rate"].as_f64(), Some(0.01), "{v}");
+    assert_eq!(v["sites"][0]["share_beyond_last_iml"].as_f64(), Some(1.0));
+    fs::write(
+        d.join("tail.csv"),
+        "pga_g,annual_rate\n0.1,0.01\n0.3,0.001\n0.6,0.001\n",
+    )
+    .unwrap();
+    let v = risk("tail.csv", "extrapolate");
+    let site = &v["sites"][0];
+    let (m, beta) = (
+        v["fragility"]["median"].as_f64().unwrap(),
+        v["fragility"]["beta"].as_f64().unwrap(),
+    );
+    // 1e-3/yr beyond 0.6 g, all of which overturns it, and the segments
+    // inside by quadrature (cut at the uplift PGA, 0.2/0.9 g).
+    let inside = quadrature(&[0.1, 0.3, 0.6], &[0.01, 0.001, 0.001], m, beta, 0.2 / 0.9);
+    let got = site["annual_rate"].as_f64().unwrap();
+    assert!((got / (inside + 1e-3) - 1.0).abs() < 1e-8, "{got} vs {inside} + 1e-3");
+    let beyond = site["share_beyond_last_iml"].as_f64().unwrap();
+    assert!((beyond - 1e-3 / got).abs() < 1e-12, "{site}");
 }
 
 /// What the guide concludes from its worked example (its printed outputs
@@ -755,4 +753,90 @@ fn pgv_hazard_gives_cornells_closed_form() {
         "{}",
         stderr(&out)
     );
+}
+
+/// One block, one fragility: `fragility --direct`, `risk --direct` (plain
+/// and `--states overturned=overturned`) and `export --direct` (its JSON and
+/// the pelicun file it writes) give one median, one β and one fit name,
+/// the same records folder, and `risk`'s two paths one rate. Once
+/// `fragility --direct` printed the paper's regression, `--im pgv --direct`
+/// the moments, `risk --direct` integrated the step curve while printing
+/// the fractile fit, and `--states` the lognormal: four answers. (Python's
+/// `fragility` and `risk` are held to these commands in python/tests.)
+#[test]
+fn one_block_one_fragility_in_every_command() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(
+        d.join("h.csv"),
+        "pga_g,annual_rate\n0.05,0.05\n0.1,0.01\n0.2,0.002\n0.4,0.0003\n0.8,0.00003\n",
+    )
+    .unwrap();
+    let block = ["--b", "0.2", "--h", "0.9", "--direct"];
+    let run = |args: &[&str]| {
+        let mut a = args.to_vec();
+        a.extend(block);
+        json(&rocking(d, &a))
+    };
+    for (im, at) in [("pga", "0.3"), ("pgv", "30")] {
+        let f = run(&["fragility", "--im", im, "--at", at, "--json"]);
+        let (median, beta) = (f["median"].as_f64().unwrap(), f["beta"].as_f64().unwrap());
+        assert_eq!(f["source"], "direct");
+        assert_eq!(f["fit"], "fractile", "{im}");
+        let folder = f["records_folder"].as_str().unwrap();
+        assert!(folder.ends_with("records/fema-p695/far-field"), "{folder}");
+        let out = d.join(format!("pelicun-{im}"));
+        let e = run(&[
+            "export",
+            "--format",
+            "pelicun",
+            "--im",
+            im,
+            "--states",
+            "overturned=overturned",
+            "--out",
+            out.to_str().unwrap(),
+            "--json",
+        ]);
+        let state = &e[0]["fragility"]["states"][0];
+        assert_eq!(state["fractile"]["median"].as_f64(), Some(median), "{im}");
+        assert_eq!(state["fractile"]["beta"].as_f64(), Some(beta), "{im}");
+        assert_eq!(state["fractile_kind"], "fractile");
+        assert_eq!(e[0]["taxonomy"], "b0.2_h0.9");
+        assert_eq!(e[0]["fragility"]["records_folder"], f["records_folder"]);
+        // The file the engine reads: Theta_0 the median, Theta_1 β, to the bit.
+        let csv = fs::read_to_string(out.join("fragility.csv")).unwrap();
+        let row: Vec<&str> = csv.lines().nth(1).unwrap().split(',').collect();
+        assert_eq!(row[7].parse::<f64>().unwrap(), median);
+        assert_eq!(row[8].parse::<f64>().unwrap(), beta);
+        if im == "pga" {
+            let r = run(&["risk", "--hazard", "h.csv", "--json"]);
+            assert_eq!(r["fragility"]["median"].as_f64(), Some(median));
+            assert_eq!(r["fragility"]["beta"].as_f64(), Some(beta));
+            assert_eq!(r["fragility"]["fit"], "fractile");
+            assert_eq!(r["fragility"]["records_folder"], f["records_folder"]);
+            let s = run(&[
+                "risk",
+                "--hazard",
+                "h.csv",
+                "--states",
+                "overturned=overturned",
+                "--json",
+            ]);
+            let st = &s["sites"][0]["states"][0];
+            assert_eq!(st["median"].as_f64(), Some(median));
+            assert_eq!(st["beta"].as_f64(), Some(beta));
+            assert_eq!(st["fit"], "fractile");
+            assert_eq!(st["annual_rate"], r["sites"][0]["annual_rate"]);
+            // The rate is the lognormal's, cut at the uplift PGA (quadrature).
+            let (a, l) = (
+                [0.05, 0.1, 0.2, 0.4, 0.8],
+                [0.05, 0.01, 0.002, 0.0003, 0.00003],
+            );
+            let inside = quadrature(&a, &l, median, beta, 0.2 / 0.9);
+            let got = r["sites"][0]["annual_rate"].as_f64().unwrap();
+            let beyond = r["sites"][0]["share_beyond_last_iml"].as_f64().unwrap() * got;
+            assert!(((got - beyond) / inside - 1.0).abs() < 1e-8, "{got} vs {inside}");
+        }
+    }
 }

@@ -172,6 +172,25 @@ def test_fragility_and_risk_are_the_commands():
     assert arr["sites"][0]["annual_rate"] == one["sites"][0]["annual_rate"]
 
 
+def test_one_block_has_one_fragility_in_python_and_the_commands():
+    """--direct's fit, median, β and records folder: Python's fragility and
+    risk, and the commands' (which tests/risk.rs holds to export)."""
+    f = rocking.fragility(0.2, 0.9, pga=[0.3], direct=True, records=FAR)
+    r = rocking.risk(HAZARD, b=0.2, h=0.9, direct=True, records=FAR)
+    c = cli_json("fragility", "--b", "0.2", "--h", "0.9", "--pga", "0.3", "--direct",
+                 "--records", FAR)
+    for got in (f, r["fragility"]):
+        assert got["fit"] == c["fit"] == "fractile"
+        assert (got["median"], got["beta"]) == (c["median"], c["beta"])
+        assert got["records_folder"] == c["records_folder"] == str(FAR)
+    s = rocking.risk(HAZARD, b=0.2, h=0.9, direct=True, records=FAR,
+                     states="overturned=overturned")
+    assert s["sites"][0]["states"][0]["annual_rate"] == r["sites"][0]["annual_rate"]
+    e = rocking.fragility(0.2, 0.9, pga=[0.3], direct=True, records=FAR, method="empirical")
+    assert e["fit"] == "empirical"
+    assert e["points"][0]["probability"] == e["points"][0]["empirical"]
+
+
 def test_bad_input_raises_value_errors_with_the_librarys_message(tmp_path):
     bad = tmp_path / "bad.AT2"
     bad.write_text("A\nB\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS= 3, DT= 0.01 SEC\n0.1 x 0.3\n")

@@ -10,7 +10,7 @@ use serde::Deserialize;
 use super::block::{building, one_or_many, AUTO_TOL};
 use super::spelling::{AskError, Spelling};
 use crate::block::{check_mu, Restitution};
-use crate::damage::{DamageStates, FitMethod};
+use crate::damage::{DamageStates, Dispersion, FitMethod};
 use crate::floor::Mode;
 use crate::hazard;
 use crate::im::Im;
@@ -120,6 +120,7 @@ pub struct FragilityAsk {
     pub mu: Option<f64>,
     pub states: Option<DamageStates>,
     pub method: FitMethod,
+    pub dispersion: Dispersion,
 }
 
 impl Default for FragilityAsk {
@@ -141,6 +142,7 @@ impl Default for FragilityAsk {
             mu: None,
             states: None,
             method: FitMethod::Fractile,
+            dispersion: Dispersion::Common,
         }
     }
 }
@@ -203,6 +205,8 @@ impl FragilityAsk {
             auto_tol: self.auto_tol,
             floor: building(&self.floor, sp)?,
             mu,
+            method: self.method,
+            dispersion: self.dispersion,
         };
         let states = StatesAsk {
             states: self.states.clone(),
@@ -261,6 +265,7 @@ pub struct RiskAsk {
     pub floor: Vec<Mode>,
     pub states: Option<DamageStates>,
     pub method: FitMethod,
+    pub dispersion: Dispersion,
 }
 
 impl Default for RiskAsk {
@@ -285,6 +290,7 @@ impl Default for RiskAsk {
             floor: Vec::new(),
             states: None,
             method: FitMethod::Fractile,
+            dispersion: Dispersion::Common,
         }
     }
 }
@@ -335,6 +341,8 @@ impl RiskAsk {
             beyond: self.beyond,
             auto_tol: self.auto_tol,
             floor: building(&self.floor, sp)?,
+            method: self.method,
+            dispersion: self.dispersion,
         };
         let states = StatesAsk {
             states: self.states.clone(),
@@ -356,6 +364,7 @@ pub struct ExportAsk {
     /// the paper's regression, which knows overturning only, that alone.
     pub states: Option<DamageStates>,
     pub method: FitMethod,
+    pub dispersion: Dispersion,
     pub im: Option<Im>,
     pub hazard: Option<PathBuf>,
     pub years: f64,
@@ -389,6 +398,7 @@ impl ExportAsk {
             progress,
             states,
             method: self.method,
+            dispersion: self.dispersion,
             im: self.im,
             hazard: self.hazard.clone(),
             years: self.years,

@@ -5,10 +5,13 @@ use super::{fractile_method, max_likelihood, Lognormal, StateCapacity};
 use crate::stats::FractileDef;
 
 /// One state's capacities over the records, fitted.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct StateFit {
     /// Records that reach the state within their runs.
     pub reached: usize,
+    /// Every record's capacity in the IM, ascending, +∞ for a record that
+    /// never reaches the state: the records' step curve.
+    pub capacities: Vec<f64>,
     /// By the paper's fractiles (a record that never reaches it counts as +∞).
     pub fractile: Option<Lognormal>,
     /// By maximum likelihood, the others censored at their strongest run.
@@ -41,10 +44,12 @@ pub fn fit_states(
                     }
                 }
             }
+            all.sort_by(f64::total_cmp);
             Some(StateFit {
                 reached: reached.len(),
                 fractile: fractile_method(&all, def),
                 mle: max_likelihood(&reached, &censored),
+                capacities: all,
             })
         })
         .collect()
@@ -68,11 +73,12 @@ mod tests {
         ];
         let def = FractileDef::Type7;
         let fits = fit_states(1, &caps, |_, eta| Some(0.2 / eta), def).unwrap();
-        let f = fits[0];
+        let f = &fits[0];
         assert_eq!(f.reached, 3);
         let all = [0.4, 0.8, 0.5, f64::INFINITY];
         assert_eq!(f.fractile, fractile_method(&all, def));
         assert_eq!(f.mle, max_likelihood(&[0.4, 0.8, 0.5], &[2.0]));
+        assert_eq!(f.capacities, [0.4, 0.5, 0.8, f64::INFINITY]);
         assert!(fit_states(1, &caps, |k, eta| (k != 2).then_some(eta), def).is_none());
     }
 }

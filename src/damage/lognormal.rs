@@ -12,23 +12,43 @@
 
 use crate::stats::{self, FractileDef};
 
-/// How the lognormal is fitted.
+/// How a block's fragility is made from its records' capacities: a
+/// lognormal fitted two ways, or the records' own step curve.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FitMethod {
-    /// The paper's: 16/50/84 % fractiles.
+    /// The paper's: 16/50/84 % fractiles (the default everywhere).
     Fractile,
     /// Maximum likelihood, censored.
     MaxLikelihood,
+    /// No fit: the share of the records whose capacity a level exceeds
+    /// (from the records' runs only; no engine takes it).
+    Empirical,
 }
 
 impl FitMethod {
-    pub const ALL: [FitMethod; 2] = [FitMethod::Fractile, FitMethod::MaxLikelihood];
+    pub const ALL: [FitMethod; 3] = [
+        FitMethod::Fractile,
+        FitMethod::MaxLikelihood,
+        FitMethod::Empirical,
+    ];
+    /// The methods that give a lognormal (the damage stage's table, the
+    /// exports).
+    pub const LOGNORMAL: [FitMethod; 2] = [FitMethod::Fractile, FitMethod::MaxLikelihood];
 
     pub fn name(self) -> &'static str {
         match self {
             FitMethod::Fractile => "fractile",
             FitMethod::MaxLikelihood => "mle",
+            FitMethod::Empirical => "empirical",
+        }
+    }
+
+    /// The other lognormal fit, to suggest where this one has none.
+    pub fn other(self) -> FitMethod {
+        match self {
+            FitMethod::Fractile => FitMethod::MaxLikelihood,
+            FitMethod::MaxLikelihood | FitMethod::Empirical => FitMethod::Fractile,
         }
     }
 
@@ -47,13 +67,75 @@ impl crate::label::Label for FitMethod {
     }
     fn help(self) -> &'static str {
         match self {
-            FitMethod::Fractile => "the paper's 16/50/84 % fractiles",
-            FitMethod::MaxLikelihood => "censored maximum likelihood",
+            FitMethod::Fractile => "a lognormal by the paper's 16/50/84 % fractiles",
+            FitMethod::MaxLikelihood => "a lognormal by censored maximum likelihood",
+            FitMethod::Empirical => {
+                "the records' own step curve: the share of them whose capacity a level exceeds \
+                 (--direct only)"
+            }
         }
     }
 }
 
-crate::deserialize_by_label!(FitMethod);
+/// The dispersions of several damage states' lognormals.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Dispersion {
+    /// One β for every state of a block (the heaviest state's), medians in
+    /// order: a heavier state is never likelier than a lighter one
+    /// ([`common_dispersion`]; the default).
+    Common,
+    /// Each state its own fit: their curves cross somewhere.
+    Each,
+}
+
+impl crate::label::Label for Dispersion {
+    const ALL: &'static [Self] = &[Dispersion::Common, Dispersion::Each];
+    const WHAT: &'static str = "dispersion";
+    fn label(self) -> &'static str {
+        match self {
+            Dispersion::Common => "common",
+            Dispersion::Each => "each",
+        }
+    }
+    fn help(self) -> &'static str {
+        match self {
+            Dispersion::Common => {
+                "one β for the states of a block, the heaviest state's, medians in order: \
+                 the states never cross"
+            }
+            Dispersion::Each => "each state its own β: the curves cross somewhere",
+        }
+    }
+}
+
+crate::deserialize_by_label!(FitMethod, Dispersion);
+
+/// Damage states' lognormals (lightest first; `None` where a state has no
+/// fit) made sequential: every state given the dispersion of the heaviest
+/// state that has a fit, and each median raised to the one before where it
+/// lies below it. Lognormals of one β cross nowhere, and with medians in
+/// order a heavier state's probability never exceeds a lighter one's at
+/// any level. Sequential damage states share one dispersion in many of
+/// FEMA P-58's component fragilities (209 of the 459 with two or more
+/// lognormal states in its database as pelicun carries it), and Porter,
+/// Kennedy & Bachman (2007, Earthquake Spectra 23(2)) treat crossing
+/// fragility functions as an error to correct (docs/MODEL.md §15). The
+/// heaviest state's β is kept because that state (overturning) is what the risk turns on:
+/// its fragility is then the block's own, one answer whether or not the
+/// lighter states are asked for. The lighter states' onsets are spread
+/// wider than their own fits say.
+pub fn common_dispersion(fits: &mut [Option<Lognormal>]) {
+    let Some(beta) = fits.iter().rev().flatten().map(|l| l.beta).next() else {
+        return;
+    };
+    let mut floor = 0.0f64;
+    for l in fits.iter_mut().flatten() {
+        l.beta = beta;
+        l.median = l.median.max(floor);
+        floor = l.median;
+    }
+}
 
 /// A lognormal capacity: median θ (in the IM's unit) and dispersion β.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]

@@ -19,7 +19,9 @@ mod lognormal;
 mod states;
 
 pub use fit::{fit_states, StateFit};
-pub use lognormal::{crossing, fractile_method, max_likelihood, FitMethod, Lognormal};
+pub use lognormal::{
+    common_dispersion, crossing, fractile_method, max_likelihood, Dispersion, FitMethod, Lognormal,
+};
 pub use states::{
     capacities, Criterion, DamageError, DamageStates, LimitState, StateCapacity, DEFAULT,
 };

@@ -152,6 +152,11 @@ impl DamageStates {
     }
 
     /// Whether these are the [`DEFAULT`] states.
+    /// Overturning alone: the block's fragility as one state.
+    pub fn overturning() -> DamageStates {
+        DamageStates::parse("overturned=overturned").expect("a valid state")
+    }
+
     pub fn is_default(&self) -> bool {
         *self == DamageStates::default()
     }

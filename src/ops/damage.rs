@@ -1,14 +1,22 @@
-//! A block's fragility for each damage state, in one IM: from the records'
-//! own runs (`--direct`: every state, both fits), or from a study
-//! (`--from PIPELINE.toml`: overturning from its regression or IM table, as
-//! `fragility` and `risk` take it, the other states from its damage table);
-//! the paper's regression gives overturning only.
+//! A block's fragility, made once for every command ([`of_block`]): for
+//! each damage state asked (overturning alone for `fragility` and `risk`),
+//! in one IM, from the records' own runs (`--direct`: every state, both
+//! lognormal fits and the records' step curve), or from a study (`--from
+//! PIPELINE.toml`: overturning from its regression or IM table, the other
+//! states from its damage table); the paper's regression gives overturning
+//! only. Several states share one dispersion by default, so that they never
+//! cross ([`crate::damage::common_dispersion`]).
 
 use super::fragility::{DirectRecords, FragilityError, Laws, Request};
 use super::im_fragility::DamageTable;
 use crate::block::Block;
-use crate::damage::{self, Criterion, DamageStates, FitMethod, Lognormal, StateCapacity};
+use crate::floor::Building;
+use crate::damage::{
+    self, Criterion, DamageStates, Dispersion, FitMethod, Lognormal, StateCapacity,
+};
 use crate::im::{self, Im};
+use crate::label::Label;
+use crate::risk::Fragility;
 use crate::stats::FractileDef;
 
 /// One state's fragility.
@@ -25,14 +33,62 @@ pub struct StateFragility {
     pub mle: Option<Lognormal>,
     /// Records that reach the state within the runs (`--direct` only).
     pub reached: Option<usize>,
+    /// What the `fractile` lognormal is: `fractile` (of the records'
+    /// capacities, or a study's damage table), `regression` (the paper's or
+    /// a study's fit, overturning in PGA) or `moments` (a study's IM table).
+    pub fractile_kind: &'static str,
+    /// Every record's capacity in the IM, ascending, +∞ where the state is
+    /// not reached (`--direct` only): the records' step curve.
+    #[serde(skip)]
+    pub capacities: Option<Vec<f64>>,
 }
 
 impl StateFragility {
-    /// The lognormal of `method`.
+    /// The lognormal of `method` (none for the step curve).
     pub fn by(&self, method: FitMethod) -> Option<Lognormal> {
         match method {
             FitMethod::Fractile => self.fractile,
             FitMethod::MaxLikelihood => self.mle,
+            FitMethod::Empirical => None,
+        }
+    }
+
+    /// P(state reached | IM) by `method`: its lognormal, or the records'
+    /// step curve; `None` where the method has none.
+    pub fn fragility(&self, method: FitMethod) -> Option<Fragility> {
+        match method {
+            FitMethod::Empirical => self.capacities.as_ref().map(|t| Fragility::Empirical {
+                thresholds: t.clone(),
+            }),
+            lognormal => self.by(lognormal).map(|l| Fragility::Lognormal {
+                median: l.median,
+                beta: l.beta,
+            }),
+        }
+    }
+
+    /// The median (IM unit) and β that `method` stands for: its
+    /// lognormal's, or for the step curve the records' 50 % fractile
+    /// (none where more than half never reach the state) beside the
+    /// fractile fit's β. The one place `fragility`, `risk` and Python read
+    /// them from.
+    pub fn median_beta(&self, method: FitMethod) -> (Option<f64>, Option<f64>) {
+        match (self.by(method), &self.capacities) {
+            (Some(l), _) => (Some(l.median), Some(l.beta)),
+            (None, Some(c)) => (
+                crate::stats::fractile(c, 0.5, DIRECT_FRACTILE).filter(|v| v.is_finite()),
+                self.fractile.map(|l| l.beta),
+            ),
+            (None, None) => (None, None),
+        }
+    }
+
+    /// The fit `method` stands for here: `fractile`, `regression`,
+    /// `moments`, `mle` or `empirical`.
+    pub fn fit_name(&self, method: FitMethod) -> &'static str {
+        match method {
+            FitMethod::Fractile => self.fractile_kind,
+            other => other.name(),
         }
     }
 }
@@ -46,17 +102,32 @@ pub struct DamageFragility {
     pub source: String,
     /// Records run (`--direct`).
     pub records: Option<usize>,
+    /// With `--direct`: the records folder (or the pipeline) they came from.
+    pub records_folder: Option<String>,
+    /// On a floor: the building's modes (`T,ζ,Γφ; …`); the IMs are the ground's.
+    pub floor: Option<String>,
+    /// `common` (one β for the states, the heaviest's) or `each`.
+    pub dispersion: &'static str,
     /// The model the records were run with, and why (`--direct`).
     pub model: Option<String>,
     pub states: Vec<StateFragility>,
     pub warnings: Vec<String>,
 }
 
+impl DamageFragility {
+    /// The fit `method` stands for (its first state's; one for overturning).
+    pub fn fit_name(&self, method: FitMethod) -> &'static str {
+        self.states.first().map_or(method.name(), |s| s.fit_name(method))
+    }
+}
+
 /// The fractile definition of the records' fits (`--direct`): numpy's and
 /// R's default, as the paper's.
-const DIRECT_FRACTILE: FractileDef = FractileDef::Type7;
+pub const DIRECT_FRACTILE: FractileDef = FractileDef::Type7;
 
-/// The block's fragility for each of `states` in `im`.
+/// The block's fragility for each of `states` in `im`: the one function
+/// every command (`fragility`, `risk`, `export`, Python) makes it with.
+/// Several states share one dispersion unless `dispersion` is `each`.
 pub fn of_block(
     block: &Block,
     states: &DamageStates,
@@ -64,10 +135,56 @@ pub fn of_block(
     laws: &Laws,
     direct: Option<&DirectRecords>,
     auto_tol: f64,
+    dispersion: Dispersion,
 ) -> Result<DamageFragility, FragilityError> {
-    match direct {
-        Some(records) => from_records(block, states, im, records, auto_tol),
-        None => from_regression(block, states, im, laws, auto_tol),
+    let mut f = match direct {
+        Some(records) => from_records(block, states, im, records, auto_tol)?,
+        None => from_regression(block, states, im, laws, auto_tol)?,
+    };
+    f.dispersion = dispersion.label();
+    if dispersion == Dispersion::Common && f.states.len() > 1 {
+        for method in FitMethod::LOGNORMAL {
+            let mut fits: Vec<Option<Lognormal>> = f.states.iter().map(|s| s.by(method)).collect();
+            damage::common_dispersion(&mut fits);
+            for (s, l) in f.states.iter_mut().zip(fits) {
+                match method {
+                    FitMethod::Fractile => s.fractile = l,
+                    _ => s.mle = l,
+                }
+            }
+        }
+    }
+    Ok(f)
+}
+
+/// The IM level below which every state's probability is 0, the same for
+/// `risk` and the OpenQuake export (its `noDamageLimit`): a block on the
+/// ground cannot move below its uplift PGA, g·tan α (in PGA only; on a
+/// floor that moves otherwise than the ground, the ground's PGA at uplift
+/// varies record to record, and other IMs have no such level: no cut).
+/// docs/MODEL.md §13.
+pub fn zero_below(block: &Block, im: Im, floor: Option<&Building>) -> Option<f64> {
+    (im == Im::Pga && floor.is_none_or(Building::moves_as_ground)).then(|| block.uplift_pga_g())
+}
+
+/// Why `state` has no fragility by `method`, as a refusal.
+pub fn no_fit(f: &DamageFragility, state: &StateFragility, method: FitMethod) -> FragilityError {
+    let why = match (method, f.source.as_str()) {
+        (FitMethod::Empirical, _) => "the records' step curve needs their runs: add --direct",
+        (FitMethod::MaxLikelihood, s) if s != "direct" => {
+            "a regression has no likelihood fit; use --direct"
+        }
+        (FitMethod::Fractile, _) => "more than 16 % of the records never reach the state",
+        _ => match state.reached {
+            Some(n) if n >= 2 => "the records that reach it all reach it at one level (no spread)",
+            _ => "fewer than two records reach the state",
+        },
+    };
+    FragilityError::NoStateFit {
+        state: state.name.clone(),
+        method: method.name(),
+        other: method.other().name(),
+        why,
     }
 }
 
@@ -110,19 +227,20 @@ fn from_regression(
                     beta: l.beta,
                 }))
             };
-        let (fractile, mle) = match s.criterion {
+        let (fractile, mle, kind) = match s.criterion {
             Criterion::Overturned => {
-                let l = match overturning(block, im, laws, auto_tol, &mut warnings) {
+                let (l, kind) = match overturning(block, im, laws, auto_tol, &mut warnings) {
                     Ok(l) => l,
                     // A study too small for a regression: its damage table.
-                    Err(FragilityError::NoFit { .. }) if fractile_table.is_some() => {
-                        from_table(&fractile_table, &mut warnings)?.expect("a table")
-                    }
+                    Err(FragilityError::NoFit { .. }) if fractile_table.is_some() => (
+                        from_table(&fractile_table, &mut warnings)?.expect("a table"),
+                        "fractile",
+                    ),
                     Err(e) => return Err(e),
                 };
                 // The table's overturning by maximum likelihood, where it has one.
                 let mle = from_table(&mle_table, &mut Vec::new()).ok().flatten();
-                (Some(l), mle)
+                (Some(l), mle, kind)
             }
             Criterion::Rotation(_) => {
                 let Some(f) = from_table(&fractile_table, &mut warnings)? else {
@@ -134,6 +252,7 @@ fn from_regression(
                 (
                     Some(f),
                     from_table(&mle_table, &mut Vec::new()).ok().flatten(),
+                    "fractile",
                 )
             }
         };
@@ -144,6 +263,8 @@ fn from_regression(
             fractile,
             mle,
             reached: None,
+            fractile_kind: kind,
+            capacities: None,
         });
     }
     warnings.sort();
@@ -153,34 +274,46 @@ fn from_regression(
         unit: im.unit(),
         source: laws.name.clone(),
         records: None,
+        records_folder: None,
+        floor: None,
+        dispersion: Dispersion::Each.label(),
         model: None,
         states: out,
         warnings,
     })
 }
 
-/// Overturning's lognormal from the regression (PGA) or the IM table.
+/// Overturning's lognormal from the regression (PGA) or the IM table, and
+/// which it is.
 fn overturning(
     block: &Block,
     im: Im,
     laws: &Laws,
     auto_tol: f64,
     warnings: &mut Vec<String>,
-) -> Result<Lognormal, FragilityError> {
+) -> Result<(Lognormal, &'static str), FragilityError> {
     if im == Im::Pga {
         let (eta50, beta) = laws.median_beta(block)?;
         warnings.extend(super::fragility::warnings(block, auto_tol));
-        Ok(Lognormal {
-            median: block.alpha() / eta50,
-            beta,
-        })
+        Ok((
+            Lognormal {
+                median: block.alpha() / eta50,
+                beta,
+            },
+            "regression",
+        ))
     } else {
         let l = laws.im_table(im)?.capacity(block)?;
         warnings.extend(l.warnings);
-        Ok(Lognormal {
-            median: l.median,
-            beta: l.beta,
-        })
+        // The study's table rests on its model, as the regression does.
+        warnings.extend(super::fragility::alpha_warning(block, auto_tol));
+        Ok((
+            Lognormal {
+                median: l.median,
+                beta: l.beta,
+            },
+            "moments",
+        ))
     }
 }
 
@@ -194,7 +327,7 @@ fn from_records(
     let def = DIRECT_FRACTILE;
     let (runs, why) = records.runs(block, auto_tol)?;
     let alpha = block.alpha();
-    let ims = (im != Im::Pga).then(|| records.ims());
+    let ims = (im != Im::Pga).then(|| records.ims_for(im));
     let per_record: Vec<Vec<StateCapacity>> = runs
         .iter()
         .map(|c| {
@@ -230,6 +363,8 @@ fn from_records(
             fractile: f.fractile,
             mle: f.mle,
             reached: Some(f.reached),
+            fractile_kind: "fractile",
+            capacities: Some(f.capacities),
         })
         .collect();
     Ok(DamageFragility {
@@ -237,6 +372,9 @@ fn from_records(
         unit: im.unit(),
         source: "direct".into(),
         records: Some(runs.len()),
+        records_folder: Some(records.folder().to_string()),
+        floor: records.floor().map(|b| b.to_string()),
+        dispersion: Dispersion::Each.label(),
         model: Some(why),
         states: out,
         warnings: Vec::new(),
@@ -274,7 +412,7 @@ pub struct StatesAssessment {
     pub alpha_rad: f64,
     pub p: f64,
     pub eps: f64,
-    /// `fractile` or `mle`: the fit the probabilities use.
+    /// `fractile`, `mle` or `empirical`: what the probabilities use.
     pub method: &'static str,
     pub fragility: DamageFragility,
     pub points: Vec<StatesPoint>,
@@ -309,6 +447,7 @@ pub fn assess(
         &laws,
         records.as_ref(),
         req.auto_tol,
+        req.dispersion,
     )?;
     let crossed = crossings(&fragility, method);
     fragility.warnings.extend(crossed);
@@ -328,7 +467,7 @@ pub fn assess(
             probabilities: fragility
                 .states
                 .iter()
-                .map(|s| s.by(method).map(|l| l.cdf(x)))
+                .map(|s| s.fragility(method).map(|f| f.probability(x)))
                 .collect(),
         })
         .collect();

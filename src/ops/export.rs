@@ -49,6 +49,8 @@ pub struct Request {
     pub progress: fragility::DirectProgress,
     pub states: DamageStates,
     pub method: FitMethod,
+    /// One β for the states of a block (the default), or each its own.
+    pub dispersion: crate::damage::Dispersion,
     /// The IM; with `--hazard` it must be the hazard's (the default).
     pub im: Option<Im>,
     /// OpenQuake hazard curves: their sites make the exposure, and the job
@@ -77,16 +79,10 @@ pub enum ExportOpError {
     #[error(transparent)]
     Format(#[from] ExportError),
     #[error(
-        "block {block}, state `{state}`: the {method} fit has no lognormal ({why}); try --method \
-         {other}, or fewer states"
+        "--method empirical is the records' step curve, which no engine takes; export a \
+         lognormal (--method fractile or mle)"
     )]
-    NoFit {
-        block: String,
-        state: String,
-        method: &'static str,
-        other: &'static str,
-        why: &'static str,
-    },
+    EmpiricalExport,
     #[error(
         "--hazard {}: OpenQuake's job needs its hazard-curve CSV with sites (lon, lat) and an \
          investigation_time; a plain `<im>,annual_rate` file has neither",
@@ -101,16 +97,29 @@ pub enum ExportOpError {
     Write(#[from] TableError),
 }
 
+/// One block as exported: itself, its taxonomy in the files, and its
+/// fragilities.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ExportedBlock {
+    pub block: risk::BlockInfo,
+    /// The block's key in the engines' files ([`taxonomy`]).
+    pub taxonomy: String,
+    pub fragility: DamageFragility,
+}
+
 /// What was written, and the fragilities behind it.
 #[derive(Debug)]
 pub struct Written {
     pub files: Vec<PathBuf>,
-    pub blocks: Vec<(InventoryBlock, DamageFragility)>,
+    pub blocks: Vec<ExportedBlock>,
 }
 
 /// Computes every block's fragilities and writes the engine's files.
 pub fn export(req: &Request) -> Result<Written, ExportOpError> {
     crate::physics::check_auto_tol(req.auto_tol).map_err(FragilityError::AutoTol)?;
+    if req.method == FitMethod::Empirical {
+        return Err(ExportOpError::EmpiricalExport);
+    }
     let hazard = match (&req.hazard, req.format) {
         (Some(_), Format::Pelicun) => return Err(ExportOpError::HazardForPelicun),
         (Some(path), Format::Nrml) => Some(read_sites(path, req.im)?),
@@ -151,20 +160,23 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
             &laws,
             records.as_ref(),
             req.auto_tol,
+            req.dispersion,
         )
         .map_err(in_block)?;
-        let entry = entry(&e, &block, &f, req.method, im)?;
+        let info = risk::block_info(&e, &block, req.floor.as_ref());
+        let entry = entry(&info, &f, req.method, im, &block, req.floor.as_ref())?;
         f.warnings.extend(damage::crossings(&f, req.method));
-        if let Some(mu) =
-            e.mu.filter(|&mu| crate::block::slides_first(mu, block.alpha()))
-        {
-            f.warnings
-                .push(crate::block::sliding_warning(mu, block.alpha()));
+        if let (Some(mu), Some(true)) = (info.mu, info.slides_first) {
+            f.warnings.push(crate::block::sliding_warning(mu, info.alpha_rad));
         }
+        blocks.push(ExportedBlock {
+            block: info,
+            taxonomy: entry.id.clone(),
+            fragility: f,
+        });
         export.push(entry);
-        blocks.push((e, f));
     }
-    let source = blocks.first().map_or("", |(_, f)| f.source.as_str());
+    let source = blocks.first().map_or("", |b| b.fragility.source.as_str());
     let floor = records.as_ref().and_then(|r| r.floor());
     let files = write_files(req, hazard.as_ref(), &export, im, source, floor)?;
     Ok(Written { files, blocks })
@@ -245,49 +257,39 @@ fn write_files(
 
 /// The block's entry: its states' lognormals by `method`.
 fn entry(
-    e: &InventoryBlock,
-    block: &Block,
+    e: &risk::BlockInfo,
     f: &DamageFragility,
     method: FitMethod,
     im: Im,
+    block: &Block,
+    floor: Option<&crate::floor::Building>,
 ) -> Result<Entry, ExportOpError> {
     let states = f
         .states
         .iter()
         .map(|s| {
-            s.by(method).ok_or_else(|| ExportOpError::NoFit {
-                block: e.name.clone(),
-                state: s.name.clone(),
-                method: method.name(),
-                other: match method {
-                    FitMethod::Fractile => FitMethod::MaxLikelihood.name(),
-                    FitMethod::MaxLikelihood => FitMethod::Fractile.name(),
-                },
-                why: match (method, f.source.as_str()) {
-                    (FitMethod::MaxLikelihood, s) if s != "direct" => {
-                        "a regression has no likelihood fit; use --direct"
-                    }
-                    (FitMethod::Fractile, _) => {
-                        "more than 16 % of the records never reach the state"
-                    }
-                    _ => "fewer than two records reach the state",
-                },
+            s.by(method).ok_or_else(|| ExportOpError::Block {
+                name: e.name.clone(),
+                source: damage::no_fit(f, s, method),
             })
         })
         .collect::<Result<Vec<_>, _>>()?;
+    let slides = match (e.mu, e.slides_first) {
+        (Some(mu), Some(true)) => format!(
+            "; slides before it rocks (μ = {mu} < b/h = {:.4}): these fragilities assume it \
+             does not",
+            e.b_m / e.h_m
+        ),
+        _ => String::new(),
+    };
     Ok(Entry {
         id: taxonomy(&e.name),
         description: format!(
-            "{}: half-width {} m, half-height {} m, α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}",
-            e.name,
-            e.b_m,
-            e.h_m,
-            block.alpha(),
-            block.p(),
-            block.eps
+            "{}: half-width {} m, half-height {} m, α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}{slides}",
+            e.name, e.b_m, e.h_m, e.alpha_rad, e.p, e.eps
         ),
-        // The block cannot uplift below PGA = g·tan α.
-        no_damage_limit: (im == Im::Pga).then(|| block.alpha().tan()),
+        // The level below which no state is reached, as `risk` cuts it.
+        no_damage_limit: damage::zero_below(block, im, floor),
         states,
     })
 }

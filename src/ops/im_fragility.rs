@@ -195,10 +195,7 @@ impl DamageTable {
             state: state.name.clone(),
             im: self.im.name(),
             method: self.method.name(),
-            other: match self.method {
-                FitMethod::Fractile => FitMethod::MaxLikelihood.name(),
-                FitMethod::MaxLikelihood => FitMethod::Fractile.name(),
-            },
+            other: self.method.other().name(),
         })?;
         let (factor, _) = self
             .im

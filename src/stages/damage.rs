@@ -250,10 +250,11 @@ fn of_block(
         let dimensionless = im.dimensionless(1.0, block.p);
         let power = f64::from(im.power());
         for (s, fit) in states.states().iter().zip(fits) {
-            for method in FitMethod::ALL {
+            for method in FitMethod::LOGNORMAL {
                 let l = match method {
                     FitMethod::Fractile => fit.fractile,
                     FitMethod::MaxLikelihood => fit.mle,
+                    FitMethod::Empirical => unreachable!("the table holds lognormals"),
                 };
                 rows.push(DamageStateRow {
                     block_index: index as i64,

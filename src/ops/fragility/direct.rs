@@ -63,6 +63,9 @@ struct DirectRecord {
 /// The records a block is run through with `--direct`, read once.
 pub struct DirectRecords {
     records: Vec<DirectRecord>,
+    /// Where they came from, as the answers name it: the folder, or the
+    /// pipeline whose records they are.
+    folder: String,
     /// The building whose floor the block stands on, if any.
     floor: Option<Building>,
     progress: DirectProgress,
@@ -82,6 +85,10 @@ impl DirectRecords {
         progress: DirectProgress,
         floor: Option<&Building>,
     ) -> Result<Self, FragilityError> {
+        let folder = match from {
+            Source::Paper { records } => records.display().to_string(),
+            Source::Pipeline { file, .. } => format!("the records of {}", file.display()),
+        };
         let rows = match (from, plan) {
             (_, Some(plan)) => records::of_plan(plan).map_err(FragilityError::Records)?,
             (Source::Paper { records }, None) => {
@@ -121,6 +128,7 @@ impl DirectRecords {
             .collect::<Result<_, FragilityError>>()?;
         Ok(DirectRecords {
             records,
+            folder,
             floor: floor.cloned(),
             progress,
             counts: Counts::default(),
@@ -146,7 +154,7 @@ impl DirectRecords {
                 .collect()
         } else {
             caps.iter()
-                .zip(self.ims())
+                .zip(self.ims_for(im).iter())
                 .map(|(&c, r)| {
                     if c > 0.0 {
                         crate::im::of_eta(im, c, alpha, r)
@@ -175,6 +183,34 @@ impl DirectRecords {
                 })
                 .collect()
         })
+    }
+
+    /// The records' IMs with `im` among them: those of [`Self::ims`], or,
+    /// for SA at a period they are not computed at, computed at it too
+    /// (the records are here: any period can be had).
+    pub fn ims_for(&self, im: Im) -> std::borrow::Cow<'_, [RecordIms]> {
+        let standard = self.ims();
+        if standard.first().is_none_or(|r| r.value(im).is_some()) {
+            return std::borrow::Cow::Borrowed(standard);
+        }
+        let Im::Sa(t) = im else {
+            return std::borrow::Cow::Borrowed(standard);
+        };
+        std::borrow::Cow::Owned(
+            self.records
+                .par_iter()
+                .map(|r| {
+                    let exc = r.ground.as_ref().map_or(&r.exc, |(g, _)| g);
+                    RecordIms::of_record(&exc.psi, exc.dt_s, &[t])
+                        .expect("an excitation's forcing has a peak of 1")
+                })
+                .collect(),
+        )
+    }
+
+    /// Where the records came from: the folder, or the pipeline's records.
+    pub fn folder(&self) -> &str {
+        &self.folder
     }
 
     pub fn len(&self) -> usize {

@@ -43,9 +43,19 @@ pub enum FragilityError {
     #[error(transparent)]
     ImTable(#[from] im_fragility::ImTableError),
     #[error(
-        "{0}: SA is computed at the periods 0.05–4 s of docs/MODEL.md §14; ask for one of them"
+        "{0}: a study's records carry SA at {periods} s only (docs/MODEL.md §14); ask for one \
+         of them, or run the block through the records (--direct), which computes SA at any \
+         period",
+        periods = crate::im::PERIODS_S.map(crate::im::period_text).join(", ")
     )]
     NoPeriod(String),
+    #[error("damage state `{state}` has no {method} fit ({why}); try --method {other}")]
+    NoStateFit {
+        state: String,
+        method: &'static str,
+        other: &'static str,
+        why: &'static str,
+    },
     #[error("too few of the records overturn the block within the grid to fit a lognormal in {0}")]
     FewCapacities(String),
     #[error(
@@ -62,7 +72,10 @@ pub enum FragilityError {
     Pipeline(#[from] LoadError),
     #[error(transparent)]
     Fit(#[from] FitError),
-    #[error("{pipeline} has no regression to take fractiles from: {why}; use --from paper")]
+    #[error(
+        "{pipeline} has no regression to take fractiles from: {why}; add --direct to run the \
+         block through the study's records, or use --from paper for the published regression"
+    )]
     NoFit { pipeline: PathBuf, why: String },
     #[error(
         "the {what} in {dir} is not {pipeline}'s as it stands ({why}): another pipeline of the \

@@ -26,9 +26,11 @@ pub struct BlockInfo {
 pub struct FragilityInfo {
     /// `paper`, the pipeline file, or `direct`.
     pub source: String,
-    /// `lognormal` (from a regression or a study's IM table) or
-    /// `empirical` (records, `--direct`).
-    pub kind: &'static str,
+    /// How it is made: `fractile`, `mle` (lognormals of the records'
+    /// capacities or a study's damage table), `regression` (the paper's or a
+    /// study's, PGA), `moments` (a study's IM table) or `empirical` (the
+    /// records' step curve, `--method empirical`).
+    pub fit: &'static str,
     /// The IM of the fragility and of the hazard, and its unit.
     pub im: String,
     pub unit: &'static str,
@@ -38,6 +40,8 @@ pub struct FragilityInfo {
     pub beta: Option<f64>,
     /// Records run, with `--direct`.
     pub records: Option<usize>,
+    /// With `--direct`: the records folder (or pipeline) they came from.
+    pub records_folder: Option<String>,
 }
 
 /// One range of the IM in the deaggregation.

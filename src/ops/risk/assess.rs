@@ -11,10 +11,10 @@ use crate::block::{Block, Restitution};
 use crate::hazard::{self, HazardCurve};
 use crate::im::Im;
 use crate::label::Label;
+use crate::damage::{DamageStates, Dispersion, FitMethod};
+use crate::ops::damage;
 use crate::ops::fragility::{self, DirectRecords, FragilityError, Laws};
-use crate::ops::im_fragility::ImTable;
 use crate::risk::{self, Fragility, SiteRisk};
-use crate::stats;
 
 /// Reads the hazard file: the curves of the sites asked, with their indices.
 pub fn read_hazard(
@@ -58,80 +58,42 @@ pub fn read_hazard(
     Ok(chosen)
 }
 
-/// The fragility of a block in terms of `im`, and how to describe it.
+/// The fragility of a block in terms of `im` (the block's one fragility,
+/// [`damage::of_block`], by `method`), how to describe it, and the
+/// regression's warnings for it.
 fn fragility_of(
     block: &Block,
     laws: &Laws,
-    table: Option<&ImTable>,
     im: Im,
     direct: Option<&DirectRecords>,
     auto_tol: f64,
-) -> Result<(Fragility, FragilityInfo), FragilityError> {
-    let alpha = block.alpha();
-    let (name, unit) = (im.name(), im.unit());
-    match (direct, table) {
-        (None, Some(table)) => {
-            let l = table.capacity(block)?;
-            Ok((
-                Fragility::Lognormal {
-                    median: l.median,
-                    beta: l.beta,
-                },
-                FragilityInfo {
-                    source: laws.name.clone(),
-                    kind: "lognormal",
-                    im: name,
-                    unit,
-                    median: Some(l.median),
-                    beta: Some(l.beta),
-                    records: None,
-                },
-            ))
-        }
-        (None, None) => {
-            let (eta50, beta) = laws.median_beta(block)?;
-            // η = α/PGA: P(OT | PGA) = Φ((ln PGA − ln(α/η50))/β).
-            let median = alpha / eta50;
-            Ok((
-                Fragility::Lognormal { median, beta },
-                FragilityInfo {
-                    source: laws.name.clone(),
-                    kind: "lognormal",
-                    im: name,
-                    unit,
-                    median: Some(median),
-                    beta: Some(beta),
-                    records: None,
-                },
-            ))
-        }
-        (Some(records), _) => {
-            // The level at which each record overturns the block; never: ∞.
-            let (thresholds, _) = records.thresholds(block, im, auto_tol)?;
-            let q = |q: f64| {
-                stats::fractile(&thresholds, q, crate::stats::FractileDef::Type7)
-                    .filter(|v| v.is_finite())
-            };
-            let beta = match (q(0.16), q(0.84)) {
-                (Some(a), Some(b)) => Some(0.5 * (b.ln() - a.ln())),
-                _ => None,
-            };
-            Ok((
-                Fragility::Empirical {
-                    thresholds: thresholds.clone(),
-                },
-                FragilityInfo {
-                    source: "direct".into(),
-                    kind: "empirical",
-                    im: name,
-                    unit,
-                    median: q(0.5),
-                    beta,
-                    records: Some(thresholds.len()),
-                },
-            ))
-        }
-    }
+    method: FitMethod,
+) -> Result<(Fragility, FragilityInfo, Vec<String>), FragilityError> {
+    let f = damage::of_block(
+        block,
+        &DamageStates::overturning(),
+        im,
+        laws,
+        direct,
+        auto_tol,
+        Dispersion::Each,
+    )?;
+    let state = &f.states[0];
+    let fragility = state
+        .fragility(method)
+        .ok_or_else(|| damage::no_fit(&f, state, method))?;
+    let (median, beta) = state.median_beta(method);
+    let info = FragilityInfo {
+        source: f.source.clone(),
+        fit: state.fit_name(method),
+        im: im.name(),
+        unit: im.unit(),
+        median,
+        beta,
+        records: f.records,
+        records_folder: f.records_folder.clone(),
+    };
+    Ok((fragility, info, f.warnings))
 }
 
 fn site_info(k: usize, curve: &HazardCurve, r: &SiteRisk, years: f64) -> SiteInfo {
@@ -209,12 +171,6 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
         laws,
         records,
     } = prepare(req)?;
-    // Another IM than PGA without --direct: the study's table, read once.
-    let table = if im != Im::Pga && !req.direct {
-        Some(laws.im_table(im)?)
-    } else {
-        None
-    };
     let mut out = Vec::with_capacity(entries.len());
     for e in &entries {
         let in_block = |source| RiskError::Block {
@@ -222,29 +178,26 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
             source,
         };
         let block = fragility::block(e.b_m, e.h_m, e.eps).map_err(in_block)?;
-        let (frag, info) = fragility_of(
+        let (frag, info, mut warnings) = fragility_of(
             &block,
             &laws,
-            table.as_ref(),
             im,
             records.as_ref(),
             req.auto_tol,
+            req.method,
         )
         .map_err(in_block)?;
+        let floor = records.as_ref().and_then(|r| r.floor());
+        let cut = damage::zero_below(&block, im, floor).unwrap_or(0.0);
         let site_infos: Vec<SiteInfo> = sites
             .iter()
-            .map(|(k, c)| site_info(*k, c, &risk::assess(c, &frag, req.beyond), req.years))
+            .map(|(k, c)| {
+                let r = risk::assess_above(c, &frag, req.beyond, cut);
+                site_info(*k, c, &r, req.years)
+            })
             .collect();
-        let mut warnings = match (req.direct, im) {
-            (true, _) => Vec::new(),
-            (false, Im::Pga) => fragility::warnings(&block, req.auto_tol),
-            // A study's IM table: its α warning; the grid's are the table's own.
-            (false, _) => fragility::alpha_warning(&block, req.auto_tol)
-                .into_iter()
-                .collect(),
-        };
         warnings.extend(extrapolated(&site_infos));
-        let assessed = block_info(e, &block, records.as_ref().and_then(|r| r.floor()));
+        let assessed = block_info(e, &block, floor);
         warnings.extend(sliding_warning(&assessed));
         out.push(Assessment {
             block: assessed,
@@ -259,7 +212,8 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
 }
 
 /// A block as assessed: its geometry, and whether it slides first.
-pub(super) fn block_info(
+/// What the answers say of a block: its sizes, groups and sliding check.
+pub fn block_info(
     e: &InventoryBlock,
     block: &Block,
     floor: Option<&crate::floor::Building>,

@@ -64,4 +64,9 @@ pub struct Request {
     pub auto_tol: f64,
     /// The building whose floor the blocks stand on (`--direct` only).
     pub floor: Option<crate::floor::Building>,
+    /// How each block's fragility is made: a lognormal by the fractiles
+    /// (the default) or by likelihood, or the records' step curve.
+    pub method: crate::damage::FitMethod,
+    /// Several damage states: one β for all (the default), or each its own.
+    pub dispersion: crate::damage::Dispersion,
 }

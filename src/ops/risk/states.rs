@@ -11,14 +11,18 @@ use super::request::Request;
 use crate::damage::{DamageStates, FitMethod};
 use crate::ops::damage;
 use crate::ops::fragility;
-use crate::risk::{self, Fragility};
+use crate::risk;
 
 /// One state at one site.
 #[derive(Debug, Clone, Serialize)]
 pub struct StateRisk {
     pub state: String,
     pub criterion: String,
-    /// The lognormal used (`None`: the method has no fit; no rate).
+    /// How its fragility is made: `fractile`, `mle`, `empirical`,
+    /// `regression` or `moments`.
+    pub fit: &'static str,
+    /// The fragility's median (IM unit) and β (`None`: the method has no
+    /// fit here, and no rate).
     pub median: Option<f64>,
     pub beta: Option<f64>,
     pub annual_rate: Option<f64>,
@@ -44,8 +48,12 @@ pub struct StatesAssessment {
     pub source: String,
     pub im: String,
     pub unit: &'static str,
-    /// `fractile` or `mle`: the fit whose lognormal is integrated.
+    /// `fractile`, `mle` or `empirical`: the fit integrated.
     pub method: &'static str,
+    /// `common` (one β for the states) or `each`.
+    pub dispersion: &'static str,
+    /// The records folder `--direct` ran the blocks through.
+    pub records_folder: Option<String>,
     pub records: Option<usize>,
     pub years: f64,
     pub beyond: &'static str,
@@ -73,8 +81,18 @@ pub fn assess_states(
             source,
         };
         let block = fragility::block(e.b_m, e.h_m, e.eps).map_err(in_block)?;
-        let mut f = damage::of_block(&block, states, im, &laws, records.as_ref(), req.auto_tol)
-            .map_err(in_block)?;
+        let mut f = damage::of_block(
+            &block,
+            states,
+            im,
+            &laws,
+            records.as_ref(),
+            req.auto_tol,
+            req.dispersion,
+        )
+        .map_err(in_block)?;
+        let floor = records.as_ref().and_then(|r| r.floor());
+        let cut = damage::zero_below(&block, im, floor).unwrap_or(0.0);
         let crossed = damage::crossings(&f, method);
         f.warnings.extend(crossed);
         let sites = sites
@@ -87,19 +105,16 @@ pub fn assess_states(
                     .states
                     .iter()
                     .map(|s| {
-                        let l = s.by(method);
-                        let rate = l.map(|l| {
-                            let frag = Fragility::Lognormal {
-                                median: l.median,
-                                beta: l.beta,
-                            };
-                            risk::assess(curve, &frag, req.beyond).annual_rate
+                        let (median, beta) = s.median_beta(method);
+                        let rate = s.fragility(method).map(|frag| {
+                            risk::assess_above(curve, &frag, req.beyond, cut).annual_rate
                         });
                         StateRisk {
                             state: s.name.clone(),
                             criterion: s.criterion.clone(),
-                            median: l.map(|l| l.median),
-                            beta: l.map(|l| l.beta),
+                            fit: s.fit_name(method),
+                            median,
+                            beta,
                             annual_rate: rate,
                             return_period_years: rate.filter(|r| *r > 0.0).map(|r| 1.0 / r),
                             p_in_years: rate.map(|r| risk::probability_in(r, req.years)),
@@ -108,7 +123,7 @@ pub fn assess_states(
                     .collect(),
             })
             .collect();
-        let assessed = block_info(&e, &block, records.as_ref().and_then(|r| r.floor()));
+        let assessed = block_info(&e, &block, floor);
         f.warnings.extend(sliding_warning(&assessed));
         out.push(StatesAssessment {
             block: assessed,
@@ -116,6 +131,8 @@ pub fn assess_states(
             im: f.im,
             unit: f.unit,
             method: method.name(),
+            dispersion: f.dispersion,
+            records_folder: f.records_folder.clone(),
             records: f.records,
             years: req.years,
             beyond: crate::label::Label::label(req.beyond),

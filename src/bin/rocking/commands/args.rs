@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use rocking::ask::{AskedBlock, BlockAsk, LawAsk, PulseAsk, Spelling};
 use rocking::block::Restitution;
-use rocking::damage::{DamageStates, FitMethod};
+use rocking::damage::{DamageStates, Dispersion, FitMethod};
 use rocking::floor::Mode;
 use rocking::im::Im;
 use rocking::label::Label;
@@ -306,9 +306,16 @@ pub struct StatesArgs {
     /// rocking=0.1,large_rocking=0.5,overturned=overturned.
     #[arg(long, value_parser = parsed::<DamageStates>)]
     pub states: Option<DamageStates>,
-    /// The lognormal's fit of each state.
+    /// How the fragility is made from the capacities: a lognormal by the
+    /// paper's fractiles or by maximum likelihood, or (--direct) the
+    /// records' own step curve.
     #[arg(long, value_parser = label::<FitMethod>(), default_value = "fractile")]
     pub method: FitMethod,
+    /// Several states' dispersions: one β for all (the heaviest state's,
+    /// medians in order, so no heavier state is ever likelier than a
+    /// lighter one) or each its own.
+    #[arg(long, value_parser = label::<Dispersion>(), default_value = "common")]
+    pub dispersion: Dispersion,
 }
 
 /// The IM of a fragility.

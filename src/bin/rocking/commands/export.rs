@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use rocking::ask::{ExportAsk, Spelling};
-use rocking::damage::{DamageStates, FitMethod};
+use rocking::damage::{DamageStates, Dispersion, FitMethod};
 use rocking::ops::export::{self, Format};
 
 use super::args::{direct_progress, label, parse_im, parsed, BlocksArgs, LawArgs};
@@ -53,6 +53,10 @@ pub struct Args {
     /// The lognormal's fit of each state.
     #[arg(long, value_parser = label::<FitMethod>(), default_value = "fractile")]
     method: FitMethod,
+    /// The states' dispersions: one β for all (the heaviest state's, medians
+    /// in order: no heavier state likelier than a lighter one) or each its own.
+    #[arg(long, value_parser = label::<Dispersion>(), default_value = "common")]
+    dispersion: Dispersion,
     /// The IM [default: the hazard's, or PGA].
     #[arg(long, value_parser = parse_im)]
     im: Option<rocking::im::Im>,
@@ -82,6 +86,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         floor: args.floor.floor.clone(),
         states: args.states.clone(),
         method: args.method,
+        dispersion: args.dispersion,
         im: args.im,
         hazard: args.hazard.clone(),
         years: args.years,
@@ -90,14 +95,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     let (req, asked_states) = ask.resolve(Spelling::Cli, direct_progress(args.direct))?;
     let written = export::export(&req)?;
-    for (b, f) in &written.blocks {
-        for w in &f.warnings {
-            eprintln!("warning: block {}: {w}", b.name);
+    for x in &written.blocks {
+        for w in &x.fragility.warnings {
+            eprintln!("warning: block {}: {w}", x.block.name);
         }
     }
     if args.json {
-        let all: Vec<_> = written.blocks.iter().map(|(_, f)| f).collect();
-        println!("{}", serde_json::to_string(&all)?);
+        println!("{}", serde_json::to_string(&written.blocks)?);
         return Ok(());
     }
     if !asked_states {
@@ -106,7 +110,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
              --from PIPELINE.toml takes a study's damage table, for every damage state"
         );
     }
-    for (b, f) in &written.blocks {
+    for x in &written.blocks {
+        let (b, f) = (&x.block, &x.fragility);
         println!(
             "{} (half-width {} m, half-height {} m): {} from {}{}",
             b.name,
@@ -114,8 +119,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             b.h_m,
             f.im.to_uppercase(),
             f.source,
-            f.records
-                .map_or(String::new(), |n| format!(", {n} records"))
+            super::states::records_text(f.records, f.records_folder.as_deref())
         );
         print_fits(f);
     }

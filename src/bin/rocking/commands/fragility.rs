@@ -81,6 +81,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         mu: args.scene.mu,
         states: args.states.states.clone(),
         method: args.states.method,
+        dispersion: args.states.dispersion,
     };
     let (req, states) = ask.resolve(Spelling::Cli, direct_progress(args.direct))?;
     if let Some(s) = &states.states {
@@ -99,8 +100,22 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .eta_c_median
         .map_or(String::new(), |e| format!("median η_c = {e:.4}, "));
     println!(
-        "block of half-width b = {} m, half-height h = {} m: α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}; capacity in {} from {}: {eta}median {:.4} {unit}, β = {:.3}",
-        a.b_m, a.h_m, a.alpha_rad, a.p, a.eps, a.im, a.source, a.median, a.beta
+        "block of half-width b = {} m, half-height h = {} m: α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}; capacity in {} from {} ({}{}): {eta}median {:.4} {unit}, {}",
+        a.b_m,
+        a.h_m,
+        a.alpha_rad,
+        a.p,
+        a.eps,
+        a.im,
+        a.source,
+        a.fit,
+        super::states::records_text(a.records, a.records_folder.as_deref()),
+        a.median,
+        if a.fit == "empirical" {
+            "no β: the records' step curve".to_string()
+        } else {
+            format!("β = {:.3}", a.beta)
+        }
     );
     let direct = a.records.is_some();
     if let Some(floor) = &a.floor {
@@ -112,7 +127,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if let (Some(n), Some(m)) = (a.records, &a.model) {
         println!(
             "--direct: {n} records run with the {m}; the last column is the share of them \
-             whose capacity the level exceeds"
+             whose capacity the level exceeds (--method empirical takes it as the fragility)"
         );
     }
     let head = format!("{} ({unit})", a.im.to_uppercase());
@@ -158,7 +173,7 @@ fn run_states(
         a.eps,
         f.im,
         f.source,
-        f.records.map_or(String::new(), |n| format!(" ({n} records)"))
+        super::states::records_text(f.records, f.records_folder.as_deref())
     );
     print_fits(f);
     println!(

@@ -43,9 +43,9 @@ pub struct Args {
     site: Option<usize>,
     #[command(flatten)]
     blocks: BlocksArgs,
-    /// Where --inventory's table goes (one row per block × site).
-    #[arg(long, value_name = "FILE.parquet", default_value = "risk.parquet")]
-    out: PathBuf,
+    /// Where --inventory's table goes (one row per block × site) [default: risk.parquet].
+    #[arg(long, value_name = "FILE.parquet")]
+    out: Option<PathBuf>,
     #[command(flatten)]
     law: LawArgs,
     /// Use the block's own capacities under the records instead of a regression.
@@ -96,14 +96,22 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         floor: args.floor.floor.clone(),
         states: args.states.states.clone(),
         method: args.states.method,
+        dispersion: args.states.dispersion,
     };
     let (req, states) = ask.resolve(Spelling::Cli, direct_progress(args.direct))?;
     let beyond = req.beyond;
     if let Some(s) = &states.states {
-        if args.plot.is_some() {
-            anyhow::bail!("--plot draws overturning alone; --states prints each state's rate");
+        if args.plot.is_some() || args.out.is_some() {
+            anyhow::bail!(
+                "--states prints each state's rate (or --json); --plot and --out are for \
+                 overturning alone"
+            );
         }
         return run_states(&req, s, states.method, args.json);
+    }
+    let out = args.out.clone().unwrap_or_else(|| "risk.parquet".into());
+    if args.out.is_some() && args.blocks.inventory.is_none() {
+        anyhow::bail!("--out writes an inventory's table; one block's answer is printed (or --json)");
     }
     let mut inputs = vec![args.hazard.as_path()];
     inputs.extend(args.blocks.inventory.as_deref());
@@ -111,8 +119,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         inputs.push(file.as_path());
     }
     if args.blocks.inventory.is_some() {
-        rocking::outpath::check("--out", &args.out, "parquet", &inputs)?;
-        inputs.push(args.out.as_path());
+        rocking::outpath::check("--out", &out, "parquet", &inputs)?;
+        inputs.push(out.as_path());
     }
     if let Some(plot) = &args.plot {
         rocking::outpath::check("--plot", plot, "svg", &inputs)?;
@@ -120,7 +128,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let all = risk::assess(&req)?;
     let chart_site = args.site.unwrap_or(0);
     if args.blocks.inventory.is_some() {
-        risk::write_table(&args.out, &risk::rows(&all, beyond), &req.hazard.name())?;
+        risk::write_table(&out, &risk::rows(&all, beyond), &req.hazard.name())?;
         if let Some(plot) = &args.plot {
             atomic_write(plot, risk::ranking_chart(&all, chart_site)?.as_bytes())?;
         }
@@ -151,7 +159,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         print_inventory(&all, args.years);
         println!(
             "wrote {} ({} rows){}",
-            args.out.display(),
+            out.display(),
             all.iter().map(|a| a.sites.len()).sum::<usize>(),
             args.plot
                 .as_ref()
@@ -190,7 +198,7 @@ fn run_states(
     for a in &all {
         let b = &a.block;
         println!(
-            "{}: α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}; damage states in {} from {}, {} fit{}",
+            "{}: α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}; damage states in {} from {}, {} fit{}{}",
             b.name,
             b.alpha_rad,
             b.p,
@@ -198,8 +206,12 @@ fn run_states(
             a.im,
             a.source,
             a.method,
-            a.records
-                .map_or(String::new(), |n| format!(" ({n} records)"))
+            super::states::records_text(a.records, a.records_folder.as_deref()),
+            if a.dispersion == "common" && a.sites.first().is_some_and(|s| s.states.len() > 1) {
+                ", one β for the states (--dispersion common)"
+            } else {
+                ""
+            }
         );
         println!(
             "  {:>5} {:<16} {:<16} {:>20} {:>12} {:>16} {:>10}",
@@ -255,12 +267,11 @@ fn print_one(a: &Assessment) {
         "fragility in {} from {} ({}): median {}, β {}{}",
         f.im,
         f.source,
-        f.kind,
+        f.fit,
         f.median
             .map_or("—".into(), |m| format!("{} {u}", level_text(m))),
         f.beta.map_or("—".into(), |v| format!("{v:.3}")),
-        f.records
-            .map_or(String::new(), |n| format!(", {n} records"))
+        super::states::records_text(f.records, f.records_folder.as_deref())
     );
     for s in &a.sites {
         println!();

@@ -7,6 +7,16 @@ use rocking::ops::damage::DamageFragility;
 
 /// The states' fits, one line each, indented by two spaces.
 pub fn print_fits(f: &DamageFragility) {
+    if f.states.len() > 1 {
+        println!(
+            "  {}",
+            if f.dispersion == "common" {
+                "one β for the states, the heaviest's, medians in order (--dispersion common)"
+            } else {
+                "each state its own β (--dispersion each): their curves cross somewhere"
+            }
+        );
+    }
     println!(
         "  {:<16} {:<16} {:>22} {:>22} {:>8}",
         "state", "criterion", "fractile median, β", "mle median, β", "reached"
@@ -30,3 +40,13 @@ pub fn print_fits(f: &DamageFragility) {
         );
     }
 }
+
+/// `, 44 records of records/far_field` (nothing without `--direct`).
+pub fn records_text(records: Option<usize>, folder: Option<&str>) -> String {
+    match (records, folder) {
+        (Some(n), Some(dir)) => format!(", {n} records of {dir}"),
+        (Some(n), None) => format!(", {n} records"),
+        _ => String::new(),
+    }
+}
+

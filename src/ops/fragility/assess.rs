@@ -1,0 +1,130 @@
+//! `rocking fragility`: the block's fragility (the one function
+//! [`crate::ops::damage::of_block`] makes for every command, its one state
+//! overturning) at the levels asked.
+
+use super::error::FragilityError;
+use super::request::{check, laws_and_records, Request};
+use crate::damage::DamageStates;
+use crate::im::Im;
+use crate::ops::damage;
+
+/// One level of the answer.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Point {
+    /// The level, in the IM's unit.
+    pub iml: f64,
+    /// For PGA: the level again (g), and the block's η there.
+    pub pga_g: Option<f64>,
+    pub eta: Option<f64>,
+    pub probability: f64,
+    /// With `--direct`: the share of records whose capacity the block exceeds.
+    pub empirical: Option<f64>,
+}
+
+/// The answer.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Assessment {
+    pub b_m: f64,
+    pub h_m: f64,
+    pub alpha_rad: f64,
+    pub p: f64,
+    pub eps: f64,
+    /// The IM (`pga`, `pgv`, `sa(1.0)`, …) and its unit.
+    pub im: String,
+    pub unit: &'static str,
+    /// `paper`, the pipeline file, or `direct` (the records' capacities).
+    pub source: String,
+    /// How the fragility is made: `fractile`, `mle`, `empirical` (the
+    /// records' step curve), `regression` (the paper's or a study's) or
+    /// `moments` (a study's IM table: exp(mean ln), the standard deviation).
+    pub fit: String,
+    /// With `--direct`: the records folder (or pipeline) the block ran through.
+    pub records_folder: Option<String>,
+    /// The median capacity in the IM's unit (the records' 50 % fractile
+    /// for the step curve).
+    pub median: f64,
+    /// For PGA: the median η_c.
+    pub eta_c_median: Option<f64>,
+    pub beta: f64,
+    /// Records run with `--direct`.
+    pub records: Option<usize>,
+    /// With `--direct`: the model the records were run with, and why.
+    pub model: Option<String>,
+    pub points: Vec<Point>,
+    /// On a floor: the building's modes (`T,ζ,Γφ; …`); levels and
+    /// capacities are then the ground's.
+    pub floor: Option<String>,
+    /// The base's friction coefficient, when given.
+    pub mu: Option<f64>,
+    /// With `mu`: whether the block slides before it rocks (μ < b/h).
+    pub slides_first: Option<bool>,
+    /// Where the regression is stretched for this block (none with
+    /// `--direct`), and a block that slides first.
+    pub warnings: Vec<String>,
+}
+
+/// Checks the request and computes the fragility: the block's one
+/// fragility (overturning, [`damage::of_block`]) by the fit asked.
+pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
+    let block = check(req)?;
+    let (alpha, p, eps) = (block.alpha(), block.p(), block.eps);
+    let im = req.im;
+    let (laws, records) =
+        laws_and_records(&req.from, req.direct, &req.progress, 1, req.floor.as_ref())?;
+    let f = damage::of_block(
+        &block,
+        &DamageStates::overturning(),
+        im,
+        &laws,
+        records.as_ref(),
+        req.auto_tol,
+        req.dispersion,
+    )?;
+    let state = &f.states[0];
+    let fragility = state
+        .fragility(req.method)
+        .ok_or_else(|| damage::no_fit(&f, state, req.method))?;
+    let (median, beta) = state.median_beta(req.method);
+    // More than half the records never reach it: the median lies beyond.
+    let (median, beta) = (median.unwrap_or(f64::INFINITY), beta.unwrap_or(f64::NAN));
+    let points = req
+        .levels
+        .iter()
+        .map(|&x| Point {
+            iml: x,
+            pga_g: (im == Im::Pga).then_some(x),
+            eta: (im == Im::Pga).then(|| alpha / x),
+            probability: fragility.probability(x),
+            empirical: state.capacities.as_ref().map(|t| {
+                t.partition_point(|&c| c < x) as f64 / t.len() as f64
+            }),
+        })
+        .collect();
+    let mut warnings = f.warnings.clone();
+    let slides_first = req.mu.map(|mu| crate::block::slides_first(mu, alpha));
+    if slides_first == Some(true) {
+        warnings.push(crate::block::sliding_warning(req.mu.unwrap_or(0.0), alpha));
+    }
+    Ok(Assessment {
+        b_m: req.b_m,
+        h_m: req.h_m,
+        alpha_rad: alpha,
+        p,
+        eps,
+        im: im.name(),
+        unit: im.unit(),
+        source: f.source.clone(),
+        fit: f.fit_name(req.method).to_string(),
+        records_folder: f.records_folder.clone(),
+        median,
+        eta_c_median: (im == Im::Pga).then(|| alpha / median),
+        beta,
+        records: f.records,
+        model: f.model.clone(),
+        points,
+        floor: f.floor.clone(),
+        mu: req.mu,
+        slides_first,
+        warnings,
+    })
+}

@@ -1,0 +1,142 @@
+//! What `fragility` is asked ([`Request`]), checked: the block, where its
+//! capacities come from and the records `--direct` runs it through, the
+//! warnings of a regression stretched for it.
+
+use crate::block::{Block, BlockError, Restitution};
+use crate::damage::{Dispersion, FitMethod};
+use crate::floor::Building;
+use crate::im::Im;
+use crate::physics::LINEARIZATION_ERROR_PER_ALPHA2;
+
+use super::direct::{DirectProgress, DirectRecords};
+use super::error::FragilityError;
+use super::laws::{laws, Laws, Source};
+
+/// What the user asks: the block (ε as given), where the capacities come
+/// from, the IM and its levels.
+#[derive(Debug, Clone)]
+pub struct Request {
+    pub b_m: f64,
+    pub h_m: f64,
+    /// `None`: Housner's bound 1 − 1.5 sin²α.
+    pub eps: Restitution,
+    pub im: Im,
+    /// Levels of `im`, in its unit.
+    pub levels: Vec<f64>,
+    pub from: Source,
+    /// Also run the block through the records.
+    pub direct: bool,
+    /// Where `--direct` reports its progress.
+    pub progress: DirectProgress,
+    /// The linearised model's accepted error in η_c; a stockier block is warned of.
+    pub auto_tol: f64,
+    /// The building whose floor the block stands on (`--direct` only);
+    /// `None`: the ground.
+    pub floor: Option<Building>,
+    /// The base's friction coefficient, checked: a block with μ < b/h is warned of.
+    pub mu: Option<f64>,
+    /// How the fragility is made from the capacities: a lognormal by the
+    /// fractiles (the default) or by likelihood, or the records' step curve.
+    pub method: FitMethod,
+    /// Several damage states: one β for all (the default), or each its own.
+    pub dispersion: Dispersion,
+}
+
+/// Where the capacities come from, and with `direct` the records the
+/// `blocks` blocks are run through (read once for every block; the progress
+/// counts them all).
+pub fn laws_and_records(
+    from: &Source,
+    direct: bool,
+    progress: &DirectProgress,
+    blocks: usize,
+    floor: Option<&Building>,
+) -> Result<(Laws, Option<DirectRecords>), FragilityError> {
+    let laws = laws(from)?;
+    // A floor study's blocks stand on its building's floor.
+    let planned = laws
+        .plan
+        .as_ref()
+        .and_then(|p| p.records_study().ok())
+        .and_then(|r| r.floor.as_ref());
+    let floor = match (floor, planned) {
+        (Some(_), Some(_)) => return Err(FragilityError::FloorTwice(laws.name.clone())),
+        (None, Some(_)) if !direct => return Err(FragilityError::FloorStudy(laws.name.clone())),
+        (asked, planned) => asked.or(planned),
+    };
+    if floor.is_some() && !direct {
+        return Err(FragilityError::FloorNeedsDirect {
+            from: laws.name.clone(),
+        });
+    }
+    let records = match direct {
+        true => {
+            let records = DirectRecords::load(from, laws.plan.as_ref(), progress.clone(), floor)?;
+            records.expect_blocks(blocks);
+            Some(records)
+        }
+        false => None,
+    };
+    Ok((laws, records))
+}
+
+/// The request's block, its levels and tolerance checked.
+pub fn check(req: &Request) -> Result<Block, FragilityError> {
+    crate::physics::check_auto_tol(req.auto_tol).map_err(FragilityError::AutoTol)?;
+    if let Some(mu) = req.mu {
+        crate::block::check_mu(mu).map_err(FragilityError::Mu)?;
+    }
+    let block = block(req.b_m, req.h_m, req.eps)?;
+    if req.levels.is_empty() {
+        return Err(FragilityError::NoLevel);
+    }
+    if let Some(&bad) = req.levels.iter().find(|g| !(**g > 0.0 && g.is_finite())) {
+        return Err(FragilityError::Level(bad));
+    }
+    Ok(block)
+}
+
+/// Where the linearised model behind a regression or a study's table errs
+/// by more than `auto_tol` for the block's α.
+pub fn alpha_warning(block: &Block, auto_tol: f64) -> Option<String> {
+    let alpha = block.alpha();
+    let err = LINEARIZATION_ERROR_PER_ALPHA2 * alpha * alpha;
+    (err > auto_tol).then(|| format!(
+        "α = {alpha:.3} rad: the regression rests on the linearised model, which errs by about {err:.1e} > {auto_tol:e} in η_c here; use --direct (the nonlinear model)"
+    ))
+}
+
+/// Where the paper's regression is stretched for a block (not for
+/// `--direct`): shared by `fragility` and `risk`, so both warn alike.
+pub fn warnings(block: &Block, auto_tol: f64) -> Vec<String> {
+    let mut w = Vec::new();
+    if !(0.5..=0.95).contains(&block.eps) {
+        w.push(format!(
+            "ε = {:.3} is outside the regression's 0.5–0.95",
+            block.eps
+        ));
+    }
+    let p = block.p();
+    if !(0.33..=10.0).contains(&p) {
+        w.push(format!(
+            "p = {p:.3} 1/s is outside the regression's 0.33–10 1/s"
+        ));
+    }
+    w.extend(alpha_warning(block, auto_tol));
+    w
+}
+
+/// A real block from its half-width and half-height (m) and ε (`None`:
+/// Housner's bound, refused where it is not positive).
+pub fn block(b_m: f64, h_m: f64, eps: Restitution) -> Result<Block, FragilityError> {
+    Block::new(b_m, h_m, eps).map_err(|e| match e {
+        BlockError::Size { b, h } => FragilityError::Size { b, h },
+        BlockError::Eps(e) => FragilityError::Eps(e),
+        BlockError::HousnerEps { eps, ratio, alpha } => {
+            FragilityError::HousnerEps { eps, ratio, alpha }
+        }
+        BlockError::Restitution(_) | BlockError::Mu(_) => {
+            unreachable!("ε is given as a number or Housner's, and μ is not part of a block")
+        }
+    })
+}
