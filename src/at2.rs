@@ -83,6 +83,7 @@ pub enum At2ErrorKind {
     BadNpts { token: String },
     BadDt { token: String },
     NonPositiveDt { dt: f64 },
+    CoarseDt { dt: f64 },
     NotANumber { token: String },
     NotFinite { token: String },
     TooFewValues { npts: usize, found: usize },
@@ -144,6 +145,11 @@ impl fmt::Display for At2ErrorKind {
             ),
             BadDt { token } => write!(f, "DT `{}` is not a number", shown(token)),
             NonPositiveDt { dt } => write!(f, "DT = {dt} s; the time step must be positive"),
+            CoarseDt { dt } => write!(
+                f,
+                "DT = {dt} s: an accelerogram is sampled every 0.001–0.05 s; above {MAX_DT_S} s \
+                 it cannot resolve shaking (is DT in ms?)"
+            ),
             NotANumber { token } => write!(f, "`{}` is not a number", shown(token)),
             NotFinite { token } => write!(f, "`{}` is not a finite number", shown(token)),
             TooFewValues { npts, found } => {
@@ -338,6 +344,10 @@ fn check_units(line: &str) -> Result<(), At2ErrorKind> {
     }
 }
 
+/// The coarsest sampling accepted (s): strong-motion records are sampled
+/// every 0.001–0.05 s; 1 s resolves nothing a block responds to.
+pub const MAX_DT_S: f64 = 1.0;
+
 /// Line 4: NPTS and DT in the keyed or positional layout.
 fn parse_npts_dt(line: &str) -> Result<(usize, f64, HeaderLayout), At2ErrorKind> {
     let upper = line.to_ascii_uppercase();
@@ -402,6 +412,9 @@ fn parse_npts_dt(line: &str) -> Result<(usize, f64, HeaderLayout), At2ErrorKind>
     };
     if dt <= 0.0 {
         return Err(At2ErrorKind::NonPositiveDt { dt });
+    }
+    if dt > MAX_DT_S || !dt.is_finite() {
+        return Err(At2ErrorKind::CoarseDt { dt });
     }
     Ok((npts, dt, layout))
 }

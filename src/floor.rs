@@ -54,6 +54,15 @@ pub struct Mode {
     pub gamma_phi: f64,
 }
 
+/// The modal periods accepted (s): beyond them the floor's response is
+/// the ground's (a rigid building) or nothing, and the arithmetic only
+/// adds noise (a period of 1e20 s once gave PFA/PGA = 30,383, one of
+/// 1e-200 s a NaN blamed on the record).
+pub const PERIOD_RANGE_S: (f64, f64) = (1e-3, 100.0);
+
+/// The largest |Γφ| accepted.
+pub const GAMMA_PHI_MAX: f64 = 10.0;
+
 /// A linear building seen at one floor: one or a few modes, checked.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Building {
@@ -65,11 +74,18 @@ pub struct Building {
 pub enum FloorError {
     #[error("a floor needs at least one mode (T, ζ, Γφ)")]
     NoModes,
-    #[error("mode {mode}: period T = {period} s must be positive and finite")]
+    #[error(
+        "mode {mode}: period T = {period} s: a building's modal period lies within {}–{} s",
+        PERIOD_RANGE_S.0,
+        PERIOD_RANGE_S.1
+    )]
     Period { mode: usize, period: f64 },
     #[error("mode {mode}: damping ratio ζ = {zeta} must be in [0, 1)")]
     Damping { mode: usize, zeta: f64 },
-    #[error("mode {mode}: Γφ = {gamma_phi} must be finite")]
+    #[error(
+        "mode {mode}: Γφ = {gamma_phi}: a mode's participation factor times its shape at a floor \
+         is of order 1 (1.2–1.6 at a roof in the first mode); |Γφ| ≤ {GAMMA_PHI_MAX} is accepted"
+    )]
     GammaPhi { mode: usize, gamma_phi: f64 },
     #[error("`{0}`: a mode is T,ZETA,GAMMA_PHI (period in s, damping ratio, participation × shape at the floor), e.g. 0.5,0.05,1.3")]
     Syntax(String),
@@ -79,14 +95,14 @@ pub enum FloorError {
 
 impl Building {
     /// A building from its modes (numbered from 1 in messages), each
-    /// checked: T > 0, ζ in [0, 1), Γφ finite.
+    /// checked: T in [`PERIOD_RANGE_S`], ζ in [0, 1), |Γφ| ≤ [`GAMMA_PHI_MAX`].
     pub fn new(modes: Vec<Mode>) -> Result<Building, FloorError> {
         if modes.is_empty() {
             return Err(FloorError::NoModes);
         }
         for (i, m) in modes.iter().enumerate() {
             let mode = i + 1;
-            if !(m.period_s > 0.0 && m.period_s.is_finite()) {
+            if !(PERIOD_RANGE_S.0..=PERIOD_RANGE_S.1).contains(&m.period_s) {
                 return Err(FloorError::Period {
                     mode,
                     period: m.period_s,
@@ -95,7 +111,7 @@ impl Building {
             if !(0.0..1.0).contains(&m.zeta) {
                 return Err(FloorError::Damping { mode, zeta: m.zeta });
             }
-            if !m.gamma_phi.is_finite() {
+            if !(m.gamma_phi.abs() <= GAMMA_PHI_MAX) {
                 return Err(FloorError::GammaPhi {
                     mode,
                     gamma_phi: m.gamma_phi,
@@ -525,5 +541,20 @@ mod tests {
         ));
         assert_eq!(Building::new(vec![]), Err(FloorError::NoModes));
         assert_eq!(one(0.001, 0.05, 1.0).substeps(0.02), MAX_SUBSTEPS);
+        // Once accepted: 1e20 s gave PFA/PGA = 30,383, 1e-200 s a NaN
+        // blamed on the record, and Γφ = 1e300 went through.
+        for t in [1e20, 1e8, 1e-200, 9e-4] {
+            assert!(
+                matches!(build(t, 0.05, 1.0), Err(FloorError::Period { .. })),
+                "{t}"
+            );
+        }
+        for g in [1e300, -11.0] {
+            assert!(
+                matches!(build(0.5, 0.05, g), Err(FloorError::GammaPhi { .. })),
+                "{g}"
+            );
+        }
+        assert!(build(100.0, 0.05, -10.0).is_ok());
     }
 }

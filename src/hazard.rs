@@ -184,7 +184,14 @@ pub fn parse_openquake(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
     let mut imls: Vec<(usize, f64)> = Vec::new();
     for (i, h) in header.iter().enumerate() {
         if let Some(v) = h.strip_prefix("poe-") {
-            imls.push((i, number(header_line, h, v)?));
+            let iml = number(header_line, h, v)?;
+            if iml <= 0.0 {
+                return Err(err(
+                    header_line,
+                    format!("column `{h}`: the IML {iml} must be positive"),
+                ));
+            }
+            imls.push((i, iml));
         }
     }
     if imls.is_empty() {
@@ -231,14 +238,58 @@ pub fn parse_openquake(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
             |_| line,
             |k| format!("column `{}`", header[imls[k].0]),
         )?;
-        curve.lon = lon_c.map(|c| number(line, "lon", cells[c])).transpose()?;
-        curve.lat = lat_c.map(|c| number(line, "lat", cells[c])).transpose()?;
+        let coordinate = |c: Option<usize>, name: &str, limit: f64| {
+            c.map(|c| match number(line, name, cells[c])? {
+                v if v.abs() <= limit => Ok(v),
+                v => Err(err(
+                    line,
+                    format!("column `{name}`: {v}° is not a {name} (it lies within ±{limit}°)"),
+                )),
+            })
+            .transpose()
+        };
+        curve.lon = coordinate(lon_c, "lon", 180.0)?;
+        curve.lat = coordinate(lat_c, "lat", 90.0)?;
         sites.push(curve);
     }
     if sites.is_empty() {
         return Err(err(header_line, "no site rows after the header"));
     }
     Ok(sites)
+}
+
+/// A warning where a curve's IMLs look like another unit than the IM's
+/// (the commonest slips: PGA or SA in cm/s² given as g, PGV in m/s given
+/// as cm/s), naming the likely unit; and for AvgSA, which periods the
+/// curve must be over (a hazard file does not say).
+pub fn plausibility(curve: &HazardCurve) -> Option<String> {
+    let (lo, hi) = (curve.iml[0], *curve.iml.last()?);
+    let range = format!(
+        "the hazard's IMLs run from {} to {} {}",
+        crate::im::level_text(lo),
+        crate::im::level_text(hi),
+        curve.im.unit()
+    );
+    match curve.im {
+        Im::Pga | Im::Sa(_) | Im::AvgSa if lo >= 5.0 => Some(format!(
+            "{range}: no earthquake shakes the ground at {} g and more; are they in cm/s² \
+             (gal)? Divide them by 981 for g",
+            crate::im::level_text(lo)
+        )),
+        Im::Pgv if hi <= 5.0 => Some(format!(
+            "{range}: all below 5 cm/s, where nothing rocks; are they in m/s? Multiply them by \
+             100 for cm/s"
+        )),
+        Im::AvgSa => Some(format!(
+            "AvgSA: a hazard file does not state its periods; this tool's AvgSA is the geometric \
+             mean of SA at {} s (docs/MODEL.md §14), and the hazard must be computed over the \
+             same periods",
+            crate::im::AVGSA_PERIODS_S
+                .map(crate::im::period_text)
+                .join(", ")
+        )),
+        _ => None,
+    }
 }
 
 /// The IM of a plain file's first header cell: its key (`pga_g`,

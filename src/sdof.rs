@@ -20,6 +20,14 @@ pub enum SdofError {
     Damping(f64),
     #[error("time step Δt = {0} s must be positive and finite")]
     Step(f64),
+    #[error(
+        "period T = {} s is below Δt/{} (Δt = {dt_s} s, the record's step): the oscillator is \
+         rigid there and SA is the record's PGA; ask for T ≥ {} s, or for PGA",
+        crate::im::period_text(*period_s),
+        MAX_SUBSTEPS / STEPS_PER_PERIOD,
+        crate::im::period_text(dt_s * STEPS_PER_PERIOD / MAX_SUBSTEPS)
+    )]
+    Rigid { period_s: f64, dt_s: f64 },
 }
 
 /// The exact step over Δt: the state (u, v) after it is `a·(u, v) +
@@ -112,6 +120,10 @@ pub fn displacements(
 /// (u, u̇), whose error at 40 steps a period is below 1e-6 of the peak.
 pub const STEPS_PER_PERIOD: f64 = 40.0;
 
+/// Sub-steps per sample at most: periods below Δt/250 are refused
+/// ([`SdofError::Rigid`]); at Δt = 0.005 s that is T < 0.02 ms.
+pub const MAX_SUBSTEPS: f64 = 10_000.0;
+
 /// Pseudo-spectral acceleration ω²·max|u| of the record `accel` (any unit;
 /// the result is in the same one) for period `period_s` and damping `zeta`,
 /// over the record's duration (no free vibration after it).
@@ -129,6 +141,10 @@ pub fn pseudo_acceleration(
 ) -> Result<f64, SdofError> {
     Step::new(period_s, zeta, dt_s)?;
     let n = (dt_s * STEPS_PER_PERIOD / period_s).ceil().max(1.0);
+    if n > MAX_SUBSTEPS {
+        // Time would grow as 1/T (a period of 1e-9 s never ended).
+        return Err(SdofError::Rigid { period_s, dt_s });
+    }
     let h = dt_s / n;
     let step = Step::new(period_s, zeta, h)?;
     let n = n as usize;

@@ -702,7 +702,14 @@ fn export_refusals_name_what_is_wrong() {
             &["--format", "pelicun", "--im", "avgsa", "--direct"],
         ]
         .concat(),
-        "pelicun: no fragility in avgsa can be exported; export in PGA, PGV or SA(T)",
+        "pelicun: a fragility in avgsa is not exported (pelicun's damage model has no demand \
+         type for it); export in PGA, PGV or SA(T)",
+    );
+    // OpenQuake has PGD; the export says so, and why it is not offered
+    // (once: "OpenQuake has no IM for pgd").
+    fails(
+        &[&block[..], &["--format", "nrml", "--im", "pgd", "--direct"]].concat(),
+        "OpenQuake calls it PGD, but the job runs on hazard curves",
     );
     fails(
         &[

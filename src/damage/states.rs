@@ -54,6 +54,8 @@ impl LimitState {
     /// The criterion in words, with its unit.
     pub fn describe(&self) -> String {
         match self.criterion {
+            // Tiny thresholds in exponent form (not 300 zeros).
+            Criterion::Rotation(x) if x < 1e-3 => format!("θmax/α ≥ {x:e}"),
             Criterion::Rotation(x) => format!("θmax/α ≥ {x}"),
             Criterion::Overturned => "overturned".to_string(),
         }

@@ -35,11 +35,22 @@ pub struct Site {
 /// What the engines cannot take.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ExportError {
-    #[error("{format}: no fragility in {im} can be exported; export in {valid}")]
+    #[error("{format}: a fragility in {im} is not exported ({why}); export in {valid}")]
     Im {
         format: &'static str,
         im: String,
+        why: String,
         valid: String,
+    },
+    #[error(
+        "taxonomy `{id}`, state {state}: a lognormal of median {median} and β = {beta} cannot be \
+         exported (an engine's lognormal needs a positive, finite median and β)"
+    )]
+    Spread {
+        id: String,
+        state: usize,
+        median: f64,
+        beta: f64,
     },
     #[error(
         "taxonomy `{0}`: use letters, digits, `_`, `-` and `.` only (the block's name is its \
@@ -64,6 +75,20 @@ pub fn check_entries(entries: &[Entry]) -> Result<(), ExportError> {
         }
         if entries[..k].iter().any(|o| o.id == e.id) {
             return Err(ExportError::Repeated(e.id.clone()));
+        }
+        let good = |x: f64| x.is_finite() && x > 0.0;
+        if let Some((i, l)) = e
+            .states
+            .iter()
+            .enumerate()
+            .find(|(_, l)| !good(l.median) || !good(l.beta))
+        {
+            return Err(ExportError::Spread {
+                id: e.id.clone(),
+                state: i + 1,
+                median: l.median,
+                beta: l.beta,
+            });
         }
     }
     Ok(())
@@ -96,6 +121,13 @@ pub fn openquake_imt(im: Im) -> Result<String, ExportError> {
         .ok_or_else(|| ExportError::Im {
             format: "OpenQuake",
             im: im.name(),
+            why: match im.openquake() {
+                Some(oq) => format!(
+                    "OpenQuake calls it {oq}, but the job runs on hazard curves, which rocking \
+                     reads in the IMs `risk` takes only"
+                ),
+                None => "OpenQuake has no such IM".into(),
+            },
             valid: Im::listed(|im| im.hazard() && im.openquake().is_some(), true),
         })
 }

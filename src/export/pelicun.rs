@@ -19,6 +19,7 @@ pub fn demand(im: Im) -> Result<(String, &'static str), ExportError> {
     im.pelicun().ok_or_else(|| ExportError::Im {
         format: "pelicun",
         im: im.name(),
+        why: "pelicun's damage model has no demand type for it".into(),
         valid: Im::listed(|im| im.pelicun().is_some(), true),
     })
 }

@@ -274,7 +274,14 @@ impl Im {
 /// A period as text: Rust's shortest round-trip form, always with a
 /// decimal point (`1.0`, `0.05`, `0.075`).
 pub fn period_text(t: f64) -> String {
-    format!("{t:?}")
+    // Display never uses an exponent and gives the shortest decimal that
+    // reads back as `t`; whole seconds keep a `.0`.
+    let text = format!("{t}");
+    if text.contains(['.', 'i', 'N']) {
+        text
+    } else {
+        format!("{text}.0")
+    }
 }
 
 /// A level of an IM as printed: four significant digits, trailing zeros
@@ -282,6 +289,13 @@ pub fn period_text(t: f64) -> String {
 pub fn level_text(v: f64) -> String {
     if v == 0.0 || !v.is_finite() {
         return format!("{v}");
+    }
+    if !(1e-3..1e7).contains(&v.abs()) {
+        // Four significant digits in exponent form, not hundreds of zeros.
+        let text = format!("{v:.3e}");
+        let (mantissa, exp) = text.split_once('e').expect("exponent form");
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        return format!("{mantissa}e{exp}");
     }
     let decimals = (3 - v.abs().log10().floor() as i32).max(0) as usize;
     let text = format!("{v:.decimals$}");

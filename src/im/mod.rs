@@ -20,5 +20,5 @@ pub mod scale;
 pub use measure::{
     level_text, period_text, Im, AVGSA_PERIODS_S, G_M_S2, PERIODS_S, SPECTRAL_DAMPING,
 };
-pub use record::RecordIms;
+pub use record::{RecordIms, RecordImsError};
 pub use scale::{eta_of_pga, of_eta, pga_of_eta};

@@ -70,15 +70,37 @@ impl Im {
     }
 }
 
+/// Why a record's measures cannot be had.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RecordImsError {
+    #[error("the record has no motion (every sample is 0)")]
+    NoMotion,
+    #[error(transparent)]
+    Oscillator(#[from] sdof::SdofError),
+    #[error("{0} cannot be computed from the record")]
+    Measure(String),
+}
+
 impl RecordIms {
     /// The measures of a record sampled at `dt_s` (accelerations in g):
     /// every one of [`Im::record_measures`], and SA at `extra_periods_s`
     /// too (positive; `None` for a record without a positive peak or a bad
-    /// period).
+    /// period: [`RecordIms::try_of_record`] says which).
     pub fn of_record(accel_g: &[f64], dt_s: f64, extra_periods_s: &[f64]) -> Option<RecordIms> {
-        let pga_g = crate::motion::peak(accel_g, dt_s)?.pga_g;
+        RecordIms::try_of_record(accel_g, dt_s, extra_periods_s).ok()
+    }
+
+    /// [`RecordIms::of_record`], saying why where it cannot.
+    pub fn try_of_record(
+        accel_g: &[f64],
+        dt_s: f64,
+        extra_periods_s: &[f64],
+    ) -> Result<RecordIms, RecordImsError> {
+        let pga_g = crate::motion::peak(accel_g, dt_s)
+            .ok_or(RecordImsError::NoMotion)?
+            .pga_g;
         if !(pga_g > 0.0 && dt_s > 0.0) {
-            return None;
+            return Err(RecordImsError::NoMotion);
         }
         let mut periods: Vec<f64> = PERIODS_S.iter().chain(extra_periods_s).copied().collect();
         periods.sort_by(f64::total_cmp);
@@ -88,8 +110,7 @@ impl RecordIms {
             .map(|&t| {
                 sdof::pseudo_acceleration(accel_g, dt_s, t, SPECTRAL_DAMPING).map(|sa| (t, sa))
             })
-            .collect::<Result<Vec<_>, _>>()
-            .ok()?;
+            .collect::<Result<Vec<_>, _>>()?;
         let shared = Shared {
             accel_g,
             dt_s,
@@ -100,10 +121,14 @@ impl RecordIms {
         let mut values: Vec<(Im, f64)> = Im::record_measures()
             .into_iter()
             .filter(|im| !matches!(im, Im::Sa(_)))
-            .map(|im| Some((im, im.of_record(&shared)?)))
-            .collect::<Option<_>>()?;
+            .map(|im| {
+                im.of_record(&shared)
+                    .map(|v| (im, v))
+                    .ok_or_else(|| RecordImsError::Measure(im.name()))
+            })
+            .collect::<Result<_, _>>()?;
         values.extend(shared.sa_g.iter().map(|&(t, v)| (Im::Sa(t), v)));
-        Some(RecordIms { values })
+        Ok(RecordIms { values })
     }
 
     /// Measures as read back (a table's rows): `pga` must be among them.
@@ -222,10 +247,11 @@ fn square_integral(a0: f64, a1: f64, h: f64) -> f64 {
 
 /// Arias intensity `π/(2g) ∫ a² dt` (m/s), a in m/s².
 pub fn arias_m_s(accel_g: &[f64], dt_s: f64) -> f64 {
+    // From +0 (a float sum starts at −0: one sample printed −0.0).
     let sum: f64 = accel_g
         .windows(2)
         .map(|w| square_integral(w[0], w[1], dt_s))
-        .sum();
+        .fold(0.0, |s, x| s + x);
     std::f64::consts::PI / (2.0 * G_M_S2) * G_M_S2 * G_M_S2 * sum
 }
 
@@ -242,17 +268,25 @@ pub fn cav_g_s(accel_g: &[f64], dt_s: f64) -> f64 {
                 0.5 * dt_s * (a0 * a0 + a1 * a1) / (a0.abs() + a1.abs())
             }
         })
-        .sum()
+        .fold(0.0, |s, x| s + x)
 }
 
 /// Time (s) between the instants the Husid curve `∫₀ᵗ a²` reaches the
 /// fractions `from` and `to` of its total, each located inside its
 /// interval on the exact cubic (by bisection to 1e-12 of the interval).
 pub fn significant_duration_s(accel_g: &[f64], dt_s: f64, from: f64, to: f64) -> f64 {
+    // On the record over its peak: a duration does not change with
+    // scaling, and ∫a² of a record scaled by 1e300 overflows (it gave 0).
+    let peak = accel_g.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+    if !(peak > 0.0 && peak.is_finite()) {
+        return 0.0;
+    }
+    let norm: Vec<f64> = accel_g.iter().map(|a| a / peak).collect();
+    let accel_g = norm.as_slice();
     let total: f64 = accel_g
         .windows(2)
         .map(|w| square_integral(w[0], w[1], dt_s))
-        .sum();
+        .fold(0.0, |s, x| s + x);
     if total <= 0.0 {
         return 0.0;
     }

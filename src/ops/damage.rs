@@ -327,7 +327,7 @@ fn from_records(
     let def = DIRECT_FRACTILE;
     let (runs, why) = records.runs(block, auto_tol)?;
     let alpha = block.alpha();
-    let ims = (im != Im::Pga).then(|| records.ims_for(im));
+    let ims = (im != Im::Pga).then(|| records.ims_for(im)).transpose()?;
     let per_record: Vec<Vec<StateCapacity>> = runs
         .iter()
         .map(|c| {
@@ -352,6 +352,21 @@ fn from_records(
         ),
     }
     .ok_or(FragilityError::NoPeriod(im.name()))?;
+    let warnings = states
+        .states()
+        .iter()
+        .zip(&fits)
+        .filter(|(_, f)| (2..FEW_RECORDS).contains(&f.reached))
+        .map(|(s, f)| {
+            format!(
+                "`{}` is fitted to the capacities of {} records (fewer than {FEW_RECORDS}): its \
+                 median and β are rough (β's standard error is about β/√(2n), {:.0} % here)",
+                s.name,
+                f.reached,
+                100.0 / (2.0 * f.reached as f64).sqrt()
+            )
+        })
+        .collect();
     let out = states
         .states()
         .iter()
@@ -377,9 +392,13 @@ fn from_records(
         dispersion: Dispersion::Each.label(),
         model: Some(why),
         states: out,
-        warnings: Vec::new(),
+        warnings,
     })
 }
+
+/// Below this many records reaching a state, its fit is warned of as
+/// rough.
+pub const FEW_RECORDS: usize = 10;
 
 /// Warnings where a heavier state's fitted curve (by `method`) rises above
 /// a lighter one's.

@@ -94,6 +94,8 @@ pub enum ExportOpError {
     #[error("--out {}: {why}", path.display())]
     Out { path: PathBuf, why: String },
     #[error(transparent)]
+    Lock(#[from] crate::stages::lock::LockError),
+    #[error(transparent)]
     Write(#[from] TableError),
 }
 
@@ -126,7 +128,18 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
         (None, _) => None,
     };
     let im = hazard.as_ref().map_or(req.im.unwrap_or(Im::Pga), |h| h.im);
+    // The engine must take the IM before the records are run.
+    match req.format {
+        Format::Nrml => crate::export::openquake_imt(im).map(drop)?,
+        Format::Pelicun => pelicun::demand(im).map(drop)?,
+    }
     check_out(&req.out, req)?;
+    // One export at a time into a folder.
+    let _lock = crate::stages::lock::Lock::take(
+        &req.out,
+        crate::stages::lock::Scope::Exclusive,
+        "rocking export",
+    )?;
     let entries = match &req.blocks {
         Blocks::One { b_m, h_m, eps, mu } => vec![InventoryBlock {
             name: format!("b{b_m}_h{h_m}"),
@@ -166,6 +179,8 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
         let info = risk::block_info(&e, &block, req.floor.as_ref());
         let entry = entry(&info, &f, req.method, im, &block, req.floor.as_ref())?;
         f.warnings.extend(damage::crossings(&f, req.method));
+        f.warnings
+            .extend(hazard.iter().flat_map(|h| h.warnings.iter().cloned()));
         if let (Some(mu), Some(true)) = (info.mu, info.slides_first) {
             f.warnings.push(crate::block::sliding_warning(mu, info.alpha_rad));
         }
@@ -211,9 +226,18 @@ fn write_files(
         path: req.out.clone(),
         why: e.to_string(),
     })?;
+    let earlier = earlier_export(&req.out);
     let mut files = Vec::new();
     let mut put = |name: &str, text: &str| -> Result<(), ExportOpError> {
         let path = req.out.join(name);
+        if path.exists() && !earlier.iter().any(|e| e == name) {
+            return Err(ExportOpError::Out {
+                path: req.out.clone(),
+                why: format!(
+                    "it holds {name}, which no export wrote; export into a folder of its own"
+                ),
+            });
+        }
         atomic_write(&path, text.as_bytes())?;
         files.push(path);
         Ok(())
@@ -252,7 +276,37 @@ fn write_files(
             )?;
         }
     }
+    // The earlier export's files this one did not write are stale (another
+    // format, or a job without --hazard now): removed, so that the folder
+    // is one consistent set; then the list of this one's.
+    for name in &earlier {
+        if !files.iter().any(|f| f.file_name().is_some_and(|n| n == name.as_str())) {
+            let _ = std::fs::remove_file(req.out.join(name));
+        }
+    }
+    let names: Vec<String> = files
+        .iter()
+        .filter_map(|f| f.file_name().map(|n| n.to_string_lossy().into_owned()))
+        .collect();
+    atomic_write(&req.out.join(MANIFEST), names.join("\n").as_bytes())?;
     Ok(files)
+}
+
+/// The list of the files the last export into a folder wrote.
+const MANIFEST: &str = ".rocking-export";
+
+/// The files an earlier export wrote into `out` (none without its list).
+fn earlier_export(out: &Path) -> Vec<String> {
+    std::fs::read_to_string(out.join(MANIFEST))
+        .map(|t| {
+            t.lines()
+                .map(str::trim)
+                // Only bare file names: the list never points elsewhere.
+                .filter(|n| !n.is_empty() && !n.contains(['/', '\\']) && !n.starts_with('.'))
+                .map(String::from)
+                .collect()
+        })
+        .unwrap_or_default()
 }
 
 /// The block's entry: its states' lognormals by `method`.
@@ -268,10 +322,20 @@ fn entry(
         .states
         .iter()
         .map(|s| {
-            s.by(method).ok_or_else(|| ExportOpError::Block {
+            let refuse = |source| ExportOpError::Block {
                 name: e.name.clone(),
-                source: damage::no_fit(f, s, method),
-            })
+                source,
+            };
+            let l = s.by(method).ok_or_else(|| refuse(damage::no_fit(f, s, method)))?;
+            if l.beta > 0.0 && l.beta.is_finite() {
+                Ok(l)
+            } else {
+                Err(refuse(FragilityError::NoSpread {
+                    state: s.name.clone(),
+                    beta: l.beta,
+                    reached: s.reached,
+                }))
+            }
         })
         .collect::<Result<Vec<_>, _>>()?;
     let slides = match (e.mu, e.slides_first) {
@@ -315,6 +379,8 @@ struct HazardSites {
     im: Im,
     sites: Vec<Site>,
     investigation_time: f64,
+    /// Of its curves' units ([`risk::hazard_warnings`]).
+    warnings: Vec<String>,
 }
 
 fn read_sites(path: &Path, asked: Option<Im>) -> Result<HazardSites, ExportOpError> {
@@ -334,6 +400,7 @@ fn read_sites(path: &Path, asked: Option<Im>) -> Result<HazardSites, ExportOpErr
         })
         .collect::<Result<Vec<_>, _>>()?;
     Ok(HazardSites {
+        warnings: risk::hazard_warnings(&curves),
         text,
         im,
         sites,

@@ -299,6 +299,9 @@ fn live_owner(bytes: &[u8], age: Duration) -> Option<Owner> {
     if owner.started_ticks != 0 && start_ticks(&stat) != Some(owner.started_ticks) {
         return None; // the pid was reused
     }
+    if matches!(process_state(&stat), Some('Z' | 'X' | 'x')) {
+        return None; // killed, not yet reaped: it runs no more
+    }
     let comm = fs::read_to_string(format!("/proc/{}/comm", owner.pid)).ok()?;
     let expected = if owner.process.is_empty() {
         my_comm()
@@ -340,6 +343,11 @@ impl Owner {
 /// Field 22 of /proc/PID/stat (start time in clock ticks); the process name
 /// in field 2 may hold spaces and parentheses, so fields are counted after
 /// its last `)`.
+/// The process's state in /proc/PID/stat (`R`, `S`, `Z` for a zombie, …).
+fn process_state(stat: &str) -> Option<char> {
+    stat[stat.rfind(')')? + 1..].split_whitespace().next()?.chars().next()
+}
+
 fn start_ticks(stat: &str) -> Option<u64> {
     let rest = &stat[stat.rfind(')')? + 1..];
     rest.split_whitespace().nth(19)?.parse().ok()
@@ -385,5 +393,35 @@ mod tests {
         assert_eq!(start_ticks(stat), Some(98765));
         let me = fs::read_to_string("/proc/self/stat").unwrap();
         assert!(start_ticks(&me).unwrap() > 0);
+        assert_eq!(process_state(stat), Some('S'));
+    }
+
+    /// A lock whose owner was killed but not yet reaped (a zombie: its pid,
+    /// start time and name still in /proc) was obeyed; it runs no more.
+    #[test]
+    fn a_zombies_lock_is_stale() {
+        let mut child = std::process::Command::new("true").spawn().unwrap();
+        let stat_path = format!("/proc/{}/stat", child.id());
+        let mut stat = String::new();
+        for _ in 0..500 {
+            stat = fs::read_to_string(&stat_path).unwrap();
+            if process_state(&stat) == Some('Z') {
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        assert_eq!(process_state(&stat), Some('Z'), "{stat}");
+        let owner = Owner {
+            pid: child.id(),
+            host: hostname(),
+            started_ticks: start_ticks(&stat).unwrap(),
+            since_unix_s: 0,
+            command: "rocking run".into(),
+            process: "true".into(),
+            job: None,
+        };
+        let bytes = serde_json::to_vec(&owner).unwrap();
+        assert_eq!(live_owner(&bytes, Duration::ZERO), None);
+        child.wait().unwrap();
     }
 }

@@ -225,6 +225,9 @@ pub fn load_pulses(
     })
 }
 
+/// The figures the report wrote last, one file name a line (in `figures/`).
+const FIGURE_LIST: &str = ".report-figures";
+
 fn run(cx: &Context) -> Result<Summary, ReportError> {
     let study = cx.study;
     let (figs, md) = if study.plan.pulse_map().is_some() {
@@ -252,15 +255,19 @@ fn run(cx: &Context) -> Result<Summary, ReportError> {
         svgs.push((f.file.clone(), svg));
     }
     // Figures of an earlier state of the study that it no longer has (a fit
-    // that no longer converges, say) would sit beside the report unlisted.
-    if let Ok(entries) = std::fs::read_dir(&fig_dir) {
-        for e in entries.flatten() {
-            let is_svg = e.path().extension().is_some_and(|x| x == "svg");
-            if is_svg && !written.contains(&e.path()) {
-                let _ = std::fs::remove_file(e.path());
-            }
+    // that no longer converges, say) would sit beside the report unlisted:
+    // those the report wrote last time (its list) are removed; any other
+    // file there, a user's own figure, is left alone.
+    let list = fig_dir.join(FIGURE_LIST);
+    let earlier = std::fs::read_to_string(&list).unwrap_or_default();
+    for name in earlier.lines().map(str::trim) {
+        let bare = !name.is_empty() && !name.contains(['/', '\\']) && name.ends_with(".svg");
+        if bare && !figs.iter().any(|f| f.file == name) {
+            let _ = std::fs::remove_file(fig_dir.join(name));
         }
     }
+    let names: Vec<&str> = figs.iter().map(|f| f.file.as_str()).collect();
+    tables::atomic_write(&list, names.join("\n").as_bytes())?;
     let report = study.path("report.md");
     tables::atomic_write(&report, md.as_bytes())?;
     let page = crate::report::render_html(&format!("Study {}", study.plan.name), &md, &svgs);

@@ -136,39 +136,6 @@ impl DirectRecords {
         })
     }
 
-    /// The block's capacity in `im` under each record (the certified η_c
-    /// converted; `f64::INFINITY` where it never overturns), sorted, with
-    /// the model's description.
-    pub fn thresholds(
-        &self,
-        block: &Block,
-        im: Im,
-        auto_tol: f64,
-    ) -> Result<(Vec<f64>, String), FragilityError> {
-        let (caps, model) = self.capacities(block, auto_tol)?;
-        let alpha = block.alpha();
-        let mut t: Vec<f64> = if im == Im::Pga {
-            // α/η_c, as `im::of_eta` gives it: no other IM of the record needed.
-            caps.iter()
-                .map(|&c| if c > 0.0 { alpha / c } else { f64::INFINITY })
-                .collect()
-        } else {
-            caps.iter()
-                .zip(self.ims_for(im).iter())
-                .map(|(&c, r)| {
-                    if c > 0.0 {
-                        crate::im::of_eta(im, c, alpha, r)
-                            .ok_or(FragilityError::NoPeriod(im.name()))
-                    } else {
-                        Ok(f64::INFINITY)
-                    }
-                })
-                .collect::<Result<_, _>>()?
-        };
-        t.sort_by(f64::total_cmp);
-        Ok((t, model))
-    }
-
     /// The records' IMs, from their forcing normalised to a PGA of 1 g:
     /// the ratios IM/PGA^power that convert a capacity are those of the
     /// record as recorded.
@@ -188,24 +155,25 @@ impl DirectRecords {
     /// The records' IMs with `im` among them: those of [`Self::ims`], or,
     /// for SA at a period they are not computed at, computed at it too
     /// (the records are here: any period can be had).
-    pub fn ims_for(&self, im: Im) -> std::borrow::Cow<'_, [RecordIms]> {
+    pub fn ims_for(
+        &self,
+        im: Im,
+    ) -> Result<std::borrow::Cow<'_, [RecordIms]>, crate::im::RecordImsError> {
         let standard = self.ims();
         if standard.first().is_none_or(|r| r.value(im).is_some()) {
-            return std::borrow::Cow::Borrowed(standard);
+            return Ok(std::borrow::Cow::Borrowed(standard));
         }
         let Im::Sa(t) = im else {
-            return std::borrow::Cow::Borrowed(standard);
+            return Ok(std::borrow::Cow::Borrowed(standard));
         };
-        std::borrow::Cow::Owned(
-            self.records
-                .par_iter()
-                .map(|r| {
-                    let exc = r.ground.as_ref().map_or(&r.exc, |(g, _)| g);
-                    RecordIms::of_record(&exc.psi, exc.dt_s, &[t])
-                        .expect("an excitation's forcing has a peak of 1")
-                })
-                .collect(),
-        )
+        self.records
+            .par_iter()
+            .map(|r| {
+                let exc = r.ground.as_ref().map_or(&r.exc, |(g, _)| g);
+                RecordIms::try_of_record(&exc.psi, exc.dt_s, &[t])
+            })
+            .collect::<Result<Vec<_>, _>>()
+            .map(std::borrow::Cow::Owned)
     }
 
     /// Where the records came from: the folder, or the pipeline's records.

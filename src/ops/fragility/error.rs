@@ -42,6 +42,8 @@ pub enum FragilityError {
     PaperIsPga(String),
     #[error(transparent)]
     ImTable(#[from] im_fragility::ImTableError),
+    #[error("the records' intensity measures")]
+    RecordIms(#[from] crate::im::RecordImsError),
     #[error(
         "{0}: a study's records carry SA at {periods} s only (docs/MODEL.md §14); ask for one \
          of them, or run the block through the records (--direct), which computes SA at any \
@@ -49,6 +51,21 @@ pub enum FragilityError {
         periods = crate::im::PERIODS_S.map(crate::im::period_text).join(", ")
     )]
     NoPeriod(String),
+    #[error(
+        "damage state `{state}`: β = {beta}{}: a lognormal without spread, which the engines \
+         cannot evaluate (OpenQuake's gives NaN); run more records (--records), or export fewer \
+         states",
+        match reached {
+            Some(1) => " (one record reaches it)".to_string(),
+            Some(n) => format!(" ({n} records reach it, all at one level)"),
+            None => String::new(),
+        }
+    )]
+    NoSpread {
+        state: String,
+        beta: f64,
+        reached: Option<usize>,
+    },
     #[error("damage state `{state}` has no {method} fit ({why}); try --method {other}")]
     NoStateFit {
         state: String,

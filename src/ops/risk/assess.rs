@@ -96,7 +96,7 @@ fn fragility_of(
     Ok((fragility, info, f.warnings))
 }
 
-fn site_info(k: usize, curve: &HazardCurve, r: &SiteRisk, years: f64) -> SiteInfo {
+pub(super) fn site_info(k: usize, curve: &HazardCurve, r: &SiteRisk, years: f64) -> SiteInfo {
     SiteInfo {
         site: k,
         lon: curve.lon,
@@ -135,6 +135,28 @@ pub(super) struct Prepared {
     pub entries: Vec<InventoryBlock>,
     pub laws: Laws,
     pub records: Option<DirectRecords>,
+    /// Of the hazard file, for every block ([`hazard_warnings`]).
+    pub warnings: Vec<String>,
+}
+
+/// Where a hazard's curves look like another unit than their IM's, or are
+/// in AvgSA, whose periods a file does not state.
+pub fn hazard_warnings(sites: &[(usize, HazardCurve)]) -> Vec<String> {
+    let mut out: Vec<String> = sites
+        .iter()
+        .filter_map(|(k, c)| {
+            crate::hazard::plausibility(c).map(|w| match sites.len() {
+                1 => w,
+                _ => format!("site {k}: {w}"),
+            })
+        })
+        .collect();
+    // One AvgSA note for the file, not one per site.
+    if out.len() > 1 && out.iter().all(|w| w.contains("AvgSA: a hazard file")) {
+        let first = out[0].split_once(": ").map_or(out[0].clone(), |(_, w)| w.to_string());
+        out = vec![first];
+    }
+    out
 }
 
 /// [`Prepared`] for `req`, for [`assess`] and `states::assess_states`.
@@ -154,6 +176,7 @@ pub(super) fn prepare(req: &Request) -> Result<Prepared, RiskError> {
         req.floor.as_ref(),
     )?;
     Ok(Prepared {
+        warnings: hazard_warnings(&sites),
         sites,
         im,
         entries,
@@ -170,6 +193,7 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
         entries,
         laws,
         records,
+        warnings: hazard_notes,
     } = prepare(req)?;
     let mut out = Vec::with_capacity(entries.len());
     for e in &entries {
@@ -196,7 +220,8 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
                 site_info(*k, c, &r, req.years)
             })
             .collect();
-        warnings.extend(extrapolated(&site_infos));
+        warnings.extend(hazard_notes.iter().cloned());
+        warnings.extend(site_infos.iter().filter_map(|s| tails(s, im.unit(), None)));
         let assessed = block_info(e, &block, floor);
         warnings.extend(sliding_warning(&assessed));
         out.push(Assessment {
@@ -262,19 +287,30 @@ pub fn hazard_im(
 /// Sites whose rate comes mostly (over half) from beyond the hazard
 /// curve's last IML, where the curve's last slope is extrapolated: the
 /// answer is then more the extrapolation's than the hazard model's.
-fn extrapolated(sites: &[SiteInfo]) -> Vec<String> {
-    sites
-        .iter()
-        .filter(|s| s.share_beyond_last_iml > 0.5)
-        .map(|s| {
-            format!(
-                "site {}: {:.0} % of the rate comes from beyond the hazard curve's last IML \
-                 ({} g), where its last slope is extrapolated; the rate and return period are \
-                 an extrapolation (compare --beyond stop)",
-                s.site,
-                100.0 * s.share_beyond_last_iml,
-                s.last_iml
-            )
-        })
-        .collect()
+/// A site whose rate leans on the hazard curve's ends: more than half of it
+/// from beyond the last IML (an extrapolation), or a fragility already
+/// above 1 % at the first IML (the events below the curve are not counted:
+/// the rate is a lower bound). `state` names a damage state.
+pub(super) fn tails(s: &SiteInfo, unit: &str, state: Option<&str>) -> Option<String> {
+    let what = state.map_or(String::new(), |n| format!("`{n}`: "));
+    if s.share_beyond_last_iml > 0.5 {
+        return Some(format!(
+            "site {}: {what}{:.0} % of the rate comes from beyond the hazard curve's last IML \
+             ({} {unit}), where its last slope is extrapolated; the rate and return period are \
+             an extrapolation (compare --beyond stop)",
+            s.site,
+            100.0 * s.share_beyond_last_iml,
+            crate::im::level_text(s.last_iml)
+        ));
+    }
+    (s.fragility_at_first_iml > 0.01).then(|| {
+        format!(
+            "site {}: {what}P = {:.1} % already at the hazard curve's first IML ({} {unit}): \
+             the events below it are not counted, so the rate is a lower bound; give a curve \
+             that starts lower",
+            s.site,
+            100.0 * s.fragility_at_first_iml,
+            crate::im::level_text(s.first_iml)
+        )
+    })
 }

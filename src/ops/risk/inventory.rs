@@ -41,6 +41,16 @@ pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
     };
     let mut csv = csv::ReaderBuilder::new().from_reader(bytes.as_slice());
     let headers = csv.headers().map_err(|e| bad(1, e.to_string()))?.clone();
+    // A column given twice is ambiguous: which `b` is the block's?
+    for (k, h) in headers.iter().enumerate() {
+        if headers.iter().take(k).any(|o| o.trim() == h.trim()) {
+            return Err(bad(
+                1,
+                format!("column `{}` is given twice (columns {} and {})", h.trim(),
+                    1 + headers.iter().position(|o| o.trim() == h.trim()).unwrap_or(0), k + 1),
+            ));
+        }
+    }
     let col = |name: &str| headers.iter().position(|h| h.trim() == name);
     let (Some(cn), Some(cb), Some(ch)) = (col("name"), col("b"), col("h")) else {
         return Err(bad(

@@ -15,7 +15,7 @@ mod states;
 mod table;
 
 pub use answer::{Assessment, BinInfo, BlockInfo, FragilityInfo, SiteInfo};
-pub use assess::{assess, block_info, hazard_im, read_hazard};
+pub use assess::{assess, block_info, hazard_im, hazard_warnings, read_hazard};
 pub use charts::{deaggregation_chart, ranking_chart};
 pub use error::RiskError;
 pub use inventory::{read_inventory, InventoryBlock};

@@ -5,7 +5,7 @@
 use serde::Serialize;
 
 use super::answer::BlockInfo;
-use super::assess::{block_info, prepare, sliding_warning, Prepared};
+use super::assess::{block_info, prepare, site_info, sliding_warning, tails, Prepared};
 use super::error::RiskError;
 use super::request::Request;
 use crate::damage::{DamageStates, FitMethod};
@@ -73,6 +73,7 @@ pub fn assess_states(
         entries,
         laws,
         records,
+        warnings: hazard_notes,
     } = prepare(req)?;
     let mut out = Vec::new();
     for e in entries {
@@ -95,6 +96,8 @@ pub fn assess_states(
         let cut = damage::zero_below(&block, im, floor).unwrap_or(0.0);
         let crossed = damage::crossings(&f, method);
         f.warnings.extend(crossed);
+        let unit = im.unit();
+        let mut tail_notes = Vec::new();
         let sites = sites
             .iter()
             .map(|(k, curve)| StatesSite {
@@ -107,7 +110,10 @@ pub fn assess_states(
                     .map(|s| {
                         let (median, beta) = s.median_beta(method);
                         let rate = s.fragility(method).map(|frag| {
-                            risk::assess_above(curve, &frag, req.beyond, cut).annual_rate
+                            let r = risk::assess_above(curve, &frag, req.beyond, cut);
+                            let info = site_info(*k, curve, &r, req.years);
+                            tail_notes.extend(tails(&info, unit, Some(&s.name)));
+                            r.annual_rate
                         });
                         StateRisk {
                             state: s.name.clone(),
@@ -124,6 +130,8 @@ pub fn assess_states(
             })
             .collect();
         let assessed = block_info(&e, &block, floor);
+        f.warnings.extend(hazard_notes.iter().cloned());
+        f.warnings.extend(tail_notes);
         f.warnings.extend(sliding_warning(&assessed));
         out.push(StatesAssessment {
             block: assessed,

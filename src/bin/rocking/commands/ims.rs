@@ -13,7 +13,10 @@ use rocking::records;
     integration of the piecewise-linear record from rest (no baseline correction), SA (g, 5 % \
     damping) at 0.05–4 s and any --period, AvgSA (geometric mean of SA over 0.1–2 s), Arias \
     intensity (m/s), CAV (g·s), the 5–95 % significant duration (s), PGV/PGA (s) and the mean \
-    period Tm (s, Rathje et al. 1998). Definitions: docs/MODEL.md §14."
+    period Tm (s, Rathje et al. 1998). Definitions: docs/MODEL.md §14.\n\n\
+    With --json, `sa_g` maps each period to its SA; a period's key is the shortest decimal that \
+    reads back as the period, never in exponent form, whole seconds with `.0` (0.05, 1.0, \
+    0.000001, 1000.0). A period below Δt/250 is refused (the oscillator is rigid: SA is the PGA)."
 )]
 pub struct Args {
     /// The AT2 file.
@@ -32,12 +35,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         anyhow::bail!("--period {bad}: a period must be a positive number of seconds");
     }
     let (accel, dt) = records::read_samples(&args.record)?;
-    let ims = RecordIms::of_record(&accel, dt, &args.periods).with_context(|| {
-        format!(
-            "{}: the record has no motion (every sample is 0)",
-            args.record.display()
-        )
-    })?;
+    let ims = RecordIms::try_of_record(&accel, dt, &args.periods)
+        .with_context(|| args.record.display().to_string())?;
     if args.json {
         // Through a JSON value: its keys sorted, as they always were.
         println!("{}", serde_json::to_value(&ims)?);

@@ -127,19 +127,26 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let all = risk::assess(&req)?;
     let chart_site = args.site.unwrap_or(0);
+    // The chart is drawn before anything is written: a chart that cannot
+    // be drawn (every rate 0) leaves no table behind either.
+    let chart = match (&args.plot, args.blocks.inventory.is_some()) {
+        (None, _) => None,
+        (Some(_), true) => Some(risk::ranking_chart(&all, chart_site)?),
+        (Some(_), false) => {
+            let a = &all[0];
+            let site = a
+                .sites
+                .iter()
+                .find(|s| s.site == chart_site)
+                .unwrap_or(&a.sites[0]);
+            Some(risk::deaggregation_chart(a, site)?)
+        }
+    };
     if args.blocks.inventory.is_some() {
         risk::write_table(&out, &risk::rows(&all, beyond), &req.hazard.name())?;
-        if let Some(plot) = &args.plot {
-            atomic_write(plot, risk::ranking_chart(&all, chart_site)?.as_bytes())?;
-        }
-    } else if let Some(plot) = &args.plot {
-        let a = &all[0];
-        let site = a
-            .sites
-            .iter()
-            .find(|s| s.site == chart_site)
-            .unwrap_or(&a.sites[0]);
-        atomic_write(plot, risk::deaggregation_chart(a, site)?.as_bytes())?;
+    }
+    if let (Some(plot), Some(chart)) = (&args.plot, chart) {
+        atomic_write(plot, chart.as_bytes())?;
     }
     for a in &all {
         for w in &a.warnings {
