@@ -111,7 +111,7 @@ impl Building {
             if !(0.0..1.0).contains(&m.zeta) {
                 return Err(FloorError::Damping { mode, zeta: m.zeta });
             }
-            if !(m.gamma_phi.abs() <= GAMMA_PHI_MAX) {
+            if m.gamma_phi.is_nan() || m.gamma_phi.abs() > GAMMA_PHI_MAX {
                 return Err(FloorError::GammaPhi {
                     mode,
                     gamma_phi: m.gamma_phi,

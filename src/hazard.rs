@@ -181,31 +181,7 @@ pub fn parse_openquake(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
     let header = cells(header);
     let col = |name: &str| header.iter().position(|h| *h == name);
     let (lon_c, lat_c) = (col("lon"), col("lat"));
-    let mut imls: Vec<(usize, f64)> = Vec::new();
-    for (i, h) in header.iter().enumerate() {
-        if let Some(v) = h.strip_prefix("poe-") {
-            let iml = number(header_line, h, v)?;
-            if iml <= 0.0 {
-                return Err(err(
-                    header_line,
-                    format!("column `{h}`: the IML {iml} must be positive"),
-                ));
-            }
-            imls.push((i, iml));
-        }
-    }
-    if imls.is_empty() {
-        return Err(err(header_line, "no `poe-<iml>` columns"));
-    }
-    if let Some(w) = imls.windows(2).find(|w| w[1].1 <= w[0].1) {
-        return Err(err(
-            header_line,
-            format!(
-                "the IMLs must increase: poe-{} follows poe-{}",
-                w[1].1, w[0].1
-            ),
-        ));
-    }
+    let imls = header_imls(header_line, &header)?;
     let mut sites = Vec::new();
     for (line, row) in lines {
         if row.trim().is_empty() {
@@ -239,14 +215,8 @@ pub fn parse_openquake(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
             |k| format!("column `{}`", header[imls[k].0]),
         )?;
         let coordinate = |c: Option<usize>, name: &str, limit: f64| {
-            c.map(|c| match number(line, name, cells[c])? {
-                v if v.abs() <= limit => Ok(v),
-                v => Err(err(
-                    line,
-                    format!("column `{name}`: {v}° is not a {name} (it lies within ±{limit}°)"),
-                )),
-            })
-            .transpose()
+            c.map(|c| coordinate(line, name, cells[c], limit))
+                .transpose()
         };
         curve.lon = coordinate(lon_c, "lon", 180.0)?;
         curve.lat = coordinate(lat_c, "lat", 90.0)?;
@@ -256,6 +226,48 @@ pub fn parse_openquake(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
         return Err(err(header_line, "no site rows after the header"));
     }
     Ok(sites)
+}
+
+/// The `poe-<iml>` columns of an OpenQuake header: (column, IML), the IMLs
+/// positive and increasing.
+fn header_imls(header_line: usize, header: &[&str]) -> Result<Vec<(usize, f64)>, HazardError> {
+    let mut imls: Vec<(usize, f64)> = Vec::new();
+    for (i, h) in header.iter().enumerate() {
+        if let Some(v) = h.strip_prefix("poe-") {
+            let iml = number(header_line, h, v)?;
+            if iml <= 0.0 {
+                return Err(err(
+                    header_line,
+                    format!("column `{h}`: the IML {iml} must be positive"),
+                ));
+            }
+            imls.push((i, iml));
+        }
+    }
+    if imls.is_empty() {
+        return Err(err(header_line, "no `poe-<iml>` columns"));
+    }
+    if let Some(w) = imls.windows(2).find(|w| w[1].1 <= w[0].1) {
+        return Err(err(
+            header_line,
+            format!(
+                "the IMLs must increase: poe-{} follows poe-{}",
+                w[1].1, w[0].1
+            ),
+        ));
+    }
+    Ok(imls)
+}
+
+/// A site's longitude or latitude (degrees), within ±`limit`.
+fn coordinate(line: usize, name: &str, cell: &str, limit: f64) -> Result<f64, HazardError> {
+    match number(line, name, cell)? {
+        v if v.abs() <= limit => Ok(v),
+        v => Err(err(
+            line,
+            format!("column `{name}`: {v}° is not a {name} (it lies within ±{limit}°)"),
+        )),
+    }
 }
 
 /// A warning where a curve's IMLs look like another unit than the IM's

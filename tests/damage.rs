@@ -413,7 +413,10 @@ fn state_rates(v: &serde_json::Value) -> Vec<(String, Vec<f64>)> {
                 .iter()
                 .map(|s| s["annual_rate"].as_f64().unwrap())
                 .collect();
-            out.push((format!("{} at site {}", b["block"]["name"], site["site"]), rates));
+            out.push((
+                format!("{} at site {}", b["block"]["name"], site["site"]),
+                rates,
+            ));
         }
     }
     out

@@ -109,7 +109,11 @@ fn discrete(imls: &[f64], poes: &[f64], f: impl Fn(f64) -> f64, t_haz: f64, t: f
         .iter()
         .map(|&p| {
             let held = 1.0 - f64::from(1.0f32 - p as f32);
-            let held = if held == 1.0 { 0.9999999999999999 } else { held };
+            let held = if held == 1.0 {
+                0.9999999999999999
+            } else {
+                held
+            };
             -(1.0 - held).ln() / t_haz
         })
         .collect();
@@ -461,13 +465,28 @@ fn openquake_and_risk_agree_below_the_uplift_pga_and_on_a_floor() {
     let records = records.to_str().unwrap();
     for floor in [None, Some("0.5,0.05,1.3")] {
         let mut args = vec![
-            "--b", "0.2", "--h", "0.9", "--direct", "--records", records, "--json",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--direct",
+            "--records",
+            records,
+            "--json",
         ];
         if let Some(f) = floor {
             args.extend(["--floor", f]);
         }
         let job = format!("job-{}", floor.is_some());
-        let mut export = vec!["export", "--format", "nrml", "--hazard", "hazard.csv", "--out", &job];
+        let mut export = vec![
+            "export",
+            "--format",
+            "nrml",
+            "--hazard",
+            "hazard.csv",
+            "--out",
+            &job,
+        ];
         export.extend(&args);
         let out = rocking(d, &export);
         assert!(out.status.success(), "{}", stderr(&out));

@@ -403,7 +403,11 @@ fn a_figure_deleted_or_edited_by_hand_is_drawn_again() {
     );
     assert_eq!(fs::read(&fig).unwrap(), original, "drawn again, the same");
     fs::write(d.join("out/mini/figures/fig05_ida_curves.svg"), "<svg/>").unwrap();
+    // A user's own figure beside them is not the report's to remove (it
+    // once was: every .svg the report had not just drawn went).
+    fs::write(d.join("out/mini/figures/mine.svg"), "<svg/>").unwrap();
     let out = rocking(d, &["run", "mini.toml", "--outputs", "out"]);
+    assert!(d.join("out/mini/figures/mine.svg").exists());
     assert!(
         stderr(&out).contains("output figures/fig05_ida_curves.svg was changed"),
         "{}",

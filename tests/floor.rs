@@ -513,6 +513,14 @@ fn a_floor_study_runs_the_floor_motion_in_every_stage() {
             &["run", p.to_str().unwrap(), "--outputs", out_s],
         );
         assert!(out.status.success(), "{}", stderr(&out));
+        // The sweep warns of the cabinet (μ = 0.05 < b/h = 0.1), not the
+        // rack (it once said nothing).
+        let e = stderr(&out);
+        assert!(
+            e.contains("warning: block `cabinet`: the block slides before it rocks"),
+            "{e}"
+        );
+        assert!(!e.contains("block `rack`: the block slides"), "{e}");
     }
     let caps = |name: &str| rocking::stages::sweep::read_capacities(&outputs.join(name)).unwrap();
     let on_floor = caps("on-floor");

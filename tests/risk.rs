@@ -14,7 +14,6 @@ use serde_json::Value;
 
 use crate::util::{bundled_records, cornell_above, phi, rocking, root, stderr, stdout, tempdir};
 
-
 fn json(out: &std::process::Output) -> Value {
     assert!(out.status.success(), "{}", stderr(out));
     serde_json::from_slice(&out.stdout)
@@ -228,7 +227,10 @@ fn direct_uses_the_records_own_capacities() {
     // Three records: the one warning is that the fit rests on few.
     let warnings = v["warnings"].as_array().unwrap();
     assert_eq!(warnings.len(), 1, "{warnings:?}");
-    assert!(warnings[0].as_str().unwrap().contains("3 records (fewer than 10)"));
+    assert!(warnings[0]
+        .as_str()
+        .unwrap()
+        .contains("3 records (fewer than 10)"));
     // P steps up at each record's overturning PGA t = α/η_c: λ_OT = mean λ(t).
     let alpha = 0.1f64.atan();
     let p = (3.0 * 9.80665 / (4.0 * (0.01f64 + 1.0).sqrt())).sqrt();
@@ -471,7 +473,10 @@ fn a_flat_hazard_tail_is_carried_beyond_the_curve() {
     // inside by quadrature (cut at the uplift PGA, 0.2/0.9 g).
     let inside = quadrature(&[0.1, 0.3, 0.6], &[0.01, 0.001, 0.001], m, beta, 0.2 / 0.9);
     let got = site["annual_rate"].as_f64().unwrap();
-    assert!((got / (inside + 1e-3) - 1.0).abs() < 1e-8, "{got} vs {inside} + 1e-3");
+    assert!(
+        (got / (inside + 1e-3) - 1.0).abs() < 1e-8,
+        "{got} vs {inside} + 1e-3"
+    );
     let beyond = site["share_beyond_last_iml"].as_f64().unwrap();
     assert!((beyond - 1e-3 / got).abs() < 1e-12, "{site}");
 }
@@ -839,7 +844,10 @@ fn one_block_one_fragility_in_every_command() {
             let inside = quadrature(&a, &l, median, beta, 0.2 / 0.9);
             let got = r["sites"][0]["annual_rate"].as_f64().unwrap();
             let beyond = r["sites"][0]["share_beyond_last_iml"].as_f64().unwrap() * got;
-            assert!(((got - beyond) / inside - 1.0).abs() < 1e-8, "{got} vs {inside}");
+            assert!(
+                ((got - beyond) / inside - 1.0).abs() < 1e-8,
+                "{got} vs {inside}"
+            );
         }
     }
 }

@@ -2,6 +2,9 @@
 //! one command or stage end to end through the `rocking` binary or the
 //! library's public API.
 //!
+//! - `answers`: answers that once contradicted each other or physics, each
+//!   named after its fault (hazard files, exports, records, periods,
+//!   messages).
 //! - `certify`: nonlinear capacities certified against DP5's tolerance (the
 //!   hard cases against a tight search, a chaotic case flagged), the exact
 //!   stepper's verdicts under a one-ulp change of the record.
@@ -58,6 +61,7 @@
 //! - `tables`: Parquet round trips, atomic writes, foreign files refused.
 //! - `util`: helpers (running the binary, an independent AT2 reader).
 
+mod answers;
 mod certify;
 mod cli;
 mod damage;

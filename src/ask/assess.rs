@@ -164,6 +164,14 @@ impl FragilityAsk {
             )));
         }
         let levels = match (&self.pga[..], &self.at[..]) {
+            ([], []) if self.im != Im::Pga => {
+                return Err(AskError(format!(
+                    "give the levels of {} with {} (in {})",
+                    self.im.name(),
+                    sp.key("at"),
+                    self.im.unit()
+                )))
+            }
             ([], []) => {
                 return Err(AskError(format!(
                     "give the levels: {} (g), or {} and {}",

@@ -95,6 +95,13 @@ pub(super) fn im_efficiency(d: &StudyData) -> Vec<Figure> {
         style: Style::Dashed,
         hue: Hue::Ink,
     });
+    // Up to 1.2, or to the largest β (Arias's exceeds it at small p: its
+    // line once ran clipped along the top of the frame).
+    let top = lines
+        .iter()
+        .flat_map(|l| l.points.iter().map(|p| p.1))
+        .fold(1.2f64, f64::max);
+    let top = (top * 1.05 / 0.2).ceil() * 0.2;
     let beta = Figure {
         file: "im_efficiency.svg".into(),
         chart: Chart {
@@ -104,7 +111,7 @@ pub(super) fn im_efficiency(d: &StudyData) -> Vec<Figure> {
             x_scale: Scale::Log,
             y_scale: Scale::Linear,
             x_range: None,
-            y_range: Some((0.0, 1.2)),
+            y_range: Some((0.0, top)),
             x_ticks: None,
             lines,
         },
@@ -167,6 +174,27 @@ mod tests {
             rank: None,
             slope: None,
         }
+    }
+
+    /// Every β drawn lies inside the frame: Arias's β of 1.6–1.7 at small
+    /// p once ran clipped along the top of a frame fixed at 1.2.
+    #[test]
+    fn no_dispersion_is_clipped() {
+        let mut d = super::super::fixture::grid_study(&[1.0, 2.0], &[0.75]);
+        for (p, beta) in [(1.0, 1.67), (2.0, 0.9)] {
+            d.efficiency.push(row(p, 0.75, "arias", beta));
+            d.efficiency.push(row(p, 0.75, "pga", 0.4));
+        }
+        let figs = im_efficiency(&d);
+        let chart = &figs[0].chart;
+        let (lo, hi) = chart.y_range.unwrap();
+        let ys = chart
+            .lines
+            .iter()
+            .flat_map(|l| l.points.iter().map(|p| p.1));
+        assert!(ys.clone().any(|y| y == 1.67));
+        assert!(ys.into_iter().all(|y| (lo..=hi).contains(&y)), "{hi}");
+        assert_eq!(hi, 1.8);
     }
 
     #[test]

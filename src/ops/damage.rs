@@ -10,10 +10,10 @@
 use super::fragility::{DirectRecords, FragilityError, Laws, Request};
 use super::im_fragility::DamageTable;
 use crate::block::Block;
-use crate::floor::Building;
 use crate::damage::{
     self, Criterion, DamageStates, Dispersion, FitMethod, Lognormal, StateCapacity,
 };
+use crate::floor::Building;
 use crate::im::{self, Im};
 use crate::label::Label;
 use crate::risk::Fragility;
@@ -117,7 +117,9 @@ pub struct DamageFragility {
 impl DamageFragility {
     /// The fit `method` stands for (its first state's; one for overturning).
     pub fn fit_name(&self, method: FitMethod) -> &'static str {
-        self.states.first().map_or(method.name(), |s| s.fit_name(method))
+        self.states
+            .first()
+            .map_or(method.name(), |s| s.fit_name(method))
     }
 }
 

@@ -182,7 +182,8 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
         f.warnings
             .extend(hazard.iter().flat_map(|h| h.warnings.iter().cloned()));
         if let (Some(mu), Some(true)) = (info.mu, info.slides_first) {
-            f.warnings.push(crate::block::sliding_warning(mu, info.alpha_rad));
+            f.warnings
+                .push(crate::block::sliding_warning(mu, info.alpha_rad));
         }
         blocks.push(ExportedBlock {
             block: info,
@@ -280,7 +281,10 @@ fn write_files(
     // format, or a job without --hazard now): removed, so that the folder
     // is one consistent set; then the list of this one's.
     for name in &earlier {
-        if !files.iter().any(|f| f.file_name().is_some_and(|n| n == name.as_str())) {
+        if !files
+            .iter()
+            .any(|f| f.file_name().is_some_and(|n| n == name.as_str()))
+        {
             let _ = std::fs::remove_file(req.out.join(name));
         }
     }
@@ -326,7 +330,9 @@ fn entry(
                 name: e.name.clone(),
                 source,
             };
-            let l = s.by(method).ok_or_else(|| refuse(damage::no_fit(f, s, method)))?;
+            let l = s
+                .by(method)
+                .ok_or_else(|| refuse(damage::no_fit(f, s, method)))?;
             if l.beta > 0.0 && l.beta.is_finite() {
                 Ok(l)
             } else {

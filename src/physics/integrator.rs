@@ -340,13 +340,26 @@ impl ModelChoice {
     ) -> Result<(Model, String), PhysicsError> {
         check_auto_tol(auto_tol).map_err(PhysicsError::BadInput)?;
         match (self, alpha_rad) {
-            (ModelChoice::Linearized, _) => {
-                Ok((Model::LINEARIZED, "linearised model, as asked".into()))
+            (ModelChoice::Linearized, None) => Ok((Model::LINEARIZED, "linearised model".into())),
+            // Chosen or defaulted, it says what it costs at this α.
+            (ModelChoice::Linearized, Some(a)) => {
+                let err = LINEARIZATION_ERROR_PER_ALPHA2 * a * a;
+                let hint = if err > auto_tol {
+                    "; --model auto or nonlinear runs the nonlinear equation"
+                } else {
+                    ""
+                };
+                Ok((
+                    Model::LINEARIZED,
+                    format!(
+                        "linearised model, which errs by about {err:.1e} in η_c at α = {a:.4} \
+                         rad{hint}"
+                    ),
+                ))
             }
-            (ModelChoice::Nonlinear, Some(a)) => Ok((
-                Model::nonlinear(a, solver),
-                "nonlinear model, as asked".into(),
-            )),
+            (ModelChoice::Nonlinear, Some(a)) => {
+                Ok((Model::nonlinear(a, solver), "nonlinear model".into()))
+            }
             (ModelChoice::Nonlinear, None) => Err(PhysicsError::BadInput(
                 "the nonlinear model needs the block's slenderness α (--alpha, in rad)".into(),
             )),

@@ -3,7 +3,7 @@
 
 use plotters::prelude::*;
 
-use super::axes::{keep, tick_label, Hue, Scale, CANVAS, FONT_DESC, FONT_TICK, FONT_TITLE};
+use super::axes::{keep, tick_label, Hue, Scale, CANVAS, FONT_DESC, FONT_TICK};
 use super::error::{draw_err, PlotError};
 
 /// A horizontal bar chart: one labelled bar per entry, top to bottom in the
@@ -51,9 +51,9 @@ pub fn render_bars(chart: &Bars) -> Result<String, PlotError> {
     {
         let root = SVGBackend::with_string(&mut svg, (CANVAS.0, height)).into_drawing_area();
         root.fill(&WHITE).map_err(&err)?;
-        let mut builder = ChartBuilder::on(&root);
+        let body = super::render::titled(&root, &chart.title).map_err(&err)?;
+        let mut builder = ChartBuilder::on(&body);
         builder
-            .caption(&chart.title, ("sans-serif", FONT_TITLE))
             .margin(18)
             .x_label_area_size(50)
             .y_label_area_size((9 * longest as u32 + 24).clamp(60, 450));

@@ -3,7 +3,7 @@
 
 use plotters::prelude::*;
 
-use super::axes::{Hue, CANVAS, FONT_LEGEND, FONT_TICK, FONT_TITLE};
+use super::axes::{Hue, CANVAS, FONT_LEGEND, FONT_TICK};
 use super::error::{draw_err, PlotError};
 
 /// One named series of (x, y) points, drawn as markers joined by a line.
@@ -45,8 +45,8 @@ pub fn log_log(
     {
         let root = SVGBackend::with_string(&mut svg, CANVAS).into_drawing_area();
         root.fill(&WHITE).map_err(&err)?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", FONT_TITLE))
+        let body = super::render::titled(&root, title).map_err(&err)?;
+        let mut chart = ChartBuilder::on(&body)
             .margin(20)
             .x_label_area_size(50)
             .y_label_area_size(80)

@@ -134,9 +134,9 @@ pub fn render(chart: &Chart) -> Result<String, PlotError> {
     {
         let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
         root.fill(&WHITE).map_err(&err)?;
-        let mut builder = ChartBuilder::on(&root);
+        let body = titled(&root, &chart.title).map_err(&err)?;
+        let mut builder = ChartBuilder::on(&body);
         builder
-            .caption(&chart.title, ("sans-serif", FONT_TITLE))
             .margin(18)
             .margin_right(if legend { 18 + LEGEND_PANEL } else { 24 })
             .x_label_area_size(60)
@@ -175,6 +175,25 @@ pub fn render(chart: &Chart) -> Result<String, PlotError> {
 }
 
 type Plot<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<Ticked, Ticked>>;
+
+/// The canvas below its title, which is centred over the whole canvas (not
+/// over the plot beside a legend panel, where a long title ran off the
+/// left edge) in a font small enough for it to fit: about 0.55 of the
+/// font size a character, at most 22 px, at least 12.
+pub(super) fn titled<'a>(
+    root: &DrawingArea<SVGBackend<'a>, plotters::coord::Shift>,
+    title: &str,
+) -> Result<
+    DrawingArea<SVGBackend<'a>, plotters::coord::Shift>,
+    DrawingAreaErrorKind<<SVGBackend<'a> as DrawingBackend>::ErrorType>,
+> {
+    let width = root.dim_in_pixel().0 as f64 - 40.0;
+    let chars = title.chars().count().max(1) as f64;
+    let size = (width / (0.55 * chars))
+        .floor()
+        .clamp(12.0, FONT_TITLE as f64) as u32;
+    root.titled(title, ("sans-serif", size))
+}
 
 /// Draws one unbroken run (in drawn coordinates) of line `l` in its style.
 fn draw_run(c: &mut Plot<'_, '_>, l: &Line, run: &Run, title: &str) -> Result<(), PlotError> {
@@ -279,6 +298,42 @@ mod tests {
                 assert!(text_x(&svg, n) > (CANVAS.0 - LEGEND_PANEL) as f64);
             }
         }
+    }
+
+    /// A long title fits on the canvas: it starts right of the left edge
+    /// and its font shrinks to fit (the example fragility's title once
+    /// began "agility of a block…", its start off the canvas).
+    #[test]
+    fn a_long_title_stays_on_the_canvas() {
+        let title = "Fragility of a block of half-width b = 0.25 m, half-height h = 1 m \
+                     (α = 0.245 rad, p = 2.67 1/s, ε = 0.91)";
+        let mut c = chart(
+            vec![line(Some("a"), vec![(0.0, 0.0), (1.0, 1.0)])],
+            Scale::Linear,
+        );
+        c.title = title.into();
+        let svg = render(&c).unwrap();
+        let at = svg.find(&format!("\n{title}\n</text>")).expect("the title");
+        let element = &svg[svg[..at].rfind("<text").unwrap()..at];
+        let attr = |name: &str| -> f64 {
+            let from = element.find(&format!("{name}=\"")).expect(name) + name.len() + 2;
+            element[from..]
+                .split('"')
+                .next()
+                .unwrap()
+                .trim_end_matches("px")
+                .parse()
+                .unwrap()
+        };
+        let size = attr("font-size");
+        // Half the title's width at ~0.55 em a character, either side of x
+        // when centred (plotters anchors a caption at its middle).
+        let half = 0.55 * size * title.chars().count() as f64 / 2.0;
+        let x = attr("x");
+        assert!(
+            x - half >= 0.0 && x + half <= CANVAS.0 as f64,
+            "x {x}, size {size}"
+        );
     }
 
     /// A log axis from 0.33 to 10 is labelled 0.5, 1, 2, 5 and 10, each

@@ -345,7 +345,11 @@ impl Owner {
 /// its last `)`.
 /// The process's state in /proc/PID/stat (`R`, `S`, `Z` for a zombie, …).
 fn process_state(stat: &str) -> Option<char> {
-    stat[stat.rfind(')')? + 1..].split_whitespace().next()?.chars().next()
+    stat[stat.rfind(')')? + 1..]
+        .split_whitespace()
+        .next()?
+        .chars()
+        .next()
 }
 
 fn start_ticks(stat: &str) -> Option<u64> {

@@ -95,9 +95,10 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
             pga_g: (im == Im::Pga).then_some(x),
             eta: (im == Im::Pga).then(|| alpha / x),
             probability: fragility.probability(x),
-            empirical: state.capacities.as_ref().map(|t| {
-                t.partition_point(|&c| c < x) as f64 / t.len() as f64
-            }),
+            empirical: state
+                .capacities
+                .as_ref()
+                .map(|t| t.partition_point(|&c| c < x) as f64 / t.len() as f64),
         })
         .collect();
     let mut warnings = f.warnings.clone();

@@ -23,6 +23,4 @@ pub use assess::{assess, Assessment, Point};
 pub use direct::{DirectProgress, DirectRecords};
 pub use error::FragilityError;
 pub use laws::{default_records, laws, Laws, Source};
-pub use request::{
-    alpha_warning, block, check, laws_and_records, warnings, Request,
-};
+pub use request::{alpha_warning, block, check, laws_and_records, warnings, Request};

@@ -8,10 +8,10 @@ use super::error::RiskError;
 use super::inventory::{entries, InventoryBlock};
 use super::request::{Hazard, Request};
 use crate::block::{Block, Restitution};
+use crate::damage::{DamageStates, Dispersion, FitMethod};
 use crate::hazard::{self, HazardCurve};
 use crate::im::Im;
 use crate::label::Label;
-use crate::damage::{DamageStates, Dispersion, FitMethod};
 use crate::ops::damage;
 use crate::ops::fragility::{self, DirectRecords, FragilityError, Laws};
 use crate::risk::{self, Fragility, SiteRisk};
@@ -153,7 +153,9 @@ pub fn hazard_warnings(sites: &[(usize, HazardCurve)]) -> Vec<String> {
         .collect();
     // One AvgSA note for the file, not one per site.
     if out.len() > 1 && out.iter().all(|w| w.contains("AvgSA: a hazard file")) {
-        let first = out[0].split_once(": ").map_or(out[0].clone(), |(_, w)| w.to_string());
+        let first = out[0]
+            .split_once(": ")
+            .map_or(out[0].clone(), |(_, w)| w.to_string());
         out = vec![first];
     }
     out
@@ -221,7 +223,7 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
             })
             .collect();
         warnings.extend(hazard_notes.iter().cloned());
-        warnings.extend(site_infos.iter().filter_map(|s| tails(s, im.unit(), None)));
+        warnings.extend(site_infos.iter().flat_map(|s| tails(s, im.unit(), None)));
         let assessed = block_info(e, &block, floor);
         warnings.extend(sliding_warning(&assessed));
         out.push(Assessment {
@@ -291,10 +293,11 @@ pub fn hazard_im(
 /// from beyond the last IML (an extrapolation), or a fragility already
 /// above 1 % at the first IML (the events below the curve are not counted:
 /// the rate is a lower bound). `state` names a damage state.
-pub(super) fn tails(s: &SiteInfo, unit: &str, state: Option<&str>) -> Option<String> {
+pub(super) fn tails(s: &SiteInfo, unit: &str, state: Option<&str>) -> Vec<String> {
     let what = state.map_or(String::new(), |n| format!("`{n}`: "));
+    let mut out = Vec::new();
     if s.share_beyond_last_iml > 0.5 {
-        return Some(format!(
+        out.push(format!(
             "site {}: {what}{:.0} % of the rate comes from beyond the hazard curve's last IML \
              ({} {unit}), where its last slope is extrapolated; the rate and return period are \
              an extrapolation (compare --beyond stop)",
@@ -303,14 +306,15 @@ pub(super) fn tails(s: &SiteInfo, unit: &str, state: Option<&str>) -> Option<Str
             crate::im::level_text(s.last_iml)
         ));
     }
-    (s.fragility_at_first_iml > 0.01).then(|| {
-        format!(
+    if s.fragility_at_first_iml > 0.01 {
+        out.push(format!(
             "site {}: {what}P = {:.1} % already at the hazard curve's first IML ({} {unit}): \
              the events below it are not counted, so the rate is a lower bound; give a curve \
              that starts lower",
             s.site,
             100.0 * s.fragility_at_first_iml,
             crate::im::level_text(s.first_iml)
-        )
-    })
+        ));
+    }
+    out
 }

@@ -41,15 +41,8 @@ pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
     };
     let mut csv = csv::ReaderBuilder::new().from_reader(bytes.as_slice());
     let headers = csv.headers().map_err(|e| bad(1, e.to_string()))?.clone();
-    // A column given twice is ambiguous: which `b` is the block's?
-    for (k, h) in headers.iter().enumerate() {
-        if headers.iter().take(k).any(|o| o.trim() == h.trim()) {
-            return Err(bad(
-                1,
-                format!("column `{}` is given twice (columns {} and {})", h.trim(),
-                    1 + headers.iter().position(|o| o.trim() == h.trim()).unwrap_or(0), k + 1),
-            ));
-        }
+    if let Some(message) = repeated_column(&headers) {
+        return Err(bad(1, message));
     }
     let col = |name: &str| headers.iter().position(|h| h.trim() == name);
     let (Some(cn), Some(cb), Some(ch)) = (col("name"), col("b"), col("h")) else {
@@ -87,19 +80,7 @@ pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
         if out.iter().any(|b| b.name == name) {
             return Err(bad(line, format!("block `{name}` is listed twice")));
         }
-        let eps = match ce.map(cell) {
-            None | Some("") => Restitution::Housner,
-            Some(text) => text
-                .parse::<Restitution>()
-                .ok()
-                .filter(|e| !matches!(e, Restitution::Value(v) if !v.is_finite()))
-                .ok_or_else(|| {
-                    bad(
-                        line,
-                        format!("`eps` = `{text}`: give a number in (0, 1] or `housner`"),
-                    )
-                })?,
-        };
+        let eps = restitution(ce.map(cell)).map_err(|m| bad(line, m))?;
         let (b_m, h_m) = (num(cb, "b")?, num(ch, "h")?);
         let mu = match cm.map(cell) {
             None | Some("") => None,
@@ -146,4 +127,30 @@ pub(super) fn entries(blocks: &Blocks) -> Result<Vec<InventoryBlock>, RiskError>
         }],
         Blocks::Inventory(path) => read_inventory(path)?,
     })
+}
+
+/// A column given twice is ambiguous (which `b` is the block's?): the
+/// message naming it and where.
+fn repeated_column(headers: &csv::StringRecord) -> Option<String> {
+    let names: Vec<&str> = headers.iter().map(str::trim).collect();
+    names.iter().enumerate().find_map(|(k, h)| {
+        let first = names[..k].iter().position(|o| o == h)?;
+        Some(format!(
+            "column `{h}` is given twice (columns {} and {})",
+            first + 1,
+            k + 1
+        ))
+    })
+}
+
+/// The `eps` cell: a number, or empty or `housner` for Housner's bound.
+fn restitution(cell: Option<&str>) -> Result<Restitution, String> {
+    match cell {
+        None | Some("") => Ok(Restitution::Housner),
+        Some(text) => text
+            .parse::<Restitution>()
+            .ok()
+            .filter(|e| !matches!(e, Restitution::Value(v) if !v.is_finite()))
+            .ok_or_else(|| format!("`eps` = `{text}`: give a number in (0, 1] or `housner`")),
+    }
 }

@@ -180,6 +180,21 @@ fn prepare(cx: &Context) -> Result<Setup, SweepError> {
     for m in &models {
         cx.reporter.note("sweep", &format!("model: {m}"));
     }
+    // A block that slides before it rocks: its capacities assume it is
+    // restrained against sliding (the report and `capacities.parquet`
+    // mark it too).
+    for b in plan.blocks().iter().filter(|b| b.slides_first()) {
+        if let (Some(mu), Some(alpha)) = (b.mu, b.alpha_rad) {
+            cx.reporter.note(
+                "sweep",
+                &format!(
+                    "warning: block `{}`: {}",
+                    b.name,
+                    crate::block::sliding_warning(mu, alpha)
+                ),
+            );
+        }
+    }
     let parts = study.path("parts");
     fs::create_dir_all(&parts).map_err(|source| SweepError::Io {
         path: parts.clone(),

@@ -111,7 +111,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let out = args.out.clone().unwrap_or_else(|| "risk.parquet".into());
     if args.out.is_some() && args.blocks.inventory.is_none() {
-        anyhow::bail!("--out writes an inventory's table; one block's answer is printed (or --json)");
+        anyhow::bail!(
+            "--out writes an inventory's table; one block's answer is printed (or --json)"
+        );
     }
     let mut inputs = vec![args.hazard.as_path()];
     inputs.extend(args.blocks.inventory.as_deref());
@@ -126,22 +128,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         rocking::outpath::check("--plot", plot, "svg", &inputs)?;
     }
     let all = risk::assess(&req)?;
-    let chart_site = args.site.unwrap_or(0);
     // The chart is drawn before anything is written: a chart that cannot
     // be drawn (every rate 0) leaves no table behind either.
-    let chart = match (&args.plot, args.blocks.inventory.is_some()) {
-        (None, _) => None,
-        (Some(_), true) => Some(risk::ranking_chart(&all, chart_site)?),
-        (Some(_), false) => {
-            let a = &all[0];
-            let site = a
-                .sites
-                .iter()
-                .find(|s| s.site == chart_site)
-                .unwrap_or(&a.sites[0]);
-            Some(risk::deaggregation_chart(a, site)?)
-        }
-    };
+    let inventory = args.blocks.inventory.is_some();
+    let site = args.site.unwrap_or(0);
+    let chart = args
+        .plot
+        .as_ref()
+        .map(|_| chart(&all, site, inventory))
+        .transpose()?;
     if args.blocks.inventory.is_some() {
         risk::write_table(&out, &risk::rows(&all, beyond), &req.hazard.name())?;
     }
@@ -251,6 +246,21 @@ fn run_states(
         }
     }
     Ok(())
+}
+
+/// The SVG of `--plot`: the blocks ranked at `site` (an inventory), or the
+/// one block's deaggregation there.
+fn chart(all: &[Assessment], site: usize, inventory: bool) -> anyhow::Result<String> {
+    if inventory {
+        return Ok(risk::ranking_chart(all, site)?);
+    }
+    let a = &all[0];
+    let s = a
+        .sites
+        .iter()
+        .find(|s| s.site == site)
+        .unwrap_or(&a.sites[0]);
+    Ok(risk::deaggregation_chart(a, s)?)
 }
 
 fn rate(r: f64) -> String {

@@ -49,4 +49,3 @@ pub fn records_text(records: Option<usize>, folder: Option<&str>) -> String {
         _ => String::new(),
     }
 }
-

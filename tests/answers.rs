@@ -1,0 +1,555 @@
+//! Answers that once contradicted each other or physics, each found by a
+//! hostile probe of the newer commands and each named after its fault:
+//! hazard files that meant something else, exports an engine could not
+//! read or that mixed two runs, records and periods that never finished,
+//! and messages that named the wrong thing. (The agreement of the commands
+//! is in `risk` and `damage`, the engines' in `engines`.)
+
+use std::fs;
+use std::path::Path;
+
+use serde_json::Value;
+
+use crate::util::{at2_text, bundled_records, rocking, root, stderr, stdout, tempdir};
+
+fn json(out: &std::process::Output) -> Value {
+    assert!(out.status.success(), "{}", stderr(out));
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+fn fails(dir: &Path, args: &[&str], what: &str) -> String {
+    let out = rocking(dir, args);
+    assert!(!out.status.success(), "{args:?} succeeded");
+    let e = stderr(&out);
+    assert!(e.contains(what), "{args:?}: {e}");
+    e
+}
+
+const KOBE: &str = "far-field/RSN1111_KOBE_NIS000.AT2";
+
+/// An OpenQuake hazard CSV in PGA with `imls` and one row per site
+/// (lon, lat, poes).
+fn openquake(path: &Path, imt: &str, imls: &[&str], rows: &[(&str, &str, &[&str])]) {
+    let mut text = format!(
+        "#,,,,\"generated_by='test', start_date='2026-01-01', checksum=0, kind='mean', \
+         investigation_time=50.0, imt='{imt}'\"\nlon,lat,depth"
+    );
+    for a in imls {
+        text.push_str(&format!(",poe-{a}"));
+    }
+    text.push('\n');
+    for (lon, lat, poes) in rows {
+        text.push_str(&format!("{lon},{lat},0.0,{}\n", poes.join(",")));
+    }
+    fs::write(path, text).unwrap();
+}
+
+/// `ims --period 1e-9` never ended (time grows as 1/T) and the keys of
+/// `sa_g` were Rust's debug text (`"1000000000.0"`, `"1e-6"`): a period
+/// below Δt/250 is refused at once, and keys are plain decimals.
+#[test]
+fn a_tiny_period_is_refused_and_sa_keys_are_plain_decimals() {
+    let dir = tempdir();
+    let kobe = bundled_records().join(KOBE);
+    let kobe = kobe.to_str().unwrap();
+    let e = fails(
+        dir.path(),
+        &["ims", "--record", kobe, "--period", "1e-9"],
+        "period T = 0.000000001 s is below Δt/250",
+    );
+    assert!(e.contains("ask for T ≥ 0.00004 s, or for PGA"), "{e}");
+    // Through --direct, where SA is computed at any period, too.
+    fails(
+        dir.path(),
+        &[
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--im",
+            "sa(1e-9)",
+            "--at",
+            "0.3",
+            "--direct",
+        ],
+        "below Δt/250",
+    );
+    let v = json(&rocking(
+        dir.path(),
+        &[
+            "ims", "--record", kobe, "--period", "1e9", "--period", "1e-4", "--period", "5e-5",
+            "--json",
+        ],
+    ));
+    let keys: Vec<&String> = v["sa_g"].as_object().unwrap().keys().collect();
+    for key in ["1000000000.0", "0.0001", "0.00005", "1.0", "0.05"] {
+        assert!(keys.iter().any(|k| *k == key), "{key} in {keys:?}");
+    }
+    // SA at 0.1 ms is the record's PGA (a rigid oscillator): it lags the
+    // ground by its damping force, a relative 2ζ|ȧ|/(ω|a|), below 1e-3
+    // for a slope |ȧ| of up to 6|a|/Δt at ω = 62,832 rad/s, ζ = 0.05.
+    let (sa, pga) = (
+        v["sa_g"]["0.0001"].as_f64().unwrap(),
+        v["pga_g"].as_f64().unwrap(),
+    );
+    assert!((sa / pga - 1.0).abs() < 1e-3, "{sa} against {pga}");
+}
+
+/// A record sampled every 1e4 s never finished its spectrum; it is refused
+/// when read, naming DT.
+#[test]
+fn a_record_sampled_every_ten_thousand_seconds_is_refused() {
+    let dir = tempdir();
+    let path = dir.path().join("slow.AT2");
+    fs::write(
+        &path,
+        at2_text(
+            "ACCELERATION TIME SERIES IN UNITS OF G",
+            "NPTS=    5, DT= 10000.0 SEC",
+            &["0.0", "0.1", "-0.2", "0.1", "0.0"],
+        ),
+    )
+    .unwrap();
+    fails(
+        dir.path(),
+        &["ims", "--record", path.to_str().unwrap()],
+        "DT = 10000 s: an accelerogram is sampled every 0.001–0.05 s",
+    );
+}
+
+/// D5–95 of a record scaled by 1e300 was 0 (∫a² overflowed); a duration
+/// does not change with scaling. Arias and CAV of one sample were −0.
+#[test]
+fn durations_do_not_change_with_scaling_and_nothing_is_minus_zero() {
+    use rocking::im::record::{arias_m_s, cav_g_s, significant_duration_s};
+    let (acc, dt) = rocking::records::read_samples(&bundled_records().join(KOBE)).unwrap();
+    let d = significant_duration_s(&acc, dt, 0.05, 0.95);
+    for k in [1e300, 1e-300, -3.0] {
+        let scaled: Vec<f64> = acc.iter().map(|a| a * k).collect();
+        let ds = significant_duration_s(&scaled, dt, 0.05, 0.95);
+        assert!((ds - d).abs() < 1e-9 * d, "×{k}: {ds} against {d}");
+    }
+    assert!(d > 1.0);
+    for one in [[0.3], [-0.3]] {
+        assert_eq!(arias_m_s(&one, dt).to_bits(), 0);
+        assert_eq!(cav_g_s(&one, dt).to_bits(), 0);
+    }
+}
+
+/// Hazard IMLs ≤ 0 printed NaN, and lon 200 / lat 95 went into the
+/// exposure: refused, naming the line and the column.
+#[test]
+fn impossible_hazard_levels_and_coordinates_are_refused() {
+    let dir = tempdir();
+    let d = dir.path();
+    let block = ["--b", "0.2", "--h", "0.9"];
+    let case = |imls: &[&str], lon: &str, lat: &str, what: &str| {
+        openquake(
+            &d.join("h.csv"),
+            "PGA",
+            imls,
+            &[(lon, lat, &["0.5", "0.1", "0.01"])],
+        );
+        let mut args = vec!["risk", "--hazard", "h.csv"];
+        args.extend(block);
+        fails(d, &args, what);
+    };
+    case(
+        &["0", "0.2", "0.5"],
+        "20",
+        "38",
+        "h.csv:2: column `poe-0`: the IML 0 must be positive",
+    );
+    case(
+        &["-0.1", "0.2", "0.5"],
+        "20",
+        "38",
+        "the IML -0.1 must be positive",
+    );
+    case(
+        &["0.1", "0.2", "0.5"],
+        "200",
+        "38",
+        "h.csv:3: column `lon`: 200° is not a lon",
+    );
+    case(
+        &["0.1", "0.2", "0.5"],
+        "20",
+        "95",
+        "h.csv:3: column `lat`: 95° is not a lat",
+    );
+}
+
+/// PGA given in gal (49–981 "g") or PGV in m/s (0.05–1 "cm/s") went
+/// through without a word; AvgSA was taken whatever its periods. Each is
+/// warned of, naming the likely unit.
+#[test]
+fn likely_unit_slips_are_warned_of() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(
+        d.join("gal.csv"),
+        "pga_g,annual_rate\n49,0.01\n196,0.001\n490,0.0001\n981,0.00001\n",
+    )
+    .unwrap();
+    fs::write(
+        d.join("ms.csv"),
+        "pgv_cm_s,annual_rate\n0.05,0.01\n0.2,0.001\n0.5,0.0001\n1,0.00001\n",
+    )
+    .unwrap();
+    fs::write(
+        d.join("avgsa.csv"),
+        "avgsa_g,annual_rate\n0.05,0.01\n0.2,0.001\n0.5,0.0001\n1,0.00001\n",
+    )
+    .unwrap();
+    let warned = |file: &str, direct: bool, what: &str| {
+        let mut args = vec![
+            "risk", "--hazard", file, "--b", "0.2", "--h", "0.9", "--json",
+        ];
+        if direct {
+            args.push("--direct");
+        }
+        let out = rocking(d, &args);
+        let v = json(&out);
+        let all: Vec<&str> = v["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|w| w.as_str().unwrap())
+            .collect();
+        assert!(all.iter().any(|w| w.contains(what)), "{file}: {all:?}");
+        assert!(stderr(&out).contains(what));
+    };
+    warned(
+        "gal.csv",
+        false,
+        "are they in cm/s² (gal)? Divide them by 981",
+    );
+    warned("ms.csv", true, "are they in m/s? Multiply them by 100");
+    warned(
+        "avgsa.csv",
+        true,
+        "the hazard must be computed over the same periods",
+    );
+}
+
+/// A duplicated inventory column silently took the first.
+#[test]
+fn a_duplicated_inventory_column_is_refused() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(d.join("h.csv"), "pga_g,annual_rate\n0.1,0.01\n0.3,0.001\n").unwrap();
+    fs::write(d.join("inv.csv"), "name,b,h,b\nstatue,0.2,0.9,0.4\n").unwrap();
+    fails(
+        d,
+        &["risk", "--hazard", "h.csv", "--inventory", "inv.csv"],
+        "inv.csv:1: column `b` is given twice (columns 2 and 4)",
+    );
+}
+
+/// `--plot` with every rate 0 wrote the table, then failed; `--out` with
+/// `--states` (or for one block) exited 0 and wrote nothing.
+#[test]
+fn risk_writes_nothing_it_cannot_finish_and_refuses_what_it_would_ignore() {
+    let dir = tempdir();
+    let d = dir.path();
+    // Every level below the statues' uplift PGA (0.2/0.9 g): no rate.
+    fs::write(
+        d.join("low.csv"),
+        "pga_g,annual_rate\n0.01,0.01\n0.05,0.001\n0.1,0.0001\n",
+    )
+    .unwrap();
+    fs::write(
+        d.join("inv.csv"),
+        "name,b,h\nstatue,0.2,0.9\nwide,0.5,0.9\n",
+    )
+    .unwrap();
+    let args = [
+        "risk",
+        "--hazard",
+        "low.csv",
+        "--inventory",
+        "inv.csv",
+        "--beyond",
+        "stop",
+        "--out",
+        "r.parquet",
+        "--plot",
+        "r.svg",
+    ];
+    let out = rocking(d, &args);
+    assert!(!out.status.success(), "{}", stdout(&out));
+    assert!(!d.join("r.parquet").exists() && !d.join("r.svg").exists());
+    for extra in [
+        &[
+            "--inventory",
+            "inv.csv",
+            "--states",
+            "a=0.5,overturned=overturned",
+            "--out",
+            "x.parquet",
+        ][..],
+        &["--b", "0.2", "--h", "0.9", "--out", "x.parquet"][..],
+    ] {
+        let mut args = vec!["risk", "--hazard", "low.csv"];
+        args.extend(extra);
+        let out = rocking(d, &args);
+        assert!(!out.status.success(), "{args:?}");
+        assert!(stderr(&out).contains("--out"), "{}", stderr(&out));
+        assert!(!d.join("x.parquet").exists());
+    }
+}
+
+/// Most of P(OT) below the hazard curve's first IML was not said (the upper
+/// tail warned; the lower did not): the rate is then a lower bound. And the
+/// PGV extrapolation warning spoke of "60 g".
+#[test]
+fn both_ends_of_a_short_hazard_curve_are_warned_of_in_its_unit() {
+    let dir = tempdir();
+    let d = dir.path();
+    // From 0.6 g, above the statue's median (0.45 g): P(OT) there is 0.8.
+    fs::write(
+        d.join("high.csv"),
+        "pga_g,annual_rate\n0.6,0.001\n0.8,0.0003\n1.0,0.0001\n",
+    )
+    .unwrap();
+    let v = json(&rocking(
+        d,
+        &[
+            "risk", "--hazard", "high.csv", "--b", "0.2", "--h", "0.9", "--json",
+        ],
+    ));
+    let w = v["warnings"].to_string();
+    assert!(
+        w.contains("already at the hazard curve's first IML (0.6 g)"),
+        "{w}"
+    );
+    assert!(w.contains("the rate is a lower bound"), "{w}");
+    // A PGV curve that stops short: the extrapolation named in cm/s.
+    fs::write(
+        d.join("pgv.csv"),
+        "pgv_cm_s,annual_rate\n2,0.1\n10,0.01\n20,0.003\n",
+    )
+    .unwrap();
+    let v = json(&rocking(
+        d,
+        &[
+            "risk", "--hazard", "pgv.csv", "--b", "0.2", "--h", "0.9", "--direct", "--json",
+        ],
+    ));
+    let w = v["warnings"].to_string();
+    assert!(w.contains("last IML (20 cm/s)"), "{w}");
+    assert!(!w.contains(" g)"), "{w}");
+}
+
+/// Exports an engine cannot read or that mixed two runs: one record gave
+/// β = 0 (OpenQuake's lognormal returns NaN); a second export into the same
+/// folder left the first's job, exposure and assets beside it; a folder
+/// holding a user's own file was written over; two exports at once mixed
+/// blocks.
+#[test]
+fn an_export_folder_is_one_consistent_set() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::create_dir_all(d.join("one")).unwrap();
+    fs::copy(bundled_records().join(KOBE), d.join("one/kobe.AT2")).unwrap();
+    let hazard = root().join("records/hazard/synthetic-openquake.csv");
+    let hazard = hazard.to_str().unwrap();
+    let block = ["--b", "0.2", "--h", "0.9", "--direct"];
+    let run = |extra: &[&str]| {
+        let mut args = vec!["export"];
+        args.extend(block);
+        args.extend(extra);
+        rocking(d, &args)
+    };
+    let out = run(&["--format", "pelicun", "--records", "one", "--out", "beta0"]);
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(e.contains("β = 0 (one record reaches it)"), "{e}");
+    assert!(e.contains("cannot evaluate"), "{e}");
+    assert!(!d.join("beta0/fragility.csv").exists());
+    // Ten records or fewer: warned of as rough.
+    fs::create_dir_all(d.join("few")).unwrap();
+    for e in fs::read_dir(bundled_records().join("far-field"))
+        .unwrap()
+        .take(8)
+    {
+        let e = e.unwrap();
+        fs::copy(e.path(), d.join("few").join(e.file_name())).unwrap();
+    }
+    let out = run(&[
+        "--format",
+        "pelicun",
+        "--records",
+        "few",
+        "--out",
+        "few-out",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("capacities of 8 records (fewer than 10)"),
+        "{}",
+        stderr(&out)
+    );
+    // A job, then a pelicun model into the same folder: the job is gone.
+    let out = run(&["--format", "nrml", "--hazard", hazard, "--out", "x"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(d.join("x/job.ini").exists() && d.join("x/assets.csv").exists());
+    let out = run(&["--format", "pelicun", "--out", "x"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let mut left: Vec<String> = fs::read_dir(d.join("x"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| !n.starts_with('.'))
+        .collect();
+    left.sort();
+    assert_eq!(left, ["fragility.csv", "fragility.json"]);
+    // A folder with a user's own job.ini is not written over.
+    fs::create_dir_all(d.join("mine")).unwrap();
+    fs::write(d.join("mine/job.ini"), "mine").unwrap();
+    let out = run(&["--format", "nrml", "--hazard", hazard, "--out", "mine"]);
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("it holds job.ini, which no export wrote"),
+        "{}",
+        stderr(&out)
+    );
+    assert_eq!(fs::read_to_string(d.join("mine/job.ini")).unwrap(), "mine");
+    // A folder another export holds (a live process's lock) is refused.
+    let mut holder = std::process::Command::new("sleep")
+        .arg("30")
+        .spawn()
+        .unwrap();
+    let stat = fs::read_to_string(format!("/proc/{}/stat", holder.id())).unwrap();
+    let ticks: u64 = stat[stat.rfind(')').unwrap() + 1..]
+        .split_whitespace()
+        .nth(19)
+        .unwrap()
+        .parse()
+        .unwrap();
+    let host = fs::read_to_string("/proc/sys/kernel/hostname").unwrap();
+    fs::write(
+        d.join("x/.lock"),
+        serde_json::json!({
+            "pid": holder.id(), "host": host.trim(), "started_ticks": ticks,
+            "since_unix_s": 0, "command": "rocking export", "process": "sleep"
+        })
+        .to_string(),
+    )
+    .unwrap();
+    let out = run(&["--format", "pelicun", "--out", "x"]);
+    holder.kill().unwrap();
+    holder.wait().unwrap();
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("is in use: `rocking export`"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+/// `export --json` for an inventory had no block name, sizes or taxonomy,
+/// and the sliding-first flag never reached the exports.
+#[test]
+fn an_export_names_its_blocks_and_their_sliding() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(
+        d.join("inv.csv"),
+        "name,b,h,eps,mu\nmarble statue,0.2,0.9,0.85,0.1\nrack,0.3,1.0,0.75,\n",
+    )
+    .unwrap();
+    let out = rocking(
+        d,
+        &[
+            "export",
+            "--format",
+            "nrml",
+            "--inventory",
+            "inv.csv",
+            "--out",
+            "o",
+            "--json",
+        ],
+    );
+    let v = json(&out);
+    assert_eq!(v[0]["block"]["name"], "marble statue");
+    assert_eq!(v[0]["taxonomy"], "marble_statue");
+    assert_eq!(v[0]["block"]["b_m"], 0.2);
+    assert_eq!(v[0]["block"]["slides_first"], true);
+    assert_eq!(v[1]["block"]["slides_first"], Value::Null);
+    let xml = fs::read_to_string(d.join("o/fragility_model.xml")).unwrap();
+    assert!(
+        xml.contains("marble statue: half-width 0.2 m") && xml.contains("slides before it rocks")
+    );
+    assert!(stderr(&out).contains("warning: block marble statue: the block slides"));
+}
+
+/// Messages that named the wrong thing: `--im pgv` without `--at` asked
+/// for `--pga`; `capacity --b --h` said "linearised model, as asked" when
+/// nothing was asked (and not that it errs by 2 % at α = 0.22); a state at
+/// θmax/α ≥ 1e-300 printed 300 zeros and, under MLE, "fewer than two
+/// records reach the state" when 44 do.
+#[test]
+fn messages_name_what_is_meant() {
+    let dir = tempdir();
+    let d = dir.path();
+    fails(
+        d,
+        &["fragility", "--b", "0.2", "--h", "0.9", "--im", "pgv"],
+        "give the levels of pgv with --at (in cm/s)",
+    );
+    let kobe = bundled_records().join(KOBE);
+    let out = rocking(
+        d,
+        &[
+            "capacity",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--eps",
+            "0.9",
+            "--record",
+            kobe.to_str().unwrap(),
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(!text.contains("as asked"), "{text}");
+    assert!(
+        text.contains(
+            "linearised model, which errs by about 2.2e-2 in η_c at α = 0.2187 rad; --model auto"
+        ),
+        "{text}"
+    );
+    let states = "a=1e-300,overturned=overturned";
+    let out = rocking(
+        d,
+        &[
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--pga",
+            "0.3",
+            "--direct",
+            "--states",
+            states,
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(stdout(&out).contains("θmax/α ≥ 1e-300"), "{}", stdout(&out));
+    assert!(!stdout(&out).contains("0.0000000000"));
+    let e = fails(
+        d,
+        &[
+            "export", "--format", "pelicun", "--b", "0.2", "--h", "0.9", "--direct", "--states",
+            states, "--method", "mle", "--out", "o",
+        ],
+        "damage state `a` has no mle fit (the records that reach it all reach it at one level",
+    );
+    assert!(!e.contains("fewer than two"), "{e}");
+}
