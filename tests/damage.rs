@@ -344,7 +344,19 @@ fn states_from_a_study_carried_to_a_block() {
         let p50 = 1.0 - (-50.0 * got).exp();
         assert!((r["p_in_years"].as_f64().unwrap() - p50).abs() < 1e-15);
     }
-    // Refusals.
+    // Refusals. SA at a period the study's records do not carry: the
+    // periods they do, and --direct (once "periods 0.05–4 s", which holds
+    // 0.6, or "no full grid of p × ε").
+    let mut args = vec!["fragility".to_string()];
+    args.extend(common(&["--im", "sa(0.6)", "--at", "0.1"]));
+    let out = run(args);
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(
+        e.contains("has no sa(0.6): a study's records carry SA at 0.05, 0.075")
+            && e.contains("(--direct), which computes SA at any period"),
+        "{e}"
+    );
     let mut args = vec!["fragility".to_string()];
     args.extend(common(&["--pga", "0.1"]));
     let k = args.iter().position(|a| a == STATES).unwrap();

@@ -56,6 +56,20 @@ pub enum ImTableError {
     },
     #[error("the study's IM table: {0}")]
     Bad(String),
+    #[error(
+        "{} has no {im}: {}",
+        path.display(),
+        match im.strip_prefix("sa(") {
+            Some(_) => format!(
+                "a study's records carry SA at {} s only (docs/MODEL.md §14); ask for one of \
+                 them, or run the block through the records (--direct), which computes SA at any \
+                 period",
+                crate::im::PERIODS_S.map(crate::im::period_text).join(", ")
+            ),
+            None => "run the study's ims stage again, or use --direct".to_string(),
+        }
+    )]
+    NotInStudy { im: String, path: PathBuf },
     #[error("{0} has no dimensionless form to carry a study's capacities to another block; use --direct")]
     NoDimensionless(String),
 }
@@ -98,6 +112,9 @@ impl ImTable {
             .filter(|r| r.im == name)
             .map(|r| (r.p, r.eps, r.median_dimensionless, Some(r.beta)))
             .collect();
+        if nodes.is_empty() {
+            return Err(ImTableError::NotInStudy { im: name, path });
+        }
         let grid = Grid::of(&nodes).ok_or_else(|| {
             ImTableError::Bad(format!(
                 "{} has no full grid of p × ε for {name} (a study of [blocks] p and eps carries over to other blocks; one of [[block]] entries does not)",
@@ -151,6 +168,9 @@ impl DamageTable {
         let rows: Vec<DamageStateRow> =
             crate::tables::read(&path).map_err(|e| ImTableError::Bad(e.to_string()))?;
         let name = im.name();
+        if !rows.iter().any(|r| r.im == name) {
+            return Err(ImTableError::NotInStudy { im: name, path });
+        }
         let mut states: Vec<(String, String, Option<Grid>)> = Vec::new();
         for r in rows.iter().filter(|r| r.im == name && r.method == method) {
             if !states.iter().any(|s| s.0 == r.state) {
