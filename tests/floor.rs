@@ -748,3 +748,119 @@ fn a_node_floor_gives_the_grounds_fragility_in_any_im_and_export() {
     };
     assert_eq!(body(&g), body(&n));
 }
+
+/// Fragilities in floor demands (FEMA P-58's PFA and PFV): the floor
+/// motions written as AT2 files and run as records on the ground give the
+/// same PFA and PFV fragilities as the block on that floor, to the bit
+/// (the demand is the floor motion's own, not restated in the ground's);
+/// each floor motion's PFV equals the test's own integration of it (exact
+/// for a piecewise-linear acceleration: trapezoids at the samples, the
+/// parabola's vertex where the acceleration changes sign inside an
+/// interval). On the ground, PFA and PFV are PGA and PGV. Without
+/// `--direct` they are refused: a study's tables are the ground's.
+#[test]
+fn floor_demands_are_the_floor_motions_own() {
+    let dir = tempdir();
+    let few = few_far_field(dir.path(), &FEW[..3]);
+    let mode = "0.5,0.05,1.3";
+    let building = rocking::floor::Building::new(vec![mode.parse().unwrap()]).unwrap();
+    let floors = dir.path().join("floors");
+    std::fs::create_dir(&floors).unwrap();
+    let mut pfv_by_hand = Vec::new();
+    for id in &FEW[..3] {
+        let record = few.join(format!("{id}.AT2"));
+        let (_, dt) = rocking::records::read_samples(&record).unwrap();
+        let f = building
+            .floor_motion(&plain_at2_values(&record), dt)
+            .unwrap();
+        write_at2(&floors.join(format!("{id}.AT2")), &f.accel_g, f.dt_s);
+        let (a, h) = (&f.accel_g, f.dt_s);
+        let (mut v, mut peak) = (0.0f64, 0.0f64);
+        for w in a.windows(2) {
+            if w[0] * w[1] < 0.0 {
+                let tau = -w[0] * h / (w[1] - w[0]);
+                peak = peak.max((v + w[0] * tau / 2.0).abs());
+            }
+            v += 0.5 * h * (w[0] + w[1]);
+            peak = peak.max(v.abs());
+        }
+        pfv_by_hand.push(peak * 980.665);
+    }
+    for (k, id) in FEW[..3].iter().enumerate() {
+        let path = floors.join(format!("{id}.AT2"));
+        let ims = json(&rocking(
+            &root(),
+            &["ims", "--record", path.to_str().unwrap(), "--json"],
+        ));
+        let pfv = ims["pgv_cm_s"].as_f64().unwrap();
+        assert!(
+            (pfv / pfv_by_hand[k] - 1.0).abs() < 1e-12,
+            "{id}: {pfv} against {}",
+            pfv_by_hand[k]
+        );
+    }
+    let fragility = |records: &Path, im: &str, at: &str, floor: Option<&str>| {
+        let mut args = vec![
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--direct",
+            "--im",
+            im,
+            "--at",
+            at,
+            "--records",
+            records.to_str().unwrap(),
+            "--json",
+        ];
+        if let Some(m) = floor {
+            args.extend(["--floor", m]);
+        }
+        json(&rocking(&root(), &args))
+    };
+    for (im, at) in [("pfa", "0.3,0.6"), ("pfv", "30,60")] {
+        let on = fragility(&few, im, at, Some(mode));
+        let as_records = fragility(&floors, im, at, None);
+        assert_eq!(on["im"], im);
+        for key in ["median", "beta", "points"] {
+            assert_eq!(on[key], as_records[key], "{im}: {key}");
+        }
+        // Not the ground's: the same block's PGA or PGV fragility on that
+        // floor is another curve.
+        let ground_im = if im == "pfa" { "pga" } else { "pgv" };
+        let ground = fragility(&few, ground_im, at, Some(mode));
+        assert_ne!(on["median"], ground["median"], "{im}");
+        // On the ground the demand is the ground's own motion.
+        let (a, b) = (
+            fragility(&few, im, at, None),
+            fragility(&few, ground_im, at, None),
+        );
+        assert_eq!(
+            (&a["median"], &a["beta"]),
+            (&b["median"], &b["beta"]),
+            "{im}"
+        );
+    }
+    let out = rocking(
+        &root(),
+        &[
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--im",
+            "pfv",
+            "--at",
+            "40",
+        ],
+    );
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("PFV is a demand of the motion the block stands on"),
+        "{}",
+        stderr(&out)
+    );
+}

@@ -272,10 +272,12 @@ def risk(
 
 
 def ims() -> List[Dict[str, Any]]:
-    """Every measure a record has (``rocking ims``), with what each answers:
-    ``name``, ``key`` (its column), ``unit``, whether it ``scales`` (a
-    capacity can be stated in it), whether a ``hazard`` curve may be in it,
-    and its ``openquake`` and ``pelicun`` names (``None``: none)."""
+    """Every measure a record has (``rocking ims``), then the floor demands
+    PFA and PFV, with what each answers: ``name``, ``key`` (its column),
+    ``unit``, whether it ``scales`` (a capacity can be stated in it),
+    whether a ``hazard`` curve may be in it, whether it is a ``floor``
+    demand (of the motion the block stands on, ``direct=True`` only), and
+    its ``openquake`` and ``pelicun`` names (``None``: none)."""
     return _core.ims()
 
 

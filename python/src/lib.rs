@@ -367,8 +367,10 @@ fn study_dir(pipeline: PathBuf, outputs: PathBuf) -> PyResult<String> {
 /// may be in it. The same enum the command line and the tables derive from.
 #[pyfunction]
 fn ims(py: Python<'_>) -> PyResult<Py<PyAny>> {
+    let floor = rocking::im::Im::kinds().into_iter().filter(|im| im.floor());
     let all: Vec<serde_json::Value> = rocking::im::Im::record_measures()
         .into_iter()
+        .chain(floor)
         .map(|im| {
             serde_json::json!({
                 "name": im.name(),
@@ -376,6 +378,7 @@ fn ims(py: Python<'_>) -> PyResult<Py<PyAny>> {
                 "unit": im.unit(),
                 "scales": im.scales(),
                 "hazard": im.hazard(),
+                "floor": im.floor(),
                 "openquake": im.openquake(),
                 "pelicun": im.pelicun().map(|(name, _)| name),
             })

@@ -191,6 +191,16 @@ def test_one_block_has_one_fragility_in_python_and_the_commands():
     assert e["points"][0]["probability"] == e["points"][0]["empirical"]
 
 
+def test_a_floor_demand_is_the_commands():
+    """PFV on a floor, from the block's runs: Python's is the command's."""
+    same(
+        rocking.fragility(0.2, 0.9, im="pfv", at=[40, 80], direct=True, records=FAR,
+                          floor=[(0.5, 0.05, 1.3)]),
+        cli_json("fragility", "--b", "0.2", "--h", "0.9", "--im", "pfv", "--at", "40,80",
+                 "--direct", "--records", FAR, "--floor", "0.5,0.05,1.3"),
+    )
+
+
 def test_bad_input_raises_value_errors_with_the_librarys_message(tmp_path):
     bad = tmp_path / "bad.AT2"
     bad.write_text("A\nB\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS= 3, DT= 0.01 SEC\n0.1 x 0.3\n")
@@ -282,12 +292,15 @@ def test_every_im_passes_pythons_doors_by_its_own_answers():
     listed = rocking.ims()
     assert [m["name"] for m in listed[:3]] == ["pga", "pgv", "pgd"]
     assert {m["key"] for m in listed} >= {"pga_g", "pgv_cm_s", "d5_95_s", "sa(1.0)_g"}
+    assert [m["name"] for m in listed if m["floor"]] == ["pfa", "pfv"]
     for m in listed:
         try:
             rocking.fragility(0.2, 0.9, im=m["name"], at=[1.0])
             refused = False
         except ValueError as e:
             refused = "a capacity cannot be stated in" in str(e)
+            # A floor demand is the block's own runs' (direct=True).
+            assert ("a demand of the motion the block stands on" in str(e)) == m["floor"], e
         assert refused == (not m["scales"]), m
         try:
             rocking.risk(([0.1, 0.2], [1e-2, 1e-3]), hazard_im=m["name"], b=0.2, h=0.9, direct=False)

@@ -147,6 +147,21 @@ impl Default for FragilityAsk {
     }
 }
 
+/// PFA and PFV are demands of the motion the block feels: from its own
+/// runs (`--direct`), not a study's or the paper's ground-motion tables.
+fn floor_demand_needs_runs(im: Im, direct: bool, sp: Spelling) -> Result<(), AskError> {
+    if im.floor() && !direct {
+        return Err(AskError(format!(
+            "{}: {} is a demand of the motion the block stands on, stated from its own runs; \
+             add {}",
+            sp.set("im", &im.name()),
+            im.short(),
+            sp.key("direct")
+        )));
+    }
+    Ok(())
+}
+
 impl FragilityAsk {
     /// The request, and the damage states asked (with their fit), if any.
     pub fn resolve(
@@ -163,6 +178,7 @@ impl FragilityAsk {
                 Im::listed(Im::scales, false)
             )));
         }
+        floor_demand_needs_runs(self.im, self.direct, sp)?;
         let levels = match (&self.pga[..], &self.at[..]) {
             ([], []) if self.im != Im::Pga => {
                 return Err(AskError(format!(
@@ -389,6 +405,9 @@ impl ExportAsk {
         progress: DirectProgress,
     ) -> Result<(export::Request, bool), AskError> {
         let from = self.law.resolve();
+        if let Some(im) = self.im {
+            floor_demand_needs_runs(im, self.direct, sp)?;
+        }
         let paper_alone = !self.direct && matches!(from, Source::Paper { .. });
         let (states, asked) = match &self.states {
             Some(s) => (s.clone(), true),

@@ -51,11 +51,19 @@ pub enum Im {
     PgvPga,
     /// Mean period over 0.25–20 Hz (s; Rathje, Abrahamson & Bray 1998).
     Tm,
+    /// Peak floor acceleration (g): the peak absolute acceleration of the
+    /// motion the block stands on, its floor's (FEMA P-58's PFA); on the
+    /// ground, the record's PGA. A demand of the block's own motion, not a
+    /// hazard's: `--direct` only.
+    Pfa,
+    /// Peak floor velocity (cm/s): the peak absolute velocity of that
+    /// motion (FEMA P-58's PFV); on the ground, the record's PGV.
+    Pfv,
 }
 
 /// One member per kind, SA at 1 s standing for every period: the order
 /// every list of IMs follows (the capacity measures first).
-const KINDS: [Im; 10] = [
+const KINDS: [Im; 12] = [
     Im::Pga,
     Im::Pgv,
     Im::Pgd,
@@ -66,6 +74,8 @@ const KINDS: [Im; 10] = [
     Im::D5_95,
     Im::PgvPga,
     Im::Tm,
+    Im::Pfa,
+    Im::Pfv,
 ];
 
 /// What `fragility`, `risk` and the exports may be asked for, and what the
@@ -75,7 +85,7 @@ impl Im {
     /// damage stage's fits): every scaling measure, SA at every period of
     /// [`PERIODS_S`].
     pub fn capacity_measures() -> Vec<Im> {
-        Im::expand(|im| im.scales())
+        Im::expand(|im| im.scales() && !im.floor())
     }
 
     /// Every measure computed for a record (`rocking ims`, the
@@ -85,7 +95,7 @@ impl Im {
         let mut out: Vec<Im> = KINDS
             .iter()
             .copied()
-            .filter(|im| !matches!(im, Im::Sa(_)))
+            .filter(|im| !matches!(im, Im::Sa(_)) && !im.floor())
             .collect();
         out.extend(PERIODS_S.iter().map(|&t| Im::Sa(t)));
         out
@@ -93,7 +103,7 @@ impl Im {
 
     /// One member of each kind (SA at 1 s standing for every period), in
     /// the order every list follows: to enumerate what a door accepts.
-    pub fn kinds() -> [Im; 10] {
+    pub fn kinds() -> [Im; 12] {
         KINDS
     }
 
@@ -120,7 +130,7 @@ impl Im {
                 (Im::Sa(_), false) => "sa(T)".to_string(),
                 (Im::Sa(_), true) => "SA(T)".to_string(),
                 (im, false) => im.name(),
-                (im, true) => im.openquake().unwrap_or_else(|| im.name()),
+                (im, true) => im.openquake().unwrap_or_else(|| im.short()),
             })
             .collect();
         match names.split_last() {
@@ -145,6 +155,8 @@ impl Im {
             Im::D5_95 => "d5_95".into(),
             Im::PgvPga => "pgv_pga".into(),
             Im::Tm => "tm".into(),
+            Im::Pfa => "pfa".into(),
+            Im::Pfv => "pfv".into(),
         }
     }
 
@@ -176,6 +188,8 @@ impl Im {
             Im::D5_95 => "D5–95".into(),
             Im::PgvPga => "PGV/PGA".into(),
             Im::Tm => "Tm".into(),
+            Im::Pfa => "PFA".into(),
+            Im::Pfv => "PFV".into(),
         }
     }
 
@@ -201,7 +215,7 @@ impl Im {
             Im::Arias => Some("IA".into()),
             Im::Cav => Some("CAV".into()),
             Im::D5_95 => Some("RSD595".into()),
-            Im::PgvPga | Im::Tm => None,
+            Im::PgvPga | Im::Tm | Im::Pfa | Im::Pfv => None,
         }
     }
 
@@ -212,6 +226,9 @@ impl Im {
         match self {
             Im::Pga => Some(("Peak Ground Acceleration".into(), "g")),
             Im::Pgv => Some(("Peak Ground Velocity".into(), "cmps")),
+            // FEMA P-58's contents components' demands (the DLML's E.20.22).
+            Im::Pfa => Some(("Peak Floor Acceleration".into(), "g")),
+            Im::Pfv => Some(("Peak Floor Velocity".into(), "cmps")),
             Im::Sa(t) => Some((format!("Spectral Acceleration|{}", period_text(t)), "g")),
             _ => None,
         }
@@ -220,8 +237,8 @@ impl Im {
     /// The unit its values are given in.
     pub fn unit(self) -> &'static str {
         match self {
-            Im::Pga | Im::Sa(_) | Im::AvgSa => "g",
-            Im::Pgv => "cm/s",
+            Im::Pga | Im::Sa(_) | Im::AvgSa | Im::Pfa => "g",
+            Im::Pgv | Im::Pfv => "cm/s",
             Im::Pgd => "cm",
             Im::Arias => "m/s",
             Im::Cav => "g·s",
@@ -253,6 +270,23 @@ impl Im {
         matches!(self, Im::Pga | Im::Pgv | Im::Sa(_) | Im::AvgSa)
     }
 
+    /// Whether it is a demand of the motion the block itself feels (PFA,
+    /// PFV: its floor's), computed from the block's own runs (`--direct`),
+    /// not from a study's ground-motion tables.
+    pub fn floor(self) -> bool {
+        matches!(self, Im::Pfa | Im::Pfv)
+    }
+
+    /// The ground-motion measure it is of the motion the block feels: PGA
+    /// for PFA, PGV for PFV (itself otherwise).
+    pub fn of_motion(self) -> Im {
+        match self {
+            Im::Pfa => Im::Pga,
+            Im::Pfv => Im::Pgv,
+            other => other,
+        }
+    }
+
     /// Its standard dimensionless form for a block of slenderness α and
     /// frequency parameter p (1/s), where there is one: the factor that
     /// multiplies the IM, and its name. PGA/(αg) is 1/η (Housner; the
@@ -262,6 +296,8 @@ impl Im {
         let ag = alpha_rad * G_M_S2;
         match self {
             Im::Pga => Some((1.0 / alpha_rad, "PGA/(αg)")),
+            Im::Pfa => Some((1.0 / alpha_rad, "PFA/(αg)")),
+            Im::Pfv => Some((p / 100.0 / ag, "p·PFV/(αg)")),
             Im::Sa(_) => Some((1.0 / alpha_rad, "SA/(αg)")),
             Im::AvgSa => Some((1.0 / alpha_rad, "AvgSA/(αg)")),
             Im::Pgv => Some((p / 100.0 / ag, "p·PGV/(αg)")),

@@ -66,6 +66,9 @@ impl Im {
             Im::D5_95 => significant_duration_s(s.accel_g, s.dt_s, 0.05, 0.95),
             Im::PgvPga => s.peaks.0 / 100.0 / (s.pga_g * G_M_S2),
             Im::Tm => mean_period_s(s.accel_g, s.dt_s),
+            // The record as the motion the block feels.
+            Im::Pfa => s.pga_g,
+            Im::Pfv => s.peaks.0,
         })
     }
 }
@@ -137,8 +140,11 @@ impl RecordIms {
         ims.value(Im::Pga).map(|_| ims)
     }
 
-    /// The record's value of `im` (`None`: an SA period not computed).
+    /// The record's value of `im` (`None`: an SA period not computed); PFA
+    /// and PFV are its PGA and PGV, the record taken as the motion the
+    /// block feels.
     pub fn value(&self, im: Im) -> Option<f64> {
+        let im = im.of_motion();
         self.values.iter().find(|(m, _)| *m == im).map(|&(_, v)| v)
     }
 

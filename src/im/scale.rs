@@ -26,8 +26,8 @@ pub fn eta_of_pga(pga_g: f64, alpha_rad: f64) -> f64 {
 /// slenderness `alpha_rad`; `None` when the record's `im` is not known (an
 /// SA period not computed).
 pub fn of_eta(im: Im, eta: f64, alpha_rad: f64, record: &RecordIms) -> Option<f64> {
-    if im == Im::Pga {
-        // Exact: α/η to the bit.
+    if im.of_motion() == Im::Pga {
+        // Exact: α/η to the bit (PFA too, of the motion the block feels).
         return Some(pga_of_eta(eta, alpha_rad));
     }
     let scale = pga_of_eta(eta, alpha_rad) / record.pga_g();

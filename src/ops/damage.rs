@@ -104,7 +104,8 @@ pub struct DamageFragility {
     pub records: Option<usize>,
     /// With `--direct`: the records folder (or the pipeline) they came from.
     pub records_folder: Option<String>,
-    /// On a floor: the building's modes (`T,ζ,Γφ; …`); the IMs are the ground's.
+    /// On a floor: the building's modes (`T,ζ,Γφ; …`); the IMs are the
+    /// ground's, PFA and PFV the floor motion's own.
     pub floor: Option<String>,
     /// `common` (one β for the states, the heaviest's) or `each`.
     pub dispersion: &'static str,
@@ -161,12 +162,18 @@ pub fn of_block(
 
 /// The IM level below which every state's probability is 0, the same for
 /// `risk` and the OpenQuake export (its `noDamageLimit`): a block on the
-/// ground cannot move below its uplift PGA, g·tan α (in PGA only; on a
-/// floor that moves otherwise than the ground, the ground's PGA at uplift
-/// varies record to record, and other IMs have no such level: no cut).
+/// ground cannot move below its uplift PGA, g·tan α, nor any block below a
+/// PFA of g·tan α (in PGA and PFA only; on a floor that moves otherwise
+/// than the ground, the ground's PGA at uplift varies record to record,
+/// and other IMs have no such level: no cut).
 /// docs/MODEL.md §13.
 pub fn zero_below(block: &Block, im: Im, floor: Option<&Building>) -> Option<f64> {
-    (im == Im::Pga && floor.is_none_or(Building::moves_as_ground)).then(|| block.uplift_pga_g())
+    match im {
+        // The motion the block feels lifts it at g·tan α, floor or not.
+        Im::Pfa => Some(block.uplift_pga_g()),
+        Im::Pga if floor.is_none_or(Building::moves_as_ground) => Some(block.uplift_pga_g()),
+        _ => None,
+    }
 }
 
 /// Why `state` has no fragility by `method`, as a refusal.
@@ -327,7 +334,8 @@ fn from_records(
     auto_tol: f64,
 ) -> Result<DamageFragility, FragilityError> {
     let def = DIRECT_FRACTILE;
-    let (runs, why) = records.runs(block, auto_tol)?;
+    // A floor demand (PFA, PFV) is of the floor motion's own scale.
+    let (runs, why) = records.runs(block, auto_tol, !im.floor())?;
     let alpha = block.alpha();
     let ims = (im != Im::Pga).then(|| records.ims_for(im)).transpose()?;
     let per_record: Vec<Vec<StateCapacity>> = runs

@@ -52,7 +52,8 @@ pub struct Assessment {
     pub model: Option<String>,
     pub points: Vec<Point>,
     /// On a floor: the building's modes (`T,ζ,Γφ; …`); levels and
-    /// capacities are then the ground's.
+    /// capacities are then the ground's, or in PFA and PFV the floor
+    /// motion's own.
     pub floor: Option<String>,
     /// The base's friction coefficient, when given.
     pub mu: Option<f64>,

@@ -73,6 +73,9 @@ pub struct DirectRecords {
     /// Each record's intensity measures, in the same order, computed the
     /// first time an IM other than PGA asks for them.
     ims: std::sync::OnceLock<Vec<RecordIms>>,
+    /// The same of the motion the block feels (its floor's), for PFA and
+    /// PFV; the ground's own on the ground.
+    felt_ims: std::sync::OnceLock<Vec<RecordIms>>,
 }
 
 impl DirectRecords {
@@ -133,6 +136,7 @@ impl DirectRecords {
             progress,
             counts: Counts::default(),
             ims: std::sync::OnceLock::new(),
+            felt_ims: std::sync::OnceLock::new(),
         })
     }
 
@@ -140,12 +144,30 @@ impl DirectRecords {
     /// the ratios IM/PGA^power that convert a capacity are those of the
     /// record as recorded.
     pub fn ims(&self) -> &[RecordIms] {
+        if self.floor.is_none() {
+            return self.felt_ims();
+        }
         self.ims.get_or_init(|| {
             self.records
                 .par_iter()
                 .map(|r| {
                     let exc = r.ground.as_ref().map_or(&r.exc, |(g, _)| g);
                     RecordIms::of_record(&exc.psi, exc.dt_s, &[])
+                        .expect("an excitation's forcing has a peak of 1")
+                })
+                .collect()
+        })
+    }
+
+    /// The IMs of the motion each record makes the block feel (its floor's
+    /// motion, normalised to a peak of 1 g): PFA and PFV are its PGA and
+    /// PGV.
+    pub fn felt_ims(&self) -> &[RecordIms] {
+        self.felt_ims.get_or_init(|| {
+            self.records
+                .par_iter()
+                .map(|r| {
+                    RecordIms::of_record(&r.exc.psi, r.exc.dt_s, &[])
                         .expect("an excitation's forcing has a peak of 1")
                 })
                 .collect()
@@ -159,6 +181,9 @@ impl DirectRecords {
         &self,
         im: Im,
     ) -> Result<std::borrow::Cow<'_, [RecordIms]>, crate::im::RecordImsError> {
+        if im.floor() {
+            return Ok(std::borrow::Cow::Borrowed(self.felt_ims()));
+        }
         let standard = self.ims();
         if standard.first().is_none_or(|r| r.value(im).is_some()) {
             return Ok(std::borrow::Cow::Borrowed(standard));
@@ -198,17 +223,20 @@ impl DirectRecords {
         block: &Block,
         auto_tol: f64,
     ) -> Result<(Vec<f64>, String), FragilityError> {
-        let (runs, why) = self.runs(block, auto_tol)?;
+        let (runs, why) = self.runs(block, auto_tol, true)?;
         Ok((runs.iter().map(|c| c.eta_c.unwrap_or(0.0)).collect(), why))
     }
 
     /// The block's certified search under every record, its runs included,
     /// in the records' order, and why the model it used. On a floor every η
-    /// is restated as the ground's, η·PFA/PGA (the building is linear).
+    /// is restated as the ground's, η·PFA/PGA (the building is linear),
+    /// unless `in_ground` is false (a floor demand: η is then the floor
+    /// motion's own).
     pub fn runs(
         &self,
         block: &Block,
         auto_tol: f64,
+        in_ground: bool,
     ) -> Result<(Vec<ida::Capacity>, String), FragilityError> {
         let (model, why) = ModelChoice::Auto
             .resolve(
@@ -237,8 +265,8 @@ impl DirectRecords {
                 self.counts.done.fetch_add(1, Ordering::Relaxed);
                 self.report();
                 Ok(match &r.ground {
-                    Some((_, ratio)) => in_ground_eta(c.capacity, *ratio),
-                    None => c.capacity,
+                    Some((_, ratio)) if in_ground => in_ground_eta(c.capacity, *ratio),
+                    _ => c.capacity,
                 })
             })
             .collect::<Result<Vec<_>, FragilityError>>()

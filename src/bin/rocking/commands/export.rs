@@ -21,7 +21,10 @@ use super::states::print_fits;
     OpenQuake hazard-curve CSV), an exposure placing one of each block at each of its sites and a \
     job.ini for classical_damage: `oq engine --run job.ini` in --out.\n\n\
     --format pelicun writes pelicun's fragility CSV (one component per block; LSk-Theta_0 the \
-    median, LSk-Theta_1 β) and its metadata JSON.\n\n\
+    median, LSk-Theta_1 β) and its metadata JSON; in PFA or PFV (--im pfa|pfv --direct) its \
+    demand type is FEMA P-58's contents' (Peak Floor Acceleration, Peak Floor Velocity), and \
+    pelicun's default demand offset of −1 for them puts a component at location k on floor \
+    k − 1.\n\n\
     The states (--states, default rocking=0.1,large_rocking=0.5,overturned=overturned: θmax/α \
     thresholds, then overturning) come from the block's runs under the records (--direct), each \
     record's capacity the first crossing as intensity rises; the lognormal by the paper's \
@@ -57,7 +60,9 @@ pub struct Args {
     /// in order: no heavier state likelier than a lighter one) or each its own.
     #[arg(long, value_parser = label::<Dispersion>(), default_value = "common")]
     dispersion: Dispersion,
-    /// The IM [default: the hazard's, or PGA].
+    /// The IM [default: the hazard's, or PGA]; pelicun also takes FEMA P-58's
+    /// floor demands pfa (g) and pfv (cm/s) (--direct; on a --floor, the floor
+    /// motion's own).
     #[arg(long, value_parser = parse_im)]
     im: Option<rocking::im::Im>,
     /// OpenQuake hazard curves (nrml): the exposure's sites and the job's hazard.

@@ -21,7 +21,9 @@ use super::states::print_fits;
     lognormal, from a study's IM table carried over p and ε (--from PIPELINE.toml) or from the \
     records' own capacities (--direct). --direct also runs the block through a record suite (the \
     pipeline's, or the bundled far-field set) and prints the share of records whose capacity it \
-    exceeds at each level.\n\n\
+    exceeds at each level. In FEMA P-58's floor demands (--im pfa|pfv --direct), the capacity is \
+    in the peak acceleration or velocity of the motion the block stands on: with --floor, the \
+    floor motion's own (not restated in the ground's IMs); on the ground, its PGA or PGV.\n\n\
     --states gives several damage states instead (θmax/α thresholds, then overturning; \
     docs/MODEL.md §15): from the records' runs (--direct), or from a study (--from \
     PIPELINE.toml: overturning from its regression or IM table, the other states from its \
@@ -40,7 +42,8 @@ pub struct Args {
     /// Peak ground accelerations (g), comma-separated: the same as --im pga --at ….
     #[arg(long, value_name = "g[,g…]", value_delimiter = ',')]
     pga: Vec<f64>,
-    /// The intensity measure: pga, pgv (cm/s), pgd (cm), sa(T) (g, T in s), avgsa (g), arias (m/s), cav (g·s).
+    /// The intensity measure: pga, pgv (cm/s), pgd (cm), sa(T) (g, T in s), avgsa (g), arias (m/s), cav (g·s);
+    /// or a demand of the motion the block stands on, pfa (g) or pfv (cm/s) (--direct).
     #[arg(long, default_value = "pga", value_parser = parse_im)]
     im: Im,
     /// Levels of --im in its unit, comma-separated.
@@ -119,9 +122,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     );
     let direct = a.records.is_some();
     if let Some(floor) = &a.floor {
+        let whose = if args.im.floor() {
+            "the floor motion's own (a floor demand)"
+        } else {
+            "the ground's"
+        };
         println!(
             "on the floor of a building with modes T,ζ,Γφ = {floor}: the records run through it; \
-             levels and capacities are the ground's"
+             levels and capacities are {whose}"
         );
     }
     if let (Some(n), Some(m)) = (a.records, &a.model) {
