@@ -21,9 +21,17 @@
 //!   ```
 //!
 //!   over a whole power-law curve this is Cornell's `k₀ m^(−k) e^{k²β²/2}`;
-//! - **empirical** (the share of records whose capacity the shaking
-//!   exceeds: a step at each record's overturning PGA tᵢ):
-//!   `∫ P |dλ| = (1/n) Σ [λ(max(a₀, tᵢ)) − λ(a₁)]` over the tᵢ below a₁.
+//! - **the records' curve** ([`Curve`]: linear between the records'
+//!   capacities), on each piece `[u, v]` between its points, where
+//!   `P(a) = P(u) + s (a − u)` and `L = ln(v/u)`:
+//!
+//!   ```text
+//!   ∫ P |dλ| = P(u) [λ(u) − λ(v)] + s k u λ(u) L [φ((1−k)L) − φ(−kL)],
+//!   φ(x) = (eˣ − 1)/x,
+//!   ```
+//!
+//!   (with `a = u eᵗ`, `∫ (a − u) k λ(a)/a da = k u λ(u) ∫₀ᴸ (eᵗ − 1) e^{−kt} dt`);
+//!   a jump at the first point (a curve of one record) is the `P(u)` term.
 //!
 //! Below the curve's first IML the rate is unknown (files give poe = 1
 //! there): the integral starts at the first IML, and the fragility there,
@@ -34,6 +42,7 @@
 //! some IML ends there: the events still exceeding the last positive IML are
 //! put at that IML.
 
+use crate::damage::Curve;
 use crate::hazard::HazardCurve;
 use crate::stats::normal_cdf;
 
@@ -42,22 +51,18 @@ use crate::stats::normal_cdf;
 pub enum Fragility {
     /// `Φ(ln(a / median) / beta)`.
     Lognormal { median: f64, beta: f64 },
-    /// The share of records whose overturning PGA lies below a: `thresholds`
-    /// ascending, `f64::INFINITY` for a record that never overturns it.
-    Empirical { thresholds: Vec<f64> },
+    /// The records' own curve, linear between their capacities.
+    Curve(Curve),
 }
 
 impl Fragility {
     /// P(state | IM) as the IM grows without bound: 1 for a lognormal, the
-    /// share of the records that reach the state at some level for the
-    /// step curve.
+    /// last point's for the records' curve (below 1 where some records
+    /// never reach the state).
     pub fn limit(&self) -> f64 {
         match self {
             Fragility::Lognormal { .. } => 1.0,
-            Fragility::Empirical { thresholds } => {
-                let reached = thresholds.iter().filter(|t| t.is_finite()).count();
-                reached as f64 / thresholds.len().max(1) as f64
-            }
+            Fragility::Curve(c) => c.limit(),
         }
     }
 
@@ -65,10 +70,7 @@ impl Fragility {
     pub fn probability(&self, a: f64) -> f64 {
         match self {
             Fragility::Lognormal { median, beta } => normal_cdf((a / median).ln() / beta),
-            Fragility::Empirical { thresholds } => {
-                let below = thresholds.partition_point(|&t| t < a);
-                below as f64 / thresholds.len().max(1) as f64
-            }
+            Fragility::Curve(c) => c.probability(a),
         }
     }
 }
@@ -188,17 +190,38 @@ impl Segment {
                     self.quadrature(f)
                 }
             }
-            Fragility::Empirical { thresholds } => {
-                let n = thresholds.len().max(1) as f64;
-                let end = self.rate(self.a1);
-                thresholds
-                    .iter()
-                    .take_while(|&&t| t < self.a1)
-                    .map(|&t| self.rate(t.max(self.a0)) - end)
-                    .sum::<f64>()
-                    / n
-            }
+            Fragility::Curve(c) => self.curve(c),
         }
+    }
+
+    /// ∫ P |dλ| for the records' curve: piece by piece between its points
+    /// (module docs).
+    fn curve(&self, c: &Curve) -> f64 {
+        let inside = c
+            .levels()
+            .iter()
+            .copied()
+            .filter(|&x| x > self.a0 && x < self.a1);
+        let mut ends: Vec<f64> = std::iter::once(self.a0).chain(inside).collect();
+        ends.push(self.a1);
+        ends.windows(2)
+            .map(|w| {
+                let (u, v) = (w[0], w[1]);
+                let pu = c.probability(u);
+                let (lu, lv) = (self.rate(u), self.rate(v));
+                let mut sum = pu * (lu - lv);
+                if v.is_finite() {
+                    let s = (c.probability_below(v) - pu) / (v - u);
+                    if s > 0.0 {
+                        let l = (v / u).ln();
+                        let phi = |x: f64| if x == 0.0 { 1.0 } else { x.exp_m1() / x };
+                        let k = self.k;
+                        sum += s * k * u * lu * l * (phi((1.0 - k) * l) - phi(-k * l));
+                    }
+                }
+                sum
+            })
+            .sum()
     }
 
     fn lognormal(&self, mu: f64, beta: f64, f: &Fragility) -> f64 {
@@ -438,10 +461,14 @@ mod tests {
                 1.0,
             ),
             (
-                Fragility::Empirical {
-                    thresholds: vec![0.15, 0.25, f64::INFINITY, f64::INFINITY],
-                },
-                0.5,
+                // Two of four records reach it: the curve stops at 1/3.
+                Fragility::Curve(Curve::of_capacities(&[
+                    0.15,
+                    0.25,
+                    f64::INFINITY,
+                    f64::INFINITY,
+                ])),
+                1.0 / 3.0,
             ),
         ] {
             // No event inside the curve: its rate never drops.
@@ -491,19 +518,73 @@ mod tests {
         // P = 1 above m: λ_OT = λ(m), log-log interpolated between IMLs.
         let curve = power_law(2e-4, 3.0, 0.01, 2.0, 9);
         for m in [0.013, 0.05, 0.3, 1.7] {
-            let f = Fragility::Empirical {
-                thresholds: vec![m],
-            };
+            let f = Fragility::Curve(Curve::of_capacities(&[m]));
             let r = assess(&curve, &f, Beyond::Extrapolate);
             let exact = 2e-4 * f64::powf(m, -3.0);
             assert!((r.annual_rate / exact - 1.0).abs() < 1e-12, "m = {m}");
         }
-        // Records that never overturn the block count in the share, not the rate.
-        let f = Fragility::Empirical {
-            thresholds: vec![0.3, f64::INFINITY],
+    }
+
+    /// The records' curve against the antiderivative on a power law
+    /// λ = k₀a^(−k): a ramp from 0 at x₁ to 1 at x₂ gives
+    /// `k k₀/(x₂−x₁) [a^(1−k)/(1−k) + x₁a^(−k)/k]` over [x₁, x₂] (for
+    /// k = 1, `k₀/(x₂−x₁) [ln a + x₁/a]`), plus λ(x₂); for k = 1, 2.5, 3
+    /// and 1 ± 1e-7 (where φ's series must hold), and the ramp cut by the
+    /// curve's first IML or the segment's ends anywhere.
+    #[test]
+    fn the_records_curve_integrates_to_its_antiderivative() {
+        for k in [1.0, 1.0 + 1e-7, 1.0 - 1e-7, 2.5, 3.0] {
+            let curve = power_law(2e-4, k, 0.01, 2.0, 7);
+            let rate = |a: f64| 2e-4 * a.powf(-k);
+            let anti = |x1: f64, x2: f64, a: f64| {
+                if k == 1.0 {
+                    2e-4 / (x2 - x1) * (a.ln() + x1 / a)
+                } else {
+                    k * 2e-4 / (x2 - x1) * (a.powf(1.0 - k) / (1.0 - k) + x1 * a.powf(-k) / k)
+                }
+            };
+            for (x1, x2) in [(0.05, 0.3), (0.013, 0.021), (0.2, 1.7), (0.005, 0.04)] {
+                let f = Fragility::Curve(Curve::of_capacities(&[x1, x2]));
+                let r = assess(&curve, &f, Beyond::Extrapolate);
+                let lo = x1.max(0.01);
+                let exact = anti(x1, x2, x2) - anti(x1, x2, lo) + rate(x2);
+                let tol = if (k - 1.0f64).abs() < 1e-6 && k != 1.0 {
+                    1e-6
+                } else {
+                    1e-11
+                };
+                assert!(
+                    (r.annual_rate / exact - 1.0).abs() < tol,
+                    "k = {k}, ramp {x1}..{x2}: {} against {exact}",
+                    r.annual_rate
+                );
+            }
+        }
+    }
+
+    /// On a bent hazard curve, a curve of many records against
+    /// Gauss–Legendre quadrature on pieces (accurate to ~1e-7 across the
+    /// curve's kinks, which fall inside its pieces).
+    #[test]
+    fn the_records_curve_agrees_with_quadrature_on_a_bent_hazard() {
+        let curve = HazardCurve {
+            im: crate::im::Im::Pga,
+            lon: None,
+            lat: None,
+            iml: vec![0.02, 0.05, 0.1, 0.2, 0.4, 0.8],
+            annual_rate: vec![0.2, 0.05, 0.012, 0.002, 2e-4, 1e-5],
+            ends_at: Some(1.5),
+            dropped_below: 0,
         };
-        let r = assess(&curve, &f, Beyond::Extrapolate);
-        assert!((r.annual_rate / (0.5 * 2e-4 * 0.3f64.powf(-3.0)) - 1.0).abs() < 1e-12);
+        let caps = [
+            0.03, 0.07, 0.071, 0.12, 0.19, 0.33, 0.41, 0.6, 0.95, 1.2, 2.4,
+        ];
+        let f = Fragility::Curve(Curve::of_capacities(&caps));
+        let (inner, tail) = segments(&curve, Beyond::Extrapolate);
+        for s in inner.iter().chain(tail.iter().map(|t| &t.0)) {
+            let (c, q) = (s.integral(&f), s.quadrature(&f));
+            assert!((c - q).abs() <= 1e-6 * c.max(1e-300), "{s:?}: {c} vs {q}");
+        }
     }
 
     #[test]

@@ -456,7 +456,11 @@ fn damage_state_rates_never_invert() {
         hazard.join("museum-inventory.csv"),
     );
     let states = "rocking=0.1,large_rocking=0.5,overturned=overturned";
-    let risk = |hazard: &str, blocks: &[&str], dispersion: &str| {
+    // The lognormals alone (--if-not-lognormal lognormal): where a state's
+    // capacities fail the lognormal check the block's fragility is
+    // otherwise the records' curves, which are ordered by construction
+    // (each record reaches a lighter state first), checked last.
+    let risk = |hazard: &str, blocks: &[&str], dispersion: &str, shape: &str| {
         let mut args = vec![
             "risk",
             "--hazard",
@@ -466,6 +470,8 @@ fn damage_state_rates_never_invert() {
             states,
             "--dispersion",
             dispersion,
+            "--if-not-lognormal",
+            shape,
             "--json",
         ];
         args.extend(blocks);
@@ -482,14 +488,27 @@ fn damage_state_rates_never_invert() {
         ("steep.csv", &inventory[..]),
     ];
     for (hazard, blocks) in cases {
-        for (name, rates) in state_rates(&risk(hazard, blocks, "common")) {
-            assert_eq!(rates.len(), 3);
-            assert!(ordered(&rates), "{hazard}, {name}: {rates:?}");
+        for shape in ["lognormal", "curve"] {
+            for (name, rates) in state_rates(&risk(hazard, blocks, "common", shape)) {
+                assert_eq!(rates.len(), 3);
+                assert!(ordered(&rates), "{hazard}, {shape}, {name}: {rates:?}");
+            }
         }
     }
     // Each its own fit: the fault, which the default removes.
-    let each = state_rates(&risk("steep.csv", &statue, "each"));
+    let each = state_rates(&risk("steep.csv", &statue, "each", "lognormal"));
     assert!(!ordered(&each[0].1), "{each:?}");
+    // The records' curves are ordered whatever the dispersion (the statue
+    // with ε = 0.85, whose overturning capacities are not lognormal).
+    let not_lognormal = ["--b", "0.2", "--h", "0.9", "--eps", "0.85"];
+    let curves = risk("steep.csv", &not_lognormal, "each", "curve");
+    assert_eq!(curves["method"], "empirical", "{curves}");
+    let fits: Vec<&str> = curves["sites"][0]["states"]
+        .as_array()
+        .map(|s| s.iter().filter_map(|x| x["fit"].as_str()).collect())
+        .unwrap_or_default();
+    assert!(fits.iter().all(|f| *f == "empirical"), "{curves}");
+    assert!(ordered(&state_rates(&curves)[0].1));
 }
 
 /// The same, for any fits and any hazard: a property over 2,000 sets of

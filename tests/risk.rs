@@ -231,10 +231,13 @@ fn direct_uses_the_records_own_capacities() {
         .as_str()
         .unwrap()
         .contains("3 records (fewer than 10)"));
-    // P steps up at each record's overturning PGA t = α/η_c: λ_OT = mean λ(t).
+    // The records' curve rises linearly from 0 at the smallest overturning
+    // PGA t = α/η_c to 1/2 at the middle one and 1 at the largest: on
+    // λ = k₀a^(−k), λ_OT = Σ ramps ∫ P kλ/a da + λ(t₃), each ramp's
+    // integral from its antiderivative.
     let alpha = 0.1f64.atan();
     let p = (3.0 * 9.80665 / (4.0 * (0.01f64 + 1.0).sqrt())).sqrt();
-    let mut expected = 0.0;
+    let mut t = Vec::new();
     for id in ids {
         let cap = json(&rocking(
             d,
@@ -249,9 +252,17 @@ fn direct_uses_the_records_own_capacities() {
                 "--json",
             ],
         ));
-        let t = alpha / cap["eta_c"].as_f64().unwrap();
-        expected += k0 * t.powf(-k) / 3.0;
+        t.push(alpha / cap["eta_c"].as_f64().unwrap());
     }
+    t.sort_by(f64::total_cmp);
+    let rate = |a: f64| k0 * a.powf(-k);
+    // ∫_{x1}^{x2} (p1 + s (a − x1)) k k₀ a^(−k−1) da.
+    let ramp = |x1: f64, x2: f64, p1: f64, p2: f64| {
+        let s = (p2 - p1) / (x2 - x1);
+        let anti = |a: f64| k * k0 * (a.powf(1.0 - k) / (1.0 - k) + x1 * a.powf(-k) / k);
+        p1 * (rate(x1) - rate(x2)) + s * (anti(x2) - anti(x1))
+    };
+    let expected = ramp(t[0], t[1], 0.0, 0.5) + ramp(t[1], t[2], 0.5, 1.0) + rate(t[2]);
     let got = v["sites"][0]["annual_rate"].as_f64().unwrap();
     assert!((got / expected - 1.0).abs() < 1e-9, "{got} vs {expected}");
 }

@@ -241,8 +241,10 @@ def fragility(b: float, h: float, **kw: Any) -> Dict[str, Any]:
     whose study to use (under ``outputs``); ``direct``: also run the block
     through ``records`` (a folder; default the bundled far-field set);
     ``states``: damage states (``"rocking=0.1,overturned=overturned"``)
-    fitted by ``method`` (``fractile`` or ``mle``); ``floor``, ``mu``,
-    ``auto_tol``.
+    fitted by ``method`` (``fractile``, ``mle``, or ``empirical``: the
+    records' own curve); ``if_not_lognormal`` (``"curve"``, the default, or
+    ``"lognormal"``): what the fragility is where the records' capacities
+    fail the lognormal check; ``floor``, ``mu``, ``auto_tol``.
     """
     return _core.fragility(b=b, h=h, **_plain(kw))
 

@@ -187,8 +187,30 @@ def test_one_block_has_one_fragility_in_python_and_the_commands():
                      states="overturned=overturned")
     assert s["sites"][0]["states"][0]["annual_rate"] == r["sites"][0]["annual_rate"]
     e = rocking.fragility(0.2, 0.9, pga=[0.3], direct=True, records=FAR, method="empirical")
-    assert e["fit"] == "empirical"
-    assert e["points"][0]["probability"] == e["points"][0]["empirical"]
+    ce = cli_json("fragility", "--b", "0.2", "--h", "0.9", "--pga", "0.3", "--direct",
+                  "--records", FAR, "--method", "empirical")
+    assert e["fit"] == ce["fit"] == "empirical"
+    assert e["points"][0]["probability"] == ce["points"][0]["probability"]
+    # The records' curve is linear between their capacities: within one
+    # rank, 1/(n - 1), of the share of records overturned there.
+    assert abs(e["points"][0]["probability"] - e["points"][0]["empirical"]) <= 1 / 43
+
+
+def test_where_a_lognormal_does_not_fit_both_take_the_records_curve():
+    """The statue with eps = 0.85 fails the lognormal check: Python, like the
+    command line, takes the records' curve, or the lognormal when asked."""
+    args = ("--b", "0.2", "--h", "0.9", "--eps", "0.85", "--pga", "0.3,0.8", "--direct",
+            "--records", FAR)
+    f = rocking.fragility(0.2, 0.9, eps=0.85, pga=[0.3, 0.8], direct=True, records=FAR)
+    c = cli_json("fragility", *args)
+    assert f["fit"] == c["fit"] == "empirical"
+    assert f["lognormal_p"] == c["lognormal_p"] < 0.05
+    assert [p["probability"] for p in f["points"]] == [p["probability"] for p in c["points"]]
+    k = rocking.fragility(0.2, 0.9, eps=0.85, pga=[0.3, 0.8], direct=True, records=FAR,
+                          if_not_lognormal="lognormal")
+    ck = cli_json("fragility", *args, "--if-not-lognormal", "lognormal")
+    assert k["fit"] == ck["fit"] == "fractile"
+    assert k["points"] == ck["points"]
 
 
 def test_a_floor_demand_is_the_commands():

@@ -10,7 +10,7 @@ use serde::Deserialize;
 use super::block::{building, one_or_many, AUTO_TOL};
 use super::spelling::{AskError, Spelling};
 use crate::block::{check_mu, Restitution};
-use crate::damage::{DamageStates, Dispersion, FitMethod};
+use crate::damage::{DamageStates, Dispersion, FitMethod, IfNotLognormal};
 use crate::floor::Mode;
 use crate::hazard;
 use crate::im::Im;
@@ -121,6 +121,7 @@ pub struct FragilityAsk {
     pub states: Option<DamageStates>,
     pub method: FitMethod,
     pub dispersion: Dispersion,
+    pub if_not_lognormal: IfNotLognormal,
 }
 
 impl Default for FragilityAsk {
@@ -143,6 +144,7 @@ impl Default for FragilityAsk {
             states: None,
             method: FitMethod::Fractile,
             dispersion: Dispersion::Common,
+            if_not_lognormal: IfNotLognormal::Curve,
         }
     }
 }
@@ -231,6 +233,7 @@ impl FragilityAsk {
             mu,
             method: self.method,
             dispersion: self.dispersion,
+            if_not_lognormal: self.if_not_lognormal,
         };
         let states = StatesAsk {
             states: self.states.clone(),
@@ -290,6 +293,7 @@ pub struct RiskAsk {
     pub states: Option<DamageStates>,
     pub method: FitMethod,
     pub dispersion: Dispersion,
+    pub if_not_lognormal: IfNotLognormal,
 }
 
 impl Default for RiskAsk {
@@ -315,6 +319,7 @@ impl Default for RiskAsk {
             states: None,
             method: FitMethod::Fractile,
             dispersion: Dispersion::Common,
+            if_not_lognormal: IfNotLognormal::Curve,
         }
     }
 }
@@ -367,6 +372,7 @@ impl RiskAsk {
             floor: building(&self.floor, sp)?,
             method: self.method,
             dispersion: self.dispersion,
+            if_not_lognormal: self.if_not_lognormal,
         };
         let states = StatesAsk {
             states: self.states.clone(),
@@ -389,6 +395,7 @@ pub struct ExportAsk {
     pub states: Option<DamageStates>,
     pub method: FitMethod,
     pub dispersion: Dispersion,
+    pub if_not_lognormal: IfNotLognormal,
     pub im: Option<Im>,
     pub hazard: Option<PathBuf>,
     pub years: f64,
@@ -426,6 +433,7 @@ impl ExportAsk {
             states,
             method: self.method,
             dispersion: self.dispersion,
+            if_not_lognormal: self.if_not_lognormal,
             im: self.im,
             hazard: self.hazard.clone(),
             years: self.years,

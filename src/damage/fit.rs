@@ -10,7 +10,7 @@ pub struct StateFit {
     /// Records that reach the state within their runs.
     pub reached: usize,
     /// Every record's capacity in the IM, ascending, +∞ for a record that
-    /// never reaches the state: the records' step curve.
+    /// never reaches the state: the records' curve is drawn through them.
     pub capacities: Vec<f64>,
     /// By the paper's fractiles (a record that never reaches it counts as +∞).
     pub fractile: Option<Lognormal>,

@@ -13,7 +13,7 @@
 use crate::stats::{self, FractileDef};
 
 /// How a block's fragility is made from its records' capacities: a
-/// lognormal fitted two ways, or the records' own step curve.
+/// lognormal fitted two ways, or the records' own curve.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FitMethod {
@@ -21,8 +21,8 @@ pub enum FitMethod {
     Fractile,
     /// Maximum likelihood, censored.
     MaxLikelihood,
-    /// No fit: the share of the records whose capacity a level exceeds
-    /// (from the records' runs only; no engine takes it).
+    /// No fit: the records' own curve, linear between their capacities
+    /// ([`crate::damage::Curve`]; from the records' runs only).
     Empirical,
 }
 
@@ -70,8 +70,8 @@ impl crate::label::Label for FitMethod {
             FitMethod::Fractile => "a lognormal by the paper's 16/50/84 % fractiles",
             FitMethod::MaxLikelihood => "a lognormal by censored maximum likelihood",
             FitMethod::Empirical => {
-                "the records' own step curve: the share of them whose capacity a level exceeds \
-                 (--direct only)"
+                "the records' own curve: their capacities' distribution, linear between them, \
+                 whose quantiles are their fractiles (--direct only)"
             }
         }
     }
@@ -109,7 +109,52 @@ impl crate::label::Label for Dispersion {
     }
 }
 
-crate::deserialize_by_label!(FitMethod, Dispersion);
+/// What a block's fragility is where its records' capacities fail the
+/// lognormal check (Lilliefors on their logarithms, at
+/// [`LOGNORMAL_CHECK_LEVEL`]; `--direct` only).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum IfNotLognormal {
+    /// The records' own curve ([`crate::damage::Curve`]; the default).
+    Curve,
+    /// The lognormal anyway.
+    Lognormal,
+}
+
+impl crate::label::Label for IfNotLognormal {
+    const ALL: &'static [Self] = &[IfNotLognormal::Curve, IfNotLognormal::Lognormal];
+    const WHAT: &'static str = "choice where the lognormal does not fit";
+    fn label(self) -> &'static str {
+        match self {
+            IfNotLognormal::Curve => "curve",
+            IfNotLognormal::Lognormal => "lognormal",
+        }
+    }
+    fn help(self) -> &'static str {
+        match self {
+            IfNotLognormal::Curve => {
+                "the records' own curve (as --method empirical), which the exports write as \
+                 pelicun's multilinear_CDF and OpenQuake's discrete function"
+            }
+            IfNotLognormal::Lognormal => "the lognormal fit anyway",
+        }
+    }
+}
+
+crate::deserialize_by_label!(FitMethod, Dispersion, IfNotLognormal);
+
+/// The significance level of the lognormal check: Lilliefors' p below it
+/// rejects the lognormal (the paper's check of its fractile fits, at 5 %).
+pub const LOGNORMAL_CHECK_LEVEL: f64 = 0.05;
+
+/// How a block's fragility is made: the fit, the states' dispersions, and
+/// what to do where the lognormal does not fit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FitChoice {
+    pub method: FitMethod,
+    pub dispersion: Dispersion,
+    pub if_not_lognormal: IfNotLognormal,
+}
 
 /// Damage states' lognormals (lightest first; `None` where a state has no
 /// fit) made sequential: every state given the dispersion of the heaviest

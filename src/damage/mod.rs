@@ -12,15 +12,20 @@
 //!   record's capacities ([`capacities`]);
 //! - `lognormal`: a lognormal fitted to the records' capacities, by the
 //!   paper's fractiles or by maximum likelihood with censoring;
+//! - `curve`: the records' own curve, linear between their capacities
+//!   (no shape assumed), where a lognormal does not fit or is not wanted;
 //! - `fit`: every state's lognormals over a suite of records, in one IM.
 
+mod curve;
 mod fit;
 mod lognormal;
 mod states;
 
+pub use curve::Curve;
 pub use fit::{fit_states, StateFit};
 pub use lognormal::{
-    common_dispersion, crossing, fractile_method, max_likelihood, Dispersion, FitMethod, Lognormal,
+    common_dispersion, crossing, fractile_method, max_likelihood, Dispersion, FitChoice, FitMethod,
+    IfNotLognormal, Lognormal, LOGNORMAL_CHECK_LEVEL,
 };
 pub use states::{
     capacities, Criterion, DamageError, DamageStates, LimitState, StateCapacity, DEFAULT,

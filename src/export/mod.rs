@@ -1,17 +1,47 @@
 //! Damage-state fragilities in the formats of the loss and risk engines
 //! (pure text, no I/O; README "Into OpenQuake and pelicun"):
 //!
-//! - `nrml`: OpenQuake's NRML 0.5 `fragilityModel` (continuous, logncdf),
-//!   an exposure model and a `job.ini` for `classical_damage`;
-//! - `pelicun`: pelicun's fragility CSV and its metadata JSON.
+//! - `nrml`: OpenQuake's NRML 0.5 `fragilityModel` (continuous logncdf, or
+//!   discrete for the records' curve), an exposure model and a `job.ini`
+//!   for `classical_damage`;
+//! - `pelicun`: pelicun's fragility CSV (lognormal, or `multilinear_CDF`
+//!   for the records' curve) and its metadata JSON.
+//!
+//! Both engines read the records' curve as the tool does: linear between
+//! its points, 0 below the first, 1 from the last.
 
 pub mod nrml;
 pub mod pelicun;
 
-use crate::damage::Lognormal;
+use crate::damage::{Curve, Lognormal};
 use crate::im::Im;
 
-/// One block's fragility function: its taxonomy and a lognormal per state.
+/// The states' functions of one block, all of one kind (OpenQuake's
+/// `format` is per block).
+#[derive(Debug, Clone)]
+pub enum Shape {
+    /// A lognormal per state.
+    Lognormal(Vec<Lognormal>),
+    /// The records' curve per state, each complete (from 0 to 1).
+    Curve(Vec<Curve>),
+}
+
+impl Shape {
+    /// How many states.
+    pub fn len(&self) -> usize {
+        match self {
+            Shape::Lognormal(l) => l.len(),
+            Shape::Curve(c) => c.len(),
+        }
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// One block's fragility function: its taxonomy and a function per state.
 #[derive(Debug, Clone)]
 pub struct Entry {
     /// The taxonomy (block name): letters, digits, `_`, `-`, `.`.
@@ -21,8 +51,8 @@ pub struct Entry {
     /// The IM below which the block cannot move (its uplift level), if one
     /// is known in the IM.
     pub no_damage_limit: Option<f64>,
-    /// A lognormal for each of the model's limit states, in their order.
-    pub states: Vec<Lognormal>,
+    /// A function for each of the model's limit states, in their order.
+    pub states: Shape,
 }
 
 /// A site of the exposure.
@@ -53,6 +83,12 @@ pub enum ExportError {
         beta: f64,
     },
     #[error(
+        "taxonomy `{id}`, state {state}: the records' curve does not rise from 0 to 1 through \
+         two levels or more (some records never reach the state, or one record only), which an \
+         engine's curve must"
+    )]
+    Incomplete { id: String, state: usize },
+    #[error(
         "taxonomy `{0}`: use letters, digits, `_`, `-` and `.` only (the block's name is its \
          taxonomy in the engines)"
     )]
@@ -77,18 +113,32 @@ pub fn check_entries(entries: &[Entry]) -> Result<(), ExportError> {
             return Err(ExportError::Repeated(e.id.clone()));
         }
         let good = |x: f64| x.is_finite() && x > 0.0;
-        if let Some((i, l)) = e
-            .states
-            .iter()
-            .enumerate()
-            .find(|(_, l)| !good(l.median) || !good(l.beta))
-        {
-            return Err(ExportError::Spread {
-                id: e.id.clone(),
-                state: i + 1,
-                median: l.median,
-                beta: l.beta,
-            });
+        match &e.states {
+            Shape::Lognormal(states) => {
+                if let Some((i, l)) = states
+                    .iter()
+                    .enumerate()
+                    .find(|(_, l)| !good(l.median) || !good(l.beta))
+                {
+                    return Err(ExportError::Spread {
+                        id: e.id.clone(),
+                        state: i + 1,
+                        median: l.median,
+                        beta: l.beta,
+                    });
+                }
+            }
+            Shape::Curve(curves) => {
+                if let Some(i) = curves
+                    .iter()
+                    .position(|c| !c.complete() || c.levels().iter().any(|&x| !good(x)))
+                {
+                    return Err(ExportError::Incomplete {
+                        id: e.id.clone(),
+                        state: i + 1,
+                    });
+                }
+            }
         }
     }
     Ok(())
@@ -100,18 +150,30 @@ pub fn check_entries(entries: &[Entry]) -> Result<(), ExportError> {
 /// this range, so below it the curve keeps its value at the end: with
 /// e^(∓4β) that floor, 3.2e-5, times a hazard's high rates at small IMLs
 /// (0.5 a year at 5 cm/s) moved P(rocking in 50 years) by 5e-4.
-pub fn iml_range(entry: &Entry) -> (f64, f64) {
-    let lo = entry
-        .states
+pub fn iml_range(states: &[Lognormal]) -> (f64, f64) {
+    let lo = states
         .iter()
         .map(|l| l.median * (-6.0 * l.beta).exp())
         .fold(f64::INFINITY, f64::min);
-    let hi = entry
-        .states
+    let hi = states
         .iter()
         .map(|l| l.median * (6.0 * l.beta).exp())
         .fold(0.0, f64::max);
     (lo, hi)
+}
+
+/// The levels of all of a block's curves, merged in order (each curve is
+/// linear between its own levels, so its values at these are the same
+/// function: OpenQuake's discrete function takes one list of levels for
+/// every state).
+pub fn merged_levels(curves: &[Curve]) -> Vec<f64> {
+    let mut all: Vec<f64> = curves
+        .iter()
+        .flat_map(|c| c.levels().iter().copied())
+        .collect();
+    all.sort_by(f64::total_cmp);
+    all.dedup();
+    all
 }
 
 /// OpenQuake's name of the IM.

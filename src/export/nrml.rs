@@ -1,6 +1,11 @@
-//! OpenQuake's NRML 0.5: a continuous lognormal `fragilityModel`, an
-//! `exposureModel` placing each block at each site, and a `job.ini` for a
-//! `classical_damage` calculation on precomputed hazard curves.
+//! OpenQuake's NRML 0.5: a `fragilityModel` of the contents loss category
+//! (free-standing blocks are a building's contents; OpenQuake reads
+//! structural, nonstructural, contents and business_interruption), each
+//! block's function a continuous lognormal or, for the records' curve, a
+//! discrete one (OpenQuake interpolates its levels linearly and holds the
+//! last value beyond them); an `exposureModel` placing each block at each
+//! site, valued in contents; and a `job.ini` for a `classical_damage`
+//! calculation on precomputed hazard curves.
 //!
 //! OpenQuake's `logncdf` takes the mean and standard deviation of the IML
 //! itself, not of its logarithm: for a median θ and dispersion β,
@@ -9,7 +14,7 @@
 
 use std::fmt::Write;
 
-use super::{iml_range, openquake_imt, Entry, ExportError, Site};
+use super::{iml_range, merged_levels, openquake_imt, Entry, ExportError, Shape, Site};
 use crate::damage::Lognormal;
 use crate::im::Im;
 
@@ -49,7 +54,7 @@ pub fn fragility_model(
     let _ = writeln!(x, r#"<nrml xmlns="http://openquake.org/xmlns/nrml/0.5">"#);
     let _ = writeln!(
         x,
-        r#"<fragilityModel id="rocking" assetCategory="buildings" lossCategory="structural">"#
+        r#"<fragilityModel id="rocking" assetCategory="buildings" lossCategory="contents">"#
     );
     let _ = writeln!(x, "  <description>{}</description>", escape(description));
     let _ = writeln!(x, "  <limitStates>{}</limitStates>", limit_states.join(" "));
@@ -59,31 +64,60 @@ pub fn fragility_model(
             "  <!-- {} -->",
             escape(&e.description).replace("--", "- -")
         );
-        let _ = writeln!(
-            x,
-            r#"  <fragilityFunction id="{}" format="continuous" shape="logncdf">"#,
-            escape(&e.id)
-        );
-        let (lo, hi) = iml_range(e);
         let no_damage = e
             .no_damage_limit
             .map_or(String::new(), |v| format!(r#" noDamageLimit="{v:e}""#));
-        let _ = writeln!(
-            x,
-            r#"    <imls imt="{imt}"{no_damage} minIML="{lo:e}" maxIML="{hi:e}"/>"#
-        );
-        for (ls, l) in limit_states.iter().zip(&e.states) {
-            let (mean, stddev) = mean_stddev(l);
-            let _ = writeln!(
-                x,
-                r#"    <params ls="{ls}" mean="{mean:e}" stddev="{stddev:e}"/>"#
-            );
+        match &e.states {
+            Shape::Lognormal(states) => {
+                let _ = writeln!(
+                    x,
+                    r#"  <fragilityFunction id="{}" format="continuous" shape="logncdf">"#,
+                    escape(&e.id)
+                );
+                let (lo, hi) = iml_range(states);
+                let _ = writeln!(
+                    x,
+                    r#"    <imls imt="{imt}"{no_damage} minIML="{lo:e}" maxIML="{hi:e}"/>"#
+                );
+                for (ls, l) in limit_states.iter().zip(states) {
+                    let (mean, stddev) = mean_stddev(l);
+                    let _ = writeln!(
+                        x,
+                        r#"    <params ls="{ls}" mean="{mean:e}" stddev="{stddev:e}"/>"#
+                    );
+                }
+            }
+            Shape::Curve(curves) => {
+                let _ = writeln!(
+                    x,
+                    r#"  <fragilityFunction id="{}" format="discrete">"#,
+                    escape(&e.id)
+                );
+                let levels = merged_levels(curves);
+                let _ = writeln!(
+                    x,
+                    r#"    <imls imt="{imt}"{no_damage}>{}</imls>"#,
+                    spaced(levels.iter().copied())
+                );
+                for (ls, c) in limit_states.iter().zip(curves) {
+                    let poes = levels.iter().map(|&a| c.probability(a));
+                    let _ = writeln!(x, r#"    <poes ls="{ls}">{}</poes>"#, spaced(poes));
+                }
+            }
         }
         let _ = writeln!(x, "  </fragilityFunction>");
     }
     let _ = writeln!(x, "</fragilityModel>");
     let _ = writeln!(x, "</nrml>");
     Ok(x)
+}
+
+/// Values separated by spaces, each in its shortest exact form.
+fn spaced(values: impl Iterator<Item = f64>) -> String {
+    values
+        .map(|v| format!("{v:e}"))
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// The exposure: one asset (number 1, value 1) of each block at each site,
@@ -106,7 +140,7 @@ pub fn exposure_model(entries: &[Entry], sites: &[Site]) -> Result<(String, Stri
     let _ = writeln!(x, "    <costTypes>");
     let _ = writeln!(
         x,
-        r#"      <costType name="structural" type="per_asset" unit="block"/>"#
+        r#"      <costType name="contents" type="per_asset" unit="block"/>"#
     );
     let _ = writeln!(x, "    </costTypes>");
     let _ = writeln!(x, "  </conversions>");
@@ -114,7 +148,7 @@ pub fn exposure_model(entries: &[Entry], sites: &[Site]) -> Result<(String, Stri
     let _ = writeln!(x, "  <assets>{ASSETS_FILE}</assets>");
     let _ = writeln!(x, "</exposureModel>");
     let _ = writeln!(x, "</nrml>");
-    let mut csv = String::from("id,lon,lat,taxonomy,number,structural\n");
+    let mut csv = String::from("id,lon,lat,taxonomy,number,contents\n");
     for (k, site) in sites.iter().enumerate() {
         for e in entries {
             let _ = writeln!(csv, "{}_{k},{},{},{},1,1", e.id, site.lon, site.lat, e.id);
@@ -135,7 +169,7 @@ pub fn job_ini(years: f64, hazard_investigation_time: f64) -> String {
          exposure_file = {EXPOSURE_FILE}\n\
          \n\
          [fragility]\n\
-         structural_fragility_file = {FRAGILITY_FILE}\n\
+         contents_fragility_file = {FRAGILITY_FILE}\n\
          \n\
          [hazard]\n\
          hazard_curves_csv = {HAZARD_FILE}\n\
@@ -155,7 +189,7 @@ mod tests {
             id: id.into(),
             description: "a 0.4 m × 1.8 m statue -- \"ε\" & <α>".into(),
             no_damage_limit: Some(0.22),
-            states: vec![
+            states: Shape::Lognormal(vec![
                 Lognormal {
                     median: 0.3,
                     beta: 0.4,
@@ -164,7 +198,7 @@ mod tests {
                     median: 0.5,
                     beta: 0.35,
                 },
-            ],
+            ]),
         }
     }
 
@@ -200,6 +234,57 @@ mod tests {
         assert!(e.to_string().contains("cav"));
         let e = fragility_model(&[entry("a"), entry("a")], &ls, Im::Pga, "").unwrap_err();
         assert!(e.to_string().contains("twice"));
+    }
+
+    /// Two states' curves on one list of levels, each read linearly at
+    /// the other's points (hand-worked, in levels binary fractions hold
+    /// exactly): A rises 0 → 1 over 0.125–0.375 g, B over 0.25–0.5 g; at
+    /// 0.25 g A is halfway, at 0.375 g B is.
+    #[test]
+    fn the_records_curves_are_one_discrete_function() {
+        use crate::damage::Curve;
+        let e = Entry {
+            id: "a".into(),
+            description: String::new(),
+            no_damage_limit: Some(0.05),
+            states: Shape::Curve(vec![
+                Curve::of_capacities(&[0.125, 0.375]),
+                Curve::of_capacities(&[0.25, 0.5]),
+            ]),
+        };
+        let ls = vec!["rocking".to_string(), "overturned".to_string()];
+        let x = fragility_model(&[e], &ls, Im::Pga, "").unwrap();
+        assert!(
+            x.contains(r#"<fragilityFunction id="a" format="discrete">"#),
+            "{x}"
+        );
+        assert!(
+            x.contains(
+                r#"<imls imt="PGA" noDamageLimit="5e-2">1.25e-1 2.5e-1 3.75e-1 5e-1</imls>"#
+            ),
+            "{x}"
+        );
+        assert!(
+            x.contains(r#"<poes ls="rocking">0e0 5e-1 1e0 1e0</poes>"#),
+            "{x}"
+        );
+        assert!(
+            x.contains(r#"<poes ls="overturned">0e0 0e0 5e-1 1e0</poes>"#),
+            "{x}"
+        );
+        assert!(x.contains(r#"lossCategory="contents""#));
+        // A curve that stops below 1 (a record never reaching the state).
+        let short = Entry {
+            id: "b".into(),
+            description: String::new(),
+            no_damage_limit: None,
+            states: Shape::Curve(vec![Curve::of_capacities(&[0.1, 0.3, f64::INFINITY])]),
+        };
+        let err = fragility_model(&[short], &ls[..1], Im::Pga, "").unwrap_err();
+        assert!(
+            err.to_string().contains("does not rise from 0 to 1"),
+            "{err}"
+        );
     }
 
     #[test]

@@ -1,13 +1,26 @@
 //! pelicun's fragility CSV (one row per component: its demand, then
-//! `LSk-Family`, `LSk-Theta_0` (the median), `LSk-Theta_1` (β) per limit
-//! state, lognormal) and the metadata JSON beside it (descriptions of each
-//! component and damage state), as pelicun 3.10's damage model reads them.
+//! `LSk-Family`, `LSk-Theta_0`, `LSk-Theta_1` per limit state) and the
+//! metadata JSON beside it (descriptions of each component and damage
+//! state), as pelicun 3.10's damage model reads them.
+//!
+//! A state is a `lognormal` (Theta_0 the median, Theta_1 β) or, for the
+//! records' curve, a `multilinear_CDF` (Theta_0 `"x₁,…,xₙ|0,…,1"`, the
+//! levels and their probabilities, as the DLML writes its curves; pelicun
+//! interpolates linearly between them). The columns are FEMA P-58's
+//! contents components' (the DLML's E.20.22): the demand type, its unit
+//! (`g`, or `cmps` where FEMA's rows say `mps`: pelicun converts), and
+//! `Demand-Offset` 0. `Demand-Directional` is 1 where FEMA's contents say
+//! 0: FEMA's non-directional components are compared with 1.2 × the larger
+//! of the two directions' demands (pelicun's `NonDirectionalMultipliers`),
+//! but a block's capacity is of the component in its plane; placed in
+//! direction 1 (or 2, or `1,2` for one facing each way), it sees that
+//! direction's demand as the records shook it.
 
 use std::fmt::Write;
 
 use serde_json::{json, Map, Value};
 
-use super::{Entry, ExportError};
+use super::{Entry, ExportError, Shape};
 use crate::im::Im;
 
 pub const CSV_FILE: &str = "fragility.csv";
@@ -42,8 +55,26 @@ pub fn fragility_csv(entries: &[Entry], n_states: usize, im: Im) -> Result<Strin
         // records are; 0 would make pelicun take the larger of two
         // directions times its non-directional multiplier (1.2 by default).
         let _ = write!(x, "{},0,{demand},{unit},0,1", e.id);
-        for l in &e.states {
-            let _ = write!(x, ",lognormal,{:e},{:e},", l.median, l.beta);
+        match &e.states {
+            Shape::Lognormal(states) => {
+                for l in states {
+                    let _ = write!(x, ",lognormal,{:e},{:e},", l.median, l.beta);
+                }
+            }
+            Shape::Curve(curves) => {
+                for c in curves {
+                    let (xs, ps): (Vec<String>, Vec<String>) = c
+                        .points()
+                        .map(|(a, p)| (format!("{a:e}"), format!("{p}")))
+                        .unzip();
+                    let _ = write!(
+                        x,
+                        ",multilinear_CDF,\"{}|{}\",,",
+                        xs.join(","),
+                        ps.join(",")
+                    );
+                }
+            }
         }
         x.push('\n');
     }
@@ -98,7 +129,7 @@ mod tests {
             id: "statue".into(),
             description: "a statue".into(),
             no_damage_limit: None,
-            states: vec![
+            states: Shape::Lognormal(vec![
                 Lognormal {
                     median: 0.25,
                     beta: 0.4,
@@ -107,7 +138,7 @@ mod tests {
                     median: 0.5,
                     beta: 0.3,
                 },
-            ],
+            ]),
         };
         let csv = fragility_csv(std::slice::from_ref(&e), 2, Im::Pga).unwrap();
         let lines: Vec<&str> = csv.lines().collect();
@@ -120,5 +151,25 @@ mod tests {
             .unwrap()
             .contains("Spectral Acceleration|1.0,g"));
         assert!(fragility_csv(&[e], 2, Im::AvgSa).is_err());
+    }
+
+    /// The records' curve as the DLML writes its curves: one quoted cell
+    /// of levels and probabilities (a hand-worked three-record curve: P =
+    /// 0, 1/2, 1 at its capacities).
+    #[test]
+    fn a_records_curve_is_a_multilinear_cdf() {
+        let e = Entry {
+            id: "rack".into(),
+            description: "a rack".into(),
+            no_damage_limit: None,
+            states: Shape::Curve(vec![crate::damage::Curve::of_capacities(&[
+                25.0, 40.0, 70.0,
+            ])]),
+        };
+        let csv = fragility_csv(&[e], 1, Im::Pfv).unwrap();
+        assert_eq!(
+            csv.lines().nth(1).unwrap(),
+            r#"rack,0,Peak Floor Velocity,cmps,0,1,multilinear_CDF,"2.5e1,4e1,7e1|0,0.5,1",,"#
+        );
     }
 }

@@ -1,7 +1,7 @@
 //! A block's fragility, made once for every command ([`of_block`]): for
 //! each damage state asked (overturning alone for `fragility` and `risk`),
 //! in one IM, from the records' own runs (`--direct`: every state, both
-//! lognormal fits and the records' step curve), or from a study (`--from
+//! lognormal fits and the records' curve), or from a study (`--from
 //! PIPELINE.toml`: overturning from its regression or IM table, the other
 //! states from its damage table); the paper's regression gives overturning
 //! only. Several states share one dispersion by default, so that they never
@@ -11,7 +11,8 @@ use super::fragility::{DirectRecords, FragilityError, Laws, Request};
 use super::im_fragility::DamageTable;
 use crate::block::Block;
 use crate::damage::{
-    self, Criterion, DamageStates, Dispersion, FitMethod, Lognormal, StateCapacity,
+    self, Criterion, Curve, DamageStates, Dispersion, FitChoice, FitMethod, IfNotLognormal,
+    Lognormal, StateCapacity, LOGNORMAL_CHECK_LEVEL,
 };
 use crate::floor::Building;
 use crate::im::{self, Im};
@@ -38,13 +39,16 @@ pub struct StateFragility {
     /// a study's fit, overturning in PGA) or `moments` (a study's IM table).
     pub fractile_kind: &'static str,
     /// Every record's capacity in the IM, ascending, +∞ where the state is
-    /// not reached (`--direct` only): the records' step curve.
+    /// not reached (`--direct` only): the records' curve.
     #[serde(skip)]
     pub capacities: Option<Vec<f64>>,
+    /// The lognormal check of the capacities: Lilliefors' p of their
+    /// logarithms (`--direct`, every record reaching the state, 5 or more).
+    pub lognormal_p: Option<f64>,
 }
 
 impl StateFragility {
-    /// The lognormal of `method` (none for the step curve).
+    /// The lognormal of `method` (none for the records' curve).
     pub fn by(&self, method: FitMethod) -> Option<Lognormal> {
         match method {
             FitMethod::Fractile => self.fractile,
@@ -54,12 +58,13 @@ impl StateFragility {
     }
 
     /// P(state reached | IM) by `method`: its lognormal, or the records'
-    /// step curve; `None` where the method has none.
+    /// curve; `None` where the method has none.
     pub fn fragility(&self, method: FitMethod) -> Option<Fragility> {
         match method {
-            FitMethod::Empirical => self.capacities.as_ref().map(|t| Fragility::Empirical {
-                thresholds: t.clone(),
-            }),
+            FitMethod::Empirical => self
+                .capacities
+                .as_ref()
+                .map(|c| Fragility::Curve(Curve::of_capacities(c))),
             lognormal => self.by(lognormal).map(|l| Fragility::Lognormal {
                 median: l.median,
                 beta: l.beta,
@@ -68,9 +73,9 @@ impl StateFragility {
     }
 
     /// The median (IM unit) and β that `method` stands for: its
-    /// lognormal's, or for the step curve the records' 50 % fractile
-    /// (none where more than half never reach the state) beside the
-    /// fractile fit's β. The one place `fragility`, `risk` and Python read
+    /// lognormal's, or for the records' curve its median, the records' 50 %
+    /// fractile (none where more than half never reach the state), beside
+    /// the fractile fit's β. The one place `fragility`, `risk` and Python read
     /// them from.
     pub fn median_beta(&self, method: FitMethod) -> (Option<f64>, Option<f64>) {
         match (self.by(method), &self.capacities) {
@@ -109,6 +114,11 @@ pub struct DamageFragility {
     pub floor: Option<String>,
     /// `common` (one β for the states, the heaviest's) or `each`.
     pub dispersion: &'static str,
+    /// The fit the block's fragility is made by: the one asked, or the
+    /// records' curve where their capacities fail the lognormal check
+    /// ([`FitChoice::if_not_lognormal`]); every command reads it.
+    #[serde(skip)]
+    pub method: FitMethod,
     /// The model the records were run with, and why (`--direct`).
     pub model: Option<String>,
     pub states: Vec<StateFragility>,
@@ -138,14 +148,18 @@ pub fn of_block(
     laws: &Laws,
     direct: Option<&DirectRecords>,
     auto_tol: f64,
-    dispersion: Dispersion,
+    fit: FitChoice,
 ) -> Result<DamageFragility, FragilityError> {
     let mut f = match direct {
         Some(records) => from_records(block, states, im, records, auto_tol)?,
         None => from_regression(block, states, im, laws, auto_tol)?,
     };
-    f.dispersion = dispersion.label();
-    if dispersion == Dispersion::Common && f.states.len() > 1 {
+    f.method = fit.method;
+    if fit.if_not_lognormal == IfNotLognormal::Curve {
+        curve_where_not_lognormal(&mut f);
+    }
+    f.dispersion = fit.dispersion.label();
+    if fit.dispersion == Dispersion::Common && f.states.len() > 1 {
         for method in FitMethod::LOGNORMAL {
             let mut fits: Vec<Option<Lognormal>> = f.states.iter().map(|s| s.by(method)).collect();
             damage::common_dispersion(&mut fits);
@@ -158,6 +172,54 @@ pub fn of_block(
         }
     }
     Ok(f)
+}
+
+/// A lognormal fit made the records' curves where the heaviest state's
+/// capacities fail the lognormal check (Lilliefors at 5 % on their
+/// logarithms), with a warning that says why; kept, and warned of, where
+/// some record never reaches a state (a curve that stops below 1). The
+/// heaviest state decides for the block, as its β does for the states
+/// ([`damage::common_dispersion`]): overturning's fragility is one answer
+/// whether or not the lighter states are asked, and all the states are of
+/// one kind, so they stay in order (each record reaches a lighter state
+/// first, so its curves never cross).
+fn curve_where_not_lognormal(f: &mut DamageFragility) {
+    if f.method == FitMethod::Empirical {
+        return;
+    }
+    let Some(heaviest) = f.states.last() else {
+        return;
+    };
+    let Some(p) = heaviest.lognormal_p.filter(|&p| p < LOGNORMAL_CHECK_LEVEL) else {
+        return;
+    };
+    let name = heaviest.name.clone();
+    let short = f.states.iter().find(|s| {
+        s.capacities
+            .as_ref()
+            .is_none_or(|c| !Curve::of_capacities(c).complete())
+    });
+    match short {
+        None => {
+            let each = if f.states.len() > 1 {
+                ", and so are the lighter states'"
+            } else {
+                ""
+            };
+            f.method = FitMethod::Empirical;
+            f.warnings.push(format!(
+                "the capacities of `{name}` fail the lognormal check (Lilliefors p = {p:.3} < \
+                 0.05): its fragility is the records' own curve{each} (--method empirical; \
+                 --if-not-lognormal lognormal keeps the lognormal)"
+            ));
+        }
+        Some(s) => f.warnings.push(format!(
+            "the capacities of `{name}` fail the lognormal check (Lilliefors p = {p:.3} < 0.05), \
+             but some records never reach `{}`, so the records' curve stops below 1: the \
+             lognormal is kept",
+            s.name
+        )),
+    }
 }
 
 /// The IM level below which every state's probability is 0, the same for
@@ -179,7 +241,7 @@ pub fn zero_below(block: &Block, im: Im, floor: Option<&Building>) -> Option<f64
 /// Why `state` has no fragility by `method`, as a refusal.
 pub fn no_fit(f: &DamageFragility, state: &StateFragility, method: FitMethod) -> FragilityError {
     let why = match (method, f.source.as_str()) {
-        (FitMethod::Empirical, _) => "the records' step curve needs their runs: add --direct",
+        (FitMethod::Empirical, _) => "the records' curve needs their runs: add --direct",
         (FitMethod::MaxLikelihood, s) if s != "direct" => {
             "a regression has no likelihood fit; use --direct"
         }
@@ -274,6 +336,7 @@ fn from_regression(
             reached: None,
             fractile_kind: kind,
             capacities: None,
+            lognormal_p: None,
         });
     }
     warnings.sort();
@@ -286,6 +349,7 @@ fn from_regression(
         records_folder: None,
         floor: None,
         dispersion: Dispersion::Each.label(),
+        method: FitMethod::Fractile,
         model: None,
         states: out,
         warnings,
@@ -389,6 +453,7 @@ fn from_records(
             mle: f.mle,
             reached: Some(f.reached),
             fractile_kind: "fractile",
+            lognormal_p: lognormal_p(&f.capacities),
             capacities: Some(f.capacities),
         })
         .collect();
@@ -400,10 +465,21 @@ fn from_records(
         records_folder: Some(records.folder().to_string()),
         floor: records.floor().map(|b| b.to_string()),
         dispersion: Dispersion::Each.label(),
+        method: FitMethod::Fractile,
         model: Some(why),
         states: out,
         warnings,
     })
+}
+
+/// Lilliefors' p of the logarithms of `capacities` where every record
+/// reaches the state (5 or more).
+fn lognormal_p(capacities: &[f64]) -> Option<f64> {
+    if capacities.iter().any(|c| !c.is_finite() || *c <= 0.0) {
+        return None;
+    }
+    let logs: Vec<f64> = capacities.iter().map(|c| c.ln()).collect();
+    crate::stats::lilliefors(&logs).map(|l| l.p_value)
 }
 
 /// Below this many records reaching a state, its fit is warned of as
@@ -476,8 +552,12 @@ pub fn assess(
         &laws,
         records.as_ref(),
         req.auto_tol,
-        req.dispersion,
+        FitChoice {
+            method,
+            ..req.fit()
+        },
     )?;
+    let method = fragility.method;
     let crossed = crossings(&fragility, method);
     fragility.warnings.extend(crossed);
     if let Some(mu) = req

@@ -9,7 +9,7 @@ use super::fragility::{self, FragilityError, Source};
 use super::risk::{self, Blocks, InventoryBlock, RiskError};
 use crate::block::Block;
 use crate::damage::{DamageStates, FitMethod};
-use crate::export::{nrml, pelicun, Entry, ExportError, Site};
+use crate::export::{nrml, pelicun, Entry, ExportError, Shape, Site};
 use crate::im::Im;
 use crate::tables::{atomic_write, TableError};
 
@@ -51,6 +51,10 @@ pub struct Request {
     pub method: FitMethod,
     /// One β for the states of a block (the default), or each its own.
     pub dispersion: crate::damage::Dispersion,
+    /// Where the capacities fail the lognormal check: their curve (the
+    /// default; pelicun's multilinear_CDF, OpenQuake's discrete function)
+    /// or the lognormal anyway.
+    pub if_not_lognormal: crate::damage::IfNotLognormal,
     /// The IM; with `--hazard` it must be the hazard's (the default).
     pub im: Option<Im>,
     /// OpenQuake hazard curves: their sites make the exposure, and the job
@@ -79,8 +83,8 @@ pub enum ExportOpError {
     #[error(transparent)]
     Format(#[from] ExportError),
     #[error(
-        "--method empirical is the records' step curve, which no engine takes; export a \
-         lognormal (--method fractile or mle)"
+        "--method empirical is the records' own curve, which needs their runs: add --direct, or \
+         export a lognormal (--method fractile or mle)"
     )]
     EmpiricalExport,
     #[error(
@@ -106,6 +110,10 @@ pub struct ExportedBlock {
     pub block: risk::BlockInfo,
     /// The block's key in the engines' files ([`taxonomy`]).
     pub taxonomy: String,
+    /// What its states are written as: `lognormal`, or `curve` (the
+    /// records' own: pelicun's `multilinear_CDF`, OpenQuake's discrete
+    /// function).
+    pub written_as: &'static str,
     pub fragility: DamageFragility,
 }
 
@@ -119,7 +127,7 @@ pub struct Written {
 /// Computes every block's fragilities and writes the engine's files.
 pub fn export(req: &Request) -> Result<Written, ExportOpError> {
     crate::physics::check_auto_tol(req.auto_tol).map_err(FragilityError::AutoTol)?;
-    if req.method == FitMethod::Empirical {
+    if req.method == FitMethod::Empirical && !req.direct {
         return Err(ExportOpError::EmpiricalExport);
     }
     let hazard = match (&req.hazard, req.format) {
@@ -173,12 +181,16 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
             &laws,
             records.as_ref(),
             req.auto_tol,
-            req.dispersion,
+            crate::damage::FitChoice {
+                method: req.method,
+                dispersion: req.dispersion,
+                if_not_lognormal: req.if_not_lognormal,
+            },
         )
         .map_err(in_block)?;
         let info = risk::block_info(&e, &block, req.floor.as_ref());
-        let entry = entry(&info, &f, req.method, im, &block, req.floor.as_ref())?;
-        f.warnings.extend(damage::crossings(&f, req.method));
+        let entry = entry(&info, &f, im, &block, req.floor.as_ref())?;
+        f.warnings.extend(damage::crossings(&f, f.method));
         f.warnings
             .extend(hazard.iter().flat_map(|h| h.warnings.iter().cloned()));
         if let (Some(mu), Some(true)) = (info.mu, info.slides_first) {
@@ -188,6 +200,10 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
         blocks.push(ExportedBlock {
             block: info,
             taxonomy: entry.id.clone(),
+            written_as: match entry.states {
+                Shape::Lognormal(_) => "lognormal",
+                Shape::Curve(_) => "curve",
+            },
             fragility: f,
         });
         export.push(entry);
@@ -313,17 +329,65 @@ fn earlier_export(out: &Path) -> Vec<String> {
         .unwrap_or_default()
 }
 
-/// The block's entry: its states' lognormals by `method`.
+/// The block's entry: its states' functions by the fit its fragility is
+/// made by (the records' curves, or a lognormal each).
 fn entry(
     e: &risk::BlockInfo,
     f: &DamageFragility,
-    method: FitMethod,
     im: Im,
     block: &Block,
     floor: Option<&crate::floor::Building>,
 ) -> Result<Entry, ExportOpError> {
-    let states = f
-        .states
+    let method = f.method;
+    let refuse = |source| ExportOpError::Block {
+        name: e.name.clone(),
+        source,
+    };
+    let states = if method == FitMethod::Empirical {
+        let curves = f
+            .states
+            .iter()
+            .map(|s| match s.fragility(method) {
+                Some(crate::risk::Fragility::Curve(c)) if c.complete() => Ok(c),
+                Some(_) => Err(refuse(FragilityError::CurveShort {
+                    state: s.name.clone(),
+                    reached: s.reached.unwrap_or(0),
+                    records: f.records.unwrap_or(0),
+                })),
+                None => Err(refuse(damage::no_fit(f, s, method))),
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Shape::Curve(curves)
+    } else {
+        Shape::Lognormal(lognormals(e, f)?)
+    };
+    let slides = match (e.mu, e.slides_first) {
+        (Some(mu), Some(true)) => format!(
+            "; slides before it rocks (μ = {mu} < b/h = {:.4}): these fragilities assume it \
+             does not",
+            e.b_m / e.h_m
+        ),
+        _ => String::new(),
+    };
+    Ok(Entry {
+        id: taxonomy(&e.name),
+        description: format!(
+            "{}: half-width {} m, half-height {} m, α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}{slides}",
+            e.name, e.b_m, e.h_m, e.alpha_rad, e.p, e.eps
+        ),
+        // The level below which no state is reached, as `risk` cuts it.
+        no_damage_limit: damage::zero_below(block, im, floor),
+        states,
+    })
+}
+
+/// The block's states' lognormals by its fit, each with a spread.
+fn lognormals(
+    e: &risk::BlockInfo,
+    f: &DamageFragility,
+) -> Result<Vec<crate::damage::Lognormal>, ExportOpError> {
+    let method = f.method;
+    f.states
         .iter()
         .map(|s| {
             let refuse = |source| ExportOpError::Block {
@@ -343,25 +407,7 @@ fn entry(
                 }))
             }
         })
-        .collect::<Result<Vec<_>, _>>()?;
-    let slides = match (e.mu, e.slides_first) {
-        (Some(mu), Some(true)) => format!(
-            "; slides before it rocks (μ = {mu} < b/h = {:.4}): these fragilities assume it \
-             does not",
-            e.b_m / e.h_m
-        ),
-        _ => String::new(),
-    };
-    Ok(Entry {
-        id: taxonomy(&e.name),
-        description: format!(
-            "{}: half-width {} m, half-height {} m, α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}{slides}",
-            e.name, e.b_m, e.h_m, e.alpha_rad, e.p, e.eps
-        ),
-        // The level below which no state is reached, as `risk` cuts it.
-        no_damage_limit: damage::zero_below(block, im, floor),
-        states,
-    })
+        .collect()
 }
 
 /// The block's name as a taxonomy the engines read as one key: every

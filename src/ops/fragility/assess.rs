@@ -35,17 +35,22 @@ pub struct Assessment {
     /// `paper`, the pipeline file, or `direct` (the records' capacities).
     pub source: String,
     /// How the fragility is made: `fractile`, `mle`, `empirical` (the
-    /// records' step curve), `regression` (the paper's or a study's) or
+    /// records' curve), `regression` (the paper's or a study's) or
     /// `moments` (a study's IM table: exp(mean ln), the standard deviation).
     pub fit: String,
     /// With `--direct`: the records folder (or pipeline) the block ran through.
     pub records_folder: Option<String>,
     /// The median capacity in the IM's unit (the records' 50 % fractile
-    /// for the step curve).
+    /// for the records' curve).
     pub median: f64,
     /// For PGA: the median η_c.
     pub eta_c_median: Option<f64>,
     pub beta: f64,
+    /// With `--direct`: the lognormal check of the records' capacities,
+    /// Lilliefors' p of their logarithms (below 0.05 the lognormal is
+    /// rejected, and the fragility is their own curve unless asked
+    /// otherwise).
+    pub lognormal_p: Option<f64>,
     /// Records run with `--direct`.
     pub records: Option<usize>,
     /// With `--direct`: the model the records were run with, and why.
@@ -79,13 +84,14 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
         &laws,
         records.as_ref(),
         req.auto_tol,
-        req.dispersion,
+        req.fit(),
     )?;
+    let method = f.method;
     let state = &f.states[0];
     let fragility = state
-        .fragility(req.method)
-        .ok_or_else(|| damage::no_fit(&f, state, req.method))?;
-    let (median, beta) = state.median_beta(req.method);
+        .fragility(method)
+        .ok_or_else(|| damage::no_fit(&f, state, method))?;
+    let (median, beta) = state.median_beta(method);
     // More than half the records never reach it: the median lies beyond.
     let (median, beta) = (median.unwrap_or(f64::INFINITY), beta.unwrap_or(f64::NAN));
     let points = req
@@ -116,11 +122,12 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
         im: im.name(),
         unit: im.unit(),
         source: f.source.clone(),
-        fit: f.fit_name(req.method).to_string(),
+        fit: f.fit_name(method).to_string(),
         records_folder: f.records_folder.clone(),
         median,
         eta_c_median: (im == Im::Pga).then(|| alpha / median),
         beta,
+        lognormal_p: state.lognormal_p,
         records: f.records,
         model: f.model.clone(),
         points,

@@ -66,6 +66,16 @@ pub enum FragilityError {
         beta: f64,
         reached: Option<usize>,
     },
+    #[error(
+        "damage state `{state}`: {reached} of {records} records reach it, so the records' curve \
+         stops below 1, which no engine's curve can; export a lognormal (--method fractile or \
+         mle)"
+    )]
+    CurveShort {
+        state: String,
+        reached: usize,
+        records: usize,
+    },
     #[error("damage state `{state}` has no {method} fit ({why}); try --method {other}")]
     NoStateFit {
         state: String,

@@ -3,7 +3,7 @@
 //! warnings of a regression stretched for it.
 
 use crate::block::{Block, BlockError, Restitution};
-use crate::damage::{Dispersion, FitMethod};
+use crate::damage::{Dispersion, FitChoice, FitMethod, IfNotLognormal};
 use crate::floor::Building;
 use crate::im::Im;
 use crate::physics::LINEARIZATION_ERROR_PER_ALPHA2;
@@ -36,10 +36,24 @@ pub struct Request {
     /// The base's friction coefficient, checked: a block with μ < b/h is warned of.
     pub mu: Option<f64>,
     /// How the fragility is made from the capacities: a lognormal by the
-    /// fractiles (the default) or by likelihood, or the records' step curve.
+    /// fractiles (the default) or by likelihood, or the records' curve.
     pub method: FitMethod,
     /// Several damage states: one β for all (the default), or each its own.
     pub dispersion: Dispersion,
+    /// Where the capacities fail the lognormal check: their curve (the
+    /// default) or the lognormal anyway.
+    pub if_not_lognormal: IfNotLognormal,
+}
+
+impl Request {
+    /// How the block's fragility is made.
+    pub fn fit(&self) -> FitChoice {
+        FitChoice {
+            method: self.method,
+            dispersion: self.dispersion,
+            if_not_lognormal: self.if_not_lognormal,
+        }
+    }
 }
 
 /// Where the capacities come from, and with `direct` the records the

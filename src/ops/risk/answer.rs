@@ -29,7 +29,7 @@ pub struct FragilityInfo {
     /// How it is made: `fractile`, `mle` (lognormals of the records'
     /// capacities or a study's damage table), `regression` (the paper's or a
     /// study's, PGA), `moments` (a study's IM table) or `empirical` (the
-    /// records' step curve, `--method empirical`).
+    /// records' curve, `--method empirical`).
     pub fit: &'static str,
     /// The IM of the fragility and of the hazard, and its unit.
     pub im: String,
@@ -38,6 +38,9 @@ pub struct FragilityInfo {
     /// half the records never overturn the block.
     pub median: Option<f64>,
     pub beta: Option<f64>,
+    /// With `--direct`: Lilliefors' p of the logarithms of the records'
+    /// capacities (below 0.05 a lognormal does not fit them).
+    pub lognormal_p: Option<f64>,
     /// Records run, with `--direct`.
     pub records: Option<usize>,
     /// With `--direct`: the records folder (or pipeline) they came from.

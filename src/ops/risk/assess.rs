@@ -8,7 +8,7 @@ use super::error::RiskError;
 use super::inventory::{entries, InventoryBlock};
 use super::request::{Hazard, Request};
 use crate::block::{Block, Restitution};
-use crate::damage::{DamageStates, Dispersion, FitMethod};
+use crate::damage::{DamageStates, Dispersion, FitChoice};
 use crate::hazard::{self, HazardCurve};
 use crate::im::Im;
 use crate::label::Label;
@@ -67,7 +67,7 @@ fn fragility_of(
     im: Im,
     direct: Option<&DirectRecords>,
     auto_tol: f64,
-    method: FitMethod,
+    fit: FitChoice,
 ) -> Result<(Fragility, FragilityInfo, Vec<String>), FragilityError> {
     let f = damage::of_block(
         block,
@@ -76,8 +76,9 @@ fn fragility_of(
         laws,
         direct,
         auto_tol,
-        Dispersion::Each,
+        fit,
     )?;
+    let method = f.method;
     let state = &f.states[0];
     let fragility = state
         .fragility(method)
@@ -90,6 +91,7 @@ fn fragility_of(
         unit: im.unit(),
         median,
         beta,
+        lognormal_p: state.lognormal_p,
         records: f.records,
         records_folder: f.records_folder.clone(),
     };
@@ -210,7 +212,10 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
             im,
             records.as_ref(),
             req.auto_tol,
-            req.method,
+            FitChoice {
+                dispersion: Dispersion::Each,
+                ..req.fit()
+            },
         )
         .map_err(in_block)?;
         let floor = records.as_ref().and_then(|r| r.floor());

@@ -65,8 +65,22 @@ pub struct Request {
     /// The building whose floor the blocks stand on (`--direct` only).
     pub floor: Option<crate::floor::Building>,
     /// How each block's fragility is made: a lognormal by the fractiles
-    /// (the default) or by likelihood, or the records' step curve.
+    /// (the default) or by likelihood, or the records' curve.
     pub method: crate::damage::FitMethod,
     /// Several damage states: one β for all (the default), or each its own.
     pub dispersion: crate::damage::Dispersion,
+    /// Where the capacities fail the lognormal check: their curve (the
+    /// default) or the lognormal anyway.
+    pub if_not_lognormal: crate::damage::IfNotLognormal,
+}
+
+impl Request {
+    /// How each block's fragility is made.
+    pub fn fit(&self) -> crate::damage::FitChoice {
+        crate::damage::FitChoice {
+            method: self.method,
+            dispersion: self.dispersion,
+            if_not_lognormal: self.if_not_lognormal,
+        }
+    }
 }

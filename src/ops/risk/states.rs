@@ -89,9 +89,13 @@ pub fn assess_states(
             &laws,
             records.as_ref(),
             req.auto_tol,
-            req.dispersion,
+            crate::damage::FitChoice {
+                method,
+                ..req.fit()
+            },
         )
         .map_err(in_block)?;
+        let method = f.method;
         let floor = records.as_ref().and_then(|r| r.floor());
         let cut = damage::zero_below(&block, im, floor).unwrap_or(0.0);
         let crossed = damage::crossings(&f, method);

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use rocking::ask::{AskedBlock, BlockAsk, LawAsk, PulseAsk, Spelling};
 use rocking::block::Restitution;
-use rocking::damage::{DamageStates, Dispersion, FitMethod};
+use rocking::damage::{DamageStates, Dispersion, FitMethod, IfNotLognormal};
 use rocking::floor::Mode;
 use rocking::im::Im;
 use rocking::label::Label;
@@ -308,7 +308,7 @@ pub struct StatesArgs {
     pub states: Option<DamageStates>,
     /// How the fragility is made from the capacities: a lognormal by the
     /// paper's fractiles or by maximum likelihood, or (--direct) the
-    /// records' own step curve.
+    /// records' own curve.
     #[arg(long, value_parser = label::<FitMethod>(), default_value = "fractile")]
     pub method: FitMethod,
     /// Several states' dispersions: one β for all (the heaviest state's,
@@ -316,6 +316,11 @@ pub struct StatesArgs {
     /// lighter one) or each its own.
     #[arg(long, value_parser = label::<Dispersion>(), default_value = "common")]
     pub dispersion: Dispersion,
+    /// Where the records' capacities fail the lognormal check (Lilliefors at
+    /// 5 % on their logarithms; --direct): their own curve, as --method
+    /// empirical, or the lognormal anyway.
+    #[arg(long, value_parser = label::<IfNotLognormal>(), default_value = "curve")]
+    pub if_not_lognormal: IfNotLognormal,
 }
 
 /// The IM of a fragility.

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use rocking::ask::{ExportAsk, Spelling};
-use rocking::damage::{DamageStates, Dispersion, FitMethod};
+use rocking::damage::{DamageStates, Dispersion, FitMethod, IfNotLognormal};
 use rocking::ops::export::{self, Format};
 
 use super::args::{direct_progress, label, parse_im, parsed, BlocksArgs, LawArgs};
@@ -53,13 +53,21 @@ pub struct Args {
     /// paper's regression, overturned=overturned alone].
     #[arg(long, value_parser = parsed::<DamageStates>)]
     states: Option<DamageStates>,
-    /// The lognormal's fit of each state.
+    /// The fit of each state: a lognormal (fractile or mle), or (--direct)
+    /// the records' own curve, written as pelicun's multilinear_CDF and
+    /// OpenQuake's discrete function.
     #[arg(long, value_parser = label::<FitMethod>(), default_value = "fractile")]
     method: FitMethod,
     /// The states' dispersions: one β for all (the heaviest state's, medians
     /// in order: no heavier state likelier than a lighter one) or each its own.
     #[arg(long, value_parser = label::<Dispersion>(), default_value = "common")]
     dispersion: Dispersion,
+    /// Where a block's records' capacities fail the lognormal check
+    /// (Lilliefors at 5 % on their logarithms; --direct): their own curve
+    /// (pelicun's multilinear_CDF, OpenQuake's discrete function), or the
+    /// lognormal anyway.
+    #[arg(long, value_parser = label::<IfNotLognormal>(), default_value = "curve")]
+    if_not_lognormal: IfNotLognormal,
     /// The IM [default: the hazard's, or PGA]; pelicun also takes FEMA P-58's
     /// floor demands pfa (g) and pfv (cm/s) (--direct; on a --floor, the floor
     /// motion's own).
@@ -92,6 +100,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         states: args.states.clone(),
         method: args.method,
         dispersion: args.dispersion,
+        if_not_lognormal: args.if_not_lognormal,
         im: args.im,
         hazard: args.hazard.clone(),
         years: args.years,
@@ -127,6 +136,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             super::states::records_text(f.records, f.records_folder.as_deref())
         );
         print_fits(f);
+        if x.written_as == "curve" {
+            println!(
+                "  written as the records' own curves, linear between their capacities \
+                 (pelicun's multilinear_CDF, OpenQuake's discrete function)"
+            );
+        }
     }
     for f in &written.files {
         println!("wrote {}", f.display());

@@ -85,6 +85,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         states: args.states.states.clone(),
         method: args.states.method,
         dispersion: args.states.dispersion,
+        if_not_lognormal: args.states.if_not_lognormal,
     };
     let (req, states) = ask.resolve(Spelling::Cli, direct_progress(args.direct))?;
     if let Some(s) = &states.states {
@@ -115,7 +116,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         super::states::records_text(a.records, a.records_folder.as_deref()),
         a.median,
         if a.fit == "empirical" {
-            "no β: the records' step curve".to_string()
+            let why = match a.lognormal_p {
+                Some(p) if p < rocking::damage::LOGNORMAL_CHECK_LEVEL => format!(
+                    " (a lognormal does not fit them: Lilliefors p = {p:.3} < 0.05; \
+                     --if-not-lognormal lognormal keeps it)"
+                ),
+                _ => String::new(),
+            };
+            format!("no β: the records' own curve, linear between their capacities{why}")
         } else {
             format!("β = {:.3}", a.beta)
         }
@@ -135,7 +143,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if let (Some(n), Some(m)) = (a.records, &a.model) {
         println!(
             "--direct: {n} records run with the {m}; the last column is the share of them \
-             whose capacity the level exceeds (--method empirical takes it as the fragility)"
+             whose capacity the level exceeds (--method empirical draws the records' curve \
+             through their capacities)"
         );
     }
     let head = format!("{} ({unit})", a.im.to_uppercase());

@@ -75,9 +75,10 @@ pub struct Args {
     json: bool,
 }
 
-pub fn run(args: Args) -> anyhow::Result<()> {
+/// The request the options make.
+fn ask(args: &Args) -> RiskAsk {
     let law = args.law.ask();
-    let ask = RiskAsk {
+    RiskAsk {
         hazard: Some(HazardAsk::File(args.hazard.clone())),
         site: args.site,
         b: args.blocks.b,
@@ -97,8 +98,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         states: args.states.states.clone(),
         method: args.states.method,
         dispersion: args.states.dispersion,
-    };
-    let (req, states) = ask.resolve(Spelling::Cli, direct_progress(args.direct))?;
+        if_not_lognormal: args.states.if_not_lognormal,
+    }
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let (req, states) = ask(&args).resolve(Spelling::Cli, direct_progress(args.direct))?;
     let beyond = req.beyond;
     if let Some(s) = &states.states {
         if args.plot.is_some() || args.out.is_some() {
@@ -267,6 +272,31 @@ fn rate(r: f64) -> String {
     format!("{r:.3e}")
 }
 
+/// The fragility a risk rests on, in one line.
+fn fragility_line(f: &rocking::ops::risk::FragilityInfo) -> String {
+    let u = f.unit;
+    let spread = if f.fit == "empirical" {
+        let why = match f.lognormal_p {
+            Some(p) if p < rocking::damage::LOGNORMAL_CHECK_LEVEL => {
+                format!(", as a lognormal does not fit them (Lilliefors p = {p:.3})")
+            }
+            _ => String::new(),
+        };
+        format!("the records' own curve{why}")
+    } else {
+        format!("β {}", f.beta.map_or("—".into(), |v| format!("{v:.3}")))
+    };
+    format!(
+        "fragility in {} from {} ({}): median {}, {spread}{}",
+        f.im,
+        f.source,
+        f.fit,
+        f.median
+            .map_or("—".into(), |m| format!("{} {u}", level_text(m))),
+        super::states::records_text(f.records, f.records_folder.as_deref())
+    )
+}
+
 fn print_one(a: &Assessment) {
     let b = &a.block;
     let f = &a.fragility;
@@ -279,17 +309,8 @@ fn print_one(a: &Assessment) {
         b.eps,
         if b.eps_housner { " (Housner)" } else { "" }
     );
+    println!("{}", fragility_line(f));
     let u = f.unit;
-    println!(
-        "fragility in {} from {} ({}): median {}, β {}{}",
-        f.im,
-        f.source,
-        f.fit,
-        f.median
-            .map_or("—".into(), |m| format!("{} {u}", level_text(m))),
-        f.beta.map_or("—".into(), |v| format!("{v:.3}")),
-        super::states::records_text(f.records, f.records_folder.as_deref())
-    );
     for s in &a.sites {
         println!();
         let place = match (s.lon, s.lat) {
