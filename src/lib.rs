@@ -57,6 +57,7 @@ pub mod ask;
 pub mod at2;
 pub mod block;
 pub mod cluster;
+pub mod columns;
 pub mod damage;
 pub mod decimal;
 pub mod export;

@@ -864,3 +864,140 @@ fn floor_demands_are_the_floor_motions_own() {
         stderr(&out)
     );
 }
+
+/// A structural model's floor motions as text: each record's floor motion
+/// (the modal building's, so that an independent truth exists) written as
+/// an OpenSees `Node` recorder with `-time` would write it (time from one
+/// step, three columns: another node, the floor's acceleration in m/s²,
+/// another dof) and as a two-column CSV in g with a header line. Read with
+/// `--records-unit` (and `--records-column 2`), both give the capacities
+/// the same block has with `--floor` on the ground records: the CSV in g
+/// to 1e-9 (its times' mean step differs from the filter's by ulps), the
+/// recorder's m/s² to 1e-9 (one rounding per sample). Bad files and
+/// requests are refused naming the file and line, or the options.
+#[test]
+fn a_structural_models_floor_motions_are_read_as_text() {
+    let dir = tempdir();
+    let few = few_far_field(dir.path(), &FEW[..3]);
+    let mode = "0.5,0.05,1.3";
+    let building = rocking::floor::Building::new(vec![mode.parse().unwrap()]).unwrap();
+    let (recorder, csv) = (dir.path().join("recorder"), dir.path().join("csv"));
+    std::fs::create_dir(&recorder).unwrap();
+    std::fs::create_dir(&csv).unwrap();
+    for id in &FEW[..3] {
+        let record = few.join(format!("{id}.AT2"));
+        let (_, dt) = rocking::records::read_samples(&record).unwrap();
+        let f = building
+            .floor_motion(&plain_at2_values(&record), dt)
+            .unwrap();
+        let (mut out, mut two) = (String::new(), String::from("time_s,accel_g\n"));
+        for (i, a) in f.accel_g.iter().enumerate() {
+            let t = (i + 1) as f64 * f.dt_s;
+            out.push_str(&format!("{t} {} {} 7\n", 0.5 * a, a * 9.80665));
+            two.push_str(&format!("{t},{a}\n"));
+        }
+        std::fs::write(recorder.join(format!("{id}.out")), out).unwrap();
+        std::fs::write(csv.join(format!("{id}.csv")), two).unwrap();
+    }
+    let fragility = |extra: &[&str]| {
+        let mut args = vec![
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--direct",
+            "--im",
+            "pfv",
+            "--at",
+            "30,60",
+            "--json",
+        ];
+        args.extend(extra);
+        let out = rocking(&root(), &args);
+        assert!(out.status.success(), "{}", stderr(&out));
+        (json(&out), stderr(&out))
+    };
+    let few_s = few.to_str().unwrap();
+    let (on, _) = fragility(&["--records", few_s, "--floor", mode]);
+    let close = |a: &Value, b: &Value, what: &str| {
+        let (a, b) = (a.as_f64().unwrap(), b.as_f64().unwrap());
+        assert!(
+            (a - b).abs() <= 1e-9 * b.abs().max(1e-300),
+            "{what}: {a} against {b}"
+        );
+    };
+    for (folder, unit, column) in [(&csv, "g", "1"), (&recorder, "m/s2", "2")] {
+        let (text, err) = fragility(&[
+            "--records",
+            folder.to_str().unwrap(),
+            "--records-unit",
+            unit,
+            "--records-column",
+            column,
+        ]);
+        close(&text["median"], &on["median"], unit);
+        close(&text["beta"], &on["beta"], unit);
+        for k in 0..2 {
+            close(
+                &text["points"][k]["probability"],
+                &on["points"][k]["probability"],
+                unit,
+            );
+        }
+        assert!(
+            text["records_folder"]
+                .as_str()
+                .unwrap()
+                .contains(&format!("text columns in {unit}, value column {column}")),
+            "{text}"
+        );
+        assert!(err.contains("each scaled itself"), "{err}");
+    }
+    // Refusals: a column without a unit; a bad line, named.
+    let out = rocking(
+        &root(),
+        &[
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--direct",
+            "--pga",
+            "0.3",
+            "--records",
+            few_s,
+            "--records-column",
+            "2",
+        ],
+    );
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("--records-unit"), "{}", stderr(&out));
+    let bad = dir.path().join("bad");
+    std::fs::create_dir(&bad).unwrap();
+    std::fs::write(bad.join("floor3.txt"), "0.01 0.1\n0.02 x\n").unwrap();
+    let out = rocking(
+        &root(),
+        &[
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--direct",
+            "--pga",
+            "0.3",
+            "--records",
+            bad.to_str().unwrap(),
+            "--records-unit",
+            "g",
+        ],
+    );
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("floor3.txt:2: `x` is not a finite number"),
+        "{}",
+        stderr(&out)
+    );
+}

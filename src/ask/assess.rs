@@ -10,6 +10,7 @@ use serde::Deserialize;
 use super::block::{building, one_or_many, AUTO_TOL};
 use super::spelling::{AskError, Spelling};
 use crate::block::{check_mu, Restitution};
+use crate::columns::{AccelUnit, TextRecords};
 use crate::damage::{DamageStates, Dispersion, FitMethod, IfNotLognormal};
 use crate::floor::Mode;
 use crate::hazard;
@@ -28,6 +29,11 @@ pub struct LawAsk {
     pub source: String,
     pub outputs: PathBuf,
     pub records: Option<PathBuf>,
+    /// The records are text columns in this unit (a structural model's
+    /// floor motions), not AT2 files.
+    pub records_unit: Option<AccelUnit>,
+    /// Their value column (1 = the first after time; with `records_unit`).
+    pub records_column: Option<usize>,
 }
 
 impl Default for LawAsk {
@@ -36,13 +42,49 @@ impl Default for LawAsk {
             source: "paper".into(),
             outputs: PathBuf::from("outputs"),
             records: None,
+            records_unit: None,
+            records_column: None,
         }
     }
 }
 
 impl LawAsk {
-    pub fn resolve(&self) -> Source {
-        Source::named(&self.source, self.outputs.clone(), self.records.clone())
+    pub fn resolve(&self, sp: Spelling) -> Result<Source, AskError> {
+        let text = match (self.records_unit, self.records_column) {
+            (Some(unit), column) => Some(TextRecords {
+                unit,
+                column: column.unwrap_or(1),
+            }),
+            (None, Some(_)) => {
+                return Err(AskError(format!(
+                    "{} picks a column of text records: give their unit with {}",
+                    sp.key("records_column"),
+                    sp.key("records_unit")
+                )))
+            }
+            (None, None) => None,
+        };
+        if let Some(t) = &text {
+            if self.source != "paper" {
+                return Err(AskError(format!(
+                    "{} reads the text files of {}; a pipeline's records are its own",
+                    sp.key("records_unit"),
+                    sp.key("records")
+                )));
+            }
+            if t.column == 0 {
+                return Err(AskError(format!(
+                    "{}: value columns are counted from 1 (the first after time)",
+                    sp.set("records_column", "0")
+                )));
+            }
+        }
+        Ok(Source::named(
+            &self.source,
+            self.outputs.clone(),
+            self.records.clone(),
+            text,
+        ))
     }
 }
 
@@ -114,6 +156,8 @@ pub struct FragilityAsk {
     pub source: String,
     pub outputs: PathBuf,
     pub records: Option<PathBuf>,
+    pub records_unit: Option<AccelUnit>,
+    pub records_column: Option<usize>,
     pub direct: bool,
     pub auto_tol: f64,
     pub floor: Vec<Mode>,
@@ -137,6 +181,8 @@ impl Default for FragilityAsk {
             source: law.source,
             outputs: law.outputs,
             records: None,
+            records_unit: None,
+            records_column: None,
             direct: false,
             auto_tol: AUTO_TOL,
             floor: Vec::new(),
@@ -218,6 +264,8 @@ impl FragilityAsk {
             source: self.source.clone(),
             outputs: self.outputs.clone(),
             records: self.records.clone(),
+            records_unit: self.records_unit,
+            records_column: self.records_column,
         };
         let req = fragility::Request {
             b_m: self.b,
@@ -225,7 +273,7 @@ impl FragilityAsk {
             eps: self.eps,
             im: self.im,
             levels,
-            from: law.resolve(),
+            from: law.resolve(sp)?,
             direct: self.direct,
             progress,
             auto_tol: self.auto_tol,
@@ -285,6 +333,8 @@ pub struct RiskAsk {
     pub source: String,
     pub outputs: PathBuf,
     pub records: Option<PathBuf>,
+    pub records_unit: Option<AccelUnit>,
+    pub records_column: Option<usize>,
     pub direct: bool,
     pub years: f64,
     pub beyond: Beyond,
@@ -311,6 +361,8 @@ impl Default for RiskAsk {
             source: law.source,
             outputs: law.outputs,
             records: None,
+            records_unit: None,
+            records_column: None,
             direct: false,
             years: 50.0,
             beyond: Beyond::Extrapolate,
@@ -357,12 +409,14 @@ impl RiskAsk {
             source: self.source.clone(),
             outputs: self.outputs.clone(),
             records: self.records.clone(),
+            records_unit: self.records_unit,
+            records_column: self.records_column,
         };
         let req = risk::Request {
             hazard: hazard.resolve(sp)?,
             site: self.site,
             blocks: self.blocks().resolve(sp)?,
-            from: law.resolve(),
+            from: law.resolve(sp)?,
             im: self.im,
             direct: self.direct,
             progress,
@@ -411,7 +465,7 @@ impl ExportAsk {
         sp: Spelling,
         progress: DirectProgress,
     ) -> Result<(export::Request, bool), AskError> {
-        let from = self.law.resolve();
+        let from = self.law.resolve(sp)?;
         if let Some(im) = self.im {
             floor_demand_needs_runs(im, self.direct, sp)?;
         }

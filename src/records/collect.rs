@@ -1,7 +1,9 @@
 //! Records found and read: the AT2 files a list of paths names (folders
-//! walked for `*.AT2`, any case), each parsed, checked against a manifest,
-//! record ids (file stems) unique. Shared by the ingest stage, a pipeline
-//! that reads AT2 files directly, `capacity --record` and `--direct`.
+//! walked for `*.AT2`, any case), or text columns with a declared unit
+//! ([`crate::columns`]: folders walked for `*.out`, `*.txt`, `*.dat`,
+//! `*.csv`), each parsed, checked against a manifest, record ids (file
+//! stems) unique. Shared by the ingest stage, a pipeline that reads AT2
+//! files directly, `capacity --record` and `--direct`.
 
 use std::fmt;
 use std::fs;
@@ -11,6 +13,7 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 
 use crate::at2;
+use crate::columns::{self, ColumnsError, TextRecords};
 use crate::manifest::{self, Manifest, RecordMeta};
 use crate::motion;
 use crate::tables::records::RecordRow;
@@ -39,6 +42,7 @@ pub struct BadFile {
 pub enum Problem {
     Read(io::Error),
     Parse(at2::At2Error),
+    Text(ColumnsError),
     /// The manifest's NPTS or DT disagrees with the file.
     ManifestMismatch {
         manifest: PathBuf,
@@ -56,6 +60,8 @@ impl fmt::Display for BadFile {
         match &self.problem {
             Problem::Read(e) => write!(f, "{path}: cannot read: {e}"),
             Problem::Parse(e) => write!(f, "{path}:{}: {}", e.line, e.kind),
+            Problem::Text(e) if e.line == 0 => write!(f, "{path}: {}", e.kind),
+            Problem::Text(e) => write!(f, "{path}:{}: {}", e.line, e.kind),
             Problem::ManifestMismatch {
                 manifest,
                 line,
@@ -86,6 +92,8 @@ pub enum CollectError {
     },
     #[error("no AT2 files found in {0}")]
     NoFiles(String),
+    #[error("no text motion files (*.out, *.txt, *.dat, *.csv) found in {0}")]
+    NoTextFiles(String),
     #[error("manifest {path}")]
     Manifest {
         path: PathBuf,
@@ -121,13 +129,32 @@ pub fn collect(
     manifest_path: Option<&Path>,
     on_bad: OnBad,
 ) -> Result<Collected, CollectError> {
-    let files = discover(paths)?;
+    collect_as(paths, manifest_path, on_bad, None)
+}
+
+/// As [`collect`], the files read as AT2 (`text` none) or as text columns.
+pub fn collect_as(
+    paths: &[PathBuf],
+    manifest_path: Option<&Path>,
+    on_bad: OnBad,
+    text: Option<&TextRecords>,
+) -> Result<Collected, CollectError> {
+    let files = match text {
+        None => discover(paths)?,
+        Some(_) => discover_with(paths, TEXT_EXTENSIONS, CollectError::NoTextFiles)?,
+    };
     let manifest = match manifest_path {
         Some(path) => Some((path.to_path_buf(), load_manifest(path)?)),
         None => None,
     };
 
-    let results: Vec<Result<RecordRow, BadFile>> = files.par_iter().map(|p| read_one(p)).collect();
+    let results: Vec<Result<RecordRow, BadFile>> = files
+        .par_iter()
+        .map(|p| match text {
+            None => read_one(p),
+            Some(spec) => read_text(p, spec),
+        })
+        .collect();
     let mut rows = Vec::with_capacity(results.len());
     let mut bad = Vec::new();
     for r in results {
@@ -207,9 +234,23 @@ fn load_manifest(path: &Path) -> Result<Manifest, CollectError> {
     })
 }
 
+/// The extensions of text motion files in a folder.
+pub const TEXT_EXTENSIONS: &[&str] = &["out", "txt", "dat", "csv"];
+
 /// The AT2 files named by `paths`: files as given, folders walked recursively
 /// for `*.AT2` in any case. Sorted, without duplicates.
 pub fn discover(paths: &[PathBuf]) -> Result<Vec<PathBuf>, CollectError> {
+    discover_with(paths, &["at2"], CollectError::NoFiles)
+}
+
+/// The files named by `paths`: files as given, folders walked recursively
+/// for the `extensions` in any case (a `manifest.csv` skipped). Sorted,
+/// without duplicates.
+fn discover_with(
+    paths: &[PathBuf],
+    extensions: &[&str],
+    none: fn(String) -> CollectError,
+) -> Result<Vec<PathBuf>, CollectError> {
     let mut found = Vec::new();
     for path in paths {
         let meta = fs::metadata(path).map_err(|source| CollectError::Path {
@@ -217,7 +258,7 @@ pub fn discover(paths: &[PathBuf]) -> Result<Vec<PathBuf>, CollectError> {
             source,
         })?;
         if meta.is_dir() {
-            walk(path, &mut found)?;
+            walk(path, extensions, &mut found)?;
         } else {
             found.push(path.clone());
         }
@@ -226,12 +267,12 @@ pub fn discover(paths: &[PathBuf]) -> Result<Vec<PathBuf>, CollectError> {
     found.dedup();
     if found.is_empty() {
         let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
-        return Err(CollectError::NoFiles(names.join(", ")));
+        return Err(none(names.join(", ")));
     }
     Ok(found)
 }
 
-fn walk(dir: &Path, found: &mut Vec<PathBuf>) -> Result<(), CollectError> {
+fn walk(dir: &Path, extensions: &[&str], found: &mut Vec<PathBuf>) -> Result<(), CollectError> {
     let entries = fs::read_dir(dir).map_err(|source| CollectError::Path {
         path: dir.into(),
         source,
@@ -246,11 +287,17 @@ fn walk(dir: &Path, found: &mut Vec<PathBuf>) -> Result<(), CollectError> {
             path: path.clone(),
             source,
         })?;
+        let manifest = path
+            .file_name()
+            .is_some_and(|n| n.eq_ignore_ascii_case("manifest.csv"));
         if meta.is_dir() {
-            walk(&path, found)?;
-        } else if path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("at2"))
+            walk(&path, extensions, found)?;
+        } else if !manifest
+            && path.extension().is_some_and(|e| {
+                extensions
+                    .iter()
+                    .any(|x| e.eq_ignore_ascii_case(std::ffi::OsStr::new(x)))
+            })
         {
             found.push(path);
         }
@@ -280,6 +327,41 @@ fn read_one(path: &Path) -> Result<RecordRow, BadFile> {
         duration_s: motion::duration_s(parsed.accel_g.len(), parsed.dt_s),
         header: parsed.header,
         header_layout: parsed.layout.as_str().to_string(),
+        meta: RecordMeta::default(),
+        accel_g: parsed.accel_g,
+    })
+}
+
+/// One text file of columns, read as `spec` says.
+fn read_text(path: &Path, spec: &TextRecords) -> Result<RecordRow, BadFile> {
+    let bad = |problem| BadFile {
+        path: path.to_path_buf(),
+        problem,
+    };
+    let bytes = fs::read(path).map_err(|e| bad(Problem::Read(e)))?;
+    let text = String::from_utf8_lossy(&bytes);
+    let parsed = columns::parse(&text, spec).map_err(|e| bad(Problem::Text(e)))?;
+    let peak = motion::peak(&parsed.accel_g, parsed.dt_s).expect("two samples are checked");
+    Ok(RecordRow {
+        record_id: path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        source: path.display().to_string(),
+        sha256: crate::hash::sha256_hex(&bytes),
+        dt_s: parsed.dt_s,
+        pga_g: peak.pga_g,
+        pga_time_s: peak.time_s,
+        duration_s: motion::duration_s(parsed.accel_g.len(), parsed.dt_s),
+        // The four header lines of the table: how it was read, the file's
+        // line of names, its first time.
+        header: [
+            spec.to_string(),
+            parsed.header.unwrap_or_default(),
+            format!("first time {} s", parsed.t0_s),
+            format!("NPTS= {}, DT= {} SEC", parsed.accel_g.len(), parsed.dt_s),
+        ],
+        header_layout: "columns".into(),
         meta: RecordMeta::default(),
         accel_g: parsed.accel_g,
     })

@@ -83,7 +83,9 @@ pub struct RecordRow {
     pub duration_s: f64,
     /// The four header lines.
     pub header: [String; 4],
-    /// `keyed` or `positional` (see `at2::HeaderLayout`).
+    /// `keyed` or `positional` (see `at2::HeaderLayout`), or `columns` for
+    /// a text file of columns (`columns`; its header lines then say how it
+    /// was read).
     pub header_layout: String,
     pub meta: RecordMeta,
     pub accel_g: Vec<f64>,

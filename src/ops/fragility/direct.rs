@@ -68,6 +68,8 @@ pub struct DirectRecords {
     folder: String,
     /// The building whose floor the block stands on, if any.
     floor: Option<Building>,
+    /// How text records were read (a structural model's floor motions).
+    text: Option<crate::columns::TextRecords>,
     progress: DirectProgress,
     counts: Counts,
     /// Each record's intensity measures, in the same order, computed the
@@ -89,19 +91,27 @@ impl DirectRecords {
         floor: Option<&Building>,
     ) -> Result<Self, FragilityError> {
         let folder = match from {
-            Source::Paper { records } => records.display().to_string(),
+            Source::Paper {
+                records,
+                text: None,
+            } => records.display().to_string(),
+            Source::Paper {
+                records,
+                text: Some(t),
+            } => format!("{} ({t})", records.display()),
             Source::Pipeline { file, .. } => format!("the records of {}", file.display()),
         };
         let rows = match (from, plan) {
             (_, Some(plan)) => records::of_plan(plan).map_err(FragilityError::Records)?,
-            (Source::Paper { records }, None) => {
+            (Source::Paper { records, text }, None) => {
                 if !records.is_dir() {
                     return Err(FragilityError::NoRecords(records.clone()));
                 }
-                records::collect(
+                records::collect_as(
                     std::slice::from_ref(records),
                     None,
                     OnBad::Refuse(RECORDS_HINT),
+                    text.as_ref(),
                 )
                 .map_err(FragilityError::Ingest)?
                 .rows
@@ -129,10 +139,15 @@ impl DirectRecords {
                 })
             })
             .collect::<Result<_, FragilityError>>()?;
+        let text = match from {
+            Source::Paper { text, .. } => *text,
+            Source::Pipeline { .. } => None,
+        };
         Ok(DirectRecords {
             records,
             folder,
             floor: floor.cloned(),
+            text,
             progress,
             counts: Counts::default(),
             ims: std::sync::OnceLock::new(),
@@ -275,6 +290,11 @@ impl DirectRecords {
 
     /// The building whose floor the block stands on (`--floor`, or the
     /// study's `[floor]`); `None` on the ground.
+    /// How the records were read, where they are text columns.
+    pub fn text(&self) -> Option<&crate::columns::TextRecords> {
+        self.text.as_ref()
+    }
+
     pub fn floor(&self) -> Option<&Building> {
         self.floor.as_ref()
     }

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 use super::error::FragilityError;
 use crate::block::Block;
+use crate::columns::TextRecords;
 use crate::damage::FitMethod;
 use crate::fragility::{self, FractileLaw};
 use crate::im::Im;
@@ -19,8 +20,12 @@ use crate::stages::{damage, ims, Study};
 /// Where the capacity fractiles come from.
 #[derive(Debug, Clone)]
 pub enum Source {
-    /// The paper's published coefficients; `--direct` runs the AT2 files of `records`.
-    Paper { records: PathBuf },
+    /// The paper's published coefficients; `--direct` runs the AT2 files of
+    /// `records`, or its text files read as `text` says.
+    Paper {
+        records: PathBuf,
+        text: Option<TextRecords>,
+    },
     /// A pipeline's own fit, in `<outputs>/<name>/`; `--direct` runs its records.
     Pipeline { file: PathBuf, outputs: PathBuf },
 }
@@ -29,10 +34,16 @@ impl Source {
     /// The source a user names: `paper`, or a pipeline file whose study is
     /// under `outputs`; `records` for `--direct` with the paper (default:
     /// [`default_records`]).
-    pub fn named(from: &str, outputs: PathBuf, records: Option<PathBuf>) -> Source {
+    pub fn named(
+        from: &str,
+        outputs: PathBuf,
+        records: Option<PathBuf>,
+        text: Option<TextRecords>,
+    ) -> Source {
         if from == "paper" {
             Source::Paper {
                 records: records.unwrap_or_else(default_records),
+                text,
             }
         } else {
             Source::Pipeline {

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use rocking::ask::{AskedBlock, BlockAsk, LawAsk, PulseAsk, Spelling};
 use rocking::block::Restitution;
+use rocking::columns::AccelUnit;
 use rocking::damage::{DamageStates, Dispersion, FitMethod, IfNotLognormal};
 use rocking::floor::Mode;
 use rocking::im::Im;
@@ -70,6 +71,15 @@ pub struct LawArgs {
     /// else in the repository this binary was built from].
     #[arg(long)]
     pub records: Option<PathBuf>,
+    /// The --records are text files of columns in this unit, not AT2 files:
+    /// a structural model's floor motions (an OpenSees Node recorder with
+    /// -time, or time and acceleration), each scaled itself.
+    #[arg(long, value_parser = label::<AccelUnit>(), value_name = "UNIT")]
+    pub records_unit: Option<AccelUnit>,
+    /// With --records-unit: the value column to read (1 = the first after
+    /// time) [default: 1].
+    #[arg(long, value_name = "K")]
+    pub records_column: Option<usize>,
 }
 
 impl LawArgs {
@@ -78,6 +88,8 @@ impl LawArgs {
             source: self.from.clone(),
             outputs: self.outputs.clone(),
             records: self.records.clone(),
+            records_unit: self.records_unit,
+            records_column: self.records_column,
         }
     }
 }

@@ -78,6 +78,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         source: law.source,
         outputs: law.outputs,
         records: law.records,
+        records_unit: law.records_unit,
+        records_column: law.records_column,
         direct: args.direct,
         auto_tol: args.auto_tol,
         floor: args.scene.floor.floor.clone(),

@@ -90,6 +90,8 @@ fn ask(args: &Args) -> RiskAsk {
         source: law.source,
         outputs: law.outputs,
         records: law.records,
+        records_unit: law.records_unit,
+        records_column: law.records_column,
         direct: args.direct,
         years: args.years,
         beyond: args.beyond,

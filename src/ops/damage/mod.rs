@@ -7,136 +7,22 @@
 //! only. Several states share one dispersion by default, so that they never
 //! cross ([`crate::damage::common_dispersion`]).
 
+mod answer;
+mod records;
+
+pub use answer::{DamageFragility, StateFragility, DIRECT_FRACTILE};
+
 use super::fragility::{DirectRecords, FragilityError, Laws, Request};
 use super::im_fragility::DamageTable;
 use crate::block::Block;
 use crate::damage::{
-    self, Criterion, Curve, DamageStates, Dispersion, FitChoice, FitMethod, IfNotLognormal,
-    Lognormal, StateCapacity, LOGNORMAL_CHECK_LEVEL,
+    self, Criterion, DamageStates, Dispersion, FitChoice, FitMethod, IfNotLognormal, Lognormal,
 };
 use crate::floor::Building;
-use crate::im::{self, Im};
+use crate::im::Im;
 use crate::label::Label;
-use crate::risk::Fragility;
-use crate::stats::FractileDef;
-
-/// One state's fragility.
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct StateFragility {
-    pub name: String,
-    /// `θmax/α ≥ 0.1` or `overturned`.
-    pub criterion: String,
-    /// The θmax/α threshold; none for overturning.
-    pub threshold: Option<f64>,
-    /// By the paper's fractiles (or the regression, which is its fit).
-    pub fractile: Option<Lognormal>,
-    /// By censored maximum likelihood (`--direct` only).
-    pub mle: Option<Lognormal>,
-    /// Records that reach the state within the runs (`--direct` only).
-    pub reached: Option<usize>,
-    /// What the `fractile` lognormal is: `fractile` (of the records'
-    /// capacities, or a study's damage table), `regression` (the paper's or
-    /// a study's fit, overturning in PGA) or `moments` (a study's IM table).
-    pub fractile_kind: &'static str,
-    /// Every record's capacity in the IM, ascending, +∞ where the state is
-    /// not reached (`--direct` only): the records' curve.
-    #[serde(skip)]
-    pub capacities: Option<Vec<f64>>,
-    /// The lognormal check of the capacities: Lilliefors' p of their
-    /// logarithms (`--direct`, every record reaching the state, 5 or more).
-    pub lognormal_p: Option<f64>,
-}
-
-impl StateFragility {
-    /// The lognormal of `method` (none for the records' curve).
-    pub fn by(&self, method: FitMethod) -> Option<Lognormal> {
-        match method {
-            FitMethod::Fractile => self.fractile,
-            FitMethod::MaxLikelihood => self.mle,
-            FitMethod::Empirical => None,
-        }
-    }
-
-    /// P(state reached | IM) by `method`: its lognormal, or the records'
-    /// curve; `None` where the method has none.
-    pub fn fragility(&self, method: FitMethod) -> Option<Fragility> {
-        match method {
-            FitMethod::Empirical => self
-                .capacities
-                .as_ref()
-                .map(|c| Fragility::Curve(Curve::of_capacities(c))),
-            lognormal => self.by(lognormal).map(|l| Fragility::Lognormal {
-                median: l.median,
-                beta: l.beta,
-            }),
-        }
-    }
-
-    /// The median (IM unit) and β that `method` stands for: its
-    /// lognormal's, or for the records' curve its median, the records' 50 %
-    /// fractile (none where more than half never reach the state), beside
-    /// the fractile fit's β. The one place `fragility`, `risk` and Python read
-    /// them from.
-    pub fn median_beta(&self, method: FitMethod) -> (Option<f64>, Option<f64>) {
-        match (self.by(method), &self.capacities) {
-            (Some(l), _) => (Some(l.median), Some(l.beta)),
-            (None, Some(c)) => (
-                crate::stats::fractile(c, 0.5, DIRECT_FRACTILE).filter(|v| v.is_finite()),
-                self.fractile.map(|l| l.beta),
-            ),
-            (None, None) => (None, None),
-        }
-    }
-
-    /// The fit `method` stands for here: `fractile`, `regression`,
-    /// `moments`, `mle` or `empirical`.
-    pub fn fit_name(&self, method: FitMethod) -> &'static str {
-        match method {
-            FitMethod::Fractile => self.fractile_kind,
-            other => other.name(),
-        }
-    }
-}
-
-/// A block's damage-state fragilities.
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct DamageFragility {
-    pub im: String,
-    pub unit: &'static str,
-    /// `paper`, the pipeline file, or `direct`.
-    pub source: String,
-    /// Records run (`--direct`).
-    pub records: Option<usize>,
-    /// With `--direct`: the records folder (or the pipeline) they came from.
-    pub records_folder: Option<String>,
-    /// On a floor: the building's modes (`T,ζ,Γφ; …`); the IMs are the
-    /// ground's, PFA and PFV the floor motion's own.
-    pub floor: Option<String>,
-    /// `common` (one β for the states, the heaviest's) or `each`.
-    pub dispersion: &'static str,
-    /// The fit the block's fragility is made by: the one asked, or the
-    /// records' curve where their capacities fail the lognormal check
-    /// ([`FitChoice::if_not_lognormal`]); every command reads it.
-    #[serde(skip)]
-    pub method: FitMethod,
-    /// The model the records were run with, and why (`--direct`).
-    pub model: Option<String>,
-    pub states: Vec<StateFragility>,
-    pub warnings: Vec<String>,
-}
-
-impl DamageFragility {
-    /// The fit `method` stands for (its first state's; one for overturning).
-    pub fn fit_name(&self, method: FitMethod) -> &'static str {
-        self.states
-            .first()
-            .map_or(method.name(), |s| s.fit_name(method))
-    }
-}
-
-/// The fractile definition of the records' fits (`--direct`): numpy's and
-/// R's default, as the paper's.
-pub const DIRECT_FRACTILE: FractileDef = FractileDef::Type7;
+use records::{curve_where_not_lognormal, from_records};
+pub use records::{FEW_RECORDS, TEXT_RECORDS_NOTE};
 
 /// The block's fragility for each of `states` in `im`: the one function
 /// every command (`fragility`, `risk`, `export`, Python) makes it with.
@@ -172,54 +58,6 @@ pub fn of_block(
         }
     }
     Ok(f)
-}
-
-/// A lognormal fit made the records' curves where the heaviest state's
-/// capacities fail the lognormal check (Lilliefors at 5 % on their
-/// logarithms), with a warning that says why; kept, and warned of, where
-/// some record never reaches a state (a curve that stops below 1). The
-/// heaviest state decides for the block, as its β does for the states
-/// ([`damage::common_dispersion`]): overturning's fragility is one answer
-/// whether or not the lighter states are asked, and all the states are of
-/// one kind, so they stay in order (each record reaches a lighter state
-/// first, so its curves never cross).
-fn curve_where_not_lognormal(f: &mut DamageFragility) {
-    if f.method == FitMethod::Empirical {
-        return;
-    }
-    let Some(heaviest) = f.states.last() else {
-        return;
-    };
-    let Some(p) = heaviest.lognormal_p.filter(|&p| p < LOGNORMAL_CHECK_LEVEL) else {
-        return;
-    };
-    let name = heaviest.name.clone();
-    let short = f.states.iter().find(|s| {
-        s.capacities
-            .as_ref()
-            .is_none_or(|c| !Curve::of_capacities(c).complete())
-    });
-    match short {
-        None => {
-            let each = if f.states.len() > 1 {
-                ", and so are the lighter states'"
-            } else {
-                ""
-            };
-            f.method = FitMethod::Empirical;
-            f.warnings.push(format!(
-                "the capacities of `{name}` fail the lognormal check (Lilliefors p = {p:.3} < \
-                 0.05): its fragility is the records' own curve{each} (--method empirical; \
-                 --if-not-lognormal lognormal keeps the lognormal)"
-            ));
-        }
-        Some(s) => f.warnings.push(format!(
-            "the capacities of `{name}` fail the lognormal check (Lilliefors p = {p:.3} < 0.05), \
-             but some records never reach `{}`, so the records' curve stops below 1: the \
-             lognormal is kept",
-            s.name
-        )),
-    }
 }
 
 /// The IM level below which every state's probability is 0, the same for
@@ -389,102 +227,6 @@ fn overturning(
         ))
     }
 }
-
-fn from_records(
-    block: &Block,
-    states: &DamageStates,
-    im: Im,
-    records: &DirectRecords,
-    auto_tol: f64,
-) -> Result<DamageFragility, FragilityError> {
-    let def = DIRECT_FRACTILE;
-    // A floor demand (PFA, PFV) is of the floor motion's own scale.
-    let (runs, why) = records.runs(block, auto_tol, !im.floor())?;
-    let alpha = block.alpha();
-    let ims = (im != Im::Pga).then(|| records.ims_for(im)).transpose()?;
-    let per_record: Vec<Vec<StateCapacity>> = runs
-        .iter()
-        .map(|c| {
-            let points = c.points.iter();
-            let runs = points.map(|p| (p.eta, p.outcome.max_abs_x, p.outcome.overturned()));
-            damage::capacities(states, runs, c.eta_c)
-        })
-        .collect();
-    let n = states.states().len();
-    let fits = match ims {
-        None => damage::fit_states(
-            n,
-            &per_record,
-            |_, eta| Some(im::pga_of_eta(eta, alpha)),
-            def,
-        ),
-        Some(ims) => damage::fit_states(
-            n,
-            &per_record,
-            |k, eta| im::of_eta(im, eta, alpha, &ims[k]),
-            def,
-        ),
-    }
-    .ok_or(FragilityError::NoPeriod(im.name()))?;
-    let warnings = states
-        .states()
-        .iter()
-        .zip(&fits)
-        .filter(|(_, f)| (2..FEW_RECORDS).contains(&f.reached))
-        .map(|(s, f)| {
-            format!(
-                "`{}` is fitted to the capacities of {} records (fewer than {FEW_RECORDS}): its \
-                 median and β are rough (β's standard error is about β/√(2n), {:.0} % here)",
-                s.name,
-                f.reached,
-                100.0 / (2.0 * f.reached as f64).sqrt()
-            )
-        })
-        .collect();
-    let out = states
-        .states()
-        .iter()
-        .zip(fits)
-        .map(|(s, f)| StateFragility {
-            name: s.name.clone(),
-            criterion: s.describe(),
-            threshold: s.threshold(),
-            fractile: f.fractile,
-            mle: f.mle,
-            reached: Some(f.reached),
-            fractile_kind: "fractile",
-            lognormal_p: lognormal_p(&f.capacities),
-            capacities: Some(f.capacities),
-        })
-        .collect();
-    Ok(DamageFragility {
-        im: im.name(),
-        unit: im.unit(),
-        source: "direct".into(),
-        records: Some(runs.len()),
-        records_folder: Some(records.folder().to_string()),
-        floor: records.floor().map(|b| b.to_string()),
-        dispersion: Dispersion::Each.label(),
-        method: FitMethod::Fractile,
-        model: Some(why),
-        states: out,
-        warnings,
-    })
-}
-
-/// Lilliefors' p of the logarithms of `capacities` where every record
-/// reaches the state (5 or more).
-fn lognormal_p(capacities: &[f64]) -> Option<f64> {
-    if capacities.iter().any(|c| !c.is_finite() || *c <= 0.0) {
-        return None;
-    }
-    let logs: Vec<f64> = capacities.iter().map(|c| c.ln()).collect();
-    crate::stats::lilliefors(&logs).map(|l| l.p_value)
-}
-
-/// Below this many records reaching a state, its fit is warned of as
-/// rough.
-pub const FEW_RECORDS: usize = 10;
 
 /// Warnings where a heavier state's fitted curve (by `method`) rises above
 /// a lighter one's.

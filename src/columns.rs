@@ -1,0 +1,302 @@
+//! Acceleration histories as text columns (pure: text in, samples out):
+//! what a structural model writes for a floor, read with the unit the user
+//! declares.
+//!
+//! ```text
+//! # comments (#, %, //) and blank lines anywhere; one header line of
+//! # names at the top is skipped
+//! 0.01   0.0012   -0.0031   0.0008      time, then one column per value
+//! 0.02   0.0025   -0.0060   0.0011
+//! ```
+//!
+//! The first column is time (s), the others values: an OpenSees `Node`
+//! recorder with `-time` (`recorder Node -file f.out -time -node 3 4 -dof 1
+//! accel`) writes one per node and dof; a plain two-column file is time and
+//! acceleration. Numbers are separated by blanks or commas. `column` picks
+//! the value column (1 = the first after time). The time step is the
+//! columns' own, their mean step: the times must be evenly spaced (each
+//! step within 1 % of the first;
+//! an analysis with a varying step is refused at the line where it varies:
+//! resample it first); where the times start does not matter to a block
+//! at rest. Values are converted from `unit` to g (g = 9.80665 m/s²).
+//!
+//! Refused with the 1-based line number: a token that is not a finite
+//! number, a line with fewer columns than asked or than the first, times
+//! that do not increase evenly, fewer than two samples.
+
+use std::fmt;
+
+use crate::block::G;
+
+/// The unit a text file's accelerations are given in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum AccelUnit {
+    G,
+    MPerS2,
+    CmPerS2,
+    MmPerS2,
+    InPerS2,
+    FtPerS2,
+}
+
+impl AccelUnit {
+    /// The factor to g.
+    pub fn to_g(self) -> f64 {
+        match self {
+            AccelUnit::G => 1.0,
+            AccelUnit::MPerS2 => 1.0 / G,
+            AccelUnit::CmPerS2 => 0.01 / G,
+            AccelUnit::MmPerS2 => 0.001 / G,
+            AccelUnit::InPerS2 => 0.0254 / G,
+            AccelUnit::FtPerS2 => 0.3048 / G,
+        }
+    }
+
+    /// A value in this unit, in g: g itself untouched (to the bit).
+    pub fn in_g(self, value: f64) -> f64 {
+        match self {
+            AccelUnit::G => value,
+            unit => value * unit.to_g(),
+        }
+    }
+}
+
+impl crate::label::Label for AccelUnit {
+    const ALL: &'static [Self] = &[
+        AccelUnit::G,
+        AccelUnit::MPerS2,
+        AccelUnit::CmPerS2,
+        AccelUnit::MmPerS2,
+        AccelUnit::InPerS2,
+        AccelUnit::FtPerS2,
+    ];
+    const WHAT: &'static str = "acceleration unit";
+    fn label(self) -> &'static str {
+        match self {
+            AccelUnit::G => "g",
+            AccelUnit::MPerS2 => "m/s2",
+            AccelUnit::CmPerS2 => "cm/s2",
+            AccelUnit::MmPerS2 => "mm/s2",
+            AccelUnit::InPerS2 => "in/s2",
+            AccelUnit::FtPerS2 => "ft/s2",
+        }
+    }
+    fn aliases(self) -> &'static [&'static str] {
+        match self {
+            AccelUnit::MPerS2 => &["m/s^2", "m/s²"],
+            AccelUnit::CmPerS2 => &["cm/s^2", "cm/s²", "gal"],
+            AccelUnit::MmPerS2 => &["mm/s^2", "mm/s²"],
+            AccelUnit::InPerS2 => &["in/s^2", "in/s²"],
+            AccelUnit::FtPerS2 => &["ft/s^2", "ft/s²"],
+            AccelUnit::G => &[],
+        }
+    }
+}
+
+crate::deserialize_by_label!(AccelUnit);
+
+/// How a suite of text files is read: the unit, and which value column.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TextRecords {
+    pub unit: AccelUnit,
+    /// 1 = the first column after time.
+    pub column: usize,
+}
+
+impl fmt::Display for TextRecords {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        use crate::label::Label;
+        write!(
+            f,
+            "text columns in {}, value column {}",
+            self.unit.label(),
+            self.column
+        )
+    }
+}
+
+/// A text file's motion.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ColumnMotion {
+    /// The chosen column, in g.
+    pub accel_g: Vec<f64>,
+    /// The step (s): the mean of the times' steps.
+    pub dt_s: f64,
+    /// The first time (s).
+    pub t0_s: f64,
+    /// The header line of names, if the file has one.
+    pub header: Option<String>,
+}
+
+/// Why a text file cannot be read, and on which line (1-based; 0 for the
+/// file as a whole).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ColumnsError {
+    pub line: usize,
+    pub kind: String,
+}
+
+impl fmt::Display for ColumnsError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.kind)
+    }
+}
+
+impl std::error::Error for ColumnsError {}
+
+/// Reads the time and the `spec.column`-th value column of `text`.
+pub fn parse(text: &str, spec: &TextRecords) -> Result<ColumnMotion, ColumnsError> {
+    let err = |line: usize, kind: String| ColumnsError { line, kind };
+    if spec.column == 0 {
+        return Err(err(0, "value columns are counted from 1".into()));
+    }
+    let mut times = Vec::new();
+    let mut values = Vec::new();
+    let mut lines_of = Vec::new();
+    let mut width = None;
+    let mut header = None;
+    for (k, raw) in text.lines().enumerate() {
+        let line = k + 1;
+        let body = raw.trim();
+        if body.is_empty()
+            || body.starts_with('#')
+            || body.starts_with('%')
+            || body.starts_with("//")
+        {
+            continue;
+        }
+        let tokens: Vec<&str> = body
+            .split(|c: char| c.is_whitespace() || c == ',')
+            .filter(|t| !t.is_empty())
+            .collect();
+        let parsed: Vec<Option<f64>> = tokens.iter().map(|t| t.parse::<f64>().ok()).collect();
+        // A first line with names (not numbers) is a header.
+        if times.is_empty() && header.is_none() && parsed.iter().any(Option::is_none) {
+            header = Some(body.to_string());
+            continue;
+        }
+        let numbers: Result<Vec<f64>, &str> = parsed
+            .iter()
+            .zip(&tokens)
+            .map(|(v, t)| v.filter(|v| v.is_finite()).ok_or(*t))
+            .collect();
+        let numbers = numbers.map_err(|t| err(line, format!("`{t}` is not a finite number")))?;
+        let n = numbers.len();
+        if n < 2 {
+            return Err(err(
+                line,
+                "one column: the first must be time (s), then the values".into(),
+            ));
+        }
+        let first = *width.get_or_insert(n);
+        if n != first {
+            return Err(err(
+                line,
+                format!("{n} columns where the first line of numbers has {first}"),
+            ));
+        }
+        if spec.column > n - 1 {
+            return Err(err(
+                line,
+                format!(
+                    "value column {} asked, but the file has {} after time",
+                    spec.column,
+                    n - 1
+                ),
+            ));
+        }
+        times.push(numbers[0]);
+        values.push(spec.unit.in_g(numbers[spec.column]));
+        lines_of.push(line);
+    }
+    let n = times.len();
+    if n < 2 {
+        return Err(err(
+            0,
+            format!("{n} sample(s): a motion needs two at least"),
+        ));
+    }
+    let dt = (times[n - 1] - times[0]) / (n - 1) as f64;
+    if dt <= 0.0 {
+        return Err(err(lines_of[1], "the times do not increase".into()));
+    }
+    let first = times[1] - times[0];
+    for i in 1..n {
+        let step = times[i] - times[i - 1];
+        if (step - first).abs() > 0.01 * first {
+            return Err(err(
+                lines_of[i],
+                format!(
+                    "a time step of {step:e} s where the first is {first:e} s: the times must \
+                     be evenly spaced (resample a varying analysis step first)"
+                ),
+            ));
+        }
+    }
+    Ok(ColumnMotion {
+        accel_g: values,
+        dt_s: dt,
+        t0_s: times[0],
+        header,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spec(unit: AccelUnit, column: usize) -> TextRecords {
+        TextRecords { unit, column }
+    }
+
+    /// An OpenSees `Node` recorder with `-time` for two nodes, in m/s²: the
+    /// second node's column, converted by hand (1.96133 m/s² = 0.2 g).
+    #[test]
+    fn reads_an_opensees_recorder_column_in_its_unit() {
+        let text = "0.005 0.1 1.96133\n0.010 0.2 -0.980665\n0.015 0.3 0\n";
+        let m = parse(text, &spec(AccelUnit::MPerS2, 2)).unwrap();
+        assert!((m.dt_s - 0.005).abs() < 1e-15);
+        assert_eq!(m.t0_s, 0.005);
+        let want = [0.2, -0.1, 0.0];
+        for (got, want) in m.accel_g.iter().zip(want) {
+            assert!((got - want).abs() < 1e-15, "{got} vs {want}");
+        }
+        // gal (cm/s²) and g: g values are taken to the bit.
+        let m = parse("0,1.5e-1\n0.01,-3e-1\n", &spec(AccelUnit::G, 1)).unwrap();
+        assert_eq!(m.accel_g, vec![0.15, -0.3]);
+        let m = parse("0 980.665\n0.01 0\n", &spec(AccelUnit::CmPerS2, 1)).unwrap();
+        assert!((m.accel_g[0] - 1.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn comments_and_a_header_line_are_skipped() {
+        let text = "time,accel\n# from OpenSees\n\n0.0, 0.1\n% note\n0.02, 0.2\n";
+        let m = parse(text, &spec(AccelUnit::G, 1)).unwrap();
+        assert_eq!(m.accel_g, vec![0.1, 0.2]);
+        assert_eq!(m.header.as_deref(), Some("time,accel"));
+        assert!((m.dt_s - 0.02).abs() < 1e-15);
+    }
+
+    #[test]
+    fn bad_files_are_refused_at_their_line() {
+        let g = spec(AccelUnit::G, 1);
+        let e = parse("0 0.1\n0.01 abc\n", &g).unwrap_err();
+        assert_eq!(e.line, 2);
+        assert!(e.kind.contains("`abc`"), "{e}");
+        let e = parse("0 0.1\n0.01 0.2 0.3\n", &g).unwrap_err();
+        assert_eq!(e.line, 2);
+        let e = parse("0 0.1\n0.01 0.2\n0.03 0.1\n0.04 0\n", &g).unwrap_err();
+        assert_eq!(e.line, 3);
+        assert!(e.kind.contains("evenly spaced"), "{e}");
+        let e = parse("0 0.1\n0.01 0.2\n", &spec(AccelUnit::G, 2)).unwrap_err();
+        assert!(e.kind.contains("column 2"), "{e}");
+        let e = parse("0.1\n0.2\n", &g).unwrap_err();
+        assert!(e.kind.contains("one column"), "{e}");
+        let e = parse("0 0.1\n", &g).unwrap_err();
+        assert!(e.kind.contains("two at least"), "{e}");
+        let e = parse("0 0.1\n0 0.2\n", &g).unwrap_err();
+        assert!(e.kind.contains("do not increase"), "{e}");
+        let e = parse("0 NaN\n0.01 0\n", &g).unwrap_err();
+        assert_eq!(e.line, 1);
+    }
+}

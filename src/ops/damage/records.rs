@@ -1,0 +1,167 @@
+//! A block's fragility from the records' own runs (`--direct`): every
+//! state's capacities, both lognormal fits and the records' curve, the
+//! lognormal check, and the records' curve where the heaviest state fails
+//! it.
+
+use super::answer::{DamageFragility, StateFragility, DIRECT_FRACTILE};
+use crate::block::Block;
+use crate::damage::{
+    self, Curve, DamageStates, Dispersion, FitMethod, StateCapacity, LOGNORMAL_CHECK_LEVEL,
+};
+use crate::im::{self, Im};
+use crate::label::Label;
+use crate::ops::fragility::{DirectRecords, FragilityError};
+
+pub(super) fn from_records(
+    block: &Block,
+    states: &DamageStates,
+    im: Im,
+    records: &DirectRecords,
+    auto_tol: f64,
+) -> Result<DamageFragility, FragilityError> {
+    let def = DIRECT_FRACTILE;
+    // A floor demand (PFA, PFV) is of the floor motion's own scale.
+    let (runs, why) = records.runs(block, auto_tol, !im.floor())?;
+    let alpha = block.alpha();
+    let ims = (im != Im::Pga).then(|| records.ims_for(im)).transpose()?;
+    let per_record: Vec<Vec<StateCapacity>> = runs
+        .iter()
+        .map(|c| {
+            let points = c.points.iter();
+            let runs = points.map(|p| (p.eta, p.outcome.max_abs_x, p.outcome.overturned()));
+            damage::capacities(states, runs, c.eta_c)
+        })
+        .collect();
+    let n = states.states().len();
+    let fits = match ims {
+        None => damage::fit_states(
+            n,
+            &per_record,
+            |_, eta| Some(im::pga_of_eta(eta, alpha)),
+            def,
+        ),
+        Some(ims) => damage::fit_states(
+            n,
+            &per_record,
+            |k, eta| im::of_eta(im, eta, alpha, &ims[k]),
+            def,
+        ),
+    }
+    .ok_or(FragilityError::NoPeriod(im.name()))?;
+    let mut warnings: Vec<String> = states
+        .states()
+        .iter()
+        .zip(&fits)
+        .filter(|(_, f)| (2..FEW_RECORDS).contains(&f.reached))
+        .map(|(s, f)| {
+            format!(
+                "`{}` is fitted to the capacities of {} records (fewer than {FEW_RECORDS}): its \
+                 median and β are rough (β's standard error is about β/√(2n), {:.0} % here)",
+                s.name,
+                f.reached,
+                100.0 / (2.0 * f.reached as f64).sqrt()
+            )
+        })
+        .collect();
+    if records.text().is_some() {
+        warnings.push(TEXT_RECORDS_NOTE.into());
+    }
+    let out = states
+        .states()
+        .iter()
+        .zip(fits)
+        .map(|(s, f)| StateFragility {
+            name: s.name.clone(),
+            criterion: s.describe(),
+            threshold: s.threshold(),
+            fractile: f.fractile,
+            mle: f.mle,
+            reached: Some(f.reached),
+            fractile_kind: "fractile",
+            lognormal_p: lognormal_p(&f.capacities),
+            capacities: Some(f.capacities),
+        })
+        .collect();
+    Ok(DamageFragility {
+        im: im.name(),
+        unit: im.unit(),
+        source: "direct".into(),
+        records: Some(runs.len()),
+        records_folder: Some(records.folder().to_string()),
+        floor: records.floor().map(|b| b.to_string()),
+        dispersion: Dispersion::Each.label(),
+        method: FitMethod::Fractile,
+        model: Some(why),
+        states: out,
+        warnings,
+    })
+}
+
+/// Lilliefors' p of the logarithms of `capacities` where every record
+/// reaches the state (5 or more).
+fn lognormal_p(capacities: &[f64]) -> Option<f64> {
+    if capacities.iter().any(|c| !c.is_finite() || *c <= 0.0) {
+        return None;
+    }
+    let logs: Vec<f64> = capacities.iter().map(|c| c.ln()).collect();
+    crate::stats::lilliefors(&logs).map(|l| l.p_value)
+}
+
+/// What text records (a structural model's floor motions) mean for the
+/// capacities (docs/MODEL.md §16).
+pub const TEXT_RECORDS_NOTE: &str = "the records are motions as given (text columns), each \
+    scaled itself: a capacity in PFA or PFV is of that motion's shape, which holds for a linear \
+    building; a nonlinear one's floor motion changes shape with the ground's intensity, so run \
+    its motions near the intensity of interest";
+
+/// Below this many records reaching a state, its fit is warned of as
+/// rough.
+pub const FEW_RECORDS: usize = 10;
+
+/// A lognormal fit made the records' curves where the heaviest state's
+/// capacities fail the lognormal check (Lilliefors at 5 % on their
+/// logarithms), with a warning that says why; kept, and warned of, where
+/// some record never reaches a state (a curve that stops below 1). The
+/// heaviest state decides for the block, as its β does for the states
+/// ([`damage::common_dispersion`]): overturning's fragility is one answer
+/// whether or not the lighter states are asked, and all the states are of
+/// one kind, so they stay in order (each record reaches a lighter state
+/// first, so its curves never cross).
+pub(super) fn curve_where_not_lognormal(f: &mut DamageFragility) {
+    if f.method == FitMethod::Empirical {
+        return;
+    }
+    let Some(heaviest) = f.states.last() else {
+        return;
+    };
+    let Some(p) = heaviest.lognormal_p.filter(|&p| p < LOGNORMAL_CHECK_LEVEL) else {
+        return;
+    };
+    let name = heaviest.name.clone();
+    let short = f.states.iter().find(|s| {
+        s.capacities
+            .as_ref()
+            .is_none_or(|c| !Curve::of_capacities(c).complete())
+    });
+    match short {
+        None => {
+            let each = if f.states.len() > 1 {
+                ", and so are the lighter states'"
+            } else {
+                ""
+            };
+            f.method = FitMethod::Empirical;
+            f.warnings.push(format!(
+                "the capacities of `{name}` fail the lognormal check (Lilliefors p = {p:.3} < \
+                 0.05): its fragility is the records' own curve{each} (--method empirical; \
+                 --if-not-lognormal lognormal keeps the lognormal)"
+            ));
+        }
+        Some(s) => f.warnings.push(format!(
+            "the capacities of `{name}` fail the lognormal check (Lilliefors p = {p:.3} < 0.05), \
+             but some records never reach `{}`, so the records' curve stops below 1: the \
+             lognormal is kept",
+            s.name
+        )),
+    }
+}
