@@ -33,6 +33,9 @@
 //!   input) and the ims stage's dispersions against the capacities by hand.
 //! - `ingest`: the records table from the bundled FEMA P695 files, checked
 //!   against the manifest and the files; bad input and atomic output.
+//! - `opensees`: an OpenSeesPy building's floor motions → the tool's PFV
+//!   fragilities → pelicun, beside FEMA P-58's bookcases and direct runs
+//!   (`ROCKING_ENGINES`, with openseespy).
 //! - `physics`: the solvers against closed forms, conservation laws,
 //!   symmetry and the hard cases (`ida::HARD_CASES`).
 //! - `taylor`: the Taylor stepper of the nonlinear equation against the
@@ -73,6 +76,7 @@ mod floor;
 mod html;
 mod ims;
 mod ingest;
+mod opensees;
 mod physics;
 mod pulse;
 mod python;
