@@ -58,6 +58,7 @@ pub mod at2;
 pub mod block;
 pub mod cluster;
 pub mod columns;
+pub mod contents;
 pub mod damage;
 pub mod decimal;
 pub mod export;

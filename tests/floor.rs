@@ -1001,3 +1001,61 @@ fn a_structural_models_floor_motions_are_read_as_text() {
         stderr(&out)
     );
 }
+
+/// `rocking contents` states each FEMA P-58 item's fragility as the block's
+/// one fragility: a row equals `fragility --im pfv --direct
+/// --if-not-lognormal lognormal` for the item's sizes (from the
+/// description: 12-5/8 in deep × 56 in tall for E.20.22.104a), on the
+/// ground and on the roof of the modal building, to the bit; FEMA's median
+/// and β are the library's (0.361 m/s, 0.5).
+#[test]
+fn fema_contents_rows_are_the_blocks_own_fragility() {
+    let far = bundled_records().join("far-field");
+    let set = format!("far={}", far.display());
+    let out = rocking(
+        &root(),
+        &["contents", "--set", &set, "--periods", "0.8", "--json"],
+    );
+    let rows = json(&out);
+    let rows = rows.as_array().unwrap();
+    assert_eq!(rows.len(), 2 * 9);
+    let (b, h) = (0.5 * 12.625 * 0.0254, 0.5 * 56.0 * 0.0254);
+    for (scene, floor) in [("ground", None), ("roof", Some("0.8,0.05,1.3"))] {
+        let row = rows
+            .iter()
+            .find(|r| r["id"] == "E.20.22.104a" && r["scene"] == scene)
+            .unwrap();
+        assert_eq!(row["fema_median_mps"].as_f64(), Some(0.361));
+        assert_eq!(row["fema_beta"].as_f64(), Some(0.5));
+        let (b_s, h_s) = (b.to_string(), h.to_string());
+        let mut args = vec![
+            "fragility",
+            "--b",
+            &b_s,
+            "--h",
+            &h_s,
+            "--direct",
+            "--records",
+            far.to_str().unwrap(),
+            "--im",
+            "pfv",
+            "--at",
+            "50",
+            "--if-not-lognormal",
+            "lognormal",
+            "--json",
+        ];
+        if let Some(f) = floor {
+            args.extend(["--floor", f]);
+        }
+        let f = json(&rocking(&root(), &args));
+        assert_eq!(
+            row["median_mps"].as_f64().unwrap(),
+            f["median"].as_f64().unwrap() / 100.0,
+            "{scene}"
+        );
+        assert_eq!(row["beta"], f["beta"], "{scene}");
+        assert_eq!(row["b_m"].as_f64(), Some(b));
+        assert_eq!(row["h_m"].as_f64(), Some(h));
+    }
+}

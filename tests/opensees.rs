@@ -323,3 +323,66 @@ fn opensees_floors_to_rocking_to_pelicun() {
     }
     eprintln!("{}", report.join("\n"));
 }
+
+/// The nine FEMA P-58 contents the tool compares with (`rocking contents`)
+/// are the DLML's rows as pelicun installs them: id, demand (Peak Floor
+/// Velocity in m/s, offset 0, non-directional), median and β, and the
+/// sizes in each description ("… is 12-5/8" deep x 56" tall").
+#[test]
+fn the_fema_contents_are_the_dlmls_rows() {
+    let Ok(venv) = std::env::var("ROCKING_ENGINES") else {
+        eprintln!("skipped: set ROCKING_ENGINES to the engines' venv (.ci/run)");
+        return;
+    };
+    let base = PathBuf::from(venv)
+        .join("lib")
+        .read_dir()
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .map(|p| p.join("site-packages/dlml/data/seismic/building/component/FEMA P-58 2nd Edition"))
+        .find(|p| p.is_dir())
+        .unwrap();
+    let csv = fs::read_to_string(base.join("fragility.csv")).unwrap();
+    let meta: Value =
+        serde_json::from_str(&fs::read_to_string(base.join("fragility.json")).unwrap()).unwrap();
+    let inches = |text: &str| -> f64 {
+        // "12-5/8" → 12.625, "81-1/4" → 81.25, "56" → 56.
+        let (whole, frac) = text.split_once('-').unwrap_or((text, ""));
+        let frac = frac.split_once('/').map_or(0.0, |(a, b)| {
+            a.parse::<f64>().unwrap() / b.parse::<f64>().unwrap()
+        });
+        whole.parse::<f64>().unwrap() + frac
+    };
+    for c in rocking::contents::FEMA_P58 {
+        let row: Vec<&str> = csv
+            .lines()
+            .find(|l| l.starts_with(&format!("{},", c.id)))
+            .unwrap()
+            .split(',')
+            .collect();
+        assert_eq!(
+            &row[2..7],
+            ["Peak Floor Velocity", "mps", "0", "0", "lognormal"],
+            "{}",
+            c.id
+        );
+        assert_eq!(row[7].parse::<f64>().unwrap(), c.median_mps, "{}", c.id);
+        assert_eq!(row[8].parse::<f64>().unwrap(), c.beta, "{}", c.id);
+        let comments = meta[c.id]["Comments"].as_str().unwrap();
+        let sizes = comments
+            .split(" is ")
+            .nth(1)
+            .unwrap()
+            .split(" tall")
+            .next()
+            .unwrap();
+        let (depth, height) = sizes.split_once("\" deep x ").unwrap();
+        let height = height.trim_end_matches('"');
+        assert_eq!(
+            (inches(depth), inches(height)),
+            (c.depth_in, c.height_in),
+            "{}",
+            c.id
+        );
+    }
+}

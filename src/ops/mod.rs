@@ -5,6 +5,7 @@
 //! argument parser, so tests and other front ends get them too.
 
 pub mod capacity;
+pub mod contents;
 pub mod damage;
 pub mod export;
 pub mod fragility;

@@ -8,6 +8,7 @@ use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 mod args;
 mod capacity;
+mod contents;
 mod export;
 mod fragility;
 mod ims;
@@ -49,6 +50,7 @@ enum Command {
     Fragility(fragility::Args),
     Risk(risk::Args),
     Export(export::Args),
+    Contents(contents::Args),
     Run(run::Args),
     Status(status::Args),
     Submit(submit::Args),
@@ -66,6 +68,7 @@ fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Fragility(a) => fragility::run(a),
         Command::Risk(a) => risk::run(a),
         Command::Export(a) => export::run(a),
+        Command::Contents(a) => contents::run(a),
         Command::Run(a) => run::run(a),
         Command::Status(a) => status::run(a),
         Command::Submit(a) => submit::run(a),

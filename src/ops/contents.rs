@@ -1,0 +1,224 @@
+//! `rocking contents`: FEMA P-58's unanchored bookcases and filing cabinets
+//! ([`crate::contents::FEMA_P58`]) beside the tool's own fragility of the
+//! same blocks in Peak Floor Velocity: on the ground under each record set,
+//! and on the roof of modal buildings over a range of first-mode periods.
+//! Each is the block's one fragility ([`super::damage::of_block`], PFV, the
+//! paper's fractile fit kept lognormal, as FEMA's rows are), so a row
+//! equals `fragility --im pfv --direct --if-not-lognormal lognormal` for
+//! that block, records and floor.
+
+use std::path::PathBuf;
+
+use super::damage;
+use super::fragility::{self, DirectProgress, FragilityError, Source};
+use crate::contents::{Content, FEMA_P58};
+use crate::damage::{DamageStates, Dispersion, FitChoice, FitMethod, IfNotLognormal};
+use crate::floor::{Building, Mode};
+use crate::im::Im;
+use crate::plot::{self, Chart, Hue, Line, Scale, Style};
+
+/// What to compare.
+#[derive(Debug, Clone)]
+pub struct Request {
+    /// The ground's record sets: a name and its AT2 folder.
+    pub sets: Vec<(String, PathBuf)>,
+    /// The modal buildings' first-mode periods (s), on the first set.
+    pub periods: Vec<f64>,
+    /// Their damping ratio and roof Γφ.
+    pub zeta: f64,
+    pub gamma_phi: f64,
+    pub auto_tol: f64,
+    pub progress: DirectProgress,
+}
+
+/// One item in one scene.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Row {
+    pub id: &'static str,
+    pub name: &'static str,
+    pub b_m: f64,
+    pub h_m: f64,
+    pub alpha_rad: f64,
+    /// `ground` or `roof`.
+    pub scene: &'static str,
+    /// The record set.
+    pub records: String,
+    /// The building's first-mode period (s) on a roof; none on the ground.
+    pub period_s: Option<f64>,
+    /// The tool's median PFV at overturning (m/s) and β.
+    pub median_mps: f64,
+    pub beta: f64,
+    /// Lilliefors' p of the records' capacities (below 0.05 a lognormal
+    /// does not fit them; the row still states the lognormal, as FEMA's).
+    pub lognormal_p: Option<f64>,
+    /// FEMA P-58's median (m/s) and β.
+    pub fema_median_mps: f64,
+    pub fema_beta: f64,
+    /// The tool's median over FEMA's.
+    pub ratio: f64,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum ContentsError {
+    #[error("--period {period} s")]
+    Building {
+        period: f64,
+        #[source]
+        source: crate::floor::FloorError,
+    },
+    #[error("{id} under {records}")]
+    Item {
+        id: &'static str,
+        records: String,
+        #[source]
+        source: Box<FragilityError>,
+    },
+    #[error(transparent)]
+    Records(#[from] Box<FragilityError>),
+}
+
+/// Every item in every scene.
+pub fn compare(req: &Request) -> Result<Vec<Row>, ContentsError> {
+    let mut scenes: Vec<(&'static str, &(String, PathBuf), Option<f64>)> =
+        req.sets.iter().map(|s| ("ground", s, None)).collect();
+    if let Some(first) = req.sets.first() {
+        scenes.extend(req.periods.iter().map(|&t| ("roof", first, Some(t))));
+    }
+    let fit = FitChoice {
+        method: FitMethod::Fractile,
+        dispersion: Dispersion::Each,
+        if_not_lognormal: IfNotLognormal::Lognormal,
+    };
+    let mut rows = Vec::new();
+    for (scene, (name, folder), period) in scenes {
+        let building = period
+            .map(|t| {
+                Building::new(vec![Mode {
+                    period_s: t,
+                    zeta: req.zeta,
+                    gamma_phi: req.gamma_phi,
+                }])
+                .map_err(|source| ContentsError::Building { period: t, source })
+            })
+            .transpose()?;
+        let from = Source::Paper {
+            records: folder.clone(),
+            text: None,
+        };
+        let (laws, records) = fragility::laws_and_records(
+            &from,
+            true,
+            &req.progress,
+            FEMA_P58.len(),
+            building.as_ref(),
+        )
+        .map_err(Box::new)?;
+        for c in &FEMA_P58 {
+            let in_item = |source| ContentsError::Item {
+                id: c.id,
+                records: name.clone(),
+                source: Box::new(source),
+            };
+            let block = fragility::block(c.b_m(), c.h_m(), crate::block::Restitution::Housner)
+                .map_err(in_item)?;
+            let f = damage::of_block(
+                &block,
+                &DamageStates::overturning(),
+                Im::Pfv,
+                &laws,
+                records.as_ref(),
+                req.auto_tol,
+                fit,
+            )
+            .map_err(in_item)?;
+            let state = &f.states[0];
+            let (median, beta) = state.median_beta(FitMethod::Fractile);
+            let median_mps = median.unwrap_or(f64::INFINITY) / 100.0;
+            rows.push(row(
+                c,
+                &block,
+                scene,
+                name,
+                period,
+                median_mps,
+                beta,
+                state.lognormal_p,
+            ));
+        }
+    }
+    Ok(rows)
+}
+
+#[allow(clippy::too_many_arguments)] // house: one row's columns, named at the one call
+fn row(
+    c: &Content,
+    block: &crate::block::Block,
+    scene: &'static str,
+    records: &str,
+    period_s: Option<f64>,
+    median_mps: f64,
+    beta: Option<f64>,
+    lognormal_p: Option<f64>,
+) -> Row {
+    Row {
+        id: c.id,
+        name: c.name,
+        b_m: c.b_m(),
+        h_m: c.h_m(),
+        alpha_rad: block.alpha(),
+        scene,
+        records: records.to_string(),
+        period_s,
+        median_mps,
+        beta: beta.unwrap_or(f64::NAN),
+        lognormal_p,
+        fema_median_mps: c.median_mps,
+        fema_beta: c.beta,
+        ratio: median_mps / c.median_mps,
+    }
+}
+
+/// The ratio of the tool's median to FEMA's for each item against the
+/// building's period, the ground of the first set at T = 0 (a building
+/// infinitely stiff moves as the ground), FEMA's own at 1 (SVG).
+pub fn chart(rows: &[Row], first_set: &str) -> Result<String, plot::PlotError> {
+    let n = FEMA_P58.len();
+    let mut lines: Vec<Line> = FEMA_P58
+        .iter()
+        .enumerate()
+        .map(|(k, c)| Line {
+            name: Some(format!(
+                "{} ({})",
+                c.id.trim_start_matches("E.20.22."),
+                c.name
+            )),
+            points: rows
+                .iter()
+                .filter(|r| r.id == c.id && (r.scene == "roof" || r.records == first_set))
+                .map(|r| (r.period_s.unwrap_or(0.0), r.ratio))
+                .collect(),
+            style: Style::LinePoints,
+            hue: Hue::Ramp(k as f64 / (n - 1).max(1) as f64),
+        })
+        .collect();
+    let t_max = rows.iter().filter_map(|r| r.period_s).fold(0.0, f64::max);
+    lines.push(Line {
+        name: Some("FEMA P-58's median".into()),
+        points: vec![(0.0, 1.0), (t_max.max(0.1), 1.0)],
+        style: Style::Dashed,
+        hue: Hue::Ink,
+    });
+    plot::render(&Chart {
+        title: format!(
+            "FEMA P-58 contents: the tool's median PFV at overturning over FEMA's ({first_set})"
+        ),
+        x_desc: "first-mode period of the building, roof (s); 0: the ground".into(),
+        y_desc: "median PFV, the tool's / FEMA P-58's".into(),
+        x_scale: Scale::Linear,
+        y_scale: Scale::Linear,
+        x_range: None,
+        y_range: None,
+        x_ticks: None,
+        lines,
+    })
+}
