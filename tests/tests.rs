@@ -33,6 +33,7 @@
 //!   input) and the ims stage's dispersions against the capacities by hand.
 //! - `ingest`: the records table from the bundled FEMA P695 files, checked
 //!   against the manifest and the files; bad input and atomic output.
+//! - `notebook`: the contents notebook executed by nbclient (`ROCKING_ENGINES`).
 //! - `opensees`: an OpenSeesPy building's floor motions → the tool's PFV
 //!   fragilities → pelicun, beside FEMA P-58's bookcases and direct runs
 //!   (`ROCKING_ENGINES`, with openseespy).
@@ -76,6 +77,7 @@ mod floor;
 mod html;
 mod ims;
 mod ingest;
+mod notebook;
 mod opensees;
 mod physics;
 mod pulse;

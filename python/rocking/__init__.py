@@ -37,6 +37,7 @@ __all__ = [
     "capacities",
     "fragility",
     "risk",
+    "export",
     "run",
     "load",
     "ims",
@@ -271,6 +272,20 @@ def risk(
     else:
         given = os.fspath(hazard)
     return _core.risk(hazard=given, **_plain(kw))
+
+
+def export(out: PathLike, **kw: Any) -> Dict[str, Any]:
+    """A block's (or an inventory's) fragilities written for an engine into
+    the folder ``out``: ``rocking export``. Keywords as the command's
+    options: ``format`` (``"pelicun"`` or ``"nrml"``), one block (``b``,
+    ``h``, ``eps``, ``mu``) or an ``inventory`` CSV, ``direct`` with
+    ``records`` (and ``records_unit``, ``records_column`` for a structural
+    model's text floor motions), ``im`` (``"pfv"``, ``"pfa"``, ``"pga"``,
+    …), ``states``, ``method``, ``if_not_lognormal``, ``floor``,
+    ``hazard``. Returns ``{"files": [...], "blocks": [...]}``, the blocks
+    as ``rocking export --json`` prints them.
+    """
+    return _core.export(out=os.fspath(out), **_plain(kw))
 
 
 def ims() -> List[Dict[str, Any]]:

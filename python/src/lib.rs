@@ -19,7 +19,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 use pythonize::{depythonize, pythonize};
 
-use rocking::ask::{AskedBlock, BlockAsk, FragilityAsk, RiskAsk, SearchAsk, Spelling};
+use rocking::ask::{AskedBlock, BlockAsk, ExportKw, FragilityAsk, RiskAsk, SearchAsk, Spelling};
 use rocking::floor::Building;
 use rocking::ops::capacity::{self as batch, NamedSpec};
 use rocking::ops::reports::{Scene, SimulateReport};
@@ -317,6 +317,28 @@ fn risk(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Py<PyAny
     to_py(py, &answer.map_err(PyValueError::new_err)?)
 }
 
+/// A block's (or an inventory's) fragilities written for OpenQuake or
+/// pelicun into `out`: `{"files": [...], "blocks": [...]}`, the blocks as
+/// `rocking export --json` prints them.
+#[pyfunction]
+#[pyo3(signature = (**kwargs))]
+fn export(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Py<PyAny>> {
+    let (req, _) = ask::<ExportKw>(py, kwargs)?
+        .ask(Spelling::Python)
+        .and_then(|a| a.resolve(Spelling::Python, Default::default()))
+        .map_err(|e| PyValueError::new_err(e.0))?;
+    let answer = py.detach(|| -> Result<serde_json::Value, String> {
+        let written = rocking::ops::export::export(&req).map_err(|e| message(&e))?;
+        let files: Vec<String> = written
+            .files
+            .iter()
+            .map(|f| f.display().to_string())
+            .collect();
+        Ok(serde_json::json!({ "files": files, "blocks": written.blocks }))
+    });
+    to_py(py, &answer.map_err(PyValueError::new_err)?)
+}
+
 /// Runs a pipeline's stale stages (every stage with `force`), the GIL
 /// released: `[{"stage", "ran", "seconds", "why"}]`, and the study's folder.
 #[pyfunction]
@@ -401,6 +423,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(capacities, m)?)?;
     m.add_function(wrap_pyfunction!(fragility, m)?)?;
     m.add_function(wrap_pyfunction!(risk, m)?)?;
+    m.add_function(wrap_pyfunction!(export, m)?)?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(study_dir, m)?)?;
     m.add_function(wrap_pyfunction!(ims, m)?)?;

@@ -330,3 +330,21 @@ def test_every_im_passes_pythons_doors_by_its_own_answers():
         except ValueError as e:
             accepted = "hazard curves are in" not in str(e)
         assert accepted == m["hazard"], m
+
+
+def test_export_is_the_commands(tmp_path):
+    """The same block exported to pelicun from Python and from the command
+    line: the same blocks, the same CSV to the byte (the records' curves of
+    the statue with eps = 0.85, whose capacities are not lognormal)."""
+    py = rocking.export(tmp_path / "py", format="pelicun", b=0.2, h=0.9, eps=0.85,
+                        direct=True, records=FAR)
+    c = json.loads(cli("export", "--format", "pelicun", "--b", "0.2", "--h", "0.9",
+                       "--eps", "0.85", "--direct", "--records", FAR,
+                       "--out", tmp_path / "cli", "--json"))
+    assert py["blocks"] == c
+    assert py["blocks"][0]["written_as"] == "curve"
+    assert [os.path.basename(f) for f in py["files"]] == ["fragility.csv", "fragility.json"]
+    assert (tmp_path / "py" / "fragility.csv").read_bytes() == \
+        (tmp_path / "cli" / "fragility.csv").read_bytes()
+    with pytest.raises(ValueError, match="format"):
+        rocking.export(tmp_path / "x", b=0.2, h=0.9)

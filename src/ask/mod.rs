@@ -14,14 +14,17 @@
 //! - [`excitation`]: a pulse instead of a record, and the capacity search;
 //! - [`assess`]: the blocks of `fragility`, `risk` and `export` (one by its
 //!   sizes, or an inventory), where their capacities come from, the levels,
-//!   the hazard, the damage states.
+//!   the hazard, the damage states;
+//! - [`export`]: `export`'s keyword arguments, flat, for Python.
 
 pub mod assess;
 pub mod block;
 pub mod excitation;
+pub mod export;
 mod spelling;
 
 pub use assess::{BlocksAsk, ExportAsk, FragilityAsk, HazardAsk, LawAsk, RiskAsk, StatesAsk};
 pub use block::{AskedBlock, BlockAsk};
 pub use excitation::{PulseAsk, SearchAsk};
+pub use export::ExportKw;
 pub use spelling::{AskError, Spelling};

@@ -1,0 +1,110 @@
+//! `export` as Python's keyword arguments name it: flat, as `risk`'s are,
+//! turned into the [`ExportAsk`] the command line builds.
+
+use std::path::PathBuf;
+
+use serde::Deserialize;
+
+use super::assess::{BlocksAsk, ExportAsk, LawAsk};
+use super::block::AUTO_TOL;
+use super::spelling::{AskError, Spelling};
+use crate::block::Restitution;
+use crate::columns::AccelUnit;
+use crate::damage::{DamageStates, Dispersion, FitMethod, IfNotLognormal};
+use crate::floor::Mode;
+use crate::im::Im;
+use crate::ops::export::Format;
+
+/// The keyword arguments of `rocking.export`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ExportKw {
+    pub format: Option<Format>,
+    pub b: Option<f64>,
+    pub h: Option<f64>,
+    pub eps: Restitution,
+    pub inventory: Option<PathBuf>,
+    pub mu: Option<f64>,
+    #[serde(alias = "from")]
+    pub source: String,
+    pub outputs: PathBuf,
+    pub records: Option<PathBuf>,
+    pub records_unit: Option<AccelUnit>,
+    pub records_column: Option<usize>,
+    pub direct: bool,
+    pub floor: Vec<Mode>,
+    pub states: Option<DamageStates>,
+    pub method: FitMethod,
+    pub dispersion: Dispersion,
+    pub if_not_lognormal: IfNotLognormal,
+    pub im: Option<Im>,
+    pub hazard: Option<PathBuf>,
+    pub years: f64,
+    pub auto_tol: f64,
+    pub out: Option<PathBuf>,
+}
+
+impl Default for ExportKw {
+    fn default() -> Self {
+        let law = LawAsk::default();
+        ExportKw {
+            format: None,
+            b: None,
+            h: None,
+            eps: Restitution::Housner,
+            inventory: None,
+            mu: None,
+            source: law.source,
+            outputs: law.outputs,
+            records: None,
+            records_unit: None,
+            records_column: None,
+            direct: false,
+            floor: Vec::new(),
+            states: None,
+            method: FitMethod::Fractile,
+            dispersion: Dispersion::Common,
+            if_not_lognormal: IfNotLognormal::Curve,
+            im: None,
+            hazard: None,
+            years: 50.0,
+            auto_tol: AUTO_TOL,
+            out: None,
+        }
+    }
+}
+
+impl ExportKw {
+    /// The request the command line would build from the same options.
+    pub fn ask(&self, sp: Spelling) -> Result<ExportAsk, AskError> {
+        let need = |key: &str| AskError(format!("give {}", sp.key(key)));
+        Ok(ExportAsk {
+            format: self.format.ok_or_else(|| need("format"))?,
+            blocks: BlocksAsk {
+                b: self.b,
+                h: self.h,
+                eps: self.eps,
+                inventory: self.inventory.clone(),
+                mu: self.mu,
+            },
+            law: LawAsk {
+                source: self.source.clone(),
+                outputs: self.outputs.clone(),
+                records: self.records.clone(),
+                records_unit: self.records_unit,
+                records_column: self.records_column,
+            },
+            direct: self.direct,
+            floor: self.floor.clone(),
+            states: self.states.clone(),
+            method: self.method,
+            dispersion: self.dispersion,
+            if_not_lognormal: self.if_not_lognormal,
+            im: self.im,
+            hazard: self.hazard.clone(),
+            years: self.years,
+            auto_tol: self.auto_tol,
+            out: self.out.clone().ok_or_else(|| need("out"))?,
+        })
+    }
+}
