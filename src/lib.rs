@@ -56,6 +56,7 @@
 pub mod ask;
 pub mod at2;
 pub mod block;
+pub mod building;
 pub mod cluster;
 pub mod columns;
 pub mod contents;

@@ -1059,3 +1059,95 @@ fn fema_contents_rows_are_the_blocks_own_fragility() {
         assert_eq!(row["h_m"].as_f64(), Some(h));
     }
 }
+
+/// A building with its floors: `--building T,ζ,Γ,φ1,…,φn --level k` is the
+/// one-floor case with Γφ = Γ·φ_k for each mode, so every floor's
+/// fragility comes from one description: floor 2 of a two-mode building
+/// (Γ 1.25 and −0.35, shapes 0.45,0.8,1 and 1,−0.5,−1) equals `--floor
+/// 0.5,0.05,1.0 --floor 0.18,0.05,0.175` to the bit, in PFV; the roof (Γφ
+/// 1.25, −0.35) differs; Python takes the same keywords (tests/python).
+/// Wrong levels and mixtures are refused naming the options.
+#[test]
+fn a_building_gives_each_floors_modes() {
+    let dir = tempdir();
+    let few = few_far_field(dir.path(), &FEW[..3]);
+    let few_s = few.to_str().unwrap();
+    let base = [
+        "fragility",
+        "--b",
+        "0.2",
+        "--h",
+        "0.9",
+        "--direct",
+        "--records",
+        few_s,
+        "--im",
+        "pfv",
+        "--at",
+        "40,80",
+        "--json",
+    ];
+    let modes = [
+        "--building",
+        "0.5,0.05,1.25,0.45,0.8,1",
+        "--building",
+        "0.18,0.05,-0.35,1,-0.5,-1",
+    ];
+    let level = |k: &str| {
+        json(&rocking(
+            &root(),
+            &[&base[..], &modes, &["--level", k]].concat(),
+        ))
+    };
+    let floor = json(&rocking(
+        &root(),
+        &[
+            &base[..],
+            &["--floor", "0.5,0.05,1", "--floor", "0.18,0.05,0.175"],
+        ]
+        .concat(),
+    ));
+    let two = level("2");
+    for key in ["median", "beta", "points", "floor"] {
+        assert_eq!(two[key], floor[key], "{key}");
+    }
+    assert_ne!(level("3")["median"], two["median"]);
+    for (extra, says) in [
+        (
+            &["--level", "4"][..],
+            "--level 4: the building has floors 1–3",
+        ),
+        (
+            &[][..],
+            "--building has floors 1–3: give the block's with --level",
+        ),
+        (
+            &["--level", "2", "--floor", "0.5,0.05,1"][..],
+            "--floor and --building both place the block",
+        ),
+    ] {
+        let out = rocking(&root(), &[&base[..], &modes, extra].concat());
+        assert!(!out.status.success());
+        assert!(stderr(&out).contains(says), "{}", stderr(&out));
+    }
+    let out = rocking(
+        &root(),
+        &[
+            &base[..],
+            &[
+                "--building",
+                "0.5,0.05,1.25,0.45,0.8,1",
+                "--building",
+                "0.2,0.05,1,1",
+                "--level",
+                "1",
+            ],
+        ]
+        .concat(),
+    );
+    assert!(
+        stderr(&out).contains("mode 2 has its shape at 1 floors"),
+        "{}",
+        stderr(&out)
+    );
+}

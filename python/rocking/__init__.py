@@ -245,7 +245,9 @@ def fragility(b: float, h: float, **kw: Any) -> Dict[str, Any]:
     fitted by ``method`` (``fractile``, ``mle``, or ``empirical``: the
     records' own curve); ``if_not_lognormal`` (``"curve"``, the default, or
     ``"lognormal"``): what the fragility is where the records' capacities
-    fail the lognormal check; ``floor``, ``mu``, ``auto_tol``.
+    fail the lognormal check; ``floor`` (modes ``[T, zeta, gamma_phi]``) or
+    ``building`` (modes ``[T, zeta, gamma, phi1, ..., phin]``) with
+    ``level``; ``mu``, ``auto_tol``.
     """
     return _core.fragility(b=b, h=h, **_plain(kw))
 

@@ -348,3 +348,17 @@ def test_export_is_the_commands(tmp_path):
         (tmp_path / "cli" / "fragility.csv").read_bytes()
     with pytest.raises(ValueError, match="format"):
         rocking.export(tmp_path / "x", b=0.2, h=0.9)
+
+
+def test_a_building_is_the_commands():
+    """A building's floor from Python's lists is the command line's."""
+    modes = [[0.5, 0.05, 1.25, 0.45, 0.8, 1.0], [0.18, 0.05, -0.35, 1.0, -0.5, -1.0]]
+    f = rocking.fragility(0.2, 0.9, direct=True, records=FAR, im="pfv", at=[40, 80],
+                          building=modes, level=2)
+    c = cli_json("fragility", "--b", "0.2", "--h", "0.9", "--direct", "--records", FAR,
+                 "--im", "pfv", "--at", "40,80", "--building", "0.5,0.05,1.25,0.45,0.8,1",
+                 "--building", "0.18,0.05,-0.35,1,-0.5,-1", "--level", "2")
+    assert (f["median"], f["beta"], f["floor"]) == (c["median"], c["beta"], c["floor"])
+    with pytest.raises(ValueError, match="level 4: the building has floors 1–3"):
+        rocking.fragility(0.2, 0.9, direct=True, records=FAR, im="pfv", at=[40],
+                          building=modes, level=4)

@@ -10,6 +10,7 @@ use serde::Deserialize;
 use super::block::{building, one_or_many, AUTO_TOL};
 use super::spelling::{AskError, Spelling};
 use crate::block::{check_mu, Restitution};
+use crate::building::ShapedMode;
 use crate::columns::{AccelUnit, TextRecords};
 use crate::damage::{DamageStates, Dispersion, FitMethod, IfNotLognormal};
 use crate::floor::Mode;
@@ -161,6 +162,10 @@ pub struct FragilityAsk {
     pub direct: bool,
     pub auto_tol: f64,
     pub floor: Vec<Mode>,
+    /// A building with its modes' shapes at every floor, and the floor
+    /// the block stands on (instead of `floor`).
+    pub building: Vec<ShapedMode>,
+    pub level: Option<usize>,
     pub mu: Option<f64>,
     pub states: Option<DamageStates>,
     pub method: FitMethod,
@@ -186,6 +191,8 @@ impl Default for FragilityAsk {
             direct: false,
             auto_tol: AUTO_TOL,
             floor: Vec::new(),
+            building: Vec::new(),
+            level: None,
             mu: None,
             states: None,
             method: FitMethod::Fractile,
@@ -277,7 +284,7 @@ impl FragilityAsk {
             direct: self.direct,
             progress,
             auto_tol: self.auto_tol,
-            floor: building(&self.floor, sp)?,
+            floor: building(&self.floor, &self.building, self.level, sp)?,
             mu,
             method: self.method,
             dispersion: self.dispersion,
@@ -340,6 +347,10 @@ pub struct RiskAsk {
     pub beyond: Beyond,
     pub auto_tol: f64,
     pub floor: Vec<Mode>,
+    /// A building with its modes' shapes at every floor, and the floor
+    /// the block stands on (instead of `floor`).
+    pub building: Vec<ShapedMode>,
+    pub level: Option<usize>,
     pub states: Option<DamageStates>,
     pub method: FitMethod,
     pub dispersion: Dispersion,
@@ -368,6 +379,8 @@ impl Default for RiskAsk {
             beyond: Beyond::Extrapolate,
             auto_tol: AUTO_TOL,
             floor: Vec::new(),
+            building: Vec::new(),
+            level: None,
             states: None,
             method: FitMethod::Fractile,
             dispersion: Dispersion::Common,
@@ -423,7 +436,7 @@ impl RiskAsk {
             years: self.years,
             beyond: self.beyond,
             auto_tol: self.auto_tol,
-            floor: building(&self.floor, sp)?,
+            floor: building(&self.floor, &self.building, self.level, sp)?,
             method: self.method,
             dispersion: self.dispersion,
             if_not_lognormal: self.if_not_lognormal,
@@ -444,6 +457,10 @@ pub struct ExportAsk {
     pub law: LawAsk,
     pub direct: bool,
     pub floor: Vec<Mode>,
+    /// A building with its modes' shapes at every floor, and the floor
+    /// the block stands on (instead of `floor`).
+    pub building: Vec<ShapedMode>,
+    pub level: Option<usize>,
     /// `None`: the default states ([`crate::damage::DEFAULT`]), or, from
     /// the paper's regression, which knows overturning only, that alone.
     pub states: Option<DamageStates>,
@@ -492,7 +509,7 @@ impl ExportAsk {
             hazard: self.hazard.clone(),
             years: self.years,
             auto_tol: self.auto_tol,
-            floor: building(&self.floor, sp)?,
+            floor: building(&self.floor, &self.building, self.level, sp)?,
             out: self.out.clone(),
         };
         Ok((req, asked))

@@ -8,6 +8,7 @@ use serde::Deserialize;
 
 use super::spelling::{AskError, Spelling};
 use crate::block::{check_mu, slides_first, Block, Restitution};
+use crate::building::ShapedMode;
 use crate::floor::{Building, Mode};
 use crate::ops::capacity::{Asked, NamedSpec};
 use crate::physics::{ModelChoice, NonlinearIntegrator, Overturn, Solver};
@@ -53,6 +54,10 @@ pub struct BlockAsk {
     pub mu: Option<f64>,
     /// The building whose floor the block stands on, mode by mode.
     pub floor: Vec<Mode>,
+    /// A building with its modes' shapes at every floor, and the floor
+    /// the block stands on (instead of `floor`).
+    pub building: Vec<ShapedMode>,
+    pub level: Option<usize>,
 }
 
 impl Default for BlockAsk {
@@ -72,6 +77,8 @@ impl Default for BlockAsk {
             overturn: Overturn::Static,
             mu: None,
             floor: Vec::new(),
+            building: Vec::new(),
+            level: None,
         }
     }
 }
@@ -183,7 +190,7 @@ impl BlockAsk {
     /// The building whose floor the blocks stand on, checked; `None` on the
     /// ground.
     pub fn building(&self, sp: Spelling) -> Result<Option<Building>, AskError> {
-        building(&self.floor, sp)
+        building(&self.floor, &self.building, self.level, sp)
     }
 
     /// The half sizes asked, paired: `b` with `h`, or `width`/2 with
@@ -239,13 +246,46 @@ impl BlockAsk {
 }
 
 /// A building from its modes, checked; `None` for none.
-pub fn building(modes: &[Mode], sp: Spelling) -> Result<Option<Building>, AskError> {
+pub fn building(
+    floor: &[Mode],
+    shaped: &[ShapedMode],
+    level: Option<usize>,
+    sp: Spelling,
+) -> Result<Option<Building>, AskError> {
+    use crate::building::BuildingError as E;
+    let modes = crate::building::floor_modes(floor, shaped, level).map_err(|e| match e {
+        E::Both => AskError(format!(
+            "{} and {} both place the block: give one",
+            sp.key("floor"),
+            sp.key("building")
+        )),
+        E::Alone => AskError(format!(
+            "{} picks a floor of {}: give both",
+            sp.key("level"),
+            sp.key("building")
+        )),
+        E::NoLevel(n) => AskError(format!(
+            "{} has floors 1–{n}: give the block's with {}",
+            sp.key("building"),
+            sp.key("level")
+        )),
+        E::Level { level, floors } => AskError(format!(
+            "{} {level}: the building has floors 1–{floors}",
+            sp.key("level")
+        )),
+        other => AskError::of(sp, "building", other),
+    })?;
     if modes.is_empty() {
         return Ok(None);
     }
-    Building::new(modes.to_vec())
+    let key = if shaped.is_empty() {
+        "floor"
+    } else {
+        "building"
+    };
+    Building::new(modes)
         .map(Some)
-        .map_err(|e| AskError::of(sp, "floor", e))
+        .map_err(|e| AskError::of(sp, key, e))
 }
 
 /// `a` and `b` as pairs, when they are as long as each other.

@@ -9,6 +9,7 @@ use super::assess::{BlocksAsk, ExportAsk, LawAsk};
 use super::block::AUTO_TOL;
 use super::spelling::{AskError, Spelling};
 use crate::block::Restitution;
+use crate::building::ShapedMode;
 use crate::columns::AccelUnit;
 use crate::damage::{DamageStates, Dispersion, FitMethod, IfNotLognormal};
 use crate::floor::Mode;
@@ -33,6 +34,10 @@ pub struct ExportKw {
     pub records_column: Option<usize>,
     pub direct: bool,
     pub floor: Vec<Mode>,
+    /// A building with its modes' shapes at every floor, and the floor
+    /// the block stands on (instead of `floor`).
+    pub building: Vec<ShapedMode>,
+    pub level: Option<usize>,
     pub states: Option<DamageStates>,
     pub method: FitMethod,
     pub dispersion: Dispersion,
@@ -61,6 +66,8 @@ impl Default for ExportKw {
             records_column: None,
             direct: false,
             floor: Vec::new(),
+            building: Vec::new(),
+            level: None,
             states: None,
             method: FitMethod::Fractile,
             dispersion: Dispersion::Common,
@@ -96,6 +103,8 @@ impl ExportKw {
             },
             direct: self.direct,
             floor: self.floor.clone(),
+            building: self.building.clone(),
+            level: self.level,
             states: self.states.clone(),
             method: self.method,
             dispersion: self.dispersion,

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use rocking::ask::{AskedBlock, BlockAsk, LawAsk, PulseAsk, Spelling};
 use rocking::block::Restitution;
+use rocking::building::ShapedMode;
 use rocking::columns::AccelUnit;
 use rocking::damage::{DamageStates, Dispersion, FitMethod, IfNotLognormal};
 use rocking::floor::Mode;
@@ -189,6 +190,16 @@ pub struct FloorArgs {
     /// ground's; the block feels the floor's absolute acceleration.
     #[arg(long = "floor", value_name = "T,ZETA,GAMMA_PHI", value_parser = parsed::<Mode>)]
     pub floor: Vec<Mode>,
+    /// Or a building with every floor: one mode as T,ZETA,GAMMA,PHI1,…,PHIn
+    /// (period in s, damping ratio, participation factor, the mode's shape
+    /// at each floor, lowest first); repeat for each mode. --level picks
+    /// the block's floor (Γφ = Γ·φ there).
+    #[arg(long = "building", value_name = "T,ZETA,GAMMA,PHI…", value_parser = parsed::<ShapedMode>)]
+    pub building: Vec<ShapedMode>,
+    /// The floor of --building the block stands on (1 = the lowest its
+    /// shapes give).
+    #[arg(long, value_name = "K")]
+    pub level: Option<usize>,
 }
 
 /// Where the block stands: on the ground, or on a building's floor; and
@@ -221,6 +232,8 @@ impl BlockArgs {
             overturn: self.overturn,
             mu: self.scene.mu,
             floor: self.scene.floor.floor.clone(),
+            building: self.scene.floor.building.clone(),
+            level: self.scene.floor.level,
         }
     }
 

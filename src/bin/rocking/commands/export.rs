@@ -97,6 +97,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         law: args.law.ask(),
         direct: args.direct,
         floor: args.floor.floor.clone(),
+        building: args.floor.building.clone(),
+        level: args.floor.level,
         states: args.states.clone(),
         method: args.method,
         dispersion: args.dispersion,

@@ -66,9 +66,10 @@ pub struct Args {
     json: bool,
 }
 
-pub fn run(args: Args) -> anyhow::Result<()> {
+/// The request the options make.
+fn ask(args: &Args) -> FragilityAsk {
     let law = args.law.ask();
-    let ask = FragilityAsk {
+    FragilityAsk {
         b: args.b,
         h: args.h,
         eps: args.eps,
@@ -83,13 +84,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         direct: args.direct,
         auto_tol: args.auto_tol,
         floor: args.scene.floor.floor.clone(),
+        building: args.scene.floor.building.clone(),
+        level: args.scene.floor.level,
         mu: args.scene.mu,
         states: args.states.states.clone(),
         method: args.states.method,
         dispersion: args.states.dispersion,
         if_not_lognormal: args.states.if_not_lognormal,
-    };
-    let (req, states) = ask.resolve(Spelling::Cli, direct_progress(args.direct))?;
+    }
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let (req, states) = ask(&args).resolve(Spelling::Cli, direct_progress(args.direct))?;
     if let Some(s) = &states.states {
         return run_states(&req, s, states.method, args.json);
     }

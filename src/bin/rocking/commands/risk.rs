@@ -97,6 +97,8 @@ fn ask(args: &Args) -> RiskAsk {
         beyond: args.beyond,
         auto_tol: args.auto_tol,
         floor: args.floor.floor.clone(),
+        building: args.floor.building.clone(),
+        level: args.floor.level,
         states: args.states.states.clone(),
         method: args.states.method,
         dispersion: args.states.dispersion,
