@@ -95,12 +95,17 @@ impl crate::label::Label for AccelUnit {
 
 crate::deserialize_by_label!(AccelUnit);
 
-/// How a suite of text files is read: the unit, and which value column.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// How a suite of text files is read: the unit, which value column, and
+/// whether they are accelerations relative to the ground.
+#[derive(Debug, Clone, PartialEq)]
 pub struct TextRecords {
     pub unit: AccelUnit,
     /// 1 = the first column after time.
     pub column: usize,
+    /// The values are relative to the ground: the folder of the ground
+    /// motions the model was shaken with (as run: AT2 in g, or text of
+    /// time and acceleration in `unit`), one per record of the same stem.
+    pub ground: Option<std::path::PathBuf>,
 }
 
 impl fmt::Display for TextRecords {
@@ -111,7 +116,38 @@ impl fmt::Display for TextRecords {
             "text columns in {}, value column {}",
             self.unit.label(),
             self.column
-        )
+        )?;
+        if let Some(g) = &self.ground {
+            write!(f, ", relative to the ground of {}", g.display())?;
+        }
+        Ok(())
+    }
+}
+
+/// Adds the ground's acceleration to a relative motion: the ground given
+/// by its samples (g) from time `ground_t0` every `ground_dt`, linear
+/// between them and 0 outside them (as OpenSees' `Path` time series
+/// applies a record), read at each of the motion's times.
+pub fn add_ground(motion: &mut ColumnMotion, ground_g: &[f64], ground_t0: f64, ground_dt: f64) {
+    let at = |t: f64| -> f64 {
+        let x = (t - ground_t0) / ground_dt;
+        if x.is_nan() || x < -1e-6 {
+            return 0.0;
+        }
+        let x = x.max(0.0);
+        let i = x.floor() as usize;
+        // Within a millionth of a step of a sample: that sample (times
+        // written in decimals land a rounding off the grid).
+        let frac = x - i as f64;
+        match (ground_g.get(i), ground_g.get(i + 1)) {
+            (Some(&a), _) if frac < 1e-6 => a,
+            (Some(_), None) if frac > 1.0 - 1e-6 => 0.0,
+            (Some(&a), Some(&b)) => a + (b - a) * frac,
+            _ => 0.0,
+        }
+    };
+    for (a, &t) in motion.accel_g.iter_mut().zip(&motion.times) {
+        *a += at(t);
     }
 }
 
@@ -124,6 +160,8 @@ pub struct ColumnMotion {
     pub dt_s: f64,
     /// The first time (s).
     pub t0_s: f64,
+    /// Every sample's time (s), as the file gives it.
+    pub times: Vec<f64>,
     /// The header line of names, if the file has one.
     pub header: Option<String>,
 }
@@ -237,6 +275,7 @@ pub fn parse(text: &str, spec: &TextRecords) -> Result<ColumnMotion, ColumnsErro
         accel_g: values,
         dt_s: dt,
         t0_s: times[0],
+        times,
         header,
     })
 }
@@ -246,7 +285,34 @@ mod tests {
     use super::*;
 
     fn spec(unit: AccelUnit, column: usize) -> TextRecords {
-        TextRecords { unit, column }
+        TextRecords {
+            unit,
+            column,
+            ground: None,
+        }
+    }
+
+    /// A relative motion plus its ground (hand-worked): the ground 0, 0.2,
+    /// −0.2 g at 0, 0.02, 0.04 s, read at 0.01 (halfway: 0.1), 0.02 (a
+    /// sample), 0.05 (past its end: 0) and before it starts (0).
+    #[test]
+    fn the_ground_is_added_at_the_motions_times() {
+        let mut m = parse("-0.01 1\n0.01 1\n0.02 1\n0.05 1\n", &spec(AccelUnit::G, 1));
+        assert!(m.is_err(), "uneven times are refused first");
+        let text = "0.00 0.5\n0.01 0.5\n0.02 0.5\n0.03 0.5\n";
+        m = parse(text, &spec(AccelUnit::G, 1));
+        let mut m = m.unwrap();
+        add_ground(&mut m, &[0.0, 0.2, -0.2], 0.0, 0.02);
+        let want = [0.5, 0.6, 0.7, 0.5];
+        for (got, want) in m.accel_g.iter().zip(want) {
+            assert!((got - want).abs() < 1e-12, "{got} vs {want}");
+        }
+        let mut late = parse("0.05 0.5\n0.06 0.5\n", &spec(AccelUnit::G, 1)).unwrap();
+        add_ground(&mut late, &[0.0, 0.2, -0.2], 0.0, 0.02);
+        assert_eq!(late.accel_g, vec![0.5, 0.5]);
+        let mut early = parse("0 0.5\n0.01 0.5\n", &spec(AccelUnit::G, 1)).unwrap();
+        add_ground(&mut early, &[0.3, 0.3], 0.5, 0.02);
+        assert_eq!(early.accel_g, vec![0.5, 0.5]);
     }
 
     /// An OpenSees `Node` recorder with `-time` for two nodes, in m/s²: the

@@ -1151,3 +1151,93 @@ fn a_building_gives_each_floors_modes() {
         stderr(&out)
     );
 }
+
+/// Relative floor accelerations (an OpenSees `Node` recorder without
+/// `-timeSeries`): each modal floor motion minus its ground record, the
+/// ground linear between its samples (written here), at the floor's
+/// times from 0; with `--records-ground` the ground (the AT2 records) is
+/// added back at those times, and the capacities are `--floor`'s to 1e-9.
+/// Without it the same files give other capacities (the relative motion),
+/// and a ground folder missing a record is refused naming the file.
+#[test]
+fn relative_floor_motions_take_their_ground_back() {
+    let dir = tempdir();
+    let few = few_far_field(dir.path(), &FEW[..3]);
+    let mode = "0.5,0.05,1.3";
+    let building = rocking::floor::Building::new(vec![mode.parse().unwrap()]).unwrap();
+    let rel = dir.path().join("relative");
+    std::fs::create_dir(&rel).unwrap();
+    for id in &FEW[..3] {
+        let record = few.join(format!("{id}.AT2"));
+        let ground = plain_at2_values(&record);
+        let (_, dt) = rocking::records::read_samples(&record).unwrap();
+        let f = building.floor_motion(&ground, dt).unwrap();
+        let mut out = String::new();
+        for (i, a) in f.accel_g.iter().enumerate() {
+            let t = i as f64 * f.dt_s;
+            let x = t / dt;
+            let k = x.floor() as usize;
+            let frac = x - k as f64;
+            let g = match (ground.get(k), ground.get(k + 1)) {
+                (Some(&a0), Some(&a1)) => a0 + (a1 - a0) * frac,
+                (Some(&a0), None) if frac < 1e-9 => a0,
+                _ => 0.0,
+            };
+            out.push_str(&format!("{t} {}\n", (a - g) * 9.80665));
+        }
+        std::fs::write(rel.join(format!("{id}.out")), out).unwrap();
+    }
+    let fragility = |extra: &[&str]| {
+        let mut args = vec![
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--direct",
+            "--im",
+            "pfv",
+            "--at",
+            "30,60",
+            "--json",
+        ];
+        args.extend(extra);
+        rocking(&root(), &args)
+    };
+    let on = json(&fragility(&[
+        "--records",
+        few.to_str().unwrap(),
+        "--floor",
+        mode,
+    ]));
+    let rel_s = rel.to_str().unwrap();
+    let text = ["--records", rel_s, "--records-unit", "m/s2"];
+    let back = json(&fragility(
+        &[&text[..], &["--records-ground", few.to_str().unwrap()]].concat(),
+    ));
+    for key in ["median", "beta"] {
+        let (a, b) = (back[key].as_f64().unwrap(), on[key].as_f64().unwrap());
+        assert!((a - b).abs() <= 1e-9 * b, "{key}: {a} against {b}");
+    }
+    let alone = json(&fragility(&text));
+    assert!(
+        (alone["median"].as_f64().unwrap() / on["median"].as_f64().unwrap() - 1.0).abs() > 1e-3
+    );
+    let partial = dir.path().join("partial");
+    std::fs::create_dir(&partial).unwrap();
+    std::fs::copy(
+        few.join(format!("{}.AT2", FEW[0])),
+        partial.join(format!("{}.AT2", FEW[0])),
+    )
+    .unwrap();
+    let out = fragility(&[&text[..], &["--records-ground", partial.to_str().unwrap()]].concat());
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains(&format!(
+            "{}.out: no ground motion of the same name",
+            FEW[1]
+        )),
+        "{}",
+        stderr(&out)
+    );
+}

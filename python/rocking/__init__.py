@@ -281,8 +281,8 @@ def export(out: PathLike, **kw: Any) -> Dict[str, Any]:
     the folder ``out``: ``rocking export``. Keywords as the command's
     options: ``format`` (``"pelicun"`` or ``"nrml"``), one block (``b``,
     ``h``, ``eps``, ``mu``) or an ``inventory`` CSV, ``direct`` with
-    ``records`` (and ``records_unit``, ``records_column`` for a structural
-    model's text floor motions), ``im`` (``"pfv"``, ``"pfa"``, ``"pga"``,
+    ``records`` (and ``records_unit``, ``records_column``, ``records_ground``
+    for a structural model's text floor motions), ``im`` (``"pfv"``, ``"pfa"``, ``"pga"``,
     …), ``states``, ``method``, ``if_not_lognormal``, ``floor``,
     ``hazard``. Returns ``{"files": [...], "blocks": [...]}``, the blocks
     as ``rocking export --json`` prints them.

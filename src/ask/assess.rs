@@ -35,6 +35,8 @@ pub struct LawAsk {
     pub records_unit: Option<AccelUnit>,
     /// Their value column (1 = the first after time; with `records_unit`).
     pub records_column: Option<usize>,
+    /// They are relative to the ground: its motions, as run, in this folder.
+    pub records_ground: Option<PathBuf>,
 }
 
 impl Default for LawAsk {
@@ -45,6 +47,7 @@ impl Default for LawAsk {
             records: None,
             records_unit: None,
             records_column: None,
+            records_ground: None,
         }
     }
 }
@@ -55,15 +58,21 @@ impl LawAsk {
             (Some(unit), column) => Some(TextRecords {
                 unit,
                 column: column.unwrap_or(1),
+                ground: self.records_ground.clone(),
             }),
-            (None, Some(_)) => {
+            (None, _) if self.records_column.is_some() || self.records_ground.is_some() => {
+                let key = if self.records_column.is_some() {
+                    "records_column"
+                } else {
+                    "records_ground"
+                };
                 return Err(AskError(format!(
-                    "{} picks a column of text records: give their unit with {}",
-                    sp.key("records_column"),
+                    "{} is for text records: give their unit with {}",
+                    sp.key(key),
                     sp.key("records_unit")
-                )))
+                )));
             }
-            (None, None) => None,
+            (None, _) => None,
         };
         if let Some(t) = &text {
             if self.source != "paper" {
@@ -159,6 +168,7 @@ pub struct FragilityAsk {
     pub records: Option<PathBuf>,
     pub records_unit: Option<AccelUnit>,
     pub records_column: Option<usize>,
+    pub records_ground: Option<PathBuf>,
     pub direct: bool,
     pub auto_tol: f64,
     pub floor: Vec<Mode>,
@@ -188,6 +198,7 @@ impl Default for FragilityAsk {
             records: None,
             records_unit: None,
             records_column: None,
+            records_ground: None,
             direct: false,
             auto_tol: AUTO_TOL,
             floor: Vec::new(),
@@ -273,6 +284,7 @@ impl FragilityAsk {
             records: self.records.clone(),
             records_unit: self.records_unit,
             records_column: self.records_column,
+            records_ground: self.records_ground.clone(),
         };
         let req = fragility::Request {
             b_m: self.b,
@@ -342,6 +354,7 @@ pub struct RiskAsk {
     pub records: Option<PathBuf>,
     pub records_unit: Option<AccelUnit>,
     pub records_column: Option<usize>,
+    pub records_ground: Option<PathBuf>,
     pub direct: bool,
     pub years: f64,
     pub beyond: Beyond,
@@ -374,6 +387,7 @@ impl Default for RiskAsk {
             records: None,
             records_unit: None,
             records_column: None,
+            records_ground: None,
             direct: false,
             years: 50.0,
             beyond: Beyond::Extrapolate,
@@ -424,6 +438,7 @@ impl RiskAsk {
             records: self.records.clone(),
             records_unit: self.records_unit,
             records_column: self.records_column,
+            records_ground: self.records_ground.clone(),
         };
         let req = risk::Request {
             hazard: hazard.resolve(sp)?,

@@ -32,6 +32,7 @@ pub struct ExportKw {
     pub records: Option<PathBuf>,
     pub records_unit: Option<AccelUnit>,
     pub records_column: Option<usize>,
+    pub records_ground: Option<PathBuf>,
     pub direct: bool,
     pub floor: Vec<Mode>,
     /// A building with its modes' shapes at every floor, and the floor
@@ -64,6 +65,7 @@ impl Default for ExportKw {
             records: None,
             records_unit: None,
             records_column: None,
+            records_ground: None,
             direct: false,
             floor: Vec::new(),
             building: Vec::new(),
@@ -100,6 +102,7 @@ impl ExportKw {
                 records: self.records.clone(),
                 records_unit: self.records_unit,
                 records_column: self.records_column,
+                records_ground: self.records_ground.clone(),
             },
             direct: self.direct,
             floor: self.floor.clone(),

@@ -43,6 +43,8 @@ pub enum Problem {
     Read(io::Error),
     Parse(at2::At2Error),
     Text(ColumnsError),
+    /// The ground motion of a relative record.
+    Ground(String),
     /// The manifest's NPTS or DT disagrees with the file.
     ManifestMismatch {
         manifest: PathBuf,
@@ -61,6 +63,7 @@ impl fmt::Display for BadFile {
             Problem::Read(e) => write!(f, "{path}: cannot read: {e}"),
             Problem::Parse(e) => write!(f, "{path}:{}: {}", e.line, e.kind),
             Problem::Text(e) if e.line == 0 => write!(f, "{path}: {}", e.kind),
+            Problem::Ground(what) => write!(f, "{path}: {what}"),
             Problem::Text(e) => write!(f, "{path}:{}: {}", e.line, e.kind),
             Problem::ManifestMismatch {
                 manifest,
@@ -340,7 +343,12 @@ fn read_text(path: &Path, spec: &TextRecords) -> Result<RecordRow, BadFile> {
     };
     let bytes = fs::read(path).map_err(|e| bad(Problem::Read(e)))?;
     let text = String::from_utf8_lossy(&bytes);
-    let parsed = columns::parse(&text, spec).map_err(|e| bad(Problem::Text(e)))?;
+    let mut parsed = columns::parse(&text, spec).map_err(|e| bad(Problem::Text(e)))?;
+    if let Some(dir) = &spec.ground {
+        let (ground, t0, dt) =
+            read_ground(dir, path, spec).map_err(|what| bad(Problem::Ground(what)))?;
+        columns::add_ground(&mut parsed, &ground, t0, dt);
+    }
     let peak = motion::peak(&parsed.accel_g, parsed.dt_s).expect("two samples are checked");
     Ok(RecordRow {
         record_id: path
@@ -365,6 +373,54 @@ fn read_text(path: &Path, spec: &TextRecords) -> Result<RecordRow, BadFile> {
         meta: RecordMeta::default(),
         accel_g: parsed.accel_g,
     })
+}
+
+/// The ground motion a relative record was run with: the file of its stem
+/// in `dir`, an AT2 file (g, from time 0) or text columns (time and
+/// acceleration in the records' unit). Its samples (g), first time, step.
+fn read_ground(
+    dir: &Path,
+    record: &Path,
+    spec: &TextRecords,
+) -> Result<(Vec<f64>, f64, f64), String> {
+    let stem = record.file_stem().unwrap_or_default();
+    let found = fs::read_dir(dir)
+        .map_err(|e| format!("its ground, in {}: {e}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.file_stem() == Some(stem) && p.is_file())
+        .find(|p| {
+            p.extension().is_some_and(|e| {
+                ["at2"]
+                    .iter()
+                    .chain(TEXT_EXTENSIONS)
+                    .any(|x| e.eq_ignore_ascii_case(x))
+            })
+        })
+        .ok_or_else(|| {
+            format!(
+                "no ground motion of the same name in {} (an AT2 or text file): a relative \
+                 acceleration needs the ground it was run with",
+                dir.display()
+            )
+        })?;
+    let bytes = fs::read(&found).map_err(|e| format!("{}: {e}", found.display()))?;
+    let at2 = found
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("at2"));
+    if at2 {
+        let g = at2::parse(&bytes)
+            .map_err(|e| format!("{}:{}: {}", found.display(), e.line, e.kind))?;
+        return Ok((g.accel_g, 0.0, g.dt_s));
+    }
+    let text = String::from_utf8_lossy(&bytes);
+    let plain = TextRecords {
+        unit: spec.unit,
+        column: 1,
+        ground: None,
+    };
+    let g = columns::parse(&text, &plain)
+        .map_err(|e| format!("{}:{}: {e}", found.display(), e.line))?;
+    Ok((g.accel_g, g.t0_s, g.dt_s))
 }
 
 /// NPTS must match exactly; DT to 1e-9 relative (a manifest may print 0.01

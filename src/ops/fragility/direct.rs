@@ -140,7 +140,7 @@ impl DirectRecords {
             })
             .collect::<Result<_, FragilityError>>()?;
         let text = match from {
-            Source::Paper { text, .. } => *text,
+            Source::Paper { text, .. } => text.clone(),
             Source::Pipeline { .. } => None,
         };
         Ok(DirectRecords {

@@ -81,6 +81,13 @@ pub struct LawArgs {
     /// time) [default: 1].
     #[arg(long, value_name = "K")]
     pub records_column: Option<usize>,
+    /// With --records-unit: the records are accelerations relative to the
+    /// ground (an OpenSees Node recorder without -timeSeries); the ground
+    /// motions they were run with, as run (scaled), are in this folder, one
+    /// of the same name each (AT2 in g, or time and acceleration in the
+    /// records' unit), and are added at the records' times.
+    #[arg(long, value_name = "DIR")]
+    pub records_ground: Option<PathBuf>,
 }
 
 impl LawArgs {
@@ -91,6 +98,7 @@ impl LawArgs {
             records: self.records.clone(),
             records_unit: self.records_unit,
             records_column: self.records_column,
+            records_ground: self.records_ground.clone(),
         }
     }
 }

@@ -81,6 +81,7 @@ fn ask(args: &Args) -> FragilityAsk {
         records: law.records,
         records_unit: law.records_unit,
         records_column: law.records_column,
+        records_ground: law.records_ground,
         direct: args.direct,
         auto_tol: args.auto_tol,
         floor: args.scene.floor.floor.clone(),

@@ -92,6 +92,7 @@ fn ask(args: &Args) -> RiskAsk {
         records: law.records,
         records_unit: law.records_unit,
         records_column: law.records_column,
+        records_ground: law.records_ground,
         direct: args.direct,
         years: args.years,
         beyond: args.beyond,
