@@ -1241,3 +1241,57 @@ fn relative_floor_motions_take_their_ground_back() {
         stderr(&out)
     );
 }
+
+/// The floor's spectral acceleration, FSA(T): on a floor it is the SA of
+/// the floor motion, so the block's fragility in fsa(T) with `--floor`
+/// equals its fragility in sa(T) under the floor motions written as AT2
+/// files and run as records, to the bit, at a standard period (1.0 s) and
+/// at one the records' tables lack (0.7 s, computed when asked).
+#[test]
+fn floor_spectral_acceleration_is_the_floor_motions_sa() {
+    let dir = tempdir();
+    let few = few_far_field(dir.path(), &FEW[..3]);
+    let mode = "0.5,0.05,1.3";
+    let building = rocking::floor::Building::new(vec![mode.parse().unwrap()]).unwrap();
+    let floors = dir.path().join("floors");
+    std::fs::create_dir(&floors).unwrap();
+    for id in &FEW[..3] {
+        let record = few.join(format!("{id}.AT2"));
+        let (_, dt) = rocking::records::read_samples(&record).unwrap();
+        let f = building
+            .floor_motion(&plain_at2_values(&record), dt)
+            .unwrap();
+        write_at2(&floors.join(format!("{id}.AT2")), &f.accel_g, f.dt_s);
+    }
+    let fragility = |records: &Path, im: &str, floor: Option<&str>| {
+        let mut args = vec![
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--direct",
+            "--im",
+            im,
+            "--at",
+            "0.4,0.8",
+            "--records",
+            records.to_str().unwrap(),
+            "--json",
+        ];
+        if let Some(m) = floor {
+            args.extend(["--floor", m]);
+        }
+        json(&rocking(&root(), &args))
+    };
+    for t in ["1.0", "0.7"] {
+        let on = fragility(&few, &format!("fsa({t})"), Some(mode));
+        let as_records = fragility(&floors, &format!("sa({t})"), None);
+        for key in ["median", "beta", "points"] {
+            assert_eq!(on[key], as_records[key], "fsa({t}): {key}");
+        }
+        // The ground's SA of the same block on that floor is another curve.
+        let ground = fragility(&few, &format!("sa({t})"), Some(mode));
+        assert_ne!(on["median"], ground["median"], "{t}");
+    }
+}

@@ -292,7 +292,8 @@ def export(out: PathLike, **kw: Any) -> Dict[str, Any]:
 
 def ims() -> List[Dict[str, Any]]:
     """Every measure a record has (``rocking ims``), then the floor demands
-    PFA and PFV, with what each answers: ``name``, ``key`` (its column),
+    PFA, PFV and FSA(T) (at 1 s standing for any period), with what each
+    answers: ``name``, ``key`` (its column),
     ``unit``, whether it ``scales`` (a capacity can be stated in it),
     whether a ``hazard`` curve may be in it, whether it is a ``floor``
     demand (of the motion the block stands on, ``direct=True`` only), and

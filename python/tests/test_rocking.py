@@ -314,7 +314,8 @@ def test_every_im_passes_pythons_doors_by_its_own_answers():
     listed = rocking.ims()
     assert [m["name"] for m in listed[:3]] == ["pga", "pgv", "pgd"]
     assert {m["key"] for m in listed} >= {"pga_g", "pgv_cm_s", "d5_95_s", "sa(1.0)_g"}
-    assert [m["name"] for m in listed if m["floor"]] == ["pfa", "pfv"]
+    # The floor demands, the floor's SA at 1 s standing for any period.
+    assert [m["name"] for m in listed if m["floor"]] == ["pfa", "pfv", "fsa(1.0)"]
     for m in listed:
         try:
             rocking.fragility(0.2, 0.9, im=m["name"], at=[1.0])

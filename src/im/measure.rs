@@ -59,11 +59,15 @@ pub enum Im {
     /// Peak floor velocity (cm/s): the peak absolute velocity of that
     /// motion (FEMA P-58's PFV); on the ground, the record's PGV.
     Pfv,
+    /// Floor spectral acceleration at a period (s), in g: the 5 %-damped
+    /// pseudo-spectral acceleration of the motion the block stands on (a
+    /// floor response spectrum's ordinate); on the ground, SA(T).
+    Fsa(f64),
 }
 
 /// One member per kind, SA at 1 s standing for every period: the order
 /// every list of IMs follows (the capacity measures first).
-const KINDS: [Im; 12] = [
+const KINDS: [Im; 13] = [
     Im::Pga,
     Im::Pgv,
     Im::Pgd,
@@ -76,6 +80,7 @@ const KINDS: [Im; 12] = [
     Im::Tm,
     Im::Pfa,
     Im::Pfv,
+    Im::Fsa(1.0),
 ];
 
 /// What `fragility`, `risk` and the exports may be asked for, and what the
@@ -103,7 +108,7 @@ impl Im {
 
     /// One member of each kind (SA at 1 s standing for every period), in
     /// the order every list follows: to enumerate what a door accepts.
-    pub fn kinds() -> [Im; 12] {
+    pub fn kinds() -> [Im; 13] {
         KINDS
     }
 
@@ -129,6 +134,8 @@ impl Im {
             .map(|im| match (im, openquake) {
                 (Im::Sa(_), false) => "sa(T)".to_string(),
                 (Im::Sa(_), true) => "SA(T)".to_string(),
+                (Im::Fsa(_), false) => "fsa(T)".to_string(),
+                (Im::Fsa(_), true) => "FSA(T)".to_string(),
                 (im, false) => im.name(),
                 (im, true) => im.openquake().unwrap_or_else(|| im.short()),
             })
@@ -149,6 +156,7 @@ impl Im {
             Im::Pgv => "pgv".into(),
             Im::Pgd => "pgd".into(),
             Im::Sa(t) => format!("sa({})", period_text(t)),
+            Im::Fsa(t) => format!("fsa({})", period_text(t)),
             Im::AvgSa => "avgsa".into(),
             Im::Arias => "arias".into(),
             Im::Cav => "cav".into(),
@@ -182,6 +190,7 @@ impl Im {
             Im::Pgv => "PGV".into(),
             Im::Pgd => "PGD".into(),
             Im::Sa(t) => format!("SA({})", period_text(t)),
+            Im::Fsa(t) => format!("FSA({})", period_text(t)),
             Im::AvgSa => "AvgSA".into(),
             Im::Arias => "Arias".into(),
             Im::Cav => "CAV".into(),
@@ -215,7 +224,7 @@ impl Im {
             Im::Arias => Some("IA".into()),
             Im::Cav => Some("CAV".into()),
             Im::D5_95 => Some("RSD595".into()),
-            Im::PgvPga | Im::Tm | Im::Pfa | Im::Pfv => None,
+            Im::PgvPga | Im::Tm | Im::Pfa | Im::Pfv | Im::Fsa(_) => None,
         }
     }
 
@@ -237,7 +246,7 @@ impl Im {
     /// The unit its values are given in.
     pub fn unit(self) -> &'static str {
         match self {
-            Im::Pga | Im::Sa(_) | Im::AvgSa | Im::Pfa => "g",
+            Im::Pga | Im::Sa(_) | Im::AvgSa | Im::Pfa | Im::Fsa(_) => "g",
             Im::Pgv | Im::Pfv => "cm/s",
             Im::Pgd => "cm",
             Im::Arias => "m/s",
@@ -274,7 +283,7 @@ impl Im {
     /// PFV: its floor's), computed from the block's own runs (`--direct`),
     /// not from a study's ground-motion tables.
     pub fn floor(self) -> bool {
-        matches!(self, Im::Pfa | Im::Pfv)
+        matches!(self, Im::Pfa | Im::Pfv | Im::Fsa(_))
     }
 
     /// The ground-motion measure it is of the motion the block feels: PGA
@@ -283,6 +292,7 @@ impl Im {
         match self {
             Im::Pfa => Im::Pga,
             Im::Pfv => Im::Pgv,
+            Im::Fsa(t) => Im::Sa(t),
             other => other,
         }
     }
@@ -299,6 +309,7 @@ impl Im {
             Im::Pfa => Some((1.0 / alpha_rad, "PFA/(αg)")),
             Im::Pfv => Some((p / 100.0 / ag, "p·PFV/(αg)")),
             Im::Sa(_) => Some((1.0 / alpha_rad, "SA/(αg)")),
+            Im::Fsa(_) => Some((1.0 / alpha_rad, "FSA/(αg)")),
             Im::AvgSa => Some((1.0 / alpha_rad, "AvgSA/(αg)")),
             Im::Pgv => Some((p / 100.0 / ag, "p·PGV/(αg)")),
             Im::Pgd => Some((p * p / 100.0 / ag, "p²·PGD/(αg)")),
@@ -354,16 +365,20 @@ impl FromStr for Im {
     /// Any case; `sa(T)` with T in seconds; OpenQuake's names (`IA`, `RSD595`).
     fn from_str(text: &str) -> Result<Self, String> {
         let lower = text.trim().to_ascii_lowercase();
-        if let Some(inner) = lower.strip_prefix("sa(").and_then(|r| r.strip_suffix(')')) {
-            return match inner.trim().parse::<f64>() {
-                Ok(t) if t > 0.0 && t.is_finite() => Ok(Im::Sa(t)),
-                _ => Err(format!(
-                    "`{text}`: the period of SA(T) must be a positive number of seconds, as in sa(1.0)"
-                )),
-            };
+        for (prefix, make) in [("sa(", Im::Sa as fn(f64) -> Im), ("fsa(", Im::Fsa)] {
+            if let Some(inner) = lower.strip_prefix(prefix).and_then(|r| r.strip_suffix(')')) {
+                return match inner.trim().parse::<f64>() {
+                    Ok(t) if t > 0.0 && t.is_finite() => Ok(make(t)),
+                    _ => Err(format!(
+                        "`{text}`: the period of {}T) must be a positive number of seconds, as in \
+                         {prefix}1.0)",
+                        prefix.to_ascii_uppercase()
+                    )),
+                };
+            }
         }
         let found = KINDS.into_iter().find(|im| {
-            !matches!(im, Im::Sa(_))
+            !matches!(im, Im::Sa(_) | Im::Fsa(_))
                 && (im.name() == lower
                     || im
                         .openquake()

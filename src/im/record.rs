@@ -69,6 +69,7 @@ impl Im {
             // The record as the motion the block feels.
             Im::Pfa => s.pga_g,
             Im::Pfv => s.peaks.0,
+            Im::Fsa(t) => s.sa(t)?,
         })
     }
 }
@@ -140,9 +141,9 @@ impl RecordIms {
         ims.value(Im::Pga).map(|_| ims)
     }
 
-    /// The record's value of `im` (`None`: an SA period not computed); PFA
-    /// and PFV are its PGA and PGV, the record taken as the motion the
-    /// block feels.
+    /// The record's value of `im` (`None`: an SA period not computed); PFA,
+    /// PFV and FSA(T) are its PGA, PGV and SA(T), the record taken as the
+    /// motion the block feels.
     pub fn value(&self, im: Im) -> Option<f64> {
         let im = im.of_motion();
         self.values.iter().find(|(m, _)| *m == im).map(|&(_, v)| v)

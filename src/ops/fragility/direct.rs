@@ -197,7 +197,20 @@ impl DirectRecords {
         im: Im,
     ) -> Result<std::borrow::Cow<'_, [RecordIms]>, crate::im::RecordImsError> {
         if im.floor() {
-            return Ok(std::borrow::Cow::Borrowed(self.felt_ims()));
+            let felt = self.felt_ims();
+            let Im::Fsa(t) = im else {
+                return Ok(std::borrow::Cow::Borrowed(felt));
+            };
+            if felt.first().is_none_or(|r| r.value(im).is_some()) {
+                return Ok(std::borrow::Cow::Borrowed(felt));
+            }
+            // The floor motion's SA at a period its standard ones lack.
+            return self
+                .records
+                .par_iter()
+                .map(|r| RecordIms::try_of_record(&r.exc.psi, r.exc.dt_s, &[t]))
+                .collect::<Result<Vec<_>, _>>()
+                .map(std::borrow::Cow::Owned);
         }
         let standard = self.ims();
         if standard.first().is_none_or(|r| r.value(im).is_some()) {

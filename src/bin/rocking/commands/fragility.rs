@@ -43,7 +43,8 @@ pub struct Args {
     #[arg(long, value_name = "g[,g…]", value_delimiter = ',')]
     pga: Vec<f64>,
     /// The intensity measure: pga, pgv (cm/s), pgd (cm), sa(T) (g, T in s), avgsa (g), arias (m/s), cav (g·s);
-    /// or a demand of the motion the block stands on, pfa (g) or pfv (cm/s) (--direct).
+    /// or a demand of the motion the block stands on, pfa (g), pfv (cm/s) or fsa(T) (g, the floor's
+    /// spectral acceleration) (--direct).
     #[arg(long, default_value = "pga", value_parser = parse_im)]
     im: Im,
     /// Levels of --im in its unit, comma-separated.
