@@ -1295,3 +1295,93 @@ fn floor_spectral_acceleration_is_the_floor_motions_sa() {
         assert_ne!(on["median"], ground["median"], "{t}");
     }
 }
+
+/// A pipeline over a structural model's floor motions: `[records] text =
+/// [...]` with `unit` (and `column`) runs the same study as the floor
+/// motions written as AT2 files (`at2 = [...]`): every capacity and η equal
+/// to the bit (the text in g, read back exactly); the records table says
+/// how each was read; `unit` is required and refused with the valid ones.
+#[test]
+fn a_pipeline_reads_a_structural_models_floor_motions() {
+    let dir = tempdir();
+    let few = few_far_field(dir.path(), &FEW[..3]);
+    let building = rocking::floor::Building::new(vec!["0.5,0.05,1.3".parse().unwrap()]).unwrap();
+    let (at2, text) = (dir.path().join("at2"), dir.path().join("text"));
+    std::fs::create_dir(&at2).unwrap();
+    std::fs::create_dir(&text).unwrap();
+    for id in &FEW[..3] {
+        let record = few.join(format!("{id}.AT2"));
+        let (_, dt) = rocking::records::read_samples(&record).unwrap();
+        let f = building
+            .floor_motion(&plain_at2_values(&record), dt)
+            .unwrap();
+        write_at2(&at2.join(format!("{id}.AT2")), &f.accel_g, f.dt_s);
+        let mut out = String::from("# node 3, absolute acceleration (g)\n");
+        for (i, a) in f.accel_g.iter().enumerate() {
+            out.push_str(&format!("{} 0 {a}\n", i as f64 * f.dt_s));
+        }
+        std::fs::write(text.join(format!("{id}.out")), out).unwrap();
+    }
+    let blocks =
+        "[model]\nkind = \"auto\"\n[[block]]\nname = \"rack\"\nb = 0.3\nh = 1.0\neps = 0.75\n";
+    let write = |name: &str, records: String| {
+        let path = dir.path().join(format!("{name}.toml"));
+        std::fs::write(
+            &path,
+            format!("name = \"{name}\"\n[records]\n{records}{blocks}"),
+        )
+        .unwrap();
+        path
+    };
+    let a = write("as-at2", format!("at2 = [\"{}\"]\n", at2.display()));
+    let t = write(
+        "as-text",
+        format!(
+            "text = [\"{}\"]\nunit = \"g\"\ncolumn = 2\n",
+            text.display()
+        ),
+    );
+    let outputs = dir.path().join("out");
+    for p in [&a, &t] {
+        let out = rocking(
+            dir.path(),
+            &[
+                "run",
+                p.to_str().unwrap(),
+                "--outputs",
+                outputs.to_str().unwrap(),
+                "--to",
+                "sweep",
+            ],
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+    }
+    let caps = |name: &str| rocking::stages::sweep::read_capacities(&outputs.join(name)).unwrap();
+    let (from_at2, from_text) = (caps("as-at2"), caps("as-text"));
+    assert_eq!(from_at2.len(), 3);
+    for (x, y) in from_at2.iter().zip(&from_text) {
+        assert_eq!(x.record_id, y.record_id);
+        assert_eq!(
+            x.eta_c.map(f64::to_bits),
+            y.eta_c.map(f64::to_bits),
+            "{}",
+            x.record_id
+        );
+    }
+    let bad = write("no-unit", format!("text = [\"{}\"]\n", text.display()));
+    let out = rocking(
+        dir.path(),
+        &[
+            "run",
+            bad.to_str().unwrap(),
+            "--outputs",
+            outputs.to_str().unwrap(),
+        ],
+    );
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("`records.text` needs `unit`"),
+        "{}",
+        stderr(&out)
+    );
+}

@@ -64,6 +64,34 @@ pub enum RecordSource {
         paths: Vec<PathBuf>,
         manifest: Option<PathBuf>,
     },
+    /// Text files or folders of columns (a structural model's motions),
+    /// read as `unit`, `column` and `ground` say (`crate::columns`).
+    Text {
+        paths: Vec<PathBuf>,
+        manifest: Option<PathBuf>,
+        unit: crate::columns::AccelUnit,
+        column: usize,
+        ground: Option<PathBuf>,
+    },
+}
+
+impl RecordSource {
+    /// How text records are read (none for a table or AT2 files).
+    pub fn text(&self) -> Option<crate::columns::TextRecords> {
+        match self {
+            RecordSource::Text {
+                unit,
+                column,
+                ground,
+                ..
+            } => Some(crate::columns::TextRecords {
+                unit: *unit,
+                column: *column,
+                ground: ground.clone(),
+            }),
+            _ => None,
+        }
+    }
 }
 
 /// One block of the study.
@@ -248,6 +276,21 @@ impl Plan {
                 "at2": {
                     "paths": paths.iter().map(|p| self.relative(p)).collect::<Vec<_>>(),
                     "manifest": manifest.as_deref().map(|m| self.relative(m)),
+                }
+            }),
+            Ok(RecordSource::Text {
+                paths,
+                manifest,
+                unit,
+                column,
+                ground,
+            }) => serde_json::json!({
+                "text": {
+                    "paths": paths.iter().map(|p| self.relative(p)).collect::<Vec<_>>(),
+                    "manifest": manifest.as_deref().map(|m| self.relative(m)),
+                    "unit": crate::label::Label::label(*unit),
+                    "column": column,
+                    "ground": ground.as_deref().map(|g| self.relative(g)),
                 }
             }),
             Err(_) => serde_json::json!({ "at2": { "paths": [], "manifest": null } }),

@@ -124,6 +124,13 @@ pub struct RawRecords {
     pub table: Option<String>,
     /// Or AT2 files/folders, read directly.
     pub at2: Option<Vec<String>>,
+    /// Or text files/folders of columns (a structural model's floor
+    /// motions), read with `unit`, `column` and, for relative
+    /// accelerations, the `ground` motions' folder.
+    pub text: Option<Vec<String>>,
+    pub unit: Option<String>,
+    pub column: Option<usize>,
+    pub ground: Option<String>,
     pub manifest: Option<String>,
     #[serde(default)]
     pub sets: Vec<String>,

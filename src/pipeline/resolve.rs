@@ -72,23 +72,8 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
     let damage = damage(raw.damage.as_ref()).map_err(err)?;
     let uncertainty = uncertainty(raw.uncertainty.as_ref()).map_err(err)?;
     let floor = raw.floor.as_ref().map(floor).transpose().map_err(err)?;
-    if let Some(u) = uncertainty {
-        let no_manifest = matches!(&records, RecordSource::At2 { manifest: None, .. });
-        if u.unit == ResampleUnit::Pair && no_manifest {
-            return Err(err(
-                "`uncertainty.unit` = \"pair\" resamples the manifest's pairs, and `[records]` \
-                 gives no manifest: add `manifest`, or set unit = \"record\""
-                    .into(),
-            ));
-        }
-        if u.resamples.saturating_mul(blocks.len()) > MAX_RESAMPLED_BLOCKS {
-            return Err(err(format!(
-                "`uncertainty.resamples` = {} over {} blocks: resamples × blocks may be at most \
-                 {MAX_RESAMPLED_BLOCKS} (every resample's fractiles are kept); ask for fewer",
-                u.resamples,
-                blocks.len()
-            )));
-        }
+    if let Some(u) = &uncertainty {
+        check_uncertainty(u, &records, blocks.len()).map_err(err)?;
     }
     let auto_tol = raw.model.auto_tol;
     let run = |b: Unresolved| block_run(b, model, solver, auto_tol, overturn);
@@ -212,7 +197,32 @@ fn name_of(name: Option<&str>, path: &Path) -> Result<String, String> {
     Ok(name)
 }
 
-/// `[records]`: a table or AT2 paths, relative to the pipeline's folder.
+/// `[uncertainty]` against the records (pairs need a manifest) and the
+/// number of blocks.
+fn check_uncertainty(u: &Uncertainty, records: &RecordSource, blocks: usize) -> Result<(), String> {
+    let no_manifest = matches!(
+        records,
+        RecordSource::At2 { manifest: None, .. } | RecordSource::Text { manifest: None, .. }
+    );
+    if u.unit == ResampleUnit::Pair && no_manifest {
+        return Err(
+            "`uncertainty.unit` = \"pair\" resamples the manifest's pairs, and `[records]` \
+             gives no manifest: add `manifest`, or set unit = \"record\""
+                .into(),
+        );
+    }
+    if u.resamples.saturating_mul(blocks) > MAX_RESAMPLED_BLOCKS {
+        return Err(format!(
+            "`uncertainty.resamples` = {} over {blocks} blocks: resamples × blocks may be at most \
+             {MAX_RESAMPLED_BLOCKS} (every resample's fractiles are kept); ask for fewer",
+            u.resamples
+        ));
+    }
+    Ok(())
+}
+
+/// `[records]`: a table, AT2 paths or text paths, relative to the
+/// pipeline's folder.
 fn records(raw: &RawRecords, base: &Path) -> Result<RecordSource, String> {
     let rel = |p: &str| -> PathBuf {
         let p = PathBuf::from(p);
@@ -222,6 +232,41 @@ fn records(raw: &RawRecords, base: &Path) -> Result<RecordSource, String> {
             base.join(p)
         }
     };
+    let texts = raw.unit.is_some() || raw.column.is_some() || raw.ground.is_some();
+    if let Some(paths) = &raw.text {
+        if raw.table.is_some() || raw.at2.is_some() {
+            return Err("`records`: give one of `table`, `at2` or `text`".into());
+        }
+        if paths.is_empty() {
+            return Err("`records.text` is an empty list".into());
+        }
+        use crate::label::Label;
+        let Some(unit) = &raw.unit else {
+            return Err(format!(
+                "`records.text` needs `unit`, the unit of its accelerations; valid: {}",
+                crate::columns::AccelUnit::labels()
+            ));
+        };
+        let unit = crate::columns::AccelUnit::parse_label(unit)
+            .map_err(|e| format!("`records.unit`: {e}"))?;
+        let column = raw.column.unwrap_or(1);
+        if column == 0 {
+            return Err(
+                "`records.column` = 0: value columns are counted from 1 (the first after time)"
+                    .into(),
+            );
+        }
+        return Ok(RecordSource::Text {
+            paths: paths.iter().map(|p| rel(p)).collect(),
+            manifest: raw.manifest.as_deref().map(rel),
+            unit,
+            column,
+            ground: raw.ground.as_deref().map(rel),
+        });
+    }
+    if texts {
+        return Err("`records.unit`, `column` and `ground` go with `records.text`".into());
+    }
     match (&raw.table, &raw.at2) {
         (Some(t), None) => {
             if raw.manifest.is_some() {

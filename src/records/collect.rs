@@ -246,6 +246,12 @@ pub fn discover(paths: &[PathBuf]) -> Result<Vec<PathBuf>, CollectError> {
     discover_with(paths, &["at2"], CollectError::NoFiles)
 }
 
+/// The text motion files named by `paths` (folders walked for
+/// [`TEXT_EXTENSIONS`]).
+pub fn discover_text(paths: &[PathBuf]) -> Result<Vec<PathBuf>, CollectError> {
+    discover_with(paths, TEXT_EXTENSIONS, CollectError::NoTextFiles)
+}
+
 /// The files named by `paths`: files as given, folders walked recursively
 /// for the `extensions` in any case (a `manifest.csv` skipped). Sorted,
 /// without duplicates.

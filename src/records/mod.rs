@@ -14,8 +14,8 @@ pub mod load;
 pub mod select;
 
 pub use collect::{
-    collect, collect_as, discover, BadFile, CollectError, Collected, OnBad, Problem, PIPELINE_HINT,
-    TEXT_EXTENSIONS,
+    collect, collect_as, discover, discover_text, BadFile, CollectError, Collected, OnBad, Problem,
+    PIPELINE_HINT, TEXT_EXTENSIONS,
 };
 pub use load::{
     excitation, from_pulse, from_samples, load, load_on, read_samples, LoadedRecord, OnFloor,

@@ -72,6 +72,20 @@ pub fn of_plan(plan: &Plan) -> Result<Vec<RecordRow>, SelectError> {
                 .rows;
             filter(rs, rows)
         }
+        RecordSource::Text {
+            paths, manifest, ..
+        } => {
+            let text = rs.records.text();
+            let rows = collect::collect_as(
+                paths,
+                manifest.as_deref(),
+                OnBad::Refuse(PIPELINE_HINT),
+                text.as_ref(),
+            )
+            .map_err(SelectError::Collect)?
+            .rows;
+            filter(rs, rows)
+        }
     }
 }
 

@@ -56,17 +56,45 @@ impl Stage for Ingest {
                 "paths": paths.iter().map(|p| study.plan.relative(p)).collect::<Vec<_>>(),
                 "manifest": manifest.as_deref().map(|m| study.plan.relative(m)),
             }),
+            Ok(
+                source @ RecordSource::Text {
+                    paths,
+                    manifest,
+                    ground,
+                    ..
+                },
+            ) => serde_json::json!({
+                "paths": paths.iter().map(|p| study.plan.relative(p)).collect::<Vec<_>>(),
+                "manifest": manifest.as_deref().map(|m| study.plan.relative(m)),
+                "text": source.text().map(|t| t.to_string()),
+                "ground": ground.as_deref().map(|g| study.plan.relative(g)),
+            }),
             _ => serde_json::Value::Null,
         }
     }
 
     fn inputs(&self, study: &Study) -> Result<Vec<PathBuf>, BoxError> {
-        let Ok(RecordSource::At2 { paths, manifest }) =
-            study.plan.records_study().map(|r| &r.records)
-        else {
-            return Ok(Vec::new());
+        let (paths, manifest, text) = match study.plan.records_study().map(|r| &r.records) {
+            Ok(RecordSource::At2 { paths, manifest }) => (paths, manifest, None),
+            Ok(
+                source @ RecordSource::Text {
+                    paths, manifest, ..
+                },
+            ) => (paths, manifest, source.text()),
+            _ => return Ok(Vec::new()),
         };
-        let mut files = discover(paths).map_err(IngestError::from)?;
+        let mut files = match &text {
+            None => discover(paths).map_err(IngestError::from)?,
+            Some(t) => {
+                let mut all = crate::records::discover_text(paths).map_err(IngestError::from)?;
+                if let Some(g) = &t.ground {
+                    let g = std::slice::from_ref(g);
+                    all.extend(discover(g).unwrap_or_default());
+                    all.extend(crate::records::discover_text(g).unwrap_or_default());
+                }
+                all
+            }
+        };
         files.extend(manifest.iter().cloned());
         Ok(files)
     }
@@ -76,16 +104,21 @@ impl Stage for Ingest {
     }
 
     fn run(&self, cx: &Context) -> Result<Summary, BoxError> {
-        let Ok(RecordSource::At2 { paths, manifest }) =
-            cx.study.plan.records_study().map(|r| &r.records)
-        else {
-            return Ok(Summary::default());
+        let (paths, manifest, text) = match cx.study.plan.records_study().map(|r| &r.records) {
+            Ok(RecordSource::At2 { paths, manifest }) => (paths, manifest, None),
+            Ok(
+                source @ RecordSource::Text {
+                    paths, manifest, ..
+                },
+            ) => (paths, manifest, source.text()),
+            _ => return Ok(Summary::default()),
         };
         let config = IngestConfig {
             paths: paths.clone(),
             manifest: manifest.clone(),
             out: cx.study.path("records.parquet"),
             on_bad: OnBad::Refuse(PIPELINE_HINT),
+            text,
         };
         let report = run(&config)?;
         for col in &report.ignored_manifest_columns {
@@ -116,6 +149,8 @@ pub struct IngestConfig {
     pub manifest: Option<PathBuf>,
     pub out: PathBuf,
     pub on_bad: OnBad,
+    /// Text files of columns read so (none: AT2 files).
+    pub text: Option<crate::columns::TextRecords>,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -148,7 +183,12 @@ pub fn run(config: &IngestConfig) -> Result<IngestReport, IngestError> {
     let mut inputs: Vec<&Path> = config.paths.iter().map(PathBuf::as_path).collect();
     inputs.extend(config.manifest.as_deref());
     crate::outpath::check("--out", &config.out, "parquet", &inputs)?;
-    let collected = collect(&config.paths, config.manifest.as_deref(), config.on_bad)?;
+    let collected = crate::records::collect_as(
+        &config.paths,
+        config.manifest.as_deref(),
+        config.on_bad,
+        config.text.as_ref(),
+    )?;
     let rows = collected.rows;
     let mut settings = vec![(
         "rocking.ingest.paths".to_string(),

@@ -37,6 +37,7 @@ pub struct Args {
 pub fn run(args: Args) -> anyhow::Result<()> {
     let started = Instant::now();
     let config = IngestConfig {
+        text: None,
         paths: args.paths,
         manifest: args.manifest,
         out: args.out,
