@@ -321,24 +321,45 @@ fn read_one(path: &Path) -> Result<RecordRow, BadFile> {
     };
     let bytes = fs::read(path).map_err(|e| bad(Problem::Read(e)))?;
     let parsed = at2::parse(&bytes).map_err(|e| bad(Problem::Parse(e)))?;
-    let peak =
-        motion::peak(&parsed.accel_g, parsed.dt_s).expect("NPTS > 0 is checked by the parser");
-    Ok(RecordRow {
+    let layout = parsed.layout.as_str().to_string();
+    Ok(row(
+        path,
+        &bytes,
+        parsed.accel_g,
+        parsed.dt_s,
+        parsed.header,
+        layout,
+    ))
+}
+
+/// A record's row: its id (the file stem), source, hash, samples and
+/// peak, with the header lines and their layout.
+fn row(
+    path: &Path,
+    bytes: &[u8],
+    accel_g: Vec<f64>,
+    dt_s: f64,
+    header: [String; 4],
+    header_layout: String,
+) -> RecordRow {
+    // Both readers refuse a file without samples.
+    let peak = motion::peak(&accel_g, dt_s).expect("a record has samples");
+    RecordRow {
         record_id: path
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default(),
         source: path.display().to_string(),
-        sha256: crate::hash::sha256_hex(&bytes),
-        dt_s: parsed.dt_s,
+        sha256: crate::hash::sha256_hex(bytes),
+        dt_s,
         pga_g: peak.pga_g,
         pga_time_s: peak.time_s,
-        duration_s: motion::duration_s(parsed.accel_g.len(), parsed.dt_s),
-        header: parsed.header,
-        header_layout: parsed.layout.as_str().to_string(),
+        duration_s: motion::duration_s(accel_g.len(), dt_s),
+        header,
+        header_layout,
         meta: RecordMeta::default(),
-        accel_g: parsed.accel_g,
-    })
+        accel_g,
+    }
 }
 
 /// One text file of columns, read as `spec` says.
@@ -355,30 +376,22 @@ fn read_text(path: &Path, spec: &TextRecords) -> Result<RecordRow, BadFile> {
             read_ground(dir, path, spec).map_err(|what| bad(Problem::Ground(what)))?;
         columns::add_ground(&mut parsed, &ground, t0, dt);
     }
-    let peak = motion::peak(&parsed.accel_g, parsed.dt_s).expect("two samples are checked");
-    Ok(RecordRow {
-        record_id: path
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default(),
-        source: path.display().to_string(),
-        sha256: crate::hash::sha256_hex(&bytes),
-        dt_s: parsed.dt_s,
-        pga_g: peak.pga_g,
-        pga_time_s: peak.time_s,
-        duration_s: motion::duration_s(parsed.accel_g.len(), parsed.dt_s),
-        // The four header lines of the table: how it was read, the file's
-        // line of names, its first time.
-        header: [
-            spec.to_string(),
-            parsed.header.unwrap_or_default(),
-            format!("first time {} s", parsed.t0_s),
-            format!("NPTS= {}, DT= {} SEC", parsed.accel_g.len(), parsed.dt_s),
-        ],
-        header_layout: "columns".into(),
-        meta: RecordMeta::default(),
-        accel_g: parsed.accel_g,
-    })
+    // The four header lines of the table: how it was read, the file's
+    // line of names, its first time, its samples and step.
+    let header = [
+        spec.to_string(),
+        parsed.header.unwrap_or_default(),
+        format!("first time {} s", parsed.t0_s),
+        format!("NPTS= {}, DT= {} SEC", parsed.accel_g.len(), parsed.dt_s),
+    ];
+    Ok(row(
+        path,
+        &bytes,
+        parsed.accel_g,
+        parsed.dt_s,
+        header,
+        "columns".into(),
+    ))
 }
 
 /// The ground motion a relative record was run with: the file of its stem
