@@ -8,7 +8,9 @@ use std::path::Path;
 
 use serde_json::Value;
 
-use crate::util::{bundled_records, plain_at2_values, rocking, root, stderr, tempdir};
+use crate::util::{
+    bundled_records, peak_velocity, plain_at2_values, rocking, root, stderr, tempdir, write_at2,
+};
 
 fn kobe() -> std::path::PathBuf {
     bundled_records().join("far-field/RSN1111_KOBE_NIS000.AT2")
@@ -42,21 +44,6 @@ fn json(out: &std::process::Output) -> Value {
     serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
         panic!("{e}: {}", String::from_utf8_lossy(&out.stdout));
     })
-}
-
-/// An AT2 file in the NGA-West2 layout holding `accel` (g) exactly: every
-/// value in Rust's shortest round-trip form, read back correctly rounded.
-fn write_at2(path: &Path, accel: &[f64], dt: f64) {
-    let mut s = format!(
-        "FLOOR MOTION\nTEST\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS= {}, DT= {dt} SEC\n",
-        accel.len()
-    );
-    for chunk in accel.chunks(5) {
-        let line: Vec<String> = chunk.iter().map(|a| format!("{a:e}")).collect();
-        s.push_str(&line.join("  "));
-        s.push('\n');
-    }
-    std::fs::write(path, s).unwrap();
 }
 
 /// The capacity on a floor is the capacity of the floor motion: written as
@@ -774,17 +761,7 @@ fn floor_demands_are_the_floor_motions_own() {
             .floor_motion(&plain_at2_values(&record), dt)
             .unwrap();
         write_at2(&floors.join(format!("{id}.AT2")), &f.accel_g, f.dt_s);
-        let (a, h) = (&f.accel_g, f.dt_s);
-        let (mut v, mut peak) = (0.0f64, 0.0f64);
-        for w in a.windows(2) {
-            if w[0] * w[1] < 0.0 {
-                let tau = -w[0] * h / (w[1] - w[0]);
-                peak = peak.max((v + w[0] * tau / 2.0).abs());
-            }
-            v += 0.5 * h * (w[0] + w[1]);
-            peak = peak.max(v.abs());
-        }
-        pfv_by_hand.push(peak * 980.665);
+        pfv_by_hand.push(peak_velocity(&f.accel_g, f.dt_s) * 980.665);
     }
     for (k, id) in FEW[..3].iter().enumerate() {
         let path = floors.join(format!("{id}.AT2"));

@@ -24,7 +24,9 @@ use std::process::Command;
 
 use serde_json::Value;
 
-use crate::util::{bundled_records, rocking, root, stderr, stdout, tempdir};
+use crate::util::{
+    bundled_records, peak_velocity, rocking, root, stderr, stdout, tempdir, write_at2,
+};
 
 /// The FEMA P-58 bookcases (DLML E.20.22.104a and .106a, "12-5/8 in deep x
 /// 56 in tall" and "x 81-1/4 in tall"): half-width and half-height (m) of
@@ -62,32 +64,20 @@ fn column(path: &Path, k: usize) -> (Vec<f64>, f64) {
     (rows.iter().map(|r| r[k]).collect(), dt)
 }
 
-/// The PFV (cm/s) of a piecewise-linear acceleration (m/s²): the velocity's
-/// largest magnitude, at the samples and where the acceleration crosses 0
-/// (written here independently of the tool's).
+/// The PFV (cm/s) of a piecewise-linear acceleration (m/s²).
 fn pfv_cm_s(a: &[f64], h: f64) -> f64 {
-    let (mut v, mut peak) = (0.0f64, 0.0f64);
-    for w in a.windows(2) {
-        if w[0] * w[1] < 0.0 {
-            let tau = -w[0] * h / (w[1] - w[0]);
-            peak = peak.max((v + w[0] * tau / 2.0).abs());
-        }
-        v += 0.5 * h * (w[0] + w[1]);
-        peak = peak.max(v.abs());
-    }
-    100.0 * peak
+    100.0 * peak_velocity(a, h)
 }
 
-/// An AT2 file (g) of `accel` (m/s²), for `rocking simulate`.
-fn write_at2(path: &Path, accel: &[f64], dt: f64) {
-    let mut s = format!(
-        "FLOOR MOTION\nOPENSEES\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS= {}, DT= {dt} SEC\n",
-        accel.len()
-    );
-    for a in accel {
-        s.push_str(&format!("{:e}\n", a / 9.80665));
-    }
-    fs::write(path, s).unwrap();
+/// The folder of FEMA P-58's component data in the DLML pelicun installs.
+fn dlml(venv: &Path) -> PathBuf {
+    venv.join("lib")
+        .read_dir()
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .map(|p| p.join("site-packages/dlml/data/seismic/building/component/FEMA P-58 2nd Edition"))
+        .find(|p| p.is_dir())
+        .unwrap()
 }
 
 /// pelicun's share of "falls over" (damage state 1 or above) for a
@@ -157,15 +147,7 @@ fn opensees_floors_to_rocking_to_pelicun() {
         .filter(|r| r["yielded"] == true)
         .count();
     assert!(yielded >= ground.len() / 2, "{model}");
-    let dlml = venv
-        .join("lib")
-        .read_dir()
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .map(|p| p.join("site-packages/dlml/data/seismic/building/component"))
-        .find(|p| p.is_dir())
-        .unwrap()
-        .join("FEMA P-58 2nd Edition/fragility.csv");
+    let dlml = dlml(&venv).join("fragility.csv");
     let files: Vec<PathBuf> = ground
         .iter()
         .map(|g| floors.join(format!("{}.out", g.file_stem().unwrap().to_string_lossy())))
@@ -254,7 +236,8 @@ fn opensees_floors_to_rocking_to_pelicun() {
             let (mut direct, mut by_rule, mut windows) = (0, 0, 0);
             for (k, (a, dt)) in motions.iter().enumerate() {
                 let at2 = d.join(format!("floor{floor}-{k}.AT2"));
-                write_at2(&at2, a, *dt);
+                let in_g: Vec<f64> = a.iter().map(|x| x / 9.80665).collect();
+                write_at2(&at2, &in_g, *dt);
                 let pga = a.iter().fold(0.0f64, |m, x| m.max(x.abs())) / 9.80665;
                 let block = [
                     "--record",
@@ -334,14 +317,7 @@ fn the_fema_contents_are_the_dlmls_rows() {
         eprintln!("skipped: set ROCKING_ENGINES to the engines' venv (.ci/run)");
         return;
     };
-    let base = PathBuf::from(venv)
-        .join("lib")
-        .read_dir()
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .map(|p| p.join("site-packages/dlml/data/seismic/building/component/FEMA P-58 2nd Edition"))
-        .find(|p| p.is_dir())
-        .unwrap();
+    let base = dlml(Path::new(&venv));
     let csv = fs::read_to_string(base.join("fragility.csv")).unwrap();
     let meta: Value =
         serde_json::from_str(&fs::read_to_string(base.join("fragility.json")).unwrap()).unwrap();

@@ -51,6 +51,38 @@ pub fn write_pipeline(dir: &Path, name: &str, body: &str) -> PathBuf {
     path
 }
 
+/// An AT2 file in the NGA-West2 layout holding `accel` (g) exactly: every
+/// value in Rust's shortest round-trip form, read back correctly rounded.
+pub fn write_at2(path: &Path, accel: &[f64], dt: f64) {
+    let mut s = format!(
+        "FLOOR MOTION\nTEST\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS= {}, DT= {dt} SEC\n",
+        accel.len()
+    );
+    for chunk in accel.chunks(5) {
+        let line: Vec<String> = chunk.iter().map(|a| format!("{a:e}")).collect();
+        s.push_str(&line.join("  "));
+        s.push('\n');
+    }
+    std::fs::write(path, s).unwrap();
+}
+
+/// The peak velocity of a piecewise-linear acceleration `a` sampled every
+/// `h` s (in `a`'s unit × s): the velocity's largest magnitude at the
+/// samples and where the acceleration crosses 0, written independently of
+/// the tool's.
+pub fn peak_velocity(a: &[f64], h: f64) -> f64 {
+    let (mut v, mut peak) = (0.0f64, 0.0f64);
+    for w in a.windows(2) {
+        if w[0] * w[1] < 0.0 {
+            let tau = -w[0] * h / (w[1] - w[0]);
+            peak = peak.max((v + w[0] * tau / 2.0).abs());
+        }
+        v += 0.5 * h * (w[0] + w[1]);
+        peak = peak.max(v.abs());
+    }
+    peak
+}
+
 /// A small AT2 file in the NGA-West2 layout.
 pub fn at2_text(units: &str, npts_line: &str, values: &[&str]) -> String {
     let mut s = format!("TEST RECORD\nTEST EVENT, TEST STATION, 000\n{units}\n{npts_line}\n");

@@ -26,21 +26,6 @@ pub enum Shape {
     Curve(Vec<Curve>),
 }
 
-impl Shape {
-    /// How many states.
-    pub fn len(&self) -> usize {
-        match self {
-            Shape::Lognormal(l) => l.len(),
-            Shape::Curve(c) => c.len(),
-        }
-    }
-
-    /// Whether there are none.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-}
-
 /// One block's fragility function: its taxonomy and a function per state.
 #[derive(Debug, Clone)]
 pub struct Entry {

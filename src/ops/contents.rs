@@ -11,7 +11,7 @@ use std::path::PathBuf;
 
 use super::damage;
 use super::fragility::{self, DirectProgress, FragilityError, Source};
-use crate::contents::{Content, FEMA_P58};
+use crate::contents::FEMA_P58;
 use crate::damage::{DamageStates, Dispersion, FitChoice, FitMethod, IfNotLognormal};
 use crate::floor::{Building, Mode};
 use crate::im::Im;
@@ -134,48 +134,25 @@ pub fn compare(req: &Request) -> Result<Vec<Row>, ContentsError> {
             let state = &f.states[0];
             let (median, beta) = state.median_beta(FitMethod::Fractile);
             let median_mps = median.unwrap_or(f64::INFINITY) / 100.0;
-            rows.push(row(
-                c,
-                &block,
+            rows.push(Row {
+                id: c.id,
+                name: c.name,
+                b_m: c.b_m(),
+                h_m: c.h_m(),
+                alpha_rad: block.alpha(),
                 scene,
-                name,
-                period,
+                records: name.clone(),
+                period_s: period,
                 median_mps,
-                beta,
-                state.lognormal_p,
-            ));
+                beta: beta.unwrap_or(f64::NAN),
+                lognormal_p: state.lognormal_p,
+                fema_median_mps: c.median_mps,
+                fema_beta: c.beta,
+                ratio: median_mps / c.median_mps,
+            });
         }
     }
     Ok(rows)
-}
-
-#[allow(clippy::too_many_arguments)] // house: one row's columns, named at the one call
-fn row(
-    c: &Content,
-    block: &crate::block::Block,
-    scene: &'static str,
-    records: &str,
-    period_s: Option<f64>,
-    median_mps: f64,
-    beta: Option<f64>,
-    lognormal_p: Option<f64>,
-) -> Row {
-    Row {
-        id: c.id,
-        name: c.name,
-        b_m: c.b_m(),
-        h_m: c.h_m(),
-        alpha_rad: block.alpha(),
-        scene,
-        records: records.to_string(),
-        period_s,
-        median_mps,
-        beta: beta.unwrap_or(f64::NAN),
-        lognormal_p,
-        fema_median_mps: c.median_mps,
-        fema_beta: c.beta,
-        ratio: median_mps / c.median_mps,
-    }
 }
 
 /// The ratio of the tool's median to FEMA's for each item against the

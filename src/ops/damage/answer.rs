@@ -67,7 +67,7 @@ impl StateFragility {
         match (self.by(method), &self.capacities) {
             (Some(l), _) => (Some(l.median), Some(l.beta)),
             (None, Some(c)) => (
-                crate::stats::fractile(c, 0.5, DIRECT_FRACTILE).filter(|v| v.is_finite()),
+                Curve::of_capacities(c).quantile(0.5),
                 self.fractile.map(|l| l.beta),
             ),
             (None, None) => (None, None),

@@ -189,40 +189,31 @@ impl DirectRecords {
         })
     }
 
-    /// The records' IMs with `im` among them: those of [`Self::ims`], or,
-    /// for SA at a period they are not computed at, computed at it too
-    /// (the records are here: any period can be had).
+    /// The records' IMs with `im` among them: those of [`Self::ims`] (of
+    /// [`Self::felt_ims`] for a floor demand), or, for SA or FSA at a period
+    /// they are not computed at, computed at it too (the records are here:
+    /// any period can be had).
     pub fn ims_for(
         &self,
         im: Im,
     ) -> Result<std::borrow::Cow<'_, [RecordIms]>, crate::im::RecordImsError> {
-        if im.floor() {
-            let felt = self.felt_ims();
-            let Im::Fsa(t) = im else {
-                return Ok(std::borrow::Cow::Borrowed(felt));
-            };
-            if felt.first().is_none_or(|r| r.value(im).is_some()) {
-                return Ok(std::borrow::Cow::Borrowed(felt));
-            }
-            // The floor motion's SA at a period its standard ones lack.
-            return self
-                .records
-                .par_iter()
-                .map(|r| RecordIms::try_of_record(&r.exc.psi, r.exc.dt_s, &[t]))
-                .collect::<Result<Vec<_>, _>>()
-                .map(std::borrow::Cow::Owned);
-        }
-        let standard = self.ims();
+        // A floor demand is of the motion the block feels; the rest of the
+        // ground's.
+        let felt = im.floor();
+        let standard = if felt { self.felt_ims() } else { self.ims() };
         if standard.first().is_none_or(|r| r.value(im).is_some()) {
             return Ok(std::borrow::Cow::Borrowed(standard));
         }
-        let Im::Sa(t) = im else {
+        let (Im::Sa(t) | Im::Fsa(t)) = im else {
             return Ok(std::borrow::Cow::Borrowed(standard));
         };
         self.records
             .par_iter()
             .map(|r| {
-                let exc = r.ground.as_ref().map_or(&r.exc, |(g, _)| g);
+                let exc = match (&r.ground, felt) {
+                    (Some((g, _)), false) => g,
+                    _ => &r.exc,
+                };
                 RecordIms::try_of_record(&exc.psi, exc.dt_s, &[t])
             })
             .collect::<Result<Vec<_>, _>>()
