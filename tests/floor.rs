@@ -567,6 +567,89 @@ fn a_floor_study_runs_the_floor_motion_in_every_stage() {
     );
     assert!(outputs.join("on-floor/figures/floor_capacity.svg").exists());
 
+    // The study states each block's fragility in the floor's demands beside
+    // the ground's IMs. record_ims holds each record's floor motion's PFA,
+    // which is its PGA times the sweep's PFA/PGA (two paths to the floor).
+    let study = outputs.join("on-floor");
+    let ims: Vec<rocking::tables::ims::RecordImRow> =
+        rocking::tables::read(&study.join("record_ims.parquet")).unwrap();
+    let value = |id: &str, im: &str| {
+        ims.iter()
+            .find(|r| r.record_id == id && r.im == im)
+            .unwrap_or_else(|| panic!("{id} {im}"))
+            .value
+    };
+    for c in on_floor.iter().filter(|c| c.block == "rack") {
+        let (pga, pfa) = (value(&c.record_id, "pga"), value(&c.record_id, "pfa"));
+        let ratio = c.pfa_over_pga.unwrap();
+        assert!(
+            (pfa / (pga * ratio) - 1.0).abs() < 1e-12,
+            "{}: {pfa} {pga} {ratio}",
+            c.record_id
+        );
+        assert!(value(&c.record_id, "pfv") > 0.0 && value(&c.record_id, "fsa(1.0)") > 0.0);
+    }
+    // Its PFV fragility is `fragility --im pfv --direct --method mle`'s over
+    // the same records: every record overturns the rack, so the censored maximum
+    // likelihood's median is the logs' mean, as the table's is, and its β
+    // (n in the denominator) is the table's (n − 1) times √((n − 1)/n).
+    let eff: Vec<rocking::tables::ims::EfficiencyRow> =
+        rocking::tables::read(&study.join("im_efficiency.parquet")).unwrap();
+    assert!(on_floor
+        .iter()
+        .filter(|c| c.block == "rack")
+        .all(|c| c.eta_c.is_some()));
+    let row = |im: &str| {
+        eff.iter()
+            .find(|r| r.block == "rack" && r.im == im)
+            .unwrap_or_else(|| panic!("rack {im}"))
+    };
+    let direct = json(&rocking(
+        dir.path(),
+        &[
+            "fragility",
+            "--b",
+            "0.3",
+            "--h",
+            "1",
+            "--eps",
+            "0.75",
+            "--im",
+            "pfv",
+            "--at",
+            "40",
+            "--from",
+            floor.to_str().unwrap(),
+            "--outputs",
+            out_s,
+            "--direct",
+            "--method",
+            "mle",
+            "--json",
+        ],
+    ));
+    let pfv = row("pfv");
+    let (median, beta) = (
+        direct["median"].as_f64().unwrap(),
+        direct["beta"].as_f64().unwrap(),
+    );
+    assert_eq!((pfv.n, pfv.unit.as_str(), pfv.rank), (3, "cm/s", None));
+    assert!(
+        (pfv.median.unwrap() / median - 1.0).abs() < 1e-9,
+        "{pfv:?} {direct}"
+    );
+    assert!(
+        (pfv.beta * (2.0f64 / 3.0).sqrt() / beta - 1.0).abs() < 1e-6,
+        "{pfv:?} {direct}"
+    );
+    // The ground's PGV is another number (the building amplifies), ranked.
+    assert!(row("pgv").rank.is_some() && row("pgv").median != pfv.median);
+    assert!(report.contains("PFV (cm/s): median, β"), "{report}");
+    assert!(
+        report.contains(&format!("| rack | {:.3} |", row("pfv").p)),
+        "{report}"
+    );
+
     let from = floor.to_str().unwrap();
     let base = [
         "fragility",
@@ -1361,4 +1444,72 @@ fn a_pipeline_reads_a_structural_models_floor_motions() {
         "{}",
         stderr(&out)
     );
+}
+
+/// A pipeline's `[floor]` given as a building and the blocks' level is the
+/// one-floor form with Γφ = Γ·φ_level of each mode: a building of two
+/// floors whose floor 2 takes Γφ = 1.5 × 0.5 = 0.75 and −0.5 × 0.25 =
+/// −0.125 (exact in binary) gives the capacities of `modes = [[0.5, 0.05,
+/// 0.75], [0.2, 0.05, -0.125]]` to the bit; a wrong level, a building
+/// without one, and both forms at once are refused by key.
+#[test]
+fn a_pipeline_places_its_blocks_on_a_buildings_floor() {
+    use crate::util::write_pipeline;
+    let dir = tempdir();
+    let head = "ids = [\"RSN1111_KOBE_NIS000\", \"RSN1148_KOCAELI_ARC000\"]\n\
+        [[block]]\nname = \"rack\"\nb = 0.3\nh = 1.0\neps = 0.75\n";
+    let building = "building = [[0.5, 0.05, 1.5, 0.25, 0.5], [0.2, 0.05, -0.5, 0.5, 0.25]]\n";
+    let by_level = write_pipeline(
+        dir.path(),
+        "by-level",
+        &format!("{head}[floor]\n{building}level = 2\n"),
+    );
+    let by_modes = write_pipeline(
+        dir.path(),
+        "by-modes",
+        &format!("{head}[floor]\nmodes = [[0.5, 0.05, 0.75], [0.2, 0.05, -0.125]]\n"),
+    );
+    let outputs = dir.path().join("out");
+    let out_s = outputs.to_str().unwrap();
+    for p in [&by_level, &by_modes] {
+        let out = rocking(
+            dir.path(),
+            &["run", p.to_str().unwrap(), "--outputs", out_s],
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+    }
+    let caps = |name: &str| rocking::stages::sweep::read_capacities(&outputs.join(name)).unwrap();
+    let (a, b) = (caps("by-level"), caps("by-modes"));
+    assert_eq!(a.len(), 2);
+    for (x, y) in a.iter().zip(&b) {
+        assert_eq!(
+            (x.eta_c, x.pfa_over_pga, x.runs),
+            (y.eta_c, y.pfa_over_pga, y.runs)
+        );
+        assert!(x.pfa_over_pga.is_some_and(|r| r != 1.0));
+    }
+    for (body, says) in [
+        (
+            format!("{building}level = 3\n"),
+            "`floor.level` = 3: the building has floors 1–2",
+        ),
+        (building.to_string(), "give the blocks' `floor.level`"),
+        (
+            format!("{building}level = 1\nmodes = [[0.5, 0.05, 1.3]]\n"),
+            "`floor.modes` and `floor.building` both place the blocks",
+        ),
+        (
+            "building = [[0.5, 0.05, 1.5, 0.25, 0.5], [0.2, 0.05, -0.5, 0.5]]\nlevel = 1\n"
+                .to_string(),
+            "mode 2 has its shape at 1 floors, mode 1 at 2",
+        ),
+    ] {
+        let bad = write_pipeline(dir.path(), "bad", &format!("{head}[floor]\n{body}"));
+        let out = rocking(
+            dir.path(),
+            &["run", bad.to_str().unwrap(), "--outputs", out_s],
+        );
+        assert!(!out.status.success(), "{body}");
+        assert!(stderr(&out).contains(says), "{body}: {}", stderr(&out));
+    }
 }

@@ -46,18 +46,54 @@ pub fn of_block(
     p: f64,
     alpha_rad: Option<f64>,
 ) -> Vec<Efficiency> {
+    let pairs = overturned(eta_c, records);
+    let mut out = measures(&pairs, &Im::capacity_measures(), p, alpha_rad);
+    if !out.is_empty() {
+        out.extend(vector(&pairs));
+    }
+    out
+}
+
+/// Every floor demand of [`Im::floor_measures`] (PFA, PFV, FSA(T)) for a
+/// block on a building's floor, from each record's η_c *of the floor
+/// motion* and the floor motion's IMs (`felt`: the IMs of the motion the
+/// block feels, whose PGA is the PFA). Empty with fewer than 3 capacities.
+pub fn of_floor(
+    eta_c: &[Option<f64>],
+    felt: &[RecordIms],
+    p: f64,
+    alpha_rad: Option<f64>,
+) -> Vec<Efficiency> {
+    measures(
+        &overturned(eta_c, felt),
+        &Im::floor_measures(),
+        p,
+        alpha_rad,
+    )
+}
+
+/// The records that overturn the block, with their η_c.
+fn overturned<'a>(eta_c: &[Option<f64>], records: &'a [RecordIms]) -> Vec<(f64, &'a RecordIms)> {
     assert_eq!(eta_c.len(), records.len(), "one η_c per record");
-    let pairs: Vec<(f64, &RecordIms)> = eta_c
+    eta_c
         .iter()
         .zip(records)
         .filter_map(|(e, r)| e.filter(|e| *e > 0.0).map(|e| (e, r)))
-        .collect();
+        .collect()
+}
+
+/// Each of `ims` for the overturning records `pairs` (none with fewer than 3).
+fn measures(
+    pairs: &[(f64, &RecordIms)],
+    ims: &[Im],
+    p: f64,
+    alpha_rad: Option<f64>,
+) -> Vec<Efficiency> {
     if pairs.len() < 3 {
         return Vec::new();
     }
-    let mut out: Vec<Efficiency> = Im::capacity_measures()
-        .into_iter()
-        .filter_map(|im| {
+    ims.iter()
+        .filter_map(|&im| {
             // ln IM_c at α = 1: ln IM − power (ln PGA + ln η_c).
             let logs = pairs
                 .iter()
@@ -81,9 +117,7 @@ pub fn of_block(
                 slope: None,
             })
         })
-        .collect();
-    out.extend(vector(&pairs));
-    out
+        .collect()
 }
 
 /// ln PGA_c on ln(PGV/PGA) by least squares: P(OT | PGA, PGV/PGA) is
@@ -192,6 +226,33 @@ mod tests {
         let (d, _) = pgv.median_dimensionless.unwrap();
         // At α = 1 the capacities are 50/0.2 = 250 cm/s: 2·2.5/9.80665.
         assert!((d - 2.0 * 2.5 / 9.80665).abs() < 1e-12, "{d}");
+    }
+
+    /// A floor motion's demands are its own PGA, PGV and SA: the same
+    /// capacities stated in PFA, PFV and FSA(1.0) of the motion the block
+    /// feels equal those in PGA, PGV and SA(1.0) of that motion run as a
+    /// record (FEMA's PFV of a constant-PGV block has β = 0, median 50 cm/s).
+    #[test]
+    fn floor_demands_are_the_felt_motions_own_measures() {
+        let felt: Vec<RecordIms> = [(0.4, 35.0), (0.8, 50.0), (0.6, 90.0), (0.5, 40.0)]
+            .iter()
+            .map(|&(a, v)| record(a, v))
+            .collect();
+        let alpha = 0.25;
+        let eta: Vec<Option<f64>> = felt
+            .iter()
+            .map(|r| Some(alpha / (r.pga_g() * 50.0 / r.value(Im::Pgv).unwrap())))
+            .collect();
+        let ground = of_block(&eta, &felt, 3.0, Some(alpha));
+        let floor = of_floor(&eta, &felt, 3.0, Some(alpha));
+        let names: Vec<&str> = floor.iter().map(|e| e.im.as_str()).collect();
+        assert_eq!(names, ["pfa", "pfv", "fsa(1.0)"]);
+        for (f, g) in floor.iter().zip(["pga", "pgv", "sa(1.0)"]) {
+            let g = ground.iter().find(|e| e.im == g).unwrap();
+            assert_eq!((f.median, f.beta, f.n), (g.median, g.beta, g.n));
+        }
+        assert!((floor[1].median.unwrap() - 50.0).abs() < 1e-9 && floor[1].beta < 1e-12);
+        assert_eq!(floor[1].unit, "cm/s");
     }
 
     #[test]

@@ -93,6 +93,14 @@ impl Im {
         Im::expand(|im| im.scales() && !im.floor())
     }
 
+    /// The floor demands a block on a building's floor has its capacity
+    /// stated in beside the ground's (a floor study's ims stage): PFA, PFV
+    /// and FSA at every period of [`PERIODS_S`], each of the motion the
+    /// block feels.
+    pub fn floor_measures() -> Vec<Im> {
+        Im::expand(|im| im.scales() && im.floor())
+    }
+
     /// Every measure computed for a record (`rocking ims`, the
     /// `record_ims` table): the capacity measures, then the record's
     /// properties, then SA by period.
@@ -112,13 +120,14 @@ impl Im {
         KINDS
     }
 
-    /// The kinds that pass `keep`, SA expanded to every period of
+    /// The kinds that pass `keep`, SA and FSA expanded to every period of
     /// [`PERIODS_S`] in its place.
     fn expand(keep: impl Fn(Im) -> bool) -> Vec<Im> {
         let mut out = Vec::new();
         for im in KINDS.into_iter().filter(|&im| keep(im)) {
             match im {
                 Im::Sa(_) => out.extend(PERIODS_S.iter().map(|&t| Im::Sa(t))),
+                Im::Fsa(_) => out.extend(PERIODS_S.iter().map(|&t| Im::Fsa(t))),
                 other => out.push(other),
             }
         }

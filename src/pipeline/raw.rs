@@ -32,11 +32,17 @@ pub struct RawPipeline {
 }
 
 /// `[floor]`: the blocks stand on a floor of a linear building, given by
-/// its modes `[T (s), ζ, Γφ]` as `--floor` takes them.
+/// that floor's modes `[T (s), ζ, Γφ]` as `--floor` takes them, or by the
+/// building's modes `[T (s), ζ, Γ, φ1, …, φn]` and the floor's `level`, as
+/// `--building` and `--level` take them.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawFloor {
+    #[serde(default)]
     pub modes: Vec<Vec<f64>>,
+    #[serde(default)]
+    pub building: Vec<crate::building::ShapedMode>,
+    pub level: Option<usize>,
 }
 
 /// `[damage]`: the limit states the damage stage fits, as `--states`

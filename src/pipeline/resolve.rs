@@ -161,8 +161,10 @@ fn damage(raw: Option<&crate::pipeline::raw::RawDamage>) -> Result<DamageStates,
     }
 }
 
-/// `[floor]`: the building's modes, each `[T, ζ, Γφ]`, checked.
+/// `[floor]`: the floor's modes, each `[T, ζ, Γφ]`, or a building's modes
+/// `[T, ζ, Γ, φ1, …, φn]` and the floor's `level`, checked.
 fn floor(raw: &crate::pipeline::raw::RawFloor) -> Result<crate::floor::Building, String> {
+    use crate::building::BuildingError as E;
     let modes = raw
         .modes
         .iter()
@@ -179,7 +181,24 @@ fn floor(raw: &crate::pipeline::raw::RawFloor) -> Result<crate::floor::Building,
             )),
         })
         .collect::<Result<Vec<_>, _>>()?;
-    crate::floor::Building::new(modes).map_err(|e| format!("`floor.modes`: {e}"))
+    let key = if raw.building.is_empty() {
+        "modes"
+    } else {
+        "building"
+    };
+    let modes =
+        crate::building::floor_modes(&modes, &raw.building, raw.level).map_err(|e| match e {
+            E::Both => "`floor.modes` and `floor.building` both place the blocks: give one".into(),
+            E::Alone => "`floor.level` picks a floor of `floor.building`: give both".into(),
+            E::NoLevel(n) => {
+                format!("`floor.building` has floors 1–{n}: give the blocks' `floor.level`")
+            }
+            E::Level { level, floors } => {
+                format!("`floor.level` = {level}: the building has floors 1–{floors}")
+            }
+            other => format!("`floor.{key}`: {other}"),
+        })?;
+    crate::floor::Building::new(modes).map_err(|e| format!("`floor.{key}`: {e}"))
 }
 
 /// `name`, or the file's stem: a plain folder name.

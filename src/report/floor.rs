@@ -6,6 +6,69 @@ use std::fmt::Write as _;
 
 use crate::figures::floor::floor_fractiles;
 use crate::study::StudyData;
+use crate::tables::ims::EfficiencyRow;
+
+/// The demands the floor table states each block's fragility in: the
+/// floor's (FEMA P-58's) and the ground's (the hazard's).
+const DEMANDS: [(&str, &str); 4] = [
+    ("pfa", "PFA (g)"),
+    ("pfv", "PFV (cm/s)"),
+    ("pga", "ground PGA (g)"),
+    ("pgv", "ground PGV (cm/s)"),
+];
+
+/// Each block's lognormal fragility in the floor's demands beside the
+/// ground's IMs, from the ims stage's `im_efficiency`.
+fn demands_table(w: &mut String, d: &StudyData) {
+    let blocks: Vec<(i64, &str, f64)> = {
+        let mut seen: Vec<(i64, &str, f64)> = Vec::new();
+        for r in &d.efficiency {
+            if !seen.iter().any(|s| s.0 == r.block_index) {
+                seen.push((r.block_index, &r.block, r.p));
+            }
+        }
+        seen
+    };
+    let find = |bi: i64, im: &str| -> Option<&EfficiencyRow> {
+        d.efficiency
+            .iter()
+            .find(|r| r.block_index == bi && r.im == im)
+    };
+    if !blocks.iter().any(|b| find(b.0, "pfv").is_some()) {
+        return;
+    }
+    let _ = writeln!(
+        w,
+        "Each block's fragility in the floor's demands (FEMA P-58's, of the motion it stands \
+         on) and in the ground's IMs (the hazard's): the median exp(mean ln IM_c) and the \
+         dispersion β over the records that overturn it (`im_efficiency.parquet`, which holds \
+         FSA(T) too; `rocking fragility --im pfa|pfv|fsa(T) --direct` fits the same records).\n"
+    );
+    let head: Vec<String> = DEMANDS
+        .iter()
+        .map(|(_, name)| format!("{name}: median, β"))
+        .collect();
+    let _ = writeln!(
+        w,
+        "| block | p (1/s) | {} |\n|---|---|{}",
+        head.join(" | "),
+        "---|".repeat(DEMANDS.len())
+    );
+    for &(bi, name, p) in &blocks {
+        let cells: Vec<String> = DEMANDS
+            .iter()
+            .map(|(im, _)| {
+                find(bi, im).map_or("—".into(), |r| match r.median {
+                    Some(m) if r.unit == "cm/s" => format!("{m:.1}, {:.2}", r.beta),
+                    Some(m) => format!("{m:.3}, {:.2}", r.beta),
+                    None => format!("—, {:.2}", r.beta),
+                })
+            })
+            .collect();
+        let _ = writeln!(w, "| {name} | {p:.3} | {} |", cells.join(" | "));
+    }
+    let _ = writeln!(w);
+}
 
 /// `## On a building's floor` for a `[floor]` study, and `## Blocks that
 /// slide first` when a block's μ is below its b/h.
@@ -19,7 +82,8 @@ pub(super) fn scene_section(w: &mut String, d: &StudyData) {
              (docs/MODEL.md §16), and the blocks feel its floor's absolute acceleration. η is the \
              floor motion's throughout the tables (α g over its peak, the PFA); \
              `capacities.parquet` holds each record's PFA/PGA, and the ground's η is η·PFA/PGA. \
-             The IM tables are in the ground's IMs, the hazard's.\n"
+             The IM tables are in the ground's IMs (the hazard's), followed by the floor's \
+             demands PFA, PFV and FSA(T) (FEMA P-58's).\n"
         );
         let ratios: Vec<f64> = d
             .caps
@@ -59,6 +123,7 @@ pub(super) fn scene_section(w: &mut String, d: &StudyData) {
             );
         }
         let _ = writeln!(w);
+        demands_table(w, d);
     }
     let sliding: Vec<String> = plan
         .blocks

@@ -94,11 +94,15 @@ pub enum ImsError {
     RecordIms(String),
     #[error("record {0} has no motion (every sample is 0)")]
     NoMotion(String),
+    #[error("record {0}: its floor motion: {1}")]
+    Floor(String, String),
 }
 
 fn run(study: &Study) -> Result<Summary, ImsError> {
     let rows = records::select(&study.plan, &study.records_table())?;
     let ims = record_ims(&rows)?;
+    let floor = study.plan.records_study()?.floor.as_ref();
+    let felt = floor.map(|b| felt_ims(b, &rows)).transpose()?;
     let caps = sweep::read_capacities(&study.dir).map_err(ReduceError::from)?;
     let blocks: Vec<BlockRow> = reduce::read(&study.dir, "blocks.parquet")?;
     let n_blocks = blocks.len();
@@ -137,30 +141,31 @@ fn run(study: &Study) -> Result<Summary, ImsError> {
         for (r, &i) in order.iter().enumerate() {
             ranks[i] = Some(r as i64 + 1);
         }
-        for (e, rank) in found.drain(..).zip(ranks) {
-            eff.push(EfficiencyRow {
-                block_index: b.block_index,
-                block: b.block.clone(),
-                p: b.p,
-                eps: b.eps,
-                im: e.im,
-                unit: e.unit.to_string(),
-                n: e.n as i64,
-                median: e.median,
-                median_dimensionless: e.median_dimensionless.map(|(v, _)| v),
-                dimensionless: e.median_dimensionless.map(|(_, n)| n.to_string()),
-                beta: e.beta,
-                lilliefors_p: e.lilliefors_p,
-                rank,
-                slope: e.slope,
-            });
+        if let Some(felt) = &felt {
+            // The floor's demands, in the floor motion's own η.
+            let on_floor: Vec<Option<f64>> = (0..rows.len())
+                .map(|ri| caps[ri * n_blocks + bi].eta_c)
+                .collect();
+            let demands = efficiency::of_floor(&on_floor, felt, b.p, b.alpha_rad);
+            ranks.extend(demands.iter().map(|_| None));
+            found.extend(demands);
         }
+        eff.extend(
+            found
+                .drain(..)
+                .zip(ranks)
+                .map(|(e, rank)| efficiency_row(b, e, rank)),
+        );
     }
     let settings = vec![(
         "rocking.ims.damping".to_string(),
         crate::im::SPECTRAL_DAMPING.to_string(),
     )];
-    tables::write(&study.path(RECORD_IMS), &im_rows(&rows, &ims), &settings)?;
+    let mut im_table = im_rows(&rows, &ims);
+    if let Some(felt) = &felt {
+        im_table.extend(floor_rows(&rows, felt));
+    }
+    tables::write(&study.path(RECORD_IMS), &im_table, &settings)?;
     tables::write(&study.path(IM_EFFICIENCY), &eff, &settings)?;
     let mut ranking: Vec<(String, usize)> = best.into_iter().collect();
     ranking.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
@@ -185,12 +190,71 @@ fn run(study: &Study) -> Result<Summary, ImsError> {
     })
 }
 
+/// One block's row of one IM.
+fn efficiency_row(b: &BlockRow, e: efficiency::Efficiency, rank: Option<i64>) -> EfficiencyRow {
+    EfficiencyRow {
+        block_index: b.block_index,
+        block: b.block.clone(),
+        p: b.p,
+        eps: b.eps,
+        im: e.im,
+        unit: e.unit.to_string(),
+        n: e.n as i64,
+        median: e.median,
+        median_dimensionless: e.median_dimensionless.map(|(v, _)| v),
+        dimensionless: e.median_dimensionless.map(|(_, n)| n.to_string()),
+        beta: e.beta,
+        lilliefors_p: e.lilliefors_p,
+        rank,
+        slope: e.slope,
+    }
+}
+
 /// Every record's IMs, on every core.
 pub fn record_ims(rows: &[RecordRow]) -> Result<Vec<RecordIms>, ImsError> {
     rows.par_iter()
         .map(|r| {
             RecordIms::of_record(&r.accel_g, r.dt_s, &[])
                 .ok_or_else(|| ImsError::NoMotion(r.record_id.clone()))
+        })
+        .collect()
+}
+
+/// The IMs of each record's floor motion through `building` (the motion
+/// the blocks feel, whose PGA is the PFA), on every core.
+fn felt_ims(
+    building: &crate::floor::Building,
+    rows: &[RecordRow],
+) -> Result<Vec<RecordIms>, ImsError> {
+    rows.par_iter()
+        .map(|r| {
+            let f = building
+                .floor_motion(&r.accel_g, r.dt_s)
+                .map_err(|e| ImsError::Floor(r.record_id.clone(), e.to_string()))?;
+            RecordIms::of_record(&f.accel_g, f.dt_s, &[])
+                .ok_or_else(|| ImsError::NoMotion(r.record_id.clone()))
+        })
+        .collect()
+}
+
+/// One row per record × floor demand (PFA, PFV, FSA(T)), records in order.
+fn floor_rows(rows: &[RecordRow], felt: &[RecordIms]) -> Vec<RecordImRow> {
+    let demands = Im::floor_measures();
+    rows.iter()
+        .zip(felt)
+        .flat_map(|(r, m)| {
+            demands.iter().filter_map(move |&im| {
+                Some(RecordImRow {
+                    record_id: r.record_id.clone(),
+                    im: im.name(),
+                    unit: im.unit().to_string(),
+                    period_s: match im {
+                        Im::Fsa(t) => Some(t),
+                        _ => None,
+                    },
+                    value: m.value(im)?,
+                })
+            })
         })
         .collect()
 }
@@ -205,6 +269,10 @@ pub fn read_record_ims(dir: &std::path::Path) -> Result<BTreeMap<String, RecordI
             .im
             .parse::<Im>()
             .map_err(|e| ImsError::RecordIms(format!("record_ims: record {}: {e}", r.record_id)))?;
+        if im.floor() {
+            // A floor study's floor demands: of the floor motion, not the record.
+            continue;
+        }
         values.entry(r.record_id).or_default().push((im, r.value));
     }
     values

@@ -13,24 +13,29 @@ table! {
     /// properties, then SA at each period. PGV and PGD come from exact integration from
     /// rest, with no baseline correction; SA is the pseudo-spectral acceleration at 5 %
     /// damping at the periods 0.05–4 s; AvgSA is the geometric mean of SA over 0.1–2 s. The
-    /// metadata holds `rocking.ims.damping` (0.05). Version 2 is this long format; version 1
+    /// metadata holds `rocking.ims.damping` (0.05). On a building's floor (`[floor]`) the
+    /// measures are the ground record's (the hazard's), followed by the floor demands `pfa`,
+    /// `pfv` and `fsa(T)` of the record's floor motion (the motion the blocks feel). Version
+    /// 2 is this long format; version 1
     /// had one row per record, one column per measure, and SA in a table of its own
     /// (`record_spectra`).
     pub struct RecordImRow = "record_ims" v 2 {
         /// The record (its AT2 file stem).
         pub record_id: String,
         /// The measure: `pga`, `pgv`, `pgd`, `avgsa`, `arias`, `cav`, `d5_95`, `pgv_pga`,
-        /// `tm`, or `sa(T)` with T the period in s (e.g. `sa(1.0)`). `pga` is the peak
+        /// `tm`, `sa(T)` with T the period in s (e.g. `sa(1.0)`), and on a floor `pfa`, `pfv`,
+        /// `fsa(T)`. `pga` is the peak
         /// ground acceleration, `pgv` and `pgd` the peak ground velocity and displacement,
         /// `avgsa` the geometric mean of SA over 0.1–2 s, `arias` the Arias intensity,
         /// `cav` the cumulative absolute velocity, `d5_95` the 5–95 % significant duration,
         /// `pgv_pga` PGV/PGA, `tm` the mean period (Rathje et al. 1998), `sa(T)` the
-        /// pseudo-spectral acceleration at 5 % damping at period T.
+        /// pseudo-spectral acceleration at 5 % damping at period T; `pfa`, `pfv` and `fsa(T)`
+        /// the same peak acceleration, peak velocity and SA(T) of the floor motion.
         pub im: String,
-        /// The measure's unit: g (PGA, SA, AvgSA), cm/s (PGV), cm (PGD), m/s (Arias
-        /// intensity), g·s (CAV) or s (D5–95, PGV/PGA, Tm).
+        /// The measure's unit: g (PGA, SA, AvgSA, PFA, FSA), cm/s (PGV, PFV), cm (PGD), m/s
+        /// (Arias intensity), g·s (CAV) or s (D5–95, PGV/PGA, Tm).
         pub unit: String,
-        /// SA's period (s); empty for the other measures.
+        /// SA's (or FSA's) period (s); empty for the other measures.
         pub period_s: Option<f64>,
         /// The measure's value, in `unit`.
         pub value: f64,
@@ -45,7 +50,10 @@ table! {
     /// records that overturn the block (IM_c is the record's IM when scaled to the block's
     /// capacity η_c; on a building's floor, the ground record's). The IMs are `pga`, `pgv`,
     /// `pgd`, `avgsa`, `arias`, `cav`, `sa(T)` at each period, and the vector
-    /// `pga | pgv/pga`. A block with fewer than three capacities has no rows; the vector
+    /// `pga | pgv/pga`; on a building's floor (`[floor]`) they are followed by the floor
+    /// demands `pfa`, `pfv` and `fsa(T)`, the block's capacity stated in its floor motion's
+    /// own measures (FEMA P-58's PFA and PFV). A block with fewer than three capacities has
+    /// no rows; the vector
     /// needs four. The metadata holds `rocking.ims.damping` (0.05).
     pub struct EfficiencyRow = "im_efficiency" v 1 {
         /// The block's row in `blocks.parquet`.
@@ -56,11 +64,11 @@ table! {
         pub p: f64,
         /// The block's coefficient of restitution ε.
         pub eps: f64,
-        /// `pga`, `pgv`, `pgd`, `sa(T)`, `avgsa`, `arias`, `cav`, or `pga | pgv/pga` (PGA
-        /// given PGV/PGA).
+        /// `pga`, `pgv`, `pgd`, `sa(T)`, `avgsa`, `arias`, `cav`, `pga | pgv/pga` (PGA
+        /// given PGV/PGA), and on a floor `pfa`, `pfv`, `fsa(T)`.
         pub im: String,
-        /// The IM's unit: g (PGA, SA, AvgSA, and the vector), cm/s (PGV), cm (PGD), m/s
-        /// (Arias intensity) or g·s (CAV).
+        /// The IM's unit: g (PGA, SA, AvgSA, PFA, FSA, and the vector), cm/s (PGV, PFV), cm
+        /// (PGD), m/s (Arias intensity) or g·s (CAV).
         pub unit: String,
         /// Records that overturn the block within the grid (the others are left out).
         pub n: i64,
@@ -79,8 +87,8 @@ table! {
         /// The Lilliefors p-value of ln IM_c (of the residuals for the vector); empty when
         /// untested (fewer than five records, or no spread).
         pub lilliefors_p: Option<f64>,
-        /// The scalar IM's rank by β within the block: 1 for the smallest β; empty for the
-        /// vector.
+        /// The scalar ground IM's rank by β within the block: 1 for the smallest β; empty
+        /// for the vector and the floor demands (they are not the hazard's).
         pub rank: Option<i64>,
         /// The vector's d ln PGA_c / d ln(PGV/PGA); empty for the scalar IMs.
         pub slope: Option<f64>,
