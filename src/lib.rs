@@ -76,6 +76,7 @@ pub mod manifest;
 pub mod motion;
 pub mod ops;
 pub mod outpath;
+pub mod pair;
 pub mod physics;
 pub mod pipeline;
 pub mod plot;

@@ -139,6 +139,77 @@ pub fn pseudo_acceleration(
     period_s: f64,
     zeta: f64,
 ) -> Result<f64, SdofError> {
+    let mut peak = Peak::default();
+    let h = each_substep(accel, dt_s, period_s, zeta, |state, next| {
+        peak.step(state, next)
+    })?;
+    let w = std::f64::consts::TAU / period_s;
+    Ok(w * w * peak.of(h))
+}
+
+/// The states (u, u̇) at every sub-step's end of the oscillator under
+/// `accel` (as [`pseudo_acceleration`] steps it), the state at rest first,
+/// and the sub-step (s): the response of a pair's component, which any
+/// rotation of the pair combines linearly.
+pub fn substep_states(
+    accel: &[f64],
+    dt_s: f64,
+    period_s: f64,
+    zeta: f64,
+) -> Result<(Vec<(f64, f64)>, f64), SdofError> {
+    let mut states = vec![(0.0, 0.0)];
+    let h = each_substep(accel, dt_s, period_s, zeta, |_, next| states.push(next))?;
+    Ok((states, h))
+}
+
+/// The peak |u| (continuous, as [`pseudo_acceleration`] seeks it) of a
+/// response given by its states at the ends of sub-steps of `h` (s).
+pub fn peak_of_states(states: impl IntoIterator<Item = (f64, f64)>, h: f64) -> f64 {
+    let mut peak = Peak::default();
+    let mut states = states.into_iter();
+    if let Some(mut state) = states.next() {
+        for next in states {
+            peak.step(state, next);
+            state = next;
+        }
+    }
+    peak.of(h)
+}
+
+/// The running peak of |u| over sub-steps, with the extrema inside them.
+#[derive(Default)]
+struct Peak {
+    peak: f64,
+    /// The sub-steps whose velocity changes sign: their cubic's extremum.
+    inside: Vec<((f64, f64), (f64, f64))>,
+}
+
+impl Peak {
+    #[inline]
+    fn step(&mut self, state: (f64, f64), next: (f64, f64)) {
+        self.peak = self.peak.max(next.0.abs());
+        if state.1 * next.1 < 0.0 {
+            self.inside.push((state, next));
+        }
+    }
+
+    fn of(&self, h: f64) -> f64 {
+        self.inside
+            .iter()
+            .fold(self.peak, |p, &(a, b)| p.max(hermite_extremum(a, b, h)))
+    }
+}
+
+/// Steps the oscillator over `accel` in sub-steps of at most T/40 (exact:
+/// the forcing is linear on each), calling `f(state, next)` on each;
+/// returns the sub-step (s).
+fn each_substep(
+    accel: &[f64],
+    dt_s: f64,
+    period_s: f64,
+    zeta: f64,
+    mut f: impl FnMut((f64, f64), (f64, f64)),
+) -> Result<f64, SdofError> {
     Step::new(period_s, zeta, dt_s)?;
     let n = (dt_s * STEPS_PER_PERIOD / period_s).ceil().max(1.0);
     if n > MAX_SUBSTEPS {
@@ -148,23 +219,18 @@ pub fn pseudo_acceleration(
     let h = dt_s / n;
     let step = Step::new(period_s, zeta, h)?;
     let n = n as usize;
-    let w = std::f64::consts::TAU / period_s;
     let mut state = (0.0, 0.0);
-    let mut peak: f64 = 0.0;
     for win in accel.windows(2) {
         let slope = (win[1] - win[0]) / n as f64;
         for j in 0..n {
             let a0 = win[0] + slope * j as f64;
             let a1 = if j + 1 == n { win[1] } else { a0 + slope };
             let next = step.advance(state, a0, a1);
-            peak = peak.max(next.0.abs());
-            if state.1 * next.1 < 0.0 {
-                peak = peak.max(hermite_extremum(state, next, h));
-            }
+            f(state, next);
             state = next;
         }
     }
-    Ok(w * w * peak)
+    Ok(h)
 }
 
 /// The largest |u| inside a step of length `h` from `(u0, v0)` to

@@ -79,6 +79,7 @@ mod ims;
 mod ingest;
 mod notebook;
 mod opensees;
+mod pairs;
 mod physics;
 mod pulse;
 mod python;

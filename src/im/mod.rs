@@ -15,6 +15,7 @@
 pub mod efficiency;
 pub mod measure;
 pub mod record;
+pub mod rotd;
 pub mod scale;
 
 pub use measure::{

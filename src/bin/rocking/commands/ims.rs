@@ -3,7 +3,9 @@
 use std::path::PathBuf;
 
 use anyhow::Context;
+use rocking::im::rotd::PairIms;
 use rocking::im::{self, Im, RecordIms, SPECTRAL_DAMPING};
+use rocking::pair::Pair;
 use rocking::records;
 
 /// Intensity measures of one record.
@@ -16,12 +18,21 @@ use rocking::records;
     period Tm (s, Rathje et al. 1998). Definitions: docs/MODEL.md §14.\n\n\
     With --json, `sa_g` maps each period to its SA; a period's key is the shortest decimal that \
     reads back as the period, never in exponent form, whole seconds with `.0` (0.05, 1.0, \
-    0.000001, 1000.0). A period below Δt/250 is refused (the oscillator is rigid: SA is the PGA)."
+    0.000001, 1000.0). A period below Δt/250 is refused (the oscillator is rigid: SA is the PGA).\n\n\
+    With --pair, the record and the pair's other horizontal component (90° from it, at the same \
+    sample step; the shorter taken as 0 after its end) also give the orientation-independent \
+    RotD50 and RotD100 of PGA, PGV and SA (Boore 2010: the median and the largest over the \
+    angles 0–179° of the rotated component's peak), under `rotd50` and `rotd100` with --json, \
+    each keyed as the record's measures are (docs/MODEL.md §18)."
 )]
 pub struct Args {
     /// The AT2 file.
     #[arg(long, value_name = "FILE.AT2")]
     record: PathBuf,
+    /// The pair's other horizontal component (AT2, 90° from --record): adds
+    /// RotD50 and RotD100.
+    #[arg(long, value_name = "FILE.AT2")]
+    pair: Option<PathBuf>,
     /// A period (s) at which SA is also computed; repeatable.
     #[arg(long = "period", value_name = "s")]
     periods: Vec<f64>,
@@ -37,9 +48,23 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let (accel, dt) = records::read_samples(&args.record)?;
     let ims = RecordIms::try_of_record(&accel, dt, &args.periods)
         .with_context(|| args.record.display().to_string())?;
+    let rotd = match &args.pair {
+        Some(b) => {
+            let (b_accel, b_dt) = records::read_samples(b)?;
+            let pair = Pair::new(accel.clone(), dt, b_accel, b_dt)
+                .with_context(|| format!("{} and {}", args.record.display(), b.display()))?;
+            Some(PairIms::of_pair(&pair, &args.periods).with_context(|| b.display().to_string())?)
+        }
+        None => None,
+    };
     if args.json {
         // Through a JSON value: its keys sorted, as they always were.
-        println!("{}", serde_json::to_value(&ims)?);
+        let mut value = serde_json::to_value(&ims)?;
+        if let Some(r) = &rotd {
+            value["rotd50"] = r.json(|m| m.d50);
+            value["rotd100"] = r.json(|m| m.d100);
+        }
+        println!("{value}");
         return Ok(());
     }
     println!(
@@ -54,6 +79,22 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     println!("  SA ({:.0} % damping):", SPECTRAL_DAMPING * 100.0);
     for (t, sa) in ims.spectrum() {
         println!("    T = {:<6} s  {sa:>8.4} g", im::period_text(t));
+    }
+    if let (Some(r), Some(b)) = (&rotd, &args.pair) {
+        println!("with {} (the pair, over the angles 0–179°):", b.display());
+        println!("  {:<16} {:>10} {:>10}", "", "RotD50", "RotD100");
+        println!(
+            "  {:<16} {:>10.4} {:>10.4} g",
+            "PGA", r.pga_g.d50, r.pga_g.d100
+        );
+        println!(
+            "  {:<16} {:>10.4} {:>10.4} cm/s",
+            "PGV", r.pgv_cm_s.d50, r.pgv_cm_s.d100
+        );
+        for (t, m) in &r.sa_g {
+            let name = format!("SA({})", im::period_text(*t));
+            println!("  {name:<16} {:>10.4} {:>10.4} g", m.d50, m.d100);
+        }
     }
     Ok(())
 }

@@ -1,0 +1,143 @@
+//! A record pair: two orthogonal horizontal components of one station, and
+//! the component in any direction between them (pure; docs/MODEL.md §18).
+//!
+//! A planar block whose rocking plane makes the angle θ with component a
+//! (towards b) feels `a(θ, t) = a(t) cos θ + b(t) sin θ`. The two
+//! components are given at one sample step; the shorter is taken as 0 after
+//! its end (as a record is still after its last sample), and the rotated
+//! component is as long as the components that enter it: at θ = 0° it is
+//! component a itself, at 90° component b itself, bit for bit.
+
+/// Two orthogonal horizontal components at one sample step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pair {
+    /// Component a (g).
+    pub a: Vec<f64>,
+    /// Component b (g), 90° from a.
+    pub b: Vec<f64>,
+    /// The sample step of both (s).
+    pub dt_s: f64,
+}
+
+/// Why two records are not a pair.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PairError {
+    #[error(
+        "the components' sample steps differ ({a} s and {b} s): a pair is two components \
+         recorded together; resample one to the other's step first"
+    )]
+    Step { a: f64, b: f64 },
+    #[error("a component has no samples")]
+    Empty,
+}
+
+/// Relative difference of two steps taken as one (the AT2 headers' DT is
+/// written to a few digits).
+const SAME_STEP: f64 = 1e-9;
+
+impl Pair {
+    /// Components `a` and `b` sampled at `dt_a` and `dt_b` (s): refused
+    /// when the steps differ.
+    pub fn new(a: Vec<f64>, dt_a: f64, b: Vec<f64>, dt_b: f64) -> Result<Pair, PairError> {
+        if a.is_empty() || b.is_empty() {
+            return Err(PairError::Empty);
+        }
+        if (dt_a - dt_b).abs() > SAME_STEP * dt_a.abs().max(dt_b.abs()) {
+            return Err(PairError::Step { a: dt_a, b: dt_b });
+        }
+        Ok(Pair { a, b, dt_s: dt_a })
+    }
+
+    /// The samples of both components, the shorter padded with zeros to
+    /// the longer's length.
+    pub fn padded(&self) -> (Vec<f64>, Vec<f64>) {
+        let n = self.a.len().max(self.b.len());
+        let pad = |v: &[f64]| {
+            let mut v = v.to_vec();
+            v.resize(n, 0.0);
+            v
+        };
+        (pad(&self.a), pad(&self.b))
+    }
+
+    /// The component at `theta_deg` from a towards b: `a cos θ + b sin θ`,
+    /// with cos and sin exact at multiples of 90° (θ = 0° gives a, 90° b,
+    /// 180° −a, 270° −b, bit for bit).
+    pub fn rotated(&self, theta_deg: f64) -> Vec<f64> {
+        let (c, s) = cos_sin_deg(theta_deg);
+        let take = |v: &[f64], k: f64| -> Vec<f64> { v.iter().map(|x| k * x).collect() };
+        match (c, s) {
+            (_, 0.0) => take(&self.a, c),
+            (0.0, _) => take(&self.b, s),
+            _ => {
+                let (a, b) = self.padded();
+                a.iter().zip(&b).map(|(x, y)| c * x + s * y).collect()
+            }
+        }
+    }
+}
+
+/// cos θ and sin θ of an angle in degrees, exact (0 and ±1) at multiples
+/// of 90°.
+pub fn cos_sin_deg(theta_deg: f64) -> (f64, f64) {
+    let r = theta_deg.rem_euclid(360.0);
+    match r {
+        0.0 => (1.0, 0.0),
+        90.0 => (0.0, 1.0),
+        180.0 => (-1.0, 0.0),
+        270.0 => (0.0, -1.0),
+        _ => {
+            let (s, c) = r.to_radians().sin_cos();
+            (c, s)
+        }
+    }
+}
+
+/// The angles of a range over [0°, 180°) every `step_deg`: 0, step, …,
+/// below 180 (θ + 180° is θ's mirror image, which a symmetric block does
+/// not tell apart).
+pub fn angles(step_deg: f64) -> Vec<f64> {
+    let n = (180.0 / step_deg).ceil() as usize;
+    (0..n)
+        .map(|k| k as f64 * step_deg)
+        .filter(|&t| t < 180.0)
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_axes_give_the_components_themselves() {
+        let p = Pair::new(vec![0.1, -0.0, 0.3], 0.01, vec![0.2, 0.5], 0.01).unwrap();
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&p.rotated(0.0)), bits(&p.a));
+        assert_eq!(bits(&p.rotated(360.0)), bits(&p.a));
+        assert_eq!(bits(&p.rotated(90.0)), bits(&p.b));
+        assert_eq!(p.rotated(180.0), vec![-0.1, 0.0, -0.3]);
+        assert_eq!(p.rotated(-90.0), vec![-0.2, -0.5]);
+        // Between the axes both enter, b zero after its end.
+        let r = p.rotated(45.0);
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        assert_eq!(r.len(), 3);
+        assert!((r[0] - h * 0.3).abs() < 1e-15 && (r[2] - h * 0.3).abs() < 1e-15);
+        assert!((r[1] - h * 0.5).abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_pair_is_recorded_at_one_step() {
+        assert_eq!(
+            Pair::new(vec![0.1], 0.01, vec![0.1], 0.005),
+            Err(PairError::Step { a: 0.01, b: 0.005 })
+        );
+        assert!(Pair::new(vec![0.1], 0.01, vec![0.1], 0.01 * (1.0 + 1e-12)).is_ok());
+        assert_eq!(
+            Pair::new(vec![], 0.01, vec![0.1], 0.01),
+            Err(PairError::Empty)
+        );
+        assert_eq!(angles(30.0), vec![0.0, 30.0, 60.0, 90.0, 120.0, 150.0]);
+        assert_eq!(angles(1.0).len(), 180);
+        assert_eq!(angles(7.0).last(), Some(&175.0));
+    }
+}
