@@ -78,18 +78,21 @@ impl Pair {
 }
 
 /// cos θ and sin θ of an angle in degrees, exact (0 and ±1) at multiples
-/// of 90°.
+/// of 90°, and those of θ + 180° the exact negation of θ's.
 pub fn cos_sin_deg(theta_deg: f64) -> (f64, f64) {
     let r = theta_deg.rem_euclid(360.0);
-    match r {
-        0.0 => (1.0, 0.0),
-        90.0 => (0.0, 1.0),
-        180.0 => (-1.0, 0.0),
-        270.0 => (0.0, -1.0),
-        _ => {
-            let (s, c) = r.to_radians().sin_cos();
-            (c, s)
-        }
+    if r >= 180.0 {
+        // θ + 180° is θ's negation exactly: its component is −(a cos θ + b sin θ).
+        let (c, s) = cos_sin_deg(r - 180.0);
+        return (-c, -s);
+    }
+    if r == 0.0 {
+        (1.0, 0.0)
+    } else if r == 90.0 {
+        (0.0, 1.0)
+    } else {
+        let (s, c) = r.to_radians().sin_cos();
+        (c, s)
     }
 }
 
@@ -117,6 +120,8 @@ mod tests {
         assert_eq!(bits(&p.rotated(90.0)), bits(&p.b));
         assert_eq!(p.rotated(180.0), vec![-0.1, 0.0, -0.3]);
         assert_eq!(p.rotated(-90.0), vec![-0.2, -0.5]);
+        let minus: Vec<f64> = p.rotated(37.5).iter().map(|x| -x).collect();
+        assert_eq!(p.rotated(217.5), minus);
         // Between the axes both enter, b zero after its end.
         let r = p.rotated(45.0);
         let h = std::f64::consts::FRAC_1_SQRT_2;

@@ -204,3 +204,75 @@ fn a_pair_at_two_steps_is_refused() {
         "{e}"
     );
 }
+
+/// `capacity --pair --angle`: at 0° and 90° the capacities of the
+/// components run alone (`capacity --record`), bit for bit, runs included;
+/// θ + 180° (the mirror image: the component negated exactly) gives θ's
+/// capacity to the bit; the angles of --angle-step 45 are 0, 45, 90, 135;
+/// bad requests are refused by option.
+#[test]
+fn a_pair_at_the_axes_is_its_components_and_mirrors_agree() {
+    let (a, b) = (far("RSN1111_KOBE_NIS000"), far("RSN1111_KOBE_NIS090"));
+    let block = ["--b", "0.2", "--h", "0.9", "--eps", "housner", "--json"];
+    let lines = |extra: &[&str]| -> Vec<Value> {
+        let mut args = vec!["capacity", "--record", &a];
+        args.extend(extra);
+        args.extend(block);
+        let out = rocking(&root(), &args);
+        assert!(out.status.success(), "{}", stderr(&out));
+        String::from_utf8(out.stdout)
+            .unwrap()
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect()
+    };
+    let alone = |path: &str| {
+        let mut args = vec!["capacity", "--record", path];
+        args.extend(block);
+        json(&rocking(&root(), &args))
+    };
+    let rotated = lines(&["--pair", &b, "--angle", "0,90,30,210,100,280"]);
+    let angles: Vec<f64> = rotated
+        .iter()
+        .map(|r| r["angle_deg"].as_f64().unwrap())
+        .collect();
+    assert_eq!(angles, [0.0, 90.0, 30.0, 210.0, 100.0, 280.0]);
+    assert_eq!(rotated[0]["record_id"], "RSN1111_KOBE_NIS000@0");
+    for (r, path) in [(&rotated[0], &a), (&rotated[1], &b)] {
+        let one = alone(path);
+        for key in ["eta_c", "runs", "eta_survived", "pga_c_g"] {
+            assert_eq!(r[key], one[key], "{path} {key}");
+        }
+    }
+    for pair in rotated[2..].chunks(2) {
+        assert_eq!(pair[0]["eta_c"], pair[1]["eta_c"]);
+        assert_eq!(pair[0]["runs"], pair[1]["runs"]);
+    }
+    // The orientation matters: 30° is not the components' capacity.
+    assert_ne!(rotated[2]["eta_c"], rotated[0]["eta_c"]);
+    let stepped = lines(&["--pair", &b, "--angle-step", "45"]);
+    let angles: Vec<f64> = stepped
+        .iter()
+        .map(|r| r["angle_deg"].as_f64().unwrap())
+        .collect();
+    assert_eq!(angles, [0.0, 45.0, 90.0, 135.0]);
+    assert_eq!(stepped[2]["eta_c"], rotated[1]["eta_c"]);
+    for (extra, says) in [
+        (
+            vec!["--pair", b.as_str()],
+            "give the rocking plane's --angle",
+        ),
+        (
+            vec!["--pair", b.as_str(), "--angle-step", "0"],
+            "--angle-step 0",
+        ),
+        (vec!["--angle", "30"], "--pair"),
+    ] {
+        let mut args = vec!["capacity", "--record", a.as_str()];
+        args.extend(extra.iter().copied());
+        args.extend(block);
+        let out = rocking(&root(), &args);
+        assert!(!out.status.success(), "{extra:?}");
+        assert!(stderr(&out).contains(says), "{extra:?}: {}", stderr(&out));
+    }
+}

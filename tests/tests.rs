@@ -37,6 +37,8 @@
 //! - `opensees`: an OpenSeesPy building's floor motions → the tool's PFV
 //!   fragilities → pelicun, beside FEMA P-58's bookcases and direct runs
 //!   (`ROCKING_ENGINES`, with openseespy).
+//! - `pairs`: record pairs: RotD50/RotD100 against Newmark-integrated
+//!   responses rotated every 1°, capacities at the axes and mirrored angles.
 //! - `physics`: the solvers against closed forms, conservation laws,
 //!   symmetry and the hard cases (`ida::HARD_CASES`).
 //! - `taylor`: the Taylor stepper of the nonlinear equation against the

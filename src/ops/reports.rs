@@ -91,6 +91,9 @@ pub struct Search {
 #[derive(Debug, Clone, Serialize)]
 pub struct CapacityReport {
     pub record_id: String,
+    /// A pair's component at this angle from component a (°), with --pair.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub angle_deg: Option<f64>,
     /// The block's name: `b<b>xh<h>` for one given by its dimensions, else empty.
     pub block: String,
     pub p: f64,
@@ -153,6 +156,7 @@ impl CapacityReport {
         let on_floor = rec.floor;
         CapacityReport {
             record_id: rec.record_id.clone(),
+            angle_deg: rec.angle_deg,
             block: block.name.clone(),
             p: spec.p,
             eps: spec.eps,

@@ -22,6 +22,9 @@ pub struct LoadedRecord {
     /// On a building's floor: the ground record's peak and the building's
     /// amplification of it (`pga_g` and `exc` are then the floor motion's).
     pub floor: Option<OnFloor>,
+    /// A pair's component at this angle from component a (°), when the
+    /// record is one ([`pair_at`]).
+    pub angle_deg: Option<f64>,
 }
 
 /// A record run on a building's floor rather than on the ground.
@@ -47,6 +50,7 @@ pub fn from_pulse(pulse: &Pulse, p: f64) -> Result<LoadedRecord, PhysicsError> {
         exc,
         pulse: Some(*pulse),
         floor: None,
+        angle_deg: None,
     })
 }
 
@@ -70,6 +74,13 @@ pub enum RecordError {
     /// A record and a pulse together, a pulse on a floor, or neither.
     #[error("{0}")]
     Asked(String),
+    #[error("{} and {}", a.display(), b.display())]
+    Pair {
+        a: PathBuf,
+        b: PathBuf,
+        #[source]
+        source: crate::pair::PairError,
+    },
     #[error("{path}: its floor motion")]
     Floor {
         path: PathBuf,
@@ -184,5 +195,48 @@ pub fn from_samples(
         exc,
         pulse: None,
         floor,
+        angle_deg: None,
     })
+}
+
+/// The component of the pair of AT2 files `a` and `b` (b 90° from a) at
+/// each of `angles_deg`, each a record named `<a's stem>@<θ>` (on the floor
+/// of `building` when one is given).
+pub fn pair_at(
+    a: &Path,
+    b: &Path,
+    angles_deg: &[f64],
+    building: Option<&Building>,
+) -> Result<Vec<LoadedRecord>, RecordError> {
+    let (xa, dt_a) = read_samples(a)?;
+    let (xb, dt_b) = read_samples(b)?;
+    let pair = crate::pair::Pair::new(xa, dt_a, xb, dt_b).map_err(|source| RecordError::Pair {
+        a: a.into(),
+        b: b.into(),
+        source,
+    })?;
+    let stem = a
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    angles_deg
+        .iter()
+        .map(|&theta| {
+            let id = format!("{stem}@{theta}");
+            let mut rec = from_samples(id, pair.rotated(theta), pair.dt_s, building).map_err(
+                |e| match e {
+                    SampleError::Samples(source) => RecordError::Samples {
+                        path: a.into(),
+                        source,
+                    },
+                    SampleError::Floor(source) => RecordError::Floor {
+                        path: a.into(),
+                        source,
+                    },
+                },
+            )?;
+            rec.angle_deg = Some(theta);
+            Ok(rec)
+        })
+        .collect()
 }

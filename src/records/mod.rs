@@ -18,7 +18,7 @@ pub use collect::{
     PIPELINE_HINT, TEXT_EXTENSIONS,
 };
 pub use load::{
-    excitation, from_pulse, from_samples, load, load_on, read_samples, LoadedRecord, OnFloor,
-    RecordError, SampleError,
+    excitation, from_pulse, from_samples, load, load_on, pair_at, read_samples, LoadedRecord,
+    OnFloor, RecordError, SampleError,
 };
 pub use select::{felt, of_plan, select, SelectError};

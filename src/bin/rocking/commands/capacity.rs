@@ -31,13 +31,36 @@ use crate::reporter::Terminal;
     (comma-separated --p and --eps, a p × ε grid; or --b/--h or --width/--height lists, each size \
     with every ε). The record × block cases run on every core and print one JSON object a line, \
     records in path order and blocks in the order given, each equal to the capacity of that \
-    record and block alone; --out also writes them as a Parquet table."
+    record and block alone; --out also writes them as a Parquet table.\n\n\
+    Any direction: with --pair B.AT2 (the other horizontal component of --record's station, 90° \
+    from it, at the same sample step) and --angle θ (degrees; a list, or --angle-step for every \
+    step over [0°, 180°)), the block rocks in the plane at θ from --record towards B and feels \
+    a cos θ + b sin θ (the shorter component taken as 0 after its end): one capacity per angle, \
+    the record named `<stem>@<θ>`, `angle_deg` in the JSON. θ = 0° is --record itself and 90° \
+    B itself, bit for bit; θ + 180° is θ's mirror image (docs/MODEL.md §18)."
 )]
 pub struct Args {
     /// AT2 records, or folders searched recursively for `*.AT2` (several:
     /// one capacity per record and block, one JSON line each).
     #[arg(long, value_name = "PATH", num_args = 1..)]
     record: Vec<PathBuf>,
+    /// The other horizontal component of --record's station (AT2, 90° from
+    /// it): the block then rocks at each --angle.
+    #[arg(long, value_name = "B.AT2", requires = "record")]
+    pair: Option<PathBuf>,
+    /// With --pair: the angles (°) of the rocking plane from --record
+    /// towards --pair, comma-separated.
+    #[arg(
+        long,
+        value_name = "DEG",
+        value_delimiter = ',',
+        requires = "pair",
+        conflicts_with = "angle_step"
+    )]
+    angle: Vec<f64>,
+    /// With --pair: every angle over [0°, 180°) this many degrees apart.
+    #[arg(long, value_name = "DEG", requires = "pair")]
+    angle_step: Option<f64>,
     #[command(flatten)]
     block: BlockArgs,
     /// Refine η_c until the bracket is at most this wide (in η).
@@ -80,7 +103,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         if args.block.pulse.pulse.is_some() {
             anyhow::bail!("give records (--record) or a pulse (--pulse), not both");
         }
-        capacity::load_records(&args.record, building.as_ref())?
+        match &args.pair {
+            Some(b) => {
+                let angles = pair_angles(&args)?;
+                let [a] = &args.record[..] else {
+                    anyhow::bail!("--pair is the other component of one record: give one --record");
+                };
+                rocking::records::pair_at(a, b, &angles, building.as_ref())?
+            }
+            None => capacity::load_records(&args.record, building.as_ref())?,
+        }
     };
     let named: Vec<NamedSpec> = blocks.iter().map(|b| b.named.clone()).collect();
     let total = records.len() * named.len();
@@ -128,9 +160,31 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// The angles asked with --pair, checked.
+fn pair_angles(args: &Args) -> anyhow::Result<Vec<f64>> {
+    if let Some(step) = args.angle_step {
+        if !(step > 0.0 && step <= 180.0) {
+            anyhow::bail!("--angle-step {step}: a step in degrees in (0, 180]");
+        }
+        return Ok(rocking::pair::angles(step));
+    }
+    if args.angle.is_empty() {
+        anyhow::bail!(
+            "--pair: give the rocking plane's --angle (degrees from --record), or --angle-step"
+        );
+    }
+    if let Some(bad) = args.angle.iter().find(|t| !t.is_finite()) {
+        anyhow::bail!("--angle {bad}: an angle in degrees");
+    }
+    Ok(args.angle.clone())
+}
+
 /// One capacity as text.
 fn print_text(args: &Args, rec: &LoadedRecord, block: &AskedBlock, certified: &Certified) {
     let (spec, cap) = (&block.named.spec, &certified.capacity);
+    if let Some(theta) = rec.angle_deg {
+        println!("direction   {theta}° from the pair's first component towards its second");
+    }
     println!(
         "record      {} ({} samples, dt {} s{})",
         rec.record_id,
