@@ -6,7 +6,7 @@
 
 use serde_json::Value;
 
-use crate::util::{bundled_records, rocking, root, stderr, tempdir, write_at2};
+use crate::util::{bundled_records, cornell_above, rocking, root, stderr, tempdir, write_at2};
 
 fn json(out: &std::process::Output) -> Value {
     assert!(out.status.success(), "{}", stderr(out));
@@ -275,4 +275,253 @@ fn a_pair_at_the_axes_is_its_components_and_mirrors_agree() {
         assert!(!out.status.success(), "{extra:?}");
         assert!(stderr(&out).contains(says), "{extra:?}: {}", stderr(&out));
     }
+}
+
+/// A folder of two pairs (Kobe Nishi-Akashi, Manjil Abbar: unequal
+/// lengths) with their manifest lines, as `--direct` reads pairs.
+fn two_pairs(dir: &std::path::Path) -> std::path::PathBuf {
+    let folder = dir.join("pairs");
+    std::fs::create_dir(&folder).unwrap();
+    let manifest = std::fs::read_to_string(bundled_records().join("manifest.csv")).unwrap();
+    let mut lines = manifest.lines();
+    let mut out = format!("{}\n", lines.next().unwrap());
+    for stem in STEMS {
+        std::fs::copy(far(stem), folder.join(format!("{stem}.AT2"))).unwrap();
+        let line = lines
+            .clone()
+            .find(|l| l.contains(&format!("/{stem}.AT2")))
+            .unwrap();
+        out.push_str(&line.replace("far-field/", ""));
+        out.push('\n');
+    }
+    std::fs::write(folder.join("manifest.csv"), out).unwrap();
+    folder
+}
+
+const STEMS: [&str; 4] = [
+    "RSN1111_KOBE_NIS000",
+    "RSN1111_KOBE_NIS090",
+    "RSN1633_MANJIL_ABBAR--L",
+    "RSN1633_MANJIL_ABBAR--T",
+];
+
+/// exp(mean ln) and the standard deviation (n in the denominator) of ln x:
+/// the maximum-likelihood lognormal of capacities that all overturn.
+fn mle(x: &[f64]) -> (f64, f64) {
+    let n = x.len() as f64;
+    let m = x.iter().map(|v| v.ln()).sum::<f64>() / n;
+    let s = (x.iter().map(|v| (v.ln() - m).powi(2)).sum::<f64>() / n).sqrt();
+    (m.exp(), s)
+}
+
+/// The orientation rules from the capacities of `capacity --pair
+/// --angle-step 45` (each pair at 0, 45, 90, 135°) and `rocking ims
+/// --pair`: as recorded, each component's PGA at overturning; random,
+/// every pair at every angle, equally weighted; worst, each pair's
+/// smallest; in RotD50 PGA, each capacity's scale factor times its pair's
+/// RotD50. `fragility --direct --method mle` (every capacity reached: the
+/// likelihood's lognormal is the logs' mean and spread) states each to
+/// 1e-9; `risk --im rotd50_pga` on a PGA hazard (declared RotD50) of a
+/// power law equals Cornell's closed form with that fragility (1e-9; no
+/// uplift cut in RotD50).
+#[test]
+fn orientation_rules_are_the_capacities_over_angles() {
+    let dir = tempdir();
+    let folder = two_pairs(dir.path());
+    let folder_s = folder.to_str().unwrap();
+    // The model --direct runs (auto: the nonlinear one for this α).
+    let block = [
+        "--b", "0.2", "--h", "0.9", "--eps", "housner", "--model", "auto", "--json",
+    ];
+    let capacity = |args: &[&str]| -> Vec<Value> {
+        let mut all = vec!["capacity"];
+        all.extend(args);
+        all.extend(block);
+        let out = rocking(&root(), &all);
+        assert!(out.status.success(), "{}", stderr(&out));
+        String::from_utf8(out.stdout)
+            .unwrap()
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect()
+    };
+    let pga_c = |v: &Value| v["pga_c_g"].as_f64().unwrap();
+    let mut as_recorded = Vec::new();
+    let mut as_recorded_rotd = Vec::new();
+    let mut random = Vec::new();
+    let mut random_rotd = Vec::new();
+    let mut worst = Vec::new();
+    for pair in STEMS.chunks(2) {
+        let (a, b) = (far(pair[0]), far(pair[1]));
+        let ims = json(&rocking(
+            &root(),
+            &["ims", "--record", &a, "--pair", &b, "--json"],
+        ));
+        let rotd50 = ims["rotd50"]["pga_g"].as_f64().unwrap();
+        for path in [&a, &b] {
+            let one = &capacity(&["--record", path])[0];
+            let pga = json(&rocking(&root(), &["ims", "--record", path, "--json"]))["pga_g"]
+                .as_f64()
+                .unwrap();
+            as_recorded.push(pga_c(one));
+            as_recorded_rotd.push(pga_c(one) / pga * rotd50);
+        }
+        let (xa, dt) = rocking::records::read_samples(a.as_ref()).unwrap();
+        let (xb, _) = rocking::records::read_samples(b.as_ref()).unwrap();
+        let p = rocking::pair::Pair::new(xa, dt, xb, dt).unwrap();
+        let angled = capacity(&["--record", &a, "--pair", &b, "--angle-step", "45"]);
+        assert_eq!(angled.len(), 4);
+        let mut smallest = f64::INFINITY;
+        for r in &angled {
+            let theta = r["angle_deg"].as_f64().unwrap();
+            let pga_theta = p.rotated(theta).iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            random.push(pga_c(r));
+            random_rotd.push(pga_c(r) / pga_theta * rotd50);
+            smallest = smallest.min(pga_c(r));
+        }
+        worst.push(smallest);
+    }
+    let fragility = |orientation: &str, im: &str| -> Value {
+        json(&rocking(
+            &root(),
+            &[
+                "fragility",
+                "--b",
+                "0.2",
+                "--h",
+                "0.9",
+                "--direct",
+                "--records",
+                folder_s,
+                "--orientation",
+                orientation,
+                "--angle-step",
+                "45",
+                "--im",
+                im,
+                "--at",
+                "0.4",
+                "--method",
+                "mle",
+                "--json",
+            ],
+        ))
+    };
+    for (orientation, im, caps, n) in [
+        ("as-recorded", "pga", &as_recorded, 4),
+        ("as-recorded", "rotd50_pga", &as_recorded_rotd, 4),
+        ("random", "pga", &random, 8),
+        ("random", "rotd50_pga", &random_rotd, 8),
+        ("worst", "pga", &worst, 2),
+    ] {
+        let f = fragility(orientation, im);
+        let (m, s) = mle(caps);
+        let (got_m, got_s) = (f["median"].as_f64().unwrap(), f["beta"].as_f64().unwrap());
+        assert!(
+            (got_m / m - 1.0).abs() < 1e-9,
+            "{orientation} {im}: {got_m} vs {m}"
+        );
+        assert!(
+            (got_s / s - 1.0).abs() < 1e-9,
+            "{orientation} {im}: {got_s} vs {s}"
+        );
+        assert_eq!(f["records"], n, "{orientation} {im}");
+        assert_eq!(f["orientation"].is_string(), orientation != "as-recorded");
+    }
+    // Risk in the hazard's component.
+    let (k0, k) = (2e-4, 2.6);
+    let mut h = String::from("pga_g,annual_rate\n");
+    for i in 0..30 {
+        let a = 0.005 * (600.0f64).powf(i as f64 / 29.0);
+        h.push_str(&format!("{a:?},{:?}\n", k0 * a.powf(-k)));
+    }
+    std::fs::write(dir.path().join("h.csv"), h).unwrap();
+    let risk = |im: &str, orientation: &str| {
+        rocking(
+            dir.path(),
+            &[
+                "risk",
+                "--hazard",
+                "h.csv",
+                "--b",
+                "0.2",
+                "--h",
+                "0.9",
+                "--direct",
+                "--records",
+                folder_s,
+                "--orientation",
+                orientation,
+                "--angle-step",
+                "45",
+                "--im",
+                im,
+                "--method",
+                "mle",
+                "--json",
+            ],
+        )
+    };
+    let v = json(&risk("rotd50_pga", "random"));
+    let (m, s) = mle(&random_rotd);
+    assert!((v["fragility"]["median"].as_f64().unwrap() / m - 1.0).abs() < 1e-9);
+    let expected = cornell_above(k0, k, m, s, 0.0);
+    let got = v["sites"][0]["annual_rate"].as_f64().unwrap();
+    assert!((got / expected - 1.0).abs() < 1e-9, "{got} vs {expected}");
+    // Over orientations in the rotated component's own PGA: warned of.
+    let out = risk("pga", "random");
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("give --im rotd50_pga"),
+        "{}",
+        stderr(&out)
+    );
+    // A pair's IM needs the pairs' runs; a folder without a manifest has no pairs.
+    let out = rocking(
+        &root(),
+        &[
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--im",
+            "rotd50_pga",
+            "--at",
+            "0.3",
+        ],
+    );
+    assert!(
+        stderr(&out).contains("measure of a record pair"),
+        "{}",
+        stderr(&out)
+    );
+    std::fs::remove_file(folder.join("manifest.csv")).unwrap();
+    let out = fragility_refused(folder_s);
+    assert!(
+        out.contains("pairs come from the records' manifest"),
+        "{out}"
+    );
+}
+
+fn fragility_refused(folder: &str) -> String {
+    let out = rocking(
+        &root(),
+        &[
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--direct",
+            "--records",
+            folder,
+            "--orientation",
+            "worst",
+            "--pga",
+            "0.3",
+        ],
+    );
+    assert!(!out.status.success());
+    stderr(&out)
 }

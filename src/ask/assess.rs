@@ -19,6 +19,7 @@ use crate::im::Im;
 use crate::ops::export::{self, Format};
 use crate::ops::fragility::{self, DirectProgress, Source};
 use crate::ops::risk::{self, Blocks, Hazard};
+use crate::pair::Orientation;
 use crate::risk::Beyond;
 
 /// Where the capacities come from: `paper` (the published regression) or
@@ -37,6 +38,10 @@ pub struct LawAsk {
     pub records_column: Option<usize>,
     /// They are relative to the ground: its motions, as run, in this folder.
     pub records_ground: Option<PathBuf>,
+    /// Which orientations of the records `direct` runs (pairs for random and worst).
+    pub orientation: Orientation,
+    /// The angle step of the random and worst orientations (°).
+    pub angle_step: f64,
 }
 
 impl Default for LawAsk {
@@ -48,11 +53,35 @@ impl Default for LawAsk {
             records_unit: None,
             records_column: None,
             records_ground: None,
+            orientation: Orientation::AsRecorded,
+            angle_step: crate::pair::ANGLE_STEP_DEG,
         }
     }
 }
 
 impl LawAsk {
+    /// The orientations `direct` runs the records at, checked.
+    pub fn orient(&self, direct: bool, sp: Spelling) -> Result<fragility::Orient, AskError> {
+        if !(self.angle_step > 0.0 && self.angle_step <= 180.0) {
+            return Err(AskError(format!(
+                "{}: the angle step is in degrees, in (0, 180]",
+                sp.set("angle_step", &self.angle_step.to_string())
+            )));
+        }
+        if self.orientation != Orientation::AsRecorded && !direct {
+            return Err(AskError(format!(
+                "{} runs the records' pairs at every angle: add {}",
+                sp.set("orientation", crate::label::Label::label(self.orientation)),
+                sp.key("direct")
+            )));
+        }
+        Ok(fragility::Orient {
+            orientation: self.orientation,
+            step_deg: self.angle_step,
+            pair_im: false,
+        })
+    }
+
     pub fn resolve(&self, sp: Spelling) -> Result<Source, AskError> {
         let text = match (self.records_unit, self.records_column) {
             (Some(unit), column) => Some(TextRecords {
@@ -169,6 +198,10 @@ pub struct FragilityAsk {
     pub records_unit: Option<AccelUnit>,
     pub records_column: Option<usize>,
     pub records_ground: Option<PathBuf>,
+    /// Which orientations of the records `direct` runs (pairs for random and worst).
+    pub orientation: Orientation,
+    /// The angle step of the random and worst orientations (°).
+    pub angle_step: f64,
     pub direct: bool,
     pub auto_tol: f64,
     pub floor: Vec<Mode>,
@@ -199,6 +232,8 @@ impl Default for FragilityAsk {
             records_unit: None,
             records_column: None,
             records_ground: None,
+            orientation: Orientation::AsRecorded,
+            angle_step: crate::pair::ANGLE_STEP_DEG,
             direct: false,
             auto_tol: AUTO_TOL,
             floor: Vec::new(),
@@ -213,9 +248,18 @@ impl Default for FragilityAsk {
     }
 }
 
-/// PFA and PFV are demands of the motion the block feels: from its own
-/// runs (`--direct`), not a study's or the paper's ground-motion tables.
-fn floor_demand_needs_runs(im: Im, direct: bool, sp: Spelling) -> Result<(), AskError> {
+/// PFA and PFV are demands of the motion the block feels, and RotD a
+/// measure of a record pair: from the block's own runs (`--direct`), not a
+/// study's or the paper's ground-motion tables.
+fn needs_own_runs(im: Im, direct: bool, sp: Spelling) -> Result<(), AskError> {
+    if im.pair() && !direct {
+        return Err(AskError(format!(
+            "{}: {} is a measure of a record pair, had from the records' own pairs; add {}",
+            sp.set("im", &im.name()),
+            im.short(),
+            sp.key("direct")
+        )));
+    }
     if im.floor() && !direct {
         return Err(AskError(format!(
             "{}: {} is a demand of the motion the block stands on, stated from its own runs; \
@@ -244,7 +288,7 @@ impl FragilityAsk {
                 Im::listed(Im::scales, false)
             )));
         }
-        floor_demand_needs_runs(self.im, self.direct, sp)?;
+        needs_own_runs(self.im, self.direct, sp)?;
         let levels = match (&self.pga[..], &self.at[..]) {
             ([], []) if self.im != Im::Pga => {
                 return Err(AskError(format!(
@@ -285,6 +329,8 @@ impl FragilityAsk {
             records_unit: self.records_unit,
             records_column: self.records_column,
             records_ground: self.records_ground.clone(),
+            orientation: self.orientation,
+            angle_step: self.angle_step,
         };
         let req = fragility::Request {
             b_m: self.b,
@@ -301,6 +347,7 @@ impl FragilityAsk {
             method: self.method,
             dispersion: self.dispersion,
             if_not_lognormal: self.if_not_lognormal,
+            orient: law.orient(self.direct, sp)?,
         };
         let states = StatesAsk {
             states: self.states.clone(),
@@ -355,6 +402,10 @@ pub struct RiskAsk {
     pub records_unit: Option<AccelUnit>,
     pub records_column: Option<usize>,
     pub records_ground: Option<PathBuf>,
+    /// Which orientations of the records `direct` runs (pairs for random and worst).
+    pub orientation: Orientation,
+    /// The angle step of the random and worst orientations (°).
+    pub angle_step: f64,
     pub direct: bool,
     pub years: f64,
     pub beyond: Beyond,
@@ -388,6 +439,8 @@ impl Default for RiskAsk {
             records_unit: None,
             records_column: None,
             records_ground: None,
+            orientation: Orientation::AsRecorded,
+            angle_step: crate::pair::ANGLE_STEP_DEG,
             direct: false,
             years: 50.0,
             beyond: Beyond::Extrapolate,
@@ -424,13 +477,19 @@ impl RiskAsk {
         let Some(hazard) = &self.hazard else {
             return Err(AskError(format!("give {}", sp.key("hazard"))));
         };
-        if let Some(im) = self.im.filter(|im| !im.hazard()) {
+        if let Some(im) = self
+            .im
+            .filter(|im| !im.hazard() && !matches!(im, Im::RotD50(_)))
+        {
             return Err(AskError(format!(
                 "{}: a hazard curve is in {}, never in {}",
                 sp.set("im", &im.name()),
                 Im::listed(Im::hazard, false),
                 im.short()
             )));
+        }
+        if let Some(im) = self.im {
+            needs_own_runs(im, self.direct, sp)?;
         }
         let law = LawAsk {
             source: self.source.clone(),
@@ -439,6 +498,8 @@ impl RiskAsk {
             records_unit: self.records_unit,
             records_column: self.records_column,
             records_ground: self.records_ground.clone(),
+            orientation: self.orientation,
+            angle_step: self.angle_step,
         };
         let req = risk::Request {
             hazard: hazard.resolve(sp)?,
@@ -455,6 +516,7 @@ impl RiskAsk {
             method: self.method,
             dispersion: self.dispersion,
             if_not_lognormal: self.if_not_lognormal,
+            orient: law.orient(self.direct, sp)?,
         };
         let states = StatesAsk {
             states: self.states.clone(),
@@ -499,7 +561,7 @@ impl ExportAsk {
     ) -> Result<(export::Request, bool), AskError> {
         let from = self.law.resolve(sp)?;
         if let Some(im) = self.im {
-            floor_demand_needs_runs(im, self.direct, sp)?;
+            needs_own_runs(im, self.direct, sp)?;
         }
         let paper_alone = !self.direct && matches!(from, Source::Paper { .. });
         let (states, asked) = match &self.states {
@@ -526,6 +588,7 @@ impl ExportAsk {
             auto_tol: self.auto_tol,
             floor: building(&self.floor, &self.building, self.level, sp)?,
             out: self.out.clone(),
+            orient: self.law.orient(self.direct, sp)?,
         };
         Ok((req, asked))
     }

@@ -15,6 +15,7 @@ use crate::damage::{DamageStates, Dispersion, FitMethod, IfNotLognormal};
 use crate::floor::Mode;
 use crate::im::Im;
 use crate::ops::export::Format;
+use crate::pair::Orientation;
 
 /// The keyword arguments of `rocking.export`.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
@@ -33,6 +34,8 @@ pub struct ExportKw {
     pub records_unit: Option<AccelUnit>,
     pub records_column: Option<usize>,
     pub records_ground: Option<PathBuf>,
+    pub orientation: Orientation,
+    pub angle_step: f64,
     pub direct: bool,
     pub floor: Vec<Mode>,
     /// A building with its modes' shapes at every floor, and the floor
@@ -66,6 +69,8 @@ impl Default for ExportKw {
             records_unit: None,
             records_column: None,
             records_ground: None,
+            orientation: Orientation::AsRecorded,
+            angle_step: crate::pair::ANGLE_STEP_DEG,
             direct: false,
             floor: Vec::new(),
             building: Vec::new(),
@@ -103,6 +108,8 @@ impl ExportKw {
                 records_unit: self.records_unit,
                 records_column: self.records_column,
                 records_ground: self.records_ground.clone(),
+                orientation: self.orientation,
+                angle_step: self.angle_step,
             },
             direct: self.direct,
             floor: self.floor.clone(),

@@ -194,6 +194,15 @@ pub enum StateCapacity {
 }
 
 impl StateCapacity {
+    /// The same capacity in another measure of intensity (`f` of η), or
+    /// `None` where `f` has none.
+    pub fn map(self, f: impl FnOnce(f64) -> Option<f64>) -> Option<StateCapacity> {
+        Some(match self {
+            StateCapacity::Reached(eta) => StateCapacity::Reached(f(eta)?),
+            StateCapacity::NotReached(eta) => StateCapacity::NotReached(f(eta)?),
+        })
+    }
+
     pub fn reached(self) -> Option<f64> {
         match self {
             StateCapacity::Reached(eta) => Some(eta),

@@ -63,11 +63,46 @@ pub enum Im {
     /// pseudo-spectral acceleration of the motion the block stands on (a
     /// floor response spectrum's ordinate); on the ground, SA(T).
     Fsa(f64),
+    /// RotD50 of a record pair's PGA, PGV or SA(T): the median over the
+    /// angles 0–179° of the rotated component's measure (Boore 2010), the
+    /// component the ground-motion models behind a hazard predict. Of a
+    /// pair, not of one record (docs/MODEL.md §18).
+    RotD50(Rotated),
+    /// RotD100: the largest over the angles.
+    RotD100(Rotated),
+}
+
+/// The one-component measure a RotD percentile is taken of.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Rotated {
+    Pga,
+    Pgv,
+    Sa(f64),
+}
+
+impl Rotated {
+    /// The one-component measure.
+    pub fn im(self) -> Im {
+        match self {
+            Rotated::Pga => Im::Pga,
+            Rotated::Pgv => Im::Pgv,
+            Rotated::Sa(t) => Im::Sa(t),
+        }
+    }
+
+    fn of(im: Im) -> Option<Rotated> {
+        match im {
+            Im::Pga => Some(Rotated::Pga),
+            Im::Pgv => Some(Rotated::Pgv),
+            Im::Sa(t) => Some(Rotated::Sa(t)),
+            _ => None,
+        }
+    }
 }
 
 /// One member per kind, SA at 1 s standing for every period: the order
 /// every list of IMs follows (the capacity measures first).
-const KINDS: [Im; 13] = [
+const KINDS: [Im; 19] = [
     Im::Pga,
     Im::Pgv,
     Im::Pgd,
@@ -81,6 +116,12 @@ const KINDS: [Im; 13] = [
     Im::Pfa,
     Im::Pfv,
     Im::Fsa(1.0),
+    Im::RotD50(Rotated::Pga),
+    Im::RotD50(Rotated::Pgv),
+    Im::RotD50(Rotated::Sa(1.0)),
+    Im::RotD100(Rotated::Pga),
+    Im::RotD100(Rotated::Pgv),
+    Im::RotD100(Rotated::Sa(1.0)),
 ];
 
 /// What `fragility`, `risk` and the exports may be asked for, and what the
@@ -90,7 +131,7 @@ impl Im {
     /// damage stage's fits): every scaling measure, SA at every period of
     /// [`PERIODS_S`].
     pub fn capacity_measures() -> Vec<Im> {
-        Im::expand(|im| im.scales() && !im.floor())
+        Im::expand(|im| im.scales() && !im.floor() && !im.pair())
     }
 
     /// The floor demands a block on a building's floor has its capacity
@@ -108,7 +149,7 @@ impl Im {
         let mut out: Vec<Im> = KINDS
             .iter()
             .copied()
-            .filter(|im| !matches!(im, Im::Sa(_)) && !im.floor())
+            .filter(|im| !matches!(im, Im::Sa(_)) && !im.floor() && !im.pair())
             .collect();
         out.extend(PERIODS_S.iter().map(|&t| Im::Sa(t)));
         out
@@ -116,7 +157,7 @@ impl Im {
 
     /// One member of each kind (SA at 1 s standing for every period), in
     /// the order every list follows: to enumerate what a door accepts.
-    pub fn kinds() -> [Im; 13] {
+    pub fn kinds() -> [Im; 19] {
         KINDS
     }
 
@@ -128,6 +169,12 @@ impl Im {
             match im {
                 Im::Sa(_) => out.extend(PERIODS_S.iter().map(|&t| Im::Sa(t))),
                 Im::Fsa(_) => out.extend(PERIODS_S.iter().map(|&t| Im::Fsa(t))),
+                Im::RotD50(Rotated::Sa(_)) => {
+                    out.extend(PERIODS_S.iter().map(|&t| Im::RotD50(Rotated::Sa(t))))
+                }
+                Im::RotD100(Rotated::Sa(_)) => {
+                    out.extend(PERIODS_S.iter().map(|&t| Im::RotD100(Rotated::Sa(t))))
+                }
                 other => out.push(other),
             }
         }
@@ -145,6 +192,10 @@ impl Im {
                 (Im::Sa(_), true) => "SA(T)".to_string(),
                 (Im::Fsa(_), false) => "fsa(T)".to_string(),
                 (Im::Fsa(_), true) => "FSA(T)".to_string(),
+                (Im::RotD50(Rotated::Sa(_)), false) => "rotd50_sa(T)".to_string(),
+                (Im::RotD100(Rotated::Sa(_)), false) => "rotd100_sa(T)".to_string(),
+                (Im::RotD50(Rotated::Sa(_)), true) => "RotD50 SA(T)".to_string(),
+                (Im::RotD100(Rotated::Sa(_)), true) => "RotD100 SA(T)".to_string(),
                 (im, false) => im.name(),
                 (im, true) => im.openquake().unwrap_or_else(|| im.short()),
             })
@@ -174,6 +225,8 @@ impl Im {
             Im::Tm => "tm".into(),
             Im::Pfa => "pfa".into(),
             Im::Pfv => "pfv".into(),
+            Im::RotD50(r) => format!("rotd50_{}", r.im().name()),
+            Im::RotD100(r) => format!("rotd100_{}", r.im().name()),
         }
     }
 
@@ -208,6 +261,8 @@ impl Im {
             Im::Tm => "Tm".into(),
             Im::Pfa => "PFA".into(),
             Im::Pfv => "PFV".into(),
+            Im::RotD50(r) => format!("RotD50 {}", r.im().short()),
+            Im::RotD100(r) => format!("RotD100 {}", r.im().short()),
         }
     }
 
@@ -234,6 +289,9 @@ impl Im {
             Im::Cav => Some("CAV".into()),
             Im::D5_95 => Some("RSD595".into()),
             Im::PgvPga | Im::Tm | Im::Pfa | Im::Pfv | Im::Fsa(_) => None,
+            // The ground-motion models' own component: a hazard in PGA is RotD50's.
+            Im::RotD50(r) => r.im().openquake(),
+            Im::RotD100(_) => None,
         }
     }
 
@@ -248,6 +306,8 @@ impl Im {
             Im::Pfa => Some(("Peak Floor Acceleration".into(), "g")),
             Im::Pfv => Some(("Peak Floor Velocity".into(), "cmps")),
             Im::Sa(t) => Some((format!("Spectral Acceleration|{}", period_text(t)), "g")),
+            // A demand sample in RotD50 (the hazard's component) is pelicun's PGA, PGV, SA.
+            Im::RotD50(r) => r.im().pelicun(),
             _ => None,
         }
     }
@@ -255,6 +315,7 @@ impl Im {
     /// The unit its values are given in.
     pub fn unit(self) -> &'static str {
         match self {
+            Im::RotD50(r) | Im::RotD100(r) => r.im().unit(),
             Im::Pga | Im::Sa(_) | Im::AvgSa | Im::Pfa | Im::Fsa(_) => "g",
             Im::Pgv | Im::Pfv => "cm/s",
             Im::Pgd => "cm",
@@ -295,6 +356,19 @@ impl Im {
         matches!(self, Im::Pfa | Im::Pfv | Im::Fsa(_))
     }
 
+    /// Whether it is a measure of a record pair (RotD50, RotD100), had
+    /// from the pair's two components (`--orientation`, `rocking ims
+    /// --pair`), not from one record.
+    pub fn pair(self) -> bool {
+        matches!(self, Im::RotD50(_) | Im::RotD100(_))
+    }
+
+    /// The RotD50 of a one-component measure (PGA, PGV, SA(T)): the
+    /// component a hazard in it is of.
+    pub fn rotd50(self) -> Option<Im> {
+        Rotated::of(self).map(Im::RotD50)
+    }
+
     /// The ground-motion measure it is of the motion the block feels: PGA
     /// for PFA, PGV for PFV (itself otherwise).
     pub fn of_motion(self) -> Im {
@@ -323,6 +397,7 @@ impl Im {
             Im::Pgv => Some((p / 100.0 / ag, "p·PGV/(αg)")),
             Im::Pgd => Some((p * p / 100.0 / ag, "p²·PGD/(αg)")),
             Im::Arias | Im::Cav | Im::D5_95 | Im::PgvPga | Im::Tm => None,
+            Im::RotD50(_) | Im::RotD100(_) => None,
         }
     }
 }
@@ -374,6 +449,17 @@ impl FromStr for Im {
     /// Any case; `sa(T)` with T in seconds; OpenQuake's names (`IA`, `RSD595`).
     fn from_str(text: &str) -> Result<Self, String> {
         let lower = text.trim().to_ascii_lowercase();
+        for (prefix, make) in [
+            ("rotd50_", Im::RotD50 as fn(Rotated) -> Im),
+            ("rotd100_", Im::RotD100),
+        ] {
+            if let Some(rest) = lower.strip_prefix(prefix) {
+                let of = rest.parse::<Im>().map_err(|e| format!("`{text}`: {e}"))?;
+                return Rotated::of(of).map(make).ok_or_else(|| {
+                    format!("`{text}`: RotD is taken of pga, pgv or sa(T), not {of}")
+                });
+            }
+        }
         for (prefix, make) in [("sa(", Im::Sa as fn(f64) -> Im), ("fsa(", Im::Fsa)] {
             if let Some(inner) = lower.strip_prefix(prefix).and_then(|r| r.strip_suffix(')')) {
                 return match inner.trim().parse::<f64>() {
@@ -387,11 +473,13 @@ impl FromStr for Im {
             }
         }
         let found = KINDS.into_iter().find(|im| {
-            !matches!(im, Im::Sa(_) | Im::Fsa(_))
-                && (im.name() == lower
-                    || im
-                        .openquake()
-                        .is_some_and(|o| o.to_ascii_lowercase() == lower))
+            !matches!(
+                im,
+                Im::Sa(_) | Im::Fsa(_) | Im::RotD50(Rotated::Sa(_)) | Im::RotD100(Rotated::Sa(_))
+            ) && (im.name() == lower
+                || im
+                    .openquake()
+                    .is_some_and(|o| o.to_ascii_lowercase() == lower))
         });
         found.ok_or_else(|| {
             format!(
@@ -459,6 +547,31 @@ mod tests {
         assert_eq!(Im::from_key("pga_cm"), None);
         assert!("pgv2".parse::<Im>().unwrap_err().contains("valid: pga"));
         assert!("sa(-1)".parse::<Im>().unwrap_err().contains("positive"));
+    }
+
+    /// A pair's measures: named `rotd50_<measure>`, in the measure's unit,
+    /// RotD50 under OpenQuake's and pelicun's name of the measure (the
+    /// models' component), none of the record's own sets.
+    #[test]
+    fn rotd_measures_are_named_after_their_measure() {
+        let r = Im::RotD50(Rotated::Sa(1.0));
+        assert_eq!(r.name(), "rotd50_sa(1.0)");
+        assert_eq!("RotD50_SA(1)".parse::<Im>(), Ok(r));
+        assert_eq!(Im::from_key(&r.key()), Some(r));
+        assert_eq!(r.key(), "rotd50_sa(1.0)_g");
+        assert_eq!("rotd100_pgv".parse::<Im>(), Ok(Im::RotD100(Rotated::Pgv)));
+        assert_eq!(Im::RotD100(Rotated::Pgv).unit(), "cm/s");
+        assert_eq!(r.openquake().as_deref(), Some("SA(1.0)"));
+        assert_eq!(Im::RotD100(Rotated::Pga).openquake(), None);
+        assert_eq!(Im::Pga.rotd50(), Some(Im::RotD50(Rotated::Pga)));
+        assert_eq!(Im::Cav.rotd50(), None);
+        assert!("rotd50_cav"
+            .parse::<Im>()
+            .unwrap_err()
+            .contains("pga, pgv or sa(T)"));
+        assert!(r.scales() && r.pair() && !r.floor() && !r.hazard());
+        assert!(!Im::capacity_measures().iter().any(|im| im.pair()));
+        assert!(!Im::record_measures().iter().any(|im| im.pair()));
     }
 
     /// The sets by hand: 6 scalar capacity measures and 15 SA periods; the

@@ -70,6 +70,8 @@ impl Im {
             Im::Pfa => s.pga_g,
             Im::Pfv => s.peaks.0,
             Im::Fsa(t) => s.sa(t)?,
+            // Of a pair: not of one record.
+            Im::RotD50(_) | Im::RotD100(_) => return None,
         })
     }
 }
@@ -139,6 +141,11 @@ impl RecordIms {
     pub fn from_values(values: Vec<(Im, f64)>) -> Option<RecordIms> {
         let ims = RecordIms { values };
         ims.value(Im::Pga).map(|_| ims)
+    }
+
+    /// Adds measures had elsewhere (a pair's RotD, over this record's scale).
+    pub fn extend(&mut self, values: impl IntoIterator<Item = (Im, f64)>) {
+        self.values.extend(values);
     }
 
     /// The record's value of `im` (`None`: an SA period not computed); PFA,

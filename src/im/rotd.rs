@@ -14,7 +14,7 @@
 //! once, and every angle combines them. At θ = 0° each peak is component
 //! a's own measure, bit for bit.
 
-use super::measure::{PERIODS_S, SPECTRAL_DAMPING};
+use super::measure::{Im, Rotated, PERIODS_S, SPECTRAL_DAMPING};
 use super::record::{peak_velocity_displacement, RecordImsError};
 use crate::pair::{cos_sin_deg, Pair};
 use crate::sdof;
@@ -135,6 +135,28 @@ impl PairIms {
             pgv_cm_s: pgv(pair),
             sa_g,
         })
+    }
+
+    /// Every measure as an IM and its value: RotD50 then RotD100 of PGA,
+    /// PGV and SA at each period.
+    pub fn values(&self) -> Vec<(Im, f64)> {
+        let mut out = Vec::new();
+        for (make, of) in [
+            (
+                Im::RotD50 as fn(Rotated) -> Im,
+                (|r: &RotD| r.d50) as fn(&RotD) -> f64,
+            ),
+            (Im::RotD100, |r: &RotD| r.d100),
+        ] {
+            out.push((make(Rotated::Pga), of(&self.pga_g)));
+            out.push((make(Rotated::Pgv), of(&self.pgv_cm_s)));
+            out.extend(
+                self.sa_g
+                    .iter()
+                    .map(|(t, r)| (make(Rotated::Sa(*t)), of(r))),
+            );
+        }
+        out
     }
 
     /// One percentile's measures as `rocking ims --json` keys a record's:

@@ -111,6 +111,7 @@ pub fn compare(req: &Request) -> Result<Vec<Row>, ContentsError> {
             &req.progress,
             FEMA_P58.len(),
             building.as_ref(),
+            fragility::Orient::default(),
         )
         .map_err(Box::new)?;
         for c in &FEMA_P58 {

@@ -66,6 +66,8 @@ pub struct Request {
     /// The building whose floor the blocks stand on (`--direct` only).
     pub floor: Option<crate::floor::Building>,
     pub out: PathBuf,
+    /// Which orientations of the records (`--direct`).
+    pub orient: fragility::Orient,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -165,6 +167,10 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
         &req.progress,
         entries.len(),
         req.floor.as_ref(),
+        fragility::Orient {
+            pair_im: req.im.is_some_and(|im| im.pair()),
+            ..req.orient
+        },
     )?;
     let mut blocks = Vec::with_capacity(entries.len());
     let mut export = Vec::with_capacity(entries.len());

@@ -21,4 +21,4 @@ pub use load::{
     excitation, from_pulse, from_samples, load, load_on, pair_at, read_samples, LoadedRecord,
     OnFloor, RecordError, SampleError,
 };
-pub use select::{felt, of_plan, select, SelectError};
+pub use select::{felt, felt_samples, of_plan, select, SelectError};

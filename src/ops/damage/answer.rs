@@ -91,8 +91,11 @@ pub struct DamageFragility {
     pub unit: &'static str,
     /// `paper`, the pipeline file, or `direct`.
     pub source: String,
-    /// Records run (`--direct`).
+    /// Records run (`--direct`); with the worst orientation, pairs.
     pub records: Option<usize>,
+    /// With `--orientation random|worst`: the pairs and angles run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub orientation: Option<String>,
     /// With `--direct`: the records folder (or the pipeline) they came from.
     pub records_folder: Option<String>,
     /// On a floor: the building's modes (`T,ζ,Γφ; …`); the IMs are the

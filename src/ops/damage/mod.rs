@@ -184,6 +184,7 @@ fn from_regression(
         unit: im.unit(),
         source: laws.name.clone(),
         records: None,
+        orientation: None,
         records_folder: None,
         floor: None,
         dispersion: Dispersion::Each.label(),
@@ -286,6 +287,7 @@ pub fn assess(
         &req.progress,
         1,
         req.floor.as_ref(),
+        req.orient_for(req.im),
     )?;
     let mut fragility = of_block(
         &block,

@@ -11,6 +11,7 @@ use crate::damage::{
 use crate::im::{self, Im};
 use crate::label::Label;
 use crate::ops::fragility::{DirectRecords, FragilityError};
+use crate::pair::Orientation;
 
 pub(super) fn from_records(
     block: &Block,
@@ -33,21 +34,24 @@ pub(super) fn from_records(
         })
         .collect();
     let n = states.states().len();
-    let fits = match ims {
-        None => damage::fit_states(
-            n,
-            &per_record,
-            |_, eta| Some(im::pga_of_eta(eta, alpha)),
-            def,
-        ),
-        Some(ims) => damage::fit_states(
-            n,
-            &per_record,
-            |k, eta| im::of_eta(im, eta, alpha, &ims[k]),
-            def,
-        ),
-    }
-    .ok_or(FragilityError::NoPeriod(im.name()))?;
+    // Each record's capacities in the IM (the ratio IM/PGA of its own motion).
+    let im_of = |k: usize, eta: f64| match &ims {
+        None => Some(im::pga_of_eta(eta, alpha)),
+        Some(ims) => im::of_eta(im, eta, alpha, &ims[k]),
+    };
+    let in_im: Vec<Vec<StateCapacity>> = per_record
+        .iter()
+        .enumerate()
+        .map(|(k, caps)| caps.iter().map(|c| c.map(|eta| im_of(k, eta))).collect())
+        .collect::<Option<_>>()
+        .ok_or(FragilityError::NoPeriod(im.name()))?;
+    let orient = records.orient();
+    let in_im = match orient.orientation {
+        Orientation::Worst => worst_by_pair(&in_im, |k| records.pair_of(k)),
+        Orientation::AsRecorded | Orientation::Random => in_im,
+    };
+    let fits = damage::fit_states(n, &in_im, |_, v| Some(v), def)
+        .ok_or(FragilityError::NoPeriod(im.name()))?;
     let mut warnings: Vec<String> = states
         .states()
         .iter()
@@ -86,7 +90,8 @@ pub(super) fn from_records(
         im: im.name(),
         unit: im.unit(),
         source: "direct".into(),
-        records: Some(runs.len()),
+        records: Some(in_im.len()),
+        orientation: records.orientation_text(),
         records_folder: Some(records.folder().to_string()),
         floor: records.floor().map(|b| b.to_string()),
         dispersion: Dispersion::Each.label(),
@@ -95,6 +100,41 @@ pub(super) fn from_records(
         states: out,
         warnings,
     })
+}
+
+/// Each pair's capacities at its worst angle: for each state the smallest
+/// reached capacity over the pair's motions (`pair_of(k)`: motion k's
+/// pair), or, where no angle reaches it, the smallest censoring level (the
+/// capacity lies above it at every angle). A censored angle below the
+/// smallest reached capacity leaves the pair's worst capacity between the
+/// two: the reached one is taken, an upper bound.
+fn worst_by_pair(
+    caps: &[Vec<StateCapacity>],
+    pair_of: impl Fn(usize) -> Option<usize>,
+) -> Vec<Vec<StateCapacity>> {
+    let mut worst: Vec<Vec<StateCapacity>> = Vec::new();
+    for (k, record) in caps.iter().enumerate() {
+        let p = pair_of(k).expect("the worst orientation's motions are of pairs");
+        if p == worst.len() {
+            worst.push(record.clone());
+            continue;
+        }
+        for (w, c) in worst[p].iter_mut().zip(record) {
+            *w = match (*w, *c) {
+                (StateCapacity::Reached(a), StateCapacity::Reached(b)) => {
+                    StateCapacity::Reached(a.min(b))
+                }
+                (StateCapacity::Reached(a), StateCapacity::NotReached(_))
+                | (StateCapacity::NotReached(_), StateCapacity::Reached(a)) => {
+                    StateCapacity::Reached(a)
+                }
+                (StateCapacity::NotReached(a), StateCapacity::NotReached(b)) => {
+                    StateCapacity::NotReached(a.min(b))
+                }
+            };
+        }
+    }
+    worst
 }
 
 /// Lilliefors' p of the logarithms of `capacities` where every record

@@ -51,8 +51,12 @@ pub struct Assessment {
     /// rejected, and the fragility is their own curve unless asked
     /// otherwise).
     pub lognormal_p: Option<f64>,
-    /// Records run with `--direct`.
+    /// Records run with `--direct` (with `--orientation random`, every pair
+    /// at every angle; with `worst`, the pairs).
     pub records: Option<usize>,
+    /// With `--orientation random|worst`: the pairs and angles run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub orientation: Option<String>,
     /// With `--direct`: the model the records were run with, and why.
     pub model: Option<String>,
     pub points: Vec<Point>,
@@ -75,8 +79,14 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
     let block = check(req)?;
     let (alpha, p, eps) = (block.alpha(), block.p(), block.eps);
     let im = req.im;
-    let (laws, records) =
-        laws_and_records(&req.from, req.direct, &req.progress, 1, req.floor.as_ref())?;
+    let (laws, records) = laws_and_records(
+        &req.from,
+        req.direct,
+        &req.progress,
+        1,
+        req.floor.as_ref(),
+        req.orient_for(req.im),
+    )?;
     let f = damage::of_block(
         &block,
         &DamageStates::overturning(),
@@ -129,6 +139,7 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
         beta,
         lognormal_p: state.lognormal_p,
         records: f.records,
+        orientation: f.orientation.clone(),
         model: f.model.clone(),
         points,
         floor: f.floor.clone(),

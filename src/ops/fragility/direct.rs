@@ -58,6 +58,11 @@ struct DirectRecord {
     /// On a floor: the ground's motion (its IMs are the hazard's) and the
     /// floor's peak over the ground's, PFA/PGA.
     ground: Option<(Excitation, f64)>,
+    /// Which pair it is of, when the records come in pairs.
+    pair: Option<usize>,
+    /// Its pair's RotD measures over its own ground PGA (the ratios the
+    /// normalised forcing's IMs are: [`DirectRecords::ims`]).
+    pair_ims: Vec<(Im, f64)>,
 }
 
 /// The records a block is run through with `--direct`, read once.
@@ -78,6 +83,10 @@ pub struct DirectRecords {
     /// The same of the motion the block feels (its floor's), for PFA and
     /// PFV; the ground's own on the ground.
     felt_ims: std::sync::OnceLock<Vec<RecordIms>>,
+    /// Which orientations the records are run at.
+    orient: super::Orient,
+    /// How many pairs, when the records come in pairs.
+    pairs: usize,
 }
 
 impl DirectRecords {
@@ -89,6 +98,7 @@ impl DirectRecords {
         plan: Option<&Plan>,
         progress: DirectProgress,
         floor: Option<&Building>,
+        orient: super::Orient,
     ) -> Result<Self, FragilityError> {
         let folder = match from {
             Source::Paper {
@@ -107,9 +117,20 @@ impl DirectRecords {
                 if !records.is_dir() {
                     return Err(FragilityError::NoRecords(records.clone()));
                 }
+                let manifest = match orient.needs_pairs() {
+                    true => Some(super::pairs::manifest_of(records).ok_or_else(|| {
+                        FragilityError::Pairs(format!(
+                            "{}: pairs come from the records' manifest (`manifest.csv` in the \
+                             folder or its parent, as records/fema-p695 has), which gives each \
+                             record its pair (`record_id`) and component (`component_id`)",
+                            records.display()
+                        ))
+                    })?),
+                    false => None,
+                };
                 records::collect_as(
                     std::slice::from_ref(records),
-                    None,
+                    manifest.as_deref(),
                     OnBad::Refuse(RECORDS_HINT),
                     text.as_ref(),
                 )
@@ -118,24 +139,39 @@ impl DirectRecords {
             }
             (Source::Pipeline { .. }, None) => unreachable!("a pipeline source has a plan"),
         };
-        let records = rows
+        let (motions, rotd) = super::pairs::motions(rows, &orient)?;
+        let records = motions
             .into_par_iter()
-            .map(|r| {
+            .map(|m| {
                 let physics = |source| FragilityError::Physics {
-                    record: r.record_id.clone(),
+                    record: m.id.clone(),
                     source,
                 };
-                let (exc, ratio) = records::felt(floor, &r).map_err(physics)?;
+                let (exc, ratio) =
+                    records::felt_samples(floor, &m.accel_g, m.dt_s).map_err(physics)?;
                 let ground = match ratio {
                     Some(ratio) => {
-                        Some((Excitation::new(&r.accel_g, r.dt_s).map_err(physics)?, ratio))
+                        Some((Excitation::new(&m.accel_g, m.dt_s).map_err(physics)?, ratio))
                     }
                     None => None,
                 };
+                let pga = crate::motion::peak(&m.accel_g, m.dt_s).map_or(0.0, |p| p.pga_g);
+                let pair_ims = m
+                    .pair
+                    .map(|k| {
+                        rotd[k]
+                            .values()
+                            .into_iter()
+                            .map(|(im, v)| (im, v / pga))
+                            .collect()
+                    })
+                    .unwrap_or_default();
                 Ok(DirectRecord {
-                    id: r.record_id,
+                    id: m.id,
                     exc,
                     ground,
+                    pair: m.pair,
+                    pair_ims,
                 })
             })
             .collect::<Result<_, FragilityError>>()?;
@@ -152,6 +188,8 @@ impl DirectRecords {
             counts: Counts::default(),
             ims: std::sync::OnceLock::new(),
             felt_ims: std::sync::OnceLock::new(),
+            orient,
+            pairs: rotd.len(),
         })
     }
 
@@ -159,16 +197,15 @@ impl DirectRecords {
     /// the ratios IM/PGA^power that convert a capacity are those of the
     /// record as recorded.
     pub fn ims(&self) -> &[RecordIms] {
-        if self.floor.is_none() {
-            return self.felt_ims();
-        }
         self.ims.get_or_init(|| {
             self.records
                 .par_iter()
                 .map(|r| {
                     let exc = r.ground.as_ref().map_or(&r.exc, |(g, _)| g);
-                    RecordIms::of_record(&exc.psi, exc.dt_s, &[])
-                        .expect("an excitation's forcing has a peak of 1")
+                    let mut ims = RecordIms::of_record(&exc.psi, exc.dt_s, &[])
+                        .expect("an excitation's forcing has a peak of 1");
+                    ims.extend(r.pair_ims.iter().copied());
+                    ims
                 })
                 .collect()
         })
@@ -297,6 +334,35 @@ impl DirectRecords {
     /// How the records were read, where they are text columns.
     pub fn text(&self) -> Option<&crate::columns::TextRecords> {
         self.text.as_ref()
+    }
+
+    /// The orientations the records are run at.
+    pub fn orient(&self) -> super::Orient {
+        self.orient
+    }
+
+    /// Which pair motion `k` is of, when the records come in pairs.
+    pub fn pair_of(&self, k: usize) -> Option<usize> {
+        self.records[k].pair
+    }
+
+    /// The orientations as the answers state them: `None` as recorded;
+    /// `random: 22 pairs × 12 angles, every 15°`.
+    pub fn orientation_text(&self) -> Option<String> {
+        use crate::pair::Orientation;
+        let o = self.orient;
+        let n = o.angles().len();
+        match o.orientation {
+            Orientation::AsRecorded => None,
+            Orientation::Random => Some(format!(
+                "random: {} pairs × {n} angles, every {}° over [0°, 180°), equally weighted",
+                self.pairs, o.step_deg
+            )),
+            Orientation::Worst => Some(format!(
+                "worst: each of {} pairs at the smallest of its capacities at {n} angles, every {}°",
+                self.pairs, o.step_deg
+            )),
+        }
     }
 
     pub fn floor(&self) -> Option<&Building> {

@@ -93,6 +93,9 @@ pub enum FragilityError {
         if .0.is_relative() { " (relative to the current directory)" } else { "" }
     )]
     NoRecords(PathBuf),
+    /// The records do not come in pairs where an orientation or a pair's IM needs them.
+    #[error("{0}")]
+    Pairs(String),
     #[error("the regression gives no valid capacity fractiles at p = {p:.3}, ε = {eps:.3}")]
     NoFractiles { p: f64, eps: f64 },
     #[error(transparent)]

@@ -9,6 +9,7 @@
 //! - `request`: what is asked, checked, and the records and laws it needs;
 //! - `assess`: the answer;
 //! - `direct`: `--direct`'s records and the progress of their searches;
+//! - `pairs`: the motions an orientation rule runs over record pairs;
 //! - `laws`: where the capacities come from (the paper, a study's fit, IM
 //!   and damage tables), checked to be the pipeline's as it stands;
 //! - `error`: every refusal.
@@ -17,10 +18,12 @@ mod assess;
 mod direct;
 mod error;
 mod laws;
+mod pairs;
 mod request;
 
 pub use assess::{assess, Assessment, Point};
 pub use direct::{DirectProgress, DirectRecords};
 pub use error::FragilityError;
 pub use laws::{default_records, laws, Laws, Source};
+pub use pairs::Orient;
 pub use request::{alpha_warning, block, check, laws_and_records, warnings, Request};

@@ -43,9 +43,20 @@ pub struct Request {
     /// Where the capacities fail the lognormal check: their curve (the
     /// default) or the lognormal anyway.
     pub if_not_lognormal: IfNotLognormal,
+    /// Which orientations of the records (`--direct`; pairs for random and
+    /// worst).
+    pub orient: super::Orient,
 }
 
 impl Request {
+    /// Its orientations for a fragility in `im` (a pair's IM needs pairs).
+    pub fn orient_for(&self, im: Im) -> super::Orient {
+        super::Orient {
+            pair_im: im.pair(),
+            ..self.orient
+        }
+    }
+
     /// How the block's fragility is made.
     pub fn fit(&self) -> FitChoice {
         FitChoice {
@@ -65,6 +76,7 @@ pub fn laws_and_records(
     progress: &DirectProgress,
     blocks: usize,
     floor: Option<&Building>,
+    orient: super::Orient,
 ) -> Result<(Laws, Option<DirectRecords>), FragilityError> {
     let laws = laws(from)?;
     // A floor study's blocks stand on its building's floor.
@@ -85,7 +97,8 @@ pub fn laws_and_records(
     }
     let records = match direct {
         true => {
-            let records = DirectRecords::load(from, laws.plan.as_ref(), progress.clone(), floor)?;
+            let records =
+                DirectRecords::load(from, laws.plan.as_ref(), progress.clone(), floor, orient)?;
             records.expect_blocks(blocks);
             Some(records)
         }

@@ -178,9 +178,25 @@ pub(super) fn prepare(req: &Request) -> Result<Prepared, RiskError> {
         &req.progress,
         entries.len(),
         req.floor.as_ref(),
+        fragility::Orient {
+            pair_im: im.pair(),
+            ..req.orient
+        },
     )?;
+    let mut warnings = hazard_warnings(&sites);
+    if req.orient.orientation != crate::pair::Orientation::AsRecorded && !im.pair() {
+        if let Some(r) = im.rotd50() {
+            warnings.push(format!(
+                "the fragility is over the block's orientations but in the rotated component's \
+                 own {}, while a hazard from ground-motion models (NGA-West2 and after) is in \
+                 RotD50: give --im {} to state it in the hazard's component",
+                im.short(),
+                r.name()
+            ));
+        }
+    }
     Ok(Prepared {
-        warnings: hazard_warnings(&sites),
+        warnings,
         sites,
         im,
         entries,
@@ -281,6 +297,8 @@ pub fn hazard_im(
 ) -> Result<Im, RiskError> {
     let im = sites.first().map_or(Im::Pga, |(_, c)| c.im);
     match asked {
+        // The hazard's measure declared RotD50 (the ground-motion models' component).
+        Some(a) if im.rotd50() == Some(a) => Ok(a),
         Some(a) if a != im => Err(RiskError::ImMismatch {
             path: path.into(),
             hazard: im.name(),

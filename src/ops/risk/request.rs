@@ -72,6 +72,8 @@ pub struct Request {
     /// Where the capacities fail the lognormal check: their curve (the
     /// default) or the lognormal anyway.
     pub if_not_lognormal: crate::damage::IfNotLognormal,
+    /// Which orientations of the records (`--direct`).
+    pub orient: fragility::Orient,
 }
 
 impl Request {

@@ -14,6 +14,7 @@ use rocking::damage::{DamageStates, Dispersion, FitMethod, IfNotLognormal};
 use rocking::floor::Mode;
 use rocking::im::Im;
 use rocking::label::Label;
+use rocking::pair::Orientation;
 use rocking::physics::{ModelChoice, NonlinearIntegrator, Overturn};
 use rocking::pulse::{Cycle, ShapeKind};
 
@@ -88,6 +89,14 @@ pub struct LawArgs {
     /// records' unit), and are added at the records' times.
     #[arg(long, value_name = "DIR")]
     pub records_ground: Option<PathBuf>,
+    /// With --direct: which orientations of the block the records are run
+    /// at; random and worst need record pairs (the records' manifest gives
+    /// each its pair and component).
+    #[arg(long, value_parser = label::<Orientation>(), default_value = "as-recorded")]
+    pub orientation: Orientation,
+    /// With --orientation random or worst: the angle step over [0°, 180°).
+    #[arg(long, value_name = "DEG", default_value_t = rocking::pair::ANGLE_STEP_DEG)]
+    pub angle_step: f64,
 }
 
 impl LawArgs {
@@ -99,6 +108,8 @@ impl LawArgs {
             records_unit: self.records_unit,
             records_column: self.records_column,
             records_ground: self.records_ground.clone(),
+            orientation: self.orientation,
+            angle_step: self.angle_step,
         }
     }
 }

@@ -83,6 +83,8 @@ fn ask(args: &Args) -> FragilityAsk {
         records_unit: law.records_unit,
         records_column: law.records_column,
         records_ground: law.records_ground,
+        orientation: law.orientation,
+        angle_step: law.angle_step,
         direct: args.direct,
         auto_tol: args.auto_tol,
         floor: args.scene.floor.floor.clone(),
@@ -149,6 +151,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             "on the floor of a building with modes T,ζ,Γφ = {floor}: the records run through it; \
              levels and capacities are {whose}"
         );
+    }
+    if let Some(o) = &a.orientation {
+        println!("orientation {o}");
     }
     if let (Some(n), Some(m)) = (a.records, &a.model) {
         println!(

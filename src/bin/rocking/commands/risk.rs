@@ -93,6 +93,8 @@ fn ask(args: &Args) -> RiskAsk {
         records_unit: law.records_unit,
         records_column: law.records_column,
         records_ground: law.records_ground,
+        orientation: law.orientation,
+        angle_step: law.angle_step,
         direct: args.direct,
         years: args.years,
         beyond: args.beyond,

@@ -1,0 +1,180 @@
+//! `--direct` over record pairs: the motions an orientation rule runs
+//! (each recorded component, or every pair at every angle of the step),
+//! which pair each is of, and each pair's RotD measures (docs/MODEL.md §18).
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use rayon::prelude::*;
+
+use super::error::FragilityError;
+use crate::im::rotd::PairIms;
+use crate::pair::{self, Orientation, Pair};
+use crate::tables::records::RecordRow;
+
+/// Which orientations the records are run at, and whether the fragility's
+/// IM is a pair's (RotD50, RotD100).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Orient {
+    pub orientation: Orientation,
+    /// The angle step of `random` and `worst` (°).
+    pub step_deg: f64,
+    /// The IM is a pair's: each record's pair must be known.
+    pub pair_im: bool,
+}
+
+impl Default for Orient {
+    fn default() -> Self {
+        Orient {
+            orientation: Orientation::AsRecorded,
+            step_deg: pair::ANGLE_STEP_DEG,
+            pair_im: false,
+        }
+    }
+}
+
+impl Orient {
+    /// Whether the records must come in pairs.
+    pub fn needs_pairs(&self) -> bool {
+        self.orientation != Orientation::AsRecorded || self.pair_im
+    }
+
+    /// The angles each pair is run at (`random`, `worst`).
+    pub fn angles(&self) -> Vec<f64> {
+        pair::angles(self.step_deg)
+    }
+}
+
+/// One motion `--direct` runs: a recorded component, or a pair's component
+/// at an angle.
+pub(super) struct Motion {
+    pub id: String,
+    pub accel_g: Vec<f64>,
+    pub dt_s: f64,
+    /// Which pair it is of, when the records come in pairs.
+    pub pair: Option<usize>,
+}
+
+/// The motions `rows` give under `orient`, and each pair's RotD measures
+/// (empty when the records need not come in pairs).
+pub(super) fn motions(
+    rows: Vec<RecordRow>,
+    orient: &Orient,
+) -> Result<(Vec<Motion>, Vec<PairIms>), FragilityError> {
+    if !orient.needs_pairs() {
+        let motions = rows
+            .into_iter()
+            .map(|r| Motion {
+                id: r.record_id,
+                accel_g: r.accel_g,
+                dt_s: r.dt_s,
+                pair: None,
+            })
+            .collect();
+        return Ok((motions, Vec::new()));
+    }
+    let pairs = pair_up(rows)?;
+    let rotd: Vec<PairIms> = pairs
+        .par_iter()
+        .map(|(_, p)| PairIms::of_pair(p, &[]).map_err(|e| FragilityError::Pairs(format!("{e}"))))
+        .collect::<Result<_, _>>()?;
+    let motions = match orient.orientation {
+        Orientation::AsRecorded => pairs
+            .into_iter()
+            .enumerate()
+            .flat_map(|(k, ((a, b), p))| {
+                [(a, p.a), (b, p.b)].map(|(id, accel_g)| Motion {
+                    id,
+                    accel_g,
+                    dt_s: p.dt_s,
+                    pair: Some(k),
+                })
+            })
+            .collect(),
+        Orientation::Random | Orientation::Worst => {
+            let angles = orient.angles();
+            pairs
+                .iter()
+                .enumerate()
+                .flat_map(|(k, ((a, _), p))| {
+                    angles.iter().map(move |&theta| Motion {
+                        id: format!("{a}@{theta}"),
+                        accel_g: p.rotated(theta),
+                        dt_s: p.dt_s,
+                        pair: Some(k),
+                    })
+                })
+                .collect()
+        }
+    };
+    Ok((motions, rotd))
+}
+
+/// A pair with its components' record ids.
+type NamedPair = ((String, String), Pair);
+
+/// The records as pairs, by the manifest's set and pair number (components
+/// a and b), in the order of their first component; refused where a record
+/// has no pair or a pair lacks a component.
+fn pair_up(rows: Vec<RecordRow>) -> Result<Vec<NamedPair>, FragilityError> {
+    let mut found: BTreeMap<(String, String), [Option<RecordRow>; 2]> = BTreeMap::new();
+    let mut order = Vec::new();
+    for r in rows {
+        let (Some(number), Some(component)) = (r.meta.pair.clone(), r.meta.pair_component.clone())
+        else {
+            return Err(FragilityError::Pairs(format!(
+                "record {} has no pair: the records' manifest gives each its pair (`record_id`) \
+                 and component (`component_id`, a or b)",
+                r.record_id
+            )));
+        };
+        let key = (r.meta.set.clone().unwrap_or_default(), number);
+        let slot = match component.as_str() {
+            "a" => 0,
+            "b" => 1,
+            other => {
+                return Err(FragilityError::Pairs(format!(
+                    "record {}: component `{other}`; a pair's components are a and b",
+                    r.record_id
+                )))
+            }
+        };
+        let entry = found.entry(key.clone()).or_insert_with(|| {
+            order.push(key);
+            [None, None]
+        });
+        entry[slot] = Some(r);
+    }
+    order
+        .into_iter()
+        .map(|key| {
+            let [a, b] = found.remove(&key).expect("every key was found");
+            let (Some(a), Some(b)) = (a, b) else {
+                return Err(FragilityError::Pairs(format!(
+                    "pair {} of {} has one component among the records: a pair needs both",
+                    key.1,
+                    if key.0.is_empty() {
+                        "the records"
+                    } else {
+                        &key.0
+                    }
+                )));
+            };
+            let pair = Pair::new(a.accel_g, a.dt_s, b.accel_g, b.dt_s).map_err(|e| {
+                FragilityError::Pairs(format!("{} and {}: {e}", a.record_id, b.record_id))
+            })?;
+            Ok(((a.record_id, b.record_id), pair))
+        })
+        .collect()
+}
+
+/// The manifest that pairs the records of the folder `records`: its own
+/// `manifest.csv`, or its parent's (the bundled sets' layout).
+pub(super) fn manifest_of(records: &Path) -> Option<PathBuf> {
+    [
+        records.join("manifest.csv"),
+        records.join("../manifest.csv"),
+    ]
+    .into_iter()
+    .find(|p| p.is_file())
+}
