@@ -247,7 +247,10 @@ def fragility(b: float, h: float, **kw: Any) -> Dict[str, Any]:
     ``"lognormal"``): what the fragility is where the records' capacities
     fail the lognormal check; ``floor`` (modes ``[T, zeta, gamma_phi]``) or
     ``building`` (modes ``[T, zeta, gamma, phi1, ..., phin]``) with
-    ``level``; ``mu``, ``auto_tol``.
+    ``level``; ``mu``, ``auto_tol``; ``orientation`` (``"as-recorded"``,
+    ``"random"`` or ``"worst"``: the block facing any direction of the
+    records' pairs, every ``angle_step`` degrees; ``direct=True``), and a
+    pair's ``im`` (``"rotd50_pga"``, ``"rotd50_sa(1.0)"``, …).
     """
     return _core.fragility(b=b, h=h, **_plain(kw))
 
@@ -292,11 +295,12 @@ def export(out: PathLike, **kw: Any) -> Dict[str, Any]:
 
 def ims() -> List[Dict[str, Any]]:
     """Every measure a record has (``rocking ims``), then the floor demands
-    PFA, PFV and FSA(T) (at 1 s standing for any period), with what each
-    answers: ``name``, ``key`` (its column),
+    PFA, PFV and FSA(T) and a pair's RotD50 and RotD100 (SA at 1 s standing
+    for any period), with what each answers: ``name``, ``key`` (its column),
     ``unit``, whether it ``scales`` (a capacity can be stated in it),
     whether a ``hazard`` curve may be in it, whether it is a ``floor``
-    demand (of the motion the block stands on, ``direct=True`` only), and
+    demand (of the motion the block stands on, ``direct=True`` only) or a
+    ``pair``'s measure (of the records' pairs, ``direct=True`` only), and
     its ``openquake`` and ``pelicun`` names (``None``: none)."""
     return _core.ims()
 

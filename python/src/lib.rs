@@ -389,10 +389,13 @@ fn study_dir(pipeline: PathBuf, outputs: PathBuf) -> PyResult<String> {
 /// may be in it. The same enum the command line and the tables derive from.
 #[pyfunction]
 fn ims(py: Python<'_>) -> PyResult<Py<PyAny>> {
-    let floor = rocking::im::Im::kinds().into_iter().filter(|im| im.floor());
+    let kinds = rocking::im::Im::kinds();
+    let floor = kinds.into_iter().filter(|im| im.floor());
+    let pair = kinds.into_iter().filter(|im| im.pair());
     let all: Vec<serde_json::Value> = rocking::im::Im::record_measures()
         .into_iter()
         .chain(floor)
+        .chain(pair)
         .map(|im| {
             serde_json::json!({
                 "name": im.name(),
@@ -401,6 +404,7 @@ fn ims(py: Python<'_>) -> PyResult<Py<PyAny>> {
                 "scales": im.scales(),
                 "hazard": im.hazard(),
                 "floor": im.floor(),
+                "pair": im.pair(),
                 "openquake": im.openquake(),
                 "pelicun": im.pelicun().map(|(name, _)| name),
             })

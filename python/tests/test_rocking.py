@@ -150,6 +150,13 @@ def test_fragility_and_risk_are_the_commands():
         cli_json("fragility", "--b", "0.1", "--h", "1", "--eps", "0.9", "--im", "pgv", "--at",
                  "20,60", "--direct", "--records", FAR),
     )
+    # Over orientations, in a pair's IM: the records' pairs from the manifest.
+    same(
+        rocking.fragility(0.2, 0.9, im="rotd50_pga", at=[0.3], direct=True, records=FAR,
+                          orientation="worst", angle_step=45),
+        cli_json("fragility", "--b", "0.2", "--h", "0.9", "--im", "rotd50_pga", "--at", "0.3",
+                 "--direct", "--records", FAR, "--orientation", "worst", "--angle-step", "45"),
+    )
     same(
         rocking.risk(HAZARD, b=0.2, h=0.9, eps=0.85, mu=0.3),
         cli_json("risk", "--hazard", HAZARD, "--b", "0.2", "--h", "0.9", "--eps", "0.85", "--mu",
@@ -316,6 +323,10 @@ def test_every_im_passes_pythons_doors_by_its_own_answers():
     assert {m["key"] for m in listed} >= {"pga_g", "pgv_cm_s", "d5_95_s", "sa(1.0)_g"}
     # The floor demands, the floor's SA at 1 s standing for any period.
     assert [m["name"] for m in listed if m["floor"]] == ["pfa", "pfv", "fsa(1.0)"]
+    # A pair's measures, SA at 1 s standing for any period.
+    assert [m["name"] for m in listed if m["pair"]] == [
+        "rotd50_pga", "rotd50_pgv", "rotd50_sa(1.0)", "rotd100_pga", "rotd100_pgv",
+        "rotd100_sa(1.0)"]
     for m in listed:
         try:
             rocking.fragility(0.2, 0.9, im=m["name"], at=[1.0])
@@ -324,6 +335,8 @@ def test_every_im_passes_pythons_doors_by_its_own_answers():
             refused = "a capacity cannot be stated in" in str(e)
             # A floor demand is the block's own runs' (direct=True).
             assert ("a demand of the motion the block stands on" in str(e)) == m["floor"], e
+            # A pair's measure is had from the records' pairs (direct=True).
+            assert ("a measure of a record pair" in str(e)) == m["pair"], e
         assert refused == (not m["scales"]), m
         try:
             rocking.risk(([0.1, 0.2], [1e-2, 1e-3]), hazard_im=m["name"], b=0.2, h=0.9, direct=False)

@@ -10,6 +10,7 @@ mod calls;
 mod certified;
 mod model;
 mod options;
+mod orientations;
 mod records;
 mod solvers;
 
@@ -48,6 +49,7 @@ pub fn run(opts: &BenchOptions, mut log: impl FnMut(&str)) -> Result<(), BenchEr
             Section::Rounding => accuracy::rounding_table(opts, &mut say)?,
             Section::Calls => calls::calls_table(opts, &mut say)?,
             Section::Certified => certified::certified_table(opts, &mut say)?,
+            Section::Orientations => orientations::orientations_table(opts, &mut say)?,
         };
         md = replace_section(&md, section.label(), &text);
         atomic_write(&md_path, md.as_bytes())?;

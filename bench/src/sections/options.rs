@@ -43,6 +43,8 @@ pub enum Section {
     Calls,
     /// A certified nonlinear capacity against the linearised one.
     Certified,
+    /// The random-orientation fragility against the angle step.
+    Orientations,
 }
 
 impl rocking::label::Label for Section {
@@ -54,6 +56,7 @@ impl rocking::label::Label for Section {
         Section::Rounding,
         Section::Calls,
         Section::Certified,
+        Section::Orientations,
     ];
     fn label(self) -> &'static str {
         match self {
@@ -64,12 +67,16 @@ impl rocking::label::Label for Section {
             Section::Rounding => "rounding",
             Section::Calls => "calls",
             Section::Certified => "certified",
+            Section::Orientations => "orientations",
         }
     }
 }
 
 #[derive(Debug, thiserror::Error)]
 pub enum BenchError {
+    /// A fragility the section asks for, refused or failed.
+    #[error("{0}")]
+    Ask(String),
     #[error(transparent)]
     Record(#[from] RecordError),
     #[error("a benchmark run")]

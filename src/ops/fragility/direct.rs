@@ -139,7 +139,7 @@ impl DirectRecords {
             }
             (Source::Pipeline { .. }, None) => unreachable!("a pipeline source has a plan"),
         };
-        let (motions, rotd) = super::pairs::motions(rows, &orient)?;
+        let (motions, pairs, rotd) = super::pairs::motions(rows, &orient)?;
         let records = motions
             .into_par_iter()
             .map(|m| {
@@ -158,9 +158,9 @@ impl DirectRecords {
                 let pga = crate::motion::peak(&m.accel_g, m.dt_s).map_or(0.0, |p| p.pga_g);
                 let pair_ims = m
                     .pair
-                    .map(|k| {
-                        rotd[k]
-                            .values()
+                    .and_then(|k| rotd.get(k))
+                    .map(|r| {
+                        r.values()
                             .into_iter()
                             .map(|(im, v)| (im, v / pga))
                             .collect()
@@ -189,7 +189,7 @@ impl DirectRecords {
             ims: std::sync::OnceLock::new(),
             felt_ims: std::sync::OnceLock::new(),
             orient,
-            pairs: rotd.len(),
+            pairs,
         })
     }
 

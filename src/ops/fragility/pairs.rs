@@ -55,12 +55,13 @@ pub(super) struct Motion {
     pub pair: Option<usize>,
 }
 
-/// The motions `rows` give under `orient`, and each pair's RotD measures
-/// (empty when the records need not come in pairs).
+/// The motions `rows` give under `orient`, how many pairs they are of (0
+/// when the records need not come in pairs), and each pair's RotD measures
+/// (only for a pair's IM: they cost more than the capacities).
 pub(super) fn motions(
     rows: Vec<RecordRow>,
     orient: &Orient,
-) -> Result<(Vec<Motion>, Vec<PairIms>), FragilityError> {
+) -> Result<(Vec<Motion>, usize, Vec<PairIms>), FragilityError> {
     if !orient.needs_pairs() {
         let motions = rows
             .into_iter()
@@ -71,13 +72,19 @@ pub(super) fn motions(
                 pair: None,
             })
             .collect();
-        return Ok((motions, Vec::new()));
+        return Ok((motions, 0, Vec::new()));
     }
     let pairs = pair_up(rows)?;
-    let rotd: Vec<PairIms> = pairs
-        .par_iter()
-        .map(|(_, p)| PairIms::of_pair(p, &[]).map_err(|e| FragilityError::Pairs(format!("{e}"))))
-        .collect::<Result<_, _>>()?;
+    let n_pairs = pairs.len();
+    let rotd: Vec<PairIms> = match orient.pair_im {
+        true => pairs
+            .par_iter()
+            .map(|(_, p)| {
+                PairIms::of_pair(p, &[]).map_err(|e| FragilityError::Pairs(format!("{e}")))
+            })
+            .collect::<Result<_, _>>()?,
+        false => Vec::new(),
+    };
     let motions = match orient.orientation {
         Orientation::AsRecorded => pairs
             .into_iter()
@@ -107,7 +114,7 @@ pub(super) fn motions(
                 .collect()
         }
     };
-    Ok((motions, rotd))
+    Ok((motions, n_pairs, rotd))
 }
 
 /// A pair with its components' record ids.
