@@ -525,3 +525,155 @@ fn fragility_refused(folder: &str) -> String {
     assert!(!out.status.success());
     stderr(&out)
 }
+
+/// A study over orientations (`[records] orientation = "random"`): the
+/// sweep's records are every pair at every angle of the step, named
+/// `<a>@<θ>`, each capacity `capacity --pair --angle θ`'s to the bit; the
+/// study's fragility (`--from`, `--direct`) is `fragility --orientation
+/// random`'s over the same pairs; refusals by key.
+#[test]
+fn a_study_over_orientations_runs_every_pair_at_every_angle() {
+    use crate::util::write_pipeline;
+    let dir = tempdir();
+    let folder = two_pairs(dir.path());
+    let head = format!("ids = {STEMS:?}\n");
+    let block = "[model]\nkind = \"auto\"\n[[block]]\nname = \"statue\"\nb = 0.2\nh = 0.9\neps = \"housner\"\n";
+    let study = write_pipeline(
+        dir.path(),
+        "turned",
+        &format!("{head}orientation = \"random\"\nangle_step = 45\n{block}"),
+    );
+    let outputs = dir.path().join("out");
+    let out_s = outputs.to_str().unwrap();
+    let out = rocking(
+        dir.path(),
+        &[
+            "run",
+            study.to_str().unwrap(),
+            "--outputs",
+            out_s,
+            "--to",
+            "sweep",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let caps = rocking::stages::sweep::read_capacities(&outputs.join("turned")).unwrap();
+    let ids: Vec<&str> = caps.iter().map(|c| c.record_id.as_str()).collect();
+    assert_eq!(
+        ids,
+        [
+            "RSN1111_KOBE_NIS000@0",
+            "RSN1111_KOBE_NIS000@45",
+            "RSN1111_KOBE_NIS000@90",
+            "RSN1111_KOBE_NIS000@135",
+            "RSN1633_MANJIL_ABBAR--L@0",
+            "RSN1633_MANJIL_ABBAR--L@45",
+            "RSN1633_MANJIL_ABBAR--L@90",
+            "RSN1633_MANJIL_ABBAR--L@135",
+        ]
+    );
+    for pair in STEMS.chunks(2) {
+        let (a, b) = (far(pair[0]), far(pair[1]));
+        let out = rocking(
+            &root(),
+            &[
+                "capacity",
+                "--record",
+                &a,
+                "--pair",
+                &b,
+                "--angle-step",
+                "45",
+                "--b",
+                "0.2",
+                "--h",
+                "0.9",
+                "--eps",
+                "housner",
+                "--model",
+                "auto",
+                "--json",
+            ],
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+        for line in String::from_utf8(out.stdout).unwrap().lines() {
+            let v: Value = serde_json::from_str(line).unwrap();
+            let c = caps
+                .iter()
+                .find(|c| c.record_id == v["record_id"].as_str().unwrap())
+                .unwrap();
+            assert_eq!(c.eta_c, v["eta_c"].as_f64(), "{}", c.record_id);
+        }
+    }
+    let fragility = |extra: &[&str]| {
+        let mut args = vec![
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--direct",
+            "--at",
+            "0.4",
+            "--json",
+        ];
+        args.extend(extra);
+        rocking(dir.path(), &args)
+    };
+    let by_study = json(&fragility(&[
+        "--from",
+        study.to_str().unwrap(),
+        "--outputs",
+        out_s,
+    ]));
+    let by_pairs = json(&fragility(&[
+        "--records",
+        folder.to_str().unwrap(),
+        "--orientation",
+        "random",
+        "--angle-step",
+        "45",
+    ]));
+    assert_eq!(by_study["median"], by_pairs["median"]);
+    assert_eq!(by_study["beta"], by_pairs["beta"]);
+    assert_eq!(by_study["records"], 8);
+    let out = fragility(&[
+        "--from",
+        study.to_str().unwrap(),
+        "--outputs",
+        out_s,
+        "--orientation",
+        "worst",
+    ]);
+    assert!(
+        stderr(&out).contains("already its pairs at every angle"),
+        "{}",
+        stderr(&out)
+    );
+    for (body, says) in [
+        (
+            "orientation = \"worst\"\n",
+            "a study holds every motion's capacity",
+        ),
+        (
+            "angle_step = 30\n",
+            "`records.angle_step` is the random orientation's",
+        ),
+        (
+            "orientation = \"random\"\nangle_step = 0\n",
+            "`records.angle_step` = 0",
+        ),
+        (
+            "orientation = \"sideways\"\n",
+            "`records.orientation`: unknown orientation",
+        ),
+    ] {
+        let bad = write_pipeline(dir.path(), "bad", &format!("{head}{body}{block}"));
+        let out = rocking(
+            dir.path(),
+            &["run", bad.to_str().unwrap(), "--outputs", out_s],
+        );
+        assert!(!out.status.success(), "{body}");
+        assert!(stderr(&out).contains(says), "{body}: {}", stderr(&out));
+    }
+}

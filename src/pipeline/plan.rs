@@ -155,6 +155,14 @@ pub struct RecordsPlan {
         serialize_with = "floor_modes"
     )]
     pub floor: Option<Building>,
+    /// `[records] orientation = "random"`: every record pair run at every
+    /// angle this many degrees apart over [0°, 180°), each a record of the
+    /// study (`<a>@<θ>`; docs/MODEL.md §18).
+    #[serde(
+        skip_serializing_if = "Option::is_none",
+        rename = "random_orientation_step_deg"
+    )]
+    pub random_orientation: Option<f64>,
 }
 
 /// A building as its modes `[T, ζ, Γφ]`, as `[floor]` writes them.
@@ -369,6 +377,7 @@ impl Serialize for Plan {
                     example: None,
                     damage: DamageStates::default(),
                     floor: None,
+                    random_orientation: None,
                 };
                 (std::borrow::Cow::Owned(empty), Some(p))
             }

@@ -142,6 +142,10 @@ pub struct RawRecords {
     pub sets: Vec<String>,
     #[serde(default)]
     pub ids: Vec<String>,
+    /// `as-recorded` (default) or `random`: every pair at every angle.
+    pub orientation: Option<String>,
+    /// The angle step of `random` (°).
+    pub angle_step: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -43,6 +43,7 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
         ));
     };
     let records = records(&raw_records, base).map_err(err)?;
+    let random_orientation = orientation(&raw_records).map_err(err)?;
     let (model, overturn, solver) = model(&raw.model, Overturn::Static).map_err(err)?;
     let blocks = blocks(&raw.blocks, &raw.block, raw.model.alpha).map_err(err)?;
     let example = raw
@@ -105,6 +106,7 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
             example,
             damage,
             floor,
+            random_orientation,
         })),
         base: base.to_path_buf(),
     })
@@ -158,6 +160,37 @@ fn damage(raw: Option<&crate::pipeline::raw::RawDamage>) -> Result<DamageStates,
         None => Ok(DamageStates::default()),
         Some(d) => DamageStates::parse(&d.states)
             .map_err(|e| format!("`damage.states` = \"{}\": {e}", d.states)),
+    }
+}
+
+/// `[records] orientation` and `angle_step`: the angle step of the random
+/// orientation, or `None` as recorded.
+fn orientation(raw: &crate::pipeline::raw::RawRecords) -> Result<Option<f64>, String> {
+    use crate::label::Label;
+    use crate::pair::Orientation;
+    let o = match &raw.orientation {
+        None => Orientation::AsRecorded,
+        Some(text) => {
+            Orientation::parse_label(text).map_err(|e| format!("`records.orientation`: {e}"))?
+        }
+    };
+    let step = raw.angle_step.unwrap_or(crate::pair::ANGLE_STEP_DEG);
+    match o {
+        Orientation::AsRecorded if raw.angle_step.is_some() => Err(
+            "`records.angle_step` is the random orientation's: give `orientation = \"random\"`"
+                .into(),
+        ),
+        Orientation::AsRecorded => Ok(None),
+        Orientation::Random if step > 0.0 && step <= 180.0 => Ok(Some(step)),
+        Orientation::Random => Err(format!(
+            "`records.angle_step` = {step}: the angle step is in degrees, in (0, 180]"
+        )),
+        Orientation::Worst => Err(
+            "`records.orientation` = \"worst\": a study holds every motion's capacity, and the \
+             worst angle is a fragility's rule: run the study with `orientation = \"random\"`, \
+             or use `rocking fragility --from THIS.toml --direct --orientation worst`"
+                .into(),
+        ),
     }
 }
 

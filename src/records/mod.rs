@@ -11,6 +11,7 @@
 
 pub mod collect;
 pub mod load;
+pub mod pairs;
 pub mod select;
 
 pub use collect::{
@@ -21,4 +22,5 @@ pub use load::{
     excitation, from_pulse, from_samples, load, load_on, pair_at, read_samples, LoadedRecord,
     OnFloor, RecordError, SampleError,
 };
+pub use pairs::{pair_up, rotated_rows, RowPair};
 pub use select::{felt, felt_samples, of_plan, select, SelectError};

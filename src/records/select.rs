@@ -31,6 +31,8 @@ pub enum SelectError {
     UnknownIds(String),
     #[error("the record selection is empty")]
     Empty,
+    #[error("`records.orientation` = \"random\": {0}")]
+    Pairs(String),
     #[error(transparent)]
     NotRecords(#[from] NotRecords),
 }
@@ -131,5 +133,15 @@ fn filter(plan: &RecordsPlan, rows: Vec<RecordRow>) -> Result<Vec<RecordRow>, Se
         return Err(SelectError::Empty);
     }
     selected.sort_by(|a, b| a.record_id.cmp(&b.record_id));
-    Ok(selected)
+    match plan.random_orientation {
+        None => Ok(selected),
+        // Every pair at every angle, each a record of the study.
+        Some(step) => {
+            let pairs = super::pairs::pair_up(selected).map_err(SelectError::Pairs)?;
+            Ok(super::pairs::rotated_rows(
+                &pairs,
+                &crate::pair::angles(step),
+            ))
+        }
+    }
 }

@@ -112,7 +112,19 @@ impl DirectRecords {
             Source::Pipeline { file, .. } => format!("the records of {}", file.display()),
         };
         let rows = match (from, plan) {
-            (_, Some(plan)) => records::of_plan(plan).map_err(FragilityError::Records)?,
+            (_, Some(plan)) => {
+                let rotated = plan
+                    .records_study()
+                    .is_ok_and(|r| r.random_orientation.is_some());
+                if rotated && orient.needs_pairs() {
+                    return Err(FragilityError::Pairs(format!(
+                        "{folder}: the study's records are already its pairs at every angle \
+                         (`orientation = \"random\"`); its fragility is the random \
+                         orientation's as recorded, in the rotated components' own IMs"
+                    )));
+                }
+                records::of_plan(plan).map_err(FragilityError::Records)?
+            }
             (Source::Paper { records, text }, None) => {
                 if !records.is_dir() {
                     return Err(FragilityError::NoRecords(records.clone()));

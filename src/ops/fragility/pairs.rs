@@ -2,7 +2,6 @@
 //! (each recorded component, or every pair at every angle of the step),
 //! which pair each is of, and each pair's RotD measures (docs/MODEL.md §18).
 
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
@@ -74,12 +73,16 @@ pub(super) fn motions(
             .collect();
         return Ok((motions, 0, Vec::new()));
     }
-    let pairs = pair_up(rows)?;
+    let pairs: Vec<(String, String, Pair)> = crate::records::pair_up(rows)
+        .map_err(FragilityError::Pairs)?
+        .into_iter()
+        .map(|p| (p.a.record_id, p.b.record_id, p.pair))
+        .collect();
     let n_pairs = pairs.len();
     let rotd: Vec<PairIms> = match orient.pair_im {
         true => pairs
             .par_iter()
-            .map(|(_, p)| {
+            .map(|(_, _, p)| {
                 PairIms::of_pair(p, &[]).map_err(|e| FragilityError::Pairs(format!("{e}")))
             })
             .collect::<Result<_, _>>()?,
@@ -89,7 +92,7 @@ pub(super) fn motions(
         Orientation::AsRecorded => pairs
             .into_iter()
             .enumerate()
-            .flat_map(|(k, ((a, b), p))| {
+            .flat_map(|(k, (a, b, p))| {
                 [(a, p.a), (b, p.b)].map(|(id, accel_g)| Motion {
                     id,
                     accel_g,
@@ -103,7 +106,7 @@ pub(super) fn motions(
             pairs
                 .iter()
                 .enumerate()
-                .flat_map(|(k, ((a, _), p))| {
+                .flat_map(|(k, (a, _, p))| {
                     angles.iter().map(move |&theta| Motion {
                         id: format!("{a}@{theta}"),
                         accel_g: p.rotated(theta),
@@ -115,64 +118,6 @@ pub(super) fn motions(
         }
     };
     Ok((motions, n_pairs, rotd))
-}
-
-/// A pair with its components' record ids.
-type NamedPair = ((String, String), Pair);
-
-/// The records as pairs, by the manifest's set and pair number (components
-/// a and b), in the order of their first component; refused where a record
-/// has no pair or a pair lacks a component.
-fn pair_up(rows: Vec<RecordRow>) -> Result<Vec<NamedPair>, FragilityError> {
-    let mut found: BTreeMap<(String, String), [Option<RecordRow>; 2]> = BTreeMap::new();
-    let mut order = Vec::new();
-    for r in rows {
-        let (Some(number), Some(component)) = (r.meta.pair.clone(), r.meta.pair_component.clone())
-        else {
-            return Err(FragilityError::Pairs(format!(
-                "record {} has no pair: the records' manifest gives each its pair (`record_id`) \
-                 and component (`component_id`, a or b)",
-                r.record_id
-            )));
-        };
-        let key = (r.meta.set.clone().unwrap_or_default(), number);
-        let slot = match component.as_str() {
-            "a" => 0,
-            "b" => 1,
-            other => {
-                return Err(FragilityError::Pairs(format!(
-                    "record {}: component `{other}`; a pair's components are a and b",
-                    r.record_id
-                )))
-            }
-        };
-        let entry = found.entry(key.clone()).or_insert_with(|| {
-            order.push(key);
-            [None, None]
-        });
-        entry[slot] = Some(r);
-    }
-    order
-        .into_iter()
-        .map(|key| {
-            let [a, b] = found.remove(&key).expect("every key was found");
-            let (Some(a), Some(b)) = (a, b) else {
-                return Err(FragilityError::Pairs(format!(
-                    "pair {} of {} has one component among the records: a pair needs both",
-                    key.1,
-                    if key.0.is_empty() {
-                        "the records"
-                    } else {
-                        &key.0
-                    }
-                )));
-            };
-            let pair = Pair::new(a.accel_g, a.dt_s, b.accel_g, b.dt_s).map_err(|e| {
-                FragilityError::Pairs(format!("{} and {}: {e}", a.record_id, b.record_id))
-            })?;
-            Ok(((a.record_id, b.record_id), pair))
-        })
-        .collect()
 }
 
 /// The manifest that pairs the records of the folder `records`: its own
