@@ -111,46 +111,7 @@ impl DirectRecords {
             } => format!("{} ({t})", records.display()),
             Source::Pipeline { file, .. } => format!("the records of {}", file.display()),
         };
-        let rows = match (from, plan) {
-            (_, Some(plan)) => {
-                let rotated = plan
-                    .records_study()
-                    .is_ok_and(|r| r.random_orientation.is_some());
-                if rotated && orient.needs_pairs() {
-                    return Err(FragilityError::Pairs(format!(
-                        "{folder}: the study's records are already its pairs at every angle \
-                         (`orientation = \"random\"`); its fragility is the random \
-                         orientation's as recorded, in the rotated components' own IMs"
-                    )));
-                }
-                records::of_plan(plan).map_err(FragilityError::Records)?
-            }
-            (Source::Paper { records, text }, None) => {
-                if !records.is_dir() {
-                    return Err(FragilityError::NoRecords(records.clone()));
-                }
-                let manifest = match orient.needs_pairs() {
-                    true => Some(super::pairs::manifest_of(records).ok_or_else(|| {
-                        FragilityError::Pairs(format!(
-                            "{}: pairs come from the records' manifest (`manifest.csv` in the \
-                             folder or its parent, as records/fema-p695 has), which gives each \
-                             record its pair (`record_id`) and component (`component_id`)",
-                            records.display()
-                        ))
-                    })?),
-                    false => None,
-                };
-                records::collect_as(
-                    std::slice::from_ref(records),
-                    manifest.as_deref(),
-                    OnBad::Refuse(RECORDS_HINT),
-                    text.as_ref(),
-                )
-                .map_err(FragilityError::Ingest)?
-                .rows
-            }
-            (Source::Pipeline { .. }, None) => unreachable!("a pipeline source has a plan"),
-        };
+        let rows = rows_of(from, plan, &orient, &folder)?;
         let (motions, pairs, rotd) = super::pairs::motions(rows, &orient)?;
         let records = motions
             .into_par_iter()
@@ -400,6 +361,57 @@ impl DirectRecords {
             });
         }
     }
+}
+
+/// The records' rows: the pipeline's (refused with an orientation on a
+/// study that already turns its pairs), or the `--records` folder's, with
+/// its manifest where the orientation needs pairs.
+fn rows_of(
+    from: &Source,
+    plan: Option<&Plan>,
+    orient: &super::Orient,
+    folder: &str,
+) -> Result<Vec<crate::tables::records::RecordRow>, FragilityError> {
+    Ok(match (from, plan) {
+        (_, Some(plan)) => {
+            let rotated = plan
+                .records_study()
+                .is_ok_and(|r| r.random_orientation.is_some());
+            if rotated && orient.needs_pairs() {
+                return Err(FragilityError::Pairs(format!(
+                    "{folder}: the study's records are already its pairs at every angle \
+                     (`orientation = \"random\"`); its fragility is the random \
+                     orientation's as recorded, in the rotated components' own IMs"
+                )));
+            }
+            records::of_plan(plan).map_err(FragilityError::Records)?
+        }
+        (Source::Paper { records, text }, None) => {
+            if !records.is_dir() {
+                return Err(FragilityError::NoRecords(records.clone()));
+            }
+            let manifest = match orient.needs_pairs() {
+                true => Some(super::pairs::manifest_of(records).ok_or_else(|| {
+                    FragilityError::Pairs(format!(
+                        "{}: pairs come from the records' manifest (`manifest.csv` in the \
+                         folder or its parent, as records/fema-p695 has), which gives each \
+                         record its pair (`record_id`) and component (`component_id`)",
+                        records.display()
+                    ))
+                })?),
+                false => None,
+            };
+            records::collect_as(
+                std::slice::from_ref(records),
+                manifest.as_deref(),
+                OnBad::Refuse(RECORDS_HINT),
+                text.as_ref(),
+            )
+            .map_err(FragilityError::Ingest)?
+            .rows
+        }
+        (Source::Pipeline { .. }, None) => unreachable!("a pipeline source has a plan"),
+    })
 }
 
 /// A search on a floor's motion restated in the ground's η: the floor's
