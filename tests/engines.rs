@@ -1035,7 +1035,7 @@ fn export_refusals_name_what_is_wrong() {
         ]
         .concat(),
         "pelicun: a fragility in avgsa is not exported (pelicun's damage model has no demand \
-         type for it); export in PGA, PGV, SA(T), PFA or PFV",
+         type for it); export in PGA, PGV, SA(T), PFA, PFV, RotD50 PGA, RotD50 PGV or RotD50 SA(T)",
     );
     // OpenQuake has PGD; the export says so, and why it is not offered
     // (once: "OpenQuake has no IM for pgd").

@@ -197,6 +197,8 @@ impl Im {
                 (Im::RotD50(Rotated::Sa(_)), true) => "RotD50 SA(T)".to_string(),
                 (Im::RotD100(Rotated::Sa(_)), true) => "RotD100 SA(T)".to_string(),
                 (im, false) => im.name(),
+                // RotD50's OpenQuake name is its measure's: say which it is.
+                (im, true) if im.pair() => im.short(),
                 (im, true) => im.openquake().unwrap_or_else(|| im.short()),
             })
             .collect();
