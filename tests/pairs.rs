@@ -547,16 +547,18 @@ fn a_study_over_orientations_runs_every_pair_at_every_angle() {
     let out_s = outputs.to_str().unwrap();
     let out = rocking(
         dir.path(),
-        &[
-            "run",
-            study.to_str().unwrap(),
-            "--outputs",
-            out_s,
-            "--to",
-            "sweep",
-        ],
+        &["run", study.to_str().unwrap(), "--outputs", out_s],
     );
     assert!(out.status.success(), "{}", stderr(&out));
+    let report = std::fs::read_to_string(outputs.join("turned/report.md")).unwrap();
+    assert!(report.contains("## Facing any direction"), "{report}");
+    assert!(
+        report.contains("Every one of the 2 record pairs"),
+        "{report}"
+    );
+    assert!(outputs
+        .join("turned/figures/orientation_capacity.svg")
+        .exists());
     let caps = rocking::stages::sweep::read_capacities(&outputs.join("turned")).unwrap();
     let ids: Vec<&str> = caps.iter().map(|c| c.record_id.as_str()).collect();
     assert_eq!(

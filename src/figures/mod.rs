@@ -23,6 +23,7 @@ mod fragility;
 mod ida;
 pub mod ims;
 mod lognormal;
+pub mod orientation;
 mod pulse;
 mod regression;
 mod shared;
@@ -40,6 +41,7 @@ pub const FIGURES: &[FigureFn] = &[
     capacity::horizontal_vs_vertical,
     capacity::capacity_curves,
     floor::floor_capacities,
+    orientation::orientation_capacity,
     bands::capacity_bands,
     regression::regressions,
     regression::regression_coefficients,

@@ -11,6 +11,7 @@ mod damage;
 mod floor;
 mod html;
 mod ims;
+mod orientation;
 mod pulses;
 mod shared;
 mod study;

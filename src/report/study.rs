@@ -22,6 +22,7 @@ pub fn render(d: &StudyData, figures: &[Figure]) -> String {
     runtime(&mut md, d);
     capacity_fractiles(&mut md, d);
     super::floor::scene_section(&mut md, d);
+    super::orientation::orientation_section(&mut md, d);
     bands(&mut md, d);
     lognormality(&mut md, d);
     regression(&mut md, d);

@@ -1,0 +1,60 @@
+//! The report's section of a study over orientations: each block's
+//! capacity as recorded, facing a random direction and at its worst angle
+//! (docs/MODEL.md §18).
+
+use std::fmt::Write as _;
+
+use crate::figures::orientation::orientation_fractiles;
+use crate::study::StudyData;
+
+/// `## Facing any direction`, for a study with `orientation = "random"`.
+pub(super) fn orientation_section(w: &mut String, d: &StudyData) {
+    let rows = orientation_fractiles(d);
+    let Some(first) = rows.first() else { return };
+    let step = d.records_plan().random_orientation.unwrap_or(f64::NAN);
+    let unit = if first.in_g { "g" } else { "αg" };
+    let _ = writeln!(w, "## Facing any direction\n");
+    let _ = writeln!(
+        w,
+        "Every one of the {} record pairs is run with the block's rocking plane at every angle \
+         {step}° apart over [0°, 180°) ({} angles; `<record>@<θ>` in `capacities.parquet`). \
+         The capacity is the rotated component's own PGA at overturning ({unit}); its 16/50/84 % \
+         fractiles as recorded (the angles 0° and 90°, the components themselves: the paper's \
+         sample), facing a random direction (every angle, equally weighted: what the tables \
+         and fits of this study are) and at each pair's worst angle. In the hazard's RotD50 \
+         rather than the rotated component's PGA: `rocking fragility --direct --orientation \
+         random --im rotd50_pga` over the same records (docs/MODEL.md §18).\n",
+        first.pairs, first.angles
+    );
+    let _ = writeln!(
+        w,
+        "| block | p (1/s) | ε | as recorded 16/50/84 % | random 16/50/84 % | worst 16/50/84 % | random/recorded median | worst/recorded median |\n|---|---|---|---|---|---|---|---|"
+    );
+    let f = |v: f64| {
+        if v.is_finite() {
+            format!("{v:.3}")
+        } else {
+            "∞".into()
+        }
+    };
+    let three = |q: &[f64; 3]| format!("{}, {}, {}", f(q[0]), f(q[1]), f(q[2]));
+    for r in &rows {
+        let rec = r.as_recorded.map_or("—".into(), |q| three(&q));
+        let ratio = |q: &[f64; 3]| {
+            r.as_recorded
+                .map_or("—".into(), |a| format!("{:.3}", q[1] / a[1]))
+        };
+        let _ = writeln!(
+            w,
+            "| {} | {:.3} | {:.3} | {rec} | {} | {} | {} | {} |",
+            if r.block.is_empty() { "—" } else { &r.block },
+            r.p,
+            r.eps,
+            three(&r.random),
+            three(&r.worst),
+            ratio(&r.random),
+            ratio(&r.worst)
+        );
+    }
+    let _ = writeln!(w);
+}
