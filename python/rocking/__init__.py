@@ -147,8 +147,10 @@ def capacity(
     *,
     block: Optional[Block] = None,
     record_id: Optional[str] = None,
+    pair: Optional[PathLike] = None,
+    angle: Any = None,
     **kw: Any,
-) -> Dict[str, Any]:
+) -> Any:
     """The certified overturning capacity η_c of one record: ``rocking capacity --json``.
 
     The block as :func:`simulate` takes it, and the search: ``levels``
@@ -158,10 +160,23 @@ def capacity(
     Returns the command's JSON object as a dict: ``eta_c`` (``None`` when
     the block survives every level), ``pga_c_g``, the bracket, the runs,
     the certification, and on a floor ``pfa_over_pga`` and ``ground_pga_c_g``.
+
+    With ``pair`` (the other horizontal component's AT2 file, 90° from
+    ``record``) and ``angle`` (degrees, or a list of them): the block
+    rocking in the plane at that angle from ``record`` towards ``pair``
+    (``rocking capacity --pair --angle``); a list of dicts for a list.
     """
     search = {k: kw.pop(k) for k in _SEARCH if k in kw}
     blk = _block(block, kw)
     _warn(blk)
+    if pair is not None:
+        if not _is_path(record) or angle is None:
+            raise ValueError("pair: give the record as an AT2 path, and the angle (degrees)")
+        many = isinstance(angle, (list, tuple))
+        angles = [float(a) for a in angle] if many else [float(angle)]
+        found = _core.capacities([blk], [os.fspath(record)], [], False, pair=os.fspath(pair),
+                                 angles=angles, **search)
+        return found if many else found[0]
     if _is_path(record):
         paths, arrays = [os.fspath(record)], []
     else:

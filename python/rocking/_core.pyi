@@ -58,6 +58,8 @@ def capacities(
     paths: List[str],
     arrays: List[Tuple[str, bytes, float]],
     table: bool,
+    pair: Optional[str] = None,
+    angles: List[float] = ...,
     *,
     levels: int = 200,
     eta_min: float = 1e-3,

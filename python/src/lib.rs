@@ -210,13 +210,16 @@ fn simulate(
 /// `rocking capacity --out` writes it); else the objects of `rocking
 /// capacity --json`, one per capacity.
 #[pyfunction]
-#[pyo3(signature = (blocks, paths, arrays, table, **search))]
+#[pyo3(signature = (blocks, paths, arrays, table, pair=None, angles=Vec::new(), **search))]
+#[allow(clippy::too_many_arguments)]
 fn capacities(
     py: Python<'_>,
     blocks: Vec<PyRef<'_, Block>>,
     paths: Vec<PathBuf>,
     arrays: Vec<(String, Bound<'_, PyBytes>, f64)>,
     table: bool,
+    pair: Option<PathBuf>,
+    angles: Vec<f64>,
     search: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
     let search = ask::<SearchAsk>(py, search)?
@@ -243,10 +246,18 @@ fn capacities(
         .collect();
     let (records, found) = py
         .detach(|| -> Result<_, String> {
-            let mut records = if paths.is_empty() {
-                Vec::new()
-            } else {
-                batch::load_records(&paths, building.as_ref()).map_err(|e| message(&e))?
+            let mut records = match (&pair, &paths[..]) {
+                // The pair's component at each angle (`capacity --pair --angle`).
+                (Some(b), [a]) => {
+                    records::pair_at(a, b, &angles, building.as_ref()).map_err(|e| message(&e))?
+                }
+                (Some(_), _) => {
+                    return Err("pair: give one record, the pair's first component".into())
+                }
+                (None, []) => Vec::new(),
+                (None, _) => {
+                    batch::load_records(&paths, building.as_ref()).map_err(|e| message(&e))?
+                }
             };
             for (id, accel, dt) in arrays {
                 records.push(

@@ -140,6 +140,22 @@ def test_a_batch_is_the_commands_batch(tmp_path):
     assert t2["record_id"].to_list() == list(recs)
 
 
+def test_a_pair_at_an_angle_is_the_command():
+    b = FAR / "RSN1111_KOBE_NIS090.AT2"
+    ours = rocking.capacity(KOBE, pair=b, angle=[0, 30, 210], b=0.2, h=0.9, eps="housner",
+                            model="auto")
+    theirs = cli_lines("capacity", "--record", KOBE, "--pair", b, "--angle", "0,30,210", "--b",
+                       "0.2", "--h", "0.9", "--eps", "housner", "--model", "auto")
+    assert len(ours) == len(theirs) == 3
+    for a, c in zip(ours, theirs):
+        same(a, c)
+    assert ours[1]["eta_c"] == ours[2]["eta_c"]  # θ + 180° is θ's mirror image
+    one = rocking.capacity(KOBE, pair=b, angle=30, b=0.2, h=0.9, eps="housner", model="auto")
+    same(one, theirs[1])
+    with pytest.raises(ValueError, match="the angle"):
+        rocking.capacity(KOBE, pair=b, b=0.2, h=0.9, eps="housner")
+
+
 def test_fragility_and_risk_are_the_commands():
     same(
         rocking.fragility(0.2, 0.9, eps=0.85, pga=[0.1, 0.3, 0.6]),
