@@ -559,6 +559,46 @@ fn a_study_over_orientations_runs_every_pair_at_every_angle() {
     assert!(outputs
         .join("turned/figures/orientation_capacity.svg")
         .exists());
+    // The study's RotD50 fragility (its ims stage) is `fragility
+    // --orientation random --im rotd50_pga`'s: every motion overturns the
+    // statue, so the likelihood's median is the logs' mean, as the table's.
+    let eff: Vec<rocking::tables::ims::EfficiencyRow> =
+        rocking::tables::read(&outputs.join("turned/im_efficiency.parquet")).unwrap();
+    let row = eff.iter().find(|e| e.im == "rotd50_pga").unwrap();
+    let direct = json(&rocking(
+        &root(),
+        &[
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--direct",
+            "--records",
+            folder.to_str().unwrap(),
+            "--orientation",
+            "random",
+            "--angle-step",
+            "45",
+            "--im",
+            "rotd50_pga",
+            "--at",
+            "0.4",
+            "--method",
+            "mle",
+            "--json",
+        ],
+    ));
+    let m = direct["median"].as_f64().unwrap();
+    assert_eq!(row.n, 8);
+    assert!(
+        (row.median.unwrap() / m - 1.0).abs() < 1e-9,
+        "{row:?} {direct}"
+    );
+    assert!(
+        report.contains("random, RotD50 PGA: median (g), β"),
+        "{report}"
+    );
     let caps = rocking::stages::sweep::read_capacities(&outputs.join("turned")).unwrap();
     let ids: Vec<&str> = caps.iter().map(|c| c.record_id.as_str()).collect();
     assert_eq!(

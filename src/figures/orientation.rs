@@ -28,6 +28,10 @@ pub struct OrientationFractiles {
     pub as_recorded: Option<[f64; 3]>,
     pub random: [f64; 3],
     pub worst: [f64; 3],
+    /// The components as recorded in their own PGA, as the ims stage
+    /// states an IM: exp(mean ln PGA_c) and the standard deviation of
+    /// ln PGA_c (n − 1) over those that overturn the block.
+    pub as_recorded_lognormal: Option<(f64, f64)>,
     pub pairs: usize,
     pub angles: usize,
 }
@@ -89,7 +93,16 @@ pub fn orientation_fractiles(d: &StudyData) -> Vec<OrientationFractiles> {
                 .iter()
                 .map(|(_, v)| v.iter().map(|x| x.1).fold(f64::INFINITY, f64::min))
                 .collect();
+            let logs: Vec<f64> = axes
+                .iter()
+                .filter(|v| v.is_finite())
+                .map(|v| v.ln())
+                .collect();
+            let as_recorded_lognormal = (logs.len() >= 3 && axes.len() == 2 * pairs.len())
+                .then(|| stats::mean_sd(&logs))
+                .map(|(m, s)| (m.exp(), s));
             Some(OrientationFractiles {
+                as_recorded_lognormal,
                 block: b.name.clone(),
                 p: b.p,
                 eps: b.eps,

@@ -72,6 +72,23 @@ pub fn of_floor(
     )
 }
 
+/// Every measure of a record pair ([`Im::pair_measures`]: RotD50 and
+/// RotD100) for a block run on the pairs' rotated components, from each
+/// motion's η_c and IMs (its pair's measures among them, unscaled).
+pub fn of_pair(
+    eta_c: &[Option<f64>],
+    records: &[RecordIms],
+    p: f64,
+    alpha_rad: Option<f64>,
+) -> Vec<Efficiency> {
+    measures(
+        &overturned(eta_c, records),
+        &Im::pair_measures(),
+        p,
+        alpha_rad,
+    )
+}
+
 /// The records that overturn the block, with their η_c.
 fn overturned<'a>(eta_c: &[Option<f64>], records: &'a [RecordIms]) -> Vec<(f64, &'a RecordIms)> {
     assert_eq!(eta_c.len(), records.len(), "one η_c per record");

@@ -142,6 +142,13 @@ impl Im {
         Im::expand(|im| im.scales() && im.floor())
     }
 
+    /// A record pair's measures (a study over orientations' ims stage):
+    /// RotD50 and RotD100 of PGA, PGV and SA at every period of
+    /// [`PERIODS_S`].
+    pub fn pair_measures() -> Vec<Im> {
+        Im::expand(|im| im.pair())
+    }
+
     /// Every measure computed for a record (`rocking ims`, the
     /// `record_ims` table): the capacity measures, then the record's
     /// properties, then SA by period.

@@ -71,6 +71,16 @@ pub fn select(plan: &Plan, table: &Path) -> Result<Vec<RecordRow>, SelectError> 
     filter(plan.records_study()?, tables::records::read(table)?)
 }
 
+/// The plan's record pairs (the components its selection holds, before a
+/// random orientation turns them), from the table at `table`.
+pub fn select_pairs(plan: &Plan, table: &Path) -> Result<Vec<super::RowPair>, SelectError> {
+    if !table.exists() {
+        return Err(SelectError::MissingTable(table.into()));
+    }
+    let rows = components(plan.records_study()?, tables::records::read(table)?)?;
+    super::pairs::pair_up(rows).map_err(SelectError::Pairs)
+}
+
 /// The plan's records wherever the pipeline names them (a table, or AT2
 /// files read directly), filtered and sorted.
 pub fn of_plan(plan: &Plan) -> Result<Vec<RecordRow>, SelectError> {
@@ -101,6 +111,22 @@ pub fn of_plan(plan: &Plan) -> Result<Vec<RecordRow>, SelectError> {
 }
 
 fn filter(plan: &RecordsPlan, rows: Vec<RecordRow>) -> Result<Vec<RecordRow>, SelectError> {
+    let selected = components(plan, rows)?;
+    match plan.random_orientation {
+        None => Ok(selected),
+        // Every pair at every angle, each a record of the study.
+        Some(step) => {
+            let pairs = super::pairs::pair_up(selected).map_err(SelectError::Pairs)?;
+            Ok(super::pairs::rotated_rows(
+                &pairs,
+                &crate::pair::angles(step),
+            ))
+        }
+    }
+}
+
+/// The records the plan's sets and ids select, sorted by id.
+fn components(plan: &RecordsPlan, rows: Vec<RecordRow>) -> Result<Vec<RecordRow>, SelectError> {
     let available_sets: BTreeSet<String> = rows.iter().filter_map(|r| r.meta.set.clone()).collect();
     if let Some(set) = plan.sets.iter().find(|s| !available_sets.contains(*s)) {
         return Err(SelectError::UnknownSet {
@@ -133,15 +159,5 @@ fn filter(plan: &RecordsPlan, rows: Vec<RecordRow>) -> Result<Vec<RecordRow>, Se
         return Err(SelectError::Empty);
     }
     selected.sort_by(|a, b| a.record_id.cmp(&b.record_id));
-    match plan.random_orientation {
-        None => Ok(selected),
-        // Every pair at every angle, each a record of the study.
-        Some(step) => {
-            let pairs = super::pairs::pair_up(selected).map_err(SelectError::Pairs)?;
-            Ok(super::pairs::rotated_rows(
-                &pairs,
-                &crate::pair::angles(step),
-            ))
-        }
-    }
+    Ok(selected)
 }

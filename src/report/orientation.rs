@@ -57,4 +57,52 @@ pub(super) fn orientation_section(w: &mut String, d: &StudyData) {
         );
     }
     let _ = writeln!(w);
+    rotd_table(w, d, &rows);
+}
+
+/// The paper's per-component fragility (as recorded, each component's own
+/// PGA) against the random orientation's in the hazard's RotD50 PGA, from
+/// the ims stage's `im_efficiency`.
+fn rotd_table(
+    w: &mut String,
+    d: &StudyData,
+    rows: &[crate::figures::orientation::OrientationFractiles],
+) {
+    let rotd = |r: &crate::figures::orientation::OrientationFractiles| {
+        d.efficiency
+            .iter()
+            .find(|e| e.p == r.p && e.eps == r.eps && e.block == r.block && e.im == "rotd50_pga")
+            .and_then(|e| Some((e.median?, e.beta)))
+    };
+    if !rows
+        .iter()
+        .any(|r| rotd(r).is_some() && r.as_recorded_lognormal.is_some())
+    {
+        return;
+    }
+    let _ = writeln!(
+        w,
+        "Against the hazard: the paper's per-component fragility (as recorded, in each \
+         component's own PGA) and the random orientation's in its pair's RotD50 PGA, the \
+         component of the ground-motion models behind a hazard curve (the median exp(mean ln) \
+         and β over the motions that overturn the block; `im_efficiency.parquet`).\n"
+    );
+    let _ = writeln!(
+        w,
+        "| block | p (1/s) | as recorded, PGA: median (g), β | random, RotD50 PGA: median (g), β | median ratio | β change |\n|---|---|---|---|---|---|"
+    );
+    for r in rows {
+        let (Some((m0, b0)), Some((m1, b1))) = (r.as_recorded_lognormal, rotd(r)) else {
+            continue;
+        };
+        let _ = writeln!(
+            w,
+            "| {} | {:.3} | {m0:.3}, {b0:.3} | {m1:.3}, {b1:.3} | {:.3} | {:+.3} |",
+            if r.block.is_empty() { "—" } else { &r.block },
+            r.p,
+            m1 / m0,
+            b1 - b0
+        );
+    }
+    let _ = writeln!(w);
 }

@@ -13,7 +13,7 @@ use rayon::prelude::*;
 use super::reduce::{self, ReduceError};
 use super::stage::{BoxError, Context, Shard, Stage, Study, Summary};
 use super::sweep;
-use crate::im::{efficiency, Im, RecordIms};
+use crate::im::{efficiency, Im, RecordIms, Rotated};
 use crate::records;
 use crate::records::SelectError;
 use crate::tables::ims::{EfficiencyRow, RecordImRow};
@@ -100,7 +100,12 @@ pub enum ImsError {
 
 fn run(study: &Study) -> Result<Summary, ImsError> {
     let rows = records::select(&study.plan, &study.records_table())?;
-    let ims = record_ims(&rows)?;
+    let mut ims = record_ims(&rows)?;
+    let turned = study.plan.records_study()?.random_orientation.is_some();
+    if turned {
+        // Each motion's pair's RotD, unscaled: the hazard's component.
+        with_pair_ims(study, &rows, &mut ims)?;
+    }
     let floor = study.plan.records_study()?.floor.as_ref();
     let felt = floor.map(|b| felt_ims(b, &rows)).transpose()?;
     let caps = sweep::read_capacities(&study.dir).map_err(ReduceError::from)?;
@@ -116,19 +121,7 @@ fn run(study: &Study) -> Result<Summary, ImsError> {
     let mut eff = Vec::new();
     let mut best: BTreeMap<String, usize> = BTreeMap::new();
     for (bi, b) in blocks.iter().enumerate() {
-        let eta: Vec<Option<f64>> = (0..rows.len())
-            .map(|ri| {
-                let c = &caps[ri * n_blocks + bi];
-                if c.record_id != rows[ri].record_id {
-                    return Err(ImsError::Mismatch(format!(
-                        "capacity {} is of record {}, the records table's is {}",
-                        c.case_id, c.record_id, rows[ri].record_id
-                    )));
-                }
-                // On a floor, the ground's η (the IMs are the ground record's).
-                Ok(c.eta_c.map(|e| e * c.pfa_over_pga.unwrap_or(1.0)))
-            })
-            .collect::<Result<_, _>>()?;
+        let eta = ground_eta(&caps, &rows, n_blocks, bi)?;
         let mut found = efficiency::of_block(&eta, &ims, b.p, b.alpha_rad);
         let mut order: Vec<usize> = (0..found.len())
             .filter(|&i| found[i].slope.is_none())
@@ -140,6 +133,11 @@ fn run(study: &Study) -> Result<Summary, ImsError> {
         let mut ranks = vec![None; found.len()];
         for (r, &i) in order.iter().enumerate() {
             ranks[i] = Some(r as i64 + 1);
+        }
+        if turned {
+            let demands = efficiency::of_pair(&eta, &ims, b.p, b.alpha_rad);
+            ranks.extend(demands.iter().map(|_| None));
+            found.extend(demands);
         }
         if let Some(felt) = &felt {
             // The floor's demands, in the floor motion's own η.
@@ -188,6 +186,29 @@ fn run(study: &Study) -> Result<Summary, ImsError> {
         headline: 0,
         also_wrote: Vec::new(),
     })
+}
+
+/// Block `bi`'s η_c under each record (`None`: never overturned), checked
+/// to be of the records in order; on a floor the ground's η (the IMs are
+/// the ground record's).
+fn ground_eta(
+    caps: &[crate::tables::sweep::CapacityRow],
+    rows: &[RecordRow],
+    n_blocks: usize,
+    bi: usize,
+) -> Result<Vec<Option<f64>>, ImsError> {
+    (0..rows.len())
+        .map(|ri| {
+            let c = &caps[ri * n_blocks + bi];
+            if c.record_id != rows[ri].record_id {
+                return Err(ImsError::Mismatch(format!(
+                    "capacity {} is of record {}, the records table's is {}",
+                    c.case_id, c.record_id, rows[ri].record_id
+                )));
+            }
+            Ok(c.eta_c.map(|e| e * c.pfa_over_pga.unwrap_or(1.0)))
+        })
+        .collect()
 }
 
 /// One block's row of one IM.
@@ -286,6 +307,28 @@ pub fn read_record_ims(dir: &std::path::Path) -> Result<BTreeMap<String, RecordI
         .collect()
 }
 
+/// Adds to each motion's measures its pair's RotD50 and RotD100 (a study
+/// over orientations: the motions are the pairs' rotated components).
+fn with_pair_ims(study: &Study, rows: &[RecordRow], ims: &mut [RecordIms]) -> Result<(), ImsError> {
+    let pairs = records::select_pairs(&study.plan, &study.records_table())?;
+    let rotd: Vec<crate::im::rotd::PairIms> = pairs
+        .par_iter()
+        .map(|p| {
+            crate::im::rotd::PairIms::of_pair(&p.pair, &[])
+                .map_err(|_| ImsError::NoMotion(p.a.record_id.clone()))
+        })
+        .collect::<Result<_, _>>()?;
+    let key = |r: &RecordRow| (r.meta.set.clone(), r.meta.pair.clone());
+    for (r, m) in rows.iter().zip(ims.iter_mut()) {
+        let k = pairs
+            .iter()
+            .position(|p| key(&p.a) == key(r))
+            .ok_or_else(|| ImsError::Mismatch(format!("record {} is of no pair", r.record_id)))?;
+        m.extend(rotd[k].values());
+    }
+    Ok(())
+}
+
 /// One row per record × measure, records in order.
 fn im_rows(rows: &[RecordRow], ims: &[RecordIms]) -> Vec<RecordImRow> {
     rows.iter()
@@ -296,7 +339,7 @@ fn im_rows(rows: &[RecordRow], ims: &[RecordIms]) -> Vec<RecordImRow> {
                 im: im.name(),
                 unit: im.unit().to_string(),
                 period_s: match im {
-                    Im::Sa(t) => Some(t),
+                    Im::Sa(t) | Im::RotD50(Rotated::Sa(t)) | Im::RotD100(Rotated::Sa(t)) => Some(t),
                     _ => None,
                 },
                 value,

@@ -15,7 +15,9 @@ table! {
     /// damping at the periods 0.05–4 s; AvgSA is the geometric mean of SA over 0.1–2 s. The
     /// metadata holds `rocking.ims.damping` (0.05). On a building's floor (`[floor]`) the
     /// measures are the ground record's (the hazard's), followed by the floor demands `pfa`,
-    /// `pfv` and `fsa(T)` of the record's floor motion (the motion the blocks feel). Version
+    /// `pfv` and `fsa(T)` of the record's floor motion (the motion the blocks feel). In a
+    /// study over orientations (`orientation = "random"`) each record is a pair's component
+    /// at an angle, and its pair's `rotd50_*` and `rotd100_*` measures follow. Version
     /// 2 is this long format; version 1
     /// had one row per record, one column per measure, and SA in a table of its own
     /// (`record_spectra`).
@@ -24,7 +26,8 @@ table! {
         pub record_id: String,
         /// The measure: `pga`, `pgv`, `pgd`, `avgsa`, `arias`, `cav`, `d5_95`, `pgv_pga`,
         /// `tm`, `sa(T)` with T the period in s (e.g. `sa(1.0)`), and on a floor `pfa`, `pfv`,
-        /// `fsa(T)`. `pga` is the peak
+        /// `fsa(T)`, and over orientations `rotd50_pga`, `rotd50_pgv`, `rotd50_sa(T)`,
+        /// `rotd100_…`. `pga` is the peak
         /// ground acceleration, `pgv` and `pgd` the peak ground velocity and displacement,
         /// `avgsa` the geometric mean of SA over 0.1–2 s, `arias` the Arias intensity,
         /// `cav` the cumulative absolute velocity, `d5_95` the 5–95 % significant duration,
@@ -35,7 +38,7 @@ table! {
         /// The measure's unit: g (PGA, SA, AvgSA, PFA, FSA), cm/s (PGV, PFV), cm (PGD), m/s
         /// (Arias intensity), g·s (CAV) or s (D5–95, PGV/PGA, Tm).
         pub unit: String,
-        /// SA's (or FSA's) period (s); empty for the other measures.
+        /// SA's (or FSA's, or a RotD of SA's) period (s); empty for the other measures.
         pub period_s: Option<f64>,
         /// The measure's value, in `unit`.
         pub value: f64,
@@ -52,8 +55,9 @@ table! {
     /// `pgd`, `avgsa`, `arias`, `cav`, `sa(T)` at each period, and the vector
     /// `pga | pgv/pga`; on a building's floor (`[floor]`) they are followed by the floor
     /// demands `pfa`, `pfv` and `fsa(T)`, the block's capacity stated in its floor motion's
-    /// own measures (FEMA P-58's PFA and PFV). A block with fewer than three capacities has
-    /// no rows; the vector
+    /// own measures (FEMA P-58's PFA and PFV); in a study over orientations by a pair's
+    /// RotD50 and RotD100 (`rotd50_pga`, …: the hazard's component). A block with fewer
+    /// than three capacities has no rows; the vector
     /// needs four. The metadata holds `rocking.ims.damping` (0.05).
     pub struct EfficiencyRow = "im_efficiency" v 1 {
         /// The block's row in `blocks.parquet`.
@@ -65,7 +69,8 @@ table! {
         /// The block's coefficient of restitution ε.
         pub eps: f64,
         /// `pga`, `pgv`, `pgd`, `sa(T)`, `avgsa`, `arias`, `cav`, `pga | pgv/pga` (PGA
-        /// given PGV/PGA), and on a floor `pfa`, `pfv`, `fsa(T)`.
+        /// given PGV/PGA), on a floor `pfa`, `pfv`, `fsa(T)`, and over orientations
+        /// `rotd50_pga`, `rotd50_pgv`, `rotd50_sa(T)`, `rotd100_…`.
         pub im: String,
         /// The IM's unit: g (PGA, SA, AvgSA, PFA, FSA, and the vector), cm/s (PGV, PFV), cm
         /// (PGD), m/s (Arias intensity) or g·s (CAV).
@@ -88,7 +93,7 @@ table! {
         /// untested (fewer than five records, or no spread).
         pub lilliefors_p: Option<f64>,
         /// The scalar ground IM's rank by β within the block: 1 for the smallest β; empty
-        /// for the vector and the floor demands (they are not the hazard's).
+        /// for the vector, the floor demands and a pair's measures.
         pub rank: Option<i64>,
         /// The vector's d ln PGA_c / d ln(PGV/PGA); empty for the scalar IMs.
         pub slope: Option<f64>,
