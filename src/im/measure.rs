@@ -406,7 +406,12 @@ impl Im {
             Im::Pgv => Some((p / 100.0 / ag, "p·PGV/(αg)")),
             Im::Pgd => Some((p * p / 100.0 / ag, "p²·PGD/(αg)")),
             Im::Arias | Im::Cav | Im::D5_95 | Im::PgvPga | Im::Tm => None,
-            Im::RotD50(_) | Im::RotD100(_) => None,
+            Im::RotD50(Rotated::Pga) => Some((1.0 / alpha_rad, "RotD50 PGA/(αg)")),
+            Im::RotD100(Rotated::Pga) => Some((1.0 / alpha_rad, "RotD100 PGA/(αg)")),
+            Im::RotD50(Rotated::Sa(_)) => Some((1.0 / alpha_rad, "RotD50 SA/(αg)")),
+            Im::RotD100(Rotated::Sa(_)) => Some((1.0 / alpha_rad, "RotD100 SA/(αg)")),
+            Im::RotD50(Rotated::Pgv) => Some((p / 100.0 / ag, "p·RotD50 PGV/(αg)")),
+            Im::RotD100(Rotated::Pgv) => Some((p / 100.0 / ag, "p·RotD100 PGV/(αg)")),
         }
     }
 }
@@ -579,6 +584,11 @@ mod tests {
             .unwrap_err()
             .contains("pga, pgv or sa(T)"));
         assert!(r.scales() && r.pair() && !r.floor() && !r.hazard());
+        // Dimensionless as their measure is: RotD50 PGA/(αg) = 5 RotD50 PGA at α = 0.2.
+        let (f, name) = Im::RotD50(Rotated::Pga).dimensionless(0.2, 2.0).unwrap();
+        assert_eq!((0.2 * f, name), (1.0, "RotD50 PGA/(αg)"));
+        let (f, _) = Im::RotD100(Rotated::Pgv).dimensionless(0.2, 2.0).unwrap();
+        assert!((98.0665 * f - 1.0).abs() < 1e-14);
         assert!(!Im::capacity_measures().iter().any(|im| im.pair()));
         assert!(!Im::record_measures().iter().any(|im| im.pair()));
     }

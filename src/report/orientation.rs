@@ -72,7 +72,8 @@ fn rotd_table(
         d.efficiency
             .iter()
             .find(|e| e.p == r.p && e.eps == r.eps && e.block == r.block && e.im == "rotd50_pga")
-            .and_then(|e| Some((e.median?, e.beta)))
+            // In g for a block of α; in αg (RotD50 PGA/(αg)) for the grid.
+            .and_then(|e| Some((e.median.or(e.median_dimensionless)?, e.beta)))
     };
     if !rows
         .iter()
@@ -85,11 +86,12 @@ fn rotd_table(
         "Against the hazard: the paper's per-component fragility (as recorded, in each \
          component's own PGA) and the random orientation's in its pair's RotD50 PGA, the \
          component of the ground-motion models behind a hazard curve (the median exp(mean ln) \
-         and β over the motions that overturn the block; `im_efficiency.parquet`).\n"
+         and β over the motions that overturn the block, in {}; `im_efficiency.parquet`).\n",
+        if rows[0].in_g { "g" } else { "αg: PGA/(αg)" }
     );
     let _ = writeln!(
         w,
-        "| block | p (1/s) | as recorded, PGA: median (g), β | random, RotD50 PGA: median (g), β | median ratio | β change |\n|---|---|---|---|---|---|"
+        "| block | p (1/s) | ε | as recorded, PGA: median, β | random, RotD50 PGA: median, β | median ratio | β change |\n|---|---|---|---|---|---|---|"
     );
     for r in rows {
         let (Some((m0, b0)), Some((m1, b1))) = (r.as_recorded_lognormal, rotd(r)) else {
@@ -97,9 +99,10 @@ fn rotd_table(
         };
         let _ = writeln!(
             w,
-            "| {} | {:.3} | {m0:.3}, {b0:.3} | {m1:.3}, {b1:.3} | {:.3} | {:+.3} |",
+            "| {} | {:.3} | {:.3} | {m0:.3}, {b0:.3} | {m1:.3}, {b1:.3} | {:.3} | {:+.3} |",
             if r.block.is_empty() { "—" } else { &r.block },
             r.p,
+            r.eps,
             m1 / m0,
             b1 - b0
         );
