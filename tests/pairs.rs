@@ -596,7 +596,7 @@ fn a_study_over_orientations_runs_every_pair_at_every_angle() {
         "{row:?} {direct}"
     );
     assert!(
-        report.contains("random, RotD50 PGA: median (g), β"),
+        report.contains("random, RotD50 PGA: median, β"),
         "{report}"
     );
     let caps = rocking::stages::sweep::read_capacities(&outputs.join("turned")).unwrap();
