@@ -155,6 +155,38 @@ impl crate::label::Label for Orientation {
 
 crate::deserialize_by_label!(Orientation);
 
+/// Which component of a record pair a hazard curve is of: the recorded
+/// one, or RotD50, the ground-motion models' (NGA-West2 and after).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Component {
+    AsRecorded,
+    #[serde(rename = "rotd50")]
+    RotD50,
+}
+
+impl crate::label::Label for Component {
+    const ALL: &'static [Self] = &[Component::AsRecorded, Component::RotD50];
+    const WHAT: &'static str = "component";
+    fn label(self) -> &'static str {
+        match self {
+            Component::AsRecorded => "as-recorded",
+            Component::RotD50 => "rotd50",
+        }
+    }
+    fn help(self) -> &'static str {
+        match self {
+            Component::AsRecorded => "the hazard is of a recorded component, as the fragility",
+            Component::RotD50 => {
+                "the hazard is RotD50 (the ground-motion models'): with --direct the fragility \
+                 is stated in RotD50 of the hazard's measure; without, the mismatch is warned of"
+            }
+        }
+    }
+}
+
+crate::deserialize_by_label!(Component);
+
 /// The angle step (°) of the random and worst orientations when none is
 /// asked: for the two blocks of the angle study the random-orientation
 /// fragility's median and β at 10° lie within 0.8 % of those at 1° (at

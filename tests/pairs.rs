@@ -468,6 +468,57 @@ fn orientation_rules_are_the_capacities_over_angles() {
     let expected = cornell_above(k0, k, m, s, 0.0);
     let got = v["sites"][0]["annual_rate"].as_f64().unwrap();
     assert!((got / expected - 1.0).abs() < 1e-9, "{got} vs {expected}");
+    // `--component rotd50` says the same of the hazard: the same rate.
+    let said = json(&rocking(
+        dir.path(),
+        &[
+            "risk",
+            "--hazard",
+            "h.csv",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--direct",
+            "--records",
+            folder_s,
+            "--orientation",
+            "random",
+            "--angle-step",
+            "45",
+            "--component",
+            "rotd50",
+            "--method",
+            "mle",
+            "--json",
+        ],
+    ));
+    assert_eq!(
+        said["sites"][0]["annual_rate"],
+        v["sites"][0]["annual_rate"]
+    );
+    // Without the records' pairs the fragility is the recorded components':
+    // the mismatch is warned of.
+    let out = rocking(
+        dir.path(),
+        &[
+            "risk",
+            "--hazard",
+            "h.csv",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--component",
+            "rotd50",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("the hazard is RotD50 (--component rotd50)"),
+        "{}",
+        stderr(&out)
+    );
     // Over orientations in the rotated component's own PGA: warned of.
     let out = risk("pga", "random");
     assert!(out.status.success(), "{}", stderr(&out));
@@ -595,10 +646,7 @@ fn a_study_over_orientations_runs_every_pair_at_every_angle() {
         (row.median.unwrap() / m - 1.0).abs() < 1e-9,
         "{row:?} {direct}"
     );
-    assert!(
-        report.contains("random, RotD50 PGA: median, β"),
-        "{report}"
-    );
+    assert!(report.contains("random, RotD50 PGA: median, β"), "{report}");
     let caps = rocking::stages::sweep::read_capacities(&outputs.join("turned")).unwrap();
     let ids: Vec<&str> = caps.iter().map(|c| c.record_id.as_str()).collect();
     assert_eq!(

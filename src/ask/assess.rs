@@ -395,6 +395,8 @@ pub struct RiskAsk {
     pub inventory: Option<PathBuf>,
     pub mu: Option<f64>,
     pub im: Option<Im>,
+    /// Which component the hazard is of (`None`: unsaid, as recorded).
+    pub component: Option<crate::pair::Component>,
     #[serde(alias = "from")]
     pub source: String,
     pub outputs: PathBuf,
@@ -433,6 +435,7 @@ impl Default for RiskAsk {
             inventory: None,
             mu: None,
             im: None,
+            component: None,
             source: law.source,
             outputs: law.outputs,
             records: None,
@@ -507,6 +510,7 @@ impl RiskAsk {
             blocks: self.blocks().resolve(sp)?,
             from: law.resolve(sp)?,
             im: self.im,
+            component: self.component,
             direct: self.direct,
             progress,
             years: self.years,

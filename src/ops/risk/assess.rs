@@ -172,6 +172,7 @@ pub(super) fn prepare(req: &Request) -> Result<Prepared, RiskError> {
     let sites = read_hazard(&req.hazard, req.site)?;
     let entries = entries(&req.blocks)?;
     let im = hazard_im(&req.hazard.name(), &sites, req.im)?;
+    let (im, component_warning) = in_component(im, req)?;
     let (laws, records) = fragility::laws_and_records(
         &req.from,
         req.direct,
@@ -184,6 +185,7 @@ pub(super) fn prepare(req: &Request) -> Result<Prepared, RiskError> {
         },
     )?;
     let mut warnings = hazard_warnings(&sites);
+    warnings.extend(component_warning);
     if req.orient.orientation != crate::pair::Orientation::AsRecorded && !im.pair() {
         if let Some(r) = im.rotd50() {
             warnings.push(format!(
@@ -286,6 +288,30 @@ pub(super) fn sliding_warning(b: &BlockInfo) -> Option<String> {
         (Some(mu), Some(true)) => Some(crate::block::sliding_warning(mu, b.alpha_rad)),
         _ => None,
     }
+}
+
+/// The fragility's IM for a hazard in `im` of the component the request
+/// says: RotD50 of it with `--direct` (the records' pairs give it), else
+/// `im` with a warning of the mismatch.
+fn in_component(im: Im, req: &Request) -> Result<(Im, Option<String>), RiskError> {
+    use crate::pair::Component;
+    if req.component != Some(Component::RotD50) || im.pair() {
+        return Ok((im, None));
+    }
+    let rotd = im.rotd50().ok_or_else(|| RiskError::Component(im.name()))?;
+    if req.direct {
+        return Ok((rotd, None));
+    }
+    Ok((
+        im,
+        Some(format!(
+            "the hazard is RotD50 (--component rotd50) and the fragility is of the recorded \
+             components' {}: a mismatch in the IM's definition, which the risk integral \
+             amplifies; add --direct to state the fragility in {} over the records' pairs",
+            im.short(),
+            rotd.short()
+        )),
+    ))
 }
 
 /// The hazard's IM, the same at every site, and the fragility's when it is

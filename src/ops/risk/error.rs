@@ -9,6 +9,8 @@ use crate::tables::TableError;
 
 #[derive(Debug, thiserror::Error)]
 pub enum RiskError {
+    #[error("--component rotd50: the hazard's {0} has no RotD50 (RotD is of PGA, PGV and SA(T))")]
+    Component(String),
     #[error(
         "{path} is a hazard in {hazard} ({unit}), and the fragility asked for is in {asked}: \
          give --im {hazard}, or the hazard curves of {asked}",

@@ -54,6 +54,8 @@ pub struct Request {
     pub from: Source,
     /// The fragility's IM; `None`: the hazard's.
     pub im: Option<Im>,
+    /// Which component the hazard is of (`None`: unsaid, as recorded).
+    pub component: Option<crate::pair::Component>,
     pub direct: bool,
     /// Where `--direct` reports its progress.
     pub progress: fragility::DirectProgress,

@@ -38,6 +38,11 @@ pub struct Args {
     /// The fragility's IM; it must be the hazard's (the default).
     #[arg(long, value_parser = parse_im)]
     im: Option<rocking::im::Im>,
+    /// Which component the hazard is of: rotd50 (the ground-motion models')
+    /// states the fragility in RotD50 with --direct, and warns of the
+    /// mismatch without.
+    #[arg(long, value_parser = label::<rocking::pair::Component>())]
+    component: Option<rocking::pair::Component>,
     /// Only this site of the file (index from 0).
     #[arg(long, value_name = "N")]
     site: Option<usize>,
@@ -87,6 +92,7 @@ fn ask(args: &Args) -> RiskAsk {
         inventory: args.blocks.inventory.clone(),
         mu: args.blocks.mu,
         im: args.im,
+        component: args.component,
         source: law.source,
         outputs: law.outputs,
         records: law.records,
