@@ -527,6 +527,40 @@ fn orientation_rules_are_the_capacities_over_angles() {
         "{}",
         stderr(&out)
     );
+    // Into OpenQuake, a RotD50 fragility is named as its measure (the
+    // component of the models behind its hazard), and says what it is.
+    let out = rocking(
+        dir.path(),
+        &[
+            "export",
+            "--format",
+            "nrml",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--direct",
+            "--records",
+            folder_s,
+            "--orientation",
+            "random",
+            "--angle-step",
+            "45",
+            "--im",
+            "rotd50_pga",
+            "--out",
+            "nrml",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let xml = std::fs::read_to_string(dir.path().join("nrml/fragility_model.xml")).unwrap();
+    assert!(xml.contains("imt=\"PGA\""), "{xml}");
+    assert!(
+        xml.contains(
+            "facing any direction of the records&apos; pairs (every 45 degrees) in RotD50 PGA"
+        ),
+        "{xml}"
+    );
     // A pair's IM needs the pairs' runs; a folder without a manifest has no pairs.
     let out = rocking(
         &root(),

@@ -163,8 +163,11 @@ pub fn merged_levels(curves: &[Curve]) -> Vec<f64> {
 
 /// OpenQuake's name of the IM.
 pub fn openquake_imt(im: Im) -> Result<String, ExportError> {
+    // A RotD50 fragility is named as its measure: the component of the
+    // ground-motion models behind OpenQuake's hazard.
+    let takes = |im: Im| im.hazard() || matches!(im, Im::RotD50(_));
     im.openquake()
-        .filter(|_| im.hazard())
+        .filter(|_| takes(im))
         .ok_or_else(|| ExportError::Im {
             format: "OpenQuake",
             im: im.name(),
@@ -175,6 +178,6 @@ pub fn openquake_imt(im: Im) -> Result<String, ExportError> {
                 ),
                 None => "OpenQuake has no such IM".into(),
             },
-            valid: Im::listed(|im| im.hazard() && im.openquake().is_some(), true),
+            valid: Im::listed(|im| takes(im) && im.openquake().is_some(), true),
         })
 }

@@ -220,6 +220,51 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
     Ok(Written { files, blocks })
 }
 
+/// What the exported fragilities are, as the engines' files say: the
+/// blocks' scene (a floor, facing any direction, a pair's component), the
+/// states, the fit and where the capacities came from.
+fn description(
+    req: &Request,
+    im: Im,
+    source: &str,
+    floor: Option<&crate::floor::Building>,
+) -> String {
+    let floor = floor.map_or(String::new(), |b| {
+        format!(" on the floor of a building of modes T,zeta,Gamma-phi = {b} (IMs of the ground)")
+    });
+    // Facing any direction, and the component the IM is of.
+    let facing = match req.orient.orientation {
+        crate::pair::Orientation::AsRecorded => String::new(),
+        o => format!(
+            " facing {} direction of the records' pairs (every {} degrees)",
+            if o == crate::pair::Orientation::Random {
+                "any"
+            } else {
+                "the worst"
+            },
+            req.orient.step_deg
+        ),
+    };
+    let component = if im.pair() {
+        format!(" in {}", im.short())
+    } else {
+        String::new()
+    };
+    format!(
+        "Damage states of free-standing rigid blocks{floor}{facing}{component} ({}), {} fit, \
+         from {} (rocking {})",
+        req.states
+            .states()
+            .iter()
+            .map(|s| format!("{}: {}", s.name, s.describe()))
+            .collect::<Vec<_>>()
+            .join("; "),
+        req.method.name(),
+        source,
+        env!("CARGO_PKG_VERSION")
+    )
+}
+
 /// Writes the engine's files into `req.out`, and says which.
 fn write_files(
     req: &Request,
@@ -230,21 +275,7 @@ fn write_files(
     floor: Option<&crate::floor::Building>,
 ) -> Result<Vec<PathBuf>, ExportOpError> {
     let names: Vec<String> = req.states.states().iter().map(|s| s.name.clone()).collect();
-    let floor = floor.map_or(String::new(), |b| {
-        format!(" on the floor of a building of modes T,zeta,Gamma-phi = {b} (IMs of the ground)")
-    });
-    let description = format!(
-        "Damage states of free-standing rigid blocks{floor} ({}), {} fit, from {} (rocking {})",
-        req.states
-            .states()
-            .iter()
-            .map(|s| format!("{}: {}", s.name, s.describe()))
-            .collect::<Vec<_>>()
-            .join("; "),
-        req.method.name(),
-        source,
-        env!("CARGO_PKG_VERSION")
-    );
+    let description = description(req, im, source, floor);
     std::fs::create_dir_all(&req.out).map_err(|e| ExportOpError::Out {
         path: req.out.clone(),
         why: e.to_string(),
