@@ -36,6 +36,9 @@ pub struct StudyData {
     pub example: Option<ExampleData>,
     /// Each block's capacity dispersion in every IM (the ims stage).
     pub efficiency: Vec<crate::tables::ims::EfficiencyRow>,
+    /// The records' measures (the ims stage's `record_ims`), read for a
+    /// study over orientations only (empty otherwise).
+    pub record_ims: Vec<crate::tables::ims::RecordImRow>,
     /// Every block's limit-state capacities and fits (the damage stage).
     pub damage: DamageData,
     /// Seconds each stage took when it last ran, in run order.

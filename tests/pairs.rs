@@ -641,6 +641,11 @@ fn a_study_over_orientations_runs_every_pair_at_every_angle() {
         report.contains("Every one of the 2 record pairs"),
         "{report}"
     );
+    // Along and across each pair's strongest velocity (its two pairs).
+    assert!(
+        report.contains("| statue | 2.824 | 0.929 | 2 |"),
+        "{report}"
+    );
     assert!(outputs
         .join("turned/figures/orientation_capacity.svg")
         .exists());

@@ -54,6 +54,7 @@ fn study(text: &str) -> StudyData {
         example: None,
         damage: Default::default(),
         efficiency: Vec::new(),
+        record_ims: Vec::new(),
         stage_seconds: Vec::new(),
     }
 }

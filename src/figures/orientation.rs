@@ -117,6 +117,75 @@ pub fn orientation_fractiles(d: &StudyData) -> Vec<OrientationFractiles> {
         .collect()
 }
 
+/// One block's capacity with its rocking plane along each pair's
+/// strongest velocity and across it, as the pair's RotD50 PGA at
+/// overturning (g, or αg without α): the pair scaled until the block falls.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PulseDirection {
+    pub block: String,
+    pub p: f64,
+    pub eps: f64,
+    /// Median over the pairs, along the direction of the largest PGV.
+    pub along: f64,
+    /// Median over the pairs, 90° from it.
+    pub across: f64,
+    pub pairs: usize,
+}
+
+/// A motion's value of `im` in `record_ims`.
+fn measure(d: &StudyData, id: &str, im: &str) -> Option<f64> {
+    d.record_ims
+        .iter()
+        .find(|r| r.record_id == id && r.im == im)
+        .map(|r| r.value)
+}
+
+/// Each block's capacity along and across its pairs' strongest velocity
+/// (the angle of the study's whose rotated component has the largest PGV:
+/// the pulse's direction in a pulse-like record, near the fault normal),
+/// where the angles hold θ + 90° and the ims stage wrote each motion's
+/// PGA, PGV and its pair's RotD50 PGA.
+pub fn pulse_directions(d: &StudyData) -> Vec<PulseDirection> {
+    let plan = d.records_plan();
+    if plan.random_orientation.is_none() || d.record_ims.is_empty() {
+        return Vec::new();
+    }
+    plan.blocks
+        .iter()
+        .enumerate()
+        .filter_map(|(bi, b)| {
+            let mut along = Vec::new();
+            let mut across = Vec::new();
+            for (pair, v) in by_pair(d, bi) {
+                let id = |t: f64| format!("{pair}@{t}");
+                let pgv = |t: f64| measure(d, &id(t), "pgv").unwrap_or(f64::NAN);
+                let strongest = v
+                    .iter()
+                    .map(|x| x.0)
+                    .max_by(|a, b| pgv(*a).total_cmp(&pgv(*b)))?;
+                let other = (strongest + 90.0) % 180.0;
+                // The pair's RotD50 PGA at overturning: its scale factor
+                // PGA_c/PGA_θ times its RotD50 PGA.
+                let in_rotd = |t: f64| -> Option<f64> {
+                    let cap = v.iter().find(|x| x.0 == t)?.1;
+                    Some(cap / measure(d, &id(t), "pga")? * measure(d, &id(t), "rotd50_pga")?)
+                };
+                along.push(in_rotd(strongest)?);
+                across.push(in_rotd(other)?);
+            }
+            let n = along.len();
+            Some(PulseDirection {
+                block: b.name.clone(),
+                p: b.p,
+                eps: b.eps,
+                along: fractiles(d, along)[1],
+                across: fractiles(d, across)[1],
+                pairs: n,
+            })
+        })
+        .collect()
+}
+
 /// The first block's capacity against the angle, one line per pair.
 pub(super) fn orientation_capacity(d: &StudyData) -> Vec<Figure> {
     let plan = d.records_plan();
@@ -225,5 +294,32 @@ mod tests {
         assert_eq!(orientation_capacity(&d).len(), 1);
         // A study as recorded has none.
         assert!(orientation_fractiles(&crate::figures::fixture::block_study()).is_empty());
+        // Along the strongest velocity: A's at 45°, B's at 135° (PGV by
+        // hand), across at 135° and 45°; PGA 0.5 g at every angle and
+        // RotD50 PGA 0.6 g, so the RotD50 capacity is 1.2 × the rotated PGA's.
+        let pgv = [10.0, 30.0, 20.0, 5.0, 10.0, 5.0, 20.0, 40.0];
+        for (k, &(id, _)) in etas.iter().enumerate() {
+            for (im, v) in [("pga", 0.5), ("pgv", pgv[k]), ("rotd50_pga", 0.6)] {
+                d.record_ims.push(crate::tables::ims::RecordImRow {
+                    record_id: id.into(),
+                    im: im.into(),
+                    unit: String::new(),
+                    period_s: None,
+                    value: v,
+                });
+            }
+        }
+        let pulse = pulse_directions(&d);
+        // Along: A@45 α/0.25 = 4α, B@135 α/0.625 = 1.6α → median 2.8α (× 1.2).
+        // Across: A@135 α/0.2 = 5α, B@45 α/0.8 = 1.25α → median 3.125α (× 1.2).
+        assert_eq!(pulse[0].pairs, 2);
+        assert!(
+            (pulse[0].along - 1.2 * 2.8 * alpha).abs() < 1e-14,
+            "{pulse:?}"
+        );
+        assert!(
+            (pulse[0].across - 1.2 * 3.125 * alpha).abs() < 1e-14,
+            "{pulse:?}"
+        );
     }
 }

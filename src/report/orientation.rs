@@ -58,6 +58,42 @@ pub(super) fn orientation_section(w: &mut String, d: &StudyData) {
     }
     let _ = writeln!(w);
     rotd_table(w, d, &rows);
+    pulse_table(w, d);
+}
+
+/// Along each pair's strongest velocity against across it.
+fn pulse_table(w: &mut String, d: &StudyData) {
+    let rows = crate::figures::orientation::pulse_directions(d);
+    if rows.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        w,
+        "Along the strongest velocity and across it: for each pair, the angle of the study's \
+         whose rotated component has the largest PGV (in a pulse-like record the pulse's \
+         direction, which lies near the fault normal; Shahi & Baker 2011) and the angle 90° \
+         from it. The capacity is the pair's RotD50 PGA at overturning (the pair scaled until \
+         the block falls; median over the pairs): below 1, the block rocking along the \
+         strongest velocity falls to weaker shaking.\n"
+    );
+    let _ = writeln!(
+        w,
+        "| block | p (1/s) | ε | pairs | along: median RotD50 PGA_c | across | along/across |\n|---|---|---|---|---|---|---|"
+    );
+    for r in &rows {
+        let _ = writeln!(
+            w,
+            "| {} | {:.3} | {:.3} | {} | {:.3} | {:.3} | {:.3} |",
+            if r.block.is_empty() { "—" } else { &r.block },
+            r.p,
+            r.eps,
+            r.pairs,
+            r.along,
+            r.across,
+            r.along / r.across
+        );
+    }
+    let _ = writeln!(w);
 }
 
 /// The paper's per-component fragility (as recorded, each component's own

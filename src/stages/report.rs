@@ -61,6 +61,13 @@ impl Stage for Report {
         };
         inputs.extend(REDUCE_OUTPUTS.iter().map(|n| study.path(n)));
         inputs.push(study.path(super::ims::IM_EFFICIENCY));
+        if study
+            .plan
+            .records_study()
+            .is_ok_and(|r| r.random_orientation.is_some())
+        {
+            inputs.push(study.path(super::ims::RECORD_IMS));
+        }
         inputs.extend([damage::STATES, damage::CAPACITIES].map(|n| study.path(n)));
         if fit::not_applicable(&study.plan).is_none() {
             inputs.extend(fit::OUTPUTS.iter().map(|n| study.path(n)));
@@ -169,6 +176,10 @@ pub fn load(
             None => None,
         },
         efficiency: tables::read(&dir.join(super::ims::IM_EFFICIENCY))?,
+        record_ims: match plan.records_study().map(|r| r.random_orientation) {
+            Ok(Some(_)) => tables::read(&dir.join(super::ims::RECORD_IMS))?,
+            _ => Vec::new(),
+        },
         damage: read_damage(dir, damage::STATES, damage::CAPACITIES)?,
         stage_seconds: other_stages(stage_seconds),
     })
