@@ -1,5 +1,6 @@
 //! `rocking export`: damage-state fragilities for OpenQuake or pelicun.
 
+use rocking::figures::ims::display_name;
 use std::path::PathBuf;
 
 use rocking::ask::{ExportAsk, Spelling};
@@ -133,7 +134,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             b.name,
             b.b_m,
             b.h_m,
-            f.im.to_uppercase(),
+            display_name(&f.im),
             f.source,
             super::states::records_text(f.records, f.records_folder.as_deref())
         );

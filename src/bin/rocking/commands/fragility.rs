@@ -3,6 +3,7 @@
 use rocking::ask::{FragilityAsk, Spelling};
 use rocking::block::Restitution;
 use rocking::damage::{DamageStates, FitMethod};
+use rocking::figures::ims::display_name;
 use rocking::im::Im;
 use rocking::ops::damage;
 use rocking::ops::fragility::{self, Request};
@@ -162,7 +163,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
              through their capacities)"
         );
     }
-    let head = format!("{} ({unit})", a.im.to_uppercase());
+    let head = format!("{} ({unit})", display_name(&a.im));
     let pga = a.im == "pga";
     println!(
         "{head:>14} {:>10} {:>14}{}",
@@ -210,10 +211,10 @@ fn run_states(
     print_fits(f);
     println!(
         "P(state reached | {}) by the {} fit:",
-        f.im.to_uppercase(),
+        display_name(&f.im),
         a.method
     );
-    let head = format!("{} ({})", f.im.to_uppercase(), f.unit);
+    let head = format!("{} ({})", display_name(&f.im), f.unit);
     let names: String = f
         .states
         .iter()

@@ -1,5 +1,6 @@
 //! `rocking risk`: the annual rate of overturning at a site.
 
+use rocking::figures::ims::display_name;
 use std::path::PathBuf;
 
 use rocking::ask::{HazardAsk, RiskAsk, Spelling};
@@ -372,7 +373,7 @@ fn print_one(a: &Assessment) {
         for (label, value) in &rows {
             println!("  {label:<width$} {value}");
         }
-        let im = f.im.to_uppercase();
+        let im = display_name(&f.im);
         println!("  deaggregation by {im}:");
         let ranges: Vec<String> = s.deaggregation.iter().map(|b| b.range_text(u)).collect();
         let width = ranges
