@@ -77,6 +77,20 @@ impl Pair {
     }
 }
 
+/// The name of a pair's component at `theta_deg`, `<a>@<θ>` (`a` the id of
+/// the pair's first component): `capacity --pair`'s, `--direct`'s and a
+/// study's records.
+pub fn angled_id(a: &str, theta_deg: f64) -> String {
+    format!("{a}@{theta_deg}")
+}
+
+/// The first component's id and the angle of an [`angled_id`]; `None` for
+/// a record that is not a pair's component at an angle.
+pub fn split_angled_id(id: &str) -> Option<(&str, f64)> {
+    let (a, theta) = id.rsplit_once('@')?;
+    Some((a, theta.parse().ok()?))
+}
+
 /// cos θ and sin θ of an angle in degrees, exact (0 and ±1) at multiples
 /// of 90°, and those of θ + 180° the exact negation of θ's.
 pub fn cos_sin_deg(theta_deg: f64) -> (f64, f64) {

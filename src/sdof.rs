@@ -139,12 +139,12 @@ pub fn pseudo_acceleration(
     period_s: f64,
     zeta: f64,
 ) -> Result<f64, SdofError> {
-    let mut peak = Peak::default();
-    let h = each_substep(accel, dt_s, period_s, zeta, |state, next| {
+    let mut peak = Peak::new(substep(dt_s, period_s));
+    each_substep(accel, dt_s, period_s, zeta, |state, next| {
         peak.step(state, next)
     })?;
     let w = std::f64::consts::TAU / period_s;
-    Ok(w * w * peak.of(h))
+    Ok(w * w * peak.peak)
 }
 
 /// The states (u, u̇) at every sub-step's end of the oscillator under
@@ -165,7 +165,7 @@ pub fn substep_states(
 /// The peak |u| (continuous, as [`pseudo_acceleration`] seeks it) of a
 /// response given by its states at the ends of sub-steps of `h` (s).
 pub fn peak_of_states(states: impl IntoIterator<Item = (f64, f64)>, h: f64) -> f64 {
-    let mut peak = Peak::default();
+    let mut peak = Peak::new(h);
     let mut states = states.into_iter();
     if let Some(mut state) = states.next() {
         for next in states {
@@ -173,31 +173,34 @@ pub fn peak_of_states(states: impl IntoIterator<Item = (f64, f64)>, h: f64) -> f
             state = next;
         }
     }
-    peak.of(h)
+    peak.peak
 }
 
-/// The running peak of |u| over sub-steps, with the extrema inside them.
-#[derive(Default)]
+/// The running peak of |u| over sub-steps of `h` (s), with the extremum
+/// inside a sub-step whose velocity changes sign.
 struct Peak {
     peak: f64,
-    /// The sub-steps whose velocity changes sign: their cubic's extremum.
-    inside: Vec<((f64, f64), (f64, f64))>,
+    h: f64,
 }
 
 impl Peak {
+    fn new(h: f64) -> Self {
+        Peak { peak: 0.0, h }
+    }
+
     #[inline]
     fn step(&mut self, state: (f64, f64), next: (f64, f64)) {
         self.peak = self.peak.max(next.0.abs());
         if state.1 * next.1 < 0.0 {
-            self.inside.push((state, next));
+            self.peak = self.peak.max(hermite_extremum(state, next, self.h));
         }
     }
+}
 
-    fn of(&self, h: f64) -> f64 {
-        self.inside
-            .iter()
-            .fold(self.peak, |p, &(a, b)| p.max(hermite_extremum(a, b, h)))
-    }
+/// The sub-step (s) of a record's step `dt_s` for a period `period_s`:
+/// at most T/40, the step cut into equal parts.
+fn substep(dt_s: f64, period_s: f64) -> f64 {
+    dt_s / (dt_s * STEPS_PER_PERIOD / period_s).ceil().max(1.0)
 }
 
 /// Steps the oscillator over `accel` in sub-steps of at most T/40 (exact:
@@ -216,7 +219,7 @@ fn each_substep(
         // Time would grow as 1/T (a period of 1e-9 s never ended).
         return Err(SdofError::Rigid { period_s, dt_s });
     }
-    let h = dt_s / n;
+    let h = substep(dt_s, period_s);
     let step = Step::new(period_s, zeta, h)?;
     let n = n as usize;
     let mut state = (0.0, 0.0);

@@ -44,10 +44,7 @@ fn by_pair(d: &StudyData, bi: usize) -> Vec<(String, Vec<(f64, f64)>)> {
     let alpha = plan.blocks[bi].alpha_rad;
     let mut out: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     for c in d.caps.iter().skip(bi).step_by(n_blocks) {
-        let Some((pair, theta)) = c.record_id.rsplit_once('@') else {
-            continue;
-        };
-        let Ok(theta) = theta.parse::<f64>() else {
+        let Some((pair, theta)) = crate::pair::split_angled_id(&c.record_id) else {
             continue;
         };
         let ground = c.pfa_over_pga.unwrap_or(1.0);
@@ -157,7 +154,7 @@ pub fn pulse_directions(d: &StudyData) -> Vec<PulseDirection> {
             let mut along = Vec::new();
             let mut across = Vec::new();
             for (pair, v) in by_pair(d, bi) {
-                let id = |t: f64| format!("{pair}@{t}");
+                let id = |t: f64| crate::pair::angled_id(&pair, t);
                 let pgv = |t: f64| measure(d, &id(t), "pgv").unwrap_or(f64::NAN);
                 let strongest = v
                     .iter()

@@ -54,39 +54,20 @@ pub fn of_block(
     out
 }
 
-/// Every floor demand of [`Im::floor_measures`] (PFA, PFV, FSA(T)) for a
-/// block on a building's floor, from each record's η_c *of the floor
-/// motion* and the floor motion's IMs (`felt`: the IMs of the motion the
-/// block feels, whose PGA is the PFA). Empty with fewer than 3 capacities.
-pub fn of_floor(
-    eta_c: &[Option<f64>],
-    felt: &[RecordIms],
-    p: f64,
-    alpha_rad: Option<f64>,
-) -> Vec<Efficiency> {
-    measures(
-        &overturned(eta_c, felt),
-        &Im::floor_measures(),
-        p,
-        alpha_rad,
-    )
-}
-
-/// Every measure of a record pair ([`Im::pair_measures`]: RotD50 and
-/// RotD100) for a block run on the pairs' rotated components, from each
-/// motion's η_c and IMs (its pair's measures among them, unscaled).
-pub fn of_pair(
+/// Each of `ims` for one block, as [`of_block`] states them but without the
+/// vector: the floor demands of [`Im::floor_measures`] from each record's
+/// η_c *of the floor motion* and the floor motion's IMs (whose PGA is the
+/// PFA), or a record pair's [`Im::pair_measures`] from each motion's η_c
+/// and IMs (its pair's among them, unscaled). Empty with fewer than 3
+/// capacities.
+pub fn of_measures(
     eta_c: &[Option<f64>],
     records: &[RecordIms],
+    ims: &[Im],
     p: f64,
     alpha_rad: Option<f64>,
 ) -> Vec<Efficiency> {
-    measures(
-        &overturned(eta_c, records),
-        &Im::pair_measures(),
-        p,
-        alpha_rad,
-    )
+    measures(&overturned(eta_c, records), ims, p, alpha_rad)
 }
 
 /// The records that overturn the block, with their η_c.
@@ -261,7 +242,7 @@ mod tests {
             .map(|r| Some(alpha / (r.pga_g() * 50.0 / r.value(Im::Pgv).unwrap())))
             .collect();
         let ground = of_block(&eta, &felt, 3.0, Some(alpha));
-        let floor = of_floor(&eta, &felt, 3.0, Some(alpha));
+        let floor = of_measures(&eta, &felt, &Im::floor_measures(), 3.0, Some(alpha));
         let names: Vec<&str> = floor.iter().map(|e| e.im.as_str()).collect();
         assert_eq!(names, ["pfa", "pfv", "fsa(1.0)"]);
         for (f, g) in floor.iter().zip(["pga", "pgv", "sa(1.0)"]) {

@@ -141,16 +141,7 @@ pub fn load_on(path: &Path, building: Option<&Building>) -> Result<LoadedRecord,
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    from_samples(record_id, ground, dt_s, building).map_err(|e| match e {
-        SampleError::Samples(source) => RecordError::Samples {
-            path: path.into(),
-            source,
-        },
-        SampleError::Floor(source) => RecordError::Floor {
-            path: path.into(),
-            source,
-        },
-    })
+    from_samples(record_id, ground, dt_s, building).map_err(|e| e.of(path))
 }
 
 /// Why samples cannot be a record.
@@ -160,6 +151,22 @@ pub enum SampleError {
     Samples(PhysicsError),
     #[error("its floor motion")]
     Floor(#[source] crate::floor::FloorError),
+}
+
+impl SampleError {
+    /// The error of the record read from `path`.
+    fn of(self, path: &Path) -> RecordError {
+        match self {
+            SampleError::Samples(source) => RecordError::Samples {
+                path: path.into(),
+                source,
+            },
+            SampleError::Floor(source) => RecordError::Floor {
+                path: path.into(),
+                source,
+            },
+        }
+    }
 }
 
 /// A ground record given by its samples (g) and step (s), named
@@ -222,19 +229,9 @@ pub fn pair_at(
     angles_deg
         .iter()
         .map(|&theta| {
-            let id = format!("{stem}@{theta}");
-            let mut rec = from_samples(id, pair.rotated(theta), pair.dt_s, building).map_err(
-                |e| match e {
-                    SampleError::Samples(source) => RecordError::Samples {
-                        path: a.into(),
-                        source,
-                    },
-                    SampleError::Floor(source) => RecordError::Floor {
-                        path: a.into(),
-                        source,
-                    },
-                },
-            )?;
+            let id = crate::pair::angled_id(&stem, theta);
+            let mut rec =
+                from_samples(id, pair.rotated(theta), pair.dt_s, building).map_err(|e| e.of(a))?;
             rec.angle_deg = Some(theta);
             Ok(rec)
         })

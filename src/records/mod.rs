@@ -23,4 +23,4 @@ pub use load::{
     OnFloor, RecordError, SampleError,
 };
 pub use pairs::{pair_up, rotated_rows, RowPair};
-pub use select::{felt, felt_samples, of_plan, select, select_pairs, SelectError};
+pub use select::{felt, of_plan, select, select_pairs, SelectError};

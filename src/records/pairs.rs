@@ -87,7 +87,7 @@ fn rotated(p: &RowPair, theta: f64) -> RecordRow {
     let mut meta = p.a.meta.clone();
     meta.pair_component = Some(format!("a@{theta}"));
     RecordRow {
-        record_id: format!("{}@{theta}", p.a.record_id),
+        record_id: crate::pair::angled_id(&p.a.record_id, theta),
         source: format!("{} and {} at {theta}°", p.a.source, p.b.source),
         sha256: crate::hash::sha256_hex(
             format!("{} {} {theta}", p.a.sha256, p.b.sha256).as_bytes(),

@@ -44,20 +44,11 @@ pub fn felt(
     floor: Option<&Building>,
     r: &RecordRow,
 ) -> Result<(Excitation, Option<f64>), PhysicsError> {
-    felt_samples(floor, &r.accel_g, r.dt_s)
-}
-
-/// [`felt`] of a record given by its samples (g) and step (s).
-pub fn felt_samples(
-    floor: Option<&Building>,
-    accel_g: &[f64],
-    dt_s: f64,
-) -> Result<(Excitation, Option<f64>), PhysicsError> {
     let Some(building) = floor else {
-        return Ok((Excitation::new(accel_g, dt_s)?, None));
+        return Ok((Excitation::new(&r.accel_g, r.dt_s)?, None));
     };
     let f = building
-        .floor_motion(accel_g, dt_s)
+        .floor_motion(&r.accel_g, r.dt_s)
         .map_err(|e| PhysicsError::BadInput(format!("its floor motion: {e}")))?;
     let ratio = f.pfa_over_pga;
     Ok((Excitation::from_samples(f.accel_g, f.dt_s)?, Some(ratio)))

@@ -135,7 +135,8 @@ fn run(study: &Study) -> Result<Summary, ImsError> {
             ranks[i] = Some(r as i64 + 1);
         }
         if turned {
-            let demands = efficiency::of_pair(&eta, &ims, b.p, b.alpha_rad);
+            let demands =
+                efficiency::of_measures(&eta, &ims, &Im::pair_measures(), b.p, b.alpha_rad);
             ranks.extend(demands.iter().map(|_| None));
             found.extend(demands);
         }
@@ -144,7 +145,8 @@ fn run(study: &Study) -> Result<Summary, ImsError> {
             let on_floor: Vec<Option<f64>> = (0..rows.len())
                 .map(|ri| caps[ri * n_blocks + bi].eta_c)
                 .collect();
-            let demands = efficiency::of_floor(&on_floor, felt, b.p, b.alpha_rad);
+            let demands =
+                efficiency::of_measures(&on_floor, felt, &Im::floor_measures(), b.p, b.alpha_rad);
             ranks.extend(demands.iter().map(|_| None));
             found.extend(demands);
         }

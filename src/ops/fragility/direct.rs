@@ -115,35 +115,33 @@ impl DirectRecords {
         let (motions, pairs, rotd) = super::pairs::motions(rows, &orient)?;
         let records = motions
             .into_par_iter()
-            .map(|m| {
+            .map(|(r, pair)| {
                 let physics = |source| FragilityError::Physics {
-                    record: m.id.clone(),
+                    record: r.record_id.clone(),
                     source,
                 };
-                let (exc, ratio) =
-                    records::felt_samples(floor, &m.accel_g, m.dt_s).map_err(physics)?;
+                let (exc, ratio) = records::felt(floor, &r).map_err(physics)?;
                 let ground = match ratio {
                     Some(ratio) => {
-                        Some((Excitation::new(&m.accel_g, m.dt_s).map_err(physics)?, ratio))
+                        Some((Excitation::new(&r.accel_g, r.dt_s).map_err(physics)?, ratio))
                     }
                     None => None,
                 };
-                let pga = crate::motion::peak(&m.accel_g, m.dt_s).map_or(0.0, |p| p.pga_g);
-                let pair_ims = m
-                    .pair
+                // The pair's measures over this motion's own (ground) PGA.
+                let pair_ims = pair
                     .and_then(|k| rotd.get(k))
-                    .map(|r| {
-                        r.values()
+                    .map(|m| {
+                        m.values()
                             .into_iter()
-                            .map(|(im, v)| (im, v / pga))
+                            .map(|(im, v)| (im, v / r.pga_g))
                             .collect()
                     })
                     .unwrap_or_default();
                 Ok(DirectRecord {
-                    id: m.id,
+                    id: r.record_id,
                     exc,
                     ground,
-                    pair: m.pair,
+                    pair,
                     pair_ims,
                 })
             })
@@ -188,6 +186,11 @@ impl DirectRecords {
     /// motion, normalised to a peak of 1 g): PFA and PFV are its PGA and
     /// PGV.
     pub fn felt_ims(&self) -> &[RecordIms] {
+        if self.floor.is_none() {
+            // On the ground the motion felt is the record: its measures
+            // (a pair's beside them do not answer PFA, PFV or FSA).
+            return self.ims();
+        }
         self.felt_ims.get_or_init(|| {
             self.records
                 .par_iter()

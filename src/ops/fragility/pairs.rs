@@ -8,7 +8,8 @@ use rayon::prelude::*;
 
 use super::error::FragilityError;
 use crate::im::rotd::PairIms;
-use crate::pair::{self, Orientation, Pair};
+use crate::pair::{self, Orientation};
+use crate::records;
 use crate::tables::records::RecordRow;
 
 /// Which orientations the records are run at, and whether the fragility's
@@ -44,79 +45,43 @@ impl Orient {
     }
 }
 
-/// One motion `--direct` runs: a recorded component, or a pair's component
-/// at an angle.
-pub(super) struct Motion {
-    pub id: String,
-    pub accel_g: Vec<f64>,
-    pub dt_s: f64,
-    /// Which pair it is of, when the records come in pairs.
-    pub pair: Option<usize>,
-}
+/// The records `--direct` runs under `orient`, each with its pair's index
+/// when the records come in pairs (recorded components, or every pair's
+/// component at every angle, as a study over orientations has them:
+/// [`records::rotated_rows`]); how many pairs (0 when the records need not
+/// come in pairs); and each pair's RotD measures (only for a pair's IM:
+/// they cost more than the capacities).
+pub(super) type Motions = (Vec<(RecordRow, Option<usize>)>, usize, Vec<PairIms>);
 
-/// The motions `rows` give under `orient`, how many pairs they are of (0
-/// when the records need not come in pairs), and each pair's RotD measures
-/// (only for a pair's IM: they cost more than the capacities).
-pub(super) fn motions(
-    rows: Vec<RecordRow>,
-    orient: &Orient,
-) -> Result<(Vec<Motion>, usize, Vec<PairIms>), FragilityError> {
+pub(super) fn motions(rows: Vec<RecordRow>, orient: &Orient) -> Result<Motions, FragilityError> {
     if !orient.needs_pairs() {
-        let motions = rows
-            .into_iter()
-            .map(|r| Motion {
-                id: r.record_id,
-                accel_g: r.accel_g,
-                dt_s: r.dt_s,
-                pair: None,
-            })
-            .collect();
-        return Ok((motions, 0, Vec::new()));
+        return Ok((rows.into_iter().map(|r| (r, None)).collect(), 0, Vec::new()));
     }
-    let pairs: Vec<(String, String, Pair)> = crate::records::pair_up(rows)
-        .map_err(FragilityError::Pairs)?
-        .into_iter()
-        .map(|p| (p.a.record_id, p.b.record_id, p.pair))
-        .collect();
-    let n_pairs = pairs.len();
+    let pairs = records::pair_up(rows).map_err(FragilityError::Pairs)?;
     let rotd: Vec<PairIms> = match orient.pair_im {
         true => pairs
             .par_iter()
-            .map(|(_, _, p)| {
-                PairIms::of_pair(p, &[]).map_err(|e| FragilityError::Pairs(format!("{e}")))
+            .map(|p| {
+                PairIms::of_pair(&p.pair, &[]).map_err(|e| FragilityError::Pairs(format!("{e}")))
             })
             .collect::<Result<_, _>>()?,
         false => Vec::new(),
     };
-    let motions = match orient.orientation {
-        Orientation::AsRecorded => pairs
-            .into_iter()
-            .enumerate()
-            .flat_map(|(k, (a, b, p))| {
-                [(a, p.a), (b, p.b)].map(|(id, accel_g)| Motion {
-                    id,
-                    accel_g,
-                    dt_s: p.dt_s,
-                    pair: Some(k),
-                })
-            })
-            .collect(),
-        Orientation::Random | Orientation::Worst => {
-            let angles = orient.angles();
-            pairs
-                .iter()
-                .enumerate()
-                .flat_map(|(k, (a, _, p))| {
-                    angles.iter().map(move |&theta| Motion {
-                        id: format!("{a}@{theta}"),
-                        accel_g: p.rotated(theta),
-                        dt_s: p.dt_s,
-                        pair: Some(k),
-                    })
-                })
-                .collect()
-        }
-    };
+    let n_pairs = pairs.len();
+    let angles = orient.angles();
+    let motions = pairs
+        .into_iter()
+        .enumerate()
+        .flat_map(|(k, p)| {
+            let of_pair: Vec<RecordRow> = match orient.orientation {
+                Orientation::AsRecorded => vec![p.a, p.b],
+                Orientation::Random | Orientation::Worst => {
+                    records::rotated_rows(std::slice::from_ref(&p), &angles)
+                }
+            };
+            of_pair.into_iter().map(move |r| (r, Some(k)))
+        })
+        .collect();
     Ok((motions, n_pairs, rotd))
 }
 
