@@ -89,3 +89,4 @@ pub mod stages;
 pub mod stats;
 pub mod study;
 pub mod tables;
+pub mod tree;

@@ -385,6 +385,38 @@ pub fn assess_above(
     }
 }
 
+/// The risk at one site of a weighted mixture of fragilities Σ wᵢ Pᵢ (a
+/// logic tree's mean), from each part's risk there: the integral is linear
+/// in the fragility and the bins are the curve's, so the rate, each bin's
+/// and P at the first IML are the weighted means, and the share beyond the
+/// last IML is that of the mean rate.
+pub fn mixed(parts: &[(f64, SiteRisk)]) -> SiteRisk {
+    let first = &parts[0].1;
+    let mean = |f: &dyn Fn(&SiteRisk) -> f64| parts.iter().map(|(w, r)| w * f(r)).sum::<f64>();
+    let annual_rate = mean(&|r| r.annual_rate);
+    let beyond = mean(&|r| r.annual_rate * r.share_beyond_last_iml);
+    SiteRisk {
+        annual_rate,
+        first_iml: first.first_iml,
+        last_iml: first.last_iml,
+        fragility_at_first_iml: mean(&|r| r.fragility_at_first_iml),
+        share_beyond_last_iml: if annual_rate > 0.0 {
+            beyond / annual_rate
+        } else {
+            0.0
+        },
+        bins: first
+            .bins
+            .iter()
+            .enumerate()
+            .map(|(k, b)| Bin {
+                annual_rate: mean(&|r| r.bins[k].annual_rate),
+                ..*b
+            })
+            .collect(),
+    }
+}
+
 /// The probability of at least one overturning in `years` (Poisson).
 pub fn probability_in(annual_rate: f64, years: f64) -> f64 {
     -(-annual_rate * years).exp_m1()

@@ -214,6 +214,8 @@ pub struct FragilityAsk {
     pub method: FitMethod,
     pub dispersion: Dispersion,
     pub if_not_lognormal: IfNotLognormal,
+    /// A logic tree over ε and the model: a TOML file or a named tree.
+    pub tree: Option<String>,
 }
 
 impl Default for FragilityAsk {
@@ -244,6 +246,7 @@ impl Default for FragilityAsk {
             method: FitMethod::Fractile,
             dispersion: Dispersion::Common,
             if_not_lognormal: IfNotLognormal::Curve,
+            tree: None,
         }
     }
 }
@@ -348,6 +351,7 @@ impl FragilityAsk {
             dispersion: self.dispersion,
             if_not_lognormal: self.if_not_lognormal,
             orient: law.orient(self.direct, sp)?,
+            tree: tree(self.tree.as_deref(), self.eps, self.direct, sp)?,
         };
         let states = StatesAsk {
             states: self.states.clone(),
@@ -355,6 +359,35 @@ impl FragilityAsk {
         };
         Ok((req, states))
     }
+}
+
+/// The logic tree `name` names (a TOML file or a named tree), checked
+/// against the block's own ε (given with a tree's ε branches, refused)
+/// and `direct` (a model branch needs the records' runs).
+pub(crate) fn tree(
+    name: Option<&str>,
+    eps: Restitution,
+    direct: bool,
+    sp: Spelling,
+) -> Result<Option<crate::tree::Tree>, AskError> {
+    let Some(name) = name else { return Ok(None) };
+    let t = crate::ops::tree::load(name).map_err(|e| AskError::of(sp, "tree", e))?;
+    if !t.eps.is_empty() && eps != Restitution::Housner {
+        return Err(AskError(format!(
+            "{} sets ε on every branch: drop {}",
+            sp.set("tree", name),
+            sp.key("eps")
+        )));
+    }
+    if let (Some(b), false) = (t.model.first(), direct) {
+        return Err(AskError(format!(
+            "{}: a [[model]] branch ({}) runs the records: add {}",
+            sp.set("tree", name),
+            crate::label::Label::label(b.value),
+            sp.key("direct")
+        )));
+    }
+    Ok(Some(t))
 }
 
 /// A site's hazard: a file (OpenQuake's hazard-curve CSV or a plain CSV),
@@ -421,6 +454,8 @@ pub struct RiskAsk {
     pub method: FitMethod,
     pub dispersion: Dispersion,
     pub if_not_lognormal: IfNotLognormal,
+    /// A logic tree over ε and the model: a TOML file or a named tree.
+    pub tree: Option<String>,
 }
 
 impl Default for RiskAsk {
@@ -455,6 +490,7 @@ impl Default for RiskAsk {
             method: FitMethod::Fractile,
             dispersion: Dispersion::Common,
             if_not_lognormal: IfNotLognormal::Curve,
+            tree: None,
         }
     }
 }
@@ -521,7 +557,15 @@ impl RiskAsk {
             dispersion: self.dispersion,
             if_not_lognormal: self.if_not_lognormal,
             orient: law.orient(self.direct, sp)?,
+            tree: tree(self.tree.as_deref(), self.eps, self.direct, sp)?,
         };
+        if req.tree.is_some() && self.states.is_some() {
+            return Err(AskError(format!(
+                "{} states the rate of overturning over its branches; give it or {}, not both",
+                sp.key("tree"),
+                sp.key("states")
+            )));
+        }
         let states = StatesAsk {
             states: self.states.clone(),
             method: self.method,

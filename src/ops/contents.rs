@@ -128,7 +128,7 @@ pub fn compare(req: &Request) -> Result<Vec<Row>, ContentsError> {
                 Im::Pfv,
                 &laws,
                 records.as_ref(),
-                req.auto_tol,
+                crate::ops::fragility::RunModel::auto(req.auto_tol),
                 fit,
             )
             .map_err(in_item)?;

@@ -186,7 +186,7 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
             im,
             &laws,
             records.as_ref(),
-            req.auto_tol,
+            crate::ops::fragility::RunModel::auto(req.auto_tol),
             crate::damage::FitChoice {
                 method: req.method,
                 dispersion: req.dispersion,

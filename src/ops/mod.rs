@@ -14,3 +14,4 @@ pub mod pool;
 pub mod reports;
 pub mod risk;
 pub mod submit;
+pub mod tree;

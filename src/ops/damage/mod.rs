@@ -12,7 +12,8 @@ mod records;
 
 pub use answer::{DamageFragility, StateFragility, DIRECT_FRACTILE};
 
-use super::fragility::{DirectRecords, FragilityError, Laws, Request};
+use super::fragility::{DirectRecords, FragilityError, Laws, Request, RunModel};
+use crate::physics::ModelChoice;
 use super::im_fragility::DamageTable;
 use crate::block::Block;
 use crate::damage::{
@@ -33,12 +34,16 @@ pub fn of_block(
     im: Im,
     laws: &Laws,
     direct: Option<&DirectRecords>,
-    auto_tol: f64,
+    model: RunModel,
     fit: FitChoice,
 ) -> Result<DamageFragility, FragilityError> {
     let mut f = match direct {
-        Some(records) => from_records(block, states, im, records, auto_tol)?,
-        None => from_regression(block, states, im, laws, auto_tol)?,
+        Some(records) => from_records(block, states, im, records, model)?,
+        // A regression or a study's tables are of the model they were made by.
+        None if model.choice != ModelChoice::Auto => {
+            return Err(FragilityError::ModelNeedsRuns(model.choice.label()))
+        }
+        None => from_regression(block, states, im, laws, model.auto_tol)?,
     };
     f.method = fit.method;
     if fit.if_not_lognormal == IfNotLognormal::Curve {
@@ -295,7 +300,7 @@ pub fn assess(
         req.im,
         &laws,
         records.as_ref(),
-        req.auto_tol,
+        RunModel::auto(req.auto_tol),
         FitChoice {
             method,
             ..req.fit()

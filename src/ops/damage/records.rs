@@ -10,7 +10,7 @@ use crate::damage::{
 };
 use crate::im::{self, Im};
 use crate::label::Label;
-use crate::ops::fragility::{DirectRecords, FragilityError};
+use crate::ops::fragility::{DirectRecords, FragilityError, RunModel};
 use crate::pair::Orientation;
 
 pub(super) fn from_records(
@@ -18,11 +18,11 @@ pub(super) fn from_records(
     states: &DamageStates,
     im: Im,
     records: &DirectRecords,
-    auto_tol: f64,
+    model: RunModel,
 ) -> Result<DamageFragility, FragilityError> {
     let def = DIRECT_FRACTILE;
     // A floor demand (PFA, PFV) is of the floor motion's own scale.
-    let (runs, why) = records.runs(block, auto_tol, !im.floor())?;
+    let (runs, why) = records.runs(block, model, !im.floor())?;
     let alpha = block.alpha();
     let ims = (im != Im::Pga).then(|| records.ims_for(im)).transpose()?;
     let per_record: Vec<Vec<StateCapacity>> = runs

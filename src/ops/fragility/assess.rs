@@ -7,6 +7,8 @@ use super::request::{check, laws_and_records, Request};
 use crate::damage::DamageStates;
 use crate::im::Im;
 use crate::ops::damage;
+use crate::ops::tree as ops_tree;
+use super::RunModel;
 
 /// One level of the answer.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -19,6 +21,11 @@ pub struct Point {
     pub probability: f64,
     /// With `--direct`: the share of records whose capacity the block exceeds.
     pub empirical: Option<f64>,
+    /// With a tree of several branches: the branches' probabilities'
+    /// weighted quantiles (5, 16, 50, 84, 95 %); `probability` is then
+    /// their weighted mean.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub quantiles: Option<Vec<f64>>,
 }
 
 /// The answer.
@@ -71,29 +78,111 @@ pub struct Assessment {
     /// Where the regression is stretched for this block (none with
     /// `--direct`), and a block that slides first.
     pub warnings: Vec<String>,
+    /// With `--tree`: each branch's fragility, the mixture's median and
+    /// equivalent β, the dispersion split. With several branches the
+    /// answer's `median`, `beta` and probabilities are the mixture's (`fit`
+    /// is `mixture`, `eps` null).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tree: Option<crate::ops::tree::TreeInfo>,
 }
 
 /// Checks the request and computes the fragility: the block's one
-/// fragility (overturning, [`damage::of_block`]) by the fit asked.
+/// fragility (overturning, [`damage::of_block`]) by the fit asked; with a
+/// tree, each branch's and their mixture.
 pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
     let block = check(req)?;
-    let (alpha, p, eps) = (block.alpha(), block.p(), block.eps);
-    let im = req.im;
+    if let Some(tree) = &req.tree {
+        ops_tree::check(tree, req.direct)?;
+    }
     let (laws, records) = laws_and_records(
         &req.from,
         req.direct,
         &req.progress,
-        1,
+        req.tree.as_ref().map_or(1, |t| t.paths().len()),
         req.floor.as_ref(),
         req.orient_for(req.im),
     )?;
+    let Some(tree) = &req.tree else {
+        let model = RunModel::auto(req.auto_tol);
+        return one(req, &block, &laws, records.as_ref(), model).map(|(a, _)| a);
+    };
+    let mut parts = Vec::new();
+    let mut answers = Vec::new();
+    for path in tree.paths() {
+        let (eps, model) = ops_tree::branch(&path, req.b_m, req.h_m, req.eps, req.auto_tol);
+        let b = super::block(req.b_m, req.h_m, eps)?;
+        let (a, fragility) = one(req, &b, &laws, records.as_ref(), model)?;
+        parts.push(ops_tree::Part {
+            path,
+            eps: b.eps,
+            fragility,
+            median: a.median.is_finite().then_some(a.median),
+            beta: a.beta.is_finite().then_some(a.beta),
+        });
+        answers.push(a);
+    }
+    Ok(mixed(req, tree, parts, answers))
+}
+
+/// The tree's answer: a one-branch tree's is its branch's; otherwise every
+/// level's probability the branches' weighted mean, with its quantiles
+/// (the records' shares weighted alike), and the median and β the
+/// mixture's (its equivalent lognormal's).
+fn mixed(
+    req: &Request,
+    tree: &crate::tree::Tree,
+    parts: Vec<ops_tree::Part>,
+    answers: Vec<Assessment>,
+) -> Assessment {
+    let info = ops_tree::info(tree, &parts);
+    let weights: Vec<f64> = parts.iter().map(|p| p.path.weight).collect();
+    let shares: Vec<Option<f64>> = (0..req.levels.len())
+        .map(|k| {
+            let each: Option<Vec<f64>> = answers.iter().map(|a| a.points[k].empirical).collect();
+            each.map(|e| crate::tree::weighted_mean(&e, &weights))
+        })
+        .collect();
+    let mut a = answers.into_iter().next().expect("a tree has a branch");
+    if parts.len() > 1 {
+        for (k, point) in a.points.iter_mut().enumerate() {
+            let ps: Vec<f64> = parts
+                .iter()
+                .map(|p| p.fragility.probability(req.levels[k]))
+                .collect();
+            let (mean, q) = ops_tree::mean_and_quantiles(&ps, &weights);
+            point.probability = mean;
+            point.quantiles = Some(q);
+            point.empirical = shares[k];
+        }
+        a.median = info.mean_median.unwrap_or(f64::INFINITY);
+        a.beta = info.mean_beta.unwrap_or(f64::NAN);
+        a.eta_c_median = (a.im == "pga").then(|| a.alpha_rad / a.median);
+        a.fit = "mixture".into();
+        a.eps = f64::NAN;
+        a.lognormal_p = None;
+        a.model = None;
+    }
+    a.tree = Some(info);
+    a
+}
+
+/// One block's fragility at the levels asked, and the function itself.
+fn one(
+    req: &Request,
+    block: &crate::block::Block,
+    laws: &super::Laws,
+    records: Option<&super::DirectRecords>,
+    model: RunModel,
+) -> Result<(Assessment, crate::risk::Fragility), FragilityError> {
+    let (alpha, p, eps) = (block.alpha(), block.p(), block.eps);
+    let im = req.im;
     let f = damage::of_block(
-        &block,
+        block,
         &DamageStates::overturning(),
         im,
-        &laws,
-        records.as_ref(),
-        req.auto_tol,
+        laws,
+        records,
+        model,
         req.fit(),
     )?;
     let method = f.method;
@@ -116,6 +205,7 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
                 .capacities
                 .as_ref()
                 .map(|t| t.partition_point(|&c| c < x) as f64 / t.len() as f64),
+            quantiles: None,
         })
         .collect();
     let mut warnings = f.warnings.clone();
@@ -123,7 +213,7 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
     if slides_first == Some(true) {
         warnings.push(crate::block::sliding_warning(req.mu.unwrap_or(0.0), alpha));
     }
-    Ok(Assessment {
+    Ok((Assessment {
         b_m: req.b_m,
         h_m: req.h_m,
         alpha_rad: alpha,
@@ -146,5 +236,6 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
         mu: req.mu,
         slides_first,
         warnings,
-    })
+        tree: None,
+    }, fragility))
 }

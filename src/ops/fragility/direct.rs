@@ -18,6 +18,25 @@ use crate::pipeline::Plan;
 use crate::records::{self, OnBad};
 use crate::stages::{Progress, Reporter};
 
+/// The model the records' runs use: the choice, and the linearised
+/// model's accepted error in η_c that `auto` chooses by.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunModel {
+    pub choice: ModelChoice,
+    pub auto_tol: f64,
+}
+
+impl RunModel {
+    /// `auto` at `auto_tol`: what every command runs unless a tree's
+    /// branch chooses.
+    pub fn auto(auto_tol: f64) -> Self {
+        RunModel {
+            choice: ModelChoice::Auto,
+            auto_tol,
+        }
+    }
+}
+
 /// What `--direct` says about bad files in `--records`.
 const RECORDS_HINT: &str = "fix them, or point --records at a folder of good AT2 files";
 
@@ -247,15 +266,15 @@ impl DirectRecords {
     }
 
     /// The block's capacity η_c under every record (0 where it survives
-    /// every level), with the model `--model auto` would choose for its α
-    /// at `auto_tol`, by the certified search.
+    /// every level), with `model` (`auto` chooses for its α), by the
+    /// certified search.
     /// Returns them with why that model.
     pub fn capacities(
         &self,
         block: &Block,
-        auto_tol: f64,
+        model: RunModel,
     ) -> Result<(Vec<f64>, String), FragilityError> {
-        let (runs, why) = self.runs(block, auto_tol, true)?;
+        let (runs, why) = self.runs(block, model, true)?;
         Ok((runs.iter().map(|c| c.eta_c.unwrap_or(0.0)).collect(), why))
     }
 
@@ -267,14 +286,15 @@ impl DirectRecords {
     pub fn runs(
         &self,
         block: &Block,
-        auto_tol: f64,
+        model: RunModel,
         in_ground: bool,
     ) -> Result<(Vec<ida::Capacity>, String), FragilityError> {
-        let (model, why) = ModelChoice::Auto
+        let (model, why) = model
+            .choice
             .resolve(
                 Some(block.alpha()),
                 crate::physics::Solver::default(),
-                auto_tol,
+                model.auto_tol,
             )
             .map_err(FragilityError::Model)?;
         let spec = RunSpec::new(block.p(), block.eps, 1.0, model);

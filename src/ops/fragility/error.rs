@@ -52,6 +52,11 @@ pub enum FragilityError {
     )]
     NoPeriod(String),
     #[error(
+        "the {0} model is chosen (a tree's [[model]] branch), but a regression or a study's \
+         tables are of the model they were made by: add --direct to run the records"
+    )]
+    ModelNeedsRuns(&'static str),
+    #[error(
         "damage state `{state}`: β = {beta}{}: a lognormal without spread, which the engines \
          cannot evaluate (OpenQuake's gives NaN); run more records (--records), or export fewer \
          states",

@@ -22,7 +22,7 @@ mod pairs;
 mod request;
 
 pub use assess::{assess, Assessment, Point};
-pub use direct::{DirectProgress, DirectRecords};
+pub use direct::{DirectProgress, DirectRecords, RunModel};
 pub use error::FragilityError;
 pub use laws::{default_records, laws, Laws, Source};
 pub use pairs::Orient;

@@ -46,6 +46,9 @@ pub struct Request {
     /// Which orientations of the records (`--direct`; pairs for random and
     /// worst).
     pub orient: super::Orient,
+    /// A logic tree over ε and the model: a fragility per branch and their
+    /// mixture.
+    pub tree: Option<crate::tree::Tree>,
 }
 
 impl Request {

@@ -45,6 +45,19 @@ pub struct FragilityInfo {
     pub records: Option<usize>,
     /// With `--direct`: the records folder (or pipeline) they came from.
     pub records_folder: Option<String>,
+    /// With `--tree`: each branch's fragility, the mixture's median and
+    /// equivalent β, the dispersion split; with several branches `fit` is
+    /// `mixture` and `median`, `beta` the mixture's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tree: Option<crate::ops::tree::TreeInfo>,
+}
+
+/// One branch's rate at a site.
+#[derive(Debug, Clone, Serialize)]
+pub struct BranchRate {
+    pub branch: String,
+    pub weight: f64,
+    pub annual_rate: f64,
 }
 
 /// One range of the IM in the deaggregation.
@@ -64,7 +77,18 @@ pub struct SiteInfo {
     pub site: usize,
     pub lon: Option<f64>,
     pub lat: Option<f64>,
+    /// λ (1/year); with a tree, the mean over its branches.
     pub annual_rate: f64,
+    /// The weighted mean of the branches' rates (1/year): `annual_rate`,
+    /// and the plain rate without a tree.
+    pub mean_annual_rate: f64,
+    /// With a tree: each branch's rate.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub branches: Vec<BranchRate>,
+    /// With a tree: the branches' rates' weighted quantiles at
+    /// `fragility.tree.quantiles` (1/year).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub quantile_annual_rates: Option<Vec<f64>>,
     /// `None` when the rate is 0.
     pub return_period_years: Option<f64>,
     pub p_overturn_in_years: f64,

@@ -13,7 +13,7 @@ use crate::hazard::{self, HazardCurve};
 use crate::im::Im;
 use crate::label::Label;
 use crate::ops::damage;
-use crate::ops::fragility::{self, DirectRecords, FragilityError, Laws};
+use crate::ops::fragility::{self, DirectRecords, FragilityError, Laws, RunModel};
 use crate::risk::{self, Fragility, SiteRisk};
 
 /// Reads the hazard file: the curves of the sites asked, with their indices.
@@ -66,7 +66,7 @@ fn fragility_of(
     laws: &Laws,
     im: Im,
     direct: Option<&DirectRecords>,
-    auto_tol: f64,
+    model: RunModel,
     fit: FitChoice,
 ) -> Result<(Fragility, FragilityInfo, Vec<String>), FragilityError> {
     let f = damage::of_block(
@@ -75,7 +75,7 @@ fn fragility_of(
         im,
         laws,
         direct,
-        auto_tol,
+        model,
         fit,
     )?;
     let method = f.method;
@@ -94,6 +94,7 @@ fn fragility_of(
         lognormal_p: state.lognormal_p,
         records: f.records,
         records_folder: f.records_folder.clone(),
+        tree: None,
     };
     Ok((fragility, info, f.warnings))
 }
@@ -104,6 +105,9 @@ pub(super) fn site_info(k: usize, curve: &HazardCurve, r: &SiteRisk, years: f64)
         lon: curve.lon,
         lat: curve.lat,
         annual_rate: r.annual_rate,
+        mean_annual_rate: r.annual_rate,
+        branches: Vec::new(),
+        quantile_annual_rates: None,
         return_period_years: (r.annual_rate > 0.0).then(|| 1.0 / r.annual_rate),
         p_overturn_in_years: risk::probability_in(r.annual_rate, years),
         first_iml: r.first_iml,
@@ -224,27 +228,50 @@ pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
             source,
         };
         let block = fragility::block(e.b_m, e.h_m, e.eps).map_err(in_block)?;
-        let (frag, info, mut warnings) = fragility_of(
-            &block,
-            &laws,
-            im,
-            records.as_ref(),
-            req.auto_tol,
-            FitChoice {
-                dispersion: Dispersion::Each,
-                ..req.fit()
-            },
-        )
-        .map_err(in_block)?;
         let floor = records.as_ref().and_then(|r| r.floor());
-        let cut = damage::zero_below(&block, im, floor).unwrap_or(0.0);
-        let site_infos: Vec<SiteInfo> = sites
-            .iter()
-            .map(|(k, c)| {
-                let r = risk::assess_above(c, &frag, req.beyond, cut);
-                site_info(*k, c, &r, req.years)
-            })
-            .collect();
+        let fit = FitChoice {
+            dispersion: Dispersion::Each,
+            ..req.fit()
+        };
+        let at_sites = |block: &Block, model| -> Result<_, RiskError> {
+            let (frag, info, warnings) =
+                fragility_of(block, &laws, im, records.as_ref(), model, fit).map_err(in_block)?;
+            let cut = damage::zero_below(block, im, floor).unwrap_or(0.0);
+            let risks: Vec<SiteRisk> = sites
+                .iter()
+                .map(|(_, c)| risk::assess_above(c, &frag, req.beyond, cut))
+                .collect();
+            Ok((frag, info, warnings, risks))
+        };
+        let (info, mut warnings, site_infos) = match &req.tree {
+            None => {
+                let (_, info, warnings, risks) = at_sites(&block, RunModel::auto(req.auto_tol))?;
+                let infos = sites
+                    .iter()
+                    .zip(&risks)
+                    .map(|((k, c), r)| site_info(*k, c, r, req.years))
+                    .collect();
+                (info, warnings, infos)
+            }
+            Some(tree) => {
+                let mut branches = Vec::new();
+                for path in tree.paths() {
+                    let (eps, model) =
+                        crate::ops::tree::branch(&path, e.b_m, e.h_m, e.eps, req.auto_tol);
+                    let b = fragility::block(e.b_m, e.h_m, eps).map_err(in_block)?;
+                    let (frag, info, warnings, risks) = at_sites(&b, model)?;
+                    branches.push(super::tree::Branch {
+                        path,
+                        eps: b.eps,
+                        frag,
+                        info,
+                        warnings,
+                        risks,
+                    });
+                }
+                super::tree::combine(tree, branches, &sites, req.years)
+            }
+        };
         warnings.extend(hazard_notes.iter().cloned());
         warnings.extend(site_infos.iter().flat_map(|s| tails(s, im.unit(), None)));
         let assessed = block_info(e, &block, floor);

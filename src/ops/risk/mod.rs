@@ -13,8 +13,9 @@ mod inventory;
 mod request;
 mod states;
 mod table;
+mod tree;
 
-pub use answer::{Assessment, BinInfo, BlockInfo, FragilityInfo, SiteInfo};
+pub use answer::{Assessment, BinInfo, BlockInfo, BranchRate, FragilityInfo, SiteInfo};
 pub use assess::{assess, block_info, hazard_im, hazard_warnings, read_hazard};
 pub use charts::{deaggregation_chart, ranking_chart};
 pub use error::RiskError;

@@ -76,6 +76,9 @@ pub struct Request {
     pub if_not_lognormal: crate::damage::IfNotLognormal,
     /// Which orientations of the records (`--direct`).
     pub orient: fragility::Orient,
+    /// A logic tree over ε and the model: each branch's rate, their mean
+    /// and quantiles.
+    pub tree: Option<crate::tree::Tree>,
 }
 
 impl Request {

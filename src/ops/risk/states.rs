@@ -88,7 +88,7 @@ pub fn assess_states(
             im,
             &laws,
             records.as_ref(),
-            req.auto_tol,
+            crate::ops::fragility::RunModel::auto(req.auto_tol),
             crate::damage::FitChoice {
                 method,
                 ..req.fit()

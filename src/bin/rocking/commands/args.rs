@@ -97,6 +97,12 @@ pub struct LawArgs {
     /// With --orientation random or worst: the angle step over [0°, 180°).
     #[arg(long, value_name = "DEG", default_value_t = rocking::pair::ANGLE_STEP_DEG)]
     pub angle_step: f64,
+    /// A logic tree over the block's ε and the model (a TOML file of
+    /// `[[eps]]` and `[[model]]` branches with weights, or a named tree:
+    /// `restitution-tests`): each branch's answer, their weighted mean and
+    /// quantiles (docs/MODEL.md §19).
+    #[arg(long, value_name = "TREE.toml")]
+    pub tree: Option<String>,
 }
 
 impl LawArgs {

@@ -96,6 +96,7 @@ fn ask(args: &Args) -> FragilityAsk {
         method: args.states.method,
         dispersion: args.states.dispersion,
         if_not_lognormal: args.states.if_not_lognormal,
+        tree: args.law.tree.clone(),
     }
 }
 
@@ -117,12 +118,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .eta_c_median
         .map_or(String::new(), |e| format!("median η_c = {e:.4}, "));
     println!(
-        "block of half-width b = {} m, half-height h = {} m: α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}; capacity in {} from {} ({}{}): {eta}median {:.4} {unit}, {}",
+        "block of half-width b = {} m, half-height h = {} m: α = {:.4} rad, p = {:.4} 1/s, ε {}; capacity in {} from {} ({}{}): {eta}median {:.4} {unit}, {}",
         a.b_m,
         a.h_m,
         a.alpha_rad,
         a.p,
-        a.eps,
+        if a.eps.is_nan() {
+            "by the tree".to_string()
+        } else {
+            format!("= {:.4}", a.eps)
+        },
         a.im,
         a.source,
         a.fit,
@@ -142,6 +147,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
     );
     let direct = a.records.is_some();
+    if let Some(t) = &a.tree {
+        super::tree::print_tree(t, unit);
+    }
     if let Some(floor) = &a.floor {
         let whose = if args.im.floor() {
             "the floor motion's own (a floor demand)"
@@ -166,17 +174,26 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let head = format!("{} ({unit})", display_name(&a.im));
     let pga = a.im == "pga";
     println!(
-        "{head:>14} {:>10} {:>14}{}",
+        "{head:>14} {:>10} {:>14}{}{}",
         if pga { "η" } else { "" },
         "P(overturn)",
-        if direct { "  share overturned" } else { "" }
+        if direct { "  share overturned" } else { "" },
+        if a.points.iter().any(|p| p.quantiles.is_some()) {
+            "  over the tree: 5 %    16 %    50 %    84 %    95 %"
+        } else {
+            ""
+        }
     );
     for pt in &a.points {
         let eta = pt.eta.map_or(String::new(), |e| format!("{e:.4}"));
         let share = pt
             .empirical
             .map_or(String::new(), |e| format!("  {e:>18.4}"));
-        println!("{:>14.4} {eta:>10} {:>14.4}{share}", pt.iml, pt.probability);
+        let q = pt.quantiles.as_ref().map_or(String::new(), |q| {
+            let cells: Vec<String> = q.iter().map(|v| format!("{v:.4}")).collect();
+            format!("  {:>15}", cells.join("  "))
+        });
+        println!("{:>14.4} {eta:>10} {:>14.4}{share}{q}", pt.iml, pt.probability);
     }
     Ok(())
 }

@@ -21,6 +21,7 @@ mod stage;
 mod states;
 mod status;
 mod submit;
+mod tree;
 mod wall;
 
 #[derive(Debug, Parser)]

@@ -113,6 +113,7 @@ fn ask(args: &Args) -> RiskAsk {
         method: args.states.method,
         dispersion: args.states.dispersion,
         if_not_lognormal: args.states.if_not_lognormal,
+        tree: args.law.tree.clone(),
     }
 }
 
@@ -315,15 +316,24 @@ fn print_one(a: &Assessment) {
     let b = &a.block;
     let f = &a.fragility;
     println!(
-        "block of half-width b = {} m, half-height h = {} m: α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}{}",
+        "block of half-width b = {} m, half-height h = {} m: α = {:.4} rad, p = {:.4} 1/s, ε {}",
         b.b_m,
         b.h_m,
         b.alpha_rad,
         b.p,
-        b.eps,
-        if b.eps_housner { " (Housner)" } else { "" }
+        match &f.tree {
+            Some(t) if t.branches.len() > 1 => "by the tree".to_string(),
+            _ => format!(
+                "= {:.4}{}",
+                b.eps,
+                if b.eps_housner { " (Housner)" } else { "" }
+            ),
+        }
     );
     println!("{}", fragility_line(f));
+    if let Some(t) = &f.tree {
+        super::tree::print_tree(t, f.unit);
+    }
     let u = f.unit;
     for s in &a.sites {
         println!();
@@ -372,6 +382,9 @@ fn print_one(a: &Assessment) {
             .unwrap_or(0);
         for (label, value) in &rows {
             println!("  {label:<width$} {value}");
+        }
+        if let (Some(t), Some(q)) = (&f.tree, &s.quantile_annual_rates) {
+            super::tree::print_rates(&s.branches, &t.quantiles, q, s.mean_annual_rate);
         }
         let im = display_name(&f.im);
         println!("  deaggregation by {im}:");
