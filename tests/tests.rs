@@ -41,6 +41,9 @@
 //!   responses rotated every 1°, capacities at the axes and mirrored angles.
 //! - `physics`: the solvers against closed forms, conservation laws,
 //!   symmetry and the hard cases (`ida::HARD_CASES`).
+//! - `tree`: a logic tree over ε and the model against plain runs at each
+//!   branch (mean, quantiles by hand, one branch to the bit), the rate's
+//!   bootstrap band against a bootstrap by hand.
 //! - `taylor`: the Taylor stepper of the nonlinear equation against the
 //!   energy of free rocking, DP5 at 1e-13, the linearised closed form as
 //!   α → 0, and the hard cases; choosing it and refusals.
@@ -93,4 +96,5 @@ mod slurm;
 mod sweep;
 mod tables;
 mod taylor;
+mod tree;
 mod util;

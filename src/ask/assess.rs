@@ -456,6 +456,11 @@ pub struct RiskAsk {
     pub if_not_lognormal: IfNotLognormal,
     /// A logic tree over ε and the model: a TOML file or a named tree.
     pub tree: Option<String>,
+    /// With `direct`: resamples of the records' pairs for the rate's
+    /// band (0: none).
+    pub bootstrap: usize,
+    /// The bootstrap generator's seed.
+    pub seed: u64,
 }
 
 impl Default for RiskAsk {
@@ -491,6 +496,8 @@ impl Default for RiskAsk {
             dispersion: Dispersion::Common,
             if_not_lognormal: IfNotLognormal::Curve,
             tree: None,
+            bootstrap: 0,
+            seed: 0,
         }
     }
 }
@@ -558,7 +565,28 @@ impl RiskAsk {
             if_not_lognormal: self.if_not_lognormal,
             orient: law.orient(self.direct, sp)?,
             tree: tree(self.tree.as_deref(), self.eps, self.direct, sp)?,
+            bootstrap: match (self.bootstrap, self.direct) {
+                (0, _) => None,
+                (_, false) => {
+                    return Err(AskError(format!(
+                        "{} resamples the records' own capacities: add {}",
+                        sp.key("bootstrap"),
+                        sp.key("direct")
+                    )))
+                }
+                (resamples, true) => Some(risk::Bootstrap {
+                    resamples,
+                    seed: self.seed,
+                }),
+            },
         };
+        if req.bootstrap.is_some() && self.states.is_some() {
+            return Err(AskError(format!(
+                "{} bands the rate of overturning; give it or {}, not both",
+                sp.key("bootstrap"),
+                sp.key("states")
+            )));
+        }
         if req.tree.is_some() && self.states.is_some() {
             return Err(AskError(format!(
                 "{} states the rate of overturning over its branches; give it or {}, not both",

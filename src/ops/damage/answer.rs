@@ -112,6 +112,10 @@ pub struct DamageFragility {
     pub model: Option<String>,
     pub states: Vec<StateFragility>,
     pub warnings: Vec<String>,
+    /// With `--direct`: each fitted capacity's states (in the IM), in the
+    /// records' order (a pair's with `worst`), for the bootstrap.
+    #[serde(skip)]
+    pub per_record: Option<Vec<Vec<crate::damage::StateCapacity>>>,
 }
 
 impl DamageFragility {

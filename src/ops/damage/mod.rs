@@ -21,6 +21,7 @@ use crate::damage::{
 };
 use crate::floor::Building;
 use crate::im::Im;
+use crate::risk::Fragility;
 use crate::label::Label;
 use records::{curve_where_not_lognormal, from_records};
 pub use records::{FEW_RECORDS, TEXT_RECORDS_NOTE};
@@ -63,6 +64,23 @@ pub fn of_block(
         }
     }
     Ok(f)
+}
+
+/// State `state`'s fragility (by `f`'s method) from the records `draw`
+/// picks (indices into `f.per_record`, repeats allowed): one bootstrap
+/// resample, fitted as the whole sample is. `None` without the records'
+/// capacities or where the resample has no fit.
+pub fn resampled(f: &DamageFragility, state: usize, draw: &[usize]) -> Option<Fragility> {
+    let all = f.per_record.as_ref()?;
+    let caps: Vec<Vec<damage::StateCapacity>> = draw.iter().map(|&k| all[k].clone()).collect();
+    let fit = records::fit_states(state + 1, &caps)?.swap_remove(state);
+    let s = StateFragility {
+        fractile: fit.fractile,
+        mle: fit.mle,
+        capacities: Some(fit.capacities),
+        ..f.states[state].clone()
+    };
+    s.fragility(f.method)
 }
 
 /// The IM level below which every state's probability is 0, the same for
@@ -197,6 +215,7 @@ fn from_regression(
         model: None,
         states: out,
         warnings,
+        per_record: None,
     })
 }
 

@@ -20,7 +20,6 @@ pub(super) fn from_records(
     records: &DirectRecords,
     model: RunModel,
 ) -> Result<DamageFragility, FragilityError> {
-    let def = DIRECT_FRACTILE;
     // A floor demand (PFA, PFV) is of the floor motion's own scale.
     let (runs, why) = records.runs(block, model, !im.floor())?;
     let alpha = block.alpha();
@@ -50,7 +49,7 @@ pub(super) fn from_records(
         Orientation::Worst => worst_by_pair(&in_im, |k| records.pair_of(k)),
         Orientation::AsRecorded | Orientation::Random => in_im,
     };
-    let fits = damage::fit_states(n, &in_im, |_, v| Some(v), def)
+    let fits = fit_states(n, &in_im)
         .ok_or(FragilityError::NoPeriod(im.name()))?;
     let mut warnings: Vec<String> = states
         .states()
@@ -99,7 +98,15 @@ pub(super) fn from_records(
         model: Some(why),
         states: out,
         warnings,
+        per_record: Some(in_im),
     })
+}
+
+/// Every state's fits of the records' capacities in the IM (`caps[k][j]`:
+/// record k's of state j): the one fit of `--direct` and of its
+/// bootstrap's resamples.
+pub(super) fn fit_states(n: usize, caps: &[Vec<StateCapacity>]) -> Option<Vec<damage::StateFit>> {
+    damage::fit_states(n, caps, |_, v| Some(v), DIRECT_FRACTILE)
 }
 
 /// Each pair's capacities at its worst angle: for each state the smallest

@@ -82,6 +82,9 @@ struct DirectRecord {
     /// Its pair's RotD measures over its own ground PGA (the ratios the
     /// normalised forcing's IMs are: [`DirectRecords::ims`]).
     pair_ims: Vec<(Im, f64)>,
+    /// The pair it belongs to by its manifest (set and pair number), if
+    /// the rows carry it.
+    pair_key: Option<String>,
 }
 
 /// The records a block is run through with `--direct`, read once.
@@ -106,6 +109,9 @@ pub struct DirectRecords {
     orient: super::Orient,
     /// How many pairs, when the records come in pairs.
     pairs: usize,
+    /// The manifest beside a `--records` folder (its pairs, for the
+    /// bootstrap's units), if there is one.
+    manifest: Option<std::path::PathBuf>,
 }
 
 impl DirectRecords {
@@ -156,7 +162,11 @@ impl DirectRecords {
                             .collect()
                     })
                     .unwrap_or_default();
+                let pair_key = r.meta.pair.as_ref().map(|p| {
+                    format!("{}/{p}", r.meta.set.as_deref().unwrap_or(""))
+                });
                 Ok(DirectRecord {
+                    pair_key,
                     id: r.record_id,
                     exc,
                     ground,
@@ -180,7 +190,60 @@ impl DirectRecords {
             felt_ims: std::sync::OnceLock::new(),
             orient,
             pairs,
+            manifest: match from {
+                Source::Paper { records, .. } => super::pairs::manifest_of(records),
+                Source::Pipeline { .. } => None,
+            },
         })
+    }
+
+    /// Each fitted capacity's resampling unit (in the order of the
+    /// fragility's per-record capacities) and what the units are: the
+    /// records' pairs where their manifest gives them (the two components
+    /// of a FEMA P695 pair share an earthquake and a station; a pair's
+    /// every angle with `--orientation random`), else each record (and
+    /// each pair with `worst`, one capacity a pair).
+    pub fn units(&self) -> (Vec<usize>, crate::stats::ResampleUnit) {
+        use crate::pair::Orientation;
+        use crate::stats::ResampleUnit;
+        match self.orient.orientation {
+            Orientation::Worst => return ((0..self.pairs).collect(), ResampleUnit::Record),
+            Orientation::Random => {
+                let units = self.records.iter().map(|r| r.pair.unwrap_or(0)).collect();
+                return (units, ResampleUnit::Pair);
+            }
+            Orientation::AsRecorded => {}
+        }
+        let from_manifest = || -> Option<Vec<String>> {
+            let text = std::fs::read(self.manifest.as_ref()?).ok()?;
+            let m = crate::manifest::read(&text[..]).ok()?;
+            self.records
+                .iter()
+                .map(|r| {
+                    let e = m.entries.get(&r.id)?;
+                    let pair = e.meta.pair.as_ref()?;
+                    Some(format!("{}/{pair}", e.meta.set.as_deref().unwrap_or("")))
+                })
+                .collect()
+        };
+        let keys: Option<Vec<String>> = self.records.iter().map(|r| r.pair_key.clone()).collect();
+        match keys.or_else(from_manifest) {
+            Some(keys) => {
+                let mut seen: Vec<&str> = Vec::new();
+                let units = keys
+                    .iter()
+                    .map(|k| match seen.iter().position(|s| s == k) {
+                        Some(i) => i,
+                        None => {
+                            seen.push(k);
+                            seen.len() - 1
+                        }
+                    })
+                    .collect();
+                (units, ResampleUnit::Pair)
+            }
+            None => ((0..self.records.len()).collect(), ResampleUnit::Record),
+        }
     }
 
     /// The records' IMs, from their forcing normalised to a PGA of 1 g:

@@ -50,6 +50,9 @@ pub struct FragilityInfo {
     /// `mixture` and `median`, `beta` the mixture's.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tree: Option<crate::ops::tree::TreeInfo>,
+    /// With `--bootstrap`: the resamples and the bands of the median and β.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bootstrap: Option<super::BootstrapInfo>,
 }
 
 /// One branch's rate at a site.
@@ -89,6 +92,10 @@ pub struct SiteInfo {
     /// `fragility.tree.quantiles` (1/year).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub quantile_annual_rates: Option<Vec<f64>>,
+    /// With `--bootstrap`: the rate's band from the records (1/year), at
+    /// `fragility.bootstrap.level` (5 and 95 % of the resamples' rates).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub annual_rate_band: Option<[f64; 2]>,
     /// `None` when the rate is 0.
     pub return_period_years: Option<f64>,
     pub p_overturn_in_years: f64,

@@ -68,7 +68,7 @@ fn fragility_of(
     direct: Option<&DirectRecords>,
     model: RunModel,
     fit: FitChoice,
-) -> Result<(Fragility, FragilityInfo, Vec<String>), FragilityError> {
+) -> Result<(Fragility, FragilityInfo, damage::DamageFragility), FragilityError> {
     let f = damage::of_block(
         block,
         &DamageStates::overturning(),
@@ -95,8 +95,9 @@ fn fragility_of(
         records: f.records,
         records_folder: f.records_folder.clone(),
         tree: None,
+        bootstrap: None,
     };
-    Ok((fragility, info, f.warnings))
+    Ok((fragility, info, f))
 }
 
 pub(super) fn site_info(k: usize, curve: &HazardCurve, r: &SiteRisk, years: f64) -> SiteInfo {
@@ -108,6 +109,7 @@ pub(super) fn site_info(k: usize, curve: &HazardCurve, r: &SiteRisk, years: f64)
         mean_annual_rate: r.annual_rate,
         branches: Vec::new(),
         quantile_annual_rates: None,
+        annual_rate_band: None,
         return_period_years: (r.annual_rate > 0.0).then(|| 1.0 / r.annual_rate),
         p_overturn_in_years: risk::probability_in(r.annual_rate, years),
         first_iml: r.first_iml,
@@ -213,79 +215,114 @@ pub(super) fn prepare(req: &Request) -> Result<Prepared, RiskError> {
 
 /// Assesses every block asked at every site asked.
 pub fn assess(req: &Request) -> Result<Vec<Assessment>, RiskError> {
-    let Prepared {
-        sites,
-        im,
-        entries,
-        laws,
-        records,
-        warnings: hazard_notes,
-    } = prepare(req)?;
-    let mut out = Vec::with_capacity(entries.len());
-    for e in &entries {
-        let in_block = |source| RiskError::Block {
-            name: e.name.clone(),
-            source,
-        };
-        let block = fragility::block(e.b_m, e.h_m, e.eps).map_err(in_block)?;
-        let floor = records.as_ref().and_then(|r| r.floor());
-        let fit = FitChoice {
-            dispersion: Dispersion::Each,
-            ..req.fit()
-        };
-        let at_sites = |block: &Block, model| -> Result<_, RiskError> {
-            let (frag, info, warnings) =
-                fragility_of(block, &laws, im, records.as_ref(), model, fit).map_err(in_block)?;
-            let cut = damage::zero_below(block, im, floor).unwrap_or(0.0);
-            let risks: Vec<SiteRisk> = sites
-                .iter()
-                .map(|(_, c)| risk::assess_above(c, &frag, req.beyond, cut))
-                .collect();
-            Ok((frag, info, warnings, risks))
-        };
-        let (info, mut warnings, site_infos) = match &req.tree {
-            None => {
-                let (_, info, warnings, risks) = at_sites(&block, RunModel::auto(req.auto_tol))?;
-                let infos = sites
-                    .iter()
-                    .zip(&risks)
-                    .map(|((k, c), r)| site_info(*k, c, r, req.years))
-                    .collect();
-                (info, warnings, infos)
-            }
-            Some(tree) => {
-                let mut branches = Vec::new();
-                for path in tree.paths() {
-                    let (eps, model) =
-                        crate::ops::tree::branch(&path, e.b_m, e.h_m, e.eps, req.auto_tol);
-                    let b = fragility::block(e.b_m, e.h_m, eps).map_err(in_block)?;
-                    let (frag, info, warnings, risks) = at_sites(&b, model)?;
-                    branches.push(super::tree::Branch {
-                        path,
-                        eps: b.eps,
-                        frag,
-                        info,
-                        warnings,
-                        risks,
-                    });
-                }
-                super::tree::combine(tree, branches, &sites, req.years)
-            }
-        };
-        warnings.extend(hazard_notes.iter().cloned());
-        warnings.extend(site_infos.iter().flat_map(|s| tails(s, im.unit(), None)));
-        let assessed = block_info(e, &block, floor);
-        warnings.extend(sliding_warning(&assessed));
-        out.push(Assessment {
-            block: assessed,
-            fragility: info,
-            years: req.years,
-            beyond: req.beyond.label(),
-            sites: site_infos,
-            warnings,
+    let p = prepare(req)?;
+    p.entries.iter().map(|e| assess_block(req, &p, e)).collect()
+}
+
+/// One block at every site: its fragility (each branch's with a tree),
+/// its rates, and with `--bootstrap` their bands.
+fn assess_block(req: &Request, p: &Prepared, e: &InventoryBlock) -> Result<Assessment, RiskError> {
+    let (sites, im, records) = (&p.sites, p.im, p.records.as_ref());
+    let in_block = |source| RiskError::Block {
+        name: e.name.clone(),
+        source,
+    };
+    let block = fragility::block(e.b_m, e.h_m, e.eps).map_err(in_block)?;
+    let floor = records.and_then(|r| r.floor());
+    let fit = FitChoice {
+        dispersion: Dispersion::Each,
+        ..req.fit()
+    };
+    // Each path of the tree (one without), its block and its runs' model.
+    let paths = match &req.tree {
+        Some(tree) => tree.paths(),
+        None => vec![crate::tree::TreePath {
+            eps: None,
+            model: None,
+            weight: 1.0,
+            label: String::new(),
+        }],
+    };
+    let mut branches = Vec::with_capacity(paths.len());
+    for path in paths {
+        let (eps, model) = crate::ops::tree::branch(&path, e.b_m, e.h_m, e.eps, req.auto_tol);
+        let b = fragility::block(e.b_m, e.h_m, eps).map_err(in_block)?;
+        let (frag, info, whole) =
+            fragility_of(&b, &p.laws, im, records, model, fit).map_err(in_block)?;
+        let cut = damage::zero_below(&b, im, floor).unwrap_or(0.0);
+        let risks = sites
+            .iter()
+            .map(|(_, c)| risk::assess_above(c, &frag, req.beyond, cut))
+            .collect();
+        branches.push(super::tree::Branch {
+            path,
+            eps: b.eps,
+            frag,
+            info,
+            warnings: whole.warnings.clone(),
+            risks,
+            whole,
+            cut,
         });
     }
-    Ok(out)
+    let resampled: Vec<super::bootstrap::Resampled> = branches
+        .iter()
+        .map(|b| super::bootstrap::Resampled {
+            weight: b.path.weight,
+            fragility: &b.whole,
+            cut: b.cut,
+        })
+        .collect();
+    let bands = match (req.bootstrap, records) {
+        (Some(boot), Some(r)) => Some(super::bootstrap::bands(
+            boot,
+            r.units(),
+            &resampled,
+            sites,
+            req.beyond,
+        )),
+        _ => None,
+    };
+    drop(resampled);
+    let (mut info, mut warnings, mut site_infos) = match &req.tree {
+        Some(tree) => super::tree::combine(tree, branches, sites, req.years),
+        None => {
+            let b = branches.into_iter().next().expect("one branch");
+            let infos = sites
+                .iter()
+                .zip(&b.risks)
+                .map(|((k, c), r)| site_info(*k, c, r, req.years))
+                .collect();
+            (b.info, b.warnings, infos)
+        }
+    };
+    if let Some((boot, site_bands)) = bands {
+        if boot.fitted < boot.resamples {
+            warnings.push(format!(
+                "{} of {} resamples have no fit (more than 16 % of their records never \
+                 overturn the block): the bands are of the {} others",
+                boot.resamples - boot.fitted,
+                boot.resamples,
+                boot.fitted
+            ));
+        }
+        for (s, band) in site_infos.iter_mut().zip(site_bands) {
+            s.annual_rate_band = band;
+        }
+        info.bootstrap = Some(boot);
+    }
+    warnings.extend(p.warnings.iter().cloned());
+    warnings.extend(site_infos.iter().flat_map(|s| tails(s, im.unit(), None)));
+    let assessed = block_info(e, &block, floor);
+    warnings.extend(sliding_warning(&assessed));
+    Ok(Assessment {
+        block: assessed,
+        fragility: info,
+        years: req.years,
+        beyond: req.beyond.label(),
+        sites: site_infos,
+        warnings,
+    })
 }
 
 /// A block as assessed: its geometry, and whether it slides first.

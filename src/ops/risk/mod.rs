@@ -7,6 +7,7 @@
 
 mod answer;
 mod assess;
+mod bootstrap;
 mod charts;
 mod error;
 mod inventory;
@@ -16,6 +17,7 @@ mod table;
 mod tree;
 
 pub use answer::{Assessment, BinInfo, BlockInfo, BranchRate, FragilityInfo, SiteInfo};
+pub use bootstrap::{draws, Bootstrap, BootstrapInfo, BAND_LEVEL};
 pub use assess::{assess, block_info, hazard_im, hazard_warnings, read_hazard};
 pub use charts::{deaggregation_chart, ranking_chart};
 pub use error::RiskError;

@@ -79,6 +79,8 @@ pub struct Request {
     /// A logic tree over ε and the model: each branch's rate, their mean
     /// and quantiles.
     pub tree: Option<crate::tree::Tree>,
+    /// With `--direct`: a bootstrap of the rate by the records' pairs.
+    pub bootstrap: Option<super::Bootstrap>,
 }
 
 impl Request {

@@ -17,6 +17,10 @@ pub(super) struct Branch {
     pub info: FragilityInfo,
     pub warnings: Vec<String>,
     pub risks: Vec<SiteRisk>,
+    /// The whole fragility (its records' capacities, for the bootstrap).
+    pub whole: crate::ops::damage::DamageFragility,
+    /// The level below which the fragility is 0.
+    pub cut: f64,
 }
 
 /// The block's fragility, warnings and sites over the tree: a one-branch

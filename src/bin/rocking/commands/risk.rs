@@ -76,6 +76,13 @@ pub struct Args {
     /// The rate of each damage state (prints only; no table, no chart), and its fit.
     #[command(flatten)]
     states: StatesArgs,
+    /// With --direct: resample the records' pairs this many times for a 90 %
+    /// band on each site's rate (and on the fragility's median and β).
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    bootstrap: usize,
+    /// The bootstrap's seed.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
     /// Print JSON instead of text (one object; an array with --inventory).
     #[arg(long)]
     json: bool,
@@ -114,6 +121,8 @@ fn ask(args: &Args) -> RiskAsk {
         dispersion: args.states.dispersion,
         if_not_lognormal: args.states.if_not_lognormal,
         tree: args.law.tree.clone(),
+        bootstrap: args.bootstrap,
+        seed: args.seed,
     }
 }
 

@@ -1,0 +1,311 @@
+//! How sure the answer is: a logic tree over ε and the model (`--tree`)
+//! against plain runs at each branch's values, its quantiles against a
+//! weighted quantile written here, a one-branch tree against today's
+//! answer to the bit; the rate's bootstrap band against a bootstrap written
+//! here over the same resamples.
+
+use std::fs;
+use std::path::Path;
+
+use serde_json::Value;
+
+use crate::util::{bundled_records, cornell_above, rocking, root, stderr, tempdir};
+
+fn json(out: &std::process::Output) -> Value {
+    assert!(out.status.success(), "{}", stderr(out));
+    serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&out.stdout)))
+}
+
+fn risk(d: &Path, extra: &[&str]) -> Value {
+    let hazard = root().join("records/hazard/synthetic-openquake.csv");
+    let mut args = vec!["risk", "--hazard", hazard.to_str().unwrap(), "--json"];
+    args.extend_from_slice(extra);
+    json(&rocking(d, &args))
+}
+
+/// OpenQuake's weighted quantile, written out: values sorted with their
+/// weights, the weights accumulated, q interpolated linearly between the
+/// points (cumulative weight, value), the end values outside.
+fn quantile_by_hand(values: &[f64], weights: &[f64], q: f64) -> f64 {
+    let mut idx: Vec<usize> = (0..values.len()).collect();
+    idx.sort_by(|&a, &b| values[a].total_cmp(&values[b]));
+    let mut cum = Vec::new();
+    let mut c = 0.0;
+    for &i in &idx {
+        c += weights[i];
+        cum.push(c);
+    }
+    if q <= cum[0] {
+        return values[idx[0]];
+    }
+    for k in 1..idx.len() {
+        if q <= cum[k] {
+            let t = (q - cum[k - 1]) / (cum[k] - cum[k - 1]);
+            return values[idx[k - 1]] + t * (values[idx[k]] - values[idx[k - 1]]);
+        }
+    }
+    values[*idx.last().unwrap()]
+}
+
+const TREE: &str = "[[eps]]\nratio = 1.0\nweight = 0.35\n[[eps]]\nratio = 0.95\nweight = 0.45\n\
+                    [[eps]]\nvalue = 0.7\nweight = 0.2\n";
+
+/// The mean rate of a tree equals the weighted mean of plain `risk` runs
+/// at each branch's ε (1e-12), at every site; its quantiles equal the
+/// weighted quantile written here; the mean fragility's median is where
+/// the mixture of the branches' lognormals (Φ written here) reaches 1/2.
+#[test]
+fn the_mean_rate_is_the_weighted_mean_of_plain_runs() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(d.join("tree.toml"), TREE).unwrap();
+    let (b, h) = (0.2f64, 0.9f64);
+    let tree = risk(d, &["--b", "0.2", "--h", "0.9", "--tree", "tree.toml"]);
+    let alpha = (b / h).atan();
+    let housner = 1.0 - 1.5 * alpha.sin().powi(2);
+    let branches = [(housner, 0.35), (0.95 * housner, 0.45), (0.7, 0.2)];
+    let plain: Vec<Value> = branches
+        .iter()
+        .map(|(eps, _)| risk(d, &["--b", "0.2", "--h", "0.9", "--eps", &format!("{eps:?}")]))
+        .collect();
+    let weights: Vec<f64> = branches.iter().map(|b| b.1).collect();
+    let sites = tree["sites"].as_array().unwrap();
+    assert!(sites.len() >= 2);
+    for (s, site) in sites.iter().enumerate() {
+        let rates: Vec<f64> = plain
+            .iter()
+            .map(|p| p["sites"][s]["annual_rate"].as_f64().unwrap())
+            .collect();
+        let mean: f64 = rates.iter().zip(&weights).map(|(r, w)| r * w).sum();
+        for key in ["mean_annual_rate", "annual_rate"] {
+            let got = site[key].as_f64().unwrap();
+            assert!((got / mean - 1.0).abs() < 1e-12, "site {s} {key}: {got} vs {mean}");
+        }
+        let q = site["quantile_annual_rates"].as_array().unwrap();
+        for (k, qq) in [0.05, 0.16, 0.5, 0.84, 0.95].iter().enumerate() {
+            let want = quantile_by_hand(&rates, &weights, *qq);
+            let got = q[k].as_f64().unwrap();
+            assert!((got - want).abs() <= 1e-12 * want, "site {s} q{qq}: {got} vs {want}");
+        }
+        for (k, br) in site["branches"].as_array().unwrap().iter().enumerate() {
+            assert_eq!(br["annual_rate"].as_f64().unwrap().to_bits(), rates[k].to_bits());
+        }
+    }
+    // The mixture's median: Σ wᵢ Φ(ln(x/mᵢ)/βᵢ) = 1/2 at the stated median.
+    let f = &tree["fragility"];
+    assert_eq!(f["fit"], "mixture");
+    let x = f["median"].as_f64().unwrap();
+    let mix: f64 = plain
+        .iter()
+        .zip(&weights)
+        .map(|(p, w)| {
+            let (m, beta) = (
+                p["fragility"]["median"].as_f64().unwrap(),
+                p["fragility"]["beta"].as_f64().unwrap(),
+            );
+            w * crate::util::phi((x / m).ln() / beta)
+        })
+        .sum();
+    assert!((mix - 0.5).abs() < 1e-10, "{mix}");
+    // FEMA P-58's split, by hand: β_m the weighted sd of ln mᵢ.
+    let ln_m: Vec<f64> = plain
+        .iter()
+        .map(|p| p["fragility"]["median"].as_f64().unwrap().ln())
+        .collect();
+    let mean_ln: f64 = ln_m.iter().zip(&weights).map(|(l, w)| l * w).sum();
+    let var: f64 = ln_m.iter().zip(&weights).map(|(l, w)| w * (l - mean_ln).powi(2)).sum();
+    let split = &f["tree"]["split"];
+    assert!((split["beta_m"].as_f64().unwrap() - var.sqrt()).abs() < 1e-12);
+}
+
+/// A tree of one branch of weight 1 is today's answer to the bit: the
+/// rates, return periods, deaggregation and fragility of a plain run.
+#[test]
+fn a_one_branch_tree_is_the_plain_answer() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(d.join("one.toml"), "[[eps]]\nvalue = 0.85\nweight = 1.0\n").unwrap();
+    let plain = risk(d, &["--b", "0.2", "--h", "0.9", "--eps", "0.85"]);
+    let tree = risk(d, &["--b", "0.2", "--h", "0.9", "--tree", "one.toml"]);
+    for key in ["median", "beta", "fit", "source"] {
+        assert_eq!(plain["fragility"][key], tree["fragility"][key], "{key}");
+    }
+    let (p, t) = (plain["sites"].as_array().unwrap(), tree["sites"].as_array().unwrap());
+    for (a, b) in p.iter().zip(t) {
+        for key in [
+            "annual_rate",
+            "return_period_years",
+            "p_overturn_in_years",
+            "share_beyond_last_iml",
+            "deaggregation",
+        ] {
+            assert_eq!(a[key], b[key], "{key}");
+        }
+        assert_eq!(b["mean_annual_rate"], a["annual_rate"]);
+    }
+    // And `fragility` alike, at its levels.
+    let levels = ["--b", "0.2", "--h", "0.9", "--pga", "0.3,0.5,0.8", "--json"];
+    let mut with = vec!["fragility", "--tree", "one.toml"];
+    with.extend_from_slice(&levels);
+    let mut without = vec!["fragility", "--eps", "0.85"];
+    without.extend_from_slice(&levels);
+    let (a, b) = (json(&rocking(d, &without)), json(&rocking(d, &with)));
+    assert_eq!(a["points"], b["points"]);
+    assert_eq!(a["median"], b["median"]);
+}
+
+/// A [[model]] branch runs the records with that model: on a slender block
+/// `auto` chooses the linearised one, so the linearised branch's rate is
+/// the plain `--direct` rate; refused without `--direct`.
+#[test]
+fn model_branches_run_the_records() {
+    let dir = tempdir();
+    let d = dir.path();
+    let recs = d.join("recs");
+    fs::create_dir_all(&recs).unwrap();
+    for id in ["RSN1111_KOBE_NIS000", "RSN953_NORTHR_MUL009", "RSN1633_MANJIL_ABBAR--L"] {
+        fs::copy(
+            bundled_records().join(format!("far-field/{id}.AT2")),
+            recs.join(format!("{id}.AT2")),
+        )
+        .unwrap();
+    }
+    fs::write(
+        d.join("m.toml"),
+        "[[model]]\nname = \"linearized\"\nweight = 0.5\n[[model]]\nname = \"nonlinear\"\nweight = 0.5\n",
+    )
+    .unwrap();
+    let common = ["--b", "0.1", "--h", "1.0", "--eps", "0.8", "--direct", "--records", "recs", "--method", "empirical"];
+    let mut args = common.to_vec();
+    args.extend_from_slice(&["--tree", "m.toml"]);
+    let tree = risk(d, &args);
+    let plain = risk(d, &common);
+    let br = &tree["sites"][0]["branches"];
+    assert_eq!(br[0]["annual_rate"], plain["sites"][0]["annual_rate"]);
+    assert_ne!(br[1]["annual_rate"], br[0]["annual_rate"]);
+    let refused = rocking(d, &["risk", "--hazard", root().join("records/hazard/synthetic-openquake.csv").to_str().unwrap(), "--b", "0.1", "--h", "1.0", "--tree", "m.toml"]);
+    assert!(!refused.status.success());
+    assert!(stderr(&refused).contains("--tree m.toml: a [[model]] branch (linearized) runs the records: add --direct"), "{}", stderr(&refused));
+    // A tree's keys are checked, naming the file.
+    fs::write(d.join("bad.toml"), "[[eps]]\nvalue = 0.8\nweight = 0.6\n").unwrap();
+    let bad = rocking(d, &["risk", "--hazard", root().join("records/hazard/synthetic-openquake.csv").to_str().unwrap(), "--b", "0.1", "--h", "1.0", "--tree", "bad.toml"]);
+    assert!(stderr(&bad).contains("bad.toml: [[eps]]: the weights sum to 0.6, not 1"), "{}", stderr(&bad));
+}
+
+/// The rate's bootstrap band (`--bootstrap`) equals a bootstrap written
+/// here over the same resamples (the far-field pairs by the manifest, drawn
+/// by the library's generator from the seed): each resample's lognormal by
+/// the type-7 fractiles of its capacities (from `rocking capacity`), its
+/// rate by the library's integral (held to Cornell's closed form in
+/// `risk.rs`), the band their type-7 5 and 95 % fractiles; to 1e-12.
+#[test]
+fn the_rates_band_is_a_bootstrap_by_hand() {
+    let dir = tempdir();
+    let d = dir.path();
+    let (k0, k) = (1e-4, 2.2);
+    let mut text = String::from("pga_g,annual_rate\n");
+    for i in 0..40 {
+        let a = 0.001 * (5000.0f64).powf(i as f64 / 39.0);
+        text.push_str(&format!("{a:?},{:?}\n", k0 * a.powf(-k)));
+    }
+    fs::write(d.join("h.csv"), &text).unwrap();
+    let far = bundled_records().join("far-field");
+    let (resamples, seed) = (200usize, 17u64);
+    let v = json(&rocking(
+        d,
+        &[
+            "risk", "--hazard", "h.csv", "--b", "0.1", "--h", "1.0", "--eps", "0.8", "--direct",
+            "--records", far.to_str().unwrap(), "--if-not-lognormal", "lognormal",
+            "--bootstrap", &resamples.to_string(), "--seed", &seed.to_string(), "--json",
+        ],
+    ));
+    let boot = &v["fragility"]["bootstrap"];
+    assert_eq!(boot["unit"], "pair");
+    assert_eq!(boot["fitted"], resamples);
+    // The records in the tool's order (file names sorted), their pairs
+    // from the manifest (set and pair number), numbered as they appear.
+    let mut files: Vec<String> = fs::read_dir(&far)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.to_ascii_uppercase().ends_with(".AT2"))
+        .collect();
+    files.sort();
+    let manifest = fs::read_to_string(bundled_records().join("manifest.csv")).unwrap();
+    let pair_of = |file: &str| -> String {
+        manifest
+            .lines()
+            .find(|l| l.ends_with(&format!("/{file}")))
+            .map(|l| {
+                let c: Vec<&str> = l.split(',').collect();
+                format!("{}/{}", c[0], c[1])
+            })
+            .unwrap()
+    };
+    let mut seen: Vec<String> = Vec::new();
+    let units: Vec<usize> = files
+        .iter()
+        .map(|f| {
+            let p = pair_of(f);
+            seen.iter().position(|s| *s == p).unwrap_or_else(|| {
+                seen.push(p);
+                seen.len() - 1
+            })
+        })
+        .collect();
+    assert_eq!(seen.len(), 22);
+    // Each record's capacity in PGA, α/η_c (the linearised model at α = 0.1).
+    let alpha = 0.1f64.atan();
+    let p = (3.0 * 9.80665 / (4.0 * (0.01f64 + 1.0).sqrt())).sqrt();
+    let caps: Vec<f64> = files
+        .iter()
+        .map(|f| {
+            let c = json(&rocking(
+                d,
+                &["capacity", "--record", far.join(f).to_str().unwrap(), "--p", &p.to_string(), "--eps", "0.8", "--json"],
+            ));
+            c["eta_c"].as_f64().map_or(f64::INFINITY, |e| alpha / e)
+        })
+        .collect();
+    let type7 = |sorted: &[f64], q: f64| {
+        let h = (sorted.len() - 1) as f64 * q;
+        let (lo, hi) = (h.floor() as usize, h.ceil() as usize);
+        sorted[lo] + (h - lo as f64) * (sorted[hi] - sorted[lo])
+    };
+    let curve = rocking::hazard::parse(&text).unwrap().remove(0);
+    let units_of = rocking::stats::Units::new(&units);
+    let mut rng = rocking::stats::SplitMix64::new(seed);
+    let (mut rates, mut medians) = (Vec::new(), Vec::new());
+    let mut draw = Vec::new();
+    for _ in 0..resamples {
+        units_of.draw(&mut rng, &mut draw);
+        let mut x: Vec<f64> = draw.iter().map(|&i| caps[i]).collect();
+        x.sort_by(f64::total_cmp);
+        let (q16, q50, q84) = (type7(&x, 0.16), type7(&x, 0.5), type7(&x, 0.84));
+        let beta = 0.5 * (q84 / q16).ln();
+        let f = rocking::risk::Fragility::Lognormal { median: q50, beta };
+        let r = rocking::risk::assess_above(&curve, &f, rocking::risk::Beyond::Extrapolate, 0.1);
+        // The integral itself against Cornell's closed form.
+        let c = cornell_above(k0, k, q50, beta, 0.1);
+        assert!((r.annual_rate / c - 1.0).abs() < 1e-8, "{} vs {c}", r.annual_rate);
+        rates.push(r.annual_rate);
+        medians.push(q50);
+    }
+    let band = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        [type7(v, 0.05), type7(v, 0.95)]
+    };
+    let want = band(&mut rates);
+    let got = &v["sites"][0]["annual_rate_band"];
+    for k in 0..2 {
+        let g = got[k].as_f64().unwrap();
+        assert!((g / want[k] - 1.0).abs() < 1e-12, "band {k}: {g} vs {}", want[k]);
+    }
+    let m = band(&mut medians);
+    for k in 0..2 {
+        let g = boot["median_band"][k].as_f64().unwrap();
+        assert!((g / m[k] - 1.0).abs() < 1e-12, "median band {k}: {g} vs {}", m[k]);
+    }
+    let rate = v["sites"][0]["annual_rate"].as_f64().unwrap();
+    assert!(want[0] < rate && rate < want[1], "{want:?} {rate}");
+}
