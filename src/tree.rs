@@ -123,8 +123,7 @@ pub const RESTITUTION_TESTS: &str = "restitution-tests";
 impl Tree {
     /// The tree a file's text gives; `origin` names the file in messages.
     pub fn parse(text: &str, origin: &str) -> Result<Tree, TreeError> {
-        let raw: RawTree =
-            toml::from_str(text).map_err(|e| TreeError(format!("{origin}: {e}")))?;
+        let raw: RawTree = toml::from_str(text).map_err(|e| TreeError(format!("{origin}: {e}")))?;
         let _ = raw.description;
         if !raw.mu.is_empty() {
             return Err(TreeError(format!(
@@ -282,7 +281,11 @@ pub fn weighted_mean(values: &[f64], weights: &[f64]) -> f64 {
 /// interpolated linearly on that step-free CDF, clamped to the smallest
 /// and largest value outside it.
 pub fn weighted_quantile(values: &[f64], weights: &[f64], q: f64) -> f64 {
-    let mut vw: Vec<(f64, f64)> = values.iter().copied().zip(weights.iter().copied()).collect();
+    let mut vw: Vec<(f64, f64)> = values
+        .iter()
+        .copied()
+        .zip(weights.iter().copied())
+        .collect();
     vw.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut cum = 0.0;
     let xs: Vec<(f64, f64)> = vw
@@ -324,7 +327,10 @@ pub struct BetaSplit {
 /// [`BetaSplit`] of lognormals `(median, β)` with `weights`; `None` when
 /// some median is not finite.
 pub fn beta_split(lognormals: &[(f64, f64)], weights: &[f64]) -> Option<BetaSplit> {
-    if lognormals.iter().any(|(m, b)| !(m.is_finite() && *m > 0.0 && b.is_finite())) {
+    if lognormals
+        .iter()
+        .any(|(m, b)| !(m.is_finite() && *m > 0.0 && b.is_finite()))
+    {
         return None;
     }
     let ln_m: Vec<f64> = lognormals.iter().map(|(m, _)| m.ln()).collect();
@@ -391,7 +397,10 @@ impl Mixture<'_> {
     /// lognormal through its 16 and 84 % levels).
     pub fn median_beta(&self) -> (Option<f64>, Option<f64>) {
         let m = self.level(0.5);
-        let beta = match (self.level(crate::stats::normal_cdf(-1.0)), self.level(crate::stats::normal_cdf(1.0))) {
+        let beta = match (
+            self.level(crate::stats::normal_cdf(-1.0)),
+            self.level(crate::stats::normal_cdf(1.0)),
+        ) {
             (Some(a), Some(b)) => Some((b / a).ln() / 2.0),
             _ => None,
         };
@@ -426,7 +435,10 @@ mod tests {
     #[test]
     fn weights_and_keys_checked() {
         let bad = Tree::parse("[[eps]]\nvalue = 0.8\nweight = 0.5\n", "t.toml").unwrap_err();
-        assert!(bad.0.contains("t.toml: [[eps]]: the weights sum to 0.5"), "{bad}");
+        assert!(
+            bad.0.contains("t.toml: [[eps]]: the weights sum to 0.5"),
+            "{bad}"
+        );
         let both = Tree::parse("[[eps]]\nvalue = 0.8\nratio = 0.9\nweight = 1\n", "t.toml");
         assert!(both.unwrap_err().0.contains("[[eps]] 1: give `value`"));
         let typo = Tree::parse("[[eps]]\nvalu = 0.8\nweight = 1\n", "t.toml").unwrap_err();
@@ -458,8 +470,20 @@ mod tests {
     #[test]
     fn mixture_median_by_symmetry() {
         let parts = [
-            (0.5, Fragility::Lognormal { median: 0.1, beta: 0.4 }),
-            (0.5, Fragility::Lognormal { median: 0.4, beta: 0.4 }),
+            (
+                0.5,
+                Fragility::Lognormal {
+                    median: 0.1,
+                    beta: 0.4,
+                },
+            ),
+            (
+                0.5,
+                Fragility::Lognormal {
+                    median: 0.4,
+                    beta: 0.4,
+                },
+            ),
         ];
         let m = Mixture { parts: &parts };
         assert!((m.level(0.5).unwrap() / 0.2 - 1.0).abs() < 1e-12);

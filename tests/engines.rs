@@ -1089,3 +1089,107 @@ fn export_refusals_name_what_is_wrong() {
         stderr(&out)
     );
 }
+
+/// A logic tree exported to OpenQuake: each branch's fragility function and
+/// a taxonomy mapping with the weights, so that `classical_damage` computes
+/// the mean itself. Its P(overturned in 50 years) at each site equals the
+/// weighted mean of its discrete formula over the branches (2e-6, float32
+/// poes) and `rocking risk --tree`'s mean probability within 1.5 % (the
+/// formula's discretisation, 0.05–0.08 % per branch, as above).
+#[test]
+fn openquake_computes_the_mean_over_an_exported_tree() {
+    let Some(venv) = engines() else { return };
+    let dir = tempdir();
+    let d = dir.path();
+    let (imls, poes) = hazard(&d.join("hazard.csv"));
+    let block = ["--b", "0.2", "--h", "0.9", "--tree", "restitution-tests"];
+    let out = rocking(
+        d,
+        &[
+            &[
+                "export",
+                "--format",
+                "nrml",
+                "--hazard",
+                "hazard.csv",
+                "--out",
+                "job",
+                "--json",
+            ][..],
+            &block,
+        ]
+        .concat(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let exported: Value = serde_json::from_str(&stdout(&out)).unwrap();
+    let branches = exported[0]["tree"]["branches"].as_array().unwrap().clone();
+    assert_eq!(branches.len(), 3);
+    let mapping = fs::read_to_string(d.join("job/taxonomy_mapping.csv")).unwrap();
+    assert_eq!(mapping.lines().count(), 4, "{mapping}");
+    // Each branch's lognormal, from the fragility model the export wrote.
+    let xml = fs::read_to_string(d.join("job/fragility_model.xml")).unwrap();
+    let params: Vec<(f64, f64)> = xml
+        .match_indices("<params ")
+        .map(|(i, _)| {
+            let tag = &xml[i..i + xml[i..].find("/>").unwrap()];
+            let attr = |name: &str| -> f64 {
+                let at = tag.find(&format!("{name}=\"")).unwrap() + name.len() + 2;
+                tag[at..at + tag[at..].find('"').unwrap()].parse().unwrap()
+            };
+            // NRML's logncdf states the variable's mean and stddev.
+            let (mean, sd) = (attr("mean"), attr("stddev"));
+            let beta = (1.0 + (sd / mean).powi(2)).ln().sqrt();
+            (mean / (beta * beta / 2.0).exp(), beta)
+        })
+        .collect();
+    assert_eq!(params.len(), 3, "{xml}");
+    let risk = rocking(
+        d,
+        &[
+            &[
+                "risk",
+                "--hazard",
+                "hazard.csv",
+                "--beyond",
+                "stop",
+                "--json",
+            ][..],
+            &block,
+        ]
+        .concat(),
+    );
+    assert!(risk.status.success(), "{}", stderr(&risk));
+    let risk: Value = serde_json::from_str(&stdout(&risk)).unwrap();
+    // The functions written are the branches `risk` integrates.
+    for (b, &(median, beta)) in risk["fragility"]["tree"]["branches"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(&params)
+    {
+        assert!((b["median"].as_f64().unwrap() / median - 1.0).abs() < 1e-9);
+        assert!((b["beta"].as_f64().unwrap() / beta - 1.0).abs() < 1e-9);
+    }
+    let oq = openquake(&venv, &d.join("job"));
+    assert_eq!(oq.len(), 3);
+    for (k, (_, shares)) in oq.iter().enumerate() {
+        let p_oq = shares[1];
+        let p_formula: f64 = branches
+            .iter()
+            .zip(&params)
+            .map(|(b, &(median, beta))| {
+                let f = |a: f64| phi((a / median).ln() / beta);
+                b["weight"].as_f64().unwrap() * discrete(&imls, &poes[k], f, 50.0, 50.0)
+            })
+            .sum();
+        let p_risk = risk["sites"][k]["p_overturn_in_years"].as_f64().unwrap();
+        assert!(
+            (p_oq - p_formula).abs() <= 2e-6 * p_formula + 1e-9,
+            "site {k}: OpenQuake {p_oq} against its formula {p_formula}"
+        );
+        assert!(
+            (p_oq - p_risk).abs() <= 0.015 * p_risk,
+            "site {k}: OpenQuake {p_oq} against rocking risk --tree {p_risk}"
+        );
+    }
+}

@@ -67,7 +67,12 @@ fn the_mean_rate_is_the_weighted_mean_of_plain_runs() {
     let branches = [(housner, 0.35), (0.95 * housner, 0.45), (0.7, 0.2)];
     let plain: Vec<Value> = branches
         .iter()
-        .map(|(eps, _)| risk(d, &["--b", "0.2", "--h", "0.9", "--eps", &format!("{eps:?}")]))
+        .map(|(eps, _)| {
+            risk(
+                d,
+                &["--b", "0.2", "--h", "0.9", "--eps", &format!("{eps:?}")],
+            )
+        })
         .collect();
     let weights: Vec<f64> = branches.iter().map(|b| b.1).collect();
     let sites = tree["sites"].as_array().unwrap();
@@ -80,16 +85,25 @@ fn the_mean_rate_is_the_weighted_mean_of_plain_runs() {
         let mean: f64 = rates.iter().zip(&weights).map(|(r, w)| r * w).sum();
         for key in ["mean_annual_rate", "annual_rate"] {
             let got = site[key].as_f64().unwrap();
-            assert!((got / mean - 1.0).abs() < 1e-12, "site {s} {key}: {got} vs {mean}");
+            assert!(
+                (got / mean - 1.0).abs() < 1e-12,
+                "site {s} {key}: {got} vs {mean}"
+            );
         }
         let q = site["quantile_annual_rates"].as_array().unwrap();
         for (k, qq) in [0.05, 0.16, 0.5, 0.84, 0.95].iter().enumerate() {
             let want = quantile_by_hand(&rates, &weights, *qq);
             let got = q[k].as_f64().unwrap();
-            assert!((got - want).abs() <= 1e-12 * want, "site {s} q{qq}: {got} vs {want}");
+            assert!(
+                (got - want).abs() <= 1e-12 * want,
+                "site {s} q{qq}: {got} vs {want}"
+            );
         }
         for (k, br) in site["branches"].as_array().unwrap().iter().enumerate() {
-            assert_eq!(br["annual_rate"].as_f64().unwrap().to_bits(), rates[k].to_bits());
+            assert_eq!(
+                br["annual_rate"].as_f64().unwrap().to_bits(),
+                rates[k].to_bits()
+            );
         }
     }
     // The mixture's median: Σ wᵢ Φ(ln(x/mᵢ)/βᵢ) = 1/2 at the stated median.
@@ -114,7 +128,11 @@ fn the_mean_rate_is_the_weighted_mean_of_plain_runs() {
         .map(|p| p["fragility"]["median"].as_f64().unwrap().ln())
         .collect();
     let mean_ln: f64 = ln_m.iter().zip(&weights).map(|(l, w)| l * w).sum();
-    let var: f64 = ln_m.iter().zip(&weights).map(|(l, w)| w * (l - mean_ln).powi(2)).sum();
+    let var: f64 = ln_m
+        .iter()
+        .zip(&weights)
+        .map(|(l, w)| w * (l - mean_ln).powi(2))
+        .sum();
     let split = &f["tree"]["split"];
     assert!((split["beta_m"].as_f64().unwrap() - var.sqrt()).abs() < 1e-12);
 }
@@ -131,7 +149,10 @@ fn a_one_branch_tree_is_the_plain_answer() {
     for key in ["median", "beta", "fit", "source"] {
         assert_eq!(plain["fragility"][key], tree["fragility"][key], "{key}");
     }
-    let (p, t) = (plain["sites"].as_array().unwrap(), tree["sites"].as_array().unwrap());
+    let (p, t) = (
+        plain["sites"].as_array().unwrap(),
+        tree["sites"].as_array().unwrap(),
+    );
     for (a, b) in p.iter().zip(t) {
         for key in [
             "annual_rate",
@@ -164,7 +185,11 @@ fn model_branches_run_the_records() {
     let d = dir.path();
     let recs = d.join("recs");
     fs::create_dir_all(&recs).unwrap();
-    for id in ["RSN1111_KOBE_NIS000", "RSN953_NORTHR_MUL009", "RSN1633_MANJIL_ABBAR--L"] {
+    for id in [
+        "RSN1111_KOBE_NIS000",
+        "RSN953_NORTHR_MUL009",
+        "RSN1633_MANJIL_ABBAR--L",
+    ] {
         fs::copy(
             bundled_records().join(format!("far-field/{id}.AT2")),
             recs.join(format!("{id}.AT2")),
@@ -176,7 +201,19 @@ fn model_branches_run_the_records() {
         "[[model]]\nname = \"linearized\"\nweight = 0.5\n[[model]]\nname = \"nonlinear\"\nweight = 0.5\n",
     )
     .unwrap();
-    let common = ["--b", "0.1", "--h", "1.0", "--eps", "0.8", "--direct", "--records", "recs", "--method", "empirical"];
+    let common = [
+        "--b",
+        "0.1",
+        "--h",
+        "1.0",
+        "--eps",
+        "0.8",
+        "--direct",
+        "--records",
+        "recs",
+        "--method",
+        "empirical",
+    ];
     let mut args = common.to_vec();
     args.extend_from_slice(&["--tree", "m.toml"]);
     let tree = risk(d, &args);
@@ -184,13 +221,55 @@ fn model_branches_run_the_records() {
     let br = &tree["sites"][0]["branches"];
     assert_eq!(br[0]["annual_rate"], plain["sites"][0]["annual_rate"]);
     assert_ne!(br[1]["annual_rate"], br[0]["annual_rate"]);
-    let refused = rocking(d, &["risk", "--hazard", root().join("records/hazard/synthetic-openquake.csv").to_str().unwrap(), "--b", "0.1", "--h", "1.0", "--tree", "m.toml"]);
+    let refused = rocking(
+        d,
+        &[
+            "risk",
+            "--hazard",
+            root()
+                .join("records/hazard/synthetic-openquake.csv")
+                .to_str()
+                .unwrap(),
+            "--b",
+            "0.1",
+            "--h",
+            "1.0",
+            "--tree",
+            "m.toml",
+        ],
+    );
     assert!(!refused.status.success());
-    assert!(stderr(&refused).contains("--tree m.toml: a [[model]] branch (linearized) runs the records: add --direct"), "{}", stderr(&refused));
+    assert!(
+        stderr(&refused).contains(
+            "--tree m.toml: a [[model]] branch (linearized) runs the records: add --direct"
+        ),
+        "{}",
+        stderr(&refused)
+    );
     // A tree's keys are checked, naming the file.
     fs::write(d.join("bad.toml"), "[[eps]]\nvalue = 0.8\nweight = 0.6\n").unwrap();
-    let bad = rocking(d, &["risk", "--hazard", root().join("records/hazard/synthetic-openquake.csv").to_str().unwrap(), "--b", "0.1", "--h", "1.0", "--tree", "bad.toml"]);
-    assert!(stderr(&bad).contains("bad.toml: [[eps]]: the weights sum to 0.6, not 1"), "{}", stderr(&bad));
+    let bad = rocking(
+        d,
+        &[
+            "risk",
+            "--hazard",
+            root()
+                .join("records/hazard/synthetic-openquake.csv")
+                .to_str()
+                .unwrap(),
+            "--b",
+            "0.1",
+            "--h",
+            "1.0",
+            "--tree",
+            "bad.toml",
+        ],
+    );
+    assert!(
+        stderr(&bad).contains("bad.toml: [[eps]]: the weights sum to 0.6, not 1"),
+        "{}",
+        stderr(&bad)
+    );
 }
 
 /// The rate's bootstrap band (`--bootstrap`) equals a bootstrap written
@@ -215,9 +294,25 @@ fn the_rates_band_is_a_bootstrap_by_hand() {
     let v = json(&rocking(
         d,
         &[
-            "risk", "--hazard", "h.csv", "--b", "0.1", "--h", "1.0", "--eps", "0.8", "--direct",
-            "--records", far.to_str().unwrap(), "--if-not-lognormal", "lognormal",
-            "--bootstrap", &resamples.to_string(), "--seed", &seed.to_string(), "--json",
+            "risk",
+            "--hazard",
+            "h.csv",
+            "--b",
+            "0.1",
+            "--h",
+            "1.0",
+            "--eps",
+            "0.8",
+            "--direct",
+            "--records",
+            far.to_str().unwrap(),
+            "--if-not-lognormal",
+            "lognormal",
+            "--bootstrap",
+            &resamples.to_string(),
+            "--seed",
+            &seed.to_string(),
+            "--json",
         ],
     ));
     let boot = &v["fragility"]["bootstrap"];
@@ -262,7 +357,16 @@ fn the_rates_band_is_a_bootstrap_by_hand() {
         .map(|f| {
             let c = json(&rocking(
                 d,
-                &["capacity", "--record", far.join(f).to_str().unwrap(), "--p", &p.to_string(), "--eps", "0.8", "--json"],
+                &[
+                    "capacity",
+                    "--record",
+                    far.join(f).to_str().unwrap(),
+                    "--p",
+                    &p.to_string(),
+                    "--eps",
+                    "0.8",
+                    "--json",
+                ],
             ));
             c["eta_c"].as_f64().map_or(f64::INFINITY, |e| alpha / e)
         })
@@ -287,7 +391,11 @@ fn the_rates_band_is_a_bootstrap_by_hand() {
         let r = rocking::risk::assess_above(&curve, &f, rocking::risk::Beyond::Extrapolate, 0.1);
         // The integral itself against Cornell's closed form.
         let c = cornell_above(k0, k, q50, beta, 0.1);
-        assert!((r.annual_rate / c - 1.0).abs() < 1e-8, "{} vs {c}", r.annual_rate);
+        assert!(
+            (r.annual_rate / c - 1.0).abs() < 1e-8,
+            "{} vs {c}",
+            r.annual_rate
+        );
         rates.push(r.annual_rate);
         medians.push(q50);
     }
@@ -299,12 +407,20 @@ fn the_rates_band_is_a_bootstrap_by_hand() {
     let got = &v["sites"][0]["annual_rate_band"];
     for k in 0..2 {
         let g = got[k].as_f64().unwrap();
-        assert!((g / want[k] - 1.0).abs() < 1e-12, "band {k}: {g} vs {}", want[k]);
+        assert!(
+            (g / want[k] - 1.0).abs() < 1e-12,
+            "band {k}: {g} vs {}",
+            want[k]
+        );
     }
     let m = band(&mut medians);
     for k in 0..2 {
         let g = boot["median_band"][k].as_f64().unwrap();
-        assert!((g / m[k] - 1.0).abs() < 1e-12, "median band {k}: {g} vs {}", m[k]);
+        assert!(
+            (g / m[k] - 1.0).abs() < 1e-12,
+            "median band {k}: {g} vs {}",
+            m[k]
+        );
     }
     let rate = v["sites"][0]["annual_rate"].as_f64().unwrap();
     assert!(want[0] < rate && rate < want[1], "{want:?} {rate}");

@@ -9,6 +9,7 @@ use serde::Deserialize;
 
 use super::block::{building, one_or_many, AUTO_TOL};
 use super::spelling::{AskError, Spelling};
+use super::tree::tree;
 use crate::block::{check_mu, Restitution};
 use crate::building::ShapedMode;
 use crate::columns::{AccelUnit, TextRecords};
@@ -16,7 +17,6 @@ use crate::damage::{DamageStates, Dispersion, FitMethod, IfNotLognormal};
 use crate::floor::Mode;
 use crate::hazard;
 use crate::im::Im;
-use crate::ops::export::{self, Format};
 use crate::ops::fragility::{self, DirectProgress, Source};
 use crate::ops::risk::{self, Blocks, Hazard};
 use crate::pair::Orientation;
@@ -254,7 +254,7 @@ impl Default for FragilityAsk {
 /// PFA and PFV are demands of the motion the block feels, and RotD a
 /// measure of a record pair: from the block's own runs (`--direct`), not a
 /// study's or the paper's ground-motion tables.
-fn needs_own_runs(im: Im, direct: bool, sp: Spelling) -> Result<(), AskError> {
+pub(super) fn needs_own_runs(im: Im, direct: bool, sp: Spelling) -> Result<(), AskError> {
     if im.pair() && !direct {
         return Err(AskError(format!(
             "{}: {} is a measure of a record pair, had from the records' own pairs; add {}",
@@ -359,35 +359,6 @@ impl FragilityAsk {
         };
         Ok((req, states))
     }
-}
-
-/// The logic tree `name` names (a TOML file or a named tree), checked
-/// against the block's own ε (given with a tree's ε branches, refused)
-/// and `direct` (a model branch needs the records' runs).
-pub(crate) fn tree(
-    name: Option<&str>,
-    eps: Restitution,
-    direct: bool,
-    sp: Spelling,
-) -> Result<Option<crate::tree::Tree>, AskError> {
-    let Some(name) = name else { return Ok(None) };
-    let t = crate::ops::tree::load(name).map_err(|e| AskError::of(sp, "tree", e))?;
-    if !t.eps.is_empty() && eps != Restitution::Housner {
-        return Err(AskError(format!(
-            "{} sets ε on every branch: drop {}",
-            sp.set("tree", name),
-            sp.key("eps")
-        )));
-    }
-    if let (Some(b), false) = (t.model.first(), direct) {
-        return Err(AskError(format!(
-            "{}: a [[model]] branch ({}) runs the records: add {}",
-            sp.set("tree", name),
-            crate::label::Label::label(b.value),
-            sp.key("direct")
-        )));
-    }
-    Ok(Some(t))
 }
 
 /// A site's hazard: a file (OpenQuake's hazard-curve CSV or a plain CSV),
@@ -599,73 +570,5 @@ impl RiskAsk {
             method: self.method,
         };
         Ok((req, states))
-    }
-}
-
-/// `rocking export`: damage-state fragilities for OpenQuake or pelicun.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ExportAsk {
-    pub format: Format,
-    pub blocks: BlocksAsk,
-    pub law: LawAsk,
-    pub direct: bool,
-    pub floor: Vec<Mode>,
-    /// A building with its modes' shapes at every floor, and the floor
-    /// the block stands on (instead of `floor`).
-    pub building: Vec<ShapedMode>,
-    pub level: Option<usize>,
-    /// `None`: the default states ([`crate::damage::DEFAULT`]), or, from
-    /// the paper's regression, which knows overturning only, that alone.
-    pub states: Option<DamageStates>,
-    pub method: FitMethod,
-    pub dispersion: Dispersion,
-    pub if_not_lognormal: IfNotLognormal,
-    pub im: Option<Im>,
-    pub hazard: Option<PathBuf>,
-    pub years: f64,
-    pub auto_tol: f64,
-    pub out: PathBuf,
-}
-
-impl ExportAsk {
-    /// The request, and whether the states are the ones asked (`false`:
-    /// overturning alone, the paper's regression knowing no other).
-    pub fn resolve(
-        &self,
-        sp: Spelling,
-        progress: DirectProgress,
-    ) -> Result<(export::Request, bool), AskError> {
-        let from = self.law.resolve(sp)?;
-        if let Some(im) = self.im {
-            needs_own_runs(im, self.direct, sp)?;
-        }
-        let paper_alone = !self.direct && matches!(from, Source::Paper { .. });
-        let (states, asked) = match &self.states {
-            Some(s) => (s.clone(), true),
-            None if paper_alone => (
-                DamageStates::parse("overturned=overturned").expect("a valid state"),
-                false,
-            ),
-            None => (DamageStates::default(), true),
-        };
-        let req = export::Request {
-            format: self.format,
-            blocks: self.blocks.resolve(sp)?,
-            from,
-            direct: self.direct,
-            progress,
-            states,
-            method: self.method,
-            dispersion: self.dispersion,
-            if_not_lognormal: self.if_not_lognormal,
-            im: self.im,
-            hazard: self.hazard.clone(),
-            years: self.years,
-            auto_tol: self.auto_tol,
-            floor: building(&self.floor, &self.building, self.level, sp)?,
-            out: self.out.clone(),
-            orient: self.law.orient(self.direct, sp)?,
-        };
-        Ok((req, asked))
     }
 }

@@ -5,16 +5,19 @@ use std::path::PathBuf;
 
 use serde::Deserialize;
 
-use super::assess::{BlocksAsk, ExportAsk, LawAsk};
+use super::assess::{needs_own_runs, BlocksAsk, LawAsk};
+use super::block::building;
 use super::block::AUTO_TOL;
 use super::spelling::{AskError, Spelling};
+use super::tree::tree;
 use crate::block::Restitution;
 use crate::building::ShapedMode;
 use crate::columns::AccelUnit;
 use crate::damage::{DamageStates, Dispersion, FitMethod, IfNotLognormal};
 use crate::floor::Mode;
 use crate::im::Im;
-use crate::ops::export::Format;
+use crate::ops::export::{self, Format};
+use crate::ops::fragility::{DirectProgress, Source};
 use crate::pair::Orientation;
 
 /// The keyword arguments of `rocking.export`.
@@ -51,6 +54,8 @@ pub struct ExportKw {
     pub years: f64,
     pub auto_tol: f64,
     pub out: Option<PathBuf>,
+    /// A logic tree over ε and the model: a TOML file or a named tree.
+    pub tree: Option<String>,
 }
 
 impl Default for ExportKw {
@@ -84,6 +89,7 @@ impl Default for ExportKw {
             years: 50.0,
             auto_tol: AUTO_TOL,
             out: None,
+            tree: None,
         }
     }
 }
@@ -124,6 +130,78 @@ impl ExportKw {
             years: self.years,
             auto_tol: self.auto_tol,
             out: self.out.clone().ok_or_else(|| need("out"))?,
+            tree: self.tree.clone(),
         })
+    }
+}
+
+/// `rocking export`: damage-state fragilities for OpenQuake or pelicun.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExportAsk {
+    pub format: Format,
+    pub blocks: BlocksAsk,
+    pub law: LawAsk,
+    pub direct: bool,
+    pub floor: Vec<Mode>,
+    /// A building with its modes' shapes at every floor, and the floor
+    /// the block stands on (instead of `floor`).
+    pub building: Vec<ShapedMode>,
+    pub level: Option<usize>,
+    /// `None`: the default states ([`crate::damage::DEFAULT`]), or, from
+    /// the paper's regression, which knows overturning only, that alone.
+    pub states: Option<DamageStates>,
+    pub method: FitMethod,
+    pub dispersion: Dispersion,
+    pub if_not_lognormal: IfNotLognormal,
+    pub im: Option<Im>,
+    pub hazard: Option<PathBuf>,
+    pub years: f64,
+    pub auto_tol: f64,
+    pub out: PathBuf,
+    /// A logic tree over ε and the model: a TOML file or a named tree.
+    pub tree: Option<String>,
+}
+
+impl ExportAsk {
+    /// The request, and whether the states are the ones asked (`false`:
+    /// overturning alone, the paper's regression knowing no other).
+    pub fn resolve(
+        &self,
+        sp: Spelling,
+        progress: DirectProgress,
+    ) -> Result<(export::Request, bool), AskError> {
+        let from = self.law.resolve(sp)?;
+        if let Some(im) = self.im {
+            needs_own_runs(im, self.direct, sp)?;
+        }
+        let paper_alone = !self.direct && matches!(from, Source::Paper { .. });
+        let (states, asked) = match &self.states {
+            Some(s) => (s.clone(), true),
+            None if paper_alone => (
+                DamageStates::parse("overturned=overturned").expect("a valid state"),
+                false,
+            ),
+            None => (DamageStates::default(), true),
+        };
+        let req = export::Request {
+            format: self.format,
+            blocks: self.blocks.resolve(sp)?,
+            from,
+            direct: self.direct,
+            progress,
+            states,
+            method: self.method,
+            dispersion: self.dispersion,
+            if_not_lognormal: self.if_not_lognormal,
+            im: self.im,
+            hazard: self.hazard.clone(),
+            years: self.years,
+            auto_tol: self.auto_tol,
+            floor: building(&self.floor, &self.building, self.level, sp)?,
+            out: self.out.clone(),
+            orient: self.law.orient(self.direct, sp)?,
+            tree: tree(self.tree.as_deref(), self.blocks.eps, self.direct, sp)?,
+        };
+        Ok((req, asked))
     }
 }

@@ -15,16 +15,19 @@
 //! - [`assess`]: the blocks of `fragility`, `risk` and `export` (one by its
 //!   sizes, or an inventory), where their capacities come from, the levels,
 //!   the hazard, the damage states;
-//! - [`export`]: `export`'s keyword arguments, flat, for Python.
+//! - `tree`: a logic tree named by a request, checked against it;
+//! - [`export`]: what `export` is asked, and its keyword arguments, flat,
+//!   for Python.
 
 pub mod assess;
 pub mod block;
 pub mod excitation;
 pub mod export;
 mod spelling;
+mod tree;
 
-pub use assess::{BlocksAsk, ExportAsk, FragilityAsk, HazardAsk, LawAsk, RiskAsk, StatesAsk};
+pub use assess::{BlocksAsk, FragilityAsk, HazardAsk, LawAsk, RiskAsk, StatesAsk};
 pub use block::{AskedBlock, BlockAsk};
 pub use excitation::{PulseAsk, SearchAsk};
-pub use export::ExportKw;
+pub use export::{ExportAsk, ExportKw};
 pub use spelling::{AskError, Spelling};

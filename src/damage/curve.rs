@@ -61,6 +61,22 @@ impl Curve {
         Curve { x, p }
     }
 
+    /// A curve through `points` (level, P): `None` unless the levels are
+    /// finite, positive and strictly increasing and P non-decreasing in
+    /// [0, 1].
+    pub fn through(points: &[(f64, f64)]) -> Option<Curve> {
+        let ok = points
+            .iter()
+            .all(|&(x, p)| x.is_finite() && x > 0.0 && (0.0..=1.0).contains(&p))
+            && points
+                .windows(2)
+                .all(|w| w[0].0 < w[1].0 && w[0].1 <= w[1].1);
+        (ok && !points.is_empty()).then(|| Curve {
+            x: points.iter().map(|p| p.0).collect(),
+            p: points.iter().map(|p| p.1).collect(),
+        })
+    }
+
     /// P(state reached | `a`): 0 below the first point, linear between
     /// points, the last point's beyond it.
     pub fn probability(&self, a: f64) -> f64 {

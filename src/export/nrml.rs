@@ -159,7 +159,27 @@ pub fn exposure_model(entries: &[Entry], sites: &[Site]) -> Result<(String, Stri
 
 /// The job: `classical_damage` on the hazard curves of `HAZARD_FILE`,
 /// damage over `years` (the risk investigation time).
-pub fn job_ini(years: f64, hazard_investigation_time: f64) -> String {
+/// OpenQuake's taxonomy mapping of a logic tree: each taxonomy (block)
+/// mapped to its branches' fragility functions with their weights
+/// (`taxonomy,risk_id,weight`; OpenQuake checks that a taxonomy's weights
+/// sum to 1 and averages the damage over them).
+pub fn taxonomy_mapping(rows: &[(String, String, f64)]) -> String {
+    let mut x = String::from("taxonomy,risk_id,weight\n");
+    for (taxonomy, id, weight) in rows {
+        let _ = writeln!(x, "{taxonomy},{id},{weight:?}");
+    }
+    x
+}
+
+/// The taxonomy mapping's file name.
+pub const TAXONOMY_MAPPING_FILE: &str = "taxonomy_mapping.csv";
+
+pub fn job_ini(years: f64, hazard_investigation_time: f64, mapping: bool) -> String {
+    // A logic tree's branches, weighted per taxonomy.
+    let mapping = match mapping {
+        true => format!("taxonomy_mapping_csv = {TAXONOMY_MAPPING_FILE}\n"),
+        false => String::new(),
+    };
     format!(
         "[general]\n\
          description = Damage states of free-standing rigid blocks (rocking export)\n\
@@ -170,6 +190,7 @@ pub fn job_ini(years: f64, hazard_investigation_time: f64) -> String {
          \n\
          [fragility]\n\
          contents_fragility_file = {FRAGILITY_FILE}\n\
+         {mapping}\
          \n\
          [hazard]\n\
          hazard_curves_csv = {HAZARD_FILE}\n\

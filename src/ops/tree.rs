@@ -12,7 +12,7 @@ use crate::block::Restitution;
 use crate::label::Label;
 use crate::physics::ModelChoice;
 use crate::risk::Fragility;
-use crate::tree::{self, BetaSplit, Mixture, Tree, TreePath, TreeError};
+use crate::tree::{self, BetaSplit, Mixture, Tree, TreeError, TreePath};
 
 /// The tree `--tree` names: a named tree, or a TOML file.
 pub fn load(name_or_file: &str) -> Result<Tree, TreeError> {
@@ -31,7 +31,13 @@ pub fn load(name_or_file: &str) -> Result<Tree, TreeError> {
 
 /// A path's restitution for a block of half sizes `b_m`, `h_m` whose own
 /// is `own`, and the model its runs use.
-pub fn branch(path: &TreePath, b_m: f64, h_m: f64, own: Restitution, auto_tol: f64) -> (Restitution, RunModel) {
+pub fn branch(
+    path: &TreePath,
+    b_m: f64,
+    h_m: f64,
+    own: Restitution,
+    auto_tol: f64,
+) -> (Restitution, RunModel) {
     let eps = path.eps.map_or(own, |e| e.restitution(b_m, h_m));
     let model = RunModel {
         choice: path.model.unwrap_or(ModelChoice::Auto),
@@ -128,4 +134,101 @@ pub fn mean_and_quantiles(values: &[f64], weights: &[f64]) -> (f64, Vec<f64>) {
             .map(|&q| tree::weighted_quantile(values, weights, q))
             .collect(),
     )
+}
+
+/// Levels of the mean curve a multilinear export carries.
+pub const MEAN_POINTS: usize = 60;
+
+/// How the mean of a tree's damage-state fragilities is carried as one
+/// function per state (pelicun takes one), and how far each way is from
+/// the mixture: the largest |ΔP| over its 0.01–99.99 % range.
+#[derive(Debug, Clone, Serialize)]
+pub struct MeanFit {
+    /// `curve` (multilinear through [`MEAN_POINTS`] levels of the
+    /// mixture) or `lognormal` (the median exp(Σ wᵢ ln mᵢ) and β_total):
+    /// whichever is closer, the curve where both are.
+    pub written_as: &'static str,
+    pub curve_error: f64,
+    /// `None` where a branch is not a lognormal.
+    pub lognormal_error: Option<f64>,
+}
+
+/// Each state's mixture over the branches (weight, fragility), as the
+/// closer of a multilinear curve and FEMA P-58's lognormal of β_total;
+/// `None` where some state's mixture never reaches 99.9 %.
+pub fn mean_shape(
+    branches: &[(f64, &crate::ops::damage::DamageFragility)],
+) -> Option<(crate::export::Shape, MeanFit)> {
+    use crate::damage::{Curve, Lognormal};
+    let n = branches.first()?.1.states.len();
+    let (mut curves, mut lognormals) = (Vec::new(), Vec::new());
+    let (mut curve_error, mut lognormal_error) = (0.0f64, Some(0.0f64));
+    let weights: Vec<f64> = branches.iter().map(|b| b.0).collect();
+    for j in 0..n {
+        let parts: Vec<(f64, Fragility)> = branches
+            .iter()
+            .map(|(w, f)| Some((*w, f.states[j].fragility(f.method)?)))
+            .collect::<Option<_>>()?;
+        let mix = Mixture { parts: &parts };
+        let (lo, hi) = (mix.level(1e-3)?, mix.level(0.999)?);
+        let mut pts: Vec<(f64, f64)> = (0..MEAN_POINTS)
+            .map(|k| {
+                let x = lo * (hi / lo).powf(k as f64 / (MEAN_POINTS - 1) as f64);
+                (x, mix.probability(x))
+            })
+            .collect();
+        pts[0].1 = 0.0;
+        pts[MEAN_POINTS - 1].1 = 1.0;
+        let curve = Curve::through(&pts)?;
+        let lognormal = parts
+            .iter()
+            .map(|(_, f)| match f {
+                Fragility::Lognormal { median, beta } => Some((*median, *beta)),
+                Fragility::Curve(_) => None,
+            })
+            .collect::<Option<Vec<_>>>()
+            .and_then(|l| tree::beta_split(&l, &weights))
+            .map(|s| Lognormal {
+                median: s.median,
+                beta: s.beta_total,
+            });
+        // The errors on a fine grid over the mixture's 0.01–99.99 % range.
+        let (a, b) = (
+            mix.level(1e-4).unwrap_or(lo),
+            mix.level(0.9999).unwrap_or(hi),
+        );
+        for k in 0..=400 {
+            let x = a * (b / a).powf(k as f64 / 400.0);
+            let p = mix.probability(x);
+            curve_error = curve_error.max((curve.probability(x) - p).abs());
+            lognormal_error = match (lognormal_error, lognormal) {
+                (Some(e), Some(l)) => {
+                    let q = Fragility::Lognormal {
+                        median: l.median,
+                        beta: l.beta,
+                    };
+                    Some(e.max((q.probability(x) - p).abs()))
+                }
+                _ => None,
+            };
+        }
+        curves.push(curve);
+        lognormals.extend(lognormal);
+    }
+    let lognormal_better =
+        lognormal_error.is_some_and(|e| e < curve_error) && lognormals.len() == n;
+    let fit = MeanFit {
+        written_as: if lognormal_better {
+            "lognormal"
+        } else {
+            "curve"
+        },
+        curve_error,
+        lognormal_error,
+    };
+    let shape = match lognormal_better {
+        true => crate::export::Shape::Lognormal(lognormals),
+        false => crate::export::Shape::Curve(curves),
+    };
+    Some((shape, fit))
 }

@@ -13,7 +13,6 @@ mod records;
 pub use answer::{DamageFragility, StateFragility, DIRECT_FRACTILE};
 
 use super::fragility::{DirectRecords, FragilityError, Laws, Request, RunModel};
-use crate::physics::ModelChoice;
 use super::im_fragility::DamageTable;
 use crate::block::Block;
 use crate::damage::{
@@ -21,8 +20,9 @@ use crate::damage::{
 };
 use crate::floor::Building;
 use crate::im::Im;
-use crate::risk::Fragility;
 use crate::label::Label;
+use crate::physics::ModelChoice;
+use crate::risk::Fragility;
 use records::{curve_where_not_lognormal, from_records};
 pub use records::{FEW_RECORDS, TEXT_RECORDS_NOTE};
 

@@ -49,8 +49,7 @@ pub(super) fn from_records(
         Orientation::Worst => worst_by_pair(&in_im, |k| records.pair_of(k)),
         Orientation::AsRecorded | Orientation::Random => in_im,
     };
-    let fits = fit_states(n, &in_im)
-        .ok_or(FragilityError::NoPeriod(im.name()))?;
+    let fits = fit_states(n, &in_im).ok_or(FragilityError::NoPeriod(im.name()))?;
     let mut warnings: Vec<String> = states
         .states()
         .iter()

@@ -4,11 +4,11 @@
 
 use super::error::FragilityError;
 use super::request::{check, laws_and_records, Request};
+use super::RunModel;
 use crate::damage::DamageStates;
 use crate::im::Im;
 use crate::ops::damage;
 use crate::ops::tree as ops_tree;
-use super::RunModel;
 
 /// One level of the answer.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -213,29 +213,32 @@ fn one(
     if slides_first == Some(true) {
         warnings.push(crate::block::sliding_warning(req.mu.unwrap_or(0.0), alpha));
     }
-    Ok((Assessment {
-        b_m: req.b_m,
-        h_m: req.h_m,
-        alpha_rad: alpha,
-        p,
-        eps,
-        im: im.name(),
-        unit: im.unit(),
-        source: f.source.clone(),
-        fit: f.fit_name(method).to_string(),
-        records_folder: f.records_folder.clone(),
-        median,
-        eta_c_median: (im == Im::Pga).then(|| alpha / median),
-        beta,
-        lognormal_p: state.lognormal_p,
-        records: f.records,
-        orientation: f.orientation.clone(),
-        model: f.model.clone(),
-        points,
-        floor: f.floor.clone(),
-        mu: req.mu,
-        slides_first,
-        warnings,
-        tree: None,
-    }, fragility))
+    Ok((
+        Assessment {
+            b_m: req.b_m,
+            h_m: req.h_m,
+            alpha_rad: alpha,
+            p,
+            eps,
+            im: im.name(),
+            unit: im.unit(),
+            source: f.source.clone(),
+            fit: f.fit_name(method).to_string(),
+            records_folder: f.records_folder.clone(),
+            median,
+            eta_c_median: (im == Im::Pga).then(|| alpha / median),
+            beta,
+            lognormal_p: state.lognormal_p,
+            records: f.records,
+            orientation: f.orientation.clone(),
+            model: f.model.clone(),
+            points,
+            floor: f.floor.clone(),
+            mu: req.mu,
+            slides_first,
+            warnings,
+            tree: None,
+        },
+        fragility,
+    ))
 }

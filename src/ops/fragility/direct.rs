@@ -162,9 +162,11 @@ impl DirectRecords {
                             .collect()
                     })
                     .unwrap_or_default();
-                let pair_key = r.meta.pair.as_ref().map(|p| {
-                    format!("{}/{p}", r.meta.set.as_deref().unwrap_or(""))
-                });
+                let pair_key = r
+                    .meta
+                    .pair
+                    .as_ref()
+                    .map(|p| format!("{}/{p}", r.meta.set.as_deref().unwrap_or("")));
                 Ok(DirectRecord {
                     pair_key,
                     id: r.record_id,

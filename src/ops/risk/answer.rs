@@ -3,6 +3,9 @@
 
 use serde::Serialize;
 
+use crate::hazard::HazardCurve;
+use crate::risk::{self, SiteRisk};
+
 /// A block as assessed.
 #[derive(Debug, Clone, Serialize)]
 pub struct BlockInfo {
@@ -98,6 +101,8 @@ pub struct SiteInfo {
     pub annual_rate_band: Option<[f64; 2]>,
     /// `None` when the rate is 0.
     pub return_period_years: Option<f64>,
+    /// P(overturn within `years`) = 1 − e^(−λ·years); with a tree the
+    /// branches' weighted mean of theirs.
     pub p_overturn_in_years: f64,
     pub first_iml: f64,
     pub last_iml: f64,
@@ -119,4 +124,39 @@ pub struct Assessment {
     pub sites: Vec<SiteInfo>,
     /// Where the regression is stretched for this block.
     pub warnings: Vec<String>,
+}
+
+/// What a site's answer says of its risk.
+pub(super) fn site_info(k: usize, curve: &HazardCurve, r: &SiteRisk, years: f64) -> SiteInfo {
+    SiteInfo {
+        site: k,
+        lon: curve.lon,
+        lat: curve.lat,
+        annual_rate: r.annual_rate,
+        mean_annual_rate: r.annual_rate,
+        branches: Vec::new(),
+        quantile_annual_rates: None,
+        annual_rate_band: None,
+        return_period_years: (r.annual_rate > 0.0).then(|| 1.0 / r.annual_rate),
+        p_overturn_in_years: risk::probability_in(r.annual_rate, years),
+        first_iml: r.first_iml,
+        last_iml: r.last_iml,
+        fragility_at_first_iml: r.fragility_at_first_iml,
+        imls_dropped: curve.dropped_below,
+        share_beyond_last_iml: r.share_beyond_last_iml,
+        deaggregation: r
+            .bins
+            .iter()
+            .map(|b| BinInfo {
+                iml_from: b.iml_from,
+                iml_to: b.iml_to,
+                annual_rate: b.annual_rate,
+                share: if r.annual_rate > 0.0 {
+                    b.annual_rate / r.annual_rate
+                } else {
+                    0.0
+                },
+            })
+            .collect(),
+    }
 }

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use super::answer::{Assessment, BinInfo, BlockInfo, FragilityInfo, SiteInfo};
+use super::answer::{site_info, Assessment, BlockInfo, FragilityInfo, SiteInfo};
 use super::error::RiskError;
 use super::inventory::{entries, InventoryBlock};
 use super::request::{Hazard, Request};
@@ -14,7 +14,7 @@ use crate::im::Im;
 use crate::label::Label;
 use crate::ops::damage;
 use crate::ops::fragility::{self, DirectRecords, FragilityError, Laws, RunModel};
-use crate::risk::{self, Fragility, SiteRisk};
+use crate::risk::{self, Fragility};
 
 /// Reads the hazard file: the curves of the sites asked, with their indices.
 pub fn read_hazard(
@@ -98,40 +98,6 @@ fn fragility_of(
         bootstrap: None,
     };
     Ok((fragility, info, f))
-}
-
-pub(super) fn site_info(k: usize, curve: &HazardCurve, r: &SiteRisk, years: f64) -> SiteInfo {
-    SiteInfo {
-        site: k,
-        lon: curve.lon,
-        lat: curve.lat,
-        annual_rate: r.annual_rate,
-        mean_annual_rate: r.annual_rate,
-        branches: Vec::new(),
-        quantile_annual_rates: None,
-        annual_rate_band: None,
-        return_period_years: (r.annual_rate > 0.0).then(|| 1.0 / r.annual_rate),
-        p_overturn_in_years: risk::probability_in(r.annual_rate, years),
-        first_iml: r.first_iml,
-        last_iml: r.last_iml,
-        fragility_at_first_iml: r.fragility_at_first_iml,
-        imls_dropped: curve.dropped_below,
-        share_beyond_last_iml: r.share_beyond_last_iml,
-        deaggregation: r
-            .bins
-            .iter()
-            .map(|b| BinInfo {
-                iml_from: b.iml_from,
-                iml_to: b.iml_to,
-                annual_rate: b.annual_rate,
-                share: if r.annual_rate > 0.0 {
-                    b.annual_rate / r.annual_rate
-                } else {
-                    0.0
-                },
-            })
-            .collect(),
-    }
 }
 
 /// What an assessment reads before its first block: the request checked,
@@ -296,20 +262,8 @@ fn assess_block(req: &Request, p: &Prepared, e: &InventoryBlock) -> Result<Asses
             (b.info, b.warnings, infos)
         }
     };
-    if let Some((boot, site_bands)) = bands {
-        if boot.fitted < boot.resamples {
-            warnings.push(format!(
-                "{} of {} resamples have no fit (more than 16 % of their records never \
-                 overturn the block): the bands are of the {} others",
-                boot.resamples - boot.fitted,
-                boot.resamples,
-                boot.fitted
-            ));
-        }
-        for (s, band) in site_infos.iter_mut().zip(site_bands) {
-            s.annual_rate_band = band;
-        }
-        info.bootstrap = Some(boot);
+    if let Some(bands) = bands {
+        with_bands(bands, &mut info, &mut warnings, &mut site_infos);
     }
     warnings.extend(p.warnings.iter().cloned());
     warnings.extend(site_infos.iter().flat_map(|s| tails(s, im.unit(), None)));
@@ -430,4 +384,27 @@ pub(super) fn tails(s: &SiteInfo, unit: &str, state: Option<&str>) -> Vec<String
         ));
     }
     out
+}
+
+/// The bootstrap's bands on the answer, and a warning where some
+/// resamples had no fit.
+fn with_bands(
+    (boot, site_bands): (super::BootstrapInfo, Vec<Option<[f64; 2]>>),
+    info: &mut FragilityInfo,
+    warnings: &mut Vec<String>,
+    sites: &mut [SiteInfo],
+) {
+    if boot.fitted < boot.resamples {
+        warnings.push(format!(
+            "{} of {} resamples have no fit (more than 16 % of their records never overturn \
+             the block): the bands are of the {} others",
+            boot.resamples - boot.fitted,
+            boot.resamples,
+            boot.fitted
+        ));
+    }
+    for (s, band) in sites.iter_mut().zip(site_bands) {
+        s.annual_rate_band = band;
+    }
+    info.bootstrap = Some(boot);
 }

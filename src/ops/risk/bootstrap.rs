@@ -95,16 +95,16 @@ pub(super) fn bands(
         betas.extend(beta);
     }
     let fitted = rates.first().map_or(0, Vec::len);
-    let band = |v: &mut Vec<f64>| {
-        stats::percentile_band(v, BAND_LEVEL).map(|(lo, hi)| [lo, hi])
-    };
+    let band = |v: &mut Vec<f64>| stats::percentile_band(v, BAND_LEVEL).map(|(lo, hi)| [lo, hi]);
     let info = BootstrapInfo {
         resamples: b.resamples,
         fitted,
         seed: b.seed,
         unit: crate::label::Label::label(unit),
         level: BAND_LEVEL,
-        median_band: (medians.len() == fitted).then(|| band(&mut medians)).flatten(),
+        median_band: (medians.len() == fitted)
+            .then(|| band(&mut medians))
+            .flatten(),
         beta_band: (betas.len() == fitted).then(|| band(&mut betas)).flatten(),
     };
     (info, rates.iter_mut().map(band).collect())

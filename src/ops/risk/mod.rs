@@ -17,8 +17,8 @@ mod table;
 mod tree;
 
 pub use answer::{Assessment, BinInfo, BlockInfo, BranchRate, FragilityInfo, SiteInfo};
-pub use bootstrap::{draws, Bootstrap, BootstrapInfo, BAND_LEVEL};
 pub use assess::{assess, block_info, hazard_im, hazard_warnings, read_hazard};
+pub use bootstrap::{draws, Bootstrap, BootstrapInfo, BAND_LEVEL};
 pub use charts::{deaggregation_chart, ranking_chart};
 pub use error::RiskError;
 pub use inventory::{read_inventory, InventoryBlock};

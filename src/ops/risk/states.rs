@@ -4,8 +4,9 @@
 
 use serde::Serialize;
 
+use super::answer::site_info;
 use super::answer::BlockInfo;
-use super::assess::{block_info, prepare, site_info, sliding_warning, tails, Prepared};
+use super::assess::{block_info, prepare, sliding_warning, tails, Prepared};
 use super::error::RiskError;
 use super::request::Request;
 use crate::damage::{DamageStates, FitMethod};

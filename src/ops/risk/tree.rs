@@ -2,8 +2,7 @@
 //! mean rate (the rate of the mixture of fragilities) and the branches'
 //! quantiles at every site.
 
-use super::answer::{BranchRate, FragilityInfo, SiteInfo};
-use super::assess::site_info;
+use super::answer::{site_info, BranchRate, FragilityInfo, SiteInfo};
 use crate::hazard::HazardCurve;
 use crate::ops::tree::{self as ops_tree, Part};
 use crate::risk::{self, Fragility, SiteRisk};
@@ -79,6 +78,15 @@ pub(super) fn combine(
             // The mean by the weighted sum of the rates themselves (equal to
             // the mixture's up to rounding; exactly the branch's for one).
             info.mean_annual_rate = if several { mean } else { rates[0] };
+            // The mean probability within the years, Σ wᵢ (1 − e^(−λᵢ·t)), as
+            // OpenQuake's mean damage over a taxonomy mapping states it.
+            if several {
+                info.p_overturn_in_years = branches
+                    .iter()
+                    .zip(&rates)
+                    .map(|(b, &r)| b.path.weight * risk::probability_in(r, years))
+                    .sum();
+            }
             info.branches = branches
                 .iter()
                 .zip(&rates)

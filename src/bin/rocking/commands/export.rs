@@ -109,6 +109,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         years: args.years,
         auto_tol: args.auto_tol,
         out: args.out.clone(),
+        tree: args.law.tree.clone(),
     };
     let (req, asked_states) = ask.resolve(Spelling::Cli, direct_progress(args.direct))?;
     let written = export::export(&req)?;

@@ -193,7 +193,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             let cells: Vec<String> = q.iter().map(|v| format!("{v:.4}")).collect();
             format!("  {:>15}", cells.join("  "))
         });
-        println!("{:>14.4} {eta:>10} {:>14.4}{share}{q}", pt.iml, pt.probability);
+        println!(
+            "{:>14.4} {eta:>10} {:>14.4}{share}{q}",
+            pt.iml, pt.probability
+        );
     }
     Ok(())
 }

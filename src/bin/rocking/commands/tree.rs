@@ -48,7 +48,10 @@ pub fn print_rates(branches: &[BranchRate], quantiles: &[f64], at: &[f64], mean:
     }
     println!("  annual rate over the tree (1/yr): mean {mean:.3e}");
     for b in branches {
-        println!("    w {:.4}  {:<28} {:.3e}", b.weight, b.branch, b.annual_rate);
+        println!(
+            "    w {:.4}  {:<28} {:.3e}",
+            b.weight, b.branch, b.annual_rate
+        );
     }
     let q: Vec<String> = quantiles
         .iter()

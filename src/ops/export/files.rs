@@ -1,0 +1,162 @@
+//! The export's files written into its folder, as one consistent set: the
+//! engine's files, and the list of them that the next export replaces.
+
+use std::path::{Path, PathBuf};
+
+use super::request::{Entries, ExportOpError, Format, HazardSites, Request};
+use crate::export::{nrml, pelicun};
+use crate::im::Im;
+use crate::tables::atomic_write;
+
+/// Writes the engine's files into `req.out`, and says which.
+pub(super) fn write_files(
+    req: &Request,
+    hazard: Option<&HazardSites>,
+    entries: &Entries,
+    im: Im,
+    source: &str,
+    floor: Option<&crate::floor::Building>,
+) -> Result<Vec<PathBuf>, ExportOpError> {
+    let names: Vec<String> = req.states.states().iter().map(|s| s.name.clone()).collect();
+    let description = description(req, im, source, floor);
+    std::fs::create_dir_all(&req.out).map_err(|e| ExportOpError::Out {
+        path: req.out.clone(),
+        why: e.to_string(),
+    })?;
+    let earlier = earlier_export(&req.out);
+    let mut files = Vec::new();
+    let mut put = |name: &str, text: &str| -> Result<(), ExportOpError> {
+        let path = req.out.join(name);
+        if path.exists() && !earlier.iter().any(|e| e == name) {
+            return Err(ExportOpError::Out {
+                path: req.out.clone(),
+                why: format!(
+                    "it holds {name}, which no export wrote; export into a folder of its own"
+                ),
+            });
+        }
+        atomic_write(&path, text.as_bytes())?;
+        files.push(path);
+        Ok(())
+    };
+    match req.format {
+        Format::Nrml => {
+            put(
+                nrml::FRAGILITY_FILE,
+                &nrml::fragility_model(&entries.functions, &names, im, &description)?,
+            )?;
+            if let Some(h) = hazard {
+                let (xml, csv) = nrml::exposure_model(&entries.exposure, &h.sites)?;
+                put(nrml::EXPOSURE_FILE, &xml)?;
+                put(nrml::ASSETS_FILE, &csv)?;
+                put(nrml::HAZARD_FILE, &h.text)?;
+                let mapping = !entries.mapping.is_empty();
+                if mapping {
+                    put(
+                        nrml::TAXONOMY_MAPPING_FILE,
+                        &nrml::taxonomy_mapping(&entries.mapping),
+                    )?;
+                }
+                put(
+                    nrml::JOB_FILE,
+                    &nrml::job_ini(req.years, h.investigation_time, mapping),
+                )?;
+            }
+        }
+        Format::Pelicun => {
+            let states: Vec<(String, String)> = req
+                .states
+                .states()
+                .iter()
+                .map(|s| (s.name.clone(), s.describe()))
+                .collect();
+            put(
+                pelicun::CSV_FILE,
+                &pelicun::fragility_csv(&entries.functions, names.len(), im)?,
+            )?;
+            put(
+                pelicun::JSON_FILE,
+                &pelicun::metadata_json(&entries.functions, &states, &description)?,
+            )?;
+        }
+    }
+    // The earlier export's files this one did not write are stale (another
+    // format, or a job without --hazard now): removed, so that the folder
+    // is one consistent set; then the list of this one's.
+    for name in &earlier {
+        if !files
+            .iter()
+            .any(|f| f.file_name().is_some_and(|n| n == name.as_str()))
+        {
+            let _ = std::fs::remove_file(req.out.join(name));
+        }
+    }
+    let names: Vec<String> = files
+        .iter()
+        .filter_map(|f| f.file_name().map(|n| n.to_string_lossy().into_owned()))
+        .collect();
+    atomic_write(&req.out.join(MANIFEST), names.join("\n").as_bytes())?;
+    Ok(files)
+}
+
+/// The list of the files the last export into a folder wrote.
+const MANIFEST: &str = ".rocking-export";
+
+/// The files an earlier export wrote into `out` (none without its list).
+fn earlier_export(out: &Path) -> Vec<String> {
+    std::fs::read_to_string(out.join(MANIFEST))
+        .map(|t| {
+            t.lines()
+                .map(str::trim)
+                // Only bare file names: the list never points elsewhere.
+                .filter(|n| !n.is_empty() && !n.contains(['/', '\\']) && !n.starts_with('.'))
+                .map(String::from)
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// What the exported fragilities are, as the engines' files say: the
+/// blocks' scene (a floor, facing any direction, a pair's component), the
+/// states, the fit and where the capacities came from.
+fn description(
+    req: &Request,
+    im: Im,
+    source: &str,
+    floor: Option<&crate::floor::Building>,
+) -> String {
+    let floor = floor.map_or(String::new(), |b| {
+        format!(" on the floor of a building of modes T,zeta,Gamma-phi = {b} (IMs of the ground)")
+    });
+    // Facing any direction, and the component the IM is of.
+    let facing = match req.orient.orientation {
+        crate::pair::Orientation::AsRecorded => String::new(),
+        o => format!(
+            " facing {} direction of the records' pairs (every {} degrees)",
+            if o == crate::pair::Orientation::Random {
+                "any"
+            } else {
+                "the worst"
+            },
+            req.orient.step_deg
+        ),
+    };
+    let component = if im.pair() {
+        format!(" in {}", im.short())
+    } else {
+        String::new()
+    };
+    format!(
+        "Damage states of free-standing rigid blocks{floor}{facing}{component} ({}), {} fit, \
+         from {} (rocking {})",
+        req.states
+            .states()
+            .iter()
+            .map(|s| format!("{}: {}", s.name, s.describe()))
+            .collect::<Vec<_>>()
+            .join("; "),
+        req.method.name(),
+        source,
+        env!("CARGO_PKG_VERSION")
+    )
+}
