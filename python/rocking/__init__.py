@@ -265,7 +265,9 @@ def fragility(b: float, h: float, **kw: Any) -> Dict[str, Any]:
     ``level``; ``mu``, ``auto_tol``; ``orientation`` (``"as-recorded"``,
     ``"random"`` or ``"worst"``: the block facing any direction of the
     records' pairs, every ``angle_step`` degrees; ``direct=True``), and a
-    pair's ``im`` (``"rotd50_pga"``, ``"rotd50_sa(1.0)"``, …).
+    pair's ``im`` (``"rotd50_pga"``, ``"rotd50_sa(1.0)"``, …); ``tree``: a
+    logic tree over ε and the model (a TOML file, or ``"restitution-tests"``):
+    each branch's fragility, their mean (the mixture) and quantiles.
     """
     return _core.fragility(b=b, h=h, **_plain(kw))
 
@@ -282,7 +284,11 @@ def risk(
     CSV, or arrays ``(levels, annual_rates)`` in ``hazard_im`` (``pga`` in g,
     ``pgv`` in cm/s, ``sa(T)``, ``avgsa``), handed to the library as values.
     One block (``b``, ``h``, ``eps``, ``mu``) gives a dict, an ``inventory``
-    CSV a list of dicts. Other keywords as the command's options.
+    CSV a list of dicts. ``tree``: a logic tree over ε and the model (a TOML
+    file, or ``"restitution-tests"``): each site's ``mean_annual_rate``, the
+    branches' rates and quantiles; ``bootstrap`` (resamples, with
+    ``direct=True``) and ``seed``: a 90 % ``annual_rate_band`` from the
+    records' pairs. Other keywords as the command's options.
     """
     if isinstance(hazard, tuple):
         levels, rates = (np.asarray(x, dtype=np.float64) for x in hazard)
@@ -302,7 +308,8 @@ def export(out: PathLike, **kw: Any) -> Dict[str, Any]:
     ``records`` (and ``records_unit``, ``records_column``, ``records_ground``
     for a structural model's text floor motions), ``im`` (``"pfv"``, ``"pfa"``, ``"pga"``,
     …), ``states``, ``method``, ``if_not_lognormal``, ``floor``,
-    ``hazard``. Returns ``{"files": [...], "blocks": [...]}``, the blocks
+    ``hazard``, ``tree`` (OpenQuake gets each branch and a taxonomy
+    mapping, pelicun the mean). Returns ``{"files": [...], "blocks": [...]}``, the blocks
     as ``rocking export --json`` prints them.
     """
     return _core.export(out=os.fspath(out), **_plain(kw))

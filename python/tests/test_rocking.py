@@ -195,6 +195,31 @@ def test_fragility_and_risk_are_the_commands():
     assert arr["sites"][0]["annual_rate"] == one["sites"][0]["annual_rate"]
 
 
+def test_a_tree_and_the_bootstrap_are_the_commands():
+    """A logic tree (named, or a TOML file) and the rate's bootstrap band:
+    Python's answers are the command line's."""
+    same(
+        rocking.risk(HAZARD, b=0.2, h=0.9, tree="restitution-tests"),
+        cli_json("risk", "--hazard", HAZARD, "--b", "0.2", "--h", "0.9", "--tree",
+                 "restitution-tests"),
+    )
+    same(
+        rocking.fragility(0.2, 0.9, pga=[0.3, 0.5], tree="restitution-tests"),
+        cli_json("fragility", "--b", "0.2", "--h", "0.9", "--pga", "0.3,0.5", "--tree",
+                 "restitution-tests"),
+    )
+    same(
+        rocking.risk(HAZARD, b=0.1, h=1.0, eps=0.8, direct=True, records=FAR, bootstrap=50,
+                     seed=3),
+        cli_json("risk", "--hazard", HAZARD, "--b", "0.1", "--h", "1", "--eps", "0.8",
+                 "--direct", "--records", FAR, "--bootstrap", "50", "--seed", "3"),
+    )
+    with pytest.raises(ValueError, match="weights sum to"):
+        bad = ROOT / "target" / "pytest-bad-tree.toml"
+        bad.write_text("[[eps]]\nvalue = 0.8\nweight = 0.5\n")
+        rocking.risk(HAZARD, b=0.2, h=0.9, tree=str(bad))
+
+
 def test_one_block_has_one_fragility_in_python_and_the_commands():
     """--direct's fit, median, β and records folder: Python's fragility and
     risk, and the commands' (which tests/risk.rs holds to export)."""

@@ -63,7 +63,7 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
         &req.from,
         req.direct,
         &req.progress,
-        entries.len(),
+        entries.len() * req.tree.as_ref().map_or(1, |t| t.paths().len()),
         req.floor.as_ref(),
         fragility::Orient {
             pair_im: req.im.is_some_and(|im| im.pair()),

@@ -149,7 +149,7 @@ pub(super) fn prepare(req: &Request) -> Result<Prepared, RiskError> {
         &req.from,
         req.direct,
         &req.progress,
-        entries.len(),
+        entries.len() * req.tree.as_ref().map_or(1, |t| t.paths().len()),
         req.floor.as_ref(),
         fragility::Orient {
             pair_im: im.pair(),

@@ -343,6 +343,9 @@ fn print_one(a: &Assessment) {
     if let Some(t) = &f.tree {
         super::tree::print_tree(t, f.unit);
     }
+    if let Some(b) = &f.bootstrap {
+        super::tree::print_bootstrap(b, f.unit);
+    }
     let u = f.unit;
     for s in &a.sites {
         println!();
@@ -384,6 +387,16 @@ fn print_one(a: &Assessment) {
                 format!("{:.1} % of the total", 100.0 * s.share_beyond_last_iml),
             ),
         ];
+        let mut rows = rows.to_vec();
+        if let (Some([lo, hi]), Some(b)) = (s.annual_rate_band, &f.bootstrap) {
+            rows.insert(
+                1,
+                (
+                    format!("{:.0} % band from the records", 100.0 * b.level),
+                    format!("{} – {}", rate(lo), rate(hi)),
+                ),
+            );
+        }
         let width = rows
             .iter()
             .map(|(l, _)| l.chars().count())

@@ -2,7 +2,7 @@
 //! mixture and the dispersion split, and each site's branch rates.
 
 use rocking::im::level_text;
-use rocking::ops::risk::BranchRate;
+use rocking::ops::risk::{BootstrapInfo, BranchRate};
 use rocking::ops::tree::TreeInfo;
 
 /// The tree's branches, each with its fragility, and the mixture's.
@@ -59,4 +59,21 @@ pub fn print_rates(branches: &[BranchRate], quantiles: &[f64], at: &[f64], mean:
         .map(|(q, v)| format!("{:.0} % {v:.3e}", 100.0 * q))
         .collect();
     println!("    quantiles: {}", q.join(", "));
+}
+
+/// The bootstrap: its resamples and the bands of the median and β.
+pub fn print_bootstrap(b: &BootstrapInfo, unit: &str) {
+    let band = |v: Option<[f64; 2]>, f: &dyn Fn(f64) -> String| {
+        v.map_or("—".into(), |[lo, hi]| format!("{} – {}", f(lo), f(hi)))
+    };
+    println!(
+        "bootstrap: {} resamples of the records by {} (seed {}, {} fitted); {:.0} % bands: median {}, β {}",
+        b.resamples,
+        b.unit,
+        b.seed,
+        b.fitted,
+        100.0 * b.level,
+        band(b.median_band, &|m| format!("{} {unit}", level_text(m))),
+        band(b.beta_band, &|v| format!("{v:.3}")),
+    );
 }
