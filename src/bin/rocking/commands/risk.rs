@@ -408,28 +408,34 @@ fn print_one(a: &Assessment) {
         if let (Some(t), Some(q)) = (&f.tree, &s.quantile_annual_rates) {
             super::tree::print_rates(&s.branches, &t.quantiles, q, s.mean_annual_rate);
         }
-        let im = display_name(&f.im);
-        println!("  deaggregation by {im}:");
-        let ranges: Vec<String> = s.deaggregation.iter().map(|b| b.range_text(u)).collect();
-        let width = ranges
-            .iter()
-            .map(|r| r.chars().count())
-            .max()
-            .unwrap_or(0)
-            .max(im.len() + 4);
+        print_deaggregation(s, f);
+    }
+}
+
+/// A site's deaggregation by the IM, one row a bin.
+fn print_deaggregation(s: &rocking::ops::risk::SiteInfo, f: &rocking::ops::risk::FragilityInfo) {
+    let u = f.unit;
+    let im = display_name(&f.im);
+    println!("  deaggregation by {im}:");
+    let ranges: Vec<String> = s.deaggregation.iter().map(|b| b.range_text(u)).collect();
+    let width = ranges
+        .iter()
+        .map(|r| r.chars().count())
+        .max()
+        .unwrap_or(0)
+        .max(im.len() + 4);
+    println!(
+        "    {:<width$} {:>11}  {:>7}",
+        format!("{im} bin"),
+        "rate (1/yr)",
+        "share"
+    );
+    for (range, bin) in ranges.iter().zip(&s.deaggregation) {
         println!(
-            "    {:<width$} {:>11}  {:>7}",
-            format!("{im} bin"),
-            "rate (1/yr)",
-            "share"
+            "    {range:<width$} {:>11}  {:>5.1} %",
+            rate(bin.annual_rate),
+            100.0 * bin.share
         );
-        for (range, bin) in ranges.iter().zip(&s.deaggregation) {
-            println!(
-                "    {range:<width$} {:>11}  {:>5.1} %",
-                rate(bin.annual_rate),
-                100.0 * bin.share
-            );
-        }
     }
 }
 
