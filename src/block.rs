@@ -102,9 +102,13 @@ impl Block {
 
     /// Housner's upper bound of ε for a rectangle, 1 − 1.5 sin²α.
     pub fn housner_eps(b_m: f64, h_m: f64) -> f64 {
-        let a = (b_m / h_m).atan();
-        1.0 - 1.5 * a.sin().powi(2)
+        housner_eps_of_alpha((b_m / h_m).atan())
     }
+}
+
+/// Housner's 1 − 1.5 sin²α of a rectangle of slenderness α (rad).
+pub fn housner_eps_of_alpha(alpha: f64) -> f64 {
+    1.0 - 1.5 * alpha.sin().powi(2)
 }
 
 /// `eps` when it is in (0, 1].

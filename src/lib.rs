@@ -11,10 +11,11 @@
 //! 4. **reduce**: fractile statistics with the resurrection rule, bands;
 //! 5. **ims**: the records' intensity measures, the capacity's dispersion in each;
 //! 6. **example**: the report's example block over every record;
-//! 7. **damage**: damage states' capacities and lognormals in every IM;
-//! 8. **fit**: the two-step regression of the capacity against p and ε;
-//! 9. **pulses**: the pulse map (safety walls, overturning modes);
-//! 10. **report**: the paper's figures, `report.md` and `report.html`.
+//! 7. **tree**: the example block on each branch of a logic tree;
+//! 8. **damage**: damage states' capacities and lognormals in every IM;
+//! 9. **fit**: the two-step regression of the capacity against p and ε;
+//! 10. **pulses**: the pulse map (safety walls, overturning modes);
+//! 11. **report**: the paper's figures, `report.md` and `report.html`.
 //!
 //! Module map (`ARCHITECTURE.md` has the invariants):
 //!

@@ -41,6 +41,9 @@ pub struct StudyData {
     pub record_ims: Vec<crate::tables::ims::RecordImRow>,
     /// Every block's limit-state capacities and fits (the damage stage).
     pub damage: DamageData,
+    /// The example block's capacities on each branch of the tree (the tree
+    /// stage's, cases numbered record × branch), when the pipeline has one.
+    pub tree_caps: Option<Vec<CapacityRow>>,
     /// Seconds each stage took when it last ran, in run order.
     pub stage_seconds: Vec<(String, Option<f64>)>,
 }

@@ -41,6 +41,14 @@ impl EpsBranch {
         }
     }
 
+    /// ε on this branch of a block of slenderness `alpha` (rad).
+    pub fn eps_at(self, alpha: f64) -> f64 {
+        match self {
+            EpsBranch::Value(v) => v,
+            EpsBranch::Ratio(r) => r * crate::block::housner_eps_of_alpha(alpha),
+        }
+    }
+
     fn text(self) -> String {
         match self {
             EpsBranch::Value(v) => format!("ε = {v}"),
@@ -74,6 +82,24 @@ pub struct TreePath {
     pub model: Option<ModelChoice>,
     pub weight: f64,
     pub label: String,
+    /// Which branch of each set the path takes (`None`: the set is not
+    /// given), for the tornado.
+    pub eps_branch: Option<usize>,
+    pub model_branch: Option<usize>,
+}
+
+impl TreePath {
+    /// The one path of no tree: the command's own values, weight 1.
+    pub fn plain() -> TreePath {
+        TreePath {
+            eps: None,
+            model: None,
+            weight: 1.0,
+            label: String::new(),
+            eps_branch: None,
+            model_branch: None,
+        }
+    }
 }
 
 /// A tree that cannot be used, and why: the message names the file and
@@ -124,6 +150,16 @@ impl Tree {
     /// The tree a file's text gives; `origin` names the file in messages.
     pub fn parse(text: &str, origin: &str) -> Result<Tree, TreeError> {
         let raw: RawTree = toml::from_str(text).map_err(|e| TreeError(format!("{origin}: {e}")))?;
+        Tree::of_raw(raw, origin)
+    }
+
+    /// The tree of a TOML table (a pipeline's `[tree]`, its keys a file's).
+    pub fn of_value(value: toml::Value, origin: &str) -> Result<Tree, TreeError> {
+        let raw = RawTree::deserialize(value).map_err(|e| TreeError(format!("{origin}: {e}")))?;
+        Tree::of_raw(raw, origin)
+    }
+
+    fn of_raw(raw: RawTree, origin: &str) -> Result<Tree, TreeError> {
         let _ = raw.description;
         if !raw.mu.is_empty() {
             return Err(TreeError(format!(
@@ -234,17 +270,18 @@ impl Tree {
     /// Every path of the full tree, ε outermost, in the file's order; a
     /// path's weight is the product of its branches'.
     pub fn paths(&self) -> Vec<TreePath> {
-        let eps: Vec<Option<Branch<EpsBranch>>> = match self.eps.is_empty() {
+        let eps: Vec<Option<(usize, Branch<EpsBranch>)>> = match self.eps.is_empty() {
             true => vec![None],
-            false => self.eps.iter().copied().map(Some).collect(),
+            false => self.eps.iter().copied().enumerate().map(Some).collect(),
         };
-        let model: Vec<Option<Branch<ModelChoice>>> = match self.model.is_empty() {
+        let model: Vec<Option<(usize, Branch<ModelChoice>)>> = match self.model.is_empty() {
             true => vec![None],
-            false => self.model.iter().copied().map(Some).collect(),
+            false => self.model.iter().copied().enumerate().map(Some).collect(),
         };
         let mut out = Vec::with_capacity(eps.len() * model.len());
-        for e in &eps {
-            for m in &model {
+        for ei in &eps {
+            for mi in &model {
+                let (e, m) = (ei.map(|x| x.1), mi.map(|x| x.1));
                 let weight = e.map_or(1.0, |b| b.weight) * m.map_or(1.0, |b| b.weight);
                 let label = [
                     e.map(|b| b.value.text()),
@@ -259,6 +296,8 @@ impl Tree {
                     model: m.map(|b| b.value),
                     weight,
                     label,
+                    eps_branch: ei.map(|x| x.0),
+                    model_branch: mi.map(|x| x.0),
                 });
             }
         }
@@ -406,6 +445,58 @@ impl Mixture<'_> {
         };
         (m, beta)
     }
+}
+
+/// One branch set's swing of the median capacity (the tornado): for each
+/// of its branches, exp of the weighted mean of ln mᵢ over the paths that
+/// take it (the other sets at their weights), and the smallest and largest
+/// of those.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Swing {
+    pub set: &'static str,
+    pub low: f64,
+    pub high: f64,
+}
+
+/// Which branch of a set a path takes.
+type BranchOf = fn(&TreePath) -> Option<usize>;
+
+/// Each set of two or more branches' [`Swing`] of `medians` (one per path
+/// of [`Tree::paths`], in its order), widest first.
+pub fn swings(tree: &Tree, medians: &[f64]) -> Vec<Swing> {
+    let paths = tree.paths();
+    let mut out = Vec::new();
+    let sets: [(&'static str, usize, BranchOf); 2] = [
+        ("ε", tree.eps.len(), |p| p.eps_branch),
+        ("model", tree.model.len(), |p| p.model_branch),
+    ];
+    for (set, n, branch_of) in sets {
+        if n < 2 {
+            continue;
+        }
+        let conditional: Vec<f64> = (0..n)
+            .map(|b| {
+                let (mut sw, mut sl) = (0.0, 0.0);
+                for (p, m) in paths.iter().zip(medians) {
+                    if branch_of(p) == Some(b) {
+                        sw += p.weight;
+                        sl += p.weight * m.ln();
+                    }
+                }
+                (sl / sw).exp()
+            })
+            .collect();
+        out.push(Swing {
+            set,
+            low: conditional.iter().copied().fold(f64::INFINITY, f64::min),
+            high: conditional
+                .iter()
+                .copied()
+                .fold(f64::NEG_INFINITY, f64::max),
+        });
+    }
+    out.sort_by(|a, b| (b.high / b.low).total_cmp(&(a.high / a.low)));
+    out
 }
 
 /// Named trees' labels and help, for `--tree`'s help and messages.

@@ -425,3 +425,102 @@ fn the_rates_band_is_a_bootstrap_by_hand() {
     let rate = v["sites"][0]["annual_rate"].as_f64().unwrap();
     assert!(want[0] < rate && rate < want[1], "{want:?} {rate}");
 }
+
+/// A study's `[tree]`: the tree stage runs the example block on every
+/// branch over every record, each capacity the one `rocking capacity`
+/// finds at the branch's ε; the report states each branch's lognormal by
+/// the type-7 fractiles of those capacities in PGA (α/η_c, α = 0.1) and
+/// the mixture's median where Σ wᵢ Φ(ln(x/mᵢ)/βᵢ) = 1/2 (Φ written here).
+#[test]
+fn a_studys_tree_runs_the_example_on_every_branch() {
+    use crate::util::{direct_capacity, phi, write_pipeline};
+    use rocking::tables::read;
+    use rocking::tables::sweep::CapacityRow;
+    let dir = tempdir();
+    let d = dir.path();
+    let records = [
+        "RSN953_NORTHR_MUL009",
+        "RSN960_NORTHR_LOS000",
+        "RSN1602_DUZCE_BOL000",
+        "RSN1787_HECTOR_HEC000",
+        "RSN1111_KOBE_NIS000",
+        "RSN1158_KOCAELI_DZC180",
+    ];
+    let pipe = write_pipeline(
+        d,
+        "t",
+        &format!(
+            "ids = {records:?}\n[model]\nkind = \"linearized\"\nalpha = 0.1\n[blocks]\np = [2.0]\n\
+             eps = [0.7]\n[im]\ncount = 60\neta_min = 0.01\n[example]\np = 2.0\neps = 0.7\n\
+             [[tree.eps]]\nvalue = 0.7\nweight = 0.6\n[[tree.eps]]\nvalue = 0.55\nweight = 0.4\n"
+        ),
+    );
+    let out = d.join("out");
+    let r = rocking(
+        &root(),
+        &[
+            "run",
+            pipe.to_str().unwrap(),
+            "--outputs",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(r.status.success(), "{}", stderr(&r));
+    let caps: Vec<CapacityRow> = read(&out.join("t/tree_capacities.parquet")).unwrap();
+    assert_eq!(caps.len(), 2 * records.len());
+    let (eps, weights) = ([0.7, 0.55], [0.6, 0.4]);
+    let mut fits = Vec::new();
+    for (b, &e) in eps.iter().enumerate() {
+        let mut pga: Vec<f64> = caps
+            .iter()
+            .skip(b)
+            .step_by(2)
+            .map(|c| {
+                assert_eq!(c.eps, e);
+                let record = format!("records/fema-p695/far-field/{}.AT2", c.record_id);
+                let v = direct_capacity(&root(), &record, 2.0, e, 60);
+                assert_eq!(c.eta_c, v["eta_c"].as_f64(), "{} at ε = {e}", c.record_id);
+                c.eta_c.map_or(f64::INFINITY, |x| 0.1 / x)
+            })
+            .collect();
+        pga.sort_by(f64::total_cmp);
+        let q = |q: f64| {
+            let h = (pga.len() - 1) as f64 * q;
+            let lo = h.floor() as usize;
+            pga[lo] + (h - lo as f64) * (pga[(lo + 1).min(pga.len() - 1)] - pga[lo])
+        };
+        fits.push((q(0.5), 0.5 * (q(0.84) / q(0.16)).ln()));
+    }
+    let report = std::fs::read_to_string(out.join("t/report.md")).unwrap();
+    assert!(
+        report.contains("## How sure: the example block over the logic tree"),
+        "{report}"
+    );
+    for &(m, beta) in &fits {
+        assert!(
+            report.contains(&format!("| {m:.4} | {beta:.3} |")),
+            "{m} {beta}\n{report}"
+        );
+    }
+    // The mixture's median by bisection here.
+    let mix = |x: f64| -> f64 {
+        fits.iter()
+            .zip(weights)
+            .map(|(&(m, b), w)| w * phi((x / m).ln() / b))
+            .sum()
+    };
+    let (mut lo, mut hi) = (1e-3f64, 10.0f64);
+    for _ in 0..200 {
+        let mid = (lo * hi).sqrt();
+        if mix(mid) < 0.5 {
+            lo = mid
+        } else {
+            hi = mid
+        }
+    }
+    assert!(
+        report.contains(&format!("| **mean (the mixture)** | 1 | | | {hi:.4} |")),
+        "{hi}\n{report}"
+    );
+    assert!(out.join("t/figures/tree_tornado.svg").is_file());
+}

@@ -55,8 +55,20 @@ fn study(text: &str) -> StudyData {
         damage: Default::default(),
         efficiency: Vec::new(),
         record_ims: Vec::new(),
+        tree_caps: None,
         stage_seconds: Vec::new(),
     }
+}
+
+/// A study of the statue (b = 0.2 m, h = 0.9 m, Housner's ε) as its
+/// `[example]`, with `tree` its `[[tree.eps]]` and `[[tree.model]]`
+/// entries.
+pub fn tree_study(tree: &str) -> StudyData {
+    study(&format!(
+        "[records]\nat2 = [\"r\"]\n[model]\nkind = \"auto\"\n[[block]]\nb = 0.2\nh = 0.9\n\
+         eps = \"housner\"\n[example]\nname = \"statue\"\nb = 0.2\nh = 0.9\neps = \"housner\"\n\
+         {tree}\n"
+    ))
 }
 
 /// A pulse map of the `[pulses]` keys `pulses` (shape, β, cycle, ε) over

@@ -27,6 +27,7 @@ pub mod orientation;
 mod pulse;
 mod regression;
 mod shared;
+pub mod tree;
 
 pub use convergence::{convergence_levels, ConvergenceLevel};
 pub use figure::{Figure, FigureFn, PulseFigureFn};
@@ -47,6 +48,8 @@ pub const FIGURES: &[FigureFn] = &[
     regression::regression_coefficients,
     lognormal::lognormal_plots,
     fragility::fragility_example,
+    tree::tree_fragility,
+    tree::tree_tornado,
     damage::damage_states,
     ims::im_efficiency,
     convergence::convergence_share,

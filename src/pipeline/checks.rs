@@ -1,10 +1,11 @@
 //! Checkers shared by both study kinds: value lists and ranges, the
-//! `[model]` section, ε.
+//! `[model]` section, ε, a block's run.
 
-use super::plan::MAX_RANGE_VALUES;
+use super::plan::{BlockSpec, MAX_RANGE_VALUES};
 use super::raw::*;
 use crate::ida::Spacing;
 use crate::label::Label;
+use crate::physics::RunSpec;
 use crate::physics::{ModelChoice, NonlinearIntegrator, Overturn, Solver};
 
 /// A list of values, or a `{ from, to, count, spacing }` range expanded,
@@ -131,6 +132,48 @@ pub(super) fn check_eps(key: &str, e: f64) -> Result<(), String> {
     crate::block::check_eps(e)
         .map(|_| ())
         .map_err(|err| format!("`{key}` holds {err}"))
+}
+
+/// A block's run at η = 1: its model resolved (`auto` per block) and the
+/// whole checked, so that a block that cannot run is refused with the
+/// pipeline, not found by the sweep.
+pub(super) fn block_run(
+    b: Unresolved,
+    model: ModelChoice,
+    solver: Solver,
+    auto_tol: f64,
+    overturn: Overturn,
+) -> Result<BlockSpec, String> {
+    let what = || match b.name.as_str() {
+        "" => format!("the block p = {} 1/s, ε = {}", b.p, b.eps),
+        name => format!("block `{name}`"),
+    };
+    let (model, why) = model
+        .resolve(b.alpha_rad, solver, auto_tol)
+        .map_err(|e| format!("{}: {e}", what()))?;
+    let run = RunSpec {
+        overturn,
+        ..RunSpec::new(b.p, b.eps, 1.0, model)
+    };
+    run.validate().map_err(|e| format!("{}: {e}", what()))?;
+    Ok(BlockSpec {
+        name: b.name,
+        p: b.p,
+        eps: b.eps,
+        alpha_rad: b.alpha_rad,
+        mu: b.mu,
+        run,
+        model_why: why,
+    })
+}
+
+/// A block as the file gives it, before its model is resolved.
+pub(super) struct Unresolved {
+    pub(super) name: String,
+    pub(super) p: f64,
+    pub(super) eps: f64,
+    pub(super) alpha_rad: Option<f64>,
+    pub(super) mu: Option<f64>,
 }
 
 #[cfg(test)]

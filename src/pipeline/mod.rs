@@ -18,6 +18,7 @@ mod plan;
 mod pulse_map;
 mod raw;
 mod resolve;
+mod tree;
 
 pub use crate::ida::MAX_LEVELS;
 pub use plan::*;

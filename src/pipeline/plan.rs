@@ -163,6 +163,27 @@ pub struct RecordsPlan {
         rename = "random_orientation_step_deg"
     )]
     pub random_orientation: Option<f64>,
+    /// `[tree]`: the example block on each path of a logic tree over ε and
+    /// the model (the tree stage runs them; docs/MODEL.md §19).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tree: Option<TreePlan>,
+}
+
+/// A logic tree over the example block: each path's label, weight and
+/// block (its ε and model the path's).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TreePlan {
+    #[serde(skip)]
+    pub tree: crate::tree::Tree,
+    pub branches: Vec<TreeBranch>,
+}
+
+/// One path of [`TreePlan`].
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TreeBranch {
+    pub label: String,
+    pub weight: f64,
+    pub block: BlockSpec,
 }
 
 /// A building as its modes `[T, ζ, Γφ]`, as `[floor]` writes them.
@@ -252,6 +273,11 @@ impl Plan {
     }
 
     /// The example block (`[example]`); none for a pulse map.
+    /// The logic tree over the example block (`[tree]`), if any.
+    pub fn tree(&self) -> Option<&TreePlan> {
+        self.records_study().ok().and_then(|r| r.tree.as_ref())
+    }
+
     pub fn example(&self) -> Option<&BlockSpec> {
         self.records_study().ok().and_then(|r| r.example.as_ref())
     }
@@ -378,6 +404,7 @@ impl Serialize for Plan {
                     damage: DamageStates::default(),
                     floor: None,
                     random_orientation: None,
+                    tree: None,
                 };
                 (std::borrow::Cow::Owned(empty), Some(p))
             }

@@ -28,6 +28,8 @@ pub struct RawPipeline {
     pub uncertainty: Option<RawUncertainty>,
     pub example: Option<RawExample>,
     pub damage: Option<RawDamage>,
+    /// A logic tree over the example block: the keys of a tree file.
+    pub tree: Option<toml::Value>,
     pub floor: Option<RawFloor>,
 }
 

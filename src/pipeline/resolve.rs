@@ -3,13 +3,13 @@
 
 use std::path::{Path, PathBuf};
 
-use super::checks::{check_eps, model, refuse_repeats, values};
+use super::checks::{block_run, check_eps, model, refuse_repeats, values, Unresolved};
 use super::plan::*;
 use super::raw::*;
 use crate::block::{Block, BlockError, Restitution};
 use crate::damage::DamageStates;
 use crate::ida::{ImGrid, Trace, MAX_LEVELS};
-use crate::physics::{ModelChoice, Overturn, RunSpec, Solver};
+use crate::physics::{ModelChoice, Overturn};
 use crate::stats::{FractileDef, ResampleUnit};
 
 /// Parses and resolves a pipeline file's text. `path` names the file in
@@ -80,6 +80,11 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
     let run = |b: Unresolved| block_run(b, model, solver, auto_tol, overturn);
     let blocks = blocks.into_iter().map(run).collect::<Result<Vec<_>, _>>();
     let blocks = blocks.map_err(err)?;
+    let tree = raw
+        .tree
+        .map(|t| super::tree::tree_plan(t, example.as_ref(), model, solver, auto_tol, overturn))
+        .transpose()
+        .map_err(err)?;
     let example = example.map(run).transpose().map_err(err)?;
     Ok(Plan {
         name,
@@ -107,51 +112,10 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
             damage,
             floor,
             random_orientation,
+            tree,
         })),
         base: base.to_path_buf(),
     })
-}
-
-/// A block's run at η = 1: its model resolved (`auto` per block) and the
-/// whole checked, so that a block that cannot run is refused with the
-/// pipeline, not found by the sweep.
-fn block_run(
-    b: Unresolved,
-    model: ModelChoice,
-    solver: Solver,
-    auto_tol: f64,
-    overturn: Overturn,
-) -> Result<BlockSpec, String> {
-    let what = || match b.name.as_str() {
-        "" => format!("the block p = {} 1/s, ε = {}", b.p, b.eps),
-        name => format!("block `{name}`"),
-    };
-    let (model, why) = model
-        .resolve(b.alpha_rad, solver, auto_tol)
-        .map_err(|e| format!("{}: {e}", what()))?;
-    let run = RunSpec {
-        overturn,
-        ..RunSpec::new(b.p, b.eps, 1.0, model)
-    };
-    run.validate().map_err(|e| format!("{}: {e}", what()))?;
-    Ok(BlockSpec {
-        name: b.name,
-        p: b.p,
-        eps: b.eps,
-        alpha_rad: b.alpha_rad,
-        mu: b.mu,
-        run,
-        model_why: why,
-    })
-}
-
-/// A block as the file gives it, before its model is resolved.
-struct Unresolved {
-    name: String,
-    p: f64,
-    eps: f64,
-    alpha_rad: Option<f64>,
-    mu: Option<f64>,
 }
 
 /// `[damage]`: the limit states, or the default (overturning alone).

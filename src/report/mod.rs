@@ -15,6 +15,7 @@ mod orientation;
 mod pulses;
 mod shared;
 mod study;
+mod tree;
 
 pub use html::render_html;
 pub use pulses::render_pulses;

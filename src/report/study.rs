@@ -30,6 +30,7 @@ pub fn render(d: &StudyData, figures: &[Figure]) -> String {
     convergence(&mut md, d);
     super::ims::ims_section(&mut md, d);
     super::damage::damage_section(&mut md, d);
+    super::tree::tree_section(&mut md, d);
     figures_section(&mut md, figures);
     md
 }

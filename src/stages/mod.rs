@@ -27,6 +27,7 @@ pub mod reduce;
 pub mod report;
 pub mod stage;
 pub mod sweep;
+pub mod tree;
 
 pub use reason::{Reason, Skip, Stale};
 pub use stage::{
@@ -42,6 +43,7 @@ pub static STAGES: &[&dyn Stage] = &[
     &reduce::Reduce,
     &ims::Ims,
     &example::Example,
+    &tree::Tree,
     &damage::Damage,
     &fit::Fit,
     &pulses::Pulses,

@@ -77,6 +77,9 @@ impl Stage for Report {
             let example = [damage::EXAMPLE_STATES, damage::EXAMPLE_CAPACITIES];
             inputs.extend(example.map(|n| study.path(n)));
         }
+        if study.plan.tree().is_some() {
+            inputs.push(study.path(super::tree::CAPACITIES));
+        }
         if !study.plan.convergence().is_empty() {
             inputs.push(study.path("capacity_convergence.parquet"));
         }
@@ -181,6 +184,10 @@ pub fn load(
             _ => Vec::new(),
         },
         damage: read_damage(dir, damage::STATES, damage::CAPACITIES)?,
+        tree_caps: match plan.tree() {
+            Some(_) => Some(tables::read(&dir.join(super::tree::CAPACITIES))?),
+            None => None,
+        },
         stage_seconds: other_stages(stage_seconds),
     })
 }

@@ -57,14 +57,16 @@ table! {
     ///
     /// Written by the sweep stage in `outputs/<name>/capacities.parquet` (per shard in
     /// `capacities.shard-K-of-N.parquet`), by the example stage for the `[example]` block
-    /// in `example_capacities.parquet` (case ids numbering the records 0, 1, …), and by
-    /// `rocking capacity --out`. Version 4 added `pfa_over_pga` and `slides_first`;
+    /// in `example_capacities.parquet` (case ids numbering the records 0, 1, …), by the
+    /// tree stage for the example block on each branch of `[tree]` in
+    /// `tree_capacities.parquet` (records × branches, `eps` and `model` the branch's), and
+    /// by `rocking capacity --out`. Version 4 added `pfa_over_pga` and `slides_first`;
     /// version 3 `integrator`; version 2 the four certification columns before it; the
     /// others are as in version 1. The sweep's metadata is that of `ida_points`
     /// (`rocking.sweep.plan_hash`, `rocking.sweep.settings`, `rocking.sweep.plan`;
     /// `rocking.sweep.shard` in shard tables, `rocking.sweep.chunk` in part files); the
-    /// example's holds `rocking.example.settings`, that of `rocking capacity --out`
-    /// `rocking.capacity.command`.
+    /// example's holds `rocking.example.settings`, the tree's `rocking.tree.settings`, that
+    /// of `rocking capacity --out` `rocking.capacity.command`.
     pub struct CapacityRow = "capacities" v 4 {
         /// Index of the (record, block) case: records by id, then blocks in pipeline order
         /// (from `rocking capacity --out`: records in path order, then blocks as given).

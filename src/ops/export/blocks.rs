@@ -152,12 +152,7 @@ pub(super) fn of_block(
         if_not_lognormal: req.if_not_lognormal,
     };
     let paths = req.tree.as_ref().map(|t| t.paths());
-    let one = crate::tree::TreePath {
-        eps: None,
-        model: None,
-        weight: 1.0,
-        label: String::new(),
-    };
+    let one = crate::tree::TreePath::plain();
     let mut branches = Vec::new();
     for path in paths.clone().unwrap_or_else(|| vec![one]) {
         let (eps, model) = crate::ops::tree::branch(&path, e.b_m, e.h_m, e.eps, req.auto_tol);

@@ -202,12 +202,7 @@ fn assess_block(req: &Request, p: &Prepared, e: &InventoryBlock) -> Result<Asses
     // Each path of the tree (one without), its block and its runs' model.
     let paths = match &req.tree {
         Some(tree) => tree.paths(),
-        None => vec![crate::tree::TreePath {
-            eps: None,
-            model: None,
-            weight: 1.0,
-            label: String::new(),
-        }],
+        None => vec![crate::tree::TreePath::plain()],
     };
     let mut branches = Vec::with_capacity(paths.len());
     for path in paths {

@@ -1,0 +1,90 @@
+//! The report's section of a study with a logic tree (`[tree]`): the
+//! example block on each branch, the mean and its dispersion split, and
+//! which branch set moves the capacity most (docs/MODEL.md §19).
+
+use std::fmt::Write as _;
+
+use crate::figures::tree::branches;
+use crate::risk::Fragility;
+use crate::study::StudyData;
+use crate::tree::{self, Mixture};
+
+/// `## How sure: the example block over the tree`.
+pub(super) fn tree_section(w: &mut String, d: &StudyData) {
+    let (Some(b), Some(t)) = (branches(d), d.plan.tree()) else {
+        return;
+    };
+    let _ = writeln!(w, "## How sure: the example block over the logic tree\n");
+    let _ = writeln!(
+        w,
+        "The example block on each of the tree's {} branches, over every record \
+         (`tree_capacities.parquet`), each branch's fragility a lognormal by the fractiles of \
+         its capacities in PGA; the mean is their weighted mixture (not a lognormal: stated by \
+         its median and the β through its 16 and 84 % levels), the dispersion split as FEMA \
+         P-58 states it (docs/MODEL.md §19). The same with `rocking fragility --from \
+         PIPELINE.toml --direct --tree …` for any block.\n",
+        b.weights.len()
+    );
+    let _ = writeln!(
+        w,
+        "| branch | weight | ε | model | median (g) | β |\n|---|---|---|---|---|---|"
+    );
+    for ((br, fit), label) in t.branches.iter().zip(&b.fits).zip(&b.labels) {
+        let _ = writeln!(
+            w,
+            "| {label} | {:.4} | {:.4} | {} | {:.4} | {:.3} |",
+            br.weight,
+            br.block.eps,
+            match br.block.run.model.equation {
+                crate::physics::Equation::Linearized => "linearised",
+                _ => "nonlinear",
+            },
+            fit.median,
+            fit.beta
+        );
+    }
+    let parts: Vec<(f64, Fragility)> = b
+        .weights
+        .iter()
+        .zip(&b.fits)
+        .map(|(&w, l)| {
+            (
+                w,
+                Fragility::Lognormal {
+                    median: l.median,
+                    beta: l.beta,
+                },
+            )
+        })
+        .collect();
+    let (m, beta) = Mixture { parts: &parts }.median_beta();
+    let lognormals: Vec<(f64, f64)> = b.fits.iter().map(|l| (l.median, l.beta)).collect();
+    let split = tree::beta_split(&lognormals, &b.weights);
+    let opt = |v: Option<f64>, d: usize| v.map_or("—".into(), |v| format!("{v:.d$}"));
+    let _ = writeln!(
+        w,
+        "| **mean (the mixture)** | 1 | | | {} | {} (equivalent) |\n",
+        opt(m, 4),
+        opt(beta, 3)
+    );
+    if let Some(s) = split {
+        let _ = writeln!(
+            w,
+            "FEMA P-58's split: β_rtr = {:.3} (the records), β_m = {:.3} (the tree), β_total = \
+             {:.3} about {:.4} g.\n",
+            s.beta_rtr, s.beta_m, s.beta_total, s.median
+        );
+    }
+    let medians: Vec<f64> = b.fits.iter().map(|l| l.median).collect();
+    for s in tree::swings(&t.tree, &medians) {
+        let _ = writeln!(
+            w,
+            "- {}: the median capacity ranges {:.4}–{:.4} g over its branches ({:+.0} %).",
+            s.set,
+            s.low,
+            s.high,
+            100.0 * (s.high / s.low - 1.0)
+        );
+    }
+    let _ = writeln!(w);
+}
