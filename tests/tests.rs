@@ -43,7 +43,8 @@
 //!   symmetry and the hard cases (`ida::HARD_CASES`).
 //! - `tree`: a logic tree over ε and the model against plain runs at each
 //!   branch (mean, quantiles by hand, one branch to the bit), the rate's
-//!   bootstrap band against a bootstrap by hand.
+//!   bootstrap band against a bootstrap by hand, a study's tree stage
+//!   against direct capacities, pelicun's mean curve against the mixture.
 //! - `taylor`: the Taylor stepper of the nonlinear equation against the
 //!   energy of free rocking, DP5 at 1e-13, the linearised closed form as
 //!   α → 0, and the hard cases; choosing it and refusals.

@@ -524,3 +524,72 @@ fn a_studys_tree_runs_the_example_on_every_branch() {
     );
     assert!(out.join("t/figures/tree_tornado.svg").is_file());
 }
+
+/// pelicun takes one function per state: the export writes the tree's mean
+/// as a multilinear_CDF whose every point is the mixture of the branches'
+/// lognormals (Φ written here; the ends set to 0 and 1 at the mixture's 0.1
+/// and 99.9 % levels), as it reproduces the mean better than β_total's
+/// lognormal (both errors stated).
+#[test]
+fn pelicun_gets_the_mean_of_a_tree() {
+    let dir = tempdir();
+    let d = dir.path();
+    let out = rocking(
+        d,
+        &[
+            "export",
+            "--format",
+            "pelicun",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--tree",
+            "restitution-tests",
+            "--out",
+            "p",
+            "--json",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let mean = &v[0]["tree"]["mean"];
+    assert_eq!(mean["written_as"], "curve");
+    assert!(mean["curve_error"].as_f64().unwrap() < mean["lognormal_error"].as_f64().unwrap());
+    let tree = risk(
+        d,
+        &["--b", "0.2", "--h", "0.9", "--tree", "restitution-tests"],
+    );
+    let branches: Vec<(f64, f64, f64)> = tree["fragility"]["tree"]["branches"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|b| {
+            (
+                b["weight"].as_f64().unwrap(),
+                b["median"].as_f64().unwrap(),
+                b["beta"].as_f64().unwrap(),
+            )
+        })
+        .collect();
+    let csv = fs::read_to_string(d.join("p/fragility.csv")).unwrap();
+    let row = csv.lines().nth(1).unwrap();
+    let quoted = row.split('"').nth(1).unwrap();
+    let (xs, ps) = quoted.split_once('|').unwrap();
+    let xs: Vec<f64> = xs.split(',').map(|x| x.parse().unwrap()).collect();
+    let ps: Vec<f64> = ps.split(',').map(|x| x.parse().unwrap()).collect();
+    assert_eq!(xs.len(), 60);
+    for (k, (&x, &p)) in xs.iter().zip(&ps).enumerate() {
+        let mix: f64 = branches
+            .iter()
+            .map(|&(w, m, b)| w * crate::util::phi((x / m).ln() / b))
+            .sum();
+        // Two implementations of Φ (statrs' erfc, the test's series) agree to ~1e-12.
+        let tol = if k == 0 || k == xs.len() - 1 {
+            1.01e-3
+        } else {
+            1e-10
+        };
+        assert!((mix - p).abs() <= tol, "point {k}: {p} vs {mix}");
+    }
+}
