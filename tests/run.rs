@@ -417,11 +417,12 @@ fn a_stage_command_runs_only_the_stages_it_reads_from() {
     assert!(line(&log, "fit").contains("running"), "{log}");
     assert!(line(&log, "sweep").contains("skipped: fresh"), "{log}");
     let status = stdout(&rocking(d, &["status", p, "--outputs", "out"]));
-    // Every stage of a records study is fresh; the pulse map's and the
-    // example's (no `[example]`) are not needed.
+    // Every stage of a records study is fresh; the pulse map's, the
+    // example's (no `[example]`) and the tree's (no `[tree]`) are not needed.
     assert!(
         status.lines().skip(1).all(|l| l.contains("fresh")
-            || (l.starts_with("pulses") || l.starts_with("example")) && l.contains("not needed")),
+            || (l.starts_with("pulses") || l.starts_with("example") || l.starts_with("tree"))
+                && l.contains("not needed")),
         "{status}"
     );
 }
