@@ -13,7 +13,7 @@ use serde_json::Value;
 use crate::util::{rocking, root, stderr, stdout, tempdir};
 
 /// The engines' venv, or `None` (the test is skipped) when unset.
-fn engines() -> Option<PathBuf> {
+pub(crate) fn engines() -> Option<PathBuf> {
     let Ok(venv) = std::env::var("ROCKING_ENGINES") else {
         eprintln!("skipped: set ROCKING_ENGINES to a venv with openquake.engine and pelicun (.ci/run makes one)");
         return None;

@@ -19,6 +19,9 @@
 //! - `engines`: `rocking export` read by OpenQuake (classical_damage against
 //!   `rocking risk` and its own formula) and pelicun (damage shares against
 //!   the stated lognormals) (ROCKING_ENGINES=venv; CI makes one).
+//! - `events`: `risk --gmf` against OpenQuake's event-based damage on its
+//!   fields and the same run's hazard curves (`ROCKING_ENGINES`), the count
+//!   distribution against a Monte Carlo by hand, bad fields refused.
 //! - `example`: `[example]`, the report's Fig. 5 block run off the grid:
 //!   capacities against direct calls, fractiles by hand, the same block on
 //!   the grid against the sweep, reruns, refusals.
@@ -77,6 +80,7 @@ mod cli;
 mod damage;
 mod docs;
 mod engines;
+mod events;
 mod example;
 mod faults;
 mod floor;

@@ -37,6 +37,7 @@ __all__ = [
     "capacities",
     "fragility",
     "risk",
+    "risk_events",
     "export",
     "run",
     "load",
@@ -298,6 +299,45 @@ def risk(
     else:
         given = os.fspath(hazard)
     return _core.risk(hazard=given, **_plain(kw))
+
+
+def risk_events(gmf: PathLike, **kw: Any) -> Dict[str, Any]:
+    """Risk from OpenQuake's event-based ground-motion fields: ``rocking risk
+    --gmf DIR --json``. ``gmf``: the folder ``oq run … --exports csv`` wrote
+    (gmf-data, events, sitemesh CSVs; ``eff_years`` when no job.ini beside
+    them says it). One block (``b``, ``h``, ``eps``) or an ``inventory``;
+    ``together`` (``"same-record"`` or ``"independent"``): how the items at
+    a site fall in one event; ``vector=True`` with ``direct=True``: also
+    P(OT | PGA, PGV/PGA). Returns the answer, with two polars tables:
+    ``"rates"`` (block, site, lon, lat, annual_rate, annual_rate_vector) and
+    ``"counts"`` (site, k, rate of k or more items falling per year; site
+    None for every site together); the command's count list (expected
+    numbers, numbers at return periods) is ``"count_summary"``.
+    """
+    import polars as pl
+
+    a = _core.risk(gmf=os.fspath(gmf), **_plain(kw))
+    rows = [
+        {
+            "block": b["block"]["name"],
+            "site": s["site"],
+            "lon": s["lon"],
+            "lat": s["lat"],
+            "annual_rate": s["annual_rate"],
+            "annual_rate_vector": s.get("annual_rate_vector"),
+        }
+        for b in a["blocks"]
+        for s in b["sites"]
+    ]
+    counts = [
+        {"site": c["site"], "k": k, "rate_at_least": r}
+        for c in a["counts"]
+        for k, r in enumerate(c["rate_at_least"])
+    ]
+    a["count_summary"] = a["counts"]
+    a["rates"] = pl.DataFrame(rows, schema_overrides={"annual_rate_vector": pl.Float64})
+    a["counts"] = pl.DataFrame(counts, schema_overrides={"site": pl.Int64})
+    return a
 
 
 def export(out: PathLike, **kw: Any) -> Dict[str, Any]:

@@ -316,6 +316,11 @@ fn risk(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Py<PyAny
         .map_err(|e| PyValueError::new_err(e.0))?;
     let one = matches!(req.blocks, Blocks::One { .. });
     let answer = py.detach(|| -> Result<serde_json::Value, String> {
+        // Event-based fields: one answer over every block.
+        if let risk::Hazard::Events(e) = &req.hazard {
+            let a = risk::assess_events(&req, e).map_err(|e| message(&e))?;
+            return serde_json::to_value(a).map_err(|e| e.to_string());
+        }
         let all = match &states.states {
             Some(s) => serde_json::to_value(
                 risk::assess_states(&req, s, states.method).map_err(|e| message(&e))?,

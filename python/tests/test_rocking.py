@@ -220,6 +220,29 @@ def test_a_tree_and_the_bootstrap_are_the_commands():
         rocking.risk(HAZARD, b=0.2, h=0.9, tree=str(bad))
 
 
+def test_risk_events_is_the_command(tmp_path):
+    """Event-based fields (a hand-made OpenQuake export): Python's rates and
+    counts are the command's."""
+    g = tmp_path / "gmf"
+    g.mkdir()
+    meta = "#,,,\"generated_by='OpenQuake engine 3.26.2'\"\n"
+    (g / "sitemesh_1.csv").write_text(meta + "custom_site_id,lon,lat\naaa,0.0,0.0\nbbb,0.1,0.0\n")
+    (g / "events_1.csv").write_text(meta + "event_id,rup_id,rlz_id,year,ses_id\n0,0,0,1,1\n1,1,0,1,1\n")
+    (g / "gmf-data_1.csv").write_text(
+        meta + "event_id,gmv_PGA,custom_site_id\n0,0.45,aaa\n0,0.6,bbb\n1,0.3,aaa\n")
+    inv = ROOT / "records" / "hazard" / "museum-inventory.csv"
+    ours = rocking.risk_events(g, inventory=inv, eff_years=10)
+    theirs = cli_json("risk", "--gmf", g, "--inventory", inv, "--eff-years", "10")
+    assert ours["count_summary"] == theirs["counts"]
+    rates = ours["rates"]
+    assert rates.height == sum(len(b["sites"]) for b in theirs["blocks"])
+    for b in theirs["blocks"]:
+        for s in b["sites"]:
+            row = rates.filter((pl.col("block") == b["block"]["name"]) & (pl.col("site") == s["site"]))
+            assert row["annual_rate"][0] == s["annual_rate"]
+    assert ours["counts"].filter(pl.col("k") == 0)["rate_at_least"].to_list()[0] == 2 / 10
+
+
 def test_one_block_has_one_fragility_in_python_and_the_commands():
     """--direct's fit, median, β and records folder: Python's fragility and
     risk, and the commands' (which tests/risk.rs holds to export)."""

@@ -8,6 +8,7 @@ use std::path::PathBuf;
 use serde::Deserialize;
 
 use super::block::{building, one_or_many, AUTO_TOL};
+use super::gmf::HazardAsk;
 use super::spelling::{AskError, Spelling};
 use super::tree::tree;
 use crate::block::{check_mu, Restitution};
@@ -15,10 +16,9 @@ use crate::building::ShapedMode;
 use crate::columns::{AccelUnit, TextRecords};
 use crate::damage::{DamageStates, Dispersion, FitMethod, IfNotLognormal};
 use crate::floor::Mode;
-use crate::hazard;
 use crate::im::Im;
 use crate::ops::fragility::{self, DirectProgress, Source};
-use crate::ops::risk::{self, Blocks, Hazard};
+use crate::ops::risk::{self, Blocks};
 use crate::pair::Orientation;
 use crate::risk::Beyond;
 
@@ -361,31 +361,6 @@ impl FragilityAsk {
     }
 }
 
-/// A site's hazard: a file (OpenQuake's hazard-curve CSV or a plain CSV),
-/// or one curve given as its levels (in `im`'s unit) and annual rates of
-/// exceedance.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(untagged)]
-pub enum HazardAsk {
-    File(PathBuf),
-    Arrays {
-        im: Im,
-        levels: Vec<f64>,
-        rates: Vec<f64>,
-    },
-}
-
-impl HazardAsk {
-    pub fn resolve(&self, sp: Spelling) -> Result<Hazard, AskError> {
-        match self {
-            HazardAsk::File(path) => Ok(Hazard::File(path.clone())),
-            HazardAsk::Arrays { im, levels, rates } => hazard::from_arrays(*im, levels, rates)
-                .map(Hazard::Curve)
-                .map_err(|e| AskError::of(sp, "hazard", e)),
-        }
-    }
-}
-
 /// `rocking risk`: the annual rate of overturning (or of each damage
 /// state) of a block or an inventory at a hazard's sites.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
@@ -432,6 +407,15 @@ pub struct RiskAsk {
     pub bootstrap: usize,
     /// The bootstrap generator's seed.
     pub seed: u64,
+    /// OpenQuake's event-based fields (a folder of its exported CSVs)
+    /// instead of `hazard`.
+    pub gmf: Option<PathBuf>,
+    /// With `gmf`: the effective investigation time, when its job does not say.
+    pub eff_years: Option<f64>,
+    /// With `gmf`: how the items at a site fall together.
+    pub together: crate::events::Together,
+    /// With `gmf` and `direct`: also P(OT | PGA, PGV/PGA).
+    pub vector: bool,
 }
 
 impl Default for RiskAsk {
@@ -469,6 +453,10 @@ impl Default for RiskAsk {
             tree: None,
             bootstrap: 0,
             seed: 0,
+            gmf: None,
+            eff_years: None,
+            together: crate::events::Together::SameRecord,
+            vector: false,
         }
     }
 }
@@ -491,9 +479,17 @@ impl RiskAsk {
         sp: Spelling,
         progress: DirectProgress,
     ) -> Result<(risk::Request, StatesAsk), AskError> {
-        let Some(hazard) = &self.hazard else {
-            return Err(AskError(format!("give {}", sp.key("hazard"))));
-        };
+        let hazard = super::gmf::hazard(
+            self.hazard.as_ref(),
+            self.gmf.as_ref(),
+            risk::EventsAsk {
+                dir: self.gmf.clone().unwrap_or_default(),
+                eff_years: self.eff_years,
+                together: self.together,
+                vector: self.vector,
+            },
+            sp,
+        )?;
         if let Some(im) = self
             .im
             .filter(|im| !im.hazard() && !matches!(im, Im::RotD50(_)))
@@ -519,7 +515,7 @@ impl RiskAsk {
             angle_step: self.angle_step,
         };
         let req = risk::Request {
-            hazard: hazard.resolve(sp)?,
+            hazard,
             site: self.site,
             blocks: self.blocks().resolve(sp)?,
             from: law.resolve(sp)?,

@@ -15,6 +15,7 @@
 //! - [`assess`]: the blocks of `fragility`, `risk` and `export` (one by its
 //!   sizes, or an inventory), where their capacities come from, the levels,
 //!   the hazard, the damage states;
+//! - `gmf`: risk's hazard as asked, curves or event-based fields;
 //! - `tree`: a logic tree named by a request, checked against it;
 //! - [`export`]: what `export` is asked, and its keyword arguments, flat,
 //!   for Python.
@@ -23,11 +24,13 @@ pub mod assess;
 pub mod block;
 pub mod excitation;
 pub mod export;
+mod gmf;
 mod spelling;
 mod tree;
 
-pub use assess::{BlocksAsk, FragilityAsk, HazardAsk, LawAsk, RiskAsk, StatesAsk};
+pub use assess::{BlocksAsk, FragilityAsk, LawAsk, RiskAsk, StatesAsk};
 pub use block::{AskedBlock, BlockAsk};
 pub use excitation::{PulseAsk, SearchAsk};
 pub use export::{ExportAsk, ExportKw};
+pub use gmf::HazardAsk;
 pub use spelling::{AskError, Spelling};

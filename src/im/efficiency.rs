@@ -123,6 +123,65 @@ fn measures(
 /// residuals' standard deviation. PGV/PGA does not change with scaling, so
 /// it is a property of the record the capacity can be conditioned on.
 fn vector(pairs: &[(f64, &RecordIms)]) -> Option<Efficiency> {
+    let fit = vector_fit(pairs)?;
+    Some(Efficiency {
+        im: VECTOR.to_string(),
+        unit: "g",
+        n: fit.n,
+        median: None,
+        median_dimensionless: None,
+        beta: fit.beta,
+        lilliefors_p: fit.lilliefors_p,
+        slope: Some(fit.slope),
+    })
+}
+
+/// The two-parameter capacity of a block: ln(PGA_c/(αg)) = ln(1/η_c)
+/// regressed on ln(PGV/PGA) of the record (PGV in cm/s, PGA in g) over the
+/// records that overturn it (least squares), its residuals' β (n − 2).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct VectorFit {
+    /// The means of ln(PGV/PGA) and of ln(1/η_c) over the records.
+    pub mean_ln_ratio: f64,
+    pub mean_ln_inv_eta: f64,
+    /// d ln PGA_c / d ln(PGV/PGA).
+    pub slope: f64,
+    pub beta: f64,
+    pub n: usize,
+    pub lilliefors_p: Option<f64>,
+    /// The records' smallest and largest PGV/PGA (s): beyond them the fit
+    /// extrapolates.
+    pub ratio_range_s: (f64, f64),
+}
+
+impl VectorFit {
+    /// The median capacity in PGA (g) of a block of slenderness `alpha_rad`
+    /// under a motion of PGV/PGA `ratio_s` (s: PGV in m/s over PGA in m/s²,
+    /// as [`Im::PgvPga`]).
+    pub fn median_pga(&self, alpha_rad: f64, ratio_s: f64) -> f64 {
+        alpha_rad * (self.mean_ln_inv_eta + self.slope * (ratio_s.ln() - self.mean_ln_ratio)).exp()
+    }
+
+    /// P(overturn | PGA = `pga_g` (g), PGV = `pgv_cm_s` (cm/s)):
+    /// Φ(ln(PGA/median(PGV/PGA))/β).
+    pub fn probability(&self, alpha_rad: f64, pga_g: f64, pgv_cm_s: f64) -> f64 {
+        if !(pga_g > 0.0 && pgv_cm_s > 0.0) {
+            return 0.0;
+        }
+        let ratio_s = (pgv_cm_s / 100.0) / (pga_g * crate::block::G);
+        let m = self.median_pga(alpha_rad, ratio_s);
+        stats::normal_cdf((pga_g / m).ln() / self.beta)
+    }
+}
+
+/// [`VectorFit`] of one block from each record's η_c (`None`: never
+/// overturned) and IMs (their PGV/PGA); `None` with fewer than 4
+/// overturning records or one ratio for all.
+pub fn vector_of_block(eta_c: &[Option<f64>], records: &[RecordIms]) -> Option<VectorFit> {
+    vector_fit(&overturned(eta_c, records))
+}
+
+fn vector_fit(pairs: &[(f64, &RecordIms)]) -> Option<VectorFit> {
     if pairs.len() < 4 {
         return None;
     }
@@ -145,15 +204,17 @@ fn vector(pairs: &[(f64, &RecordIms)]) -> Option<Efficiency> {
         .map(|(a, b)| b - my - slope * (a - mx))
         .collect();
     let ss: f64 = residuals.iter().map(|r| r * r).sum();
-    Some(Efficiency {
-        im: VECTOR.to_string(),
-        unit: "g",
-        n: residuals.len(),
-        median: None,
-        median_dimensionless: None,
+    Some(VectorFit {
+        mean_ln_ratio: mx,
+        mean_ln_inv_eta: my,
+        slope,
         beta: (ss / (n - 2.0)).sqrt(),
+        n: residuals.len(),
         lilliefors_p: stats::lilliefors(&residuals).map(|t| t.p_value),
-        slope: Some(slope),
+        ratio_range_s: (
+            x.iter().copied().fold(f64::INFINITY, f64::min).exp(),
+            x.iter().copied().fold(f64::NEG_INFINITY, f64::max).exp(),
+        ),
     })
 }
 

@@ -33,6 +33,12 @@ pub fn read_hazard(
             })?
         }
         Hazard::Curve(curve) => vec![curve.clone()],
+        Hazard::Events(e) => {
+            return Err(RiskError::Gmf(format!(
+                "{}: ground-motion fields, not hazard curves: their risk is `assess_events`'s",
+                e.dir.display()
+            )))
+        }
     };
     let path = hazard.name();
     let path = path.as_path();
@@ -78,11 +84,21 @@ fn fragility_of(
         model,
         fit,
     )?;
+    let (fragility, info) = stated(&f, im)?;
+    Ok((fragility, info, f))
+}
+
+/// The overturning fragility of `f` (its one state, by its method) and
+/// what the answers say of it.
+pub(super) fn stated(
+    f: &damage::DamageFragility,
+    im: Im,
+) -> Result<(Fragility, FragilityInfo), FragilityError> {
     let method = f.method;
     let state = &f.states[0];
     let fragility = state
         .fragility(method)
-        .ok_or_else(|| damage::no_fit(&f, state, method))?;
+        .ok_or_else(|| damage::no_fit(f, state, method))?;
     let (median, beta) = state.median_beta(method);
     let info = FragilityInfo {
         source: f.source.clone(),
@@ -97,7 +113,7 @@ fn fragility_of(
         tree: None,
         bootstrap: None,
     };
-    Ok((fragility, info, f))
+    Ok((fragility, info))
 }
 
 /// What an assessment reads before its first block: the request checked,

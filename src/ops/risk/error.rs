@@ -9,6 +9,8 @@ use crate::tables::TableError;
 
 #[derive(Debug, thiserror::Error)]
 pub enum RiskError {
+    #[error("{0}")]
+    Gmf(String),
     #[error("--component rotd50: the hazard's {0} has no RotD50 (RotD is of PGA, PGV and SA(T))")]
     Component(String),
     #[error(

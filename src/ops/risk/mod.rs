@@ -10,6 +10,7 @@ mod assess;
 mod bootstrap;
 mod charts;
 mod error;
+mod events;
 mod inventory;
 mod request;
 mod states;
@@ -21,7 +22,10 @@ pub use assess::{assess, block_info, hazard_im, hazard_warnings, read_hazard};
 pub use bootstrap::{draws, Bootstrap, BootstrapInfo, BAND_LEVEL};
 pub use charts::{deaggregation_chart, ranking_chart};
 pub use error::RiskError;
+pub use events::{
+    assess_events, read_fields, Counts, EventSite, EventsAssessment, EventsBlock, RETURN_PERIODS,
+};
 pub use inventory::{read_inventory, InventoryBlock};
-pub use request::{Blocks, Hazard, Request};
+pub use request::{Blocks, EventsAsk, Hazard, Request};
 pub use states::{assess_states, StateRisk, StatesAssessment, StatesSite};
 pub use table::{rows, write_table};

@@ -10,6 +10,17 @@ use crate::im::Im;
 use crate::ops::fragility::{self, Source};
 use crate::risk::Beyond;
 
+/// What `--gmf` is asked beyond the blocks: the folder, the effective
+/// investigation time when its job does not say, how items fall together,
+/// and the vector fragility.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EventsAsk {
+    pub dir: PathBuf,
+    pub eff_years: Option<f64>,
+    pub together: crate::events::Together,
+    pub vector: bool,
+}
+
 /// The blocks to assess.
 #[derive(Debug, Clone)]
 pub enum Blocks {
@@ -31,6 +42,9 @@ pub enum Blocks {
 pub enum Hazard {
     File(PathBuf),
     Curve(HazardCurve),
+    /// OpenQuake's event-based ground-motion fields (`--gmf DIR`):
+    /// [`super::assess_events`].
+    Events(EventsAsk),
 }
 
 impl Hazard {
@@ -40,6 +54,7 @@ impl Hazard {
         match self {
             Hazard::File(path) => path.clone(),
             Hazard::Curve(_) => PathBuf::from("hazard (levels, rates)"),
+            Hazard::Events(e) => e.dir.clone(),
         }
     }
 }

@@ -9,6 +9,7 @@ use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 mod args;
 mod capacity;
 mod contents;
+mod events;
 mod export;
 mod fragility;
 mod ims;

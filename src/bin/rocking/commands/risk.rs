@@ -34,8 +34,26 @@ use super::args::{direct_progress, label, parse_im, BlocksArgs, FloorArgs, LawAr
 )]
 pub struct Args {
     /// The hazard curves: OpenQuake's hazard_curve-…-<IMT>_….csv, or `pga_g,annual_rate`.
-    #[arg(long, value_name = "FILE.csv")]
-    hazard: PathBuf,
+    #[arg(long, value_name = "FILE.csv", required_unless_present = "gmf")]
+    hazard: Option<PathBuf>,
+    /// Instead of --hazard: OpenQuake's event-based ground-motion fields, the
+    /// folder `oq run … --exports csv` wrote (gmf-data, events, sitemesh):
+    /// each site's rate as Σ over events ÷ the effective time, and how many
+    /// of the blocks fall in one event (docs/MODEL.md §20).
+    #[arg(long, value_name = "DIR", conflicts_with = "hazard")]
+    gmf: Option<PathBuf>,
+    /// With --gmf: the effective investigation time (years), when no job.ini
+    /// beside the CSVs says it (investigation_time × ses_per_logic_tree_path
+    /// × realisations).
+    #[arg(long, value_name = "Y")]
+    eff_years: Option<f64>,
+    /// With --gmf: how the blocks at a site fall together in one event.
+    #[arg(long, value_parser = label::<rocking::events::Together>(), default_value = "same-record")]
+    together: rocking::events::Together,
+    /// With --gmf and --direct: also the rate by the two-parameter fragility
+    /// P(OT | PGA, PGV/PGA) of the block's own capacities.
+    #[arg(long)]
+    vector: bool,
     /// The fragility's IM; it must be the hazard's (the default).
     #[arg(long, value_parser = parse_im)]
     im: Option<rocking::im::Im>,
@@ -92,7 +110,11 @@ pub struct Args {
 fn ask(args: &Args) -> RiskAsk {
     let law = args.law.ask();
     RiskAsk {
-        hazard: Some(HazardAsk::File(args.hazard.clone())),
+        hazard: args.hazard.clone().map(HazardAsk::File),
+        gmf: args.gmf.clone(),
+        eff_years: args.eff_years,
+        together: args.together,
+        vector: args.vector,
         site: args.site,
         b: args.blocks.b,
         h: args.blocks.h,
@@ -138,13 +160,22 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
         return run_states(&req, s, states.method, args.json);
     }
+    if let risk::Hazard::Events(e) = &req.hazard {
+        if args.plot.is_some() || args.out.is_some() {
+            anyhow::bail!(
+                "--gmf prints its answer (or --json); --plot and --out are for hazard curves"
+            );
+        }
+        let a = risk::assess_events(&req, e)?;
+        return super::events::print(&a, args.json);
+    }
     let out = args.out.clone().unwrap_or_else(|| "risk.parquet".into());
     if args.out.is_some() && args.blocks.inventory.is_none() {
         anyhow::bail!(
             "--out writes an inventory's table; one block's answer is printed (or --json)"
         );
     }
-    let mut inputs = vec![args.hazard.as_path()];
+    let mut inputs: Vec<&std::path::Path> = args.hazard.as_deref().into_iter().collect();
     inputs.extend(args.blocks.inventory.as_deref());
     if let rocking::ops::fragility::Source::Pipeline { file, .. } = &req.from {
         inputs.push(file.as_path());

@@ -1,0 +1,70 @@
+//! Where `risk`'s hazard comes from as asked: hazard curves (`hazard`) or
+//! OpenQuake's event-based fields (`gmf`, with `eff_years`, `together` and
+//! `vector`), one of them.
+
+use std::path::PathBuf;
+
+use super::spelling::{AskError, Spelling};
+use serde::Deserialize;
+
+use crate::hazard;
+use crate::im::Im;
+use crate::ops::risk::{EventsAsk, Hazard};
+
+/// The hazard of `hazard` or, with `gmf`, the fields `events` describes
+/// (its `dir` the folder); refused with both, neither, or the fields'
+/// options without them.
+pub fn hazard(
+    hazard: Option<&HazardAsk>,
+    gmf: Option<&PathBuf>,
+    events: EventsAsk,
+    sp: Spelling,
+) -> Result<Hazard, AskError> {
+    if gmf.is_none() && (events.eff_years.is_some() || events.vector) {
+        return Err(AskError(format!(
+            "{} and {} are for {}",
+            sp.key("eff_years"),
+            sp.key("vector"),
+            sp.key("gmf")
+        )));
+    }
+    match (hazard, gmf) {
+        (Some(h), None) => h.resolve(sp),
+        (None, Some(_)) => Ok(Hazard::Events(events)),
+        (None, None) => Err(AskError(format!(
+            "give {} (hazard curves) or {} (event-based fields)",
+            sp.key("hazard"),
+            sp.key("gmf")
+        ))),
+        (Some(_), Some(_)) => Err(AskError(format!(
+            "give {} or {}, not both",
+            sp.key("hazard"),
+            sp.key("gmf")
+        ))),
+    }
+}
+
+/// A site's hazard: a file (OpenQuake's hazard-curve CSV or a plain CSV),
+/// or one curve given as its levels (in `im`'s unit) and annual rates of
+/// exceedance.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(untagged)]
+pub enum HazardAsk {
+    File(PathBuf),
+    Arrays {
+        im: Im,
+        levels: Vec<f64>,
+        rates: Vec<f64>,
+    },
+}
+
+impl HazardAsk {
+    pub fn resolve(&self, sp: Spelling) -> Result<Hazard, AskError> {
+        match self {
+            HazardAsk::File(path) => Ok(Hazard::File(path.clone())),
+            HazardAsk::Arrays { im, levels, rates } => hazard::from_arrays(*im, levels, rates)
+                .map(Hazard::Curve)
+                .map_err(|e| AskError::of(sp, "hazard", e)),
+        }
+    }
+}

@@ -1,0 +1,231 @@
+//! OpenQuake's event-based ground-motion fields as its `--exports csv`
+//! writes them (pure: text in, values out): `gmf-data_N.csv` (`event_id,
+//! gmv_<IMT>…, custom_site_id`), `events_N.csv` (`event_id, rup_id, rlz_id,
+//! year, ses_id`), `sitemesh_N.csv` (`custom_site_id, lon, lat`), each after
+//! one metadata line; and the effective investigation time from the job.
+//! Units are OpenQuake's: PGA and SA in g, PGV in cm/s (docs/MODEL.md §20).
+
+use std::collections::HashMap;
+
+use crate::im::Im;
+
+/// A problem in one of the files, with its line (1-based) and column.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{file}:{line}{}: {message}", .column.as_ref().map_or(String::new(), |c| format!(", column `{c}`")))]
+pub struct GmfError {
+    pub file: String,
+    pub line: usize,
+    pub column: Option<String>,
+    pub message: String,
+}
+
+/// A site of the fields.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GmfSite {
+    pub id: String,
+    pub lon: f64,
+    pub lat: f64,
+}
+
+/// The fields: the sites, the IMs, every event (with its realisation), and
+/// each (event, site)'s values where OpenQuake wrote them (above its
+/// minimum intensity; elsewhere the motion is below it, taken as 0).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fields {
+    pub sites: Vec<GmfSite>,
+    pub ims: Vec<Im>,
+    /// Every event id of `events_N.csv`, ascending, and its realisation.
+    pub events: Vec<(u64, u32)>,
+    /// (event index into `events`, site index into `sites`, values in the
+    /// order of `ims`).
+    pub values: Vec<(usize, usize, Vec<f64>)>,
+}
+
+/// The lines after the metadata line (`#,…`), with their 1-based numbers.
+fn data_lines<'a>(text: &'a str) -> impl Iterator<Item = (usize, &'a str)> + 'a {
+    text.lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.trim_end_matches('\r')))
+        .filter(|(_, l)| !l.starts_with('#') && !l.trim().is_empty())
+}
+
+/// The header's columns, refused unless `want` are among them: their
+/// positions.
+fn header<'a>(
+    file: &str,
+    lines: &mut impl Iterator<Item = (usize, &'a str)>,
+    want: &[&str],
+) -> Result<(Vec<&'a str>, Vec<usize>), GmfError> {
+    let (n, h) = lines.next().ok_or_else(|| GmfError {
+        file: file.into(),
+        line: 1,
+        column: None,
+        message: "no header line".into(),
+    })?;
+    let cols: Vec<&str> = h.split(',').map(str::trim).collect();
+    let pos = want
+        .iter()
+        .map(|w| {
+            cols.iter().position(|c| c == w).ok_or_else(|| GmfError {
+                file: file.into(),
+                line: n,
+                column: Some((*w).into()),
+                message: format!("the header `{h}` has no `{w}` column"),
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok((cols, pos))
+}
+
+fn number<T: std::str::FromStr>(
+    file: &str,
+    line: usize,
+    column: &str,
+    cell: Option<&str>,
+) -> Result<T, GmfError> {
+    let cell = cell.map(str::trim).unwrap_or("");
+    cell.parse().map_err(|_| GmfError {
+        file: file.into(),
+        line,
+        column: Some(column.into()),
+        message: format!("`{cell}` is not a number"),
+    })
+}
+
+/// `sitemesh_N.csv`: the sites in the file's order.
+pub fn parse_sites(text: &str, file: &str) -> Result<Vec<GmfSite>, GmfError> {
+    let mut lines = data_lines(text);
+    let (_, pos) = header(file, &mut lines, &["custom_site_id", "lon", "lat"])?;
+    lines
+        .map(|(n, l)| {
+            let cells: Vec<&str> = l.split(',').collect();
+            Ok(GmfSite {
+                id: cells.get(pos[0]).map_or("", |c| c.trim()).to_string(),
+                lon: number(file, n, "lon", cells.get(pos[1]).copied())?,
+                lat: number(file, n, "lat", cells.get(pos[2]).copied())?,
+            })
+        })
+        .collect()
+}
+
+/// `events_N.csv`: every event id and its realisation, ascending.
+pub fn parse_events(text: &str, file: &str) -> Result<Vec<(u64, u32)>, GmfError> {
+    let mut lines = data_lines(text);
+    let (_, pos) = header(file, &mut lines, &["event_id", "rlz_id"])?;
+    let mut out = lines
+        .map(|(n, l)| {
+            let cells: Vec<&str> = l.split(',').collect();
+            Ok((
+                number(file, n, "event_id", cells.get(pos[0]).copied())?,
+                number(file, n, "rlz_id", cells.get(pos[1]).copied())?,
+            ))
+        })
+        .collect::<Result<Vec<(u64, u32)>, GmfError>>()?;
+    out.sort_unstable();
+    Ok(out)
+}
+
+/// The IM of a `gmv_<IMT>` column: PGA, PGV or SA(T).
+fn im_of_column(col: &str) -> Option<Im> {
+    let imt = col.strip_prefix("gmv_")?;
+    imt.parse::<Im>().ok().filter(|im| im.hazard())
+}
+
+/// `gmf-data_N.csv` over `sites` and `events`: its IMs and every value.
+pub fn parse_fields(
+    text: &str,
+    file: &str,
+    sites: Vec<GmfSite>,
+    events: Vec<(u64, u32)>,
+) -> Result<Fields, GmfError> {
+    let mut lines = data_lines(text);
+    let (cols, pos) = header(file, &mut lines, &["event_id", "custom_site_id"])?;
+    let gmv: Vec<(usize, Im)> = cols
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.starts_with("gmv_"))
+        .map(|(k, c)| {
+            im_of_column(c).map(|im| (k, im)).ok_or_else(|| GmfError {
+                file: file.into(),
+                line: 2,
+                column: Some((*c).into()),
+                message: "an IMT the tool does not know (PGA, PGV, SA(T))".into(),
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    if gmv.is_empty() {
+        return Err(GmfError {
+            file: file.into(),
+            line: 2,
+            column: None,
+            message: "no `gmv_<IMT>` column".into(),
+        });
+    }
+    let site_of: HashMap<&str, usize> = sites
+        .iter()
+        .enumerate()
+        .map(|(k, s)| (s.id.as_str(), k))
+        .collect();
+    let event_of: HashMap<u64, usize> = events.iter().enumerate().map(|(k, e)| (e.0, k)).collect();
+    let mut values = Vec::new();
+    for (n, l) in lines {
+        let cells: Vec<&str> = l.split(',').collect();
+        let eid: u64 = number(file, n, "event_id", cells.get(pos[0]).copied())?;
+        let sid = cells.get(pos[1]).map_or("", |c| c.trim());
+        let bad = |column: &str, message: String| GmfError {
+            file: file.into(),
+            line: n,
+            column: Some(column.into()),
+            message,
+        };
+        let e = *event_of
+            .get(&eid)
+            .ok_or_else(|| bad("event_id", format!("event {eid} is not in the events file")))?;
+        let s = *site_of.get(sid).ok_or_else(|| {
+            bad(
+                "custom_site_id",
+                format!("site `{sid}` is not in the site mesh"),
+            )
+        })?;
+        let v = gmv
+            .iter()
+            .map(|&(k, _)| {
+                let x: f64 = number(file, n, cols[k], cells.get(k).copied())?;
+                if x.is_finite() && x >= 0.0 {
+                    Ok(x)
+                } else {
+                    Err(bad(
+                        cols[k],
+                        format!("{x}: a ground motion is finite and not negative"),
+                    ))
+                }
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        values.push((e, s, v));
+    }
+    Ok(Fields {
+        sites,
+        ims: gmv.into_iter().map(|(_, im)| im).collect(),
+        events,
+        values,
+    })
+}
+
+/// The effective investigation time (years) of an event-based job:
+/// `investigation_time × ses_per_logic_tree_path × R`, R the number of
+/// realisations (`number_of_logic_tree_samples` when sampled, else those of
+/// the events); `None` when the job does not state both times.
+pub fn eff_years_of_job(job_ini: &str, realizations: usize) -> Option<f64> {
+    let key = |name: &str| -> Option<f64> {
+        job_ini.lines().find_map(|l| {
+            let (k, v) = l.split_once('=')?;
+            (k.trim() == name).then(|| v.split('#').next()?.trim().parse().ok())?
+        })
+    };
+    let samples = key("number_of_logic_tree_samples").filter(|&s| s > 0.0);
+    Some(
+        key("investigation_time")?
+            * key("ses_per_logic_tree_path")?
+            * samples.unwrap_or(realizations as f64),
+    )
+}

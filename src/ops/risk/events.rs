@@ -1,0 +1,490 @@
+//! `risk --gmf DIR`: risk from OpenQuake's event-based ground-motion
+//! fields. Each block's one fragility evaluated at every event's motion at
+//! every site; the annual rate as OpenQuake's event-based damage states it
+//! (Σ over events ÷ the effective investigation time); how many items of
+//! the inventory fall in one event ([`crate::events`]); and, with
+//! `--vector`, the two-parameter fragility P(OT | PGA, PGV/PGA) beside the
+//! scalar one. docs/MODEL.md §20.
+
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use super::answer::{BlockInfo, FragilityInfo};
+use super::error::RiskError;
+use super::inventory::entries;
+use super::request::{EventsAsk, Request};
+use crate::events::{self, Together};
+use crate::gmf::{self, Fields, GmfError};
+use crate::im::Im;
+use crate::ops::damage;
+use crate::ops::fragility::{self, RunModel};
+
+/// The return periods (years) at which the number of items is stated.
+pub const RETURN_PERIODS: [f64; 5] = [50.0, 100.0, 475.0, 975.0, 2475.0];
+
+/// One block at one site.
+#[derive(Debug, Clone, Serialize)]
+pub struct EventSite {
+    pub site: usize,
+    /// OpenQuake's `custom_site_id`.
+    pub id: String,
+    pub lon: f64,
+    pub lat: f64,
+    /// Σ over events of P(OT | the event's IM) ÷ the effective time (1/year).
+    pub annual_rate: f64,
+    pub return_period_years: Option<f64>,
+    pub p_overturn_in_years: f64,
+    /// With `--vector`: the same by P(OT | PGA, PGV/PGA).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub annual_rate_vector: Option<f64>,
+}
+
+/// One block at every site.
+#[derive(Debug, Clone, Serialize)]
+pub struct EventsBlock {
+    pub block: BlockInfo,
+    pub fragility: FragilityInfo,
+    /// With `--vector`: the two-parameter capacity of the block.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub vector: Option<crate::im::efficiency::VectorFit>,
+    pub sites: Vec<EventSite>,
+}
+
+/// How many of the inventory's items fall in one event, at one site or
+/// over all sites.
+#[derive(Debug, Clone, Serialize)]
+pub struct Counts {
+    /// The site (index); `None`: every site together.
+    pub site: Option<usize>,
+    pub items: usize,
+    /// The expected number that fall in one event, and per year.
+    pub expected_per_event: f64,
+    pub expected_per_year: f64,
+    /// The rate (1/year) of k or more items falling in one event, k = 0, 1, …
+    pub rate_at_least: Vec<f64>,
+    /// (return period in years, the number of items at it).
+    pub at_return_periods: Vec<(f64, usize)>,
+}
+
+/// The answer.
+#[derive(Debug, Clone, Serialize)]
+pub struct EventsAssessment {
+    pub gmf: String,
+    pub events: usize,
+    /// The effective investigation time (years) and where it came from.
+    pub eff_years: f64,
+    pub eff_years_from: String,
+    pub im: String,
+    pub unit: &'static str,
+    pub together: Together,
+    pub years: f64,
+    pub blocks: Vec<EventsBlock>,
+    /// Per site, then (with several sites) all sites together (sites apart
+    /// are independent given their fields).
+    pub counts: Vec<Counts>,
+    pub warnings: Vec<String>,
+}
+
+/// The one file of `DIR` whose name starts with `stem` and ends `.csv`.
+fn one_file(dir: &Path, stem: &str) -> Result<PathBuf, RiskError> {
+    let mut found: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map_err(|source| RiskError::Read {
+            path: dir.into(),
+            source,
+        })?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.starts_with(stem) && n.ends_with(".csv"))
+        })
+        .collect();
+    found.sort();
+    match found.len() {
+        1 => Ok(found.remove(0)),
+        0 => Err(RiskError::Gmf(format!(
+            "{}: no {stem}*.csv; --gmf takes the folder `oq run … --exports csv` wrote (gmf-data, \
+             events and sitemesh CSVs)",
+            dir.display()
+        ))),
+        _ => Err(RiskError::Gmf(format!(
+            "{}: {} files {stem}*.csv (several calculations?); give a folder of one",
+            dir.display(),
+            found.len()
+        ))),
+    }
+}
+
+fn read(path: &Path) -> Result<String, RiskError> {
+    std::fs::read_to_string(path).map_err(|source| RiskError::Read {
+        path: path.into(),
+        source,
+    })
+}
+
+/// The fields of the folder and the effective time: the job's (`job.ini`
+/// in the folder or its parent) or `--eff-years`, refused when neither.
+pub fn read_fields(ask: &EventsAsk) -> Result<(Fields, f64, String), RiskError> {
+    let dir = &ask.dir;
+    let name = |p: &Path| p.display().to_string();
+    let gerr = |e: GmfError| RiskError::Gmf(e.to_string());
+    let sites_path = one_file(dir, "sitemesh_")?;
+    let events_path = one_file(dir, "events_")?;
+    let gmf_path = one_file(dir, "gmf-data_")?;
+    let sites = gmf::parse_sites(&read(&sites_path)?, &name(&sites_path)).map_err(gerr)?;
+    let events = gmf::parse_events(&read(&events_path)?, &name(&events_path)).map_err(gerr)?;
+    let realizations = {
+        let mut r: Vec<u32> = events.iter().map(|e| e.1).collect();
+        r.sort_unstable();
+        r.dedup();
+        r.len().max(1)
+    };
+    let fields =
+        gmf::parse_fields(&read(&gmf_path)?, &name(&gmf_path), sites, events).map_err(gerr)?;
+    let job = [dir.join("job.ini"), dir.join("../job.ini")]
+        .into_iter()
+        .find(|p| p.is_file());
+    let from_job = match &job {
+        Some(p) => gmf::eff_years_of_job(&read(p)?, realizations).map(|t| (t, name(p))),
+        None => None,
+    };
+    let (eff, from) = match (ask.eff_years, from_job) {
+        (Some(t), _) if !(t > 0.0 && t.is_finite()) => {
+            return Err(RiskError::Gmf(format!(
+                "--eff-years {t}: give a positive number of years"
+            )))
+        }
+        (Some(t), Some((j, p))) if (t / j - 1.0).abs() > 1e-9 => {
+            return Err(RiskError::Gmf(format!(
+                "--eff-years {t}, but {p} says {j} (investigation_time × ses_per_logic_tree_path \
+                 × {realizations} realisation(s)): give one"
+            )))
+        }
+        (Some(t), _) => (t, "--eff-years".to_string()),
+        (None, Some((j, p))) => (j, p),
+        (None, None) => {
+            return Err(RiskError::Gmf(format!(
+                "{}: the effective investigation time (investigation_time × \
+                 ses_per_logic_tree_path × realisations) is not in the exported CSVs, and no \
+                 job.ini beside them says it: give --eff-years",
+                dir.display()
+            )))
+        }
+    };
+    Ok((fields, eff, from))
+}
+
+/// Each (event, site)'s value of `im` (0 where OpenQuake wrote none, below
+/// its minimum intensity), event-major.
+fn values_of(fields: &Fields, im: Im) -> Option<Vec<f64>> {
+    let k = fields.ims.iter().position(|&i| i == im)?;
+    let n = fields.sites.len();
+    let mut out = vec![0.0; fields.events.len() * n];
+    for (e, s, v) in &fields.values {
+        out[e * n + s] = v[k];
+    }
+    Some(out)
+}
+
+/// Assesses every block at every site of the fields.
+pub fn assess_events(req: &Request, ask: &EventsAsk) -> Result<EventsAssessment, RiskError> {
+    crate::physics::check_auto_tol(req.auto_tol).map_err(RiskError::AutoTol)?;
+    let (fields, eff_years, from) = read_fields(ask)?;
+    let im = req.im.unwrap_or(Im::Pga);
+    let values = values_of(&fields, im).ok_or_else(|| {
+        RiskError::Gmf(format!(
+            "{}: the fields have no {} (they have {})",
+            ask.dir.display(),
+            im.short(),
+            fields
+                .ims
+                .iter()
+                .map(|i| i.short())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ))
+    })?;
+    let vector_values = match ask.vector {
+        true => Some(
+            values_of(&fields, Im::Pga)
+                .zip(values_of(&fields, Im::Pgv))
+                .ok_or_else(|| RiskError::Gmf("--vector needs the fields' PGA and PGV".into()))?,
+        ),
+        false => None,
+    };
+    let blocks = entries(&req.blocks)?;
+    let (laws, records) = fragility::laws_and_records(
+        &req.from,
+        req.direct,
+        &req.progress,
+        blocks.len(),
+        req.floor.as_ref(),
+        req.orient,
+    )?;
+    let (n_sites, n_events) = (fields.sites.len(), fields.events.len());
+    let at = At {
+        fields: &fields,
+        eff_years,
+        im,
+        values: &values,
+        vector_values: vector_values.as_ref(),
+        laws: &laws,
+        records: records.as_ref(),
+    };
+    // Each block's P at every (event, site).
+    let mut probs: Vec<Vec<f64>> = Vec::with_capacity(blocks.len());
+    let mut out = Vec::with_capacity(blocks.len());
+    let mut warnings = Vec::new();
+    for e in &blocks {
+        let (b, p) = one_block(req, e, &at, &mut warnings)?;
+        out.push(b);
+        probs.push(p);
+    }
+    let counts = counts(&probs, n_events, n_sites, eff_years, ask.together);
+    Ok(EventsAssessment {
+        gmf: ask.dir.display().to_string(),
+        events: n_events,
+        eff_years,
+        eff_years_from: from,
+        im: im.name(),
+        unit: im.unit(),
+        together: ask.together,
+        years: req.years,
+        blocks: out,
+        counts,
+        warnings,
+    })
+}
+
+/// What every block's assessment over the fields shares.
+struct At<'a> {
+    fields: &'a Fields,
+    eff_years: f64,
+    im: Im,
+    /// `im` at every (event, site), event-major; PGA and PGV for `--vector`.
+    values: &'a [f64],
+    vector_values: Option<&'a (Vec<f64>, Vec<f64>)>,
+    laws: &'a fragility::Laws,
+    records: Option<&'a fragility::DirectRecords>,
+}
+
+/// One block over the fields: its answer, and its P at every (event, site).
+fn one_block(
+    req: &Request,
+    e: &super::InventoryBlock,
+    at: &At,
+    warnings: &mut Vec<String>,
+) -> Result<(EventsBlock, Vec<f64>), RiskError> {
+    let (fields, eff_years, im, values) = (at.fields, at.eff_years, at.im, at.values);
+    let (laws, records, vector_values) = (at.laws, at.records, at.vector_values);
+    let (n_sites, n_events) = (fields.sites.len(), fields.events.len());
+    let in_block = |source| RiskError::Block {
+        name: e.name.clone(),
+        source,
+    };
+    let block = fragility::block(e.b_m, e.h_m, e.eps).map_err(in_block)?;
+    let f = damage::of_block(
+        &block,
+        &crate::damage::DamageStates::overturning(),
+        im,
+        laws,
+        records,
+        RunModel::auto(req.auto_tol),
+        crate::damage::FitChoice {
+            dispersion: crate::damage::Dispersion::Each,
+            ..req.fit()
+        },
+    )
+    .map_err(in_block)?;
+    let (frag, info) = super::assess::stated(&f, im).map_err(in_block)?;
+    let cut = damage::zero_below(&block, im, records.and_then(|r| r.floor())).unwrap_or(0.0);
+    let p: Vec<f64> = values
+        .iter()
+        .map(|&x| {
+            if x < cut || x <= 0.0 {
+                0.0
+            } else {
+                frag.probability(x)
+            }
+        })
+        .collect();
+    let (vector, pv) = vector_of(req, &block, vector_values, records).map_err(|e| match e {
+        VectorError::Block(source) => in_block(source),
+        VectorError::Other(e) => e,
+    })?;
+    if let (Some(v), Some(pv)) = (&vector, &pv) {
+        warnings.extend(extrapolation(v, pv, vector_values, &e.name));
+    }
+    let rate_at = |p: &[f64], s: usize| -> f64 {
+        (0..n_events).map(|ev| p[ev * n_sites + s]).sum::<f64>() / eff_years
+    };
+    let sites = fields
+        .sites
+        .iter()
+        .enumerate()
+        .map(|(s, site)| {
+            let annual_rate = rate_at(&p, s);
+            EventSite {
+                site: s,
+                id: site.id.clone(),
+                lon: site.lon,
+                lat: site.lat,
+                annual_rate,
+                return_period_years: (annual_rate > 0.0).then(|| 1.0 / annual_rate),
+                p_overturn_in_years: crate::risk::probability_in(annual_rate, req.years),
+                annual_rate_vector: pv.as_ref().map(|pv| rate_at(pv, s)),
+            }
+        })
+        .collect();
+    warnings.extend(f.warnings.iter().map(|w| format!("block {}: {w}", e.name)));
+    let b = EventsBlock {
+        block: super::assess::block_info(e, &block, records.and_then(|r| r.floor())),
+        fragility: info,
+        vector,
+        sites,
+    };
+    Ok((b, p))
+}
+
+/// Why a block has no vector fragility.
+enum VectorError {
+    Block(crate::ops::fragility::FragilityError),
+    Other(RiskError),
+}
+
+/// With `--vector`: the block's two-parameter capacity from the records'
+/// runs, and its P at every (event, site) (0 below its uplift PGA).
+fn vector_of(
+    req: &Request,
+    block: &crate::block::Block,
+    vector_values: Option<&(Vec<f64>, Vec<f64>)>,
+    records: Option<&fragility::DirectRecords>,
+) -> Result<(Option<crate::im::efficiency::VectorFit>, Option<Vec<f64>>), VectorError> {
+    let Some((pga, pgv)) = vector_values else {
+        return Ok((None, None));
+    };
+    let Some(r) = records else {
+        return Err(VectorError::Other(RiskError::Gmf(
+            "--vector fits P(OT | PGA, PGV/PGA) to the records' own capacities: add --direct"
+                .into(),
+        )));
+    };
+    let (caps, _) = r
+        .capacities(block, RunModel::auto(req.auto_tol))
+        .map_err(VectorError::Block)?;
+    let eta: Vec<Option<f64>> = caps.iter().map(|&c| (c > 0.0).then_some(c)).collect();
+    let Some(v) = crate::im::efficiency::vector_of_block(&eta, r.ims()) else {
+        return Ok((None, None));
+    };
+    // The block cannot move below its uplift PGA, whatever the IM.
+    let uplift = block.uplift_pga_g();
+    let p = pga
+        .iter()
+        .zip(pgv)
+        .map(|(&a, &g)| {
+            if a < uplift {
+                0.0
+            } else {
+                v.probability(block.alpha(), a, g)
+            }
+        })
+        .collect();
+    Ok((Some(v), Some(p)))
+}
+
+/// The count distributions: per site (the items of the inventory there,
+/// falling together as `together` says), and over all sites (independent
+/// given their fields: the convolution).
+fn counts(
+    probs: &[Vec<f64>],
+    n_events: usize,
+    n_sites: usize,
+    eff_years: f64,
+    together: Together,
+) -> Vec<Counts> {
+    let items = probs.len();
+    let mut per_site: Vec<Vec<Vec<f64>>> = vec![Vec::with_capacity(n_events); n_sites];
+    let mut all: Vec<Vec<f64>> = Vec::with_capacity(n_events);
+    for ev in 0..n_events {
+        let mut total = vec![1.0];
+        for (s, site) in per_site.iter_mut().enumerate() {
+            let p: Vec<f64> = probs.iter().map(|b| b[ev * n_sites + s]).collect();
+            let pmf = events::count_pmf(&p, together);
+            total = events::convolve(&total, &pmf);
+            site.push(pmf);
+        }
+        all.push(total);
+    }
+    let stated = |site: Option<usize>, pmfs: &[Vec<f64>], n: usize| {
+        let rates = events::exceedance_rates(pmfs, eff_years);
+        let mean_per_event: f64 = pmfs
+            .iter()
+            .map(|pmf| {
+                pmf.iter()
+                    .enumerate()
+                    .map(|(k, q)| k as f64 * q)
+                    .sum::<f64>()
+            })
+            .sum::<f64>()
+            / pmfs.len().max(1) as f64;
+        Counts {
+            site,
+            items: n,
+            expected_per_event: mean_per_event,
+            expected_per_year: mean_per_event * pmfs.len() as f64 / eff_years,
+            at_return_periods: RETURN_PERIODS
+                .iter()
+                .map(|&t| (t, events::number_at(&rates, t)))
+                .collect(),
+            rate_at_least: rates,
+        }
+    };
+    let mut out: Vec<Counts> = per_site
+        .iter()
+        .enumerate()
+        .map(|(s, pmfs)| stated(Some(s), pmfs, items))
+        .collect();
+    if n_sites > 1 {
+        out.push(stated(None, &all, items * n_sites));
+    }
+    out
+}
+
+/// The share of the vector rate from events whose PGV/PGA lies outside the
+/// records' range, as a warning when it is over a tenth.
+fn extrapolation(
+    v: &crate::im::efficiency::VectorFit,
+    pv: &[f64],
+    fields: Option<&(Vec<f64>, Vec<f64>)>,
+    name: &str,
+) -> Option<String> {
+    let (pga, pgv) = fields?;
+    let (lo, hi) = v.ratio_range_s;
+    let (mut outside, mut total, mut all, mut beyond) = (0.0, 0.0, 0usize, 0usize);
+    for ((&p, &a), &g) in pv.iter().zip(pga).zip(pgv) {
+        if a <= 0.0 || g <= 0.0 {
+            continue;
+        }
+        let r = (g / 100.0) / (a * crate::block::G);
+        all += 1;
+        total += p;
+        if !(lo..=hi).contains(&r) {
+            outside += p;
+            beyond += 1;
+        }
+    }
+    let share = if total > 0.0 {
+        outside / total
+    } else {
+        beyond as f64 / all.max(1) as f64
+    };
+    (share > 0.1).then(|| {
+        format!(
+            "block {name}: {:.0} % of the vector rate (and {beyond} of {all} motions) comes from \
+             PGV/PGA outside the records' {lo:.3}–{hi:.3} s, where P(OT | PGA, PGV/PGA) is an \
+             extrapolation of their regression",
+            100.0 * share
+        )
+    })
+}

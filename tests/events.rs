@@ -1,0 +1,366 @@
+//! `risk --gmf`: risk from OpenQuake's event-based ground-motion fields.
+//! The rates against OpenQuake's own `event_based_damage` on the same
+//! fields with the tool's exported fragility, and against `rocking risk` on
+//! the same run's hazard curves; the count distribution against a Monte
+//! Carlo written here on a hand-made field set; bad folders refused naming
+//! file, line and column.
+
+use std::fs;
+use std::path::Path;
+use std::process::Command;
+
+use serde_json::Value;
+
+use crate::util::{rocking, stderr, tempdir};
+
+fn json(out: &std::process::Output) -> Value {
+    assert!(out.status.success(), "{}", stderr(out));
+    serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&out.stdout)))
+}
+
+/// A hand-made field set: `events` events at two sites, PGA of event e at
+/// site s given by `pga(e, s)` (every event written at every site).
+fn fields(dir: &Path, events: usize, pga: impl Fn(usize, usize) -> f64) {
+    fs::create_dir_all(dir).unwrap();
+    let meta = "#,,,\"generated_by='OpenQuake engine 3.26.2'\"\n";
+    fs::write(
+        dir.join("sitemesh_1.csv"),
+        format!("{meta}custom_site_id,lon,lat\naaa,0.0,0.0\nbbb,0.1,0.0\n"),
+    )
+    .unwrap();
+    let mut ev = format!("{meta}event_id,rup_id,rlz_id,year,ses_id\n");
+    let mut gmf = format!("{meta}event_id,gmv_PGA,custom_site_id\n");
+    for e in 0..events {
+        ev.push_str(&format!("{e},{e},0,1,1\n"));
+        for (s, id) in ["aaa", "bbb"].iter().enumerate() {
+            gmf.push_str(&format!("{e},{:.6E},{id}\n", pga(e, s)));
+        }
+    }
+    fs::write(dir.join("events_1.csv"), ev).unwrap();
+    fs::write(dir.join("gmf-data_1.csv"), gmf).unwrap();
+}
+
+/// Three blocks, one event at two sites: each block's probability at each
+/// site is its fragility's (read back from the answer), and the count
+/// distribution of the three is exact: under `independent` a
+/// Poisson-binomial, checked against a Monte Carlo of 400,000 draws written
+/// here (3σ), and under `same-record` the k-th largest probability.
+#[test]
+fn the_count_distribution_is_a_monte_carlo_by_hand() {
+    let dir = tempdir();
+    let d = dir.path();
+    fields(&d.join("g"), 1, |_, s| [0.45, 0.6][s]);
+    fs::write(
+        d.join("inv.csv"),
+        "name,b,h,eps\nstatue,0.2,0.9,\ncabinet,0.25,1.0,\nvase,0.1,0.5,\n",
+    )
+    .unwrap();
+    for (together, mc) in [("independent", true), ("same-record", false)] {
+        let v = json(&rocking(
+            d,
+            &[
+                "risk",
+                "--gmf",
+                "g",
+                "--eff-years",
+                "100",
+                "--inventory",
+                "inv.csv",
+                "--together",
+                together,
+                "--json",
+            ],
+        ));
+        assert_eq!(v["eff_years_from"], "--eff-years");
+        // Each block's P at each site: its rate × 100 years (one event).
+        let p: Vec<[f64; 2]> = v["blocks"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|b| {
+                let s = b["sites"].as_array().unwrap();
+                [0, 1].map(|k| s[k]["annual_rate"].as_f64().unwrap() * 100.0)
+            })
+            .collect();
+        for site in 0..2 {
+            let ps: Vec<f64> = p.iter().map(|q| q[site]).collect();
+            let rates: Vec<f64> = v["counts"][site]["rate_at_least"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|r| r.as_f64().unwrap() * 100.0)
+                .collect();
+            assert_eq!(rates.len(), 4);
+            if mc {
+                // A Monte Carlo: each item falls on its own uniform draw.
+                let mut state = 0x2545F4914F6CDD1Du64;
+                let mut uniform = || {
+                    state ^= state << 13;
+                    state ^= state >> 7;
+                    state ^= state << 17;
+                    (state >> 11) as f64 / (1u64 << 53) as f64
+                };
+                let n = 400_000;
+                let mut at_least = [0usize; 4];
+                for _ in 0..n {
+                    let k = ps.iter().filter(|&&q| uniform() < q).count();
+                    for c in at_least.iter_mut().take(k + 1) {
+                        *c += 1;
+                    }
+                }
+                for k in 0..4 {
+                    let f = at_least[k] as f64 / n as f64;
+                    let sd = (f * (1.0 - f) / n as f64).sqrt().max(1e-6);
+                    assert!(
+                        (f - rates[k]).abs() < 3.0 * sd + 1e-12,
+                        "site {site} k {k}: {f} vs {}",
+                        rates[k]
+                    );
+                }
+            } else {
+                let mut sorted = ps.clone();
+                sorted.sort_by(|a, b| b.total_cmp(a));
+                for k in 1..4 {
+                    assert!(
+                        (rates[k] - sorted[k - 1]).abs() < 1e-12,
+                        "site {site} k {k}"
+                    );
+                }
+            }
+            let expected = v["counts"][site]["expected_per_event"].as_f64().unwrap();
+            assert!((expected - ps.iter().sum::<f64>()).abs() < 1e-12);
+        }
+    }
+}
+
+/// Bad folders and files are refused, naming the file, line and column.
+#[test]
+fn bad_fields_are_refused_naming_file_line_and_column() {
+    let dir = tempdir();
+    let d = dir.path();
+    fields(&d.join("g"), 3, |e, _| 0.1 * (e + 1) as f64);
+    let run = |args: &[&str]| {
+        let mut a = vec!["risk", "--gmf", "g", "--b", "0.2", "--h", "0.9"];
+        a.extend_from_slice(args);
+        rocking(d, &a)
+    };
+    let no_time = run(&[]);
+    assert!(
+        stderr(&no_time).contains("give --eff-years"),
+        "{}",
+        stderr(&no_time)
+    );
+    let gmf = d.join("g/gmf-data_1.csv");
+    let text = fs::read_to_string(&gmf).unwrap();
+    fs::write(&gmf, text.replacen("2.000000E-1", "abc", 1)).unwrap();
+    let bad = run(&["--eff-years", "10"]);
+    assert!(
+        stderr(&bad).contains("gmf-data_1.csv:5, column `gmv_PGA`: `abc` is not a number"),
+        "{}",
+        stderr(&bad)
+    );
+    fs::write(&gmf, text.replace(",bbb", ",zzz")).unwrap();
+    let site = run(&["--eff-years", "10"]);
+    assert!(
+        stderr(&site).contains("site `zzz` is not in the site mesh"),
+        "{}",
+        stderr(&site)
+    );
+    fs::write(&gmf, &text).unwrap();
+    let im = run(&["--eff-years", "10", "--im", "pgv"]);
+    assert!(
+        stderr(&im).contains("the fields have no PGV"),
+        "{}",
+        stderr(&im)
+    );
+}
+
+/// OpenQuake's event-based source model for the engine test: a point source
+/// of M 5.0 and 5.1 (2.5 events a year), BooreAtkinson2008 for PGA and PGV.
+const SOURCE: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
+<nrml xmlns="http://openquake.org/xmlns/nrml/0.4" xmlns:gml="http://www.opengis.net/gml">
+<sourceModel name="point">
+<pointSource id="1" name="point" tectonicRegion="active shallow crust">
+<pointGeometry><gml:Point><gml:pos>0.0 0.0</gml:pos></gml:Point>
+<upperSeismoDepth>0.0</upperSeismoDepth><lowerSeismoDepth>10.0</lowerSeismoDepth></pointGeometry>
+<magScaleRel>PeerMSR</magScaleRel><ruptAspectRatio>1.0</ruptAspectRatio>
+<incrementalMFD minMag="5.0" binWidth="0.1"><occurRates>1.0 1.5</occurRates></incrementalMFD>
+<nodalPlaneDist><nodalPlane probability="1.0" strike="0.0" dip="90.0" rake="0.0"/></nodalPlaneDist>
+<hypoDepthDist><hypoDepth probability="0.6" depth="4.0"/><hypoDepth probability="0.4" depth="5.0"/></hypoDepthDist>
+</pointSource>
+</sourceModel>
+</nrml>
+"#;
+
+const SOURCE_LT: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
+<nrml xmlns:gml="http://www.opengis.net/gml" xmlns="http://openquake.org/xmlns/nrml/0.4">
+<logicTree logicTreeID="lt1"><logicTreeBranchingLevel branchingLevelID="bl1">
+<logicTreeBranchSet uncertaintyType="sourceModel" branchSetID="bs1">
+<logicTreeBranch branchID="b1"><uncertaintyModel>source_model.xml</uncertaintyModel><uncertaintyWeight>1.0</uncertaintyWeight></logicTreeBranch>
+</logicTreeBranchSet></logicTreeBranchingLevel></logicTree>
+</nrml>
+"#;
+
+const GSIM_LT: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
+<nrml xmlns:gml="http://www.opengis.net/gml" xmlns="http://openquake.org/xmlns/nrml/0.4">
+<logicTree logicTreeID="lt1"><logicTreeBranchingLevel branchingLevelID="bl1">
+<logicTreeBranchSet uncertaintyType="gmpeModel" branchSetID="bs1" applyToTectonicRegionType="active shallow crust">
+<logicTreeBranch branchID="b1"><uncertaintyModel>BooreAtkinson2008</uncertaintyModel><uncertaintyWeight>1.0</uncertaintyWeight></logicTreeBranch>
+</logicTreeBranchSet></logicTreeBranchingLevel></logicTree>
+</nrml>
+"#;
+
+/// Three sites (lon, lat) of the engine test.
+const SITES: [(f64, f64); 3] = [(0.0, -0.2), (0.0, 0.05), (0.1, 0.0)];
+
+/// OpenQuake's `event_based_damage` on a point source (2000 years, 4,900
+/// events, spatially correlated fields by JB2009) with the statue's
+/// exported NRML fragility, one statue at each of three sites: its rate of
+/// overturning per asset (`aggrisk-id`, float32 with 6 digits) equals `risk
+/// --gmf` on the fields it wrote, to its printed rounding (1e-5 relative).
+/// And against `rocking risk` on the same run's hazard curves (PGA, 40
+/// IMLs): both integrate the same catalogue, the curve interpolating its
+/// empirical exceedance between IMLs, so they differ by less than the
+/// catalogue's sampling error 1/√(λT) where λT, the expected number of
+/// overturning events in the catalogue, is 5 or more.
+#[test]
+fn openquake_event_based_damage_agrees_with_risk_from_its_fields() {
+    let Some(venv) = crate::engines::engines() else {
+        return;
+    };
+    let dir = tempdir();
+    let d = dir.path();
+    let job = d.join("job");
+    let out = rocking(
+        d,
+        &[
+            "export", "--format", "nrml", "--b", "0.2", "--h", "0.9", "--out", "job",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    fs::write(job.join("source_model.xml"), SOURCE).unwrap();
+    fs::write(job.join("source_model_logic_tree.xml"), SOURCE_LT).unwrap();
+    fs::write(job.join("gsim_logic_tree.xml"), GSIM_LT).unwrap();
+    let assets: String = SITES
+        .iter()
+        .enumerate()
+        .map(|(k, (lon, lat))| {
+            format!(
+                "    <asset id=\"a{k}\" number=\"1\" taxonomy=\"b0.2_h0.9\"><location lon=\"{lon}\" lat=\"{lat}\"/><costs><cost type=\"contents\" value=\"1\"/></costs></asset>\n"
+            )
+        })
+        .collect();
+    fs::write(
+        job.join("exposure_model.xml"),
+        format!(
+            "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<nrml xmlns=\"http://openquake.org/xmlns/nrml/0.5\">\n<exposureModel id=\"museum\" category=\"buildings\" taxonomySource=\"rocking\">\n  <description>statues</description>\n  <conversions><costTypes><costType name=\"contents\" type=\"per_asset\" unit=\"block\"/></costTypes></conversions>\n  <tagNames/>\n  <assets>\n{assets}  </assets>\n</exposureModel>\n</nrml>\n"
+        ),
+    )
+    .unwrap();
+    fs::write(
+        job.join("job.ini"),
+        "[general]\ndescription = rocking: event-based damage\ncalculation_mode = event_based_damage\n\
+         ses_seed = 1066\n\n[exposure]\nexposure_file = exposure_model.xml\naggregate_by = id\n\n\
+         [fragility]\ncontents_fragility_file = fragility_model.xml\n\n[logic_tree]\n\
+         number_of_logic_tree_samples = 0\n\n[erf]\nwidth_of_mfd_bin = 1.0\n\n[site_params]\n\
+         reference_vs30_type = measured\nreference_vs30_value = 400.0\n\
+         reference_depth_to_2pt5km_per_sec = 2.5\nreference_depth_to_1pt0km_per_sec = 50.0\n\n\
+         [calculation]\nsource_model_logic_tree_file = source_model_logic_tree.xml\n\
+         gsim_logic_tree_file = gsim_logic_tree.xml\ninvestigation_time = 1.0\n\
+         intensity_measure_types_and_levels = {\"PGA\": logscale(0.005, 3.0, 40), \"PGV\": logscale(0.5, 300, 40)}\n\
+         truncation_level = 3.0\nmaximum_distance = 200.0\nminimum_intensity = {\"PGA\": 0.001, \"PGV\": 0.01}\n\n\
+         [event_based_params]\nses_per_logic_tree_path = 2000\nground_motion_correlation_model = JB2009\n\
+         ground_motion_correlation_params = {\"vs30_clustering\": False}\n\n[output]\n\
+         hazard_curves_from_gmfs = true\nmean = true\nground_motion_fields = true\n",
+    )
+    .unwrap();
+    let data = d.join("oqdata");
+    fs::create_dir_all(&data).unwrap();
+    let oq = Command::new(venv.join("bin/oq"))
+        .args(["run", "job.ini", "--exports", "csv"])
+        .current_dir(&job)
+        .env("CI", "true")
+        .env("OQ_DISTRIBUTE", "no")
+        .env("NUMBA_DISABLE_JIT", "1")
+        .env("OQ_DATADIR", &data)
+        .output()
+        .unwrap();
+    assert!(
+        oq.status.success(),
+        "oq run failed:\n{}\n{}",
+        String::from_utf8_lossy(&oq.stdout),
+        String::from_utf8_lossy(&oq.stderr)
+    );
+    let file = |prefix: &str| {
+        fs::read_dir(&job)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .find(|p| p.file_name().unwrap().to_string_lossy().starts_with(prefix))
+            .unwrap_or_else(|| panic!("oq wrote no {prefix}"))
+    };
+    // OpenQuake's rate of overturning per asset.
+    let agg = fs::read_to_string(file("aggrisk-id")).unwrap();
+    let oq_rate = |asset: &str| -> f64 {
+        let line = agg
+            .lines()
+            .find(|l| l.split(',').nth(1) == Some(asset))
+            .unwrap();
+        line.split(',').nth(3).unwrap().parse().unwrap()
+    };
+    let v = json(&rocking(
+        d,
+        &["risk", "--gmf", "job", "--b", "0.2", "--h", "0.9", "--json"],
+    ));
+    assert_eq!(v["eff_years"].as_f64(), Some(2000.0));
+    assert!(v["events"].as_u64().unwrap() > 4000);
+    let sites = v["blocks"][0]["sites"].as_array().unwrap();
+    let curves = json(&rocking(
+        d,
+        &[
+            "risk",
+            "--hazard",
+            file("hazard_curve-mean-PGA").to_str().unwrap(),
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--json",
+        ],
+    ));
+    for (k, (lon, lat)) in SITES.iter().enumerate() {
+        let s = sites
+            .iter()
+            .find(|s| {
+                (s["lon"].as_f64().unwrap() - lon).abs() < 1e-9
+                    && (s["lat"].as_f64().unwrap() - lat).abs() < 1e-9
+            })
+            .unwrap();
+        let ours = s["annual_rate"].as_f64().unwrap();
+        let theirs = oq_rate(&format!("a{k}"));
+        assert!(
+            (ours / theirs - 1.0).abs() < 1e-5,
+            "site {k}: {ours} vs OpenQuake's {theirs}"
+        );
+        let c = curves["sites"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| {
+                (c["lon"].as_f64().unwrap() - lon).abs() < 1e-9
+                    && (c["lat"].as_f64().unwrap() - lat).abs() < 1e-9
+            })
+            .unwrap()["annual_rate"]
+            .as_f64()
+            .unwrap();
+        let expected_events = ours * 2000.0;
+        eprintln!("site {k}: from the fields {ours:.4e}, OpenQuake {theirs:.4e}, from the curves {c:.4e} (λT = {expected_events:.1})");
+        if expected_events >= 5.0 {
+            let tol = 1.0 / expected_events.sqrt();
+            assert!(
+                (c / ours - 1.0).abs() < tol,
+                "site {k}: curves {c} vs fields {ours} (tolerance {tol})"
+            );
+        }
+    }
+}
