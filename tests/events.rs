@@ -364,3 +364,61 @@ fn openquake_event_based_damage_agrees_with_risk_from_its_fields() {
         }
     }
 }
+
+/// `--states` over the fields: each state's rate at each site is Σ over
+/// events of Φ(ln(PGA/m)/β) ÷ the effective time, m and β the state's
+/// lognormal as `fragility --states` states it (Φ written here), 0 below
+/// the uplift PGA; and the heaviest state's rate is overturning's.
+#[test]
+fn damage_states_over_the_fields_are_their_lognormals_summed() {
+    let dir = tempdir();
+    let d = dir.path();
+    let pgas = |e: usize, s: usize| 0.05 + 0.9 * ((e * 7 + s * 3) % 10) as f64 / 10.0;
+    fields(&d.join("g"), 20, pgas);
+    let states = "rocking=0.1,large_rocking=0.5,overturned=overturned";
+    let block = ["--b", "0.2", "--h", "0.9", "--direct", "--states", states];
+    let mut args = vec!["risk", "--gmf", "g", "--eff-years", "50", "--json"];
+    args.extend_from_slice(&block);
+    let v = json(&rocking(d, &args));
+    let mut fargs = vec!["fragility", "--pga", "0.3", "--json"];
+    fargs.extend_from_slice(&block);
+    let f = json(&rocking(d, &fargs));
+    let uplift = 0.2 / 0.9;
+    let b = &v["blocks"][0];
+    for (j, st) in f["fragility"]["states"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .enumerate()
+    {
+        let (m, beta) = (
+            st["fractile"]["median"].as_f64().unwrap(),
+            st["fractile"]["beta"].as_f64().unwrap(),
+        );
+        for s in 0..2 {
+            let want: f64 = (0..20)
+                .map(|e| {
+                    // The field file's PGA as printed (6 significant digits).
+                    let x: f64 = format!("{:.6E}", pgas(e, s)).parse().unwrap();
+                    if x < uplift {
+                        0.0
+                    } else {
+                        crate::util::phi((x / m).ln() / beta)
+                    }
+                })
+                .sum::<f64>()
+                / 50.0;
+            let got = b["states"][j]["annual_rates"][s].as_f64().unwrap();
+            assert!(
+                (got - want).abs() <= 1e-10 * want.max(1e-12),
+                "state {j} site {s}: {got} vs {want}"
+            );
+        }
+    }
+    for s in 0..2 {
+        assert_eq!(
+            b["states"][2]["annual_rates"][s],
+            b["sites"][s]["annual_rate"]
+        );
+    }
+}

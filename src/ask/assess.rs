@@ -487,6 +487,7 @@ impl RiskAsk {
                 eff_years: self.eff_years,
                 together: self.together,
                 vector: self.vector,
+                states: self.states.clone(),
             },
             sp,
         )?;

@@ -40,6 +40,15 @@ pub struct EventSite {
     pub annual_rate_vector: Option<f64>,
 }
 
+/// With `--states`: one damage state's rate at every site (1/year), from
+/// its fragility as `risk --states` makes it.
+#[derive(Debug, Clone, Serialize)]
+pub struct StateRates {
+    pub state: String,
+    pub criterion: String,
+    pub annual_rates: Vec<f64>,
+}
+
 /// One block at every site.
 #[derive(Debug, Clone, Serialize)]
 pub struct EventsBlock {
@@ -49,6 +58,9 @@ pub struct EventsBlock {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub vector: Option<crate::im::efficiency::VectorFit>,
     pub sites: Vec<EventSite>,
+    /// With `--states`: each state's rate at each site.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub states: Vec<StateRates>,
 }
 
 /// How many of the inventory's items fall in one event, at one site or
@@ -237,7 +249,10 @@ pub fn assess_events(req: &Request, ask: &EventsAsk) -> Result<EventsAssessment,
     let mut out = Vec::with_capacity(blocks.len());
     let mut warnings = Vec::new();
     for e in &blocks {
-        let (b, p) = one_block(req, e, &at, &mut warnings)?;
+        let (mut b, p) = one_block(req, e, &at, &mut warnings)?;
+        if let Some(states) = &ask.states {
+            b.states = state_rates(req, e, &at, states)?;
+        }
         out.push(b);
         probs.push(p);
     }
@@ -343,8 +358,55 @@ fn one_block(
         fragility: info,
         vector,
         sites,
+        states: Vec::new(),
     };
     Ok((b, p))
+}
+
+/// Each damage state's rate at every site: the block's states' fragilities
+/// (one β by default, so that they never cross) at every event's motion.
+fn state_rates(
+    req: &Request,
+    e: &super::InventoryBlock,
+    at: &At,
+    states: &crate::damage::DamageStates,
+) -> Result<Vec<StateRates>, RiskError> {
+    let in_block = |source| RiskError::Block {
+        name: e.name.clone(),
+        source,
+    };
+    let block = fragility::block(e.b_m, e.h_m, e.eps).map_err(in_block)?;
+    let f = damage::of_block(
+        &block,
+        states,
+        at.im,
+        at.laws,
+        at.records,
+        RunModel::auto(req.auto_tol),
+        req.fit(),
+    )
+    .map_err(in_block)?;
+    let cut = damage::zero_below(&block, at.im, at.records.and_then(|r| r.floor())).unwrap_or(0.0);
+    let n_sites = at.fields.sites.len();
+    f.states
+        .iter()
+        .map(|s| {
+            let frag = s
+                .fragility(f.method)
+                .ok_or_else(|| in_block(damage::no_fit(&f, s, f.method)))?;
+            let mut rates = vec![0.0; n_sites];
+            for (k, &x) in at.values.iter().enumerate() {
+                if x >= cut && x > 0.0 {
+                    rates[k % n_sites] += frag.probability(x);
+                }
+            }
+            Ok(StateRates {
+                state: s.name.clone(),
+                criterion: s.criterion.clone(),
+                annual_rates: rates.iter().map(|r| r / at.eff_years).collect(),
+            })
+        })
+        .collect()
 }
 
 /// Why a block has no vector fragility.

@@ -19,6 +19,8 @@ pub struct EventsAsk {
     pub eff_years: Option<f64>,
     pub together: crate::events::Together,
     pub vector: bool,
+    /// Damage states whose rates to state beside overturning (`--states`).
+    pub states: Option<crate::damage::DamageStates>,
 }
 
 /// The blocks to assess.

@@ -65,6 +65,16 @@ pub fn print(a: &EventsAssessment, json: bool) -> anyhow::Result<()> {
             );
         }
     }
+    for b in a.blocks.iter().filter(|b| !b.states.is_empty()) {
+        println!(
+            "\nblock {}: damage states, rate at each site (1/yr)",
+            b.block.name
+        );
+        for st in &b.states {
+            let r: Vec<String> = st.annual_rates.iter().map(|r| format!("{r:.3e}")).collect();
+            println!("  {:<16} {:<24} {}", st.state, st.criterion, r.join("  "));
+        }
+    }
     println!("\nhow many fall in one event:");
     for c in &a.counts {
         let at: Vec<String> = c

@@ -151,15 +151,6 @@ fn ask(args: &Args) -> RiskAsk {
 pub fn run(args: Args) -> anyhow::Result<()> {
     let (req, states) = ask(&args).resolve(Spelling::Cli, direct_progress(args.direct))?;
     let beyond = req.beyond;
-    if let Some(s) = &states.states {
-        if args.plot.is_some() || args.out.is_some() {
-            anyhow::bail!(
-                "--states prints each state's rate (or --json); --plot and --out are for \
-                 overturning alone"
-            );
-        }
-        return run_states(&req, s, states.method, args.json);
-    }
     if let risk::Hazard::Events(e) = &req.hazard {
         if args.plot.is_some() || args.out.is_some() {
             anyhow::bail!(
@@ -169,6 +160,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let a = risk::assess_events(&req, e)?;
         return super::events::print(&a, args.json);
     }
+    if let Some(s) = &states.states {
+        if args.plot.is_some() || args.out.is_some() {
+            anyhow::bail!(
+                "--states prints each state's rate (or --json); --plot and --out are for \
+                 overturning alone"
+            );
+        }
+        return run_states(&req, s, states.method, args.json);
+    }
+
     let out = args.out.clone().unwrap_or_else(|| "risk.parquet".into());
     if args.out.is_some() && args.blocks.inventory.is_none() {
         anyhow::bail!(
