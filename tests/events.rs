@@ -168,6 +168,12 @@ fn bad_fields_are_refused_naming_file_line_and_column() {
         stderr(&site)
     );
     fs::write(&gmf, &text).unwrap();
+    let tree = run(&["--eff-years", "10", "--tree", "restitution-tests"]);
+    assert!(
+        stderr(&tree).contains("--tree and --bootstrap are for hazard curves"),
+        "{}",
+        stderr(&tree)
+    );
     let im = run(&["--eff-years", "10", "--im", "pgv"]);
     assert!(
         stderr(&im).contains("the fields have no PGV"),

@@ -548,6 +548,26 @@ impl RiskAsk {
                 }),
             },
         };
+        self.refuse_together(&req, sp)?;
+        let states = StatesAsk {
+            states: self.states.clone(),
+            method: self.method,
+        };
+        Ok((req, states))
+    }
+
+    /// Options that do not go together: the fields with a tree or a
+    /// bootstrap, damage states with either.
+    fn refuse_together(&self, req: &risk::Request, sp: Spelling) -> Result<(), AskError> {
+        if self.gmf.is_some() && (req.tree.is_some() || req.bootstrap.is_some()) {
+            return Err(AskError(format!(
+                "{} states the rate over the fields' events for the block as given; {} and {} \
+                 are for hazard curves",
+                sp.key("gmf"),
+                sp.key("tree"),
+                sp.key("bootstrap")
+            )));
+        }
         if req.bootstrap.is_some() && self.states.is_some() {
             return Err(AskError(format!(
                 "{} bands the rate of overturning; give it or {}, not both",
@@ -562,10 +582,6 @@ impl RiskAsk {
                 sp.key("states")
             )));
         }
-        let states = StatesAsk {
-            states: self.states.clone(),
-            method: self.method,
-        };
-        Ok((req, states))
+        Ok(())
     }
 }
