@@ -213,19 +213,37 @@ pub fn parse_fields(
 
 /// The effective investigation time (years) of an event-based job:
 /// `investigation_time × ses_per_logic_tree_path × R`, R the number of
-/// realisations (`number_of_logic_tree_samples` when sampled, else those of
-/// the events); `None` when the job does not state both times.
-pub fn eff_years_of_job(job_ini: &str, realizations: usize) -> Option<f64> {
-    let key = |name: &str| -> Option<f64> {
-        job_ini.lines().find_map(|l| {
+/// realisations (`number_of_logic_tree_samples` when sampled, else
+/// `realizations`); `ses_per_logic_tree_path` defaults to 1, as
+/// OpenQuake's. Refused, naming the key, when `investigation_time` is
+/// missing or a key is not a number.
+pub fn eff_years_of_job(job_ini: &str, realizations: usize) -> Result<f64, String> {
+    let key = |name: &str| -> Result<Option<f64>, String> {
+        let Some(v) = job_ini.lines().find_map(|l| {
             let (k, v) = l.split_once('=')?;
-            (k.trim() == name).then(|| v.split('#').next()?.trim().parse().ok())?
-        })
+            (k.trim() == name).then(|| v.split('#').next().unwrap_or("").trim().to_string())
+        }) else {
+            return Ok(None);
+        };
+        v.parse()
+            .map(Some)
+            .map_err(|_| format!("`{name} = {v}` is not a number"))
     };
-    let samples = key("number_of_logic_tree_samples").filter(|&s| s > 0.0);
-    Some(
-        key("investigation_time")?
-            * key("ses_per_logic_tree_path")?
-            * samples.unwrap_or(realizations as f64),
-    )
+    let samples = key("number_of_logic_tree_samples")?.filter(|&s| s > 0.0);
+    let time = key("investigation_time")?.ok_or("no `investigation_time`")?;
+    let ses = key("ses_per_logic_tree_path")?.unwrap_or(1.0);
+    Ok(time * ses * samples.unwrap_or(realizations as f64))
+}
+
+/// `realizations_N.csv`: each realisation's weight (`rlz_id, branch_path,
+/// weight`).
+pub fn parse_weights(text: &str, file: &str) -> Result<Vec<f64>, GmfError> {
+    let mut lines = data_lines(text);
+    let (_, pos) = header(file, &mut lines, &["rlz_id", "weight"])?;
+    lines
+        .map(|(n, l)| {
+            let cells: Vec<&str> = l.split(',').collect();
+            number(file, n, "weight", cells.get(pos[1]).copied())
+        })
+        .collect()
 }

@@ -428,3 +428,83 @@ fn damage_states_over_the_fields_are_their_lognormals_summed() {
         );
     }
 }
+
+/// The effective time from the job (its `ses_per_logic_tree_path`
+/// defaulting to 1, as OpenQuake's), realisations of unequal weights
+/// refused (their events cannot be pooled), and a hazard file's options
+/// refused with the fields.
+#[test]
+fn the_effective_time_and_realisations() {
+    let dir = tempdir();
+    let d = dir.path();
+    fields(&d.join("g"), 4, |e, _| 0.3 + 0.1 * e as f64);
+    let run = |extra: &[&str]| {
+        let mut a = vec!["risk", "--gmf", "g", "--b", "0.2", "--h", "0.9", "--json"];
+        a.extend_from_slice(extra);
+        rocking(d, &a)
+    };
+    fs::write(
+        d.join("g/job.ini"),
+        "[calculation]\ninvestigation_time = 25.0\n",
+    )
+    .unwrap();
+    let v = json(&run(&[]));
+    assert_eq!(v["eff_years"].as_f64(), Some(25.0));
+    fs::write(
+        d.join("g/job.ini"),
+        "investigation_time = 25.0\nses_per_logic_tree_path = 4 # sets\n",
+    )
+    .unwrap();
+    assert_eq!(json(&run(&[]))["eff_years"].as_f64(), Some(100.0));
+    let clash = run(&["--eff-years", "50"]);
+    assert!(
+        stderr(&clash).contains("--eff-years 50, but"),
+        "{}",
+        stderr(&clash)
+    );
+    fs::write(d.join("g/job.ini"), "investigation_time = x\n").unwrap();
+    assert!(stderr(&run(&[])).contains("job.ini: `investigation_time = x` is not a number"));
+    fs::write(d.join("g/job.ini"), "investigation_time = 1\n").unwrap();
+    fs::write(
+        d.join("g/realizations_1.csv"),
+        "#,,\"x\"\nrlz_id,branch_path,weight\n0,A,0.6\n1,B,0.4\n",
+    )
+    .unwrap();
+    let unequal = run(&[]);
+    assert!(
+        stderr(&unequal).contains("the realisations have unequal weights (0.6, 0.4)"),
+        "{}",
+        stderr(&unequal)
+    );
+    fs::write(
+        d.join("g/realizations_1.csv"),
+        "rlz_id,branch_path,weight\n0,A,0.5\n1,B,0.5\n",
+    )
+    .unwrap();
+    assert_eq!(json(&run(&[]))["eff_years"].as_f64(), Some(2.0));
+    let site = run(&["--site", "0"]);
+    assert!(
+        stderr(&site).contains("--site and --component are a hazard file's"),
+        "{}",
+        stderr(&site)
+    );
+    let together = rocking(
+        d,
+        &[
+            "risk",
+            "--hazard",
+            "x.csv",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--together",
+            "independent",
+        ],
+    );
+    assert!(
+        stderr(&together).contains("are for --gmf"),
+        "{}",
+        stderr(&together)
+    );
+}

@@ -593,3 +593,50 @@ fn pelicun_gets_the_mean_of_a_tree() {
         assert!((mix - p).abs() <= tol, "point {k}: {p} vs {mix}");
     }
 }
+
+/// An inventory's own ε is not silently replaced by a tree's [[eps]]; an
+/// OpenQuake export of a tree writes its taxonomy mapping with or without
+/// a job.
+#[test]
+fn a_trees_eps_and_an_inventorys_and_the_mapping_without_a_job() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(d.join("inv.csv"), "name,b,h,eps\nstatue,0.2,0.9,0.8\n").unwrap();
+    let hazard = root().join("records/hazard/synthetic-openquake.csv");
+    let out = rocking(
+        d,
+        &[
+            "risk",
+            "--hazard",
+            hazard.to_str().unwrap(),
+            "--inventory",
+            "inv.csv",
+            "--tree",
+            "restitution-tests",
+        ],
+    );
+    assert!(
+        stderr(&out).contains("the block has its own ε = 0.8"),
+        "{}",
+        stderr(&out)
+    );
+    let out = rocking(
+        d,
+        &[
+            "export",
+            "--format",
+            "nrml",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--tree",
+            "restitution-tests",
+            "--out",
+            "x",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let mapping = fs::read_to_string(d.join("x/taxonomy_mapping.csv")).unwrap();
+    assert_eq!(mapping.lines().count(), 4, "{mapping}");
+}

@@ -20,11 +20,13 @@ pub fn hazard(
     events: EventsAsk,
     sp: Spelling,
 ) -> Result<Hazard, AskError> {
-    if gmf.is_none() && (events.eff_years.is_some() || events.vector) {
+    let together = events.together != crate::events::Together::SameRecord;
+    if gmf.is_none() && (events.eff_years.is_some() || events.vector || together) {
         return Err(AskError(format!(
-            "{} and {} are for {}",
+            "{}, {} and {} are for {}",
             sp.key("eff_years"),
             sp.key("vector"),
+            sp.key("together"),
             sp.key("gmf")
         )));
     }

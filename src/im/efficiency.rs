@@ -137,7 +137,7 @@ fn vector(pairs: &[(f64, &RecordIms)]) -> Option<Efficiency> {
 }
 
 /// The two-parameter capacity of a block: ln(PGA_c/(αg)) = ln(1/η_c)
-/// regressed on ln(PGV/PGA) of the record (PGV in cm/s, PGA in g) over the
+/// regressed on ln(PGV/PGA) of the record (in s, as [`Im::PgvPga`]) over the
 /// records that overturn it (least squares), its residuals' β (n − 2).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct VectorFit {

@@ -37,13 +37,36 @@ pub fn branch(
     h_m: f64,
     own: Restitution,
     auto_tol: f64,
-) -> (Restitution, RunModel) {
+) -> Result<(Restitution, RunModel), FragilityError> {
+    // A block's own ε (an inventory's column) is not silently replaced.
+    if let (Some(_), Restitution::Value(v)) = (path.eps, own) {
+        return Err(FragilityError::TreeEps(v));
+    }
     let eps = path.eps.map_or(own, |e| e.restitution(b_m, h_m));
     let model = RunModel {
         choice: path.model.unwrap_or(ModelChoice::Auto),
         auto_tol,
     };
-    (eps, model)
+    Ok((eps, model))
+}
+
+/// The branches' warnings as one list: a warning of every branch once, one
+/// of some branches with their labels.
+pub fn merge_warnings(branches: &[(&str, &[String])]) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for (label, warnings) in branches {
+        for w in *warnings {
+            let everywhere = branches.iter().all(|(_, o)| o.contains(w));
+            let w = match everywhere || branches.len() == 1 {
+                true => w.clone(),
+                false => format!("branch {label}: {w}"),
+            };
+            if !out.contains(&w) {
+                out.push(w);
+            }
+        }
+    }
+    out
 }
 
 /// A tree's model branches need the records' runs.

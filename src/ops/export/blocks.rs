@@ -155,7 +155,7 @@ pub(super) fn of_block(
     let one = crate::tree::TreePath::plain();
     let mut branches = Vec::new();
     for path in paths.clone().unwrap_or_else(|| vec![one]) {
-        let (eps, model) = crate::ops::tree::branch(&path, e.b_m, e.h_m, e.eps, req.auto_tol);
+        let (eps, model) = crate::ops::tree::branch(&path, e.b_m, e.h_m, e.eps, req.auto_tol)?;
         let block = crate::ops::fragility::block(e.b_m, e.h_m, eps)?;
         let mut f = damage::of_block(&block, &req.states, at.im, at.laws, at.records, model, fit)?;
         let info = risk::block_info(e, &block, floor);
@@ -182,7 +182,14 @@ pub(super) fn of_block(
         });
     };
     let (listed, mean) = over_tree(req, tree, &tax, &branches, &e.name, out)?;
-    let (_, _, info, entry, f) = branches.swap_remove(0);
+    let warnings = crate::ops::tree::merge_warnings(
+        &branches
+            .iter()
+            .map(|b| (b.0.label.as_str(), &b.4.warnings[..]))
+            .collect::<Vec<_>>(),
+    );
+    let (_, _, info, entry, mut f) = branches.swap_remove(0);
+    f.warnings = warnings;
     out.exposure.push(Entry {
         id: tax.clone(),
         ..entry

@@ -45,18 +45,19 @@ pub(super) fn write_files(
                 nrml::FRAGILITY_FILE,
                 &nrml::fragility_model(&entries.functions, &names, im, &description)?,
             )?;
+            // A tree's branches are weighted per taxonomy, job or not.
+            let mapping = !entries.mapping.is_empty();
+            if mapping {
+                put(
+                    nrml::TAXONOMY_MAPPING_FILE,
+                    &nrml::taxonomy_mapping(&entries.mapping),
+                )?;
+            }
             if let Some(h) = hazard {
                 let (xml, csv) = nrml::exposure_model(&entries.exposure, &h.sites)?;
                 put(nrml::EXPOSURE_FILE, &xml)?;
                 put(nrml::ASSETS_FILE, &csv)?;
                 put(nrml::HAZARD_FILE, &h.text)?;
-                let mapping = !entries.mapping.is_empty();
-                if mapping {
-                    put(
-                        nrml::TAXONOMY_MAPPING_FILE,
-                        &nrml::taxonomy_mapping(&entries.mapping),
-                    )?;
-                }
                 put(
                     nrml::JOB_FILE,
                     &nrml::job_ini(req.years, h.investigation_time, mapping),

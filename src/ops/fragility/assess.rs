@@ -109,7 +109,7 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
     let mut parts = Vec::new();
     let mut answers = Vec::new();
     for path in tree.paths() {
-        let (eps, model) = ops_tree::branch(&path, req.b_m, req.h_m, req.eps, req.auto_tol);
+        let (eps, model) = ops_tree::branch(&path, req.b_m, req.h_m, req.eps, req.auto_tol)?;
         let b = super::block(req.b_m, req.h_m, eps)?;
         let (a, fragility) = one(req, &b, &laws, records.as_ref(), model)?;
         parts.push(ops_tree::Part {
@@ -142,7 +142,15 @@ fn mixed(
             each.map(|e| crate::tree::weighted_mean(&e, &weights))
         })
         .collect();
+    let warnings = ops_tree::merge_warnings(
+        &parts
+            .iter()
+            .zip(&answers)
+            .map(|(p, a)| (p.path.label.as_str(), &a.warnings[..]))
+            .collect::<Vec<_>>(),
+    );
     let mut a = answers.into_iter().next().expect("a tree has a branch");
+    a.warnings = warnings;
     if parts.len() > 1 {
         for (k, point) in a.points.iter_mut().enumerate() {
             let ps: Vec<f64> = parts

@@ -57,6 +57,11 @@ pub enum FragilityError {
     )]
     ModelNeedsRuns(&'static str),
     #[error(
+        "the tree sets ε on every branch, and the block has its own ε = {0}: leave its eps empty \
+         (Housner's) or drop the tree's [[eps]]"
+    )]
+    TreeEps(f64),
+    #[error(
         "damage state `{state}`: β = {beta}{}: a lognormal without spread, which the engines \
          cannot evaluate (OpenQuake's gives NaN); run more records (--records), or export fewer \
          states",

@@ -222,7 +222,8 @@ fn assess_block(req: &Request, p: &Prepared, e: &InventoryBlock) -> Result<Asses
     };
     let mut branches = Vec::with_capacity(paths.len());
     for path in paths {
-        let (eps, model) = crate::ops::tree::branch(&path, e.b_m, e.h_m, e.eps, req.auto_tol);
+        let (eps, model) =
+            crate::ops::tree::branch(&path, e.b_m, e.h_m, e.eps, req.auto_tol).map_err(in_block)?;
         let b = fragility::block(e.b_m, e.h_m, eps).map_err(in_block)?;
         let (frag, info, whole) =
             fragility_of(&b, &p.laws, im, records, model, fit).map_err(in_block)?;

@@ -6,19 +6,22 @@
 //! `--vector`, the two-parameter fragility P(OT | PGA, PGV/PGA) beside the
 //! scalar one. docs/MODEL.md §20.
 
-use std::path::{Path, PathBuf};
-
 use serde::Serialize;
 
 use super::answer::{BlockInfo, FragilityInfo};
 use super::error::RiskError;
+use super::fields::read_fields;
 use super::inventory::entries;
 use super::request::{EventsAsk, Request};
 use crate::events::{self, Together};
-use crate::gmf::{self, Fields, GmfError};
+use crate::gmf::Fields;
 use crate::im::Im;
 use crate::ops::damage;
 use crate::ops::fragility::{self, RunModel};
+
+/// Above this many sites the count over every site together (one
+/// convolution per site per event) is not stated; each site's is.
+pub const MAX_TOTAL_SITES: usize = 50;
 
 /// The return periods (years) at which the number of items is stated.
 pub const RETURN_PERIODS: [f64; 5] = [50.0, 100.0, 475.0, 975.0, 2475.0];
@@ -98,95 +101,6 @@ pub struct EventsAssessment {
     pub warnings: Vec<String>,
 }
 
-/// The one file of `DIR` whose name starts with `stem` and ends `.csv`.
-fn one_file(dir: &Path, stem: &str) -> Result<PathBuf, RiskError> {
-    let mut found: Vec<PathBuf> = std::fs::read_dir(dir)
-        .map_err(|source| RiskError::Read {
-            path: dir.into(),
-            source,
-        })?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| {
-            p.file_name()
-                .and_then(|n| n.to_str())
-                .is_some_and(|n| n.starts_with(stem) && n.ends_with(".csv"))
-        })
-        .collect();
-    found.sort();
-    match found.len() {
-        1 => Ok(found.remove(0)),
-        0 => Err(RiskError::Gmf(format!(
-            "{}: no {stem}*.csv; --gmf takes the folder `oq run … --exports csv` wrote (gmf-data, \
-             events and sitemesh CSVs)",
-            dir.display()
-        ))),
-        _ => Err(RiskError::Gmf(format!(
-            "{}: {} files {stem}*.csv (several calculations?); give a folder of one",
-            dir.display(),
-            found.len()
-        ))),
-    }
-}
-
-fn read(path: &Path) -> Result<String, RiskError> {
-    std::fs::read_to_string(path).map_err(|source| RiskError::Read {
-        path: path.into(),
-        source,
-    })
-}
-
-/// The fields of the folder and the effective time: the job's (`job.ini`
-/// in the folder or its parent) or `--eff-years`, refused when neither.
-pub fn read_fields(ask: &EventsAsk) -> Result<(Fields, f64, String), RiskError> {
-    let dir = &ask.dir;
-    let name = |p: &Path| p.display().to_string();
-    let gerr = |e: GmfError| RiskError::Gmf(e.to_string());
-    let sites_path = one_file(dir, "sitemesh_")?;
-    let events_path = one_file(dir, "events_")?;
-    let gmf_path = one_file(dir, "gmf-data_")?;
-    let sites = gmf::parse_sites(&read(&sites_path)?, &name(&sites_path)).map_err(gerr)?;
-    let events = gmf::parse_events(&read(&events_path)?, &name(&events_path)).map_err(gerr)?;
-    let realizations = {
-        let mut r: Vec<u32> = events.iter().map(|e| e.1).collect();
-        r.sort_unstable();
-        r.dedup();
-        r.len().max(1)
-    };
-    let fields =
-        gmf::parse_fields(&read(&gmf_path)?, &name(&gmf_path), sites, events).map_err(gerr)?;
-    let job = [dir.join("job.ini"), dir.join("../job.ini")]
-        .into_iter()
-        .find(|p| p.is_file());
-    let from_job = match &job {
-        Some(p) => gmf::eff_years_of_job(&read(p)?, realizations).map(|t| (t, name(p))),
-        None => None,
-    };
-    let (eff, from) = match (ask.eff_years, from_job) {
-        (Some(t), _) if !(t > 0.0 && t.is_finite()) => {
-            return Err(RiskError::Gmf(format!(
-                "--eff-years {t}: give a positive number of years"
-            )))
-        }
-        (Some(t), Some((j, p))) if (t / j - 1.0).abs() > 1e-9 => {
-            return Err(RiskError::Gmf(format!(
-                "--eff-years {t}, but {p} says {j} (investigation_time × ses_per_logic_tree_path \
-                 × {realizations} realisation(s)): give one"
-            )))
-        }
-        (Some(t), _) => (t, "--eff-years".to_string()),
-        (None, Some((j, p))) => (j, p),
-        (None, None) => {
-            return Err(RiskError::Gmf(format!(
-                "{}: the effective investigation time (investigation_time × \
-                 ses_per_logic_tree_path × realisations) is not in the exported CSVs, and no \
-                 job.ini beside them says it: give --eff-years",
-                dir.display()
-            )))
-        }
-    };
-    Ok((fields, eff, from))
-}
-
 /// Each (event, site)'s value of `im` (0 where OpenQuake wrote none, below
 /// its minimum intensity), event-major.
 fn values_of(fields: &Fields, im: Im) -> Option<Vec<f64>> {
@@ -202,6 +116,16 @@ fn values_of(fields: &Fields, im: Im) -> Option<Vec<f64>> {
 /// Assesses every block at every site of the fields.
 pub fn assess_events(req: &Request, ask: &EventsAsk) -> Result<EventsAssessment, RiskError> {
     crate::physics::check_auto_tol(req.auto_tol).map_err(RiskError::AutoTol)?;
+    if !(req.years > 0.0 && req.years.is_finite()) {
+        return Err(RiskError::Years(req.years));
+    }
+    if req.site.is_some() || req.component.is_some() {
+        return Err(RiskError::Gmf(
+            "--site and --component are a hazard file's; --gmf states every site of the fields, \
+             in OpenQuake's IMTs"
+                .into(),
+        ));
+    }
     let (fields, eff_years, from) = read_fields(ask)?;
     let im = req.im.unwrap_or(Im::Pga);
     let values = values_of(&fields, im).ok_or_else(|| {
@@ -353,8 +277,18 @@ fn one_block(
         })
         .collect();
     warnings.extend(f.warnings.iter().map(|w| format!("block {}: {w}", e.name)));
+    if vector_values.is_some() && vector.is_none() {
+        warnings.push(format!(
+            "block {}: no vector fragility: fewer than 4 records overturn it, or one PGV/PGA for all",
+            e.name
+        ));
+    }
+    let info_block = super::assess::block_info(e, &block, records.and_then(|r| r.floor()));
+    warnings.extend(
+        super::assess::sliding_warning(&info_block).map(|w| format!("block {}: {w}", e.name)),
+    );
     let b = EventsBlock {
-        block: super::assess::block_info(e, &block, records.and_then(|r| r.floor())),
+        block: info_block,
         fragility: info,
         vector,
         sites,
@@ -468,12 +402,15 @@ fn counts(
     let items = probs.len();
     let mut per_site: Vec<Vec<Vec<f64>>> = vec![Vec::with_capacity(n_events); n_sites];
     let mut all: Vec<Vec<f64>> = Vec::with_capacity(n_events);
+    let total_too = n_sites <= MAX_TOTAL_SITES;
     for ev in 0..n_events {
         let mut total = vec![1.0];
         for (s, site) in per_site.iter_mut().enumerate() {
             let p: Vec<f64> = probs.iter().map(|b| b[ev * n_sites + s]).collect();
             let pmf = events::count_pmf(&p, together);
-            total = events::convolve(&total, &pmf);
+            if total_too {
+                total = events::convolve(&total, &pmf);
+            }
             site.push(pmf);
         }
         all.push(total);
@@ -507,7 +444,7 @@ fn counts(
         .enumerate()
         .map(|(s, pmfs)| stated(Some(s), pmfs, items))
         .collect();
-    if n_sites > 1 {
+    if n_sites > 1 && n_sites <= MAX_TOTAL_SITES {
         out.push(stated(None, &all, items * n_sites));
     }
     out

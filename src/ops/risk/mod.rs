@@ -11,6 +11,7 @@ mod bootstrap;
 mod charts;
 mod error;
 mod events;
+mod fields;
 mod inventory;
 mod request;
 mod states;
@@ -22,9 +23,8 @@ pub use assess::{assess, block_info, hazard_im, hazard_warnings, read_hazard};
 pub use bootstrap::{draws, Bootstrap, BootstrapInfo, BAND_LEVEL};
 pub use charts::{deaggregation_chart, ranking_chart};
 pub use error::RiskError;
-pub use events::{
-    assess_events, read_fields, Counts, EventSite, EventsAssessment, EventsBlock, RETURN_PERIODS,
-};
+pub use events::{assess_events, Counts, EventSite, EventsAssessment, EventsBlock, RETURN_PERIODS};
+pub use fields::read_fields;
 pub use inventory::{read_inventory, InventoryBlock};
 pub use request::{Blocks, EventsAsk, Hazard, Request};
 pub use states::{assess_states, StateRisk, StatesAssessment, StatesSite};

@@ -44,20 +44,12 @@ pub(super) fn combine(
         })
         .collect();
     let tree_info = ops_tree::info(tree, &parts);
-    // A warning of every branch once; one of some branches with their names.
-    let mut warnings: Vec<String> = Vec::new();
-    for b in &branches {
-        for w in &b.warnings {
-            let everywhere = branches.iter().all(|o| o.warnings.contains(w));
-            let w = match everywhere {
-                true => w.clone(),
-                false => format!("branch {}: {w}", b.path.label),
-            };
-            if !warnings.contains(&w) {
-                warnings.push(w);
-            }
-        }
-    }
+    let warnings = ops_tree::merge_warnings(
+        &branches
+            .iter()
+            .map(|b| (b.path.label.as_str(), &b.warnings[..]))
+            .collect::<Vec<_>>(),
+    );
     let several = branches.len() > 1;
     let infos = sites
         .iter()

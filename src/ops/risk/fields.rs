@@ -1,0 +1,126 @@
+//! The event-based fields `risk --gmf DIR` reads: the folder's files
+//! found (one calculation), parsed ([`crate::gmf`]), and the effective
+//! investigation time from the job or `--eff-years`.
+
+use std::path::{Path, PathBuf};
+
+use super::error::RiskError;
+use super::request::EventsAsk;
+use crate::gmf::{self, Fields, GmfError};
+
+/// The one file of `DIR` whose name starts with `stem` and ends `.csv`.
+fn one_file(dir: &Path, stem: &str) -> Result<PathBuf, RiskError> {
+    let mut found: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map_err(|source| RiskError::Read {
+            path: dir.into(),
+            source,
+        })?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.starts_with(stem) && n.ends_with(".csv"))
+        })
+        .collect();
+    found.sort();
+    match found.len() {
+        1 => Ok(found.remove(0)),
+        0 => Err(RiskError::Gmf(format!(
+            "{}: no {stem}*.csv; --gmf takes the folder `oq run … --exports csv` wrote (gmf-data, \
+             events and sitemesh CSVs)",
+            dir.display()
+        ))),
+        _ => Err(RiskError::Gmf(format!(
+            "{}: {} files {stem}*.csv (several calculations?); give a folder of one",
+            dir.display(),
+            found.len()
+        ))),
+    }
+}
+
+fn read(path: &Path) -> Result<String, RiskError> {
+    std::fs::read_to_string(path).map_err(|source| RiskError::Read {
+        path: path.into(),
+        source,
+    })
+}
+
+/// The fields of the folder and the effective time: the job's (`job.ini`
+/// in the folder or its parent) or `--eff-years`, refused when neither.
+pub fn read_fields(ask: &EventsAsk) -> Result<(Fields, f64, String), RiskError> {
+    let dir = &ask.dir;
+    let name = |p: &Path| p.display().to_string();
+    let gerr = |e: GmfError| RiskError::Gmf(e.to_string());
+    let sites_path = one_file(dir, "sitemesh_")?;
+    let events_path = one_file(dir, "events_")?;
+    let gmf_path = one_file(dir, "gmf-data_")?;
+    let sites = gmf::parse_sites(&read(&sites_path)?, &name(&sites_path)).map_err(gerr)?;
+    let events = gmf::parse_events(&read(&events_path)?, &name(&events_path)).map_err(gerr)?;
+    let fields =
+        gmf::parse_fields(&read(&gmf_path)?, &name(&gmf_path), sites, events).map_err(gerr)?;
+    let realizations = realizations(dir, &fields)?;
+    let job = [dir.join("job.ini"), dir.join("../job.ini")]
+        .into_iter()
+        .find(|p| p.is_file());
+    let from_job = match &job {
+        Some(p) => Some((
+            gmf::eff_years_of_job(&read(p)?, realizations)
+                .map_err(|why| RiskError::Gmf(format!("{}: {why}", name(p))))?,
+            name(p),
+        )),
+        None => None,
+    };
+    let (eff, from) = match (ask.eff_years, from_job) {
+        (Some(t), _) if !(t > 0.0 && t.is_finite()) => {
+            return Err(RiskError::Gmf(format!(
+                "--eff-years {t}: give a positive number of years"
+            )))
+        }
+        (Some(t), Some((j, p))) if (t / j - 1.0).abs() > 1e-9 => {
+            return Err(RiskError::Gmf(format!(
+                "--eff-years {t}, but {p} says {j} (investigation_time × ses_per_logic_tree_path \
+                 × {realizations} realisation(s)): give one"
+            )))
+        }
+        (Some(t), _) => (t, "--eff-years".to_string()),
+        (None, Some((j, p))) => (j, p),
+        (None, None) => {
+            return Err(RiskError::Gmf(format!(
+                "{}: the effective investigation time (investigation_time × \
+                 ses_per_logic_tree_path × realisations) is not in the exported CSVs, and no \
+                 job.ini beside them says it: give --eff-years",
+                dir.display()
+            )))
+        }
+    };
+    Ok((fields, eff, from))
+}
+
+/// The number of realisations whose events are pooled: the rows of
+/// `realizations_*.csv` when the folder has it, refused when their weights
+/// differ (pooling their events is then not their weighted mean, which
+/// OpenQuake itself refuses to collect), else those the events name.
+fn realizations(dir: &Path, fields: &Fields) -> Result<usize, RiskError> {
+    let found = one_file(dir, "realizations_").ok();
+    if let Some(path) = found {
+        let w = gmf::parse_weights(&read(&path)?, &path.display().to_string())
+            .map_err(|e| RiskError::Gmf(e.to_string()))?;
+        if w.iter().any(|x| (x / w[0] - 1.0).abs() > 1e-6) {
+            return Err(RiskError::Gmf(format!(
+                "{}: the realisations have unequal weights ({}): their events cannot be pooled \
+                 into one rate; run with `number_of_logic_tree_samples` (equal weights) or one \
+                 realisation",
+                path.display(),
+                w.iter()
+                    .map(|x| x.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )));
+        }
+        return Ok(w.len().max(1));
+    }
+    let mut r: Vec<u32> = fields.events.iter().map(|e| e.1).collect();
+    r.sort_unstable();
+    r.dedup();
+    Ok(r.len().max(1))
+}
