@@ -55,7 +55,7 @@ fn header<'a>(
     file: &str,
     lines: &mut impl Iterator<Item = (usize, &'a str)>,
     want: &[&str],
-) -> Result<(Vec<&'a str>, Vec<usize>), GmfError> {
+) -> Result<(usize, Vec<&'a str>, Vec<usize>), GmfError> {
     let (n, h) = lines.next().ok_or_else(|| GmfError {
         file: file.into(),
         line: 1,
@@ -74,7 +74,7 @@ fn header<'a>(
             })
         })
         .collect::<Result<Vec<_>, _>>()?;
-    Ok((cols, pos))
+    Ok((n, cols, pos))
 }
 
 fn number<T: std::str::FromStr>(
@@ -95,12 +95,22 @@ fn number<T: std::str::FromStr>(
 /// `sitemesh_N.csv`: the sites in the file's order.
 pub fn parse_sites(text: &str, file: &str) -> Result<Vec<GmfSite>, GmfError> {
     let mut lines = data_lines(text);
-    let (_, pos) = header(file, &mut lines, &["custom_site_id", "lon", "lat"])?;
+    let (_, _, pos) = header(file, &mut lines, &["custom_site_id", "lon", "lat"])?;
+    let mut seen: HashMap<String, usize> = HashMap::new();
     lines
         .map(|(n, l)| {
             let cells: Vec<&str> = l.split(',').collect();
+            let id = cells.get(pos[0]).map_or("", |c| c.trim()).to_string();
+            if let Some(first) = seen.insert(id.clone(), n) {
+                return Err(GmfError {
+                    file: file.into(),
+                    line: n,
+                    column: Some("custom_site_id".into()),
+                    message: format!("site `{id}` is listed twice (lines {first} and {n})"),
+                });
+            }
             Ok(GmfSite {
-                id: cells.get(pos[0]).map_or("", |c| c.trim()).to_string(),
+                id,
                 lon: number(file, n, "lon", cells.get(pos[1]).copied())?,
                 lat: number(file, n, "lat", cells.get(pos[2]).copied())?,
             })
@@ -111,14 +121,21 @@ pub fn parse_sites(text: &str, file: &str) -> Result<Vec<GmfSite>, GmfError> {
 /// `events_N.csv`: every event id and its realisation, ascending.
 pub fn parse_events(text: &str, file: &str) -> Result<Vec<(u64, u32)>, GmfError> {
     let mut lines = data_lines(text);
-    let (_, pos) = header(file, &mut lines, &["event_id", "rlz_id"])?;
+    let (_, _, pos) = header(file, &mut lines, &["event_id", "rlz_id"])?;
+    let mut seen: HashMap<u64, usize> = HashMap::new();
     let mut out = lines
         .map(|(n, l)| {
             let cells: Vec<&str> = l.split(',').collect();
-            Ok((
-                number(file, n, "event_id", cells.get(pos[0]).copied())?,
-                number(file, n, "rlz_id", cells.get(pos[1]).copied())?,
-            ))
+            let id: u64 = number(file, n, "event_id", cells.get(pos[0]).copied())?;
+            if let Some(first) = seen.insert(id, n) {
+                return Err(GmfError {
+                    file: file.into(),
+                    line: n,
+                    column: Some("event_id".into()),
+                    message: format!("event {id} is listed twice (lines {first} and {n})"),
+                });
+            }
+            Ok((id, number(file, n, "rlz_id", cells.get(pos[1]).copied())?))
         })
         .collect::<Result<Vec<(u64, u32)>, GmfError>>()?;
     out.sort_unstable();
@@ -139,7 +156,7 @@ pub fn parse_fields(
     events: Vec<(u64, u32)>,
 ) -> Result<Fields, GmfError> {
     let mut lines = data_lines(text);
-    let (cols, pos) = header(file, &mut lines, &["event_id", "custom_site_id"])?;
+    let (head, cols, pos) = header(file, &mut lines, &["event_id", "custom_site_id"])?;
     let gmv: Vec<(usize, Im)> = cols
         .iter()
         .enumerate()
@@ -147,7 +164,7 @@ pub fn parse_fields(
         .map(|(k, c)| {
             im_of_column(c).map(|im| (k, im)).ok_or_else(|| GmfError {
                 file: file.into(),
-                line: 2,
+                line: head,
                 column: Some((*c).into()),
                 message: "an IMT the tool does not know (PGA, PGV, SA(T))".into(),
             })
@@ -156,7 +173,7 @@ pub fn parse_fields(
     if gmv.is_empty() {
         return Err(GmfError {
             file: file.into(),
-            line: 2,
+            line: head,
             column: None,
             message: "no `gmv_<IMT>` column".into(),
         });
@@ -168,6 +185,7 @@ pub fn parse_fields(
         .collect();
     let event_of: HashMap<u64, usize> = events.iter().enumerate().map(|(k, e)| (e.0, k)).collect();
     let mut values = Vec::new();
+    let mut written: HashMap<(usize, usize), usize> = HashMap::new();
     for (n, l) in lines {
         let cells: Vec<&str> = l.split(',').collect();
         let eid: u64 = number(file, n, "event_id", cells.get(pos[0]).copied())?;
@@ -187,6 +205,12 @@ pub fn parse_fields(
                 format!("site `{sid}` is not in the site mesh"),
             )
         })?;
+        if let Some(first) = written.insert((e, s), n) {
+            return Err(bad(
+                "custom_site_id",
+                format!("event {eid} at site `{sid}` is written twice (lines {first} and {n})"),
+            ));
+        }
         let v = gmv
             .iter()
             .map(|&(k, _)| {
@@ -239,7 +263,7 @@ pub fn eff_years_of_job(job_ini: &str, realizations: usize) -> Result<f64, Strin
 /// weight`).
 pub fn parse_weights(text: &str, file: &str) -> Result<Vec<f64>, GmfError> {
     let mut lines = data_lines(text);
-    let (_, pos) = header(file, &mut lines, &["rlz_id", "weight"])?;
+    let (_, _, pos) = header(file, &mut lines, &["rlz_id", "weight"])?;
     lines
         .map(|(n, l)| {
             let cells: Vec<&str> = l.split(',').collect();

@@ -174,6 +174,14 @@ fn bad_fields_are_refused_naming_file_line_and_column() {
         "{}",
         stderr(&tree)
     );
+    fs::write(&gmf, text.replacen(",aaa\n", ",bbb\n", 1)).unwrap();
+    let twice = run(&["--eff-years", "10"]);
+    assert!(
+        stderr(&twice).contains("event 0 at site `bbb` is written twice (lines 3 and 4)"),
+        "{}",
+        stderr(&twice)
+    );
+    fs::write(&gmf, &text).unwrap();
     let im = run(&["--eff-years", "10", "--im", "pgv"]);
     assert!(
         stderr(&im).contains("the fields have no PGV"),

@@ -639,4 +639,25 @@ fn a_trees_eps_and_an_inventorys_and_the_mapping_without_a_job() {
     assert!(out.status.success(), "{}", stderr(&out));
     let mapping = fs::read_to_string(d.join("x/taxonomy_mapping.csv")).unwrap();
     assert_eq!(mapping.lines().count(), 4, "{mapping}");
+    // A ratio that takes a slender block's ε above 1 is refused, naming the branch.
+    fs::write(d.join("up.toml"), "[[eps]]\nratio = 1.2\nweight = 1.0\n").unwrap();
+    let out = rocking(
+        d,
+        &[
+            "fragility",
+            "--b",
+            "0.05",
+            "--h",
+            "1.0",
+            "--pga",
+            "0.3",
+            "--tree",
+            "up.toml",
+        ],
+    );
+    assert!(
+        stderr(&out).contains("the tree's branch `ε = 1.2 × Housner's` gives this block ε = 1.19"),
+        "{}",
+        stderr(&out)
+    );
 }

@@ -43,6 +43,14 @@ pub fn branch(
         return Err(FragilityError::TreeEps(v));
     }
     let eps = path.eps.map_or(own, |e| e.restitution(b_m, h_m));
+    if let Restitution::Value(v) = eps {
+        if !(v > 0.0 && v <= 1.0) {
+            return Err(FragilityError::TreeBranchEps {
+                branch: path.label.clone(),
+                eps: v,
+            });
+        }
+    }
     let model = RunModel {
         choice: path.model.unwrap_or(ModelChoice::Auto),
         auto_tol,

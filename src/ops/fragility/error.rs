@@ -61,6 +61,8 @@ pub enum FragilityError {
          (Housner's) or drop the tree's [[eps]]"
     )]
     TreeEps(f64),
+    #[error("the tree's branch `{branch}` gives this block ε = {eps}; ε must be in (0, 1]")]
+    TreeBranchEps { branch: String, eps: f64 },
     #[error(
         "damage state `{state}`: β = {beta}{}: a lognormal without spread, which the engines \
          cannot evaluate (OpenQuake's gives NaN); run more records (--records), or export fewer \

@@ -408,8 +408,8 @@ fn with_bands(
 ) {
     if boot.fitted < boot.resamples {
         warnings.push(format!(
-            "{} of {} resamples have no fit (more than 16 % of their records never overturn \
-             the block): the bands are of the {} others",
+            "{} of {} resamples have no fit in some branch (too few of their records overturn \
+             the block for the fit asked): the bands are of the {} others",
             boot.resamples - boot.fitted,
             boot.resamples,
             boot.fitted
