@@ -408,6 +408,21 @@ impl Units {
     }
 }
 
+/// Each key's number, the keys numbered in order of first appearance
+/// (0, 1, …): the resampling units of records by their pairs.
+pub fn numbered_by_first<T: PartialEq>(keys: &[T]) -> Vec<usize> {
+    let mut seen: Vec<&T> = Vec::new();
+    keys.iter()
+        .map(|k| match seen.iter().position(|s| *s == k) {
+            Some(i) => i,
+            None => {
+                seen.push(k);
+                seen.len() - 1
+            }
+        })
+        .collect()
+}
+
 /// The percentile band of bootstrap estimates at `level`: their
 /// (1 − level)/2 and (1 + level)/2 fractiles (type 7). Sorts `estimates`;
 /// `None` when empty or a value is NaN.

@@ -48,7 +48,8 @@ pub fn branches(d: &StudyData) -> Option<Branches> {
 }
 
 impl Branches {
-    fn parts(&self) -> Vec<(f64, Fragility)> {
+    /// Each branch's weight and lognormal, as a [`Mixture`] takes them.
+    pub fn parts(&self) -> Vec<(f64, Fragility)> {
         self.weights
             .iter()
             .zip(&self.fits)

@@ -168,10 +168,15 @@ impl VectorFit {
         if !(pga_g > 0.0 && pgv_cm_s > 0.0) {
             return 0.0;
         }
-        let ratio_s = (pgv_cm_s / 100.0) / (pga_g * crate::block::G);
-        let m = self.median_pga(alpha_rad, ratio_s);
+        let m = self.median_pga(alpha_rad, pgv_pga_s(pga_g, pgv_cm_s));
         stats::normal_cdf((pga_g / m).ln() / self.beta)
     }
+}
+
+/// PGV/PGA in s (as [`Im::PgvPga`]) of a motion's PGA in g and PGV in
+/// cm/s, OpenQuake's units.
+pub fn pgv_pga_s(pga_g: f64, pgv_cm_s: f64) -> f64 {
+    (pgv_cm_s / 100.0) / (pga_g * crate::block::G)
 }
 
 /// [`VectorFit`] of one block from each record's η_c (`None`: never

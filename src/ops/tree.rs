@@ -77,14 +77,6 @@ pub fn merge_warnings(branches: &[(&str, &[String])]) -> Vec<String> {
     out
 }
 
-/// A tree's model branches need the records' runs.
-pub fn check(tree: &Tree, direct: bool) -> Result<(), FragilityError> {
-    match tree.model.first() {
-        Some(b) if !direct => Err(FragilityError::ModelNeedsRuns(b.value.label())),
-        _ => Ok(()),
-    }
-}
-
 /// One branch as the answers state it.
 #[derive(Debug, Clone, Serialize)]
 pub struct BranchInfo {
@@ -125,12 +117,18 @@ pub struct Part {
     pub beta: Option<f64>,
 }
 
-/// What an answer says of a tree of `parts`.
-pub fn info(tree: &Tree, parts: &[Part]) -> TreeInfo {
-    let weighted: Vec<(f64, Fragility)> = parts
+/// The branches' fragilities with their weights, as a [`Mixture`] takes
+/// them.
+pub fn weighted(parts: &[Part]) -> Vec<(f64, Fragility)> {
+    parts
         .iter()
         .map(|p| (p.path.weight, p.fragility.clone()))
-        .collect();
+        .collect()
+}
+
+/// What an answer says of a tree of `parts`.
+pub fn info(tree: &Tree, parts: &[Part]) -> TreeInfo {
+    let weighted = weighted(parts);
     let (mean_median, mean_beta) = Mixture { parts: &weighted }.median_beta();
     let lognormals: Option<Vec<(f64, f64)>> =
         parts.iter().map(|p| Some((p.median?, p.beta?))).collect();
@@ -155,16 +153,13 @@ pub fn info(tree: &Tree, parts: &[Part]) -> TreeInfo {
     }
 }
 
-/// The mean of `values` over the branches (their weights `weights`) and
-/// its quantiles at [`tree::QUANTILES`].
-pub fn mean_and_quantiles(values: &[f64], weights: &[f64]) -> (f64, Vec<f64>) {
-    (
-        tree::weighted_mean(values, weights),
-        tree::QUANTILES
-            .iter()
-            .map(|&q| tree::weighted_quantile(values, weights, q))
-            .collect(),
-    )
+/// The quantiles of `values` over the branches (their weights `weights`)
+/// at [`tree::QUANTILES`]; their mean is the mixture's.
+pub fn quantiles(values: &[f64], weights: &[f64]) -> Vec<f64> {
+    tree::QUANTILES
+        .iter()
+        .map(|&q| tree::weighted_quantile(values, weights, q))
+        .collect()
 }
 
 /// Levels of the mean curve a multilinear export carries.

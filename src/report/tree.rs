@@ -5,7 +5,6 @@
 use std::fmt::Write as _;
 
 use crate::figures::tree::branches;
-use crate::risk::Fragility;
 use crate::study::StudyData;
 use crate::tree::{self, Mixture};
 
@@ -43,20 +42,7 @@ pub(super) fn tree_section(w: &mut String, d: &StudyData) {
             fit.beta
         );
     }
-    let parts: Vec<(f64, Fragility)> = b
-        .weights
-        .iter()
-        .zip(&b.fits)
-        .map(|(&w, l)| {
-            (
-                w,
-                Fragility::Lognormal {
-                    median: l.median,
-                    beta: l.beta,
-                },
-            )
-        })
-        .collect();
+    let parts = b.parts();
     let (m, beta) = Mixture { parts: &parts }.median_beta();
     let lognormals: Vec<(f64, f64)> = b.fits.iter().map(|l| (l.median, l.beta)).collect();
     let split = tree::beta_split(&lognormals, &b.weights);

@@ -12,10 +12,8 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use rayon::prelude::*;
-
 use super::reduce::{self, ReduceError};
-use super::stage::{BoxError, Context, Progress, Shard, Stage, Study, Summary};
+use super::stage::{BoxError, Context, Shard, Stage, Study, Summary};
 use super::sweep::{self, SweepError};
 use crate::pipeline::{BlockSpec, Plan};
 use crate::tables::{self, TableError};
@@ -100,26 +98,7 @@ fn run(cx: &Context) -> Result<Summary, ExampleError> {
     let block: &BlockSpec = plan
         .example()
         .expect("not_needed skips a plan without [example]");
-    let (prep, models) =
-        sweep::Prepared::new(study, std::slice::from_ref(block)).map_err(ExampleError::Sweep)?;
-    for m in &models {
-        cx.reporter.note("example", &format!("model: {m}"));
-    }
-    let total = prep.n_cases as u64;
-    let progress = |done: u64, runs: u64| {
-        cx.reporter.progress(&Progress {
-            stage: "example",
-            done,
-            total,
-            resumed: 0,
-            runs,
-        })
-    };
-    progress(0, 0);
-    let results = (0..prep.n_cases)
-        .into_par_iter()
-        .map(|case| sweep::run_case(case, &prep))
-        .collect::<Result<Vec<_>, _>>()
+    let results = sweep::run_blocks(cx, "example", std::slice::from_ref(block))
         .map_err(ExampleError::Sweep)?;
     let mut ida = Vec::new();
     let mut caps = Vec::with_capacity(results.len());
@@ -127,7 +106,6 @@ fn run(cx: &Context) -> Result<Summary, ExampleError> {
         ida.extend(r.ida);
         caps.push(r.capacity);
     }
-    progress(total, ida.len() as u64);
     let horizontal = reduce::horizontal_of_block(plan, block, &caps, &ida)?;
     let meta = vec![(META_SETTINGS.to_string(), settings(plan).to_string())];
     tables::write(&study.path(IDA), &ida, &meta)?;

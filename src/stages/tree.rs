@@ -11,9 +11,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use rayon::prelude::*;
-
-use super::stage::{BoxError, Context, Progress, Shard, Stage, Study, Summary};
+use super::stage::{BoxError, Context, Shard, Stage, Study, Summary};
 use super::sweep::{self, SweepError};
 use crate::pipeline::{BlockSpec, Plan};
 use crate::tables::{self, TableError};
@@ -89,29 +87,9 @@ fn run(cx: &Context) -> Result<Summary, TreeStageError> {
     let plan = &study.plan;
     let tree = plan.tree().expect("not_needed skips a plan without [tree]");
     let blocks: Vec<BlockSpec> = tree.branches.iter().map(|b| b.block.clone()).collect();
-    let (prep, models) = sweep::Prepared::new(study, &blocks).map_err(TreeStageError::Sweep)?;
-    for m in &models {
-        cx.reporter.note("tree", &format!("model: {m}"));
-    }
-    let total = prep.n_cases as u64;
-    let progress = |done: u64, runs: u64| {
-        cx.reporter.progress(&Progress {
-            stage: "tree",
-            done,
-            total,
-            resumed: 0,
-            runs,
-        })
-    };
-    progress(0, 0);
-    let results = (0..prep.n_cases)
-        .into_par_iter()
-        .map(|case| sweep::run_case(case, &prep))
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(TreeStageError::Sweep)?;
+    let results = sweep::run_blocks(cx, "tree", &blocks).map_err(TreeStageError::Sweep)?;
     let runs: i64 = results.iter().map(|r| r.capacity.runs).sum();
     let caps: Vec<_> = results.into_iter().map(|r| r.capacity).collect();
-    progress(total, runs as u64);
     let meta = vec![(META_SETTINGS.to_string(), settings(plan).to_string())];
     tables::write(&study.path(CAPACITIES), &caps, &meta)?;
     Ok(Summary {

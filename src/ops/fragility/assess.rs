@@ -91,9 +91,6 @@ pub struct Assessment {
 /// tree, each branch's and their mixture.
 pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
     let block = check(req)?;
-    if let Some(tree) = &req.tree {
-        ops_tree::check(tree, req.direct)?;
-    }
     let (laws, records) = laws_and_records(
         &req.from,
         req.direct,
@@ -152,14 +149,15 @@ fn mixed(
     let mut a = answers.into_iter().next().expect("a tree has a branch");
     a.warnings = warnings;
     if parts.len() > 1 {
+        let weighted = ops_tree::weighted(&parts);
+        let mixture = crate::tree::Mixture { parts: &weighted };
         for (k, point) in a.points.iter_mut().enumerate() {
             let ps: Vec<f64> = parts
                 .iter()
                 .map(|p| p.fragility.probability(req.levels[k]))
                 .collect();
-            let (mean, q) = ops_tree::mean_and_quantiles(&ps, &weights);
-            point.probability = mean;
-            point.quantiles = Some(q);
+            point.probability = mixture.probability(req.levels[k]);
+            point.quantiles = Some(ops_tree::quantiles(&ps, &weights));
             point.empirical = shares[k];
         }
         a.median = info.mean_median.unwrap_or(f64::INFINITY);

@@ -230,20 +230,7 @@ impl DirectRecords {
         };
         let keys: Option<Vec<String>> = self.records.iter().map(|r| r.pair_key.clone()).collect();
         match keys.or_else(from_manifest) {
-            Some(keys) => {
-                let mut seen: Vec<&str> = Vec::new();
-                let units = keys
-                    .iter()
-                    .map(|k| match seen.iter().position(|s| s == k) {
-                        Some(i) => i,
-                        None => {
-                            seen.push(k);
-                            seen.len() - 1
-                        }
-                    })
-                    .collect();
-                (units, ResampleUnit::Pair)
-            }
+            Some(keys) => (crate::stats::numbered_by_first(&keys), ResampleUnit::Pair),
             None => ((0..self.records.len()).collect(), ResampleUnit::Record),
         }
     }

@@ -217,7 +217,7 @@ fn one_block(
 ) -> Result<(EventsBlock, Vec<f64>), RiskError> {
     let (fields, eff_years, im, values) = (at.fields, at.eff_years, at.im, at.values);
     let (laws, records, vector_values) = (at.laws, at.records, at.vector_values);
-    let (n_sites, n_events) = (fields.sites.len(), fields.events.len());
+    let n_sites = fields.sites.len();
     let in_block = |source| RiskError::Block {
         name: e.name.clone(),
         source,
@@ -238,16 +238,7 @@ fn one_block(
     .map_err(in_block)?;
     let (frag, info) = super::assess::stated(&f, im).map_err(in_block)?;
     let cut = damage::zero_below(&block, im, records.and_then(|r| r.floor())).unwrap_or(0.0);
-    let p: Vec<f64> = values
-        .iter()
-        .map(|&x| {
-            if x < cut || x <= 0.0 {
-                0.0
-            } else {
-                frag.probability(x)
-            }
-        })
-        .collect();
+    let p = probabilities(values, cut, &frag);
     let (vector, pv) = vector_of(req, &block, vector_values, records).map_err(|e| match e {
         VectorError::Block(source) => in_block(source),
         VectorError::Other(e) => e,
@@ -255,15 +246,14 @@ fn one_block(
     if let (Some(v), Some(pv)) = (&vector, &pv) {
         warnings.extend(extrapolation(v, pv, vector_values, &e.name));
     }
-    let rate_at = |p: &[f64], s: usize| -> f64 {
-        (0..n_events).map(|ev| p[ev * n_sites + s]).sum::<f64>() / eff_years
-    };
+    let rates = site_rates(&p, n_sites, eff_years);
+    let vector_rates = pv.as_ref().map(|pv| site_rates(pv, n_sites, eff_years));
     let sites = fields
         .sites
         .iter()
         .enumerate()
         .map(|(s, site)| {
-            let annual_rate = rate_at(&p, s);
+            let annual_rate = rates[s];
             EventSite {
                 site: s,
                 id: site.id.clone(),
@@ -272,7 +262,7 @@ fn one_block(
                 annual_rate,
                 return_period_years: (annual_rate > 0.0).then(|| 1.0 / annual_rate),
                 p_overturn_in_years: crate::risk::probability_in(annual_rate, req.years),
-                annual_rate_vector: pv.as_ref().map(|pv| rate_at(pv, s)),
+                annual_rate_vector: vector_rates.as_ref().map(|r| r[s]),
             }
         })
         .collect();
@@ -328,18 +318,40 @@ fn state_rates(
             let frag = s
                 .fragility(f.method)
                 .ok_or_else(|| in_block(damage::no_fit(&f, s, f.method)))?;
-            let mut rates = vec![0.0; n_sites];
-            for (k, &x) in at.values.iter().enumerate() {
-                if x >= cut && x > 0.0 {
-                    rates[k % n_sites] += frag.probability(x);
-                }
-            }
             Ok(StateRates {
                 state: s.name.clone(),
                 criterion: s.criterion.clone(),
-                annual_rates: rates.iter().map(|r| r / at.eff_years).collect(),
+                annual_rates: site_rates(
+                    &probabilities(at.values, cut, &frag),
+                    n_sites,
+                    at.eff_years,
+                ),
             })
         })
+        .collect()
+}
+
+/// `frag` at every (event, site) value: 0 below `cut` and where the
+/// fields have no motion.
+fn probabilities(values: &[f64], cut: f64, frag: &crate::risk::Fragility) -> Vec<f64> {
+    values
+        .iter()
+        .map(|&x| {
+            if x < cut || x <= 0.0 {
+                0.0
+            } else {
+                frag.probability(x)
+            }
+        })
+        .collect()
+}
+
+/// Each site's rate (1/year) from P at every (event, site), event-major:
+/// Σ over events ÷ the effective time, as OpenQuake's event-based damage.
+fn site_rates(p: &[f64], n_sites: usize, eff_years: f64) -> Vec<f64> {
+    let n_events = p.len() / n_sites.max(1);
+    (0..n_sites)
+        .map(|s| (0..n_events).map(|ev| p[ev * n_sites + s]).sum::<f64>() / eff_years)
         .collect()
 }
 
@@ -465,7 +477,7 @@ fn extrapolation(
         if a <= 0.0 || g <= 0.0 {
             continue;
         }
-        let r = (g / 100.0) / (a * crate::block::G);
+        let r = crate::im::efficiency::pgv_pga_s(a, g);
         all += 1;
         total += p;
         if !(lo..=hi).contains(&r) {

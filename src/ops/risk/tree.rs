@@ -65,11 +65,9 @@ pub(super) fn combine(
                 ),
                 false => branches[0].risks[s].clone(),
             };
+            // The mean rate is the mixture's (site_info's `annual_rate`).
             let mut info = site_info(*k, c, &r, years);
-            let (mean, quantiles) = ops_tree::mean_and_quantiles(&rates, &weights);
-            // The mean by the weighted sum of the rates themselves (equal to
-            // the mixture's up to rounding; exactly the branch's for one).
-            info.mean_annual_rate = if several { mean } else { rates[0] };
+            let quantiles = ops_tree::quantiles(&rates, &weights);
             // The mean probability within the years, Σ wᵢ (1 − e^(−λᵢ·t)), as
             // OpenQuake's mean damage over a taxonomy mapping states it.
             if several {

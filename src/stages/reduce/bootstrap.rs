@@ -104,20 +104,14 @@ fn unit_of(
         .iter()
         .filter_map(|r| Some((r.record_id.as_str(), r.meta.pair.as_deref()?)))
         .collect();
-    let mut pairs: Vec<&str> = Vec::new();
-    (0..n_records)
+    let pairs = (0..n_records)
         .map(|ri| {
             let id = caps[ri * n_blocks].record_id.as_str();
-            let pair = *pair_of
+            pair_of
                 .get(id)
-                .ok_or_else(|| ReduceError::NoPair(id.to_string()))?;
-            Ok(match pairs.iter().position(|p| *p == pair) {
-                Some(i) => i,
-                None => {
-                    pairs.push(pair);
-                    pairs.len() - 1
-                }
-            })
+                .copied()
+                .ok_or_else(|| ReduceError::NoPair(id.to_string()))
         })
-        .collect()
+        .collect::<Result<Vec<&str>, _>>()?;
+    Ok(crate::stats::numbered_by_first(&pairs))
 }

@@ -180,3 +180,35 @@ pub(in crate::stages) fn run_case(case: usize, prep: &Prepared) -> Result<CaseRe
             + certified.extra.intervals,
     })
 }
+
+/// Every case of `blocks` over the study's records, on every core, as the
+/// stage `stage` (its model notes and progress, the runs counted as IDA
+/// rows): the one loop of the stages that run a few blocks whole (the
+/// example block, a tree's branches).
+pub(in crate::stages) fn run_blocks(
+    cx: &crate::stages::stage::Context,
+    stage: &'static str,
+    blocks: &[BlockSpec],
+) -> Result<Vec<CaseResult>, SweepError> {
+    let (prep, models) = Prepared::new(cx.study, blocks)?;
+    for m in &models {
+        cx.reporter.note(stage, &format!("model: {m}"));
+    }
+    let total = prep.n_cases as u64;
+    let progress = |done: u64, runs: u64| {
+        cx.reporter.progress(&crate::stages::stage::Progress {
+            stage,
+            done,
+            total,
+            resumed: 0,
+            runs,
+        })
+    };
+    progress(0, 0);
+    let results = (0..prep.n_cases)
+        .into_par_iter()
+        .map(|case| run_case(case, &prep))
+        .collect::<Result<Vec<_>, _>>()?;
+    progress(total, results.iter().map(|r| r.ida.len() as u64).sum());
+    Ok(results)
+}

@@ -40,7 +40,7 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc;
 use std::time::Instant;
 
-pub(super) use cases::{run_case, CaseResult, Prepared};
+pub(super) use cases::{run_blocks, run_case, CaseResult, Prepared};
 pub use dataset::{dataset, is_level, read_capacities, read_ida, DatasetError};
 pub use error::SweepError;
 pub use layout::{
