@@ -238,7 +238,7 @@ impl Pulse {
     pub fn closed_form_for(&self, f: f64, spec: &RunSpec) -> Option<ClosedForm> {
         match spec.model.equation {
             Equation::Linearized => self.closed_form(f, spec.overturn),
-            Equation::Nonlinear { .. } => None,
+            Equation::Nonlinear { .. } | Equation::SlideRock { .. } => None,
         }
     }
 

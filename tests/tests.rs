@@ -97,6 +97,7 @@ mod quick;
 mod reduce;
 mod risk;
 mod run;
+mod slide;
 mod slurm;
 mod sweep;
 mod tables;

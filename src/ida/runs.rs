@@ -17,11 +17,11 @@ use crate::physics::{simulate, simulate_in_step, Excitation, Outcome, PhysicsErr
 /// per other worker past the first overturning is run in vain.
 pub struct Runs<'a> {
     pub(super) exc: &'a Excitation,
-    memo: std::collections::HashMap<[u64; 8], Outcome>,
+    memo: std::collections::HashMap<[u64; 10], Outcome>,
     /// Runs done ahead of need by [`Runs::run_ahead`], not yet asked for:
     /// counted in [`Runs::work`] (and checked for the event cap) when they
     /// are, so the work reported is the same as if each ran when asked.
-    ahead: std::collections::HashMap<[u64; 8], Outcome>,
+    ahead: std::collections::HashMap<[u64; 10], Outcome>,
     done: Work,
     pub(super) batch: Option<&'a dyn Batch>,
 }
@@ -184,7 +184,7 @@ impl<'a> Runs<'a> {
     /// be run when asked for. The outcomes wait until asked for
     /// ([`Runs::outcome`]).
     pub fn run_ahead(&mut self, specs: &[RunSpec]) {
-        let known = |k: &[u64; 8]| self.memo.contains_key(k) || self.ahead.contains_key(k);
+        let known = |k: &[u64; 10]| self.memo.contains_key(k) || self.ahead.contains_key(k);
         if specs.first().is_none_or(|first| known(&run_key(first))) {
             return;
         }
@@ -233,7 +233,7 @@ impl<'a> Runs<'a> {
 }
 
 /// Every number that defines a run, as bits.
-fn run_key(spec: &RunSpec) -> [u64; 8] {
+fn run_key(spec: &RunSpec) -> [u64; 10] {
     use crate::physics::{Equation, Integrator, Overturn};
     let (integrator, param) = match spec.model.integrator {
         Integrator::Exact => (0, 0),
@@ -241,9 +241,16 @@ fn run_key(spec: &RunSpec) -> [u64; 8] {
         Integrator::Rk4 { substeps } => (2, u64::from(substeps)),
         Integrator::Taylor { tol } => (3, tol.to_bits()),
     };
-    let alpha = match spec.model.equation {
-        Equation::Linearized => u64::MAX,
-        Equation::Nonlinear { alpha_rad } => alpha_rad.to_bits(),
+    let (alpha, mu) = match spec.model.equation {
+        Equation::Linearized => (u64::MAX, [u64::MAX; 2]),
+        Equation::Nonlinear { alpha_rad } => (alpha_rad.to_bits(), [u64::MAX; 2]),
+        Equation::SlideRock {
+            alpha_rad,
+            friction,
+        } => (
+            alpha_rad.to_bits(),
+            [friction.mu_s.to_bits(), friction.mu_k.to_bits()],
+        ),
     };
     let overturn = match spec.overturn {
         Overturn::Static => 0,
@@ -260,6 +267,8 @@ fn run_key(spec: &RunSpec) -> [u64; 8] {
         param,
         alpha,
         overturn,
+        mu[0],
+        mu[1],
     ]
 }
 

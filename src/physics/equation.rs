@@ -9,6 +9,7 @@
 //! ```
 
 use super::energy::{self, Fate};
+use super::friction::Friction;
 use super::step::Rocking;
 use super::{Overturn, PhysicsError};
 use crate::label::Label;
@@ -20,6 +21,10 @@ pub enum Equation {
     Linearized,
     /// Paper Eq. 7 for a block of slenderness `alpha_rad`.
     Nonlinear { alpha_rad: f64 },
+    /// Paper Eq. 7 on a base with Coulomb friction: the block may also
+    /// slide, flat or on its pivot (docs/MODEL.md §21). Where friction never
+    /// binds, its runs are [`Equation::Nonlinear`]'s to the bit.
+    SlideRock { alpha_rad: f64, friction: Friction },
 }
 
 /// The smallest slenderness α (rad) the nonlinear equation takes: b/h =
@@ -46,14 +51,20 @@ pub fn check_alpha(a: f64) -> Result<(), String> {
 pub enum EquationKind {
     Linearized,
     Nonlinear,
+    SlideRock,
 }
 
 impl Label for EquationKind {
-    const ALL: &'static [Self] = &[EquationKind::Linearized, EquationKind::Nonlinear];
+    const ALL: &'static [Self] = &[
+        EquationKind::Linearized,
+        EquationKind::Nonlinear,
+        EquationKind::SlideRock,
+    ];
     fn label(self) -> &'static str {
         match self {
             EquationKind::Linearized => "linearized",
             EquationKind::Nonlinear => "nonlinear",
+            EquationKind::SlideRock => "slide-rock",
         }
     }
 }
@@ -64,6 +75,9 @@ impl EquationKind {
         match self {
             EquationKind::Linearized => "linearised equation (paper Eq. 8)",
             EquationKind::Nonlinear => "nonlinear equation (paper Eq. 7)",
+            EquationKind::SlideRock => {
+                "nonlinear equation with sliding (rest, slide, rock, slide-rock; MODEL.md §21)"
+            }
         }
     }
 }
@@ -73,6 +87,23 @@ impl Equation {
         match self {
             Equation::Linearized => EquationKind::Linearized,
             Equation::Nonlinear { .. } => EquationKind::Nonlinear,
+            Equation::SlideRock { .. } => EquationKind::SlideRock,
+        }
+    }
+
+    /// The base's friction, when the equation lets the block slide.
+    pub fn friction(self) -> Option<Friction> {
+        match self {
+            Equation::SlideRock { friction, .. } => Some(friction),
+            _ => None,
+        }
+    }
+
+    /// The equation that rocks the same block without sliding.
+    pub fn rocking(self) -> Equation {
+        match self {
+            Equation::SlideRock { alpha_rad, .. } => Equation::Nonlinear { alpha_rad },
+            other => other,
         }
     }
 
@@ -80,23 +111,40 @@ impl Equation {
     pub fn alpha(self) -> Option<f64> {
         match self {
             Equation::Linearized => None,
-            Equation::Nonlinear { alpha_rad } => Some(alpha_rad),
+            Equation::Nonlinear { alpha_rad } | Equation::SlideRock { alpha_rad, .. } => {
+                Some(alpha_rad)
+            }
         }
     }
 
     pub fn validate(self) -> Result<(), PhysicsError> {
-        match self.alpha() {
-            Some(a) => check_alpha(a).map_err(PhysicsError::BadInput),
+        if let Some(a) = self.alpha() {
+            check_alpha(a).map_err(PhysicsError::BadInput)?;
+        }
+        match self.friction() {
+            Some(f) => f.validate(),
             None => Ok(()),
         }
     }
 
-    /// Uplift happens where |ψ̈| exceeds `η · uplift_factor()`: 1 for the
-    /// linearised equation, tan α / α for the nonlinear one.
+    /// A block at rest leaves it where |ψ̈| exceeds `η · uplift_factor()`:
+    /// 1 for the linearised equation, tan α / α for the nonlinear one, and
+    /// for a block that may slide the smaller of that and μₛ/α (it slides
+    /// first where μₛ < tan α).
     pub fn uplift_factor(self) -> f64 {
         match self {
             Equation::Linearized => 1.0,
             Equation::Nonlinear { alpha_rad } => alpha_rad.tan() / alpha_rad,
+            Equation::SlideRock {
+                alpha_rad,
+                friction,
+            } => {
+                if friction.mu_s < alpha_rad.tan() {
+                    friction.mu_s / alpha_rad
+                } else {
+                    alpha_rad.tan() / alpha_rad
+                }
+            }
         }
     }
 
@@ -110,7 +158,9 @@ impl Equation {
     pub fn free_fate(self, p: f64, state: Rocking, eps: f64) -> Fate {
         match self {
             Equation::Linearized => energy::linear_fate(p, state, eps),
-            Equation::Nonlinear { alpha_rad } => energy::nonlinear_fate(p, alpha_rad, state, eps),
+            Equation::Nonlinear { alpha_rad } | Equation::SlideRock { alpha_rad, .. } => {
+                energy::nonlinear_fate(p, alpha_rad, state, eps)
+            }
         }
     }
 }

@@ -14,6 +14,12 @@ pub enum EventKind {
     Rest,
     Overturn,
     RecordEnd,
+    /// A block that may slide: its base (flat) or its pivot starts to slip.
+    Slip,
+    /// The slip stops.
+    Stick,
+    /// The pivot's normal force reached 0 (the run ends).
+    Flight,
 }
 
 impl Label for EventKind {
@@ -25,6 +31,9 @@ impl Label for EventKind {
         EventKind::Rest,
         EventKind::Overturn,
         EventKind::RecordEnd,
+        EventKind::Slip,
+        EventKind::Stick,
+        EventKind::Flight,
     ];
     fn label(self) -> &'static str {
         match self {
@@ -35,6 +44,9 @@ impl Label for EventKind {
             EventKind::Rest => "rest",
             EventKind::Overturn => "overturn",
             EventKind::RecordEnd => "record_end",
+            EventKind::Slip => "slip",
+            EventKind::Stick => "stick",
+            EventKind::Flight => "flight",
         }
     }
 }
@@ -49,6 +61,9 @@ pub struct HistoryPoint {
     pub pivot: i8,
     /// ψ̈ at that instant (record normalised to unit peak).
     pub psi: f64,
+    /// The base's position relative to the ground (m; 0 for a block that
+    /// cannot slide).
+    pub u_m: f64,
     pub kind: EventKind,
 }
 

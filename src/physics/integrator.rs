@@ -87,7 +87,7 @@ impl Integrator {
         let bad = |m: String| Err(PhysicsError::BadInput(m));
         match (self, equation) {
             (Integrator::Exact, Equation::Linearized) => Ok(()),
-            (Integrator::Exact, Equation::Nonlinear { .. }) => bad(
+            (Integrator::Exact, Equation::Nonlinear { .. } | Equation::SlideRock { .. }) => bad(
                 "the exact stepper integrates the linearised equation only; the nonlinear one needs DP5"
                     .into(),
             ),
@@ -129,6 +129,22 @@ impl Model {
     pub fn nonlinear(alpha_rad: f64, solver: Solver) -> Model {
         Model {
             equation: Equation::Nonlinear { alpha_rad },
+            integrator: solver.integrator(),
+        }
+    }
+
+    /// The nonlinear equation with sliding on a base of `friction`, for
+    /// slenderness `alpha_rad`, its rocking by `solver`.
+    pub fn slide_rock(
+        alpha_rad: f64,
+        friction: super::friction::Friction,
+        solver: Solver,
+    ) -> Model {
+        Model {
+            equation: Equation::SlideRock {
+                alpha_rad,
+                friction,
+            },
             integrator: solver.integrator(),
         }
     }

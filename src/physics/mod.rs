@@ -37,6 +37,7 @@ pub mod equation;
 mod error;
 pub mod exact;
 mod excitation;
+pub mod friction;
 mod history;
 mod hop;
 mod integrator;
@@ -45,11 +46,12 @@ mod overturn;
 pub mod rk4;
 mod run;
 mod simulate;
+mod slide_rock;
 mod step;
 pub mod taylor;
 
 pub use dispatch::Isa;
-pub use driver::{Outcome, Stop};
+pub use driver::{Mode, Outcome, Stop};
 pub use equation::{
     check_alpha, Equation, EquationKind, ALPHA_MIN, LINEARIZATION_ERROR_PER_ALPHA2,
 };

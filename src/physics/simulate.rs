@@ -168,6 +168,11 @@ fn taylor_tol(spec: &RunSpec) -> f64 {
 #[cfg(target_arch = "x86_64")]
 fn in_step<const N: usize>(specs: [&RunSpec; N]) -> Option<[f64; N]> {
     let first = specs[0];
+    // A block that may slide walks every interval (its friction is checked
+    // at each), so it has no lanes.
+    if first.model.equation.friction().is_some() {
+        return None;
+    }
     let alike = |s: &RunSpec| {
         let integrator = match (s.model.integrator, first.model.integrator) {
             (Integrator::Taylor { .. }, Integrator::Taylor { .. }) => first.model.integrator,
@@ -266,7 +271,9 @@ fn drive(
             driver::drive(exc, spec, start, limit, &mut $stepper, obs)
         };
     }
-    match (integrator, equation) {
+    // A block that may slide rocks by its rocking equation's stepper; the
+    // driver carries the rest.
+    match (integrator, equation.rocking()) {
         (Integrator::Exact, Equation::Linearized) => dispatch::drive(
             exc,
             spec,
@@ -279,6 +286,7 @@ fn drive(
         (Integrator::Exact, Equation::Nonlinear { .. }) => {
             unreachable!("validate() refuses the exact stepper for the nonlinear equation")
         }
+        (_, Equation::SlideRock { .. }) => unreachable!("`rocking()` has no friction"),
         (Integrator::Dp5 { rtol }, Equation::Linearized) => {
             with!(dp5::Dp5::new(LinearRhs::new(p, eta), p, rtol, limit))
         }

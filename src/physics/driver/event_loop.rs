@@ -2,7 +2,9 @@
 //! pivot switch), rest, overturning, the record's end and the fate after
 //! it, for one run ([`Driver`], which `in_step` walks several of).
 
+use super::coupled::{Arm, Coupled, Mode};
 use crate::label::Label;
+use crate::physics::friction::Contact;
 use crate::physics::history::{EventKind, HistoryPoint, Observer};
 use crate::physics::step::{Rocking, Stepper, Stretch, StretchEnd};
 use crate::physics::{Excitation, RunSpec, MAX_EVENTS};
@@ -18,6 +20,9 @@ pub enum Stop {
     RestForGood,
     /// Hit [`MAX_EVENTS`] (a bug guard; never expected).
     EventLimit,
+    /// A block that slides: the normal force at its pivot reached 0, so it
+    /// would leave the base, which the model does not follow.
+    Flight,
 }
 
 impl Label for Stop {
@@ -26,6 +31,7 @@ impl Label for Stop {
         Stop::Overturned,
         Stop::RestForGood,
         Stop::EventLimit,
+        Stop::Flight,
     ];
     fn label(self) -> &'static str {
         match self {
@@ -33,6 +39,7 @@ impl Label for Stop {
             Stop::Overturned => "overturned",
             Stop::RestForGood => "rest_for_good",
             Stop::EventLimit => "event_limit",
+            Stop::Flight => "flight",
         }
     }
 }
@@ -52,6 +59,18 @@ pub struct Outcome {
     pub first_uplift_s: Option<f64>,
     /// Sample intervals the run went through before it stopped (work done).
     pub intervals: u64,
+    /// A block that slides: the largest |u| of its base relative to the
+    /// ground (m), over the run and the slip's end after the record.
+    pub slide_max_m: f64,
+    /// Where its base ends, relative to where it stood (m, signed; for an
+    /// overturned block, where it was when it went over).
+    pub slide_residual_m: f64,
+    /// How many times the base or the pivot started to slip.
+    pub slips: u64,
+    /// Seconds of the record spent at rest, sliding, rocking and
+    /// slide-rocking (`Mode`'s order); all at rest for a block that cannot
+    /// slide is not kept: zeros there.
+    pub mode_s: [f64; 4],
 }
 
 impl Outcome {
@@ -62,8 +81,8 @@ impl Outcome {
 
 /// The state of one run as the driver walks the record.
 pub(super) struct Driver<'a, S, O> {
-    exc: &'a Excitation,
-    spec: &'a RunSpec,
+    pub(super) exc: &'a Excitation,
+    pub(super) spec: &'a RunSpec,
     limit: f64,
     pub(super) stepper: &'a mut S,
     obs: &'a mut O,
@@ -73,7 +92,9 @@ pub(super) struct Driver<'a, S, O> {
     /// Uplift threshold on |ψ̈| (the equation's factor times η).
     threshold: f64,
     /// Speed after an impact below which the block is at rest.
-    v_rest: f64,
+    pub(super) v_rest: f64,
+    /// A block that may slide: its base and the slide-rock stepper.
+    pub(super) coupled: Option<Coupled>,
     /// `None`: at rest on the base.
     pub(super) state: Option<Rocking>,
     events: u64,
@@ -131,6 +152,7 @@ impl<'a, S: Stepper, O: Observer> Driver<'a, S, O> {
             obs,
             threshold: spec.eta * spec.model.equation.uplift_factor(),
             v_rest: spec.rest_tol * spec.p,
+            coupled: coupled(spec, limit),
             state: start,
             events: 0,
             out: Outcome {
@@ -141,7 +163,25 @@ impl<'a, S: Stepper, O: Observer> Driver<'a, S, O> {
                 impacts: 0,
                 first_uplift_s: None,
                 intervals: 0,
+                slide_max_m: 0.0,
+                slide_residual_m: 0.0,
+                slips: 0,
+                mode_s: [0.0; 4],
             },
+        }
+    }
+
+    /// Whether the base slips now (never for a block that cannot slide).
+    #[inline(always)]
+    fn slipping(&self) -> bool {
+        self.coupled.as_ref().is_some_and(|c| c.slipping)
+    }
+
+    /// Books a change of mode at `t_s` (a block that may slide only).
+    #[inline(always)]
+    fn enter(&mut self, mode: Mode, t_s: f64) {
+        if let Some(c) = self.coupled.as_mut() {
+            c.enter(mode, t_s);
         }
     }
 
@@ -152,12 +192,14 @@ impl<'a, S: Stepper, O: Observer> Driver<'a, S, O> {
     #[inline(always)]
     pub(super) fn advance(&mut self, k: &mut usize, n: usize, cap: usize) -> Flow {
         let exc = self.exc;
+        let plain = self.coupled.is_none();
+        let slipping = self.slipping();
         match self.state.as_mut() {
-            None if exc.suffix_max[*k] <= self.threshold => {
+            None if !slipping && exc.suffix_max[*k] <= self.threshold => {
                 self.out.stop = Stop::RestForGood;
                 return Flow::Stopped;
             }
-            None if !O::SAMPLES => {
+            None if !O::SAMPLES && !slipping => {
                 // At rest: whole intervals with both ends within the
                 // threshold lift nothing (the forcing is linear between), as
                 // `interval` would find one by one; stop where the record
@@ -171,7 +213,7 @@ impl<'a, S: Stepper, O: Observer> Driver<'a, S, O> {
                     return Flow::Going;
                 }
             }
-            Some(st) if !O::SAMPLES => {
+            Some(st) if !O::SAMPLES && plain => {
                 // Eventless whole intervals in the stepper's tight loop.
                 let next = self
                     .stepper
@@ -200,21 +242,30 @@ impl<'a, S: Stepper, O: Observer> Driver<'a, S, O> {
     /// At the record's end: the free rocking after it.
     pub(super) fn finish(&mut self) {
         self.emit(self.exc.duration_s(), 0.0, EventKind::RecordEnd);
+        if let Some(c) = self.coupled.as_mut() {
+            c.close(self.exc.duration_s());
+        }
         self.after_record();
+        if let Some(c) = &self.coupled {
+            self.out.mode_s = c.mode_s;
+            self.out.slide_residual_m = c.u;
+        }
     }
 }
 
 impl<S: Stepper, O: Observer> Driver<'_, S, O> {
     /// Reports the current state as a history point.
     #[inline(always)]
-    fn emit(&mut self, t_s: f64, psi: f64, kind: EventKind) {
+    pub(super) fn emit(&mut self, t_s: f64, psi: f64, kind: EventKind) {
         let (x, v, pivot) = self.state.map_or((0.0, 0.0, 0), |r| (r.x, r.v, r.s as i8));
+        let u_m = self.coupled.as_ref().map_or(0.0, |c| c.u);
         self.obs.point(HistoryPoint {
             t_s,
             x,
             v,
             pivot,
             psi,
+            u_m,
             kind,
         });
     }
@@ -236,6 +287,29 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
                 self.out.stop = Stop::EventLimit;
                 return Some(Stop::EventLimit);
             }
+            if self.slipping() {
+                let arm = match self.state {
+                    None => self.slide_arm(t_k, tau, g_a, g1, dt),
+                    Some(_) => {
+                        let stretch = Stretch {
+                            tau0: tau,
+                            len: dt - tau,
+                            g_a,
+                            g1,
+                        };
+                        self.slide_rock_arm(t_k, tau, stretch)
+                    }
+                };
+                match arm {
+                    Arm::End => return None,
+                    Arm::Stop(stop) => return Some(stop),
+                    Arm::At(at) => {
+                        tau = at;
+                        g_a = g0 + g1 * tau;
+                        continue;
+                    }
+                }
+            }
             let Some(mut st) = self.state else {
                 // At rest: find where |ψ̈| first exceeds the threshold in [tau, dt].
                 let (at, side) = uplift_in(g_a, g_end, g1, dt - tau, self.threshold, held)?;
@@ -244,6 +318,10 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
                 // The forcing at the crossing is exactly ±threshold (or beyond it
                 // when the block was already pushed past it at rest).
                 g_a = if at > 0.0 { side * self.threshold } else { g_a };
+                if self.coupled.is_some() {
+                    self.leave_rest(t_k + tau, g_a, side);
+                    continue;
+                }
                 self.state = Some(Rocking {
                     x: 0.0,
                     v: 0.0,
@@ -259,8 +337,16 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
                 g_a,
                 g1,
             };
+            let (before, max_before) = (st, self.out.max_abs_x);
             let end = self.stepper.rock(stretch, &mut st, &mut self.out.max_abs_x);
             self.state = Some(st);
+            if self.coupled.is_some() {
+                if let Some(at) = self.slip_check(t_k, tau, stretch, before, max_before, end) {
+                    tau = at;
+                    g_a = g0 + g1 * tau;
+                    continue;
+                }
+            }
             match end {
                 StretchEnd::End => return None,
                 StretchEnd::Overturn { sigma } if self.escape => {
@@ -295,6 +381,7 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
                     tau = if moved { tau + sigma } else { tau.next_up() };
                     g_a = g0 + g1 * tau;
                     self.state = None;
+                    self.enter(Mode::Rest, t_k + tau);
                     self.emit(t_k + tau, g_a, EventKind::Rest);
                 }
                 StretchEnd::Impact { sigma, v } => {
@@ -304,6 +391,7 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
                     let v_plus = self.spec.eps * v;
                     let kind = if v_plus.abs() < self.v_rest {
                         self.state = None;
+                        self.enter(Mode::Rest, t_k + tau);
                         EventKind::Rest
                     } else {
                         self.state = Some(Rocking {
@@ -323,6 +411,9 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
     /// After the record: free rocking, settled by energy; an overturning
     /// still to come is followed (no forcing) to time it.
     fn after_record(&mut self) {
+        if self.coupled.is_some() && self.after_record_coupled() {
+            return;
+        }
         let Some(mut st) = self.state else { return };
         let fate = self
             .spec
@@ -458,4 +549,13 @@ fn uplift_in(
     // g_a + g1 σ = side·threshold; the crossing lies in (0, len].
     let sigma = ((side * threshold - g_a) / g1).clamp(0.0, len);
     Some((sigma, side))
+}
+
+/// The sliding part of a run whose equation has friction.
+fn coupled(spec: &RunSpec, limit: f64) -> Option<Coupled> {
+    let friction = spec.model.equation.friction()?;
+    let alpha = spec.model.equation.alpha()?;
+    let contact = Contact::new(spec.p, spec.eta, alpha, friction);
+    let rtol = spec.model.integrator.tol().unwrap_or(1e-10);
+    Some(Coupled::new(contact, spec.p, limit, rtol))
 }

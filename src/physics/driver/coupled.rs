@@ -1,0 +1,380 @@
+//! The event loop's arms for a block that may slide (docs/MODEL.md §21):
+//! the mode a block leaves rest in, the flat slide, the slide-rock mode,
+//! the check that a rocking block's friction holds, and the free motion
+//! after the record. [`super::event_loop`]'s interval walk calls them where
+//! a run has a [`Coupled`] part; a rocking run has none and never enters
+//! them.
+
+use super::event_loop::{Driver, Stop};
+use crate::label::Label;
+use crate::physics::friction::{Contact, Onset};
+use crate::physics::history::{EventKind, Observer};
+use crate::physics::slide_rock::{SlideRock, SlideRockEnd, Slipping};
+use crate::physics::step::{Rocking, Stepper, Stretch, StretchEnd};
+
+/// What a block on a frictional base is doing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// Flat and held.
+    Rest,
+    /// Flat, its base slipping.
+    Slide,
+    /// On a pivot held by friction.
+    Rock,
+    /// On a pivot that slips.
+    SlideRock,
+}
+
+impl Label for Mode {
+    const ALL: &'static [Self] = &[Mode::Rest, Mode::Slide, Mode::Rock, Mode::SlideRock];
+    fn label(self) -> &'static str {
+        match self {
+            Mode::Rest => "rest",
+            Mode::Slide => "slide",
+            Mode::Rock => "rock",
+            Mode::SlideRock => "slide-rock",
+        }
+    }
+}
+
+/// The sliding part of a run: the contact's mechanics, the slide-rock
+/// stepper, the base's position and velocity, and the time in each mode.
+pub(in crate::physics) struct Coupled {
+    contact: Contact,
+    stepper: SlideRock,
+    /// The base's position (m) and velocity (m/s) relative to the ground.
+    pub(super) u: f64,
+    pub(super) w: f64,
+    /// Whether the base (flat) or the pivot slips, and towards which side.
+    pub(super) slipping: bool,
+    dir: f64,
+    /// Seconds spent in each mode ([`Mode`]'s order) up to `since_s`.
+    pub(super) mode_s: [f64; 4],
+    since_s: f64,
+    mode: Mode,
+    /// The record is over: the time in modes is booked.
+    closed: bool,
+}
+
+impl Coupled {
+    pub(in crate::physics) fn new(contact: Contact, p: f64, limit: f64, rtol: f64) -> Self {
+        Coupled {
+            stepper: SlideRock::new(contact, p, limit, rtol),
+            contact,
+            u: 0.0,
+            w: 0.0,
+            slipping: false,
+            dir: 0.0,
+            mode_s: [0.0; 4],
+            since_s: 0.0,
+            mode: Mode::Rest,
+            closed: false,
+        }
+    }
+
+    /// Books the time since the last change to the mode it was in, and
+    /// enters `mode` at `t_s` (during the record; after it, nothing).
+    pub(super) fn enter(&mut self, mode: Mode, t_s: f64) {
+        if self.closed {
+            return;
+        }
+        self.mode_s[self.mode as usize] += t_s - self.since_s;
+        self.since_s = t_s;
+        self.mode = mode;
+    }
+
+    /// Books the time up to the record's end, `t_s`.
+    pub(super) fn close(&mut self, t_s: f64) {
+        self.enter(self.mode, t_s);
+        self.closed = true;
+    }
+}
+
+/// What a coupled arm did to the interval walk.
+pub(super) enum Arm {
+    /// The interval is done.
+    End,
+    /// An event at the new offset `tau`: walk on from there.
+    At(f64),
+    /// The run is over.
+    Stop(Stop),
+}
+
+impl<S: Stepper, O: Observer> Driver<'_, S, O> {
+    /// The coupled part (only called where there is one).
+    fn c(&mut self) -> &mut Coupled {
+        self.coupled.as_mut().expect("a coupled run")
+    }
+
+    /// A block at rest leaves it at `t_s` towards `side` under forcing
+    /// `psi` (past rest's threshold) in the mode the contact gives.
+    pub(super) fn leave_rest(&mut self, t_s: f64, psi: f64, side: f64) {
+        let onset = self.c().contact.onset(psi, side);
+        let (mode, kind) = match onset {
+            Onset::Slide { dir } => {
+                let c = self.c();
+                (c.slipping, c.dir, c.w) = (true, dir, 0.0);
+                (Mode::Slide, EventKind::Slip)
+            }
+            Onset::Rock { s } => {
+                self.state = Some(Rocking { x: 0.0, v: 0.0, s });
+                (Mode::Rock, EventKind::Uplift)
+            }
+            Onset::SlideRock { s, dir } => {
+                self.state = Some(Rocking { x: 0.0, v: 0.0, s });
+                let c = self.c();
+                (c.slipping, c.dir, c.w) = (true, dir, 0.0);
+                (Mode::SlideRock, EventKind::Uplift)
+            }
+        };
+        if mode != Mode::Slide {
+            self.out.first_uplift_s.get_or_insert(t_s);
+        }
+        if mode != Mode::Rock {
+            self.out.slips += 1;
+        }
+        self.c().enter(mode, t_s);
+        self.emit(t_s, psi, kind);
+    }
+
+    /// The flat slide from offset `tau` to the interval's end or the
+    /// slip's stop.
+    pub(super) fn slide_arm(&mut self, t_k: f64, tau: f64, g_a: f64, g1: f64, dt: f64) -> Arm {
+        let c = self.c();
+        let flat = c.contact.slide(c.w, c.dir, g_a, g1, dt - tau);
+        c.u += flat.du;
+        c.w = flat.w;
+        self.out.slide_max_m = self.out.slide_max_m.max(self.c().u.abs());
+        let Some(sigma) = flat.stop else {
+            return Arm::End;
+        };
+        let tau = tau + sigma;
+        let psi = g_a + g1 * sigma;
+        let c = self.c();
+        match c.contact.after_stick(0.0, 0.0, 0.0, psi) {
+            Some(dir) => {
+                c.dir = dir;
+                self.out.slips += 1;
+            }
+            None => {
+                c.slipping = false;
+                c.enter(Mode::Rest, t_k + tau);
+            }
+        }
+        self.emit(t_k + tau, psi, EventKind::Stick);
+        Arm::At(tau)
+    }
+
+    /// The slide-rock mode from offset `tau` to the interval's end or its
+    /// first event.
+    pub(super) fn slide_rock_arm(&mut self, t_k: f64, tau: f64, stretch: Stretch) -> Arm {
+        let Some(st) = self.state else {
+            unreachable!("slide-rock is on a pivot")
+        };
+        let c = self.coupled.as_mut().expect("a coupled run");
+        let mut slipping = Slipping {
+            st,
+            u: c.u,
+            w: c.w,
+            dir: c.dir,
+        };
+        let end = c
+            .stepper
+            .advance(stretch, &mut slipping, &mut self.out.max_abs_x);
+        (c.u, c.w) = (slipping.u, slipping.w);
+        self.state = Some(slipping.st);
+        self.out.slide_max_m = self.out.slide_max_m.max(c.u.abs());
+        let (sigma, kind) = match end {
+            SlideRockEnd::End => return Arm::End,
+            SlideRockEnd::Overturn { sigma } => {
+                let t = t_k + tau + sigma;
+                self.out.stop = Stop::Overturned;
+                self.out.overturn_time_s = Some(t);
+                self.emit(t, stretch.g_a + stretch.g1 * sigma, EventKind::Overturn);
+                return Arm::Stop(Stop::Overturned);
+            }
+            SlideRockEnd::Flight { sigma } => {
+                let t = t_k + tau + sigma;
+                self.out.stop = Stop::Flight;
+                self.emit(t, stretch.g_a + stretch.g1 * sigma, EventKind::Flight);
+                return Arm::Stop(Stop::Flight);
+            }
+            SlideRockEnd::Impact { sigma } => {
+                self.impact_slipping(t_k + tau + sigma, slipping.st);
+                return Arm::At(tau + sigma);
+            }
+            SlideRockEnd::Stick { sigma } => (sigma, EventKind::Stick),
+        };
+        let psi = stretch.g_a + stretch.g1 * sigma;
+        let st = slipping.st;
+        let c = self.c();
+        match c.contact.after_stick(st.s, st.x, st.v, psi) {
+            Some(dir) => {
+                c.dir = dir;
+                self.out.slips += 1;
+            }
+            None => {
+                c.slipping = false;
+                c.enter(Mode::Rock, t_k + tau + sigma);
+            }
+        }
+        self.emit(t_k + tau + sigma, psi, kind);
+        Arm::At(tau + sigma)
+    }
+
+    /// An impact while the pivot slips, `st` at it: the whole velocity is
+    /// scaled by ε (the rotation's as Housner's, the base's alike), so the
+    /// impact keeps ε² of the kinetic energy; the block goes on to the
+    /// other pivot, or lands flat below the rest speed.
+    fn impact_slipping(&mut self, t_s: f64, st: Rocking) {
+        self.out.impacts += 1;
+        let (eps, v_rest) = (self.spec.eps, self.v_rest);
+        let v_plus = eps * st.v;
+        let c = self.c();
+        c.w *= eps;
+        let slips = c.w != 0.0;
+        c.slipping = slips;
+        let kind = if v_plus.abs() < v_rest {
+            if !slips {
+                self.state = None;
+                self.c().enter(Mode::Rest, t_s);
+            } else if self.c().contact.slides_flat() {
+                self.state = None;
+                self.c().enter(Mode::Slide, t_s);
+            } else {
+                // Too rough to slide flat: the slip tips it onto the corner
+                // it slides towards.
+                let dir = self.c().dir;
+                self.state = Some(Rocking {
+                    x: 0.0,
+                    v: 0.0,
+                    s: dir,
+                });
+            }
+            EventKind::Rest
+        } else {
+            self.state = Some(Rocking {
+                x: 0.0,
+                v: v_plus,
+                s: -st.s,
+            });
+            if !slips {
+                self.c().enter(Mode::Rock, t_s);
+            }
+            EventKind::Impact
+        };
+        self.emit(t_s, 0.0, kind);
+    }
+
+    /// After a rocking stretch from `before` that ended in `end` (its state
+    /// now in `self.state`): whether the friction held throughout, checked
+    /// at the stretch's end; if it did not, the instant it gave way (by
+    /// bisection on the stretch, each trial the stepper from `before`), the
+    /// state there, and the slip begun. `max_before` is the run's max |x|
+    /// before the stretch.
+    pub(super) fn slip_check(
+        &mut self,
+        t_k: f64,
+        tau: f64,
+        stretch: Stretch,
+        before: Rocking,
+        max_before: f64,
+        end: StretchEnd,
+    ) -> Option<f64> {
+        let sigma_end = match end {
+            StretchEnd::End => stretch.len,
+            StretchEnd::Impact { sigma, .. }
+            | StretchEnd::Overturn { sigma }
+            | StretchEnd::Settled { sigma } => sigma,
+        };
+        let mu = self.c().contact.friction.mu_s;
+        let holds = |d: &Self, st: Rocking, sigma: f64| {
+            let c = d.coupled.as_ref().expect("a coupled run");
+            let psi = stretch.g_a + stretch.g1 * sigma;
+            c.contact.rock_forces(st.s, st.x, st.v, psi).margin(mu) >= 0.0
+        };
+        let st_end = self.state?;
+        if matches!(end, StretchEnd::Settled { .. }) || holds(self, st_end, sigma_end) {
+            return None;
+        }
+        let trial = |d: &mut Self, len: f64| {
+            let (mut st, mut top) = (before, max_before);
+            let part = Stretch { len, ..stretch };
+            d.stepper.rock(part, &mut st, &mut top);
+            (st, top)
+        };
+        let (mut lo, mut hi) = (0.0, sigma_end);
+        let (mut st_hi, mut top_hi) = (st_end, self.out.max_abs_x);
+        loop {
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break;
+            }
+            let (st, top) = trial(self, mid);
+            if holds(self, st, mid) {
+                lo = mid;
+            } else {
+                (hi, st_hi, top_hi) = (mid, st, top);
+            }
+        }
+        self.out.max_abs_x = top_hi;
+        self.state = Some(st_hi);
+        let psi = stretch.g_a + stretch.g1 * hi;
+        let forces = self.c().contact.rock_forces(st_hi.s, st_hi.x, st_hi.v, psi);
+        let c = self.c();
+        (c.slipping, c.dir, c.w) = (true, -forces.f.signum(), 0.0);
+        c.enter(Mode::SlideRock, t_k + tau + hi);
+        self.out.slips += 1;
+        self.emit(t_k + tau + hi, psi, EventKind::Slip);
+        Some(tau + hi)
+    }
+
+    /// The record is over: the slip runs out with no forcing (a flat slide
+    /// in closed form, a slipping pivot stepped until it holds, lands or
+    /// overturns), then the rocking block's fate as the rocking model's.
+    /// `true` where the block overturned on the way.
+    pub(super) fn after_record_coupled(&mut self) -> bool {
+        let mut t = self.exc.duration_s();
+        let horizon = 60.0 / self.spec.p;
+        let free = Stretch {
+            tau0: 0.0,
+            len: horizon,
+            g_a: 0.0,
+            g1: 0.0,
+        };
+        for _ in 0..10_000 {
+            if !self.c().slipping {
+                break;
+            }
+            if self.state.is_none() {
+                let c = self.c();
+                let flat = c.contact.slide(c.w, c.dir, 0.0, 0.0, f64::INFINITY);
+                c.u += flat.du;
+                (c.w, c.slipping) = (0.0, false);
+                self.out.slide_max_m = self.out.slide_max_m.max(self.c().u.abs());
+                break;
+            }
+            match self.slide_rock_arm(t, 0.0, free) {
+                Arm::Stop(_) => {
+                    self.out.overturn_after_record = true;
+                    return true;
+                }
+                Arm::End => t += horizon,
+                Arm::At(sigma) => t += sigma,
+            }
+        }
+        false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn modes_are_labelled_in_order() {
+        let labels: Vec<_> = Mode::ALL.iter().map(|m| m.label()).collect();
+        assert_eq!(labels, ["rest", "slide", "rock", "slide-rock"]);
+        assert_eq!(Mode::SlideRock as usize, 3);
+    }
+}

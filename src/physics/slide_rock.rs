@@ -1,0 +1,276 @@
+//! The slide-rock mode's stepper: a block on one pivot whose pivot slips
+//! (docs/MODEL.md §21), advanced by Dormand–Prince 5(4) with error control
+//! over the state `(x, v, u, w)` until the stretch ends or its first event:
+//! the impact (`x = 0`), the overturning limit, the slip's stop (`w = 0`)
+//! or the normal force reaching 0 (the block would fly). Events are
+//! located by bisection on the step's length, each trial a step of the same
+//! formula from the step's start, to the last bits of time.
+
+use super::friction::Contact;
+use super::step::{Rocking, Stretch};
+
+/// A block on a slipping pivot: the rocking state, the base's position `u`
+/// (m) and velocity `w` (m/s), and the direction the pivot slips (±1; `w`
+/// is 0 or of its sign).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Slipping {
+    pub st: Rocking,
+    pub u: f64,
+    pub w: f64,
+    pub dir: f64,
+}
+
+/// How a slide-rock stretch ended (offsets from the stretch's start).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SlideRockEnd {
+    End,
+    /// `x` reached 0: the state is at the impact, before its map.
+    Impact {
+        sigma: f64,
+    },
+    Overturn {
+        sigma: f64,
+    },
+    /// The slip stopped (`w = 0`).
+    Stick {
+        sigma: f64,
+    },
+    /// The normal force reached 0: the block would leave the base.
+    Flight {
+        sigma: f64,
+    },
+}
+
+/// The stepper; one per run.
+pub struct SlideRock {
+    contact: Contact,
+    limit: f64,
+    rtol: f64,
+    /// Scales of the four components' absolute errors.
+    atol: [f64; 4],
+    /// The last accepted step's length (s).
+    h: f64,
+    /// Steps taken (accepted and rejected), for benchmarks.
+    pub steps: u64,
+}
+
+type Y = [f64; 4];
+
+const C: [f64; 6] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0];
+const A: [[f64; 5]; 6] = [
+    [0.0; 5],
+    [0.2, 0.0, 0.0, 0.0, 0.0],
+    [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0],
+    [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0],
+    [
+        19372.0 / 6561.0,
+        -25360.0 / 2187.0,
+        64448.0 / 6561.0,
+        -212.0 / 729.0,
+        0.0,
+    ],
+    [
+        9017.0 / 3168.0,
+        -355.0 / 33.0,
+        46732.0 / 5247.0,
+        49.0 / 176.0,
+        -5103.0 / 18656.0,
+    ],
+];
+const B: [f64; 6] = [
+    35.0 / 384.0,
+    0.0,
+    500.0 / 1113.0,
+    125.0 / 192.0,
+    -2187.0 / 6784.0,
+    11.0 / 84.0,
+];
+/// The fifth-order weights less the fourth's (the seventh stage's −1/40 apart).
+const E: [f64; 6] = [
+    71.0 / 57600.0,
+    0.0,
+    -71.0 / 16695.0,
+    71.0 / 1920.0,
+    -17253.0 / 339200.0,
+    22.0 / 525.0,
+];
+const E7: f64 = -1.0 / 40.0;
+
+impl SlideRock {
+    /// The stepper for `contact`, stopping at `|x| = limit`, at relative
+    /// tolerance `rtol` per step; `p` (1/s) sets the time scale.
+    pub fn new(contact: Contact, p: f64, limit: f64, rtol: f64) -> Self {
+        let size = contact.r * contact.alpha;
+        SlideRock {
+            contact,
+            limit,
+            rtol,
+            atol: [rtol, rtol * p, rtol * size, rtol * size * p],
+            h: 0.05 / p,
+            steps: 0,
+        }
+    }
+
+    fn rhs(&self, s: f64, dir: f64, psi: f64, y: &Y) -> (Y, f64) {
+        let (xdd, wdd, n) = self.contact.slide_rock_accel(s, dir, y[0], y[1], psi);
+        ([y[1], xdd, y[3], wdd], n)
+    }
+
+    /// One step of length `h` from `y` at offset `sigma` (the forcing
+    /// `g_a + g1 σ` from the stretch's start): the fifth-order solution and
+    /// the scaled error.
+    fn step(&self, s: f64, dir: f64, st: &Stretch, sigma: f64, y: &Y, h: f64) -> (Y, f64) {
+        let mut k = [[0.0; 4]; 6];
+        for i in 0..6 {
+            let mut yi = *y;
+            for (j, kj) in k.iter().enumerate().take(i) {
+                for c in 0..4 {
+                    yi[c] += h * A[i][j] * kj[c];
+                }
+            }
+            let psi = st.g_a + st.g1 * (sigma + C[i] * h);
+            k[i] = self.rhs(s, dir, psi, &yi).0;
+        }
+        let mut out = *y;
+        for (i, ki) in k.iter().enumerate() {
+            for c in 0..4 {
+                out[c] += h * B[i] * ki[c];
+            }
+        }
+        let k7 = self.rhs(s, dir, st.g_a + st.g1 * (sigma + h), &out).0;
+        let mut err: f64 = 0.0;
+        for c in 0..4 {
+            let mut e = E7 * k7[c];
+            for (i, ki) in k.iter().enumerate() {
+                e += E[i] * ki[c];
+            }
+            let scale = self.atol[c] + self.rtol * y[c].abs().max(out[c].abs());
+            err = err.max((h * e).abs() / scale);
+        }
+        (out, err)
+    }
+
+    /// The events' functions at `y` (each positive while nothing happens):
+    /// the height over the impact, under the limit, the slip, the normal
+    /// force.
+    fn events(&self, s: f64, dir: f64, psi: f64, y: &Y) -> [f64; 4] {
+        let n = self.rhs(s, dir, psi, y).1;
+        [s * y[0], self.limit - s * y[0], dir * y[3], n]
+    }
+
+    /// Advances `state` over `stretch` or to its first event; raises
+    /// `max_abs_x` to every extremum passed.
+    pub fn advance(
+        &mut self,
+        stretch: Stretch,
+        state: &mut Slipping,
+        max_abs_x: &mut f64,
+    ) -> SlideRockEnd {
+        let (s, dir) = (state.st.s, state.dir);
+        let mut y: Y = [state.st.x, state.st.v, state.u, state.w];
+        let mut sigma = 0.0;
+        while sigma < stretch.len {
+            let h = self.h.min(stretch.len - sigma);
+            let (next, err) = self.step(s, dir, &stretch, sigma, &y, h);
+            self.steps += 1;
+            let accepted = err <= 1.0;
+            if !accepted && h > 1e-14 {
+                let shrink = if err.is_finite() {
+                    (0.9 * err.powf(-0.2)).clamp(0.1, 0.9)
+                } else {
+                    0.1
+                };
+                self.h = h * shrink;
+                continue;
+            }
+            let psi_end = stretch.g_a + stretch.g1 * (sigma + h);
+            if self.events(s, dir, psi_end, &next).iter().any(|&e| e < 0.0) {
+                let (at, mut y_at, i) = self.locate(s, dir, &stretch, sigma, &y, h);
+                let x_top = self.top(s, dir, &stretch, sigma, &y, at - sigma);
+                *max_abs_x = max_abs_x.max(x_top);
+                let end = match i {
+                    0 => {
+                        y_at[0] = 0.0;
+                        SlideRockEnd::Impact { sigma: at }
+                    }
+                    1 => {
+                        y_at[0] = s * self.limit;
+                        *max_abs_x = max_abs_x.max(self.limit);
+                        SlideRockEnd::Overturn { sigma: at }
+                    }
+                    2 => {
+                        y_at[3] = 0.0;
+                        SlideRockEnd::Stick { sigma: at }
+                    }
+                    _ => SlideRockEnd::Flight { sigma: at },
+                };
+                self.store(state, &y_at);
+                return end;
+            }
+            *max_abs_x = max_abs_x.max(self.top(s, dir, &stretch, sigma, &y, h));
+            y = next;
+            sigma += h;
+            self.h = if err > 0.0 {
+                h * (0.9 * err.powf(-0.2)).clamp(0.2, 5.0)
+            } else {
+                h * 5.0
+            };
+        }
+        self.store(state, &y);
+        SlideRockEnd::End
+    }
+
+    fn store(&self, state: &mut Slipping, y: &Y) {
+        state.st.x = y[0];
+        state.st.v = y[1];
+        state.u = y[2];
+        state.w = y[3];
+    }
+
+    /// The first offset in `(sigma, sigma + h]` where any event happens,
+    /// by bisection on the step's length, the state there and which event
+    /// (the first through, in the order impact, overturning, stop, flight).
+    fn locate(&self, s: f64, dir: f64, st: &Stretch, sigma: f64, y: &Y, h: f64) -> (f64, Y, usize) {
+        let through = |len: f64| {
+            let y_at = self.step(s, dir, st, sigma, y, len).0;
+            let ev = self.events(s, dir, st.g_a + st.g1 * (sigma + len), &y_at);
+            (y_at, ev)
+        };
+        let (mut lo, mut hi) = (0.0, h);
+        let (mut y_hi, mut ev_hi) = through(h);
+        loop {
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break;
+            }
+            let (y_mid, ev_mid) = through(mid);
+            if ev_mid.iter().any(|&e| e < 0.0) {
+                (hi, y_hi, ev_hi) = (mid, y_mid, ev_mid);
+            } else {
+                lo = mid;
+            }
+        }
+        let which = ev_hi.iter().position(|&e| e < 0.0).unwrap_or(0);
+        (sigma + hi, y_hi, which)
+    }
+
+    /// The largest `|x|` over a step of length `h` from `y`: its ends, and
+    /// where the velocity turns (found by bisection) if it turns inside.
+    fn top(&self, s: f64, dir: f64, st: &Stretch, sigma: f64, y: &Y, h: f64) -> f64 {
+        let end = self.step(s, dir, st, sigma, y, h).0;
+        let mut top = y[0].abs().max(end[0].abs());
+        if s * y[1] > 0.0 && s * end[1] < 0.0 {
+            let (mut lo, mut hi) = (0.0, h);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if s * self.step(s, dir, st, sigma, y, mid).0[1] > 0.0 {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            top = top.max(self.step(s, dir, st, sigma, y, lo).0[0].abs());
+        }
+        top
+    }
+}
