@@ -155,3 +155,301 @@ fn a_stocky_block_under_a_half_sine_slides_as_its_closed_form() {
     // (πΔt/t_d)²/8 ≈ 3e-11 relative.
     assert!(rel < 1e-9, "{} vs {exact}: {rel:e}", out.slide_residual_m);
 }
+
+/// Gaussian elimination with partial pivoting for a 3×3 system.
+fn solve3(mut m: [[f64; 3]; 3], mut r: [f64; 3]) -> [f64; 3] {
+    for col in 0..3 {
+        let piv = (col..3)
+            .max_by(|&i, &j| m[i][col].abs().total_cmp(&m[j][col].abs()))
+            .unwrap();
+        m.swap(col, piv);
+        r.swap(col, piv);
+        for row in col + 1..3 {
+            let f = m[row][col] / m[col][col];
+            for k in col..3 {
+                m[row][k] -= f * m[col][k];
+            }
+            r[row] -= f * r[col];
+        }
+    }
+    let mut x = [0.0; 3];
+    for row in (0..3).rev() {
+        let mut acc = r[row];
+        for k in row + 1..3 {
+            acc -= m[row][k] * x[k];
+        }
+        x[row] = acc / m[row][row];
+    }
+    x
+}
+
+/// The modes consistent with a block at rest under a suddenly applied
+/// horizontal inertial acceleration `a` (per mass, +X tips it onto the +X
+/// corner), half-width `b`, half-height `h`, friction `mu` (Shenton 1996's
+/// cases): each mode's Newton–Euler equations (unit mass, I = (b² + h²)/3
+/// about the centre) solved for its unknowns, then its inequalities.
+fn consistent_modes(a: f64, b: f64, h: f64, mu: f64) -> Vec<&'static str> {
+    let g = G;
+    let i_c = (b * b + h * h) / 3.0;
+    let mut modes = Vec::new();
+    if a.abs() <= mu * g && a.abs() <= g * b / h {
+        modes.push("rest");
+    }
+    for dir in [1.0, -1.0] {
+        // Flat slide: friction −μ·dir·g at the base; the resultant stays
+        // within the base while μh ≤ b.
+        let u_dd = a - mu * dir * g;
+        if dir * u_dd > 0.0 && mu * h <= b {
+            modes.push("slide");
+        }
+    }
+    let s = a.signum();
+    // Rock on pivot s: unknowns (θ̈, F, N); the centre's acceleration with
+    // the pivot held is (h θ̈, s b θ̈) at θ = 0; the torque about the centre
+    // of the pivot's force (F, N) at (s b, −h) is s b N + h F = −I θ̈ (θ
+    // tips towards +X, clockwise).
+    let [th, f, n] = solve3(
+        [[h, -1.0, 0.0], [s * b, 0.0, -1.0], [i_c, h, s * b]],
+        [a, -g, 0.0],
+    );
+    if s * th > 0.0 && n >= 0.0 && f.abs() <= mu * n {
+        modes.push("rock");
+    }
+    for dir in [1.0, -1.0] {
+        // Slide-rock: unknowns (θ̈, ü_p, N) with F = −μ dir N.
+        let [th, u_dd, n] = solve3(
+            [
+                [h, 1.0, mu * dir],
+                [s * b, 0.0, -1.0],
+                [i_c, 0.0, s * b - h * mu * dir],
+            ],
+            [a, -g, 0.0],
+        );
+        if s * th > 0.0 && n >= 0.0 && dir * u_dd > 0.0 {
+            modes.push("slide-rock");
+        }
+    }
+    modes
+}
+
+/// The mode the tool starts in from rest under a step of ψ̈ = 1.
+fn first_mode(points: &[HistoryPoint]) -> &'static str {
+    match points.get(1) {
+        Some(p) if p.t_s == 0.0 && p.kind == EventKind::Uplift => "rock",
+        Some(p) if p.t_s == 0.0 && p.kind == EventKind::Slip && p.pivot == 0 => "slide",
+        Some(p) if p.t_s == 0.0 && p.kind == EventKind::Slip => "slide-rock",
+        _ => "rest",
+    }
+}
+
+#[test]
+fn from_rest_the_block_starts_in_the_mode_shentons_criteria_give() {
+    let exc = Excitation::new(&[1.0, 1.0, 1.0], 0.001).unwrap();
+    let (mut checked, mut every_mode, mut several) = (0, Vec::new(), 0);
+    for b_over_h in [0.1f64, 0.2, 0.3, 0.45, 0.6, 0.8, 1.0] {
+        let alpha = b_over_h.atan();
+        let h = 1.0;
+        let b = b_over_h * h;
+        let p = (0.75 * G / (b * b + h * h).sqrt()).sqrt();
+        for mu in [0.05, 0.15, 0.25, 0.35, 0.5, 0.7, 0.9, 1.2] {
+            for a_over_g in [0.03, 0.085, 0.155, 0.235, 0.32, 0.52, 0.83, 1.23, 2.1, 4.1] {
+                let a = a_over_g * G;
+                let eta = alpha * G / a;
+                let spec = RunSpec::new(p, 0.9, eta, slide_rock(alpha, mu));
+                let (_, points) = history(&exc, &spec);
+                let tool = first_mode(&points);
+                let modes = consistent_modes(a, b, h, mu);
+                assert!(
+                    modes.contains(&tool),
+                    "b/h {b_over_h} μ {mu} a/g {a_over_g}: the tool {tool}, consistent {modes:?}"
+                );
+                several += usize::from(modes.len() > 1);
+                if !every_mode.contains(&tool) {
+                    every_mode.push(tool);
+                }
+                checked += 1;
+            }
+        }
+    }
+    every_mode.sort();
+    assert_eq!(every_mode, ["rest", "rock", "slide", "slide-rock"]);
+    eprintln!("{checked} grid points, {several} with more than one consistent mode");
+}
+
+/// F/N at the pivot of a block rocking about `s` (half-width b, height h
+/// from the rigid-body equations with the pivot held), at angle θ, rate θ̇,
+/// under the inertial acceleration `a`: written here from the centre's
+/// acceleration about a fixed pivot.
+fn demand(b: f64, h: f64, s: f64, th: f64, th_d: f64, a: f64) -> (f64, f64) {
+    let r = (b * b + h * h).sqrt();
+    let alpha = (b / h).atan();
+    let phi = alpha - s * th;
+    let p2 = 0.75 * G / r;
+    let th_dd = p2 * (-s * phi.sin() + (a / G) * phi.cos());
+    // The centre at (−s r sin φ, r cos φ) from the pivot.
+    let xc_dd = r * (s * phi.sin() * th_d * th_d + phi.cos() * th_dd);
+    let yc_dd = -r * phi.cos() * th_d * th_d + s * r * phi.sin() * th_dd;
+    (xc_dd - a, yc_dd + G)
+}
+
+#[test]
+fn a_rocking_block_starts_to_slip_when_its_friction_demand_reaches_mu() {
+    // Blocks a little less stocky than μ: they rock, and strong shaking
+    // asks the pivot for more than μN.
+    let mut found = 0;
+    for (stem, b_over_h, mu, eta) in [
+        ("RSN1111_KOBE_NIS000", 0.2f64, 0.25, 0.08),
+        ("RSN848_LANDERS_CLW-LN", 0.3, 0.36, 0.1),
+        ("RSN169_IMPVALL_H-DLT262", 0.15, 0.2, 0.05),
+    ] {
+        let exc = far(stem);
+        let alpha = b_over_h.atan();
+        let (h, b) = (1.0, b_over_h);
+        let p = (0.75 * G / (b * b + h * h).sqrt()).sqrt();
+        let spec = RunSpec::new(p, 0.9, eta, slide_rock(alpha, mu));
+        let (_, points) = history(&exc, &spec);
+        // The first slip while rocking (not at an impact, where the check
+        // is the demand just after it, below).
+        let at_impact = |i: usize| {
+            i > 0 && points[i - 1].kind == EventKind::Impact && points[i - 1].t_s == points[i].t_s
+        };
+        for (i, q) in points.iter().enumerate() {
+            if q.kind == EventKind::Slip && at_impact(i) {
+                let (f, n) = demand(b, h, f64::from(q.pivot), alpha * q.x, alpha * q.v, {
+                    let k = (q.t_s / exc.dt_s) as usize;
+                    let frac = q.t_s / exc.dt_s - k as f64;
+                    alpha * G / eta * (exc.psi[k] + frac * (exc.psi[k + 1] - exc.psi[k]))
+                });
+                assert!(
+                    f.abs() > mu * n,
+                    "{stem} t {}: slipped after an impact",
+                    q.t_s
+                );
+            }
+        }
+        let Some(slip) =
+            (0..points.len()).find(|&i| points[i].kind == EventKind::Slip && !at_impact(i))
+        else {
+            panic!("{stem}: no slip while rocking");
+        };
+        let t_slip = points[slip].t_s;
+        // The rocking trajectory up to it: the last point before it (a
+        // sample, or the last event), then RK4 of the rocking equation
+        // written here, steps of 1e-7 s, with the demand interpolated
+        // linearly between steps.
+        let start = points[..slip]
+            .iter()
+            .rev()
+            .find(|q| q.pivot != 0 && q.t_s < t_slip)
+            .unwrap();
+        let s = f64::from(start.pivot);
+        let a_at = |t: f64| {
+            let k = ((t / exc.dt_s).floor() as usize).min(exc.psi.len() - 2);
+            let frac = t / exc.dt_s - k as f64;
+            alpha * G / eta * (exc.psi[k] + frac * (exc.psi[k + 1] - exc.psi[k]))
+        };
+        let accel = |t: f64, th: f64| {
+            let phi = alpha - s * th;
+            0.75 * G / (b * b + h * h).sqrt() * (-s * phi.sin() + a_at(t) / G * phi.cos())
+        };
+        let margin = |t: f64, th: f64, th_d: f64| {
+            let (f, n) = demand(b, h, s, th, th_d, a_at(t));
+            mu * n - f.abs()
+        };
+        let (mut t, mut th, mut th_d) = (start.t_s, alpha * start.x, alpha * start.v);
+        let step = 1e-7;
+        let mut m_prev = margin(t, th, th_d);
+        assert!(m_prev >= 0.0);
+        let crossing = loop {
+            let k1 = (th_d, accel(t, th));
+            let k2 = (
+                th_d + 0.5 * step * k1.1,
+                accel(t + 0.5 * step, th + 0.5 * step * k1.0),
+            );
+            let k3 = (
+                th_d + 0.5 * step * k2.1,
+                accel(t + 0.5 * step, th + 0.5 * step * k2.0),
+            );
+            let k4 = (th_d + step * k3.1, accel(t + step, th + step * k3.0));
+            th += step / 6.0 * (k1.0 + 2.0 * k2.0 + 2.0 * k3.0 + k4.0);
+            th_d += step / 6.0 * (k1.1 + 2.0 * k2.1 + 2.0 * k3.1 + k4.1);
+            t += step;
+            let m = margin(t, th, th_d);
+            if m < 0.0 {
+                break t - step * m / (m - m_prev);
+            }
+            m_prev = m;
+            assert!(t < t_slip + 1e-3, "{stem}: no crossing near {t_slip}");
+        };
+        assert!(
+            (crossing - t_slip).abs() < 1e-9,
+            "{stem}: the tool slips at {t_slip}, the demand reaches μ at {crossing}"
+        );
+        eprintln!("{stem}: slip at {t_slip} s, demand at μ {crossing} s");
+        found += 1;
+    }
+    assert_eq!(found, 3);
+}
+
+/// The block's mechanical energy per unit mass relative to the ground
+/// (J/kg): kinetic (the centre's and the rotation's) and potential.
+fn energy(q: &HistoryPoint, alpha: f64, r: f64) -> f64 {
+    let (th, th_d) = (alpha * q.x, alpha * q.v);
+    let (xc_d, yc_d, yc) = if q.pivot == 0 {
+        (q.w_mps, 0.0, r * alpha.cos())
+    } else {
+        let s = f64::from(q.pivot);
+        let phi = alpha - s * th;
+        (
+            q.w_mps + r * phi.cos() * th_d,
+            s * r * phi.sin() * th_d,
+            r * phi.cos(),
+        )
+    };
+    0.5 * (xc_d * xc_d + yc_d * yc_d) + 0.5 * r * r / 3.0 * th_d * th_d + G * yc
+}
+
+#[test]
+fn energy_never_rises_in_the_free_motion_through_every_mode_and_impact() {
+    // Each record's first seconds, then 20 s of quiet: from the quiet's
+    // start on, friction and impacts can only take energy away.
+    let mut modes_seen = [0.0f64; 4];
+    let mut impacts = 0;
+    for stem in RECORDS {
+        let full = far(stem);
+        let cut = (8.0 / full.dt_s) as usize;
+        let mut samples: Vec<f64> = full.psi[..cut.min(full.psi.len())].to_vec();
+        let quiet_from = samples.len();
+        samples.extend(std::iter::repeat_n(0.0, (20.0 / full.dt_s) as usize));
+        let exc = Excitation::new(&samples, full.dt_s).unwrap();
+        for (b_over_h, mu, eta) in [(0.25f64, 0.3, 0.12), (0.5, 0.3, 0.15), (0.3, 0.35, 0.08)] {
+            let alpha = b_over_h.atan();
+            let r = (1.0 + b_over_h * b_over_h).sqrt();
+            let p = (0.75 * G / r).sqrt();
+            let spec = RunSpec::new(p, 0.85, eta, slide_rock(alpha, mu));
+            let (out, points) = history(&exc, &spec);
+            if out.overturned() {
+                continue;
+            }
+            for (m, t) in modes_seen.iter_mut().zip(out.mode_s) {
+                *m += t;
+            }
+            let t_quiet = quiet_from as f64 * exc.dt_s;
+            let free: Vec<&HistoryPoint> = points.iter().filter(|q| q.t_s > t_quiet).collect();
+            impacts += free.iter().filter(|q| q.kind == EventKind::Impact).count();
+            for pair in free.windows(2) {
+                let (e0, e1) = (energy(pair[0], alpha, r), energy(pair[1], alpha, r));
+                // The potential energy is about g·h = 10 J/kg; the
+                // integrators' error is far below 1e-9 of it.
+                assert!(
+                    e1 <= e0 + 1e-8,
+                    "{stem} b/h {b_over_h}: energy rises from {e0} to {e1} at {:?} t = {}",
+                    pair[1].kind,
+                    pair[1].t_s
+                );
+            }
+        }
+    }
+    assert!(impacts > 0);
+    assert!(modes_seen.iter().all(|&t| t > 0.0), "{modes_seen:?}");
+}

@@ -64,6 +64,8 @@ pub struct HistoryPoint {
     /// The base's position relative to the ground (m; 0 for a block that
     /// cannot slide).
     pub u_m: f64,
+    /// Its velocity relative to the ground (m/s).
+    pub w_mps: f64,
     pub kind: EventKind,
 }
 

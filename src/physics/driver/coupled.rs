@@ -124,7 +124,7 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
                 self.state = Some(Rocking { x: 0.0, v: 0.0, s });
                 let c = self.c();
                 (c.slipping, c.dir, c.w) = (true, dir, 0.0);
-                (Mode::SlideRock, EventKind::Uplift)
+                (Mode::SlideRock, EventKind::Slip)
             }
         };
         if mode != Mode::Slide {
@@ -196,6 +196,7 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
             SlideRockEnd::Flight { sigma } => {
                 let t = t_k + tau + sigma;
                 self.out.stop = Stop::Flight;
+                self.c().close(t);
                 self.emit(t, stretch.g_a + stretch.g1 * sigma, EventKind::Flight);
                 return Arm::Stop(Stop::Flight);
             }
@@ -305,7 +306,14 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
         };
         let (mut lo, mut hi) = (0.0, sigma_end);
         let (mut st_hi, mut top_hi) = (st_end, self.out.max_abs_x);
-        loop {
+        if !holds(self, before, 0.0) {
+            // It gives way at once (just after an impact or an uplift).
+            (hi, st_hi, top_hi) = (0.0, before, max_before);
+        }
+        // To a few ulps of the record's time: far below any reported digit,
+        // and above the lengths where a stepper's series lose theirs.
+        let floor = 1e-14 * (self.exc.duration_s() + 1.0);
+        while hi - lo > floor {
             let mid = 0.5 * (lo + hi);
             if mid <= lo || mid >= hi {
                 break;

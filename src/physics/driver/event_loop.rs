@@ -117,6 +117,7 @@ pub(in crate::physics) fn drive<S: Stepper, O: Observer>(
     let mut k = 0;
     while k < n {
         if d.advance(&mut k, n, n) == Flow::Stopped {
+            d.stopped();
             return d.out;
         }
     }
@@ -246,7 +247,16 @@ impl<'a, S: Stepper, O: Observer> Driver<'a, S, O> {
             c.close(self.exc.duration_s());
         }
         self.after_record();
-        if let Some(c) = &self.coupled {
+        self.stopped();
+    }
+
+    /// The run is over (at the record's end or before it): a block that
+    /// may slide reports its base and its time in each mode, up to when it
+    /// went over or flew, or to the record's end.
+    pub(super) fn stopped(&mut self) {
+        let end_s = self.exc.duration_s();
+        if let Some(c) = self.coupled.as_mut() {
+            c.close(self.out.overturn_time_s.unwrap_or(end_s).min(end_s));
             self.out.mode_s = c.mode_s;
             self.out.slide_residual_m = c.u;
         }
@@ -258,7 +268,7 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
     #[inline(always)]
     pub(super) fn emit(&mut self, t_s: f64, psi: f64, kind: EventKind) {
         let (x, v, pivot) = self.state.map_or((0.0, 0.0, 0), |r| (r.x, r.v, r.s as i8));
-        let u_m = self.coupled.as_ref().map_or(0.0, |c| c.u);
+        let (u_m, w_mps) = self.coupled.as_ref().map_or((0.0, 0.0), |c| (c.u, c.w));
         self.obs.point(HistoryPoint {
             t_s,
             x,
@@ -266,6 +276,7 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
             pivot,
             psi,
             u_m,
+            w_mps,
             kind,
         });
     }
