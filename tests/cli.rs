@@ -122,7 +122,10 @@ fn history_files_hold_every_event_in_time_order() {
         if path == &csv {
             let text = std::fs::read_to_string(path).unwrap();
             let mut lines = text.lines();
-            assert_eq!(lines.next(), Some("t_s,x,v_per_s,pivot,psi,event"));
+            assert_eq!(
+                lines.next(),
+                Some("t_s,x,v_per_s,pivot,psi,slide_m,slide_velocity_m_per_s,event")
+            );
             let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
             let times: Vec<f64> = rows.iter().map(|r| r[0].parse().unwrap()).collect();
             assert!(
@@ -131,11 +134,11 @@ fn history_files_hold_every_event_in_time_order() {
             );
             let impacts = rows
                 .iter()
-                .filter(|r| r[5] == "impact" || r[5] == "rest")
+                .filter(|r| r[7] == "impact" || r[7] == "rest")
                 .count() as u64;
             assert_eq!(impacts, report["impacts"].as_u64().unwrap());
-            assert!(rows.iter().any(|r| r[5] == "uplift"));
-            let first_uplift: f64 = rows.iter().find(|r| r[5] == "uplift").unwrap()[0]
+            assert!(rows.iter().any(|r| r[7] == "uplift"));
+            let first_uplift: f64 = rows.iter().find(|r| r[7] == "uplift").unwrap()[0]
                 .parse()
                 .unwrap();
             assert_eq!(first_uplift, report["first_uplift_s"].as_f64().unwrap());
@@ -144,7 +147,7 @@ fn history_files_hold_every_event_in_time_order() {
             for r in &rows {
                 let x: f64 = r[1].parse().unwrap();
                 assert!(x.abs() <= max);
-                if r[5] == "impact" {
+                if r[7] == "impact" {
                     assert_eq!(x, 0.0);
                 }
             }
@@ -554,7 +557,7 @@ fn a_history_follows_an_overturn_after_the_record() {
                 (
                     r[0].parse().unwrap(),
                     r[1].parse().unwrap(),
-                    r[5].to_string(),
+                    r[7].to_string(),
                 )
             })
             .collect()

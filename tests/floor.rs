@@ -306,9 +306,11 @@ fn fragility_on_a_floor_counts_the_records_by_their_ground_capacity() {
 }
 
 /// The block (b/h = 0.4) with μ = 0.2 is warned of by `fragility`
-/// (and its `--states`), `risk` (one block and an inventory's `mu` column,
-/// flagged in risk.parquet) and `export`; with μ = 0.6 it is not. A floor
-/// without --direct is refused: the regressions are of blocks on the ground.
+/// (and its `--states`) and `risk` (one block and an inventory's `mu`
+/// column, flagged in risk.parquet) from the regression; with μ = 0.6 it
+/// is not. With `--direct` it runs sliding and never rocks: `fragility`
+/// says why, `export` refuses its rotation states. A floor without
+/// --direct is refused: the regressions are of blocks on the ground.
 #[test]
 fn fragility_risk_and_export_warn_of_a_block_that_slides_first() {
     let hazard = root().join("records/hazard/synthetic-site.csv");
@@ -440,12 +442,17 @@ fn fragility_risk_and_export_warn_of_a_block_that_slides_first() {
             dir.path().join("pelicun").to_str().unwrap(),
         ],
     );
-    assert!(out.status.success(), "{}", stderr(&out));
+    // With --direct the block runs sliding (the slide-rock model): it never
+    // rocks, which no engine's function can state, so the export refuses
+    // those states and names the states it can write.
+    assert!(!out.status.success());
+    let e = stderr(&out);
     assert!(
-        stderr(&out).contains("slides before it rocks"),
-        "{}",
-        stderr(&out)
+        e.contains("slides before it rocks, so under horizontal shaking it neither rocks"),
+        "{e}"
     );
+    assert!(e.contains("--states NAME=Xm"), "{e}");
+    assert!(!dir.path().join("pelicun/fragility.csv").exists());
 
     for command in ["fragility", "risk"] {
         let mut args = vec![command, "--floor", "0.5,0.05,1.3"];
@@ -500,14 +507,16 @@ fn a_floor_study_runs_the_floor_motion_in_every_stage() {
             &["run", p.to_str().unwrap(), "--outputs", out_s],
         );
         assert!(out.status.success(), "{}", stderr(&out));
-        // The sweep warns of the cabinet (μ = 0.05 < b/h = 0.1), not the
-        // rack (it once said nothing).
+        // `auto` runs the cabinet (μ = 0.05 < b/h = 0.1) sliding and says
+        // why, instead of warning that the rocking results assume it does
+        // not slide; the rack (μ = 0.4 ≥ 0.3) rocks first.
         let e = stderr(&out);
         assert!(
-            e.contains("warning: block `cabinet`: the block slides before it rocks"),
+            e.contains("slide-rock model: the block slides before it rocks (μ = 0.05 < b/h"),
             "{e}"
         );
-        assert!(!e.contains("block `rack`: the block slides"), "{e}");
+        assert!(e.contains("μ = 0.4 ≥ b/h = 0.3000: it rocks first"), "{e}");
+        assert!(!e.contains("warning: block"), "{e}");
     }
     let caps = |name: &str| rocking::stages::sweep::read_capacities(&outputs.join(name)).unwrap();
     let on_floor = caps("on-floor");
@@ -590,7 +599,7 @@ fn a_floor_study_runs_the_floor_motion_in_every_stage() {
         assert!(value(&c.record_id, "pfv") > 0.0 && value(&c.record_id, "fsa(1.0)") > 0.0);
     }
     // Its PFV fragility is `fragility --im pfv --direct --method mle`'s over
-    // the same records: every record overturns the rack, so the censored maximum
+    // the same records, on the study's μ (both run it sliding): every record overturns the rack, so the censored maximum
     // likelihood's median is the logs' mean, as the table's is, and its β
     // (n in the denominator) is the table's (n − 1) times √((n − 1)/n).
     let eff: Vec<rocking::tables::ims::EfficiencyRow> =
@@ -614,6 +623,8 @@ fn a_floor_study_runs_the_floor_motion_in_every_stage() {
             "1",
             "--eps",
             "0.75",
+            "--mu",
+            "0.4",
             "--im",
             "pfv",
             "--at",

@@ -164,10 +164,11 @@ fn solve3(mut m: [[f64; 3]; 3], mut r: [f64; 3]) -> [f64; 3] {
             .unwrap();
         m.swap(col, piv);
         r.swap(col, piv);
+        let top = m[col];
         for row in col + 1..3 {
-            let f = m[row][col] / m[col][col];
-            for k in col..3 {
-                m[row][k] -= f * m[col][k];
+            let f = m[row][col] / top[col];
+            for (v, t) in m[row].iter_mut().zip(top).skip(col) {
+                *v -= f * t;
             }
             r[row] -= f * r[col];
         }

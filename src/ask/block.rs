@@ -11,6 +11,7 @@ use crate::block::{check_mu, slides_first, Block, Restitution};
 use crate::building::ShapedMode;
 use crate::floor::{Building, Mode};
 use crate::ops::capacity::{Asked, NamedSpec};
+use crate::physics::friction::Friction;
 use crate::physics::{ModelChoice, NonlinearIntegrator, Overturn, Solver};
 
 /// `--auto-tol` when none is given: the linearised model is accepted where
@@ -52,6 +53,9 @@ pub struct BlockAsk {
     pub overturn: Overturn,
     /// The base's static friction coefficient: μ < b/h slides first.
     pub mu: Option<f64>,
+    /// The base's kinetic friction coefficient (≤ μ; μ when not given), for
+    /// the slide-rock model.
+    pub mu_k: Option<f64>,
     /// The building whose floor the block stands on, mode by mode.
     pub floor: Vec<Mode>,
     /// A building with its modes' shapes at every floor, and the floor
@@ -76,6 +80,7 @@ impl Default for BlockAsk {
             auto_tol: AUTO_TOL,
             overturn: Overturn::Static,
             mu: None,
+            mu_k: None,
             floor: Vec::new(),
             building: Vec::new(),
             level: None,
@@ -96,6 +101,9 @@ impl AskedBlock {
     /// What every front end says of a block that slides before it rocks.
     pub fn sliding_warning(&self) -> Option<String> {
         let n = &self.named;
+        if n.spec.model.equation.friction().is_some() {
+            return None;
+        }
         match (n.slides_first, n.mu, n.alpha_rad) {
             (Some(true), Some(mu), Some(alpha)) => Some(crate::block::sliding_warning(mu, alpha)),
             _ => None,
@@ -224,8 +232,22 @@ impl BlockAsk {
         asked: &Asked,
         mu: Option<f64>,
     ) -> Result<AskedBlock, AskError> {
-        let (mut named, why) =
-            NamedSpec::ask(name, p, eps, alpha, asked).map_err(|e| AskError(e.to_string()))?;
+        let friction = match (mu, self.mu_k) {
+            (None, None) => None,
+            (None, Some(_)) => {
+                return Err(AskError(format!(
+                    "{} is the kinetic friction beside {}: give both",
+                    sp.key("mu-k"),
+                    sp.key("mu")
+                )))
+            }
+            (Some(mu), mu_k) => Some(Friction {
+                mu_s: mu,
+                mu_k: mu_k.unwrap_or(mu),
+            }),
+        };
+        let (mut named, why) = NamedSpec::ask(name, p, eps, alpha, friction, asked)
+            .map_err(|e| AskError(e.to_string()))?;
         let slides_first = match (mu, alpha) {
             (None, _) => None,
             (Some(mu), Some(alpha)) => Some(slides_first(mu, alpha)),
@@ -336,7 +358,8 @@ mod tests {
     }
 
     /// One block by its sizes, as Python gives it: α, p and Housner's ε by
-    /// hand (b/h = 0.25: ε = 1 − 1.5/17), the nonlinear model by `auto`.
+    /// hand (b/h = 0.25: ε = 1 − 1.5/17); `auto` with μ chooses the model
+    /// that slides where the nonlinear one would run, and says why.
     #[test]
     fn a_block_by_its_sizes() {
         let a =
@@ -346,7 +369,23 @@ mod tests {
         assert!((one.named.spec.eps - (1.0 - 1.5 / 17.0)).abs() < 1e-15);
         assert_eq!(one.named.alpha_rad, Some(0.25f64.atan()));
         assert_eq!(one.named.slides_first, Some(false));
+        assert!(
+            one.why
+                .starts_with("slide-rock model: μ = 0.5 ≥ b/h = 0.2500"),
+            "{}",
+            one.why
+        );
+        let kind = one.named.spec.model.equation.kind();
+        assert_eq!(kind, crate::physics::EquationKind::SlideRock);
+        let a = ask(r#"{"b": 0.25, "h": 1.0, "eps": 0.8, "model": "auto"}"#).unwrap();
+        let one = a.resolve_one(Spelling::Python).unwrap();
         assert!(one.why.contains("nonlinear"), "{}", one.why);
+        // The kinetic coefficient alone, or above the static one, is refused.
+        let e = |json: &str| ask(json).unwrap().resolve(Spelling::Cli).unwrap_err().0;
+        assert!(e(r#"{"b": 0.25, "h": 1, "eps": 0.8, "mu_k": 0.3}"#).contains("give both"));
+        let high =
+            r#"{"b": 0.25, "h": 1, "eps": 0.8, "mu": 0.3, "mu_k": 0.4, "model": "slide-rock"}"#;
+        assert!(e(high).contains("must be in (0, μₛ = 0.3]"), "{}", e(high));
     }
 
     /// A grid p × ε, p outer.

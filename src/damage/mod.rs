@@ -28,5 +28,5 @@ pub use lognormal::{
     IfNotLognormal, Lognormal, LOGNORMAL_CHECK_LEVEL,
 };
 pub use states::{
-    capacities, Criterion, DamageError, DamageStates, LimitState, StateCapacity, DEFAULT,
+    capacities, Criterion, DamageError, DamageStates, LimitState, StateCapacity, StateRun, DEFAULT,
 };

@@ -7,6 +7,9 @@
 pub enum Criterion {
     /// θmax/α at least this (0 < x < 1).
     Rotation(f64),
+    /// The base slid at least this far (m) from where it stood, or the
+    /// block overturned (the slide-rock model's runs).
+    Slide(f64),
     /// The overturning criterion in force (the run's verdict).
     Overturned,
 }
@@ -19,13 +22,16 @@ pub struct LimitState {
 }
 
 impl LimitState {
-    /// `name=x` (θmax/α ≥ x) or `name=overturned`.
+    /// `name=x` (θmax/α ≥ x), `name=Xm` (a slide of X metres) or
+    /// `name=overturned`.
     pub fn parse(text: &str) -> Result<LimitState, DamageError> {
         let bad = || DamageError::Syntax(text.to_string());
         let (name, what) = text.split_once('=').ok_or_else(bad)?;
         let (name, what) = (name.trim(), what.trim());
         let criterion = if what.eq_ignore_ascii_case("overturned") {
             Criterion::Overturned
+        } else if let Some(metres) = what.strip_suffix('m') {
+            Criterion::Slide(metres.trim().parse().map_err(|_| bad())?)
         } else {
             Criterion::Rotation(what.parse().map_err(|_| bad())?)
         };
@@ -39,15 +45,24 @@ impl LimitState {
     pub fn text(&self) -> String {
         match self.criterion {
             Criterion::Rotation(x) => format!("{}={x}", self.name),
+            Criterion::Slide(d) => format!("{}={d}m", self.name),
             Criterion::Overturned => format!("{}=overturned", self.name),
         }
     }
 
-    /// The θmax/α threshold; none for overturning.
+    /// The θmax/α threshold; none for a slide or overturning.
     pub fn threshold(&self) -> Option<f64> {
         match self.criterion {
             Criterion::Rotation(x) => Some(x),
-            Criterion::Overturned => None,
+            Criterion::Slide(_) | Criterion::Overturned => None,
+        }
+    }
+
+    /// The slide's threshold (m), for a state on the slide.
+    pub fn slide_m(&self) -> Option<f64> {
+        match self.criterion {
+            Criterion::Slide(d) => Some(d),
+            _ => None,
         }
     }
 
@@ -57,6 +72,7 @@ impl LimitState {
             // Tiny thresholds in exponent form (not 300 zeros).
             Criterion::Rotation(x) if x < 1e-3 => format!("θmax/α ≥ {x:e}"),
             Criterion::Rotation(x) => format!("θmax/α ≥ {x}"),
+            Criterion::Slide(d) => format!("slide ≥ {d} m, or overturned"),
             Criterion::Overturned => "overturned".to_string(),
         }
     }
@@ -65,7 +81,10 @@ impl LimitState {
 /// Why a list of limit states cannot be used.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum DamageError {
-    #[error("limit state `{0}`: write NAME=X (θmax/α ≥ X, 0 < X < 1) or NAME=overturned")]
+    #[error(
+        "limit state `{0}`: write NAME=X (θmax/α ≥ X, 0 < X < 1), NAME=Xm (the base slides X \
+         metres; the slide-rock model) or NAME=overturned"
+    )]
     Syntax(String),
     #[error("no limit states")]
     Empty,
@@ -80,6 +99,8 @@ pub enum DamageError {
         "limit state `{name}`: θmax/α ≥ {x} must lie strictly between 0 and 1 (1 is overturning)"
     )]
     Threshold { name: String, x: f64 },
+    #[error("limit state `{name}`: a slide of {d} m must be positive and finite")]
+    Distance { name: String, d: f64 },
     #[error(
         "limit states must be ordered from the lightest to overturning: `{later}` ({later_is}) \
          follows `{earlier}` ({earlier_is})"
@@ -90,6 +111,12 @@ pub enum DamageError {
         later: String,
         later_is: String,
     },
+    #[error(
+        "limit states `{rotation}` and `{slide}`: one is on the rotation, the other on the \
+         slide, which do not nest (a block can slide far and hardly rock); damage states are \
+         a chain, each reached only past the one before, so give each kind as its own list"
+    )]
+    Mixed { rotation: String, slide: String },
 }
 
 /// Ordered limit states, the lightest first; checked on construction.
@@ -123,11 +150,29 @@ impl DamageStates {
                     });
                 }
             }
+            if let Criterion::Slide(d) = s.criterion {
+                if !(d > 0.0 && d.is_finite()) {
+                    return Err(DamageError::Distance {
+                        name: s.name.clone(),
+                        d,
+                    });
+                }
+            }
             if k > 0 {
+                // A chain: each state reached only past the one before.
+                // Rotation and slide do not nest, so one list has one of them.
                 let prev = &states[k - 1];
                 let ordered = match (prev.criterion, s.criterion) {
                     (Criterion::Rotation(a), Criterion::Rotation(b)) => a < b,
-                    (Criterion::Rotation(_), Criterion::Overturned) => true,
+                    (Criterion::Slide(a), Criterion::Slide(b)) => a < b,
+                    (Criterion::Rotation(_) | Criterion::Slide(_), Criterion::Overturned) => true,
+                    (Criterion::Rotation(_), Criterion::Slide(_))
+                    | (Criterion::Slide(_), Criterion::Rotation(_)) => {
+                        return Err(DamageError::Mixed {
+                            rotation: prev.name.clone(),
+                            slide: s.name.clone(),
+                        })
+                    }
                     (Criterion::Overturned, _) => false,
                 };
                 if !ordered {
@@ -211,18 +256,34 @@ impl StateCapacity {
     }
 }
 
-/// The record's capacity for each state, from its runs `(η, θmax/α,
-/// overturned)` in any order and its overturning capacity `eta_c` (`None`:
-/// it survived every level).
+/// One run as the states read it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StateRun {
+    pub eta: f64,
+    /// θmax/α.
+    pub edp: f64,
+    /// The base's largest slide (m; 0 for a model that does not slide).
+    pub slide_m: f64,
+    pub overturned: bool,
+}
+
+/// The record's capacity for each state, from its runs in any order and
+/// its overturning capacity `eta_c` (`None`: it survived every level).
 pub fn capacities(
     states: &DamageStates,
-    runs: impl IntoIterator<Item = (f64, f64, bool)>,
+    runs: impl IntoIterator<Item = StateRun>,
     eta_c: Option<f64>,
 ) -> Vec<StateCapacity> {
-    let mut runs: Vec<(f64, f64, bool)> = runs.into_iter().collect();
+    let mut all: Vec<StateRun> = runs.into_iter().collect();
     // Intensity rising: η falling.
-    runs.sort_by(|a, b| b.0.total_cmp(&a.0));
-    let strongest = runs.last().map_or(f64::NAN, |r| r.0);
+    all.sort_by(|a, b| b.eta.total_cmp(&a.eta));
+    let strongest = all.last().map_or(f64::NAN, |r| r.eta);
+    let on = |measure: fn(&StateRun) -> f64| -> Vec<(f64, f64, bool)> {
+        all.iter()
+            .map(|r| (r.eta, measure(r), r.overturned))
+            .collect()
+    };
+    let (rotation, slide) = (on(|r| r.edp), on(|r| r.slide_m));
     states
         .states()
         .iter()
@@ -231,12 +292,14 @@ pub fn capacities(
                 Some(eta) => StateCapacity::Reached(eta),
                 None => StateCapacity::NotReached(strongest),
             },
-            Criterion::Rotation(x) => first_reaching(&runs, x, strongest),
+            Criterion::Rotation(x) => first_reaching(&rotation, x, strongest),
+            Criterion::Slide(d) => first_reaching(&slide, d, strongest),
         })
         .collect()
 }
 
-/// The first crossing of θmax/α = x along runs sorted by rising intensity,
+/// The first crossing of a measure (θmax/α, the slide) = x along runs
+/// sorted by rising intensity,
 /// interpolated linearly in 1/η from the run before; an overturned run
 /// reaches every state at its own η.
 fn first_reaching(runs: &[(f64, f64, bool)], x: f64, strongest: f64) -> StateCapacity {
@@ -274,12 +337,37 @@ crate::deserialize_by_from_str!(DamageStates);
 mod tests {
     use super::*;
 
-    fn run(eta: f64, edp: f64, overturned: bool) -> (f64, f64, bool) {
-        (
+    fn run(eta: f64, edp: f64, overturned: bool) -> StateRun {
+        StateRun {
             eta,
-            if overturned { f64::INFINITY } else { edp },
+            edp: if overturned { f64::INFINITY } else { edp },
+            slide_m: 0.0,
             overturned,
-        )
+        }
+    }
+
+    #[test]
+    fn slide_states_are_reached_by_the_slide_or_by_overturning() {
+        let d = DamageStates::parse("walks=0.05m,off=0.3m,overturned=overturned").unwrap();
+        assert_eq!(d.states()[0].describe(), "slide ≥ 0.05 m, or overturned");
+        assert_eq!(DamageStates::parse(&d.text()).unwrap(), d);
+        let slid = |eta: f64, slide_m: f64| StateRun {
+            eta,
+            edp: 0.0,
+            slide_m,
+            overturned: false,
+        };
+        // The slide grows 0 → 0.1 m between η = 1 and 0.5: 0.05 m is reached
+        // halfway in 1/η (1/η = 1.5); 0.3 m only by the overturning at 0.25.
+        let runs = [slid(1.0, 0.0), slid(0.5, 0.1), run(0.25, 0.0, true)];
+        let caps = capacities(&d, runs, Some(0.25));
+        assert_eq!(caps[0], StateCapacity::Reached(1.0 / 1.5));
+        assert_eq!(caps[1], StateCapacity::Reached(0.25));
+        assert_eq!(caps[2], StateCapacity::Reached(0.25));
+        let e = |t: &str| DamageStates::parse(t).unwrap_err().to_string();
+        assert!(e("rocking=0.1,walks=0.05m").contains("do not nest"));
+        assert!(e("a=0.3m,b=0.1m").contains("follows `a`"));
+        assert!(e("a=-1m").contains("must be positive"));
     }
 
     #[test]

@@ -42,7 +42,8 @@ pub struct Asked {
 }
 
 impl NamedSpec {
-    /// The block `name` (p, ε and α when known) run as `asked`, its model
+    /// The block `name` (p, ε and α when known, on a base of `friction`
+    /// when known) run as `asked`, its model
     /// resolved and its run specification at η = 1 checked; with why that
     /// model.
     pub fn ask(
@@ -50,11 +51,13 @@ impl NamedSpec {
         p: f64,
         eps: f64,
         alpha_rad: Option<f64>,
+        friction: Option<crate::physics::friction::Friction>,
         asked: &Asked,
     ) -> Result<(NamedSpec, String), PhysicsError> {
-        let (model, why) = asked
-            .model
-            .resolve(alpha_rad, asked.solver, asked.auto_tol)?;
+        let (model, why) =
+            asked
+                .model
+                .resolve(alpha_rad, friction, asked.solver, asked.auto_tol)?;
         let spec = RunSpec {
             overturn: asked.overturn,
             ..RunSpec::new(p, eps, 1.0, model)

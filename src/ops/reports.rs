@@ -47,6 +47,44 @@ pub struct SimulateReport {
     pub mu: Option<f64>,
     /// With --mu: whether the block slides before it rocks (μ < b/h).
     pub slides_first: Option<bool>,
+    /// The slide-rock model's run: the base's slide and the time in each mode.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sliding: Option<Sliding>,
+}
+
+/// What a run of the slide-rock model did on its base.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Sliding {
+    /// The largest |u| of the base relative to the ground (m).
+    pub slide_max_m: f64,
+    /// Where the base ends (m, signed; for an overturned block, where it
+    /// was as it went over).
+    pub slide_residual_m: f64,
+    /// How many times the base or the pivot started to slip.
+    pub slips: u64,
+    /// Seconds of the record at rest, sliding flat, rocking and
+    /// slide-rocking (up to the run's stop).
+    pub rest_s: f64,
+    pub slide_s: f64,
+    pub rock_s: f64,
+    pub slide_rock_s: f64,
+}
+
+impl Sliding {
+    /// The sliding part of `out`, for a run of a model that slides.
+    pub fn of(spec: &RunSpec, out: &Outcome) -> Option<Sliding> {
+        spec.model.equation.friction()?;
+        let [rest_s, slide_s, rock_s, slide_rock_s] = out.mode_s;
+        Some(Sliding {
+            slide_max_m: out.slide_max_m,
+            slide_residual_m: out.slide_residual_m,
+            slips: out.slips,
+            rest_s,
+            slide_s,
+            rock_s,
+            slide_rock_s,
+        })
+    }
 }
 
 impl SimulateReport {
@@ -75,6 +113,7 @@ impl SimulateReport {
             pfa_over_pga: rec.floor.map(|f| f.pfa_over_pga),
             mu: scene.mu,
             slides_first: scene.slides_first,
+            sliding: Sliding::of(spec, out),
         }
     }
 }

@@ -54,6 +54,7 @@ pub fn branch(
     let model = RunModel {
         choice: path.model.unwrap_or(ModelChoice::Auto),
         auto_tol,
+        friction: None,
     };
     Ok((eps, model))
 }

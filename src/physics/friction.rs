@@ -202,7 +202,14 @@ impl Contact {
     /// does within `len` (`Some(σ)`), and the base's displacement and
     /// velocity at the end or the stop. Exact: ẇ is linear in σ.
     pub fn slide(&self, w: f64, dir: f64, g_a: f64, g1: f64, len: f64) -> FlatSlide {
-        let c0 = self.a_scale * g_a - self.friction.mu_k * G * dir;
+        let friction = self.friction.mu_k * G;
+        let mut c0 = self.a_scale * g_a - friction * dir;
+        // A slip that starts where the forcing reaches the friction (rest's
+        // threshold, or a stop) has no acceleration at its start but the
+        // rounding's: it is 0, and the forcing's slope decides.
+        if w == 0.0 && c0.abs() <= 1e-12 * friction {
+            c0 = 0.0;
+        }
         let c1 = self.a_scale * g1;
         // dir·w(σ) = dir·w + dir·c0 σ + dir·c1 σ²/2: its first root in (0, len].
         let stop = first_root(dir * w, dir * c0, dir * c1 / 2.0, len);

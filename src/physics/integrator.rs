@@ -14,6 +14,7 @@
 
 use super::equation::{Equation, LINEARIZATION_ERROR_PER_ALPHA2};
 use super::error::PhysicsError;
+use super::friction::Friction;
 
 /// How the equation is advanced.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -309,8 +310,13 @@ pub enum ModelChoice {
     Linearized,
     Nonlinear,
     /// The linearised model where its error for the block's α is within the
-    /// tolerance ([`LINEARIZATION_ERROR_PER_ALPHA2`]·α² ≤ tol), else the nonlinear one.
+    /// tolerance ([`LINEARIZATION_ERROR_PER_ALPHA2`]·α² ≤ tol), else the
+    /// nonlinear one; with the base's friction, the slide-rock model where
+    /// the block can slide.
     Auto,
+    /// The nonlinear equation on a base with Coulomb friction (rest, slide,
+    /// rock, slide-rock); needs α and μ.
+    SlideRock,
 }
 
 impl crate::label::Label for ModelChoice {
@@ -318,6 +324,7 @@ impl crate::label::Label for ModelChoice {
         ModelChoice::Linearized,
         ModelChoice::Nonlinear,
         ModelChoice::Auto,
+        ModelChoice::SlideRock,
     ];
     const WHAT: &'static str = "model";
     fn label(self) -> &'static str {
@@ -325,6 +332,7 @@ impl crate::label::Label for ModelChoice {
             ModelChoice::Linearized => "linearized",
             ModelChoice::Nonlinear => "nonlinear",
             ModelChoice::Auto => "auto",
+            ModelChoice::SlideRock => "slide-rock",
         }
     }
     fn help(self) -> &'static str {
@@ -332,13 +340,18 @@ impl crate::label::Label for ModelChoice {
             ModelChoice::Linearized => "paper Eq. 8, exact stepping (depends on p, η, ε only)",
             ModelChoice::Nonlinear => "paper Eq. 7, by the integrator asked; needs α",
             ModelChoice::Auto => {
-                "linearised where its error for α is within the accepted one, else nonlinear"
+                "linearised where its error for α is within the accepted one, else nonlinear; \
+                 slide-rock where μ is given and the block can slide"
+            }
+            ModelChoice::SlideRock => {
+                "paper Eq. 7 on a base with friction μ: rest, slide, rock and slide-rock; needs α and μ"
             }
         }
     }
     fn aliases(self) -> &'static [&'static str] {
         match self {
             ModelChoice::Linearized => &["linearised"],
+            ModelChoice::SlideRock => &["slide_rock"],
             _ => &[],
         }
     }
@@ -347,15 +360,69 @@ impl crate::label::Label for ModelChoice {
 crate::deserialize_by_label!(ModelChoice, NonlinearIntegrator);
 
 impl ModelChoice {
-    /// The model to run and a sentence saying why.
+    /// The model to run and a sentence saying why. `friction`, the base's
+    /// where known, makes `auto` choose the slide-rock model wherever the
+    /// block can slide: where it slides first (μₛ < b/h), and wherever the
+    /// nonlinear model would run (its friction is then checked at every
+    /// interval, and the runs are the nonlinear model's to the bit until it
+    /// binds); a block slender enough for the linearised model keeps it.
     pub fn resolve(
+        self,
+        alpha_rad: Option<f64>,
+        friction: Option<Friction>,
+        solver: Solver,
+        auto_tol: f64,
+    ) -> Result<(Model, String), PhysicsError> {
+        check_auto_tol(auto_tol).map_err(PhysicsError::BadInput)?;
+        if let Some(f) = friction {
+            f.validate()?;
+        }
+        match (self, alpha_rad, friction) {
+            (ModelChoice::SlideRock, Some(a), Some(f)) => Ok((
+                Model::slide_rock(a, f, solver),
+                format!("slide-rock model: {}", sliding_reason(a, f)),
+            )),
+            (ModelChoice::SlideRock, None, _) => Err(PhysicsError::BadInput(
+                "the slide-rock model needs the block's slenderness α (--alpha, in rad, or its sizes)"
+                    .into(),
+            )),
+            (ModelChoice::SlideRock, Some(_), None) => Err(PhysicsError::BadInput(
+                "the slide-rock model needs the base's friction coefficient μ (--mu)".into(),
+            )),
+            (ModelChoice::Auto, Some(a), Some(f)) => {
+                let (rocking, why) = ModelChoice::Auto.resolve(Some(a), None, solver, auto_tol)?;
+                if f.mu_s < a.tan() || rocking.equation != Equation::Linearized {
+                    Ok((
+                        Model::slide_rock(a, f, solver),
+                        format!("slide-rock model: {}", sliding_reason(a, f)),
+                    ))
+                } else {
+                    Ok((
+                        rocking,
+                        format!(
+                            "{why}; at μ = {} ≥ b/h = {:.4} such a slender block is taken not \
+                             to slide",
+                            f.mu_s,
+                            a.tan()
+                        ),
+                    ))
+                }
+            }
+            (choice, alpha, _) => choice.resolve_rocking(alpha, solver, auto_tol),
+        }
+    }
+
+    /// [`ModelChoice::resolve`] without friction.
+    fn resolve_rocking(
         self,
         alpha_rad: Option<f64>,
         solver: Solver,
         auto_tol: f64,
     ) -> Result<(Model, String), PhysicsError> {
-        check_auto_tol(auto_tol).map_err(PhysicsError::BadInput)?;
         match (self, alpha_rad) {
+            (ModelChoice::SlideRock, _) => Err(PhysicsError::BadInput(
+                "the slide-rock model needs the base's friction coefficient μ (--mu)".into(),
+            )),
             (ModelChoice::Linearized, None) => Ok((Model::LINEARIZED, "linearised model".into())),
             // Chosen or defaulted, it says what it costs at this α.
             (ModelChoice::Linearized, Some(a)) => {
@@ -398,5 +465,19 @@ impl ModelChoice {
                 }
             }
         }
+    }
+}
+
+/// Why a block on a base of `friction` may slide, in words.
+fn sliding_reason(alpha_rad: f64, friction: Friction) -> String {
+    let b_over_h = alpha_rad.tan();
+    let mu = friction.mu_s;
+    if mu < b_over_h {
+        format!("the block slides before it rocks (μ = {mu} < b/h = {b_over_h:.4})")
+    } else {
+        format!(
+            "μ = {mu} ≥ b/h = {b_over_h:.4}: it rocks first, and slides where its friction \
+             demand reaches μN"
+        )
     }
 }

@@ -149,7 +149,12 @@ pub(super) fn block_run(
         name => format!("block `{name}`"),
     };
     let (model, why) = model
-        .resolve(b.alpha_rad, solver, auto_tol)
+        .resolve(
+            b.alpha_rad,
+            b.mu.map(crate::physics::friction::Friction::new),
+            solver,
+            auto_tol,
+        )
         .map_err(|e| format!("{}: {e}", what()))?;
     let run = RunSpec {
         overturn,

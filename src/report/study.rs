@@ -85,7 +85,11 @@ pub(super) fn model_text(m: crate::physics::ModelChoice) -> &'static str {
     match m {
         Linearized => crate::physics::EquationKind::Linearized.describe(),
         Nonlinear => crate::physics::EquationKind::Nonlinear.describe(),
-        Auto => "linearised equation where its error 0.45·α² is within `auto_tol`, else nonlinear",
+        Auto => {
+            "linearised equation where its error 0.45·α² is within `auto_tol`, else nonlinear; \
+             with sliding wherever a block with μ can slide"
+        }
+        SlideRock => crate::physics::EquationKind::SlideRock.describe(),
     }
 }
 

@@ -214,7 +214,12 @@ fn of_block(
         );
         let found = damage::capacities(
             states,
-            runs.iter().map(|r| (r.eta, r.edp, r.overturned)),
+            runs.iter().map(|r| damage::StateRun {
+                eta: r.eta,
+                edp: r.edp,
+                slide_m: 0.0,
+                overturned: r.overturned,
+            }),
             cap.eta_c,
         );
         for (s, c) in states.states().iter().zip(&found) {

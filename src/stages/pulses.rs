@@ -146,7 +146,7 @@ fn run(cx: &Context) -> Result<Summary, PulsesError> {
     let pp = plan.pulse_map().expect("not_needed without [pulses]");
     let (model, _) = plan
         .model
-        .resolve(pp.alpha, plan.solver, plan.auto_tol)
+        .resolve(pp.alpha, None, plan.solver, plan.auto_tol)
         .map_err(PulsesError::Model)?;
     let base = RunSpec {
         overturn: plan.overturn,

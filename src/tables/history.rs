@@ -16,7 +16,7 @@ table! {
     /// `--history-every`-th sample. A run that settles for good or overturns ends there.
     /// The Parquet metadata holds `rocking.simulate.record` (the record) and
     /// `rocking.simulate.spec` (the run's specification).
-    pub struct HistoryRow = "history" v 1 {
+    pub struct HistoryRow = "history" v 2 {
         /// Time from the first sample (s).
         pub t_s: f64,
         /// The rotation θ/α, signed.
@@ -27,8 +27,15 @@ table! {
         pub pivot: i8,
         /// ψ̈, the record normalised to unit peak, at that instant.
         pub psi: f64,
+        /// The base's position relative to the ground (m; 0 for a model that does not
+        /// slide).
+        pub slide_m: f64,
+        /// The base's velocity relative to the ground (m/s).
+        pub slide_velocity_m_per_s: f64,
         /// What the row is: `sample` (a kept sample) or an event: `start`, `uplift`,
-        /// `impact` (the state after it), `rest`, `overturn` or `record_end`.
+        /// `impact` (the state after it), `rest`, `overturn`, `record_end`, and for the
+        /// slide-rock model `slip` (the base or the pivot starts to slip), `stick` (it
+        /// stops) and `flight` (the pivot's normal force reached 0).
         pub event: EventKind,
     }
 }
@@ -41,6 +48,8 @@ impl From<&HistoryPoint> for HistoryRow {
             v_per_s: p.v,
             pivot: p.pivot,
             psi: p.psi,
+            slide_m: p.u_m,
+            slide_velocity_m_per_s: p.w_mps,
             event: p.kind,
         }
     }
@@ -66,12 +75,14 @@ pub fn write(
                 // `{}` prints the shortest decimal that reads back to the same f64.
                 let _ = writeln!(
                     text,
-                    "{},{},{},{},{},{}",
+                    "{},{},{},{},{},{},{},{}",
                     r.t_s,
                     r.x,
                     r.v_per_s,
                     r.pivot,
                     r.psi,
+                    r.slide_m,
+                    r.slide_velocity_m_per_s,
                     r.event.label()
                 );
             }

@@ -11,7 +11,7 @@ table! {
     /// `risk.parquet`): every block of the inventory assessed at every site of the hazard
     /// file. The metadata holds `rocking.risk.hazard` (the hazard file). Version 3 added
     /// `mu`, `slides_first` and `floor`.
-    pub struct RiskRow = "risk" v 3 {
+    pub struct RiskRow = "risk" v 4 {
         /// The block's name in the inventory.
         pub block: String,
         /// The block's half-width b (m).
@@ -29,10 +29,15 @@ table! {
         /// The base's friction coefficient μ (`--mu`, the inventory's `mu`); empty when not
         /// given.
         pub mu: Option<f64>,
-        /// Whether μ is below b/h: the block slides before it rocks, and its rate holds
-        /// only if it is restrained against sliding (docs/MODEL.md §17). False when μ is
-        /// not given.
+        /// Whether μ is below b/h: the block slides before it rocks (docs/MODEL.md §17).
+        /// With `--direct` its runs are then the slide-rock model's (`model`); from a
+        /// regression its rate holds only if it is restrained against sliding. False when
+        /// μ is not given.
         pub slides_first: bool,
+        /// With `--direct`: the equation the records ran, `linearized`, `nonlinear` or
+        /// `slide-rock` (a block with μ that can slide, docs/MODEL.md §21); empty for a
+        /// regression.
+        pub model: Option<String>,
         /// With `--floor`, or `--from` a `[floor]` study (both with `--direct`): the
         /// building's modes `T,ζ,Γφ; …`, the block standing on its floor; the IMs stay the
         /// ground's. Empty for a block on the ground.

@@ -110,6 +110,14 @@ pub struct DamageFragility {
     pub method: FitMethod,
     /// The model the records were run with, and why (`--direct`).
     pub model: Option<String>,
+    /// The equation the records ran (`--direct`): `linearized`,
+    /// `nonlinear` or `slide-rock`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub equation: Option<&'static str>,
+    /// Where the records ran the slide-rock model (the block may slide):
+    /// the base's static friction coefficient.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub slides_on_mu: Option<f64>,
     pub states: Vec<StateFragility>,
     pub warnings: Vec<String>,
     /// With `--direct`: each fitted capacity's states (in the IM), in the
@@ -119,6 +127,16 @@ pub struct DamageFragility {
 }
 
 impl DamageFragility {
+    /// The warning of a block on a base of friction `mu` that slides
+    /// before it rocks where these fragilities are the rocking model's (a
+    /// regression's, or runs that did not slide); none where the runs slid.
+    pub fn unmodelled_sliding(&self, mu: Option<f64>, alpha_rad: f64) -> Option<String> {
+        let mu = mu.filter(|&mu| crate::block::slides_first(mu, alpha_rad))?;
+        self.slides_on_mu
+            .is_none()
+            .then(|| crate::block::sliding_warning(mu, alpha_rad))
+    }
+
     /// The fit `method` stands for (its first state's; one for overturning).
     pub fn fit_name(&self, method: FitMethod) -> &'static str {
         self.states

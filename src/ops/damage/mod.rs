@@ -38,6 +38,7 @@ pub fn of_block(
     model: RunModel,
     fit: FitChoice,
 ) -> Result<DamageFragility, FragilityError> {
+    let model = for_states(states, model, direct.is_some())?;
     let mut f = match direct {
         Some(records) => from_records(block, states, im, records, model)?,
         // A regression or a study's tables are of the model they were made by.
@@ -47,6 +48,9 @@ pub fn of_block(
         None => from_regression(block, states, im, laws, model.auto_tol)?,
     };
     f.method = fit.method;
+    if direct.is_some() {
+        records::never_reached(&mut f, block);
+    }
     if fit.if_not_lognormal == IfNotLognormal::Curve {
         curve_where_not_lognormal(&mut f);
     }
@@ -64,6 +68,29 @@ pub fn of_block(
         }
     }
     Ok(f)
+}
+
+/// The model the states need: states on the slide need the records' runs
+/// of the model that slides (refused without them or without μ), which
+/// `auto` then is.
+fn for_states(
+    states: &DamageStates,
+    model: RunModel,
+    direct: bool,
+) -> Result<RunModel, FragilityError> {
+    let Some(s) = states.states().iter().find(|s| s.slide_m().is_some()) else {
+        return Ok(model);
+    };
+    let slides = matches!(model.choice, ModelChoice::Auto | ModelChoice::SlideRock);
+    if !direct || model.friction.is_none() || !slides {
+        return Err(FragilityError::SlideNeedsRuns {
+            state: s.name.clone(),
+        });
+    }
+    Ok(RunModel {
+        choice: ModelChoice::SlideRock,
+        ..model
+    })
 }
 
 /// State `state`'s fragility (by `f`'s method) from the records `draw`
@@ -90,11 +117,19 @@ pub fn resampled(f: &DamageFragility, state: usize, draw: &[usize]) -> Option<Fr
 /// than the ground, the ground's PGA at uplift varies record to record,
 /// and other IMs have no such level: no cut).
 /// docs/MODEL.md §13.
-pub fn zero_below(block: &Block, im: Im, floor: Option<&Building>) -> Option<f64> {
+/// A block whose runs slid on a base of friction `slides_on_mu` moves from
+/// the smaller of g·tan α and μg (it slides first below b/h).
+pub fn zero_below(
+    block: &Block,
+    im: Im,
+    floor: Option<&Building>,
+    slides_on_mu: Option<f64>,
+) -> Option<f64> {
+    let moves = slides_on_mu.map_or(block.uplift_pga_g(), |mu| mu.min(block.uplift_pga_g()));
     match im {
         // The motion the block feels lifts it at g·tan α, floor or not.
-        Im::Pfa => Some(block.uplift_pga_g()),
-        Im::Pga if floor.is_none_or(Building::moves_as_ground) => Some(block.uplift_pga_g()),
+        Im::Pfa => Some(moves),
+        Im::Pga if floor.is_none_or(Building::moves_as_ground) => Some(moves),
         _ => None,
     }
 }
@@ -174,7 +209,8 @@ fn from_regression(
                 let mle = from_table(&mle_table, &mut Vec::new()).ok().flatten();
                 (Some(l), mle, kind)
             }
-            Criterion::Rotation(_) => {
+            // States on the slide are refused before ([`for_states`]).
+            Criterion::Rotation(_) | Criterion::Slide(_) => {
                 let Some(f) = from_table(&fractile_table, &mut warnings)? else {
                     return Err(FragilityError::StatesNeedRecords {
                         from: laws.name.clone(),
@@ -213,6 +249,8 @@ fn from_regression(
         dispersion: Dispersion::Each.label(),
         method: FitMethod::Fractile,
         model: None,
+        equation: None,
+        slides_on_mu: None,
         states: out,
         warnings,
         per_record: None,
@@ -319,7 +357,7 @@ pub fn assess(
         req.im,
         &laws,
         records.as_ref(),
-        RunModel::auto(req.auto_tol),
+        RunModel::auto(req.auto_tol).on(req.mu),
         FitChoice {
             method,
             ..req.fit()
@@ -328,14 +366,8 @@ pub fn assess(
     let method = fragility.method;
     let crossed = crossings(&fragility, method);
     fragility.warnings.extend(crossed);
-    if let Some(mu) = req
-        .mu
-        .filter(|&mu| crate::block::slides_first(mu, block.alpha()))
-    {
-        fragility
-            .warnings
-            .push(crate::block::sliding_warning(mu, block.alpha()));
-    }
+    let sliding = fragility.unmodelled_sliding(req.mu, block.alpha());
+    fragility.warnings.extend(sliding);
     let points = req
         .levels
         .iter()

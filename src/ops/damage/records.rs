@@ -28,7 +28,12 @@ pub(super) fn from_records(
         .iter()
         .map(|c| {
             let points = c.points.iter();
-            let runs = points.map(|p| (p.eta, p.outcome.max_abs_x, p.outcome.overturned()));
+            let runs = points.map(|p| damage::StateRun {
+                eta: p.eta,
+                edp: p.outcome.max_abs_x,
+                slide_m: p.outcome.slide_max_m,
+                overturned: p.outcome.overturned(),
+            });
             damage::capacities(states, runs, c.eta_c)
         })
         .collect();
@@ -84,6 +89,8 @@ pub(super) fn from_records(
             capacities: Some(f.capacities),
         })
         .collect();
+    let (ran, _) = model.resolve(block)?;
+    let slides_on_mu = ran.equation.friction().map(|f| f.mu_s);
     Ok(DamageFragility {
         im: im.name(),
         unit: im.unit(),
@@ -95,10 +102,43 @@ pub(super) fn from_records(
         dispersion: Dispersion::Each.label(),
         method: FitMethod::Fractile,
         model: Some(why),
+        equation: Some(ran.equation.kind().label()),
+        slides_on_mu,
         states: out,
         warnings,
         per_record: Some(in_im),
     })
+}
+
+/// Where no record reaches a state up to its strongest run, the state's
+/// probability is 0 at every level the records ran (their curve, which
+/// has no point): the fragility is the records' curves, and a warning says
+/// so, and why where the physics says it (a block that slides first never
+/// rocks under horizontal shaking: the slipping base passes it at most μg,
+/// below the g·b/h that lifts a corner).
+pub(super) fn never_reached(f: &mut DamageFragility, block: &Block) {
+    let slides_first = f.slides_on_mu.is_some_and(|mu| mu < block.alpha().tan());
+    let never: Vec<String> = f
+        .states
+        .iter()
+        .filter(|s| s.reached == Some(0))
+        .map(|s| format!("`{}`", s.name))
+        .collect();
+    if never.is_empty() {
+        return;
+    }
+    f.method = FitMethod::Empirical;
+    let why = if slides_first {
+        " — the block slides before it rocks (μ < b/h), and a base that slips passes it at \
+         most μg, below the g·b/h that lifts a corner (docs/MODEL.md §21)"
+    } else {
+        ""
+    };
+    f.warnings.push(format!(
+        "no record's runs reach {} up to their strongest: its probability is 0 at every level \
+         they ran, so the fragility is the records' own curves (--method empirical){why}",
+        never.join(", ")
+    ));
 }
 
 /// Every state's fits of the records' capacities in the IM (`caps[k][j]`:

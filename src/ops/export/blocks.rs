@@ -33,6 +33,10 @@ pub(super) fn entry(
             .iter()
             .map(|s| match s.fragility(method) {
                 Some(crate::risk::Fragility::Curve(c)) if c.complete() => Ok(c),
+                _ if s.reached == Some(0) => Err(refuse(FragilityError::NeverReached {
+                    state: s.name.clone(),
+                    slides_first: e.slides_first == Some(true) && f.slides_on_mu.is_some(),
+                })),
                 Some(_) => Err(refuse(FragilityError::CurveShort {
                     state: s.name.clone(),
                     reached: s.reached.unwrap_or(0),
@@ -60,7 +64,7 @@ pub(super) fn entry(
             e.name, e.b_m, e.h_m, e.alpha_rad, e.p, e.eps
         ),
         // The level below which no state is reached, as `risk` cuts it.
-        no_damage_limit: damage::zero_below(block, im, floor),
+        no_damage_limit: damage::zero_below(block, im, floor, f.slides_on_mu),
         states,
     })
 }
@@ -156,15 +160,14 @@ pub(super) fn of_block(
     let mut branches = Vec::new();
     for path in paths.clone().unwrap_or_else(|| vec![one]) {
         let (eps, model) = crate::ops::tree::branch(&path, e.b_m, e.h_m, e.eps, req.auto_tol)?;
+        let model = model.on(e.mu);
         let block = crate::ops::fragility::block(e.b_m, e.h_m, eps)?;
         let mut f = damage::of_block(&block, &req.states, at.im, at.laws, at.records, model, fit)?;
         let info = risk::block_info(e, &block, floor);
         let entry = entry(&info, &f, at.im, &block, floor)?;
         f.warnings.extend(damage::crossings(&f, f.method));
-        if let (Some(mu), Some(true)) = (info.mu, info.slides_first) {
-            f.warnings
-                .push(crate::block::sliding_warning(mu, info.alpha_rad));
-        }
+        let sliding = f.unmodelled_sliding(info.mu, info.alpha_rad);
+        f.warnings.extend(sliding);
         branches.push((path, block, info, entry, f));
     }
     let tax = taxonomy(&e.name);

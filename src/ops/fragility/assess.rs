@@ -100,7 +100,7 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
         req.orient_for(req.im),
     )?;
     let Some(tree) = &req.tree else {
-        let model = RunModel::auto(req.auto_tol);
+        let model = RunModel::auto(req.auto_tol).on(req.mu);
         return one(req, &block, &laws, records.as_ref(), model).map(|(a, _)| a);
     };
     let mut parts = Vec::new();
@@ -108,7 +108,7 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
     for path in tree.paths() {
         let (eps, model) = ops_tree::branch(&path, req.b_m, req.h_m, req.eps, req.auto_tol)?;
         let b = super::block(req.b_m, req.h_m, eps)?;
-        let (a, fragility) = one(req, &b, &laws, records.as_ref(), model)?;
+        let (a, fragility) = one(req, &b, &laws, records.as_ref(), model.on(req.mu))?;
         parts.push(ops_tree::Part {
             path,
             eps: b.eps,
@@ -216,9 +216,7 @@ fn one(
         .collect();
     let mut warnings = f.warnings.clone();
     let slides_first = req.mu.map(|mu| crate::block::slides_first(mu, alpha));
-    if slides_first == Some(true) {
-        warnings.push(crate::block::sliding_warning(req.mu.unwrap_or(0.0), alpha));
-    }
+    warnings.extend(f.unmodelled_sliding(req.mu, alpha));
     Ok((
         Assessment {
             b_m: req.b_m,

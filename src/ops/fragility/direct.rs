@@ -13,7 +13,8 @@ use crate::block::Block;
 use crate::floor::Building;
 use crate::ida::{self, ImGrid};
 use crate::im::{Im, RecordIms};
-use crate::physics::{Excitation, ModelChoice, RunSpec};
+use crate::physics::friction::Friction;
+use crate::physics::{Excitation, Model, ModelChoice, RunSpec};
 use crate::pipeline::Plan;
 use crate::records::{self, OnBad};
 use crate::stages::{Progress, Reporter};
@@ -24,6 +25,9 @@ use crate::stages::{Progress, Reporter};
 pub struct RunModel {
     pub choice: ModelChoice,
     pub auto_tol: f64,
+    /// The base's friction, where known: `auto` then runs the slide-rock
+    /// model wherever the block can slide.
+    pub friction: Option<Friction>,
 }
 
 impl RunModel {
@@ -33,6 +37,29 @@ impl RunModel {
         RunModel {
             choice: ModelChoice::Auto,
             auto_tol,
+            friction: None,
+        }
+    }
+
+    /// The model for `block` and why: the one function `--direct`'s runs
+    /// and the answers that describe them resolve it by.
+    pub fn resolve(&self, block: &Block) -> Result<(Model, String), FragilityError> {
+        self.choice
+            .resolve(
+                Some(block.alpha()),
+                self.friction,
+                crate::physics::Solver::default(),
+                self.auto_tol,
+            )
+            .map_err(FragilityError::Model)
+    }
+
+    /// The same on a base of friction coefficient `mu` (static and
+    /// kinetic), where known.
+    pub fn on(self, mu: Option<f64>) -> Self {
+        RunModel {
+            friction: mu.map(Friction::new),
+            ..self
         }
     }
 }
@@ -341,14 +368,7 @@ impl DirectRecords {
         model: RunModel,
         in_ground: bool,
     ) -> Result<(Vec<ida::Capacity>, String), FragilityError> {
-        let (model, why) = model
-            .choice
-            .resolve(
-                Some(block.alpha()),
-                crate::physics::Solver::default(),
-                model.auto_tol,
-            )
-            .map_err(FragilityError::Model)?;
+        let (model, why) = model.resolve(block)?;
         let spec = RunSpec::new(block.p(), block.eps, 1.0, model);
         let n = self.records.len() as u64;
         let before = self.counts.done.load(Ordering::Relaxed);

@@ -19,6 +19,11 @@ pub enum FragilityError {
          records' runs (--direct)"
     )]
     StatesNeedRecords { from: String, state: String },
+    #[error(
+        "limit state `{state}` is on the slide: it needs the records' runs of the slide-rock \
+         model (--direct, with the base's friction --mu or an inventory's `mu`)"
+    )]
+    SlideNeedsRuns { state: String },
     #[error("--auto-tol: {0}")]
     AutoTol(String),
     #[error("--b and --h must be positive (m); got b = {b}, h = {h}")]
@@ -78,6 +83,17 @@ pub enum FragilityError {
         beta: f64,
         reached: Option<usize>,
     },
+    #[error(
+        "damage state `{state}`: no record's runs reach it (its probability is 0 at every level \
+         they ran), which no engine's fragility function can state{}",
+        if *slides_first {
+            ": the block slides before it rocks, so under horizontal shaking it neither rocks \
+             nor overturns; export its states on the slide (--states NAME=Xm,…)"
+        } else {
+            "; leave the state out (--states)"
+        }
+    )]
+    NeverReached { state: String, slides_first: bool },
     #[error(
         "damage state `{state}`: {reached} of {records} records reach it, so the records' curve \
          stops below 1, which no engine's curve can; export a lognormal (--method fractile or \

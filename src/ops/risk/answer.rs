@@ -48,6 +48,11 @@ pub struct FragilityInfo {
     pub records: Option<usize>,
     /// With `--direct`: the records folder (or pipeline) they came from.
     pub records_folder: Option<String>,
+    /// With `--direct`: the equation the records ran (`linearized`,
+    /// `nonlinear`, `slide-rock`: `auto` runs a block with μ sliding where
+    /// it can slide), and why.
+    pub equation: Option<&'static str>,
+    pub model: Option<String>,
     /// With `--tree`: each branch's fragility, the mixture's median and
     /// equivalent β, the dispersion split; with several branches `fit` is
     /// `mixture` and `median`, `beta` the mixture's.

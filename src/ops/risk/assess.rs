@@ -110,6 +110,8 @@ pub(super) fn stated(
         lognormal_p: state.lognormal_p,
         records: f.records,
         records_folder: f.records_folder.clone(),
+        equation: f.equation,
+        model: f.model.clone(),
         tree: None,
         bootstrap: None,
     };
@@ -225,9 +227,10 @@ fn assess_block(req: &Request, p: &Prepared, e: &InventoryBlock) -> Result<Asses
         let (eps, model) =
             crate::ops::tree::branch(&path, e.b_m, e.h_m, e.eps, req.auto_tol).map_err(in_block)?;
         let b = fragility::block(e.b_m, e.h_m, eps).map_err(in_block)?;
+        let model = model.on(e.mu);
         let (frag, info, whole) =
             fragility_of(&b, &p.laws, im, records, model, fit).map_err(in_block)?;
-        let cut = damage::zero_below(&b, im, floor).unwrap_or(0.0);
+        let cut = damage::zero_below(&b, im, floor, whole.slides_on_mu).unwrap_or(0.0);
         let risks = sites
             .iter()
             .map(|(_, c)| risk::assess_above(c, &frag, req.beyond, cut))
@@ -243,6 +246,8 @@ fn assess_block(req: &Request, p: &Prepared, e: &InventoryBlock) -> Result<Asses
             cut,
         });
     }
+    // Whether the runs slid is the model's, the same on every branch.
+    let first = branches[0].whole.clone();
     let resampled: Vec<super::bootstrap::Resampled> = branches
         .iter()
         .map(|b| super::bootstrap::Resampled {
@@ -280,7 +285,7 @@ fn assess_block(req: &Request, p: &Prepared, e: &InventoryBlock) -> Result<Asses
     warnings.extend(p.warnings.iter().cloned());
     warnings.extend(site_infos.iter().flat_map(|s| tails(s, im.unit(), None)));
     let assessed = block_info(e, &block, floor);
-    warnings.extend(sliding_warning(&assessed));
+    warnings.extend(first.unmodelled_sliding(e.mu, block.alpha()));
     Ok(Assessment {
         block: assessed,
         fragility: info,
@@ -309,14 +314,6 @@ pub fn block_info(
         mu: e.mu,
         slides_first: e.mu.map(|mu| crate::block::slides_first(mu, block.alpha())),
         floor: floor.map(|b| b.to_string()),
-    }
-}
-
-/// The warning of a block that slides before it rocks.
-pub(super) fn sliding_warning(b: &BlockInfo) -> Option<String> {
-    match (b.mu, b.slides_first) {
-        (Some(mu), Some(true)) => Some(crate::block::sliding_warning(mu, b.alpha_rad)),
-        _ => None,
     }
 }
 

@@ -229,7 +229,7 @@ fn one_block(
         im,
         laws,
         records,
-        RunModel::auto(req.auto_tol),
+        RunModel::auto(req.auto_tol).on(e.mu),
         crate::damage::FitChoice {
             dispersion: crate::damage::Dispersion::Each,
             ..req.fit()
@@ -237,7 +237,8 @@ fn one_block(
     )
     .map_err(in_block)?;
     let (frag, info) = super::assess::stated(&f, im).map_err(in_block)?;
-    let cut = damage::zero_below(&block, im, records.and_then(|r| r.floor())).unwrap_or(0.0);
+    let floor = records.and_then(|r| r.floor());
+    let cut = damage::zero_below(&block, im, floor, f.slides_on_mu).unwrap_or(0.0);
     let p = probabilities(values, cut, &frag);
     let (vector, pv) = vector_of(req, &block, vector_values, records).map_err(|e| match e {
         VectorError::Block(source) => in_block(source),
@@ -275,7 +276,8 @@ fn one_block(
     }
     let info_block = super::assess::block_info(e, &block, records.and_then(|r| r.floor()));
     warnings.extend(
-        super::assess::sliding_warning(&info_block).map(|w| format!("block {}: {w}", e.name)),
+        f.unmodelled_sliding(e.mu, block.alpha())
+            .map(|w| format!("block {}: {w}", e.name)),
     );
     let b = EventsBlock {
         block: info_block,
@@ -306,11 +308,12 @@ fn state_rates(
         at.im,
         at.laws,
         at.records,
-        RunModel::auto(req.auto_tol),
+        RunModel::auto(req.auto_tol).on(e.mu),
         req.fit(),
     )
     .map_err(in_block)?;
-    let cut = damage::zero_below(&block, at.im, at.records.and_then(|r| r.floor())).unwrap_or(0.0);
+    let floor = at.records.and_then(|r| r.floor());
+    let cut = damage::zero_below(&block, at.im, floor, f.slides_on_mu).unwrap_or(0.0);
     let n_sites = at.fields.sites.len();
     f.states
         .iter()

@@ -6,7 +6,7 @@ use serde::Serialize;
 
 use super::answer::site_info;
 use super::answer::BlockInfo;
-use super::assess::{block_info, prepare, sliding_warning, tails, Prepared};
+use super::assess::{block_info, prepare, tails, Prepared};
 use super::error::RiskError;
 use super::request::Request;
 use crate::damage::{DamageStates, FitMethod};
@@ -56,6 +56,9 @@ pub struct StatesAssessment {
     /// The records folder `--direct` ran the blocks through.
     pub records_folder: Option<String>,
     pub records: Option<usize>,
+    /// With `--direct`: the equation the records ran (`slide-rock` for a
+    /// block with μ that can slide).
+    pub equation: Option<&'static str>,
     pub years: f64,
     pub beyond: &'static str,
     pub sites: Vec<StatesSite>,
@@ -89,7 +92,7 @@ pub fn assess_states(
             im,
             &laws,
             records.as_ref(),
-            crate::ops::fragility::RunModel::auto(req.auto_tol),
+            crate::ops::fragility::RunModel::auto(req.auto_tol).on(e.mu),
             crate::damage::FitChoice {
                 method,
                 ..req.fit()
@@ -98,7 +101,7 @@ pub fn assess_states(
         .map_err(in_block)?;
         let method = f.method;
         let floor = records.as_ref().and_then(|r| r.floor());
-        let cut = damage::zero_below(&block, im, floor).unwrap_or(0.0);
+        let cut = damage::zero_below(&block, im, floor, f.slides_on_mu).unwrap_or(0.0);
         let crossed = damage::crossings(&f, method);
         f.warnings.extend(crossed);
         let unit = im.unit();
@@ -137,7 +140,7 @@ pub fn assess_states(
         let assessed = block_info(&e, &block, floor);
         f.warnings.extend(hazard_notes.iter().cloned());
         f.warnings.extend(tail_notes);
-        f.warnings.extend(sliding_warning(&assessed));
+        f.warnings.extend(f.unmodelled_sliding(e.mu, block.alpha()));
         out.push(StatesAssessment {
             block: assessed,
             source: f.source,
@@ -147,6 +150,7 @@ pub fn assess_states(
             dispersion: f.dispersion,
             records_folder: f.records_folder.clone(),
             records: f.records,
+            equation: f.equation,
             years: req.years,
             beyond: crate::label::Label::label(req.beyond),
             sites,

@@ -23,6 +23,7 @@ pub fn rows(assessments: &[Assessment], beyond: Beyond) -> Vec<RiskRow> {
                 eps_housner: a.block.eps_housner,
                 mu: a.block.mu,
                 slides_first: a.block.slides_first == Some(true),
+                model: a.fragility.equation.map(str::to_string),
                 floor: a.block.floor.clone(),
                 site: s.site as i64,
                 lon: s.lon,

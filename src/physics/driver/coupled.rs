@@ -5,100 +5,12 @@
 //! a run has a [`Coupled`] part; a rocking run has none and never enters
 //! them.
 
+use super::base::{Arm, Coupled, Mode};
 use super::event_loop::{Driver, Stop};
-use crate::label::Label;
-use crate::physics::friction::{Contact, Onset};
+use crate::physics::friction::Onset;
 use crate::physics::history::{EventKind, Observer};
-use crate::physics::slide_rock::{SlideRock, SlideRockEnd, Slipping};
+use crate::physics::slide_rock::{SlideRockEnd, Slipping};
 use crate::physics::step::{Rocking, Stepper, Stretch, StretchEnd};
-
-/// What a block on a frictional base is doing.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Mode {
-    /// Flat and held.
-    Rest,
-    /// Flat, its base slipping.
-    Slide,
-    /// On a pivot held by friction.
-    Rock,
-    /// On a pivot that slips.
-    SlideRock,
-}
-
-impl Label for Mode {
-    const ALL: &'static [Self] = &[Mode::Rest, Mode::Slide, Mode::Rock, Mode::SlideRock];
-    fn label(self) -> &'static str {
-        match self {
-            Mode::Rest => "rest",
-            Mode::Slide => "slide",
-            Mode::Rock => "rock",
-            Mode::SlideRock => "slide-rock",
-        }
-    }
-}
-
-/// The sliding part of a run: the contact's mechanics, the slide-rock
-/// stepper, the base's position and velocity, and the time in each mode.
-pub(in crate::physics) struct Coupled {
-    contact: Contact,
-    stepper: SlideRock,
-    /// The base's position (m) and velocity (m/s) relative to the ground.
-    pub(super) u: f64,
-    pub(super) w: f64,
-    /// Whether the base (flat) or the pivot slips, and towards which side.
-    pub(super) slipping: bool,
-    dir: f64,
-    /// Seconds spent in each mode ([`Mode`]'s order) up to `since_s`.
-    pub(super) mode_s: [f64; 4],
-    since_s: f64,
-    mode: Mode,
-    /// The record is over: the time in modes is booked.
-    closed: bool,
-}
-
-impl Coupled {
-    pub(in crate::physics) fn new(contact: Contact, p: f64, limit: f64, rtol: f64) -> Self {
-        Coupled {
-            stepper: SlideRock::new(contact, p, limit, rtol),
-            contact,
-            u: 0.0,
-            w: 0.0,
-            slipping: false,
-            dir: 0.0,
-            mode_s: [0.0; 4],
-            since_s: 0.0,
-            mode: Mode::Rest,
-            closed: false,
-        }
-    }
-
-    /// Books the time since the last change to the mode it was in, and
-    /// enters `mode` at `t_s` (during the record; after it, nothing).
-    pub(super) fn enter(&mut self, mode: Mode, t_s: f64) {
-        if self.closed {
-            return;
-        }
-        self.mode_s[self.mode as usize] += t_s - self.since_s;
-        self.since_s = t_s;
-        self.mode = mode;
-    }
-
-    /// Books the time up to the record's end, `t_s`.
-    pub(super) fn close(&mut self, t_s: f64) {
-        self.enter(self.mode, t_s);
-        self.closed = true;
-    }
-}
-
-/// What a coupled arm did to the interval walk.
-pub(super) enum Arm {
-    /// The interval is done.
-    End,
-    /// An event at the new offset `tau`: walk on from there.
-    At(f64),
-    /// The run is over.
-    Stop(Stop),
-}
 
 impl<S: Stepper, O: Observer> Driver<'_, S, O> {
     /// The coupled part (only called where there is one).
@@ -137,9 +49,26 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
         self.emit(t_s, psi, kind);
     }
 
+    /// A slipping block from offset `tau` of the interval starting at
+    /// `t_k` (forcing `g_a + g1 σ`, length `dt`): flat or on its pivot.
+    pub(super) fn slipping_arm(&mut self, t_k: f64, tau: f64, g_a: f64, g1: f64, dt: f64) -> Arm {
+        match self.state {
+            None => self.slide_arm(t_k, tau, g_a, g1, dt),
+            Some(_) => {
+                let stretch = Stretch {
+                    tau0: tau,
+                    len: dt - tau,
+                    g_a,
+                    g1,
+                };
+                self.slide_rock_arm(t_k, tau, stretch)
+            }
+        }
+    }
+
     /// The flat slide from offset `tau` to the interval's end or the
     /// slip's stop.
-    pub(super) fn slide_arm(&mut self, t_k: f64, tau: f64, g_a: f64, g1: f64, dt: f64) -> Arm {
+    fn slide_arm(&mut self, t_k: f64, tau: f64, g_a: f64, g1: f64, dt: f64) -> Arm {
         let c = self.c();
         let flat = c.contact.slide(c.w, c.dir, g_a, g1, dt - tau);
         c.u += flat.du;
@@ -191,14 +120,14 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
                 self.out.stop = Stop::Overturned;
                 self.out.overturn_time_s = Some(t);
                 self.emit(t, stretch.g_a + stretch.g1 * sigma, EventKind::Overturn);
-                return Arm::Stop(Stop::Overturned);
+                return Arm::Stopped;
             }
             SlideRockEnd::Flight { sigma } => {
                 let t = t_k + tau + sigma;
                 self.out.stop = Stop::Flight;
                 self.c().close(t);
                 self.emit(t, stretch.g_a + stretch.g1 * sigma, EventKind::Flight);
-                return Arm::Stop(Stop::Flight);
+                return Arm::Stopped;
             }
             SlideRockEnd::Impact { sigma } => {
                 self.impact_slipping(t_k + tau + sigma, slipping.st);
@@ -363,7 +292,7 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
                 break;
             }
             match self.slide_rock_arm(t, 0.0, free) {
-                Arm::Stop(_) => {
+                Arm::Stopped => {
                     self.out.overturn_after_record = true;
                     return true;
                 }
@@ -372,17 +301,5 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
             }
         }
         false
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn modes_are_labelled_in_order() {
-        let labels: Vec<_> = Mode::ALL.iter().map(|m| m.label()).collect();
-        assert_eq!(labels, ["rest", "slide", "rock", "slide-rock"]);
-        assert_eq!(Mode::SlideRock as usize, 3);
     }
 }

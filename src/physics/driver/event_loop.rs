@@ -2,7 +2,7 @@
 //! pivot switch), rest, overturning, the record's end and the fate after
 //! it, for one run ([`Driver`], which `in_step` walks several of).
 
-use super::coupled::{Arm, Coupled, Mode};
+use super::base::{Arm, Coupled, Mode};
 use crate::label::Label;
 use crate::physics::friction::Contact;
 use crate::physics::history::{EventKind, HistoryPoint, Observer};
@@ -299,21 +299,9 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
                 return Some(Stop::EventLimit);
             }
             if self.slipping() {
-                let arm = match self.state {
-                    None => self.slide_arm(t_k, tau, g_a, g1, dt),
-                    Some(_) => {
-                        let stretch = Stretch {
-                            tau0: tau,
-                            len: dt - tau,
-                            g_a,
-                            g1,
-                        };
-                        self.slide_rock_arm(t_k, tau, stretch)
-                    }
-                };
-                match arm {
+                match self.slipping_arm(t_k, tau, g_a, g1, dt) {
                     Arm::End => return None,
-                    Arm::Stop(stop) => return Some(stop),
+                    Arm::Stopped => return Some(self.out.stop),
                     Arm::At(at) => {
                         tau = at;
                         g_a = g0 + g1 * tau;
@@ -361,21 +349,11 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
             match end {
                 StretchEnd::End => return None,
                 StretchEnd::Overturn { sigma } if self.escape => {
-                    // Past the watch level: overturned once the bound proves
-                    // the escape; else watch twice as far out and go on.
                     tau += sigma;
                     g_a = g0 + g1 * tau;
-                    let m_over_eta = self.exc.suffix_max[k] / self.spec.eta;
-                    if crate::physics::escape_proven(self.spec.p, st, m_over_eta) {
-                        let t = t_k + tau;
-                        self.out.max_abs_x = f64::INFINITY;
-                        self.out.stop = Stop::Overturned;
-                        self.out.overturn_time_s = Some(t);
-                        self.emit(t, g_a, EventKind::Overturn);
+                    if self.escaped(k, t_k + tau, g_a, st) {
                         return Some(Stop::Overturned);
                     }
-                    self.limit *= 2.0;
-                    self.stepper.set_limit(self.limit);
                 }
                 StretchEnd::Overturn { sigma } => {
                     let t = t_k + tau + sigma;
@@ -398,25 +376,50 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
                 StretchEnd::Impact { sigma, v } => {
                     tau += sigma;
                     g_a = g0 + g1 * tau;
-                    self.out.impacts += 1;
-                    let v_plus = self.spec.eps * v;
-                    let kind = if v_plus.abs() < self.v_rest {
-                        self.state = None;
-                        self.enter(Mode::Rest, t_k + tau);
-                        EventKind::Rest
-                    } else {
-                        self.state = Some(Rocking {
-                            x: 0.0,
-                            v: v_plus,
-                            s: -st.s,
-                        });
-                        EventKind::Impact
-                    };
-                    self.emit(t_k + tau, g_a, kind);
+                    self.impact(t_k + tau, g_a, st.s, v);
                 }
             }
         }
         None
+    }
+
+    /// Past the watch level under `escape` at `t_s` in interval `k`, at
+    /// `st`: overturned once the bound proves the escape (`true`); else it
+    /// watches twice as far out and goes on.
+    #[inline(always)]
+    fn escaped(&mut self, k: usize, t_s: f64, psi: f64, st: Rocking) -> bool {
+        let m_over_eta = self.exc.suffix_max[k] / self.spec.eta;
+        if crate::physics::escape_proven(self.spec.p, st, m_over_eta) {
+            self.out.max_abs_x = f64::INFINITY;
+            self.out.stop = Stop::Overturned;
+            self.out.overturn_time_s = Some(t_s);
+            self.emit(t_s, psi, EventKind::Overturn);
+            return true;
+        }
+        self.limit *= 2.0;
+        self.stepper.set_limit(self.limit);
+        false
+    }
+
+    /// An impact on a held pivot `s` at `t_s` with velocity `v`: Housner's
+    /// map `ẋ⁺ = ε ẋ⁻` onto the other pivot, or rest below the rest speed.
+    #[inline(always)]
+    fn impact(&mut self, t_s: f64, psi: f64, s: f64, v: f64) {
+        self.out.impacts += 1;
+        let v_plus = self.spec.eps * v;
+        let kind = if v_plus.abs() < self.v_rest {
+            self.state = None;
+            self.enter(Mode::Rest, t_s);
+            EventKind::Rest
+        } else {
+            self.state = Some(Rocking {
+                x: 0.0,
+                v: v_plus,
+                s: -s,
+            });
+            EventKind::Impact
+        };
+        self.emit(t_s, psi, kind);
     }
 
     /// After the record: free rocking, settled by energy; an overturning

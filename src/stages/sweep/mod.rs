@@ -183,7 +183,13 @@ fn prepare(cx: &Context) -> Result<Setup, SweepError> {
     // A block that slides before it rocks: its capacities assume it is
     // restrained against sliding (the report and `capacities.parquet`
     // mark it too).
-    for b in plan.blocks().iter().filter(|b| b.slides_first()) {
+    let rocking = |b: &&crate::pipeline::BlockSpec| b.run.model.equation.friction().is_none();
+    for b in plan
+        .blocks()
+        .iter()
+        .filter(|b| b.slides_first())
+        .filter(rocking)
+    {
         if let (Some(mu), Some(alpha)) = (b.mu, b.alpha_rad) {
             cx.reporter.note(
                 "sweep",

@@ -201,6 +201,10 @@ pub struct BlockArgs {
     pub overturn: Overturn,
     #[command(flatten)]
     pub scene: SceneArgs,
+    /// Kinetic friction coefficient of the base (≤ --mu; --mu when not
+    /// given), for the slide-rock model.
+    #[arg(long, value_name = "μₖ")]
+    pub mu_k: Option<f64>,
     /// Print JSON (one object a line) instead of text.
     #[arg(long)]
     pub json: bool,
@@ -234,7 +238,8 @@ pub struct SceneArgs {
     #[command(flatten)]
     pub floor: FloorArgs,
     /// Static friction coefficient μ between the block and its base: a block
-    /// with μ below b/h slides before it rocks, and is warned of.
+    /// with μ below b/h slides before it rocks; `--model auto` (and
+    /// `--direct`) then runs it sliding (the slide-rock model).
     #[arg(long, value_name = "μ")]
     pub mu: Option<f64>,
 }
@@ -256,6 +261,7 @@ impl BlockArgs {
             auto_tol: self.auto_tol,
             overturn: self.overturn,
             mu: self.scene.mu,
+            mu_k: self.mu_k,
             floor: self.scene.floor.floor.clone(),
             building: self.scene.floor.building.clone(),
             level: self.scene.floor.level,

@@ -218,7 +218,7 @@ fn run_states(
         return Ok(());
     }
     println!(
-        "block of half-width b = {} m, half-height h = {} m: α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}; damage states in {} from {}{}",
+        "block of half-width b = {} m, half-height h = {} m: α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}; damage states in {} from {}{}{}",
         a.b_m,
         a.h_m,
         a.alpha_rad,
@@ -226,6 +226,7 @@ fn run_states(
         a.eps,
         f.im,
         f.source,
+        f.equation.map_or(String::new(), |e| format!(" ({e} model)")),
         super::states::records_text(f.records, f.records_folder.as_deref())
     );
     print_fits(f);

@@ -261,13 +261,14 @@ fn run_states(
     for a in &all {
         let b = &a.block;
         println!(
-            "{}: α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}; damage states in {} from {}, {} fit{}{}",
+            "{}: α = {:.4} rad, p = {:.4} 1/s, ε = {:.4}; damage states in {} from {}{}, {} fit{}{}",
             b.name,
             b.alpha_rad,
             b.p,
             b.eps,
             a.im,
             a.source,
+            a.equation.map_or(String::new(), |e| format!(" ({e} model)")),
             a.method,
             super::states::records_text(a.records, a.records_folder.as_deref()),
             if a.dispersion == "common" && a.sites.first().is_some_and(|s| s.states.len() > 1) {
@@ -276,8 +277,16 @@ fn run_states(
                 ""
             }
         );
+        let wide = a
+            .sites
+            .iter()
+            .flat_map(|s| &s.states)
+            .map(|s| s.criterion.chars().count())
+            .max()
+            .unwrap_or(0)
+            .max(16);
         println!(
-            "  {:>5} {:<16} {:<16} {:>20} {:>12} {:>16} {:>10}",
+            "  {:>5} {:<16} {:<wide$} {:>20} {:>12} {:>16} {:>10}",
             "site",
             "state",
             "criterion",
@@ -293,7 +302,7 @@ fn run_states(
                     _ => "no fit".to_string(),
                 };
                 println!(
-                    "  {:>5} {:<16} {:<16} {:>20} {:>12} {:>16} {:>10}",
+                    "  {:>5} {:<16} {:<wide$} {:>20} {:>12} {:>16} {:>10}",
                     site.site,
                     s.state,
                     s.criterion,
@@ -473,23 +482,24 @@ fn print_deaggregation(s: &rocking::ops::risk::SiteInfo, f: &rocking::ops::risk:
 
 fn print_inventory(all: &[Assessment], years: f64) {
     println!(
-        "{:<24} {:>5} {:>12} {:>14} {:>10}",
+        "{:<24} {:>5} {:>12} {:>14} {:>10}  model",
         "block",
         "site",
         "rate (1/yr)",
         "return (yr)",
-        format!("P({years} yr)")
+        format!("P({years} yr)"),
     );
     for a in all {
         for s in &a.sites {
             println!(
-                "{:<24} {:>5} {:>12} {:>14} {:>10.4}",
+                "{:<24} {:>5} {:>12} {:>14} {:>10.4}  {}",
                 a.block.name,
                 s.site,
                 rate(s.annual_rate),
                 s.return_period_years
                     .map_or("∞".into(), |t| format!("{t:.0}")),
-                s.p_overturn_in_years
+                s.p_overturn_in_years,
+                a.fragility.equation.unwrap_or("regression")
             );
         }
     }

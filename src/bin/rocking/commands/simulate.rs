@@ -159,8 +159,19 @@ fn print_text(
         None => println!("overturned  no ({})", out.stop.label().replace('_', " ")),
     }
     println!("impacts     {}", out.impacts);
+    if let Some(s) = rocking::ops::reports::Sliding::of(spec, out) {
+        println!(
+            "slide       max {:.6} m, ends at {:+.6} m ({} slips)",
+            s.slide_max_m, s.slide_residual_m, s.slips
+        );
+        println!(
+            "modes       rest {:.3} s, slide {:.3} s, rock {:.3} s, slide-rock {:.3} s",
+            s.rest_s, s.slide_s, s.rock_s, s.slide_rock_s
+        );
+    }
     match out.first_uplift_s {
         Some(t) => println!("uplift      first at {t:.6} s"),
+        None if spec.model.equation.friction().is_some() => println!("uplift      never"),
         None => println!("uplift      never (the record stays below the uplift threshold)"),
     }
     if let Some(path) = &args.history {

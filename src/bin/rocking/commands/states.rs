@@ -17,8 +17,15 @@ pub fn print_fits(f: &DamageFragility) {
             }
         );
     }
+    let wide = f
+        .states
+        .iter()
+        .map(|s| s.criterion.chars().count())
+        .max()
+        .unwrap_or(0)
+        .max(16);
     println!(
-        "  {:<16} {:<16} {:>22} {:>22} {:>8}",
+        "  {:<16} {:<wide$} {:>22} {:>22} {:>8}",
         "state", "criterion", "fractile median, β", "mle median, β", "reached"
     );
     for s in &f.states {
@@ -31,7 +38,7 @@ pub fn print_fits(f: &DamageFragility) {
             format!("{r}/{}", f.records.unwrap_or(0))
         });
         println!(
-            "  {:<16} {:<16} {:>22} {:>22} {:>8}",
+            "  {:<16} {:<wide$} {:>22} {:>22} {:>8}",
             s.name,
             s.criterion,
             show(s.fractile),
