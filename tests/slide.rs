@@ -454,3 +454,295 @@ fn energy_never_rises_in_the_free_motion_through_every_mode_and_impact() {
     assert!(impacts > 0);
     assert!(modes_seen.iter().all(|&t| t > 0.0), "{modes_seen:?}");
 }
+
+/// Newmark's sliding block over a record, written here: the base's
+/// velocity w relative to the ground under ẇ = a(t) − μg·sgn(w) while it
+/// slips, held while |a| ≤ μg; a(t) linear between samples, so each piece
+/// of an interval is a quadratic in w, integrated exactly (its stops by the
+/// quadratic's root). Returns (max |u|, u at the end, the slide run out
+/// after the record).
+fn newmark(samples: &[f64], dt: f64, a_scale: f64, mu: f64) -> (f64, f64) {
+    let f = mu * G;
+    let (mut u, mut w, mut top) = (0.0f64, 0.0f64, 0.0f64);
+    for k in 0..samples.len() - 1 {
+        let (a0, a1) = (a_scale * samples[k], a_scale * samples[k + 1]);
+        let slope = (a1 - a0) / dt;
+        let mut t = 0.0;
+        while t < dt {
+            let a = a0 + slope * t;
+            if w == 0.0 {
+                // Held until |a| passes μg within the interval.
+                let dir = if a.abs() > f {
+                    a.signum()
+                } else {
+                    let next = [f, -f]
+                        .iter()
+                        .filter(|_| slope != 0.0)
+                        .map(|&level| (level - a0) / slope)
+                        .filter(|&s| s > t && s < dt)
+                        .fold(f64::INFINITY, f64::min);
+                    if !next.is_finite() {
+                        break;
+                    }
+                    t = next;
+                    (a0 + slope * t).signum()
+                };
+                // Slipping towards dir from w = 0: ẇ = a − dir·f.
+                let (c0, c1) = (a0 + slope * t - dir * f, slope);
+                let len = dt - t;
+                // dir·w(s) = dir·(c0 s + c1 s²/2): its first root after 0.
+                let root = if dir * c1 < 0.0 {
+                    -2.0 * c0 / c1
+                } else {
+                    f64::INFINITY
+                };
+                let s = if root > 1e-15 { root.min(len) } else { len };
+                u += c0 * s * s / 2.0 + c1 * s * s * s / 6.0;
+                w = if s < len {
+                    0.0
+                } else {
+                    c0 * s + c1 * s * s / 2.0
+                };
+                t += s;
+            } else {
+                let dir = w.signum();
+                let (c0, c1) = (a0 + slope * t - dir * f, slope);
+                let len = dt - t;
+                // w + c0 s + c1 s²/2 = 0: the first root in (0, len].
+                let disc = c0 * c0 - 2.0 * c1 * w;
+                let mut s = len;
+                if c1 == 0.0 {
+                    if c0 * dir < 0.0 {
+                        s = s.min(-w / c0);
+                    }
+                } else if disc >= 0.0 {
+                    for r in [(-c0 + disc.sqrt()) / c1, (-c0 - disc.sqrt()) / c1] {
+                        if r > 0.0 && r < s {
+                            s = r;
+                        }
+                    }
+                }
+                u += w * s + c0 * s * s / 2.0 + c1 * s * s * s / 6.0;
+                w = if s < len {
+                    0.0
+                } else {
+                    w + c0 * s + c1 * s * s / 2.0
+                };
+                t += s;
+            }
+            top = top.max(u.abs());
+        }
+    }
+    // After the record the slip runs out at μg.
+    u += w * w.abs() / (2.0 * f);
+    (top.max(u.abs()), u)
+}
+
+#[test]
+fn a_block_that_slides_first_slides_as_newmarks_block_over_real_records() {
+    // b/h = 0.6, μ = 0.3: it slides before it rocks and, a flat slide
+    // never lifting it, only slides.
+    let (alpha, mu) = (0.6f64.atan(), 0.3);
+    for stem in [
+        "RSN1111_KOBE_NIS000",
+        "RSN848_LANDERS_CLW-LN",
+        "RSN169_IMPVALL_H-DLT262",
+    ] {
+        let exc = far(stem);
+        for eta in [0.5, 0.8, 1.2] {
+            let spec = RunSpec::new(2.0, 0.9, eta, slide_rock(alpha, mu));
+            let out = simulate(&exc, &spec).unwrap();
+            let (top, end) = newmark(&exc.psi, exc.dt_s, alpha * G / eta, mu);
+            assert!(top > 0.001, "{stem} η {eta}: it slides ({top} m)");
+            assert_eq!(out.max_abs_x, 0.0, "{stem}: it never rocks");
+            let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs().max(1e-3);
+            assert!(
+                close(out.slide_max_m, top),
+                "{stem} η {eta}: {} vs {top}",
+                out.slide_max_m
+            );
+            assert!(
+                close(out.slide_residual_m, end),
+                "{stem} η {eta}: {} vs {end}",
+                out.slide_residual_m
+            );
+        }
+    }
+}
+
+/// `risk --inventory` with the museum's μ column and `--direct` runs the
+/// blocks that can slide sliding and says so per block: the rack and the
+/// transformer slide first, so never overturn (rate 0, and a warning that
+/// says why); the statue rocks first and its friction never gives way on
+/// these records, so its rate is the nonlinear model's to the bit; the
+/// slender kouros keeps the linearised model. Without μ every block rocks.
+#[test]
+fn the_museum_with_its_mu_runs_the_blocks_that_can_slide_sliding() {
+    use crate::util::{rocking, root, stderr, stdout, tempdir};
+    let dir = tempdir();
+    let museum = root().join("records/hazard/museum-inventory.csv");
+    let text = std::fs::read_to_string(&museum).unwrap();
+    let held: String = text
+        .lines()
+        .map(|l| l.rsplit_once(',').unwrap().0.to_string() + "\n")
+        .collect();
+    let held_path = dir.path().join("held.csv");
+    std::fs::write(&held_path, held).unwrap();
+    let hazard = root().join("records/hazard/synthetic-openquake.csv");
+    let run = |inventory: &std::path::Path, out: &str| {
+        let out = rocking(
+            dir.path(),
+            &[
+                "risk",
+                "--hazard",
+                hazard.to_str().unwrap(),
+                "--inventory",
+                inventory.to_str().unwrap(),
+                "--direct",
+                "--site",
+                "1",
+                "--json",
+                "--out",
+                out,
+            ],
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+        let v: serde_json::Value = serde_json::from_str(&stdout(&out)).unwrap();
+        v.as_array().unwrap().clone()
+    };
+    let (with_mu, without) = (run(&museum, "mu.parquet"), run(&held_path, "held.parquet"));
+    let rate = |b: &serde_json::Value| b["sites"][0]["annual_rate"].as_f64().unwrap();
+    let model = |b: &serde_json::Value| b["fragility"]["equation"].as_str().unwrap().to_string();
+    for (a, b) in with_mu.iter().zip(&without) {
+        let name = a["block"]["name"].as_str().unwrap();
+        let slides_first = a["block"]["slides_first"] == true;
+        match name {
+            "server rack" | "transformer" => {
+                assert!(slides_first, "{name}");
+                assert_eq!(model(a), "slide-rock");
+                assert_eq!(rate(a), 0.0, "{name}");
+                assert!(rate(b) > 0.0, "{name}: held against sliding it overturns");
+                let w = a["warnings"].to_string();
+                assert!(w.contains("slides before it rocks (μ < b/h)"), "{w}");
+                assert!(!w.contains("the rocking results assume"), "{w}");
+            }
+            "marble statue" => {
+                assert_eq!(
+                    (model(a), model(b)),
+                    ("slide-rock".into(), "nonlinear".into())
+                );
+                assert_eq!(rate(a).to_bits(), rate(b).to_bits(), "{name}");
+            }
+            "bronze kouros" => {
+                assert_eq!(
+                    (model(a), model(b)),
+                    ("linearized".into(), "linearized".into())
+                );
+                assert_eq!(rate(a).to_bits(), rate(b).to_bits());
+            }
+            _ => assert_eq!(model(a), "slide-rock", "{name}"),
+        }
+    }
+    // The table says it per row.
+    let rows: Vec<rocking::tables::risk::RiskRow> =
+        rocking::tables::read(&dir.path().join("mu.parquet")).unwrap();
+    let models: Vec<Option<&str>> = rows.iter().map(|r| r.model.as_deref()).collect();
+    assert_eq!(
+        models,
+        [
+            Some("slide-rock"),
+            Some("linearized"),
+            Some("slide-rock"),
+            Some("slide-rock"),
+            Some("slide-rock"),
+            Some("slide-rock")
+        ]
+    );
+}
+
+/// `simulate --model slide-rock` reports the slide; the model's refusals
+/// name what is missing.
+#[test]
+fn simulate_reports_the_slide_and_refusals_name_what_is_missing() {
+    use crate::util::{bundled_records, rocking, root, stderr, stdout};
+    let kobe = bundled_records().join("far-field/RSN1111_KOBE_NIS000.AT2");
+    let kobe = kobe.to_str().unwrap();
+    let base = [
+        "simulate", "--record", kobe, "--b", "0.3", "--h", "0.5", "--eps", "0.8",
+    ];
+    let with = |more: &[&str]| {
+        let mut args = base.to_vec();
+        args.extend(more);
+        rocking(&root(), &args)
+    };
+    let out = with(&[
+        "--model",
+        "slide-rock",
+        "--mu",
+        "0.3",
+        "--pga",
+        "0.6",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&out)).unwrap();
+    assert_eq!(v["model"], "slide-rock");
+    // The library's run of the same block and record, by hand.
+    let (alpha, eta) = (0.6f64.atan(), 0.6f64.atan() / 0.6);
+    let p = (0.75 * G / (0.3f64.hypot(0.5))).sqrt();
+    let spec = RunSpec::new(p, 0.8, eta, slide_rock(alpha, 0.3));
+    let exc = far("RSN1111_KOBE_NIS000");
+    let ours = simulate(&exc, &spec).unwrap();
+    let s = &v["sliding"];
+    assert!(ours.slide_max_m > 0.01);
+    assert!((s["slide_max_m"].as_f64().unwrap() - ours.slide_max_m).abs() < 1e-12);
+    assert!((s["slide_residual_m"].as_f64().unwrap() - ours.slide_residual_m).abs() < 1e-12);
+    let modes: f64 = ["rest_s", "slide_s", "rock_s", "slide_rock_s"]
+        .iter()
+        .map(|k| s[k].as_f64().unwrap())
+        .sum();
+    // The modes' seconds add up to the record's duration.
+    assert!((modes - exc.duration_s()).abs() < 1e-9, "{modes}");
+    assert!(v["sliding"].is_object());
+    for (more, says) in [
+        (
+            &["--model", "slide-rock", "--pga", "0.6"][..],
+            "needs the base's friction coefficient μ",
+        ),
+        (
+            &[
+                "--model",
+                "slide-rock",
+                "--mu",
+                "0.3",
+                "--mu-k",
+                "0.4",
+                "--pga",
+                "0.6",
+            ][..],
+            "must be in (0, μₛ = 0.3]",
+        ),
+        (
+            &["--model", "slide-rock", "--mu", "2", "--pga", "0.6"][..],
+            "must be in (0, 1.3]",
+        ),
+        (&["--mu-k", "0.2", "--pga", "0.6"][..], "give both"),
+    ] {
+        let out = with(more);
+        assert!(!out.status.success(), "{more:?}");
+        assert!(stderr(&out).contains(says), "{more:?}: {}", stderr(&out));
+    }
+    // A rocking model with μ still says it would slide, and has no `sliding`.
+    let out = with(&[
+        "--model",
+        "nonlinear",
+        "--mu",
+        "0.3",
+        "--pga",
+        "0.6",
+        "--json",
+    ]);
+    assert!(stderr(&out).contains("the rocking results assume it does not slide"));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&out)).unwrap();
+    assert!(v.get("sliding").is_none());
+}
