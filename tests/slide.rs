@@ -746,3 +746,325 @@ fn simulate_reports_the_slide_and_refusals_name_what_is_missing() {
     let v: serde_json::Value = serde_json::from_str(&stdout(&out)).unwrap();
     assert!(v.get("sliding").is_none());
 }
+
+/// Moreau–Jean's time-stepping of a rigid block with two corner contacts,
+/// Newton's impact law (e = 0) and Coulomb friction (Jean 1999, "The
+/// non-smooth contact dynamics method", Comput. Methods Appl. Mech. Eng.
+/// 177), written here from the rigid body's kinematics: no code of the
+/// tool's. The block's centre (X, Y) and its rotation θ (towards +X),
+/// unit mass, I = R²/3; at each step the contacts whose gap closes within
+/// the step solve a linear complementarity problem of impulses, found by
+/// enumerating each contact's status (open, stuck, slipping either way).
+struct MoreauJean {
+    b: f64,
+    h: f64,
+    mu: f64,
+    i_c: f64,
+}
+
+/// The block's configuration and velocity.
+#[derive(Clone, Copy)]
+struct Body {
+    q: [f64; 3],
+    v: [f64; 3],
+}
+
+impl MoreauJean {
+    /// The rows of the normal and tangential velocities of corner `cx`
+    /// (±b) at rotation θ: u = H·v.
+    fn rows(&self, cx: f64, th: f64) -> ([f64; 3], [f64; 3]) {
+        let (s, c) = th.sin_cos();
+        (
+            [0.0, 1.0, -cx * c + self.h * s],
+            [1.0, 0.0, -cx * s - self.h * c],
+        )
+    }
+
+    fn gap(&self, cx: f64, q: &[f64; 3]) -> f64 {
+        let (s, c) = q[2].sin_cos();
+        q[1] - cx * s - self.h * c
+    }
+
+    /// One step of length `dt` under the inertial acceleration `a` (at the
+    /// step's middle).
+    fn step(&self, body: &mut Body, a: f64, dt: f64) {
+        let inv_m = [1.0, 1.0, 1.0 / self.i_c];
+        let mid = [
+            body.q[0] + 0.5 * dt * body.v[0],
+            body.q[1] + 0.5 * dt * body.v[1],
+            body.q[2] + 0.5 * dt * body.v[2],
+        ];
+        // The free velocity: gravity and the ground's inertial force.
+        let free = [body.v[0] + dt * a, body.v[1] - dt * G, body.v[2]];
+        let active: Vec<f64> = [self.b, -self.b]
+            .into_iter()
+            .filter(|&cx| self.gap(cx, &mid) <= 0.0)
+            .collect();
+        let rows: Vec<([f64; 3], [f64; 3])> =
+            active.iter().map(|&cx| self.rows(cx, mid[2])).collect();
+        let v = self.impulses(&free, &rows, &inv_m);
+        for k in 0..3 {
+            body.q[k] += 0.5 * dt * (body.v[k] + v[k]);
+        }
+        body.v = v;
+    }
+
+    /// The velocity after the contacts' impulses: each active contact
+    /// open (no impulse, u_N ≥ 0), stuck (u_N = 0, u_T = 0, |P_T| ≤ μP_N)
+    /// or slipping (u_N = 0, P_T = ∓μP_N against u_T); the first
+    /// combination that satisfies every inequality.
+    fn impulses(
+        &self,
+        free: &[f64; 3],
+        rows: &[([f64; 3], [f64; 3])],
+        inv_m: &[f64; 3],
+    ) -> [f64; 3] {
+        let n = rows.len();
+        let dot = |r: &[f64; 3], v: &[f64; 3]| r[0] * v[0] + r[1] * v[1] + r[2] * v[2];
+        let statuses = 4usize.pow(n as u32);
+        for code in 0..statuses {
+            let status: Vec<usize> = (0..n).map(|i| (code / 4usize.pow(i as u32)) % 4).collect();
+            // Unknowns: P_N of each closed contact, and P_T of each stuck one.
+            let mut dirs: Vec<[f64; 3]> = Vec::new();
+            let mut eqs: Vec<[f64; 3]> = Vec::new();
+            for (i, &st) in status.iter().enumerate() {
+                let (hn, ht) = rows[i];
+                match st {
+                    0 => {}
+                    1 => {
+                        dirs.push(hn);
+                        eqs.push(hn);
+                        dirs.push(ht);
+                        eqs.push(ht);
+                    }
+                    _ => {
+                        let sign = if st == 2 { -1.0 } else { 1.0 };
+                        let d = [
+                            hn[0] + sign * self.mu * ht[0],
+                            hn[1] + sign * self.mu * ht[1],
+                            hn[2] + sign * self.mu * ht[2],
+                        ];
+                        dirs.push(d);
+                        eqs.push(hn);
+                    }
+                }
+            }
+            let m = dirs.len();
+            // eqs[j] · (free + M⁻¹ Σ dirs[k] P_k) = 0.
+            let mut a = vec![vec![0.0; m]; m];
+            let mut rhs = vec![0.0; m];
+            for j in 0..m {
+                rhs[j] = -dot(&eqs[j], free);
+                for k in 0..m {
+                    let w = [
+                        inv_m[0] * dirs[k][0],
+                        inv_m[1] * dirs[k][1],
+                        inv_m[2] * dirs[k][2],
+                    ];
+                    a[j][k] = dot(&eqs[j], &w);
+                }
+            }
+            let Some(p) = solve(a, rhs) else { continue };
+            let mut v = *free;
+            for (k, d) in dirs.iter().enumerate() {
+                for c in 0..3 {
+                    v[c] += inv_m[c] * d[c] * p[k];
+                }
+            }
+            let tol = 1e-12;
+            let mut ok = true;
+            let mut k = 0;
+            for (i, &st) in status.iter().enumerate() {
+                let (hn, ht) = rows[i];
+                match st {
+                    0 => ok &= dot(&hn, &v) >= -tol,
+                    1 => {
+                        let (pn, pt) = (p[k], p[k + 1]);
+                        ok &= pn >= -tol && pt.abs() <= self.mu * pn + tol;
+                        k += 2;
+                    }
+                    _ => {
+                        let pn = p[k];
+                        let ut = dot(&ht, &v);
+                        // Slipping towards +X (st 2) takes friction −μP_N.
+                        let sign = if st == 2 { 1.0 } else { -1.0 };
+                        ok &= pn >= -tol && sign * ut >= -tol;
+                        k += 1;
+                    }
+                }
+            }
+            if ok {
+                return v;
+            }
+        }
+        panic!("no consistent contact status");
+    }
+}
+
+/// Gaussian elimination with partial pivoting; `None` if singular.
+fn solve(mut a: Vec<Vec<f64>>, mut r: Vec<f64>) -> Option<Vec<f64>> {
+    let n = r.len();
+    for col in 0..n {
+        let piv = (col..n).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
+        if a[piv][col].abs() < 1e-14 {
+            return None;
+        }
+        a.swap(col, piv);
+        r.swap(col, piv);
+        let top = a[col].clone();
+        for row in col + 1..n {
+            let f = a[row][col] / top[col];
+            for (x, t) in a[row].iter_mut().zip(&top).skip(col) {
+                *x -= f * t;
+            }
+            r[row] -= f * r[col];
+        }
+    }
+    let mut x = vec![0.0; n];
+    for row in (0..n).rev() {
+        let mut acc = r[row];
+        for k in row + 1..n {
+            acc -= a[row][k] * x[k];
+        }
+        x[row] = acc / a[row][row];
+    }
+    Some(x)
+}
+
+/// A half-sine pulse A sin(πt/t_d) of `t_d` seconds, then quiet to
+/// `total`, at step `dt`: ψ̈ with unit peak.
+fn half_sine(t_d: f64, total: f64, dt: f64) -> Excitation {
+    let n = (total / dt).round() as usize + 1;
+    let samples: Vec<f64> = (0..n)
+        .map(|i| {
+            let t = i as f64 * dt;
+            if t <= t_d {
+                (std::f64::consts::PI * t / t_d).sin()
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    Excitation::new(&samples, dt).unwrap()
+}
+
+/// Moreau–Jean's rotation θ/α and base position u (the pivot's position
+/// less s·b on a pivot, the centre's when flat) at every sample of `exc`,
+/// with `sub` steps per sample interval.
+fn moreau_jean(
+    b: f64,
+    h: f64,
+    mu: f64,
+    a_scale: f64,
+    exc: &Excitation,
+    sub: usize,
+    until_s: f64,
+) -> Vec<(f64, f64)> {
+    let mj = MoreauJean {
+        b,
+        h,
+        mu,
+        i_c: (b * b + h * h) / 3.0,
+    };
+    let alpha = (b / h).atan();
+    let mut body = Body {
+        q: [0.0, h, 0.0],
+        v: [0.0; 3],
+    };
+    let dt = exc.dt_s / sub as f64;
+    let mut out = vec![(0.0, 0.0)];
+    for k in 0..exc.psi.len() - 1 {
+        if k as f64 * exc.dt_s >= until_s {
+            break;
+        }
+        for j in 0..sub {
+            let frac = (j as f64 + 0.5) / sub as f64;
+            let a = a_scale * (exc.psi[k] + frac * (exc.psi[k + 1] - exc.psi[k]));
+            mj.step(&mut body, a, dt);
+        }
+        let th = body.q[2];
+        let u = if th.abs() < 1e-12 {
+            body.q[0]
+        } else {
+            let s = th.signum();
+            body.q[0] + s * b * th.cos() - h * th.sin() - s * b
+        };
+        out.push((th / alpha, u));
+    }
+    out
+}
+
+/// An independent integrator of non-smooth contact dynamics converges to
+/// the tool's rotation and slide histories as its step shrinks, on a block
+/// that slides, one that rocks (Newton's e = 0 at the corners, which gives
+/// Housner's ε = 1 − 1.5 sin²α when the corner sticks; the tool runs that
+/// ε) and one that rocks, then slide-rocks (compared up to its first impact
+/// on a slipping pivot, where the tool's impact law, which scales the whole
+/// velocity by ε, and Newton's at two corners part).
+#[test]
+fn moreau_jean_converges_to_the_tools_histories_as_its_step_shrinks() {
+    let dt = 0.002;
+    for (case, b, h, mu, a_g, t_d, total) in [
+        ("slide", 0.3f64, 0.5f64, 0.3, 0.8, 0.5, 2.0),
+        ("rock", 0.25, 1.0, 0.8, 0.4, 0.4, 3.0),
+        ("slide-rock", 0.25, 1.0, 0.3, 0.8, 0.2, 3.0),
+    ] {
+        let exc = half_sine(t_d, total, dt);
+        let alpha = (b / h).atan();
+        let p = (0.75 * G / (b * b + h * h).sqrt()).sqrt();
+        let eta = alpha / a_g;
+        let eps = 1.0 - 1.5 * alpha.sin().powi(2);
+        let spec = RunSpec::new(p, eps, eta, slide_rock(alpha, mu));
+        let (out, points) = history(&exc, &spec);
+        assert!(!out.overturned(), "{case}");
+        let mode_s = out.mode_s;
+        match case {
+            "slide" => assert!(mode_s[Mode::Slide as usize] > 0.1 && out.max_abs_x == 0.0),
+            "rock" => {
+                assert!(mode_s[Mode::Rock as usize] > 0.5 && out.slips == 0 && out.impacts > 3)
+            }
+            _ => assert!(mode_s[Mode::SlideRock as usize] > 0.01, "{mode_s:?}"),
+        }
+        // Up to the first impact on a slipping pivot.
+        let until = points
+            .iter()
+            .find(|q| q.kind == EventKind::Impact && q.w_mps != 0.0)
+            .map_or(total, |q| q.t_s);
+        let tool: Vec<(f64, f64, f64)> = points
+            .iter()
+            .filter(|q| q.kind == EventKind::Sample && q.t_s < until)
+            .map(|q| (q.t_s, q.x, q.u_m))
+            .collect();
+        let (x_top, u_top) = tool.iter().fold((0.0f64, 0.0f64), |(a, b), t| {
+            (a.max(t.1.abs()), b.max(t.2.abs()))
+        });
+        let errors: Vec<f64> = [4, 16, 64]
+            .iter()
+            .map(|&sub| {
+                let mj = moreau_jean(b, h, mu, alpha * G / eta, &exc, sub, until);
+                tool.iter()
+                    .map(|&(t, x, u)| {
+                        let k = (t / dt).round() as usize;
+                        let (xm, um) = mj[k];
+                        let ex = if x_top > 0.0 {
+                            (xm - x).abs() / x_top
+                        } else {
+                            0.0
+                        };
+                        let eu = if u_top > 0.0 {
+                            (um - u).abs() / u_top
+                        } else {
+                            0.0
+                        };
+                        ex.max(eu)
+                    })
+                    .fold(0.0, f64::max)
+            })
+            .collect();
+        eprintln!(
+            "{case}: up to {until:.3} s, errors {errors:?} (x top {x_top:.3}, u top {u_top:.4} m)"
+        );
+        assert!(errors[2] < 0.02, "{case}: {errors:?}");
+        assert!(errors[2] < errors[0] / 4.0, "{case}: {errors:?}");
+    }
+}
