@@ -803,8 +803,8 @@ impl MoreauJean {
         let rows: Vec<([f64; 3], [f64; 3])> =
             active.iter().map(|&cx| self.rows(cx, mid[2])).collect();
         let v = self.impulses(&free, &rows, &inv_m);
-        for k in 0..3 {
-            body.q[k] += 0.5 * dt * (body.v[k] + v[k]);
+        for ((q, before), after) in body.q.iter_mut().zip(body.v).zip(v) {
+            *q += 0.5 * dt * (before + after);
         }
         body.v = v;
     }
