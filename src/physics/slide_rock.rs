@@ -117,11 +117,14 @@ impl SlideRock {
     }
 
     /// One step of length `h` from `y` at offset `sigma` (the forcing
-    /// `g_a + g1 σ` from the stretch's start): the fifth-order solution and
-    /// the scaled error.
-    fn step(&self, s: f64, dir: f64, st: &Stretch, sigma: f64, y: &Y, h: f64) -> (Y, f64) {
+    /// `g_a + g1 σ` from the stretch's start), whose derivative there is
+    /// `k1`: the fifth-order solution, the scaled error, and the derivative
+    /// and normal force at the solution (the next step's first stage).
+    #[allow(clippy::too_many_arguments)]
+    fn step(&self, s: f64, dir: f64, st: &Stretch, sigma: f64, y: &Y, k1: &Y, h: f64) -> Step {
         let mut k = [[0.0; 4]; 6];
-        for i in 0..6 {
+        k[0] = *k1;
+        for i in 1..6 {
             let mut yi = *y;
             for (j, kj) in k.iter().enumerate().take(i) {
                 for c in 0..4 {
@@ -137,7 +140,7 @@ impl SlideRock {
                 out[c] += h * B[i] * ki[c];
             }
         }
-        let k7 = self.rhs(s, dir, st.g_a + st.g1 * (sigma + h), &out).0;
+        let (k7, n) = self.rhs(s, dir, st.g_a + st.g1 * (sigma + h), &out);
         let mut err: f64 = 0.0;
         for c in 0..4 {
             let mut e = E7 * k7[c];
@@ -147,14 +150,18 @@ impl SlideRock {
             let scale = self.atol[c] + self.rtol * y[c].abs().max(out[c].abs());
             err = err.max((h * e).abs() / scale);
         }
-        (out, err)
+        Step {
+            y: out,
+            err,
+            dy: k7,
+            n,
+        }
     }
 
-    /// The events' functions at `y` (each positive while nothing happens):
-    /// the height over the impact, under the limit, the slip, the normal
-    /// force.
-    fn events(&self, s: f64, dir: f64, psi: f64, y: &Y) -> [f64; 4] {
-        let n = self.rhs(s, dir, psi, y).1;
+    /// The events' functions at `y` with normal force `n` (each positive
+    /// while nothing happens): the height over the impact, under the limit,
+    /// the slip, the normal force.
+    fn events(&self, s: f64, dir: f64, y: &Y, n: f64) -> [f64; 4] {
         [s * y[0], self.limit - s * y[0], dir * y[3], n]
     }
 
@@ -168,13 +175,14 @@ impl SlideRock {
     ) -> SlideRockEnd {
         let (s, dir) = (state.st.s, state.dir);
         let mut y: Y = [state.st.x, state.st.v, state.u, state.w];
+        let mut k1 = self.rhs(s, dir, stretch.g_a, &y).0;
         let mut sigma = 0.0;
         while sigma < stretch.len {
             let h = self.h.min(stretch.len - sigma);
-            let (next, err) = self.step(s, dir, &stretch, sigma, &y, h);
+            let next = self.step(s, dir, &stretch, sigma, &y, &k1, h);
             self.steps += 1;
-            let accepted = err <= 1.0;
-            if !accepted && h > 1e-14 {
+            let err = next.err;
+            if !(err <= 1.0) && h > 1e-14 {
                 let shrink = if err.is_finite() {
                     (0.9 * err.powf(-0.2)).clamp(0.1, 0.9)
                 } else {
@@ -183,11 +191,18 @@ impl SlideRock {
                 self.h = h * shrink;
                 continue;
             }
-            let psi_end = stretch.g_a + stretch.g1 * (sigma + h);
-            if self.events(s, dir, psi_end, &next).iter().any(|&e| e < 0.0) {
-                let (at, mut y_at, i) = self.locate(s, dir, &stretch, sigma, &y, h);
-                let x_top = self.top(s, dir, &stretch, sigma, &y, at - sigma);
-                *max_abs_x = max_abs_x.max(x_top);
+            let from = From {
+                s,
+                dir,
+                st: &stretch,
+                sigma,
+                y: &y,
+                k1: &k1,
+            };
+            let ev = self.events(s, dir, &next.y, next.n);
+            if let Some(i) = ev.iter().position(|&e| e < 0.0) {
+                let (at, mut y_at) = self.locate(&from, h, i, ev[i]);
+                *max_abs_x = max_abs_x.max(self.top(&from, at - sigma, &y_at));
                 let end = match i {
                     0 => {
                         y_at[0] = 0.0;
@@ -207,8 +222,9 @@ impl SlideRock {
                 self.store(state, &y_at);
                 return end;
             }
-            *max_abs_x = max_abs_x.max(self.top(s, dir, &stretch, sigma, &y, h));
-            y = next;
+            *max_abs_x = max_abs_x.max(self.top(&from, h, &next.y));
+            y = next.y;
+            k1 = next.dy;
             sigma += h;
             self.h = if err > 0.0 {
                 h * (0.9 * err.powf(-0.2)).clamp(0.2, 5.0)
@@ -227,50 +243,126 @@ impl SlideRock {
         state.w = y[3];
     }
 
-    /// The first offset in `(sigma, sigma + h]` where any event happens,
-    /// by bisection on the step's length, the state there and which event
-    /// (the first through, in the order impact, overturning, stop, flight).
-    fn locate(&self, s: f64, dir: f64, st: &Stretch, sigma: f64, y: &Y, h: f64) -> (f64, Y, usize) {
-        let through = |len: f64| {
-            let y_at = self.step(s, dir, st, sigma, y, len).0;
-            let ev = self.events(s, dir, st.g_a + st.g1 * (sigma + len), &y_at);
-            (y_at, ev)
-        };
-        let (mut lo, mut hi) = (0.0, h);
-        let (mut y_hi, mut ev_hi) = through(h);
-        loop {
-            let mid = 0.5 * (lo + hi);
-            if mid <= lo || mid >= hi {
-                break;
-            }
-            let (y_mid, ev_mid) = through(mid);
-            if ev_mid.iter().any(|&e| e < 0.0) {
-                (hi, y_hi, ev_hi) = (mid, y_mid, ev_mid);
-            } else {
-                lo = mid;
-            }
-        }
-        let which = ev_hi.iter().position(|&e| e < 0.0).unwrap_or(0);
-        (sigma + hi, y_hi, which)
+    /// The state a step of length `len` from `from` reaches.
+    fn reach(&self, from: &From, len: f64) -> Step {
+        self.step(from.s, from.dir, from.st, from.sigma, from.y, from.k1, len)
     }
 
-    /// The largest `|x|` over a step of length `h` from `y`: its ends, and
-    /// where the velocity turns (found by bisection) if it turns inside.
-    fn top(&self, s: f64, dir: f64, st: &Stretch, sigma: f64, y: &Y, h: f64) -> f64 {
-        let end = self.step(s, dir, st, sigma, y, h).0;
+    /// Where in `(0, h]` of the step from `from` event `i` (negative, `e`,
+    /// at `h`) happens, and the state there (its function just below 0),
+    /// by [`first_negative`] on the step's length; if another event comes
+    /// first there, that one's. The offset is from the stretch's start.
+    fn locate(&self, from: &From, h: f64, i: usize, e: f64) -> (f64, Y) {
+        let (s, dir) = (from.s, from.dir);
+        let n0 = self
+            .rhs(s, dir, from.st.g_a + from.st.g1 * from.sigma, from.y)
+            .1;
+        let at_zero = self.events(s, dir, from.y, n0)[i];
+        let (mut at, mut y_at) = first_negative(
+            (0.0, at_zero.max(0.0)),
+            (h, e),
+            self.reach(from, h).y,
+            1e-15 * (from.sigma + h),
+            |len| {
+                let next = self.reach(from, len);
+                (self.events(s, dir, &next.y, next.n)[i], next.y)
+            },
+        );
+        // Another event passed before this one: locate it instead.
+        let step = self.reach(from, at);
+        let ev = self.events(s, dir, &step.y, step.n);
+        if let Some(j) = ev.iter().position(|&x| x < 0.0).filter(|&j| j != i) {
+            (at, y_at) = self.locate(from, at, j, ev[j]);
+            return (at, y_at);
+        }
+        (from.sigma + at, y_at)
+    }
+
+    /// The largest `|x|` over a step of length `h` from `from` to `end`:
+    /// its ends, and where the velocity turns if it turns inside.
+    fn top(&self, from: &From, h: f64, end: &Y) -> f64 {
+        let (s, y) = (from.s, from.y);
         let mut top = y[0].abs().max(end[0].abs());
         if s * y[1] > 0.0 && s * end[1] < 0.0 {
-            let (mut lo, mut hi) = (0.0, h);
-            for _ in 0..60 {
-                let mid = 0.5 * (lo + hi);
-                if s * self.step(s, dir, st, sigma, y, mid).0[1] > 0.0 {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
-            top = top.max(self.step(s, dir, st, sigma, y, lo).0[0].abs());
+            let (_, turn) = first_negative(
+                (0.0, s * y[1]),
+                (h, s * end[1]),
+                *end,
+                1e-15 * (from.sigma + h),
+                |len| {
+                    let at = self.reach(from, len).y;
+                    (s * at[1], at)
+                },
+            );
+            top = top.max(turn[0].abs());
         }
         top
     }
+}
+
+/// One step's result.
+struct Step {
+    y: Y,
+    err: f64,
+    /// The derivative and the normal force at `y`.
+    dy: Y,
+    n: f64,
+}
+
+/// Where a step starts.
+struct From<'a> {
+    s: f64,
+    dir: f64,
+    st: &'a Stretch,
+    sigma: f64,
+    y: &'a Y,
+    k1: &'a Y,
+}
+
+/// The first point of `(lo, hi]` where `f` turns negative, given `f(lo) ≥
+/// 0 > f(hi)` and what `eval` gives at `hi`: the Illinois variant of
+/// regula falsi (superlinear on a smooth `f`, never leaving the bracket),
+/// until the bracket is below `floor` or 100 evaluations; returns the
+/// bracket's negative end and what `eval` gave there.
+pub(super) fn first_negative<T>(
+    (mut lo, mut f_lo): (f64, f64),
+    (mut hi, mut f_hi): (f64, f64),
+    mut at_hi: T,
+    floor: f64,
+    mut eval: impl FnMut(f64) -> (f64, T),
+) -> (f64, T) {
+    let mut last = 0i8;
+    for k in 0..100 {
+        if hi - lo <= floor {
+            break;
+        }
+        // Every fourth trial halves the bracket, so that a flat side never
+        // stalls it.
+        let mut x = if k % 4 == 3 {
+            0.5 * (lo + hi)
+        } else {
+            hi - f_hi * (hi - lo) / (f_hi - f_lo)
+        };
+        if !(x > lo && x < hi) {
+            x = 0.5 * (lo + hi);
+            if !(x > lo && x < hi) {
+                break;
+            }
+        }
+        let (fx, tx) = eval(x);
+        if fx < 0.0 {
+            (hi, f_hi, at_hi) = (x, fx, tx);
+            if last == -1 {
+                f_lo *= 0.5;
+            }
+            last = -1;
+        } else {
+            (lo, f_lo) = (x, fx);
+            if last == 1 {
+                f_hi *= 0.5;
+            }
+            last = 1;
+        }
+    }
+    (hi, at_hi)
 }

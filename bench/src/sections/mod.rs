@@ -12,6 +12,7 @@ mod model;
 mod options;
 mod orientations;
 mod records;
+mod sliding;
 mod solvers;
 
 use std::time::Instant;
@@ -50,6 +51,7 @@ pub fn run(opts: &BenchOptions, mut log: impl FnMut(&str)) -> Result<(), BenchEr
             Section::Calls => calls::calls_table(opts, &mut say)?,
             Section::Certified => certified::certified_table(opts, &mut say)?,
             Section::Orientations => orientations::orientations_table(opts, &mut say)?,
+            Section::Sliding => sliding::sliding_table(opts, &mut say)?,
         };
         md = replace_section(&md, section.label(), &text);
         atomic_write(&md_path, md.as_bytes())?;

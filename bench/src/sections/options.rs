@@ -45,6 +45,8 @@ pub enum Section {
     Certified,
     /// The random-orientation fragility against the angle step.
     Orientations,
+    /// The slide-rock model against the nonlinear rocking model.
+    Sliding,
 }
 
 impl rocking::label::Label for Section {
@@ -57,6 +59,7 @@ impl rocking::label::Label for Section {
         Section::Calls,
         Section::Certified,
         Section::Orientations,
+        Section::Sliding,
     ];
     fn label(self) -> &'static str {
         match self {
@@ -68,6 +71,7 @@ impl rocking::label::Label for Section {
             Section::Calls => "calls",
             Section::Certified => "certified",
             Section::Orientations => "orientations",
+            Section::Sliding => "sliding",
         }
     }
 }

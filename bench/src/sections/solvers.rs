@@ -70,7 +70,9 @@ pub(super) fn solvers(
     // a tolerance far below any setting measured for the nonlinear one.
     let reference = |s: &Solver| match s.model.equation {
         Equation::Linearized => Model::LINEARIZED,
-        Equation::Nonlinear { alpha_rad } => Model::dp5(alpha_rad, 1e-13),
+        Equation::Nonlinear { alpha_rad } | Equation::SlideRock { alpha_rad, .. } => {
+            Model::dp5(alpha_rad, 1e-13)
+        }
     };
     let grid = ImGrid::default();
     let tol = 1e-6;

@@ -9,13 +9,43 @@ use super::base::{Arm, Coupled, Mode};
 use super::event_loop::{Driver, Stop};
 use crate::physics::friction::Onset;
 use crate::physics::history::{EventKind, Observer};
-use crate::physics::slide_rock::{SlideRockEnd, Slipping};
+use crate::physics::slide_rock::{first_negative, SlideRockEnd, Slipping};
 use crate::physics::step::{Rocking, Stepper, Stretch, StretchEnd};
 
 impl<S: Stepper, O: Observer> Driver<'_, S, O> {
     /// The coupled part (only called where there is one).
     fn c(&mut self) -> &mut Coupled {
         self.coupled.as_mut().expect("a coupled run")
+    }
+
+    /// Interval `k` of a block on a held pivot by the stepper's fast path,
+    /// if it proves the interval eventless and the friction holds at its
+    /// end (`true`); else the state is left as it was, for the interval to
+    /// be walked (the fast path's arithmetic is the walk's, so either way
+    /// the run is the same to the bit).
+    pub(super) fn cruise_held(&mut self, k: usize) -> bool {
+        let Some(mut st) = self.state else {
+            return false;
+        };
+        let (exc, max_before) = (self.exc, self.out.max_abs_x);
+        if self
+            .stepper
+            .cruise(exc, k, k + 1, &mut st, &mut self.out.max_abs_x)
+            == k
+        {
+            return false;
+        }
+        let mu = self.c().contact.friction.mu_s;
+        let forces = self
+            .c()
+            .contact
+            .rock_forces(st.s, st.x, st.v, exc.psi_end()[k]);
+        if forces.margin(mu) < 0.0 {
+            self.out.max_abs_x = max_before;
+            return false;
+        }
+        self.state = Some(st);
+        true
     }
 
     /// A block at rest leaves it at `t_s` towards `side` under forcing
@@ -218,42 +248,37 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
             | StretchEnd::Settled { sigma } => sigma,
         };
         let mu = self.c().contact.friction.mu_s;
-        let holds = |d: &Self, st: Rocking, sigma: f64| {
+        let margin = |d: &Self, st: Rocking, sigma: f64| {
             let c = d.coupled.as_ref().expect("a coupled run");
             let psi = stretch.g_a + stretch.g1 * sigma;
-            c.contact.rock_forces(st.s, st.x, st.v, psi).margin(mu) >= 0.0
+            c.contact.rock_forces(st.s, st.x, st.v, psi).margin(mu)
         };
         let st_end = self.state?;
-        if matches!(end, StretchEnd::Settled { .. }) || holds(self, st_end, sigma_end) {
+        let m_end = margin(self, st_end, sigma_end);
+        if matches!(end, StretchEnd::Settled { .. }) || m_end >= 0.0 {
             return None;
         }
-        let trial = |d: &mut Self, len: f64| {
-            let (mut st, mut top) = (before, max_before);
-            let part = Stretch { len, ..stretch };
-            d.stepper.rock(part, &mut st, &mut top);
-            (st, top)
-        };
-        let (mut lo, mut hi) = (0.0, sigma_end);
-        let (mut st_hi, mut top_hi) = (st_end, self.out.max_abs_x);
-        if !holds(self, before, 0.0) {
+        let m_start = margin(self, before, 0.0);
+        let (hi, (st_hi, top_hi)) = if m_start < 0.0 {
             // It gives way at once (just after an impact or an uplift).
-            (hi, st_hi, top_hi) = (0.0, before, max_before);
-        }
-        // To a few ulps of the record's time: far below any reported digit,
-        // and above the lengths where a stepper's series lose theirs.
-        let floor = 1e-14 * (self.exc.duration_s() + 1.0);
-        while hi - lo > floor {
-            let mid = 0.5 * (lo + hi);
-            if mid <= lo || mid >= hi {
-                break;
-            }
-            let (st, top) = trial(self, mid);
-            if holds(self, st, mid) {
-                lo = mid;
-            } else {
-                (hi, st_hi, top_hi) = (mid, st, top);
-            }
-        }
+            (0.0, (before, max_before))
+        } else {
+            // To a few ulps of the record's time: far below any reported
+            // digit, and above the lengths where a stepper's series lose theirs.
+            let floor = 1e-14 * (self.exc.duration_s() + 1.0);
+            first_negative(
+                (0.0, m_start),
+                (sigma_end, m_end),
+                (st_end, self.out.max_abs_x),
+                floor,
+                |len| {
+                    let (mut st, mut top) = (before, max_before);
+                    let part = Stretch { len, ..stretch };
+                    self.stepper.rock(part, &mut st, &mut top);
+                    (margin(self, st, len), (st, top))
+                },
+            )
+        };
         self.out.max_abs_x = top_hi;
         self.state = Some(st_hi);
         let psi = stretch.g_a + stretch.g1 * hi;
