@@ -182,7 +182,8 @@ impl SlideRock {
             let next = self.step(s, dir, &stretch, sigma, &y, &k1, h);
             self.steps += 1;
             let err = next.err;
-            if !(err <= 1.0) && h > 1e-14 {
+            let accepted = err <= 1.0;
+            if !accepted && h > 1e-14 {
                 let shrink = if err.is_finite() {
                     (0.9 * err.powf(-0.2)).clamp(0.1, 0.9)
                 } else {

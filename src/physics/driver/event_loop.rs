@@ -225,14 +225,12 @@ impl<'a, S: Stepper, O: Observer> Driver<'a, S, O> {
                     return Flow::Going;
                 }
             }
-            Some(_) if !O::SAMPLES && !slipping => {
-                // A block that may slide: one eventless interval at a time,
-                // its friction checked at the end as a walked interval's is.
-                if self.cruise_held(*k) {
-                    self.out.intervals += 1;
-                    *k += 1;
-                    return Flow::Going;
-                }
+            // A block that may slide: one eventless interval at a time, its
+            // friction checked at the end as a walked interval's is.
+            Some(_) if !O::SAMPLES && !slipping && self.cruise_held(*k) => {
+                self.out.intervals += 1;
+                *k += 1;
+                return Flow::Going;
             }
             _ => {}
         }
