@@ -195,6 +195,14 @@ impl<'a, S: Stepper, O: Observer> Driver<'a, S, O> {
         let exc = self.exc;
         let plain = self.coupled.is_none();
         let slipping = self.slipping();
+        // A block that may slide on a held pivot: one eventless interval at
+        // a time, its friction checked at the end as a walked interval's is.
+        let held = !plain && !slipping && self.state.is_some();
+        if held && !O::SAMPLES && self.cruise_held(*k) {
+            self.out.intervals += 1;
+            *k += 1;
+            return Flow::Going;
+        }
         match self.state.as_mut() {
             None if !slipping && exc.suffix_max[*k] <= self.threshold => {
                 self.out.stop = Stop::RestForGood;
@@ -224,13 +232,6 @@ impl<'a, S: Stepper, O: Observer> Driver<'a, S, O> {
                 if next == n || next == cap {
                     return Flow::Going;
                 }
-            }
-            // A block that may slide: one eventless interval at a time, its
-            // friction checked at the end as a walked interval's is.
-            Some(_) if !O::SAMPLES && !slipping && self.cruise_held(*k) => {
-                self.out.intervals += 1;
-                *k += 1;
-                return Flow::Going;
             }
             _ => {}
         }
