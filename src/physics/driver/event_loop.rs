@@ -236,7 +236,14 @@ impl<'a, S: Stepper, O: Observer> Driver<'a, S, O> {
             _ => {}
         }
         self.out.intervals += 1;
-        if self.interval(*k).is_some() {
+        // The walk of a block that may slide, or of one that cannot, each
+        // compiled on its own (the rocking walk carries none of the checks).
+        let stopped = if plain {
+            self.interval::<false>(*k)
+        } else {
+            self.interval::<true>(*k)
+        };
+        if stopped.is_some() {
             return Flow::Stopped;
         }
         self.emit(
@@ -291,7 +298,7 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
 
     /// Walks sample interval `k` event by event. `Some(stop)` ends the run.
     #[inline(always)]
-    fn interval(&mut self, k: usize) -> Option<Stop> {
+    fn interval<const SLIDES: bool>(&mut self, k: usize) -> Option<Stop> {
         let dt = self.exc.dt_s;
         let (g0, g_end, g1) = (self.exc.psi[k], self.exc.psi_end()[k], self.exc.slope[k]);
         let t_k = k as f64 * dt;
@@ -306,7 +313,7 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
                 self.out.stop = Stop::EventLimit;
                 return Some(Stop::EventLimit);
             }
-            if self.slipping() {
+            if SLIDES && self.slipping() {
                 match self.slipping_arm(t_k, tau, g_a, g1, dt) {
                     Arm::End => return None,
                     Arm::Stopped => return Some(self.out.stop),
@@ -325,7 +332,7 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
                 // The forcing at the crossing is exactly ±threshold (or beyond it
                 // when the block was already pushed past it at rest).
                 g_a = if at > 0.0 { side * self.threshold } else { g_a };
-                if self.coupled.is_some() {
+                if SLIDES {
                     self.leave_rest(t_k + tau, g_a, side);
                     continue;
                 }
@@ -347,7 +354,7 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
             let (before, max_before) = (st, self.out.max_abs_x);
             let end = self.stepper.rock(stretch, &mut st, &mut self.out.max_abs_x);
             self.state = Some(st);
-            if self.coupled.is_some() {
+            if SLIDES {
                 if let Some(at) = self.slip_check(t_k, tau, stretch, before, max_before, end) {
                     tau = at;
                     g_a = g0 + g1 * tau;
