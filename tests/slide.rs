@@ -6,6 +6,7 @@
 //! equation written here, and the energy of the free motion.
 
 use rocking::ida::HARD_CASES;
+use rocking::label::Label;
 use rocking::physics::friction::{Friction, G};
 use rocking::physics::{
     simulate, simulate_observed, EventKind, Excitation, HistoryPoint, Mode, Model, Outcome,
@@ -1067,4 +1068,132 @@ fn moreau_jean_converges_to_the_tools_histories_as_its_step_shrinks() {
         assert!(errors[2] < 0.02, "{case}: {errors:?}");
         assert!(errors[2] < errors[0] / 4.0, "{case}: {errors:?}");
     }
+}
+
+/// A study whose blocks run sliding (`kind = "slide-rock"`): every run's
+/// slide in `ida_points` is the library's run at that η; each record's
+/// capacity for a slide state is the first run by rising intensity whose
+/// slide reaches it (or that overturns), interpolated in 1/η from the run
+/// before, as written here; the report has its "Blocks that slide"; and a
+/// slide state with a block run rocking is refused naming the block.
+#[test]
+fn a_study_of_blocks_that_slide_states_their_slides() {
+    use crate::util::{rocking, stderr, tempdir, write_pipeline};
+    use rocking::tables::damage::StateCapacityRow;
+    use rocking::tables::sweep::IdaRow;
+    let dir = tempdir();
+    let blocks = "[[block]]\nname = \"rack\"\nb = 0.3\nh = 1.0\neps = 0.75\nmu = 0.2\n\
+                  [[block]]\nname = \"statue\"\nb = 0.2\nh = 0.9\neps = 0.9\nmu = 0.5\n";
+    let body = format!(
+        "ids = [\"RSN1111_KOBE_NIS000\", \"RSN848_LANDERS_CLW-LN\", \"RSN169_IMPVALL_H-DLT262\"]\n\
+         [model]\nkind = \"slide-rock\"\n{blocks}[im]\ncount = 60\n\
+         [damage]\nstates = \"walks=0.05m,off=0.3m\"\n"
+    );
+    let pipeline = write_pipeline(dir.path(), "sl", &body);
+    let outputs = dir.path().join("out");
+    let out = rocking(
+        dir.path(),
+        &[
+            "run",
+            pipeline.to_str().unwrap(),
+            "--outputs",
+            outputs.to_str().unwrap(),
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let study = outputs.join("sl");
+    let ida: Vec<IdaRow> = rocking::tables::read(&study.join("ida_points.parquet")).unwrap();
+    let states: Vec<StateCapacityRow> =
+        rocking::tables::read(&study.join("state_capacities.parquet")).unwrap();
+    let mut checked = 0;
+    for (name, b, h, eps, mu) in [
+        ("rack", 0.3f64, 1.0f64, 0.75, 0.2),
+        ("statue", 0.2, 0.9, 0.9, 0.5),
+    ] {
+        let alpha = (b / h).atan();
+        let p = (0.75 * G / b.hypot(h)).sqrt();
+        for stem in [
+            "RSN1111_KOBE_NIS000",
+            "RSN848_LANDERS_CLW-LN",
+            "RSN169_IMPVALL_H-DLT262",
+        ] {
+            let exc = far(stem);
+            let mut runs: Vec<&IdaRow> = ida
+                .iter()
+                .filter(|r| r.block == name && r.record_id == stem)
+                .collect();
+            for r in &runs {
+                let spec = RunSpec::new(p, eps, r.eta, slide_rock(alpha, mu));
+                let o = simulate(&exc, &spec).unwrap();
+                assert_eq!(
+                    r.slide_max_m,
+                    Some(o.slide_max_m),
+                    "{name} {stem} η {}",
+                    r.eta
+                );
+                assert_eq!(r.model.label(), "slide-rock");
+            }
+            runs.sort_by(|a, b| b.eta.total_cmp(&a.eta));
+            for (state, d) in [("walks", 0.05), ("off", 0.3)] {
+                let row = states
+                    .iter()
+                    .find(|s| s.block == name && s.record_id == stem && s.state == state)
+                    .unwrap();
+                let i = runs
+                    .iter()
+                    .position(|r| r.overturned || r.slide_max_m.unwrap() >= d);
+                match i {
+                    None => assert!(!row.reached, "{name} {stem} {state}"),
+                    Some(i) => {
+                        assert!(row.reached);
+                        let r1 = runs[i];
+                        let want = match (i, r1.overturned) {
+                            (0, _) | (_, true) => r1.eta,
+                            _ => {
+                                let r0 = runs[i - 1];
+                                let (s0, s1) = (r0.slide_max_m.unwrap(), r1.slide_max_m.unwrap());
+                                if s1 > s0 {
+                                    let inv = 1.0 / r0.eta
+                                        + (d - s0) / (s1 - s0) * (1.0 / r1.eta - 1.0 / r0.eta);
+                                    1.0 / inv
+                                } else {
+                                    r1.eta
+                                }
+                            }
+                        };
+                        assert!(
+                            (row.eta - want).abs() <= 1e-12 * want,
+                            "{name} {stem} {state}"
+                        );
+                        checked += 1;
+                    }
+                }
+            }
+        }
+    }
+    assert!(checked >= 6, "{checked}");
+    let report = std::fs::read_to_string(study.join("report.md")).unwrap();
+    assert!(report.contains("## Blocks that slide"), "{report}");
+    assert!(
+        report.contains("| rack | 0.2 | 0.300 | 0 of 3 |"),
+        "{report}"
+    );
+    // A slide state with a block run rocking.
+    let body = body.replace("kind = \"slide-rock\"", "kind = \"nonlinear\"");
+    let bad = write_pipeline(dir.path(), "bad", &body);
+    let out = rocking(
+        dir.path(),
+        &[
+            "run",
+            bad.to_str().unwrap(),
+            "--outputs",
+            outputs.to_str().unwrap(),
+        ],
+    );
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("`walks` is on the slide, but block `rack` runs the nonlinear"),
+        "{}",
+        stderr(&out)
+    );
 }

@@ -131,6 +131,7 @@ pub fn run(case_id: i64, pga_scale: f64, edp: f64, overturned: bool) -> IdaRow {
         impacts: 0,
         run_kind: RunKind::Level,
         model: EquationKind::Linearized,
+        slide_max_m: None,
     }
 }
 

@@ -32,11 +32,13 @@ pub fn display_name(im: &str) -> String {
 }
 
 /// The ε the β-against-p figure is drawn at: the grid's nearest to 0.75
-/// (the paper's middle value).
+/// (the paper's middle value) among those whose blocks overturn (a block
+/// that slides first, say, has no capacity to disperse).
 pub fn shown_eps(d: &StudyData) -> Option<f64> {
     let (_, es) = d.ps_and_eps();
     es.iter()
         .copied()
+        .filter(|&e| d.efficiency.iter().any(|r| r.eps == e))
         .min_by(|a, b| (a - 0.75).abs().total_cmp(&(b - 0.75).abs()))
 }
 

@@ -80,6 +80,7 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
     let run = |b: Unresolved| block_run(b, model, solver, auto_tol, overturn);
     let blocks = blocks.into_iter().map(run).collect::<Result<Vec<_>, _>>();
     let blocks = blocks.map_err(err)?;
+    slides_need_sliding(&damage, &blocks).map_err(err)?;
     let tree = raw
         .tree
         .map(|t| super::tree::tree_plan(t, example.as_ref(), model, solver, auto_tol, overturn))
@@ -116,6 +117,27 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
         })),
         base: base.to_path_buf(),
     })
+}
+
+/// `[damage]` states on the slide need every block run by the slide-rock
+/// model (a rocking model's runs never slide).
+fn slides_need_sliding(damage: &DamageStates, blocks: &[BlockSpec]) -> Result<(), String> {
+    let Some(state) = damage.states().iter().find(|s| s.slide_m().is_some()) else {
+        return Ok(());
+    };
+    match blocks
+        .iter()
+        .find(|b| b.run.model.equation.friction().is_none())
+    {
+        Some(b) => Err(format!(
+            "`damage.states`: `{}` is on the slide, but block `{}` runs the {} (give it `mu`, \
+             with `[model] kind = \"auto\"` or `\"slide-rock\"`)",
+            state.name,
+            b.name,
+            b.run.model.equation.kind().describe()
+        )),
+        None => Ok(()),
+    }
 }
 
 /// `[damage]`: the limit states, or the default (overturning alone).

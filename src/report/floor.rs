@@ -1,6 +1,6 @@
 //! The report's scene section: the building whose floor the blocks stand
 //! on (each block's capacity on the floor and in the ground's PGA), and
-//! the blocks that slide before they rock.
+//! the blocks that slide (`sliding`).
 
 use std::fmt::Write as _;
 
@@ -125,38 +125,5 @@ pub(super) fn scene_section(w: &mut String, d: &StudyData) {
         let _ = writeln!(w);
         demands_table(w, d);
     }
-    let sliding: Vec<String> = plan
-        .blocks
-        .iter()
-        .filter(|b| b.slides_first())
-        .map(|b| {
-            format!(
-                "`{}` (μ = {}, b/h = {:.3})",
-                b.name,
-                b.mu.unwrap_or(f64::NAN),
-                b.alpha_rad.unwrap_or(f64::NAN).tan()
-            )
-        })
-        .collect();
-    if !sliding.is_empty() {
-        let _ = writeln!(w, "## Blocks that slide first\n");
-        let _ = writeln!(
-            w,
-            "{} {} before {}: the base's friction coefficient μ is below b/h, so the \
-             base slips before the shaking can lift a corner (Ishiyama 1982; Shenton 1996; \
-             docs/MODEL.md §17). The capacities assume no sliding and hold only for a block \
-             restrained against it; `slides_first` marks the rows in `capacities.parquet`.\n",
-            sliding.join(", "),
-            if sliding.len() == 1 {
-                "slides"
-            } else {
-                "slide"
-            },
-            if sliding.len() == 1 {
-                "it rocks"
-            } else {
-                "they rock"
-            }
-        );
-    }
+    super::sliding::sliding_section(w, d);
 }

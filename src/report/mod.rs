@@ -14,6 +14,7 @@ mod ims;
 mod orientation;
 mod pulses;
 mod shared;
+mod sliding;
 mod study;
 mod tree;
 

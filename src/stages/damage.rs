@@ -217,7 +217,7 @@ fn of_block(
             runs.iter().map(|r| damage::StateRun {
                 eta: r.eta,
                 edp: r.edp,
-                slide_m: 0.0,
+                slide_m: r.slide_max_m.unwrap_or(0.0),
                 overturned: r.overturned,
             }),
             cap.eta_c,

@@ -21,7 +21,7 @@ table! {
     /// record paths relative to the pipeline's folder); shard tables also hold
     /// `rocking.sweep.shard`, part files `rocking.sweep.chunk`, and the example's table
     /// `rocking.example.settings`.
-    pub struct IdaRow = "ida_points" v 1 {
+    pub struct IdaRow = "ida_points" v 2 {
         /// Index of the (record, block) case: records by id, then blocks in pipeline order.
         pub case_id: i64,
         /// The record (its AT2 file stem).
@@ -47,8 +47,11 @@ table! {
         pub impacts: i64,
         /// `level` (a grid level) or `refinement` (a bisection run of the capacity).
         pub run_kind: RunKind,
-        /// The equation run: `linearized` or `nonlinear`.
+        /// The equation run: `linearized`, `nonlinear` or `slide-rock`.
         pub model: EquationKind,
+        /// The slide-rock model's run: the base's largest slide relative to the ground
+        /// (m); empty for a rocking model. Version 2 added it.
+        pub slide_max_m: Option<f64>,
     }
 }
 

@@ -165,6 +165,11 @@ pub(in crate::stages) fn run_case(case: usize, prep: &Prepared) -> Result<CaseRe
             impacts: q.outcome.impacts as i64,
             run_kind: q.kind,
             model,
+            slide_max_m: spec
+                .model
+                .equation
+                .friction()
+                .map(|_| q.outcome.slide_max_m),
         })
         .collect();
     let row = CapacityRow {
