@@ -163,8 +163,9 @@ impl Tree {
         let _ = raw.description;
         if !raw.mu.is_empty() {
             return Err(TreeError(format!(
-                "{origin}: [[mu]]: friction branches need a model that slides; the rocking \
-                 model's answers do not depend on μ, so its branches would all be one"
+                "{origin}: [[mu]]: a tree does not branch on friction; give the base's μ \
+                 itself (--mu, an inventory's `mu`), on which the slide-rock model runs the \
+                 block"
             )));
         }
         let eps = raw

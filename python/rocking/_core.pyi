@@ -13,9 +13,10 @@ class Block:
     or full ``width``, ``height`` (m), each a number or a list; ``eps`` (a
     number in (0, 1] or ``"housner"``, needs the sizes; or a list);
     ``alpha`` (rad, with ``p``); ``model`` (``linearized``, ``nonlinear``,
-    ``auto``); ``integrator`` (``taylor``, ``dp5``) and ``rtol``;
-    ``auto_tol``; ``overturn`` (``static``, ``cap:<c>``, ``on-side``,
-    ``escape``); ``mu`` (the base's friction: μ < b/h slides first);
+    ``auto``, ``slide-rock``); ``integrator`` (``taylor``, ``dp5``) and
+    ``rtol``; ``auto_tol``; ``overturn`` (``static``, ``cap:<c>``,
+    ``on-side``, ``escape``); ``mu`` and ``mu_k`` (the base's static and
+    kinetic friction: ``slide-rock`` and ``auto`` run the block on them);
     ``floor`` (the building's modes ``[(T, zeta, gamma_phi), …]``)."""
 
     def __init__(
@@ -34,6 +35,7 @@ class Block:
         auto_tol: float = 0.01,
         overturn: str = "static",
         mu: Optional[float] = None,
+        mu_k: Optional[float] = None,
         floor: Optional[Sequence[Mode]] = None,
     ) -> None: ...
     def __len__(self) -> int: ...

@@ -107,6 +107,10 @@ def test_simulate_is_the_commands():
          ["--b", "0.2", "--h", "1", "--eps", "0.9", "--pga", "0.4", "--model", "auto"]),
         (dict(b=0.2, h=1.0, eps=0.9, pga=0.1, floor=[(0.5, 0.05, 1.3)]),
          ["--b", "0.2", "--h", "1", "--eps", "0.9", "--pga", "0.1", "--floor", "0.5,0.05,1.3"]),
+        # A block that slides: its slide and its time in each mode.
+        (dict(b=0.3, h=0.5, eps=0.8, pga=0.6, model="slide-rock", mu=0.3, mu_k=0.25),
+         ["--b", "0.3", "--h", "0.5", "--eps", "0.8", "--pga", "0.6", "--model", "slide-rock",
+          "--mu", "0.3", "--mu-k", "0.25"]),
     ]:
         same(rocking.simulate(KOBE, **py), cli_json("simulate", "--record", KOBE, *args))
 
@@ -165,6 +169,14 @@ def test_fragility_and_risk_are_the_commands():
         rocking.fragility(0.1, 1.0, eps=0.9, im="pgv", at=[20, 60], direct=True, records=FAR),
         cli_json("fragility", "--b", "0.1", "--h", "1", "--eps", "0.9", "--im", "pgv", "--at",
                  "20,60", "--direct", "--records", FAR),
+    )
+    # States on the slide, from the runs of the model that slides.
+    same(
+        rocking.fragility(0.3, 1.0, eps=0.75, mu=0.2, pga=[0.5, 1.0], direct=True, records=FAR,
+                          states="walks=0.05m,off_plinth=0.3m"),
+        cli_json("fragility", "--b", "0.3", "--h", "1", "--eps", "0.75", "--mu", "0.2", "--pga",
+                 "0.5,1.0", "--direct", "--records", FAR, "--states",
+                 "walks=0.05m,off_plinth=0.3m"),
     )
     # Over orientations, in a pair's IM: the records' pairs from the manifest.
     same(
