@@ -50,6 +50,11 @@ const ADDED: &[(&str, &[&str], &str)] = &[
         &["pfa_over_pga", "slides_first"],
         "a block on a building's floor, and one that slides before it rocks",
     ),
+    (
+        "ida_points.parquet",
+        &["slide_max_m"],
+        "the slide of a block run by the slide-rock model (empty for a rocking model)",
+    ),
 ];
 
 /// Schema, rows and digest of one table's `columns` (all when `None`).

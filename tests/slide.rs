@@ -1197,3 +1197,70 @@ fn a_study_of_blocks_that_slide_states_their_slides() {
         stderr(&out)
     );
 }
+
+/// The tolerance study's 528 cases (44 far-field records × p ∈ {1, 2, 4} ×
+/// ε ∈ {0.7, 0.9} × α ∈ {0.15, 0.3}) on a base of μ = 1.3, their certified
+/// capacities: wherever no run of a case slips, its capacity and every run
+/// of its search (θmax/α, the outcome, the impacts) are the nonlinear
+/// model's to the bit. ROCKING_SLOW=1 (CI sets it).
+#[test]
+fn where_friction_never_binds_the_tolerance_studys_capacities_are_the_rocking_models() {
+    if std::env::var_os("ROCKING_SLOW").is_none() {
+        return;
+    }
+    use rocking::ida::{capacity_certified, ImGrid, Trace};
+    let dir = crate::util::bundled_records().join("far-field");
+    let mut stems: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "AT2"))
+        .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
+        .collect();
+    stems.sort();
+    assert_eq!(stems.len(), 44);
+    let grid = ImGrid::default();
+    let (mut compared, mut slipped) = (0, 0);
+    for stem in &stems {
+        let exc = far(stem);
+        for p in [1.0, 2.0, 4.0] {
+            for eps in [0.7, 0.9] {
+                for alpha in [0.15, 0.3] {
+                    let rocking =
+                        RunSpec::new(p, eps, 1.0, Model::nonlinear(alpha, Solver::default()));
+                    let sliding = RunSpec {
+                        model: slide_rock(alpha, 1.3),
+                        ..rocking
+                    };
+                    let a = capacity_certified(&exc, &rocking, &grid, 1e-4, Trace::StopAtFirst)
+                        .unwrap();
+                    let b = capacity_certified(&exc, &sliding, &grid, 1e-4, Trace::StopAtFirst)
+                        .unwrap();
+                    if b.capacity.points.iter().any(|q| q.outcome.slips > 0) {
+                        slipped += 1;
+                        continue;
+                    }
+                    let case = format!("{stem} p {p} ε {eps} α {alpha}");
+                    assert_eq!(a.capacity.eta_c, b.capacity.eta_c, "{case}");
+                    assert_eq!(a.capacity.points.len(), b.capacity.points.len(), "{case}");
+                    for (x, y) in a.capacity.points.iter().zip(&b.capacity.points) {
+                        assert_eq!(x.eta, y.eta, "{case}");
+                        assert_eq!(
+                            x.outcome.max_abs_x.to_bits(),
+                            y.outcome.max_abs_x.to_bits(),
+                            "{case}"
+                        );
+                        assert_eq!(
+                            (x.outcome.stop, x.outcome.impacts),
+                            (y.outcome.stop, y.outcome.impacts),
+                            "{case}"
+                        );
+                    }
+                    compared += 1;
+                }
+            }
+        }
+    }
+    eprintln!("{compared} cases compared, {slipped} slipped");
+    assert_eq!(compared + slipped, 528);
+    assert!(compared > 400, "{compared}");
+}
