@@ -1082,7 +1082,8 @@ fn a_study_of_blocks_that_slide_states_their_slides() {
     use rocking::tables::damage::StateCapacityRow;
     use rocking::tables::sweep::IdaRow;
     let dir = tempdir();
-    let blocks = "[[block]]\nname = \"rack\"\nb = 0.3\nh = 1.0\neps = 0.75\nmu = 0.2\n\
+    let blocks =
+        "[[block]]\nname = \"rack\"\nb = 0.3\nh = 1.0\neps = 0.75\nmu = 0.2\nmu_k = 0.15\n\
                   [[block]]\nname = \"statue\"\nb = 0.2\nh = 0.9\neps = 0.9\nmu = 0.5\n";
     let body = format!(
         "ids = [\"RSN1111_KOBE_NIS000\", \"RSN848_LANDERS_CLW-LN\", \"RSN169_IMPVALL_H-DLT262\"]\n\
@@ -1106,9 +1107,14 @@ fn a_study_of_blocks_that_slide_states_their_slides() {
     let states: Vec<StateCapacityRow> =
         rocking::tables::read(&study.join("state_capacities.parquet")).unwrap();
     let mut checked = 0;
-    for (name, b, h, eps, mu) in [
-        ("rack", 0.3f64, 1.0f64, 0.75, 0.2),
-        ("statue", 0.2, 0.9, 0.9, 0.5),
+    // The rack's kinetic friction below its static one.
+    let rack = Friction {
+        mu_s: 0.2,
+        mu_k: 0.15,
+    };
+    for (name, b, h, eps, friction) in [
+        ("rack", 0.3f64, 1.0f64, 0.75, rack),
+        ("statue", 0.2, 0.9, 0.9, Friction::new(0.5)),
     ] {
         let alpha = (b / h).atan();
         let p = (0.75 * G / b.hypot(h)).sqrt();
@@ -1123,8 +1129,8 @@ fn a_study_of_blocks_that_slide_states_their_slides() {
                 .filter(|r| r.block == name && r.record_id == stem)
                 .collect();
             for r in &runs {
-                let spec = RunSpec::new(p, eps, r.eta, slide_rock(alpha, mu));
-                let o = simulate(&exc, &spec).unwrap();
+                let model = Model::slide_rock(alpha, friction, Solver::default());
+                let o = simulate(&exc, &RunSpec::new(p, eps, r.eta, model)).unwrap();
                 assert_eq!(
                     r.slide_max_m,
                     Some(o.slide_max_m),
@@ -1195,6 +1201,23 @@ fn a_study_of_blocks_that_slide_states_their_slides() {
         stderr(&out).contains("`walks` is on the slide, but block `rack` runs the nonlinear"),
         "{}",
         stderr(&out)
+    );
+    let body = body.replace("mu = 0.2\n", "");
+    let bad = write_pipeline(dir.path(), "bad", &body);
+    let out = rocking(
+        dir.path(),
+        &[
+            "run",
+            bad.to_str().unwrap(),
+            "--outputs",
+            outputs.to_str().unwrap(),
+        ],
+    );
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(
+        e.contains(".mu_k` is the kinetic friction beside `mu`"),
+        "{e}"
     );
 }
 

@@ -151,7 +151,10 @@ pub(super) fn block_run(
     let (model, why) = model
         .resolve(
             b.alpha_rad,
-            b.mu.map(crate::physics::friction::Friction::new),
+            b.mu.map(|mu| crate::physics::friction::Friction {
+                mu_s: mu,
+                mu_k: b.mu_k.unwrap_or(mu),
+            }),
             solver,
             auto_tol,
         )
@@ -179,6 +182,7 @@ pub(super) struct Unresolved {
     pub(super) eps: f64,
     pub(super) alpha_rad: Option<f64>,
     pub(super) mu: Option<f64>,
+    pub(super) mu_k: Option<f64>,
 }
 
 #[cfg(test)]

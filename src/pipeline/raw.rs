@@ -261,6 +261,8 @@ pub struct RawBlock {
     pub eps: toml::Value,
     /// The base's static friction coefficient, when known.
     pub mu: Option<f64>,
+    /// Its kinetic friction coefficient (≤ mu; mu when not given).
+    pub mu_k: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -356,6 +356,7 @@ fn blocks(
                         eps,
                         alpha_rad: model_alpha,
                         mu: None,
+                        mu_k: None,
                     })
                 })
                 .collect())
@@ -412,6 +413,7 @@ fn example(e: &RawExample, model_alpha: Option<f64>) -> Result<Unresolved, Strin
                 eps,
                 alpha_rad: model_alpha,
                 mu: None,
+                mu_k: None,
             })
         }
         (None, Some(b), Some(h)) => physical(
@@ -422,6 +424,7 @@ fn example(e: &RawExample, model_alpha: Option<f64>) -> Result<Unresolved, Strin
                 h,
                 eps: e.eps.clone(),
                 mu: None,
+                mu_k: None,
             },
         ),
         _ => {
@@ -459,6 +462,11 @@ fn physical(key: &str, b: &RawBlock) -> Result<Unresolved, String> {
         b.mu.map(crate::block::check_mu)
             .transpose()
             .map_err(|e| format!("`{key}.mu`: {e}"))?;
+    if b.mu_k.is_some() && mu.is_none() {
+        return Err(format!(
+            "`{key}.mu_k` is the kinetic friction beside `mu`: give both"
+        ));
+    }
     Ok(Unresolved {
         name: b
             .name
@@ -468,6 +476,7 @@ fn physical(key: &str, b: &RawBlock) -> Result<Unresolved, String> {
         eps: block.eps,
         alpha_rad: Some(block.alpha()),
         mu,
+        mu_k: b.mu_k,
     })
 }
 

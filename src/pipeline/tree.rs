@@ -58,6 +58,7 @@ pub(super) fn tree_plan(
                     eps,
                     alpha_rad: ex.alpha_rad,
                     mu: ex.mu,
+                    mu_k: ex.mu_k,
                 };
                 let block = block_run(b, path.model.unwrap_or(model), solver, auto_tol, overturn)?;
                 Ok(super::plan::TreeBranch {
