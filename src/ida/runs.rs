@@ -225,6 +225,13 @@ impl<'a> Runs<'a> {
                 crate::physics::MAX_EVENTS
             )));
         }
+        if out.stop == crate::physics::Stop::Flight {
+            return Err(PhysicsError::BadInput(format!(
+                "the run at η = {}: the block's pivot lost contact (its normal force reached 0), \
+                 so the block would leave the base, which the slide-rock model does not follow",
+                spec.eta
+            )));
+        }
         self.done.runs += 1;
         self.done.intervals += out.intervals;
         self.memo.insert(run_key(spec), out);

@@ -64,10 +64,9 @@ impl Batch for Pool {
                     break;
                 }
                 let out = simulate(exc, &specs[i]);
-                if out
-                    .as_ref()
-                    .map_or(true, |o| o.overturned() || o.stop == Stop::EventLimit)
-                {
+                if out.as_ref().map_or(true, |o| {
+                    o.overturned() || matches!(o.stop, Stop::EventLimit | Stop::Flight)
+                }) {
                     first_over.fetch_min(i, Ordering::AcqRel);
                 }
                 let _ = slots[i].set(out);

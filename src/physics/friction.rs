@@ -176,23 +176,23 @@ impl Contact {
         let s = dir;
         let forces = self.rock_forces(s, 0.0, 0.0, psi);
         if forces.margin(self.friction.mu_s) >= 0.0 {
-            Onset::Rock { s }
+            return Onset::Rock { s };
+        }
+        let slip = -forces.f.signum();
+        // Slipping, it must also tip (at μ = b/h exactly it need not): else
+        // it slides flat.
+        let (xdd, _, _) = self.slide_rock_accel(s, slip, 0.0, 0.0, psi);
+        if s * xdd > 0.0 || !self.slides_flat() {
+            Onset::SlideRock { s, dir: slip }
         } else {
-            Onset::SlideRock {
-                s,
-                dir: -forces.f.signum(),
-            }
+            Onset::Slide { dir }
         }
     }
 
-    /// Where a slip that has just stopped goes on, on pivot `s` at
-    /// `(x, v)` (or flat, `s = 0`) under `psi`: held (`None`), or slipping
-    /// again towards the returned direction.
+    /// Where a pivot's slip that has just stopped goes on, on pivot `s` at
+    /// `(x, v)` under `psi`: held (`None`), or slipping again towards the
+    /// returned direction.
     pub fn after_stick(&self, s: f64, x: f64, v: f64, psi: f64) -> Option<f64> {
-        if s == 0.0 {
-            let a = self.a_scale * psi;
-            return (a.abs() > self.friction.mu_s * G).then_some(a.signum());
-        }
         let forces = self.rock_forces(s, x, v, psi);
         (forces.margin(self.friction.mu_s) < 0.0).then_some(-forces.f.signum())
     }
@@ -250,7 +250,14 @@ fn first_root(c0: f64, c1: f64, c2: f64, len: f64) -> Option<f64> {
             roots[0] = -c0 / c1;
         }
     } else {
+        // A touch of the axis (a double root) rounds either way: within
+        // rounding of 0 it is one.
         let disc = c1 * c1 - 4.0 * c2 * c0;
+        let disc = if disc < 0.0 && disc >= -1e-12 * c1 * c1 {
+            0.0
+        } else {
+            disc
+        };
         if disc >= 0.0 {
             // The stable pair: q = −(c1 + sgn(c1)√disc)/2, roots q/c2 and c0/q.
             let sign = if c1 >= 0.0 { 1.0 } else { -1.0 };

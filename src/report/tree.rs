@@ -36,7 +36,8 @@ pub(super) fn tree_section(w: &mut String, d: &StudyData) {
             br.block.eps,
             match br.block.run.model.equation {
                 crate::physics::Equation::Linearized => "linearised",
-                _ => "nonlinear",
+                crate::physics::Equation::Nonlinear { .. } => "nonlinear",
+                crate::physics::Equation::SlideRock { .. } => "slide-rock",
             },
             fit.median,
             fit.beta

@@ -110,14 +110,19 @@ pub(super) fn from_records(
     })
 }
 
-/// Where no record reaches a state up to its strongest run, the state's
-/// probability is 0 at every level the records ran (their curve, which
-/// has no point): the fragility is the records' curves, and a warning says
-/// so, and why where the physics says it (a block that slides first never
-/// rocks under horizontal shaking: the slipping base passes it at most μg,
-/// below the g·b/h that lifts a corner).
+/// A block run sliding whose state no record reaches up to its strongest
+/// run: the state's probability is 0 at every level the records ran (their
+/// curve, which has no point), so the fragility is the records' curves,
+/// and a warning says so, and why where the physics says it (a block that
+/// slides first never rocks under horizontal shaking: the slipping base
+/// passes it at most μg, below the g·b/h that lifts a corner).
 pub(super) fn never_reached(f: &mut DamageFragility, block: &Block) {
-    let slides_first = f.slides_on_mu.is_some_and(|mu| mu < block.alpha().tan());
+    // A rocking model's state no record reaches is refused as it was (no
+    // fit); a block that slides has states it cannot reach by its physics.
+    let Some(mu) = f.slides_on_mu else {
+        return;
+    };
+    let slides_first = mu < block.alpha().tan();
     let never: Vec<String> = f
         .states
         .iter()

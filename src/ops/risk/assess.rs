@@ -246,8 +246,10 @@ fn assess_block(req: &Request, p: &Prepared, e: &InventoryBlock) -> Result<Asses
             cut,
         });
     }
-    // Whether the runs slid is the model's, the same on every branch.
-    let first = branches[0].whole.clone();
+    // A branch run rocking (a tree's model branch) on a base it slides on.
+    let unmodelled = branches
+        .iter()
+        .find_map(|b| b.whole.unmodelled_sliding(e.mu, block.alpha()));
     let resampled: Vec<super::bootstrap::Resampled> = branches
         .iter()
         .map(|b| super::bootstrap::Resampled {
@@ -285,7 +287,7 @@ fn assess_block(req: &Request, p: &Prepared, e: &InventoryBlock) -> Result<Asses
     warnings.extend(p.warnings.iter().cloned());
     warnings.extend(site_infos.iter().flat_map(|s| tails(s, im.unit(), None)));
     let assessed = block_info(e, &block, floor);
-    warnings.extend(first.unmodelled_sliding(e.mu, block.alpha()));
+    warnings.extend(unmodelled);
     Ok(Assessment {
         block: assessed,
         fragility: info,

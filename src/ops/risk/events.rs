@@ -240,7 +240,7 @@ fn one_block(
     let floor = records.and_then(|r| r.floor());
     let cut = damage::zero_below(&block, im, floor, f.slides_on_mu).unwrap_or(0.0);
     let p = probabilities(values, cut, &frag);
-    let (vector, pv) = vector_of(req, &block, vector_values, records).map_err(|e| match e {
+    let (vector, pv) = vector_of(req, e, &block, vector_values, records).map_err(|e| match e {
         VectorError::Block(source) => in_block(source),
         VectorError::Other(e) => e,
     })?;
@@ -368,6 +368,7 @@ enum VectorError {
 /// runs, and its P at every (event, site) (0 below its uplift PGA).
 fn vector_of(
     req: &Request,
+    e: &super::InventoryBlock,
     block: &crate::block::Block,
     vector_values: Option<&(Vec<f64>, Vec<f64>)>,
     records: Option<&fragility::DirectRecords>,
@@ -381,15 +382,18 @@ fn vector_of(
                 .into(),
         )));
     };
-    let (caps, _) = r
-        .capacities(block, RunModel::auto(req.auto_tol))
-        .map_err(VectorError::Block)?;
+    // The block's one model (sliding where it can, on its μ), as its
+    // scalar fragility's.
+    let model = RunModel::auto(req.auto_tol).on(e.mu);
+    let (caps, _) = r.capacities(block, model).map_err(VectorError::Block)?;
+    let (ran, _) = model.resolve(block).map_err(VectorError::Block)?;
     let eta: Vec<Option<f64>> = caps.iter().map(|&c| (c > 0.0).then_some(c)).collect();
     let Some(v) = crate::im::efficiency::vector_of_block(&eta, r.ims()) else {
         return Ok((None, None));
     };
-    // The block cannot move below its uplift PGA, whatever the IM.
-    let uplift = block.uplift_pga_g();
+    // The block cannot move below the level `risk` cuts at, whatever the IM.
+    let slides_on_mu = ran.equation.friction().map(|f| f.mu_s);
+    let uplift = damage::zero_below(block, Im::Pga, None, slides_on_mu).unwrap_or(0.0);
     let p = pga
         .iter()
         .zip(pgv)

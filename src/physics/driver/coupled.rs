@@ -107,21 +107,22 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
         let Some(sigma) = flat.stop else {
             return Arm::End;
         };
-        let tau = tau + sigma;
-        let psi = g_a + g1 * sigma;
+        // Held: where the forcing still exceeds rest's threshold the rest
+        // arm starts the next slip, by the one test that started this one.
+        // A slip that could not start (stopped where it began, the forcing
+        // on the threshold within rounding) moves time on by an ulp, as a
+        // settling within τ's rounding does.
+        let at = if tau + sigma > tau {
+            tau + sigma
+        } else {
+            tau.next_up()
+        };
+        let psi = g_a + g1 * (at - tau);
         let c = self.c();
-        match c.contact.after_stick(0.0, 0.0, 0.0, psi) {
-            Some(dir) => {
-                c.dir = dir;
-                self.out.slips += 1;
-            }
-            None => {
-                c.slipping = false;
-                c.enter(Mode::Rest, t_k + tau);
-            }
-        }
-        self.emit(t_k + tau, psi, EventKind::Stick);
-        Arm::At(tau)
+        c.slipping = false;
+        c.enter(Mode::Rest, t_k + at);
+        self.emit(t_k + at, psi, EventKind::Stick);
+        Arm::At(at)
     }
 
     /// The slide-rock mode from offset `tau` to the interval's end or its
@@ -160,7 +161,8 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
                 return Arm::Stopped;
             }
             SlideRockEnd::Impact { sigma } => {
-                self.impact_slipping(t_k + tau + sigma, slipping.st);
+                let psi = stretch.g_a + stretch.g1 * sigma;
+                self.impact_slipping(t_k + tau + sigma, psi, slipping.st);
                 return Arm::At(tau + sigma);
             }
             SlideRockEnd::Stick { sigma } => (sigma, EventKind::Stick),
@@ -186,7 +188,7 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
     /// scaled by ε (the rotation's as Housner's, the base's alike), so the
     /// impact keeps ε² of the kinetic energy; the block goes on to the
     /// other pivot, or lands flat below the rest speed.
-    fn impact_slipping(&mut self, t_s: f64, st: Rocking) {
+    fn impact_slipping(&mut self, t_s: f64, psi: f64, st: Rocking) {
         self.out.impacts += 1;
         let (eps, v_rest) = (self.spec.eps, self.v_rest);
         let v_plus = eps * st.v;
@@ -210,6 +212,8 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
                     v: 0.0,
                     s: dir,
                 });
+                self.emit(t_s, psi, EventKind::Impact);
+                return;
             }
             EventKind::Rest
         } else {
@@ -223,7 +227,7 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
             }
             EventKind::Impact
         };
-        self.emit(t_s, 0.0, kind);
+        self.emit(t_s, psi, kind);
     }
 
     /// After a rocking stretch from `before` that ended in `end` (its state
@@ -232,11 +236,13 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
     /// bisection on the stretch, each trial the stepper from `before`), the
     /// state there, and the slip begun. `max_before` is the run's max |x|
     /// before the stretch.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn slip_check(
         &mut self,
         t_k: f64,
         tau: f64,
         stretch: Stretch,
+        g_end: f64,
         before: Rocking,
         max_before: f64,
         end: StretchEnd,
@@ -254,7 +260,15 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
             c.contact.rock_forces(st.s, st.x, st.v, psi).margin(mu)
         };
         let st_end = self.state?;
-        let m_end = margin(self, st_end, sigma_end);
+        // At the interval's end, its forcing as the fast path reads it.
+        let m_end = match end {
+            StretchEnd::End => {
+                let c = self.c();
+                let forces = c.contact.rock_forces(st_end.s, st_end.x, st_end.v, g_end);
+                forces.margin(mu)
+            }
+            _ => margin(self, st_end, sigma_end),
+        };
         if matches!(end, StretchEnd::Settled { .. }) || m_end >= 0.0 {
             return None;
         }
@@ -318,7 +332,7 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
             }
             match self.slide_rock_arm(t, 0.0, free) {
                 Arm::Stopped => {
-                    self.out.overturn_after_record = true;
+                    self.out.overturn_after_record = self.out.stop == Stop::Overturned;
                     return true;
                 }
                 Arm::End => t += horizon,

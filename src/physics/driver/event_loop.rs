@@ -153,7 +153,7 @@ impl<'a, S: Stepper, O: Observer> Driver<'a, S, O> {
             obs,
             threshold: spec.eta * spec.model.equation.uplift_factor(),
             v_rest: spec.rest_tol * spec.p,
-            coupled: coupled(spec, limit),
+            coupled: coupled(spec, limit, start.is_some()),
             state: start,
             events: 0,
             out: Outcome {
@@ -355,7 +355,8 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
             let end = self.stepper.rock(stretch, &mut st, &mut self.out.max_abs_x);
             self.state = Some(st);
             if SLIDES {
-                if let Some(at) = self.slip_check(t_k, tau, stretch, before, max_before, end) {
+                let checked = self.slip_check(t_k, tau, stretch, g_end, before, max_before, end);
+                if let Some(at) = checked {
                     tau = at;
                     g_a = g0 + g1 * tau;
                     continue;
@@ -580,11 +581,16 @@ fn uplift_in(
     Some((sigma, side))
 }
 
-/// The sliding part of a run whose equation has friction.
-fn coupled(spec: &RunSpec, limit: f64) -> Option<Coupled> {
+/// The sliding part of a run whose equation has friction (`on_pivot`: the
+/// run starts rocking, its pivot held).
+fn coupled(spec: &RunSpec, limit: f64, on_pivot: bool) -> Option<Coupled> {
     let friction = spec.model.equation.friction()?;
     let alpha = spec.model.equation.alpha()?;
     let contact = Contact::new(spec.p, spec.eta, alpha, friction);
     let rtol = spec.model.integrator.tol().unwrap_or(1e-10);
-    Some(Coupled::new(contact, spec.p, limit, rtol))
+    let mut c = Coupled::new(contact, spec.p, limit, rtol);
+    if on_pivot {
+        c.enter(Mode::Rock, 0.0);
+    }
+    Some(c)
 }
