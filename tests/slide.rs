@@ -1185,36 +1185,27 @@ fn a_study_of_blocks_that_slide_states_their_slides() {
         "{report}"
     );
     // A slide state with a block run rocking.
-    let body = body.replace("kind = \"slide-rock\"", "kind = \"nonlinear\"");
-    let bad = write_pipeline(dir.path(), "bad", &body);
-    let out = rocking(
-        dir.path(),
-        &[
-            "run",
-            bad.to_str().unwrap(),
-            "--outputs",
-            outputs.to_str().unwrap(),
-        ],
-    );
-    assert!(!out.status.success());
-    assert!(
-        stderr(&out).contains("`walks` is on the slide, but block `rack` runs the nonlinear"),
-        "{}",
+    let refused = |body: &str| {
+        let bad = write_pipeline(dir.path(), "bad", body);
+        let out = rocking(
+            dir.path(),
+            &[
+                "run",
+                bad.to_str().unwrap(),
+                "--outputs",
+                outputs.to_str().unwrap(),
+            ],
+        );
+        assert!(!out.status.success());
         stderr(&out)
+    };
+    let rocking_blocks = body.replace("kind = \"slide-rock\"", "kind = \"nonlinear\"");
+    let e = refused(&rocking_blocks);
+    assert!(
+        e.contains("`walks` is on the slide, but block `rack` runs the nonlinear"),
+        "{e}"
     );
-    let body = body.replace("mu = 0.2\n", "");
-    let bad = write_pipeline(dir.path(), "bad", &body);
-    let out = rocking(
-        dir.path(),
-        &[
-            "run",
-            bad.to_str().unwrap(),
-            "--outputs",
-            outputs.to_str().unwrap(),
-        ],
-    );
-    assert!(!out.status.success());
-    let e = stderr(&out);
+    let e = refused(&body.replace("mu = 0.2\n", ""));
     assert!(
         e.contains(".mu_k` is the kinetic friction beside `mu`"),
         "{e}"

@@ -7,10 +7,9 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use super::options::{BenchError, BenchOptions};
-use super::records::far_field_files;
+use super::records::first_far_field;
 use rocking::ida::{capacity_certified, capacity_traced, ImGrid, Trace};
 use rocking::physics::{Excitation, Model, RunSpec, DEFAULT_RTOL, DEFAULT_TAYLOR_TOL};
-use rocking::records;
 
 /// The block: p = 2 1/s, ε = 0.7, α = 0.25 rad (b/h ≈ 0.26, a stocky block
 /// the `auto` rule sends to the nonlinear model).
@@ -40,11 +39,7 @@ pub(super) fn certified_table(
     say: &mut impl FnMut(&str),
 ) -> Result<String, BenchError> {
     let n = if opts.quick { 3 } else { 12 };
-    let files = far_field_files(opts)?;
-    let mut records: Vec<Excitation> = Vec::new();
-    for f in files.iter().take(n) {
-        records.push(records::load(f)?.exc);
-    }
+    let records: Vec<Excitation> = first_far_field(opts, n)?;
     let grid = ImGrid::default();
     let taylor = format!("nonlinear, Taylor (tail {DEFAULT_TAYLOR_TOL:e})");
     let dp5 = format!("nonlinear, DP5 (rtol {DEFAULT_RTOL:e})");

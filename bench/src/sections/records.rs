@@ -42,6 +42,18 @@ pub(super) fn named_records(
     Ok(recs)
 }
 
+/// The first `n` far-field records by name, loaded.
+pub(super) fn first_far_field(
+    args: &BenchOptions,
+    n: usize,
+) -> Result<Vec<Excitation>, BenchError> {
+    far_field_files(args)?
+        .iter()
+        .take(n)
+        .map(|f| Ok(rocking::records::load(f)?.exc))
+        .collect()
+}
+
 /// The far-field AT2 files under `args.records`, sorted by name.
 pub(super) fn far_field_files(args: &BenchOptions) -> Result<Vec<PathBuf>, BenchError> {
     let dir = args.records.join("far-field");

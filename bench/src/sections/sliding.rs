@@ -7,11 +7,10 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use super::options::{BenchError, BenchOptions};
-use super::records::far_field_files;
+use super::records::first_far_field;
 use rocking::ida::{capacity_certified, ImGrid, Trace};
 use rocking::physics::friction::Friction;
 use rocking::physics::{Excitation, Model, RunSpec, Solver};
-use rocking::records;
 
 const P: f64 = 2.0;
 const EPS: f64 = 0.7;
@@ -35,11 +34,7 @@ pub(super) fn sliding_table(
     say: &mut impl FnMut(&str),
 ) -> Result<String, BenchError> {
     let n = if opts.quick { 3 } else { 12 };
-    let files = far_field_files(opts)?;
-    let mut records: Vec<Excitation> = Vec::new();
-    for f in files.iter().take(n) {
-        records.push(records::load(f)?.exc);
-    }
+    let records: Vec<Excitation> = first_far_field(opts, n)?;
     let grid = ImGrid::default();
     let blocks = [
         ("α = 0.25, μ = 1.3 (friction seldom binds)", 0.25, 1.3),
