@@ -8,6 +8,7 @@
 pub mod accuracy;
 mod calls;
 mod certified;
+mod floor;
 mod model;
 mod options;
 mod orientations;
@@ -52,6 +53,7 @@ pub fn run(opts: &BenchOptions, mut log: impl FnMut(&str)) -> Result<(), BenchEr
             Section::Certified => certified::certified_table(opts, &mut say)?,
             Section::Orientations => orientations::orientations_table(opts, &mut say)?,
             Section::Sliding => sliding::sliding_table(opts, &mut say)?,
+            Section::Floor => floor::floor_table(opts, &mut say)?,
         };
         md = replace_section(&md, section.label(), &text);
         atomic_write(&md_path, md.as_bytes())?;

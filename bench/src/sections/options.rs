@@ -47,6 +47,8 @@ pub enum Section {
     Orientations,
     /// The slide-rock model against the nonlinear rocking model.
     Sliding,
+    /// The sweep's cost per sample interval against the exact step's floor.
+    Floor,
 }
 
 impl rocking::label::Label for Section {
@@ -60,6 +62,7 @@ impl rocking::label::Label for Section {
         Section::Certified,
         Section::Orientations,
         Section::Sliding,
+        Section::Floor,
     ];
     fn label(self) -> &'static str {
         match self {
@@ -72,6 +75,7 @@ impl rocking::label::Label for Section {
             Section::Certified => "certified",
             Section::Orientations => "orientations",
             Section::Sliding => "sliding",
+            Section::Floor => "floor",
         }
     }
 }
