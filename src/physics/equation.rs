@@ -139,7 +139,7 @@ impl Equation {
                 alpha_rad,
                 friction,
             } => {
-                if friction.mu_s < alpha_rad.tan() {
+                if crate::block::slides_first(friction.mu_s, alpha_rad) {
                     friction.mu_s / alpha_rad
                 } else {
                     alpha_rad.tan() / alpha_rad

@@ -23,9 +23,7 @@
 //! ```
 
 use super::PhysicsError;
-
-/// Standard gravity (m/s²), as `crate::block::G`.
-pub const G: f64 = 9.80665;
+pub use crate::block::G;
 
 /// The largest friction coefficient the coupled model takes: below 4/3 the
 /// slide-rock mode's `1/3 + k s sin φ` stays positive at every angle
@@ -128,7 +126,7 @@ impl Contact {
 
     /// Whether a block at rest slides before it rocks (`μₛ < tan α`).
     pub fn slides_first(&self) -> bool {
-        self.friction.mu_s < self.tan_alpha
+        crate::block::slides_first(self.friction.mu_s, self.alpha)
     }
 
     /// The forces on pivot `s` held by friction, at `(x, v)` under forcing `psi`.

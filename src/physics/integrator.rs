@@ -391,7 +391,8 @@ impl ModelChoice {
             )),
             (ModelChoice::Auto, Some(a), Some(f)) => {
                 let (rocking, why) = ModelChoice::Auto.resolve(Some(a), None, solver, auto_tol)?;
-                if f.mu_s < a.tan() || rocking.equation != Equation::Linearized {
+                let slides_first = crate::block::slides_first(f.mu_s, a);
+                if slides_first || rocking.equation != Equation::Linearized {
                     Ok((
                         Model::slide_rock(a, f, solver),
                         format!("slide-rock model: {}", sliding_reason(a, f)),
@@ -472,7 +473,7 @@ impl ModelChoice {
 fn sliding_reason(alpha_rad: f64, friction: Friction) -> String {
     let b_over_h = alpha_rad.tan();
     let mu = friction.mu_s;
-    if mu < b_over_h {
+    if crate::block::slides_first(mu, alpha_rad) {
         format!("the block slides before it rocks (μ = {mu} < b/h = {b_over_h:.4})")
     } else {
         format!(

@@ -122,7 +122,7 @@ pub(super) fn never_reached(f: &mut DamageFragility, block: &Block) {
     let Some(mu) = f.slides_on_mu else {
         return;
     };
-    let slides_first = mu < block.alpha().tan();
+    let slides_first = crate::block::slides_first(mu, block.alpha());
     let never: Vec<String> = f
         .states
         .iter()

@@ -216,29 +216,19 @@ fn one_block(
     warnings: &mut Vec<String>,
 ) -> Result<(EventsBlock, Vec<f64>), RiskError> {
     let (fields, eff_years, im, values) = (at.fields, at.eff_years, at.im, at.values);
-    let (laws, records, vector_values) = (at.laws, at.records, at.vector_values);
+    let (records, vector_values) = (at.records, at.vector_values);
     let n_sites = fields.sites.len();
     let in_block = |source| RiskError::Block {
         name: e.name.clone(),
         source,
     };
-    let block = fragility::block(e.b_m, e.h_m, e.eps).map_err(in_block)?;
-    let f = damage::of_block(
-        &block,
-        &crate::damage::DamageStates::overturning(),
-        im,
-        laws,
-        records,
-        RunModel::auto(req.auto_tol).on(e.mu),
-        crate::damage::FitChoice {
-            dispersion: crate::damage::Dispersion::Each,
-            ..req.fit()
-        },
-    )
-    .map_err(in_block)?;
+    let fit = crate::damage::FitChoice {
+        dispersion: crate::damage::Dispersion::Each,
+        ..req.fit()
+    };
+    let overturning = crate::damage::DamageStates::overturning();
+    let (block, f, cut) = fragility_at(req, e, at, &overturning, fit).map_err(in_block)?;
     let (frag, info) = super::assess::stated(&f, im).map_err(in_block)?;
-    let floor = records.and_then(|r| r.floor());
-    let cut = damage::zero_below(&block, im, floor, f.slides_on_mu).unwrap_or(0.0);
     let p = probabilities(values, cut, &frag);
     let (vector, pv) = vector_of(req, e, &block, vector_values, records).map_err(|e| match e {
         VectorError::Block(source) => in_block(source),
@@ -301,19 +291,7 @@ fn state_rates(
         name: e.name.clone(),
         source,
     };
-    let block = fragility::block(e.b_m, e.h_m, e.eps).map_err(in_block)?;
-    let f = damage::of_block(
-        &block,
-        states,
-        at.im,
-        at.laws,
-        at.records,
-        RunModel::auto(req.auto_tol).on(e.mu),
-        req.fit(),
-    )
-    .map_err(in_block)?;
-    let floor = at.records.and_then(|r| r.floor());
-    let cut = damage::zero_below(&block, at.im, floor, f.slides_on_mu).unwrap_or(0.0);
+    let (_, f, cut) = fragility_at(req, e, at, states, req.fit()).map_err(in_block)?;
     let n_sites = at.fields.sites.len();
     f.states
         .iter()
@@ -356,6 +334,23 @@ fn site_rates(p: &[f64], n_sites: usize, eff_years: f64) -> Vec<f64> {
     (0..n_sites)
         .map(|s| (0..n_events).map(|ev| p[ev * n_sites + s]).sum::<f64>() / eff_years)
         .collect()
+}
+
+/// The block of inventory line `e`, its one fragility for `states` (on its
+/// μ where it can slide) and the level below which `risk` counts nothing.
+fn fragility_at(
+    req: &Request,
+    e: &super::InventoryBlock,
+    at: &At,
+    states: &crate::damage::DamageStates,
+    fit: crate::damage::FitChoice,
+) -> Result<(crate::block::Block, damage::DamageFragility, f64), fragility::FragilityError> {
+    let block = fragility::block(e.b_m, e.h_m, e.eps)?;
+    let model = RunModel::auto(req.auto_tol).on(e.mu);
+    let f = damage::of_block(&block, states, at.im, at.laws, at.records, model, fit)?;
+    let floor = at.records.and_then(|r| r.floor());
+    let cut = damage::zero_below(&block, at.im, floor, f.slides_on_mu).unwrap_or(0.0);
+    Ok((block, f, cut))
 }
 
 /// Why a block has no vector fragility.
