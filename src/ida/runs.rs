@@ -161,16 +161,6 @@ impl<'a> Runs<'a> {
         self.done
     }
 
-    /// The runs done ahead of need and not (yet) asked for: in vain if
-    /// nothing asks for them (the levels a search ran in step past its
-    /// first overturning, say).
-    pub fn unasked(&self) -> Work {
-        Work {
-            runs: self.ahead.len(),
-            intervals: self.ahead.values().map(|o| o.intervals).sum(),
-        }
-    }
-
     /// The outcome of one run. A run stopped by the event cap has no verdict:
     /// it is refused rather than counted as surviving.
     pub fn outcome(&mut self, spec: &RunSpec) -> Result<Outcome, PhysicsError> {

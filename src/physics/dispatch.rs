@@ -1,6 +1,6 @@
 //! The CPU dispatch of the event loop: [`Isa`] names the compilations (the
 //! x86-64 baseline and x86-64-v3), and the functions here compile the event
-//! loop ([`driver::drive`], [`driver::drive_lanes`])
+//! loop ([`driver::drive`], [`driver::drive_pair`], [`driver::drive_lanes`])
 //! with the exact stepper and with the Taylor stepper, once per
 //! compilation, and pick one at run time.
 
@@ -103,8 +103,23 @@ unsafe fn drive_v3<S: Stepper, O: Observer>(
     driver::drive(exc, spec, start, limit, stepper, obs)
 }
 
-/// [`driver::drive_lanes`] compiled for x86-64-v3, the one compilation
-/// with runs in step ([`super::simulate_pair`], [`super::simulate_lanes`]).
+/// [`driver::drive_pair`] compiled for x86-64-v3, the one
+/// compilation with runs in step ([`super::simulate_pair`]).
+///
+/// # Safety
+/// The CPU must have the features enabled here.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx,avx2,bmi1,bmi2,fma,lzcnt,movbe,popcnt")]
+pub(super) unsafe fn drive_pair_v3<S: driver::CruisePair>(
+    exc: &Excitation,
+    specs: [&RunSpec; 2],
+    limits: [f64; 2],
+    steppers: [&mut S; 2],
+) -> [Outcome; 2] {
+    driver::drive_pair(exc, specs, limits, steppers)
+}
+
+/// [`driver::drive_lanes`] compiled for x86-64-v3 ([`super::simulate_lanes`]).
 ///
 /// # Safety
 /// The CPU must have the features enabled here.

@@ -51,7 +51,7 @@ mod step;
 pub mod taylor;
 
 pub use dispatch::Isa;
-pub use driver::{take_lane_tally, LaneTally, Mode, Outcome, Stop};
+pub use driver::{Mode, Outcome, Stop};
 pub use equation::{
     check_alpha, Equation, EquationKind, ALPHA_MIN, LINEARIZATION_ERROR_PER_ALPHA2,
 };

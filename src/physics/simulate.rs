@@ -57,7 +57,8 @@ pub fn simulate_in_step(exc: &Excitation, specs: &[RunSpec]) -> Vec<Outcome> {
         return Vec::new();
     };
     let width = match first.model.integrator {
-        Integrator::Exact | Integrator::Taylor { .. } => 4,
+        Integrator::Exact => 2,
+        Integrator::Taylor { .. } => 4,
         _ => 1,
     };
     let specs = &specs[..specs.len().min(width)];
@@ -85,22 +86,17 @@ pub fn simulate_pair(exc: &Excitation, specs: [&RunSpec; 2]) -> Option<[Outcome;
         let [a, b] = specs;
         // SAFETY (both arms): `in_step` is Some only where `Isa::detected()`
         // is V3, where the CPU has its features.
-        let both = [true; 2];
         match (a.model.integrator, a.model.equation) {
             (Integrator::Exact, Equation::Linearized) => {
                 let new = |s: &RunSpec, limit| Exact::new(s.p, s.eta, exc.dt_s, limit);
                 let (mut sa, mut sb) = (new(a, limits[0]), new(b, limits[1]));
-                Some(unsafe {
-                    dispatch::drive_lanes_v3(exc, specs, limits, [&mut sa, &mut sb], both)
-                })
+                Some(unsafe { dispatch::drive_pair_v3(exc, specs, limits, [&mut sa, &mut sb]) })
             }
             (Integrator::Taylor { .. }, Equation::Nonlinear { alpha_rad }) => {
                 let new =
                     |s: &RunSpec, limit| Taylor::new(s.p, s.eta, alpha_rad, taylor_tol(s), limit);
                 let (mut sa, mut sb) = (new(a, limits[0]), new(b, limits[1]));
-                Some(unsafe {
-                    dispatch::drive_lanes_v3(exc, specs, limits, [&mut sa, &mut sb], both)
-                })
+                Some(unsafe { dispatch::drive_pair_v3(exc, specs, limits, [&mut sa, &mut sb]) })
             }
             _ => None,
         }
@@ -123,7 +119,11 @@ pub fn simulate_pair(exc: &Excitation, specs: [&RunSpec; 2]) -> Option<[Outcome;
 pub fn simulate_lanes(exc: &Excitation, specs: &[RunSpec]) -> Option<Vec<Outcome>> {
     #[cfg(target_arch = "x86_64")]
     {
-        let first = specs.first()?;
+        let (Integrator::Taylor { .. }, Equation::Nonlinear { alpha_rad }) =
+            (specs.first()?.model.integrator, specs[0].model.equation)
+        else {
+            return None;
+        };
         if let [a, b] = specs {
             return simulate_pair(exc, [a, b]).map(Vec::from);
         }
@@ -131,27 +131,22 @@ pub fn simulate_lanes(exc: &Excitation, specs: &[RunSpec]) -> Option<Vec<Outcome
             return None;
         }
         // An empty lane repeats the first run, and is not kept.
-        let four: [&RunSpec; 4] = std::array::from_fn(|i| specs.get(i).unwrap_or(first));
+        let four: [&RunSpec; 4] = std::array::from_fn(|i| specs.get(i).unwrap_or(&specs[0]));
         let limits = in_step(four)?;
+        let mut steppers: [Taylor; 4] = std::array::from_fn(|i| {
+            Taylor::new(
+                four[i].p,
+                four[i].eta,
+                alpha_rad,
+                taylor_tol(four[i]),
+                limits[i],
+            )
+        });
         let present = std::array::from_fn(|i| i < specs.len());
-        // SAFETY (both arms): `in_step` is Some only where `Isa::detected()`
-        // is V3, where the CPU has its features.
-        let outs = match (first.model.integrator, first.model.equation) {
-            (Integrator::Exact, Equation::Linearized) => {
-                let mut steppers: [Exact; 4] = std::array::from_fn(|i| {
-                    Exact::new(four[i].p, four[i].eta, exc.dt_s, limits[i])
-                });
-                unsafe { dispatch::drive_lanes_v3(exc, four, limits, steppers.each_mut(), present) }
-            }
-            (Integrator::Taylor { .. }, Equation::Nonlinear { alpha_rad }) => {
-                let mut steppers: [Taylor; 4] = std::array::from_fn(|i| {
-                    let s = four[i];
-                    Taylor::new(s.p, s.eta, alpha_rad, taylor_tol(s), limits[i])
-                });
-                unsafe { dispatch::drive_lanes_v3(exc, four, limits, steppers.each_mut(), present) }
-            }
-            _ => return None,
-        };
+        // SAFETY: `in_step` is Some only where `Isa::detected()` is V3,
+        // where the CPU has its features.
+        let outs =
+            unsafe { dispatch::drive_lanes_v3(exc, four, limits, steppers.each_mut(), present) };
         Some(outs[..specs.len()].to_vec())
     }
     #[cfg(not(target_arch = "x86_64"))]

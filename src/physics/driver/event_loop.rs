@@ -90,7 +90,7 @@ pub(super) struct Driver<'a, S, O> {
     /// next proof of escape is tried ([`crate::physics::escape_proven`]).
     escape: bool,
     /// Uplift threshold on |ψ̈| (the equation's factor times η).
-    pub(super) threshold: f64,
+    threshold: f64,
     /// Speed after an impact below which the block is at rest.
     pub(super) v_rest: f64,
     /// A block that may slide: its base and the slide-rock stepper.
@@ -212,11 +212,10 @@ impl<'a, S: Stepper, O: Observer> Driver<'a, S, O> {
                 // At rest: whole intervals with both ends within the
                 // threshold lift nothing (the forcing is linear between), as
                 // `interval` would find one by one; stop where the record
-                // stays below it for good, as the arm above would; no
-                // further than `cap` (the quiet goes on from there the same).
+                // stays below it for good, as the arm above would.
                 let (thr, start) = (self.threshold, *k);
                 if exc.psi[start].abs() <= thr {
-                    *k = exc.quiet_until(start, thr).min(cap);
+                    *k = exc.quiet_until(start, thr);
                 }
                 self.out.intervals += (*k - start) as u64;
                 if *k == n || *k > start {
@@ -236,28 +235,6 @@ impl<'a, S: Stepper, O: Observer> Driver<'a, S, O> {
             }
             _ => {}
         }
-        self.walk(k)
-    }
-
-    /// Sample interval `*k` walked event by event (the part of
-    /// [`Driver::advance`] after its fast paths, for a run whose interval
-    /// they are known not to cross: one of runs in lanes that met an event
-    /// there); a run at rest from where the record stays below its
-    /// threshold for good stops, as `advance` would stop it.
-    #[inline(always)]
-    pub(super) fn walk_event(&mut self, k: &mut usize) -> Flow {
-        if self.state.is_none() && self.exc.suffix_max[*k] <= self.threshold {
-            self.out.stop = Stop::RestForGood;
-            return Flow::Stopped;
-        }
-        self.walk(k)
-    }
-
-    /// Walks interval `*k` and moves past it.
-    #[inline(always)]
-    fn walk(&mut self, k: &mut usize) -> Flow {
-        let exc = self.exc;
-        let plain = self.coupled.is_none();
         self.out.intervals += 1;
         // The walk of a block that may slide, or of one that cannot, each
         // compiled on its own (the rocking walk carries none of the checks).

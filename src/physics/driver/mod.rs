@@ -12,5 +12,4 @@ mod in_step;
 pub use base::Mode;
 pub(super) use event_loop::drive;
 pub use event_loop::{Outcome, Stop};
-pub(super) use in_step::{drive_lanes, CruiseLanes, Lane};
-pub use in_step::{take_lane_tally, LaneTally};
+pub(super) use in_step::{drive_lanes, drive_pair, CruiseLanes, CruisePair, Lane};

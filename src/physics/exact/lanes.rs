@@ -1,174 +1,88 @@
-//! [`crate::physics::Stepper::cruise`] of the exact stepper for two or
-//! four runs at once, one lane each ([`F2`], [`F4`]): the lone run's
-//! motion ([`Motion::new`], [`Motion::at`]) and proofs
-//! ([`Motion::monotone`], [`Motion::apex_below`], [`Motion::valley_above`]),
-//! written once, in lanes, and the event loop's rest test.
+//! [`crate::physics::Stepper::cruise`] of the exact stepper for two runs at
+//! once, one lane each ([`super::super::lanes::F2`]): the lone run's
+//! motion ([`Motion::new`], [`Motion::at`]) and sign tests
+//! ([`Motion::monotone`]), written once, in two lanes.
 
 use super::closed_form::Motion;
-use super::proofs::Bounds;
 use super::stepper::Exact;
-use crate::physics::driver::{CruiseLanes, Lane};
-use crate::physics::lanes::{Lanes, Mask, F2, F4};
+use crate::physics::driver::CruisePair;
+use crate::physics::lanes::{Mask, F2};
 use crate::physics::step::Rocking;
 use crate::physics::Excitation;
 
-/// The levels of an IDA in lanes ([`crate::physics::driver::drive_lanes`]):
-/// up to four runs of one block and record at several values of η, each
-/// rocking or at rest, crossed interval by interval in one AVX register.
-impl CruiseLanes<4> for Exact {
-    const RESTS_IN_LANES: bool = true;
-
+/// [`crate::physics::Stepper::cruise`] for two runs at once, steppers of the same `p` and
+/// `dt` (two values of η), both rocking at sample `k`: their whole
+/// intervals, one lane each, for as long as both are proved eventless by
+/// sign tests alone (x monotone, between the pivot and the limit). Stops
+/// at the first interval either must leave to `cruise`'s other bounds or
+/// to `rock` (the other is left there too, and crosses it on its own) and
+/// returns it. Each lane does what [`Exact::cruise`] does, operation for
+/// operation.
+impl CruisePair for Exact {
     #[inline(always)]
-    fn cruise_lanes(runs: [Option<Lane<'_, Exact>>; 4], exc: &Excitation, k: usize) -> [usize; 4] {
-        cruise_levels::<F4, 4>(runs, exc, k)
+    fn cruise_pair(
+        steppers: [&mut Exact; 2],
+        exc: &Excitation,
+        k: usize,
+        states: [&mut Rocking; 2],
+        tops: [&mut f64; 2],
+    ) -> usize {
+        cruise_pair([&*steppers[0], &*steppers[1]], exc, k, states, tops)
     }
 }
 
-/// Two runs (a chaos probe's pair) in the two lanes of an SSE2 register.
-impl CruiseLanes<2> for Exact {
-    const RESTS_IN_LANES: bool = true;
-
-    #[inline(always)]
-    fn cruise_lanes(runs: [Option<Lane<'_, Exact>>; 2], exc: &Excitation, k: usize) -> [usize; 2] {
-        cruise_levels::<F2, 2>(runs, exc, k)
-    }
-}
-
-/// [`CruiseLanes::cruise_lanes`] of the exact stepper in the lanes of `T`:
-/// from sample `k`, whole intervals while every lane crosses them without
-/// an event: a rocking lane where [`Exact::cruise`] would (its motion
-/// monotone, or its one turning point proved harmless, between the pivot
-/// and the limit), a lane at rest where the forcing stays within its
-/// threshold at both ends and the record does not stay below it for good
-/// (as the event loop's rest arms decide). At the first interval some lane
-/// cannot cross, the lanes that can cross it (their state at the next
-/// sample) and the others are left at its start, to walk it on their own.
-/// Each lane does what `cruise` does alone, operation for operation.
 #[inline(always)]
-fn cruise_levels<T: Lanes<N>, const N: usize>(
-    mut runs: [Option<Lane<'_, Exact>>; N],
+fn cruise_pair(
+    steppers: [&Exact; 2],
     exc: &Excitation,
-    k0: usize,
-) -> [usize; N] {
-    let Some(first) = runs.iter().flatten().next() else {
-        return [k0; N];
-    };
-    let e0 = &*first.stepper;
-    let (p, sigma) = (e0.p, e0.full.sigma);
-    let differs = |e: &Exact| e.p != p || e.full.sigma != sigma;
-    if exc.dt_s != sigma || runs.iter().flatten().any(|r| differs(r.stepper)) {
-        return [k0; N];
+    mut k: usize,
+    states: [&mut Rocking; 2],
+    tops: [&mut f64; 2],
+) -> usize {
+    let [sa, sb] = steppers;
+    if exc.dt_s != sa.full.sigma || sa.p != sb.p || sa.full.sigma != sb.full.sigma {
+        return k;
     }
-    let (full, bounds) = (e0.full.splat::<T>(), e0.bounds());
-    let bounds = Bounds {
-        p2: T::splat(bounds.p2),
-        inv_eta: T::splat(0.0),
-        dt: T::splat(bounds.dt),
-    };
-    let (mut s, mut s_eta, mut inv_eta, mut limit) = ([1.0; N], [0.0; N], [1.0; N], [1.0; N]);
-    let (mut x, mut v, mut top, mut threshold) = ([0.0; N], [0.0; N], [0.0; N], [0.0; N]);
-    let (mut rocking, mut dead) = ([0.0; N], [1.0; N]);
-    for (i, run) in runs.iter().enumerate() {
-        let Some(r) = run else { continue };
-        let e = &*r.stepper;
-        (inv_eta[i], limit[i], top[i], threshold[i], dead[i]) =
-            (e.inv_eta, e.limit, *r.top, r.threshold, 0.0);
-        s_eta[i] = s[i] * e.eta;
-        if let Some(st) = *r.state {
-            (s[i], x[i], v[i], rocking[i]) = (st.s, st.x, st.v, 1.0);
-            s_eta[i] = st.s * e.eta;
-        }
-    }
-    let zero = T::splat(0.0);
-    let (rocking, dead) = (
-        T::from_lanes(rocking).gt(zero),
-        T::from_lanes(dead).gt(zero),
-    );
-    let (s, s_eta, inv_eta) = (
-        T::from_lanes(s),
-        T::from_lanes(s_eta),
-        T::from_lanes(inv_eta),
-    );
-    let (limit, threshold) = (T::from_lanes(limit), T::from_lanes(threshold));
-    let bounds = Bounds { inv_eta, ..bounds };
-    let (p_lanes, delta_max) = (T::splat(p), T::splat(e0.full_expm1));
-    let (mut x, mut v, mut top) = (T::from_lanes(x), T::from_lanes(v), T::from_lanes(top));
-    let (psi, psi_end, slope, suffix) = (
-        &exc.psi[..],
-        exc.psi_end(),
-        &exc.slope[..],
-        &exc.suffix_max[..],
-    );
-    let n = slope
-        .len()
-        .min(psi.len())
-        .min(psi_end.len())
-        .min(suffix.len());
-    // No lane at rest (a lane without a run crosses every interval).
-    let all_rocking = (rocking | dead).all();
-    let mut k = k0;
-    let mut at = [k0; N];
+    let [st_a, st_b] = states;
+    let [top_a, top_b] = tops;
+    let (psi, slope) = (&exc.psi[..], &exc.slope[..]);
+    let n = slope.len().min(psi.len()).min(exc.psi_end().len());
+    let full = sa.full.splat::<F2>();
+    let (p, delta_max) = (F2::splat(sa.p), F2::splat(sa.full_expm1));
+    let zero = F2::splat(0.0);
+    let s = F2::new(st_a.s, st_b.s);
+    let s_eta = s * F2::new(sa.eta, sb.eta);
+    let inv_eta = F2::new(sa.inv_eta, sb.inv_eta);
+    let limit = F2::new(sa.limit, sb.limit);
+    let (mut x, mut v) = (F2::new(st_a.x, st_b.x), F2::new(st_a.v, st_b.v));
+    let mut top = F2::new(*top_a, *top_b);
     while k < n {
-        let (g0, g_end) = (T::splat(psi[k]), T::splat(psi_end[k]));
-        let m = Motion::new(p_lanes, s_eta, inv_eta, x, v, g0, T::splat(slope[k]));
+        // The lone run's motion and sign tests, in two lanes.
+        let m = Motion::new(
+            p,
+            s_eta,
+            inv_eta,
+            x,
+            v,
+            F2::splat(psi[k]),
+            F2::splat(slope[k]),
+        );
         let (x_hi, v_hi) = m.at(&full);
         let y_hi = s * x_hi;
         let inside = y_hi.lt(limit) & y_hi.gt(zero);
-        let monotone = m.monotone(v_hi, delta_max);
-        if all_rocking {
-            if (inside & monotone | dead).all() {
-                // The common case, every lane rocking monotone: y_hi lies in
-                // (0, limit), where `max` is `f64::max` (a lane without a run
-                // computes what it may: nothing of it is kept).
-                (x, v, top) = (x_hi, v_hi, top.max(y_hi));
-                k += 1;
-                continue;
-            }
+        // A lane with a turning point inside (or an event) leaves the pair
+        // to cross that interval on its own, by `cruise`'s other bounds or
+        // `rock`: kept out of this loop, they would crowd its registers.
+        if !(inside & m.monotone(v_hi, delta_max)).all() {
+            break;
         }
-        let quiet = !rocking
-            & g0.abs().le(threshold)
-            & g_end.abs().le(threshold)
-            & T::splat(suffix[k]).gt(threshold);
-        let mut moves = rocking & inside & monotone;
-        let mut crossed = dead | moves | quiet;
-        if !crossed.all() {
-            // Turning points proved harmless.
-            let proved = m.apex_below(&bounds, s, v_hi, g0, g_end, top)
-                | m.valley_above(&bounds, s, v_hi, g0, g_end);
-            moves = moves | (rocking & inside & proved);
-            crossed = dead | moves | quiet;
-        }
-        (x, v, top) = (
-            T::select(moves, x_hi, x),
-            T::select(moves, v_hi, v),
-            T::select(moves, top.max(y_hi), top),
-        );
-        if crossed.all() {
-            k += 1;
-            continue;
-        }
-        // The lanes that cross this interval did; the others stay at it.
-        let bits = crossed.bits();
-        for (i, a) in at.iter_mut().enumerate() {
-            *a = k + usize::from(bits & (1 << i) != 0);
-        }
-        break;
+        // y_hi lies in (0, limit) on both lanes: `max` is `f64::max` there.
+        top = top.max(y_hi);
+        (x, v) = (x_hi, v_hi);
+        k += 1;
     }
-    if k == n {
-        at = [n; N];
-    }
-    let (x, v, top) = (x.to_lanes(), v.to_lanes(), top.to_lanes());
-    for (i, run) in runs.iter_mut().enumerate() {
-        let Some(r) = run else { continue };
-        if let Some(st) = *r.state {
-            // Whole, as the walk reads it (not field by field).
-            *r.state = Some(Rocking {
-                x: x[i],
-                v: v[i],
-                s: st.s,
-            });
-            *r.top = top[i];
-        }
-    }
-    at
+    let ([xa, xb], [va, vb], [ta, tb]) = (x.lanes(), v.lanes(), top.lanes());
+    (st_a.x, st_a.v, st_b.x, st_b.v) = (xa, va, xb, vb);
+    (*top_a, *top_b) = (ta, tb);
+    k
 }

@@ -125,7 +125,19 @@ impl Exact {
     /// Whether the one turning point of an interval is a maximum that
     /// provably stays below `top` (θmax so far): then `rock` would find the
     /// interval eventless and leave θmax as it is, and `cruise` may cross
-    /// it ([`Motion::apex_below`], for one run).
+    /// it. With `y = s·x` rising at the start and falling at the end, `ẏ`
+    /// has one root inside (at most two, an odd number): a maximum, above
+    /// both ends, so the pivot is not reached. While `y ≤ top`,
+    /// `ÿ = p²(y − 1 + sψ̈/η) ≤ p²(top − 1 + max sψ̈/η) = −D`. Two bounds
+    /// follow, and either proves the maximum below `top` (with a margin of
+    /// 1e-9 for rounding):
+    /// - if `D > 0`, `y` stays below `y_a + ẏ_a²/(2D)` (the parabola's apex;
+    ///   sharp for a swing whose apex is near);
+    /// - in any case `ẏ(σ) ≤ ẏ_a + max(0, −D)·σ`, so `y` stays below
+    ///   `y_a + ẏ_a·dt + max(0, −D)·dt²/2` over the interval (sharp for a
+    ///   swing that turns far below `top`, where the forcing may push out).
+    ///
+    /// Only products and sign tests.
     #[inline(always)]
     pub(super) fn apex_below(
         &self,
@@ -136,77 +148,19 @@ impl Exact {
         g_end: f64,
         top: f64,
     ) -> bool {
-        m.apex_below(&self.bounds(), s, v_end, g0, g_end, top)
+        let (w_a, y_a) = (s * m.v_a, s * m.x_a);
+        if !(w_a > 0.0 && s * v_end < 0.0) {
+            return false;
+        }
+        let d = self.p * self.p * (1.0 - top - (s * g0).max(s * g_end) * self.inv_eta);
+        let room = top * (1.0 - 1e-9) - y_a;
+        let dt = self.full.sigma;
+        let parabola = d > 0.0 && w_a * w_a < 2.0 * d * room;
+        let chord = w_a * dt + 0.5 * (-d).max(0.0) * dt * dt < room;
+        parabola | chord
     }
 
     /// Whether the one turning point of an interval is a minimum that
-    /// provably stays above the pivot ([`Motion::valley_above`], for one run).
-    #[inline(always)]
-    pub(super) fn valley_above(&self, m: &Motion, s: f64, v_end: f64, g0: f64, g_end: f64) -> bool {
-        m.valley_above(&self.bounds(), s, v_end, g0, g_end)
-    }
-
-    /// The constants of the turning-point bounds of one run.
-    #[inline(always)]
-    pub(super) fn bounds(&self) -> Bounds {
-        Bounds {
-            p2: self.p * self.p,
-            inv_eta: self.inv_eta,
-            dt: self.full.sigma,
-        }
-    }
-}
-
-/// The constants of [`Motion::apex_below`] and [`Motion::valley_above`]
-/// over a whole sample interval, in every lane of `T`.
-#[derive(Clone, Copy)]
-pub(super) struct Bounds<T = f64> {
-    /// p²
-    pub(super) p2: T,
-    /// 1/η
-    pub(super) inv_eta: T,
-    /// The interval (s).
-    pub(super) dt: T,
-}
-
-impl<T: Lane> Motion<T> {
-    /// Whether the one turning point of a whole interval is a maximum that
-    /// provably stays below `top` (θmax so far). With `y = s·x` rising at
-    /// the start and falling at the end (`v_end` the velocity there), `ẏ`
-    /// has one root inside (at most two, an odd number): a maximum, above
-    /// both ends, so the pivot is not reached. While `y ≤ top`,
-    /// `ÿ = p²(y − 1 + sψ̈/η) ≤ p²(top − 1 + max sψ̈/η) = −D` (`g0`, `g_end`
-    /// the forcing at the ends). Two bounds follow, and either proves the
-    /// maximum below `top` (with a margin of 1e-9 for rounding):
-    /// - if `D > 0`, `y` stays below `y_a + ẏ_a²/(2D)` (the parabola's apex;
-    ///   sharp for a swing whose apex is near);
-    /// - in any case `ẏ(σ) ≤ ẏ_a + max(0, −D)·σ`, so `y` stays below
-    ///   `y_a + ẏ_a·dt + max(0, −D)·dt²/2` over the interval (sharp for a
-    ///   swing that turns far below `top`, where the forcing may push out).
-    ///
-    /// Only products and sign tests; lane by lane for runs in step.
-    #[inline(always)]
-    pub(super) fn apex_below(
-        &self,
-        c: &Bounds<T>,
-        s: T,
-        v_end: T,
-        g0: T,
-        g_end: T,
-        top: T,
-    ) -> T::Mask {
-        let zero = T::splat(0.0);
-        let (w_a, y_a) = (s * self.v_a, s * self.x_a);
-        let turns = w_a.gt(zero) & (s * v_end).lt(zero);
-        let d = c.p2 * (T::splat(1.0) - top - (s * g0).max(s * g_end) * c.inv_eta);
-        let room = top * T::splat(1.0 - 1e-9) - y_a;
-        let dt = c.dt;
-        let parabola = d.gt(zero) & (w_a * w_a).lt(T::splat(2.0) * d * room);
-        let chord = (w_a * dt + T::splat(0.5) * (-d).max(zero) * dt * dt).lt(room);
-        turns & (parabola | chord)
-    }
-
-    /// Whether the one turning point of a whole interval is a minimum that
     /// provably stays above the pivot (`y > 0`, with a margin of 1e-12):
     /// then `rock` would find the interval eventless, and `cruise` may
     /// cross it. With `y` falling at the start and rising at the end, the
@@ -214,16 +168,16 @@ impl<T: Lane> Motion<T> {
     /// reached. While `y ≥ 0`, `ÿ ≥ p²(min sψ̈/η − 1) = −E`, so
     /// `ẏ(σ) ≥ ẏ_a − max(0, E)·σ` and `y` stays above
     /// `y_a + ẏ_a·dt − max(0, E)·dt²/2` over the interval. Only products and
-    /// sign tests; lane by lane for runs in step.
+    /// sign tests.
     #[inline(always)]
-    pub(super) fn valley_above(&self, c: &Bounds<T>, s: T, v_end: T, g0: T, g_end: T) -> T::Mask {
-        let zero = T::splat(0.0);
-        let (w_a, y_a) = (s * self.v_a, s * self.x_a);
-        let turns = w_a.lt(zero) & (s * v_end).gt(zero);
-        let e = c.p2 * (T::splat(1.0) - (s * g0).min(s * g_end) * c.inv_eta);
-        let dt = c.dt;
-        let low = y_a + w_a * dt - T::splat(0.5) * e.max(zero) * dt * dt;
-        turns & low.gt(T::splat(1e-12))
+    pub(super) fn valley_above(&self, m: &Motion, s: f64, v_end: f64, g0: f64, g_end: f64) -> bool {
+        let (w_a, y_a) = (s * m.v_a, s * m.x_a);
+        if !(w_a < 0.0 && s * v_end > 0.0) {
+            return false;
+        }
+        let e = self.p * self.p * (1.0 - (s * g0).min(s * g_end) * self.inv_eta);
+        let dt = self.full.sigma;
+        y_a + w_a * dt - 0.5 * e.max(0.0) * dt * dt > 1e-12
     }
 }
 

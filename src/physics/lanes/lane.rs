@@ -19,22 +19,12 @@ pub trait Lane:
     fn lt(self, o: Self) -> Self::Mask;
     /// Where `self > o`, lane by lane (false on NaN).
     fn gt(self, o: Self) -> Self::Mask;
-    /// Where `self <= o`, lane by lane (false on NaN).
-    fn le(self, o: Self) -> Self::Mask;
-    /// `self.min(o)` lane by lane, for operands that are not NaN and not
-    /// both zero.
-    fn min(self, o: Self) -> Self;
-    /// `yes` where `m` holds, `no` elsewhere, lane by lane (the bits as
-    /// they are).
-    fn select(m: Self::Mask, yes: Self, no: Self) -> Self;
 }
 
 /// A lane-wise truth: combined without short circuits, asked at the end.
 pub trait Mask: Copy + BitAnd<Output = Self> + BitOr<Output = Self> + Not<Output = Self> {
     /// Whether it holds in every lane.
     fn all(self) -> bool;
-    /// Bit i set where it holds in lane i.
-    fn bits(self) -> u32;
 }
 
 /// `N` lanes in and out, and the Taylor series' tail test.
@@ -50,10 +40,6 @@ impl Mask for bool {
     #[inline(always)]
     fn all(self) -> bool {
         self
-    }
-    #[inline(always)]
-    fn bits(self) -> u32 {
-        u32::from(self)
     }
 }
 
@@ -78,22 +64,6 @@ impl Lane for f64 {
     #[inline(always)]
     fn gt(self, o: f64) -> bool {
         self > o
-    }
-    #[inline(always)]
-    fn le(self, o: f64) -> bool {
-        self <= o
-    }
-    #[inline(always)]
-    fn min(self, o: f64) -> f64 {
-        f64::min(self, o)
-    }
-    #[inline(always)]
-    fn select(m: bool, yes: f64, no: f64) -> f64 {
-        if m {
-            yes
-        } else {
-            no
-        }
     }
 }
 

@@ -103,11 +103,7 @@ impl Neg for F2 {
 impl Mask for M2 {
     #[inline(always)]
     fn all(self) -> bool {
-        M2::bits(self) == 0b11
-    }
-    #[inline(always)]
-    fn bits(self) -> u32 {
-        M2::bits(self) as u32
+        self.bits() == 0b11
     }
 }
 
@@ -132,19 +128,6 @@ impl Lane for F2 {
     #[inline(always)]
     fn gt(self, o: F2) -> M2 {
         F2::gt(self, o)
-    }
-    #[inline(always)]
-    fn le(self, o: F2) -> M2 {
-        F2::le(self, o)
-    }
-    #[inline(always)]
-    fn min(self, o: F2) -> F2 {
-        F2(unsafe { _mm_min_pd(self.0, o.0) })
-    }
-    #[inline(always)]
-    fn select(m: M2, yes: F2, no: F2) -> F2 {
-        // SSE2's and/andnot/or: no SSE4.1 blend needed.
-        F2(unsafe { _mm_or_pd(_mm_and_pd(m.0, yes.0), _mm_andnot_pd(m.0, no.0)) })
     }
 }
 
@@ -194,18 +177,6 @@ impl Lane for F4 {
     fn gt(self, o: F4) -> M4 {
         M4(unsafe { _mm256_cmp_pd::<_CMP_GT_OQ>(self.0, o.0) })
     }
-    #[inline(always)]
-    fn le(self, o: F4) -> M4 {
-        M4(unsafe { _mm256_cmp_pd::<_CMP_LE_OQ>(self.0, o.0) })
-    }
-    #[inline(always)]
-    fn min(self, o: F4) -> F4 {
-        F4(unsafe { _mm256_min_pd(self.0, o.0) })
-    }
-    #[inline(always)]
-    fn select(m: M4, yes: F4, no: F4) -> F4 {
-        F4(unsafe { _mm256_blendv_pd(no.0, yes.0, m.0) })
-    }
 }
 
 impl Lanes<4> for F4 {
@@ -242,10 +213,6 @@ impl Mask for M4 {
     #[inline(always)]
     fn all(self) -> bool {
         unsafe { _mm256_movemask_pd(self.0) == 0b1111 }
-    }
-    #[inline(always)]
-    fn bits(self) -> u32 {
-        unsafe { _mm256_movemask_pd(self.0) as u32 }
     }
 }
 

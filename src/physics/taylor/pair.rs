@@ -11,15 +11,7 @@
 
 use super::series::{build, Coefficients, Shared};
 use super::{quiet, Ends, Step, Taylor, LEN};
-use crate::physics::driver::{CruiseLanes, Lane};
-
-/// One run of [`cruise_lanes`]: its stepper, its state (rocking) and the
-/// largest `|x|` it has met.
-struct Run<'a> {
-    stepper: &'a mut Taylor,
-    state: &'a mut Rocking,
-    top: &'a mut f64,
-}
+use crate::physics::driver::{CruiseLanes, CruisePair, Lane};
 use crate::physics::lanes::{Lanes, F2, F4};
 use crate::physics::step::Rocking;
 use crate::physics::Excitation;
@@ -82,45 +74,34 @@ impl<T: Lanes<N>, const N: usize> LaneSeries<T, N> {
     }
 }
 
+impl CruisePair for Taylor {
+    #[inline(always)]
+    fn cruise_pair(
+        steppers: [&mut Taylor; 2],
+        exc: &Excitation,
+        k: usize,
+        states: [&mut Rocking; 2],
+        tops: [&mut f64; 2],
+    ) -> usize {
+        let [ta, tb] = steppers;
+        let ([st_a, st_b], [top_a, top_b]) = (states, tops);
+        let lane = |stepper, state, top| {
+            Some(Lane {
+                stepper,
+                state,
+                top,
+            })
+        };
+        let runs = [lane(ta, st_a, top_a), lane(tb, st_b, top_b)];
+        cruise_lanes::<F2, 2>(runs, exc, k)
+    }
+}
+
 impl CruiseLanes<4> for Taylor {
-    /// The driver gives it rocking runs only.
-    const RESTS_IN_LANES: bool = false;
-
-    /// Crosses no lane's interval where one cannot: each run crosses it on
-    /// its own with the series built here ([`LaneSeries::hand`]).
     #[inline(always)]
-    fn cruise_lanes(runs: [Option<Lane<'_, Taylor>>; 4], exc: &Excitation, k: usize) -> [usize; 4] {
-        [cruise_lanes::<F4, 4>(rocking(runs), exc, k); 4]
+    fn cruise_lanes(runs: [Option<Lane<'_, Taylor>>; 4], exc: &Excitation, k: usize) -> usize {
+        cruise_lanes::<F4, 4>(runs, exc, k)
     }
-}
-
-impl CruiseLanes<2> for Taylor {
-    const RESTS_IN_LANES: bool = false;
-
-    /// As four lanes do, in the two of an SSE2 register.
-    #[inline(always)]
-    fn cruise_lanes(runs: [Option<Lane<'_, Taylor>>; 2], exc: &Excitation, k: usize) -> [usize; 2] {
-        [cruise_lanes::<F2, 2>(rocking(runs), exc, k); 2]
-    }
-}
-
-/// The driver's lanes as [`cruise_lanes`] takes them (each rocking: a run
-/// at rest, never given, would be left out).
-#[inline(always)]
-fn rocking<const N: usize>(runs: [Option<Lane<'_, Taylor>>; N]) -> [Option<Run<'_>>; N] {
-    runs.map(|lane| {
-        let Lane {
-            stepper,
-            state,
-            top,
-            ..
-        } = lane?;
-        Some(Run {
-            stepper,
-            state: state.as_mut()?,
-            top,
-        })
-    })
 }
 
 /// Whole intervals while each is one step for every run given and every
@@ -132,7 +113,7 @@ fn rocking<const N: usize>(runs: [Option<Lane<'_, Taylor>>; N]) -> [Option<Run<'
 /// kept.
 #[inline(always)]
 fn cruise_lanes<T: Lanes<N>, const N: usize>(
-    mut runs: [Option<Run<'_>>; N],
+    mut runs: [Option<Lane<'_, Taylor>>; N],
     exc: &Excitation,
     mut k: usize,
 ) -> usize {
