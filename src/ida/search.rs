@@ -103,8 +103,13 @@ pub(super) fn search(
         if runs.batch.is_none() {
             if let Some(&next) = levels.get(j + 1) {
                 // Alone, this level and the next in step (the second is
-                // run in vain if this one overturns). Not four: levels
-                // 3.4 % apart part ways too often for four lanes to pay.
+                // run in vain if this one overturns). Not four: two thirds
+                // of a search's time go to walking events (bench/profile.py),
+                // which lanes do not share, and four levels in lanes, with
+                // lane-local events and resting runs in lanes, were slower
+                // than pairs for both steppers (commit de1139d: the paper
+                // sweep 7.78 s against 7.52 s; the Taylor certified search
+                // 3.9-4.1 ms against 3.6-3.7 ms).
                 runs.run_ahead(&[spec(eta), spec(next)]);
             }
         }
