@@ -12,7 +12,8 @@ use crate::physics::{Excitation, RunSpec};
 /// advanced together, two lanes of one vector ([`CruisePair`]: the exact
 /// stepper, the Taylor stepper); every other interval each run walks on
 /// its own, and the one behind catches up to the other before they go on
-/// together. Each run does the same operations in the same order as it
+/// together (where one meets an event, the exact stepper's lanes carry the
+/// other across that interval, so that only the one walks it). Each run does the same operations in the same order as it
 /// would alone ([`super::drive`]), so its outcome is the same to the bit.
 #[inline(always)]
 pub(in crate::physics) fn drive_pair<S: CruisePair>(
@@ -45,17 +46,19 @@ pub(in crate::physics) fn drive_pair<S: CruisePair>(
             (true, true) if kb < ka => live_b = b.advance(&mut kb, n, ka) == Flow::Going,
             (true, true) => {
                 if let (Some(st_a), Some(st_b)) = (a.state.as_mut(), b.state.as_mut()) {
-                    let next = S::cruise_pair(
+                    let [next_a, next_b] = S::cruise_pair(
                         [&mut *a.stepper, &mut *b.stepper],
                         exc,
                         ka,
                         [st_a, st_b],
                         [&mut a.out.max_abs_x, &mut b.out.max_abs_x],
                     );
-                    a.out.intervals += (next - ka) as u64;
-                    b.out.intervals += (next - kb) as u64;
-                    (ka, kb) = (next, next);
-                    if next == n {
+                    a.out.intervals += (next_a - ka) as u64;
+                    b.out.intervals += (next_b - kb) as u64;
+                    (ka, kb) = (next_a, next_b);
+                    // Both at the record's end, or one past an interval
+                    // the other walks next, on its own.
+                    if next_a == n && next_b == n || next_a != next_b {
                         continue;
                     }
                 }
@@ -76,17 +79,18 @@ pub(in crate::physics) fn drive_pair<S: CruisePair>(
 pub(in crate::physics) trait CruisePair: Stepper {
     /// [`Stepper::cruise`] for two runs at once, both rocking at sample
     /// `k`: their whole intervals, one lane each, for as long as both are
-    /// proved eventless; stops at the first interval either must leave to
-    /// [`Stepper::cruise`] or [`Stepper::rock`] (the other is left there
-    /// too, and crosses it on its own) and returns it. Each lane does what
-    /// `cruise` does alone, operation for operation.
+    /// proved eventless; at the first interval either must leave to
+    /// [`Stepper::cruise`] or [`Stepper::rock`], the other may cross it
+    /// (or is left there too, to cross it on its own). Returns the sample
+    /// each is at. Each lane does what `cruise` does alone, operation for
+    /// operation.
     fn cruise_pair(
         steppers: [&mut Self; 2],
         exc: &Excitation,
         k: usize,
         states: [&mut Rocking; 2],
         tops: [&mut f64; 2],
-    ) -> usize;
+    ) -> [usize; 2];
 }
 
 /// Up to `N` runs that differ only in η and the stepper's tolerance (two

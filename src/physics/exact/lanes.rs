@@ -13,11 +13,12 @@ use crate::physics::Excitation;
 /// [`crate::physics::Stepper::cruise`] for two runs at once, steppers of the same `p` and
 /// `dt` (two values of η), both rocking at sample `k`: their whole
 /// intervals, one lane each, for as long as both are proved eventless by
-/// sign tests alone (x monotone, between the pivot and the limit). Stops
-/// at the first interval either must leave to `cruise`'s other bounds or
-/// to `rock` (the other is left there too, and crosses it on its own) and
-/// returns it. Each lane does what [`Exact::cruise`] does, operation for
-/// operation.
+/// sign tests alone (x monotone, between the pivot and the limit). At the
+/// first interval one must leave to `cruise`'s other bounds or to `rock`,
+/// the other crosses it where the sign tests prove it eventless (so that
+/// the one left behind walks it alone and they go on together, without
+/// the other crossing it alone after), and returns where each is. Each
+/// lane does what [`Exact::cruise`] does, operation for operation.
 impl CruisePair for Exact {
     #[inline(always)]
     fn cruise_pair(
@@ -26,7 +27,7 @@ impl CruisePair for Exact {
         k: usize,
         states: [&mut Rocking; 2],
         tops: [&mut f64; 2],
-    ) -> usize {
+    ) -> [usize; 2] {
         cruise_pair([&*steppers[0], &*steppers[1]], exc, k, states, tops)
     }
 }
@@ -38,10 +39,10 @@ fn cruise_pair(
     mut k: usize,
     states: [&mut Rocking; 2],
     tops: [&mut f64; 2],
-) -> usize {
+) -> [usize; 2] {
     let [sa, sb] = steppers;
     if exc.dt_s != sa.full.sigma || sa.p != sb.p || sa.full.sigma != sb.full.sigma {
-        return k;
+        return [k; 2];
     }
     let [st_a, st_b] = states;
     let [top_a, top_b] = tops;
@@ -56,6 +57,9 @@ fn cruise_pair(
     let limit = F2::new(sa.limit, sb.limit);
     let (mut x, mut v) = (F2::new(st_a.x, st_b.x), F2::new(st_a.v, st_b.v));
     let mut top = F2::new(*top_a, *top_b);
+    // Where each lane ends: both at `k` unless one crossed the interval
+    // the other could not.
+    let mut ends = None;
     while k < n {
         // The lone run's motion and sign tests, in two lanes.
         let m = Motion::new(
@@ -70,10 +74,24 @@ fn cruise_pair(
         let (x_hi, v_hi) = m.at(&full);
         let y_hi = s * x_hi;
         let inside = y_hi.lt(limit) & y_hi.gt(zero);
+        let crossed = inside & m.monotone(v_hi, delta_max);
         // A lane with a turning point inside (or an event) leaves the pair
         // to cross that interval on its own, by `cruise`'s other bounds or
         // `rock`: kept out of this loop, they would crowd its registers.
-        if !(inside & m.monotone(v_hi, delta_max)).all() {
+        // The other crosses it here, as `cruise` would, and waits.
+        if !crossed.all() {
+            let (one, [xh_a, xh_b], [vh_a, vh_b]) = (crossed.bits(), x_hi.lanes(), v_hi.lanes());
+            let ([x_a, x_b], [v_a, v_b]) = (x.lanes(), v.lanes());
+            let ([t_a, t_b], [y_a, y_b]) = (top.lanes(), y_hi.lanes());
+            // y_hi lies in (0, limit) where a lane crossed: `max` is `f64::max`.
+            let (a, b) = (one & 1 != 0, one & 2 != 0);
+            x = F2::new(if a { xh_a } else { x_a }, if b { xh_b } else { x_b });
+            v = F2::new(if a { vh_a } else { v_a }, if b { vh_b } else { v_b });
+            top = F2::new(
+                if a { t_a.max(y_a) } else { t_a },
+                if b { t_b.max(y_b) } else { t_b },
+            );
+            ends = Some([k + usize::from(a), k + usize::from(b)]);
             break;
         }
         // y_hi lies in (0, limit) on both lanes: `max` is `f64::max` there.
@@ -84,5 +102,5 @@ fn cruise_pair(
     let ([xa, xb], [va, vb], [ta, tb]) = (x.lanes(), v.lanes(), top.lanes());
     (st_a.x, st_a.v, st_b.x, st_b.v) = (xa, va, xb, vb);
     (*top_a, *top_b) = (ta, tb);
-    k
+    ends.unwrap_or([k, k])
 }

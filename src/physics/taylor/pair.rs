@@ -82,7 +82,7 @@ impl CruisePair for Taylor {
         k: usize,
         states: [&mut Rocking; 2],
         tops: [&mut f64; 2],
-    ) -> usize {
+    ) -> [usize; 2] {
         let [ta, tb] = steppers;
         let ([st_a, st_b], [top_a, top_b]) = (states, tops);
         let lane = |stepper, state, top| {
@@ -93,7 +93,7 @@ impl CruisePair for Taylor {
             })
         };
         let runs = [lane(ta, st_a, top_a), lane(tb, st_b, top_b)];
-        cruise_lanes::<F2, 2>(runs, exc, k)
+        [cruise_lanes::<F2, 2>(runs, exc, k); 2]
     }
 }
 
