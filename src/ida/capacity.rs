@@ -1,6 +1,7 @@
 //! What a capacity search finds: its runs (grid levels and refinements),
 //! the capacity with its brackets, and how far the IDA is traced.
 
+use super::runs::Work;
 use crate::physics::Outcome;
 
 /// Whether a run was at a grid level or a refinement point.
@@ -62,5 +63,14 @@ pub enum Trace {
 impl Capacity {
     pub fn runs(&self) -> usize {
         self.points.len()
+    }
+
+    /// The runs of the search and the sample intervals they went through
+    /// (a certification's own runs are [`super::Certified::extra`]).
+    pub fn work(&self) -> Work {
+        Work {
+            runs: self.points.len(),
+            intervals: self.points.iter().map(|q| q.outcome.intervals).sum(),
+        }
     }
 }

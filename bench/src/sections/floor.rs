@@ -60,9 +60,7 @@ pub(super) fn floor_table(
         for exc in &records {
             let c = capacity_certified(exc, &spec, &grid, 1e-4, Trace::StopAtFirst)
                 .expect("the bundled records run");
-            let points = &c.capacity.points;
-            search_intervals += points.iter().map(|q| q.outcome.intervals).sum::<u64>();
-            search_intervals += c.extra.intervals;
+            search_intervals += c.capacity.work().intervals + c.extra.intervals;
         }
     });
     let ns_one = one * 1e9 / intervals;

@@ -59,10 +59,10 @@ pub(super) fn sliding_table(
                 let started = Instant::now();
                 for exc in &records {
                     let c = capacity_certified(exc, &spec, &grid, TOL, Trace::StopAtFirst)?;
+                    let search = c.capacity.work();
+                    intervals += search.intervals + c.extra.intervals;
+                    runs += search.runs + c.extra.runs;
                     let points = &c.capacity.points;
-                    intervals += points.iter().map(|q| q.outcome.intervals).sum::<u64>();
-                    intervals += c.extra.intervals;
-                    runs += points.len() + c.extra.runs;
                     slipped += points.iter().filter(|q| q.outcome.slips > 0).count();
                 }
                 ms = ms.min(started.elapsed().as_secs_f64() * 1e3 / n as f64);

@@ -181,8 +181,7 @@ pub(in crate::stages) fn run_case(case: usize, prep: &Prepared) -> Result<CaseRe
         ida,
         capacity: row,
         check_runs: certified.extra.runs,
-        intervals: cap.points.iter().map(|q| q.outcome.intervals).sum::<u64>()
-            + certified.extra.intervals,
+        intervals: cap.work().intervals + certified.extra.intervals,
     })
 }
 
