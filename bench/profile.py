@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Where a certified linearised search spends its time.
+"""Where a certified search spends its time.
 
 Samples `rocking-bench --sections floor` (the 12 far-field records, p = 2,
 ε = 0.7) with `perf record -e cpu-clock` and attributes each sample in the
@@ -17,6 +17,12 @@ with debug info (the workspace's release profile has it):
 
     cargo build --release -p rocking-bench
     python3 bench/profile.py            # from the repository root
+
+Any other command of a binary built so can be sampled in its place, the
+nonlinear paper grid's sweep (the Taylor stepper) for instance:
+
+    python3 bench/profile.py --binary target/release/rocking -- \
+        target/release/rocking run pipelines/paper-alpha-0.2.toml --to sweep --force
 
 Samples are wall-clock ticks of one process: run it on a quiet machine.
 """
@@ -40,6 +46,8 @@ KINDS = [
     ("hop_return", "walk: hop in closed form"),
     ("hop", "walk: hop in closed form"),
     ("turning_points", "walk: turning points"),
+    ("low_hop", "walk: hop in closed form"),
+    ("rock", "walk: the rest of it"),
     ("cruise_pair", "cruise: two runs in step"),
     ("cruise_lanes", "cruise: runs in lanes"),
     ("quiet_until", "quiet: at rest"),
@@ -65,11 +73,12 @@ def loop_symbols(binary):
 
 def samples(data):
     """(runtime address, its symbol's runtime start) → samples, for samples
-    in the event loop, and the number of samples in all."""
-    counts = collections.Counter()
+    in the event loop; the number of samples in all; the others by the last
+    part of their symbol's name."""
+    counts, outside = collections.Counter(), collections.Counter()
     total = 0
     for line in run(["perf", "script", "-i", data, "-F", "ip,sym,symoff"]).splitlines():
-        parts = line.split()
+        parts = line.strip().split(None, 1)
         if len(parts) < 2:
             continue
         total += 1
@@ -77,7 +86,38 @@ def samples(data):
         if name and name.rsplit("::", 1)[-1] in LOOPS:
             ip = int(parts[0], 16)
             counts[(ip, ip - int(off, 16))] += 1
-    return counts, total
+        else:
+            outside[short(name or parts[1])] += 1
+    return counts, total, outside
+
+
+def short(symbol):
+    """A symbol's function path without generic arguments, its last two
+    parts: `poly::root_to`, and `Exact::bare_pass` for `…::<impl …::Exact>::
+    bare_pass` or `<…::Exact>::bare_pass` (a bracket that opens the path or
+    follows `::` names a type; one after a name holds its generic arguments)."""
+    depth, plain, group = 0, [], []
+    for ch in symbol:
+        if ch == "<":
+            depth += 1
+            if depth == 1:
+                group = []
+                names_type = not plain or "".join(plain).endswith("::")
+            continue
+        if ch == ">" and depth > 0:
+            depth -= 1
+            if depth == 0 and names_type:
+                ty = "".join(group)
+                ty = ty.split(" for ")[-1] if ty.startswith("impl ") else ty
+                ty = ty.removeprefix("impl ").split(" as ")[0]
+                plain.append(ty.split("::")[-1])
+            continue
+        if depth == 0:
+            plain.append(ch)
+        elif depth == 1:
+            group.append(ch)
+    path = "".join(plain).replace("::::", "::").strip()
+    return "::".join((path or symbol).split("::")[-2:])
 
 
 def frames(binary, addrs):
@@ -101,17 +141,24 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--bench", default="target/release/rocking-bench")
     ap.add_argument("--reps", type=int, default=60, help="passes of the floor section")
+    ap.add_argument("--binary", help="the binary the command after `--` runs "
+                    "(default: the floor section of --bench)")
+    ap.add_argument("command", nargs="*", help="a command to sample instead, after `--`")
     args = ap.parse_args()
-    if not os.path.exists(args.bench):
-        sys.exit(f"{args.bench} not found: cargo build --release -p rocking-bench")
+    binary = args.binary or args.bench
+    if not os.path.exists(binary):
+        sys.exit(f"{binary} not found: cargo build --release (-p rocking-bench)")
+    if args.command and not args.binary:
+        sys.exit("a command needs --binary, the binary whose symbols it runs")
     with tempfile.TemporaryDirectory() as tmp:
         data = os.path.join(tmp, "perf.data")
-        run(["perf", "record", "-q", "-e", "cpu-clock", "-o", data, args.bench,
-             "--sections", "floor", "--reps", str(args.reps), "--out-dir", tmp])
-        counts, total = samples(data)
+        command = args.command or [args.bench, "--sections", "floor", "--reps",
+                                   str(args.reps), "--out-dir", tmp]
+        run(["perf", "record", "-q", "-e", "cpu-clock", "-o", data] + command)
+        counts, total, outside = samples(data)
     # The load bias (runtime address − the binary's): the one offset, page
     # aligned, that puts every sample's symbol on a compilation of the loop.
-    starts = loop_symbols(args.bench)
+    starts = loop_symbols(binary)
     biases = collections.Counter()
     for (_, start), c in counts.items():
         for s, _ in starts:
@@ -123,7 +170,7 @@ def main():
     by_addr = collections.Counter()
     for (ip, _), c in counts.items():
         by_addr[ip - bias] += c
-    chains = frames(args.bench, sorted(by_addr))
+    chains = frames(binary, sorted(by_addr))
     kinds = collections.Counter()
     for a, c in by_addr.items():
         names = chains.get(a, [])
@@ -138,6 +185,10 @@ def main():
     cruise = sum(c for k, c in kinds.items() if k.startswith("cruise"))
     print(f"| **the event walk** | **{100 * walk / in_loop:.1f} %** |")
     print(f"| **whole intervals crossed on a proof** | **{100 * cruise / in_loop:.1f} %** |")
+    print(f"\nOutside the event loop, the largest shares of all {total} samples:\n")
+    print("| symbol | share of all samples |\n|---|---:|")
+    for name, c in outside.most_common(6):
+        print(f"| `{name}` | {100 * c / total:.1f} % |")
 
 
 if __name__ == "__main__":
