@@ -248,6 +248,71 @@ fn a_duplicated_inventory_column_is_refused() {
     );
 }
 
+/// An inventory column misspelt or renamed (`epsilon`, `friction`, `Mu`)
+/// was passed over: every block took Housner's ε, or no friction, and the
+/// rates changed without a word (the kouros 4.63e-3/yr against 2.58e-3).
+/// The user's own columns are still passed over.
+#[test]
+fn a_misnamed_inventory_column_is_refused() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(d.join("h.csv"), "pga_g,annual_rate\n0.1,0.01\n0.3,0.001\n").unwrap();
+    for (header, column, known) in [
+        ("name,b,h,epsilon", "epsilon", "eps"),
+        ("name,b,h,eps,friction", "friction", "mu"),
+        ("name,b,h,eps,Mu", "Mu", "mu"),
+        ("name,b,h,EPS", "EPS", "eps"),
+        ("name,b,h,eps.", "eps.", "eps"),
+        ("name,b,h,epss", "epss", "eps"),
+        ("id,b,h", "id", "name"),
+    ] {
+        fs::write(
+            d.join("inv.csv"),
+            format!("{header}\nstatue,0.2,0.9,0.7,0.5\n"),
+        )
+        .unwrap();
+        for command in ["risk", "export"] {
+            let args = match command {
+                "risk" => vec![command, "--hazard", "h.csv", "--inventory", "inv.csv"],
+                _ => vec![
+                    command,
+                    "--format",
+                    "pelicun",
+                    "--inventory",
+                    "inv.csv",
+                    "--out",
+                    "x",
+                ],
+            };
+            fails(
+                d,
+                &args,
+                &format!("inv.csv:1: column `{column}`: is it `{known}`?"),
+            );
+        }
+    }
+    // Columns of the user's own, or a near name beside the known one.
+    for header in ["name,b,h,eps,room", "name,b,h,eps,epsilon"] {
+        fs::write(
+            d.join("inv.csv"),
+            format!("{header}\nstatue,0.2,0.9,0.7,x\n"),
+        )
+        .unwrap();
+        let out = rocking(
+            d,
+            &[
+                "risk",
+                "--hazard",
+                "h.csv",
+                "--inventory",
+                "inv.csv",
+                "--json",
+            ],
+        );
+        assert!(out.status.success(), "{header}: {}", stderr(&out));
+    }
+}
+
 /// `--plot` with every rate 0 wrote the table, then failed; `--out` with
 /// `--states` (or for one block) exited 0 and wrote nothing.
 #[test]

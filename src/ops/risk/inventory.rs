@@ -1,5 +1,8 @@
 //! The blocks `risk` and `export` assess: one block, or an inventory CSV
-//! `name,b,h[,eps]` read with every error naming its line.
+//! `name,b,h[,eps][,mu]` read with every error naming its line. Other
+//! columns are the user's own and are not read; one that looks like a
+//! known column misspelt or renamed (`epsilon`, `Mu`, `friction`) is
+//! refused, since reading past it would silently use a default.
 
 use std::path::Path;
 
@@ -42,6 +45,9 @@ pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
     let mut csv = csv::ReaderBuilder::new().from_reader(bytes.as_slice());
     let headers = csv.headers().map_err(|e| bad(1, e.to_string()))?.clone();
     if let Some(message) = repeated_column(&headers) {
+        return Err(bad(1, message));
+    }
+    if let Some(message) = misnamed_column(&headers) {
         return Err(bad(1, message));
     }
     let col = |name: &str| headers.iter().position(|h| h.trim() == name);
@@ -141,6 +147,82 @@ fn repeated_column(headers: &csv::StringRecord) -> Option<String> {
             k + 1
         ))
     })
+}
+
+/// The columns the reader knows, and names a user may give one of them
+/// (after lower-casing and dropping all but letters and digits).
+const KNOWN: [(&str, &[&str]); 5] = [
+    ("name", &["id", "block", "blockname", "label"]),
+    ("b", &["halfwidth", "bm", "width"]),
+    ("h", &["halfheight", "hm", "height"]),
+    (
+        "eps",
+        &["epsilon", "restitution", "cor", "coefficientofrestitution"],
+    ),
+    (
+        "mu",
+        &[
+            "μ",
+            "friction",
+            "frictioncoefficient",
+            "coefficientoffriction",
+            "mus",
+        ],
+    ),
+];
+
+/// A column that is not one the reader knows but looks like one (the same
+/// but for case, spacing or punctuation; a usual other name; one letter
+/// off a name of three or more): the message naming both. Such a column
+/// would be passed over and its block given a default (Housner's ε, no
+/// friction), a wrong answer without a word.
+fn misnamed_column(headers: &csv::StringRecord) -> Option<String> {
+    let plain = |h: &str| -> String {
+        h.chars()
+            .filter(|c| c.is_alphanumeric())
+            .flat_map(char::to_lowercase)
+            .collect()
+    };
+    let given: Vec<&str> = headers.iter().map(str::trim).collect();
+    given.iter().find_map(|&h| {
+        if KNOWN.iter().any(|(k, _)| *k == h) {
+            return None;
+        }
+        let p = plain(h);
+        let (known, _) = KNOWN.iter().find(|(k, others)| {
+            *k == p || others.contains(&p.as_str()) || (k.len() >= 3 && one_letter_off(k, &p))
+        })?;
+        // A column the file also has under its own name is the user's own.
+        if given.contains(known) {
+            return None;
+        }
+        Some(format!(
+            "column `{h}`: is it `{known}`? The columns read are name, b and h (the \
+             half-width and half-height, m), eps and mu; others are passed over, so this one \
+             would be ignored: rename it"
+        ))
+    })
+}
+
+/// Whether `a` and `b` differ by one letter changed, added or removed.
+fn one_letter_off(a: &str, b: &str) -> bool {
+    let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
+    let (short, long) = if a.len() <= b.len() {
+        (&a, &b)
+    } else {
+        (&b, &a)
+    };
+    match long.len() - short.len() {
+        0 => short.iter().zip(long).filter(|(x, y)| x != y).count() == 1,
+        1 => (0..long.len()).any(|skip| {
+            long.iter()
+                .enumerate()
+                .filter(|&(i, _)| i != skip)
+                .map(|(_, c)| c)
+                .eq(short.iter())
+        }),
+        _ => false,
+    }
 }
 
 /// The `eps` cell: a number, or empty or `housner` for Housner's bound.

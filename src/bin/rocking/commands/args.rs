@@ -333,6 +333,8 @@ pub struct BlocksArgs {
     /// A CSV of blocks `name,b,h[,eps][,mu]` (m; eps empty or `housner` for
     /// Housner's bound; mu the base's friction coefficient, empty if not
     /// known; in an export, a name's spaces become `_` in its taxonomy).
+    /// Other columns are passed over; one like a misspelt or renamed known
+    /// column (`epsilon`, `friction`, `Mu`) is refused.
     #[arg(long, value_name = "BLOCKS.csv")]
     pub inventory: Option<PathBuf>,
     /// Static friction coefficient μ between the block and its base: a block
