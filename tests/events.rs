@@ -134,6 +134,85 @@ fn the_count_distribution_is_a_monte_carlo_by_hand() {
     }
 }
 
+/// `--vector` on a floor cut at the ground's uplift PGA, where the scalar
+/// rate beside it cuts nothing (the floor amplifies: the block feels more
+/// than the ground's peak): every event below g·tan α dropped from the one
+/// rate and counted in the other. Fields whose every PGA lies below the
+/// statue's uplift PGA (0.2/0.9 g): on the ground both rates are 0 (the
+/// block cannot lift); on a 0.5 s floor with Γφ = 1.3 both count them.
+#[test]
+fn the_vector_rate_on_a_floor_cuts_where_the_scalar_rate_does() {
+    let dir = tempdir();
+    let d = dir.path();
+    let meta = "#,,,\"generated_by='OpenQuake engine 3.26.2'\"\n";
+    let g = d.join("g");
+    fs::create_dir_all(&g).unwrap();
+    fs::write(
+        g.join("sitemesh_1.csv"),
+        format!("{meta}custom_site_id,lon,lat\naaa,0.0,0.0\nbbb,0.1,0.0\n"),
+    )
+    .unwrap();
+    let (mut ev, mut gmf) = (
+        format!("{meta}event_id,rup_id,rlz_id,year,ses_id\n"),
+        format!("{meta}event_id,gmv_PGA,gmv_PGV,custom_site_id\n"),
+    );
+    for e in 0..30 {
+        ev.push_str(&format!("{e},{e},0,1,1\n"));
+        for (s, id) in ["aaa", "bbb"].iter().enumerate() {
+            let pga = 0.10 + 0.0035 * e as f64 + 0.002 * s as f64;
+            assert!(pga < 0.2 / 0.9);
+            let pgv = pga * (40.0 + 3.0 * e as f64);
+            gmf.push_str(&format!("{e},{pga:.6E},{pgv:.6E},{id}\n"));
+        }
+    }
+    fs::write(g.join("events_1.csv"), ev).unwrap();
+    fs::write(g.join("gmf-data_1.csv"), gmf).unwrap();
+    let records = crate::util::bundled_records();
+    let rates = |floor: Option<&str>| -> Vec<(f64, f64)> {
+        let mut a = vec![
+            "risk",
+            "--gmf",
+            "g",
+            "--eff-years",
+            "100",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--direct",
+            "--vector",
+            "--json",
+            "--records",
+        ];
+        a.push(records.to_str().unwrap());
+        if let Some(f) = floor {
+            a.extend(["--floor", f]);
+        }
+        let v = json(&rocking(d, &a));
+        v["blocks"][0]["sites"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| {
+                let rate = |k: &str| s[k].as_f64().unwrap();
+                (rate("annual_rate"), rate("annual_rate_vector"))
+            })
+            .collect()
+    };
+    for (scalar, vector) in rates(None) {
+        assert_eq!((scalar, vector), (0.0, 0.0));
+    }
+    for (scalar, vector) in rates(Some("0.5,0.05,1.3")) {
+        assert!(scalar > 1e-3, "the floor lifts the block: {scalar}");
+        // Two fits of one block's runs (PGA alone, PGA with PGV/PGA): the
+        // same order, not the same number.
+        assert!(
+            vector > 0.2 * scalar && vector < 5.0 * scalar,
+            "vector {vector} against scalar {scalar}"
+        );
+    }
+}
+
 /// Bad folders and files are refused, naming the file, line and column.
 #[test]
 fn bad_fields_are_refused_naming_file_line_and_column() {

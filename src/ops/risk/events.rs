@@ -386,9 +386,10 @@ fn vector_of(
     let Some(v) = crate::im::efficiency::vector_of_block(&eta, r.ims()) else {
         return Ok((None, None));
     };
-    // The block cannot move below the level `risk` cuts at, whatever the IM.
+    // The block cannot move below the level `risk` cuts at, whatever the IM:
+    // the scalar rate's cut ([`fragility_at`]), none on a floor that filters.
     let slides_on_mu = ran.equation.friction().map(|f| f.mu_s);
-    let uplift = damage::zero_below(block, Im::Pga, None, slides_on_mu).unwrap_or(0.0);
+    let uplift = damage::zero_below(block, Im::Pga, r.floor(), slides_on_mu).unwrap_or(0.0);
     let p = pga
         .iter()
         .zip(pgv)
