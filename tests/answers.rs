@@ -313,6 +313,29 @@ fn a_misnamed_inventory_column_is_refused() {
     }
 }
 
+/// `export --years -5` wrote `risk_investigation_time = -5` into the job,
+/// where `risk --years -5` refuses: one check for both.
+#[test]
+fn export_refuses_the_years_risk_refuses() {
+    let dir = tempdir();
+    let d = dir.path();
+    let hazard = root().join("records/hazard/synthetic-openquake.csv");
+    let hazard = hazard.to_str().unwrap();
+    for years in ["0", "-5", "inf"] {
+        let message = format!("--years {years}: give a positive number of years");
+        let block = [
+            "--b", "0.2", "--h", "0.9", "--years", years, "--hazard", hazard,
+        ];
+        let mut risk = vec!["risk"];
+        risk.extend(block);
+        fails(d, &risk, &message);
+        let mut export = vec!["export", "--format", "nrml", "--out", "job"];
+        export.extend(block);
+        fails(d, &export, &message);
+        assert!(!d.join("job").exists(), "--years {years}: nothing written");
+    }
+}
+
 /// `--plot` with every rate 0 wrote the table, then failed; `--out` with
 /// `--states` (or for one block) exited 0 and wrote nothing.
 #[test]

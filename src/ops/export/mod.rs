@@ -27,6 +27,7 @@ use request::{Entries, HazardSites};
 /// Computes every block's fragilities and writes the engine's files.
 pub fn export(req: &Request) -> Result<Written, ExportOpError> {
     crate::physics::check_auto_tol(req.auto_tol).map_err(FragilityError::AutoTol)?;
+    risk::check_years(req.years)?;
     if req.method == FitMethod::Empirical && !req.direct {
         return Err(ExportOpError::EmpiricalExport);
     }

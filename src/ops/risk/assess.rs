@@ -155,9 +155,7 @@ pub fn hazard_warnings(sites: &[(usize, HazardCurve)]) -> Vec<String> {
 
 /// [`Prepared`] for `req`, for [`assess`] and `states::assess_states`.
 pub(super) fn prepare(req: &Request) -> Result<Prepared, RiskError> {
-    if !(req.years > 0.0 && req.years.is_finite()) {
-        return Err(RiskError::Years(req.years));
-    }
+    super::check_years(req.years)?;
     crate::physics::check_auto_tol(req.auto_tol).map_err(RiskError::AutoTol)?;
     let sites = read_hazard(&req.hazard, req.site)?;
     let entries = entries(&req.blocks)?;

@@ -67,3 +67,14 @@ pub enum RiskError {
     #[error(transparent)]
     Plot(#[from] PlotError),
 }
+
+/// The investigation time of a risk answer or an exported job, checked
+/// once for `risk`, `risk --gmf` and `export`: a positive, finite number
+/// of years.
+pub fn check_years(years: f64) -> Result<f64, RiskError> {
+    if years > 0.0 && years.is_finite() {
+        Ok(years)
+    } else {
+        Err(RiskError::Years(years))
+    }
+}

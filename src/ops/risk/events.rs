@@ -116,9 +116,7 @@ fn values_of(fields: &Fields, im: Im) -> Option<Vec<f64>> {
 /// Assesses every block at every site of the fields.
 pub fn assess_events(req: &Request, ask: &EventsAsk) -> Result<EventsAssessment, RiskError> {
     crate::physics::check_auto_tol(req.auto_tol).map_err(RiskError::AutoTol)?;
-    if !(req.years > 0.0 && req.years.is_finite()) {
-        return Err(RiskError::Years(req.years));
-    }
+    super::check_years(req.years)?;
     if req.site.is_some() || req.component.is_some() {
         return Err(RiskError::Gmf(
             "--site and --component are a hazard file's; --gmf states every site of the fields, \

@@ -22,7 +22,7 @@ pub use answer::{Assessment, BinInfo, BlockInfo, BranchRate, FragilityInfo, Site
 pub use assess::{assess, block_info, hazard_im, hazard_warnings, read_hazard};
 pub use bootstrap::{draws, Bootstrap, BootstrapInfo, BAND_LEVEL};
 pub use charts::{deaggregation_chart, ranking_chart};
-pub use error::RiskError;
+pub use error::{check_years, RiskError};
 pub use events::{assess_events, Counts, EventSite, EventsAssessment, EventsBlock, RETURN_PERIODS};
 pub use fields::read_fields;
 pub use inventory::{read_inventory, InventoryBlock};
