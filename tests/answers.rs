@@ -336,6 +336,46 @@ fn export_refuses_the_years_risk_refuses() {
     }
 }
 
+/// `risk --inventory --out T --plot P` where P's folder cannot be made (a
+/// file stands in its path) wrote the table, then failed.
+#[test]
+fn risk_writes_no_table_when_its_chart_cannot_be_written() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(
+        d.join("h.csv"),
+        "pga_g,annual_rate\n0.1,0.01\n0.3,0.001\n0.6,1e-4\n",
+    )
+    .unwrap();
+    fs::write(
+        d.join("inv.csv"),
+        "name,b,h\nstatue,0.2,0.9\nwide,0.5,0.9\n",
+    )
+    .unwrap();
+    fs::write(d.join("a-file"), "not a folder").unwrap();
+    let out = rocking(
+        d,
+        &[
+            "risk",
+            "--hazard",
+            "h.csv",
+            "--inventory",
+            "inv.csv",
+            "--out",
+            "t.parquet",
+            "--plot",
+            "a-file/chart.svg",
+        ],
+    );
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("a-file/chart.svg"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!d.join("t.parquet").exists(), "the table was written");
+}
+
 /// `--plot` with every rate 0 wrote the table, then failed; `--out` with
 /// `--states` (or for one block) exited 0 and wrote nothing.
 #[test]

@@ -198,11 +198,19 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .as_ref()
         .map(|_| chart(&all, site, inventory))
         .transpose()?;
-    if args.blocks.inventory.is_some() {
-        risk::write_table(&out, &risk::rows(&all, beyond), &req.hazard.name())?;
-    }
+    // The chart first, then the table: a chart that cannot be written (its
+    // folder cannot be made) leaves no table; a table that cannot be
+    // written takes its chart away.
     if let (Some(plot), Some(chart)) = (&args.plot, chart) {
         atomic_write(plot, chart.as_bytes())?;
+    }
+    if args.blocks.inventory.is_some() {
+        if let Err(e) = risk::write_table(&out, &risk::rows(&all, beyond), &req.hazard.name()) {
+            if let Some(plot) = &args.plot {
+                let _ = std::fs::remove_file(plot);
+            }
+            return Err(e.into());
+        }
     }
     for a in &all {
         for w in &a.warnings {
