@@ -497,6 +497,23 @@ fn an_export_folder_is_one_consistent_set() {
     assert!(e.contains("β = 0 (one record reaches it)"), "{e}");
     assert!(e.contains("cannot evaluate"), "{e}");
     assert!(!d.join("beta0/fragility.csv").exists());
+    // The commands that do take a step from one record say so (they printed
+    // β = 0.000 without a word).
+    for command in ["fragility", "risk"] {
+        let mut args = vec![command, "--records", "one", "--json"];
+        args.extend(block);
+        match command {
+            "risk" => args.extend(["--hazard", hazard, "--site", "0"]),
+            _ => args.extend(["--pga", "0.3"]),
+        }
+        let out = rocking(d, &args);
+        assert!(out.status.success(), "{command}: {}", stderr(&out));
+        let warned = format!("{}{}", stderr(&out), stdout(&out));
+        assert!(
+            warned.contains("fitted to the capacity of one record: it has no dispersion"),
+            "{command}: {warned}"
+        );
+    }
     // Ten records or fewer: warned of as rough.
     fs::create_dir_all(d.join("few")).unwrap();
     for e in fs::read_dir(bundled_records().join("far-field"))

@@ -59,15 +59,19 @@ pub(super) fn from_records(
         .states()
         .iter()
         .zip(&fits)
-        .filter(|(_, f)| (2..FEW_RECORDS).contains(&f.reached))
-        .map(|(s, f)| {
-            format!(
-                "`{}` is fitted to the capacities of {} records (fewer than {FEW_RECORDS}): its \
+        .filter(|(_, f)| (1..FEW_RECORDS).contains(&f.reached))
+        .map(|(s, f)| match f.reached {
+            1 => format!(
+                "`{}` is fitted to the capacity of one record: it has no dispersion (β = 0, a \
+                 step from 0 to 1 at that record's capacity); give {FEW_RECORDS} records or more",
+                s.name
+            ),
+            n => format!(
+                "`{}` is fitted to the capacities of {n} records (fewer than {FEW_RECORDS}): its \
                  median and β are rough (β's standard error is about β/√(2n), {:.0} % here)",
                 s.name,
-                f.reached,
-                100.0 / (2.0 * f.reached as f64).sqrt()
-            )
+                100.0 / (2.0 * n as f64).sqrt()
+            ),
         })
         .collect();
     if records.text().is_some() {
