@@ -602,3 +602,33 @@ fn commands_refuse_what_cannot_mean_anything() {
         stderr(&out)
     );
 }
+
+/// `simulate --model nonlinear --pga 1e50` (or `--eta 1e-50`) ran on and
+/// on: the Taylor stepper's steps shrink with the forcing and, near
+/// η = 1e-40, no longer end. Such intensities are refused, in a run and in
+/// a grid; the exact stepper took them, and still takes η = 1e-12.
+#[test]
+fn intensities_beyond_any_record_are_refused_not_run_forever() {
+    let dir = tempdir();
+    let d = dir.path();
+    let record = bundled_records().join("far-field/RSN1111_KOBE_NIS000.AT2");
+    let record = record.to_str().unwrap();
+    let base = [
+        "simulate", "--record", record, "--b", "0.2", "--h", "0.9", "--eps", "0.7",
+    ];
+    for (how, value, model) in [
+        ("--pga", "1e50", "nonlinear"),
+        ("--eta", "1e-50", "nonlinear"),
+        ("--eta", "1e-13", "linearized"),
+    ] {
+        let mut args = base.to_vec();
+        args.extend([how, value, "--model", model]);
+        let out = rocking(d, &args);
+        assert!(!out.status.success(), "{how} {value}: {}", stdout(&out));
+        assert!(stderr(&out).contains("is below 1e-12"), "{}", stderr(&out));
+    }
+    let mut args = base.to_vec();
+    args.extend(["--eta", "1e-12", "--model", "linearized"]);
+    let out = rocking(d, &args);
+    assert!(out.status.success(), "{}", stderr(&out));
+}

@@ -72,6 +72,13 @@ impl ImGrid {
                 self.eta_max, self.eta_min
             )));
         }
+        if self.eta_min < crate::physics::ETA_MIN {
+            return Err(PhysicsError::BadInput(format!(
+                "IM grid: η_min = {:e} is below {:e}, where no run goes",
+                self.eta_min,
+                crate::physics::ETA_MIN
+            )));
+        }
         if self.count == 0 {
             return Err(PhysicsError::BadInput("IM grid: at least one level".into()));
         }
@@ -100,6 +107,17 @@ impl ImGrid {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_grid_below_the_smallest_eta_is_refused() {
+        let grid = |eta_min| ImGrid {
+            eta_min,
+            ..ImGrid::default()
+        };
+        assert!(grid(1e-12).levels().is_ok());
+        let e = grid(1e-13).levels().unwrap_err().to_string();
+        assert!(e.contains("η_min = 1e-13 is below 1e-12"), "{e}");
+    }
 
     #[test]
     fn log_grid_has_equal_ratios_and_exact_ends() {

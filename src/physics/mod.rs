@@ -69,4 +69,4 @@ pub use step::{Rocking, Stepper, Stretch, StretchEnd};
 pub use error::PhysicsError;
 pub use excitation::Excitation;
 pub use overturn::{escape_proven, Overturn};
-pub use run::{check_p, RunSpec, MAX_EVENTS, P_RANGE, REST_TOL};
+pub use run::{check_p, RunSpec, ETA_MIN, MAX_EVENTS, P_RANGE, REST_TOL};

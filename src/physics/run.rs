@@ -61,6 +61,11 @@ pub struct RunSpec {
     pub rest_tol: f64,
 }
 
+/// The smallest η a run takes: a PGA 10¹² times the one that lifts the
+/// block. The Taylor stepper's steps shrink with the forcing, and near
+/// η = 1e-40 they no longer end; no study comes near either.
+pub const ETA_MIN: f64 = 1e-12;
+
 impl RunSpec {
     pub fn new(p: f64, eps: f64, eta: f64, model: Model) -> Self {
         RunSpec {
@@ -82,6 +87,14 @@ impl RunSpec {
         }
         if !(self.eta > 0.0 && self.eta.is_finite()) {
             return bad(format!("η = {} must be positive", self.eta));
+        }
+        if self.eta < ETA_MIN {
+            return bad(format!(
+                "η = {:e} is below {ETA_MIN:e}: a motion over 10¹² times the acceleration that \
+                 lifts the block (η = αg/PGA), beyond any record, where the nonlinear steppers' \
+                 steps shrink without end",
+                self.eta
+            ));
         }
         if !(self.rest_tol > 0.0 && self.rest_tol < 1e-3) {
             return bad(format!(
