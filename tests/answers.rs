@@ -313,6 +313,55 @@ fn a_misnamed_inventory_column_is_refused() {
     }
 }
 
+/// OpenQuake's job counts nothing beyond the hazard's last IML, where
+/// `risk` by default continues the curve: the export said nothing of the
+/// difference (2.7 % of the statue's rate at site 1 of the bundled hazard).
+/// It now warns with the share `risk` itself reports there.
+#[test]
+fn an_export_warns_of_the_rate_beyond_the_last_iml_that_risk_counts() {
+    let dir = tempdir();
+    let d = dir.path();
+    let hazard = root().join("records/hazard/synthetic-openquake.csv");
+    let hazard = hazard.to_str().unwrap();
+    let block = ["--b", "0.2", "--h", "0.9", "--direct"];
+    let mut args = vec![
+        "export", "--format", "nrml", "--hazard", hazard, "--out", "job",
+    ];
+    args.extend(block);
+    let out = rocking(d, &args);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let e = stderr(&out);
+    let warning = e
+        .lines()
+        .find(|l| l.contains("counts nothing beyond the hazard's last IML (2 g)"))
+        .unwrap_or_else(|| panic!("no warning: {e}"));
+    let (site, share): (u64, f64) = {
+        let after = warning.split("at site ").nth(1).unwrap();
+        let (site, rest) = after.split_once(", ").unwrap();
+        let share = rest.split(" %").next().unwrap();
+        (site.parse().unwrap(), share.parse().unwrap())
+    };
+    let mut args = vec!["risk", "--hazard", hazard, "--json"];
+    args.extend(block);
+    let site_text = site.to_string();
+    args.extend(["--site", &site_text]);
+    let v: Value = serde_json::from_str(&stdout(&rocking(d, &args))).unwrap();
+    let risk_share = 100.0 * v["sites"][0]["share_beyond_last_iml"].as_f64().unwrap();
+    assert!(
+        (share - risk_share).abs() <= 0.05,
+        "export {share} % against risk {risk_share} %"
+    );
+    // The largest share of the three sites is the one named.
+    for k in 0..3 {
+        let k_text = k.to_string();
+        let mut args = vec!["risk", "--hazard", hazard, "--json", "--site", &k_text];
+        args.extend(block);
+        let v: Value = serde_json::from_str(&stdout(&rocking(d, &args))).unwrap();
+        let s = 100.0 * v["sites"][0]["share_beyond_last_iml"].as_f64().unwrap();
+        assert!(s <= risk_share, "site {k}: {s} % above the one named");
+    }
+}
+
 /// `export --years -5` wrote `risk_investigation_time = -5` into the job,
 /// where `risk --years -5` refuses: one check for both.
 #[test]

@@ -91,12 +91,54 @@ pub fn export(req: &Request) -> Result<Written, ExportOpError> {
         b.fragility
             .warnings
             .extend(hazard.iter().flat_map(|h| h.warnings.iter().cloned()));
+        if let Some(h) = &hazard {
+            let cut = written
+                .functions
+                .iter()
+                .find(|f| f.id == b.taxonomy)
+                .and_then(|f| f.no_damage_limit);
+            b.fragility.warnings.extend(beyond_the_curve(&b, h, cut));
+        }
         blocks.push(b);
     }
     let source = blocks.first().map_or("", |b| b.fragility.source.as_str());
     let floor = records.as_ref().and_then(|r| r.floor());
     let files = write_files(req, hazard.as_ref(), &written, im, source, floor)?;
     Ok(Written { files, blocks })
+}
+
+/// OpenQuake's job counts nothing beyond the hazard's last IML, where
+/// `risk` by default continues the curve (`--beyond extrapolate`): where
+/// that part is 1 % or more of a block's rate of its heaviest state at a
+/// site, the two answers differ by it, and the warning says so and how to
+/// get OpenQuake's from `risk`. The share is `risk`'s own
+/// ([`crate::risk::assess_above`]).
+fn beyond_the_curve(b: &ExportedBlock, h: &HazardSites, cut: Option<f64>) -> Option<String> {
+    let f = &b.fragility;
+    let frag = f.states.last()?.fragility(f.method)?;
+    let (site, share, last) = h
+        .curves
+        .iter()
+        .map(|(k, c)| {
+            let r = crate::risk::assess_above(
+                c,
+                &frag,
+                crate::risk::Beyond::Extrapolate,
+                cut.unwrap_or(0.0),
+            );
+            (*k, r.share_beyond_last_iml, r.last_iml)
+        })
+        .max_by(|a, b| a.1.total_cmp(&b.1))?;
+    (share >= 0.01).then(|| {
+        format!(
+            "OpenQuake's job counts nothing beyond the hazard's last IML ({last} {}): at site \
+             {site}, {:.1} % of the rate of `{}` that `risk` gives by default comes from beyond \
+             it (`risk --beyond stop` gives the job's answer)",
+            h.im.unit(),
+            100.0 * share,
+            f.states.last().map_or("", |s| s.name.as_str())
+        )
+    })
 }
 
 fn read_sites(path: &Path, asked: Option<Im>) -> Result<HazardSites, ExportOpError> {
@@ -117,6 +159,7 @@ fn read_sites(path: &Path, asked: Option<Im>) -> Result<HazardSites, ExportOpErr
         .collect::<Result<Vec<_>, _>>()?;
     Ok(HazardSites {
         warnings: risk::hazard_warnings(&curves),
+        curves,
         text,
         im,
         sites,

@@ -148,6 +148,8 @@ pub struct Written {
 
 /// An OpenQuake hazard file: its text, IM, sites and investigation time.
 pub(super) struct HazardSites {
+    /// The curves as `risk` reads them, by site.
+    pub curves: Vec<(usize, crate::hazard::HazardCurve)>,
     pub text: String,
     pub im: Im,
     pub sites: Vec<Site>,
