@@ -362,6 +362,68 @@ fn an_export_warns_of_the_rate_beyond_the_last_iml_that_risk_counts() {
     }
 }
 
+/// `fragility --pga 0.2` gave the statue (uplift PGA g·tan α = 0.2222 g)
+/// P(overturn) = 0.0011, and `--states` P(rocking) = 0.148, at a level
+/// where no record lifts it and `risk` and the OpenQuake export count 0.
+/// Below the cut every state is 0; above it P is the printed lognormal's;
+/// on a floor, which may lift the block below the ground's uplift PGA,
+/// nothing is cut.
+#[test]
+fn fragility_is_zero_below_the_uplift_pga_as_risk_counts_it() {
+    let dir = tempdir();
+    let d = dir.path();
+    let levels = "0.1,0.2,0.222,0.223,0.3,0.5";
+    let fragility = |extra: &[&str]| -> Value {
+        let mut args = vec![
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--json",
+            "--pga",
+            levels,
+        ];
+        args.extend(extra);
+        let out = rocking(d, &args);
+        assert!(out.status.success(), "{}", stderr(&out));
+        serde_json::from_str(&stdout(&out)).unwrap()
+    };
+    let cut = (0.2f64 / 0.9).atan().tan();
+    for extra in [&[][..], &["--direct"][..]] {
+        let v = fragility(extra);
+        let (m, b) = (v["median"].as_f64().unwrap(), v["beta"].as_f64().unwrap());
+        for p in v["points"].as_array().unwrap() {
+            let (a, got) = (
+                p["iml"].as_f64().unwrap(),
+                p["probability"].as_f64().unwrap(),
+            );
+            let lognormal = rocking::stats::normal_cdf((a / m).ln() / b);
+            let want = if a < cut { 0.0 } else { lognormal };
+            assert!(
+                (got - want).abs() < 1e-14,
+                "{extra:?} at {a} g: {got} against {want}"
+            );
+            if let Some(share) = p["empirical"].as_f64() {
+                // No record lifts the block below the cut.
+                assert!(a >= cut || share == 0.0, "{a} g: {share}");
+            }
+        }
+    }
+    let v = fragility(&["--direct", "--states", "rocking=0.1,overturned=overturned"]);
+    for p in v["points"].as_array().unwrap() {
+        let a = p["iml"].as_f64().unwrap();
+        for q in p["probabilities"].as_array().unwrap() {
+            let q = q.as_f64().unwrap();
+            assert!(a >= cut || q == 0.0, "{a} g: {q}");
+            assert!(a < cut || q > 0.0, "{a} g: {q}");
+        }
+    }
+    let on_floor = fragility(&["--direct", "--floor", "0.5,0.05,1.3"]);
+    let below = on_floor["points"][1]["probability"].as_f64().unwrap();
+    assert!(below > 0.0, "on a floor at 0.2 g: {below}");
+}
+
 /// `export --years -5` wrote `risk_investigation_time = -5` into the job,
 /// where `risk --years -5` refuses: one check for both.
 #[test]

@@ -134,6 +134,16 @@ pub fn zero_below(
     }
 }
 
+/// P(state | IM = x) of a fragility cut below `cut` ([`zero_below`]): what
+/// `fragility` prints at a level, as `risk` and the OpenQuake export count it.
+pub fn probability_above(f: &crate::risk::Fragility, x: f64, cut: Option<f64>) -> f64 {
+    if cut.is_some_and(|c| x < c) {
+        0.0
+    } else {
+        f.probability(x)
+    }
+}
+
 /// Why `state` has no fragility by `method`, as a refusal.
 pub fn no_fit(f: &DamageFragility, state: &StateFragility, method: FitMethod) -> FragilityError {
     let why = match (method, f.source.as_str()) {
@@ -368,6 +378,12 @@ pub fn assess(
     fragility.warnings.extend(crossed);
     let sliding = fragility.unmodelled_sliding(req.mu, block.alpha());
     fragility.warnings.extend(sliding);
+    let cut = zero_below(
+        &block,
+        req.im,
+        records.as_ref().and_then(|r| r.floor()),
+        fragility.slides_on_mu,
+    );
     let points = req
         .levels
         .iter()
@@ -376,7 +392,7 @@ pub fn assess(
             probabilities: fragility
                 .states
                 .iter()
-                .map(|s| s.fragility(method).map(|f| f.probability(x)))
+                .map(|s| s.fragility(method).map(|f| probability_above(&f, x, cut)))
                 .collect(),
         })
         .collect();

@@ -199,6 +199,8 @@ fn one(
     let (median, beta) = state.median_beta(method);
     // More than half the records never reach it: the median lies beyond.
     let (median, beta) = (median.unwrap_or(f64::INFINITY), beta.unwrap_or(f64::NAN));
+    // Below the level the block cannot move at, 0, as `risk` counts it.
+    let cut = damage::zero_below(block, im, records.and_then(|r| r.floor()), f.slides_on_mu);
     let points = req
         .levels
         .iter()
@@ -206,7 +208,7 @@ fn one(
             iml: x,
             pga_g: (im == Im::Pga).then_some(x),
             eta: (im == Im::Pga).then(|| alpha / x),
-            probability: fragility.probability(x),
+            probability: damage::probability_above(&fragility, x, cut),
             empirical: state
                 .capacities
                 .as_ref()
