@@ -158,27 +158,30 @@ pub struct FitChoice {
 
 /// Damage states' lognormals (lightest first; `None` where a state has no
 /// fit) made sequential: every state given the dispersion of the heaviest
-/// state that has a fit, and each median raised to the one before where it
-/// lies below it. Lognormals of one β cross nowhere, and with medians in
+/// state that has a fit, and each median lowered to the one after (the
+/// next heavier state's) where it lies above it, so that the heaviest state
+/// is never moved. Lognormals of one β cross nowhere, and with medians in
 /// order a heavier state's probability never exceeds a lighter one's at
 /// any level. Sequential damage states share one dispersion in many of
 /// FEMA P-58's component fragilities (209 of the 459 with two or more
 /// lognormal states in its database as pelicun carries it), and Porter,
 /// Kennedy & Bachman (2007, Earthquake Spectra 23(2)) treat crossing
 /// fragility functions as an error to correct (docs/MODEL.md §15). The
-/// heaviest state's β is kept because that state (overturning) is what the risk turns on:
-/// its fragility is then the block's own, one answer whether or not the
-/// lighter states are asked for. The lighter states' onsets are spread
-/// wider than their own fits say.
+/// heaviest state's β and median are kept because that state (overturning)
+/// is what the risk turns on: its fragility is then the block's own, one
+/// answer whether or not the lighter states are asked for (a lighter
+/// state's median above it, where the states come from different sources,
+/// once raised it, and `risk --states` then differed from `risk`). The
+/// lighter states' onsets are spread wider than their own fits say.
 pub fn common_dispersion(fits: &mut [Option<Lognormal>]) {
     let Some(beta) = fits.iter().rev().flatten().map(|l| l.beta).next() else {
         return;
     };
-    let mut floor = 0.0f64;
-    for l in fits.iter_mut().flatten() {
+    let mut ceiling = f64::INFINITY;
+    for l in fits.iter_mut().rev().flatten() {
         l.beta = beta;
-        l.median = l.median.max(floor);
-        floor = l.median;
+        l.median = l.median.min(ceiling);
+        ceiling = l.median;
     }
 }
 
@@ -288,6 +291,32 @@ fn inverse_mills(w: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The heaviest state is never moved, whatever the lighter ones: a
+    /// lighter median above a heavier one is lowered to it (it once raised
+    /// the heavier one, overturning's included), a state without a fit is
+    /// passed over, and every state takes the heaviest's β.
+    #[test]
+    fn common_dispersion_keeps_the_heaviest_state_as_it_is() {
+        let l = |median, beta| Some(Lognormal { median, beta });
+        let mut fits = [l(0.5, 0.1), None, l(0.3, 0.2), l(0.4, 0.35)];
+        common_dispersion(&mut fits);
+        let got: Vec<Option<(f64, f64)>> =
+            fits.iter().map(|f| f.map(|l| (l.median, l.beta))).collect();
+        assert_eq!(
+            got,
+            [
+                Some((0.3, 0.35)),
+                None,
+                Some((0.3, 0.35)),
+                Some((0.4, 0.35))
+            ]
+        );
+        // Already in order: only the dispersions change.
+        let mut fits = [l(0.2, 0.1), l(0.3, 0.2), l(0.4, 0.35)];
+        common_dispersion(&mut fits);
+        assert_eq!(fits.map(|f| f.unwrap().median), [0.2, 0.3, 0.4]);
+    }
     use crate::stats::SplitMix64;
 
     fn normal(rng: &mut SplitMix64) -> f64 {
