@@ -632,3 +632,26 @@ fn intensities_beyond_any_record_are_refused_not_run_forever() {
     let out = rocking(d, &args);
     assert!(out.status.success(), "{}", stderr(&out));
 }
+
+/// `run --outputs F` with F a file said "cannot take the lock caused by:
+/// Not a directory"; with `<outputs>/<name>` a file, "File exists"; and
+/// `status` there exited 0, every stage stale.
+#[test]
+fn an_outputs_path_that_is_a_file_is_named_as_one() {
+    let dir = tempdir();
+    let d = dir.path();
+    let pipeline = root().join("pipelines/quick.toml");
+    let pipeline = pipeline.to_str().unwrap();
+    fs::write(d.join("f"), "a file").unwrap();
+    fs::create_dir_all(d.join("o")).unwrap();
+    fs::write(d.join("o/quick"), "a file").unwrap();
+    for (outputs, file) in [("f", "f"), ("o", "o/quick")] {
+        for command in ["run", "status"] {
+            let out = rocking(d, &[command, pipeline, "--outputs", outputs]);
+            assert!(!out.status.success(), "{command} --outputs {outputs}");
+            let want = format!("--outputs {outputs}: {file} is a file, not a folder");
+            assert!(stderr(&out).contains(&want), "{}", stderr(&out));
+        }
+    }
+    assert_eq!(fs::read_to_string(d.join("o/quick")).unwrap(), "a file");
+}

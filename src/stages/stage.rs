@@ -93,6 +93,8 @@ pub enum LoadError {
     },
     #[error(transparent)]
     Pipeline(#[from] crate::pipeline::PipelineError),
+    #[error("--outputs {}: {} is a file, not a folder", outputs.display(), file.display())]
+    OutputsFile { outputs: PathBuf, file: PathBuf },
 }
 
 impl Study {
@@ -103,7 +105,20 @@ impl Study {
             source,
         })?;
         let plan = crate::pipeline::load_str(&text, pipeline)?;
-        Ok(Study::new(plan, pipeline, outputs))
+        let study = Study::new(plan, pipeline, outputs);
+        // The outputs' root and the study's folder must be folders where
+        // they exist (a file there gave "cannot take the lock: Not a
+        // directory", and `status` called every stage stale).
+        if let Some(file) = [outputs, study.dir.as_path()]
+            .into_iter()
+            .find(|p| p.is_file())
+        {
+            return Err(LoadError::OutputsFile {
+                outputs: outputs.into(),
+                file: file.into(),
+            });
+        }
+        Ok(study)
     }
 
     pub fn new(plan: Plan, pipeline: &Path, outputs: &Path) -> Self {
