@@ -655,3 +655,38 @@ fn an_outputs_path_that_is_a_file_is_named_as_one() {
     }
     assert_eq!(fs::read_to_string(d.join("o/quick")).unwrap(), "a file");
 }
+
+/// `contents` named options it does not have (`--direct`, `--records`,
+/// `--period`), refused ζ = 1.5 only after every ground set had run (252
+/// runs), and took one set name twice. Each is refused at once, naming the
+/// option as given.
+#[test]
+fn contents_refuses_its_own_options_by_name_before_running() {
+    let dir = tempdir();
+    let d = dir.path();
+    let ff = bundled_records().join("far-field");
+    let set = format!("ff={}", ff.display());
+    for (args, want) in [
+        (
+            vec!["contents", "--set", "a=nowhere"],
+            "--set a=nowhere: not a folder".to_string(),
+        ),
+        (
+            vec!["contents", "--set", &set, "--set", &set],
+            format!("--set {set}: the name is given to another set too"),
+        ),
+        (
+            vec!["contents", "--set", &set, "--zeta", "1.5", "--periods", "1"],
+            "the building of --periods 1 s, --zeta 1.5, --gamma-phi 1.3".to_string(),
+        ),
+    ] {
+        let out = rocking(d, &args);
+        assert!(!out.status.success(), "{args:?}");
+        let e = stderr(&out);
+        assert!(e.contains(&want), "{args:?}: {e}");
+        assert!(
+            !e.contains("--direct") && !e.contains("runs/s"),
+            "{args:?}: {e}"
+        );
+    }
+}

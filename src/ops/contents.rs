@@ -60,11 +60,26 @@ pub struct Row {
 
 #[derive(Debug, thiserror::Error)]
 pub enum ContentsError {
-    #[error("--period {period} s")]
+    #[error("the building of --periods {period} s, --zeta {zeta}, --gamma-phi {gamma_phi}")]
     Building {
         period: f64,
+        zeta: f64,
+        gamma_phi: f64,
         #[source]
         source: crate::floor::FloorError,
+    },
+    #[error("--set {name}={}: {why}", folder.display())]
+    Set {
+        name: String,
+        folder: PathBuf,
+        why: &'static str,
+    },
+    #[error("--set {name}={}", folder.display())]
+    SetRecords {
+        name: String,
+        folder: PathBuf,
+        #[source]
+        source: Box<FragilityError>,
     },
     #[error("{id} under {records}")]
     Item {
@@ -73,8 +88,6 @@ pub enum ContentsError {
         #[source]
         source: Box<FragilityError>,
     },
-    #[error(transparent)]
-    Records(#[from] Box<FragilityError>),
 }
 
 /// Every item in every scene.
@@ -89,18 +102,39 @@ pub fn compare(req: &Request) -> Result<Vec<Row>, ContentsError> {
         dispersion: Dispersion::Each,
         if_not_lognormal: IfNotLognormal::Lognormal,
     };
+    // Every set and building checked before anything runs.
+    for (k, (name, folder)) in req.sets.iter().enumerate() {
+        let set = |why| ContentsError::Set {
+            name: name.clone(),
+            folder: folder.clone(),
+            why,
+        };
+        if req.sets[..k].iter().any(|(other, _)| other == name) {
+            return Err(set("the name is given to another set too"));
+        }
+        if !folder.is_dir() {
+            return Err(set("not a folder (give NAME=FOLDER of AT2 records)"));
+        }
+    }
+    let building = |t: f64| {
+        Building::new(vec![Mode {
+            period_s: t,
+            zeta: req.zeta,
+            gamma_phi: req.gamma_phi,
+        }])
+        .map_err(|source| ContentsError::Building {
+            period: t,
+            zeta: req.zeta,
+            gamma_phi: req.gamma_phi,
+            source,
+        })
+    };
+    for &t in &req.periods {
+        building(t)?;
+    }
     let mut rows = Vec::new();
     for (scene, (name, folder), period) in scenes {
-        let building = period
-            .map(|t| {
-                Building::new(vec![Mode {
-                    period_s: t,
-                    zeta: req.zeta,
-                    gamma_phi: req.gamma_phi,
-                }])
-                .map_err(|source| ContentsError::Building { period: t, source })
-            })
-            .transpose()?;
+        let building = period.map(building).transpose()?;
         let from = Source::Paper {
             records: folder.clone(),
             text: None,
@@ -113,7 +147,11 @@ pub fn compare(req: &Request) -> Result<Vec<Row>, ContentsError> {
             building.as_ref(),
             fragility::Orient::default(),
         )
-        .map_err(Box::new)?;
+        .map_err(|source| ContentsError::SetRecords {
+            name: name.clone(),
+            folder: folder.clone(),
+            source: Box::new(source),
+        })?;
         for c in &FEMA_P58 {
             let in_item = |source| ContentsError::Item {
                 id: c.id,
