@@ -90,6 +90,24 @@ pub enum ContentsError {
     },
 }
 
+/// The sets, checked before anything runs: each name once, each a folder.
+fn check_sets(sets: &[(String, PathBuf)]) -> Result<(), ContentsError> {
+    for (k, (name, folder)) in sets.iter().enumerate() {
+        let set = |why| ContentsError::Set {
+            name: name.clone(),
+            folder: folder.clone(),
+            why,
+        };
+        if sets[..k].iter().any(|(other, _)| other == name) {
+            return Err(set("the name is given to another set too"));
+        }
+        if !folder.is_dir() {
+            return Err(set("not a folder (give NAME=FOLDER of AT2 records)"));
+        }
+    }
+    Ok(())
+}
+
 /// Every item in every scene.
 pub fn compare(req: &Request) -> Result<Vec<Row>, ContentsError> {
     let mut scenes: Vec<(&'static str, &(String, PathBuf), Option<f64>)> =
@@ -102,20 +120,7 @@ pub fn compare(req: &Request) -> Result<Vec<Row>, ContentsError> {
         dispersion: Dispersion::Each,
         if_not_lognormal: IfNotLognormal::Lognormal,
     };
-    // Every set and building checked before anything runs.
-    for (k, (name, folder)) in req.sets.iter().enumerate() {
-        let set = |why| ContentsError::Set {
-            name: name.clone(),
-            folder: folder.clone(),
-            why,
-        };
-        if req.sets[..k].iter().any(|(other, _)| other == name) {
-            return Err(set("the name is given to another set too"));
-        }
-        if !folder.is_dir() {
-            return Err(set("not a folder (give NAME=FOLDER of AT2 records)"));
-        }
-    }
+    check_sets(&req.sets)?;
     let building = |t: f64| {
         Building::new(vec![Mode {
             period_s: t,
