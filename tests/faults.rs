@@ -690,3 +690,56 @@ fn contents_refuses_its_own_options_by_name_before_running() {
         );
     }
 }
+
+/// Refusals that did not name the option given: `capacity --tol 0`
+/// ("capacity tolerance 0 must be positive", after reading the records),
+/// `--levels 0` ("IM grid: at least one level"), `--eta-min 0`,
+/// `fragility --pga 0` ("--at 0"), `run --threads 0` ("worker threads"),
+/// `simulate --history h.txt` ("give a .parquet file", where .csv is taken
+/// too).
+#[test]
+fn refusals_name_the_option_as_given() {
+    let dir = tempdir();
+    let d = dir.path();
+    let record = bundled_records().join("far-field/RSN1111_KOBE_NIS000.AT2");
+    let record = record.to_str().unwrap();
+    let block = ["--b", "0.2", "--h", "0.9", "--eps", "0.7"];
+    let pipeline = root().join("pipelines/quick.toml");
+    let pipeline = pipeline.to_str().unwrap();
+    let capacity = |extra: &[&'static str]| {
+        let mut a = vec!["capacity", "--record", record];
+        a.extend(block);
+        a.extend(extra);
+        a
+    };
+    let mut simulate = vec!["simulate", "--record", record, "--pga", "0.3"];
+    simulate.extend(block);
+    simulate.extend(["--history", "h.txt"]);
+    let mut fragility = vec!["fragility", "--pga", "0.3,0"];
+    fragility.extend(block);
+    for (args, want) in [
+        (
+            capacity(&["--tol", "0"]),
+            "--tol 0: give a positive width in η",
+        ),
+        (
+            capacity(&["--levels", "0"]),
+            "--levels 0: give one level or more",
+        ),
+        (
+            capacity(&["--eta-min", "0"]),
+            "--eta-min 0: give an η in [1e-12, 1)",
+        ),
+        (fragility, "--pga 0: levels must be positive"),
+        (
+            vec!["run", pipeline, "--threads", "0", "--outputs", "o"],
+            "--threads 0: give one worker thread or more",
+        ),
+        (simulate, "--history h.txt: give a .parquet or .csv file"),
+    ] {
+        let out = rocking(d, &args);
+        assert!(!out.status.success(), "{args:?}");
+        assert!(stderr(&out).contains(want), "{args:?}: {}", stderr(&out));
+    }
+    assert!(!d.join("h.txt").exists() && !d.join("o").exists());
+}

@@ -223,7 +223,7 @@ fn capacities(
     search: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
     let search = ask::<SearchAsk>(py, search)?
-        .resolve()
+        .resolve(Spelling::Python)
         .map_err(|e| PyValueError::new_err(e.0))?;
     let named: Vec<NamedSpec> = blocks
         .iter()

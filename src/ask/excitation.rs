@@ -120,8 +120,28 @@ impl Default for SearchAsk {
 
 impl SearchAsk {
     /// The search, its grid checked (an absurd count is refused before
-    /// anything is allocated).
-    pub fn resolve(&self) -> Result<Search, AskError> {
+    /// anything is allocated), each bad value named as `sp` spells its key.
+    pub fn resolve(&self, sp: Spelling) -> Result<Search, AskError> {
+        let bad = |key: &str, value: String, want: &str| {
+            AskError(format!("{}: {want}", sp.set(key, &value)))
+        };
+        if !(self.tol > 0.0 && self.tol.is_finite()) {
+            return Err(bad(
+                "tol",
+                self.tol.to_string(),
+                "give a positive width in η",
+            ));
+        }
+        if self.levels == 0 {
+            return Err(bad("levels", "0".into(), "give one level or more"));
+        }
+        if !(self.eta_min >= crate::physics::ETA_MIN && self.eta_min < 1.0) {
+            return Err(bad(
+                "eta_min",
+                self.eta_min.to_string(),
+                &format!("give an η in [{:e}, 1)", crate::physics::ETA_MIN),
+            ));
+        }
         let grid = ImGrid {
             eta_max: 1.0,
             eta_min: self.eta_min,

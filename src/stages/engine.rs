@@ -60,7 +60,7 @@ pub enum RunError {
         max: usize,
         cores: usize,
     },
-    #[error("worker threads must be at least 1")]
+    #[error("--threads 0: give one worker thread or more")]
     NoThreads,
     #[error("cannot start {threads} worker threads")]
     Threads {

@@ -88,7 +88,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         tol: args.tol,
     }
     // Checked before any record is read: an absurd --levels is refused at once.
-    .resolve()?;
+    .resolve(Spelling::Cli)?;
     let blocks = args.block.blocks()?;
     let building = args.block.ask().building(Spelling::Cli)?;
     if let Some(out) = &args.out {

@@ -47,9 +47,11 @@ fn check_history(args: &Args) -> anyhow::Result<()> {
     let Some(path) = &args.history else {
         return Ok(());
     };
-    let csv = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    let csv = ext.eq_ignore_ascii_case("csv");
+    if !csv && !ext.eq_ignore_ascii_case("parquet") {
+        anyhow::bail!("--history {}: give a .parquet or .csv file", path.display());
+    }
     let inputs: Vec<&std::path::Path> = args.record.as_deref().into_iter().collect();
     let want = if csv { "csv" } else { "parquet" };
     rocking::outpath::check("--history", path, want, &inputs)?;
