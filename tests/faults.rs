@@ -743,3 +743,24 @@ fn refusals_name_the_option_as_given() {
     }
     assert!(!d.join("h.txt").exists() && !d.join("o").exists());
 }
+
+/// A failed export left its `--out` folder behind, empty (with a lock's
+/// leftovers at times); one the user made stays.
+#[test]
+fn a_failed_export_leaves_no_folder_it_made() {
+    let dir = tempdir();
+    let d = dir.path();
+    let args = |out: &'static str| {
+        vec![
+            "export", "--format", "pelicun", "--b", "0.2", "--h", "0.9", "--states", "a=0.5",
+            "--out", out,
+        ]
+    };
+    let out = rocking(d, &args("made"));
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("paper's regression knows only overturning"));
+    assert!(!d.join("made").exists());
+    fs::create_dir_all(d.join("mine")).unwrap();
+    assert!(!rocking(d, &args("mine")).status.success());
+    assert!(d.join("mine").is_dir());
+}

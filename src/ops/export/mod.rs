@@ -24,8 +24,20 @@ pub use request::{
 };
 use request::{Entries, HazardSites};
 
-/// Computes every block's fragilities and writes the engine's files.
+/// Computes every block's fragilities and writes the engine's files. A
+/// folder `--out` made for an export that then fails is taken away again:
+/// nothing is left of it.
 pub fn export(req: &Request) -> Result<Written, ExportOpError> {
+    let made = !req.out.exists();
+    let result = export_into(req);
+    if result.is_err() && made {
+        // Empty once the lock is gone (`remove_dir` takes only an empty one).
+        let _ = std::fs::remove_dir(&req.out);
+    }
+    result
+}
+
+fn export_into(req: &Request) -> Result<Written, ExportOpError> {
     crate::physics::check_auto_tol(req.auto_tol).map_err(FragilityError::AutoTol)?;
     risk::check_years(req.years)?;
     if req.method == FitMethod::Empirical && !req.direct {
