@@ -71,6 +71,14 @@ fn expand(key: &str, v: &RawValues) -> Result<Vec<f64>, String> {
                 ));
             }
             if r.count == 1 {
+                // One value cannot span from `from` to `to`: a list says it.
+                if r.to != r.from {
+                    return Err(format!(
+                        "`{key}`: count = 1 takes `from` = {} alone, not `to` = {}; give \
+                         `{key} = [{}]`, or a count of 2 or more",
+                        r.from, r.to, r.from
+                    ));
+                }
                 return Ok(vec![r.from]);
             }
             if r.spacing == Spacing::Log && !(r.from > 0.0 && r.to > 0.0) {
@@ -213,5 +221,25 @@ mod decimal_tests {
         let thirds = expand("p", &r(0.0, 1.0, 4)).unwrap();
         assert_eq!(thirds[1], 1.0 / 3.0);
         assert_eq!(thirds[2], 2.0 / 3.0);
+    }
+
+    /// `{ from = 0.5, to = 0.95, count = 1 }` ran ε = 0.5 alone, `to`
+    /// passed over without a word; one value is refused unless it is both.
+    #[test]
+    fn one_value_cannot_span_a_range() {
+        let r = |from, to| {
+            RawValues::Range(RawRange {
+                from,
+                to,
+                count: 1,
+                spacing: Spacing::Linear,
+            })
+        };
+        let e = expand("eps", &r(0.5, 0.95)).unwrap_err();
+        assert!(
+            e.contains("`eps`: count = 1 takes `from` = 0.5 alone, not `to` = 0.95"),
+            "{e}"
+        );
+        assert_eq!(expand("eps", &r(0.7, 0.7)).unwrap(), vec![0.7]);
     }
 }
