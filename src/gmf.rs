@@ -77,6 +77,24 @@ fn header<'a>(
     Ok((n, cols, pos))
 }
 
+/// A data line's cells, refused unless there are as many as the header's
+/// columns (a line cut short, as a truncated file ends, is named as one).
+fn cells<'a>(file: &str, line: usize, l: &'a str, width: usize) -> Result<Vec<&'a str>, GmfError> {
+    let cells: Vec<&str> = l.split(',').collect();
+    if cells.len() != width {
+        return Err(GmfError {
+            file: file.into(),
+            line,
+            column: None,
+            message: format!(
+                "{} cells where the header has {width} columns (a line cut short?)",
+                cells.len()
+            ),
+        });
+    }
+    Ok(cells)
+}
+
 fn number<T: std::str::FromStr>(
     file: &str,
     line: usize,
@@ -95,11 +113,11 @@ fn number<T: std::str::FromStr>(
 /// `sitemesh_N.csv`: the sites in the file's order.
 pub fn parse_sites(text: &str, file: &str) -> Result<Vec<GmfSite>, GmfError> {
     let mut lines = data_lines(text);
-    let (_, _, pos) = header(file, &mut lines, &["custom_site_id", "lon", "lat"])?;
+    let (_, cols, pos) = header(file, &mut lines, &["custom_site_id", "lon", "lat"])?;
     let mut seen: HashMap<String, usize> = HashMap::new();
     lines
         .map(|(n, l)| {
-            let cells: Vec<&str> = l.split(',').collect();
+            let cells = cells(file, n, l, cols.len())?;
             let id = cells.get(pos[0]).map_or("", |c| c.trim()).to_string();
             if let Some(first) = seen.insert(id.clone(), n) {
                 return Err(GmfError {
@@ -121,11 +139,11 @@ pub fn parse_sites(text: &str, file: &str) -> Result<Vec<GmfSite>, GmfError> {
 /// `events_N.csv`: every event id and its realisation, ascending.
 pub fn parse_events(text: &str, file: &str) -> Result<Vec<(u64, u32)>, GmfError> {
     let mut lines = data_lines(text);
-    let (_, _, pos) = header(file, &mut lines, &["event_id", "rlz_id"])?;
+    let (_, cols, pos) = header(file, &mut lines, &["event_id", "rlz_id"])?;
     let mut seen: HashMap<u64, usize> = HashMap::new();
     let mut out = lines
         .map(|(n, l)| {
-            let cells: Vec<&str> = l.split(',').collect();
+            let cells = cells(file, n, l, cols.len())?;
             let id: u64 = number(file, n, "event_id", cells.get(pos[0]).copied())?;
             if let Some(first) = seen.insert(id, n) {
                 return Err(GmfError {
@@ -187,7 +205,7 @@ pub fn parse_fields(
     let mut values = Vec::new();
     let mut written: HashMap<(usize, usize), usize> = HashMap::new();
     for (n, l) in lines {
-        let cells: Vec<&str> = l.split(',').collect();
+        let cells = cells(file, n, l, cols.len())?;
         let eid: u64 = number(file, n, "event_id", cells.get(pos[0]).copied())?;
         let sid = cells.get(pos[1]).map_or("", |c| c.trim());
         let bad = |column: &str, message: String| GmfError {

@@ -260,6 +260,14 @@ fn bad_fields_are_refused_naming_file_line_and_column() {
         "{}",
         stderr(&twice)
     );
+    // A file cut short mid-line named the last site `` as unknown.
+    fs::write(&gmf, &text[..text.len() - 8]).unwrap();
+    let cut = run(&["--eff-years", "10"]);
+    assert!(
+        stderr(&cut).contains("gmf-data_1.csv:8: 2 cells where the header has 3 columns"),
+        "{}",
+        stderr(&cut)
+    );
     fs::write(&gmf, &text).unwrap();
     let im = run(&["--eff-years", "10", "--im", "pgv"]);
     assert!(
