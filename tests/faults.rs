@@ -274,10 +274,13 @@ fn thread_counts_beyond_the_cores_are_refused() {
         "t",
         "ids = [\"RSN1111_KOBE_NIS000\"]\n[blocks]\np = [1.0]\neps = [0.8]\n",
     );
-    for n in ["100000", "0"] {
+    for (n, want) in [
+        ("100000", "100000 worker threads is more than"),
+        ("0", "--threads 0: give one worker thread or more"),
+    ] {
         let out = rocking(d, &["sweep", pipe.to_str().unwrap(), "--threads", n]);
         assert_eq!(out.status.code(), Some(1), "{n}");
-        assert!(stderr(&out).contains("worker threads"), "{}", stderr(&out));
+        assert!(stderr(&out).contains(want), "{}", stderr(&out));
     }
 }
 
