@@ -76,18 +76,47 @@ pub struct At2Error {
 #[derive(Debug, Clone, PartialEq)]
 pub enum At2ErrorKind {
     Empty,
-    ShortHeader { lines: usize },
-    NotAcceleration { units_line: String },
-    MissingNpts { text: String },
-    MissingDt { text: String },
-    BadNpts { token: String },
-    BadDt { token: String },
-    NonPositiveDt { dt: f64 },
-    CoarseDt { dt: f64 },
-    NotANumber { token: String },
-    NotFinite { token: String },
-    TooFewValues { npts: usize, found: usize },
-    TooManyValues { npts: usize },
+    ShortHeader {
+        lines: usize,
+    },
+    NotAcceleration {
+        units_line: String,
+    },
+    MissingNpts {
+        text: String,
+    },
+    MissingDt {
+        text: String,
+    },
+    BadNpts {
+        token: String,
+    },
+    BadDt {
+        token: String,
+    },
+    NonPositiveDt {
+        dt: f64,
+    },
+    /// DT below [`MIN_DT_S`]: a header in the wrong unit, or wrong.
+    FineDt {
+        dt: f64,
+    },
+    CoarseDt {
+        dt: f64,
+    },
+    NotANumber {
+        token: String,
+    },
+    NotFinite {
+        token: String,
+    },
+    TooFewValues {
+        npts: usize,
+        found: usize,
+    },
+    TooManyValues {
+        npts: usize,
+    },
 }
 
 impl fmt::Display for At2Error {
@@ -145,6 +174,11 @@ impl fmt::Display for At2ErrorKind {
             ),
             BadDt { token } => write!(f, "DT `{}` is not a number", shown(token)),
             NonPositiveDt { dt } => write!(f, "DT = {dt} s; the time step must be positive"),
+            FineDt { dt } => write!(
+                f,
+                "DT = {dt:e} s: an accelerogram is sampled every 0.001–0.05 s; below {MIN_DT_S:e} \
+                 s the header's time step is wrong"
+            ),
             CoarseDt { dt } => write!(
                 f,
                 "DT = {dt} s: an accelerogram is sampled every 0.001–0.05 s; above {MAX_DT_S} s \
@@ -348,6 +382,11 @@ fn check_units(line: &str) -> Result<(), At2ErrorKind> {
 /// every 0.001–0.05 s; 1 s resolves nothing a block responds to.
 pub const MAX_DT_S: f64 = 1.0;
 
+/// The finest sampling accepted (s): a hundred times finer than any
+/// strong-motion record's; below it a header's DT is wrong, and would
+/// stretch the record's seconds by as much.
+pub const MIN_DT_S: f64 = 1e-5;
+
 /// Line 4: NPTS and DT in the keyed or positional layout.
 fn parse_npts_dt(line: &str) -> Result<(usize, f64, HeaderLayout), At2ErrorKind> {
     let upper = line.to_ascii_uppercase();
@@ -415,6 +454,9 @@ fn parse_npts_dt(line: &str) -> Result<(usize, f64, HeaderLayout), At2ErrorKind>
     }
     if dt > MAX_DT_S || !dt.is_finite() {
         return Err(At2ErrorKind::CoarseDt { dt });
+    }
+    if dt < MIN_DT_S {
+        return Err(At2ErrorKind::FineDt { dt });
     }
     Ok((npts, dt, layout))
 }
@@ -515,6 +557,18 @@ mod tests {
             npts_dt("NPTS= 10, DT=0"),
             Err(At2ErrorKind::NonPositiveDt { .. })
         ));
+        // A header in µs or wrong: 1e-300 s was taken, and printed as a
+        // 300-digit decimal.
+        for fine in ["1e-300", "0.000001"] {
+            let e = npts_dt(&format!("NPTS= 10, DT={fine}")).unwrap_err();
+            assert!(matches!(e, At2ErrorKind::FineDt { .. }), "{fine}");
+        }
+        assert_eq!(
+            At2ErrorKind::FineDt { dt: 1e-300 }.to_string(),
+            "DT = 1e-300 s: an accelerogram is sampled every 0.001–0.05 s; below 1e-5 s the \
+             header's time step is wrong"
+        );
+        assert!(npts_dt("NPTS= 10, DT=0.00001").is_ok());
         assert!(matches!(
             npts_dt("NPTS= 10, DT=-.01"),
             Err(At2ErrorKind::NonPositiveDt { .. })
