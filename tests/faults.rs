@@ -733,6 +733,12 @@ fn refusals_name_the_option_as_given() {
             capacity(&["--eta-min", "0"]),
             "--eta-min 0: give an η in [1e-12, 1)",
         ),
+        (
+            vec![
+                "capacity", "--record", record, "--p", "2", "--eps", "0.7", "--alpha", "-0.1",
+            ],
+            "--alpha -0.1: the slenderness α is an angle in (0, π/2) rad",
+        ),
         (fragility, "--pga 0: levels must be positive"),
         (
             vec!["run", pipeline, "--threads", "0", "--outputs", "o"],

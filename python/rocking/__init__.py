@@ -166,6 +166,9 @@ def capacity(
     ``record``) and ``angle`` (degrees, or a list of them): the block
     rocking in the plane at that angle from ``record`` towards ``pair``
     (``rocking capacity --pair --angle``); a list of dicts for a list.
+
+    Block keywords that give several blocks (``p=[1, 2, 5]``) give a list
+    of dicts too, one per block (and angle), in the command's order.
     """
     search = {k: kw.pop(k) for k in _SEARCH if k in kw}
     blk = _block(block, kw)
@@ -177,13 +180,15 @@ def capacity(
         angles = [float(a) for a in angle] if many else [float(angle)]
         found = _core.capacities([blk], [os.fspath(record)], [], False, pair=os.fspath(pair),
                                  angles=angles, **search)
-        return found if many else found[0]
+        return found if many or len(blk) > 1 else found[0]
     if _is_path(record):
         paths, arrays = [os.fspath(record)], []
     else:
         data, step = _samples(record, dt)
         paths, arrays = [], [(record_id or "record", data, step)]
-    return _core.capacities([blk], paths, arrays, False, **search)[0]
+    found = _core.capacities([blk], paths, arrays, False, **search)
+    # Several blocks: every one, as the command prints them.
+    return found if len(blk) > 1 else found[0]
 
 
 def _records(records: Any) -> Tuple[List[str], List[Tuple[str, bytes, float]]]:

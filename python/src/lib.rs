@@ -244,6 +244,8 @@ fn capacities(
         .iter()
         .map(|(id, a, dt)| (id.clone(), samples(a.as_bytes()), *dt))
         .collect();
+    rocking::ask::check_angles(&angles, Spelling::Python)
+        .map_err(|e| PyValueError::new_err(e.0))?;
     let (records, found) = py
         .detach(|| -> Result<_, String> {
             let mut records = match (&pair, &paths[..]) {

@@ -100,6 +100,30 @@ def test_capacity_is_the_commands(py, args):
     same(from_array, theirs)
 
 
+def test_capacity_of_several_blocks_is_every_one():
+    # p × eps gave four capacities, of which the first alone came back.
+    ours = rocking.capacity(KOBE, p=[1.0, 2.0], eps=[0.7, 0.9])
+    theirs = cli_lines("capacity", "--record", KOBE, "--p", "1,2", "--eps", "0.7,0.9")
+    assert isinstance(ours, list) and len(ours) == len(theirs) == 4
+    for a, b in zip(ours, theirs):
+        same(a, b)
+
+
+def test_keywords_are_refused_by_their_python_names(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    # An empty folder wrote the export into the current directory.
+    with pytest.raises(ValueError, match="give out"):
+        rocking.export("", format="pelicun", b=0.2, h=0.9)
+    assert list(tmp_path.iterdir()) == []
+    # A NaN angle reached the record's reader, which blamed the record.
+    with pytest.raises(ValueError, match="angle=NaN: an angle in degrees"):
+        rocking.capacity(KOBE, pair=FAR / "RSN1111_KOBE_NIS090.AT2", angle=float("nan"),
+                         p=2.0, eps=0.7)
+    # A negative α gave a negative PGA at overturning.
+    with pytest.raises(ValueError, match=r"alpha=-0.1: the slenderness α is an angle"):
+        rocking.capacity(KOBE, p=2.0, eps=0.7, alpha=-0.1)
+
+
 def test_simulate_is_the_commands():
     for py, args in [
         (dict(p=2.0, eps=0.7, eta=0.3), ["--p", "2", "--eps", "0.7", "--eta", "0.3"]),

@@ -592,7 +592,7 @@ fn positive_levels(levels: &[f64], key: &str, sp: Spelling) -> Result<Vec<f64>, 
     match levels.iter().find(|x| !(**x > 0.0 && x.is_finite())) {
         Some(bad) => Err(AskError(format!(
             "{}: levels must be positive",
-            sp.set(key, &bad.to_string())
+            sp.set_number(key, bad)
         ))),
         None => Ok(levels.to_vec()),
     }

@@ -131,6 +131,16 @@ impl BlockAsk {
                 sp.key("alpha")
             )));
         }
+        if let Some(a) = self
+            .alpha
+            .filter(|a| !(*a > 0.0 && *a < std::f64::consts::FRAC_PI_2))
+        {
+            // Any model reads PGA = α/η (linearised, g·tan α ≈ gα) from it.
+            return Err(AskError(format!(
+                "{}: the slenderness α is an angle in (0, π/2) rad",
+                sp.set_number("alpha", a)
+            )));
+        }
         if sizes.is_empty() && self.p.is_empty() {
             return Err(AskError(format!(
                 "give the block by {}, or by its half sizes {} or full {}",

@@ -123,7 +123,7 @@ impl SearchAsk {
     /// anything is allocated), each bad value named as `sp` spells its key.
     pub fn resolve(&self, sp: Spelling) -> Result<Search, AskError> {
         let bad = |key: &str, value: String, want: &str| {
-            AskError(format!("{}: {want}", sp.set(key, &value)))
+            AskError(format!("{}: {want}", sp.set_number(key, value)))
         };
         if !(self.tol > 0.0 && self.tol.is_finite()) {
             return Err(bad(
@@ -153,5 +153,19 @@ impl SearchAsk {
             grid,
             tol: self.tol,
         })
+    }
+}
+
+/// The rocking planes' angles of a pair (degrees from its first
+/// component), each a finite number; else the first that is not, named as
+/// `sp` spells the key (a NaN once reached the record's reader, which blamed
+/// the record).
+pub fn check_angles(angles: &[f64], sp: Spelling) -> Result<(), AskError> {
+    match angles.iter().find(|t| !t.is_finite()) {
+        Some(bad) => Err(AskError(format!(
+            "{}: an angle in degrees",
+            sp.set_number("angle", bad)
+        ))),
+        None => Ok(()),
     }
 }

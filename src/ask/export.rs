@@ -129,7 +129,12 @@ impl ExportKw {
             hazard: self.hazard.clone(),
             years: self.years,
             auto_tol: self.auto_tol,
-            out: self.out.clone().ok_or_else(|| need("out"))?,
+            // An empty folder name is the current directory: not asked for.
+            out: self
+                .out
+                .clone()
+                .filter(|o| !o.as_os_str().is_empty())
+                .ok_or_else(|| need("out"))?,
             tree: self.tree.clone(),
         })
     }

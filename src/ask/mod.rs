@@ -30,7 +30,7 @@ mod tree;
 
 pub use assess::{BlocksAsk, FragilityAsk, LawAsk, RiskAsk, StatesAsk};
 pub use block::{AskedBlock, BlockAsk};
-pub use excitation::{PulseAsk, SearchAsk};
+pub use excitation::{check_angles, PulseAsk, SearchAsk};
 pub use export::{ExportAsk, ExportKw};
 pub use gmf::HazardAsk;
 pub use spelling::{AskError, Spelling};

@@ -31,6 +31,15 @@ impl Spelling {
         }
     }
 
+    /// The option `key` set to a number: `--alpha -0.1`, or `alpha=-0.1`
+    /// (unquoted, as Python writes a number).
+    pub fn set_number(self, key: &str, value: impl std::fmt::Display) -> String {
+        match self {
+            Spelling::Cli => format!("{} {value}", self.key(key)),
+            Spelling::Python => format!("{key}={value}"),
+        }
+    }
+
     /// Several options, as a user gives them together: `--b --h`, or `b and h`.
     pub fn keys(self, keys: &[&str]) -> String {
         let each: Vec<String> = keys.iter().map(|k| self.key(k)).collect();

@@ -173,9 +173,7 @@ fn pair_angles(args: &Args) -> anyhow::Result<Vec<f64>> {
             "--pair: give the rocking plane's --angle (degrees from --record), or --angle-step"
         );
     }
-    if let Some(bad) = args.angle.iter().find(|t| !t.is_finite()) {
-        anyhow::bail!("--angle {bad}: an angle in degrees");
-    }
+    rocking::ask::check_angles(&args.angle, Spelling::Cli)?;
     Ok(args.angle.clone())
 }
 
