@@ -72,6 +72,8 @@ def _plain(kw: Dict[str, Any]) -> Dict[str, Any]:
             v = os.fspath(v)
         elif isinstance(v, np.ndarray):
             v = v.tolist()
+        elif isinstance(v, np.generic):
+            v = v.item()  # np.float64, np.int64, np.bool_: the Python value
         out[k] = v
     return out
 

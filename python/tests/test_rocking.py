@@ -119,6 +119,11 @@ def test_keywords_are_refused_by_their_python_names(tmp_path, monkeypatch):
     with pytest.raises(ValueError, match="angle=NaN: an angle in degrees"):
         rocking.capacity(KOBE, pair=FAR / "RSN1111_KOBE_NIS090.AT2", angle=float("nan"),
                          p=2.0, eps=0.7)
+    # True/false keywords went by truth: direct="no" ran the records.
+    for no in ["no", 0, 2.5]:
+        with pytest.raises(ValueError, match="True or False for `direct`"):
+            rocking.fragility(0.2, 0.9, pga=[0.3], direct=no)
+    assert rocking.fragility(0.2, 0.9, pga=[0.3], direct=np.bool_(False))["fit"] == "regression"
     # A negative α gave a negative PGA at overturning.
     with pytest.raises(ValueError, match=r"alpha=-0.1: the slenderness α is an angle"):
         rocking.capacity(KOBE, p=2.0, eps=0.7, alpha=-0.1)

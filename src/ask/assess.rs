@@ -202,6 +202,7 @@ pub struct FragilityAsk {
     pub orientation: Orientation,
     /// The angle step of the random and worst orientations (°).
     pub angle_step: f64,
+    #[serde(deserialize_with = "super::spelling::strict_direct")]
     pub direct: bool,
     pub auto_tol: f64,
     pub floor: Vec<Mode>,
@@ -387,6 +388,7 @@ pub struct RiskAsk {
     pub orientation: Orientation,
     /// The angle step of the random and worst orientations (°).
     pub angle_step: f64,
+    #[serde(deserialize_with = "super::spelling::strict_direct")]
     pub direct: bool,
     pub years: f64,
     pub beyond: Beyond,
@@ -415,6 +417,7 @@ pub struct RiskAsk {
     /// With `gmf`: how the items at a site fall together.
     pub together: crate::events::Together,
     /// With `gmf` and `direct`: also P(OT | PGA, PGV/PGA).
+    #[serde(deserialize_with = "super::spelling::strict_vector")]
     pub vector: bool,
 }
 

@@ -39,6 +39,7 @@ pub struct ExportKw {
     pub records_ground: Option<PathBuf>,
     pub orientation: Orientation,
     pub angle_step: f64,
+    #[serde(deserialize_with = "super::spelling::strict_direct")]
     pub direct: bool,
     pub floor: Vec<Mode>,
     /// A building with its modes' shapes at every floor, and the floor

@@ -84,3 +84,34 @@ mod tests {
         assert_eq!(Spelling::Python.keys(&["b", "h"]), "b and h");
     }
 }
+
+/// A true/false option as deserialised from Python keywords: `True` or
+/// `False` alone. The default reader takes any value by its truth, so that
+/// `direct="no"` ran the records. One function per keyword, so that the
+/// message names it.
+fn strict_bool<'de, D: serde::Deserializer<'de>>(
+    d: D,
+    key: &'static str,
+) -> Result<bool, D::Error> {
+    struct Strict(&'static str);
+    impl serde::de::Visitor<'_> for Strict {
+        type Value = bool;
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            write!(f, "True or False for `{}`", self.0)
+        }
+        fn visit_bool<E: serde::de::Error>(self, v: bool) -> Result<bool, E> {
+            Ok(v)
+        }
+    }
+    d.deserialize_any(Strict(key))
+}
+
+/// [`strict_bool`] for `direct`.
+pub(super) fn strict_direct<'de, D: serde::Deserializer<'de>>(d: D) -> Result<bool, D::Error> {
+    strict_bool(d, "direct")
+}
+
+/// [`strict_bool`] for `vector`.
+pub(super) fn strict_vector<'de, D: serde::Deserializer<'de>>(d: D) -> Result<bool, D::Error> {
+    strict_bool(d, "vector")
+}
