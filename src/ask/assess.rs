@@ -310,8 +310,8 @@ impl FragilityAsk {
                     sp.key("at")
                 )))
             }
-            (pga, []) if self.im == Im::Pga => positive_levels(pga, "pga", sp)?,
-            ([], at) => positive_levels(at, "at", sp)?,
+            (pga, []) if self.im == Im::Pga => super::spelling::positive_levels(pga, "pga", sp)?,
+            ([], at) => super::spelling::positive_levels(at, "at", sp)?,
             _ => {
                 return Err(AskError(format!(
                     "give {}, or {} and {}, not both",
@@ -586,17 +586,5 @@ impl RiskAsk {
             )));
         }
         Ok(())
-    }
-}
-
-/// Levels given by `key` (`--pga`, `--at`), each a positive number, or the
-/// first that is not named as given.
-fn positive_levels(levels: &[f64], key: &str, sp: Spelling) -> Result<Vec<f64>, AskError> {
-    match levels.iter().find(|x| !(**x > 0.0 && x.is_finite())) {
-        Some(bad) => Err(AskError(format!(
-            "{}: levels must be positive",
-            sp.set_number(key, bad)
-        ))),
-        None => Ok(levels.to_vec()),
     }
 }

@@ -70,21 +70,6 @@ impl AskError {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn each_front_end_spells_its_options() {
-        assert_eq!(Spelling::Cli.key("auto_tol"), "--auto-tol");
-        assert_eq!(Spelling::Python.key("auto_tol"), "auto_tol");
-        assert_eq!(Spelling::Cli.set("eps", "housner"), "--eps housner");
-        assert_eq!(Spelling::Python.set("eps", "housner"), "eps=\"housner\"");
-        assert_eq!(Spelling::Cli.keys(&["b", "h"]), "--b --h");
-        assert_eq!(Spelling::Python.keys(&["b", "h"]), "b and h");
-    }
-}
-
 /// A true/false option as deserialised from Python keywords: `True` or
 /// `False` alone. The default reader takes any value by its truth, so that
 /// `direct="no"` ran the records. One function per keyword, so that the
@@ -114,4 +99,35 @@ pub(super) fn strict_direct<'de, D: serde::Deserializer<'de>>(d: D) -> Result<bo
 /// [`strict_bool`] for `vector`.
 pub(super) fn strict_vector<'de, D: serde::Deserializer<'de>>(d: D) -> Result<bool, D::Error> {
     strict_bool(d, "vector")
+}
+
+/// Levels given by `key` (`--pga`, `--at`), each a positive number, or the
+/// first that is not named as given.
+pub(super) fn positive_levels(
+    levels: &[f64],
+    key: &str,
+    sp: Spelling,
+) -> Result<Vec<f64>, AskError> {
+    match levels.iter().find(|x| !(**x > 0.0 && x.is_finite())) {
+        Some(bad) => Err(AskError(format!(
+            "{}: levels must be positive",
+            sp.set_number(key, bad)
+        ))),
+        None => Ok(levels.to_vec()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_front_end_spells_its_options() {
+        assert_eq!(Spelling::Cli.key("auto_tol"), "--auto-tol");
+        assert_eq!(Spelling::Python.key("auto_tol"), "auto_tol");
+        assert_eq!(Spelling::Cli.set("eps", "housner"), "--eps housner");
+        assert_eq!(Spelling::Python.set("eps", "housner"), "eps=\"housner\"");
+        assert_eq!(Spelling::Cli.keys(&["b", "h"]), "--b --h");
+        assert_eq!(Spelling::Python.keys(&["b", "h"]), "b and h");
+    }
 }
