@@ -173,6 +173,9 @@ def capacity(
     of dicts too, one per block (and angle), in the command's order.
     """
     search = {k: kw.pop(k) for k in _SEARCH if k in kw}
+    if angle is not None and pair is None:
+        # The command line demands --pair with --angle; it was ignored here.
+        raise ValueError("angle: give pair too, the other horizontal component's AT2 file")
     blk = _block(block, kw)
     _warn(blk)
     if pair is not None:

@@ -124,6 +124,9 @@ def test_keywords_are_refused_by_their_python_names(tmp_path, monkeypatch):
         with pytest.raises(ValueError, match="True or False for `direct`"):
             rocking.fragility(0.2, 0.9, pga=[0.3], direct=no)
     assert rocking.fragility(0.2, 0.9, pga=[0.3], direct=np.bool_(False))["fit"] == "regression"
+    # An angle without its pair was ignored.
+    with pytest.raises(ValueError, match="angle: give pair too"):
+        rocking.capacity(KOBE, angle=30, p=2.0, eps=0.7)
     # A negative α gave a negative PGA at overturning.
     with pytest.raises(ValueError, match=r"alpha=-0.1: the slenderness α is an angle"):
         rocking.capacity(KOBE, p=2.0, eps=0.7, alpha=-0.1)
