@@ -76,47 +76,19 @@ pub struct At2Error {
 #[derive(Debug, Clone, PartialEq)]
 pub enum At2ErrorKind {
     Empty,
-    ShortHeader {
-        lines: usize,
-    },
-    NotAcceleration {
-        units_line: String,
-    },
-    MissingNpts {
-        text: String,
-    },
-    MissingDt {
-        text: String,
-    },
-    BadNpts {
-        token: String,
-    },
-    BadDt {
-        token: String,
-    },
-    NonPositiveDt {
-        dt: f64,
-    },
-    /// DT below [`MIN_DT_S`]: a header in the wrong unit, or wrong.
-    FineDt {
-        dt: f64,
-    },
-    CoarseDt {
-        dt: f64,
-    },
-    NotANumber {
-        token: String,
-    },
-    NotFinite {
-        token: String,
-    },
-    TooFewValues {
-        npts: usize,
-        found: usize,
-    },
-    TooManyValues {
-        npts: usize,
-    },
+    ShortHeader { lines: usize },
+    NotAcceleration { units_line: String },
+    MissingNpts { text: String },
+    MissingDt { text: String },
+    BadNpts { token: String },
+    BadDt { token: String },
+    NonPositiveDt { dt: f64 },
+    FineDt { dt: f64 },
+    CoarseDt { dt: f64 },
+    NotANumber { token: String },
+    NotFinite { token: String },
+    TooFewValues { npts: usize, found: usize },
+    TooManyValues { npts: usize },
 }
 
 impl fmt::Display for At2Error {

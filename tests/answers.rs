@@ -341,24 +341,23 @@ fn an_export_warns_of_the_rate_beyond_the_last_iml_that_risk_counts() {
         let share = rest.split(" %").next().unwrap();
         (site.parse().unwrap(), share.parse().unwrap())
     };
-    let mut args = vec!["risk", "--hazard", hazard, "--json"];
-    args.extend(block);
-    let site_text = site.to_string();
-    args.extend(["--site", &site_text]);
-    let v: Value = serde_json::from_str(&stdout(&rocking(d, &args))).unwrap();
-    let risk_share = 100.0 * v["sites"][0]["share_beyond_last_iml"].as_f64().unwrap();
+    // `risk`'s share at each of the three sites: the one named is the largest.
+    let shares: Vec<f64> = (0..3)
+        .map(|k| {
+            let k_text = k.to_string();
+            let mut args = vec!["risk", "--hazard", hazard, "--json", "--site", &k_text];
+            args.extend(block);
+            let v: Value = serde_json::from_str(&stdout(&rocking(d, &args))).unwrap();
+            100.0 * v["sites"][0]["share_beyond_last_iml"].as_f64().unwrap()
+        })
+        .collect();
+    let risk_share = shares[site as usize];
     assert!(
         (share - risk_share).abs() <= 0.05,
         "export {share} % against risk {risk_share} %"
     );
-    // The largest share of the three sites is the one named.
-    for k in 0..3 {
-        let k_text = k.to_string();
-        let mut args = vec!["risk", "--hazard", hazard, "--json", "--site", &k_text];
-        args.extend(block);
-        let v: Value = serde_json::from_str(&stdout(&rocking(d, &args))).unwrap();
-        let s = 100.0 * v["sites"][0]["share_beyond_last_iml"].as_f64().unwrap();
-        assert!(s <= risk_share, "site {k}: {s} % above the one named");
+    for (k, s) in shares.iter().enumerate() {
+        assert!(*s <= risk_share, "site {k}: {s} % above the one named");
     }
 }
 
@@ -447,48 +446,9 @@ fn export_refuses_the_years_risk_refuses() {
     }
 }
 
-/// `risk --inventory --out T --plot P` where P's folder cannot be made (a
-/// file stands in its path) wrote the table, then failed.
-#[test]
-fn risk_writes_no_table_when_its_chart_cannot_be_written() {
-    let dir = tempdir();
-    let d = dir.path();
-    fs::write(
-        d.join("h.csv"),
-        "pga_g,annual_rate\n0.1,0.01\n0.3,0.001\n0.6,1e-4\n",
-    )
-    .unwrap();
-    fs::write(
-        d.join("inv.csv"),
-        "name,b,h\nstatue,0.2,0.9\nwide,0.5,0.9\n",
-    )
-    .unwrap();
-    fs::write(d.join("a-file"), "not a folder").unwrap();
-    let out = rocking(
-        d,
-        &[
-            "risk",
-            "--hazard",
-            "h.csv",
-            "--inventory",
-            "inv.csv",
-            "--out",
-            "t.parquet",
-            "--plot",
-            "a-file/chart.svg",
-        ],
-    );
-    assert!(!out.status.success());
-    assert!(
-        stderr(&out).contains("a-file/chart.svg"),
-        "{}",
-        stderr(&out)
-    );
-    assert!(!d.join("t.parquet").exists(), "the table was written");
-}
-
-/// `--plot` with every rate 0 wrote the table, then failed; `--out` with
-/// `--states` (or for one block) exited 0 and wrote nothing.
+/// `--plot` with every rate 0 wrote the table, then failed, as did a
+/// `--plot` whose folder could not be made (a file stands in its path);
+/// `--out` with `--states` (or for one block) exited 0 and wrote nothing.
 #[test]
 fn risk_writes_nothing_it_cannot_finish_and_refuses_what_it_would_ignore() {
     let dir = tempdir();
@@ -520,6 +480,22 @@ fn risk_writes_nothing_it_cannot_finish_and_refuses_what_it_would_ignore() {
     let out = rocking(d, &args);
     assert!(!out.status.success(), "{}", stdout(&out));
     assert!(!d.join("r.parquet").exists() && !d.join("r.svg").exists());
+    fs::write(
+        d.join("h.csv"),
+        "pga_g,annual_rate\n0.1,0.01\n0.3,0.001\n0.6,1e-4\n",
+    )
+    .unwrap();
+    fs::write(d.join("a-file"), "not a folder").unwrap();
+    let mut args = args;
+    (args[2], args[10]) = ("h.csv", "a-file/chart.svg");
+    let out = rocking(d, &args);
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("a-file/chart.svg"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!d.join("r.parquet").exists(), "the table was written");
     for extra in [
         &[
             "--inventory",

@@ -110,36 +110,39 @@ fn check_sets(sets: &[(String, PathBuf)]) -> Result<(), ContentsError> {
 
 /// Every item in every scene.
 pub fn compare(req: &Request) -> Result<Vec<Row>, ContentsError> {
-    let mut scenes: Vec<(&'static str, &(String, PathBuf), Option<f64>)> =
+    // Every set and building checked before anything runs.
+    check_sets(&req.sets)?;
+    let roofs = req
+        .periods
+        .iter()
+        .map(|&t| {
+            Building::new(vec![Mode {
+                period_s: t,
+                zeta: req.zeta,
+                gamma_phi: req.gamma_phi,
+            }])
+            .map(|b| (t, b))
+            .map_err(|source| ContentsError::Building {
+                period: t,
+                zeta: req.zeta,
+                gamma_phi: req.gamma_phi,
+                source,
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut scenes: Vec<(&'static str, &(String, PathBuf), Option<&(f64, Building)>)> =
         req.sets.iter().map(|s| ("ground", s, None)).collect();
     if let Some(first) = req.sets.first() {
-        scenes.extend(req.periods.iter().map(|&t| ("roof", first, Some(t))));
+        scenes.extend(roofs.iter().map(|roof| ("roof", first, Some(roof))));
     }
     let fit = FitChoice {
         method: FitMethod::Fractile,
         dispersion: Dispersion::Each,
         if_not_lognormal: IfNotLognormal::Lognormal,
     };
-    check_sets(&req.sets)?;
-    let building = |t: f64| {
-        Building::new(vec![Mode {
-            period_s: t,
-            zeta: req.zeta,
-            gamma_phi: req.gamma_phi,
-        }])
-        .map_err(|source| ContentsError::Building {
-            period: t,
-            zeta: req.zeta,
-            gamma_phi: req.gamma_phi,
-            source,
-        })
-    };
-    for &t in &req.periods {
-        building(t)?;
-    }
     let mut rows = Vec::new();
-    for (scene, (name, folder), period) in scenes {
-        let building = period.map(building).transpose()?;
+    for (scene, (name, folder), roof) in scenes {
+        let (period, building) = (roof.map(|r| r.0), roof.map(|r| &r.1));
         let from = Source::Paper {
             records: folder.clone(),
             text: None,
@@ -149,7 +152,7 @@ pub fn compare(req: &Request) -> Result<Vec<Row>, ContentsError> {
             true,
             &req.progress,
             FEMA_P58.len(),
-            building.as_ref(),
+            building,
             fragility::Orient::default(),
         )
         .map_err(|source| ContentsError::SetRecords {

@@ -71,9 +71,9 @@ pub enum RiskError {
 /// The investigation time of a risk answer or an exported job, checked
 /// once for `risk`, `risk --gmf` and `export`: a positive, finite number
 /// of years.
-pub fn check_years(years: f64) -> Result<f64, RiskError> {
+pub fn check_years(years: f64) -> Result<(), RiskError> {
     if years > 0.0 && years.is_finite() {
-        Ok(years)
+        Ok(())
     } else {
         Err(RiskError::Years(years))
     }
