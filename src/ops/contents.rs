@@ -108,6 +108,14 @@ fn check_sets(sets: &[(String, PathBuf)]) -> Result<(), ContentsError> {
     Ok(())
 }
 
+/// Where the items stand: `ground` or `roof`, the record set, and the
+/// roof's building with its period.
+type Scene<'a> = (
+    &'static str,
+    &'a (String, PathBuf),
+    Option<&'a (f64, Building)>,
+);
+
 /// Every item in every scene.
 pub fn compare(req: &Request) -> Result<Vec<Row>, ContentsError> {
     // Every set and building checked before anything runs.
@@ -130,8 +138,7 @@ pub fn compare(req: &Request) -> Result<Vec<Row>, ContentsError> {
             })
         })
         .collect::<Result<Vec<_>, _>>()?;
-    let mut scenes: Vec<(&'static str, &(String, PathBuf), Option<&(f64, Building)>)> =
-        req.sets.iter().map(|s| ("ground", s, None)).collect();
+    let mut scenes: Vec<Scene> = req.sets.iter().map(|s| ("ground", s, None)).collect();
     if let Some(first) = req.sets.first() {
         scenes.extend(roofs.iter().map(|roof| ("roof", first, Some(roof))));
     }
