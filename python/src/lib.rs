@@ -10,9 +10,13 @@
 //! objects (dicts, numbers exact) or as tables in Parquet bytes (their
 //! Arrow types kept). Records cross as little-endian f64 bytes, exact both
 //! ways. Errors become `ValueError`s carrying the library's message and its
-//! causes; the long computations release the GIL.
+//! causes; the long computations release the GIL, and Ctrl-C stops them
+//! (`interrupt`).
 
 use std::path::PathBuf;
+
+mod interrupt;
+use interrupt::interruptible;
 
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -189,9 +193,8 @@ fn simulate(
             .map_err(|e| PyValueError::new_err(e.0))?;
     let spec = RunSpec { eta, ..named.spec };
     spec.validate().map_err(value_error)?;
-    let out = py
-        .detach(|| rocking::physics::simulate(&rec.exc, &spec))
-        .map_err(value_error)?;
+    let out =
+        interruptible(py, || rocking::physics::simulate(&rec.exc, &spec))?.map_err(value_error)?;
     let scene = Scene {
         floor: None,
         mu: named.mu,
@@ -246,32 +249,26 @@ fn capacities(
         .collect();
     rocking::ask::check_angles(&angles, Spelling::Python)
         .map_err(|e| PyValueError::new_err(e.0))?;
-    let (records, found) = py
-        .detach(|| -> Result<_, String> {
-            let mut records = match (&pair, &paths[..]) {
-                // The pair's component at each angle (`capacity --pair --angle`).
-                (Some(b), [a]) => {
-                    records::pair_at(a, b, &angles, building.as_ref()).map_err(|e| message(&e))?
-                }
-                (Some(_), _) => {
-                    return Err("pair: give one record, the pair's first component".into())
-                }
-                (None, []) => Vec::new(),
-                (None, _) => {
-                    batch::load_records(&paths, building.as_ref()).map_err(|e| message(&e))?
-                }
-            };
-            for (id, accel, dt) in arrays {
-                records.push(
-                    records::from_samples(id, accel, dt, building.as_ref())
-                        .map_err(|e| message(&e))?,
-                );
+    let (records, found) = interruptible(py, || -> Result<_, String> {
+        let mut records = match (&pair, &paths[..]) {
+            // The pair's component at each angle (`capacity --pair --angle`).
+            (Some(b), [a]) => {
+                records::pair_at(a, b, &angles, building.as_ref()).map_err(|e| message(&e))?
             }
-            let found = batch::capacities(&records, &named, &search.grid, search.tol, &|_| {})
-                .map_err(|e| message(&e))?;
-            Ok((records, found))
-        })
-        .map_err(PyValueError::new_err)?;
+            (Some(_), _) => return Err("pair: give one record, the pair's first component".into()),
+            (None, []) => Vec::new(),
+            (None, _) => batch::load_records(&paths, building.as_ref()).map_err(|e| message(&e))?,
+        };
+        for (id, accel, dt) in arrays {
+            records.push(
+                records::from_samples(id, accel, dt, building.as_ref()).map_err(|e| message(&e))?,
+            );
+        }
+        let found = batch::capacities(&records, &named, &search.grid, search.tol, &|_| {})
+            .map_err(|e| message(&e))?;
+        Ok((records, found))
+    })?
+    .map_err(PyValueError::new_err)?;
     if table {
         let rows = batch::rows(&records, &named, &found);
         let bytes = rocking::tables::to_bytes(&rows, &[]).map_err(value_error)?;
@@ -295,14 +292,14 @@ fn fragility(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Py<
     let (req, states) = ask::<FragilityAsk>(py, kwargs)?
         .resolve(Spelling::Python, Default::default())
         .map_err(|e| PyValueError::new_err(e.0))?;
-    let answer = py.detach(|| match &states.states {
+    let answer = interruptible(py, || match &states.states {
         Some(s) => rocking::ops::damage::assess(&req, s, states.method)
             .map(|a| serde_json::to_value(a).expect("an assessment serialises"))
             .map_err(|e| message(&e)),
         None => rocking::ops::fragility::assess(&req)
             .map(|a| serde_json::to_value(a).expect("an assessment serialises"))
             .map_err(|e| message(&e)),
-    });
+    })?;
     to_py(py, &answer.map_err(PyValueError::new_err)?)
 }
 
@@ -317,7 +314,7 @@ fn risk(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Py<PyAny
         .resolve(Spelling::Python, Default::default())
         .map_err(|e| PyValueError::new_err(e.0))?;
     let one = matches!(req.blocks, Blocks::One { .. });
-    let answer = py.detach(|| -> Result<serde_json::Value, String> {
+    let answer = interruptible(py, || -> Result<serde_json::Value, String> {
         // Event-based fields: one answer over every block.
         if let risk::Hazard::Events(e) = &req.hazard {
             let a = risk::assess_events(&req, e).map_err(|e| message(&e))?;
@@ -331,7 +328,7 @@ fn risk(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Py<PyAny
         }
         .map_err(|e| e.to_string())?;
         Ok(if one { all[0].clone() } else { all })
-    });
+    })?;
     to_py(py, &answer.map_err(PyValueError::new_err)?)
 }
 
@@ -345,7 +342,7 @@ fn export(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Py<PyA
         .ask(Spelling::Python)
         .and_then(|a| a.resolve(Spelling::Python, Default::default()))
         .map_err(|e| PyValueError::new_err(e.0))?;
-    let answer = py.detach(|| -> Result<serde_json::Value, String> {
+    let answer = interruptible(py, || -> Result<serde_json::Value, String> {
         let written = rocking::ops::export::export(&req).map_err(|e| message(&e))?;
         let files: Vec<String> = written
             .files
@@ -353,7 +350,7 @@ fn export(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Py<PyA
             .map(|f| f.display().to_string())
             .collect();
         Ok(serde_json::json!({ "files": files, "blocks": written.blocks }))
-    });
+    })?;
     to_py(py, &answer.map_err(PyValueError::new_err)?)
 }
 
@@ -376,8 +373,7 @@ fn run(
         threads: None,
         command: "rocking.run (Python)".into(),
     };
-    let results = py
-        .detach(|| engine::run(&study, &opts, &rocking::stages::Silent))
+    let results = interruptible(py, || engine::run(&study, &opts, &rocking::stages::Silent))?
         .map_err(value_error)?;
     let rows: Vec<serde_json::Value> = results
         .iter()

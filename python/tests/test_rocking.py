@@ -7,6 +7,7 @@ read back exactly). Run by tests/python.rs, which sets ROCKING_BIN (the
 import json
 import math
 import os
+import signal
 import subprocess
 import threading
 import time
@@ -398,6 +399,27 @@ def test_the_gil_is_released_while_a_batch_computes():
     # interpreter's switch intervals (5 ms) at the call's edges.
     assert seconds > 0.05, seconds
     assert during > 10_000, (during, seconds)
+
+
+def test_ctrl_c_stops_a_long_call_and_the_next_call_runs():
+    # 44 records × 1,000 blocks: about 45 s on two cores uninterrupted,
+    # where the call used to run to its end before Python saw the signal.
+    blocks = [dict(p=float(p), eps=0.7) for p in np.geomspace(0.5, 10.0, 1000)]
+    timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+    started = time.perf_counter()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            rocking.capacities(FAR, blocks)
+    finally:
+        timer.cancel()
+    seconds = time.perf_counter() - started
+    # It stops at the next run of every worker: milliseconds after the
+    # signal; the bound leaves a slow machine ten seconds.
+    assert seconds < 10.0, seconds
+    # The stop is withdrawn: the next call runs, and gives the command's answer.
+    one = rocking.capacity(KOBE, p=2, eps=0.7)
+    same(one, cli_json("capacity", "--record", KOBE, "--p", 2, "--eps", 0.7))
 
 
 def test_run_and_load_give_the_commands_tables(tmp_path):

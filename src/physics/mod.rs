@@ -41,6 +41,7 @@ pub mod friction;
 mod history;
 mod hop;
 mod integrator;
+pub mod interrupt;
 mod lanes;
 mod overturn;
 pub mod rk4;

@@ -14,6 +14,7 @@ use super::history::Observer;
 use super::integrator::Integrator;
 #[cfg(target_arch = "x86_64")]
 use super::integrator::Model;
+use super::interrupt;
 use super::run::RunSpec;
 use super::step::Rocking;
 use super::taylor::{self, Taylor};
@@ -164,9 +165,13 @@ fn taylor_tol(spec: &RunSpec) -> f64 {
 
 /// The overturning limits of runs that can be run in step: on a CPU with
 /// x86-64-v3, specs that [`simulate`] takes and that differ in η alone (and
-/// the Taylor stepper's tolerance).
+/// the Taylor stepper's tolerance); none while a stop is asked for (the
+/// caller's lone runs then refuse to start).
 #[cfg(target_arch = "x86_64")]
 fn in_step<const N: usize>(specs: [&RunSpec; N]) -> Option<[f64; N]> {
+    if interrupt::requested() {
+        return None;
+    }
     let first = specs[0];
     // A block that may slide walks every interval (its friction is checked
     // at each), so it has no lanes.
@@ -218,6 +223,9 @@ fn run(
     obs: &mut impl Observer,
     isa: Isa,
 ) -> Result<Outcome, PhysicsError> {
+    if interrupt::requested() {
+        return Err(PhysicsError::Interrupted);
+    }
     spec.validate()?;
     if let Some(st) = start {
         if !(st.s == 1.0 || st.s == -1.0)

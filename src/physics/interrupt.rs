@@ -1,0 +1,27 @@
+//! A request to stop every run under way, for a front end that hears an
+//! interrupt (Ctrl-C in Python, where the work runs without the GIL and no
+//! signal reaches it): while it is raised, each run refuses to start
+//! ([`crate::physics::PhysicsError::Interrupted`]), so a search, a sweep or
+//! a batch ends at its next run with that error, which every caller already
+//! passes up; runs in step start none. Process-wide, as a signal is: a
+//! request stops every computation of the process, whichever thread asked
+//! for it, until [`clear`].
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+static REQUESTED: AtomicBool = AtomicBool::new(false);
+
+/// Asks every run from now on to refuse to start.
+pub fn request() {
+    REQUESTED.store(true, Ordering::Release);
+}
+
+/// Withdraws the request: runs start again.
+pub fn clear() {
+    REQUESTED.store(false, Ordering::Release);
+}
+
+/// Whether a stop has been asked for.
+pub fn requested() -> bool {
+    REQUESTED.load(Ordering::Acquire)
+}
