@@ -41,8 +41,9 @@ pub struct HazardCurve {
     /// The IML at which the file gives a rate of exactly 0 (no exceedance
     /// beyond it), if it does.
     pub ends_at: Option<f64>,
-    /// IMLs dropped from the start because their rate is infinite (poe = 1).
-    pub dropped_below: usize,
+    /// The IMLs dropped from the start because their rate is infinite
+    /// (poe = 1), increasing.
+    pub infinite: Vec<f64>,
 }
 
 /// A hazard file that cannot be used, and where.
@@ -466,7 +467,7 @@ fn curve_of(
             ));
         }
     }
-    let dropped_below = points.iter().take_while(|p| p.1.is_infinite()).count();
+    let dropped = points.iter().take_while(|p| p.1.is_infinite()).count();
     let mut curve = HazardCurve {
         im,
         lon: None,
@@ -474,9 +475,9 @@ fn curve_of(
         iml: Vec::new(),
         annual_rate: Vec::new(),
         ends_at: None,
-        dropped_below,
+        infinite: points[..dropped].iter().map(|p| p.0).collect(),
     };
-    for &(iml, rate) in &points[dropped_below..] {
+    for &(iml, rate) in &points[dropped..] {
         if rate == 0.0 {
             curve.ends_at = Some(iml);
             break;
@@ -510,7 +511,7 @@ lon,lat,depth,poe-0.01,poe-0.1,poe-0.5,poe-1.0\n\
         assert_eq!((a.lon, a.lat), (Some(23.7), Some(37.9)));
         // poe = 1 at 0.01 g is dropped; poe = 0 at 1 g ends the curve.
         assert_eq!(a.iml, vec![0.1, 0.5]);
-        assert_eq!(a.dropped_below, 1);
+        assert_eq!(a.infinite, [0.01]);
         assert_eq!(a.ends_at, Some(1.0));
         // λ = −ln(1 − poe)/T: poe 0.5 in 50 years is ln 2 / 50 per year.
         assert!((a.annual_rate[0] - 2f64.ln() / 50.0).abs() < 1e-15);

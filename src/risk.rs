@@ -438,7 +438,7 @@ mod tests {
             annual_rate: iml.iter().map(|a| k0 * a.powf(-k)).collect(),
             iml,
             ends_at: None,
-            dropped_below: 0,
+            infinite: Vec::new(),
         }
     }
 
@@ -482,7 +482,7 @@ mod tests {
             iml: vec![0.1, 0.2, 0.3],
             annual_rate: vec![0.01; 3],
             ends_at: None,
-            dropped_below: 0,
+            infinite: Vec::new(),
         };
         for (f, limit) in [
             (
@@ -606,7 +606,7 @@ mod tests {
             iml: vec![0.02, 0.05, 0.1, 0.2, 0.4, 0.8],
             annual_rate: vec![0.2, 0.05, 0.012, 0.002, 2e-4, 1e-5],
             ends_at: Some(1.5),
-            dropped_below: 0,
+            infinite: Vec::new(),
         };
         let caps = [
             0.03, 0.07, 0.071, 0.12, 0.19, 0.33, 0.41, 0.6, 0.95, 1.2, 2.4,
@@ -629,7 +629,7 @@ mod tests {
             iml: vec![0.02, 0.05, 0.1, 0.2, 0.4, 0.8],
             annual_rate: vec![0.2, 0.05, 0.012, 0.002, 2e-4, 1e-5],
             ends_at: Some(1.5),
-            dropped_below: 0,
+            infinite: Vec::new(),
         };
         let f = Fragility::Lognormal {
             median: 0.25,

@@ -537,7 +537,7 @@ fn sequential_states_are_ordered_at_every_level_and_on_every_curve() {
         iml: iml.to_vec(),
         annual_rate: rate.to_vec(),
         ends_at,
-        dropped_below: 0,
+        infinite: Vec::new(),
     };
     let curves = [
         curve(

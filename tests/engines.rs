@@ -1201,3 +1201,98 @@ fn openquake_computes_the_mean_over_an_exported_tree() {
         );
     }
 }
+
+/// A hazard whose first IMLs OpenQuake reads as poe = 1 (single precision)
+/// for a block on a floor, where no cut hides them: the export's warning
+/// states the rate the job counts beyond the curve read below 1, and the
+/// engine itself measures it, the job as written against the job given the
+/// curve from its first IML read below 1 (the same fragility). One site,
+/// λ = 1e-3·a^−2.2 over 0.02–3 g: its first 25 IMLs read as 1. The two
+/// jobs' rates differ by the warned rate to the warning's four digits and
+/// OpenQuake's seven (tolerance 2e-3 of it); the trimmed job has no
+/// warning.
+#[test]
+fn openquake_counts_what_the_export_warns_of_where_poes_read_as_one() {
+    let Some(venv) = engines() else { return };
+    let dir = tempdir();
+    let d = dir.path();
+    let site = [(23.73, 38.0, 1e-3, 2.2)];
+    let (imls, _) = hazard_in(&d.join("hazard.csv"), "PGA", 0.02, 3.0, &site);
+    let records = root().join("records/fema-p695/far-field");
+    let export = |hazard: &str, job: &str| -> Value {
+        let out = rocking(
+            d,
+            &[
+                "export",
+                "--format",
+                "nrml",
+                "--hazard",
+                hazard,
+                "--out",
+                job,
+                "--b",
+                "0.2",
+                "--h",
+                "0.9",
+                "--direct",
+                "--records",
+                records.to_str().unwrap(),
+                "--floor",
+                "0.5,0.05,1.3",
+                "--json",
+            ],
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+        serde_json::from_str(&stdout(&out)).unwrap()
+    };
+    let full = export("hazard.csv", "job");
+    let warnings = full[0]["fragility"]["warnings"].as_array().unwrap();
+    let warning = warnings
+        .iter()
+        .filter_map(Value::as_str)
+        .find(|w| w.contains("single precision"))
+        .unwrap_or_else(|| panic!("no warning of poes read as 1: {warnings:?}"));
+    let number_after = |key: &str| -> f64 {
+        let rest = &warning[warning.find(key).unwrap() + key.len()..];
+        rest.split(|c: char| c == ' ' || c == '/')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let saturated = number_after("its first ") as usize;
+    let warned = number_after("that adds ");
+    assert_eq!(saturated, 25, "{warning}");
+    // The curve from its first IML read below 1, the same IMLs after it.
+    let text = fs::read_to_string(d.join("hazard.csv")).unwrap();
+    let trimmed: Vec<String> = text
+        .lines()
+        .map(|l| {
+            if l.starts_with('#') {
+                return l.to_string();
+            }
+            let cells: Vec<&str> = l.split(',').collect();
+            [&cells[..3], &cells[3 + saturated..]].concat().join(",")
+        })
+        .collect();
+    fs::write(d.join("trimmed.csv"), trimmed.join("\n") + "\n").unwrap();
+    assert_eq!(imls.len() - saturated, 75);
+    let cut = export("trimmed.csv", "job-trimmed");
+    let left = cut[0]["fragility"]["warnings"].as_array().unwrap();
+    assert!(
+        !left
+            .iter()
+            .any(|w| w.as_str().unwrap().contains("single precision")),
+        "{left:?}"
+    );
+    let rate = |job: &str| {
+        let p = openquake(&venv, &d.join(job))[0].1[3];
+        -(-p).ln_1p() / 50.0
+    };
+    let (with, without) = (rate("job"), rate("job-trimmed"));
+    let counted = with - without;
+    assert!(
+        (counted - warned).abs() <= 2e-3 * warned,
+        "OpenQuake counts {counted}/yr more with the saturated IMLs; the export warned of {warned}"
+    );
+}

@@ -7,11 +7,14 @@
 //! - `pelicun`: pelicun's fragility CSV (lognormal, or `multilinear_CDF`
 //!   for the records' curve) and its metadata JSON.
 //!
+//! - `reading`: how OpenQuake reads the job's hazard curves near poe = 1.
+//!
 //! Both engines read the records' curve as the tool does: linear between
 //! its points, 0 below the first, 1 from the last.
 
 pub mod nrml;
 pub mod pelicun;
+pub mod reading;
 
 use crate::damage::{Curve, Lognormal};
 use crate::im::Im;

@@ -110,6 +110,7 @@ fn export_into(req: &Request) -> Result<Written, ExportOpError> {
                 .find(|f| f.id == b.taxonomy)
                 .and_then(|f| f.no_damage_limit);
             b.fragility.warnings.extend(beyond_the_curve(&b, h, cut));
+            b.fragility.warnings.extend(read_as_certain(&b, h, cut));
         }
         blocks.push(b);
     }
@@ -149,6 +150,48 @@ fn beyond_the_curve(b: &ExportedBlock, h: &HazardSites, cut: Option<f64>) -> Opt
             h.im.unit(),
             100.0 * share,
             f.states.last().map_or("", |s| s.name.as_str())
+        )
+    })
+}
+
+/// OpenQuake's job reads poes within 6e-8 of 1 as 1 and counts them at a
+/// rate of 36.74/T ([`crate::export::reading`]), where `risk` reads the
+/// curve as written: where the rate those IMLs add to the job's count of a
+/// block's heaviest state is 1 % or more of `risk`'s rate at a site, the
+/// warning says so and by how much.
+fn read_as_certain(b: &ExportedBlock, h: &HazardSites, cut: Option<f64>) -> Option<String> {
+    let f = &b.fragility;
+    let frag = f.states.last()?.fragility(f.method)?;
+    let p = |x| crate::ops::damage::probability_above(&frag, x, cut);
+    let (site, share, s) = h
+        .curves
+        .iter()
+        .filter_map(|(k, c)| {
+            let s = crate::export::reading::saturated(c, h.investigation_time, p)?;
+            let rate = crate::risk::assess_above(
+                c,
+                &frag,
+                crate::risk::Beyond::Extrapolate,
+                cut.unwrap_or(0.0),
+            )
+            .annual_rate;
+            Some((*k, s.excess_rate / rate, s))
+        })
+        .max_by(|a, b| a.1.total_cmp(&b.1))?;
+    (share >= 0.01).then(|| {
+        format!(
+            "OpenQuake's job reads the hazard's poes in single precision: at site {site} its \
+             first {} IMLs (to {} {}) read as poe = 1, which it counts at a rate of {:.3}/yr: \
+             that adds {:.3e}/yr to the rate of `{}` the job counts, {:.1} % of `risk`'s rate \
+             (give the job a curve whose poes fall below 1 - 6e-8 where the fragility is still \
+             near 0)",
+            s.imls,
+            crate::im::level_text(s.up_to),
+            h.im.unit(),
+            s.certain_rate,
+            s.excess_rate,
+            f.states.last().map_or("", |s| s.name.as_str()),
+            100.0 * share,
         )
     })
 }

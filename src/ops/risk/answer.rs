@@ -147,7 +147,7 @@ pub(super) fn site_info(k: usize, curve: &HazardCurve, r: &SiteRisk, years: f64)
         first_iml: r.first_iml,
         last_iml: r.last_iml,
         fragility_at_first_iml: r.fragility_at_first_iml,
-        imls_dropped: curve.dropped_below,
+        imls_dropped: curve.infinite.len(),
         share_beyond_last_iml: r.share_beyond_last_iml,
         deaggregation: r
             .bins
