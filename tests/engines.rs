@@ -1254,11 +1254,7 @@ fn openquake_counts_what_the_export_warns_of_where_poes_read_as_one() {
         .unwrap_or_else(|| panic!("no warning of poes read as 1: {warnings:?}"));
     let number_after = |key: &str| -> f64 {
         let rest = &warning[warning.find(key).unwrap() + key.len()..];
-        rest.split(|c: char| c == ' ' || c == '/')
-            .next()
-            .unwrap()
-            .parse()
-            .unwrap()
+        rest.split([' ', '/']).next().unwrap().parse().unwrap()
     };
     let saturated = number_after("its first ") as usize;
     let warned = number_after("that adds ");

@@ -120,10 +120,14 @@ mod tests {
     #[test]
     fn the_job_counts_half_the_certain_rate_at_the_edge_of_saturation() {
         let c = curve(&[0.05], &[(0.1, 0.5), (0.2, 0.2), (0.4, 0.01)]);
-        let p = |x: f64| match x {
-            x if x == 0.1 => 0.1,
-            x if x == 0.2 => 0.3,
-            _ => 0.9,
+        let p = |x: f64| {
+            if x == 0.1 {
+                0.1
+            } else if x == 0.2 {
+                0.3
+            } else {
+                0.9
+            }
         };
         let s = saturated(&c, 50.0, p).unwrap();
         assert_eq!(s.imls, 2);
