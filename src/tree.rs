@@ -434,7 +434,8 @@ impl Mixture<'_> {
     }
 
     /// The mixture's median and its equivalent β, ln(x₈₄/x₁₆)/2 (the
-    /// lognormal through its 16 and 84 % levels).
+    /// lognormal through its Φ(±1) levels, 15.87 and 84.13 %: one
+    /// lognormal's own β).
     pub fn median_beta(&self) -> (Option<f64>, Option<f64>) {
         let m = self.level(0.5);
         let beta = match (

@@ -277,7 +277,8 @@ fn model_branches_run_the_records() {
 /// by the library's generator from the seed): each resample's lognormal by
 /// the type-7 fractiles of its capacities (from `rocking capacity`), its
 /// rate by the library's integral (held to Cornell's closed form in
-/// `risk.rs`), the band their type-7 5 and 95 % fractiles; to 1e-12.
+/// `risk.rs`), the band their type-7 5 and 95 % fractiles; to 1e-12. The
+/// records' curve's β band is the same resamples' fractile β.
 #[test]
 fn the_rates_band_is_a_bootstrap_by_hand() {
     let dir = tempdir();
@@ -291,29 +292,32 @@ fn the_rates_band_is_a_bootstrap_by_hand() {
     fs::write(d.join("h.csv"), &text).unwrap();
     let far = bundled_records().join("far-field");
     let (resamples, seed) = (200usize, 17u64);
+    let ask: Vec<String> = [
+        "risk",
+        "--hazard",
+        "h.csv",
+        "--b",
+        "0.1",
+        "--h",
+        "1.0",
+        "--eps",
+        "0.8",
+        "--direct",
+        "--records",
+        far.to_str().unwrap(),
+        "--if-not-lognormal",
+        "lognormal",
+        "--bootstrap",
+        &resamples.to_string(),
+        "--seed",
+        &seed.to_string(),
+        "--json",
+    ]
+    .map(String::from)
+    .into();
     let v = json(&rocking(
         d,
-        &[
-            "risk",
-            "--hazard",
-            "h.csv",
-            "--b",
-            "0.1",
-            "--h",
-            "1.0",
-            "--eps",
-            "0.8",
-            "--direct",
-            "--records",
-            far.to_str().unwrap(),
-            "--if-not-lognormal",
-            "lognormal",
-            "--bootstrap",
-            &resamples.to_string(),
-            "--seed",
-            &seed.to_string(),
-            "--json",
-        ],
+        &ask.iter().map(String::as_str).collect::<Vec<_>>(),
     ));
     let boot = &v["fragility"]["bootstrap"];
     assert_eq!(boot["unit"], "pair");
@@ -379,7 +383,7 @@ fn the_rates_band_is_a_bootstrap_by_hand() {
     let curve = rocking::hazard::parse(&text).unwrap().remove(0);
     let units_of = rocking::stats::Units::new(&units);
     let mut rng = rocking::stats::SplitMix64::new(seed);
-    let (mut rates, mut medians) = (Vec::new(), Vec::new());
+    let (mut rates, mut medians, mut betas) = (Vec::new(), Vec::new(), Vec::new());
     let mut draw = Vec::new();
     for _ in 0..resamples {
         units_of.draw(&mut rng, &mut draw);
@@ -398,6 +402,7 @@ fn the_rates_band_is_a_bootstrap_by_hand() {
         );
         rates.push(r.annual_rate);
         medians.push(q50);
+        betas.push(beta);
     }
     let band = |v: &mut Vec<f64>| {
         v.sort_by(f64::total_cmp);
@@ -424,6 +429,24 @@ fn the_rates_band_is_a_bootstrap_by_hand() {
     }
     let rate = v["sites"][0]["annual_rate"].as_f64().unwrap();
     assert!(want[0] < rate && rate < want[1], "{want:?} {rate}");
+    // The records' own curve (`--method empirical`): its β is the fractile
+    // fit's, in the answer and in each resample alike, so its band is the
+    // band of the resamples' type-7 β above.
+    let mut args: Vec<&str> = ask.iter().map(String::as_str).collect();
+    args.extend(["--method", "empirical"]);
+    let e = json(&rocking(d, &args));
+    assert_eq!(e["fragility"]["beta"], v["fragility"]["beta"]);
+    let b = band(&mut betas);
+    for k in 0..2 {
+        let g = e["fragility"]["bootstrap"]["beta_band"][k]
+            .as_f64()
+            .unwrap();
+        assert!(
+            (g / b[k] - 1.0).abs() < 1e-12,
+            "the records' curve's β band {k}: {g} vs {}",
+            b[k]
+        );
+    }
 }
 
 /// A study's `[tree]`: the tree stage runs the example block on every

@@ -22,7 +22,6 @@ use crate::floor::Building;
 use crate::im::Im;
 use crate::label::Label;
 use crate::physics::ModelChoice;
-use crate::risk::Fragility;
 use records::{curve_where_not_lognormal, from_records};
 pub use records::{FEW_RECORDS, TEXT_RECORDS_NOTE};
 
@@ -93,11 +92,13 @@ fn for_states(
     })
 }
 
-/// State `state`'s fragility (by `f`'s method) from the records `draw`
-/// picks (indices into `f.per_record`, repeats allowed): one bootstrap
-/// resample, fitted as the whole sample is. `None` without the records'
-/// capacities or where the resample has no fit.
-pub fn resampled(f: &DamageFragility, state: usize, draw: &[usize]) -> Option<Fragility> {
+/// State `state` as the records `draw` picks (indices into
+/// `f.per_record`, repeats allowed) have it: one bootstrap resample, fitted
+/// as the whole sample is; its fragility and its median and β are then
+/// read as the whole sample's are ([`StateFragility::fragility`],
+/// [`StateFragility::median_beta`] by `f`'s method). `None` without the
+/// records' capacities or where the resample has no fit.
+pub fn resampled(f: &DamageFragility, state: usize, draw: &[usize]) -> Option<StateFragility> {
     let all = f.per_record.as_ref()?;
     let caps: Vec<Vec<damage::StateCapacity>> = draw.iter().map(|&k| all[k].clone()).collect();
     let fit = records::fit_states(state + 1, &caps)?.swap_remove(state);
@@ -107,7 +108,7 @@ pub fn resampled(f: &DamageFragility, state: usize, draw: &[usize]) -> Option<Fr
         capacities: Some(fit.capacities),
         ..f.states[state].clone()
     };
-    s.fragility(f.method)
+    s.fragility(f.method).is_some().then_some(s)
 }
 
 /// The IM level below which every state's probability is 0, the same for

@@ -8,7 +8,7 @@
 use serde::Serialize;
 
 use crate::hazard::HazardCurve;
-use crate::ops::damage::{self, DamageFragility};
+use crate::ops::damage::{self, DamageFragility, StateFragility};
 use crate::risk::{self, Beyond, Fragility};
 use crate::stats::{self, ResampleUnit, SplitMix64, Units};
 use crate::tree::Mixture;
@@ -74,11 +74,21 @@ pub(super) fn bands(
     let mut rates: Vec<Vec<f64>> = vec![Vec::new(); sites.len()];
     let (mut medians, mut betas) = (Vec::new(), Vec::new());
     for draw in draws(&units, b) {
-        let fits: Option<Vec<(f64, Fragility)>> = branches
+        let states: Option<Vec<StateFragility>> = branches
             .iter()
-            .map(|r| Some((r.weight, damage::resampled(r.fragility, 0, &draw)?)))
+            .map(|r| damage::resampled(r.fragility, 0, &draw))
             .collect();
-        let Some(fits) = fits else { continue };
+        let Some(states) = states else { continue };
+        let fits: Vec<(f64, Fragility)> = states
+            .iter()
+            .zip(branches)
+            .map(|(s, r)| {
+                (
+                    r.weight,
+                    s.fragility(r.fragility.method).expect("resampled fits"),
+                )
+            })
+            .collect();
         for (s, (_, curve)) in sites.iter().enumerate() {
             let rate: f64 = fits
                 .iter()
@@ -87,8 +97,11 @@ pub(super) fn bands(
                 .sum();
             rates[s].push(rate);
         }
-        let (m, beta) = match &fits[..] {
-            [(_, Fragility::Lognormal { median, beta })] => (Some(*median), Some(*beta)),
+        // One branch: its median and β as the answer reads them (for the
+        // records' curve, its 50 % level and the fractile fit's β); a tree:
+        // the mixture's.
+        let (m, beta) = match (&states[..], branches) {
+            ([s], [r]) => s.median_beta(r.fragility.method),
             _ => Mixture { parts: &fits }.median_beta(),
         };
         medians.extend(m);
