@@ -617,6 +617,151 @@ fn pelicun_gets_the_mean_of_a_tree() {
     }
 }
 
+/// A pelicun row's limit states as functions of the IM: a lognormal's Φ
+/// (the test's own), a multilinear_CDF linear between its points (0 below
+/// the first, its last P beyond).
+fn pelicun_states(csv: &str) -> Vec<Box<dyn Fn(f64) -> f64>> {
+    let row = csv.lines().nth(1).unwrap();
+    // Cells, with the quoted ones (commas inside) whole.
+    let (mut cells, mut cell, mut quoted) = (Vec::new(), String::new(), false);
+    for c in row.chars() {
+        match c {
+            '"' => quoted = !quoted,
+            ',' if !quoted => cells.push(std::mem::take(&mut cell)),
+            c => cell.push(c),
+        }
+    }
+    cells.push(cell);
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let cell = |name: String| cells[header.iter().position(|h| *h == name).unwrap()].clone();
+    (1..)
+        .take_while(|k| header.contains(&format!("LS{k}-Family").as_str()))
+        .map(|k| -> Box<dyn Fn(f64) -> f64> {
+            let theta = cell(format!("LS{k}-Theta_0"));
+            match cell(format!("LS{k}-Family")).as_str() {
+                "lognormal" => {
+                    let m: f64 = theta.parse().unwrap();
+                    let b: f64 = cell(format!("LS{k}-Theta_1")).parse().unwrap();
+                    Box::new(move |x: f64| crate::util::phi((x / m).ln() / b))
+                }
+                "multilinear_CDF" => {
+                    let (xs, ps) = theta.split_once('|').unwrap();
+                    let xs: Vec<f64> = xs.split(',').map(|v| v.parse().unwrap()).collect();
+                    let ps: Vec<f64> = ps.split(',').map(|v| v.parse().unwrap()).collect();
+                    Box::new(move |x: f64| {
+                        let i = xs.partition_point(|&v| v <= x);
+                        match i {
+                            0 => 0.0,
+                            i if i == xs.len() => ps[i - 1],
+                            i => {
+                                let t = (x - xs[i - 1]) / (xs[i] - xs[i - 1]);
+                                ps[i - 1] + t * (ps[i] - ps[i - 1])
+                            }
+                        }
+                    })
+                }
+                other => panic!("family {other}"),
+            }
+        })
+        .collect()
+}
+
+/// The mean over a tree of the records' runs (`--direct`, three states;
+/// one branch's capacities fail the lognormal check, so the mixture has a
+/// records' curve with a kink at each capacity): pelicun's curve of each
+/// state goes through the same levels, at each of which it is the mixture
+/// of the branches as each branch's own export writes it (the weights from
+/// the tree's answer, the mixture summed here), to 1e-10 inside its
+/// 0.1–99.9 % ends; so the states keep their order at every level (a
+/// heavier state never the likelier), and between them.
+#[test]
+fn pelicun_gets_a_trees_states_in_order_through_every_branchs_kink() {
+    let dir = tempdir();
+    let d = dir.path();
+    let block = ["--b", "0.2", "--h", "0.9", "--direct", "--json"];
+    let export = |out: &str, more: &[&str]| -> Value {
+        let mut args = vec!["export", "--format", "pelicun", "--out", out];
+        args.extend(block);
+        args.extend(more);
+        let o = rocking(d, &args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    let tree = export("mean", &["--tree", "restitution-tests"]);
+    assert_eq!(tree[0]["tree"]["mean"]["written_as"], "curve");
+    let csv = fs::read_to_string(d.join("mean/fragility.csv")).unwrap();
+    let mean = pelicun_states(&csv);
+    let row = csv.lines().nth(1).unwrap();
+    let theta: Vec<&str> = row.split('"').skip(1).step_by(2).collect();
+    let levels: Vec<Vec<f64>> = theta
+        .iter()
+        .filter_map(|t| t.split_once('|'))
+        .map(|(xs, _)| xs.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(levels.len(), 3);
+    assert!(levels.windows(2).all(|w| w[0] == w[1]), "one set of levels");
+    let mut branches = Vec::new();
+    let mut curves = 0;
+    for (k, b) in tree[0]["tree"]["branches"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .enumerate()
+    {
+        let eps = b["eps"].as_f64().unwrap().to_string();
+        let out = format!("b{k}");
+        let one = export(&out, &["--eps", &eps]);
+        curves += usize::from(one[0]["written_as"] == "curve");
+        let text = fs::read_to_string(d.join(&out).join("fragility.csv")).unwrap();
+        branches.push((b["weight"].as_f64().unwrap(), pelicun_states(&text)));
+    }
+    assert!(curves >= 1, "a branch with a kinked curve");
+    // Every kink of a branch's curve inside the mean's ends is one of its
+    // levels: there the mean is the mixture, as everywhere between.
+    let xs = &levels[0];
+    let kinks: Vec<f64> = (0..branches.len())
+        .flat_map(|k| {
+            let text = fs::read_to_string(d.join(format!("b{k}/fragility.csv"))).unwrap();
+            let row = text.lines().nth(1).unwrap().to_string();
+            row.split('"')
+                .skip(1)
+                .step_by(2)
+                .filter_map(|t| t.split_once('|'))
+                .flat_map(|(x, _)| x.split(',').map(|v| v.parse::<f64>().unwrap()))
+                .collect::<Vec<_>>()
+        })
+        .filter(|&x| x > xs[0] && x < xs[xs.len() - 1])
+        .collect();
+    assert!(kinks.len() > 40, "{}", kinks.len());
+    for &x in &kinks {
+        for j in 0..3 {
+            let mix: f64 = branches.iter().map(|(w, s)| w * s[j](x)).sum();
+            assert!(
+                (mean[j](x) - mix).abs() <= 1e-10,
+                "state {j} at the kink {x}"
+            );
+        }
+    }
+    for (i, &x) in xs.iter().enumerate() {
+        let p: Vec<f64> = (0..3).map(|j| mean[j](x)).collect();
+        for j in 0..3 {
+            let mix: f64 = branches.iter().map(|(w, s)| w * s[j](x)).sum();
+            // Two Φ (statrs' erfc, the test's series) agree to ~1e-12.
+            let tol = if i == 0 || i == xs.len() - 1 {
+                1.01e-3
+            } else {
+                1e-10
+            };
+            assert!(
+                (p[j] - mix).abs() <= tol,
+                "state {j} at {x}: {} vs {mix}",
+                p[j]
+            );
+        }
+        assert!(p[0] >= p[1] && p[1] >= p[2], "at {x}: {p:?}");
+    }
+}
+
 /// An inventory's own ε is not silently replaced by a tree's [[eps]]; an
 /// OpenQuake export of a tree writes its taxonomy mapping with or without
 /// a job.

@@ -163,7 +163,8 @@ pub fn quantiles(values: &[f64], weights: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// Levels of the mean curve a multilinear export carries.
+/// Levels of the mean curve a multilinear export carries over each
+/// state's range (more where states' ranges differ or branches have kinks).
 pub const MEAN_POINTS: usize = 60;
 
 /// How the mean of a tree's damage-state fragilities is carried as one
@@ -171,43 +172,62 @@ pub const MEAN_POINTS: usize = 60;
 /// the mixture: the largest |ΔP| over its 0.01–99.99 % range.
 #[derive(Debug, Clone, Serialize)]
 pub struct MeanFit {
-    /// `curve` (multilinear through [`MEAN_POINTS`] levels of the
-    /// mixture) or `lognormal` (the median exp(Σ wᵢ ln mᵢ) and β_total):
-    /// whichever is closer, the curve where both are.
+    /// `curve` (multilinear through levels of the mixture, [`mean_shape`])
+    /// or `lognormal` (the median exp(Σ wᵢ ln mᵢ) and β_total): whichever
+    /// is closer, the curve where both are or where the lognormals cross.
     pub written_as: &'static str,
     pub curve_error: f64,
     /// `None` where a branch is not a lognormal.
     pub lognormal_error: Option<f64>,
+    /// Whether the states' lognormals keep their order (no two cross
+    /// within 0.1–99.9 %); `None` where a branch is not a lognormal.
+    pub lognormals_in_order: Option<bool>,
 }
 
 /// Each state's mixture over the branches (weight, fragility), as the
 /// closer of a multilinear curve and FEMA P-58's lognormal of β_total;
 /// `None` where some state's mixture never reaches 99.9 %.
+///
+/// Every state's curve has the same levels: each state's [`MEAN_POINTS`]
+/// over its own 0.1–99.9 % range and every kink of a branch's records'
+/// curve within them, P = 0 at the first and 1 at the last. Where the
+/// branches' states are in order (a heavier state never the likelier),
+/// their mixtures are at every level, so the curves, linear between
+/// common levels, are everywhere. The lognormals (one β_total per state)
+/// are written only where no two states' cross within 0.1–99.9 %
+/// ([`crate::damage::crossing`]).
 pub fn mean_shape(
     branches: &[(f64, &crate::ops::damage::DamageFragility)],
 ) -> Option<(crate::export::Shape, MeanFit)> {
     use crate::damage::{Curve, Lognormal};
     let n = branches.first()?.1.states.len();
+    let weights: Vec<f64> = branches.iter().map(|b| b.0).collect();
+    let parts: Vec<Vec<(f64, Fragility)>> = (0..n)
+        .map(|j| {
+            branches
+                .iter()
+                .map(|(w, f)| Some((*w, f.states[j].fragility(f.method)?)))
+                .collect::<Option<_>>()
+        })
+        .collect::<Option<_>>()?;
+    let ranges: Vec<(f64, f64)> = parts
+        .iter()
+        .map(|p| {
+            let mix = Mixture { parts: p };
+            Some((mix.level(1e-3)?, mix.level(0.999)?))
+        })
+        .collect::<Option<_>>()?;
+    let levels = mean_levels(&parts, &ranges);
     let (mut curves, mut lognormals) = (Vec::new(), Vec::new());
     let (mut curve_error, mut lognormal_error) = (0.0f64, Some(0.0f64));
-    let weights: Vec<f64> = branches.iter().map(|b| b.0).collect();
-    for j in 0..n {
-        let parts: Vec<(f64, Fragility)> = branches
-            .iter()
-            .map(|(w, f)| Some((*w, f.states[j].fragility(f.method)?)))
-            .collect::<Option<_>>()?;
-        let mix = Mixture { parts: &parts };
-        let (lo, hi) = (mix.level(1e-3)?, mix.level(0.999)?);
-        let mut pts: Vec<(f64, f64)> = (0..MEAN_POINTS)
-            .map(|k| {
-                let x = lo * (hi / lo).powf(k as f64 / (MEAN_POINTS - 1) as f64);
-                (x, mix.probability(x))
-            })
-            .collect();
+    for (p, &(lo, hi)) in parts.iter().zip(&ranges) {
+        let mix = Mixture { parts: p };
+        let mut pts: Vec<(f64, f64)> = levels.iter().map(|&x| (x, mix.probability(x))).collect();
+        let last = pts.len() - 1;
         pts[0].1 = 0.0;
-        pts[MEAN_POINTS - 1].1 = 1.0;
+        pts[last].1 = 1.0;
         let curve = Curve::through(&pts)?;
-        let lognormal = parts
+        let lognormal = p
             .iter()
             .map(|(_, f)| match f {
                 Fragility::Lognormal { median, beta } => Some((*median, *beta)),
@@ -242,8 +262,11 @@ pub fn mean_shape(
         curves.push(curve);
         lognormals.extend(lognormal);
     }
+    let in_order = lognormals
+        .windows(2)
+        .all(|w| w[1].median >= w[0].median && crate::damage::crossing(&w[0], &w[1]).is_none());
     let lognormal_better =
-        lognormal_error.is_some_and(|e| e < curve_error) && lognormals.len() == n;
+        lognormal_error.is_some_and(|e| e < curve_error) && lognormals.len() == n && in_order;
     let fit = MeanFit {
         written_as: if lognormal_better {
             "lognormal"
@@ -252,10 +275,37 @@ pub fn mean_shape(
         },
         curve_error,
         lognormal_error,
+        lognormals_in_order: (lognormals.len() == n).then_some(in_order),
     };
     let shape = match lognormal_better {
         true => crate::export::Shape::Lognormal(lognormals),
         false => crate::export::Shape::Curve(curves),
     };
     Some((shape, fit))
+}
+
+/// The levels every state's mean curve goes through (see [`mean_shape`]):
+/// increasing, none within 1e-9 (relative) of the one before.
+fn mean_levels(parts: &[Vec<(f64, Fragility)>], ranges: &[(f64, f64)]) -> Vec<f64> {
+    let from = ranges.iter().map(|r| r.0).fold(f64::INFINITY, f64::min);
+    let to = ranges.iter().map(|r| r.1).fold(0.0, f64::max);
+    let mut levels: Vec<f64> = ranges
+        .iter()
+        .flat_map(|&(lo, hi)| {
+            (0..MEAN_POINTS).map(move |k| lo * (hi / lo).powf(k as f64 / (MEAN_POINTS - 1) as f64))
+        })
+        .chain(parts.iter().flatten().flat_map(|(_, f)| match f {
+            Fragility::Curve(c) => c.levels().to_vec(),
+            Fragility::Lognormal { .. } => Vec::new(),
+        }))
+        .filter(|&x| (from..=to).contains(&x))
+        .collect();
+    levels.sort_by(f64::total_cmp);
+    let mut kept: Vec<f64> = Vec::with_capacity(levels.len());
+    for x in levels {
+        if kept.last().is_none_or(|&l| x - l > 1e-9 * x) {
+            kept.push(x);
+        }
+    }
+    kept
 }
