@@ -286,14 +286,16 @@ def fragility(b: float, h: float, **kw: Any) -> Dict[str, Any]:
 def risk(
     hazard: Union[PathLike, Tuple[Any, Any]],
     *,
-    hazard_im: str = "pga",
+    hazard_im: Optional[str] = None,
     **kw: Any,
 ) -> Union[Dict[str, Any], List[Dict[str, Any]]]:
     """The annual rate of overturning at a site: ``rocking risk --json``.
 
     ``hazard``: an OpenQuake hazard-curve CSV or a plain ``pga_g,annual_rate``
     CSV, or arrays ``(levels, annual_rates)`` in ``hazard_im`` (``pga`` in g,
-    ``pgv`` in cm/s, ``sa(T)``, ``avgsa``), handed to the library as values.
+    the default, ``pgv`` in cm/s, ``sa(T)``, ``avgsa``), handed to the library
+    as values; a file declares its IM itself, so ``hazard_im`` with a file is
+    refused.
     One block (``b``, ``h``, ``eps``, ``mu``) gives a dict, an ``inventory``
     CSV a list of dicts. ``tree``: a logic tree over ε and the model (a TOML
     file, or ``"restitution-tests"``): each site's ``mean_annual_rate``, the
@@ -305,7 +307,12 @@ def risk(
         levels, rates = (np.asarray(x, dtype=np.float64) for x in hazard)
         if levels.ndim != 1 or rates.ndim != 1:
             raise ValueError("hazard: give levels and annual rates as 1-D arrays")
-        given: Any = {"im": hazard_im, "levels": levels.tolist(), "rates": rates.tolist()}
+        given: Any = {"im": hazard_im or "pga", "levels": levels.tolist(), "rates": rates.tolist()}
+    elif hazard_im is not None:
+        raise ValueError(
+            f"hazard_im={hazard_im!r}: a hazard file declares its own IM (its header); "
+            "hazard_im is the IM of levels given as arrays (to ask for the fragility's IM, give im=)"
+        )
     else:
         given = os.fspath(hazard)
     return _core.risk(hazard=given, **_plain(kw))

@@ -30,7 +30,8 @@ use rocking::ops::reports::{Scene, SimulateReport};
 use rocking::physics::RunSpec;
 use rocking::records::{self, LoadedRecord};
 
-/// The error and its causes, as the command line prints them, on one line.
+/// The error and its causes, as the command line prints them, on one line,
+/// the options named as Python's keywords ([`Spelling::respell`]).
 fn message(e: &(dyn std::error::Error + 'static)) -> String {
     let mut text = e.to_string();
     let mut cause = e.source();
@@ -42,20 +43,58 @@ fn message(e: &(dyn std::error::Error + 'static)) -> String {
         }
         cause = c.source();
     }
-    text
+    Spelling::Python.respell(&text)
+}
+
+/// A refusal of the ask layer, in Python's words (its own parts already
+/// are; an inner message of the library's may name a command-line option).
+fn ask_error(e: rocking::ask::AskError) -> PyErr {
+    PyValueError::new_err(Spelling::Python.respell(&e.0))
 }
 
 fn value_error<E: std::error::Error + 'static>(e: E) -> PyErr {
     PyValueError::new_err(message(&e))
 }
 
-/// Keyword arguments into a request type, unknown keys refused.
+/// Keyword arguments into a request type, unknown keys refused; numpy's
+/// arrays and scalars, and paths, read as the Python values they stand for.
 fn ask<T: serde::de::DeserializeOwned>(
     py: Python<'_>,
     kwargs: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<T> {
-    let empty = PyDict::new(py);
-    depythonize(kwargs.unwrap_or(&empty).as_any()).map_err(|e| PyValueError::new_err(e.to_string()))
+    let plain = PyDict::new(py);
+    for (k, v) in kwargs.into_iter().flat_map(|d| d.iter()) {
+        plain.set_item(k, plain_value(&v)?)?;
+    }
+    depythonize(plain.as_any()).map_err(|e| PyValueError::new_err(e.to_string()))
+}
+
+/// A keyword's value as pythonize reads it: a numpy array or scalar as its
+/// `tolist()` (a list of floats, a float), a path as its text, each item
+/// of a list or tuple so too; anything else as it is.
+fn plain_value<'py>(v: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+    use pyo3::types::{PyList, PyString, PyTuple};
+    if v.is_instance_of::<PyString>() {
+        return Ok(v.clone());
+    }
+    if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
+        let items = v
+            .try_iter()?
+            .map(|item| plain_value(&item?))
+            .collect::<PyResult<Vec<_>>>()?;
+        return Ok(PyList::new(v.py(), items)?.into_any());
+    }
+    if v.hasattr("__fspath__")? {
+        return v.call_method0("__fspath__");
+    }
+    let numpy = v
+        .get_type()
+        .module()
+        .is_ok_and(|m| m.to_string_lossy().starts_with("numpy"));
+    if numpy && v.hasattr("tolist")? {
+        return v.call_method0("tolist");
+    }
+    Ok(v.clone())
 }
 
 /// A value as the Python object its JSON would be (dicts, lists, floats).
@@ -87,11 +126,8 @@ impl Block {
     #[pyo3(signature = (**kwargs))]
     fn new(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Block> {
         let ask: BlockAsk = ask(py, kwargs)?;
-        let blocks = ask
-            .resolve(Spelling::Python)
-            .map_err(|e| PyValueError::new_err(e.0))?;
-        ask.building(Spelling::Python)
-            .map_err(|e| PyValueError::new_err(e.0))?;
+        let blocks = ask.resolve(Spelling::Python).map_err(ask_error)?;
+        ask.building(Spelling::Python).map_err(ask_error)?;
         Ok(Block { ask, blocks })
     }
 
@@ -112,6 +148,7 @@ impl Block {
         self.blocks
             .iter()
             .filter_map(AskedBlock::sliding_warning)
+            .map(|w| Spelling::Python.respell(&w))
             .collect()
     }
 
@@ -132,9 +169,7 @@ impl Block {
     }
 
     fn building(&self) -> PyResult<Option<Building>> {
-        self.ask
-            .building(Spelling::Python)
-            .map_err(|e| PyValueError::new_err(e.0))
+        self.ask.building(Spelling::Python).map_err(ask_error)
     }
 }
 
@@ -190,7 +225,7 @@ fn simulate(
     let amplification = rec.floor.map_or(1.0, |f| f.pfa_over_pga);
     let eta =
         rocking::ask::excitation::eta(Spelling::Python, eta, pga, named.alpha_rad, amplification)
-            .map_err(|e| PyValueError::new_err(e.0))?;
+            .map_err(ask_error)?;
     let spec = RunSpec { eta, ..named.spec };
     spec.validate().map_err(value_error)?;
     let out =
@@ -227,7 +262,7 @@ fn capacities(
 ) -> PyResult<Py<PyAny>> {
     let search = ask::<SearchAsk>(py, search)?
         .resolve(Spelling::Python)
-        .map_err(|e| PyValueError::new_err(e.0))?;
+        .map_err(ask_error)?;
     let named: Vec<NamedSpec> = blocks
         .iter()
         .flat_map(|b| b.blocks.iter().map(|a| a.named.clone()))
@@ -247,8 +282,7 @@ fn capacities(
         .iter()
         .map(|(id, a, dt)| (id.clone(), samples(a.as_bytes()), *dt))
         .collect();
-    rocking::ask::check_angles(&angles, Spelling::Python)
-        .map_err(|e| PyValueError::new_err(e.0))?;
+    rocking::ask::check_angles(&angles, Spelling::Python).map_err(ask_error)?;
     let (records, found) = interruptible(py, || -> Result<_, String> {
         let mut records = match (&pair, &paths[..]) {
             // The pair's component at each angle (`capacity --pair --angle`).
@@ -291,7 +325,7 @@ fn capacities(
 fn fragility(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Py<PyAny>> {
     let (req, states) = ask::<FragilityAsk>(py, kwargs)?
         .resolve(Spelling::Python, Default::default())
-        .map_err(|e| PyValueError::new_err(e.0))?;
+        .map_err(ask_error)?;
     let answer = interruptible(py, || match &states.states {
         Some(s) => rocking::ops::damage::assess(&req, s, states.method)
             .map(|a| serde_json::to_value(a).expect("an assessment serialises"))
@@ -300,7 +334,9 @@ fn fragility(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Py<
             .map(|a| serde_json::to_value(a).expect("an assessment serialises"))
             .map_err(|e| message(&e)),
     })?;
-    to_py(py, &answer.map_err(PyValueError::new_err)?)
+    let mut answer = answer.map_err(PyValueError::new_err)?;
+    Spelling::Python.respell_warnings(&mut answer);
+    to_py(py, &answer)
 }
 
 /// The annual rate of overturning (or of each damage state) at a hazard's
@@ -312,7 +348,7 @@ fn risk(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Py<PyAny
     use rocking::ops::risk::{self, Blocks};
     let (req, states) = ask::<RiskAsk>(py, kwargs)?
         .resolve(Spelling::Python, Default::default())
-        .map_err(|e| PyValueError::new_err(e.0))?;
+        .map_err(ask_error)?;
     let one = matches!(req.blocks, Blocks::One { .. });
     let answer = interruptible(py, || -> Result<serde_json::Value, String> {
         // Event-based fields: one answer over every block.
@@ -329,7 +365,9 @@ fn risk(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Py<PyAny
         .map_err(|e| e.to_string())?;
         Ok(if one { all[0].clone() } else { all })
     })?;
-    to_py(py, &answer.map_err(PyValueError::new_err)?)
+    let mut answer = answer.map_err(PyValueError::new_err)?;
+    Spelling::Python.respell_warnings(&mut answer);
+    to_py(py, &answer)
 }
 
 /// A block's (or an inventory's) fragilities written for OpenQuake or
@@ -341,7 +379,7 @@ fn export(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Py<PyA
     let (req, _) = ask::<ExportKw>(py, kwargs)?
         .ask(Spelling::Python)
         .and_then(|a| a.resolve(Spelling::Python, Default::default()))
-        .map_err(|e| PyValueError::new_err(e.0))?;
+        .map_err(ask_error)?;
     let answer = interruptible(py, || -> Result<serde_json::Value, String> {
         let written = rocking::ops::export::export(&req).map_err(|e| message(&e))?;
         let files: Vec<String> = written
@@ -351,7 +389,9 @@ fn export(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Py<PyA
             .collect();
         Ok(serde_json::json!({ "files": files, "blocks": written.blocks }))
     })?;
-    to_py(py, &answer.map_err(PyValueError::new_err)?)
+    let mut answer = answer.map_err(PyValueError::new_err)?;
+    Spelling::Python.respell_warnings(&mut answer);
+    to_py(py, &answer)
 }
 
 /// Runs a pipeline's stale stages (every stage with `force`), the GIL

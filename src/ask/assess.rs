@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use serde::Deserialize;
 
-use super::block::{building, one_or_many, AUTO_TOL};
+use super::block::{building, many_at, many_pga, AUTO_TOL};
 use super::gmf::HazardAsk;
 use super::spelling::{AskError, Spelling};
 use super::tree::tree;
@@ -185,11 +185,11 @@ pub struct FragilityAsk {
     pub h: f64,
     pub eps: Restitution,
     /// Levels in PGA (g): the same as `im = pga` with `at`.
-    #[serde(deserialize_with = "one_or_many")]
+    #[serde(deserialize_with = "many_pga")]
     pub pga: Vec<f64>,
     pub im: Im,
     /// Levels of `im`, in its unit.
-    #[serde(deserialize_with = "one_or_many")]
+    #[serde(deserialize_with = "many_at")]
     pub at: Vec<f64>,
     #[serde(alias = "from")]
     pub source: String,

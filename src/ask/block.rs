@@ -25,20 +25,20 @@ pub const AUTO_TOL: f64 = 0.01;
 #[serde(deny_unknown_fields, default)]
 pub struct BlockAsk {
     /// Frequency parameter p = √(3g/(4R)) (1/s).
-    #[serde(deserialize_with = "one_or_many")]
+    #[serde(deserialize_with = "many_p")]
     pub p: Vec<f64>,
     /// Half-width and half-height (m).
-    #[serde(deserialize_with = "one_or_many")]
+    #[serde(deserialize_with = "many_b")]
     pub b: Vec<f64>,
-    #[serde(deserialize_with = "one_or_many")]
+    #[serde(deserialize_with = "many_h")]
     pub h: Vec<f64>,
     /// Full width and height (m): b = width/2, h = height/2.
-    #[serde(deserialize_with = "one_or_many")]
+    #[serde(deserialize_with = "many_width")]
     pub width: Vec<f64>,
-    #[serde(deserialize_with = "one_or_many")]
+    #[serde(deserialize_with = "many_height")]
     pub height: Vec<f64>,
     /// Coefficient of restitution, or Housner's bound (needs the sizes).
-    #[serde(deserialize_with = "one_or_many")]
+    #[serde(deserialize_with = "many_eps")]
     pub eps: Vec<Restitution>,
     /// Slenderness α (rad) of a block given by p: for the nonlinear model,
     /// a PGA, μ.
@@ -340,8 +340,9 @@ fn pairs(
     Ok(a.iter().copied().zip(b.iter().copied()).collect())
 }
 
-/// A list, or one value standing for a list of one.
-pub(super) fn one_or_many<'de, D, T>(d: D) -> Result<Vec<T>, D::Error>
+/// A list, or one value standing for a list of one; refused naming `key`
+/// and what it takes (an untagged reading's own message names neither).
+fn one_or_many<'de, D, T>(d: D, key: &str, what: &str) -> Result<Vec<T>, D::Error>
 where
     D: serde::Deserializer<'de>,
     T: Deserialize<'de>,
@@ -352,11 +353,38 @@ where
         Many(Vec<T>),
         One(T),
     }
-    Ok(match Option::<Given<T>>::deserialize(d)? {
+    let given = Option::<Given<T>>::deserialize(d)
+        .map_err(|_| serde::de::Error::custom(format!("{key}: give {what}, or a list of them")))?;
+    Ok(match given {
         None => Vec::new(),
         Some(Given::Many(v)) => v,
         Some(Given::One(v)) => vec![v],
     })
+}
+
+/// [`one_or_many`] for each keyword that takes one value or a list (serde's
+/// `deserialize_with` takes a function of the deserialiser alone).
+macro_rules! one_or_many_of {
+    ($($name:ident: $key:literal, $what:literal;)*) => {$(
+        pub(super) fn $name<'de, D, T>(d: D) -> Result<Vec<T>, D::Error>
+        where
+            D: serde::Deserializer<'de>,
+            T: Deserialize<'de>,
+        {
+            one_or_many(d, $key, $what)
+        }
+    )*};
+}
+
+one_or_many_of! {
+    many_p: "p", "a number (1/s)";
+    many_b: "b", "a number (m)";
+    many_h: "h", "a number (m)";
+    many_width: "width", "a number (m)";
+    many_height: "height", "a number (m)";
+    many_eps: "eps", "a number in (0, 1] or \"housner\"";
+    many_pga: "pga", "a number (g)";
+    many_at: "at", "a number (the IM's unit)";
 }
 
 #[cfg(test)]
@@ -365,6 +393,31 @@ mod tests {
 
     fn ask(json: &str) -> Result<BlockAsk, serde_json::Error> {
         serde_json::from_str(json)
+    }
+
+    /// A value of the wrong type is refused naming its keyword and what it
+    /// takes, as a list of the wrong type is (serde's untagged reading says
+    /// only that no variant matched).
+    #[test]
+    fn a_wrong_type_is_refused_naming_its_keyword() {
+        for (json, says) in [
+            (
+                r#"{"b": "x", "h": 1}"#,
+                "b: give a number (m), or a list of them",
+            ),
+            (
+                r#"{"b": 0.2, "h": [1, "y"]}"#,
+                "h: give a number (m), or a list of them",
+            ),
+            (
+                r#"{"p": 2, "eps": "abc"}"#,
+                "eps: give a number in (0, 1] or \"housner\"",
+            ),
+        ] {
+            let e = ask(json).unwrap_err().to_string();
+            assert!(e.contains(says), "{json}: {e}");
+        }
+        assert_eq!(ask(r#"{"b": [0.2, 0.3], "h": 1}"#).unwrap().b, [0.2, 0.3]);
     }
 
     /// One block by its sizes, as Python gives it: α, p and Housner's ε by

@@ -48,6 +48,92 @@ impl Spelling {
             Spelling::Python => each.join(" and "),
         }
     }
+
+    /// A message of the library's, written with the command line's
+    /// options (`--auto-tol`, `--direct`), in this front end's words: for
+    /// Python the keyword a caller wrote, `auto_tol`, `direct=True` for a
+    /// switch, `source` for `--from` (a word Python reserves). The ask
+    /// layer's own refusals are spelt as they are made; this is for the
+    /// rest, the errors and warnings of the commands' work.
+    pub fn respell(self, text: &str) -> String {
+        match self {
+            Spelling::Cli => text.to_string(),
+            Spelling::Python => pythonic(text),
+        }
+    }
+
+    /// Every string of every `warnings` list in an answer, at any depth,
+    /// [`Spelling::respell`]ed.
+    pub fn respell_warnings(self, answer: &mut serde_json::Value) {
+        if self == Spelling::Python {
+            pythonic_warnings(answer);
+        }
+    }
+}
+
+/// Command-line switches, which Python sets as `name=True`.
+const SWITCHES: &[&str] = &["direct", "vector"];
+
+/// `text` with every `--option` written as Python's keyword.
+fn pythonic(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(at) = rest.find("--") {
+        let (before, from) = rest.split_at(at);
+        out.push_str(before);
+        let starts = from[2..]
+            .chars()
+            .next()
+            .is_some_and(|c| c.is_ascii_lowercase());
+        let glued = out
+            .chars()
+            .last()
+            .is_some_and(|c| c.is_alphanumeric() || c == '-');
+        if !starts || glued {
+            out.push_str("--");
+            rest = &from[2..];
+            continue;
+        }
+        let name_len = from[2..]
+            .find(|c: char| !(c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-'))
+            .unwrap_or(from.len() - 2);
+        let name = from[2..2 + name_len].trim_end_matches('-');
+        match name {
+            "from" => out.push_str("source"),
+            n if SWITCHES.contains(&n) => {
+                out.push_str(n);
+                out.push_str("=True");
+            }
+            n => out.push_str(&n.replace('-', "_")),
+        }
+        rest = &from[2 + name.len()..];
+    }
+    out.push_str(rest);
+    out
+}
+
+fn pythonic_warnings(value: &mut serde_json::Value) {
+    use serde_json::Value;
+    match value {
+        Value::Object(map) => {
+            for (k, v) in map.iter_mut() {
+                match (k.as_str(), v) {
+                    ("warnings", Value::Array(items)) => {
+                        for item in items {
+                            if let Value::String(s) = item {
+                                *s = pythonic(s);
+                            } else {
+                                pythonic_warnings(item);
+                            }
+                        }
+                    }
+                    (_, v) => pythonic_warnings(v),
+                }
+            }
+        }
+        Value::Array(items) => items.iter_mut().for_each(pythonic_warnings),
+        _ => {}
+    }
 }
 
 /// A request that cannot be resolved: what is wrong, the options named as
@@ -129,5 +215,36 @@ mod tests {
         assert_eq!(Spelling::Python.set("eps", "housner"), "eps=\"housner\"");
         assert_eq!(Spelling::Cli.keys(&["b", "h"]), "--b --h");
         assert_eq!(Spelling::Python.keys(&["b", "h"]), "b and h");
+    }
+
+    #[test]
+    fn options_become_keywords_and_the_rest_stays() {
+        assert_eq!(
+            pythonic("--b and --h must be positive (m); got b = -0.2"),
+            "b and h must be positive (m); got b = -0.2"
+        );
+        assert_eq!(
+            pythonic("use --direct (the nonlinear model)"),
+            "use direct=True (the nonlinear model)"
+        );
+        assert_eq!(pythonic("--auto-tol 0: give"), "auto_tol 0: give");
+        assert_eq!(pythonic("(--from paper)"), "(source paper)");
+        // Not options: a range, a rule of dashes, a path, a negative number.
+        for same in ["1--2", "----", "a/b--c.AT2", "-1 --", "x -- y"] {
+            assert_eq!(pythonic(same), same);
+        }
+    }
+
+    #[test]
+    fn warnings_at_any_depth_and_nothing_else() {
+        let mut v = serde_json::json!({
+            "note": "--direct",
+            "warnings": ["use --direct"],
+            "blocks": [{"fragility": {"warnings": ["--years 5"]}}],
+        });
+        pythonic_warnings(&mut v);
+        assert_eq!(v["note"], "--direct");
+        assert_eq!(v["warnings"][0], "use direct=True");
+        assert_eq!(v["blocks"][0]["fragility"]["warnings"][0], "years 5");
     }
 }
