@@ -669,7 +669,16 @@ fn contents_refuses_its_own_options_by_name_before_running() {
     let d = dir.path();
     let ff = bundled_records().join("far-field");
     let set = format!("ff={}", ff.display());
+    // A set with a bad AT2 file: its hint named --records, under --direct.
+    fs::create_dir_all(d.join("bad")).unwrap();
+    fs::write(d.join("bad/X.AT2"), "junk\n").unwrap();
     for (args, want) in [
+        (
+            vec!["contents", "--set", "b=bad"],
+            "1 bad file(s); nothing was written (fix them, or give --set a folder of good AT2 \
+             files)"
+                .to_string(),
+        ),
         (
             vec!["contents", "--set", "a=nowhere"],
             "--set a=nowhere: not a folder".to_string(),
@@ -688,7 +697,7 @@ fn contents_refuses_its_own_options_by_name_before_running() {
         let e = stderr(&out);
         assert!(e.contains(&want), "{args:?}: {e}");
         assert!(
-            !e.contains("--direct") && !e.contains("runs/s"),
+            !e.contains("--direct") && !e.contains("--records") && !e.contains("runs/s"),
             "{args:?}: {e}"
         );
     }

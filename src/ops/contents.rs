@@ -75,6 +75,13 @@ pub enum ContentsError {
         why: &'static str,
     },
     #[error("--set {name}={}", folder.display())]
+    SetFiles {
+        name: String,
+        folder: PathBuf,
+        #[source]
+        source: crate::records::CollectError,
+    },
+    #[error("--set {name}={}", folder.display())]
     SetRecords {
         name: String,
         folder: PathBuf,
@@ -91,6 +98,33 @@ pub enum ContentsError {
 }
 
 /// The sets, checked before anything runs: each name once, each a folder.
+/// A set's records refused as `contents` words it: bad files straight
+/// under the set (no `--direct` between them: the command has none), their
+/// hint naming `--set`, not `--records`.
+fn set_records(name: &str, folder: &std::path::Path, e: FragilityError) -> ContentsError {
+    use crate::records::CollectError;
+    match e {
+        FragilityError::Ingest(CollectError::BadFiles { files, .. }) => ContentsError::SetFiles {
+            name: name.to_string(),
+            folder: folder.into(),
+            source: CollectError::BadFiles {
+                files,
+                hint: "fix them, or give --set a folder of good AT2 files",
+            },
+        },
+        FragilityError::Ingest(source) => ContentsError::SetFiles {
+            name: name.to_string(),
+            folder: folder.into(),
+            source,
+        },
+        other => ContentsError::SetRecords {
+            name: name.to_string(),
+            folder: folder.into(),
+            source: Box::new(other),
+        },
+    }
+}
+
 fn check_sets(sets: &[(String, PathBuf)]) -> Result<(), ContentsError> {
     for (k, (name, folder)) in sets.iter().enumerate() {
         let set = |why| ContentsError::Set {
@@ -162,11 +196,7 @@ pub fn compare(req: &Request) -> Result<Vec<Row>, ContentsError> {
             building,
             fragility::Orient::default(),
         )
-        .map_err(|source| ContentsError::SetRecords {
-            name: name.clone(),
-            folder: folder.clone(),
-            source: Box::new(source),
-        })?;
+        .map_err(|source| set_records(name, folder, source))?;
         for c in &FEMA_P58 {
             let in_item = |source| ContentsError::Item {
                 id: c.id,
