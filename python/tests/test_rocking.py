@@ -507,6 +507,28 @@ def test_run_and_load_give_the_commands_tables(tmp_path):
         rocking.load(pipeline, tmp_path / "nowhere")
 
 
+def test_a_run_stopped_by_ctrl_c_resumes_to_the_commands_tables(tmp_path):
+    # The quick study takes about 3 s; stopped at 0.3 s, in its sweep.
+    quick = ROOT / "pipelines" / "quick.toml"
+    timer = threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            rocking.run(quick, tmp_path / "py", force=True)
+    finally:
+        timer.cancel()
+    # Nothing half-written: the next run finishes what was stopped, and every
+    # table is the command's, from a run never stopped.
+    again = rocking.run(quick, tmp_path / "py")
+    assert any(r["ran"] for r in again)
+    cli("run", quick, "--outputs", tmp_path / "cli")
+    ours = rocking.load(quick, tmp_path / "py")
+    theirs = rocking.load(quick, tmp_path / "cli")
+    assert set(ours) == set(theirs) and "capacities" in ours
+    for name in ours:
+        assert ours[name].equals(theirs[name]), name
+
+
 def test_every_im_passes_pythons_doors_by_its_own_answers():
     listed = rocking.ims()
     assert [m["name"] for m in listed[:3]] == ["pga", "pgv", "pgd"]
