@@ -1527,3 +1527,40 @@ fn a_pipeline_places_its_blocks_on_a_buildings_floor() {
         assert!(stderr(&out).contains(says), "{body}: {}", stderr(&out));
     }
 }
+
+/// A pipeline's `[floor]` reached the OpenQuake export through `--from
+/// PIPELINE --direct` without its cut: the export wrote the ground's
+/// noDamageLimit (g·tan α) for a block on the floor, where `risk` and
+/// `fragility` count below it (2–2.7× the rate apart). The study's floor and
+/// records, and the same given as `--floor` and `--records`, write the same
+/// fragility model, with no noDamageLimit (the floor moves otherwise than
+/// the ground).
+#[test]
+fn a_pipelines_floor_exports_as_the_same_floor_given_by_hand() {
+    let dir = tempdir();
+    let d = dir.path();
+    let hazard = root().join("records/hazard/synthetic-openquake.csv");
+    let hazard = hazard.to_str().unwrap();
+    let pipeline = root().join("pipelines/floor.toml");
+    let far = bundled_records().join("far-field");
+    let by_hand = [
+        "--floor",
+        "0.5,0.05,1.3",
+        "--records",
+        far.to_str().unwrap(),
+    ];
+    let from = ["--from", pipeline.to_str().unwrap(), "--outputs", "o"];
+    for (out, floor) in [("study", &from[..]), ("by-hand", &by_hand[..])] {
+        let mut args = vec![
+            "export", "--format", "nrml", "--b", "0.2", "--h", "0.9", "--direct", "--hazard",
+            hazard, "--out", out,
+        ];
+        args.extend(floor);
+        let o = rocking(d, &args);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let study = std::fs::read_to_string(d.join("study/fragility_model.xml")).unwrap();
+    let by_hand = std::fs::read_to_string(d.join("by-hand/fragility_model.xml")).unwrap();
+    assert!(!study.contains("noDamageLimit"), "{study}");
+    assert_eq!(study, by_hand);
+}

@@ -149,7 +149,9 @@ pub(super) fn of_block(
     out: &mut Entries,
 ) -> Result<ExportedBlock, Refused> {
     let req = at.req;
-    let floor = req.floor.as_ref();
+    // The floor the records ran on (`--floor`, or a pipeline's `[floor]`
+    // with `--from`), as `risk` and `fragility` take it.
+    let floor = at.records.and_then(|r| r.floor());
     let fit = crate::damage::FitChoice {
         method: req.method,
         dispersion: req.dispersion,
