@@ -829,3 +829,56 @@ fn a_trees_eps_and_an_inventorys_and_the_mapping_without_a_job() {
         stderr(&out)
     );
 }
+
+/// `fragility --tree` mixed the branches' fragilities uncut: P > 0 below
+/// the PGA at which the block first lifts off (g·tan α = 0.25 g for
+/// b/h = 0.25), where each branch alone, `risk --tree` and the OpenQuake
+/// export count 0. Each level's probability is the weighted mean of the
+/// branches' own answers (each run alone with its ε), 0 at and below the
+/// uplift PGA.
+#[test]
+fn a_trees_fragility_is_its_branches_each_cut_below_uplift() {
+    let dir = tempdir();
+    let d = dir.path();
+    let levels = [0.1, 0.2, 0.24, 0.3, 0.5];
+    let at = "0.1,0.2,0.24,0.3,0.5";
+    let ask = |more: &[&str]| -> Value {
+        let mut args = vec![
+            "fragility",
+            "--b",
+            "0.25",
+            "--h",
+            "1.0",
+            "--pga",
+            at,
+            "--json",
+        ];
+        args.extend(more);
+        json(&rocking(d, &args))
+    };
+    let tree = ask(&["--tree", "restitution-tests"]);
+    let branches = tree["tree"]["branches"].as_array().unwrap();
+    assert_eq!(branches.len(), 3);
+    let mut mean = [0.0; 5];
+    for b in branches {
+        let eps = b["eps"].as_f64().unwrap().to_string();
+        let one = ask(&["--eps", &eps]);
+        let w = b["weight"].as_f64().unwrap();
+        for (k, m) in mean.iter_mut().enumerate() {
+            *m += w * one["points"][k]["probability"].as_f64().unwrap();
+        }
+    }
+    for (k, &x) in levels.iter().enumerate() {
+        let p = tree["points"][k]["probability"].as_f64().unwrap();
+        assert!(
+            (p - mean[k]).abs() <= 1e-15,
+            "at {x} g: {p} against the branches' {}",
+            mean[k]
+        );
+        if x <= 0.25 {
+            assert_eq!(p, 0.0, "at {x} g, below the uplift PGA");
+        } else {
+            assert!(p > 0.0, "at {x} g");
+        }
+    }
+}

@@ -122,7 +122,8 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
 }
 
 /// The tree's answer: a one-branch tree's is its branch's; otherwise every
-/// level's probability the branches' weighted mean, with its quantiles
+/// level's probability the branches' weighted mean (each cut as its own
+/// answer is), with its quantiles
 /// (the records' shares weighted alike), and the median and β the
 /// mixture's (its equivalent lognormal's).
 fn mixed(
@@ -146,18 +147,19 @@ fn mixed(
             .map(|(p, a)| (p.path.label.as_str(), &a.warnings[..]))
             .collect::<Vec<_>>(),
     );
+    // Each branch's probability at each level as its own answer states it
+    // (0 below the level its block cannot move at, as `risk --tree` cuts
+    // each branch).
+    let each: Vec<Vec<f64>> = (0..req.levels.len())
+        .map(|k| answers.iter().map(|a| a.points[k].probability).collect())
+        .collect();
     let mut a = answers.into_iter().next().expect("a tree has a branch");
     a.warnings = warnings;
     if parts.len() > 1 {
-        let weighted = ops_tree::weighted(&parts);
-        let mixture = crate::tree::Mixture { parts: &weighted };
         for (k, point) in a.points.iter_mut().enumerate() {
-            let ps: Vec<f64> = parts
-                .iter()
-                .map(|p| p.fragility.probability(req.levels[k]))
-                .collect();
-            point.probability = mixture.probability(req.levels[k]);
-            point.quantiles = Some(ops_tree::quantiles(&ps, &weights));
+            let ps = &each[k];
+            point.probability = crate::tree::weighted_mean(ps, &weights);
+            point.quantiles = Some(ops_tree::quantiles(ps, &weights));
             point.empirical = shares[k];
         }
         a.median = info.mean_median.unwrap_or(f64::INFINITY);
