@@ -257,13 +257,18 @@ pub fn parse_fields(
 /// `investigation_time × ses_per_logic_tree_path × R`, R the number of
 /// realisations (`number_of_logic_tree_samples` when sampled, else
 /// `realizations`); `ses_per_logic_tree_path` defaults to 1, as
-/// OpenQuake's. Refused, naming the key, when `investigation_time` is
-/// missing or a key is not a number.
+/// OpenQuake's. A key is read as Python's configparser reads it (OpenQuake
+/// reads job.ini so): `key = value` or `key: value`, the key in any case.
+/// Refused, naming the key, when `investigation_time` is missing, a key is
+/// not a number, the time is not positive and finite, or the stochastic
+/// event sets per path are not a whole number from 1.
 pub fn eff_years_of_job(job_ini: &str, realizations: usize) -> Result<f64, String> {
     let key = |name: &str| -> Result<Option<f64>, String> {
         let Some(v) = job_ini.lines().find_map(|l| {
-            let (k, v) = l.split_once('=')?;
-            (k.trim() == name).then(|| v.split('#').next().unwrap_or("").trim().to_string())
+            let at = l.find(['=', ':'])?;
+            let (k, v) = (&l[..at], &l[at + 1..]);
+            (k.trim().eq_ignore_ascii_case(name))
+                .then(|| v.split('#').next().unwrap_or("").trim().to_string())
         }) else {
             return Ok(None);
         };
@@ -273,7 +278,22 @@ pub fn eff_years_of_job(job_ini: &str, realizations: usize) -> Result<f64, Strin
     };
     let samples = key("number_of_logic_tree_samples")?.filter(|&s| s > 0.0);
     let time = key("investigation_time")?.ok_or("no `investigation_time`")?;
+    if !(time.is_finite() && time > 0.0) {
+        return Err(format!(
+            "`investigation_time = {time}`: give a positive number of years"
+        ));
+    }
     let ses = key("ses_per_logic_tree_path")?.unwrap_or(1.0);
+    if !(ses >= 1.0 && ses.fract() == 0.0 && ses.is_finite()) {
+        return Err(format!(
+            "`ses_per_logic_tree_path = {ses}`: give a whole number of event sets, 1 or more"
+        ));
+    }
+    if let Some(n) = samples.filter(|n| n.fract() != 0.0 || !n.is_finite()) {
+        return Err(format!(
+            "`number_of_logic_tree_samples = {n}`: give a whole number of samples"
+        ));
+    }
     Ok(time * ses * samples.unwrap_or(realizations as f64))
 }
 
@@ -288,4 +308,42 @@ pub fn parse_weights(text: &str, file: &str) -> Result<Vec<f64>, GmfError> {
             number(file, n, "weight", cells.get(pos[1]).copied())
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Python's configparser (OpenQuake's reader) takes `:` as `=` and keys
+    /// in any case: `ses_per_logic_tree_path: 2000` was read as absent (1),
+    /// every rate 2000× too high.
+    #[test]
+    fn a_job_is_read_as_configparser_reads_it() {
+        let job = "[general]\ninvestigation_time = 50.0\nSES_per_logic_tree_path: 2000\n";
+        assert_eq!(eff_years_of_job(job, 3), Ok(50.0 * 2000.0 * 3.0));
+        let sampled = "investigation_time=1 # years\nnumber_of_logic_tree_samples : 10\n";
+        assert_eq!(eff_years_of_job(sampled, 3), Ok(10.0));
+    }
+
+    /// A time of 0 gave infinite rates, -1 negative ones, NaN and inf NaN
+    /// and 0; half an event set, or none, is no job.
+    #[test]
+    fn a_job_without_a_time_to_divide_by_is_refused_by_its_key() {
+        for t in ["0", "-1", "nan", "inf"] {
+            let e = eff_years_of_job(&format!("investigation_time = {t}\n"), 1).unwrap_err();
+            assert!(
+                e.contains("investigation_time") && e.contains("positive"),
+                "{t}: {e}"
+            );
+        }
+        for n in ["0", "2.5", "-3"] {
+            let job = format!("investigation_time = 50\nses_per_logic_tree_path = {n}\n");
+            let e = eff_years_of_job(&job, 1).unwrap_err();
+            assert!(e.contains("ses_per_logic_tree_path"), "{n}: {e}");
+        }
+        let job = "investigation_time = 50\nnumber_of_logic_tree_samples = 2.5\n";
+        assert!(eff_years_of_job(job, 1)
+            .unwrap_err()
+            .contains("number_of_logic_tree_samples"));
+    }
 }

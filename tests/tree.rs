@@ -868,6 +868,30 @@ fn a_trees_fragility_is_its_branches_each_cut_below_uplift() {
             *m += w * one["points"][k]["probability"].as_f64().unwrap();
         }
     }
+    // With damage states the tree was dropped without a word: refused, as
+    // `risk` refuses it.
+    let both = rocking(
+        d,
+        &[
+            "fragility",
+            "--b",
+            "0.25",
+            "--h",
+            "1.0",
+            "--pga",
+            at,
+            "--tree",
+            "restitution-tests",
+            "--states",
+            "rocking=0.1,overturned=overturned",
+        ],
+    );
+    assert!(!both.status.success());
+    assert!(
+        stderr(&both).contains("give it or --states, not both"),
+        "{}",
+        stderr(&both)
+    );
     for (k, &x) in levels.iter().enumerate() {
         let p = tree["points"][k]["probability"].as_f64().unwrap();
         assert!(

@@ -354,6 +354,15 @@ impl FragilityAsk {
             orient: law.orient(self.direct, sp)?,
             tree: tree(self.tree.as_deref(), self.eps, self.direct, sp)?,
         };
+        // As `risk` refuses them together: the damage states' answer has no
+        // tree, and the tree's was silently dropped.
+        if req.tree.is_some() && self.states.is_some() {
+            return Err(AskError(format!(
+                "{} states P(overturn) over its branches; give it or {}, not both",
+                sp.key("tree"),
+                sp.key("states")
+            )));
+        }
         let states = StatesAsk {
             states: self.states.clone(),
             method: self.method,
