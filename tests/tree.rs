@@ -9,7 +9,7 @@ use std::path::Path;
 
 use serde_json::Value;
 
-use crate::util::{bundled_records, cornell_above, rocking, root, stderr, tempdir};
+use crate::util::{bundled_records, cornell_above, rocking, root, stderr, stdout, tempdir};
 
 fn json(out: &std::process::Output) -> Value {
     assert!(out.status.success(), "{}", stderr(out));
@@ -904,5 +904,60 @@ fn a_trees_fragility_is_its_branches_each_cut_below_uplift() {
         } else {
             assert!(p > 0.0, "at {x} g");
         }
+    }
+}
+
+/// `export --tree` printed the first branch's fit as the block's while the
+/// files held every branch (OpenQuake) or their mean (pelicun): each
+/// branch's states are now in the answer and printed, each the fit
+/// `fragility` gives that branch's ε alone.
+#[test]
+fn a_trees_export_states_every_branch() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(
+        d.join("t2.toml"),
+        "[[eps]]\nvalue = 0.5\nweight = 0.5\n[[eps]]\nvalue = 0.9\nweight = 0.5\n",
+    )
+    .unwrap();
+    let args = |json: bool| {
+        let mut a = vec![
+            "export", "--format", "pelicun", "--b", "0.2", "--h", "0.9", "--tree", "t2.toml",
+            "--out",
+        ];
+        a.push(if json { "j" } else { "t" });
+        if json {
+            a.push("--json");
+        }
+        a
+    };
+    let v = json(&rocking(d, &args(true)));
+    let branches = v[0]["tree"]["branches"].as_array().unwrap();
+    let text = stdout(&rocking(d, &args(false)));
+    assert!(
+        text.contains("over the logic tree t2.toml (2 branches)"),
+        "{text}"
+    );
+    for (b, eps) in branches.iter().zip(["0.5", "0.9"]) {
+        let alone = json(&rocking(
+            d,
+            &[
+                "fragility",
+                "--b",
+                "0.2",
+                "--h",
+                "0.9",
+                "--eps",
+                eps,
+                "--pga",
+                "0.3",
+                "--json",
+            ],
+        ));
+        let state = &b["fragility"]["states"][0]["fractile"];
+        assert_eq!(state["median"], alone["median"], "ε = {eps}");
+        assert_eq!(state["beta"], alone["beta"], "ε = {eps}");
+        let shown = format!("{:.4} g", alone["median"].as_f64().unwrap());
+        assert!(text.contains(&shown), "ε = {eps}: {shown} in\n{text}");
     }
 }

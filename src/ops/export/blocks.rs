@@ -234,13 +234,14 @@ fn over_tree(
     out: &mut Entries,
 ) -> Result<(Vec<BranchExport>, Option<crate::ops::tree::MeanFit>), ExportOpError> {
     let mut listed = Vec::new();
-    for (k, (path, block, _, entry, _)) in branches.iter().enumerate() {
+    for (k, (path, block, _, entry, fragility)) in branches.iter().enumerate() {
         let id = format!("{tax}_b{}", k + 1);
         listed.push(BranchExport {
             risk_id: id.clone(),
             branch: path.label.clone(),
             weight: path.weight,
             eps: block.eps,
+            fragility: fragility.clone(),
         });
         if req.format == Format::Nrml {
             out.mapping.push((tax.to_string(), id.clone(), path.weight));

@@ -123,6 +123,9 @@ pub struct ExportedBlock {
     /// records' own: pelicun's `multilinear_CDF`, OpenQuake's discrete
     /// function).
     pub written_as: &'static str,
+    /// The block's damage-state fragilities; with `--tree`, its first
+    /// branch's (every branch's in `tree.branches`), with every branch's
+    /// warnings.
     pub fragility: DamageFragility,
     /// With `--tree`: its branches as the engines' files carry them.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -177,4 +180,7 @@ pub struct BranchExport {
     pub branch: String,
     pub weight: f64,
     pub eps: f64,
+    /// The branch's damage-state fragilities (OpenQuake gets them as its
+    /// functions; pelicun their mean).
+    pub fragility: DamageFragility,
 }

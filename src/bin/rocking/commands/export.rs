@@ -139,16 +139,60 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             f.source,
             super::states::records_text(f.records, f.records_folder.as_deref())
         );
-        print_fits(f);
-        if x.written_as == "curve" {
-            println!(
-                "  written as the records' own curves, linear between their capacities \
-                 (pelicun's multilinear_CDF, OpenQuake's discrete function)"
-            );
+        match &x.tree {
+            None => {
+                print_fits(f);
+                if x.written_as == "curve" {
+                    println!(
+                        "  written as the records' own curves, linear between their capacities \
+                         (pelicun's multilinear_CDF, OpenQuake's discrete function)"
+                    );
+                }
+            }
+            Some(t) => print_tree(t, x.written_as),
         }
     }
     for f in &written.files {
         println!("wrote {}", f.display());
     }
     Ok(())
+}
+
+/// A block over a logic tree: each branch's fits, then how the engine gets
+/// them (OpenQuake each branch's functions and their weights, pelicun their
+/// mean).
+fn print_tree(t: &rocking::ops::export::TreeExport, written_as: &str) {
+    println!(
+        "  over the logic tree {} ({} branches)",
+        t.tree,
+        t.branches.len()
+    );
+    for b in &t.branches {
+        println!(
+            "  branch {} (weight {}, ε = {:.4}):",
+            b.branch, b.weight, b.eps
+        );
+        print_fits(&b.fragility);
+    }
+    match &t.mean {
+        None => println!(
+            "  written as each branch's functions (ids {}_b1…), mixed by their weights \
+             (taxonomy_mapping.csv)",
+            t.branches.first().map_or("", |b| b
+                .risk_id
+                .rsplit_once("_b")
+                .map_or(b.risk_id.as_str(), |(tax, _)| tax))
+        ),
+        Some(m) if written_as == "lognormal" => println!(
+            "  written as the mean over the branches: FEMA P-58's lognormal of β_total per \
+             state (largest |ΔP| from the mixture {:.4}; the curve's {:.4})",
+            m.lognormal_error.unwrap_or(f64::NAN),
+            m.curve_error
+        ),
+        Some(m) => println!(
+            "  written as the mean over the branches: a multilinear_CDF through the mixture \
+             (largest |ΔP| from it {:.4})",
+            m.curve_error
+        ),
+    }
 }
