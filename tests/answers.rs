@@ -648,6 +648,16 @@ fn an_export_folder_is_one_consistent_set() {
         stderr(&out)
     );
     assert_eq!(fs::read_to_string(d.join("mine/job.ini")).unwrap(), "mine");
+    // Nor is anything written beside it: every target is checked first (the
+    // fragility model, exposure, assets and hazard were written, then the
+    // job refused).
+    let mut there: Vec<String> = fs::read_dir(d.join("mine"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| !n.starts_with('.'))
+        .collect();
+    there.sort();
+    assert_eq!(there, ["job.ini"]);
     // A folder another export holds (a live process's lock) is refused.
     let mut holder = std::process::Command::new("sleep")
         .arg("30")

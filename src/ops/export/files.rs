@@ -24,44 +24,32 @@ pub(super) fn write_files(
         why: e.to_string(),
     })?;
     let earlier = earlier_export(&req.out);
-    let mut files = Vec::new();
-    let mut put = |name: &str, text: &str| -> Result<(), ExportOpError> {
-        let path = req.out.join(name);
-        if path.exists() && !earlier.iter().any(|e| e == name) {
-            return Err(ExportOpError::Out {
-                path: req.out.clone(),
-                why: format!(
-                    "it holds {name}, which no export wrote; export into a folder of its own"
-                ),
-            });
-        }
-        atomic_write(&path, text.as_bytes())?;
-        files.push(path);
-        Ok(())
-    };
+    // Every file rendered, then every target checked, then written: a
+    // folder holding a file no export wrote gets nothing at all.
+    let mut planned: Vec<(&str, String)> = Vec::new();
     match req.format {
         Format::Nrml => {
-            put(
+            planned.push((
                 nrml::FRAGILITY_FILE,
-                &nrml::fragility_model(&entries.functions, &names, im, &description)?,
-            )?;
+                nrml::fragility_model(&entries.functions, &names, im, &description)?,
+            ));
             // A tree's branches are weighted per taxonomy, job or not.
             let mapping = !entries.mapping.is_empty();
             if mapping {
-                put(
+                planned.push((
                     nrml::TAXONOMY_MAPPING_FILE,
-                    &nrml::taxonomy_mapping(&entries.mapping),
-                )?;
+                    nrml::taxonomy_mapping(&entries.mapping),
+                ));
             }
             if let Some(h) = hazard {
                 let (xml, csv) = nrml::exposure_model(&entries.exposure, &h.sites)?;
-                put(nrml::EXPOSURE_FILE, &xml)?;
-                put(nrml::ASSETS_FILE, &csv)?;
-                put(nrml::HAZARD_FILE, &h.text)?;
-                put(
+                planned.push((nrml::EXPOSURE_FILE, xml));
+                planned.push((nrml::ASSETS_FILE, csv));
+                planned.push((nrml::HAZARD_FILE, h.text.clone()));
+                planned.push((
                     nrml::JOB_FILE,
-                    &nrml::job_ini(req.years, h.investigation_time, mapping),
-                )?;
+                    nrml::job_ini(req.years, h.investigation_time, mapping),
+                ));
             }
         }
         Format::Pelicun => {
@@ -71,15 +59,30 @@ pub(super) fn write_files(
                 .iter()
                 .map(|s| (s.name.clone(), s.describe()))
                 .collect();
-            put(
+            planned.push((
                 pelicun::CSV_FILE,
-                &pelicun::fragility_csv(&entries.functions, names.len(), im)?,
-            )?;
-            put(
+                pelicun::fragility_csv(&entries.functions, names.len(), im)?,
+            ));
+            planned.push((
                 pelicun::JSON_FILE,
-                &pelicun::metadata_json(&entries.functions, &states, &description)?,
-            )?;
+                pelicun::metadata_json(&entries.functions, &states, &description)?,
+            ));
         }
+    }
+    if let Some((name, _)) = planned
+        .iter()
+        .find(|(name, _)| req.out.join(name).exists() && !earlier.iter().any(|e| e == name))
+    {
+        return Err(ExportOpError::Out {
+            path: req.out.clone(),
+            why: format!("it holds {name}, which no export wrote; export into a folder of its own"),
+        });
+    }
+    let mut files = Vec::new();
+    for (name, text) in &planned {
+        let path = req.out.join(name);
+        atomic_write(&path, text.as_bytes())?;
+        files.push(path);
     }
     // The earlier export's files this one did not write are stale (another
     // format, or a job without --hazard now): removed, so that the folder
