@@ -782,3 +782,30 @@ fn a_failed_export_leaves_no_folder_it_made() {
     assert!(!rocking(d, &args("mine")).status.success());
     assert!(d.join("mine").is_dir());
 }
+
+/// `--eps` beside `--inventory` was ignored: every block took its own
+/// column's ε (or Housner's), `risk` gave Housner's rate and `export` wrote
+/// a median of 0.4484 g for ε = 0.5, whose own is 0.9156 g. Refused, as
+/// `--mu` is, in `risk` and `export`.
+#[test]
+fn an_inventorys_eps_is_not_given_beside_it() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(d.join("i.csv"), "name,b,h\na,0.2,0.9\n").unwrap();
+    let hazard = root().join("records/hazard/synthetic-site.csv");
+    for args in [
+        vec!["risk", "--hazard", hazard.to_str().unwrap()],
+        vec!["export", "--format", "pelicun", "--out", "e"],
+    ] {
+        let mut args = args;
+        args.extend(["--inventory", "i.csv", "--eps", "0.5"]);
+        let out = rocking(d, &args);
+        assert!(!out.status.success(), "{args:?}");
+        assert!(
+            stderr(&out).contains("--eps 0.5 is an inventory's column (`eps`): give it there"),
+            "{args:?}: {}",
+            stderr(&out)
+        );
+    }
+    assert!(!d.join("e").exists());
+}

@@ -153,6 +153,14 @@ impl BlocksAsk {
                         sp.key("mu")
                     )));
                 }
+                // It was ignored: every block took its own column's ε, or
+                // Housner's.
+                if let Restitution::Value(e) = self.eps {
+                    return Err(AskError(format!(
+                        "{} is an inventory's column (`eps`): give it there",
+                        sp.set_number("eps", e)
+                    )));
+                }
                 Ok(Blocks::Inventory(path.clone()))
             }
             (None, Some(b_m), Some(h_m)) => Ok(Blocks::One {
