@@ -809,3 +809,70 @@ fn an_inventorys_eps_is_not_given_beside_it() {
     }
     assert!(!d.join("e").exists());
 }
+
+/// Options that did nothing where they were given, without a word: records
+/// without `--direct` (the paper's regression answered), a seed without a
+/// bootstrap, an angle step without orientations, a time or a tail rule
+/// beside `--gmf` (the fields count their own years); and a step of 0.01°
+/// (about 80 GB held at once), a "90 % band" of one resample.
+#[test]
+fn options_that_would_do_nothing_are_refused_by_name() {
+    let dir = tempdir();
+    let d = dir.path();
+    let hazard = root().join("records/hazard/synthetic-site.csv");
+    let hazard = hazard.to_str().unwrap();
+    let gmf = root().join("records/gmf");
+    let gmf = gmf.to_str().unwrap();
+    let pulse = bundled_records().join("near-field-pulse");
+    let pulse = pulse.to_str().unwrap();
+    let block = ["--b", "0.2", "--h", "0.9"];
+    for (args, says) in [
+        (
+            vec!["risk", "--hazard", hazard, "--records", pulse],
+            "records are run with --direct",
+        ),
+        (
+            vec!["fragility", "--pga", "0.3", "--records", pulse],
+            "records are run with --direct",
+        ),
+        (
+            vec!["risk", "--hazard", hazard, "--seed", "5"],
+            "--seed 5 seeds --bootstrap's",
+        ),
+        (
+            vec!["fragility", "--pga", "0.3", "--angle-step", "5"],
+            "--angle-step 5 is the step",
+        ),
+        (
+            vec![
+                "fragility",
+                "--pga",
+                "0.3",
+                "--direct",
+                "--orientation",
+                "random",
+                "--angle-step",
+                "0.01",
+            ],
+            "--angle-step 0.01: the angle step is in degrees, in [1, 180]",
+        ),
+        (
+            vec!["risk", "--gmf", gmf, "--years", "10"],
+            "--years 10 is for hazard curves",
+        ),
+        (
+            vec!["risk", "--gmf", gmf, "--beyond", "stop"],
+            "--beyond stop is for hazard curves",
+        ),
+        (
+            vec!["risk", "--hazard", hazard, "--direct", "--bootstrap", "1"],
+            "--bootstrap 1: a 90 % band needs at least 20 resamples",
+        ),
+    ] {
+        let mut args = args;
+        args.extend(block);
+        let out = rocking(d, &args);
+        assert!(!out.status.success(), "{args:?}");
+        assert!(stderr(&out).contains(says), "{args:?}: {}", stderr(&out));
+    }
+}

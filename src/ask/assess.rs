@@ -62,10 +62,33 @@ impl Default for LawAsk {
 impl LawAsk {
     /// The orientations `direct` runs the records at, checked.
     pub fn orient(&self, direct: bool, sp: Spelling) -> Result<fragility::Orient, AskError> {
-        if !(self.angle_step > 0.0 && self.angle_step <= 180.0) {
+        // Finer than a degree is finer than a pair's RotD (180 angles) and
+        // holds every motion at once: 0.01° asked for about 80 GB.
+        if !(self.angle_step >= 1.0 && self.angle_step <= 180.0) {
             return Err(AskError(format!(
-                "{}: the angle step is in degrees, in (0, 180]",
-                sp.set("angle_step", &self.angle_step.to_string())
+                "{}: the angle step is in degrees, in [1, 180]",
+                sp.set_number("angle_step", self.angle_step)
+            )));
+        }
+        if self.angle_step != crate::pair::ANGLE_STEP_DEG
+            && self.orientation == Orientation::AsRecorded
+        {
+            return Err(AskError(format!(
+                "{} is the step of {} or {}: the records run as recorded without either",
+                sp.set_number("angle_step", self.angle_step),
+                sp.set("orientation", "random"),
+                sp.set("orientation", "worst")
+            )));
+        }
+        // Without the runs the records were ignored, and the capacities
+        // the paper's regression's (or a study's) without a word.
+        if let Some(records) = self.records.as_ref().filter(|_| !direct) {
+            return Err(AskError(format!(
+                "{}: records are run with {}; add it (without it the capacities are the \
+                 paper's regression's, or a study's with {})",
+                sp.set("records", &records.display().to_string()),
+                sp.key("direct"),
+                sp.key("from")
             )));
         }
         if self.orientation != Orientation::AsRecorded && !direct {
@@ -438,6 +461,10 @@ pub struct RiskAsk {
     pub vector: bool,
 }
 
+/// The fewest resamples a bootstrap band is drawn from: with 20 the 5 and
+/// 95 % points (type 7) lie between the two smallest and the two largest.
+pub const MIN_RESAMPLES: usize = 20;
+
 impl Default for RiskAsk {
     fn default() -> Self {
         let law = LawAsk::default();
@@ -562,6 +589,14 @@ impl RiskAsk {
                         sp.key("direct")
                     )))
                 }
+                // The band's 5 and 95 % points need resamples beyond them:
+                // one resample made a "band" that excluded the estimate.
+                (resamples, true) if resamples < MIN_RESAMPLES => {
+                    return Err(AskError(format!(
+                        "{}: a 90 % band needs at least {MIN_RESAMPLES} resamples (1,000 is usual)",
+                        sp.set_number("bootstrap", resamples)
+                    )))
+                }
                 (resamples, true) => Some(risk::Bootstrap {
                     resamples,
                     seed: self.seed,
@@ -579,6 +614,33 @@ impl RiskAsk {
     /// Options that do not go together: the fields with a tree or a
     /// bootstrap, damage states with either.
     fn refuse_together(&self, req: &risk::Request, sp: Spelling) -> Result<(), AskError> {
+        // The fields count their own events over their own years, to their
+        // largest value: a time or a rule beyond a curve was ignored.
+        if self.gmf.is_some() {
+            let ignored = if self.years != 50.0 {
+                Some(sp.set_number("years", self.years))
+            } else if self.beyond != Beyond::Extrapolate {
+                Some(sp.set("beyond", "stop"))
+            } else {
+                None
+            };
+            if let Some(given) = ignored {
+                return Err(AskError(format!(
+                    "{given} is for hazard curves; {} rates events over the fields' own years \
+                     ({} when their job.ini does not say)",
+                    sp.key("gmf"),
+                    sp.key("eff_years")
+                )));
+            }
+        }
+        if self.bootstrap == 0 && self.seed != Self::default().seed {
+            return Err(AskError(format!(
+                "{} seeds {}'s resamples: give it with {}",
+                sp.set_number("seed", self.seed),
+                sp.key("bootstrap"),
+                sp.key("bootstrap")
+            )));
+        }
         if self.gmf.is_some() && (req.tree.is_some() || req.bootstrap.is_some()) {
             return Err(AskError(format!(
                 "{} states the rate over the fields' events for the block as given; {} and {} \
