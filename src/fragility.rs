@@ -8,7 +8,6 @@
 
 use crate::block::Block;
 use crate::fit::{curve, polyval};
-use crate::stats::normal_cdf;
 
 /// The step-2 coefficients of one fractile: a linear, b and c quadratic in ε.
 #[derive(Debug, Clone, PartialEq)]
@@ -90,11 +89,20 @@ pub fn median_beta(laws: &[FractileLaw], p: f64, eps: f64) -> Option<(f64, f64)>
     Some((q50, 0.5 * (q84.ln() - q16.ln())))
 }
 
-/// P(overturn | PGA) for a block of slenderness α: Φ((ln η50 − ln η)/β),
-/// η = α/PGA (PGA in g).
-pub fn probability(median: f64, beta: f64, alpha: f64, pga_g: f64) -> f64 {
-    let eta = crate::im::eta_of_pga(pga_g, alpha);
-    normal_cdf((median.ln() - eta.ln()) / beta)
+/// P(overturn | PGA) for `block` on the ground from its η_c,50 (`median`)
+/// and β: the lognormal in PGA (g) of median α/η50, and 0 below the PGA
+/// that lifts the block, g·tan α = b/h (it cannot move there; MODEL.md
+/// §13): as `fragility`, `risk` and the exports count it, the same
+/// function ([`crate::risk::Fragility::probability`]) and the same cut.
+pub fn probability(median: f64, beta: f64, block: &Block, pga_g: f64) -> f64 {
+    if pga_g < block.uplift_pga_g() {
+        return 0.0;
+    }
+    crate::risk::Fragility::Lognormal {
+        median: crate::im::pga_of_eta(median, block.alpha()),
+        beta,
+    }
+    .probability(pga_g)
 }
 
 #[cfg(test)]
@@ -111,16 +119,19 @@ mod tests {
         let (median, beta) = median_beta(&paper(), block.p(), block.eps).unwrap();
         let alpha = block.alpha();
         // η = η50 exactly when PGA = α/η50 (in g).
-        assert!((probability(median, beta, alpha, alpha / median) - 0.5).abs() < 1e-12);
+        assert!((probability(median, beta, &block, alpha / median) - 0.5).abs() < 1e-12);
         let mut last = 0.0;
         for k in 1..50 {
-            let pr = probability(median, beta, alpha, 0.02 * k as f64);
+            let pr = probability(median, beta, &block, 0.02 * k as f64);
             assert!(pr >= last && (0.0..=1.0).contains(&pr));
             last = pr;
         }
         // One β of extra ln-intensity is Φ(1).
         let pga_1beta = alpha / (median * (-beta).exp());
-        assert!((probability(median, beta, alpha, pga_1beta) - normal_cdf(1.0)).abs() < 1e-12);
+        assert!(
+            (probability(median, beta, &block, pga_1beta) - crate::stats::normal_cdf(1.0)).abs()
+                < 1e-12
+        );
     }
 
     #[test]

@@ -530,6 +530,42 @@ fn capacity_bands_contain_their_estimates_and_repeat_to_the_byte() {
         let (lo, v, hi) = (f.lo.unwrap(), f.value.unwrap(), f.hi.unwrap());
         assert!(lo <= v && v <= hi, "{f:?}");
     }
+    // The example fragility (b = 0.25 m, h = 1 m, Housner's ε) is the one
+    // `fragility --from` gives at every PGA: 0 below the uplift PGA b/h =
+    // 0.25 g, where the table had P > 0 (0.0125 at 0.24 g in the quick
+    // study), and the command's probability above it.
+    let example: Vec<&FitBandRow> = fit_bands.iter().filter(|f| f.pga_g.is_some()).collect();
+    let pgas: Vec<String> = example
+        .iter()
+        .map(|f| f.pga_g.unwrap().to_string())
+        .collect();
+    let command = rocking(
+        dir.path(),
+        &[
+            "fragility",
+            "--b",
+            "0.25",
+            "--h",
+            "1.0",
+            "--from",
+            pipe.to_str().unwrap(),
+            "--outputs",
+            "one",
+            "--pga",
+            &pgas.join(","),
+            "--json",
+        ],
+    );
+    assert!(command.status.success(), "{}", stderr(&command));
+    let command: serde_json::Value = serde_json::from_slice(&command.stdout).unwrap();
+    for (k, f) in example.iter().enumerate() {
+        let pga = f.pga_g.unwrap();
+        let p = command["points"][k]["probability"].as_f64().unwrap();
+        assert_eq!(f.value, Some(p), "at {pga} g");
+        if pga < 0.25 {
+            assert_eq!((f.lo, f.hi), (Some(0.0), Some(0.0)), "at {pga} g");
+        }
+    }
 
     // Another seed: other draws, other bands.
     fs::write(

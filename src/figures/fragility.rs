@@ -46,7 +46,7 @@ pub(super) fn fragility_example(d: &StudyData) -> Vec<Figure> {
                 name: Some(name.into()),
                 points: pgas
                     .iter()
-                    .map(|&g| (g, fragility::probability(m, beta, block.alpha(), g)))
+                    .map(|&g| (g, fragility::probability(m, beta, &block, g)))
                     .collect(),
                 // The paper's curve dashed, in the colour of the data it models.
                 style: if paper { Style::Dashed } else { Style::Line },

@@ -337,7 +337,7 @@ fn refit(rows: &[CapacityResampleRow], laws: &[FractileLaw], level: f64) -> Band
         }
     }
     let block = crate::fragility::example_block();
-    let (p, e, alpha) = (block.p(), block.eps, block.alpha());
+    let (p, e) = (block.p(), block.eps);
     let point = crate::fragility::median_beta(laws, p, e);
     let resampled: Vec<(f64, f64)> = usable
         .iter()
@@ -348,7 +348,7 @@ fn refit(rows: &[CapacityResampleRow], laws: &[FractileLaw], level: f64) -> Band
         values.extend(
             resampled
                 .iter()
-                .map(|&(m, beta)| crate::fragility::probability(m, beta, alpha, pga)),
+                .map(|&(m, beta)| crate::fragility::probability(m, beta, &block, pga)),
         );
         let (lo, hi, used) = band(&mut values);
         out.push(FitBandRow {
@@ -357,7 +357,7 @@ fn refit(rows: &[CapacityResampleRow], laws: &[FractileLaw], level: f64) -> Band
             p,
             eps: e,
             pga_g: Some(pga),
-            value: point.map(|(m, beta)| crate::fragility::probability(m, beta, alpha, pga)),
+            value: point.map(|(m, beta)| crate::fragility::probability(m, beta, &block, pga)),
             lo,
             hi,
             used,
@@ -582,7 +582,7 @@ mod tests {
         let (m, beta) = crate::fragility::median_beta(&laws, block.p(), block.eps).unwrap();
         for row in b.rows.iter().filter(|r| r.curve == BandCurve::Fragility) {
             let g = row.pga_g.unwrap();
-            let at = |k: f64| crate::fragility::probability(k * m, beta, block.alpha(), g);
+            let at = |k: f64| crate::fragility::probability(k * m, beta, &block, g);
             let (lo, hi) = (row.lo.unwrap(), row.hi.unwrap());
             let tol = 1e-6 + 1e-4 * hi;
             assert!(
