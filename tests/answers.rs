@@ -795,3 +795,111 @@ fn messages_name_what_is_meant() {
     );
     assert!(!e.contains("fewer than two"), "{e}");
 }
+
+/// `fragility --from PIPELINE --direct` searched each record with
+/// `capacity`'s defaults (200 log levels, Δη = 1e-4, static overturning)
+/// whatever the pipeline's `[im]` and `[model] overturn` said, so the
+/// command and the study stated other capacities for one block (−5 % in
+/// the median with a coarse linear grid). Each record's capacity is now
+/// the one `rocking capacity` finds with the pipeline's grid, tolerance,
+/// criterion and model given by hand, and the fit their type-7 16/50/84 %
+/// fractiles in PGA (α/η_c).
+#[test]
+fn a_pipelines_search_is_the_one_its_records_run_with() {
+    let dir = tempdir();
+    let d = dir.path();
+    let far = bundled_records().join("far-field");
+    let ids = [
+        "RSN1111_KOBE_NIS000",
+        "RSN953_NORTHR_MUL009",
+        "RSN1633_MANJIL_ABBAR--L",
+        "RSN848_LANDERS_CLW-LN",
+        "RSN1148_KOCAELI_ARC000",
+    ];
+    let pipe = d.join("search.toml");
+    fs::write(
+        &pipe,
+        format!(
+            "name = \"search\"\n[records]\nat2 = [\"{}\"]\nids = [{}]\n[model]\nkind = \"auto\"\n\
+             overturn = \"cap:1.5\"\n[[block]]\nname = \"statue\"\nb = 0.2\nh = 0.9\n\
+             eps = \"housner\"\n[im]\nspacing = \"linear\"\ncount = 40\neta_max = 1.0\n\
+             eta_min = 0.01\ntol = 1e-2\n",
+            far.display(),
+            ids.map(|i| format!("\"{i}\"")).join(", ")
+        ),
+    )
+    .unwrap();
+    let alpha = (0.2f64 / 0.9).atan();
+    let mut caps: Vec<f64> = ids
+        .iter()
+        .map(|id| {
+            let record = far.join(format!("{id}.AT2"));
+            let c = json(&rocking(
+                d,
+                &[
+                    "capacity",
+                    "--record",
+                    record.to_str().unwrap(),
+                    "--b",
+                    "0.2",
+                    "--h",
+                    "0.9",
+                    "--eps",
+                    "housner",
+                    "--levels",
+                    "40",
+                    "--spacing",
+                    "linear",
+                    "--eta-min",
+                    "0.01",
+                    "--tol",
+                    "1e-2",
+                    "--overturn",
+                    "cap:1.5",
+                    "--model",
+                    "auto",
+                    "--json",
+                ],
+            ));
+            alpha / c["eta_c"].as_f64().unwrap()
+        })
+        .collect();
+    caps.sort_by(f64::total_cmp);
+    let type7 = |q: f64| {
+        let h = (caps.len() - 1) as f64 * q;
+        let i = h.floor() as usize;
+        caps[i] + (h - i as f64) * (caps[(i + 1).min(caps.len() - 1)] - caps[i])
+    };
+    let f = json(&rocking(
+        d,
+        &[
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--from",
+            pipe.to_str().unwrap(),
+            "--outputs",
+            "o",
+            "--direct",
+            "--if-not-lognormal",
+            "lognormal",
+            "--pga",
+            "0.3",
+            "--json",
+        ],
+    ));
+    let (median, beta) = (f["median"].as_f64().unwrap(), f["beta"].as_f64().unwrap());
+    let want = (type7(0.5), 0.5 * (type7(0.84) / type7(0.16)).ln());
+    assert!(
+        (median / want.0 - 1.0).abs() < 1e-12,
+        "median {median} against {}",
+        want.0
+    );
+    assert!(
+        (beta / want.1 - 1.0).abs() < 1e-12,
+        "β {beta} against {}",
+        want.1
+    );
+}

@@ -113,7 +113,7 @@ impl Default for SearchAsk {
             levels: 200,
             eta_min: 1e-3,
             spacing: Spacing::Log,
-            tol: 1e-4,
+            tol: crate::ida::DEFAULT_TOL,
         }
     }
 }

@@ -51,6 +51,10 @@ pub struct ImGrid {
     pub spacing: Spacing,
 }
 
+/// The search's default tolerance in η: a capacity refined between two
+/// levels until they are this close (`rocking capacity --tol`).
+pub const DEFAULT_TOL: f64 = 1e-4;
+
 impl Default for ImGrid {
     fn default() -> Self {
         ImGrid {

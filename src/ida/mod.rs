@@ -27,7 +27,7 @@ pub use certify::{
     capacity_certified, capacity_certified_in, Certification, CertificationKind, Certified, TIGHTEN,
 };
 pub use decisive::{decisive_runs, CHAOS_PROBE, NEAR_MISS};
-pub use grid::{ImGrid, Spacing, MAX_LEVELS};
+pub use grid::{ImGrid, Spacing, DEFAULT_TOL, MAX_LEVELS};
 pub use hard_cases::{HardCase, HARD_CASES};
 pub use runs::{run_pair, Batch, Hand, Runs, Work};
 pub use search::{capacity, capacity_in, capacity_traced};

@@ -139,6 +139,31 @@ pub struct DirectRecords {
     /// The manifest beside a `--records` folder (its pairs, for the
     /// bootstrap's units), if there is one.
     manifest: Option<std::path::PathBuf>,
+    /// How each record's capacity is searched: a pipeline's `[im]` grid and
+    /// tolerance and its `[model] overturn`, as its study's stages search
+    /// it; else the defaults of `rocking capacity`.
+    search: Search,
+}
+
+/// A capacity search's grid, tolerance and overturning criterion.
+#[derive(Debug, Clone, Copy)]
+struct Search {
+    grid: ImGrid,
+    tol: f64,
+    overturn: crate::physics::Overturn,
+}
+
+impl Search {
+    /// The pipeline's, where there is one with records; `capacity`'s
+    /// defaults otherwise.
+    fn of(plan: Option<&Plan>) -> Search {
+        let study = plan.and_then(|p| p.records_study().ok());
+        Search {
+            grid: study.map_or_else(ImGrid::default, |r| r.grid),
+            tol: study.map_or(ida::DEFAULT_TOL, |r| r.tol),
+            overturn: plan.map_or(crate::physics::Overturn::Static, |p| p.overturn),
+        }
+    }
 }
 
 impl DirectRecords {
@@ -223,6 +248,7 @@ impl DirectRecords {
                 Source::Paper { records, .. } => super::pairs::manifest_of(records),
                 Source::Pipeline { .. } => None,
             },
+            search: Search::of(plan),
         })
     }
 
@@ -369,7 +395,11 @@ impl DirectRecords {
         in_ground: bool,
     ) -> Result<(Vec<ida::Capacity>, String), FragilityError> {
         let (model, why) = model.resolve(block)?;
-        let spec = RunSpec::new(block.p(), block.eps, 1.0, model);
+        let spec = RunSpec {
+            overturn: self.search.overturn,
+            ..RunSpec::new(block.p(), block.eps, 1.0, model)
+        };
+        let Search { grid, tol, .. } = self.search;
         let n = self.records.len() as u64;
         let before = self.counts.done.load(Ordering::Relaxed);
         self.counts.total.fetch_max(before + n, Ordering::Relaxed);
@@ -377,13 +407,11 @@ impl DirectRecords {
         self.records
             .par_iter()
             .map(|r| {
-                let grid = ImGrid::default();
-                let c =
-                    ida::capacity_certified(&r.exc, &spec, &grid, 1e-4, ida::Trace::StopAtFirst)
-                        .map_err(|source| FragilityError::Physics {
-                            record: r.id.clone(),
-                            source,
-                        })?;
+                let c = ida::capacity_certified(&r.exc, &spec, &grid, tol, ida::Trace::StopAtFirst)
+                    .map_err(|source| FragilityError::Physics {
+                        record: r.id.clone(),
+                        source,
+                    })?;
                 let runs = (c.capacity.runs() + c.extra.runs) as u64;
                 self.counts.runs.fetch_add(runs, Ordering::Relaxed);
                 self.counts.done.fetch_add(1, Ordering::Relaxed);

@@ -21,8 +21,9 @@ use super::states::print_fits;
     own fit (--from PIPELINE.toml). In another IM (--im pgv|pgd|sa(T)|avgsa|arias|cav --at …): \
     lognormal, from a study's IM table carried over p and ε (--from PIPELINE.toml) or from the \
     records' own capacities (--direct). --direct also runs the block through a record suite (the \
-    pipeline's, or the bundled far-field set) and prints the share of records whose capacity it \
-    exceeds at each level. In FEMA P-58's floor demands (--im pfa|pfv --direct), the capacity is \
+    pipeline's, searched as its stages search them: its [im] grid and tolerance, its [model] \
+    overturn; or the bundled far-field set, searched as `rocking capacity` searches by default) \
+    and prints the share of records whose capacity it exceeds at each level. In FEMA P-58's floor demands (--im pfa|pfv --direct), the capacity is \
     in the peak acceleration or velocity of the motion the block stands on: with --floor, the \
     floor motion's own (not restated in the ground's IMs); on the ground, its PGA or PGV.\n\n\
     --states gives several damage states instead (θmax/α thresholds, then overturning; \
