@@ -903,3 +903,48 @@ fn a_pipelines_search_is_the_one_its_records_run_with() {
         want.1
     );
 }
+
+/// pelicun's lognormal has no lower limit where the block's states have one
+/// (the uplift PGA b/h, OpenQuake's noDamageLimit): the pelicun export says
+/// how much the lightest state already has there, P at the uplift PGA as
+/// `fragility --states` gives it (to the warning's tenth of a per cent).
+#[test]
+fn the_pelicun_export_says_what_its_lognormal_counts_below_uplift() {
+    let dir = tempdir();
+    let d = dir.path();
+    let out = rocking(
+        d,
+        &[
+            "export", "--format", "pelicun", "--b", "0.2", "--h", "0.9", "--direct", "--out", "p",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let err = stderr(&out);
+    let line = err
+        .lines()
+        .find(|l| l.contains("pelicun's lognormal has no lower limit"))
+        .unwrap_or_else(|| panic!("no warning of the uncut lognormal:\n{err}"));
+    let cut = format!("{:?}", 0.2f64 / 0.9);
+    let at = json(&rocking(
+        d,
+        &[
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--direct",
+            "--states",
+            "rocking=0.1,large_rocking=0.5,overturned=overturned",
+            "--pga",
+            &cut,
+            "--json",
+        ],
+    ));
+    let p = at["points"][0]["probabilities"][0].as_f64().unwrap();
+    assert!(p > 0.01, "{p}");
+    assert!(
+        line.contains(&format!("P = {:.1} %", 100.0 * p)),
+        "{line} against {p}"
+    );
+}

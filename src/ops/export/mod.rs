@@ -103,6 +103,12 @@ fn export_into(req: &Request) -> Result<Written, ExportOpError> {
         b.fragility
             .warnings
             .extend(hazard.iter().flat_map(|h| h.warnings.iter().cloned()));
+        if req.format == Format::Pelicun {
+            let entry = written.functions.iter().find(|f| f.id == b.taxonomy);
+            b.fragility
+                .warnings
+                .extend(entry.and_then(|f| uncut_in_pelicun(f, im.unit())));
+        }
         if let Some(h) = &hazard {
             let cut = written
                 .functions
@@ -192,6 +198,29 @@ fn read_as_certain(b: &ExportedBlock, h: &HazardSites, cut: Option<f64>) -> Opti
             s.excess_rate,
             f.states.last().map_or("", |s| s.name.as_str()),
             100.0 * share,
+        )
+    })
+}
+
+/// pelicun's lognormal has no lower limit where the block's states have
+/// one (its uplift level, OpenQuake's noDamageLimit): at that level the
+/// lightest state's lognormal already gives P, which pelicun counts below
+/// it and `risk`, `fragility` and OpenQuake's job do not. Said where that P
+/// is 1 % or more. (A truncated capacity, pelicun's `TruncateLower`, would
+/// renormalise the rest of the curve rather than hold it at 0 below.)
+fn uncut_in_pelicun(f: &crate::export::Entry, unit: &str) -> Option<String> {
+    let cut = f.no_damage_limit?;
+    let crate::export::Shape::Lognormal(states) = &f.states else {
+        return None;
+    };
+    let p = states.first()?.cdf(cut);
+    (p >= 0.01).then(|| {
+        format!(
+            "pelicun's lognormal has no lower limit: at the uplift level {} {unit}, below which \
+             `risk`, `fragility` and OpenQuake's job count 0, the lightest state's already \
+             gives P = {:.1} %, which pelicun counts at smaller demands too",
+            crate::im::level_text(cut),
+            100.0 * p
         )
     })
 }
