@@ -48,10 +48,16 @@ pub fn ranking_chart(assessments: &[Assessment], site: usize) -> Result<String, 
         })
         .collect();
     bars.sort_by(|a, b| b.1.total_cmp(&a.1));
+    // A log axis shows no rate of 0; where every block's is 0 (blocks that
+    // slide and never overturn) a linear one shows them all at 0.
+    let x_scale = match bars.iter().any(|b| b.1 > 0.0) {
+        true => Scale::Log,
+        false => Scale::Linear,
+    };
     Ok(plot::render_bars(&Bars {
         title: format!("Blocks ranked by their annual rate of overturning, site {site}"),
         x_desc: "annual rate of overturning (1/year)".into(),
-        x_scale: Scale::Log,
+        x_scale,
         bars,
     })?)
 }
