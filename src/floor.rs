@@ -87,6 +87,11 @@ pub enum FloorError {
          is of order 1 (1.2–1.6 at a roof in the first mode); |Γφ| ≤ {GAMMA_PHI_MAX} is accepted"
     )]
     GammaPhi { mode: usize, gamma_phi: f64 },
+    #[error(
+        "mode {mode} repeats mode {of} (T, ζ, Γφ all equal): each mode once (a repeated mode is \
+         summed twice, doubling its share of the floor's motion)"
+    )]
+    Repeated { mode: usize, of: usize },
     #[error("`{0}`: a mode is T,ZETA,GAMMA_PHI (period in s, damping ratio, participation × shape at the floor), e.g. 0.5,0.05,1.3")]
     Syntax(String),
     #[error(transparent)]
@@ -116,6 +121,9 @@ impl Building {
                     mode,
                     gamma_phi: m.gamma_phi,
                 });
+            }
+            if let Some(j) = modes[..i].iter().position(|o| o == m) {
+                return Err(FloorError::Repeated { mode, of: j + 1 });
             }
         }
         Ok(Building { modes })

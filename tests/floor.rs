@@ -197,9 +197,13 @@ fn bad_floors_are_refused_by_name() {
         ("0.5,0.05", "a mode is T,ZETA,GAMMA_PHI"),
         ("0,0.05,1", "--floor: mode 1: period T = 0 s"),
         ("0.5,1.5,1", "--floor: mode 1: damping ratio ζ = 1.5"),
+        // A mode given twice was summed twice, without a word.
+        ("0.5,0.05,1.3 0.5,0.05,1.3", "mode 2 repeats mode 1"),
     ] {
         let mut args = base.to_vec();
-        args.extend(["--floor", floor]);
+        for mode in floor.split(' ') {
+            args.extend(["--floor", mode]);
+        }
         let out = rocking(&root(), &args);
         assert!(!out.status.success(), "{floor}");
         assert!(stderr(&out).contains(says), "{floor}: {}", stderr(&out));
