@@ -553,6 +553,12 @@ lon,lat,depth,poe-0.01,poe-0.1,poe-0.5,poe-1.0\n\
         assert!(e.message.contains("rises"), "{e}");
         let e = parse("pga,rate\n0.1,0.01\n").unwrap_err();
         assert_eq!(e.line, Some(1));
+        // An SA's period as a user writes it: `sa(1)`, `SA(0.30)`.
+        for header in ["sa(1)_g", "SA(1.0)_g", "sa(1.00)_G"] {
+            let c = parse(&format!("{header},annual_rate\n0.1,0.01\n0.2,0.002\n")).unwrap();
+            assert_eq!(c[0].im, Im::Sa(1.0), "{header}");
+        }
+        assert!(parse("sa(1)_cm,annual_rate\n0.1,0.01\n").is_err());
         let e = parse("pga_g,annual_rate\n0.1,x\n").unwrap_err();
         assert_eq!(e.line, Some(2));
     }

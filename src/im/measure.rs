@@ -245,12 +245,15 @@ impl Im {
         format!("{}_{}", self.name(), self.unit().replace(['/', '·'], "_"))
     }
 
-    /// The IM whose [`Im::key`] is `key`.
+    /// The IM whose [`Im::key`] is `key`, its name as [`Im::from_str`]
+    /// reads one (`sa(1)` for `sa(1.0)`, any case) and its unit as the key
+    /// writes it (`g`, `cm_s`), in any case.
     pub fn from_key(key: &str) -> Option<Im> {
         // `d5_95_s` and `pgv_pga_s` hold `_` in their names: try every split.
         key.match_indices('_')
-            .filter_map(|(i, _)| key[..i].parse::<Im>().ok())
-            .find(|im| im.key() == key)
+            .filter_map(|(i, _)| Some((key[..i].parse::<Im>().ok()?, &key[i + 1..])))
+            .find(|(im, unit)| unit.eq_ignore_ascii_case(&im.unit().replace(['/', '·'], "_")))
+            .map(|(im, _)| im)
     }
 
     /// As a reader writes it in a figure's legend: PGA, SA(1.0), AvgSA,
