@@ -674,6 +674,10 @@ fn contents_refuses_its_own_options_by_name_before_running() {
     fs::write(d.join("bad/X.AT2"), "junk\n").unwrap();
     for (args, want) in [
         (
+            vec!["contents", "--set", &set, "--auto-tol", "0"],
+            "--auto-tol 0: auto tolerance 0 must be in (0, 1)".to_string(),
+        ),
+        (
             vec!["contents", "--set", "b=bad"],
             "1 bad file(s); nothing was written (fix them, or give --set a folder of good AT2 \
              files)"

@@ -60,6 +60,8 @@ pub struct Row {
 
 #[derive(Debug, thiserror::Error)]
 pub enum ContentsError {
+    #[error("--auto-tol {0}: {1}")]
+    AutoTol(f64, String),
     #[error("the building of --periods {period} s, --zeta {zeta}, --gamma-phi {gamma_phi}")]
     Building {
         period: f64,
@@ -154,6 +156,10 @@ type Scene<'a> = (
 pub fn compare(req: &Request) -> Result<Vec<Row>, ContentsError> {
     // Every set and building checked before anything runs.
     check_sets(&req.sets)?;
+    // Checked before any run: it was refused inside the first item's runs,
+    // under an option (`--direct`) the command does not have.
+    crate::physics::check_auto_tol(req.auto_tol)
+        .map_err(|e| ContentsError::AutoTol(req.auto_tol, e))?;
     let roofs = req
         .periods
         .iter()
