@@ -127,11 +127,20 @@ pub fn parse_sites(text: &str, file: &str) -> Result<Vec<GmfSite>, GmfError> {
                     message: format!("site `{id}` is listed twice (lines {first} and {n})"),
                 });
             }
-            Ok(GmfSite {
-                id,
-                lon: number(file, n, "lon", cells.get(pos[1]).copied())?,
-                lat: number(file, n, "lat", cells.get(pos[2]).copied())?,
-            })
+            let lon: f64 = number(file, n, "lon", cells.get(pos[1]).copied())?;
+            let lat: f64 = number(file, n, "lat", cells.get(pos[2]).copied())?;
+            // As the hazard files' sites are checked.
+            for (column, v, limit) in [("lon", lon, 180.0), ("lat", lat, 90.0)] {
+                if !(v.abs() <= limit) {
+                    return Err(GmfError {
+                        file: file.into(),
+                        line: n,
+                        column: Some(column.into()),
+                        message: format!("{v}: a {column} in degrees lies within ±{limit}"),
+                    });
+                }
+            }
+            Ok(GmfSite { id, lon, lat })
         })
         .collect()
 }
@@ -195,6 +204,17 @@ pub fn parse_fields(
             column: None,
             message: "no `gmv_<IMT>` column".into(),
         });
+    }
+    // One column an IM: a second was read past, the first's values used.
+    for (k, &(col, im)) in gmv.iter().enumerate() {
+        if let Some(&(first, _)) = gmv[..k].iter().find(|g| g.1 == im) {
+            return Err(GmfError {
+                file: file.into(),
+                line: head,
+                column: Some(cols[col].into()),
+                message: format!("the same IM as column `{}`", cols[first]),
+            });
+        }
     }
     let site_of: HashMap<&str, usize> = sites
         .iter()
@@ -323,6 +343,20 @@ mod tests {
         assert_eq!(eff_years_of_job(job, 3), Ok(50.0 * 2000.0 * 3.0));
         let sampled = "investigation_time=1 # years\nnumber_of_logic_tree_samples : 10\n";
         assert_eq!(eff_years_of_job(sampled, 3), Ok(10.0));
+    }
+
+    /// A site off the globe, an IM given twice: refused, naming the column.
+    #[test]
+    fn a_site_off_the_globe_and_an_im_twice_are_refused() {
+        let e = parse_sites("custom_site_id,lon,lat\na,500,38\n", "sitemesh.csv").unwrap_err();
+        assert_eq!((e.line, e.column.as_deref()), (2, Some("lon")), "{e:?}");
+        let sites = parse_sites("custom_site_id,lon,lat\na,21.7,38.2\n", "s").unwrap();
+        let text = "event_id,custom_site_id,gmv_PGA,gmv_PGA\n0,a,0.1,0.2\n";
+        let e = parse_fields(text, "gmf-data.csv", sites, vec![(0, 0)]).unwrap_err();
+        assert!(
+            e.message.contains("the same IM as column `gmv_PGA`"),
+            "{e:?}"
+        );
     }
 
     /// A time of 0 gave infinite rates, -1 negative ones, NaN and inf NaN
