@@ -131,7 +131,7 @@ pub fn parse_sites(text: &str, file: &str) -> Result<Vec<GmfSite>, GmfError> {
             let lat: f64 = number(file, n, "lat", cells.get(pos[2]).copied())?;
             // As the hazard files' sites are checked.
             for (column, v, limit) in [("lon", lon, 180.0), ("lat", lat, 90.0)] {
-                if !(v.abs() <= limit) {
+                if v.is_nan() || v.abs() > limit {
                     return Err(GmfError {
                         file: file.into(),
                         line: n,

@@ -9,146 +9,19 @@ use serde::Deserialize;
 
 use super::block::{building, many_at, many_pga, AUTO_TOL};
 use super::gmf::HazardAsk;
+use super::law::LawAsk;
 use super::spelling::{AskError, Spelling};
 use super::tree::tree;
 use crate::block::{check_mu, Restitution};
 use crate::building::ShapedMode;
-use crate::columns::{AccelUnit, TextRecords};
+use crate::columns::AccelUnit;
 use crate::damage::{DamageStates, Dispersion, FitMethod, IfNotLognormal};
 use crate::floor::Mode;
 use crate::im::Im;
-use crate::ops::fragility::{self, DirectProgress, Source};
+use crate::ops::fragility::{self, DirectProgress};
 use crate::ops::risk::{self, Blocks};
 use crate::pair::Orientation;
 use crate::risk::Beyond;
-
-/// Where the capacities come from: `paper` (the published regression) or
-/// a pipeline file whose study is under `outputs`; `records` for `direct`
-/// with the paper (default: the bundled far-field set).
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct LawAsk {
-    pub source: String,
-    pub outputs: PathBuf,
-    pub records: Option<PathBuf>,
-    /// The records are text columns in this unit (a structural model's
-    /// floor motions), not AT2 files.
-    pub records_unit: Option<AccelUnit>,
-    /// Their value column (1 = the first after time; with `records_unit`).
-    pub records_column: Option<usize>,
-    /// They are relative to the ground: its motions, as run, in this folder.
-    pub records_ground: Option<PathBuf>,
-    /// Which orientations of the records `direct` runs (pairs for random and worst).
-    pub orientation: Orientation,
-    /// The angle step of the random and worst orientations (°).
-    pub angle_step: f64,
-}
-
-impl Default for LawAsk {
-    fn default() -> Self {
-        LawAsk {
-            source: "paper".into(),
-            outputs: PathBuf::from("outputs"),
-            records: None,
-            records_unit: None,
-            records_column: None,
-            records_ground: None,
-            orientation: Orientation::AsRecorded,
-            angle_step: crate::pair::ANGLE_STEP_DEG,
-        }
-    }
-}
-
-impl LawAsk {
-    /// The orientations `direct` runs the records at, checked.
-    pub fn orient(&self, direct: bool, sp: Spelling) -> Result<fragility::Orient, AskError> {
-        // Finer than a degree is finer than a pair's RotD (180 angles) and
-        // holds every motion at once: 0.01° asked for about 80 GB.
-        if !(self.angle_step >= 1.0 && self.angle_step <= 180.0) {
-            return Err(AskError(format!(
-                "{}: the angle step is in degrees, in [1, 180]",
-                sp.set_number("angle_step", self.angle_step)
-            )));
-        }
-        if self.angle_step != crate::pair::ANGLE_STEP_DEG
-            && self.orientation == Orientation::AsRecorded
-        {
-            return Err(AskError(format!(
-                "{} is the step of {} or {}: the records run as recorded without either",
-                sp.set_number("angle_step", self.angle_step),
-                sp.set("orientation", "random"),
-                sp.set("orientation", "worst")
-            )));
-        }
-        // Without the runs the records were ignored, and the capacities
-        // the paper's regression's (or a study's) without a word.
-        if let Some(records) = self.records.as_ref().filter(|_| !direct) {
-            return Err(AskError(format!(
-                "{}: records are run with {}; add it (without it the capacities are the \
-                 paper's regression's, or a study's with {})",
-                sp.set("records", &records.display().to_string()),
-                sp.key("direct"),
-                sp.key("from")
-            )));
-        }
-        if self.orientation != Orientation::AsRecorded && !direct {
-            return Err(AskError(format!(
-                "{} runs the records' pairs at every angle: add {}",
-                sp.set("orientation", crate::label::Label::label(self.orientation)),
-                sp.key("direct")
-            )));
-        }
-        Ok(fragility::Orient {
-            orientation: self.orientation,
-            step_deg: self.angle_step,
-            pair_im: false,
-        })
-    }
-
-    pub fn resolve(&self, sp: Spelling) -> Result<Source, AskError> {
-        let text = match (self.records_unit, self.records_column) {
-            (Some(unit), column) => Some(TextRecords {
-                unit,
-                column: column.unwrap_or(1),
-                ground: self.records_ground.clone(),
-            }),
-            (None, _) if self.records_column.is_some() || self.records_ground.is_some() => {
-                let key = if self.records_column.is_some() {
-                    "records_column"
-                } else {
-                    "records_ground"
-                };
-                return Err(AskError(format!(
-                    "{} is for text records: give their unit with {}",
-                    sp.key(key),
-                    sp.key("records_unit")
-                )));
-            }
-            (None, _) => None,
-        };
-        if let Some(t) = &text {
-            if self.source != "paper" {
-                return Err(AskError(format!(
-                    "{} reads the text files of {}; a pipeline's records are its own",
-                    sp.key("records_unit"),
-                    sp.key("records")
-                )));
-            }
-            if t.column == 0 {
-                return Err(AskError(format!(
-                    "{}: value columns are counted from 1 (the first after time)",
-                    sp.set("records_column", "0")
-                )));
-            }
-        }
-        Ok(Source::named(
-            &self.source,
-            self.outputs.clone(),
-            self.records.clone(),
-            text,
-        ))
-    }
-}
 
 /// One block by its half sizes (m), its restitution and friction, or every
 /// block of an inventory CSV.

@@ -5,9 +5,10 @@ use std::path::PathBuf;
 
 use serde::Deserialize;
 
-use super::assess::{needs_own_runs, BlocksAsk, LawAsk};
+use super::assess::{needs_own_runs, BlocksAsk};
 use super::block::building;
 use super::block::AUTO_TOL;
+use super::law::LawAsk;
 use super::spelling::{AskError, Spelling};
 use super::tree::tree;
 use crate::block::Restitution;

@@ -25,12 +25,14 @@ pub mod block;
 pub mod excitation;
 pub mod export;
 mod gmf;
+mod law;
 mod spelling;
 mod tree;
 
-pub use assess::{BlocksAsk, FragilityAsk, LawAsk, RiskAsk, StatesAsk};
+pub use assess::{BlocksAsk, FragilityAsk, RiskAsk, StatesAsk};
 pub use block::{AskedBlock, BlockAsk};
 pub use excitation::{check_angles, PulseAsk, SearchAsk};
 pub use export::{ExportAsk, ExportKw};
 pub use gmf::HazardAsk;
+pub use law::LawAsk;
 pub use spelling::{AskError, Spelling};
