@@ -465,6 +465,9 @@ def test_ctrl_c_stops_a_long_call_and_the_next_call_runs():
     # 44 records × 1,000 blocks: about 45 s on two cores uninterrupted,
     # where the call used to run to its end before Python saw the signal.
     blocks = [dict(p=float(p), eps=0.7) for p in np.geomspace(0.5, 10.0, 1000)]
+    # Python's own Ctrl-C handler, as a terminal or a notebook has it (a
+    # process started in the background inherits SIGINT ignored).
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
     started = time.perf_counter()
     timer.start()
@@ -510,6 +513,7 @@ def test_run_and_load_give_the_commands_tables(tmp_path):
 def test_a_run_stopped_by_ctrl_c_resumes_to_the_commands_tables(tmp_path):
     # The quick study takes about 3 s; stopped at 0.3 s, in its sweep.
     quick = ROOT / "pipelines" / "quick.toml"
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT))
     timer.start()
     try:
