@@ -140,6 +140,24 @@ pub fn slides_first(mu: f64, alpha_rad: f64) -> bool {
     mu < alpha_rad.tan()
 }
 
+/// The largest half size (m) of a free-standing object the tool expects: a
+/// block 20 m tall is a building, and more likely a size given in cm.
+pub const LARGEST_HALF_SIZE_M: f64 = 10.0;
+
+/// What every command says of a block larger than [`LARGEST_HALF_SIZE_M`]:
+/// an inventory in cm (`statue,20,90`) ran as a 90 m block without a word.
+pub fn size_warning(block: &Block) -> Option<String> {
+    (block.b_m.max(block.h_m) > LARGEST_HALF_SIZE_M).then(|| {
+        format!(
+            "half-width {} m, half-height {} m: a block {} m tall is a building's size; sizes \
+             are in metres (were they given in cm?)",
+            block.b_m,
+            block.h_m,
+            2.0 * block.h_m
+        )
+    })
+}
+
 /// What every command says of a block that slides before it rocks.
 pub fn sliding_warning(mu: f64, alpha_rad: f64) -> String {
     format!(

@@ -880,3 +880,42 @@ fn options_that_would_do_nothing_are_refused_by_name() {
         assert!(stderr(&out).contains(says), "{args:?}: {}", stderr(&out));
     }
 }
+
+/// An inventory in cm (`statue,20,90`) ran as a 180 m block without a
+/// word (with `--direct`, 9.1e-7 /yr): every command now says its sizes
+/// are a building's; a transformer's 1.2 m half-height is not.
+#[test]
+fn a_block_the_size_of_a_building_is_warned_of() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(
+        d.join("cm.csv"),
+        "name,b,h\nstatue_cm,20,90\ntransformer,0.6,1.2\n",
+    )
+    .unwrap();
+    let hazard = root().join("records/hazard/synthetic-site.csv");
+    let out = rocking(
+        d,
+        &[
+            "risk",
+            "--hazard",
+            hazard.to_str().unwrap(),
+            "--inventory",
+            "cm.csv",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let e = stderr(&out);
+    let warned: Vec<&str> = e
+        .lines()
+        .filter(|l| l.contains("a building's size"))
+        .collect();
+    assert_eq!(warned.len(), 1, "{e}");
+    assert!(warned[0].contains("statue_cm") && warned[0].contains("were they given in cm?"));
+    let out = rocking(d, &["fragility", "--b", "20", "--h", "90", "--pga", "0.3"]);
+    assert!(
+        stderr(&out).contains("a block 180 m tall is a building's size"),
+        "{}",
+        stderr(&out)
+    );
+}

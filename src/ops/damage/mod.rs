@@ -47,6 +47,7 @@ pub fn of_block(
         None => from_regression(block, states, im, laws, model.auto_tol)?,
     };
     f.method = fit.method;
+    f.warnings.extend(crate::block::size_warning(block));
     if direct.is_some() {
         records::never_reached(&mut f, block);
     }
