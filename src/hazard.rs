@@ -181,6 +181,12 @@ pub fn parse_openquake(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
         .ok_or_else(|| err(2, "no header line `lon,lat,depth,poe-<iml>,…`"))?;
     let header = cells(header);
     let col = |name: &str| header.iter().position(|h| *h == name);
+    // A column twice: the first was read, the second passed over.
+    for (k, h) in header.iter().enumerate() {
+        if header[..k].contains(h) {
+            return Err(err(header_line, format!("column `{h}` is given twice")));
+        }
+    }
     let (lon_c, lat_c) = (col("lon"), col("lat"));
     let imls = header_imls(header_line, &header)?;
     let mut sites = Vec::new();
@@ -221,6 +227,23 @@ pub fn parse_openquake(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
         };
         curve.lon = coordinate(lon_c, "lon", 180.0)?;
         curve.lat = coordinate(lat_c, "lat", 90.0)?;
+        // One curve a site: a second would be counted as another site.
+        let here = (curve.lon, curve.lat);
+        if here.0.is_some() {
+            if let Some(k) = sites
+                .iter()
+                .position(|s: &HazardCurve| (s.lon, s.lat) == here)
+            {
+                return Err(err(
+                    line,
+                    format!(
+                        "the site at lon {}, lat {} is given twice (site {k} is there already)",
+                        here.0.unwrap_or(f64::NAN),
+                        here.1.unwrap_or(f64::NAN)
+                    ),
+                ));
+            }
+        }
         sites.push(curve);
     }
     if sites.is_empty() {
@@ -502,6 +525,18 @@ mod tests {
 lon,lat,depth,poe-0.01,poe-0.1,poe-0.5,poe-1.0\n\
 23.7,37.9,0.0,1.0,0.5,0.05,0.0\n\
 21.7,38.2,0.0,0.9,0.3,0.02,0.002\n";
+
+    /// A site given twice was counted as two; a column given twice was
+    /// read once, the other passed over.
+    #[test]
+    fn a_site_or_a_column_twice_is_refused() {
+        let twice = format!("{OQ}23.7,37.9,0.0,0.9,0.4,0.01,0.0\n");
+        let e = parse(&twice).unwrap_err();
+        assert_eq!(e.line, Some(5), "{e}");
+        assert!(e.message.contains("given twice (site 0"), "{e}");
+        let e = parse(&OQ.replace("lon,lat,depth", "lon,lat,lon")).unwrap_err();
+        assert!(e.message.contains("column `lon` is given twice"), "{e}");
+    }
 
     #[test]
     fn openquake_probabilities_become_annual_rates() {
