@@ -181,12 +181,7 @@ pub fn parse_openquake(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
         .ok_or_else(|| err(2, "no header line `lon,lat,depth,poe-<iml>,…`"))?;
     let header = cells(header);
     let col = |name: &str| header.iter().position(|h| *h == name);
-    // A column twice: the first was read, the second passed over.
-    for (k, h) in header.iter().enumerate() {
-        if header[..k].contains(h) {
-            return Err(err(header_line, format!("column `{h}` is given twice")));
-        }
-    }
+    once_each(header_line, &header)?;
     let (lon_c, lat_c) = (col("lon"), col("lat"));
     let imls = header_imls(header_line, &header)?;
     let mut sites = Vec::new();
@@ -227,29 +222,39 @@ pub fn parse_openquake(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
         };
         curve.lon = coordinate(lon_c, "lon", 180.0)?;
         curve.lat = coordinate(lat_c, "lat", 90.0)?;
-        // One curve a site: a second would be counted as another site.
-        let here = (curve.lon, curve.lat);
-        if here.0.is_some() {
-            if let Some(k) = sites
-                .iter()
-                .position(|s: &HazardCurve| (s.lon, s.lat) == here)
-            {
-                return Err(err(
-                    line,
-                    format!(
-                        "the site at lon {}, lat {} is given twice (site {k} is there already)",
-                        here.0.unwrap_or(f64::NAN),
-                        here.1.unwrap_or(f64::NAN)
-                    ),
-                ));
-            }
-        }
+        new_site(line, &sites, &curve)?;
         sites.push(curve);
     }
     if sites.is_empty() {
         return Err(err(header_line, "no site rows after the header"));
     }
     Ok(sites)
+}
+
+/// A header's columns, each once: of a column given twice the first was
+/// read, the second passed over.
+fn once_each(line: usize, header: &[&str]) -> Result<(), HazardError> {
+    match (0..header.len()).find(|&k| header[..k].contains(&header[k])) {
+        Some(k) => Err(err(line, format!("column `{}` is given twice", header[k]))),
+        None => Ok(()),
+    }
+}
+
+/// One curve a site: a second at the same lon and lat would be counted as
+/// another site.
+fn new_site(line: usize, sites: &[HazardCurve], curve: &HazardCurve) -> Result<(), HazardError> {
+    let here = (curve.lon, curve.lat);
+    match sites.iter().position(|s| (s.lon, s.lat) == here) {
+        Some(k) if here.0.is_some() => Err(err(
+            line,
+            format!(
+                "the site at lon {}, lat {} is given twice (site {k} is there already)",
+                here.0.unwrap_or(f64::NAN),
+                here.1.unwrap_or(f64::NAN)
+            ),
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// The `poe-<iml>` columns of an OpenQuake header: (column, IML), the IMLs
