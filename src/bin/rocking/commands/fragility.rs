@@ -152,14 +152,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         super::tree::print_tree(t, unit);
     }
     if let Some(floor) = &a.floor {
-        let whose = if args.im.floor() {
-            "the floor motion's own (a floor demand)"
-        } else {
-            "the ground's"
-        };
         println!(
-            "on the floor of a building with modes T,ζ,Γφ = {floor}: the records run through it; \
-             levels and capacities are {whose}"
+            "{}",
+            super::states::floor_line(floor, args.im.floor(), "capacities")
         );
     }
     if let Some(o) = &a.orientation {

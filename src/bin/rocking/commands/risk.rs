@@ -389,6 +389,11 @@ fn print_one(a: &Assessment) {
         }
     );
     println!("{}", fragility_line(f));
+    // It said nothing of the floor the block's records ran through.
+    if let Some(floor) = &b.floor {
+        let demand = f.im.parse::<rocking::im::Im>().is_ok_and(|im| im.floor());
+        println!("{}", super::states::floor_line(floor, demand, "rates"));
+    }
     if let Some(t) = &f.tree {
         super::tree::print_tree(t, f.unit);
     }

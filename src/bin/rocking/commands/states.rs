@@ -1,5 +1,5 @@
 //! What `fragility`, `risk` and `export` print of damage states: the table
-//! of the states' fits.
+//! of the states' fits; and the line they print of a block's floor.
 
 use rocking::damage::Lognormal;
 use rocking::im::level_text;
@@ -55,4 +55,19 @@ pub fn records_text(records: Option<usize>, folder: Option<&str>) -> String {
         (Some(n), None) => format!(", {n} records"),
         _ => String::new(),
     }
+}
+
+/// What `fragility` and `risk` say of a block on a floor: the building, and
+/// whose levels the answer is in (the ground's, or the floor motion's own
+/// for a floor demand).
+pub fn floor_line(floor: &str, floor_demand: bool, what: &str) -> String {
+    let whose = if floor_demand {
+        "the floor motion's own (a floor demand)"
+    } else {
+        "the ground's"
+    };
+    format!(
+        "on the floor of a building with modes T,ζ,Γφ = {floor}: the records run through it; \
+         levels and {what} are {whose}"
+    )
 }
