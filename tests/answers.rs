@@ -323,41 +323,50 @@ fn an_export_warns_of_the_rate_beyond_the_last_iml_that_risk_counts() {
     let d = dir.path();
     let hazard = root().join("records/hazard/synthetic-openquake.csv");
     let hazard = hazard.to_str().unwrap();
-    let block = ["--b", "0.2", "--h", "0.9", "--direct"];
-    let mut args = vec![
-        "export", "--format", "nrml", "--hazard", hazard, "--out", "job",
-    ];
-    args.extend(block);
-    let out = rocking(d, &args);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let e = stderr(&out);
-    let warning = e
-        .lines()
-        .find(|l| l.contains("counts nothing beyond the hazard's last IML (2 g)"))
-        .unwrap_or_else(|| panic!("no warning: {e}"));
-    let (site, share): (u64, f64) = {
-        let after = warning.split("at site ").nth(1).unwrap();
-        let (site, rest) = after.split_once(", ").unwrap();
-        let share = rest.split(" %").next().unwrap();
-        (site.parse().unwrap(), share.parse().unwrap())
-    };
-    // `risk`'s share at each of the three sites: the one named is the largest.
-    let shares: Vec<f64> = (0..3)
-        .map(|k| {
-            let k_text = k.to_string();
-            let mut args = vec!["risk", "--hazard", hazard, "--json", "--site", &k_text];
-            args.extend(block);
-            let v: Value = serde_json::from_str(&stdout(&rocking(d, &args))).unwrap();
-            100.0 * v["sites"][0]["share_beyond_last_iml"].as_f64().unwrap()
-        })
-        .collect();
-    let risk_share = shares[site as usize];
-    assert!(
-        (share - risk_share).abs() <= 0.05,
-        "export {share} % against risk {risk_share} %"
-    );
-    for (k, s) in shares.iter().enumerate() {
-        assert!(*s <= risk_share, "site {k}: {s} % above the one named");
+    // With a tree the share is its mean's, as `risk --tree` states it (the
+    // export took its first branch's: 2.7 % at site 1 against 3.4 %).
+    for tree in [&[][..], &["--tree", "restitution-tests"][..]] {
+        let mut block = vec!["--b", "0.2", "--h", "0.9", "--direct"];
+        block.extend(tree);
+        let mut args = vec![
+            "export", "--format", "nrml", "--hazard", hazard, "--out", "job",
+        ];
+        args.extend(&block);
+        let out = rocking(d, &args);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let e = stderr(&out);
+        let warning = e
+            .lines()
+            .find(|l| l.contains("counts nothing beyond the hazard's last IML (2 g)"))
+            .unwrap_or_else(|| panic!("no warning: {e}"));
+        let (site, share): (u64, f64) = {
+            let after = warning.split("at site ").nth(1).unwrap();
+            let (site, rest) = after.split_once(", ").unwrap();
+            let share = rest.split(" %").next().unwrap();
+            (site.parse().unwrap(), share.parse().unwrap())
+        };
+        // `risk`'s share at each of the three sites: the one named is the largest.
+        let shares: Vec<f64> = (0..3)
+            .map(|k| {
+                let k_text = k.to_string();
+                let mut args = vec!["risk", "--hazard", hazard, "--json", "--site", &k_text];
+                args.extend(&block);
+                let v: Value = serde_json::from_str(&stdout(&rocking(d, &args))).unwrap();
+                100.0 * v["sites"][0]["share_beyond_last_iml"].as_f64().unwrap()
+            })
+            .collect();
+        let risk_share = shares[site as usize];
+        assert!(
+            (share - risk_share).abs() <= 0.05,
+            "{tree:?}: export {share} % against risk {risk_share} %"
+        );
+        for (k, s) in shares.iter().enumerate() {
+            assert!(
+                *s <= risk_share,
+                "{tree:?}: site {k}: {s} % above the one named"
+            );
+        }
+        std::fs::remove_dir_all(d.join("job")).unwrap();
     }
 }
 

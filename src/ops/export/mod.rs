@@ -110,10 +110,13 @@ fn export_into(req: &Request) -> Result<Written, ExportOpError> {
                 .extend(entry.and_then(|f| uncut_in_pelicun(f, im.unit())));
         }
         if let Some(h) = &hazard {
+            // The block's function, or with a tree its first branch's (the
+            // branches share the block's uplift level).
+            let branch = format!("{}_b1", b.taxonomy);
             let cut = written
                 .functions
                 .iter()
-                .find(|f| f.id == b.taxonomy)
+                .find(|f| f.id == b.taxonomy || f.id == branch)
                 .and_then(|f| f.no_damage_limit);
             b.fragility.warnings.extend(beyond_the_curve(&b, h, cut));
             b.fragility.warnings.extend(read_as_certain(&b, h, cut));
@@ -134,18 +137,24 @@ fn export_into(req: &Request) -> Result<Written, ExportOpError> {
 /// ([`crate::risk::assess_above`]).
 fn beyond_the_curve(b: &ExportedBlock, h: &HazardSites, cut: Option<f64>) -> Option<String> {
     let f = &b.fragility;
-    let frag = f.states.last()?.fragility(f.method)?;
+    let parts = heaviest(b)?;
     let (site, share, last) = h
         .curves
         .iter()
         .map(|(k, c)| {
-            let r = crate::risk::assess_above(
-                c,
-                &frag,
-                crate::risk::Beyond::Extrapolate,
-                cut.unwrap_or(0.0),
-            );
-            (*k, r.share_beyond_last_iml, r.last_iml)
+            let (mut rate, mut beyond, mut last) = (0.0, 0.0, f64::NAN);
+            for (w, frag) in &parts {
+                let r = crate::risk::assess_above(
+                    c,
+                    frag,
+                    crate::risk::Beyond::Extrapolate,
+                    cut.unwrap_or(0.0),
+                );
+                rate += w * r.annual_rate;
+                beyond += w * r.annual_rate * r.share_beyond_last_iml;
+                last = r.last_iml;
+            }
+            (*k, if rate > 0.0 { beyond / rate } else { 0.0 }, last)
         })
         .max_by(|a, b| a.1.total_cmp(&b.1))?;
     (share >= 0.01).then(|| {
@@ -167,20 +176,29 @@ fn beyond_the_curve(b: &ExportedBlock, h: &HazardSites, cut: Option<f64>) -> Opt
 /// warning says so and by how much.
 fn read_as_certain(b: &ExportedBlock, h: &HazardSites, cut: Option<f64>) -> Option<String> {
     let f = &b.fragility;
-    let frag = f.states.last()?.fragility(f.method)?;
-    let p = |x| crate::ops::damage::probability_above(&frag, x, cut);
+    let parts = heaviest(b)?;
     let (site, share, s) = h
         .curves
         .iter()
         .filter_map(|(k, c)| {
-            let s = crate::export::reading::saturated(c, h.investigation_time, p)?;
-            let rate = crate::risk::assess_above(
-                c,
-                &frag,
-                crate::risk::Beyond::Extrapolate,
-                cut.unwrap_or(0.0),
-            )
-            .annual_rate;
+            let (mut excess, mut rate, mut edge) = (0.0, 0.0, None);
+            for (w, frag) in &parts {
+                let p = |x| crate::ops::damage::probability_above(frag, x, cut);
+                let s = crate::export::reading::saturated(c, h.investigation_time, p)?;
+                excess += w * s.excess_rate;
+                rate += w * crate::risk::assess_above(
+                    c,
+                    frag,
+                    crate::risk::Beyond::Extrapolate,
+                    cut.unwrap_or(0.0),
+                )
+                .annual_rate;
+                edge = Some(s);
+            }
+            let s = crate::export::reading::Saturated {
+                excess_rate: excess,
+                ..edge?
+            };
             Some((*k, s.excess_rate / rate, s))
         })
         .max_by(|a, b| a.1.total_cmp(&b.1))?;
@@ -223,6 +241,21 @@ fn uncut_in_pelicun(f: &crate::export::Entry, unit: &str) -> Option<String> {
             100.0 * p
         )
     })
+}
+
+/// The heaviest state's fragility of a block with its weight 1, or of each
+/// branch of its tree with the branch's weight: the rate `risk --tree`
+/// gives is their weighted sum, and so are its parts.
+fn heaviest(b: &ExportedBlock) -> Option<Vec<(f64, crate::risk::Fragility)>> {
+    let of = |f: &crate::ops::damage::DamageFragility| f.states.last()?.fragility(f.method);
+    match &b.tree {
+        None => Some(vec![(1.0, of(&b.fragility)?)]),
+        Some(t) => t
+            .branches
+            .iter()
+            .map(|br| Some((br.weight, of(&br.fragility)?)))
+            .collect(),
+    }
 }
 
 fn read_sites(path: &Path, asked: Option<Im>) -> Result<HazardSites, ExportOpError> {
