@@ -130,13 +130,13 @@ pub fn parse_sites(text: &str, file: &str) -> Result<Vec<GmfSite>, GmfError> {
             let lon: f64 = number(file, n, "lon", cells.get(pos[1]).copied())?;
             let lat: f64 = number(file, n, "lat", cells.get(pos[2]).copied())?;
             // As the hazard files' sites are checked.
-            for (column, v, limit) in [("lon", lon, 180.0), ("lat", lat, 90.0)] {
-                if v.is_nan() || v.abs() > limit {
+            for (column, v) in [("lon", lon), ("lat", lat)] {
+                if let Some(why) = crate::hazard::off_the_globe(column, v) {
                     return Err(GmfError {
                         file: file.into(),
                         line: n,
                         column: Some(column.into()),
-                        message: format!("{v}: a {column} in degrees lies within ±{limit}"),
+                        message: why,
                     });
                 }
             }

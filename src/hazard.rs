@@ -216,12 +216,10 @@ pub fn parse_openquake(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
             |_| line,
             |k| format!("column `{}`", header[imls[k].0]),
         )?;
-        let coordinate = |c: Option<usize>, name: &str, limit: f64| {
-            c.map(|c| coordinate(line, name, cells[c], limit))
-                .transpose()
-        };
-        curve.lon = coordinate(lon_c, "lon", 180.0)?;
-        curve.lat = coordinate(lat_c, "lat", 90.0)?;
+        let coordinate =
+            |c: Option<usize>, name: &str| c.map(|c| coordinate(line, name, cells[c])).transpose();
+        curve.lon = coordinate(lon_c, "lon")?;
+        curve.lat = coordinate(lat_c, "lat")?;
         new_site(line, &sites, &curve)?;
         sites.push(curve);
     }
@@ -289,14 +287,21 @@ fn header_imls(header_line: usize, header: &[&str]) -> Result<Vec<(usize, f64)>,
 }
 
 /// A site's longitude or latitude (degrees), within ±`limit`.
-fn coordinate(line: usize, name: &str, cell: &str, limit: f64) -> Result<f64, HazardError> {
-    match number(line, name, cell)? {
-        v if v.abs() <= limit => Ok(v),
-        v => Err(err(
-            line,
-            format!("column `{name}`: {v}° is not a {name} (it lies within ±{limit}°)"),
-        )),
+fn coordinate(line: usize, name: &str, cell: &str) -> Result<f64, HazardError> {
+    let v = number(line, name, cell)?;
+    match off_the_globe(name, v) {
+        None => Ok(v),
+        Some(why) => Err(err(line, why)),
     }
+}
+
+/// Why `v` in column `name` (`lon`, within ±180°, or `lat`, ±90°) places
+/// no site on the globe; `None` where it does. The one rule of every file
+/// that places sites (hazard curves, OpenQuake's site mesh).
+pub fn off_the_globe(name: &str, v: f64) -> Option<String> {
+    let limit = if name == "lat" { 90.0 } else { 180.0 };
+    (v.is_nan() || v.abs() > limit)
+        .then(|| format!("column `{name}`: {v}° is not a {name} (it lies within ±{limit}°)"))
 }
 
 /// A warning where a curve's IMLs look like another unit than the IM's

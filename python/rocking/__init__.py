@@ -64,20 +64,6 @@ def read_at2(path: PathLike) -> Tuple[np.ndarray, float]:
     return np.frombuffer(data, dtype="<f8").copy(), dt
 
 
-def _plain(kw: Dict[str, Any]) -> Dict[str, Any]:
-    """Keyword values as the library reads them: paths as text, arrays as lists."""
-    out = {}
-    for k, v in kw.items():
-        if isinstance(v, os.PathLike):
-            v = os.fspath(v)
-        elif isinstance(v, np.ndarray):
-            v = v.tolist()
-        elif isinstance(v, np.generic):
-            v = v.item()  # np.float64, np.int64, np.bool_: the Python value
-        out[k] = v
-    return out
-
-
 def _samples(acc: Any, dt: Any, what: str = "the record") -> Tuple[bytes, float]:
     """A record as little-endian f64 bytes (the library checks its values and dt)."""
     a = np.asarray(acc, dtype=np.float64)
@@ -101,7 +87,7 @@ def _block(block: Optional[Block], kw: Dict[str, Any]) -> Block:
         if kw:
             raise ValueError(f"give a Block or its keywords, not both (got {sorted(kw)})")
         return block
-    return Block(**_plain(kw))
+    return Block(**kw)
 
 
 def _warn(block: Block) -> None:
@@ -247,7 +233,7 @@ def capacities(
             made.append(b)
             continue
         try:
-            made.append(Block(**_plain(dict(b))))
+            made.append(Block(**dict(b)))
         except ValueError as e:
             raise ValueError(f"blocks[{i}]: {e}") from None
     if not made:
@@ -280,7 +266,7 @@ def fragility(b: float, h: float, **kw: Any) -> Dict[str, Any]:
     logic tree over ε and the model (a TOML file, or ``"restitution-tests"``):
     each branch's fragility, their mean (the mixture) and quantiles.
     """
-    return _core.fragility(b=b, h=h, **_plain(kw))
+    return _core.fragility(b=b, h=h, **kw)
 
 
 def risk(
@@ -315,7 +301,7 @@ def risk(
         )
     else:
         given = os.fspath(hazard)
-    return _core.risk(hazard=given, **_plain(kw))
+    return _core.risk(hazard=given, **kw)
 
 
 def risk_events(gmf: PathLike, **kw: Any) -> Dict[str, Any]:
@@ -333,7 +319,7 @@ def risk_events(gmf: PathLike, **kw: Any) -> Dict[str, Any]:
     """
     import polars as pl
 
-    a = _core.risk(gmf=os.fspath(gmf), **_plain(kw))
+    a = _core.risk(gmf=os.fspath(gmf), **kw)
     rows = [
         {
             "block": b["block"]["name"],
@@ -369,7 +355,7 @@ def export(out: PathLike, **kw: Any) -> Dict[str, Any]:
     mapping, pelicun the mean). Returns ``{"files": [...], "blocks": [...]}``, the blocks
     as ``rocking export --json`` prints them.
     """
-    return _core.export(out=os.fspath(out), **_plain(kw))
+    return _core.export(out=os.fspath(out), **kw)
 
 
 def ims() -> List[Dict[str, Any]]:

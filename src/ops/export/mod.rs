@@ -142,19 +142,8 @@ fn beyond_the_curve(b: &ExportedBlock, h: &HazardSites, cut: Option<f64>) -> Opt
         .curves
         .iter()
         .map(|(k, c)| {
-            let (mut rate, mut beyond, mut last) = (0.0, 0.0, f64::NAN);
-            for (w, frag) in &parts {
-                let r = crate::risk::assess_above(
-                    c,
-                    frag,
-                    crate::risk::Beyond::Extrapolate,
-                    cut.unwrap_or(0.0),
-                );
-                rate += w * r.annual_rate;
-                beyond += w * r.annual_rate * r.share_beyond_last_iml;
-                last = r.last_iml;
-            }
-            (*k, if rate > 0.0 { beyond / rate } else { 0.0 }, last)
+            let r = site_risk(&parts, c, cut);
+            (*k, r.share_beyond_last_iml, r.last_iml)
         })
         .max_by(|a, b| a.1.total_cmp(&b.1))?;
     (share >= 0.01).then(|| {
@@ -181,25 +170,19 @@ fn read_as_certain(b: &ExportedBlock, h: &HazardSites, cut: Option<f64>) -> Opti
         .curves
         .iter()
         .filter_map(|(k, c)| {
-            let (mut excess, mut rate, mut edge) = (0.0, 0.0, None);
+            let mut excess = 0.0;
+            let mut edge = None;
             for (w, frag) in &parts {
                 let p = |x| crate::ops::damage::probability_above(frag, x, cut);
                 let s = crate::export::reading::saturated(c, h.investigation_time, p)?;
                 excess += w * s.excess_rate;
-                rate += w * crate::risk::assess_above(
-                    c,
-                    frag,
-                    crate::risk::Beyond::Extrapolate,
-                    cut.unwrap_or(0.0),
-                )
-                .annual_rate;
                 edge = Some(s);
             }
             let s = crate::export::reading::Saturated {
                 excess_rate: excess,
                 ..edge?
             };
-            Some((*k, s.excess_rate / rate, s))
+            Some((*k, excess / site_risk(&parts, c, cut).annual_rate, s))
         })
         .max_by(|a, b| a.1.total_cmp(&b.1))?;
     (share >= 0.01).then(|| {
@@ -255,6 +238,22 @@ fn heaviest(b: &ExportedBlock) -> Option<Vec<(f64, crate::risk::Fragility)>> {
             .iter()
             .map(|br| Some((br.weight, of(&br.fragility)?)))
             .collect(),
+    }
+}
+
+/// `risk`'s answer at a site for `parts` (its default tail, the export's
+/// cut): one block's, or a tree's mixture of its branches' as `risk --tree`
+/// states it ([`crate::risk::mixed`]).
+fn site_risk(
+    parts: &[(f64, crate::risk::Fragility)],
+    c: &crate::hazard::HazardCurve,
+    cut: Option<f64>,
+) -> crate::risk::SiteRisk {
+    let one =
+        |f| crate::risk::assess_above(c, f, crate::risk::Beyond::Extrapolate, cut.unwrap_or(0.0));
+    match parts {
+        [(_, f)] => one(f),
+        _ => crate::risk::mixed(&parts.iter().map(|(w, f)| (*w, one(f))).collect::<Vec<_>>()),
     }
 }
 
