@@ -10,7 +10,7 @@ the walk), whole intervals crossed on a proof (two runs in step, or one
 alone), and the quiet of a block at rest. Prints a Markdown table.
 
 The event loop is compiled into one function per stepper and CPU dispatch
-(`dispatch::drive_v3`, `dispatch::drive_pair_v3`), everything inlined, so a
+(`dispatch::drive_v4`, `dispatch::drive_pair_v4`, or v3's), everything inlined, so a
 profile by symbol says nothing; by inlined frame it does. Needs `perf`,
 `nm` and `addr2line` (Debian's linux-perf and binutils) and a release build
 with debug info (the workspace's release profile has it):
@@ -35,7 +35,9 @@ import sys
 import tempfile
 
 # The event loop's compilations, by the name `perf` gives their symbol.
-LOOPS = ("drive_v3", "drive_pair_v3", "drive_lanes_v3")
+LOOPS = tuple(
+    f"{loop}_{isa}" for loop in ("drive", "drive_pair", "drive_lanes") for isa in ("v3", "v4")
+)
 
 # Innermost frame → what the sample was doing; the first name found in the
 # chain, innermost first, decides.

@@ -551,7 +551,7 @@ fn the_fast_path_and_the_event_by_event_walk_agree_to_the_bit() {
 #[test]
 fn runs_in_step_agree_with_runs_alone_to_the_bit() {
     use rocking::physics::Isa;
-    if Isa::detected() != Isa::V3 {
+    if !Isa::detected().has_lanes() {
         eprintln!("skipped: runs are kept in step only by the x86-64-v3 compilation");
         return;
     }
@@ -690,19 +690,30 @@ fn tightened(model: Model) -> Model {
     }
 }
 
-/// The exact stepper's two compilations (`Isa`: the x86-64 baseline and
-/// x86-64-v3) do the same IEEE operations in the same order, so every
-/// outcome must be identical to the bit: verdict, θmax, impacts, times and
+/// The compilations this CPU runs besides the baseline (`Isa`: x86-64-v3
+/// and v4), each to be held equal to it.
+fn other_compilations() -> Vec<rocking::physics::Isa> {
+    use rocking::physics::Isa;
+    let others: Vec<Isa> = [Isa::V3, Isa::V4]
+        .into_iter()
+        .filter(|isa| isa.available())
+        .collect();
+    if others.is_empty() {
+        eprintln!("skipped: this CPU lacks x86-64-v3, so only the baseline compilation runs");
+    }
+    others
+}
+
+/// The exact stepper's compilations (`Isa`: the x86-64 baseline, x86-64-v3
+/// and v4) do the same IEEE operations in the same order, so every outcome
+/// must be identical to the bit: verdict, θmax, impacts, times and
 /// intervals. Over records of every time step, slender to squat blocks,
 /// three restitutions, levels from no uplift to overturning at once, and
 /// both overturning criteria that stop the stepper differently.
 #[test]
-fn both_compilations_of_the_exact_stepper_agree_to_the_bit() {
+fn every_compilation_of_the_exact_stepper_agrees_to_the_bit() {
     use rocking::physics::{simulate_on, Isa};
-    if !Isa::V3.available() {
-        eprintln!("skipped: this CPU lacks x86-64-v3, so only the baseline compilation runs");
-        return;
-    }
+    let others = other_compilations();
     let (mut runs, mut overturned) = (0, 0);
     for stem in [
         "far-field/RSN848_LANDERS_CLW-LN",
@@ -721,12 +732,14 @@ fn both_compilations_of_the_exact_stepper_agree_to_the_bit() {
                             ..RunSpec::new(p, eps, eta, LIN)
                         };
                         let base = simulate_on(&exc, &spec, Isa::Baseline).unwrap();
-                        let v3 = simulate_on(&exc, &spec, Isa::V3).unwrap();
-                        assert_eq!(
-                            format!("{base:?}"),
-                            format!("{v3:?}"),
-                            "{stem} p = {p}, ε = {eps}, η = {eta}, {overturn:?}"
-                        );
+                        for &isa in &others {
+                            let other = simulate_on(&exc, &spec, isa).unwrap();
+                            assert_eq!(
+                                format!("{base:?}"),
+                                format!("{other:?}"),
+                                "{isa:?}: {stem} p = {p}, ε = {eps}, η = {eta}, {overturn:?}"
+                            );
+                        }
                         runs += 1;
                         overturned += usize::from(base.overturned());
                     }
@@ -741,17 +754,14 @@ fn both_compilations_of_the_exact_stepper_agree_to_the_bit() {
     );
 }
 
-/// The Taylor stepper is compiled for both too (its step and series are
+/// The Taylor stepper is compiled for each too (its step and series are
 /// `#[inline(always)]` into the event loop): every outcome identical to the
 /// bit, over records of every time step, slender and stocky blocks, and
 /// levels from no uplift to overturning at once.
 #[test]
-fn both_compilations_of_the_taylor_stepper_agree_to_the_bit() {
+fn every_compilation_of_the_taylor_stepper_agrees_to_the_bit() {
     use rocking::physics::{simulate_on, Isa, DEFAULT_TAYLOR_TOL};
-    if !Isa::V3.available() {
-        eprintln!("skipped: this CPU lacks x86-64-v3, so only the baseline compilation runs");
-        return;
-    }
+    let others = other_compilations();
     let (mut runs, mut overturned) = (0, 0);
     for stem in [
         "far-field/RSN848_LANDERS_CLW-LN",
@@ -764,12 +774,14 @@ fn both_compilations_of_the_taylor_stepper_agree_to_the_bit() {
                 let eta = 10f64.powf(-1.5 * j as f64 / 11.0);
                 let spec = RunSpec::new(p, 0.8, eta, Model::taylor(alpha, DEFAULT_TAYLOR_TOL));
                 let base = simulate_on(&exc, &spec, Isa::Baseline).unwrap();
-                let v3 = simulate_on(&exc, &spec, Isa::V3).unwrap();
-                assert_eq!(
-                    format!("{base:?}"),
-                    format!("{v3:?}"),
-                    "{stem} p = {p}, α = {alpha}, η = {eta}"
-                );
+                for &isa in &others {
+                    let other = simulate_on(&exc, &spec, isa).unwrap();
+                    assert_eq!(
+                        format!("{base:?}"),
+                        format!("{other:?}"),
+                        "{isa:?}: {stem} p = {p}, α = {alpha}, η = {eta}"
+                    );
+                }
                 runs += 1;
                 overturned += usize::from(base.overturned());
             }

@@ -85,19 +85,20 @@ pub fn simulate_pair(exc: &Excitation, specs: [&RunSpec; 2]) -> Option<[Outcome;
     {
         let limits = in_step(specs)?;
         let [a, b] = specs;
+        let isa = Isa::detected();
         // SAFETY (both arms): `in_step` is Some only where `Isa::detected()`
-        // is V3, where the CPU has its features.
+        // has lanes (v3 or v4), where the CPU has its features.
         match (a.model.integrator, a.model.equation) {
             (Integrator::Exact, Equation::Linearized) => {
                 let new = |s: &RunSpec, limit| Exact::new(s.p, s.eta, exc.dt_s, limit);
                 let (mut sa, mut sb) = (new(a, limits[0]), new(b, limits[1]));
-                Some(unsafe { dispatch::drive_pair_v3(exc, specs, limits, [&mut sa, &mut sb]) })
+                Some(unsafe { dispatch::drive_pair(isa, exc, specs, limits, [&mut sa, &mut sb]) })
             }
             (Integrator::Taylor { .. }, Equation::Nonlinear { alpha_rad }) => {
                 let new =
                     |s: &RunSpec, limit| Taylor::new(s.p, s.eta, alpha_rad, taylor_tol(s), limit);
                 let (mut sa, mut sb) = (new(a, limits[0]), new(b, limits[1]));
-                Some(unsafe { dispatch::drive_pair_v3(exc, specs, limits, [&mut sa, &mut sb]) })
+                Some(unsafe { dispatch::drive_pair(isa, exc, specs, limits, [&mut sa, &mut sb]) })
             }
             _ => None,
         }
@@ -144,10 +145,11 @@ pub fn simulate_lanes(exc: &Excitation, specs: &[RunSpec]) -> Option<Vec<Outcome
             )
         });
         let present = std::array::from_fn(|i| i < specs.len());
-        // SAFETY: `in_step` is Some only where `Isa::detected()` is V3,
-        // where the CPU has its features.
+        // SAFETY: `in_step` is Some only where `Isa::detected()` has lanes
+        // (v3 or v4), where the CPU has its features.
+        let isa = Isa::detected();
         let outs =
-            unsafe { dispatch::drive_lanes_v3(exc, four, limits, steppers.each_mut(), present) };
+            unsafe { dispatch::drive_lanes(isa, exc, four, limits, steppers.each_mut(), present) };
         Some(outs[..specs.len()].to_vec())
     }
     #[cfg(not(target_arch = "x86_64"))]
@@ -193,7 +195,7 @@ fn in_step<const N: usize>(specs: [&RunSpec; N]) -> Option<[f64; N]> {
             ..*s
         } == *first
     };
-    if !(specs.iter().all(|s| alike(s)) && Isa::detected() == Isa::V3) {
+    if !(specs.iter().all(|s| alike(s)) && Isa::detected().has_lanes()) {
         return None;
     }
     let mut limits = [0.0; N];

@@ -65,9 +65,11 @@ impl Exact {
     /// tests flagged (so that nothing is optimised away).
     pub fn bare_pass_four(&self, exc: &Excitation, s: f64, etas: [f64; 4]) -> ([f64; 4], u64) {
         #[cfg(target_arch = "x86_64")]
-        if crate::physics::Isa::detected() == crate::physics::Isa::V3 {
-            // SAFETY: the CPU has x86-64-v3's features.
-            return unsafe { bare_pass_four_v3(self, exc, s, etas) };
+        match crate::physics::Isa::detected() {
+            // SAFETY (both arms): the CPU has the features of the isa detected.
+            crate::physics::Isa::V4 => return unsafe { bare_pass_four_v4(self, exc, s, etas) },
+            crate::physics::Isa::V3 => return unsafe { bare_pass_four_v3(self, exc, s, etas) },
+            crate::physics::Isa::Baseline => {}
         }
         let mut x = [0.0; 4];
         let mut flagged = 0;
@@ -113,6 +115,23 @@ impl Exact {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx,avx2,bmi1,bmi2,fma,lzcnt,movbe,popcnt")]
 unsafe fn bare_pass_four_v3(
+    stepper: &Exact,
+    exc: &Excitation,
+    s: f64,
+    etas: [f64; 4],
+) -> ([f64; 4], u64) {
+    stepper.bare_pass_lanes::<crate::physics::lanes::F4, 4>(exc, s, etas)
+}
+
+/// [`Exact::bare_pass_four`] in one AVX register, compiled for x86-64-v4.
+///
+/// # Safety
+/// The CPU must have the features enabled here.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(
+    enable = "avx,avx2,bmi1,bmi2,fma,lzcnt,movbe,popcnt,avx512f,avx512bw,avx512cd,avx512dq,avx512vl"
+)]
+unsafe fn bare_pass_four_v4(
     stepper: &Exact,
     exc: &Excitation,
     s: f64,

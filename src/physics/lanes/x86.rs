@@ -148,13 +148,13 @@ impl Lanes<2> for F2 {
 
 /// Four `f64` lanes of one AVX register, as [`F2`] is two of an SSE2 one.
 /// Its operations are AVX instructions: it is used only in code compiled
-/// for x86-64-v3 (`dispatch`), run where the CPU has them.
+/// for x86-64-v3 or v4 (`dispatch`), run where the CPU has them.
 #[derive(Clone, Copy)]
 pub struct F4(__m256d);
 
 // SAFETY (every `unsafe` below): `F4` is only built and used in functions
 // compiled with AVX enabled, which run only where the CPU has it
-// (`dispatch::drive_lanes_v3`, called after `Isa::detected()` is V3).
+// (`dispatch::drive_lanes`, called after `Isa::detected()` has lanes).
 impl Lane for F4 {
     type Mask = M4;
     #[inline(always)]
