@@ -10,7 +10,6 @@ use serde::Serialize;
 use super::fragility::{FragilityError, RunModel};
 use crate::block::Restitution;
 use crate::label::Label;
-use crate::physics::ModelChoice;
 use crate::risk::Fragility;
 use crate::tree::{self, BetaSplit, Mixture, Tree, TreeError, TreePath};
 
@@ -30,13 +29,14 @@ pub fn load(name_or_file: &str) -> Result<Tree, TreeError> {
 }
 
 /// A path's restitution for a block of half sizes `b_m`, `h_m` whose own
-/// is `own`, and the model its runs use.
+/// is `own`, and the model its runs use: the path's, else the command's
+/// (`base`, [`RunModel::of_command`]).
 pub fn branch(
     path: &TreePath,
     b_m: f64,
     h_m: f64,
     own: Restitution,
-    auto_tol: f64,
+    base: RunModel,
 ) -> Result<(Restitution, RunModel), FragilityError> {
     // A block's own ε (an inventory's column) is not silently replaced.
     if let (Some(_), Restitution::Value(v)) = (path.eps, own) {
@@ -52,9 +52,8 @@ pub fn branch(
         }
     }
     let model = RunModel {
-        choice: path.model.unwrap_or(ModelChoice::Auto),
-        auto_tol,
-        friction: None,
+        choice: path.model.unwrap_or(base.choice),
+        ..base
     };
     Ok((eps, model))
 }

@@ -369,7 +369,7 @@ pub fn assess(
         req.im,
         &laws,
         records.as_ref(),
-        RunModel::auto(req.auto_tol).on(req.mu),
+        RunModel::of_command(req.auto_tol, records.as_ref()).on(req.mu),
         FitChoice {
             method,
             ..req.fit()

@@ -160,8 +160,9 @@ pub(super) fn of_block(
     let paths = req.tree.as_ref().map(|t| t.paths());
     let one = crate::tree::TreePath::plain();
     let mut branches = Vec::new();
+    let base = crate::ops::fragility::RunModel::of_command(req.auto_tol, at.records);
     for path in paths.clone().unwrap_or_else(|| vec![one]) {
-        let (eps, model) = crate::ops::tree::branch(&path, e.b_m, e.h_m, e.eps, req.auto_tol)?;
+        let (eps, model) = crate::ops::tree::branch(&path, e.b_m, e.h_m, e.eps, base)?;
         let model = model.on(e.mu);
         let block = crate::ops::fragility::block(e.b_m, e.h_m, eps)?;
         let mut f = damage::of_block(&block, &req.states, at.im, at.laws, at.records, model, fit)?;

@@ -99,14 +99,14 @@ pub fn assess(req: &Request) -> Result<Assessment, FragilityError> {
         req.floor.as_ref(),
         req.orient_for(req.im),
     )?;
+    let base = RunModel::of_command(req.auto_tol, records.as_ref());
     let Some(tree) = &req.tree else {
-        let model = RunModel::auto(req.auto_tol).on(req.mu);
-        return one(req, &block, &laws, records.as_ref(), model).map(|(a, _)| a);
+        return one(req, &block, &laws, records.as_ref(), base.on(req.mu)).map(|(a, _)| a);
     };
     let mut parts = Vec::new();
     let mut answers = Vec::new();
     for path in tree.paths() {
-        let (eps, model) = ops_tree::branch(&path, req.b_m, req.h_m, req.eps, req.auto_tol)?;
+        let (eps, model) = ops_tree::branch(&path, req.b_m, req.h_m, req.eps, base)?;
         let b = super::block(req.b_m, req.h_m, eps)?;
         let (a, fragility) = one(req, &b, &laws, records.as_ref(), model.on(req.mu))?;
         parts.push(ops_tree::Part {

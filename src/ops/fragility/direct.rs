@@ -14,7 +14,7 @@ use crate::floor::Building;
 use crate::ida::{self, ImGrid};
 use crate::im::{Im, RecordIms};
 use crate::physics::friction::Friction;
-use crate::physics::{Excitation, Model, ModelChoice, RunSpec};
+use crate::physics::{Excitation, Model, ModelChoice, RunSpec, Solver};
 use crate::pipeline::Plan;
 use crate::records::{self, OnBad};
 use crate::stages::{Progress, Reporter};
@@ -24,10 +24,15 @@ use crate::stages::{Progress, Reporter};
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RunModel {
     pub choice: ModelChoice,
+    /// The nonlinear equation's integrator and tolerance.
+    pub solver: Solver,
     pub auto_tol: f64,
     /// The base's friction, where known: `auto` then runs the slide-rock
     /// model wherever the block can slide.
     pub friction: Option<Friction>,
+    /// Whether it is a pipeline's `[model]`: its notes then name the
+    /// pipeline's keys, not `capacity`'s options.
+    pub of_pipeline: bool,
 }
 
 impl RunModel {
@@ -36,22 +41,42 @@ impl RunModel {
     pub fn auto(auto_tol: f64) -> Self {
         RunModel {
             choice: ModelChoice::Auto,
+            solver: Solver::default(),
             auto_tol,
             friction: None,
+            of_pipeline: false,
         }
+    }
+
+    /// What a command runs its records with: the `[model]` of the pipeline
+    /// they come from (its kind, integrator, tolerance and `auto_tol`), as
+    /// the study's stages run its blocks; else `auto` at `auto_tol`.
+    pub fn of_command(auto_tol: f64, records: Option<&DirectRecords>) -> Self {
+        records
+            .and_then(|r| r.search.model)
+            .unwrap_or(RunModel::auto(auto_tol))
     }
 
     /// The model for `block` and why: the one function `--direct`'s runs
     /// and the answers that describe them resolve it by.
     pub fn resolve(&self, block: &Block) -> Result<(Model, String), FragilityError> {
-        self.choice
+        let (model, why) = self
+            .choice
             .resolve(
                 Some(block.alpha()),
                 self.friction,
-                crate::physics::Solver::default(),
+                self.solver,
                 self.auto_tol,
             )
-            .map_err(FragilityError::Model)
+            .map_err(FragilityError::Model)?;
+        let why = match self.of_pipeline {
+            true => why.replace(
+                "--model auto or nonlinear",
+                "kind = \"auto\" or \"nonlinear\" in the pipeline's [model]",
+            ),
+            false => why,
+        };
+        Ok((model, why))
     }
 
     /// The same on a base of friction coefficient `mu` (static and
@@ -140,17 +165,20 @@ pub struct DirectRecords {
     /// bootstrap's units), if there is one.
     manifest: Option<std::path::PathBuf>,
     /// How each record's capacity is searched: a pipeline's `[im]` grid and
-    /// tolerance and its `[model] overturn`, as its study's stages search
-    /// it; else the defaults of `rocking capacity`.
+    /// tolerance and its `[model]`, as its study's stages search it; else
+    /// the defaults of `rocking capacity`.
     search: Search,
 }
 
-/// A capacity search's grid, tolerance and overturning criterion.
+/// A capacity search's grid, tolerance and overturning criterion, and
+/// the model a pipeline runs its blocks with.
 #[derive(Debug, Clone, Copy)]
 struct Search {
     grid: ImGrid,
     tol: f64,
     overturn: crate::physics::Overturn,
+    /// The pipeline's `[model]` ([`RunModel::of_command`]); none without one.
+    model: Option<RunModel>,
 }
 
 impl Search {
@@ -162,6 +190,13 @@ impl Search {
             grid: study.map_or_else(ImGrid::default, |r| r.grid),
             tol: study.map_or(ida::DEFAULT_TOL, |r| r.tol),
             overturn: plan.map_or(crate::physics::Overturn::Static, |p| p.overturn),
+            model: plan.map(|p| RunModel {
+                choice: p.model,
+                solver: p.solver,
+                auto_tol: p.auto_tol,
+                friction: None,
+                of_pipeline: true,
+            }),
         }
     }
 }

@@ -221,9 +221,10 @@ fn assess_block(req: &Request, p: &Prepared, e: &InventoryBlock) -> Result<Asses
         None => vec![crate::tree::TreePath::plain()],
     };
     let mut branches = Vec::with_capacity(paths.len());
+    let base = fragility::RunModel::of_command(req.auto_tol, records);
     for path in paths {
         let (eps, model) =
-            crate::ops::tree::branch(&path, e.b_m, e.h_m, e.eps, req.auto_tol).map_err(in_block)?;
+            crate::ops::tree::branch(&path, e.b_m, e.h_m, e.eps, base).map_err(in_block)?;
         let b = fragility::block(e.b_m, e.h_m, eps).map_err(in_block)?;
         let model = model.on(e.mu);
         let (frag, info, whole) =

@@ -344,7 +344,7 @@ fn fragility_at(
     fit: crate::damage::FitChoice,
 ) -> Result<(crate::block::Block, damage::DamageFragility, f64), fragility::FragilityError> {
     let block = fragility::block(e.b_m, e.h_m, e.eps)?;
-    let model = RunModel::auto(req.auto_tol).on(e.mu);
+    let model = RunModel::of_command(req.auto_tol, at.records).on(e.mu);
     let f = damage::of_block(&block, states, at.im, at.laws, at.records, model, fit)?;
     let floor = at.records.and_then(|r| r.floor());
     let cut = damage::zero_below(&block, at.im, floor, f.slides_on_mu).unwrap_or(0.0);
@@ -377,7 +377,7 @@ fn vector_of(
     };
     // The block's one model (sliding where it can, on its μ), as its
     // scalar fragility's.
-    let model = RunModel::auto(req.auto_tol).on(e.mu);
+    let model = RunModel::of_command(req.auto_tol, Some(r)).on(e.mu);
     let (caps, _) = r.capacities(block, model).map_err(VectorError::Block)?;
     let (ran, _) = model.resolve(block).map_err(VectorError::Block)?;
     let eta: Vec<Option<f64>> = caps.iter().map(|&c| (c > 0.0).then_some(c)).collect();

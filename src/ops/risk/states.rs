@@ -92,7 +92,7 @@ pub fn assess_states(
             im,
             &laws,
             records.as_ref(),
-            crate::ops::fragility::RunModel::auto(req.auto_tol).on(e.mu),
+            crate::ops::fragility::RunModel::of_command(req.auto_tol, records.as_ref()).on(e.mu),
             crate::damage::FitChoice {
                 method,
                 ..req.fit()

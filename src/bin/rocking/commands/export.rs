@@ -80,7 +80,8 @@ pub struct Args {
     /// The job's risk investigation time (years).
     #[arg(long, default_value_t = 50.0)]
     years: f64,
-    /// The linearised model's accepted error in η_c (--direct picks the model by it).
+    /// The linearised model's accepted error in η_c (--direct picks the model by it; the
+    /// pipeline's [model] does with --from).
     #[arg(long, default_value_t = rocking::ask::block::AUTO_TOL)]
     auto_tol: f64,
     /// The folder to write (created if needed).

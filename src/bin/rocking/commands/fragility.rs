@@ -21,8 +21,8 @@ use super::states::print_fits;
     own fit (--from PIPELINE.toml). In another IM (--im pgv|pgd|sa(T)|avgsa|arias|cav --at …): \
     lognormal, from a study's IM table carried over p and ε (--from PIPELINE.toml) or from the \
     records' own capacities (--direct). --direct also runs the block through a record suite (the \
-    pipeline's, searched as its stages search them: its [im] grid and tolerance, its [model] \
-    overturn; or the bundled far-field set, searched as `rocking capacity` searches by default) \
+    pipeline's, run and searched as its stages run them: its [model] (kind, integrator, rtol, \
+    auto_tol, overturn), its [im] grid and tolerance; or the bundled far-field set, searched as `rocking capacity` searches by default) \
     and prints the share of records whose capacity it exceeds at each level. In FEMA P-58's floor demands (--im pfa|pfv --direct), the capacity is \
     in the peak acceleration or velocity of the motion the block stands on: with --floor, the \
     floor motion's own (not restated in the ground's IMs); on the ground, its PGA or PGV.\n\n\
@@ -60,6 +60,7 @@ pub struct Args {
     #[command(flatten)]
     scene: SceneArgs,
     /// The linearised model's accepted error in η_c; a block whose α exceeds it is flagged.
+    /// --direct picks the model by it (the pipeline's [model] does with --from).
     #[arg(long, default_value_t = rocking::ask::block::AUTO_TOL)]
     auto_tol: f64,
     #[command(flatten)]

@@ -85,6 +85,7 @@ pub struct Args {
     #[arg(long, value_parser = label::<Beyond>(), default_value = "extrapolate")]
     beyond: Beyond,
     /// The linearised model's accepted error in η_c; a block whose α exceeds it is flagged.
+    /// --direct picks the model by it (the pipeline's [model] does with --from).
     #[arg(long, default_value_t = rocking::ask::block::AUTO_TOL)]
     auto_tol: f64,
     /// Write a bar chart (SVG): the deaggregation of the block at --site (default 0),
