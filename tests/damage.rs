@@ -583,3 +583,48 @@ fn sequential_states_are_ordered_at_every_level_and_on_every_curve() {
         }
     }
 }
+
+/// A state every record reaches as it lifts (θmax/α ≥ 1e-9): each
+/// record's capacity is its first grid level above the uplift PGA, g·tan α
+/// for every record (|ψ̈| ≤ 1 at PGA 1), so the 44 capacities are one
+/// level, a step. The lognormal check found "p = 0.000" on their last
+/// bits and warned that some records never reach `a`, while all 44 do.
+/// Equal capacities are not tested, and nothing is warned.
+#[test]
+fn a_state_every_record_reaches_at_one_level_is_a_step_without_warning() {
+    let dir = tempdir();
+    let out = rocking(
+        dir.path(),
+        &[
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--direct",
+            "--states",
+            "a=1e-9",
+            "--pga",
+            "0.3",
+            "--json",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let answer: serde_json::Value = serde_json::from_str(&stdout(&out)).unwrap();
+    let f = &answer["fragility"];
+    let warnings = f["warnings"].to_string();
+    assert!(!warnings.contains("never reach"), "{warnings}");
+    assert!(!warnings.contains("lognormal check"), "{warnings}");
+    let a = &f["states"][0];
+    // g·tan α in g: b/h.
+    let uplift = 0.2 / 0.9;
+    let median = a["fractile"]["median"].as_f64().unwrap();
+    // The first of the grid's levels (3.5 % apart in η) above the uplift.
+    assert!(
+        median >= uplift && median < uplift * 1.036,
+        "median {median} g against the uplift PGA {uplift} g"
+    );
+    assert!(a["fractile"]["beta"].as_f64().unwrap() < 1e-6, "{a}");
+    assert_eq!(a["reached"], 44);
+    assert!(a["lognormal_p"].is_null(), "{a}");
+}

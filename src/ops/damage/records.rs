@@ -192,10 +192,15 @@ fn worst_by_pair(
     worst
 }
 
-/// Lilliefors' p of the logarithms of `capacities` where every record
-/// reaches the state (5 or more).
+/// Lilliefors' p of the logarithms of `capacities` (sorted) where every
+/// record reaches the state (5 or more) at two levels at least: capacities
+/// all equal (to [`Curve`]'s ties: a state every record reaches as it
+/// lifts, say) are a step, not a spread to test.
 fn lognormal_p(capacities: &[f64]) -> Option<f64> {
     if capacities.iter().any(|c| !c.is_finite() || *c <= 0.0) {
+        return None;
+    }
+    if Curve::of_capacities(capacities).levels().len() < 2 {
         return None;
     }
     let logs: Vec<f64> = capacities.iter().map(|c| c.ln()).collect();
@@ -233,10 +238,28 @@ pub(super) fn curve_where_not_lognormal(f: &mut DamageFragility) {
         return;
     };
     let name = heaviest.name.clone();
-    let short = f.states.iter().find(|s| {
-        s.capacities
-            .as_ref()
-            .is_none_or(|c| !Curve::of_capacities(c).complete())
+    let unit = f.unit;
+    let short = f.states.iter().find_map(|s| {
+        let Some(c) = s.capacities.as_ref() else {
+            return Some(format!("the records' capacities of `{}` are not known", s.name));
+        };
+        let curve = Curve::of_capacities(c);
+        if curve.complete() {
+            return None;
+        }
+        let first = curve.points().next();
+        Some(match (curve.limit() < 1.0, first) {
+            (false, Some((first, p))) => format!(
+                "{} records reach `{}` first at one level ({first:.4} {unit}), so the records' curve \
+                 jumps there instead of rising from 0",
+                (p * (c.len() - 1) as f64).round() as usize + 1,
+                s.name
+            ),
+            _ => format!(
+                "some records never reach `{}`, so the records' curve stops below 1",
+                s.name
+            ),
+        })
     });
     match short {
         None => {
@@ -252,11 +275,9 @@ pub(super) fn curve_where_not_lognormal(f: &mut DamageFragility) {
                  --if-not-lognormal lognormal keeps the lognormal)"
             ));
         }
-        Some(s) => f.warnings.push(format!(
+        Some(why) => f.warnings.push(format!(
             "the capacities of `{name}` fail the lognormal check (Lilliefors p = {p:.3} < 0.05), \
-             but some records never reach `{}`, so the records' curve stops below 1: the \
-             lognormal is kept",
-            s.name
+             but {why}: the lognormal is kept"
         )),
     }
 }
