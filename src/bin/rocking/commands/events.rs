@@ -58,8 +58,7 @@ pub fn print(a: &EventsAssessment, json: bool) -> anyhow::Result<()> {
                 s.lon,
                 s.lat,
                 s.annual_rate,
-                s.return_period_years
-                    .map_or("∞".into(), |t| format!("{t:.0}")),
+                s.return_period_years.map_or("∞".into(), super::years),
                 s.annual_rate_vector
                     .map_or(String::new(), |r| format!("  {r:>18.3e}"))
             );

@@ -182,7 +182,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
     );
     for pt in &a.points {
-        let eta = pt.eta.map_or(String::new(), |e| format!("{e:.4}"));
+        let eta = pt.eta.map_or(String::new(), |e| super::cell(e, 10));
         let share = pt
             .empirical
             .map_or(String::new(), |e| format!("  {e:>18.4}"));
@@ -191,8 +191,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             format!("  {:>15}", cells.join("  "))
         });
         println!(
-            "{:>14.4} {eta:>10} {:>14.4}{share}{q}",
-            pt.iml, pt.probability
+            "{} {eta:>10} {:>14.4}{share}{q}",
+            super::cell(pt.iml, 14),
+            pt.probability
         );
     }
     Ok(())
@@ -245,7 +246,7 @@ fn run_states(
             .iter()
             .map(|p| p.map_or(format!(" {:>14}", "—"), |p| format!(" {p:>14.4}")))
             .collect();
-        println!("{:>14.4}{cells}", pt.iml);
+        println!("{}{cells}", super::cell(pt.iml, 14));
     }
     Ok(())
 }

@@ -109,3 +109,48 @@ fn exit(result: anyhow::Result<()>) -> ExitCode {
         }
     }
 }
+
+/// A number of a printed table in `width` columns: four decimals, or four
+/// significant digits in scientific form where four decimals would print
+/// hundreds of digits or nothing but zeros (a level of 1e300 g, a rate of
+/// 1e-12).
+pub(crate) fn cell(v: f64, width: usize) -> String {
+    let tiny_or_huge = v != 0.0 && v.is_finite() && !(1e-4..1e9).contains(&v.abs());
+    match tiny_or_huge {
+        true => format!("{v:>width$.3e}"),
+        false => format!("{v:>width$.4}"),
+    }
+}
+
+/// A return period (years) as printed: whole years, or four significant
+/// digits in scientific form where that would print hundreds of digits or
+/// 0 (a rate of 1e-300 or 1e300 a year).
+pub(crate) fn years(t: f64) -> String {
+    match t.is_finite() && !(1.0..1e9).contains(&t) {
+        true => format!("{t:.3e}"),
+        false => format!("{t:.0}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{cell, years};
+
+    #[test]
+    fn return_periods_print_whole_years_or_four_digits() {
+        assert_eq!(years(475.2), "475");
+        assert_eq!(years(1e-300), "1.000e-300");
+        assert_eq!(years(2.5e300), "2.500e300");
+        assert_eq!(years(0.25), "2.500e-1");
+    }
+
+    #[test]
+    fn cells_keep_their_width_at_any_magnitude() {
+        assert_eq!(cell(0.3, 10), "    0.3000");
+        assert_eq!(cell(0.0, 10), "    0.0000");
+        assert_eq!(cell(1e300, 10), " 1.000e300");
+        assert_eq!(cell(2.186689e-301, 12), "  2.187e-301");
+        assert_eq!(cell(123456.0, 10), "123456.0000");
+        assert_eq!(cell(f64::INFINITY, 6), "   inf");
+    }
+}

@@ -318,7 +318,7 @@ fn run_states(
                     fit,
                     s.annual_rate.map_or("—".to_string(), rate),
                     s.return_period_years
-                        .map_or("—".to_string(), |t| format!("{t:.0} yr")),
+                        .map_or("—".to_string(), |t| format!("{} yr", super::years(t))),
                     s.p_in_years.map_or("—".to_string(), |p| format!("{p:.4}")),
                 );
             }
@@ -417,8 +417,9 @@ fn print_one(a: &Assessment) {
             ),
             (
                 "return period".into(),
-                s.return_period_years
-                    .map_or("∞ (never)".into(), |t| format!("{t:.0} years")),
+                s.return_period_years.map_or("∞ (never)".into(), |t| {
+                    format!("{} years", super::years(t))
+                }),
             ),
             (
                 format!("P(overturn within {} years)", a.years),
@@ -510,8 +511,7 @@ fn print_inventory(all: &[Assessment], years: f64) {
                 a.block.name,
                 s.site,
                 rate(s.annual_rate),
-                s.return_period_years
-                    .map_or("∞".into(), |t| format!("{t:.0}")),
+                s.return_period_years.map_or("∞".into(), super::years),
                 s.p_overturn_in_years,
                 a.fragility.equation.unwrap_or("regression")
             );
