@@ -919,3 +919,62 @@ fn a_block_the_size_of_a_building_is_warned_of() {
         stderr(&out)
     );
 }
+
+/// One record under two names (a copied AT2 file) ran twice and counted
+/// twice in every fractile. It is a bad file now, named beside the one it
+/// repeats: `--direct` refuses it, and `ingest --skip-bad` keeps one.
+#[test]
+fn one_motion_under_two_names_is_a_bad_file() {
+    let dir = tempdir();
+    let d = dir.path();
+    let far = bundled_records().join("far-field");
+    fs::create_dir_all(d.join("suite")).unwrap();
+    for id in [
+        "RSN1111_KOBE_NIS000",
+        "RSN953_NORTHR_MUL009",
+        "RSN848_LANDERS_CLW-LN",
+        "RSN1148_KOCAELI_ARC000",
+        "RSN1633_MANJIL_ABBAR--L",
+    ] {
+        fs::copy(
+            far.join(format!("{id}.AT2")),
+            d.join(format!("suite/{id}.AT2")),
+        )
+        .unwrap();
+    }
+    // The same samples under another header line and name: still one motion.
+    let kobe = fs::read_to_string(far.join("RSN1111_KOBE_NIS000.AT2")).unwrap();
+    let copy = kobe.replacen("Kobe", "Kobe (copy)", 1);
+    assert_ne!(copy, kobe);
+    fs::write(d.join("suite/KOBE_COPY.AT2"), copy).unwrap();
+    let out = rocking(
+        d,
+        &[
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--direct",
+            "--records",
+            "suite",
+            "--pga",
+            "0.3",
+        ],
+    );
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(
+        e.contains("1 bad file(s)")
+            && e.contains("suite/RSN1111_KOBE_NIS000.AT2: the same motion as suite/KOBE_COPY.AT2"),
+        "{e}"
+    );
+    let out = rocking(
+        d,
+        &["ingest", "suite", "--skip-bad", "--out", "records.parquet"],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let rows: Vec<rocking::tables::records::RecordRow> =
+        rocking::tables::read(&d.join("records.parquet")).unwrap();
+    assert_eq!(rows.len(), 5, "{}", stderr(&out));
+}

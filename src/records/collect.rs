@@ -54,6 +54,10 @@ pub enum Problem {
     DuplicateId {
         other: PathBuf,
     },
+    /// The same samples at the same time step as another file's.
+    DuplicateMotion {
+        other: PathBuf,
+    },
 }
 
 impl fmt::Display for BadFile {
@@ -79,6 +83,12 @@ impl fmt::Display for BadFile {
             Problem::DuplicateId { other } => write!(
                 f,
                 "{path}: same record id (file stem) as {}; record ids must be unique",
+                other.display()
+            ),
+            Problem::DuplicateMotion { other } => write!(
+                f,
+                "{path}: the same motion as {} (every sample and the time step equal): a \
+                 suite counts each record once",
                 other.display()
             ),
         }
@@ -181,7 +191,7 @@ pub fn collect_as(
             _ => unique.push(row),
         }
     }
-    let mut rows = unique;
+    let mut rows = same_motions_out(unique, &mut bad);
 
     let mut not_in_manifest = Vec::new();
     if let Some((manifest_path, manifest)) = &manifest {
@@ -224,6 +234,47 @@ pub fn collect_as(
         not_in_manifest,
         ignored_manifest_columns: manifest.map(|(_, m)| m.ignored_columns).unwrap_or_default(),
     })
+}
+
+/// `rows` (sorted by id) without those whose motion (time step and every
+/// sample, to the bit) an earlier row has, each of those a bad file: one
+/// record under two names would count twice in every fractile.
+fn same_motions_out(rows: Vec<RecordRow>, bad: &mut Vec<BadFile>) -> Vec<RecordRow> {
+    use std::hash::{Hash, Hasher};
+    let key = |r: &RecordRow| {
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        r.dt_s.to_bits().hash(&mut h);
+        for a in &r.accel_g {
+            a.to_bits().hash(&mut h);
+        }
+        h.finish()
+    };
+    let mut seen: std::collections::HashMap<u64, Vec<usize>> = std::collections::HashMap::new();
+    let mut kept: Vec<RecordRow> = Vec::with_capacity(rows.len());
+    for row in rows {
+        let same = |r: &RecordRow| {
+            r.dt_s.to_bits() == row.dt_s.to_bits()
+                && r.accel_g.len() == row.accel_g.len()
+                && r.accel_g
+                    .iter()
+                    .zip(&row.accel_g)
+                    .all(|(a, b)| a.to_bits() == b.to_bits())
+        };
+        let slot = seen.entry(key(&row)).or_default();
+        match slot.iter().find(|&&i| same(&kept[i])) {
+            Some(&i) => bad.push(BadFile {
+                path: PathBuf::from(&row.source),
+                problem: Problem::DuplicateMotion {
+                    other: PathBuf::from(&kept[i].source),
+                },
+            }),
+            None => {
+                slot.push(kept.len());
+                kept.push(row);
+            }
+        }
+    }
+    kept
 }
 
 fn load_manifest(path: &Path) -> Result<Manifest, CollectError> {
