@@ -995,3 +995,49 @@ fn the_pelicun_export_says_what_its_lognormal_counts_below_uplift() {
         "{line} against {p}"
     );
 }
+
+/// SA at 100 s gave a median of 0.0001 g without a word: no hazard model
+/// states SA there (NGA-West2 stops at 10 s) and a record's spectrum there
+/// is its filter's. `fragility` and `risk` warn of it; SA(10) is not.
+#[test]
+fn spectra_past_ten_seconds_are_warned_of_in_every_answer() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(
+        d.join("h.csv"),
+        "sa(100)_g,annual_rate\n0.0001,0.1\n0.001,0.001\n",
+    )
+    .unwrap();
+    for (im, warned) in [("sa(100)", true), ("sa(10)", false)] {
+        let f = json(&rocking(
+            d,
+            &[
+                "fragility",
+                "--b",
+                "0.2",
+                "--h",
+                "0.9",
+                "--direct",
+                "--im",
+                im,
+                "--at",
+                "0.001",
+                "--json",
+            ],
+        ));
+        let w = f["warnings"].to_string();
+        assert_eq!(w.contains("past 10 s"), warned, "{im}: {w}");
+    }
+    let out = rocking(
+        d,
+        &[
+            "risk", "--hazard", "h.csv", "--b", "0.2", "--h", "0.9", "--direct", "--json",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stdout(&out).contains("past 10 s") || stderr(&out).contains("past 10 s"),
+        "{}",
+        stderr(&out)
+    );
+}

@@ -124,9 +124,38 @@ const KINDS: [Im; 19] = [
     Im::RotD100(Rotated::Sa(1.0)),
 ];
 
+/// The longest period (s) of the NGA-West2 ground-motion models (0.01 to
+/// 10 s; Bozorgnia et al. 2014, Earthquake Spectra 30(3)), and so of a
+/// hazard computed from them.
+pub const LONGEST_PERIOD_S: f64 = 10.0;
+
 /// What `fragility`, `risk` and the exports may be asked for, and what the
 /// record's table holds.
 impl Im {
+    /// The spectral period of this measure (s), if it has one: SA, FSA,
+    /// and a pair's RotD of SA.
+    pub fn period_s(self) -> Option<f64> {
+        match self {
+            Im::Sa(t) | Im::Fsa(t) => Some(t),
+            Im::RotD50(Rotated::Sa(t)) | Im::RotD100(Rotated::Sa(t)) => Some(t),
+            _ => None,
+        }
+    }
+
+    /// A caveat for a spectral measure beyond [`LONGEST_PERIOD_S`]: no
+    /// hazard model states it, and a record's spectrum there is its
+    /// processing's (its high-pass filter's) more than the earthquake's.
+    pub fn period_warning(self) -> Option<String> {
+        let t = self.period_s().filter(|&t| t > LONGEST_PERIOD_S)?;
+        Some(format!(
+            "{self} is at a period of {} s, past {LONGEST_PERIOD_S} s, the longest of the \
+             NGA-West2 ground-motion models (and of a hazard computed from them): a record's \
+             spectrum there is its processing's (its high-pass filter's) more than the \
+             earthquake's",
+            period_text(t)
+        ))
+    }
+
     /// The IMs a capacity is stated and ranked in (the ims stage, the
     /// damage stage's fits): every scaling measure, SA at every period of
     /// [`PERIODS_S`].
@@ -512,6 +541,23 @@ crate::deserialize_by_from_str!(Im);
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn spectra_past_ten_seconds_are_warned_of() {
+        for (im, warned) in [
+            ("sa(10)", false),
+            ("sa(10.5)", true),
+            ("fsa(12)", true),
+            ("rotd50_sa(20)", true),
+            ("rotd100_sa(3)", false),
+            ("pga", false),
+        ] {
+            let im: Im = im.parse().unwrap();
+            assert_eq!(im.period_warning().is_some(), warned, "{im}");
+        }
+        let w = Im::Sa(100.0).period_warning().unwrap();
+        assert!(w.contains("100.0 s, past 10 s"), "{w}");
+    }
 
     #[test]
     fn levels_print_with_four_significant_digits_and_no_trailing_zeros() {

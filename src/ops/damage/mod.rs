@@ -48,6 +48,7 @@ pub fn of_block(
     };
     f.method = fit.method;
     f.warnings.extend(crate::block::size_warning(block));
+    f.warnings.extend(im.period_warning());
     if direct.is_some() {
         records::never_reached(&mut f, block);
     }
