@@ -264,11 +264,24 @@ fn old_layouts_and_crlf_read_alike() {
         ("CRLF.AT2", &crlf),
         ("VEL.VT2", "not read: only *.AT2 files are searched for"),
     ]);
-    let run = rocking(dir.path(), &["ingest", ".", "--out", "r.parquet"]);
-    assert!(run.status.success(), "{}", stderr(&run));
-    let rows = records::read(&dir.path().join("r.parquet")).unwrap();
-    let ids: Vec<&str> = rows.iter().map(|r| r.record_id.as_str()).collect();
-    assert_eq!(ids, ["CDMG", "CRLF", "OLD", "W2"]);
+    // One motion in four layouts: read together they would be one record
+    // under four names (refused), so each is read on its own.
+    let mut rows = Vec::new();
+    for id in ["CDMG", "CRLF", "OLD", "W2"] {
+        let (file, out) = (format!("{id}.AT2"), format!("{id}.parquet"));
+        let run = rocking(dir.path(), &["ingest", &file, "--out", &out]);
+        assert!(run.status.success(), "{}", stderr(&run));
+        rows.extend(records::read(&dir.path().join(out)).unwrap());
+    }
+    let together = rocking(dir.path(), &["ingest", ".", "--out", "r.parquet"]);
+    assert!(!together.status.success());
+    assert!(
+        stderr(&together).contains("3 bad file(s)")
+            && stderr(&together).contains("the same motion as ./CDMG.AT2"),
+        "{}",
+        stderr(&together)
+    );
+    assert!(!dir.path().join("r.parquet").exists());
     for r in &rows {
         assert_eq!(
             r.accel_g,
