@@ -76,19 +76,55 @@ pub struct At2Error {
 #[derive(Debug, Clone, PartialEq)]
 pub enum At2ErrorKind {
     Empty,
-    ShortHeader { lines: usize },
-    NotAcceleration { units_line: String },
-    MissingNpts { text: String },
-    MissingDt { text: String },
-    BadNpts { token: String },
-    BadDt { token: String },
-    NonPositiveDt { dt: f64 },
-    FineDt { dt: f64 },
-    CoarseDt { dt: f64 },
-    NotANumber { token: String },
-    NotFinite { token: String },
-    TooFewValues { npts: usize, found: usize },
-    TooManyValues { npts: usize },
+    ShortHeader {
+        lines: usize,
+    },
+    NotAcceleration {
+        units_line: String,
+    },
+    MissingNpts {
+        text: String,
+    },
+    MissingDt {
+        text: String,
+    },
+    BadNpts {
+        token: String,
+    },
+    BadDt {
+        token: String,
+    },
+    NonPositiveDt {
+        dt: f64,
+    },
+    FineDt {
+        dt: f64,
+    },
+    CoarseDt {
+        dt: f64,
+    },
+    NotANumber {
+        token: String,
+    },
+    NotFinite {
+        token: String,
+    },
+    TooFewValues {
+        npts: usize,
+        found: usize,
+    },
+    TooManyValues {
+        npts: usize,
+    },
+    /// One sample: no time step to run.
+    OneSample,
+    /// Every sample 0.
+    NoMotion,
+    /// A sample beyond [`MAX_ACCEL_G`] (the `index`-th, from 1).
+    Implausible {
+        index: usize,
+        value: f64,
+    },
 }
 
 impl fmt::Display for At2Error {
@@ -165,6 +201,17 @@ impl fmt::Display for At2ErrorKind {
                 f,
                 "more values than NPTS = {npts}: the header and the data disagree"
             ),
+            OneSample => write!(
+                f,
+                "NPTS = 1: a record needs two samples at least (one time step to run)"
+            ),
+            NoMotion => write!(f, "every sample is 0: the record has no motion"),
+            Implausible { index, value } => write!(
+                f,
+                "sample {index} is {value:e} g, past {MAX_ACCEL_G} g: no ground motion on record \
+                 comes near (the strongest, Iwate-Miyagi 2008 at IWTH25, about 4 g); is the file \
+                 in cm/s² (gal) under a units line of g?"
+            ),
         }
     }
 }
@@ -204,6 +251,7 @@ pub fn parse_str(text: &str) -> Result<At2, At2Error> {
     check_units(&header[2]).map_err(|kind| err(3, kind))?;
     let (npts, dt_s, layout) = parse_npts_dt(&header[3]).map_err(|kind| err(4, kind))?;
     let accel_g = parse_samples(rest, npts)?;
+    check_motion(&accel_g)?;
     Ok(At2 {
         header,
         layout,
@@ -348,6 +396,28 @@ fn check_units(line: &str) -> Result<(), At2ErrorKind> {
         Some("G") => Ok(()),
         _ => Err(refused()),
     }
+}
+
+/// The largest |sample| accepted (g): more than twice the strongest ground
+/// motion recorded (about 4 g at IWTH25 in the 2008 Iwate-Miyagi
+/// earthquake; Aoi et al. 2008, Science 322, 727-730). A file past it is in
+/// another unit, or broken.
+pub const MAX_ACCEL_G: f64 = 10.0;
+
+/// A record's samples as a motion: two at least, not all 0, none past
+/// [`MAX_ACCEL_G`] (the units line is where such a file goes wrong).
+fn check_motion(accel_g: &[f64]) -> Result<(), At2Error> {
+    if accel_g.len() < 2 {
+        return Err(err(4, At2ErrorKind::OneSample));
+    }
+    if let Some(i) = accel_g.iter().position(|a| a.abs() > MAX_ACCEL_G) {
+        let (index, value) = (i + 1, accel_g[i]);
+        return Err(err(3, At2ErrorKind::Implausible { index, value }));
+    }
+    if accel_g.iter().all(|&a| a == 0.0) {
+        return Err(err(HEADER_LINES + 1, At2ErrorKind::NoMotion));
+    }
+    Ok(())
 }
 
 /// The coarsest sampling accepted (s): strong-motion records are sampled
@@ -749,8 +819,9 @@ mod tests {
                         .collect::<Vec<_>>()
                         .join("\r\n")
                 );
-                let npts = format!("NPTS= {}, DT= .01 SEC", tokens.len());
-                let got = parse_str(&file(&npts, &body)).unwrap().accel_g;
+                // The reader of samples alone: the tokens are numbers, not a
+                // motion (1e22 g is refused as one).
+                let got = parse_samples(&body, tokens.len()).unwrap();
                 let want: Vec<u64> = tokens
                     .iter()
                     .map(|t| reference(t).unwrap().to_bits())
@@ -773,6 +844,39 @@ mod tests {
                     }
                 )
             );
+        }
+    }
+
+    /// A file of one sample, of zeros, or with a sample past 10 g (a file
+    /// in gal under a units line of g: 499.7 "g") is no motion to run: each
+    /// ran as a record that never overturns, or overturns on one spike.
+    #[test]
+    fn samples_that_are_no_ground_motion_are_refused() {
+        for (npts, body, line, want) in [
+            ("NPTS= 1, DT= .01 SEC", "0.3\n", 4, At2ErrorKind::OneSample),
+            (
+                "NPTS= 3, DT= .01 SEC",
+                "0 0.0\n-0\n",
+                5,
+                At2ErrorKind::NoMotion,
+            ),
+            (
+                "NPTS= 3, DT= .01 SEC",
+                "0.1 -499.7 2\n",
+                3,
+                At2ErrorKind::Implausible {
+                    index: 2,
+                    value: -499.7,
+                },
+            ),
+        ] {
+            let e = parse_str(&file(npts, body)).unwrap_err();
+            assert_eq!((e.line, e.kind), (line, want), "{body}");
+        }
+        // 10 g itself, and a motion that is 0 but for one sample, are motions.
+        for body in ["10 -10\n", "0 0 0.001\n"] {
+            let n = body.split_whitespace().count();
+            assert!(parse_str(&file(&format!("NPTS= {n}, DT= .01 SEC"), body)).is_ok());
         }
     }
 
@@ -805,8 +909,8 @@ mod tests {
             )
         );
         // Latin-1 bytes in a header are replaced, not refused.
-        let mut bytes = file("NPTS= 1, DT= .01 SEC", "5\n").into_bytes();
+        let mut bytes = file("NPTS= 2, DT= .01 SEC", "5 6\n").into_bytes();
         bytes[3] = 0xe9;
-        assert_eq!(parse(&bytes).unwrap().accel_g, vec![5.0]);
+        assert_eq!(parse(&bytes).unwrap().accel_g, vec![5.0, 6.0]);
     }
 }
