@@ -394,11 +394,26 @@ pub fn beta_split(lognormals: &[(f64, f64)], weights: &[f64]) -> Option<BetaSpli
 /// A weighted mixture of fragilities: P(x) = Σ wᵢ Pᵢ(x), not a lognormal.
 pub struct Mixture<'a> {
     pub parts: &'a [(f64, Fragility)],
+    /// Each part's level below which its block cannot move (Pᵢ = 0 there,
+    /// as `risk` and `fragility` cut it), in the parts' order; empty: no
+    /// cut.
+    pub below: &'a [f64],
 }
 
 impl Mixture<'_> {
     pub fn probability(&self, x: f64) -> f64 {
-        self.parts.iter().map(|(w, f)| w * f.probability(x)).sum()
+        let cut = |i: usize| self.below.get(i).copied().unwrap_or(0.0);
+        self.parts
+            .iter()
+            .enumerate()
+            .map(|(i, (w, f))| {
+                if x < cut(i) {
+                    0.0
+                } else {
+                    w * f.probability(x)
+                }
+            })
+            .sum()
     }
 
     /// The level where the mixture reaches `p` (bisection on ln x, to
@@ -578,7 +593,10 @@ mod tests {
                 },
             ),
         ];
-        let m = Mixture { parts: &parts };
+        let m = Mixture {
+            parts: &parts,
+            below: &[],
+        };
         assert!((m.level(0.5).unwrap() / 0.2 - 1.0).abs() < 1e-12);
         let s = beta_split(&[(0.1, 0.4), (0.4, 0.4)], &[0.5, 0.5]).unwrap();
         assert!((s.beta_m - 4f64.ln() / 2.0).abs() < 1e-15);

@@ -551,8 +551,10 @@ fn a_studys_tree_runs_the_example_on_every_branch() {
 /// pelicun takes one function per state: the export writes the tree's mean
 /// as a multilinear_CDF whose every point is the mixture of the branches'
 /// lognormals (Φ written here; the ends set to 0 and 1 at the mixture's 0.1
-/// and 99.9 % levels), as it reproduces the mean better than β_total's
-/// lognormal (both errors stated).
+/// and 99.9 % levels), each 0 below the uplift PGA g·tan α = b/h g, where
+/// `risk --tree` and `fragility --tree` count 0 (the mixture of uncut
+/// lognormals gave 1.05 % just below it), as it reproduces the mean better
+/// than β_total's lognormal (both errors stated).
 #[test]
 fn pelicun_gets_the_mean_of_a_tree() {
     let dir = tempdir();
@@ -601,8 +603,13 @@ fn pelicun_gets_the_mean_of_a_tree() {
     let (xs, ps) = quoted.split_once('|').unwrap();
     let xs: Vec<f64> = xs.split(',').map(|x| x.parse().unwrap()).collect();
     let ps: Vec<f64> = ps.split(',').map(|x| x.parse().unwrap()).collect();
-    assert_eq!(xs.len(), 60);
-    for (k, (&x, &p)) in xs.iter().zip(&ps).enumerate() {
+    let uplift = 0.2 / 0.9;
+    // The range starts at the uplift PGA, a step there (from 0 to the
+    // mixture one part in 10⁶ above it).
+    assert!((xs[0] / uplift - 1.0).abs() < 1e-12, "{}", xs[0]);
+    assert_eq!(ps[0], 0.0);
+    assert_eq!(xs.len(), 61);
+    for (k, (&x, &p)) in xs.iter().zip(&ps).enumerate().skip(1) {
         let mix: f64 = branches
             .iter()
             .map(|&(w, m, b)| w * crate::util::phi((x / m).ln() / b))
@@ -733,19 +740,24 @@ fn pelicun_gets_a_trees_states_in_order_through_every_branchs_kink() {
         .filter(|&x| x > xs[0] && x < xs[xs.len() - 1])
         .collect();
     assert!(kinks.len() > 40, "{}", kinks.len());
+    // Each branch counts 0 below the uplift PGA (b/h g), as `risk --tree`
+    // does; the mean's step there is its first two levels.
+    let uplift = 0.2 / 0.9;
+    let cut = |x: f64, p: f64| if x < uplift { 0.0 } else { p };
+    assert!((xs[0] / uplift - 1.0).abs() < 1e-12 && (xs[1] / xs[0] - 1.0 - 1e-6).abs() < 1e-9);
     for &x in &kinks {
         for j in 0..3 {
-            let mix: f64 = branches.iter().map(|(w, s)| w * s[j](x)).sum();
+            let mix: f64 = branches.iter().map(|(w, s)| w * cut(x, s[j](x))).sum();
             assert!(
                 (mean[j](x) - mix).abs() <= 1e-10,
                 "state {j} at the kink {x}"
             );
         }
     }
-    for (i, &x) in xs.iter().enumerate() {
+    for (i, &x) in xs.iter().enumerate().skip(1) {
         let p: Vec<f64> = (0..3).map(|j| mean[j](x)).collect();
         for j in 0..3 {
-            let mix: f64 = branches.iter().map(|(w, s)| w * s[j](x)).sum();
+            let mix: f64 = branches.iter().map(|(w, s)| w * cut(x, s[j](x))).sum();
             // Two Φ (statrs' erfc, the test's series) agree to ~1e-12.
             let tol = if i == 0 || i == xs.len() - 1 {
                 1.01e-3

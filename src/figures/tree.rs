@@ -73,7 +73,10 @@ pub(super) fn tree_fragility(d: &StudyData) -> Vec<Figure> {
         return Vec::new();
     };
     let parts = b.parts();
-    let mix = Mixture { parts: &parts };
+    let mix = Mixture {
+        parts: &parts,
+        below: &[],
+    };
     let top = b
         .fits
         .iter()
@@ -170,7 +173,12 @@ pub(super) fn tree_tornado(d: &StudyData) -> Vec<Figure> {
             }
         })
         .collect();
-    if let Some(m) = (Mixture { parts: &parts }).level(0.5) {
+    if let Some(m) = (Mixture {
+        parts: &parts,
+        below: &[],
+    })
+    .level(0.5)
+    {
         lines.push(Line {
             name: Some(format!("the mixture's median, {m:.3} g")),
             points: vec![(m, 0.5), (m, n as f64 + 0.5)],

@@ -129,7 +129,11 @@ pub fn weighted(parts: &[Part]) -> Vec<(f64, Fragility)> {
 /// What an answer says of a tree of `parts`.
 pub fn info(tree: &Tree, parts: &[Part]) -> TreeInfo {
     let weighted = weighted(parts);
-    let (mean_median, mean_beta) = Mixture { parts: &weighted }.median_beta();
+    let (mean_median, mean_beta) = Mixture {
+        parts: &weighted,
+        below: &[],
+    }
+    .median_beta();
     let lognormals: Option<Vec<(f64, f64)>> =
         parts.iter().map(|p| Some((p.median?, p.beta?))).collect();
     let weights: Vec<f64> = parts.iter().map(|p| p.path.weight).collect();
@@ -183,9 +187,11 @@ pub struct MeanFit {
     pub lognormals_in_order: Option<bool>,
 }
 
-/// Each state's mixture over the branches (weight, fragility), as the
-/// closer of a multilinear curve and FEMA P-58's lognormal of β_total;
-/// `None` where some state's mixture never reaches 99.9 %.
+/// Each state's mixture over the branches (weight, fragility, the level
+/// below which the branch's block cannot move: 0 there, as `risk --tree`
+/// and `fragility --tree` count it), as the closer of a multilinear curve
+/// and FEMA P-58's lognormal of β_total; `None` where some state's mixture
+/// never reaches 99.9 %.
 ///
 /// Every state's curve has the same levels: each state's [`MEAN_POINTS`]
 /// over its own 0.1–99.9 % range and every kink of a branch's records'
@@ -194,33 +200,41 @@ pub struct MeanFit {
 /// their mixtures are at every level, so the curves, linear between
 /// common levels, are everywhere. The lognormals (one β_total per state)
 /// are written only where no two states' cross within 0.1–99.9 %
-/// ([`crate::damage::crossing`]).
+/// ([`crate::damage::crossing`]). A cut is a step, which the curve takes
+/// from 0 at the cut to the mixture's P one part in 10⁶ above it.
 pub fn mean_shape(
-    branches: &[(f64, &crate::ops::damage::DamageFragility)],
+    branches: &[(f64, &crate::ops::damage::DamageFragility, f64)],
 ) -> Option<(crate::export::Shape, MeanFit)> {
     use crate::damage::{Curve, Lognormal};
     let n = branches.first()?.1.states.len();
     let weights: Vec<f64> = branches.iter().map(|b| b.0).collect();
+    let below: Vec<f64> = branches.iter().map(|b| b.2).collect();
     let parts: Vec<Vec<(f64, Fragility)>> = (0..n)
         .map(|j| {
             branches
                 .iter()
-                .map(|(w, f)| Some((*w, f.states[j].fragility(f.method)?)))
+                .map(|(w, f, _)| Some((*w, f.states[j].fragility(f.method)?)))
                 .collect::<Option<_>>()
         })
         .collect::<Option<_>>()?;
     let ranges: Vec<(f64, f64)> = parts
         .iter()
         .map(|p| {
-            let mix = Mixture { parts: p };
+            let mix = Mixture {
+                parts: p,
+                below: &below,
+            };
             Some((mix.level(1e-3)?, mix.level(0.999)?))
         })
         .collect::<Option<_>>()?;
-    let levels = mean_levels(&parts, &ranges);
+    let levels = mean_levels(&parts, &ranges, &below);
     let (mut curves, mut lognormals) = (Vec::new(), Vec::new());
     let (mut curve_error, mut lognormal_error) = (0.0f64, Some(0.0f64));
     for (p, &(lo, hi)) in parts.iter().zip(&ranges) {
-        let mix = Mixture { parts: p };
+        let mix = Mixture {
+            parts: p,
+            below: &below,
+        };
         let mut pts: Vec<(f64, f64)> = levels.iter().map(|&x| (x, mix.probability(x))).collect();
         let last = pts.len() - 1;
         pts[0].1 = 0.0;
@@ -238,13 +252,18 @@ pub fn mean_shape(
                 median: s.median,
                 beta: s.beta_total,
             });
-        // The errors on a fine grid over the mixture's 0.01–99.99 % range.
+        // The errors on a fine grid over the mixture's 0.01–99.99 % range,
+        // but on a cut's step (no curve takes a step at one level).
         let (a, b) = (
             mix.level(1e-4).unwrap_or(lo),
             mix.level(0.9999).unwrap_or(hi),
         );
+        let on_step = |x: f64| below.iter().any(|&c| x >= c && x <= c * (1.0 + 1e-6));
         for k in 0..=400 {
             let x = a * (b / a).powf(k as f64 / 400.0);
+            if on_step(x) {
+                continue;
+            }
             let p = mix.probability(x);
             curve_error = curve_error.max((curve.probability(x) - p).abs());
             lognormal_error = match (lognormal_error, lognormal) {
@@ -285,7 +304,7 @@ pub fn mean_shape(
 
 /// The levels every state's mean curve goes through (see [`mean_shape`]):
 /// increasing, none within 1e-9 (relative) of the one before.
-fn mean_levels(parts: &[Vec<(f64, Fragility)>], ranges: &[(f64, f64)]) -> Vec<f64> {
+fn mean_levels(parts: &[Vec<(f64, Fragility)>], ranges: &[(f64, f64)], below: &[f64]) -> Vec<f64> {
     let from = ranges.iter().map(|r| r.0).fold(f64::INFINITY, f64::min);
     let to = ranges.iter().map(|r| r.1).fold(0.0, f64::max);
     let mut levels: Vec<f64> = ranges
@@ -297,6 +316,14 @@ fn mean_levels(parts: &[Vec<(f64, Fragility)>], ranges: &[(f64, f64)]) -> Vec<f6
             Fragility::Curve(c) => c.levels().to_vec(),
             Fragility::Lognormal { .. } => Vec::new(),
         }))
+        // A cut's step: from 0 at the cut (where the range starts, if it
+        // lies inside) to the mixture's P just above it.
+        .chain(
+            below
+                .iter()
+                .filter(|&&c| c > 0.0)
+                .flat_map(|&c| [c, c * (1.0 + 1e-6)]),
+        )
         .filter(|&x| (from..=to).contains(&x))
         .collect();
     levels.sort_by(f64::total_cmp);

@@ -46,7 +46,11 @@ pub(super) fn tree_section(w: &mut String, d: &StudyData) {
         );
     }
     let parts = b.parts();
-    let (m, beta) = Mixture { parts: &parts }.median_beta();
+    let (m, beta) = Mixture {
+        parts: &parts,
+        below: &[],
+    }
+    .median_beta();
     let lognormals: Vec<(f64, f64)> = b.fits.iter().map(|l| (l.median, l.beta)).collect();
     let split = tree::beta_split(&lognormals, &b.weights);
     let opt = |v: Option<f64>, d: usize| v.map_or("—".into(), |v| format!("{v:.d$}"));

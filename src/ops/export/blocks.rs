@@ -259,7 +259,12 @@ fn over_tree(
     if req.format == Format::Nrml {
         return Ok((listed, None));
     }
-    let parts: Vec<(f64, &DamageFragility)> = branches.iter().map(|b| (b.0.weight, &b.4)).collect();
+    // Each branch cut where its block cannot move (its no-damage limit), as
+    // `risk --tree` and `fragility --tree` count it.
+    let parts: Vec<(f64, &DamageFragility, f64)> = branches
+        .iter()
+        .map(|b| (b.0.weight, &b.4, b.3.no_damage_limit.unwrap_or(0.0)))
+        .collect();
     let (states, fit) = crate::ops::tree::mean_shape(&parts)
         .ok_or_else(|| ExportOpError::TreeMean(name.to_string()))?;
     out.functions.push(Entry {

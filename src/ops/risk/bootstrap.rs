@@ -102,7 +102,11 @@ pub(super) fn bands(
         // the mixture's.
         let (m, beta) = match (&states[..], branches) {
             ([s], [r]) => s.median_beta(r.fragility.method),
-            _ => Mixture { parts: &fits }.median_beta(),
+            _ => Mixture {
+                parts: &fits,
+                below: &[],
+            }
+            .median_beta(),
         };
         medians.extend(m);
         betas.extend(beta);
