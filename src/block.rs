@@ -44,7 +44,11 @@ pub enum BlockError {
     HousnerEps { eps: f64, ratio: f64, alpha: f64 },
     #[error("`{0}`: give a number in (0, 1] or `housner`")]
     Restitution(String),
-    #[error("friction coefficient μ = {0} must be finite and not negative")]
+    #[error(
+        "friction coefficient μ = {0} must be in (0, {max}]: above it the sliding pivot's \
+         equations lose uniqueness (Painlevé), and such a base never lets a block slide",
+        max = crate::physics::friction::MU_MAX
+    )]
     Mu(f64),
 }
 
@@ -120,9 +124,11 @@ pub fn check_eps(eps: f64) -> Result<f64, BlockError> {
     }
 }
 
-/// `mu` when it is a friction coefficient: finite and ≥ 0.
+/// `mu` when it is a friction coefficient the models take: in (0, [`MU_MAX`]].
+///
+/// [`MU_MAX`]: crate::physics::friction::MU_MAX
 pub fn check_mu(mu: f64) -> Result<f64, BlockError> {
-    if mu >= 0.0 && mu.is_finite() {
+    if mu > 0.0 && mu <= crate::physics::friction::MU_MAX {
         Ok(mu)
     } else {
         Err(BlockError::Mu(mu))
@@ -231,6 +237,9 @@ mod tests {
         assert!(sliding_warning(0.2, block.alpha()).contains("b/h = tan α = 0.4000"));
         assert_eq!(check_mu(0.3), Ok(0.3));
         assert_eq!(check_mu(-0.1), Err(BlockError::Mu(-0.1)));
+        // The one range of every door, the slide-rock model's (Friction::validate).
+        assert_eq!(check_mu(1.3), Ok(1.3));
+        assert!(check_mu(0.0).is_err() && check_mu(5.0).is_err());
         assert!(check_mu(f64::NAN).is_err());
     }
 

@@ -978,3 +978,58 @@ fn one_motion_under_two_names_is_a_bad_file() {
         rocking::tables::read(&d.join("records.parquet")).unwrap();
     assert_eq!(rows.len(), 5, "{}", stderr(&out));
 }
+
+/// μ = 1.5 was refused with `--direct` (the slide-rock model's range,
+/// (0, 1.3]) and taken without it, and an inventory took μ = 5. One range
+/// now, by the option or the inventory's line.
+#[test]
+fn friction_has_one_range_at_every_door() {
+    let dir = tempdir();
+    let d = dir.path();
+    let want = "μ = 1.5 must be in (0, 1.3]";
+    for direct in [false, true] {
+        let mut args = vec![
+            "fragility",
+            "--b",
+            "0.3",
+            "--h",
+            "1",
+            "--mu",
+            "1.5",
+            "--pga",
+            "0.5",
+        ];
+        if direct {
+            args.push("--direct");
+        }
+        let out = rocking(d, &args);
+        assert!(!out.status.success(), "{args:?}");
+        assert!(
+            stderr(&out).contains(&format!("--mu: friction coefficient {want}")),
+            "{}",
+            stderr(&out)
+        );
+    }
+    fs::write(
+        d.join("inv.csv"),
+        "name,b,h,eps,mu\nstatue,0.2,0.9,0.9,0.5\nsafe,0.3,1.0,0.8,1.5\n",
+    )
+    .unwrap();
+    let hazard = root().join("records/hazard/synthetic-site.csv");
+    let out = rocking(
+        d,
+        &[
+            "risk",
+            "--hazard",
+            hazard.to_str().unwrap(),
+            "--inventory",
+            "inv.csv",
+        ],
+    );
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(
+        e.contains("inv.csv:3: block `safe`: `mu`") && e.contains(want),
+        "{e}"
+    );
+}
