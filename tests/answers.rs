@@ -1041,3 +1041,55 @@ fn spectra_past_ten_seconds_are_warned_of_in_every_answer() {
         stderr(&out)
     );
 }
+
+/// An export whose block's capacities fail the lognormal check writes the
+/// records' own curves (discrete, multilinear_CDF), and its description
+/// said "fractile fit" all the same. It says what it wrote; a lognormal
+/// written as asked still says its fit.
+#[test]
+fn an_exports_description_says_what_it_wrote() {
+    let dir = tempdir();
+    let d = dir.path();
+    let eps = "0.85";
+    for (format, keep, curves) in [
+        ("nrml", "curve", true),
+        ("pelicun", "curve", true),
+        ("nrml", "lognormal", false),
+    ] {
+        let out = format!("{format}-{keep}");
+        let run = rocking(
+            d,
+            &[
+                "export",
+                "--format",
+                format,
+                "--b",
+                "0.2",
+                "--h",
+                "0.9",
+                "--eps",
+                eps,
+                "--direct",
+                "--out",
+                &out,
+                "--json",
+                "--if-not-lognormal",
+                keep,
+            ],
+        );
+        assert!(run.status.success(), "{}", stderr(&run));
+        let v: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+        assert_eq!(
+            v[0]["written_as"] == "curve",
+            curves,
+            "{format} ε {eps}: {v}"
+        );
+        let text: String = fs::read_dir(d.join(&out))
+            .unwrap()
+            .map(|f| fs::read_to_string(f.unwrap().path()).unwrap_or_default())
+            .collect();
+        let says_curves = text.contains("own curves (their capacities fail the lognormal check");
+        assert_eq!(says_curves, curves, "{format} ε {eps}");
+        assert_eq!(text.contains("fractile fit,"), !curves, "{format} ε {eps}");
+    }
+}

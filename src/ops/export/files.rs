@@ -18,7 +18,7 @@ pub(super) fn write_files(
     floor: Option<&crate::floor::Building>,
 ) -> Result<Vec<PathBuf>, ExportOpError> {
     let names: Vec<String> = req.states.states().iter().map(|s| s.name.clone()).collect();
-    let description = description(req, im, source, floor);
+    let description = description(req, im, source, floor, &entries.functions);
     std::fs::create_dir_all(&req.out).map_err(|e| ExportOpError::Out {
         path: req.out.clone(),
         why: e.to_string(),
@@ -122,13 +122,35 @@ fn earlier_export(out: &Path) -> Vec<String> {
 
 /// What the exported fragilities are, as the engines' files say: the
 /// blocks' scene (a floor, facing any direction, a pair's component), the
-/// states, the fit and where the capacities came from.
+/// states, the fit (the functions written as the records' own curves
+/// named where the fit asked for is a lognormal) and where the capacities
+/// came from.
 fn description(
     req: &Request,
     im: Im,
     source: &str,
     floor: Option<&crate::floor::Building>,
+    functions: &[crate::export::Entry],
 ) -> String {
+    let curves: Vec<&str> = functions
+        .iter()
+        .filter(|f| matches!(f.states, crate::export::Shape::Curve(_)))
+        .map(|f| f.id.as_str())
+        .collect();
+    let fit = match (req.method, curves.is_empty()) {
+        (crate::damage::FitMethod::Empirical, _) | (_, true) => {
+            format!("{} fit", req.method.name())
+        }
+        (m, false) if curves.len() == functions.len() => format!(
+            "the records' own curves (their capacities fail the lognormal check of the {} fit)",
+            m.name()
+        ),
+        (m, false) => format!(
+            "{} fit, the records' own curves for {} (their capacities fail the lognormal check)",
+            m.name(),
+            curves.join(", ")
+        ),
+    };
     let floor = floor.map_or(String::new(), |b| {
         format!(" on the floor of a building of modes T,zeta,Gamma-phi = {b} (IMs of the ground)")
     });
@@ -151,7 +173,7 @@ fn description(
         String::new()
     };
     format!(
-        "Damage states of free-standing rigid blocks{floor}{facing}{component} ({}), {} fit, \
+        "Damage states of free-standing rigid blocks{floor}{facing}{component} ({}), {fit}, \
          from {} (rocking {})",
         req.states
             .states()
@@ -159,7 +181,6 @@ fn description(
             .map(|s| format!("{}: {}", s.name, s.describe()))
             .collect::<Vec<_>>()
             .join("; "),
-        req.method.name(),
         source,
         env!("CARGO_PKG_VERSION")
     )
