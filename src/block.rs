@@ -47,7 +47,7 @@ pub enum BlockError {
     #[error(
         "friction coefficient μ = {0} must be in (0, {max}]: above it the sliding pivot's \
          equations lose uniqueness (Painlevé), and such a base never lets a block slide",
-        max = crate::physics::friction::MU_MAX
+        max = MU_MAX
     )]
     Mu(f64),
 }
@@ -124,11 +124,15 @@ pub fn check_eps(eps: f64) -> Result<f64, BlockError> {
     }
 }
 
+/// The largest friction coefficient the models take: below 4/3 the
+/// slide-rock mode's `1/3 + k s sin φ` stays positive at every angle
+/// (`5/6 − ½√(1 + μ²) > 0`), so its accelerations are unique (no Painlevé
+/// paradox; docs/MODEL.md §21).
+pub const MU_MAX: f64 = 1.3;
+
 /// `mu` when it is a friction coefficient the models take: in (0, [`MU_MAX`]].
-///
-/// [`MU_MAX`]: crate::physics::friction::MU_MAX
 pub fn check_mu(mu: f64) -> Result<f64, BlockError> {
-    if mu > 0.0 && mu <= crate::physics::friction::MU_MAX {
+    if mu > 0.0 && mu <= MU_MAX {
         Ok(mu)
     } else {
         Err(BlockError::Mu(mu))

@@ -23,13 +23,7 @@
 //! ```
 
 use super::PhysicsError;
-pub use crate::block::G;
-
-/// The largest friction coefficient the coupled model takes: below 4/3 the
-/// slide-rock mode's `1/3 + k s sin φ` stays positive at every angle
-/// (`5/6 − ½√(1 + μ²) > 0`), so its accelerations are unique (no Painlevé
-/// paradox).
-pub const MU_MAX: f64 = 1.3;
+pub use crate::block::{G, MU_MAX};
 
 /// Coulomb friction of the base: static `mu_s`, kinetic `mu_k ≤ mu_s`.
 #[derive(Debug, Clone, Copy, PartialEq)]
