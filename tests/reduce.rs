@@ -272,6 +272,40 @@ fn reduce_and_fit_follow_the_definitions_and_rerun_only_on_change() {
         .map(|q| q["probability"].as_f64().unwrap())
         .collect();
     assert!(probs.windows(2).all(|w| w[1] >= w[0]), "{probs:?}");
+    // The study's regression is stretched beyond the study's own blocks
+    // (p 0.5–4 1/s, ε 0.6–0.9), not the paper's (0.33–10 1/s): p = 7.05 was
+    // extrapolated without a word. A block inside both is not warned of.
+    for (block, want) in [
+        (
+            ["0.03", "0.145", "0.7"],
+            Some("p = 7.048 1/s is outside the study's 0.5–4 1/s"),
+        ),
+        (["0.2", "0.9", "0.75"], None),
+    ] {
+        let [b, h, eps] = block;
+        let args = [
+            "fragility",
+            "--b",
+            b,
+            "--h",
+            h,
+            "--eps",
+            eps,
+            "--pga",
+            "0.5",
+            "--from",
+            p,
+            "--outputs",
+            o,
+        ];
+        let r = rocking(dir.path(), &args);
+        assert!(r.status.success(), "{}", stderr(&r));
+        match want {
+            Some(want) => assert!(stderr(&r).contains(want), "{}", stderr(&r)),
+            None => assert!(!stderr(&r).contains("outside"), "{}", stderr(&r)),
+        }
+        assert!(!stderr(&r).contains("regression's"), "{}", stderr(&r));
+    }
 }
 
 #[test]

@@ -281,7 +281,8 @@ fn overturning(
 ) -> Result<(Lognormal, &'static str), FragilityError> {
     if im == Im::Pga {
         let (eta50, beta) = laws.median_beta(block)?;
-        warnings.extend(super::fragility::warnings(block, auto_tol));
+        let study = laws.plan.as_ref().map(|p| p.blocks());
+        warnings.extend(super::fragility::warnings(block, study, auto_tol));
         Ok((
             Lognormal {
                 median: block.alpha() / eta50,

@@ -136,20 +136,48 @@ pub fn alpha_warning(block: &Block, auto_tol: f64) -> Option<String> {
     ))
 }
 
-/// Where the paper's regression is stretched for a block (not for
-/// `--direct`): shared by `fragility` and `risk`, so both warn alike.
-pub fn warnings(block: &Block, auto_tol: f64) -> Vec<String> {
+/// Where a regression is stretched for a block (not for `--direct`): the
+/// paper's beyond its grid (p 0.33–10 1/s, ε 0.5–0.95), a study's beyond
+/// its blocks' (`blocks`, from `--from PIPELINE.toml`), as the study's IM
+/// tables say of theirs. Shared by `fragility`, `risk` and `export`, so all
+/// warn alike.
+pub fn warnings(
+    block: &Block,
+    blocks: Option<&[crate::pipeline::BlockSpec]>,
+    auto_tol: f64,
+) -> Vec<String> {
+    let span = |f: fn(&crate::pipeline::BlockSpec) -> f64, paper: (f64, f64)| {
+        blocks.filter(|b| !b.is_empty()).map_or(paper, |b| {
+            let v = b.iter().map(f);
+            (
+                v.clone().fold(f64::INFINITY, f64::min),
+                v.fold(0.0, f64::max),
+            )
+        })
+    };
+    let whose = match blocks {
+        Some(_) => "the study's",
+        None => "the regression's",
+    };
+    let (eps_lo, eps_hi) = span(|b| b.eps, (0.5, 0.95));
+    let (p_lo, p_hi) = span(|b| b.p, (0.33, 10.0));
     let mut w = Vec::new();
-    if !(0.5..=0.95).contains(&block.eps) {
+    // A grid's ends are written to three digits: within 1e-9 of them is on them.
+    let inside = |x: f64, lo: f64, hi: f64| x >= lo * (1.0 - 1e-9) && x <= hi * (1.0 + 1e-9);
+    if !inside(block.eps, eps_lo, eps_hi) {
         w.push(format!(
-            "ε = {:.3} is outside the regression's 0.5–0.95",
-            block.eps
+            "ε = {:.3} is outside {whose} {}–{}",
+            block.eps,
+            crate::im::level_text(eps_lo),
+            crate::im::level_text(eps_hi)
         ));
     }
     let p = block.p();
-    if !(0.33..=10.0).contains(&p) {
+    if !inside(p, p_lo, p_hi) {
         w.push(format!(
-            "p = {p:.3} 1/s is outside the regression's 0.33–10 1/s"
+            "p = {p:.3} 1/s is outside {whose} {}–{} 1/s",
+            crate::im::level_text(p_lo),
+            crate::im::level_text(p_hi)
         ));
     }
     w.extend(alpha_warning(block, auto_tol));
