@@ -316,7 +316,29 @@ pub fn plausibility(curve: &HazardCurve) -> Option<String> {
         crate::im::level_text(hi),
         curve.im.unit()
     );
+    if let Some(slip) = unit_slip(curve.im, lo, hi, &range) {
+        return Some(slip);
+    }
     match curve.im {
+        Im::AvgSa => Some(format!(
+            "AvgSA: a hazard file does not state its periods; this tool's AvgSA is the geometric \
+             mean of SA at {} s (docs/MODEL.md §14), and the hazard must be computed over the \
+             same periods",
+            crate::im::AVGSA_PERIODS_S
+                .map(crate::im::period_text)
+                .join(", ")
+        )),
+        _ => None,
+    }
+}
+
+/// A warning where levels of `im` that start at `lo` and reach `hi` (as
+/// `range` says, in words) look like another unit than the IM's: PGA or SA
+/// in cm/s² given as g (nothing shakes the ground at 5 g), PGV in m/s
+/// given as cm/s (all below 5 cm/s, where nothing rocks). The one rule of
+/// the hazard's IMLs and of OpenQuake's fields.
+pub fn unit_slip(im: Im, lo: f64, hi: f64, range: &str) -> Option<String> {
+    match im {
         Im::Pga | Im::Sa(_) | Im::AvgSa if lo >= 5.0 => Some(format!(
             "{range}: no earthquake shakes the ground at {} g and more; are they in cm/s² \
              (gal)? Divide them by 981 for g",
@@ -325,14 +347,6 @@ pub fn plausibility(curve: &HazardCurve) -> Option<String> {
         Im::Pgv if hi <= 5.0 => Some(format!(
             "{range}: all below 5 cm/s, where nothing rocks; are they in m/s? Multiply them by \
              100 for cm/s"
-        )),
-        Im::AvgSa => Some(format!(
-            "AvgSA: a hazard file does not state its periods; this tool's AvgSA is the geometric \
-             mean of SA at {} s (docs/MODEL.md §14), and the hazard must be computed over the \
-             same periods",
-            crate::im::AVGSA_PERIODS_S
-                .map(crate::im::period_text)
-                .join(", ")
         )),
         _ => None,
     }

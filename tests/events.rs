@@ -603,3 +603,45 @@ fn the_effective_time_and_realisations() {
         stderr(&together)
     );
 }
+
+/// Fields of PGA in cm/s² read as g gave every site 2.45 overturnings a
+/// year without a word, where the hazard's IMLs in cm/s² are warned of.
+/// The fields are held to the same rule: fields of 0.1–0.5 g are not
+/// warned of, the same in gal are, with their median and largest.
+#[test]
+fn fields_in_gal_are_warned_of_as_a_hazards_are() {
+    let dir = tempdir();
+    let d = dir.path();
+    let pga = |e: usize, s: usize| 0.1 + 0.1 * ((e + s) % 5) as f64;
+    fields(&d.join("g"), 20, pga);
+    fields(&d.join("gal"), 20, |e, s| 981.0 * pga(e, s));
+    for (folder, warned) in [("g", false), ("gal", true)] {
+        let v = json(&rocking(
+            d,
+            &[
+                "risk",
+                "--gmf",
+                folder,
+                "--eff-years",
+                "1000",
+                "--b",
+                "0.2",
+                "--h",
+                "0.9",
+                "--json",
+            ],
+        ));
+        let w = v["warnings"].to_string();
+        assert_eq!(
+            w.contains("are they in cm/s² (gal)?"),
+            warned,
+            "{folder}: {w}"
+        );
+        if warned {
+            assert!(
+                w.contains("a median of 294.3 g where written, and reaches 490.5 g"),
+                "{w}"
+            );
+        }
+    }
+}

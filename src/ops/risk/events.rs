@@ -113,6 +113,23 @@ fn values_of(fields: &Fields, im: Im) -> Option<Vec<f64>> {
     Some(out)
 }
 
+/// Where the fields' values of `im` look like another unit (the rule of
+/// the hazard's IMLs, [`crate::hazard::unit_slip`]): their median where
+/// OpenQuake wrote one (above its minimum intensity) and their largest.
+fn unit_slip(values: &[f64], im: Im) -> Option<String> {
+    let mut written: Vec<f64> = values.iter().copied().filter(|&v| v > 0.0).collect();
+    written.sort_by(f64::total_cmp);
+    let (median, largest) = (*written.get(written.len() / 2)?, *written.last()?);
+    let range = format!(
+        "the fields' {} has a median of {} {unit} where written, and reaches {} {unit}",
+        im.short(),
+        crate::im::level_text(median),
+        crate::im::level_text(largest),
+        unit = im.unit()
+    );
+    crate::hazard::unit_slip(im, median, largest, &range)
+}
+
 /// Assesses every block at every site of the fields.
 pub fn assess_events(req: &Request, ask: &EventsAsk) -> Result<EventsAssessment, RiskError> {
     crate::physics::check_auto_tol(req.auto_tol).map_err(RiskError::AutoTol)?;
@@ -169,7 +186,7 @@ pub fn assess_events(req: &Request, ask: &EventsAsk) -> Result<EventsAssessment,
     // Each block's P at every (event, site).
     let mut probs: Vec<Vec<f64>> = Vec::with_capacity(blocks.len());
     let mut out = Vec::with_capacity(blocks.len());
-    let mut warnings = Vec::new();
+    let mut warnings: Vec<String> = unit_slip(&values, im).into_iter().collect();
     for e in &blocks {
         let (mut b, p) = one_block(req, e, &at, &mut warnings)?;
         if let Some(states) = &ask.states {
