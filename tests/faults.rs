@@ -918,6 +918,37 @@ fn a_block_the_size_of_a_building_is_warned_of() {
         "{}",
         stderr(&out)
     );
+    // A pipeline's [[block]] in cm ran without a word: its sweep says so
+    // (the size from p and α, as the pipeline keeps it), of that block only.
+    let pipeline = write_pipeline(
+        d,
+        "big",
+        "ids = [\"RSN1111_KOBE_NIS000\"]\n\
+         [[block]]\nname = \"statue_cm\"\nb = 20\nh = 90\neps = 0.9\n\
+         [[block]]\nname = \"statue\"\nb = 0.2\nh = 0.9\neps = 0.9\n",
+    );
+    let out = rocking(
+        d,
+        &[
+            "run",
+            pipeline.to_str().unwrap(),
+            "--to",
+            "sweep",
+            "--outputs",
+            "o",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let all = format!("{}{}", stdout(&out), stderr(&out));
+    let warned: Vec<&str> = all
+        .lines()
+        .filter(|l| l.contains("a building's size"))
+        .collect();
+    assert_eq!(warned.len(), 1, "{all}");
+    assert!(
+        warned[0].contains("block `statue_cm`: half-width 20 m, half-height 90 m: a block 180 m"),
+        "{all}"
+    );
 }
 
 /// One record under two names (a copied AT2 file) ran twice and counted
