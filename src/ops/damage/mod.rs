@@ -190,6 +190,15 @@ fn from_regression(
             Ok(None)
         }
     };
+    // Overturning's maximum-likelihood fit, and its fractile fit where the
+    // study is too small for a regression, are the table's whether or not
+    // other states are asked (with overturning alone they were "—" or
+    // refused, beside them 0.80 g for one block): read wherever the study
+    // has one.
+    let table = |m| match need_table {
+        true => table(m),
+        false => Ok(laws.damage_table(im, m).ok().flatten()),
+    };
     let fractile_table = table(FitMethod::Fractile)?;
     let mle_table = table(FitMethod::MaxLikelihood)?;
     let mut warnings = super::fragility::alpha_warning(block, auto_tol)
