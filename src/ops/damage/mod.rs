@@ -168,6 +168,32 @@ pub fn no_fit(f: &DamageFragility, state: &StateFragility, method: FitMethod) ->
     }
 }
 
+/// The study's damage tables by fractiles and by likelihood, carried to
+/// blocks: needed where a state other than overturning is asked (refused
+/// without them); otherwise read where the study has them, for
+/// overturning's likelihood fit (and its fractile fit where the study has
+/// no regression), which do not depend on the other states asked (with
+/// overturning alone they were "—" or refused, beside a lighter state
+/// 0.80 g for one block).
+fn damage_tables(
+    states: &DamageStates,
+    im: Im,
+    laws: &Laws,
+) -> Result<[Option<DamageTable>; 2], FragilityError> {
+    let needed = states
+        .states()
+        .iter()
+        .any(|s| s.criterion != Criterion::Overturned);
+    let table = |m| match needed {
+        true => laws.damage_table(im, m),
+        false => Ok(laws.damage_table(im, m).ok().flatten()),
+    };
+    Ok([
+        table(FitMethod::Fractile)?,
+        table(FitMethod::MaxLikelihood)?,
+    ])
+}
+
 /// Overturning from the regression (in PGA) or the study's IM table, as
 /// `fragility` and `risk` take it; the other states, and overturning's
 /// maximum-likelihood fit, from the study's damage table carried to the
@@ -179,28 +205,7 @@ fn from_regression(
     laws: &Laws,
     auto_tol: f64,
 ) -> Result<DamageFragility, FragilityError> {
-    let need_table = states
-        .states()
-        .iter()
-        .any(|s| s.criterion != Criterion::Overturned);
-    let table = |m| {
-        if need_table {
-            laws.damage_table(im, m)
-        } else {
-            Ok(None)
-        }
-    };
-    // Overturning's maximum-likelihood fit, and its fractile fit where the
-    // study is too small for a regression, are the table's whether or not
-    // other states are asked (with overturning alone they were "—" or
-    // refused, beside them 0.80 g for one block): read wherever the study
-    // has one.
-    let table = |m| match need_table {
-        true => table(m),
-        false => Ok(laws.damage_table(im, m).ok().flatten()),
-    };
-    let fractile_table = table(FitMethod::Fractile)?;
-    let mle_table = table(FitMethod::MaxLikelihood)?;
+    let [fractile_table, mle_table] = damage_tables(states, im, laws)?;
     let mut warnings = super::fragility::alpha_warning(block, auto_tol)
         .into_iter()
         .collect::<Vec<_>>();
