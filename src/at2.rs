@@ -116,6 +116,10 @@ pub enum At2ErrorKind {
     TooManyValues {
         npts: usize,
     },
+    /// DT in a unit other than seconds (`MSEC`).
+    DtUnit {
+        unit: String,
+    },
     /// One sample: no time step to run.
     OneSample,
     /// Every sample 0.
@@ -200,6 +204,11 @@ impl fmt::Display for At2ErrorKind {
             TooManyValues { npts } => write!(
                 f,
                 "more values than NPTS = {npts}: the header and the data disagree"
+            ),
+            DtUnit { unit } => write!(
+                f,
+                "DT is given in `{}`: an AT2 file's time step is in seconds (SEC); convert it",
+                shown(unit)
             ),
             OneSample => write!(
                 f,
@@ -439,6 +448,14 @@ fn parse_npts_dt(line: &str) -> Result<(usize, f64, HeaderLayout), At2ErrorKind>
         let dt = keyed_value(&upper, "DT").ok_or_else(|| At2ErrorKind::MissingDt {
             text: line.to_string(),
         })?;
+        // The unit word after DT's value, if any ("SEC"; "MSEC" is ms).
+        if let Some(unit) = unit_after(&upper, dt) {
+            if !matches!(unit, "SEC" | "S" | "SECS" | "SECONDS" | "SECOND") {
+                return Err(At2ErrorKind::DtUnit {
+                    unit: unit.to_string(),
+                });
+            }
+        }
         (npts, dt, HeaderLayout::Keyed)
     } else {
         let npts_at = word_at(&upper, "NPTS").ok_or_else(|| At2ErrorKind::MissingNpts {
@@ -478,7 +495,13 @@ fn parse_npts_dt(line: &str) -> Result<(usize, f64, HeaderLayout), At2ErrorKind>
             })
         }
     };
-    // A unit glued to the number ("0.01SEC") is not part of it.
+    // A unit glued to the number ("0.01SEC") is not part of it; "MSEC" is
+    // another unit, refused.
+    if let Some(unit) = ["MSEC", "MS"].into_iter().find(|u| dt_tok.ends_with(u)) {
+        return Err(At2ErrorKind::DtUnit {
+            unit: unit.to_string(),
+        });
+    }
     let dt_num = dt_tok
         .strip_suffix("SEC")
         .or_else(|| dt_tok.strip_suffix('S'))
@@ -501,6 +524,23 @@ fn parse_npts_dt(line: &str) -> Result<(usize, f64, HeaderLayout), At2ErrorKind>
         return Err(At2ErrorKind::FineDt { dt });
     }
     Ok((npts, dt, layout))
+}
+
+/// The word right after the token `value` of a keyed line (the value's
+/// unit, as in `DT=   .0100 SEC`), if one follows before a comma.
+fn unit_after<'a>(upper: &'a str, value: &str) -> Option<&'a str> {
+    let at = upper
+        .find(&format!("={value}"))
+        .map(|i| i + 1)
+        .or_else(|| {
+            let key = upper.find("DT")?;
+            upper[key..].find(value).map(|i| key + i)
+        })?;
+    let rest = upper[at + value.len()..].trim_start();
+    let word: &str = rest
+        .split(|c: char| c.is_whitespace() || c == ',' || c == ';')
+        .next()?;
+    (!word.is_empty() && word.chars().all(|c| c.is_ascii_alphabetic())).then_some(word)
 }
 
 /// Byte offset of `word` standing alone (not inside a longer word).
@@ -844,6 +884,33 @@ mod tests {
                     }
                 )
             );
+        }
+    }
+
+    /// `DT= 0.5 MSEC` was read as 0.5 s, the word ignored: a record 1000×
+    /// too slow. A unit other than seconds is refused; seconds in any
+    /// spelling, or none, are read.
+    #[test]
+    fn a_time_step_in_another_unit_is_refused() {
+        for line in [
+            "NPTS= 3, DT= 0.5 MSEC",
+            "NPTS= 3, DT= 5MSEC",
+            "NPTS= 3, DT= 2 MS, X",
+        ] {
+            let e = parse_str(&file(line, "0.1 0.2 0.3\n")).unwrap_err();
+            assert_eq!(e.line, 4, "{line}");
+            assert!(matches!(e.kind, At2ErrorKind::DtUnit { .. }), "{line}: {e}");
+            assert!(e.to_string().contains("in seconds (SEC)"), "{e}");
+        }
+        for line in [
+            "NPTS= 3, DT= .01 SEC",
+            "NPTS= 3, DT= .01 S",
+            "NPTS= 3, DT=.01SEC",
+            "NPTS= 3, DT= .01",
+            "NPTS= 3, DT= .01 SEC,   0 POLE @ 30.0 HZ",
+        ] {
+            let a = parse_str(&file(line, "0.1 0.2 0.3\n")).unwrap();
+            assert_eq!(a.dt_s, 0.01, "{line}");
         }
     }
 
