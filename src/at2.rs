@@ -442,14 +442,14 @@ pub const MIN_DT_S: f64 = 1e-5;
 fn parse_npts_dt(line: &str) -> Result<(usize, f64, HeaderLayout), At2ErrorKind> {
     let upper = line.to_ascii_uppercase();
     let (npts_tok, dt_tok, layout) = if upper.contains('=') {
-        let npts = keyed_value(&upper, "NPTS").ok_or_else(|| At2ErrorKind::MissingNpts {
+        let (npts, _) = keyed_value(&upper, "NPTS").ok_or_else(|| At2ErrorKind::MissingNpts {
             text: line.to_string(),
         })?;
-        let dt = keyed_value(&upper, "DT").ok_or_else(|| At2ErrorKind::MissingDt {
+        let (dt, after) = keyed_value(&upper, "DT").ok_or_else(|| At2ErrorKind::MissingDt {
             text: line.to_string(),
         })?;
         // The unit word after DT's value, if any ("SEC"; "MSEC" is ms).
-        if let Some(unit) = unit_after(&upper, dt) {
+        if let Some(unit) = unit_word(after) {
             if !matches!(unit, "SEC" | "S" | "SECS" | "SECONDS" | "SECOND") {
                 return Err(At2ErrorKind::DtUnit {
                     unit: unit.to_string(),
@@ -526,18 +526,11 @@ fn parse_npts_dt(line: &str) -> Result<(usize, f64, HeaderLayout), At2ErrorKind>
     Ok((npts, dt, layout))
 }
 
-/// The word right after the token `value` of a keyed line (the value's
-/// unit, as in `DT=   .0100 SEC`), if one follows before a comma.
-fn unit_after<'a>(upper: &'a str, value: &str) -> Option<&'a str> {
-    let at = upper
-        .find(&format!("={value}"))
-        .map(|i| i + 1)
-        .or_else(|| {
-            let key = upper.find("DT")?;
-            upper[key..].find(value).map(|i| key + i)
-        })?;
-    let rest = upper[at + value.len()..].trim_start();
-    let word: &str = rest
+/// The word that opens `after`, the text after a keyed value (its unit, as
+/// in `DT=   .0100 SEC`), if one does before a comma.
+fn unit_word(after: &str) -> Option<&str> {
+    let word = after
+        .trim_start()
         .split(|c: char| c.is_whitespace() || c == ',' || c == ';')
         .next()?;
     (!word.is_empty() && word.chars().all(|c| c.is_ascii_alphabetic())).then_some(word)
@@ -553,8 +546,9 @@ fn word_at(upper: &str, word: &str) -> Option<usize> {
     })
 }
 
-/// The token after `KEY =`, up to the next blank, comma or semicolon.
-fn keyed_value<'a>(upper: &'a str, key: &str) -> Option<&'a str> {
+/// The token after `KEY =`, up to the next blank, comma or semicolon, and
+/// the text after it.
+fn keyed_value<'a>(upper: &'a str, key: &str) -> Option<(&'a str, &'a str)> {
     upper.match_indices(key).find_map(|(i, _)| {
         if upper[..i]
             .chars()
@@ -568,7 +562,8 @@ fn keyed_value<'a>(upper: &'a str, key: &str) -> Option<&'a str> {
         let end = rest
             .find(|c: char| c.is_whitespace() || c == ',' || c == ';')
             .unwrap_or(rest.len());
-        Some(&rest[..end]).filter(|t| !t.is_empty() && *t != "SEC")
+        let (value, after) = rest.split_at(end);
+        (!value.is_empty() && value != "SEC").then_some((value, after))
     })
 }
 

@@ -97,6 +97,13 @@ impl Block {
         (3.0 * G / (4.0 * self.r_m())).sqrt()
     }
 
+    /// The block of frequency parameter `p` (1/s) and slenderness
+    /// `alpha_rad`: [`Block::p`] and [`Block::alpha`] undone, R = 3g/(4p²).
+    pub fn of_p_alpha(p: f64, alpha_rad: f64, eps: Restitution) -> Result<Block, BlockError> {
+        let r_m = 3.0 * G / (4.0 * p * p);
+        Block::new(r_m * alpha_rad.sin(), r_m * alpha_rad.cos(), eps)
+    }
+
     /// The PGA (g) at which the block lifts off on the ground, `b/h = tan α`:
     /// below it nothing moves (the inertia force m·a cannot tip it about a
     /// corner against m·g, docs/MODEL.md §1).

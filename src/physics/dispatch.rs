@@ -24,7 +24,8 @@ use super::{Excitation, RunSpec};
 /// gain, BENCHMARKS "Where the search's time goes"); what v4 adds is
 /// room: the Taylor stepper's four lanes of series keep their terms in
 /// registers instead of spilling them.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Ordered Baseline < V3 < V4: each runs what the one before it does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Isa {
     /// The x86-64 baseline (SSE2), or any other architecture's default.
     Baseline,
@@ -87,13 +88,6 @@ impl Isa {
             #[cfg(not(target_arch = "x86_64"))]
             Isa::V3 | Isa::V4 => false,
         }
-    }
-}
-
-impl PartialOrd for Isa {
-    /// Baseline < V3 < V4: each runs what the one before it does.
-    fn partial_cmp(&self, other: &Isa) -> Option<std::cmp::Ordering> {
-        Some((*self as u8).cmp(&(*other as u8)))
     }
 }
 

@@ -202,16 +202,11 @@ fn prepare(cx: &Context) -> Result<Setup, SweepError> {
         }
     }
     // A physical block larger than any free-standing object (given in cm,
-    // say), as every command warns of it: its size from p and α,
-    // R = 3g/(4p²).
+    // say), as every command warns of it: its size from p and α.
     for b in plan.blocks().iter().filter(|b| !b.name.is_empty()) {
         let Some(alpha) = b.alpha_rad else { continue };
-        let r_m = 3.0 * crate::block::G / (4.0 * b.p * b.p);
-        let size = crate::block::Block::new(
-            r_m * alpha.sin(),
-            r_m * alpha.cos(),
-            crate::block::Restitution::Value(b.eps),
-        );
+        let size =
+            crate::block::Block::of_p_alpha(b.p, alpha, crate::block::Restitution::Value(b.eps));
         if let Some(w) = size.ok().as_ref().and_then(crate::block::size_warning) {
             cx.reporter
                 .note("sweep", &format!("warning: block `{}`: {w}", b.name));
