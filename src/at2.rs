@@ -31,6 +31,7 @@
 use std::fmt;
 
 use crate::decimal::{decimal_prefix, exact_decimal};
+pub use crate::motion::{MAX_ACCEL_G, MAX_DT_S, MIN_DT_S};
 
 /// Number of header lines before the samples.
 pub const HEADER_LINES: usize = 4;
@@ -407,12 +408,6 @@ fn check_units(line: &str) -> Result<(), At2ErrorKind> {
     }
 }
 
-/// The largest |sample| accepted (g): more than twice the strongest ground
-/// motion recorded (about 4 g at IWTH25 in the 2008 Iwate-Miyagi
-/// earthquake; Aoi et al. 2008, Science 322, 727-730). A file past it is in
-/// another unit, or broken.
-pub const MAX_ACCEL_G: f64 = 10.0;
-
 /// A record's samples as a motion: two at least, not all 0, none past
 /// [`MAX_ACCEL_G`] (the units line is where such a file goes wrong).
 fn check_motion(accel_g: &[f64]) -> Result<(), At2Error> {
@@ -428,15 +423,6 @@ fn check_motion(accel_g: &[f64]) -> Result<(), At2Error> {
     }
     Ok(())
 }
-
-/// The coarsest sampling accepted (s): strong-motion records are sampled
-/// every 0.001–0.05 s; 1 s resolves nothing a block responds to.
-pub const MAX_DT_S: f64 = 1.0;
-
-/// The finest sampling accepted (s): a hundred times finer than any
-/// strong-motion record's; below it a header's DT is wrong, and would
-/// stretch the record's seconds by as much.
-pub const MIN_DT_S: f64 = 1e-5;
 
 /// Line 4: NPTS and DT in the keyed or positional layout.
 fn parse_npts_dt(line: &str) -> Result<(usize, f64, HeaderLayout), At2ErrorKind> {

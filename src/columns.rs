@@ -22,11 +22,15 @@
 //!
 //! Refused with the 1-based line number: a token that is not a finite
 //! number, a line with fewer columns than asked or than the first, times
-//! that do not increase evenly, fewer than two samples.
+//! that do not increase evenly, fewer than two samples, a step outside
+//! 1e-5–1 s (a time column in milliseconds), a value past 10 g (a unit
+//! mistaken). A motion all 0 is refused once its ground is added
+//! (`records::collect`): relative to the ground, a rigid base's is 0.
 
 use std::fmt;
 
 use crate::block::G;
+use crate::motion::{MAX_ACCEL_G, MAX_DT_S, MIN_DT_S};
 
 /// The unit a text file's accelerations are given in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -254,6 +258,26 @@ pub fn parse(text: &str, spec: &TextRecords) -> Result<ColumnMotion, ColumnsErro
             format!("{n} sample(s): a motion needs two at least"),
         ));
     }
+    let dt = check_motion(&times, &values, &lines_of, spec)?;
+    Ok(ColumnMotion {
+        accel_g: values,
+        dt_s: dt,
+        t0_s: times[0],
+        times,
+        header,
+    })
+}
+
+/// The motion's mean step (s), checked: times increasing evenly by a step
+/// a motion has (seconds, not milliseconds), and values no motion passes.
+fn check_motion(
+    times: &[f64],
+    values: &[f64],
+    lines_of: &[usize],
+    spec: &TextRecords,
+) -> Result<f64, ColumnsError> {
+    let err = |line: usize, kind: String| ColumnsError { line, kind };
+    let n = times.len();
     let dt = (times[n - 1] - times[0]) / (n - 1) as f64;
     if dt <= 0.0 {
         return Err(err(lines_of[1], "the times do not increase".into()));
@@ -271,13 +295,30 @@ pub fn parse(text: &str, spec: &TextRecords) -> Result<ColumnMotion, ColumnsErro
             ));
         }
     }
-    Ok(ColumnMotion {
-        accel_g: values,
-        dt_s: dt,
-        t0_s: times[0],
-        times,
-        header,
-    })
+    // The first column is seconds: a step of 5 is a time in milliseconds
+    // (a record 1000 times too slow), one of 5e-6 a time in other units.
+    if !(MIN_DT_S..=MAX_DT_S).contains(&dt) {
+        return Err(err(
+            lines_of[1],
+            format!(
+                "a time step of {dt:e} s: the first column is the time in seconds, and a motion \
+                 is sampled every 0.001–0.05 s (accepted: {MIN_DT_S:e} to {MAX_DT_S} s); is the \
+                 time in another unit?"
+            ),
+        ));
+    }
+    if let Some(i) = values.iter().position(|a| a.abs() > MAX_ACCEL_G) {
+        return Err(err(
+            lines_of[i],
+            format!(
+                "{:e} g, past {MAX_ACCEL_G} g: no floor or ground motion is that strong; is the \
+                 unit `{}` right?",
+                values[i],
+                crate::label::Label::label(spec.unit)
+            ),
+        ));
+    }
+    Ok(dt)
 }
 
 #[cfg(test)]
@@ -364,5 +405,38 @@ mod tests {
         assert!(e.kind.contains("do not increase"), "{e}");
         let e = parse("0 NaN\n0.01 0\n", &g).unwrap_err();
         assert_eq!(e.line, 1);
+    }
+
+    /// A time column in milliseconds (a 5 ms step written 5) made a record
+    /// 1000 times too slow; values in gal read as g made a motion of
+    /// hundreds of g. Both are refused at the line that shows it; the
+    /// limits themselves (1 s, 1e-5 s, 10 g) are motions.
+    #[test]
+    fn a_time_in_milliseconds_or_a_unit_mistaken_is_refused() {
+        let g = spec(AccelUnit::G, 1);
+        let e = parse("# t (ms), a\n0 0.1\n5 0.2\n10 0.1\n", &g).unwrap_err();
+        assert_eq!(e.line, 3);
+        assert!(
+            e.kind.contains("5e0 s") && e.kind.contains("seconds"),
+            "{e}"
+        );
+        let e = parse("0 0.1\n1e-6 0.2\n", &g).unwrap_err();
+        assert!(e.kind.contains("another unit"), "{e}");
+        assert!(parse("0 0.1\n1 0.2\n", &g).is_ok());
+        assert!(parse("0 0.1\n1e-5 0.2\n", &g).is_ok());
+        let e = parse("0 12.5\n0.01 -490.3\n0.02 3\n", &g).unwrap_err();
+        assert_eq!(e.line, 1);
+        assert!(
+            e.kind.contains("past 10 g") && e.kind.contains("`g`"),
+            "{e}"
+        );
+        // The same values in gal are a motion of half a g.
+        let m = parse(
+            "0 12.5\n0.01 -490.3\n0.02 3\n",
+            &spec(AccelUnit::CmPerS2, 1),
+        )
+        .unwrap();
+        assert!((m.accel_g[1] + 0.49997).abs() < 1e-4);
+        assert!(parse("0 10\n0.01 -10\n", &g).is_ok());
     }
 }

@@ -4,6 +4,21 @@
 //! record is taken as linear (MODEL.md §2). Hence the duration of an N-sample
 //! record is (N − 1)·dt.
 
+/// The largest |sample| accepted (g): more than twice the strongest ground
+/// motion recorded (about 4 g at IWTH25 in the 2008 Iwate-Miyagi
+/// earthquake; Aoi et al. 2008, Science 322, 727-730). A file past it is in
+/// another unit, or broken.
+pub const MAX_ACCEL_G: f64 = 10.0;
+
+/// The coarsest sampling accepted (s): strong-motion records are sampled
+/// every 0.001–0.05 s; 1 s resolves nothing a block responds to.
+pub const MAX_DT_S: f64 = 1.0;
+
+/// The finest sampling accepted (s): a hundred times finer than any
+/// strong-motion record's; below it a header's DT is wrong, and would
+/// stretch the record's seconds by as much.
+pub const MIN_DT_S: f64 = 1e-5;
+
 /// Peak ground acceleration of a record.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Peak {

@@ -291,6 +291,20 @@ fn a_misnamed_inventory_column_is_refused() {
             );
         }
     }
+    // A kinetic coefficient beside `mu` was passed over, the block run
+    // with μk = μ: it is refused, pointing to where one is run.
+    for column in ["mu_k", "Mu-kinetic", "dynamic friction"] {
+        fs::write(
+            d.join("inv.csv"),
+            format!("name,b,h,eps,mu,{column}\nrack,0.3,1.0,0.75,0.5,0.3\n"),
+        )
+        .unwrap();
+        fails(
+            d,
+            &["risk", "--hazard", "h.csv", "--inventory", "inv.csv"],
+            &format!("inv.csv:1: column `{column}`: an inventory's friction is one coefficient"),
+        );
+    }
     // Columns of the user's own, or a near name beside the known one.
     for header in ["name,b,h,eps,room", "name,b,h,eps,epsilon"] {
         fs::write(

@@ -204,6 +204,85 @@ fn bad_input_is_named() {
     assert!(bundled_records().exists());
 }
 
+/// Options that mean something only beside another did nothing without
+/// it, and the answer came back as if they had been taken: a pulse's
+/// `--td` or `--cycle` beside a record, `--history-every` without a
+/// history, text records' `--records-unit` (or column, or ground) without
+/// the runs that read them, `--outputs` with the paper's regression. Each
+/// is refused, naming the option it needs; with it, it runs.
+#[test]
+fn an_option_that_would_do_nothing_is_refused() {
+    let block = ["--p", "2", "--eps", "0.8", "--eta", "0.3"];
+    let statue = ["--b", "0.2", "--h", "0.9", "--pga", "0.3"];
+    let dir = crate::util::tempdir();
+    let out_dir = dir.path().join("x");
+    let out_dir = out_dir.to_str().unwrap();
+    let cases: &[(&str, &[&str], &[&str], &str)] = &[
+        ("simulate", &["--record", KOBE], &["--td", "0.5"], "--pulse"),
+        (
+            "simulate",
+            &["--record", KOBE],
+            &["--cycle", "full"],
+            "--pulse",
+        ),
+        ("capacity", &["--record", KOBE], &["--td", "0.5"], "--pulse"),
+        (
+            "simulate",
+            &["--record", KOBE],
+            &["--history-every", "5"],
+            "--history",
+        ),
+        ("fragility", &[], &["--records-unit", "g"], "add it"),
+        (
+            "fragility",
+            &[],
+            &["--records-column", "2"],
+            "--records-unit",
+        ),
+        (
+            "risk",
+            &["--hazard", "records/hazard/synthetic-site.csv"],
+            &["--records-unit", "m/s2"],
+            "--direct",
+        ),
+        (
+            "fragility",
+            &[],
+            &["--outputs", "elsewhere"],
+            "--from PIPELINE.toml",
+        ),
+        (
+            "export",
+            &["--format", "pelicun", "--out", out_dir],
+            &["--outputs", "elsewhere"],
+            "--from",
+        ),
+    ];
+    for (command, base, extra, needs) in cases {
+        let mut args = vec![*command];
+        args.extend_from_slice(base);
+        let blocks: &[&str] = match *command {
+            "simulate" => &block,
+            "capacity" => &block[..4],
+            "fragility" => &statue,
+            _ => &statue[..4],
+        };
+        args.extend_from_slice(blocks);
+        let out = rocking(&root(), &args);
+        assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+        args.extend_from_slice(extra);
+        let out = rocking(&root(), &args);
+        assert!(!out.status.success(), "{args:?} was taken");
+        assert!(stderr(&out).contains(needs), "{args:?}: {}", stderr(&out));
+    }
+    // With what they need they run.
+    let pulse = [
+        "simulate", "--pulse", "rect", "--td", "0.5", "--cycle", "full",
+    ];
+    let out = rocking(&root(), &[&pulse[..], &block[..]].concat());
+    assert!(out.status.success(), "{}", stderr(&out));
+}
+
 /// `rocking capacity --help` and `rocking help capacity` describe the same
 /// command, and a bad flag is refused with the command's usage.
 #[test]

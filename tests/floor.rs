@@ -1078,6 +1078,41 @@ fn a_structural_models_floor_motions_are_read_as_text() {
         "{}",
         stderr(&out)
     );
+    // A recorder's time in milliseconds, a column of zeros (a support's
+    // node) and values in gal read as g each ran as a record: 1000 times
+    // too slow, never lifting the block, or hundreds of g.
+    for (body, says) in [
+        (
+            "5 0.1\n10 0.2\n15 0.1\n",
+            "floor3.txt:2: a time step of 5e0 s",
+        ),
+        (
+            "0.01 0\n0.02 0\n0.03 0\n",
+            "floor3.txt: every acceleration is 0",
+        ),
+        ("0.01 12\n0.02 -245.2\n", "floor3.txt:1: 1.2e1 g, past 10 g"),
+    ] {
+        std::fs::write(bad.join("floor3.txt"), body).unwrap();
+        let out = rocking(
+            &root(),
+            &[
+                "fragility",
+                "--b",
+                "0.2",
+                "--h",
+                "0.9",
+                "--direct",
+                "--pga",
+                "0.3",
+                "--records",
+                bad.to_str().unwrap(),
+                "--records-unit",
+                "g",
+            ],
+        );
+        assert!(!out.status.success(), "{body}");
+        assert!(stderr(&out).contains(says), "{}", stderr(&out));
+    }
 }
 
 /// `rocking contents` states each FEMA P-58 item's fragility as the block's

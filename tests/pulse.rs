@@ -485,6 +485,14 @@ fn pulse_map_pipelines_refuse_what_they_cannot_use() {
         ("[records]\nat2 = [\"x\"]\n", "remove [records]"),
         ("[blocks]\np = [1.0]\n", "remove [blocks]"),
         ("[uncertainty]\n", "remove [uncertainty]"),
+        (
+            "[damage]\nstates = \"rocking=0.1,overturned=overturned\"\n",
+            "remove [damage]",
+        ),
+        (
+            "[tree]\n[[tree.eps]]\nvalue = 0.8\nweight = 1\n",
+            "remove [tree]",
+        ),
     ] {
         let pipe = write(dir.path(), "bad.toml", &format!("{base}{extra}"));
         let out = crate::util::rocking(dir.path(), &["run", pipe.to_str().unwrap()]);

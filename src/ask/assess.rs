@@ -97,7 +97,7 @@ pub struct FragilityAsk {
     pub at: Vec<f64>,
     #[serde(alias = "from")]
     pub source: String,
-    pub outputs: PathBuf,
+    pub outputs: Option<PathBuf>,
     pub records: Option<PathBuf>,
     pub records_unit: Option<AccelUnit>,
     pub records_column: Option<usize>,
@@ -292,7 +292,7 @@ pub struct RiskAsk {
     pub component: Option<crate::pair::Component>,
     #[serde(alias = "from")]
     pub source: String,
-    pub outputs: PathBuf,
+    pub outputs: Option<PathBuf>,
     pub records: Option<PathBuf>,
     pub records_unit: Option<AccelUnit>,
     pub records_column: Option<usize>,

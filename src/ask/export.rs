@@ -33,7 +33,7 @@ pub struct ExportKw {
     pub mu: Option<f64>,
     #[serde(alias = "from")]
     pub source: String,
-    pub outputs: PathBuf,
+    pub outputs: Option<PathBuf>,
     pub records: Option<PathBuf>,
     pub records_unit: Option<AccelUnit>,
     pub records_column: Option<usize>,

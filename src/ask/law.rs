@@ -12,6 +12,9 @@ use crate::columns::{AccelUnit, TextRecords};
 use crate::ops::fragility::{self, Source};
 use crate::pair::Orientation;
 
+/// Where a pipeline's studies are, unless `outputs` says.
+pub const DEFAULT_OUTPUTS: &str = "outputs";
+
 /// Where the capacities come from: `paper` (the published regression) or
 /// a pipeline file whose study is under `outputs`; `records` for `direct`
 /// with the paper (default: the bundled far-field set).
@@ -19,7 +22,7 @@ use crate::pair::Orientation;
 #[serde(deny_unknown_fields, default)]
 pub struct LawAsk {
     pub source: String,
-    pub outputs: PathBuf,
+    pub outputs: Option<PathBuf>,
     pub records: Option<PathBuf>,
     /// The records are text columns in this unit (a structural model's
     /// floor motions), not AT2 files.
@@ -38,7 +41,7 @@ impl Default for LawAsk {
     fn default() -> Self {
         LawAsk {
             source: "paper".into(),
-            outputs: PathBuf::from("outputs"),
+            outputs: None,
             records: None,
             records_unit: None,
             records_column: None,
@@ -79,6 +82,18 @@ impl LawAsk {
                 sp.set("records", &records.display().to_string()),
                 sp.key("direct"),
                 sp.key("from")
+            )));
+        }
+        let text_keys = [
+            ("records_unit", self.records_unit.is_some()),
+            ("records_column", self.records_column.is_some()),
+            ("records_ground", self.records_ground.is_some()),
+        ];
+        if let Some((key, _)) = text_keys.iter().find(|(_, given)| *given && !direct) {
+            return Err(AskError(format!(
+                "{} says how {} runs text records: add it (without it no record is read)",
+                sp.key(key),
+                sp.key("direct")
             )));
         }
         if self.orientation != Orientation::AsRecorded && !direct {
@@ -131,9 +146,21 @@ impl LawAsk {
                 )));
             }
         }
+        // The regression reads no study: a folder given for one is a
+        // `from` forgotten.
+        if let (Some(outputs), "paper") = (&self.outputs, self.source.as_str()) {
+            return Err(AskError(format!(
+                "{} is where a pipeline's study is read, with {}; the paper's regression \
+                 reads nothing there",
+                sp.set("outputs", &outputs.display().to_string()),
+                sp.set("from", "PIPELINE.toml")
+            )));
+        }
         Ok(Source::named(
             &self.source,
-            self.outputs.clone(),
+            self.outputs
+                .clone()
+                .unwrap_or_else(|| PathBuf::from(DEFAULT_OUTPUTS)),
             self.records.clone(),
             text,
         ))

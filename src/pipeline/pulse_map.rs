@@ -91,6 +91,8 @@ fn refuse_stray_sections(raw: &RawPipeline) -> Result<(), String> {
         ("[uncertainty]", raw.uncertainty.is_some()),
         ("[example]", raw.example.is_some()),
         ("[floor]", raw.floor.is_some()),
+        ("[damage]", raw.damage.is_some()),
+        ("[tree]", raw.tree.is_some()),
     ];
     if let Some((section, _)) = stray.iter().find(|(_, present)| *present) {
         return Err(format!(

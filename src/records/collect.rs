@@ -427,6 +427,21 @@ fn read_text(path: &Path, spec: &TextRecords) -> Result<RecordRow, BadFile> {
             read_ground(dir, path, spec).map_err(|what| bad(Problem::Ground(what)))?;
         columns::add_ground(&mut parsed, &ground, t0, dt);
     }
+    // Run as a motion, it never lifts a block: a wrong column (a node's
+    // displacement at a support) or an empty recorder, not a record.
+    if parsed.accel_g.iter().all(|&a| a == 0.0) {
+        return Err(bad(Problem::Text(columns::ColumnsError {
+            line: 0,
+            kind: format!(
+                "every acceleration is 0{}: no motion to run (is the value column right?)",
+                if spec.ground.is_some() {
+                    ", the ground's added"
+                } else {
+                    ""
+                }
+            ),
+        })));
+    }
     // The four header lines of the table: how it was read, the file's
     // line of names, its first time, its samples and step.
     let header = [

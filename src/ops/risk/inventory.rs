@@ -171,6 +171,17 @@ const KNOWN: [(&str, &[&str]); 5] = [
     ),
 ];
 
+/// Names of a kinetic friction coefficient (plain, as `misnamed_column`
+/// compares them), which an inventory does not take.
+const KINETIC: [&str; 6] = [
+    "muk",
+    "mukinetic",
+    "kineticfriction",
+    "mud",
+    "mudynamic",
+    "dynamicfriction",
+];
+
 /// A column that is not one the reader knows but looks like one (the same
 /// but for case, spacing or punctuation; a usual other name; one letter
 /// off a name of three or more): the message naming both. Such a column
@@ -189,6 +200,14 @@ fn misnamed_column(headers: &csv::StringRecord) -> Option<String> {
             return None;
         }
         let p = plain(h);
+        if KINETIC.contains(&p.as_str()) {
+            return Some(format!(
+                "column `{h}`: an inventory's friction is one coefficient, `mu`, static and \
+                 kinetic alike; a kinetic coefficient of its own is run by `rocking capacity \
+                 --mu-k` or a pipeline's `[[block]]` `mu_k`: remove the column (it would be \
+                 ignored)"
+            ));
+        }
         let (known, _) = KNOWN.iter().find(|(k, others)| {
             *k == p || others.contains(&p.as_str()) || (k.len() >= 3 && one_letter_off(k, &p))
         })?;

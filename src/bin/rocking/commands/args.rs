@@ -65,15 +65,15 @@ pub struct LawArgs {
     /// `paper` (published coefficients) or a pipeline file whose fit to use.
     #[arg(long, default_value = "paper")]
     pub from: String,
-    /// Root of the outputs (for --from PIPELINE.toml).
-    #[arg(long, default_value = "outputs")]
-    pub outputs: PathBuf,
+    /// Root of the outputs, for --from PIPELINE.toml [default: outputs].
+    #[arg(long, value_name = "DIR")]
+    pub outputs: Option<PathBuf>,
     /// Records for --direct when --from paper: a folder of AT2 files
     /// [default: records/fema-p695/far-field in the current directory, or
     /// else in the repository this binary was built from].
     #[arg(long)]
     pub records: Option<PathBuf>,
-    /// The --records are text files of columns in this unit, not AT2 files:
+    /// With --direct: the --records are text files of columns in this unit, not AT2 files:
     /// a structural model's floor motions (an OpenSees Node recorder with
     /// -time, or time and acceleration), each scaled itself.
     #[arg(long, value_parser = label::<AccelUnit>(), value_name = "UNIT")]
@@ -129,8 +129,8 @@ pub struct PulseArgs {
     /// Shape parameter β of the exponential pulse (→ −∞ rectangle, 0 triangle, → +∞ spike).
     #[arg(long, value_name = "β")]
     pub beta: Option<f64>,
-    /// One lobe (half) or the lobe followed by its negative (full).
-    #[arg(long, value_parser = label::<Cycle>(), default_value = "half")]
+    /// With --pulse: one lobe (half) or the lobe followed by its negative (full).
+    #[arg(long, value_parser = label::<Cycle>(), default_value = "half", requires = "pulse")]
     pub cycle: Cycle,
 }
 
@@ -155,8 +155,9 @@ impl PulseArgs {
 pub struct BlockArgs {
     #[command(flatten)]
     pub pulse: PulseArgs,
-    /// The pulse's lobe duration t_d (s); f = p·t_d.
-    #[arg(long, value_name = "s", default_value_t = rocking::ask::excitation::TD_S)]
+    /// With --pulse: the lobe's duration t_d (s); f = p·t_d.
+    #[arg(long, value_name = "s", default_value_t = rocking::ask::excitation::TD_S,
+          requires = "pulse")]
     pub td: f64,
     /// Frequency parameter p = sqrt(3g/(4R)) of the block (1/s).
     #[arg(long, value_name = "1/s", value_delimiter = ',')]

@@ -36,8 +36,8 @@ pub struct Args {
     /// Write the response history (t, x, ẋ, pivot, ψ̈, event) to a .parquet or .csv file.
     #[arg(long, value_name = "FILE")]
     history: Option<PathBuf>,
-    /// Keep every N-th sample in the history (events are always kept).
-    #[arg(long, value_name = "N", default_value_t = 1,
+    /// With --history: keep every N-th sample (events are always kept).
+    #[arg(long, value_name = "N", default_value_t = 1, requires = "history",
           value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
     history_every: usize,
 }
