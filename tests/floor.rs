@@ -1129,6 +1129,7 @@ fn fema_contents_rows_are_the_blocks_own_fragility() {
         &root(),
         &["contents", "--set", &set, "--periods", "0.8", "--json"],
     );
+    assert!(!stderr(&out).contains("warning"), "{}", stderr(&out));
     let rows = json(&out);
     let rows = rows.as_array().unwrap();
     assert_eq!(rows.len(), 2 * 9);
@@ -1171,6 +1172,53 @@ fn fema_contents_rows_are_the_blocks_own_fragility() {
         assert_eq!(row["b_m"].as_f64(), Some(b));
         assert_eq!(row["h_m"].as_f64(), Some(h));
     }
+}
+
+/// One record's capacities have no dispersion: `fragility` warns that its
+/// β = 0 is a step, not a certainty, and `contents` printed the same β = 0
+/// for every item without it. It now gives the fragility's warning once per
+/// scene, naming the items (here all nine); with the records a set should
+/// have it says nothing (the far-field set, above).
+#[test]
+fn contents_warns_as_fragility_does() {
+    let dir = tempdir();
+    let one = few_far_field(dir.path(), &FEW[..1]);
+    let set = format!("one={}", one.display());
+    let out = rocking(
+        &root(),
+        &["contents", "--set", &set, "--periods", "0.8", "--json"],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let rows = json(&out);
+    assert!(rows.as_array().unwrap().iter().all(|r| r["beta"] == 0.0));
+    let err = stderr(&out);
+    let fitted = "`overturned` is fitted to the capacity of one record";
+    for place in [
+        "on the ground under one",
+        "on the roof of T = 0.8 s under one",
+    ] {
+        let line = format!("warning: {place} (every item): {fitted}");
+        assert_eq!(err.matches(&line).count(), 1, "{err}");
+    }
+    let (b, h) = ("0.2032", "0.4572");
+    let f = rocking(
+        &root(),
+        &[
+            "fragility",
+            "--b",
+            b,
+            "--h",
+            h,
+            "--direct",
+            "--records",
+            one.to_str().unwrap(),
+            "--im",
+            "pfv",
+            "--at",
+            "50",
+        ],
+    );
+    assert!(stderr(&f).contains(fitted), "{}", stderr(&f));
 }
 
 /// A building with its floors: `--building T,ζ,Γ,φ1,…,φn --level k` is the

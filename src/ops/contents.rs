@@ -152,8 +152,18 @@ type Scene<'a> = (
     Option<&'a (f64, Building)>,
 );
 
+/// Every item in every scene, and what the fits warn of.
+#[derive(Debug, Clone)]
+pub struct Comparison {
+    pub rows: Vec<Row>,
+    /// Each warning once, with the scene it is of and the items it is of
+    /// (all nine, or those named): one record's capacities have no
+    /// dispersion, and a row's β = 0 is that, not a certainty.
+    pub warnings: Vec<String>,
+}
+
 /// Every item in every scene.
-pub fn compare(req: &Request) -> Result<Vec<Row>, ContentsError> {
+pub fn compare(req: &Request) -> Result<Comparison, ContentsError> {
     // Every set and building checked before anything runs.
     check_sets(&req.sets)?;
     // Checked before any run: it was refused inside the first item's runs,
@@ -188,7 +198,10 @@ pub fn compare(req: &Request) -> Result<Vec<Row>, ContentsError> {
         if_not_lognormal: IfNotLognormal::Lognormal,
     };
     let mut rows = Vec::new();
+    let mut warnings = Vec::new();
     for (scene, (name, folder), roof) in scenes {
+        // Each warning of this scene, with the items it is of.
+        let mut said: Vec<(String, Vec<&str>)> = Vec::new();
         let (period, building) = (roof.map(|r| r.0), roof.map(|r| &r.1));
         let from = Source::Paper {
             records: folder.clone(),
@@ -221,6 +234,12 @@ pub fn compare(req: &Request) -> Result<Vec<Row>, ContentsError> {
                 fit,
             )
             .map_err(in_item)?;
+            for w in &f.warnings {
+                match said.iter_mut().find(|(text, _)| text == w) {
+                    Some((_, ids)) => ids.push(c.id),
+                    None => said.push((w.clone(), vec![c.id])),
+                }
+            }
             let state = &f.states[0];
             let (median, beta) = state.median_beta(FitMethod::Fractile);
             let median_mps = median.unwrap_or(f64::INFINITY) / 100.0;
@@ -241,8 +260,19 @@ pub fn compare(req: &Request) -> Result<Vec<Row>, ContentsError> {
                 ratio: median_mps / c.median_mps,
             });
         }
+        let place = match period {
+            None => format!("on the ground under {name}"),
+            Some(t) => format!("on the roof of T = {t} s under {name}"),
+        };
+        for (text, ids) in said {
+            let of = match ids.len() == FEMA_P58.len() {
+                true => "every item".to_string(),
+                false => ids.join(", "),
+            };
+            warnings.push(format!("{place} ({of}): {text}"));
+        }
     }
-    Ok(rows)
+    Ok(Comparison { rows, warnings })
 }
 
 /// The ratio of the tool's median to FEMA's for each item against the

@@ -78,7 +78,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         auto_tol: args.auto_tol,
         progress: direct_progress(true),
     };
-    let rows = contents::compare(&req)?;
+    let contents::Comparison { rows, warnings } = contents::compare(&req)?;
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
     if let Some(plot) = &args.plot {
         let svg = contents::chart(&rows, &req.sets[0].0)?;
         rocking::tables::atomic_write(plot, svg.as_bytes())?;
