@@ -117,6 +117,13 @@ pub enum At2ErrorKind {
     TooManyValues {
         npts: usize,
     },
+    /// More values than NPTS where a token of whitespace-separated values
+    /// holds a comma between digits (`1,5E-04`): a decimal comma, read as
+    /// two values.
+    DecimalComma {
+        token: String,
+        npts: usize,
+    },
     /// DT in a unit other than seconds (`MSEC`).
     DtUnit {
         unit: String,
@@ -206,6 +213,12 @@ impl fmt::Display for At2ErrorKind {
                 f,
                 "more values than NPTS = {npts}: the header and the data disagree"
             ),
+            DecimalComma { token, npts } => write!(
+                f,
+                "`{}` reads as two values, and the file has more than NPTS = {npts}: is its comma \
+                 a decimal point? Samples take a point (`1.5E-04`)",
+                shown(token)
+            ),
             DtUnit { unit } => write!(
                 f,
                 "DT is given in `{}`: an AT2 file's time step is in seconds (SEC); convert it",
@@ -289,6 +302,29 @@ fn separator_at(text: &str, i: usize) -> usize {
 /// tokens separated by blanks (any Unicode white space) or commas, any
 /// number per line. A byte scan: the files are ASCII but for the rare
 /// non-ASCII separator, which is decoded where met.
+/// More values than NPTS, found at `line_no`: blamed on the first decimal
+/// comma if the samples hold one (a value `1,5E-04` among values separated
+/// by spaces), which made the extra values, or else on `line_no`.
+fn too_many(body: &str, line_no: usize, npts: usize) -> At2Error {
+    let decimal_comma = |token: &&&str| {
+        let b = token.as_bytes();
+        (1..b.len().saturating_sub(1))
+            .any(|k| b[k] == b',' && b[k - 1].is_ascii_digit() && b[k + 1].is_ascii_digit())
+    };
+    let found = body.split('\n').enumerate().find_map(|(k, line)| {
+        let tokens: Vec<&str> = line.split_whitespace().collect();
+        let token = tokens
+            .iter()
+            .filter(|_| tokens.len() >= 2)
+            .find(decimal_comma)?;
+        Some((HEADER_LINES + 1 + k, token.to_string()))
+    });
+    match found {
+        Some((line, token)) => err(line, At2ErrorKind::DecimalComma { token, npts }),
+        None => err(line_no, At2ErrorKind::TooManyValues { npts }),
+    }
+}
+
 fn parse_samples(body: &str, npts: usize) -> Result<Vec<f64>, At2Error> {
     let bytes = body.as_bytes();
     let mut accel_g = Vec::with_capacity(npts);
@@ -316,7 +352,7 @@ fn parse_samples(body: &str, npts: usize) -> Result<Vec<f64>, At2Error> {
                 matches!(b, b'\n' | b' ' | b'\t' | b'\r' | b',' | b'\x0b' | b'\x0c')
             }) {
                 if accel_g.len() == npts {
-                    return Err(err(line_no, At2ErrorKind::TooManyValues { npts }));
+                    return Err(too_many(body, line_no, npts));
                 }
                 accel_g.push(value);
                 i += len;
@@ -337,7 +373,7 @@ fn parse_samples(body: &str, npts: usize) -> Result<Vec<f64>, At2Error> {
             }
         }
         if accel_g.len() == npts {
-            return Err(err(line_no, At2ErrorKind::TooManyValues { npts }));
+            return Err(too_many(body, line_no, npts));
         }
         // Separators are whole characters, so the token is too.
         accel_g.push(parse_value(&body[start..i]).map_err(|kind| err(line_no, kind))?);
@@ -725,6 +761,20 @@ mod tests {
         let many = e(&file("NPTS= 3, DT= .01 SEC", "1 2\n3\n\n4\n"));
         assert_eq!(many.kind, At2ErrorKind::TooManyValues { npts: 3 });
         assert_eq!(many.line, 8);
+
+        // A decimal comma among values separated by spaces made two values
+        // of one, and the count ran over at the file's end: the comma's
+        // line is named. Values separated by commas are values.
+        let body = "0.1 0.2 0.3\n0.4 1,5E-04 0.6\n0.7 0.8 0.9\n";
+        let comma = e(&file("NPTS= 9, DT= .01 SEC", body));
+        let token = "1,5E-04".to_string();
+        assert_eq!(comma.kind, At2ErrorKind::DecimalComma { token, npts: 9 });
+        assert_eq!(comma.line, 6);
+        assert!(comma.to_string().contains("decimal point"), "{comma}");
+        let listed = parse_str(&file("NPTS= 4, DT= .01 SEC", "0.1,0.2\n0.3, 0.4\n")).unwrap();
+        assert_eq!(listed.accel_g, vec![0.1, 0.2, 0.3, 0.4]);
+        let many = e(&file("NPTS= 3, DT= .01 SEC", "0.1,0.2\n0.3,0.4\n"));
+        assert_eq!(many.kind, At2ErrorKind::TooManyValues { npts: 3 });
 
         let vel = e("A\nB\nVELOCITY TIME HISTORY IN UNITS OF CM/SEC\nNPTS= 1, DT= .01 SEC\n1\n");
         assert_eq!(vel.line, 3);
