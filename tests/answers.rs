@@ -234,6 +234,44 @@ fn likely_unit_slips_are_warned_of() {
     );
 }
 
+/// Two blocks whose names make one taxonomy (`marble statue`, and
+/// `marble_statue`) were refused as "taxonomy given twice", naming neither
+/// block nor line; they are refused before any run with both lines. Names
+/// that differ as taxonomies export.
+#[test]
+fn an_export_names_the_lines_of_two_blocks_of_one_taxonomy() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(
+        d.join("inv.csv"),
+        "name,b,h,eps\nmarble statue,0.2,0.9,\nkouros,0.15,1.0,0.8\nmarble_statue,0.15,1.0,0.8\n",
+    )
+    .unwrap();
+    let args = [
+        "export",
+        "--format",
+        "pelicun",
+        "--inventory",
+        "inv.csv",
+        "--out",
+        "x",
+    ];
+    fails(
+        d,
+        &args,
+        "inv.csv:4: block `marble_statue` is keyed `marble_statue` in the engines' files, as \
+         block `marble statue` (line 2) is",
+    );
+    assert!(!d.join("x").exists());
+    fs::write(
+        d.join("inv.csv"),
+        "name,b,h,eps\nmarble statue,0.2,0.9,\nmarble-statue,0.15,1.0,0.8\n",
+    )
+    .unwrap();
+    let out = rocking(d, &args);
+    assert!(out.status.success(), "{}", stderr(&out));
+}
+
 /// A duplicated inventory column silently took the first.
 #[test]
 fn a_duplicated_inventory_column_is_refused() {

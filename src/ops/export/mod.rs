@@ -70,7 +70,11 @@ fn export_into(req: &Request) -> Result<Written, ExportOpError> {
             mu: *mu,
             line: 0,
         }],
-        Blocks::Inventory(path) => risk::read_inventory(path)?,
+        Blocks::Inventory(path) => {
+            let entries = risk::read_inventory(path)?;
+            same_taxonomy(path, &entries)?;
+            entries
+        }
     };
     let (laws, records) = fragility::laws_and_records(
         &req.from,
@@ -309,6 +313,26 @@ fn check_out(out: &Path, req: &Request) -> Result<(), ExportOpError> {
                     "it holds {}, an input of this command; write the export to a folder of its own",
                     input.display()
                 ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Two blocks of an inventory whose names make one taxonomy (`marble
+/// statue` and `marble_statue`), refused naming both lines before anything
+/// runs: the engines would read one block's curves as the other's.
+fn same_taxonomy(path: &std::path::Path, entries: &[InventoryBlock]) -> Result<(), ExportOpError> {
+    for (k, e) in entries.iter().enumerate() {
+        let key = taxonomy(&e.name);
+        if let Some(first) = entries[..k].iter().find(|o| taxonomy(&o.name) == key) {
+            return Err(ExportOpError::SameTaxonomy {
+                path: path.to_path_buf(),
+                line: e.line,
+                name: e.name.clone(),
+                first: first.name.clone(),
+                first_line: first.line,
+                taxonomy: key,
             });
         }
     }

@@ -106,6 +106,20 @@ pub enum ExportOpError {
          records' curve stops below 1): pelicun needs a complete function"
     )]
     TreeMean(String),
+    #[error(
+        "{}:{line}: block `{name}` is keyed `{taxonomy}` in the engines' files, as block \
+         `{first}` (line {first_line}) is: a taxonomy keeps letters, digits, `_`, `-` and `.` \
+         and makes `_` of the rest; rename one",
+        .path.display()
+    )]
+    SameTaxonomy {
+        path: PathBuf,
+        line: u64,
+        name: String,
+        first: String,
+        first_line: u64,
+        taxonomy: String,
+    },
     #[error(transparent)]
     Lock(#[from] crate::stages::lock::LockError),
     #[error(transparent)]
