@@ -11,7 +11,9 @@
 //!   annual rate of exceedance is `λ = −ln(1 − poe) / T`. The IMT is `PGA`
 //!   (g), `PGV` (cm/s), `SA(T)` (g) or `AvgSA` (g), OpenQuake's units.
 //! - **Plain**: a header `<im>_<unit>,annual_rate` (`pga_g`, `pgv_cm_s`,
-//!   `sa(1.0)_g`, `avgsa_g`, …) and one row per IML, one site.
+//!   `sa(1.0)_g`, `avgsa_g`, …) and one row per IML, one site; lines
+//!   starting with `#` are comments (a first line is OpenQuake's only with
+//!   its keys: `generated_by=`, `imt=`, `investigation_time=`, `kind=`).
 //!
 //! Refused, naming the line (and the column): an IMT this tool has no
 //! capacities in, a
@@ -79,11 +81,20 @@ pub fn parse(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
         .next()
         .unwrap_or("")
         .trim_start_matches('\u{feff}');
-    if first.trim_start().starts_with('#') {
+    if openquake_meta(first) {
         parse_openquake(text)
     } else {
         parse_plain(text).map(|c| vec![c])
     }
+}
+
+/// Whether a file's first line is OpenQuake's metadata line (`#,,,,,
+/// "generated_by=…, imt=…"`), not a plain CSV's comment (`# my site`).
+fn openquake_meta(first: &str) -> bool {
+    first.trim_start().starts_with('#')
+        && ["generated_by", "imt", "investigation_time", "kind"]
+            .iter()
+            .any(|key| meta_value(first, key).is_some())
 }
 
 /// The value of `key=…` (or `key = …`) in OpenQuake's metadata line,
@@ -378,7 +389,10 @@ pub fn parse_plain(text: &str) -> Result<HazardCurve, HazardError> {
         .lines()
         .enumerate()
         .map(|(i, l)| (i + 1, l))
-        .filter(|(_, l)| !l.trim().is_empty());
+        .filter(|(_, l)| {
+            let l = l.trim().trim_start_matches('\u{feff}');
+            !l.is_empty() && !l.starts_with('#')
+        });
     let (hl, header) = lines.next().ok_or_else(|| err(1, "the file is empty"))?;
     let header = cells(header.trim_start_matches('\u{feff}'));
     let im = match header[..] {
@@ -560,6 +574,25 @@ lon,lat,depth,poe-0.01,poe-0.1,poe-0.5,poe-1.0\n\
         assert!(e.message.contains("given twice (site 0"), "{e}");
         let e = parse(&OQ.replace("lon,lat,depth", "lon,lat,lon")).unwrap_err();
         assert!(e.message.contains("column `lon` is given twice"), "{e}");
+    }
+
+    /// A plain CSV with comment lines of its own (`# site A, from …`) was
+    /// read as OpenQuake's and refused for a missing `imt=`; its comments
+    /// are passed over, its lines still counted in the file's numbering.
+    #[test]
+    fn a_plain_csv_may_carry_comments() {
+        let text = "# museum site, from the PSHA of 2024\npga_g,annual_rate\n# low\n0.1,0.01\n0.3,0.001\nx,1\n";
+        let e = parse(text).unwrap_err();
+        assert_eq!(e.line, Some(6), "{e}");
+        let c = &parse(&text.replace("x,1\n", "")).unwrap()[0];
+        assert_eq!(
+            (c.iml.clone(), c.annual_rate.clone()),
+            (vec![0.1, 0.3], vec![0.01, 0.001])
+        );
+        assert!(c.lon.is_none());
+        // OpenQuake's line is told by its keys, wherever they are.
+        let e = parse(&OQ.replace("imt='PGA'", "")).unwrap_err();
+        assert!(e.message.contains("no `imt=`"), "{e}");
     }
 
     #[test]
