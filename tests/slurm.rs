@@ -425,6 +425,21 @@ fn submit_without_sbatch_says_so() {
     assert!(!dir.path().join("quick").exists(), "{e}");
 }
 
+/// `--shards 0` was refused as the shard `1/0`; it is refused as a count.
+#[test]
+fn zero_shards_are_refused_as_a_count() {
+    let out = crate::util::rocking(
+        &root(),
+        &["submit", "pipelines/quick.toml", "--shards", "0"],
+    );
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(
+        e.contains("--shards") && e.contains("1 shard or more") && !e.contains("1/0"),
+        "{e}"
+    );
+}
+
 /// An `sbatch` that refuses the job leaves no scripts behind (they once
 /// stayed in `slurm/` beside nothing submitted).
 #[test]
