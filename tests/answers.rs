@@ -418,6 +418,14 @@ fn an_export_warns_of_the_rate_beyond_the_last_iml_that_risk_counts() {
                 "{tree:?}: site {k}: {s} % above the one named"
             );
         }
+        // The other sites where it is 1 % or more are counted, not named.
+        let others = shares.iter().filter(|&&s| s >= 1.0).count() - 1;
+        let counted = match others {
+            0 => !warning.contains("other site"),
+            1 => warning.contains("and 1 % or more at 1 other site of 3"),
+            n => warning.contains(&format!("and 1 % or more at {n} other sites of 3")),
+        };
+        assert!(counted, "{tree:?}: {shares:?}: {warning}");
         std::fs::remove_dir_all(d.join("job")).unwrap();
     }
 }

@@ -142,24 +142,36 @@ fn export_into(req: &Request) -> Result<Written, ExportOpError> {
 fn beyond_the_curve(b: &ExportedBlock, h: &HazardSites, cut: Option<f64>) -> Option<String> {
     let f = &b.fragility;
     let parts = heaviest(b)?;
-    let (site, share, last) = h
+    let shares: Vec<_> = h
         .curves
         .iter()
         .map(|(k, c)| {
             let r = site_risk(&parts, c, cut);
             (*k, r.share_beyond_last_iml, r.last_iml)
         })
-        .max_by(|a, b| a.1.total_cmp(&b.1))?;
+        .collect();
+    let (site, share, last) = *shares.iter().max_by(|a, b| a.1.total_cmp(&b.1))?;
     (share >= 0.01).then(|| {
         format!(
             "OpenQuake's job counts nothing beyond the hazard's last IML ({last} {}): at site \
              {site}, {:.1} % of the rate of `{}` that `risk` gives by default comes from beyond \
-             it (`risk --beyond stop` gives the job's answer)",
+             it{} (`risk --beyond stop` gives the job's answer)",
             h.im.unit(),
             100.0 * share,
-            f.states.last().map_or("", |s| s.name.as_str())
+            f.states.last().map_or("", |s| s.name.as_str()),
+            others(shares.iter().map(|s| s.1), shares.len())
         )
     })
+}
+
+/// ", and 1 % or more at N other sites of M" where a warning that names
+/// its worst site holds at others too; nothing where it does not.
+fn others(shares: impl Iterator<Item = f64>, sites: usize) -> String {
+    match shares.filter(|&s| s >= 0.01).count() {
+        0 | 1 => String::new(),
+        2 => format!(", and 1 % or more at 1 other site of {sites}"),
+        n => format!(", and 1 % or more at {} other sites of {sites}", n - 1),
+    }
 }
 
 /// OpenQuake's job reads poes within 6e-8 of 1 as 1 and counts them at a
@@ -170,7 +182,7 @@ fn beyond_the_curve(b: &ExportedBlock, h: &HazardSites, cut: Option<f64>) -> Opt
 fn read_as_certain(b: &ExportedBlock, h: &HazardSites, cut: Option<f64>) -> Option<String> {
     let f = &b.fragility;
     let parts = heaviest(b)?;
-    let (site, share, s) = h
+    let shares: Vec<_> = h
         .curves
         .iter()
         .filter_map(|(k, c)| {
@@ -188,12 +200,13 @@ fn read_as_certain(b: &ExportedBlock, h: &HazardSites, cut: Option<f64>) -> Opti
             };
             Some((*k, excess / site_risk(&parts, c, cut).annual_rate, s))
         })
-        .max_by(|a, b| a.1.total_cmp(&b.1))?;
+        .collect();
+    let (site, share, s) = shares.iter().max_by(|a, b| a.1.total_cmp(&b.1))?.clone();
     (share >= 0.01).then(|| {
         format!(
             "OpenQuake's job reads the hazard's poes in single precision: at site {site} its \
              first {} IMLs (to {} {}) read as poe = 1, which it counts at a rate of {:.3}/yr: \
-             that adds {:.3e}/yr to the rate of `{}` the job counts, {:.1} % of `risk`'s rate \
+             that adds {:.3e}/yr to the rate of `{}` the job counts, {:.1} % of `risk`'s rate{} \
              (give the job a curve whose poes fall below 1 - 6e-8 where the fragility is still \
              near 0)",
             s.imls,
@@ -203,6 +216,7 @@ fn read_as_certain(b: &ExportedBlock, h: &HazardSites, cut: Option<f64>) -> Opti
             s.excess_rate,
             f.states.last().map_or("", |s| s.name.as_str()),
             100.0 * share,
+            others(shares.iter().map(|s| s.1), h.curves.len()),
         )
     })
 }
