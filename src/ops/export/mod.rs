@@ -201,7 +201,7 @@ fn read_as_certain(b: &ExportedBlock, h: &HazardSites, cut: Option<f64>) -> Opti
             Some((*k, excess / site_risk(&parts, c, cut).annual_rate, s))
         })
         .collect();
-    let (site, share, s) = shares.iter().max_by(|a, b| a.1.total_cmp(&b.1))?.clone();
+    let (site, share, s) = *shares.iter().max_by(|a, b| a.1.total_cmp(&b.1))?;
     (share >= 0.01).then(|| {
         format!(
             "OpenQuake's job reads the hazard's poes in single precision: at site {site} its \
