@@ -283,19 +283,7 @@ pub fn parse_fields(
 /// not a number, the time is not positive and finite, or the stochastic
 /// event sets per path are not a whole number from 1.
 pub fn eff_years_of_job(job_ini: &str, realizations: usize) -> Result<f64, String> {
-    let key = |name: &str| -> Result<Option<f64>, String> {
-        let Some(v) = job_ini.lines().find_map(|l| {
-            let at = l.find(['=', ':'])?;
-            let (k, v) = (&l[..at], &l[at + 1..]);
-            (k.trim().eq_ignore_ascii_case(name))
-                .then(|| v.split('#').next().unwrap_or("").trim().to_string())
-        }) else {
-            return Ok(None);
-        };
-        v.parse()
-            .map(Some)
-            .map_err(|_| format!("`{name} = {v}` is not a number"))
-    };
+    let key = |name: &str| job_number(job_ini, name);
     let samples = key("number_of_logic_tree_samples")?.filter(|&s| s > 0.0);
     let time = key("investigation_time")?.ok_or("no `investigation_time`")?;
     if !(time.is_finite() && time > 0.0) {
@@ -315,6 +303,27 @@ pub fn eff_years_of_job(job_ini: &str, realizations: usize) -> Result<f64, Strin
         ));
     }
     Ok(time * ses * samples.unwrap_or(realizations as f64))
+}
+
+/// A number of a job.ini, read as Python's configparser reads it: `key =
+/// value` or `key: value`, the key in any case, a `#` comment after it.
+fn job_number(job_ini: &str, name: &str) -> Result<Option<f64>, String> {
+    let Some(v) = job_ini.lines().find_map(|l| {
+        let at = l.find(['=', ':'])?;
+        let (k, v) = (&l[..at], &l[at + 1..]);
+        (k.trim().eq_ignore_ascii_case(name))
+            .then(|| v.split('#').next().unwrap_or("").trim().to_string())
+    }) else {
+        return Ok(None);
+    };
+    v.parse()
+        .map(Some)
+        .map_err(|_| format!("`{name} = {v}` is not a number"))
+}
+
+/// The job's `number_of_logic_tree_samples` where it samples (> 0).
+pub fn samples_of_job(job_ini: &str) -> Result<Option<f64>, String> {
+    Ok(job_number(job_ini, "number_of_logic_tree_samples")?.filter(|&s| s > 0.0))
 }
 
 /// `realizations_N.csv`: each realisation's weight (`rlz_id, branch_path,

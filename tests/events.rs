@@ -604,6 +604,70 @@ fn the_effective_time_and_realisations() {
     );
 }
 
+/// A job.ini that is not the fields' calculation's set every rate by its
+/// samples without a cross-check: 10 samples over a calculation listing 2
+/// realisations gave rates a fifth of the job's own. That is warned of
+/// (the rates still the job's, as OpenQuake's effective time is), events
+/// naming a realisation past the job's samples or past those listed are
+/// refused, and a job that agrees says nothing.
+#[test]
+fn a_job_ini_of_another_calculation_is_caught() {
+    let dir = tempdir();
+    let d = dir.path();
+    fields(&d.join("g"), 4, |e, _| 0.3 + 0.1 * e as f64);
+    let run = || {
+        rocking(
+            d,
+            &["risk", "--gmf", "g", "--b", "0.2", "--h", "0.9", "--json"],
+        )
+    };
+    fs::write(
+        d.join("g/realizations_1.csv"),
+        "rlz_id,branch_path,weight\n0,A,0.5\n1,B,0.5\n",
+    )
+    .unwrap();
+    let job = |samples: u32| {
+        let text = format!("investigation_time = 1\nnumber_of_logic_tree_samples = {samples}\n");
+        fs::write(d.join("g/job.ini"), text).unwrap();
+    };
+    job(2);
+    let agrees = run();
+    assert_eq!(json(&agrees)["eff_years"].as_f64(), Some(2.0));
+    assert!(!stderr(&agrees).contains("realisations"), "{}", stderr(&agrees));
+    job(10);
+    let stale = run();
+    assert_eq!(json(&stale)["eff_years"].as_f64(), Some(10.0));
+    assert!(
+        stderr(&stale).contains("samples 10 realisations (`number_of_logic_tree_samples`), but")
+            && stderr(&stale).contains("realizations_1.csv lists 2"),
+        "{}",
+        stderr(&stale)
+    );
+    // The events of realisation 2: past the 2 listed, and past 2 samples.
+    let events = fs::read_to_string(d.join("g/events_1.csv")).unwrap();
+    fs::write(
+        d.join("g/events_1.csv"),
+        events.replace("3,3,0,1,1", "3,3,2,1,1"),
+    )
+    .unwrap();
+    let past = run();
+    assert!(
+        stderr(&past).contains("the events name realisation 2, but it lists 2 (0 to 1)"),
+        "{}",
+        stderr(&past)
+    );
+    fs::remove_file(d.join("g/realizations_1.csv")).unwrap();
+    job(2);
+    let past = run();
+    assert!(
+        stderr(&past).contains("the events name realisation 2, but")
+            && stderr(&past)
+                .contains("samples 2 (`number_of_logic_tree_samples`, realisations 0 to 1)"),
+        "{}",
+        stderr(&past)
+    );
+}
+
 /// Fields of PGA in cm/s² read as g gave every site 2.45 overturnings a
 /// year without a word, where the hazard's IMLs in cm/s² are warned of.
 /// The fields are held to the same rule: fields of 0.1–0.5 g are not

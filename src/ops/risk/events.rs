@@ -141,7 +141,12 @@ pub fn assess_events(req: &Request, ask: &EventsAsk) -> Result<EventsAssessment,
                 .into(),
         ));
     }
-    let (fields, eff_years, from) = read_fields(ask)?;
+    let super::fields::ReadFields {
+        fields,
+        eff_years,
+        from,
+        warnings: job_warnings,
+    } = read_fields(ask)?;
     let im = req.im.unwrap_or(Im::Pga);
     let values = values_of(&fields, im).ok_or_else(|| {
         RiskError::Gmf(format!(
@@ -186,7 +191,8 @@ pub fn assess_events(req: &Request, ask: &EventsAsk) -> Result<EventsAssessment,
     // Each block's P at every (event, site).
     let mut probs: Vec<Vec<f64>> = Vec::with_capacity(blocks.len());
     let mut out = Vec::with_capacity(blocks.len());
-    let mut warnings: Vec<String> = unit_slip(&values, im).into_iter().collect();
+    let mut warnings: Vec<String> = job_warnings;
+    warnings.extend(unit_slip(&values, im));
     for e in &blocks {
         let (mut b, p) = one_block(req, e, &at, &mut warnings)?;
         if let Some(states) = &ask.states {

@@ -47,7 +47,16 @@ fn read(path: &Path) -> Result<String, RiskError> {
 
 /// The fields of the folder and the effective time: the job's (`job.ini`
 /// in the folder or its parent) or `--eff-years`, refused when neither.
-pub fn read_fields(ask: &EventsAsk) -> Result<(Fields, f64, String), RiskError> {
+/// The fields of a folder, the effective time (years) and where it is
+/// from, and what the folder's files disagree on without refusing.
+pub struct ReadFields {
+    pub fields: Fields,
+    pub eff_years: f64,
+    pub from: String,
+    pub warnings: Vec<String>,
+}
+
+pub fn read_fields(ask: &EventsAsk) -> Result<ReadFields, RiskError> {
     let dir = &ask.dir;
     let name = |p: &Path| p.display().to_string();
     let gerr = |e: GmfError| RiskError::Gmf(e.to_string());
@@ -58,16 +67,22 @@ pub fn read_fields(ask: &EventsAsk) -> Result<(Fields, f64, String), RiskError> 
     let events = gmf::parse_events(&read(&events_path)?, &name(&events_path)).map_err(gerr)?;
     let fields =
         gmf::parse_fields(&read(&gmf_path)?, &name(&gmf_path), sites, events).map_err(gerr)?;
-    let realizations = realizations(dir, &fields)?;
+    let (realizations, listed) = realizations(dir, &fields)?;
     let job = [dir.join("job.ini"), dir.join("../job.ini")]
         .into_iter()
         .find(|p| p.is_file());
+    let mut warnings = Vec::new();
     let from_job = match &job {
-        Some(p) => Some((
-            gmf::eff_years_of_job(&read(p)?, realizations)
-                .map_err(|why| RiskError::Gmf(format!("{}: {why}", name(p))))?,
-            name(p),
-        )),
+        Some(p) => {
+            let text = read(p)?;
+            let in_job = |why| RiskError::Gmf(format!("{}: {why}", name(p)));
+            let samples = gmf::samples_of_job(&text).map_err(in_job)?;
+            warnings.extend(stale_job(&fields, samples, listed, &name(p), &events_path)?);
+            Some((
+                gmf::eff_years_of_job(&text, realizations).map_err(in_job)?,
+                name(p),
+            ))
+        }
         None => None,
     };
     let (eff, from) = match (ask.eff_years, from_job) {
@@ -93,14 +108,56 @@ pub fn read_fields(ask: &EventsAsk) -> Result<(Fields, f64, String), RiskError> 
             )))
         }
     };
-    Ok((fields, eff, from))
+    Ok(ReadFields {
+        fields,
+        eff_years: eff,
+        from,
+        warnings,
+    })
+}
+
+/// A job.ini that is not the fields' calculation's (edited or copied after
+/// the run) sets the effective time, and every rate, by its samples:
+/// refused where the events name a realisation past the job's samples,
+/// warned of where the realisations listed are not as many as it samples
+/// (OpenQuake lists one per sample, each of weight 1/S).
+fn stale_job(
+    fields: &Fields,
+    samples: Option<f64>,
+    listed: Option<(usize, String)>,
+    job: &str,
+    events: &Path,
+) -> Result<Option<String>, RiskError> {
+    let Some(s) = samples else {
+        return Ok(None);
+    };
+    if let Some(r) = fields.events.iter().map(|e| e.1).max() {
+        if f64::from(r) >= s {
+            return Err(RiskError::Gmf(format!(
+                "{}: the events name realisation {r}, but {job} samples {s} \
+                 (`number_of_logic_tree_samples`, realisations 0 to {}): is it this \
+                 calculation's job?",
+                events.display(),
+                s - 1.0
+            )));
+        }
+    }
+    Ok(listed.filter(|(r, _)| *r as f64 != s).map(|(r, file)| {
+        format!(
+            "{job} samples {s} realisations (`number_of_logic_tree_samples`), but {file} lists \
+             {r}: the rates divide by the job's {s}; is the job.ini this calculation's?"
+        )
+    }))
 }
 
 /// The number of realisations whose events are pooled: the rows of
 /// `realizations_*.csv` when the folder has it, refused when their weights
 /// differ (pooling their events is then not their weighted mean, which
 /// OpenQuake itself refuses to collect), else those the events name.
-fn realizations(dir: &Path, fields: &Fields) -> Result<usize, RiskError> {
+fn realizations(
+    dir: &Path,
+    fields: &Fields,
+) -> Result<(usize, Option<(usize, String)>), RiskError> {
     let found = one_file(dir, "realizations_").ok();
     if let Some(path) = found {
         let w = gmf::parse_weights(&read(&path)?, &path.display().to_string())
@@ -117,10 +174,24 @@ fn realizations(dir: &Path, fields: &Fields) -> Result<usize, RiskError> {
                     .join(", ")
             )));
         }
-        return Ok(w.len().max(1));
+        if let Some(r) = fields
+            .events
+            .iter()
+            .map(|e| e.1)
+            .find(|&r| r as usize >= w.len())
+        {
+            return Err(RiskError::Gmf(format!(
+                "{}: the events name realisation {r}, but it lists {} (0 to {}): are they of one \
+                 calculation?",
+                path.display(),
+                w.len(),
+                w.len().saturating_sub(1)
+            )));
+        }
+        return Ok((w.len().max(1), Some((w.len(), path.display().to_string()))));
     }
     let mut r: Vec<u32> = fields.events.iter().map(|e| e.1).collect();
     r.sort_unstable();
     r.dedup();
-    Ok(r.len().max(1))
+    Ok((r.len().max(1), None))
 }
