@@ -633,7 +633,11 @@ fn a_job_ini_of_another_calculation_is_caught() {
     job(2);
     let agrees = run();
     assert_eq!(json(&agrees)["eff_years"].as_f64(), Some(2.0));
-    assert!(!stderr(&agrees).contains("realisations"), "{}", stderr(&agrees));
+    assert!(
+        !stderr(&agrees).contains("realisations"),
+        "{}",
+        stderr(&agrees)
+    );
     job(10);
     let stale = run();
     assert_eq!(json(&stale)["eff_years"].as_f64(), Some(10.0));

@@ -152,6 +152,27 @@ type Scene<'a> = (
     Option<&'a (f64, Building)>,
 );
 
+/// The modal buildings of `req.periods`, each with its period (s).
+fn roofs(req: &Request) -> Result<Vec<(f64, Building)>, ContentsError> {
+    req.periods
+        .iter()
+        .map(|&t| {
+            Building::new(vec![Mode {
+                period_s: t,
+                zeta: req.zeta,
+                gamma_phi: req.gamma_phi,
+            }])
+            .map(|b| (t, b))
+            .map_err(|source| ContentsError::Building {
+                period: t,
+                zeta: req.zeta,
+                gamma_phi: req.gamma_phi,
+                source,
+            })
+        })
+        .collect()
+}
+
 /// Every item in every scene, and what the fits warn of.
 #[derive(Debug, Clone)]
 pub struct Comparison {
@@ -170,24 +191,7 @@ pub fn compare(req: &Request) -> Result<Comparison, ContentsError> {
     // under an option (`--direct`) the command does not have.
     crate::physics::check_auto_tol(req.auto_tol)
         .map_err(|e| ContentsError::AutoTol(req.auto_tol, e))?;
-    let roofs = req
-        .periods
-        .iter()
-        .map(|&t| {
-            Building::new(vec![Mode {
-                period_s: t,
-                zeta: req.zeta,
-                gamma_phi: req.gamma_phi,
-            }])
-            .map(|b| (t, b))
-            .map_err(|source| ContentsError::Building {
-                period: t,
-                zeta: req.zeta,
-                gamma_phi: req.gamma_phi,
-                source,
-            })
-        })
-        .collect::<Result<Vec<_>, _>>()?;
+    let roofs = roofs(req)?;
     let mut scenes: Vec<Scene> = req.sets.iter().map(|s| ("ground", s, None)).collect();
     if let Some(first) = req.sets.first() {
         scenes.extend(roofs.iter().map(|roof| ("roof", first, Some(roof))));
@@ -260,19 +264,26 @@ pub fn compare(req: &Request) -> Result<Comparison, ContentsError> {
                 ratio: median_mps / c.median_mps,
             });
         }
-        let place = match period {
-            None => format!("on the ground under {name}"),
-            Some(t) => format!("on the roof of T = {t} s under {name}"),
-        };
-        for (text, ids) in said {
+        warnings.extend(each_once(said, period, name));
+    }
+    Ok(Comparison { rows, warnings })
+}
+
+/// A scene's warnings, each once with the place and the items it is of.
+fn each_once(said: Vec<(String, Vec<&str>)>, period: Option<f64>, name: &str) -> Vec<String> {
+    let place = match period {
+        None => format!("on the ground under {name}"),
+        Some(t) => format!("on the roof of T = {t} s under {name}"),
+    };
+    said.into_iter()
+        .map(|(text, ids)| {
             let of = match ids.len() == FEMA_P58.len() {
                 true => "every item".to_string(),
                 false => ids.join(", "),
             };
-            warnings.push(format!("{place} ({of}): {text}"));
-        }
-    }
-    Ok(Comparison { rows, warnings })
+            format!("{place} ({of}): {text}")
+        })
+        .collect()
 }
 
 /// The ratio of the tool's median to FEMA's for each item against the
