@@ -4,7 +4,7 @@
 
 use serde_json::Value;
 
-use crate::util::{at2_text, bundled_records, rocking, root, stderr, tempdir};
+use crate::util::{at2_text, bundled_records, rocking, root, stderr, stdout, tempdir};
 
 fn json(out: &std::process::Output) -> Value {
     assert!(out.status.success(), "{}", stderr(out));
@@ -281,6 +281,53 @@ fn an_option_that_would_do_nothing_is_refused() {
     ];
     let out = rocking(&root(), &[&pulse[..], &block[..]].concat());
     assert!(out.status.success(), "{}", stderr(&out));
+}
+
+/// A command's summary is its own: clap takes the doc comment above the
+/// command's `Args`, and a comment of a shared group (flattened) or of a
+/// function written between them became the summary without a word
+/// (`submit` read "A pipeline and where its outputs go"). No summary in
+/// `rocking --help` is the first line of a shared group's doc.
+#[test]
+fn every_command_summarises_itself() {
+    let args = std::fs::read_to_string(root().join("src/bin/rocking/commands/args.rs")).unwrap();
+    let lines: Vec<&str> = args.lines().collect();
+    let groups: Vec<String> = lines
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| l.starts_with("pub struct ") && l.contains("Args"))
+        .filter_map(|(k, _)| {
+            let mut first = None;
+            for l in lines[..k].iter().rev() {
+                match l.strip_prefix("/// ") {
+                    Some(text) => first = Some(text.to_string()),
+                    None if l.starts_with("#[") => continue,
+                    None => break,
+                }
+            }
+            first
+        })
+        .collect();
+    assert!(groups.len() >= 6, "{groups:?}");
+    let help = stdout(&rocking(&root(), &["--help"]));
+    let commands: Vec<&str> = help
+        .lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| !l.is_empty())
+        .filter(|l| l.starts_with("  ") && !l.starts_with("    "))
+        .collect();
+    assert!(commands.len() >= 20, "{help}");
+    for c in commands {
+        let summary = c.split_whitespace().skip(1).collect::<Vec<_>>().join(" ");
+        for g in &groups {
+            let start: String = g.split_whitespace().take(5).collect::<Vec<_>>().join(" ");
+            assert!(
+                !summary.starts_with(&start),
+                "{c}: a shared group's doc ({g})"
+            );
+        }
+    }
 }
 
 /// `rocking capacity --help` and `rocking help capacity` describe the same

@@ -8,6 +8,15 @@ use rocking::ops::submit::{self, SubmitOptions};
 use super::args::PipelineArgs;
 use crate::reporter::Terminal;
 
+/// A count of shards: 1 or more (0 was read as the shard `1/0`).
+fn shard_count(text: &str) -> Result<usize, String> {
+    match text.parse::<usize>() {
+        Ok(0) => Err("the sweep runs as 1 shard or more".into()),
+        Ok(n) => Ok(n),
+        Err(_) => Err(format!("`{text}` is not a count of shards (1, 2, …)")),
+    }
+}
+
 /// Run a study on Slurm: the sweep as an array of --shards tasks, the later
 /// stages as one job after it.
 ///
@@ -20,15 +29,6 @@ use crate::reporter::Terminal;
 /// ids. The tasks run this same binary, from this directory; the outputs
 /// must be on a filesystem the nodes share. With --wait it follows the jobs
 /// and exits non-zero naming a failed task and its log.
-/// A count of shards: 1 or more (0 was read as the shard `1/0`).
-fn shard_count(text: &str) -> Result<usize, String> {
-    match text.parse::<usize>() {
-        Ok(0) => Err("the sweep runs as 1 shard or more".into()),
-        Ok(n) => Ok(n),
-        Err(_) => Err(format!("`{text}` is not a count of shards (1, 2, …)")),
-    }
-}
-
 #[derive(Debug, clap::Args)]
 pub struct Args {
     #[command(flatten)]
