@@ -9,7 +9,8 @@ use std::path::Path;
 use serde_json::Value;
 
 use crate::util::{
-    bundled_records, peak_velocity, plain_at2_values, rocking, root, stderr, tempdir, write_at2,
+    bundled_records, peak_velocity, plain_at2_values, rocking, root, stderr, stdout, tempdir,
+    write_at2,
 };
 
 fn kobe() -> std::path::PathBuf {
@@ -1650,4 +1651,93 @@ fn a_pipelines_floor_exports_as_the_same_floor_given_by_hand() {
     let by_hand = std::fs::read_to_string(d.join("by-hand/fragility_model.xml")).unwrap();
     assert!(!study.contains("noDamageLimit"), "{study}");
     assert_eq!(study, by_hand);
+}
+
+/// On a floor, `fragility` states η_c as α/PGA of the ground (its levels
+/// are the ground's) where `capacity --floor` states the floor's α/PFA; the
+/// shared name read as one quantity. The text says whose it is, and the
+/// value is α over the median PGA it prints (η = αg/PGA by hand).
+#[test]
+fn a_floors_eta_c_says_whose_it_is() {
+    let dir = tempdir();
+    let few = few_far_field(dir.path(), &FEW[..3]);
+    let out = rocking(
+        &root(),
+        &[
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--direct",
+            "--records",
+            few.to_str().unwrap(),
+            "--floor",
+            "0.5,0.05,1.3",
+            "--pga",
+            "0.3",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    let number = |after: &str| -> f64 {
+        let rest = text
+            .split(after)
+            .nth(1)
+            .unwrap_or_else(|| panic!("{after}: {text}"));
+        rest.split([' ', ',']).next().unwrap().parse().unwrap()
+    };
+    let eta = number("median η_c = ");
+    assert!(
+        text.contains("median η_c = ") && text.contains(" (α/PGA of the ground), median "),
+        "{text}"
+    );
+    let pga = number("(α/PGA of the ground), median ");
+    let alpha = (0.2f64 / 0.9).atan();
+    assert!(
+        (eta - alpha / pga).abs() <= 1e-3 * eta,
+        "{eta} against {alpha}/{pga}"
+    );
+    let cap = rocking(
+        &root(),
+        &[
+            "capacity",
+            "--record",
+            few.join("RSN1111_KOBE_NIS000.AT2").to_str().unwrap(),
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--eps",
+            "0.8",
+            "--floor",
+            "0.5,0.05,1.3",
+        ],
+    );
+    assert!(
+        stdout(&cap).contains("η is the floor's"),
+        "{}",
+        stdout(&cap)
+    );
+    // On the ground there is one η_c, and nothing to say.
+    let ground = rocking(
+        &root(),
+        &[
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--direct",
+            "--records",
+            few.to_str().unwrap(),
+            "--pga",
+            "0.3",
+        ],
+    );
+    assert!(
+        !stdout(&ground).contains("of the ground"),
+        "{}",
+        stdout(&ground)
+    );
 }
