@@ -102,6 +102,18 @@ fn ask(args: &Args) -> FragilityAsk {
     }
 }
 
+/// The median η_c for the summary line. On a floor it is α/PGA of the
+/// ground here, where `capacity --floor` states the floor's α/PFA: said,
+/// so the two are not read as one.
+fn eta_c_text(a: &fragility::Assessment, im: rocking::im::Im) -> String {
+    let whose = match (&a.floor, im.floor()) {
+        (Some(_), false) => " (α/PGA of the ground)",
+        _ => "",
+    };
+    a.eta_c_median
+        .map_or(String::new(), |e| format!("median η_c = {e:.4}{whose}, "))
+}
+
 pub fn run(args: Args) -> anyhow::Result<()> {
     let (req, states) = ask(&args).resolve(Spelling::Cli, direct_progress(args.direct))?;
     if let Some(s) = &states.states {
@@ -116,15 +128,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         return Ok(());
     }
     let unit = a.unit;
-    // On a floor η_c is α/PGA of the ground here, where `capacity --floor`
-    // states the floor's α/PFA: said, so the two are not read as one.
-    let whose = match (&a.floor, args.im.floor()) {
-        (Some(_), false) => " (α/PGA of the ground)",
-        _ => "",
-    };
-    let eta = a
-        .eta_c_median
-        .map_or(String::new(), |e| format!("median η_c = {e:.4}{whose}, "));
+    let eta = eta_c_text(&a, args.im);
     println!(
         "block of half-width b = {} m, half-height h = {} m: α = {:.4} rad, p = {:.4} 1/s, ε {}; capacity in {} from {} ({}{}): {eta}median {:.4} {unit}, {}",
         a.b_m,
