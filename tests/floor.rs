@@ -1741,3 +1741,65 @@ fn a_floors_eta_c_says_whose_it_is() {
         stdout(&ground)
     );
 }
+
+/// Text records are the motions the block stands on, each scaled to its own
+/// peak: a fragility of them in PGA was the floor's PFA labelled the
+/// ground's (a floor at twice its ground gave the ground's answer, and
+/// `risk` against a ground-PGA hazard a rate 14× off a modal building's).
+/// A ground IM of text records is refused in `fragility`, `risk` and
+/// `export`; in PFA they are the motions' own peaks: the same records
+/// written as text give in PFA what their AT2 files give in PGA, to 1e-9.
+#[test]
+fn text_records_are_not_stated_in_a_ground_im() {
+    let dir = tempdir();
+    let few = few_far_field(dir.path(), &FEW[..3]);
+    let text = dir.path().join("text");
+    std::fs::create_dir(&text).unwrap();
+    for id in &FEW[..3] {
+        let record = few.join(format!("{id}.AT2"));
+        let (_, dt) = rocking::records::read_samples(&record).unwrap();
+        let body: String = plain_at2_values(&record)
+            .iter()
+            .enumerate()
+            .map(|(i, a)| format!("{} {a}\n", i as f64 * dt))
+            .collect();
+        std::fs::write(text.join(format!("{id}.txt")), body).unwrap();
+    }
+    let (few_s, text_s) = (few.to_str().unwrap(), text.to_str().unwrap());
+    let block = ["--b", "0.2", "--h", "0.9", "--direct"];
+    let as_text = ["--records", text_s, "--records-unit", "g"];
+    let hazard = root().join("records/hazard/synthetic-site.csv");
+    let out_dir = dir.path().join("x");
+    for command in [
+        &["fragility", "--pga", "0.3"][..],
+        &["risk", "--hazard", hazard.to_str().unwrap()],
+        &[
+            "export",
+            "--format",
+            "pelicun",
+            "--out",
+            out_dir.to_str().unwrap(),
+        ],
+    ] {
+        let out = rocking(&root(), &[command, &block, &as_text].concat());
+        assert!(!out.status.success(), "{command:?}");
+        assert!(
+            stderr(&out).contains("PGA is a measure of the ground's motion, and text records"),
+            "{command:?}: {}",
+            stderr(&out)
+        );
+    }
+    assert!(!out_dir.exists());
+    let fragility = |extra: &[&str]| {
+        json(&rocking(
+            &root(),
+            &[&["fragility", "--json"][..], &block, extra].concat(),
+        ))
+    };
+    let pfa = fragility(&[&as_text[..], &["--im", "pfa", "--at", "0.3"]].concat());
+    let pga = fragility(&["--records", few_s, "--pga", "0.3"]);
+    for key in ["median", "beta"] {
+        let (a, b) = (pfa[key].as_f64().unwrap(), pga[key].as_f64().unwrap());
+        assert!((a - b).abs() <= 1e-9 * b, "{key}: {a} against {b}");
+    }
+}

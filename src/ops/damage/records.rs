@@ -20,6 +20,11 @@ pub(super) fn from_records(
     records: &DirectRecords,
     model: RunModel,
 ) -> Result<DamageFragility, FragilityError> {
+    // Text records are scaled each to its own peak and have no ground
+    // measured beside them: a ground IM of them is the floor's.
+    if records.text().is_some() && !im.floor() {
+        return Err(FragilityError::TextGroundIm(im.short().to_string()));
+    }
     // A floor demand (PFA, PFV) is of the floor motion's own scale.
     let (runs, why) = records.runs(block, model, !im.floor())?;
     let alpha = block.alpha();
