@@ -60,25 +60,7 @@ pub(super) fn from_records(
         Orientation::AsRecorded | Orientation::Random => in_im,
     };
     let fits = fit_states(n, &in_im).ok_or(FragilityError::NoPeriod(im.name()))?;
-    let mut warnings: Vec<String> = states
-        .states()
-        .iter()
-        .zip(&fits)
-        .filter(|(_, f)| (1..FEW_RECORDS).contains(&f.reached))
-        .map(|(s, f)| match f.reached {
-            1 => format!(
-                "`{}` is fitted to the capacity of one record: it has no dispersion (β = 0, a \
-                 step from 0 to 1 at that record's capacity); give {FEW_RECORDS} records or more",
-                s.name
-            ),
-            n => format!(
-                "`{}` is fitted to the capacities of {n} records (fewer than {FEW_RECORDS}): its \
-                 median and β are rough (β's standard error is about β/√(2n), {:.0} % here)",
-                s.name,
-                100.0 / (2.0 * n as f64).sqrt()
-            ),
-        })
-        .collect();
+    let mut warnings = few_records(states, &fits);
     if records.text().is_some() {
         warnings.push(TEXT_RECORDS_NOTE.into());
     }
@@ -153,6 +135,30 @@ pub(super) fn never_reached(f: &mut DamageFragility, block: &Block) {
          they ran, so the fragility is the records' own curves (--method empirical){why}",
         never.join(", ")
     ));
+}
+
+/// The states fitted to fewer than [`FEW_RECORDS`] records' capacities,
+/// each warned of: one record has no dispersion, a few a rough one.
+fn few_records(states: &DamageStates, fits: &[damage::StateFit]) -> Vec<String> {
+    states
+        .states()
+        .iter()
+        .zip(fits)
+        .filter(|(_, f)| (1..FEW_RECORDS).contains(&f.reached))
+        .map(|(s, f)| match f.reached {
+            1 => format!(
+                "`{}` is fitted to the capacity of one record: it has no dispersion (β = 0, a \
+                 step from 0 to 1 at that record's capacity); give {FEW_RECORDS} records or more",
+                s.name
+            ),
+            n => format!(
+                "`{}` is fitted to the capacities of {n} records (fewer than {FEW_RECORDS}): its \
+                 median and β are rough (β's standard error is about β/√(2n), {:.0} % here)",
+                s.name,
+                100.0 / (2.0 * n as f64).sqrt()
+            ),
+        })
+        .collect()
 }
 
 /// Every state's fits of the records' capacities in the IM (`caps[k][j]`:
