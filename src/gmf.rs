@@ -169,6 +169,30 @@ pub fn parse_events(text: &str, file: &str) -> Result<Vec<(u64, u32)>, GmfError>
     Ok(out)
 }
 
+/// The largest `ses_id` of `events_N.csv` (the stochastic event set each
+/// event is in, 1 to `ses_per_logic_tree_path`), where the file has the
+/// column (OpenQuake 3.x writes it).
+pub fn last_event_set(text: &str, file: &str) -> Result<Option<u64>, GmfError> {
+    let mut lines = data_lines(text);
+    let (_, cols, _) = header(file, &mut lines, &[])?;
+    let Some(at) = cols.iter().position(|c| *c == "ses_id") else {
+        return Ok(None);
+    };
+    let mut last = None;
+    for (n, l) in lines {
+        let cells = cells(file, n, l, cols.len())?;
+        let ses: u64 = number(file, n, "ses_id", cells.get(at).copied())?;
+        last = last.max(Some(ses));
+    }
+    Ok(last)
+}
+
+/// The job's `ses_per_logic_tree_path` (1 where it is not given, as
+/// OpenQuake's default).
+pub fn event_sets_of_job(job_ini: &str) -> Result<f64, String> {
+    Ok(job_number(job_ini, "ses_per_logic_tree_path")?.unwrap_or(1.0))
+}
+
 /// The IM of a `gmv_<IMT>` column: PGA, PGV or SA(T).
 fn im_of_column(col: &str) -> Option<Im> {
     let imt = col.strip_prefix("gmv_")?;
@@ -291,7 +315,7 @@ pub fn eff_years_of_job(job_ini: &str, realizations: usize) -> Result<f64, Strin
             "`investigation_time = {time}`: give a positive number of years"
         ));
     }
-    let ses = key("ses_per_logic_tree_path")?.unwrap_or(1.0);
+    let ses = event_sets_of_job(job_ini)?;
     if !(ses >= 1.0 && ses.fract() == 0.0 && ses.is_finite()) {
         return Err(format!(
             "`ses_per_logic_tree_path = {ses}`: give a whole number of event sets, 1 or more"

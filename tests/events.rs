@@ -11,7 +11,7 @@ use std::process::Command;
 
 use serde_json::Value;
 
-use crate::util::{rocking, stderr, tempdir};
+use crate::util::{rocking, root, stderr, tempdir};
 
 fn json(out: &std::process::Output) -> Value {
     assert!(out.status.success(), "{}", stderr(out));
@@ -660,6 +660,42 @@ fn a_job_ini_of_another_calculation_is_caught() {
         "{}",
         stderr(&past)
     );
+    // A job of fewer event sets than the events are in: its time, and
+    // every rate, would be off by as much (the bundled fields' 2000 sets
+    // under a job of 20 gave 8.26 a year for 0.0826).
+    let g = root().join("records/gmf");
+    let stale = d.join("stale");
+    fs::create_dir(&stale).unwrap();
+    for f in [
+        "gmf-data_239.csv",
+        "events_239.csv",
+        "sitemesh_239.csv",
+        "realizations_239.csv",
+    ] {
+        fs::copy(g.join(f), stale.join(f)).unwrap();
+    }
+    let ini = fs::read_to_string(g.join("job.ini")).unwrap();
+    assert!(ini.contains("ses_per_logic_tree_path = 2000"));
+    for (sets, refused) in [("20", true), ("2000", false)] {
+        let text = ini.replace("= 2000", &format!("= {sets}"));
+        fs::write(stale.join("job.ini"), text).unwrap();
+        let out = rocking(
+            d,
+            &[
+                "risk", "--gmf", "stale", "--b", "0.2", "--h", "0.9", "--json",
+            ],
+        );
+        assert_eq!(!out.status.success(), refused, "{sets}: {}", stderr(&out));
+        if refused {
+            let e = stderr(&out);
+            assert!(
+                e.contains("the events are in event sets up to 2000, but")
+                    && e.contains("`ses_per_logic_tree_path = 20`")
+                    && e.contains("100× too high"),
+                "{e}"
+            );
+        }
+    }
     fs::remove_file(d.join("g/realizations_1.csv")).unwrap();
     job(2);
     let past = run();

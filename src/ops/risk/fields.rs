@@ -64,7 +64,8 @@ pub fn read_fields(ask: &EventsAsk) -> Result<ReadFields, RiskError> {
     let events_path = one_file(dir, "events_")?;
     let gmf_path = one_file(dir, "gmf-data_")?;
     let sites = gmf::parse_sites(&read(&sites_path)?, &name(&sites_path)).map_err(gerr)?;
-    let events = gmf::parse_events(&read(&events_path)?, &name(&events_path)).map_err(gerr)?;
+    let events_text = read(&events_path)?;
+    let events = gmf::parse_events(&events_text, &name(&events_path)).map_err(gerr)?;
     let fields =
         gmf::parse_fields(&read(&gmf_path)?, &name(&gmf_path), sites, events).map_err(gerr)?;
     let (realizations, listed) = realizations(dir, &fields)?;
@@ -78,6 +79,18 @@ pub fn read_fields(ask: &EventsAsk) -> Result<ReadFields, RiskError> {
             let in_job = |why| RiskError::Gmf(format!("{}: {why}", name(p)));
             let samples = gmf::samples_of_job(&text).map_err(in_job)?;
             warnings.extend(stale_job(&fields, samples, listed, &name(p), &events_path)?);
+            let sets = gmf::event_sets_of_job(&text).map_err(in_job)?;
+            let last = gmf::last_event_set(&events_text, &name(&events_path)).map_err(gerr)?;
+            if let Some(last) = last.filter(|&l| l as f64 > sets) {
+                return Err(RiskError::Gmf(format!(
+                    "{}: the events are in event sets up to {last}, but {} says \
+                     `ses_per_logic_tree_path = {sets}`: is it this calculation's job? (every \
+                     rate would be {}× too high at least)",
+                    events_path.display(),
+                    name(p),
+                    crate::im::level_text(last as f64 / sets)
+                )));
+            }
             Some((
                 gmf::eff_years_of_job(&text, realizations).map_err(in_job)?,
                 name(p),
