@@ -206,7 +206,8 @@ fn from_regression(
     auto_tol: f64,
 ) -> Result<DamageFragility, FragilityError> {
     let [fractile_table, mle_table] = damage_tables(states, im, laws)?;
-    let mut warnings = super::fragility::alpha_warning(block, auto_tol)
+    let study = laws.plan.as_ref().map(|p| p.blocks());
+    let mut warnings = super::fragility::model_warning(block, study, auto_tol)
         .into_iter()
         .collect::<Vec<_>>();
     let mut out = Vec::with_capacity(states.states().len());
@@ -308,7 +309,8 @@ fn overturning(
         let l = laws.im_table(im)?.capacity(block)?;
         warnings.extend(l.warnings);
         // The study's table rests on its model, as the regression does.
-        warnings.extend(super::fragility::alpha_warning(block, auto_tol));
+        let study = laws.plan.as_ref().map(|p| p.blocks());
+        warnings.extend(super::fragility::model_warning(block, study, auto_tol));
         Ok((
             Lognormal {
                 median: l.median,

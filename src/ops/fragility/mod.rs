@@ -26,4 +26,6 @@ pub use direct::{DirectProgress, DirectRecords, RunModel};
 pub use error::FragilityError;
 pub use laws::{default_records, laws, Laws, Source};
 pub use pairs::Orient;
-pub use request::{alpha_warning, block, check, laws_and_records, warnings, Request};
+pub use request::{
+    alpha_warning, block, check, laws_and_records, model_warning, warnings, Request,
+};

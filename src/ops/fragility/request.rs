@@ -136,6 +136,47 @@ pub fn alpha_warning(block: &Block, auto_tol: f64) -> Option<String> {
     ))
 }
 
+/// The model warning of capacities not run for this block: a linearised
+/// regression or study ([`alpha_warning`]), or a study that ran the
+/// nonlinear equation at other slendernesses. Its η_c moves with α² as the
+/// linearisation's error does (`LINEARIZATION_ERROR_PER_ALPHA2`·α²), so a
+/// block of α_b read from capacities of α_s errs by about that constant
+/// times |α_b² − α_s²|, α_s the study's nearest: warned of above
+/// `auto_tol`, as the linearisation is.
+pub fn model_warning(
+    block: &Block,
+    study: Option<&[crate::pipeline::BlockSpec]>,
+    auto_tol: f64,
+) -> Option<String> {
+    let alphas: Vec<f64> = study
+        .unwrap_or_default()
+        .iter()
+        .filter_map(|b| b.run.model.equation.alpha())
+        .collect();
+    let alpha = block.alpha();
+    let Some(nearest) = alphas
+        .iter()
+        .copied()
+        .min_by(|a, b| (a - alpha).abs().total_cmp(&(b - alpha).abs()))
+    else {
+        return alpha_warning(block, auto_tol);
+    };
+    let err = LINEARIZATION_ERROR_PER_ALPHA2 * (alpha * alpha - nearest * nearest).abs();
+    (err > auto_tol).then(|| {
+        let lo = alphas.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = alphas.iter().copied().fold(0.0, f64::max);
+        let span = match lo == hi {
+            true => format!("α = {lo:.3} rad"),
+            false => format!("α {lo:.3}–{hi:.3} rad"),
+        };
+        format!(
+            "α = {alpha:.3} rad: the study's capacities are of the nonlinear model at {span}, \
+             whose η_c differs from this block's by about {err:.1e} > {auto_tol:e}; use --direct \
+             (this block's own runs)"
+        )
+    })
+}
+
 /// Where a regression is stretched for a block (not for `--direct`): the
 /// paper's beyond its grid (p 0.33–10 1/s, ε 0.5–0.95), a study's beyond
 /// its blocks' (`blocks`, from `--from PIPELINE.toml`), as the study's IM
@@ -180,7 +221,7 @@ pub fn warnings(
             crate::im::level_text(p_hi)
         ));
     }
-    w.extend(alpha_warning(block, auto_tol));
+    w.extend(model_warning(block, blocks, auto_tol));
     w
 }
 
@@ -197,4 +238,55 @@ pub fn block(b_m: f64, h_m: f64, eps: Restitution) -> Result<Block, FragilityErr
             unreachable!("ε is given as a number or Housner's, and μ is not part of a block")
         }
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A study's blocks, from a pipeline of `model` (TOML lines).
+    fn study(model: &str) -> Vec<crate::pipeline::BlockSpec> {
+        let text = format!(
+            "name = \"a\"\n[records]\nat2 = [\"r\"]\n[model]\n{model}\n[blocks]\n\
+             p = [1.0, 2.0, 4.0]\neps = [0.6, 0.75, 0.9]\n"
+        );
+        crate::pipeline::load_str(&text, std::path::Path::new("a.toml"))
+            .unwrap()
+            .blocks()
+            .to_vec()
+    }
+
+    /// A block of slenderness `alpha` (rad), 1 m tall.
+    fn of_alpha(alpha: f64) -> Block {
+        Block::new(0.5 * alpha.tan(), 0.5, Restitution::Value(0.75)).unwrap()
+    }
+
+    /// A study that ran the nonlinear equation at α = 0.3 was said to rest
+    /// on the linearised model for a block of that α, and a block of
+    /// α = 0.05 took its capacities without a word. The warning is now of
+    /// the study's α: none at it, and at 0.05 the error by hand, the
+    /// linearisation's constant times |0.05² − 0.3²|. A linearised study
+    /// warns as the regression does.
+    #[test]
+    fn a_nonlinear_study_warns_of_its_own_alpha() {
+        let nonlinear = study("kind = \"nonlinear\"\nalpha = 0.3");
+        let tol = 1e-2;
+        assert_eq!(model_warning(&of_alpha(0.3), Some(&nonlinear), tol), None);
+        let w = model_warning(&of_alpha(0.05), Some(&nonlinear), tol).unwrap();
+        let err = LINEARIZATION_ERROR_PER_ALPHA2 * (0.3f64.powi(2) - 0.05f64.powi(2));
+        assert!(
+            w.contains("nonlinear model at α = 0.300 rad") && w.contains(&format!("{err:.1e}")),
+            "{w}"
+        );
+        assert!(!w.contains("linearised"), "{w}");
+        let linear = study("kind = \"linearized\"");
+        let block = of_alpha(0.3);
+        assert_eq!(
+            model_warning(&block, Some(&linear), tol),
+            alpha_warning(&block, tol)
+        );
+        assert!(alpha_warning(&block, tol).is_some());
+        // The regression's (no study) is the linearisation's.
+        assert_eq!(model_warning(&block, None, tol), alpha_warning(&block, tol));
+    }
 }
