@@ -267,6 +267,61 @@ fn direct_uses_the_records_own_capacities() {
     assert!((got / expected - 1.0).abs() < 1e-9, "{got} vs {expected}");
 }
 
+/// `risk.parquet` stated a lognormal's median and β beside a rate from the
+/// records' own curve (`--method empirical`), and named no fit: its β
+/// (0.452) described a fragility the rate (2.69e-4 against the lognormal's
+/// 3.70e-4) did not use. The table now names the fit, and the records'
+/// curve has no β; a lognormal's row keeps the β `fragility` states.
+#[test]
+fn the_risk_table_names_the_fit_its_rate_integrates() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(d.join("inv.csv"), "name,b,h,eps\nA,0.25,1.0,0.8\n").unwrap();
+    let hazard = root().join("records/hazard/synthetic-site.csv");
+    let table = |method: &str| -> RiskRow {
+        let out = rocking(
+            d,
+            &[
+                "risk",
+                "--hazard",
+                hazard.to_str().unwrap(),
+                "--inventory",
+                "inv.csv",
+                "--direct",
+                "--method",
+                method,
+                "--out",
+                "r.parquet",
+            ],
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+        read::<RiskRow>(&d.join("r.parquet")).unwrap().remove(0)
+    };
+    let (curve, lognormal) = (table("empirical"), table("fractile"));
+    assert_eq!((curve.fit.as_str(), curve.beta), ("empirical", None));
+    assert_eq!(lognormal.fit, "fractile");
+    assert_ne!(curve.annual_rate, lognormal.annual_rate);
+    let f = rocking(
+        d,
+        &[
+            "fragility",
+            "--b",
+            "0.25",
+            "--h",
+            "1.0",
+            "--eps",
+            "0.8",
+            "--direct",
+            "--pga",
+            "0.3",
+            "--json",
+        ],
+    );
+    let f: serde_json::Value = serde_json::from_slice(&f.stdout).unwrap();
+    assert_eq!(lognormal.beta, f["beta"].as_f64());
+    assert_eq!(lognormal.median, f["median"].as_f64());
+}
+
 #[test]
 fn an_inventory_becomes_a_table_and_a_ranking() {
     let dir = tempdir();

@@ -10,8 +10,8 @@ table! {
     /// Written by `rocking risk --inventory BLOCKS.csv` in `--out` (default
     /// `risk.parquet`): every block of the inventory assessed at every site of the hazard
     /// file. The metadata holds `rocking.risk.hazard` (the hazard file). Version 3 added
-    /// `mu`, `slides_first` and `floor`.
-    pub struct RiskRow = "risk" v 4 {
+    /// `mu`, `slides_first` and `floor`; version 5 `fit`.
+    pub struct RiskRow = "risk" v 5 {
         /// The block's name in the inventory.
         pub block: String,
         /// The block's half-width b (m).
@@ -50,6 +50,11 @@ table! {
         pub lat: Option<f64>,
         /// Where the fragility comes from: `paper`, the pipeline file, or `direct`.
         pub fragility: String,
+        /// How the fragility the rate integrates is made: `regression` (the paper's or a
+        /// study's, PGA), `moments` (a study's IM table), `fractile` or `mle` (lognormals of
+        /// the records' capacities), `empirical` (the records' own curve, `--method
+        /// empirical`: no β) or `mixture` (a logic tree's).
+        pub fit: String,
         /// The IM of the hazard and the fragility (`pga`, `pgv`, `sa(1.0)`, `avgsa`): every
         /// level of the row is in its unit.
         pub im: String,
@@ -60,7 +65,8 @@ table! {
         /// overturning the block).
         pub median: Option<f64>,
         /// The fragility's dispersion (of ln IM). Empty where undefined (`--direct` with
-        /// most records never overturning the block).
+        /// most records never overturning the block, or the records' own curve, `fit` =
+        /// `empirical`).
         pub beta: Option<f64>,
         /// λ_OT, the annual rate of overturning (1/year).
         pub annual_rate: f64,

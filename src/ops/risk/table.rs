@@ -29,6 +29,7 @@ pub fn rows(assessments: &[Assessment], beyond: Beyond) -> Vec<RiskRow> {
                 lon: s.lon,
                 lat: s.lat,
                 fragility: a.fragility.source.clone(),
+                fit: a.fragility.fit.to_string(),
                 im: a.fragility.im.clone(),
                 unit: a.fragility.unit.to_string(),
                 median: a.fragility.median,
