@@ -100,9 +100,6 @@ pub(super) fn stated(
         .fragility(method)
         .ok_or_else(|| damage::no_fit(f, state, method))?;
     let (median, beta) = state.median_beta(method);
-    // The records' own curve has no β: the rate integrates the curve, and a
-    // lognormal's β beside it would state a fragility that was not used.
-    let beta = beta.filter(|_| method != crate::damage::FitMethod::Empirical);
     let info = FragilityInfo {
         source: f.source.clone(),
         fit: state.fit_name(method),

@@ -33,7 +33,10 @@ pub fn rows(assessments: &[Assessment], beyond: Beyond) -> Vec<RiskRow> {
                 im: a.fragility.im.clone(),
                 unit: a.fragility.unit.to_string(),
                 median: a.fragility.median,
-                beta: a.fragility.beta,
+                // The records' own curve has no β: the rate integrates the
+                // curve, and the fractile fit's β beside it would state a
+                // fragility the rate did not use.
+                beta: a.fragility.beta.filter(|_| a.fragility.fit != "empirical"),
                 annual_rate: s.annual_rate,
                 return_period_years: s.return_period_years,
                 years: a.years,

@@ -63,7 +63,8 @@ pub struct Args {
     angle_step: Option<f64>,
     #[command(flatten)]
     block: BlockArgs,
-    /// Refine η_c until the bracket is at most this wide (in η).
+    /// Refine η_c until the bracket is at most this wide (in η; 1e-7 or wider, which
+    /// certification's probes resolve).
     #[arg(long, value_name = "Δη", default_value_t = 1e-4)]
     tol: f64,
     /// Number of intensity levels below η = 1.
