@@ -77,6 +77,22 @@ fn housner_through_the_command_line() {
         (cap["eta_c"].as_f64().unwrap() - exact).abs() < 2e-11,
         "{cap}"
     );
+    // Refined that far, the capacity is right, but its certification cannot
+    // tell the rectangle's sharp edge from chaos: said, where 1e-4 is not.
+    for (tol, warned) in [("1e-11", true), ("1e-4", false)] {
+        let out = rocking(
+            dir.path(),
+            &[
+                "capacity", "--record", "RECT.AT2", "--p", "2", "--eps", "0.9", "--tol", tol,
+            ],
+        );
+        let e = stderr(&out);
+        assert_eq!(
+            e.contains("warning: --tol: a search tolerance of"),
+            warned,
+            "{tol}: {e}"
+        );
+    }
     // At the top of the range of p the arithmetic still holds:
     // 1 − e^{−1000} = 1 to the last bit.
     let cap = json(&rocking(

@@ -132,8 +132,6 @@ impl SearchAsk {
                 "give a positive width in η",
             ));
         }
-        crate::ida::check_tol(self.tol, 1.0)
-            .map_err(|why| bad("tol", format!("{:e}", self.tol), &why))?;
         if self.levels == 0 {
             return Err(bad("levels", "0".into(), "give one level or more"));
         }

@@ -498,8 +498,6 @@ fn grid(im: &RawIm) -> Result<ImGrid, String> {
     if !(im.tol > 0.0 && im.tol.is_finite()) {
         return Err(format!("`im.tol` = {} must be positive", im.tol));
     }
-    crate::ida::check_tol(im.tol, im.eta_max)
-        .map_err(|why| format!("`im.tol` = {:e}: {why}", im.tol))?;
     Ok(grid)
 }
 

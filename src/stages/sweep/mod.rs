@@ -201,6 +201,12 @@ fn prepare(cx: &Context) -> Result<Setup, SweepError> {
             );
         }
     }
+    if let Ok(rs) = plan.records_study() {
+        if let Some(w) = crate::ida::tol_warning(rs.tol, rs.grid.eta_max) {
+            cx.reporter
+                .note("sweep", &format!("warning: `im.tol`: {w}"));
+        }
+    }
     // A physical block larger than any free-standing object (given in cm,
     // say), as every command warns of it: its size from p and α.
     for b in plan.blocks().iter().filter(|b| !b.name.is_empty()) {

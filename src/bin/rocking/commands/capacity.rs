@@ -63,8 +63,8 @@ pub struct Args {
     angle_step: Option<f64>,
     #[command(flatten)]
     block: BlockArgs,
-    /// Refine η_c until the bracket is at most this wide (in η; 1e-7 or wider, which
-    /// certification's probes resolve).
+    /// Refine η_c until the bracket is at most this wide (in η; finer than 1e-7, the
+    /// certification cannot tell a sharp edge from chaos, and says so).
     #[arg(long, value_name = "Δη", default_value_t = 1e-4)]
     tol: f64,
     /// Number of intensity levels below η = 1.
@@ -90,6 +90,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     // Checked before any record is read: an absurd --levels is refused at once.
     .resolve(Spelling::Cli)?;
+    if let Some(w) = rocking::ida::tol_warning(search.tol, search.grid.eta_max) {
+        eprintln!("warning: --tol: {w}");
+    }
     let blocks = args.block.blocks()?;
     let building = args.block.ask().building(Spelling::Cli)?;
     if let Some(out) = &args.out {
