@@ -29,6 +29,11 @@ pub enum PairError {
     Step { a: f64, b: f64 },
     #[error("a component has no samples")]
     Empty,
+    #[error(
+        "the two components are one motion (every sample equal): a pair is the two horizontal \
+         components of a recording, 90° apart (…000 and …090, say); give the other one"
+    )]
+    Same,
 }
 
 /// Relative difference of two steps taken as one (the AT2 headers' DT is
@@ -44,6 +49,13 @@ impl Pair {
         }
         if (dt_a - dt_b).abs() > SAME_STEP * dt_a.abs().max(dt_b.abs()) {
             return Err(PairError::Step { a: dt_a, b: dt_b });
+        }
+        // One file given twice: its RotD would be the component's peak
+        // scaled by √2 at 45°, read as a pair's.
+        let n = a.len().min(b.len());
+        let rest_zero = |v: &[f64]| v[n..].iter().all(|&x| x == 0.0);
+        if a[..n] == b[..n] && rest_zero(&a) && rest_zero(&b) {
+            return Err(PairError::Same);
         }
         Ok(Pair { a, b, dt_s: dt_a })
     }
@@ -229,6 +241,21 @@ mod tests {
         assert_eq!(r.len(), 3);
         assert!((r[0] - h * 0.3).abs() < 1e-15 && (r[2] - h * 0.3).abs() < 1e-15);
         assert!((r[1] - h * 0.5).abs() < 1e-15);
+    }
+
+    /// One file given as both components (`ims --record A --pair A`) gave
+    /// a RotD100 PGA √2 times the component's without a word; it is
+    /// refused. Components that differ anywhere are a pair.
+    #[test]
+    fn one_motion_twice_is_not_a_pair() {
+        let a = vec![0.1, -0.2, 0.3];
+        let e = Pair::new(a.clone(), 0.01, a.clone(), 0.01).unwrap_err();
+        assert!(matches!(e, PairError::Same), "{e}");
+        assert!(e.to_string().contains("one motion"), "{e}");
+        // Padded with a zero it is the same motion still.
+        assert!(Pair::new(a.clone(), 0.01, vec![0.1, -0.2, 0.3, 0.0], 0.01).is_err());
+        assert!(Pair::new(a.clone(), 0.01, vec![0.1, -0.2, 0.3, 0.1], 0.01).is_ok());
+        assert!(Pair::new(a, 0.01, vec![-0.1, 0.2, -0.3], 0.01).is_ok());
     }
 
     #[test]
