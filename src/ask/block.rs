@@ -149,6 +149,37 @@ impl BlockAsk {
                 sp.keys(&["width", "height"])
             )));
         }
+        // The linearised equation is stepped exactly: an integrator or its
+        // tolerance would be taken and do nothing.
+        if self.model == ModelChoice::Linearized {
+            let given = [
+                ("integrator", self.integrator != NonlinearIntegrator::Taylor),
+                ("rtol", self.rtol.is_some()),
+            ];
+            if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
+                return Err(AskError(format!(
+                    "{} is the nonlinear model's; {} is stepped exactly (give {} or {})",
+                    sp.key(key),
+                    sp.set("model", "linearized"),
+                    sp.set("model", "nonlinear"),
+                    sp.set("model", "auto")
+                )));
+            }
+        }
+        // The kinetic friction is the slide-rock model's: the rocking models
+        // take μ only to say whether the block slides first.
+        if self.mu_k.is_some()
+            && self.mu.is_some()
+            && matches!(self.model, ModelChoice::Linearized | ModelChoice::Nonlinear)
+        {
+            return Err(AskError(format!(
+                "{} is the slide-rock model's kinetic friction; {} does not slide (give {} or {})",
+                sp.key("mu_k"),
+                sp.set("model", crate::label::Label::label(self.model)),
+                sp.set("model", "slide-rock"),
+                sp.set("model", "auto")
+            )));
+        }
         let asked = Asked {
             model: self.model,
             solver: Solver::new(self.integrator, self.rtol)
@@ -446,6 +477,27 @@ mod tests {
         // The kinetic coefficient alone, or above the static one, is refused.
         let e = |json: &str| ask(json).unwrap().resolve(Spelling::Cli).unwrap_err().0;
         assert!(e(r#"{"b": 0.25, "h": 1, "eps": 0.8, "mu_k": 0.3}"#).contains("give both"));
+        // Options a model takes and does nothing with: an integrator or its
+        // tolerance for the linearised model, kinetic friction for a model
+        // that does not slide. Each is refused, naming the models that take it.
+        for (json, says) in [
+            (
+                r#"{"p": 2, "eps": 0.8, "integrator": "dp5"}"#,
+                "integrator is the nonlinear model's",
+            ),
+            (
+                r#"{"p": 2, "eps": 0.8, "rtol": 1e-6}"#,
+                "rtol is the nonlinear model's",
+            ),
+            (
+                r#"{"b": 0.25, "h": 1, "eps": 0.8, "mu": 0.5, "mu_k": 0.3, "model": "nonlinear"}"#,
+                "--mu-k is the slide-rock model's kinetic friction",
+            ),
+        ] {
+            assert!(e(json).contains(says), "{json}: {}", e(json));
+        }
+        let nonlinear = r#"{"p": 2, "eps": 0.8, "alpha": 0.2, "model": "nonlinear", "rtol": 1e-9}"#;
+        assert!(ask(nonlinear).unwrap().resolve(Spelling::Python).is_ok());
         let high =
             r#"{"b": 0.25, "h": 1, "eps": 0.8, "mu": 0.3, "mu_k": 0.4, "model": "slide-rock"}"#;
         assert!(e(high).contains("must be in (0, μₛ = 0.3]"), "{}", e(high));

@@ -45,6 +45,17 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
     let records = records(&raw_records, base).map_err(err)?;
     let random_orientation = orientation(&raw_records).map_err(err)?;
     let (model, overturn, solver) = model(&raw.model, Overturn::Static).map_err(err)?;
+    // `model.alpha` is the slenderness of blocks given by p (the grid, an
+    // example by p): beside physical blocks only, it would be read and do
+    // nothing.
+    let by_p = raw.blocks.p.is_some() || raw.example.as_ref().is_some_and(|e| e.p.is_some());
+    if raw.model.alpha.is_some() && !by_p {
+        return Err(err(
+            "`model.alpha` is the slenderness of blocks given by p (`[blocks]`, an `[example]` \
+             by p); each `[[block]]` has its own from b and h: remove it"
+                .into(),
+        ));
+    }
     let blocks = blocks(&raw.blocks, &raw.block, raw.model.alpha).map_err(err)?;
     let example = raw
         .example
@@ -568,6 +579,37 @@ mod tests {
         p = { from = 0.33, to = 10.0, count = 12, spacing = "log" }
         eps = [0.5, 0.95]
     "#;
+
+    /// Keys read and then unused: an integrator or its tolerance beside
+    /// the linearised model, and `model.alpha` where no block is given by p.
+    /// Each is refused naming the key; where they are used they are taken.
+    #[test]
+    fn keys_that_would_do_nothing_are_refused() {
+        let physical =
+            "[records]\nat2 = [\"r\"]\n[[block]]\nname = \"s\"\nb = 0.2\nh = 0.9\neps = 0.8\n";
+        for (model, says) in [
+            (
+                "integrator = \"dp5\"",
+                "`model.integrator` is the nonlinear model's",
+            ),
+            ("rtol = 1e-8", "`model.rtol` is the nonlinear model's"),
+            (
+                "kind = \"nonlinear\"\nalpha = 0.2",
+                "`model.alpha` is the slenderness of blocks given by p",
+            ),
+        ] {
+            let text = format!("{physical}[model]\n{model}\n");
+            let e = load_str(&text, Path::new("x.toml"))
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(says), "{model}: {e}");
+        }
+        let taken = format!("{MINIMAL}[model]\nkind = \"nonlinear\"\nalpha = 0.2\nrtol = 1e-8\n");
+        assert!(load_str(&taken, Path::new("x.toml")).is_ok());
+        let physical_nonlinear =
+            format!("{physical}[model]\nkind = \"nonlinear\"\nintegrator = \"dp5\"\n");
+        assert!(load_str(&physical_nonlinear, Path::new("x.toml")).is_ok());
+    }
 
     #[test]
     fn resolves_grids_and_paths() {
