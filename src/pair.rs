@@ -264,7 +264,7 @@ mod tests {
             Pair::new(vec![0.1], 0.01, vec![0.1], 0.005),
             Err(PairError::Step { a: 0.01, b: 0.005 })
         );
-        assert!(Pair::new(vec![0.1], 0.01, vec![0.1], 0.01 * (1.0 + 1e-12)).is_ok());
+        assert!(Pair::new(vec![0.1], 0.01, vec![0.2], 0.01 * (1.0 + 1e-12)).is_ok());
         assert_eq!(
             Pair::new(vec![], 0.01, vec![0.1], 0.01),
             Err(PairError::Empty)

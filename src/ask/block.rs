@@ -149,37 +149,7 @@ impl BlockAsk {
                 sp.keys(&["width", "height"])
             )));
         }
-        // The linearised equation is stepped exactly: an integrator or its
-        // tolerance would be taken and do nothing.
-        if self.model == ModelChoice::Linearized {
-            let given = [
-                ("integrator", self.integrator != NonlinearIntegrator::Taylor),
-                ("rtol", self.rtol.is_some()),
-            ];
-            if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
-                return Err(AskError(format!(
-                    "{} is the nonlinear model's; {} is stepped exactly (give {} or {})",
-                    sp.key(key),
-                    sp.set("model", "linearized"),
-                    sp.set("model", "nonlinear"),
-                    sp.set("model", "auto")
-                )));
-            }
-        }
-        // The kinetic friction is the slide-rock model's: the rocking models
-        // take μ only to say whether the block slides first.
-        if self.mu_k.is_some()
-            && self.mu.is_some()
-            && matches!(self.model, ModelChoice::Linearized | ModelChoice::Nonlinear)
-        {
-            return Err(AskError(format!(
-                "{} is the slide-rock model's kinetic friction; {} does not slide (give {} or {})",
-                sp.key("mu_k"),
-                sp.set("model", crate::label::Label::label(self.model)),
-                sp.set("model", "slide-rock"),
-                sp.set("model", "auto")
-            )));
-        }
+        self.unused_model_options(sp)?;
         let asked = Asked {
             model: self.model,
             solver: Solver::new(self.integrator, self.rtol)
@@ -222,6 +192,42 @@ impl BlockAsk {
             }
         }
         Ok(out)
+    }
+
+    /// Options the model asked would take and not use, refused.
+    fn unused_model_options(&self, sp: Spelling) -> Result<(), AskError> {
+        // The linearised equation is stepped exactly: an integrator or its
+        // tolerance would be taken and do nothing.
+        if self.model == ModelChoice::Linearized {
+            let given = [
+                ("integrator", self.integrator != NonlinearIntegrator::Taylor),
+                ("rtol", self.rtol.is_some()),
+            ];
+            if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
+                return Err(AskError(format!(
+                    "{} is the nonlinear model's; {} is stepped exactly (give {} or {})",
+                    sp.key(key),
+                    sp.set("model", "linearized"),
+                    sp.set("model", "nonlinear"),
+                    sp.set("model", "auto")
+                )));
+            }
+        }
+        // The kinetic friction is the slide-rock model's: the rocking models
+        // take μ only to say whether the block slides first.
+        if self.mu_k.is_some()
+            && self.mu.is_some()
+            && matches!(self.model, ModelChoice::Linearized | ModelChoice::Nonlinear)
+        {
+            return Err(AskError(format!(
+                "{} is the slide-rock model's kinetic friction; {} does not slide (give {} or {})",
+                sp.key("mu_k"),
+                sp.set("model", crate::label::Label::label(self.model)),
+                sp.set("model", "slide-rock"),
+                sp.set("model", "auto")
+            )));
+        }
+        Ok(())
     }
 
     /// The one block of a command that runs one.

@@ -21,7 +21,7 @@ pub fn grid_study(ps: &[f64], epss: &[f64]) -> StudyData {
 /// A study of named (physical) blocks: not the grid.
 pub fn block_study() -> StudyData {
     study(
-        "[records]\nat2 = [\"r\"]\n[model]\nalpha = 0.2\n\
+        "[records]\nat2 = [\"r\"]\n\
          [[block]]\nname = \"vase\"\nb = 0.1\nh = 0.4\neps = 0.8\n",
     )
 }

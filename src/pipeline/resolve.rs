@@ -24,6 +24,25 @@ pub fn load_str(text: &str, path: &Path) -> Result<Plan, PipelineError> {
     resolve(raw, path)
 }
 
+/// `model.alpha` is the slenderness of blocks given by p (the grid, an
+/// example by p): beside physical blocks only, it would be read and do
+/// nothing.
+fn alpha_is_used(
+    model: &RawModel,
+    blocks: &RawBlocks,
+    example: Option<&RawExample>,
+) -> Result<(), String> {
+    let by_p = blocks.p.is_some() || example.is_some_and(|e| e.p.is_some());
+    match model.alpha.is_some() && !by_p {
+        true => Err(
+            "`model.alpha` is the slenderness of blocks given by p (`[blocks]`, an \
+                     `[example]` by p); each `[[block]]` has its own from b and h: remove it"
+                .into(),
+        ),
+        false => Ok(()),
+    }
+}
+
 /// Checks every value of a raw pipeline and builds the plan. Each section
 /// has its own checker; their messages name the key.
 pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
@@ -45,17 +64,7 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
     let records = records(&raw_records, base).map_err(err)?;
     let random_orientation = orientation(&raw_records).map_err(err)?;
     let (model, overturn, solver) = model(&raw.model, Overturn::Static).map_err(err)?;
-    // `model.alpha` is the slenderness of blocks given by p (the grid, an
-    // example by p): beside physical blocks only, it would be read and do
-    // nothing.
-    let by_p = raw.blocks.p.is_some() || raw.example.as_ref().is_some_and(|e| e.p.is_some());
-    if raw.model.alpha.is_some() && !by_p {
-        return Err(err(
-            "`model.alpha` is the slenderness of blocks given by p (`[blocks]`, an `[example]` \
-             by p); each `[[block]]` has its own from b and h: remove it"
-                .into(),
-        ));
-    }
+    alpha_is_used(&raw.model, &raw.blocks, raw.example.as_ref()).map_err(err)?;
     let blocks = blocks(&raw.blocks, &raw.block, raw.model.alpha).map_err(err)?;
     let example = raw
         .example
