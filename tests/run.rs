@@ -467,3 +467,45 @@ fn a_stage_failing_midway_says_what_it_left_and_reruns() {
     assert!(stdout(&out).contains("reduce"), "{}", stdout(&out));
     assert!(d.join("out/mid/lognormal.parquet").is_file());
 }
+
+/// A records table kept inside the study's own folder was overwritten by
+/// the sweep's `capacities.parquet` of the same path, and the next stage
+/// refused its own input as "not a `records` table". A pipeline whose
+/// records table lies in the folder its stages write to is refused by
+/// every command that loads it, before anything is written, and the file
+/// is left as it was.
+#[test]
+fn a_records_table_in_the_studys_own_folder_is_refused() {
+    let dir = tempdir();
+    let d = dir.path();
+    let inside = d.join("out/t1/capacities.parquet");
+    fs::create_dir_all(inside.parent().unwrap()).unwrap();
+    fs::write(&inside, b"the user's records table").unwrap();
+    let pipe = d.join("t1.toml");
+    fs::write(
+        &pipe,
+        "name = \"t1\"\n[records]\ntable = \"out/t1/capacities.parquet\"\n[blocks]\np = [2.0]\neps = [0.7]\n",
+    )
+    .unwrap();
+    for args in [&["run"][..], &["sweep"], &["status"]] {
+        let out = rocking(d, &[args, &["t1.toml", "--outputs", "out"]].concat());
+        assert!(!out.status.success(), "{args:?}");
+        let e = stderr(&out);
+        assert!(
+            e.contains("`records.table` = ") && e.contains("is inside the study's folder"),
+            "{args:?}: {e}"
+        );
+    }
+    assert_eq!(fs::read(&inside).unwrap(), b"the user's records table");
+    // The same table beside the outputs is taken (and read as a table).
+    fs::rename(&inside, d.join("records.parquet")).unwrap();
+    let beside =
+        "name = \"t1\"\n[records]\ntable = \"records.parquet\"\n[blocks]\np = [2.0]\neps = [0.7]\n";
+    fs::write(&pipe, beside).unwrap();
+    let out = rocking(d, &["status", "t1.toml", "--outputs", "out"]);
+    assert!(
+        !stderr(&out).contains("inside the study's folder"),
+        "{}",
+        stderr(&out)
+    );
+}

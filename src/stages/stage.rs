@@ -95,6 +95,19 @@ pub enum LoadError {
     Pipeline(#[from] crate::pipeline::PipelineError),
     #[error("--outputs {}: {} is a file, not a folder", outputs.display(), file.display())]
     OutputsFile { outputs: PathBuf, file: PathBuf },
+    #[error(
+        "{}: `records.table` = {} is inside the study's folder {}, where its stages write their \
+         tables (a sweep's capacities.parquet would overwrite it): keep the records table \
+         outside it",
+        pipeline.display(),
+        table.display(),
+        dir.display()
+    )]
+    TableInOutputs {
+        pipeline: PathBuf,
+        table: PathBuf,
+        dir: PathBuf,
+    },
 }
 
 impl Study {
@@ -117,6 +130,23 @@ impl Study {
                 outputs: outputs.into(),
                 file: file.into(),
             });
+        }
+        // An input in the folder the stages write to is overwritten by the
+        // first of them that writes its name (or read as its own output).
+        if let Ok(RecordSource::Table(table)) = study.plan.records_study().map(|r| &r.records) {
+            let (t, d) = (
+                std::fs::canonicalize(table),
+                std::fs::canonicalize(&study.dir),
+            );
+            if let (Ok(t), Ok(d)) = (t, d) {
+                if t.starts_with(&d) {
+                    return Err(LoadError::TableInOutputs {
+                        pipeline: pipeline.into(),
+                        table: table.clone(),
+                        dir: study.dir.clone(),
+                    });
+                }
+            }
         }
         Ok(study)
     }
