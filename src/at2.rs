@@ -298,10 +298,6 @@ fn separator_at(text: &str, i: usize) -> usize {
     }
 }
 
-/// The samples after the header (`body` starts on line 5): exactly `npts`
-/// tokens separated by blanks (any Unicode white space) or commas, any
-/// number per line. A byte scan: the files are ASCII but for the rare
-/// non-ASCII separator, which is decoded where met.
 /// More values than NPTS, found at `line_no`: blamed on the first decimal
 /// comma if the samples hold one (a value `1,5E-04` among values separated
 /// by spaces), which made the extra values, or else on `line_no`.
@@ -325,6 +321,10 @@ fn too_many(body: &str, line_no: usize, npts: usize) -> At2Error {
     }
 }
 
+/// The samples after the header (`body` starts on line 5): exactly `npts`
+/// tokens separated by blanks (any Unicode white space) or commas, any
+/// number per line. A byte scan: the files are ASCII but for the rare
+/// non-ASCII separator, which is decoded where met.
 fn parse_samples(body: &str, npts: usize) -> Result<Vec<f64>, At2Error> {
     let bytes = body.as_bytes();
     let mut accel_g = Vec::with_capacity(npts);

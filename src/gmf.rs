@@ -307,9 +307,8 @@ pub fn parse_fields(
 /// not a number, the time is not positive and finite, or the stochastic
 /// event sets per path are not a whole number from 1.
 pub fn eff_years_of_job(job_ini: &str, realizations: usize) -> Result<f64, String> {
-    let key = |name: &str| job_number(job_ini, name);
-    let samples = key("number_of_logic_tree_samples")?.filter(|&s| s > 0.0);
-    let time = key("investigation_time")?.ok_or("no `investigation_time`")?;
+    let samples = samples_of_job(job_ini)?;
+    let time = job_number(job_ini, "investigation_time")?.ok_or("no `investigation_time`")?;
     if !(time.is_finite() && time > 0.0) {
         return Err(format!(
             "`investigation_time = {time}`: give a positive number of years"

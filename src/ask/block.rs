@@ -198,20 +198,18 @@ impl BlockAsk {
     fn unused_model_options(&self, sp: Spelling) -> Result<(), AskError> {
         // The linearised equation is stepped exactly: an integrator or its
         // tolerance would be taken and do nothing.
-        if self.model == ModelChoice::Linearized {
-            let given = [
-                ("integrator", self.integrator != NonlinearIntegrator::Taylor),
-                ("rtol", self.rtol.is_some()),
-            ];
-            if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
-                return Err(AskError(format!(
-                    "{} is the nonlinear model's; {} is stepped exactly (give {} or {})",
-                    sp.key(key),
-                    sp.set("model", "linearized"),
-                    sp.set("model", "nonlinear"),
-                    sp.set("model", "auto")
-                )));
-            }
+        let integrator = self.integrator != NonlinearIntegrator::Taylor;
+        if let Some(key) = self
+            .model
+            .unused_solver_key(integrator, self.rtol.is_some())
+        {
+            return Err(AskError(format!(
+                "{} is the nonlinear model's; {} is stepped exactly (give {} or {})",
+                sp.key(key),
+                sp.set("model", "linearized"),
+                sp.set("model", "nonlinear"),
+                sp.set("model", "auto")
+            )));
         }
         // The kinetic friction is the slide-rock model's: the rocking models
         // take μ only to say whether the block slides first.

@@ -102,7 +102,7 @@ pub(super) fn chaos_probe(
 /// crosses it (a pipeline's `tol = 1e-10` left 44 of 44 capacities
 /// "chaotic"); at this width it does for about 2 % of the capacities at η =
 /// `eta_max`, and fewer below.
-pub fn finest_tol(eta_max: f64) -> f64 {
+fn finest_tol(eta_max: f64) -> f64 {
     100.0 * CHAOS_PROBE * eta_max
 }
 

@@ -26,7 +26,7 @@ pub use capacity::{Capacity, IdaPoint, RunKind, Trace};
 pub use certify::{
     capacity_certified, capacity_certified_in, Certification, CertificationKind, Certified, TIGHTEN,
 };
-pub use decisive::{decisive_runs, finest_tol, tol_warning, CHAOS_PROBE, NEAR_MISS};
+pub use decisive::{decisive_runs, tol_warning, CHAOS_PROBE, NEAR_MISS};
 pub use grid::{ImGrid, Spacing, DEFAULT_TOL, MAX_LEVELS};
 pub use hard_cases::{HardCase, HARD_CASES};
 pub use runs::{run_pair, Batch, Hand, Runs, Work};

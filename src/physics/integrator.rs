@@ -360,6 +360,19 @@ impl crate::label::Label for ModelChoice {
 crate::deserialize_by_label!(ModelChoice, NonlinearIntegrator);
 
 impl ModelChoice {
+    /// The solver option this model would take and not use, of those
+    /// given: the linearised equation is stepped exactly, so an integrator
+    /// (`integrator`, other than the default) or its tolerance (`rtol`)
+    /// beside it does nothing. The key's name, for each door to spell.
+    pub fn unused_solver_key(self, integrator: bool, rtol: bool) -> Option<&'static str> {
+        match self {
+            ModelChoice::Linearized => [("integrator", integrator), ("rtol", rtol)]
+                .into_iter()
+                .find_map(|(key, given)| given.then_some(key)),
+            _ => None,
+        }
+    }
+
     /// The model to run and a sentence saying why. `friction`, the base's
     /// where known, makes `auto` choose the slide-rock model wherever the
     /// block can slide: where it slides first (μₛ < b/h), and wherever the

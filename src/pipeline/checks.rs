@@ -129,17 +129,11 @@ pub(super) fn model(
     };
     // The linearised equation is stepped exactly: an integrator or its
     // tolerance would be read and do nothing.
-    if model == ModelChoice::Linearized {
-        let given = [
-            ("integrator", raw.integrator.is_some()),
-            ("rtol", raw.rtol.is_some()),
-        ];
-        if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
-            return Err(format!(
-                "`model.{key}` is the nonlinear model's; `model.kind` = \"linearized\" is \
-                 stepped exactly (give kind = \"nonlinear\" or \"auto\", or remove it)"
-            ));
-        }
+    if let Some(key) = model.unused_solver_key(raw.integrator.is_some(), raw.rtol.is_some()) {
+        return Err(format!(
+            "`model.{key}` is the nonlinear model's; `model.kind` = \"linearized\" is stepped \
+             exactly (give kind = \"nonlinear\" or \"auto\", or remove it)"
+        ));
     }
     let solver = Solver::new(integrator, raw.rtol).map_err(|e| format!("`model.rtol`: {e}"))?;
     crate::physics::check_auto_tol(raw.auto_tol).map_err(|e| format!("`model.auto_tol`: {e}"))?;

@@ -33,14 +33,14 @@ fn alpha_is_used(
     example: Option<&RawExample>,
 ) -> Result<(), String> {
     let by_p = blocks.p.is_some() || example.is_some_and(|e| e.p.is_some());
-    match model.alpha.is_some() && !by_p {
-        true => Err(
+    if model.alpha.is_some() && !by_p {
+        return Err(
             "`model.alpha` is the slenderness of blocks given by p (`[blocks]`, an \
-                     `[example]` by p); each `[[block]]` has its own from b and h: remove it"
+                    `[example]` by p); each `[[block]]` has its own from b and h: remove it"
                 .into(),
-        ),
-        false => Ok(()),
+        );
     }
+    Ok(())
 }
 
 /// Checks every value of a raw pipeline and builds the plan. Each section
