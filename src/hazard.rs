@@ -46,6 +46,9 @@ pub struct HazardCurve {
     /// The IMLs dropped from the start because their rate is infinite
     /// (poe = 1), increasing.
     pub infinite: Vec<f64>,
+    /// OpenQuake's statistic of the curve (its `kind=`: `mean`,
+    /// `quantile-0.84`, `rlz-003`, …); `None` for a plain CSV.
+    pub kind: Option<String>,
 }
 
 /// A hazard file that cannot be used, and where.
@@ -187,6 +190,7 @@ pub fn parse_openquake(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
         .ok()
         .filter(|t| *t > 0.0 && t.is_finite())
         .ok_or_else(|| err(1, "investigation_time is not a positive number of years"))?;
+    let kind = meta_value(meta, "kind").map(str::to_string);
     let (header_line, header) = lines
         .find(|(_, l)| !l.trim().is_empty())
         .ok_or_else(|| err(2, "no header line `lon,lat,depth,poe-<iml>,…`"))?;
@@ -231,6 +235,7 @@ pub fn parse_openquake(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
             |c: Option<usize>, name: &str| c.map(|c| coordinate(line, name, cells[c])).transpose();
         curve.lon = coordinate(lon_c, "lon")?;
         curve.lat = coordinate(lat_c, "lat")?;
+        curve.kind = kind.clone();
         new_site(line, &sites, &curve)?;
         sites.push(curve);
     }
@@ -341,6 +346,35 @@ pub fn plausibility(curve: &HazardCurve) -> Option<String> {
         )),
         _ => None,
     }
+}
+
+/// A warning where an OpenQuake curve is not the mean hazard (its `kind`
+/// a quantile, a realisation of the logic tree, or another statistic): the
+/// rate integrated over it is then that curve's, not the mean rate of
+/// exceedance a risk or an expected count rests on. `None` for the mean
+/// and for a plain CSV, which states no statistic.
+pub fn statistic_note(curve: &HazardCurve) -> Option<String> {
+    let kind = curve.kind.as_deref()?;
+    let what = if kind == "mean" {
+        return None;
+    } else if let Some(q) = kind.strip_prefix("quantile-") {
+        match q.parse::<f64>() {
+            Ok(q) if (0.0..=1.0).contains(&q) => format!(
+                "the {} % quantile of the hazard over OpenQuake's logic tree",
+                (q * 1e6).round() / 1e4
+            ),
+            _ => format!("a quantile curve (`{kind}`)"),
+        }
+    } else if kind.starts_with("rlz-") {
+        format!("one realisation of OpenQuake's logic tree (`{kind}`)")
+    } else {
+        format!("OpenQuake's `{kind}` curve")
+    };
+    Some(format!(
+        "the hazard file is {what} (kind='{kind}'), not the mean hazard: the rates below are \
+         that curve's, not the mean rate of exceedance; give the mean curve \
+         (hazard_curve-mean-…csv) for the mean rate"
+    ))
 }
 
 /// A warning where levels of `im` that start at `lo` and reach `hi` (as
@@ -537,6 +571,7 @@ fn curve_of(
         annual_rate: Vec::new(),
         ends_at: None,
         infinite: points[..dropped].iter().map(|p| p.0).collect(),
+        kind: None,
     };
     for &(iml, rate) in &points[dropped..] {
         if rate == 0.0 {
@@ -593,6 +628,27 @@ lon,lat,depth,poe-0.01,poe-0.1,poe-0.5,poe-1.0\n\
         // OpenQuake's line is told by its keys, wherever they are.
         let e = parse(&OQ.replace("imt='PGA'", "")).unwrap_err();
         assert!(e.message.contains("no `imt=`"), "{e}");
+    }
+
+    /// Risk integrates the curve it is given: a quantile's or a
+    /// realisation's rate passed for the mean's without a word.
+    #[test]
+    fn a_curve_other_than_the_mean_is_named() {
+        let note = |kind: &str| statistic_note(&parse(&OQ.replace("'mean'", kind)).unwrap()[0]);
+        assert_eq!(note("'mean'"), None);
+        let q = note("'quantile-0.975'").unwrap();
+        assert!(
+            q.starts_with("the hazard file is the 97.5 % quantile"),
+            "{q}"
+        );
+        let r = note("'rlz-003'").unwrap();
+        assert!(
+            r.contains("one realisation of OpenQuake's logic tree (`rlz-003`)"),
+            "{r}"
+        );
+        // A plain CSV states no statistic.
+        let plain = parse("pga_g,annual_rate\n0.1,0.01\n0.3,0.001\n").unwrap();
+        assert_eq!(statistic_note(&plain[0]), None);
     }
 
     #[test]

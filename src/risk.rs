@@ -439,6 +439,7 @@ mod tests {
             iml,
             ends_at: None,
             infinite: Vec::new(),
+            kind: None,
         }
     }
 
@@ -483,6 +484,7 @@ mod tests {
             annual_rate: vec![0.01; 3],
             ends_at: None,
             infinite: Vec::new(),
+            kind: None,
         };
         for (f, limit) in [
             (
@@ -607,6 +609,7 @@ mod tests {
             annual_rate: vec![0.2, 0.05, 0.012, 0.002, 2e-4, 1e-5],
             ends_at: Some(1.5),
             infinite: Vec::new(),
+            kind: None,
         };
         let caps = [
             0.03, 0.07, 0.071, 0.12, 0.19, 0.33, 0.41, 0.6, 0.95, 1.2, 2.4,
@@ -630,6 +633,7 @@ mod tests {
             annual_rate: vec![0.2, 0.05, 0.012, 0.002, 2e-4, 1e-5],
             ends_at: Some(1.5),
             infinite: Vec::new(),
+            kind: None,
         };
         let f = Fragility::Lognormal {
             median: 0.25,

@@ -175,6 +175,40 @@ fn openquake_sites_against_quadrature() {
         assert_eq!(site["first_iml"].as_f64(), Some(a[0]));
         assert_eq!(site["imls_dropped"], if s == 0 { 1 } else { 0 });
     }
+    // The same numbers as OpenQuake's 84 % quantile curve: the same rates,
+    // said to be that curve's and not the mean's (the mean file says
+    // nothing of it).
+    let mean = rocking(
+        d,
+        &[
+            "risk",
+            "--hazard",
+            "hazard_curve-mean-PGA_7.csv",
+            "--b",
+            "0.25",
+            "--h",
+            "1",
+        ],
+    );
+    assert!(!String::from_utf8_lossy(&mean.stderr).contains("not the mean hazard"));
+    fs::write(
+        d.join("hazard_curve-quantile_0.84-PGA_7.csv"),
+        text.replace("kind='mean'", "kind='quantile-0.84'"),
+    )
+    .unwrap();
+    let args = |file: &'static str| {
+        [
+            "risk", "--hazard", file, "--b", "0.25", "--h", "1", "--beyond", "stop", "--json",
+        ]
+    };
+    let out = rocking(d, &args("hazard_curve-quantile_0.84-PGA_7.csv"));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("the 84 % quantile of the hazard over OpenQuake's logic tree (kind='quantile-0.84'), not the mean hazard"),
+        "{err}"
+    );
+    assert_eq!(err.matches("not the mean hazard").count(), 1, "{err}");
+    assert_eq!(json(&out)["sites"], v["sites"]);
 }
 
 #[test]

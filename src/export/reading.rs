@@ -107,6 +107,7 @@ mod tests {
             annual_rate: points.iter().map(|p| p.1).collect(),
             ends_at: None,
             infinite: infinite.to_vec(),
+            kind: None,
         }
     }
 

@@ -131,8 +131,9 @@ pub(super) struct Prepared {
     pub warnings: Vec<String>,
 }
 
-/// Where a hazard's curves look like another unit than their IM's, or are
-/// in AvgSA, whose periods a file does not state.
+/// Where a hazard's curves look like another unit than their IM's, are
+/// in AvgSA, whose periods a file does not state, or are not the mean
+/// hazard ([`crate::hazard::statistic_note`]).
 pub fn hazard_warnings(sites: &[(usize, HazardCurve)]) -> Vec<String> {
     let mut out: Vec<String> = sites
         .iter()
@@ -150,6 +151,12 @@ pub fn hazard_warnings(sites: &[(usize, HazardCurve)]) -> Vec<String> {
             .map_or(out[0].clone(), |(_, w)| w.to_string());
         out = vec![first];
     }
+    // One file, one statistic: said once.
+    out.extend(
+        sites
+            .first()
+            .and_then(|(_, c)| crate::hazard::statistic_note(c)),
+    );
     out
 }
 
