@@ -54,6 +54,16 @@ pub enum ImTableError {
         method: &'static str,
         other: &'static str,
     },
+    #[error(
+        "{what} of {pipeline}: the study's blocks ({blocks}) are not a grid of p × ε, so they \
+         carry over to no other block (a study of `[blocks] p` and `eps` does); ask for one of \
+         them (its b, h and ε), or use --direct"
+    )]
+    NotAGrid {
+        what: String,
+        pipeline: String,
+        blocks: String,
+    },
     #[error("the study's IM table: {0}")]
     Bad(String),
     #[error(
@@ -86,7 +96,8 @@ pub struct Lognormal {
 /// A study's capacities in one IM, read once, to carry to any block.
 pub struct ImTable {
     im: Im,
-    grid: Grid,
+    pipeline: String,
+    table: Table,
 }
 
 impl ImTable {
@@ -107,21 +118,24 @@ impl ImTable {
         }
         let rows: Vec<EfficiencyRow> =
             crate::tables::read(&path).map_err(|e| ImTableError::Bad(e.to_string()))?;
-        let nodes: Vec<Node> = rows
+        let nodes: Vec<(&str, Node)> = rows
             .iter()
             .filter(|r| r.im == name)
-            .map(|r| (r.p, r.eps, r.median_dimensionless, Some(r.beta)))
+            .map(|r| {
+                (
+                    &r.block[..],
+                    (r.p, r.eps, r.median_dimensionless, Some(r.beta)),
+                )
+            })
             .collect();
         if nodes.is_empty() {
             return Err(ImTableError::NotInStudy { im: name, path });
         }
-        let grid = Grid::of(&nodes).ok_or_else(|| {
-            ImTableError::Bad(format!(
-                "{} has no full grid of p × ε for {name} (a study of [blocks] p and eps carries over to other blocks; one of [[block]] entries does not)",
-                path.display()
-            ))
-        })?;
-        Ok(ImTable { im, grid })
+        Ok(ImTable {
+            im,
+            pipeline: study.to_string(),
+            table: Table::of(&nodes),
+        })
     }
 
     /// The block's lognormal capacity, its median in the IM's unit.
@@ -131,7 +145,22 @@ impl ImTable {
             .im
             .dimensionless(block.alpha(), p)
             .ok_or_else(|| ImTableError::NoDimensionless(self.im.name()))?;
-        let (ln_median, beta, warnings) = self.grid.at(p, eps);
+        let (ln_median, beta, warnings) = self.table.at(p, eps).map_err(|gap| {
+            gap.error(
+                (
+                    format!("the capacity in {}", self.im.name()),
+                    &self.pipeline,
+                ),
+                &self.table,
+                || {
+                    ImTableError::Bad(format!(
+                        "some blocks of the study's grid have no median in {}, so it cannot be \
+                         carried to other blocks; use --direct",
+                        self.im.name()
+                    ))
+                },
+            )
+        })?;
         Ok(Lognormal {
             median: ln_median.exp() / factor,
             beta,
@@ -145,8 +174,8 @@ impl ImTable {
 pub struct DamageTable {
     im: Im,
     pipeline: String,
-    /// Each state's name, criterion and grid (`None`: holes in the grid).
-    states: Vec<(String, String, Option<Grid>)>,
+    /// Each state's name, criterion and blocks.
+    states: Vec<(String, String, Table)>,
     method: FitMethod,
 }
 
@@ -171,15 +200,15 @@ impl DamageTable {
         if !rows.iter().any(|r| r.im == name) {
             return Err(ImTableError::NotInStudy { im: name, path });
         }
-        let mut states: Vec<(String, String, Option<Grid>)> = Vec::new();
+        let mut states: Vec<(String, String, Table)> = Vec::new();
         for r in rows.iter().filter(|r| r.im == name && r.method == method) {
             if !states.iter().any(|s| s.0 == r.state) {
-                let nodes: Vec<Node> = rows
+                let nodes: Vec<(&str, Node)> = rows
                     .iter()
                     .filter(|o| o.im == name && o.method == method && o.state == r.state)
-                    .map(|o| (o.p, o.eps, o.median_dimensionless, o.beta))
+                    .map(|o| (&o.block[..], (o.p, o.eps, o.median_dimensionless, o.beta)))
                     .collect();
-                states.push((r.state.clone(), r.criterion.clone(), Grid::of(&nodes)));
+                states.push((r.state.clone(), r.criterion.clone(), Table::of(&nodes)));
             }
         }
         Ok(DamageTable {
@@ -198,7 +227,7 @@ impl DamageTable {
             .states
             .iter()
             .find(|s| s.0 == state.name && s.1 == criterion);
-        let Some((_, _, grid)) = found else {
+        let Some((_, _, table)) = found else {
             let have: Vec<String> = self
                 .states
                 .iter()
@@ -211,17 +240,25 @@ impl DamageTable {
                 pipeline: self.pipeline.clone(),
             });
         };
-        let grid = grid.as_ref().ok_or_else(|| ImTableError::StateHoles {
-            state: state.name.clone(),
-            im: self.im.name(),
-            method: self.method.name(),
-            other: self.method.other().name(),
-        })?;
         let (factor, _) = self
             .im
             .dimensionless(block.alpha(), block.p())
             .ok_or_else(|| ImTableError::NoDimensionless(self.im.name()))?;
-        let (ln_median, beta, warnings) = grid.at(block.p(), block.eps);
+        let (ln_median, beta, warnings) = table.at(block.p(), block.eps).map_err(|gap| {
+            gap.error(
+                (
+                    format!("damage state `{}` in {}", state.name, self.im.name()),
+                    &self.pipeline,
+                ),
+                table,
+                || ImTableError::StateHoles {
+                    state: state.name.clone(),
+                    im: self.im.name(),
+                    method: self.method.name(),
+                    other: self.method.other().name(),
+                },
+            )
+        })?;
         Ok(Lognormal {
             median: ln_median.exp() / factor,
             beta,
@@ -234,6 +271,84 @@ impl DamageTable {
 /// has no fit).
 type Node = (f64, f64, Option<f64>, Option<f64>);
 
+/// A study's blocks in one IM: their nodes, named, and the grid they make
+/// when they make one.
+struct Table {
+    nodes: Vec<(String, Node)>,
+    /// `None`: the blocks are not a full p × ε grid, or some have no fit.
+    grid: Option<Grid>,
+}
+
+/// Why a [`Table`] has no answer for a block.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Gap {
+    /// Named blocks, not a grid of p × ε; none of them is the block asked.
+    NotAGrid,
+    /// A grid of p × ε with blocks that have no fit.
+    Holes,
+}
+
+impl Table {
+    fn of(nodes: &[(&str, Node)]) -> Table {
+        let bare: Vec<Node> = nodes.iter().map(|n| n.1).collect();
+        Table {
+            nodes: nodes.iter().map(|(b, n)| (b.to_string(), *n)).collect(),
+            grid: Grid::of(&bare),
+        }
+    }
+
+    /// The study's own block at `(p, ε)` (to rounding) with its fit, as it
+    /// is; else the grid's value there ([`Grid::at`]).
+    fn at(&self, p: f64, eps: f64) -> Result<(f64, f64, Vec<String>), Gap> {
+        let same = |a: f64, b: f64| (a - b).abs() <= 1e-12 * a.abs().max(b.abs());
+        let own = self.nodes.iter().find_map(|(_, (np, ne, m, b))| {
+            (same(*np, p) && same(*ne, eps))
+                .then_some((*m)?.ln())
+                .zip(*b)
+        });
+        if let Some((ln_median, beta)) = own {
+            return Ok((ln_median, beta, Vec::new()));
+        }
+        match &self.grid {
+            Some(g) => Ok(g.at(p, eps)),
+            None if Grid::complete(self.nodes.iter().map(|n| n.1)) => Err(Gap::Holes),
+            None => Err(Gap::NotAGrid),
+        }
+    }
+
+    /// The study's blocks, for a refusal: `name (p = …, ε = …)`.
+    fn blocks(&self) -> String {
+        let mut seen: Vec<String> = Vec::new();
+        for (name, (p, e, ..)) in &self.nodes {
+            let b = format!("{name} at p = {p:.3} 1/s, ε = {e:.3}");
+            if !seen.contains(&b) {
+                seen.push(b);
+            }
+        }
+        seen.join("; ")
+    }
+}
+
+impl Gap {
+    /// The refusal of `what` from the study `pipeline` for this gap in
+    /// `table`; a grid's holes are `holes()`.
+    fn error(
+        self,
+        (what, pipeline): (String, &str),
+        table: &Table,
+        holes: impl FnOnce() -> ImTableError,
+    ) -> ImTableError {
+        match self {
+            Gap::Holes => holes(),
+            Gap::NotAGrid => ImTableError::NotAGrid {
+                what,
+                pipeline: pipeline.to_string(),
+                blocks: table.blocks(),
+            },
+        }
+    }
+}
+
 /// A study's p × ε grid of one IM: ln of the dimensionless median and β.
 struct Grid {
     ps: Vec<f64>,
@@ -243,6 +358,16 @@ struct Grid {
 }
 
 impl Grid {
+    /// Whether the nodes hold every pair of their p and ε (with a fit or
+    /// not).
+    fn complete(nodes: impl Iterator<Item = Node> + Clone) -> bool {
+        nodes.clone().all(|(p, _, _, _)| {
+            nodes
+                .clone()
+                .all(|(_, e, _, _)| nodes.clone().any(|n| n.0 == p && n.1 == e))
+        })
+    }
+
     fn of(rows: &[Node]) -> Option<Grid> {
         let mut ps: Vec<f64> = rows.iter().map(|r| r.0).collect();
         let mut es: Vec<f64> = rows.iter().map(|r| r.1).collect();
@@ -372,6 +497,35 @@ mod tests {
         assert_eq!(w.len(), 2, "{w:?}");
         // A grid with a hole is not a grid.
         assert!(Grid::of(&refs[1..]).is_none());
+    }
+
+    /// A study of named blocks is no grid: a block asked is answered by
+    /// the study's own block at its p and ε, as the study fitted it, and
+    /// refused as not a grid elsewhere; a grid with a block that has no fit
+    /// is refused for its holes, not as not a grid.
+    #[test]
+    fn named_blocks_answer_for_themselves() {
+        let named = Table::of(&[
+            ("statue", (2.8245, 0.9294, Some(1.3), Some(0.12))),
+            ("cabinet", (2.6542, 0.75, Some(1.7), Some(0.19))),
+        ]);
+        assert_eq!(
+            named.at(2.8245, 0.9294),
+            Ok((1.3f64.ln(), 0.12, Vec::new()))
+        );
+        assert_eq!(named.at(2.7, 0.8), Err(Gap::NotAGrid));
+        assert_eq!(
+            named.blocks(),
+            "statue at p = 2.825 1/s, ε = 0.929; cabinet at p = 2.654 1/s, ε = 0.750"
+        );
+        let holed = Table::of(&[
+            ("", (1.0, 0.5, Some(1.0), Some(0.3))),
+            ("", (1.0, 0.9, None, None)),
+            ("", (4.0, 0.5, Some(2.0), Some(0.3))),
+            ("", (4.0, 0.9, Some(3.0), Some(0.3))),
+        ]);
+        assert_eq!(holed.at(2.0, 0.7), Err(Gap::Holes));
+        assert_eq!(holed.at(4.0, 0.9), Ok((3f64.ln(), 0.3, Vec::new())));
     }
 
     /// A study of one ε: linear in ln p along it, its value at any ε, and a
