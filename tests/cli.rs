@@ -224,8 +224,10 @@ fn bad_input_is_named() {
 /// it, and the answer came back as if they had been taken: a pulse's
 /// `--td` or `--cycle` beside a record, `--history-every` without a
 /// history, text records' `--records-unit` (or column, or ground) without
-/// the runs that read them, `--outputs` with the paper's regression. Each
-/// is refused, naming the option it needs; with it, it runs.
+/// the runs that read them, `--outputs` with the paper's regression, the
+/// records' fit (`--method empirical`, `--if-not-lognormal`) without their
+/// runs, export's `--years` without the job a hazard brings. Each is
+/// refused, naming the option it needs; with it, it runs.
 #[test]
 fn an_option_that_would_do_nothing_is_refused() {
     let block = ["--p", "2", "--eps", "0.8", "--eta", "0.3"];
@@ -233,6 +235,8 @@ fn an_option_that_would_do_nothing_is_refused() {
     let dir = crate::util::tempdir();
     let out_dir = dir.path().join("x");
     let out_dir = out_dir.to_str().unwrap();
+    let nrml_dir = dir.path().join("n");
+    let nrml_dir = nrml_dir.to_str().unwrap();
     let cases: &[(&str, &[&str], &[&str], &str)] = &[
         ("simulate", &["--record", KOBE], &["--td", "0.5"], "--pulse"),
         (
@@ -272,6 +276,46 @@ fn an_option_that_would_do_nothing_is_refused() {
             &["--format", "pelicun", "--out", out_dir],
             &["--outputs", "elsewhere"],
             "--from",
+        ),
+        // The records' own fit and its fallback need their runs: the
+        // paper's regression gives a lognormal whatever was asked.
+        (
+            "fragility",
+            &[],
+            &["--if-not-lognormal", "lognormal"],
+            "--if-not-lognormal lognormal: the lognormal check is of the records' own capacities; add --direct",
+        ),
+        (
+            "risk",
+            &["--hazard", "records/hazard/synthetic-site.csv"],
+            &["--if-not-lognormal", "curve"],
+            "add --direct",
+        ),
+        (
+            "fragility",
+            &[],
+            &["--method", "empirical"],
+            "--method empirical: the records' own curve needs their runs; add --direct",
+        ),
+        (
+            "export",
+            &["--format", "nrml", "--out", nrml_dir],
+            &["--if-not-lognormal", "lognormal"],
+            "add --direct",
+        ),
+        // The job's investigation time goes into a job.ini that only a
+        // hazard brings.
+        (
+            "export",
+            &["--format", "nrml", "--out", nrml_dir],
+            &["--years", "1"],
+            "--years 1: the risk investigation time of OpenQuake's job.ini, written only with --hazard",
+        ),
+        (
+            "export",
+            &["--format", "pelicun", "--out", out_dir],
+            &["--years", "50"],
+            "--format nrml",
         ),
     ];
     for (command, base, extra, needs) in cases {

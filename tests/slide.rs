@@ -1278,3 +1278,66 @@ fn where_friction_never_binds_the_tolerance_studys_capacities_are_the_rocking_mo
     assert_eq!(compared + slipped, 528);
     assert!(compared > 400, "{compared}");
 }
+
+/// `[example]` took no `mu`: a study of blocks that slide could not draw
+/// its example as one of them, and under `kind = "slide-rock"` a block
+/// without `mu` was refused naming the command line's `--mu`. The example
+/// now takes a `[[block]]`'s friction, and the example stage's capacities
+/// of a block equal the sweep's of the same block (one search, run twice);
+/// the refusal names the file's key.
+#[test]
+fn the_example_block_may_slide() {
+    use crate::util::{rocking, stderr, tempdir, write_pipeline};
+    use rocking::tables::sweep::CapacityRow;
+    let dir = tempdir();
+    let rack = "name = \"rack\"\nb = 0.3\nh = 1.0\neps = 0.75\nmu = 0.2\nmu_k = 0.15\n";
+    let body = format!(
+        "ids = [\"RSN1111_KOBE_NIS000\", \"RSN848_LANDERS_CLW-LN\"]\n\
+         [model]\nkind = \"slide-rock\"\n[[block]]\n{rack}[example]\n{rack}[im]\ncount = 40\n"
+    );
+    let pipeline = write_pipeline(dir.path(), "ex", &body);
+    let outputs = dir.path().join("out");
+    let run = |pipeline: &std::path::Path| {
+        rocking(
+            dir.path(),
+            &[
+                "run",
+                pipeline.to_str().unwrap(),
+                "--outputs",
+                outputs.to_str().unwrap(),
+            ],
+        )
+    };
+    let out = run(&pipeline);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let study = outputs.join("ex");
+    let read =
+        |name: &str| -> Vec<CapacityRow> { rocking::tables::read(&study.join(name)).unwrap() };
+    let (sweep, example) = (
+        read("capacities.parquet"),
+        read("example_capacities.parquet"),
+    );
+    assert_eq!(sweep.len(), 2);
+    assert_eq!(example.len(), 2);
+    for (s, e) in sweep.iter().zip(&example) {
+        assert_eq!(s.record_id, e.record_id);
+        assert_eq!(
+            (s.eta_c, s.eta_survived),
+            (e.eta_c, e.eta_survived),
+            "{}",
+            s.record_id
+        );
+    }
+    // Without the block's `mu`, the file's key is named.
+    let bare = write_pipeline(
+        dir.path(),
+        "bare",
+        "ids = [\"RSN1111_KOBE_NIS000\"]\n[model]\nkind = \"slide-rock\"\n[[block]]\n\
+         name = \"rack\"\nb = 0.3\nh = 1.0\neps = 0.75\n",
+    );
+    let out = run(&bare);
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(e.contains("block `rack`: `model.kind` = \"slide-rock\" needs the base's friction coefficient: give the block's `mu`"), "{e}");
+    assert!(!e.contains("--mu"), "{e}");
+}

@@ -118,7 +118,8 @@ pub struct FragilityAsk {
     pub states: Option<DamageStates>,
     pub method: FitMethod,
     pub dispersion: Dispersion,
-    pub if_not_lognormal: IfNotLognormal,
+    /// `None`: the records' own curve (`curve`), unless asked.
+    pub if_not_lognormal: Option<IfNotLognormal>,
     /// A logic tree over ε and the model: a TOML file or a named tree.
     pub tree: Option<String>,
 }
@@ -150,7 +151,7 @@ impl Default for FragilityAsk {
             states: None,
             method: FitMethod::Fractile,
             dispersion: Dispersion::Common,
-            if_not_lognormal: IfNotLognormal::Curve,
+            if_not_lognormal: None,
             tree: None,
         }
     }
@@ -178,6 +179,36 @@ pub(super) fn needs_own_runs(im: Im, direct: bool, sp: Spelling) -> Result<(), A
         )));
     }
     Ok(())
+}
+
+/// The fit's options that only the records' own runs use (`--direct`):
+/// the records' curve (`--method empirical`) and what to do where their
+/// capacities fail the lognormal check (`--if-not-lognormal`, the records'
+/// curve unless asked). Refused without the runs: the paper's regression
+/// and a study's tables give lognormals only, and the option did nothing.
+pub(super) fn fit_of_runs(
+    method: FitMethod,
+    if_not_lognormal: Option<IfNotLognormal>,
+    direct: bool,
+    sp: Spelling,
+) -> Result<IfNotLognormal, AskError> {
+    use crate::label::Label;
+    if !direct && method == FitMethod::Empirical {
+        return Err(AskError(format!(
+            "{}: the records' own curve needs their runs; add {}",
+            sp.set("method", method.name()),
+            sp.key("direct")
+        )));
+    }
+    match (if_not_lognormal, direct) {
+        (Some(v), false) => Err(AskError(format!(
+            "{}: the lognormal check is of the records' own capacities; add {} (the paper's \
+             regression and a study's tables give lognormals)",
+            sp.set("if_not_lognormal", v.label()),
+            sp.key("direct")
+        ))),
+        (v, _) => Ok(v.unwrap_or(IfNotLognormal::Curve)),
+    }
 }
 
 impl FragilityAsk {
@@ -254,7 +285,7 @@ impl FragilityAsk {
             mu,
             method: self.method,
             dispersion: self.dispersion,
-            if_not_lognormal: self.if_not_lognormal,
+            if_not_lognormal: fit_of_runs(self.method, self.if_not_lognormal, self.direct, sp)?,
             orient: law.orient(self.direct, sp)?,
             tree: tree(self.tree.as_deref(), self.eps, self.direct, sp)?,
         };
@@ -314,7 +345,8 @@ pub struct RiskAsk {
     pub states: Option<DamageStates>,
     pub method: FitMethod,
     pub dispersion: Dispersion,
-    pub if_not_lognormal: IfNotLognormal,
+    /// `None`: the records' own curve (`curve`), unless asked.
+    pub if_not_lognormal: Option<IfNotLognormal>,
     /// A logic tree over ε and the model: a TOML file or a named tree.
     pub tree: Option<String>,
     /// With `direct`: resamples of the records' pairs for the rate's
@@ -369,7 +401,7 @@ impl Default for RiskAsk {
             states: None,
             method: FitMethod::Fractile,
             dispersion: Dispersion::Common,
-            if_not_lognormal: IfNotLognormal::Curve,
+            if_not_lognormal: None,
             tree: None,
             bootstrap: 0,
             seed: 0,
@@ -450,7 +482,7 @@ impl RiskAsk {
             floor: building(&self.floor, &self.building, self.level, sp)?,
             method: self.method,
             dispersion: self.dispersion,
-            if_not_lognormal: self.if_not_lognormal,
+            if_not_lognormal: fit_of_runs(self.method, self.if_not_lognormal, self.direct, sp)?,
             orient: law.orient(self.direct, sp)?,
             tree: tree(self.tree.as_deref(), self.eps, self.direct, sp)?,
             bootstrap: match (self.bootstrap, self.direct) {

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use serde::Deserialize;
 
-use super::assess::{needs_own_runs, BlocksAsk};
+use super::assess::{fit_of_runs, needs_own_runs, BlocksAsk};
 use super::block::building;
 use super::block::AUTO_TOL;
 use super::law::LawAsk;
@@ -50,10 +50,12 @@ pub struct ExportKw {
     pub states: Option<DamageStates>,
     pub method: FitMethod,
     pub dispersion: Dispersion,
-    pub if_not_lognormal: IfNotLognormal,
+    /// `None`: the records' own curve (`curve`), unless asked.
+    pub if_not_lognormal: Option<IfNotLognormal>,
     pub im: Option<Im>,
     pub hazard: Option<PathBuf>,
-    pub years: f64,
+    /// OpenQuake's risk investigation time; `None`: 50 years.
+    pub years: Option<f64>,
     pub auto_tol: f64,
     pub out: Option<PathBuf>,
     /// A logic tree over ε and the model: a TOML file or a named tree.
@@ -85,10 +87,10 @@ impl Default for ExportKw {
             states: None,
             method: FitMethod::Fractile,
             dispersion: Dispersion::Common,
-            if_not_lognormal: IfNotLognormal::Curve,
+            if_not_lognormal: None,
             im: None,
             hazard: None,
-            years: 50.0,
+            years: None,
             auto_tol: AUTO_TOL,
             out: None,
             tree: None,
@@ -159,10 +161,12 @@ pub struct ExportAsk {
     pub states: Option<DamageStates>,
     pub method: FitMethod,
     pub dispersion: Dispersion,
-    pub if_not_lognormal: IfNotLognormal,
+    /// `None`: the records' own curve (`curve`), unless asked.
+    pub if_not_lognormal: Option<IfNotLognormal>,
     pub im: Option<Im>,
     pub hazard: Option<PathBuf>,
-    pub years: f64,
+    /// OpenQuake's risk investigation time; `None`: 50 years.
+    pub years: Option<f64>,
     pub auto_tol: f64,
     pub out: PathBuf,
     /// A logic tree over ε and the model: a TOML file or a named tree.
@@ -199,10 +203,10 @@ impl ExportAsk {
             states,
             method: self.method,
             dispersion: self.dispersion,
-            if_not_lognormal: self.if_not_lognormal,
+            if_not_lognormal: fit_of_runs(self.method, self.if_not_lognormal, self.direct, sp)?,
             im: self.im,
             hazard: self.hazard.clone(),
-            years: self.years,
+            years: self.job_years(sp)?,
             auto_tol: self.auto_tol,
             floor: building(&self.floor, &self.building, self.level, sp)?,
             out: self.out.clone(),
@@ -210,5 +214,21 @@ impl ExportAsk {
             tree: tree(self.tree.as_deref(), self.blocks.eps, self.direct, sp)?,
         };
         Ok((req, asked))
+    }
+
+    /// The job's risk investigation time: written only into OpenQuake's
+    /// `job.ini`, which a hazard (`--format nrml --hazard`) brings.
+    fn job_years(&self, sp: Spelling) -> Result<f64, AskError> {
+        match (self.years, &self.hazard, self.format) {
+            (Some(y), Some(_), Format::Nrml) => Ok(y),
+            (Some(y), _, _) => Err(AskError(format!(
+                "{}: the risk investigation time of OpenQuake's job.ini, written only with \
+                 {} (OpenQuake's hazard curves) and {}",
+                sp.set_number("years", y),
+                sp.key("hazard"),
+                sp.set("format", "nrml")
+            ))),
+            (None, _, _) => Ok(50.0),
+        }
     }
 }

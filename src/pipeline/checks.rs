@@ -164,6 +164,14 @@ pub(super) fn block_run(
         "" => format!("the block p = {} 1/s, ε = {}", b.p, b.eps),
         name => format!("block `{name}`"),
     };
+    // Said in the file's keys: the physics names the command line's.
+    if model == ModelChoice::SlideRock && b.mu.is_none() {
+        return Err(format!(
+            "{}: `model.kind` = \"slide-rock\" needs the base's friction coefficient: give \
+             the block's `mu`",
+            what()
+        ));
+    }
     let (model, why) = model
         .resolve(
             b.alpha_rad,

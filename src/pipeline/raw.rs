@@ -58,7 +58,8 @@ pub struct RawDamage {
 /// `[example]`: the block the report's Fig. 5 draws, run over the records
 /// by the `example` stage even when it is not one of the study's blocks:
 /// `p` and `eps` (dimensionless, α from `model.alpha`), or a physical
-/// block's `b`, `h` and `eps` as in `[[block]]`.
+/// block's `b`, `h` and `eps` as in `[[block]]`, with its `mu` (and
+/// `mu_k`) where it slides.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawExample {
@@ -67,6 +68,9 @@ pub struct RawExample {
     pub b: Option<f64>,
     pub h: Option<f64>,
     pub eps: toml::Value,
+    /// As a `[[block]]`'s: the base's static and kinetic friction.
+    pub mu: Option<f64>,
+    pub mu_k: Option<f64>,
 }
 
 /// `[pulses]`: a pulse map (safe and overturning areas over f and η, and

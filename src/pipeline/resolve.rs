@@ -106,7 +106,10 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
         .map(|t| super::tree::tree_plan(t, example.as_ref(), model, solver, auto_tol, overturn))
         .transpose()
         .map_err(err)?;
-    let example = example.map(run).transpose().map_err(err)?;
+    let example = example
+        .map(run)
+        .transpose()
+        .map_err(|e| err(format!("`[example]`: {e}")))?;
     Ok(Plan {
         name,
         description: raw.description.unwrap_or_default(),
@@ -415,6 +418,11 @@ fn blocks(
 /// physical block.
 fn example(e: &RawExample, model_alpha: Option<f64>) -> Result<Unresolved, String> {
     match (e.p, e.b, e.h) {
+        (Some(_), None, None) if e.mu.is_some() || e.mu_k.is_some() => Err(
+            "`example.mu`: friction is a physical block's (its b and h decide whether it slides \
+             first); give `[example]` b and h instead of p"
+                .into(),
+        ),
         (Some(p), None, None) => {
             crate::physics::check_p(p).map_err(|e| format!("`example.p`: {e}"))?;
             let eps = match &e.eps {
@@ -443,8 +451,8 @@ fn example(e: &RawExample, model_alpha: Option<f64>) -> Result<Unresolved, Strin
                 b,
                 h,
                 eps: e.eps.clone(),
-                mu: None,
-                mu_k: None,
+                mu: e.mu,
+                mu_k: e.mu_k,
             },
         ),
         _ => {

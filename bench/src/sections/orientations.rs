@@ -49,7 +49,7 @@ fn fragility(
         orientation,
         angle_step: step,
         method: FitMethod::Fractile,
-        if_not_lognormal: IfNotLognormal::Lognormal,
+        if_not_lognormal: Some(IfNotLognormal::Lognormal),
         ..FragilityAsk::default()
     };
     let (req, _) = ask

@@ -539,7 +539,9 @@ fn rows_of(
                 return Err(FragilityError::Pairs(format!(
                     "{folder}: the study's records are already its pairs at every angle \
                      (`orientation = \"random\"`); its fragility is the random \
-                     orientation's as recorded, in the rotated components' own IMs"
+                     orientation's as recorded, in the rotated components' own IMs: ask in \
+                     one of them (--im pga, pgv, sa(T), …), or without --from for the \
+                     bundled pairs (--direct --orientation random, in RotD50 too)"
                 )));
             }
             records::of_plan(plan).map_err(FragilityError::Records)?

@@ -377,9 +377,9 @@ pub struct StatesArgs {
     pub dispersion: Dispersion,
     /// Where the records' capacities fail the lognormal check (Lilliefors at
     /// 5 % on their logarithms; --direct): their own curve, as --method
-    /// empirical, or the lognormal anyway.
-    #[arg(long, value_parser = label::<IfNotLognormal>(), default_value = "curve")]
-    pub if_not_lognormal: IfNotLognormal,
+    /// empirical, or the lognormal anyway [default: curve].
+    #[arg(long, value_parser = label::<IfNotLognormal>())]
+    pub if_not_lognormal: Option<IfNotLognormal>,
 }
 
 /// The IM of a fragility.

@@ -66,9 +66,9 @@ pub struct Args {
     /// Where a block's records' capacities fail the lognormal check
     /// (Lilliefors at 5 % on their logarithms; --direct): their own curve
     /// (pelicun's multilinear_CDF, OpenQuake's discrete function), or the
-    /// lognormal anyway.
-    #[arg(long, value_parser = label::<IfNotLognormal>(), default_value = "curve")]
-    if_not_lognormal: IfNotLognormal,
+    /// lognormal anyway [default: curve].
+    #[arg(long, value_parser = label::<IfNotLognormal>())]
+    if_not_lognormal: Option<IfNotLognormal>,
     /// The IM [default: the hazard's, or PGA]; pelicun also takes FEMA P-58's
     /// floor demands pfa (g) and pfv (cm/s) (--direct; on a --floor, the floor
     /// motion's own).
@@ -77,9 +77,9 @@ pub struct Args {
     /// OpenQuake hazard curves (nrml): the exposure's sites and the job's hazard.
     #[arg(long, value_name = "FILE.csv")]
     hazard: Option<PathBuf>,
-    /// The job's risk investigation time (years).
-    #[arg(long, default_value_t = 50.0)]
-    years: f64,
+    /// The job's risk investigation time (years; with --hazard) [default: 50].
+    #[arg(long)]
+    years: Option<f64>,
     /// The linearised model's accepted error in η_c (--direct picks the model by it; the
     /// pipeline's [model] does with --from).
     #[arg(long, default_value_t = rocking::ask::block::AUTO_TOL)]
