@@ -1284,7 +1284,8 @@ fn where_friction_never_binds_the_tolerance_studys_capacities_are_the_rocking_mo
 /// without `mu` was refused naming the command line's `--mu`. The example
 /// now takes a `[[block]]`'s friction, and the example stage's capacities
 /// of a block equal the sweep's of the same block (one search, run twice);
-/// the refusal names the file's key.
+/// the refusal names the file's key. `--from` such a study does not hand
+/// its sliding block's fits to a block asked without that friction.
 #[test]
 fn the_example_block_may_slide() {
     use crate::util::{rocking, stderr, tempdir, write_pipeline};
@@ -1326,6 +1327,33 @@ fn the_example_block_may_slide() {
             (e.eta_c, e.eta_survived),
             "{}",
             s.record_id
+        );
+    }
+    // `--from` the study: its rack's fits are of its friction, not of a
+    // block asked without it (nor of another μ).
+    for mu in [&[][..], &["--mu", "0.6"][..]] {
+        let mut args = vec![
+            "fragility",
+            "--from",
+            pipeline.to_str().unwrap(),
+            "--outputs",
+            outputs.to_str().unwrap(),
+            "--b",
+            "0.3",
+            "--h",
+            "1.0",
+            "--eps",
+            "0.75",
+            "--pga",
+            "0.3",
+        ];
+        args.extend(mu);
+        let out = rocking(dir.path(), &args);
+        assert!(!out.status.success());
+        let e = stderr(&out);
+        assert!(
+            e.contains("the study's block `rack` ran sliding on its base (mu = 0.2)"),
+            "{e}"
         );
     }
     // Without the block's `mu`, the file's key is named.

@@ -64,6 +64,26 @@ pub enum ImTableError {
         pipeline: String,
         blocks: String,
     },
+    #[error(
+        "{what} of {pipeline}: the study's block `{block}` ran sliding on its base (mu = {mu}), \
+         and its fits are of that friction; use --direct (with --mu) to run this block"
+    )]
+    Slides {
+        what: String,
+        pipeline: String,
+        block: String,
+        mu: f64,
+    },
+    #[error(
+        "{what}: the study's block `{block}` has no fit of it (too few of its records reach \
+         it); {try_instead}"
+    )]
+    OwnNoFit {
+        /// What was asked, and of which study.
+        what: String,
+        block: String,
+        try_instead: String,
+    },
     #[error("the study's IM table: {0}")]
     Bad(String),
     #[error(
@@ -103,7 +123,14 @@ pub struct ImTable {
 impl ImTable {
     /// The table of `im` in the study folder `dir` (its
     /// `im_efficiency.parquet`); `study` names the pipeline in messages.
-    pub fn load(dir: &Path, study: &str, im: Im) -> Result<ImTable, ImTableError> {
+    /// `slid(name)`: the friction the study's block of that name ran
+    /// sliding on, if it did.
+    pub fn load(
+        dir: &Path,
+        study: &str,
+        im: Im,
+        slid: &dyn Fn(&str) -> Option<f64>,
+    ) -> Result<ImTable, ImTableError> {
         let name = im.name();
         if im.dimensionless(1.0, 1.0).is_none() {
             return Err(ImTableError::NoDimensionless(name));
@@ -134,7 +161,7 @@ impl ImTable {
         Ok(ImTable {
             im,
             pipeline: study.to_string(),
-            table: Table::of(&nodes),
+            table: Table::of(&nodes, slid),
         })
     }
 
@@ -152,13 +179,16 @@ impl ImTable {
                     &self.pipeline,
                 ),
                 &self.table,
-                || {
-                    ImTableError::Bad(format!(
-                        "some blocks of the study's grid have no median in {}, so it cannot be \
-                         carried to other blocks; use --direct",
-                        self.im.name()
-                    ))
-                },
+                (
+                    || {
+                        ImTableError::Bad(format!(
+                            "some blocks of the study's grid have no median in {}, so it \
+                             cannot be carried to other blocks; use --direct",
+                            self.im.name()
+                        ))
+                    },
+                    "use --direct".to_string(),
+                ),
             )
         })?;
         Ok(Lognormal {
@@ -182,7 +212,13 @@ pub struct DamageTable {
 impl DamageTable {
     /// The fits of `im` by `method` in the study folder `dir`; `study`
     /// names the pipeline in messages.
-    pub fn load(dir: &Path, study: &str, im: Im, method: FitMethod) -> Result<Self, ImTableError> {
+    /// `slid(name)` as [`ImTable::load`]'s.
+    pub fn load(
+        dir: &Path,
+        study: &str,
+        (im, method): (Im, FitMethod),
+        slid: &dyn Fn(&str) -> Option<f64>,
+    ) -> Result<Self, ImTableError> {
         if im.dimensionless(1.0, 1.0).is_none() {
             return Err(ImTableError::NoDimensionless(im.name()));
         }
@@ -208,7 +244,11 @@ impl DamageTable {
                     .filter(|o| o.im == name && o.method == method && o.state == r.state)
                     .map(|o| (&o.block[..], (o.p, o.eps, o.median_dimensionless, o.beta)))
                     .collect();
-                states.push((r.state.clone(), r.criterion.clone(), Table::of(&nodes)));
+                states.push((
+                    r.state.clone(),
+                    r.criterion.clone(),
+                    Table::of(&nodes, slid),
+                ));
             }
         }
         Ok(DamageTable {
@@ -251,12 +291,15 @@ impl DamageTable {
                     &self.pipeline,
                 ),
                 table,
-                || ImTableError::StateHoles {
-                    state: state.name.clone(),
-                    im: self.im.name(),
-                    method: self.method.name(),
-                    other: self.method.other().name(),
-                },
+                (
+                    || ImTableError::StateHoles {
+                        state: state.name.clone(),
+                        im: self.im.name(),
+                        method: self.method.name(),
+                        other: self.method.other().name(),
+                    },
+                    format!("try --method {}, or --direct", self.method.other().name()),
+                ),
             )
         })?;
         Ok(Lognormal {
@@ -274,25 +317,36 @@ type Node = (f64, f64, Option<f64>, Option<f64>);
 /// A study's blocks in one IM: their nodes, named, and the grid they make
 /// when they make one.
 struct Table {
-    nodes: Vec<(String, Node)>,
+    /// Each block's name, node and the friction it ran sliding on, if it did.
+    nodes: Vec<(String, Node, Option<f64>)>,
     /// `None`: the blocks are not a full p × ε grid, or some have no fit.
     grid: Option<Grid>,
 }
 
 /// Why a [`Table`] has no answer for a block.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 enum Gap {
     /// Named blocks, not a grid of p × ε; none of them is the block asked.
     NotAGrid,
     /// A grid of p × ε with blocks that have no fit.
     Holes,
+    /// The study's own block, run sliding on its friction: its fits are
+    /// not those of a block asked without it.
+    Slides { block: String, mu: f64 },
+    /// The study's own block, without a fit.
+    Unfitted { block: String },
 }
 
 impl Table {
-    fn of(nodes: &[(&str, Node)]) -> Table {
+    /// The study's blocks; `slid(name)` the friction the block of that
+    /// name ran sliding on, if it did.
+    fn of(nodes: &[(&str, Node)], slid: &dyn Fn(&str) -> Option<f64>) -> Table {
         let bare: Vec<Node> = nodes.iter().map(|n| n.1).collect();
         Table {
-            nodes: nodes.iter().map(|(b, n)| (b.to_string(), *n)).collect(),
+            nodes: nodes
+                .iter()
+                .map(|(b, n)| (b.to_string(), *n, slid(b)))
+                .collect(),
             grid: Grid::of(&bare),
         }
     }
@@ -301,13 +355,21 @@ impl Table {
     /// is; else the grid's value there ([`Grid::at`]).
     fn at(&self, p: f64, eps: f64) -> Result<(f64, f64, Vec<String>), Gap> {
         let same = |a: f64, b: f64| (a - b).abs() <= 1e-12 * a.abs().max(b.abs());
-        let own = self.nodes.iter().find_map(|(_, (np, ne, m, b))| {
-            (same(*np, p) && same(*ne, eps))
-                .then_some((*m)?.ln())
-                .zip(*b)
-        });
-        if let Some((ln_median, beta)) = own {
-            return Ok((ln_median, beta, Vec::new()));
+        let own = self
+            .nodes
+            .iter()
+            .find(|(_, (np, ne, ..), _)| same(*np, p) && same(*ne, eps));
+        if let Some((block, (_, _, median, beta), slid)) = own {
+            return match (slid, median.zip(*beta)) {
+                (Some(mu), _) => Err(Gap::Slides {
+                    block: block.clone(),
+                    mu: *mu,
+                }),
+                (None, Some((m, b))) => Ok((m.ln(), b, Vec::new())),
+                (None, None) => Err(Gap::Unfitted {
+                    block: block.clone(),
+                }),
+            };
         }
         match &self.grid {
             Some(g) => Ok(g.at(p, eps)),
@@ -319,7 +381,7 @@ impl Table {
     /// The study's blocks, for a refusal: `name (p = …, ε = …)`.
     fn blocks(&self) -> String {
         let mut seen: Vec<String> = Vec::new();
-        for (name, (p, e, ..)) in &self.nodes {
+        for (name, (p, e, ..), _) in &self.nodes {
             let b = format!("{name} at p = {p:.3} 1/s, ε = {e:.3}");
             if !seen.contains(&b) {
                 seen.push(b);
@@ -336,14 +398,26 @@ impl Gap {
         self,
         (what, pipeline): (String, &str),
         table: &Table,
-        holes: impl FnOnce() -> ImTableError,
+        (holes, try_instead): (impl FnOnce() -> ImTableError, String),
     ) -> ImTableError {
+        let pipeline = pipeline.to_string();
         match self {
             Gap::Holes => holes(),
             Gap::NotAGrid => ImTableError::NotAGrid {
                 what,
-                pipeline: pipeline.to_string(),
+                pipeline,
                 blocks: table.blocks(),
+            },
+            Gap::Slides { block, mu } => ImTableError::Slides {
+                what,
+                pipeline,
+                block,
+                mu,
+            },
+            Gap::Unfitted { block } => ImTableError::OwnNoFit {
+                what: format!("{what} of {pipeline}"),
+                block,
+                try_instead,
             },
         }
     }
@@ -505,10 +579,15 @@ mod tests {
     /// is refused for its holes, not as not a grid.
     #[test]
     fn named_blocks_answer_for_themselves() {
-        let named = Table::of(&[
-            ("statue", (2.8245, 0.9294, Some(1.3), Some(0.12))),
-            ("cabinet", (2.6542, 0.75, Some(1.7), Some(0.19))),
-        ]);
+        let none = |_: &str| None;
+        let named = Table::of(
+            &[
+                ("statue", (2.8245, 0.9294, Some(1.3), Some(0.12))),
+                ("cabinet", (2.6542, 0.75, Some(1.7), Some(0.19))),
+                ("vase", (3.1, 0.8, None, None)),
+            ],
+            &none,
+        );
         assert_eq!(
             named.at(2.8245, 0.9294),
             Ok((1.3f64.ln(), 0.12, Vec::new()))
@@ -516,14 +595,38 @@ mod tests {
         assert_eq!(named.at(2.7, 0.8), Err(Gap::NotAGrid));
         assert_eq!(
             named.blocks(),
-            "statue at p = 2.825 1/s, ε = 0.929; cabinet at p = 2.654 1/s, ε = 0.750"
+            "statue at p = 2.825 1/s, ε = 0.929; cabinet at p = 2.654 1/s, ε = 0.750; \
+             vase at p = 3.100 1/s, ε = 0.800"
         );
-        let holed = Table::of(&[
-            ("", (1.0, 0.5, Some(1.0), Some(0.3))),
-            ("", (1.0, 0.9, None, None)),
-            ("", (4.0, 0.5, Some(2.0), Some(0.3))),
-            ("", (4.0, 0.9, Some(3.0), Some(0.3))),
-        ]);
+        // Its own block without a fit, named; a block that ran sliding is
+        // not answered for a block asked (its fits are of its friction).
+        assert_eq!(
+            named.at(3.1, 0.8),
+            Err(Gap::Unfitted {
+                block: "vase".into()
+            })
+        );
+        let slid = |b: &str| (b == "statue").then_some(0.15);
+        let sliding = Table::of(
+            &[("statue", (2.8245, 0.9294, Some(1.3), Some(0.12)))],
+            &slid,
+        );
+        assert_eq!(
+            sliding.at(2.8245, 0.9294),
+            Err(Gap::Slides {
+                block: "statue".into(),
+                mu: 0.15
+            })
+        );
+        let holed = Table::of(
+            &[
+                ("", (1.0, 0.5, Some(1.0), Some(0.3))),
+                ("", (1.0, 0.9, None, None)),
+                ("", (4.0, 0.5, Some(2.0), Some(0.3))),
+                ("", (4.0, 0.9, Some(3.0), Some(0.3))),
+            ],
+            &none,
+        );
         assert_eq!(holed.at(2.0, 0.7), Err(Gap::Holes));
         assert_eq!(holed.at(4.0, 0.9), Ok((3f64.ln(), 0.3, Vec::new())));
     }

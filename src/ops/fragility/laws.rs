@@ -130,7 +130,7 @@ impl Laws {
                         why: why.clone(),
                     });
                 }
-                Ok(ImTable::load(dir, &self.name, im)?)
+                Ok(ImTable::load(dir, &self.name, im, &|b| self.slid(b))?)
             }
             None => Err(FragilityError::PaperIsPga(im.name())),
         }
@@ -154,7 +154,28 @@ impl Laws {
                 why: why.clone(),
             });
         }
-        Ok(Some(DamageTable::load(dir, &self.name, im, method)?))
+        Ok(Some(DamageTable::load(
+            dir,
+            &self.name,
+            (im, method),
+            &|b| self.slid(b),
+        )?))
+    }
+
+    /// The friction the study's block `name` ran sliding on (the
+    /// slide-rock model), if it did.
+    fn slid(&self, name: &str) -> Option<f64> {
+        let block = self
+            .plan
+            .as_ref()?
+            .blocks()
+            .iter()
+            .find(|b| b.name == name)?;
+        let sliding = matches!(
+            block.run.model.equation,
+            crate::physics::Equation::SlideRock { .. }
+        );
+        block.mu.filter(|_| sliding)
     }
 }
 
