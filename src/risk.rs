@@ -39,8 +39,9 @@
 //! Beyond the last IML the curve is either extrapolated with its last
 //! log-log slope or stopped ([`Beyond`]), and the share of the rate that
 //! comes from beyond it is reported. A curve whose file gives a rate of 0 at
-//! some IML ends there: the events still exceeding the last positive IML are
-//! put at that IML.
+//! some IML ends there, under either rule: the events still exceeding the
+//! last positive IML are spread evenly in the IM up to that 0
+//! ([`closing_rate`]), nothing beyond it.
 
 use crate::damage::Curve;
 use crate::hazard::HazardCurve;
@@ -81,7 +82,8 @@ impl Fragility {
 pub enum Beyond {
     /// Continue with the last segment's log-log slope.
     Extrapolate,
-    /// No exceedance beyond the last IML is counted.
+    /// No exceedance beyond the last IML is counted (a file that ends in
+    /// probabilities of 0 ends at its first 0, under either rule).
     Stop,
 }
 
@@ -286,9 +288,21 @@ impl Segment {
     }
 }
 
-/// The power-law pieces of a curve, and the beyond piece (if any) with the
-/// rate put at the curve's end when its file gives a rate of 0 there.
-fn segments(curve: &HazardCurve, beyond: Beyond) -> (Vec<Segment>, Option<(Segment, Option<f64>)>) {
+/// How a curve ends past its last IML of a positive rate.
+#[derive(Debug, Clone, Copy)]
+enum End {
+    /// The file's own 0 at `.1` after the rate `.0.rate0` at `.0.a0`: its
+    /// events between are inside the file, counted under either rule
+    /// ([`closing_rate`]).
+    Closed(Segment, f64),
+    /// Extrapolated on the last slope (`Beyond::Extrapolate`).
+    Beyond(Segment),
+    /// Nothing counted past the last IML (`Beyond::Stop`, or one point).
+    Open,
+}
+
+/// The power-law pieces of a curve, and how it ends ([`End`]).
+fn segments(curve: &HazardCurve, beyond: Beyond) -> (Vec<Segment>, End) {
     let (a, r) = (&curve.iml, &curve.annual_rate);
     let slope = |i: usize| (r[i] / r[i + 1]).ln() / (a[i + 1] / a[i]).ln();
     let inner: Vec<Segment> = (0..a.len().saturating_sub(1))
@@ -300,20 +314,55 @@ fn segments(curve: &HazardCurve, beyond: Beyond) -> (Vec<Segment>, Option<(Segme
         })
         .collect();
     let last = a.len() - 1;
-    let tail = match (beyond, inner.last()) {
-        // One point has no slope to extrapolate.
-        (Beyond::Stop, _) | (_, None) => None,
-        (Beyond::Extrapolate, Some(s)) => Some((
-            Segment {
-                a0: a[last],
-                a1: curve.ends_at.unwrap_or(f64::INFINITY),
-                rate0: r[last],
-                k: s.k,
-            },
-            curve.ends_at,
-        )),
+    let on = |s: &Segment, a1: f64| Segment {
+        a0: a[last],
+        a1,
+        rate0: r[last],
+        k: s.k,
     };
-    (inner, tail)
+    let end = match (curve.ends_at, beyond, inner.last()) {
+        // One point has no slope to go on with.
+        (_, _, None) => End::Open,
+        (Some(e), _, Some(s)) => End::Closed(on(s, e), e),
+        (None, Beyond::Stop, _) => End::Open,
+        (None, Beyond::Extrapolate, Some(s)) => End::Beyond(on(s, f64::INFINITY)),
+    };
+    (inner, end)
+}
+
+/// The rate of a file's closing piece: `rate` of events exceed `a0` and
+/// none exceed `a1`, where the file gives 0. A power law cannot reach 0;
+/// the events are taken spread evenly in the IM between (λ linear in a,
+/// the rate falling straight to the file's 0), so the piece counts `rate`
+/// times the fragility's mean over `[max(a0, cut), a1]`: what OpenQuake's
+/// classical calculators count for that bin, its fragility at the bin's
+/// middle, to second order. Exact for both fragilities: for the lognormal
+/// `∫ Φ(z) da = a Φ(z) − m e^{β²/2} Φ(z − β)`, `z = ln(a/m)/β`; the
+/// records' curve is linear between its points.
+fn closing_rate(a0: f64, a1: f64, rate: f64, f: &Fragility, cut: f64) -> f64 {
+    let from = a0.max(cut);
+    if from >= a1 {
+        return 0.0;
+    }
+    let integral = match f {
+        Fragility::Lognormal { median, beta } => {
+            let tail = median * (0.5 * beta * beta).exp();
+            let big_f = |a: f64| {
+                let z = (a / median).ln() / beta;
+                a * normal_cdf(z) - tail * normal_cdf(z - beta)
+            };
+            big_f(a1) - big_f(from)
+        }
+        Fragility::Curve(c) => {
+            let inside = c.levels().iter().copied().filter(|&x| x > from && x < a1);
+            let mut ends: Vec<f64> = std::iter::once(from).chain(inside).collect();
+            ends.push(a1);
+            ends.windows(2)
+                .map(|w| 0.5 * (w[1] - w[0]) * (c.probability(w[0]) + c.probability_below(w[1])))
+                .sum()
+        }
+    };
+    rate * (integral / (a1 - a0)).max(0.0)
 }
 
 /// λ_OT at one site, with its deaggregation by PGA.
@@ -335,34 +384,37 @@ pub fn assess_above(
     beyond: Beyond,
     cut: f64,
 ) -> SiteRisk {
-    let (inner, tail) = segments(curve, beyond);
+    let (inner, end) = segments(curve, beyond);
+    let in_segment = |s: &Segment| s.above(cut).map_or(0.0, |s| s.integral(fragility));
     let mut bins: Vec<Bin> = inner
         .iter()
         .map(|s| Bin {
             iml_from: s.a0,
             iml_to: Some(s.a1),
-            annual_rate: s.above(cut).map_or(0.0, |s| s.integral(fragility)),
+            annual_rate: in_segment(s),
         })
         .collect();
     let first = curve.iml[0];
-    let last = *curve.iml.last().expect("a curve has a point");
-    let beyond_rate = match tail {
-        None => 0.0,
+    let mut last = *curve.iml.last().expect("a curve has a point");
+    if let End::Closed(s, e) = end {
+        bins.push(Bin {
+            iml_from: last,
+            iml_to: Some(e),
+            annual_rate: closing_rate(s.a0, e, s.rate0, fragility, cut),
+        });
+        last = e;
+    }
+    let beyond_rate = match end {
+        End::Open | End::Closed(..) => 0.0,
         // A flat end: its events exceed every level.
-        Some((s, None)) if s.k == 0.0 => s.rate0 * fragility.limit(),
-        Some((s, end)) => {
-            // Events still exceeding the end where the file says 0: at the end.
-            let at_end = end
-                .filter(|&e| e >= cut)
-                .map_or(0.0, |e| fragility.probability(e) * s.rate(e));
-            s.above(cut).map_or(0.0, |s| s.integral(fragility)) + at_end
-        }
+        End::Beyond(s) if s.k == 0.0 => s.rate0 * fragility.limit(),
+        End::Beyond(s) => in_segment(&s),
     };
     bins.push(Bin {
         iml_from: last,
-        iml_to: match (beyond, curve.ends_at) {
-            (Beyond::Stop, _) => Some(last),
-            (Beyond::Extrapolate, end) => end,
+        iml_to: match end {
+            End::Beyond(_) => None,
+            End::Open | End::Closed(..) => Some(last),
         },
         annual_rate: beyond_rate,
     });
@@ -615,10 +667,89 @@ mod tests {
             0.03, 0.07, 0.071, 0.12, 0.19, 0.33, 0.41, 0.6, 0.95, 1.2, 2.4,
         ];
         let f = Fragility::Curve(Curve::of_capacities(&caps));
-        let (inner, tail) = segments(&curve, Beyond::Extrapolate);
-        for s in inner.iter().chain(tail.iter().map(|t| &t.0)) {
+        let (inner, end) = segments(&curve, Beyond::Extrapolate);
+        let End::Closed(closing, _) = end else {
+            panic!("{end:?}")
+        };
+        for s in inner.iter().chain([&closing]) {
             let (c, q) = (s.integral(&f), s.quadrature(&f));
             assert!((c - q).abs() <= 1e-6 * c.max(1e-300), "{s:?}: {c} vs {q}");
+        }
+    }
+
+    /// A file that ends in probabilities of 0 (as OpenQuake writes above
+    /// what the hazard can reach) states where its events end: from its
+    /// last positive rate to its first 0 they are inside the file, counted
+    /// under either rule, and nothing is beyond it. The piece adds that
+    /// rate times the fragility's mean over it (Simpson's rule on 10,000
+    /// steps here) to the curve cut at its last IML, for the lognormal and
+    /// the records' curve alike, and nothing below the cut. It was called
+    /// 68 % "beyond the last IML, extrapolated", and `--beyond stop`
+    /// dropped it.
+    #[test]
+    fn a_file_that_ends_in_zeros_ends_there() {
+        let open = HazardCurve {
+            im: crate::im::Im::Pga,
+            lon: None,
+            lat: None,
+            iml: vec![0.05, 0.1, 0.3019, 0.3557],
+            annual_rate: vec![1e-2, 2e-3, 1e-5, 1e-5],
+            ends_at: None,
+            infinite: Vec::new(),
+            kind: None,
+        };
+        let closed = HazardCurve {
+            ends_at: Some(0.4191),
+            ..open.clone()
+        };
+        let mean_over = |f: &Fragility, lo: f64, hi: f64| {
+            let n = 10_000;
+            let h = (hi - lo) / n as f64;
+            let sum: f64 = (0..=n)
+                .map(|i| {
+                    let w = if i == 0 || i == n {
+                        1.0
+                    } else if i % 2 == 1 {
+                        4.0
+                    } else {
+                        2.0
+                    };
+                    w * f.probability(lo + i as f64 * h)
+                })
+                .sum();
+            sum * h / 3.0 / (hi - lo)
+        };
+        let lognormal = Fragility::Lognormal {
+            median: 0.4,
+            beta: 0.3,
+        };
+        let records = Fragility::Curve(Curve::of_capacities(&[0.2, 0.33, 0.37, 0.41, 0.5]));
+        for f in [lognormal, records] {
+            let open_rate = assess(&open, &f, Beyond::Stop).annual_rate;
+            let by_hand = open_rate + 1e-5 * mean_over(&f, 0.3557, 0.4191);
+            for beyond in [Beyond::Stop, Beyond::Extrapolate] {
+                let r = assess(&closed, &f, beyond);
+                assert!(
+                    (r.annual_rate / by_hand - 1.0).abs() < 1e-9,
+                    "{f:?} {beyond:?}: {} against {by_hand}",
+                    r.annual_rate
+                );
+                assert_eq!(r.share_beyond_last_iml, 0.0);
+                assert_eq!(r.last_iml, 0.4191);
+                let bins: f64 = r.bins.iter().map(|b| b.annual_rate).sum();
+                assert!((bins / r.annual_rate - 1.0).abs() < 1e-14);
+            }
+            // Cut inside the piece: the mean over the part above the cut,
+            // times the share of the piece it is.
+            let cut = 0.39;
+            let r = assess_above(&closed, &f, Beyond::Stop, cut);
+            let inner = assess_above(&open, &f, Beyond::Stop, cut).annual_rate;
+            let piece = 1e-5 * mean_over(&f, cut, 0.4191) * (0.4191 - cut) / (0.4191 - 0.3557);
+            assert!(
+                ((r.annual_rate - inner) / piece - 1.0).abs() < 1e-9,
+                "{f:?}: {} against {piece}",
+                r.annual_rate - inner
+            );
         }
     }
 
@@ -639,8 +770,11 @@ mod tests {
             median: 0.25,
             beta: 0.45,
         };
-        let (inner, tail) = segments(&curve, Beyond::Extrapolate);
-        for s in inner.iter().chain(tail.iter().map(|t| &t.0)) {
+        let (inner, end) = segments(&curve, Beyond::Extrapolate);
+        let End::Closed(closing, _) = end else {
+            panic!("{end:?}")
+        };
+        for s in inner.iter().chain([&closing]) {
             let (c, q) = (s.integral(&f), s.quadrature(&f));
             assert!((c - q).abs() <= 1e-9 * c.max(1e-300), "{s:?}: {c} vs {q}");
         }

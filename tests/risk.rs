@@ -165,14 +165,31 @@ fn openquake_sites_against_quadrature() {
             .map(|(&a, p): (&f64, f64)| (a, -(1.0 - p).ln() / 50.0))
             .collect();
         let (a, r): (Vec<f64>, Vec<f64>) = keep.into_iter().unzip();
+        // Site 1's file ends in a 0 at 2 g: its events from 1.2 g are the
+        // file's, spread evenly in PGA up to 2 g (nothing beyond: the same
+        // under `--beyond stop`): their rate times the mean P over the
+        // piece, by the midpoint rule.
+        let closing = match s {
+            1 => {
+                let (lo, hi, n) = (1.2, 2.0, 20_000);
+                let mean: f64 = (0..n)
+                    .map(|j| phi(((lo + (j as f64 + 0.5) * (hi - lo) / n as f64) / m).ln() / beta))
+                    .sum::<f64>()
+                    / n as f64;
+                r.last().unwrap() * mean
+            }
+            _ => 0.0,
+        };
         // Cut at the block's uplift PGA, b/h g (MODEL.md §13).
-        let expected = quadrature(&a, &r, m, beta, 0.25);
+        let expected = quadrature(&a, &r, m, beta, 0.25) + closing;
         let got = site["annual_rate"].as_f64().unwrap();
         assert!(
             (got / expected - 1.0).abs() < 1e-8,
             "site {s}: {got} vs {expected}"
         );
         assert_eq!(site["first_iml"].as_f64(), Some(a[0]));
+        let end = if s == 1 { 2.0 } else { *a.last().unwrap() };
+        assert_eq!(site["last_iml"].as_f64(), Some(end));
         assert_eq!(site["imls_dropped"], if s == 0 { 1 } else { 0 });
     }
     // The same numbers as OpenQuake's 84 % quantile curve: the same rates,

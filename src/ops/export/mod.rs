@@ -291,6 +291,9 @@ fn read_sites(path: &Path, asked: Option<Im>) -> Result<HazardSites, ExportOpErr
             _ => Err(ExportOpError::PlainHazard(path.into())),
         })
         .collect::<Result<Vec<_>, _>>()?;
+    // As OpenQuake's job reads it (its own exports' site ids dropped).
+    let text = crate::hazard::openquake_input(&text)
+        .ok_or_else(|| ExportOpError::PlainHazard(path.into()))?;
     Ok(HazardSites {
         warnings: risk::hazard_warnings(&curves),
         curves,

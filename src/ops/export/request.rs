@@ -167,6 +167,7 @@ pub struct Written {
 pub(super) struct HazardSites {
     /// The curves as `risk` reads them, by site.
     pub curves: Vec<(usize, crate::hazard::HazardCurve)>,
+    /// The file as OpenQuake's job reads it ([`crate::hazard::openquake_input`]).
     pub text: String,
     pub im: Im,
     pub sites: Vec<Site>,

@@ -29,27 +29,10 @@ use std::fmt;
 
 use crate::im::Im;
 
-/// One site's hazard curve: annual rates of exceedance of an IM.
-#[derive(Debug, Clone, PartialEq)]
-pub struct HazardCurve {
-    /// The IM the levels are of (in its unit, [`Im::unit`]).
-    pub im: Im,
-    pub lon: Option<f64>,
-    pub lat: Option<f64>,
-    /// IMLs, increasing, each with a finite positive rate.
-    pub iml: Vec<f64>,
-    /// Annual rate of exceedance at each IML, non-increasing.
-    pub annual_rate: Vec<f64>,
-    /// The IML at which the file gives a rate of exactly 0 (no exceedance
-    /// beyond it), if it does.
-    pub ends_at: Option<f64>,
-    /// The IMLs dropped from the start because their rate is infinite
-    /// (poe = 1), increasing.
-    pub infinite: Vec<f64>,
-    /// OpenQuake's statistic of the curve (its `kind=`: `mean`,
-    /// `quantile-0.84`, `rlz-003`, …); `None` for a plain CSV.
-    pub kind: Option<String>,
-}
+mod curve;
+mod notes;
+pub use curve::HazardCurve;
+pub use notes::{plausibility, statistic_note, unit_slip};
 
 /// A hazard file that cannot be used, and where.
 #[derive(Debug, Clone, PartialEq)]
@@ -100,8 +83,6 @@ fn openquake_meta(first: &str) -> bool {
             .any(|key| meta_value(first, key).is_some())
 }
 
-/// The value of `key=…` (or `key = …`) in OpenQuake's metadata line,
-/// quotes stripped; `key` as a whole word.
 /// The `investigation_time` (years) of an OpenQuake hazard-curve file's
 /// metadata line; `None` for a plain CSV.
 pub fn investigation_time(text: &str) -> Option<f64> {
@@ -109,6 +90,8 @@ pub fn investigation_time(text: &str) -> Option<f64> {
     meta_value(meta, "investigation_time")?.parse().ok()
 }
 
+/// The value of `key=…` (or `key = …`) in OpenQuake's metadata line,
+/// quotes stripped; `key` as a whole word.
 fn meta_value<'a>(line: &'a str, key: &str) -> Option<&'a str> {
     let word = |c: char| c.is_alphanumeric() || c == '_';
     let mut from = 0;
@@ -245,6 +228,42 @@ pub fn parse_openquake(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
     Ok(sites)
 }
 
+/// An OpenQuake hazard-curve file (one [`parse_openquake`] takes) as
+/// OpenQuake's own `hazard_curves_csv` input reads it: its metadata line,
+/// then `lon,lat,depth,poe-…` and each site's cells as the file writes
+/// them. That reader takes the columns after the third as the poes, so a
+/// column it does not read (the `custom_site_id` that OpenQuake's own
+/// exports lead with) is dropped, and a missing depth is written as 0.
+/// `None` where the file has no `lon`, `lat` or `poe-` columns.
+pub fn openquake_input(text: &str) -> Option<String> {
+    let mut lines = text.lines().filter(|l| !l.trim().is_empty());
+    let meta = lines.next()?;
+    let header = cells(lines.next()?);
+    let col = |name: &str| header.iter().position(|h| *h == name);
+    let (lon, lat, depth) = (col("lon")?, col("lat")?, col("depth"));
+    let poes: Vec<usize> = (0..header.len())
+        .filter(|&i| header[i].starts_with("poe-"))
+        .collect();
+    if poes.is_empty() {
+        return None;
+    }
+    let row = |c: &[&str], no_depth: &str| {
+        let mut out = vec![c[lon], c[lat], depth.map_or(no_depth, |d| c[d])];
+        out.extend(poes.iter().map(|&i| c[i]));
+        out.join(",")
+    };
+    let mut out = format!("{meta}\n{}\n", row(&header, "depth"));
+    for line in lines {
+        let c = cells(line);
+        if c.len() != header.len() {
+            return None;
+        }
+        out.push_str(&row(&c, "0.0"));
+        out.push('\n');
+    }
+    Some(out)
+}
+
 /// A header's columns, each once: of a column given twice the first was
 /// read, the second passed over.
 fn once_each(line: usize, header: &[&str]) -> Result<(), HazardError> {
@@ -318,83 +337,6 @@ pub fn off_the_globe(name: &str, v: f64) -> Option<String> {
     let limit = if name == "lat" { 90.0 } else { 180.0 };
     (v.is_nan() || v.abs() > limit)
         .then(|| format!("column `{name}`: {v}° is not a {name} (it lies within ±{limit}°)"))
-}
-
-/// A warning where a curve's IMLs look like another unit than the IM's
-/// (the commonest slips: PGA or SA in cm/s² given as g, PGV in m/s given
-/// as cm/s), naming the likely unit; and for AvgSA, which periods the
-/// curve must be over (a hazard file does not say).
-pub fn plausibility(curve: &HazardCurve) -> Option<String> {
-    let (lo, hi) = (curve.iml[0], *curve.iml.last()?);
-    let range = format!(
-        "the hazard's IMLs run from {} to {} {}",
-        crate::im::level_text(lo),
-        crate::im::level_text(hi),
-        curve.im.unit()
-    );
-    if let Some(slip) = unit_slip(curve.im, lo, hi, &range) {
-        return Some(slip);
-    }
-    match curve.im {
-        Im::AvgSa => Some(format!(
-            "AvgSA: a hazard file does not state its periods; this tool's AvgSA is the geometric \
-             mean of SA at {} s (docs/MODEL.md §14), and the hazard must be computed over the \
-             same periods",
-            crate::im::AVGSA_PERIODS_S
-                .map(crate::im::period_text)
-                .join(", ")
-        )),
-        _ => None,
-    }
-}
-
-/// A warning where an OpenQuake curve is not the mean hazard (its `kind`
-/// a quantile, a realisation of the logic tree, or another statistic): the
-/// rate integrated over it is then that curve's, not the mean rate of
-/// exceedance a risk or an expected count rests on. `None` for the mean
-/// and for a plain CSV, which states no statistic.
-pub fn statistic_note(curve: &HazardCurve) -> Option<String> {
-    let kind = curve.kind.as_deref()?;
-    let what = if kind == "mean" {
-        return None;
-    } else if let Some(q) = kind.strip_prefix("quantile-") {
-        match q.parse::<f64>() {
-            Ok(q) if (0.0..=1.0).contains(&q) => format!(
-                "the {} % quantile of the hazard over OpenQuake's logic tree",
-                (q * 1e6).round() / 1e4
-            ),
-            _ => format!("a quantile curve (`{kind}`)"),
-        }
-    } else if kind.starts_with("rlz-") {
-        format!("one realisation of OpenQuake's logic tree (`{kind}`)")
-    } else {
-        format!("OpenQuake's `{kind}` curve")
-    };
-    Some(format!(
-        "the hazard file is {what} (kind='{kind}'), not the mean hazard: the rates below are \
-         that curve's, not the mean rate of exceedance; give the mean curve \
-         (hazard_curve-mean-…csv) for the mean rate"
-    ))
-}
-
-/// A warning where levels of `im` that start at `lo` and reach `hi` (as
-/// `range` says, in words) look like another unit than the IM's: PGA or SA
-/// in cm/s² given as g (nothing shakes the ground at 5 g), PGV in m/s
-/// given as cm/s (all below 5 cm/s, where nothing rocks). The one rule of
-/// the hazard's IMLs and of OpenQuake's fields.
-pub fn unit_slip(im: Im, lo: f64, hi: f64, range: &str) -> Option<String> {
-    match im {
-        Im::Pga | Im::Sa(_) | Im::AvgSa if lo >= 5.0 => Some(format!(
-            "{range}: no earthquake shakes the ground at {} g and more; are they in cm/s² \
-             (gal)? Divide them by 981 for g",
-            crate::im::level_text(lo)
-        )),
-        Im::Pgv if hi <= 5.0 => Some(format!(
-            "{range}: all below 5 cm/s, where nothing rocks; are they in m/s? Multiply them by \
-             100 for cm/s"
-        )),
-        _ => None,
-    }
 }
 
 /// The IM of a plain file's first header cell: its key (`pga_g`,
@@ -628,6 +570,24 @@ lon,lat,depth,poe-0.01,poe-0.1,poe-0.5,poe-1.0\n\
         // OpenQuake's line is told by its keys, wherever they are.
         let e = parse(&OQ.replace("imt='PGA'", "")).unwrap_err();
         assert!(e.message.contains("no `imt=`"), "{e}");
+    }
+
+    /// OpenQuake's own exports lead with `custom_site_id`, which its
+    /// `hazard_curves_csv` reader takes for a poe (and fails on): the
+    /// job's file keeps lon, lat, depth and the poes, as written.
+    #[test]
+    fn the_jobs_hazard_file_is_what_openquake_reads() {
+        let own = OQ
+            .replace("lon,lat,depth,", "custom_site_id,lon,lat,depth,")
+            .replace("23.7,37.9,", "7zzyzgxf,23.7,37.9,")
+            .replace("21.7,38.2,", "8abcdefg,21.7,38.2,");
+        assert_eq!(openquake_input(&own).as_deref(), Some(OQ));
+        let no_depth = OQ
+            .replace(",depth", "")
+            .replace(",0.0,1.0", ",1.0")
+            .replace(",0.0,0.9", ",0.9");
+        assert_eq!(openquake_input(&no_depth).as_deref(), Some(OQ));
+        assert_eq!(parse(&openquake_input(&own).unwrap()), parse(OQ));
     }
 
     /// Risk integrates the curve it is given: a quantile's or a
