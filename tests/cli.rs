@@ -815,3 +815,44 @@ fn capacity_refuses_two_records_of_one_stem() {
         "{err}"
     );
 }
+
+/// A reader that stops early (`rocking risk … | head -1`) closed the pipe
+/// and the next print panicked ("failed printing to stdout: Broken pipe",
+/// exit 101, a backtrace). The command now ends as `cat` does, by the
+/// signal, and says nothing: here its pipe is closed before it prints.
+#[cfg(unix)]
+#[test]
+fn a_closed_pipe_ends_the_command_quietly() {
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::{Command, Stdio};
+    for args in [
+        &[
+            "risk",
+            "--hazard",
+            "records/hazard/synthetic-openquake.csv",
+            "--b",
+            "0.2",
+            "--h",
+            "1",
+        ][..],
+        &["ims", "--record", KOBE],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_rocking"))
+            .args(args)
+            .current_dir(root())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take());
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert_eq!(
+            out.status.signal(),
+            Some(13),
+            "{args:?}: {:?} {err}",
+            out.status
+        );
+    }
+}

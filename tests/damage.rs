@@ -760,3 +760,43 @@ fn a_study_of_named_blocks_answers_for_its_own_blocks() {
         "{e}"
     );
 }
+
+/// The records' own curve has no β: `fragility --json`, `risk`'s
+/// fragility and its bootstrap band stated the fractile lognormal's β
+/// beside it (the text said "no β"); they now state none. The median is
+/// the curve's own: it passes 1/2 there. Asked for the lognormal anyway,
+/// the same records give a β.
+#[test]
+fn the_records_curve_states_no_beta() {
+    let dir = tempdir();
+    let d = dir.path();
+    let block = ["--b", "0.2", "--h", "0.9", "--eps", "0.85", "--direct"];
+    let json = |args: &[&str]| -> serde_json::Value {
+        let out = rocking(d, &[args, &block[..], &["--json"]].concat());
+        assert!(out.status.success(), "{}", stderr(&out));
+        serde_json::from_str(&stdout(&out)).unwrap()
+    };
+    let f = json(&["fragility", "--pga", "0.3"]);
+    assert_eq!(f["fit"], "empirical", "{f}");
+    assert!(f["beta"].is_null(), "{f}");
+    // The curve passes 1/2 at the median it states.
+    let median = f["median"].as_f64().unwrap().to_string();
+    let at = json(&["fragility", "--pga", &median]);
+    let half = at["points"][0]["probability"].as_f64().unwrap();
+    assert!((half - 0.5).abs() < 1e-9, "{at}");
+    let hazard = crate::util::root().join("records/hazard/synthetic-site.csv");
+    let r = json(&["risk", "--hazard", s(&hazard), "--bootstrap", "200"]);
+    assert_eq!(r["fragility"]["fit"], "empirical", "{r}");
+    assert!(r["fragility"]["beta"].is_null(), "{r}");
+    assert!(r["fragility"]["bootstrap"]["beta_band"].is_null(), "{r}");
+    assert!(r["fragility"]["bootstrap"]["median_band"].is_array(), "{r}");
+    let l = json(&[
+        "fragility",
+        "--pga",
+        "0.3",
+        "--if-not-lognormal",
+        "lognormal",
+    ]);
+    assert_eq!(l["fit"], "fractile", "{l}");
+    assert!(l["beta"].as_f64().is_some_and(|b| b > 0.0), "{l}");
+}

@@ -60,16 +60,15 @@ impl StateFragility {
 
     /// The median (IM unit) and β that `method` stands for: its
     /// lognormal's, or for the records' curve its median, the records' 50 %
-    /// fractile (none where more than half never reach the state), beside
-    /// the fractile fit's β. The one place `fragility`, `risk` and Python read
-    /// them from.
+    /// fractile (none where more than half never reach the state), and no
+    /// β: the curve has none (a lognormal's β beside it was stated for a
+    /// fragility that is not one, in JSON, the bootstrap's band, a tree's
+    /// branches, while the text said "no β"). The one place `fragility`,
+    /// `risk` and Python read them from.
     pub fn median_beta(&self, method: FitMethod) -> (Option<f64>, Option<f64>) {
         match (self.by(method), &self.capacities) {
             (Some(l), _) => (Some(l.median), Some(l.beta)),
-            (None, Some(c)) => (
-                Curve::of_capacities(c).quantile(0.5),
-                self.fractile.map(|l| l.beta),
-            ),
+            (None, Some(c)) => (Curve::of_capacities(c).quantile(0.5), None),
             (None, None) => (None, None),
         }
     }

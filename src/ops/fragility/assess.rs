@@ -52,6 +52,7 @@ pub struct Assessment {
     pub median: f64,
     /// For PGA: the median η_c.
     pub eta_c_median: Option<f64>,
+    /// The lognormal's β; none (NaN, null in JSON) for the records' curve.
     pub beta: f64,
     /// With `--direct`: the lognormal check of the records' capacities,
     /// Lilliefors' p of their logarithms (below 0.05 the lognormal is

@@ -98,8 +98,7 @@ pub(super) fn bands(
             rates[s].push(rate);
         }
         // One branch: its median and β as the answer reads them (for the
-        // records' curve, its 50 % level and the fractile fit's β); a tree:
-        // the mixture's.
+        // records' curve, its 50 % level and no β); a tree: the mixture's.
         let (m, beta) = match (&states[..], branches) {
             ([s], [r]) => s.median_beta(r.fragility.method),
             _ => Mixture {
