@@ -1,9 +1,10 @@
 //! The damage states' fragility curves of one block: each limit state's
 //! lognormal in PGA/(αg) (the paper's fractile method) over the share of
-//! records that reach it.
+//! records that reach it (on a building's floor, in the ground's PGA, as
+//! the fits are).
 
 use super::figure::Figure;
-use super::shared::middle;
+use super::shared::{middle, middle_name};
 use crate::damage::{FitMethod, Lognormal};
 use crate::plot::{Chart, Hue, Line, Scale, Style};
 use crate::study::{DamageData, StudyData};
@@ -12,7 +13,7 @@ use crate::tables::damage::{DamageStateRow, StateCapacityRow};
 /// The block the damage figure and table show, with its rows in PGA.
 pub struct Shown<'a> {
     /// Which block, in words.
-    pub which: &'static str,
+    pub which: String,
     pub p: f64,
     pub eps: f64,
     /// The states' names, lightest first.
@@ -20,6 +21,10 @@ pub struct Shown<'a> {
     /// Its fits in PGA, both methods.
     pub fits: Vec<&'a DamageStateRow>,
     pub capacities: Vec<&'a StateCapacityRow>,
+    /// On a building's floor: each record's PFA/PGA, which turns the
+    /// floor's η of its state capacities into the ground's (the fits'); empty
+    /// on the ground.
+    pub pfa_over_pga: Vec<(&'a str, f64)>,
 }
 
 impl Shown<'_> {
@@ -35,13 +40,21 @@ impl Shown<'_> {
         })
     }
 
+    /// The record's PFA/PGA on a floor (1 on the ground).
+    fn ratio(&self, record: &str) -> f64 {
+        self.pfa_over_pga
+            .iter()
+            .find(|(r, _)| *r == record)
+            .map_or(1.0, |r| r.1)
+    }
+
     /// The fit row of `state` (any method: the counts are the same).
     pub fn row(&self, state: &str) -> Option<&DamageStateRow> {
         self.fits.iter().copied().find(|r| r.state == state)
     }
 
-    /// The capacities (PGA/(αg)) of the records that reach `state`, ascending,
-    /// and how many records there are.
+    /// The capacities (PGA/(αg), the ground's) of the records that reach
+    /// `state`, ascending, and how many records there are.
     pub fn reached(&self, state: &str) -> (Vec<f64>, usize) {
         let of_state: Vec<&&StateCapacityRow> = self
             .capacities
@@ -51,7 +64,7 @@ impl Shown<'_> {
         let mut v: Vec<f64> = of_state
             .iter()
             .filter(|c| c.reached)
-            .map(|c| 1.0 / c.eta)
+            .map(|c| 1.0 / c.eta / self.ratio(&c.record_id))
             .collect();
         v.sort_by(f64::total_cmp);
         (v, of_state.len())
@@ -63,7 +76,7 @@ impl Shown<'_> {
 pub fn shown(d: &StudyData) -> Option<Shown<'_>> {
     let (which, p, eps, data, index): (_, _, _, &DamageData, Option<i64>) = match &d.example {
         Some(x) => (
-            "the pipeline's example block",
+            "the pipeline's example block".to_string(),
             x.block.p,
             x.block.eps,
             &x.damage,
@@ -71,9 +84,14 @@ pub fn shown(d: &StudyData) -> Option<Shown<'_>> {
         ),
         None => {
             let (bi, p, e) = middle(d);
-            ("the grid's middle block", p, e, &d.damage, Some(bi as i64))
+            (middle_name(d, bi), p, e, &d.damage, Some(bi as i64))
         }
     };
+    let caps = d.example.as_ref().map_or(&d.caps, |x| &x.caps);
+    let pfa_over_pga = caps
+        .iter()
+        .filter_map(|c| Some((c.record_id.as_str(), c.pfa_over_pga?)))
+        .collect();
     let of_block = move |i: i64| index.is_none_or(|b| b == i);
     let fits: Vec<&DamageStateRow> = data
         .states
@@ -100,6 +118,7 @@ pub fn shown(d: &StudyData) -> Option<Shown<'_>> {
             .iter()
             .filter(|c| of_block(c.block_index))
             .collect(),
+        pfa_over_pga,
     })
 }
 
@@ -167,7 +186,10 @@ pub(super) fn damage_states(d: &StudyData) -> Vec<Figure> {
                 "Damage-state fragility of {} (p = {:.2} 1/s, ε = {:.2})",
                 s.which, s.p, s.eps
             ),
-            x_desc: "PGA/(αg) = 1/η (dimensionless)".into(),
+            x_desc: match s.pfa_over_pga.is_empty() {
+                true => "PGA/(αg) = 1/η (dimensionless)".into(),
+                false => "the ground's PGA/(αg) (dimensionless)".into(),
+            },
             y_desc: "P(state reached | PGA)".into(),
             x_scale: Scale::Linear,
             y_scale: Scale::Linear,
@@ -179,11 +201,17 @@ pub(super) fn damage_states(d: &StudyData) -> Vec<Figure> {
         caption: format!(
             "Each limit state of `[damage]` for {}: the points are the records' own capacities \
              (the share of the {} records whose first crossing of the state lies at or below \
-             that intensity; `state_capacities.parquet`), the line its lognormal by the paper's \
-             fractile method (`damage_states.parquet`, which also holds the censored maximum \
-             likelihood fit and every other IM). In PGA multiply the axis by αg.",
+             that intensity; `state_capacities.parquet`{}), the line its lognormal by the \
+             paper's fractile method (`damage_states.parquet`, which also holds the censored \
+             maximum likelihood fit and every other IM). In PGA multiply the axis by αg.",
             s.which,
             s.capacities.len() / n.max(1),
+            match s.pfa_over_pga.is_empty() {
+                true => "",
+                false =>
+                    ", whose η is the floor's: here each is divided by its record's \
+                          PFA/PGA, into the ground's PGA as the fits are",
+            },
         ),
     }]
 }
@@ -259,5 +287,44 @@ mod tests {
         // The other default states have neither capacities nor fits.
         assert_eq!(c.lines.len(), 2);
         assert!(damage_states(&grid_study(&[1.0], &[0.5])).is_empty());
+    }
+
+    /// On a building's floor the state capacities' η is the floor's and
+    /// the fits are in the ground's PGA: the points were drawn as the
+    /// floor's PFA/(αg) under the ground's lognormal, on an axis that said
+    /// PGA. Each point is now its record's capacity over its PFA/PGA (by
+    /// hand: 1/η ÷ ratio), and the axis and the block's name say so.
+    #[test]
+    fn on_a_floor_the_points_are_in_the_grounds_pga() {
+        use crate::figures::fixture::{cap as capacity, floor_study};
+        let mut d = floor_study();
+        let records = [(0.5, 2.0), (0.25, 4.0), (0.2, 2.5)];
+        d.caps = records
+            .iter()
+            .enumerate()
+            .map(|(i, &(_, ratio))| crate::tables::sweep::CapacityRow {
+                pfa_over_pga: Some(ratio),
+                ..capacity(i as i64, None)
+            })
+            .collect();
+        d.damage.capacities = records
+            .iter()
+            .enumerate()
+            .map(|(i, &(eta, _))| StateCapacityRow {
+                record_id: format!("r{i}"),
+                ..cap("rocking", eta, true)
+            })
+            .collect();
+        d.damage.states = vec![fit("rocking", FitMethod::Fractile, 1.0, 0.5)];
+        let figs = damage_states(&d);
+        let c = &figs[0].chart;
+        // 1/0.5/2 = 1, 1/0.25/4 = 1, 1/0.2/2.5 = 2.
+        assert_eq!(
+            c.lines[0].points,
+            vec![(1.0, 1.0 / 3.0), (1.0, 2.0 / 3.0), (2.0, 1.0)]
+        );
+        assert_eq!(c.x_desc, "the ground's PGA/(αg) (dimensionless)");
+        assert!(figs[0].caption.contains("divided by its record's PFA/PGA"));
+        assert!(c.title.contains("block `rack`"), "{}", c.title);
     }
 }

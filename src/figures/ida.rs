@@ -3,7 +3,7 @@
 //! (paper Fig. 6).
 
 use super::figure::Figure;
-use super::shared::{middle, ramp, Q_NAMES};
+use super::shared::{middle, middle_name, one_over_eta, ramp, Q_NAMES};
 use crate::ida::RunKind;
 use crate::plot::{Chart, Hue, Line, Scale, Style};
 use crate::study::StudyData;
@@ -34,7 +34,7 @@ pub(super) fn ida_curves(d: &StudyData) -> Vec<Figure> {
             x.caps.iter().collect::<Vec<_>>(),
             &x.ida,
             &x.horizontal,
-            "the pipeline's example block (`[example]`)",
+            "the pipeline's example block (`[example]`)".to_string(),
         ),
         None => {
             let n_blocks = d.records_plan().blocks.len();
@@ -44,7 +44,7 @@ pub(super) fn ida_curves(d: &StudyData) -> Vec<Figure> {
                 .iter()
                 .filter(|c| c.case_id as usize % n_blocks == bi)
                 .collect();
-            (p, e, caps, &d.ida, &d.horizontal, "the grid's middle block")
+            (p, e, caps, &d.ida, &d.horizontal, middle_name(d, bi))
         }
     };
     let mut lines = Vec::new();
@@ -95,7 +95,7 @@ pub(super) fn ida_curves(d: &StudyData) -> Vec<Figure> {
                 caps.len()
             ),
             x_desc: "θmax / α".into(),
-            y_desc: "PGA / (α g) = 1/η".into(),
+            y_desc: one_over_eta(d).into(),
             x_scale: Scale::Linear,
             y_scale: Scale::Linear,
             x_range: Some((0.0, 1.05)),
@@ -132,7 +132,7 @@ pub(super) fn median_ida_across_p(d: &StudyData) -> Vec<Figure> {
         chart: Chart {
             title: format!("Median IDA curves across p, ε = {e_mid:.2}"),
             x_desc: "θmax / α (50 % fractile)".into(),
-            y_desc: "PGA / (α g) = 1/η".into(),
+            y_desc: one_over_eta(d).into(),
             x_scale: Scale::Linear,
             y_scale: Scale::Log,
             x_range: Some((0.0, 1.05)),
@@ -286,5 +286,21 @@ mod tests {
     #[test]
     fn fig6_needs_the_grid() {
         assert!(median_ida_across_p(&block_study()).is_empty());
+    }
+
+    /// A study of named blocks has no "grid's middle block", and on a
+    /// building's floor 1/η is the floor's PFA over αg, not the PGA the
+    /// axis named.
+    #[test]
+    fn fig5_names_the_block_and_what_one_over_eta_is_of() {
+        let ground = &ida_curves(&block_study())[0];
+        assert_eq!(ground.chart.y_desc, "PGA / (α g) = 1/η");
+        assert!(
+            ground.caption.contains("for block `vase`"),
+            "{}",
+            ground.caption
+        );
+        let floor = &ida_curves(&crate::figures::fixture::floor_study())[0];
+        assert_eq!(floor.chart.y_desc, "PFA / (α g) = 1/η, on the floor");
     }
 }

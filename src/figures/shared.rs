@@ -1,6 +1,6 @@
 //! What several study figures share: the fractiles they draw, the paper's
-//! equation of each, the grid's middle block, the capacity points of one
-//! fractile and a fractile's law evaluated at (p, ε).
+//! equation of each, the grid's middle block, what 1/η is of, the capacity
+//! points of one fractile and a fractile's law evaluated at (p, ε).
 
 use crate::fit::{curve, polyval};
 use crate::fragility::FractileLaw;
@@ -18,6 +18,24 @@ pub(super) fn middle(d: &StudyData) -> (usize, f64, f64) {
         .position(|b| b.p == p && b.eps == e)
         .unwrap_or(0);
     (bi, blocks[bi].p, blocks[bi].eps)
+}
+
+/// The block [`middle`] picks, in words: the grid's middle block, or a
+/// study of named blocks' block by its name.
+pub(super) fn middle_name(d: &StudyData, bi: usize) -> String {
+    match d.is_grid() {
+        true => "the grid's middle block".to_string(),
+        false => format!("block `{}`", d.records_plan().blocks[bi].name),
+    }
+}
+
+/// What 1/η is of in a study's η tables: the ground's PGA, or on a
+/// building's floor (`[floor]`) the floor motion's peak, PFA.
+pub(super) fn one_over_eta(d: &StudyData) -> &'static str {
+    match d.records_plan().floor {
+        Some(_) => "PFA / (α g) = 1/η, on the floor",
+        None => "PGA / (α g) = 1/η",
+    }
 }
 
 pub(super) const Q_NAMES: [&str; 3] = ["16 %", "50 %", "84 %"];
