@@ -77,7 +77,12 @@ pub(super) fn fragility_example(d: &StudyData) -> Vec<Figure> {
         },
         caption: format!(
             "Probability of overturning of an example block (a 0.5 m × 2 m cabinet, \
-             Housner's ε) from this study's regression and the paper's{}.",
+             Housner's ε) from {}{}.",
+            match d.laws.is_empty() {
+                true => "the paper's regression alone: this study has none (a regression \
+                         needs a p × ε grid of at least 3 × 3, fitted by the fit stage)",
+                false => "this study's regression and the paper's",
+            },
             if band.is_empty() {
                 ""
             } else {
@@ -132,6 +137,14 @@ mod tests {
             }
         }
         assert_eq!(c.y_range, Some((0.0, 1.0)));
+        // The caption says the curve is the paper's alone.
+        assert!(
+            figs[0]
+                .caption
+                .contains("from the paper's regression alone: this study has none"),
+            "{}",
+            figs[0].caption
+        );
     }
 
     #[test]
