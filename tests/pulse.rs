@@ -333,6 +333,29 @@ fn wall_command_reports_the_walls_beside_the_closed_forms() {
             vec!["wall", "--pulse", "rect", "--f", "1", "--overturn", "escap"],
             "escape",
         ),
+        // The wall is of one model: its options name what it offers (the
+        // refusals sent users to `--mu` and `--model auto`, which it does
+        // not take), and α beside the linearised model was dropped unsaid.
+        (
+            vec![
+                "wall",
+                "--pulse",
+                "rect",
+                "--f",
+                "1",
+                "--model",
+                "slide-rock",
+            ],
+            "[possible values: linearized, nonlinear]",
+        ),
+        (
+            vec!["wall", "--pulse", "rect", "--f", "1", "--integrator", "dp5"],
+            "(give --model nonlinear)",
+        ),
+        (
+            vec!["wall", "--pulse", "rect", "--f", "1", "--alpha", "0.3"],
+            "--alpha, --integrator and --rtol are the nonlinear model's",
+        ),
     ] {
         let out = crate::util::rocking(&crate::util::root(), &args);
         assert!(!out.status.success(), "{args:?}");

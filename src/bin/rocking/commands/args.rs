@@ -21,7 +21,15 @@ use rocking::pulse::{Cycle, ShapeKind};
 /// The value parser of a closed set: its labels as the possible values,
 /// each with its help, its aliases accepted.
 pub fn label<T: Label + Clone + Send + Sync>() -> impl TypedValueParser<Value = T> {
-    PossibleValuesParser::new(T::ALL.iter().map(|m| {
+    label_among(T::ALL)
+}
+
+/// [`label`] offering only `members` (their help and aliases as there):
+/// for a command that takes a few of a set's members.
+pub fn label_among<T: Label + Clone + Send + Sync>(
+    members: &'static [T],
+) -> impl TypedValueParser<Value = T> {
+    PossibleValuesParser::new(members.iter().map(|m| {
         let value = PossibleValue::new(m.label()).aliases(m.aliases().iter().copied());
         match m.help() {
             "" => value,

@@ -7,7 +7,7 @@ use rocking::physics::{ModelChoice, NonlinearIntegrator, Overturn};
 use rocking::pulse::{self, WallKind, WallSearch};
 use serde::Serialize;
 
-use super::args::{label, parsed, PulseArgs};
+use super::args::{label, label_among, parsed, PulseArgs};
 
 /// Find a pulse's safety wall: the largest η at which the block overturns.
 #[derive(Debug, clap::Args)]
@@ -33,8 +33,9 @@ pub struct Args {
     /// Overturning criterion: escape, static, cap:<c>, on-side (nonlinear).
     #[arg(long, default_value = "escape", value_parser = parsed::<Overturn>)]
     overturn: Overturn,
-    /// Equation of motion (auto is not offered: the wall is of one model).
-    #[arg(long, value_parser = label::<ModelChoice>(), default_value = "linearized")]
+    /// Equation of motion (the wall is of one model: neither auto nor
+    /// slide-rock, which needs a base's friction, is offered).
+    #[arg(long, value_parser = label_among(&[ModelChoice::Linearized, ModelChoice::Nonlinear]), default_value = "linearized")]
     model: ModelChoice,
     /// Slenderness α = atan(b/h) (rad), for the nonlinear model.
     #[arg(long, value_name = "rad")]
@@ -84,8 +85,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if let Err(e) = rocking::pulse::check_f(args.f) {
         anyhow::bail!("--f {}: {e}", args.f);
     }
-    if args.model == ModelChoice::Auto {
-        anyhow::bail!("--model auto is not offered here: give linearized or nonlinear");
+    // The shared refusal names `--model auto`, which the wall does not offer.
+    let solver_given = args.integrator != NonlinearIntegrator::Taylor || args.rtol.is_some();
+    if args.model == ModelChoice::Linearized && (solver_given || args.alpha.is_some()) {
+        anyhow::bail!(
+            "--alpha, --integrator and --rtol are the nonlinear model's; the wall's linearised \
+             model depends on f and ε alone and is stepped exactly (give --model nonlinear)"
+        );
     }
     let block = BlockAsk {
         p: vec![args.f],
