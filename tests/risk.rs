@@ -968,3 +968,67 @@ fn one_block_one_fragility_in_every_command() {
         }
     }
 }
+
+/// `risk --inventory … --bootstrap N` gave each block's band in JSON alone:
+/// the printed table and `risk.parquet` dropped it. Both now carry it, and
+/// each block's band is the one it has alone (the same resamples).
+#[test]
+fn an_inventorys_bootstrap_bands_reach_the_table() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(
+        d.join("inv.csv"),
+        "name,b,h,eps\nstatue,0.2,1,\nvase,0.1,0.4,0.8\n",
+    )
+    .unwrap();
+    let hazard = root().join("records/hazard/synthetic-site.csv");
+    let far = bundled_records().join("far-field");
+    let common = [
+        "risk",
+        "--hazard",
+        hazard.to_str().unwrap(),
+        "--direct",
+        "--records",
+        far.to_str().unwrap(),
+        "--bootstrap",
+        "50",
+    ];
+    let out = rocking(
+        d,
+        &[
+            &common[..],
+            &["--inventory", "inv.csv", "--out", "r.parquet"],
+        ]
+        .concat(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.contains("90 % band (1/yr)"), "{text}");
+    let rows: Vec<rocking::tables::risk::RiskRow> =
+        rocking::tables::read(&d.join("r.parquet")).unwrap();
+    for (row, block) in rows
+        .iter()
+        .zip([["--b", "0.2", "--h", "1"], ["--b", "0.1", "--h", "0.4"]])
+    {
+        let eps: &[&str] = if row.block == "vase" {
+            &["--eps", "0.8"]
+        } else {
+            &[]
+        };
+        let alone = json(&rocking(
+            d,
+            &[&common[..], &block, eps, &["--json"]].concat(),
+        ));
+        let band = &alone["sites"][0]["annual_rate_band"];
+        assert_eq!(row.annual_rate_lo, band[0].as_f64(), "{}", row.block);
+        assert_eq!(row.annual_rate_hi, band[1].as_f64(), "{}", row.block);
+        assert!(
+            row.annual_rate_lo.unwrap() < row.annual_rate
+                && row.annual_rate < row.annual_rate_hi.unwrap()
+        );
+        assert!(
+            text.contains(&format!("{:.3e}", row.annual_rate_lo.unwrap())),
+            "{text}"
+        );
+    }
+}

@@ -10,8 +10,9 @@ table! {
     /// Written by `rocking risk --inventory BLOCKS.csv` in `--out` (default
     /// `risk.parquet`): every block of the inventory assessed at every site of the hazard
     /// file. The metadata holds `rocking.risk.hazard` (the hazard file). Version 3 added
-    /// `mu`, `slides_first` and `floor`; version 5 `fit`.
-    pub struct RiskRow = "risk" v 5 {
+    /// `mu`, `slides_first` and `floor`; version 5 `fit`; version 6 the bootstrap band
+    /// (`annual_rate_lo`, `annual_rate_hi`).
+    pub struct RiskRow = "risk" v 6 {
         /// The block's name in the inventory.
         pub block: String,
         /// The block's half-width b (m).
@@ -70,6 +71,11 @@ table! {
         pub beta: Option<f64>,
         /// λ_OT, the annual rate of overturning (1/year).
         pub annual_rate: f64,
+        /// With `--bootstrap`: the lower end of the rate's 90 % band over resamples of the
+        /// records (1/year); empty otherwise.
+        pub annual_rate_lo: Option<f64>,
+        /// With `--bootstrap`: the band's upper end (1/year).
+        pub annual_rate_hi: Option<f64>,
         /// The return period 1/λ_OT (years); empty when the rate is 0.
         pub return_period_years: Option<f64>,
         /// The exposure time T (years, `--years`).

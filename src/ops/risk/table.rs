@@ -33,11 +33,11 @@ pub fn rows(assessments: &[Assessment], beyond: Beyond) -> Vec<RiskRow> {
                 im: a.fragility.im.clone(),
                 unit: a.fragility.unit.to_string(),
                 median: a.fragility.median,
-                // The records' own curve has no β: the rate integrates the
-                // curve, and the fractile fit's β beside it would state a
-                // fragility the rate did not use.
-                beta: a.fragility.beta.filter(|_| a.fragility.fit != "empirical"),
+                // None for the records' own curve ([`StateFragility::median_beta`]).
+                beta: a.fragility.beta,
                 annual_rate: s.annual_rate,
+                annual_rate_lo: s.annual_rate_band.map(|b| b[0]),
+                annual_rate_hi: s.annual_rate_band.map(|b| b[1]),
                 return_period_years: s.return_period_years,
                 years: a.years,
                 p_overturn_in_years: s.p_overturn_in_years,

@@ -496,8 +496,17 @@ fn print_deaggregation(s: &rocking::ops::risk::SiteInfo, f: &rocking::ops::risk:
 }
 
 fn print_inventory(all: &[Assessment], years: f64) {
+    // With --bootstrap, each rate's band over resamples of the records.
+    let level = all
+        .iter()
+        .find_map(|a| a.fragility.bootstrap.as_ref().map(|b| b.level));
+    let banded = level.is_some();
+    let band_head = match level {
+        Some(l) => format!(" {:>21}", format!("{:.0} % band (1/yr)", 100.0 * l)),
+        None => String::new(),
+    };
     println!(
-        "{:<24} {:>5} {:>12} {:>14} {:>10}  model",
+        "{:<24} {:>5} {:>12}{band_head} {:>14} {:>10}  model",
         "block",
         "site",
         "rate (1/yr)",
@@ -506,8 +515,15 @@ fn print_inventory(all: &[Assessment], years: f64) {
     );
     for a in all {
         for s in &a.sites {
+            let band = match (banded, s.annual_rate_band) {
+                (false, _) => String::new(),
+                (true, Some([lo, hi])) => {
+                    format!(" {:>21}", format!("{} – {}", rate(lo), rate(hi)))
+                }
+                (true, None) => format!(" {:>21}", "—"),
+            };
             println!(
-                "{:<24} {:>5} {:>12} {:>14} {:>10.4}  {}",
+                "{:<24} {:>5} {:>12}{band} {:>14} {:>10.4}  {}",
                 a.block.name,
                 s.site,
                 rate(s.annual_rate),
