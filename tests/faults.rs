@@ -1064,3 +1064,51 @@ fn friction_has_one_range_at_every_door() {
         "{e}"
     );
 }
+
+/// A set the manifest does not name (`far-feild`) passed `run --to ingest`,
+/// which ingested every record, and was refused only by the sweep, as the
+/// sweep's failure. It is refused on load, naming the pipeline, the
+/// manifest and the sets it has, before any stage writes.
+#[test]
+fn a_set_the_manifest_lacks_is_refused_on_load() {
+    let dir = tempdir();
+    let d = dir.path();
+    let pipeline = write_pipeline(
+        d,
+        "typo",
+        "sets = [\"far-feild\"]\n[[block]]\nb = 0.2\nh = 0.9\neps = 0.9\n",
+    );
+    for args in [&["run", "--to", "ingest"][..], &["status"]] {
+        let out = rocking(
+            d,
+            &[args, &[pipeline.to_str().unwrap(), "--outputs", "out"]].concat(),
+        );
+        assert!(!out.status.success(), "{args:?}");
+        let e = stderr(&out);
+        assert!(
+            e.contains(
+                "typo.toml: `records.sets` names \"far-feild\", which no record of the manifest"
+            ) && e.contains("available: far-field, near-field-no-pulse, near-field-pulse"),
+            "{e}"
+        );
+        assert!(!d.join("out").join("typo").exists());
+    }
+    // Spelled right, it ingests.
+    let fixed = write_pipeline(
+        d,
+        "fixed",
+        "sets = [\"far-field\"]\n[[block]]\nb = 0.2\nh = 0.9\neps = 0.9\n",
+    );
+    let out = rocking(
+        d,
+        &[
+            "run",
+            "--to",
+            "ingest",
+            fixed.to_str().unwrap(),
+            "--outputs",
+            "out",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+}

@@ -108,6 +108,57 @@ pub enum LoadError {
         table: PathBuf,
         dir: PathBuf,
     },
+    #[error("{}: {unknown}", pipeline.display())]
+    UnknownSet {
+        pipeline: PathBuf,
+        /// The set, the manifest and the sets it has, in words.
+        unknown: String,
+    },
+}
+
+/// A set of `records.sets` that the pipeline's manifest does not name: a
+/// typo (`far-feild`) ran the ingest and was refused by the sweep, as the
+/// sweep's failure. Checked on load where the manifest can be read; the
+/// selection itself is the sweep's ([`crate::records::select`]).
+fn known_sets(study: &Study, pipeline: &Path) -> Result<(), LoadError> {
+    let Ok(records) = study.plan.records_study() else {
+        return Ok(());
+    };
+    let (RecordSource::At2 {
+        manifest: Some(manifest),
+        ..
+    }
+    | RecordSource::Text {
+        manifest: Some(manifest),
+        ..
+    }) = &records.records
+    else {
+        return Ok(());
+    };
+    // An unreadable manifest is the ingest's to report, by its line.
+    let Some(m) = std::fs::File::open(manifest)
+        .ok()
+        .and_then(|f| crate::manifest::read(f).ok())
+    else {
+        return Ok(());
+    };
+    let have: std::collections::BTreeSet<&str> = m
+        .entries
+        .values()
+        .filter_map(|e| e.meta.set.as_deref())
+        .collect();
+    match records.sets.iter().find(|s| !have.contains(s.as_str())) {
+        Some(set) => Err(LoadError::UnknownSet {
+            pipeline: pipeline.into(),
+            unknown: format!(
+                "`records.sets` names \"{set}\", which no record of the manifest {} has; \
+                 available: {}",
+                manifest.display(),
+                have.into_iter().collect::<Vec<_>>().join(", ")
+            ),
+        }),
+        None => Ok(()),
+    }
 }
 
 impl Study {
@@ -148,6 +199,7 @@ impl Study {
                 }
             }
         }
+        known_sets(&study, pipeline)?;
         Ok(study)
     }
 
