@@ -315,6 +315,9 @@ fn output_does_not_depend_on_argument_order() {
     let r2 = records::read(&dir.path().join("2.parquet")).unwrap();
     assert_eq!(r1, r2);
     assert_eq!(r1.len(), 2, "x/A.AT2 given twice is ingested once");
+    // No manifest was given: the summary does not blame one.
+    let said = String::from_utf8_lossy(&one.stdout);
+    assert!(said.contains("2 without a set (no --manifest)"), "{said}");
 }
 
 #[test]

@@ -36,6 +36,10 @@ pub struct Args {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let started = Instant::now();
+    let no_set = match args.manifest {
+        Some(_) => "without a set in the manifest",
+        None => "without a set (no --manifest)",
+    };
     let config = IngestConfig {
         text: None,
         paths: args.paths,
@@ -68,7 +72,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .per_set
         .iter()
         .map(|(s, n)| match s {
-            None => format!("{n} without a set in the manifest"),
+            None => format!("{n} {no_set}"),
             Some(s) => format!("{n} {s}"),
         })
         .collect();
