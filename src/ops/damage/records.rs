@@ -246,6 +246,26 @@ pub(super) fn curve_where_not_lognormal(f: &mut DamageFragility) {
         return;
     };
     let Some(p) = heaviest.lognormal_p.filter(|&p| p < LOGNORMAL_CHECK_LEVEL) else {
+        // The heaviest passes and decides: a lighter state that fails is
+        // kept lognormal, and said so (it was kept without a word, and its
+        // answer changed with the states asked beside it).
+        let failing: Vec<String> = f.states[..f.states.len() - 1]
+            .iter()
+            .filter_map(|s| {
+                let p = s.lognormal_p.filter(|&p| p < LOGNORMAL_CHECK_LEVEL)?;
+                Some(format!("`{}` (Lilliefors p = {p:.3})", s.name))
+            })
+            .collect();
+        if !failing.is_empty() {
+            f.warnings.push(format!(
+                "the capacities of {} fail the lognormal check (p < 0.05), but the heaviest \
+                 state, `{}`, decides the kind of every state's fragility and passes it: the \
+                 lognormals are kept (asked alone, or by --method empirical, a state's own \
+                 curve)",
+                failing.join(", "),
+                heaviest.name
+            ));
+        }
         return;
     };
     let name = heaviest.name.clone();
