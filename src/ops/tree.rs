@@ -101,7 +101,8 @@ pub struct TreeInfo {
     /// where it reaches 50 %, and its equivalent β, ln(x₈₄/x₁₆)/2.
     pub mean_median: Option<f64>,
     pub mean_beta: Option<f64>,
-    /// FEMA P-58's split of the branches' lognormals: β_rtr, β_m,
+    /// FEMA P-58's split of the branches' lognormals (a branch of the
+    /// records' curve by its equivalent β): β_rtr, β_m,
     /// β_total = √(β_rtr² + β_m²) about exp(Σ wᵢ ln mᵢ).
     pub split: Option<BetaSplit>,
     /// The quantiles the answers state over the branches.
@@ -126,6 +127,21 @@ pub fn weighted(parts: &[Part]) -> Vec<(f64, Fragility)> {
         .collect()
 }
 
+/// A fragility's equivalent β, ln(x₈₄/x₁₆)/2 at its Φ(±1) levels: a
+/// lognormal's own β, and the spread of the records' curve.
+fn equivalent_beta(f: &Fragility) -> Option<f64> {
+    match f {
+        Fragility::Lognormal { beta, .. } => Some(*beta),
+        Fragility::Curve(c) => {
+            let (lo, hi) = (
+                c.quantile(crate::stats::normal_cdf(-1.0))?,
+                c.quantile(crate::stats::normal_cdf(1.0))?,
+            );
+            Some(0.5 * (hi / lo).ln())
+        }
+    }
+}
+
 /// What an answer says of a tree of `parts`.
 pub fn info(tree: &Tree, parts: &[Part]) -> TreeInfo {
     let weighted = weighted(parts);
@@ -134,8 +150,12 @@ pub fn info(tree: &Tree, parts: &[Part]) -> TreeInfo {
         below: &[],
     }
     .median_beta();
-    let lognormals: Option<Vec<(f64, f64)>> =
-        parts.iter().map(|p| Some((p.median?, p.beta?))).collect();
+    // A branch of the records' own curve has no lognormal β; its spread in
+    // the split is its equivalent β, ln(x₈₄/x₁₆)/2, as the mixture's is.
+    let lognormals: Option<Vec<(f64, f64)>> = parts
+        .iter()
+        .map(|p| Some((p.median?, p.beta.or_else(|| equivalent_beta(&p.fragility))?)))
+        .collect();
     let weights: Vec<f64> = parts.iter().map(|p| p.path.weight).collect();
     TreeInfo {
         tree: tree.name.clone(),

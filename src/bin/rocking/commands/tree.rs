@@ -14,13 +14,18 @@ pub fn print_tree(t: &TreeInfo, unit: &str) {
     );
     let opt = |v: Option<f64>, f: &dyn Fn(f64) -> String| v.map_or("—".into(), f);
     for b in &t.branches {
+        // A median without a β: the branch is its records' own curve.
+        let spread = match (b.median, b.beta) {
+            (_, Some(v)) => format!("β {v:.3}"),
+            (Some(_), None) => "the records' own curve".into(),
+            (None, None) => "β —".into(),
+        };
         println!(
-            "  w {:<6} {:<28} ε = {:.4}: median {}, β {}",
+            "  w {:<6} {:<28} ε = {:.4}: median {}, {spread}",
             format!("{:.4}", b.weight),
             b.branch,
             b.eps,
             opt(b.median, &|m| format!("{} {unit}", level_text(m))),
-            opt(b.beta, &|v| format!("{v:.3}")),
         );
     }
     if t.branches.len() > 1 {
