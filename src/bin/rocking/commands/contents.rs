@@ -109,8 +109,11 @@ fn print_rows(rows: &[Row]) {
             scenes.push(key);
         }
     }
+    // Sizes to 0.1 mm: FEMA's inches halved, which a `fragility --b --h`
+    // copied from the table takes as they are (0.160 for 0.16034 m moved
+    // the median PFV by 2 %).
     print!(
-        "{:<14} {:>6} {:>6} {:>11}",
+        "{:<14} {:>7} {:>7} {:>11}",
         "item", "b (m)", "h (m)", "FEMA"
     );
     for (set, t) in &scenes {
@@ -123,7 +126,7 @@ fn print_rows(rows: &[Row]) {
     println!();
     for c in &FEMA_P58 {
         print!(
-            "{:<14} {:>6.3} {:>6.3} {:>11}",
+            "{:<14} {:>7.4} {:>7.4} {:>11}",
             c.id.trim_start_matches("E.20.22."),
             c.b_m(),
             c.h_m(),
