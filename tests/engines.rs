@@ -68,22 +68,44 @@ fn hazard_at(
     imls: &[f64],
     sites: &[(f64, f64, f64, f64)],
 ) -> (Vec<f64>, Vec<Vec<f64>>) {
-    let imls = imls.to_vec();
+    let places: Vec<(f64, f64)> = sites.iter().map(|s| (s.0, s.1)).collect();
+    let rate = |k: usize, a: f64| sites[k].2 * a.powf(-sites[k].3);
+    (
+        imls.to_vec(),
+        hazard_of(path, imt, imls, &places, rate, false),
+    )
+}
+
+/// A hazard-curve CSV at `imls`, one row per (lon, lat) of `sites` with
+/// the poe in 50 years of the annual rate `rate(site, a)`; with `ids`, led
+/// by a `custom_site_id` column as OpenQuake's own exports are. The poes
+/// as the file states them (ten digits), which OpenQuake reads.
+fn hazard_of(
+    path: &Path,
+    imt: &str,
+    imls: &[f64],
+    sites: &[(f64, f64)],
+    rate: impl Fn(usize, f64) -> f64,
+    ids: bool,
+) -> Vec<Vec<f64>> {
     let mut text = format!(
-        "#,,,,\"generated_by='rocking tests', start_date='2026-01-01T00:00:00', checksum=0, kind='mean', investigation_time=50.0, imt='{imt}'\"\nlon,lat,depth",
+        "#,,,,\"generated_by='rocking tests', start_date='2026-01-01T00:00:00', checksum=0, kind='mean', investigation_time=50.0, imt='{imt}'\"\n{}lon,lat,depth",
+        if ids { "custom_site_id," } else { "" }
     );
-    for a in &imls {
+    for a in imls {
         text.push_str(&format!(",poe-{a}"));
     }
     text.push('\n');
     let mut poes = Vec::new();
-    for &(lon, lat, k0, k) in sites {
-        // The poes as the file states them (ten digits), which OpenQuake reads.
+    for (k, &(lon, lat)) in sites.iter().enumerate() {
         let p: Vec<f64> = imls
             .iter()
-            .map(|a| -(-50.0 * k0 * a.powf(-k)).exp_m1())
+            .map(|&a| -(-50.0 * rate(k, a)).exp_m1())
             .map(|v| format!("{v:.9e}").parse().unwrap())
             .collect();
+        if ids {
+            text.push_str(&format!("site{k}x,"));
+        }
         text.push_str(&format!("{lon},{lat},0.0"));
         for v in &p {
             text.push_str(&format!(",{v:.9e}"));
@@ -92,7 +114,7 @@ fn hazard_at(
         poes.push(p);
     }
     fs::write(path, text).unwrap();
-    (imls, poes)
+    poes
 }
 
 /// OpenQuake's classical_damage for one fragility curve F at the hazard's
@@ -1316,34 +1338,16 @@ fn openquake_and_risk_agree_on_a_hazard_that_ends_in_zeros() {
         .map(|i| 0.05 * (3.0f64 / 0.05).powf(i as f64 / 299.0))
         .collect();
     let sites = [(21.73, 38.25, 2e-3, 2.2), (23.73, 37.98, 5e-4, 3.0)];
-    let mut text = String::from(
-        "#,,,,,\"generated_by='rocking tests', start_date='2026-01-01T00:00:00', checksum=0, \
-         kind='mean', investigation_time=50.0, imt='PGA'\"\ncustom_site_id,lon,lat,depth",
-    );
-    for a in &imls {
-        text.push_str(&format!(",poe-{a}"));
-    }
-    text.push('\n');
-    let mut poes = Vec::new();
-    for (k, &(lon, lat, k0, slope)) in sites.iter().enumerate() {
-        let rate = |a: f64| match a {
+    let places: Vec<(f64, f64)> = sites.iter().map(|s| (s.0, s.1)).collect();
+    let rate = |k: usize, a: f64| {
+        let (k0, slope) = (sites[k].2, sites[k].3);
+        match a {
             a if a <= 0.5 => k0 * a.powf(-slope),
             a if a <= 0.8 => k0 * 0.5f64.powf(-slope),
             _ => 0.0,
-        };
-        let p: Vec<f64> = imls
-            .iter()
-            .map(|&a| -(-50.0 * rate(a)).exp_m1())
-            .map(|v| format!("{v:.9e}").parse().unwrap())
-            .collect();
-        text.push_str(&format!("site{k}x,{lon},{lat},0.0"));
-        for v in &p {
-            text.push_str(&format!(",{v:.9e}"));
         }
-        text.push('\n');
-        poes.push(p);
-    }
-    fs::write(d.join("hazard.csv"), &text).unwrap();
+    };
+    let poes = hazard_of(&d.join("hazard.csv"), "PGA", &imls, &places, rate, true);
     let block = ["--b", "0.2", "--h", "0.9"];
     let out = rocking(
         d,

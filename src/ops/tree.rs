@@ -127,21 +127,6 @@ pub fn weighted(parts: &[Part]) -> Vec<(f64, Fragility)> {
         .collect()
 }
 
-/// A fragility's equivalent β, ln(x₈₄/x₁₆)/2 at its Φ(±1) levels: a
-/// lognormal's own β, and the spread of the records' curve.
-fn equivalent_beta(f: &Fragility) -> Option<f64> {
-    match f {
-        Fragility::Lognormal { beta, .. } => Some(*beta),
-        Fragility::Curve(c) => {
-            let (lo, hi) = (
-                c.quantile(crate::stats::normal_cdf(-1.0))?,
-                c.quantile(crate::stats::normal_cdf(1.0))?,
-            );
-            Some(0.5 * (hi / lo).ln())
-        }
-    }
-}
-
 /// What an answer says of a tree of `parts`.
 pub fn info(tree: &Tree, parts: &[Part]) -> TreeInfo {
     let weighted = weighted(parts);
@@ -154,7 +139,18 @@ pub fn info(tree: &Tree, parts: &[Part]) -> TreeInfo {
     // the split is its equivalent β, ln(x₈₄/x₁₆)/2, as the mixture's is.
     let lognormals: Option<Vec<(f64, f64)>> = parts
         .iter()
-        .map(|p| Some((p.median?, p.beta.or_else(|| equivalent_beta(&p.fragility))?)))
+        .map(|p| {
+            let own = || {
+                let alone = [(1.0, p.fragility.clone())];
+                Mixture {
+                    parts: &alone,
+                    below: &[],
+                }
+                .median_beta()
+                .1
+            };
+            Some((p.median?, p.beta.or_else(own)?))
+        })
         .collect();
     let weights: Vec<f64> = parts.iter().map(|p| p.path.weight).collect();
     TreeInfo {

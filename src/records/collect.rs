@@ -277,7 +277,8 @@ fn same_motions_out(rows: Vec<RecordRow>, bad: &mut Vec<BadFile>) -> Vec<RecordR
     kept
 }
 
-fn load_manifest(path: &Path) -> Result<Manifest, CollectError> {
+/// The manifest at `path`, read; errors name the file (and its line).
+pub fn load_manifest(path: &Path) -> Result<Manifest, CollectError> {
     let file = fs::File::open(path).map_err(|source| CollectError::Path {
         path: path.into(),
         source,

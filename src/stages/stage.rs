@@ -136,10 +136,7 @@ fn known_sets(study: &Study, pipeline: &Path) -> Result<(), LoadError> {
         return Ok(());
     };
     // An unreadable manifest is the ingest's to report, by its line.
-    let Some(m) = std::fs::File::open(manifest)
-        .ok()
-        .and_then(|f| crate::manifest::read(f).ok())
-    else {
+    let Ok(m) = crate::records::collect::load_manifest(manifest) else {
         return Ok(());
     };
     let have: std::collections::BTreeSet<&str> = m
