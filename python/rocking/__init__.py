@@ -155,8 +155,9 @@ def capacity(
     rocking in the plane at that angle from ``record`` towards ``pair``
     (``rocking capacity --pair --angle``); a list of dicts for a list.
 
-    Block keywords that give several blocks (``p=[1, 2, 5]``) give a list
-    of dicts too, one per block (and angle), in the command's order.
+    Block keywords that give several blocks (``p=[1, 2, 5]``), or a folder
+    of AT2 records as ``record``, give a list of dicts too, one per block
+    (and angle) and record, in the command's order.
     """
     search = {k: kw.pop(k) for k in _SEARCH if k in kw}
     if angle is not None and pair is None:
@@ -178,8 +179,10 @@ def capacity(
         data, step = _samples(record, dt)
         paths, arrays = [], [(record_id or "record", data, step)]
     found = _core.capacities([blk], paths, arrays, False, **search)
-    # Several blocks: every one, as the command prints them.
-    return found if len(blk) > 1 else found[0]
+    # Several blocks, or a folder of records: every one, as the command
+    # prints them (a folder of one record is still a list).
+    many = len(blk) > 1 or (_is_path(record) and os.path.isdir(os.fspath(record)))
+    return found if many else found[0]
 
 
 def _records(records: Any) -> Tuple[List[str], List[Tuple[str, bytes, float]]]:

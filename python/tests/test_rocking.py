@@ -139,6 +139,25 @@ def test_capacity_of_several_blocks_is_every_one():
         same(a, b)
 
 
+def test_capacity_of_a_folder_is_every_record(tmp_path):
+    # A folder of records gave its first record's capacity alone, the rest
+    # dropped without a word. Each capacity is that record's alone.
+    kobe = [KOBE, FAR / "RSN1111_KOBE_NIS090.AT2"]
+    folder = tmp_path / "kobe"
+    folder.mkdir()
+    for f in kobe:
+        (folder / f.name).write_bytes(f.read_bytes())
+    ours = rocking.capacity(folder, p=2.0, eps=0.7)
+    assert isinstance(ours, list) and len(ours) == 2
+    assert sorted(c["record_id"] for c in ours) == sorted(f.stem for f in kobe)
+    for c in ours:
+        same(c, rocking.capacity(folder / (c["record_id"] + ".AT2"), p=2.0, eps=0.7))
+    # A folder of one record is still a folder: a list.
+    (folder / kobe[1].name).unlink()
+    one = rocking.capacity(folder, p=2.0, eps=0.7)
+    assert isinstance(one, list) and len(one) == 1
+
+
 def test_keywords_are_refused_by_their_python_names(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     # An empty folder wrote the export into the current directory.
