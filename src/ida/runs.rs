@@ -15,8 +15,9 @@ use crate::physics::{simulate, simulate_in_step, Excitation, Outcome, PhysicsErr
 /// runs ahead of need, several at once: the grid levels up to the first
 /// overturning (scanned by all workers together, [`Runs::scan`]), and
 /// every chaos probe. The outcomes are the same, so the capacity and its
-/// certification are too; only the time changes, and at most one level
-/// per other worker past the first overturning is run in vain.
+/// certification are too, and so is the work counted (runs are counted
+/// when asked for); only the time changes, and at most one level per
+/// other worker past the first overturning is run in vain.
 pub struct Runs<'a> {
     pub(super) exc: &'a Excitation,
     memo: Memo,
@@ -96,9 +97,10 @@ impl<'a> Runs<'a> {
 
     /// Runs the specs not yet in memory together, when there is a batch and
     /// more than one is missing; a run that fails is left for
-    /// [`Runs::outcome`] to run again and report if it is ever needed. Those
-    /// already run ahead of need are taken as they are, and counted now as
-    /// the batch's runs are.
+    /// [`Runs::outcome`] to run again and report if it is ever needed. The
+    /// outcomes wait, as [`Runs::run_ahead`]'s do, until asked for: a
+    /// certification that stops at its first chaotic verdict counts the
+    /// runs it asked for, with a batch or without.
     pub fn prefetch(&mut self, specs: &[RunSpec]) {
         let Some(batch) = self.batch else {
             return;
@@ -106,27 +108,18 @@ impl<'a> Runs<'a> {
         let (mut keys, mut missing) = (Vec::new(), Vec::new());
         for s in specs {
             let key = run_key(s);
-            if self.memo.contains_key(&key) || keys.contains(&key) {
+            if self.memo.contains_key(&key) || self.ahead.contains_key(&key) || keys.contains(&key)
+            {
                 continue;
             }
-            match self.ahead.remove(&key) {
-                Some(out) => {
-                    let _ = self.remember(s, out);
-                }
-                None => {
-                    keys.push(key);
-                    missing.push(*s);
-                }
-            }
+            keys.push(key);
+            missing.push(*s);
         }
         if missing.len() < 2 {
             return;
         }
-        for (spec, out) in missing.iter().zip(batch.each(self.exc, &missing)) {
-            if let Ok(out) = out {
-                let _ = self.remember(spec, out);
-            }
-        }
+        let outs = batch.each(self.exc, &missing);
+        self.keep_ahead(missing.into_iter().zip(outs).collect());
     }
 
     /// Runs the grid levels `specs` (in the order a search meets them) that
@@ -139,7 +132,8 @@ impl<'a> Runs<'a> {
         };
         let mut missing = Vec::new();
         for s in specs {
-            match self.memo.get(&run_key(s)) {
+            let key = run_key(s);
+            match self.memo.get(&key).or_else(|| self.ahead.get(&key)) {
                 Some(out) if out.overturned() => break,
                 Some(_) => {}
                 None => missing.push(*s),
@@ -148,14 +142,15 @@ impl<'a> Runs<'a> {
         if missing.len() < 2 {
             return;
         }
-        for (spec, out) in missing
-            .iter()
-            .zip(batch.until_overturned(self.exc, &missing))
-        {
-            if let Some(Ok(out)) = out {
-                let _ = self.remember(spec, out);
-            }
-        }
+        // Kept ahead of need: counted when the search asks for them, so the
+        // levels run in vain past the first overturning are not.
+        let outs = batch.until_overturned(self.exc, &missing);
+        let ran = missing
+            .into_iter()
+            .zip(outs)
+            .filter_map(|(spec, out)| Some((spec, out?)))
+            .collect();
+        self.keep_ahead(ran);
     }
 
     /// The simulations done so far (outcomes found in memory excluded).
@@ -205,9 +200,10 @@ impl<'a> Runs<'a> {
         self.ahead.extend(keys.into_iter().zip(outs));
     }
 
-    /// Keeps outcomes run ahead of need (by [`Batch::alongside`]) until they
-    /// are asked for, as [`Runs::run_ahead`] does; failures are dropped, to
-    /// be run again and reported if they are ever asked for.
+    /// Keeps outcomes run ahead of need (by [`Batch::alongside`],
+    /// [`Runs::prefetch`], [`Runs::scan`]) until they are asked for, as
+    /// [`Runs::run_ahead`] does; failures are dropped, to be run again and
+    /// reported if they are ever asked for.
     pub(super) fn keep_ahead(&mut self, outs: Vec<(RunSpec, Result<Outcome, PhysicsError>)>) {
         for (spec, out) in outs {
             let key = run_key(&spec);
