@@ -93,6 +93,36 @@ pub fn saturated(
     })
 }
 
+/// The rate of a state OpenQuake's `classical_damage` counts from a
+/// curve, read as `risk` reads it (in double precision, the IMLs of poe 1
+/// left out: [`saturated`] tells those apart): at each IML the fragility
+/// `probability` times the IML's rate of occurrence, the difference of the
+/// midpoints of its neighbours' rates of exceedance, the first IML's and
+/// the last's padded by themselves (a midpoint rule, with half-bins at both
+/// ends and nothing beyond the last IML). A curve that ends in a rate of 0
+/// carries that IML too, as the job's does. Against the integral over the
+/// log-log curve (`risk --beyond stop`) its error is of the order of the
+/// squared spacing of the IMLs: tenths of a per cent at 100 IMLs a decade
+/// and a half, several per cent at 14.
+pub fn midpoint_rate(curve: &HazardCurve, probability: impl Fn(f64) -> f64) -> f64 {
+    let points: Vec<(f64, f64)> = curve
+        .iml
+        .iter()
+        .copied()
+        .zip(curve.annual_rate.iter().copied())
+        .chain(curve.ends_at.map(|x| (x, 0.0)))
+        .collect();
+    let n = points.len();
+    let mid = |i: usize| match i {
+        0 => points[0].1,
+        i if i == n => points[n - 1].1,
+        i => 0.5 * (points[i - 1].1 + points[i].1),
+    };
+    (0..n)
+        .map(|i| (mid(i) - mid(i + 1)) * probability(points[i].0))
+        .sum()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -109,6 +139,26 @@ mod tests {
             infinite: infinite.to_vec(),
             kind: None,
         }
+    }
+
+    /// Worked by hand: rates 0.1, 0.04, 0.01 /yr at 0.1, 0.2, 0.4 g, then 0
+    /// at 0.8 g; the padded midpoints are 0.1, 0.07, 0.025, 0.005, 0, so
+    /// the occurrences are 0.03, 0.045, 0.02, 0.005, and with P = 0.1,
+    /// 0.2, 0.5, 0.9 the rate is 0.003 + 0.009 + 0.01 + 0.0045 = 0.0265.
+    /// Without the 0 the last IML keeps half its bin: 0.025 − 0.01 = 0.015
+    /// at P = 0.5, so 0.003 + 0.009 + 0.0075 = 0.0195.
+    #[test]
+    fn the_jobs_midpoint_sum_by_hand() {
+        let p = |x: f64| match x {
+            0.1 => 0.1,
+            0.2 => 0.2,
+            0.4 => 0.5,
+            _ => 0.9,
+        };
+        let mut c = curve(&[0.05], &[(0.1, 0.1), (0.2, 0.04), (0.4, 0.01)]);
+        assert!((midpoint_rate(&c, p) - 0.0195).abs() < 1e-15);
+        c.ends_at = Some(0.8);
+        assert!((midpoint_rate(&c, p) - 0.0265).abs() < 1e-15);
     }
 
     /// Worked by hand over T = 50 years: poe = 1 at 0.05 g; at 0.1 g the
