@@ -1369,3 +1369,63 @@ fn the_example_block_may_slide() {
     assert!(e.contains("block `rack`: `model.kind` = \"slide-rock\" needs the base's friction coefficient: give the block's `mu`"), "{e}");
     assert!(!e.contains("--mu"), "{e}");
 }
+
+/// A record that ends at rest, alone and padded with zeros: the padding
+/// changes nothing physical, so a block that overturns after the record
+/// overturns at the same instant either way. On a base with friction the
+/// block may still be slipping when the record ends: its free motion
+/// starts where that slip runs out, not at the record's end (the slip's
+/// time was lost: overturning at 9.2763 s against 9.3824 s, by an RK4 of
+/// the free rocking from the stick written by a reviewer, on Kobe cut to
+/// 900 samples, b/h = 0.25, μ = 0.3, η = 0.2). The padded run steps the
+/// zeros as a record; the other follows the free motion in one stretch:
+/// the same equation by two paths, within the Taylor stepper's tolerance.
+#[test]
+fn a_block_overturning_after_the_record_overturns_when_the_padded_record_says() {
+    let (b, h) = (0.25f64, 1.0f64);
+    let alpha = (b / h).atan();
+    let p = (3.0 * G / (4.0 * b.hypot(h))).sqrt();
+    let eps = 1.0 - 1.5 * alpha.sin().powi(2);
+    let (mut after, mut slipping_after) = (0, 0);
+    for (stem, cut) in [
+        ("RSN1111_KOBE_NIS000", 800),
+        ("RSN1111_KOBE_NIS000", 900),
+        ("RSN1111_KOBE_NIS000", 1000),
+        ("RSN752_LOMAP_CAP090", 1300),
+    ] {
+        let whole = far(stem);
+        let mut samples = whole.psi[..cut].to_vec();
+        samples.push(0.0);
+        let alone = Excitation::new(&samples, whole.dt_s).unwrap();
+        samples.extend(std::iter::repeat_n(0.0, 3000));
+        let padded = Excitation::new(&samples, whole.dt_s).unwrap();
+        for mu in [0.3, 0.4] {
+            for eta in (0..16).map(|i| 0.05 + 0.025 * i as f64) {
+                let spec = RunSpec::new(p, eps, eta, slide_rock(alpha, mu));
+                let (a, points) = history(&alone, &spec);
+                if !a.overturn_after_record {
+                    continue;
+                }
+                after += 1;
+                let end = alone.duration_s();
+                slipping_after += usize::from(
+                    points
+                        .iter()
+                        .any(|q| q.t_s > end && q.kind == EventKind::Stick),
+                );
+                let z = simulate(&padded, &spec).unwrap();
+                assert_eq!(z.stop, Stop::Overturned, "{stem} {cut} μ {mu} η {eta}");
+                let (ta, tz) = (a.overturn_time_s.unwrap(), z.overturn_time_s.unwrap());
+                assert!(
+                    (ta - tz).abs() < 1e-6,
+                    "{stem} cut at {cut}, μ {mu}, η {eta}: {ta} s alone, {tz} s padded"
+                );
+            }
+        }
+    }
+    eprintln!("{after} overturned after the record, {slipping_after} slipping at its end");
+    assert!(
+        after >= 8 && slipping_after >= 4,
+        "{after} {slipping_after}"
+    );
+}

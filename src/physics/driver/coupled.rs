@@ -308,8 +308,9 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
     /// The record is over: the slip runs out with no forcing (a flat slide
     /// in closed form, a slipping pivot stepped until it holds, lands or
     /// overturns), then the rocking block's fate as the rocking model's.
-    /// `true` where the block overturned on the way.
-    pub(super) fn after_record_coupled(&mut self) -> bool {
+    /// `None` where the block overturned on the way; else the time the
+    /// slip ran out, from which the rocking block's fate is followed.
+    pub(super) fn after_record_coupled(&mut self) -> Option<f64> {
         let mut t = self.exc.duration_s();
         let horizon = 60.0 / self.spec.p;
         let free = Stretch {
@@ -333,12 +334,12 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
             match self.slide_rock_arm(t, 0.0, free) {
                 Arm::Stopped => {
                     self.out.overturn_after_record = self.out.stop == Stop::Overturned;
-                    return true;
+                    return None;
                 }
                 Arm::End => t += horizon,
                 Arm::At(sigma) => t += sigma,
             }
         }
-        false
+        Some(t)
     }
 }

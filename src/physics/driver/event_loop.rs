@@ -441,9 +441,15 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
     /// After the record: free rocking, settled by energy; an overturning
     /// still to come is followed (no forcing) to time it.
     fn after_record(&mut self) {
-        if self.coupled.is_some() && self.after_record_coupled() {
-            return;
-        }
+        // The free motion starts where the record ends, or on a base with
+        // friction where the slip after it runs out.
+        let start = match self.coupled {
+            Some(_) => match self.after_record_coupled() {
+                Some(t) => t,
+                None => return,
+            },
+            None => self.exc.duration_s(),
+        };
         let Some(mut st) = self.state else { return };
         let fate = self
             .spec
@@ -460,14 +466,14 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
             // Decided at the excitation's end: the free motion escapes.
             self.out.max_abs_x = f64::INFINITY;
             self.out.impacts += fate.impacts;
-            self.out.overturn_time_s = Some(self.exc.duration_s());
-            self.emit(self.exc.duration_s(), 0.0, EventKind::Overturn);
+            self.out.overturn_time_s = Some(start);
+            self.emit(start, 0.0, EventKind::Overturn);
             return;
         }
-        let at_record_end = st;
+        let at_start = st;
         self.out.max_abs_x = self.out.max_abs_x.max(self.limit);
         // At most one impact lies on the way to the limit.
-        let mut t = self.exc.duration_s();
+        let mut t = start;
         let horizon = 60.0 / self.spec.p;
         for _ in 0..8 {
             let stretch = Stretch {
@@ -496,7 +502,7 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
             }
         }
         if O::SAMPLES {
-            self.replay_after_record(at_record_end);
+            self.replay_after_record(start, at_start);
         }
     }
 
@@ -505,11 +511,10 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
     /// step, the impacts, and the overturning at the time the run found
     /// (stepping over the longer stretches above, whose last bits the
     /// replay's may not share). Only for an observer that takes samples.
-    fn replay_after_record(&mut self, mut st: Rocking) {
+    fn replay_after_record(&mut self, mut t: f64, mut st: Rocking) {
         let Some(t_over) = self.out.overturn_time_s else {
             return;
         };
-        let mut t = self.exc.duration_s();
         while t < t_over {
             let len = self.exc.dt_s.min(t_over - t);
             let stretch = Stretch {
