@@ -1112,3 +1112,86 @@ fn a_set_the_manifest_lacks_is_refused_on_load() {
     );
     assert!(out.status.success(), "{}", stderr(&out));
 }
+
+/// Inputs a pipeline names that no file answers were found by a stage:
+/// `records.ids` naming no record ran the ingest and failed the sweep
+/// without the pipeline's name, and a missing `records.at2` folder or
+/// manifest gave a bare "No such file or directory". Each is refused on
+/// load, naming the pipeline and the key, before any stage writes.
+#[test]
+fn records_no_file_answers_are_refused_on_load_by_key() {
+    let dir = tempdir();
+    let d = dir.path();
+    let block = "[[block]]\nb = 0.2\nh = 0.9\neps = 0.9\n";
+    let ids = write_pipeline(
+        d,
+        "ids",
+        &format!("ids = [\"RSN1111_KOBE_NIS000\", \"NOPE\"]\n{block}"),
+    );
+    let missing = d.join("missing.toml");
+    fs::write(
+        &missing,
+        format!("name = \"missing\"\n[records]\nat2 = [\"nope\"]\n{block}"),
+    )
+    .unwrap();
+    let no_manifest = d.join("nomanifest.toml");
+    fs::write(
+        &no_manifest,
+        format!(
+            "name = \"nomanifest\"\n[records]\nat2 = [\"{}\"]\nmanifest = \"none.csv\"\n{block}",
+            bundled_records().display()
+        ),
+    )
+    .unwrap();
+    for (pipeline, says) in [
+        (
+            &ids,
+            "ids.toml: `records.ids` names NOPE, which no file of `records.at2` bears",
+        ),
+        (&missing, "missing.toml: `records.at2` = "),
+        (&no_manifest, "nomanifest.toml: `records.manifest` = "),
+    ] {
+        for args in [&["run"][..], &["status"]] {
+            let out = rocking(
+                d,
+                &[args, &[pipeline.to_str().unwrap(), "--outputs", "out"]].concat(),
+            );
+            assert!(!out.status.success(), "{args:?}");
+            let e = stderr(&out);
+            assert!(e.contains(says), "{args:?}: {e}");
+            assert!(!d.join("out").exists(), "{e}");
+        }
+    }
+}
+
+/// A study folder that holds the pipeline file (outputs pointed at the
+/// pipeline's own folder) had its `report.md` overwritten by the report
+/// stage. Refused on load; the file is left as it was.
+#[test]
+fn a_pipeline_inside_its_studys_folder_is_refused() {
+    let dir = tempdir();
+    let d = dir.path();
+    let own = d.join("own");
+    fs::create_dir_all(&own).unwrap();
+    let pipeline = write_pipeline(
+        &own,
+        "own",
+        "sets = [\"far-field\"]\n[[block]]\nb = 0.2\nh = 0.9\neps = 0.9\n",
+    );
+    fs::write(own.join("report.md"), "my notes").unwrap();
+    let out = rocking(
+        &own,
+        &["run", pipeline.to_str().unwrap(), "--outputs", ".."],
+    );
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(
+        e.contains("own.toml: the pipeline file is inside the study's folder"),
+        "{e}"
+    );
+    assert_eq!(
+        fs::read_to_string(own.join("report.md")).unwrap(),
+        "my notes"
+    );
+    assert_eq!(fs::read_dir(&own).unwrap().count(), 2);
+}

@@ -464,3 +464,58 @@ fn a_refused_submission_leaves_no_scripts() {
     assert!(e.contains("invalid partition"), "{e}");
     assert!(!dir.path().join("out/quick/slurm").exists(), "{e}");
 }
+
+/// An array of more tasks than the sweep has chunks was submitted, and
+/// every task refused its shard (`--shard 17/40`: at most 17 shards have
+/// work), so the later stages never ran, found out on the cluster. It is
+/// refused before `sbatch` is called: the quick study's 12 blocks × 44
+/// records are 528 cases, 17 chunks of 32; 17 tasks are submitted.
+#[test]
+fn more_shards_than_chunks_are_refused_before_submitting() {
+    let dir = tempdir();
+    let bin = dir.path().join("bin");
+    std::fs::create_dir(&bin).unwrap();
+    let called = dir.path().join("called");
+    let sbatch = bin.join("sbatch");
+    std::fs::write(
+        &sbatch,
+        format!(
+            "#!/bin/sh\necho \"$@\" >> {}\necho 4242\n",
+            called.display()
+        ),
+    )
+    .unwrap();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&sbatch, std::fs::Permissions::from_mode(0o755)).unwrap();
+    }
+    let submit = |shards: &str| {
+        Command::new(env!("CARGO_BIN_EXE_rocking"))
+            .args([
+                "submit",
+                "pipelines/quick.toml",
+                "--shards",
+                shards,
+                "--outputs",
+            ])
+            .arg(dir.path().join("out"))
+            .current_dir(root())
+            .env("PATH", &bin)
+            .output()
+            .unwrap()
+    };
+    let chunks = (12usize * 44).div_ceil(32);
+    let out = submit(&(chunks + 1).to_string());
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(
+        e.contains(&format!("at most {chunks} array tasks have work")),
+        "{e}"
+    );
+    assert!(!called.exists(), "sbatch was called: {e}");
+    let out = submit(&chunks.to_string());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let calls = std::fs::read_to_string(&called).unwrap();
+    assert_eq!(calls.lines().count(), 2, "{calls}");
+}

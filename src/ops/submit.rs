@@ -54,6 +54,8 @@ pub enum SubmitError {
     OwnPath(#[source] std::io::Error),
     #[error("ingesting the records before submitting")]
     Ingest(#[source] engine::RunError),
+    #[error("counting the sweep's chunks")]
+    Chunks(#[source] Box<crate::stages::sweep::SweepError>),
     #[error(transparent)]
     Write(#[from] TableError),
     #[error("{path}: cannot create the folder for the job scripts and logs")]
@@ -166,6 +168,19 @@ pub fn submit(
         reporter,
     )
     .map_err(SubmitError::Ingest)?;
+    // Every task of an array of more shards than the sweep has chunks
+    // refuses its shard, and the later stages never run.
+    let chunks = crate::stages::sweep::chunks(study).map_err(|e| SubmitError::Chunks(e.into()))?;
+    if opts.shards > chunks {
+        return Err(SubmitError::Shards(
+            opts.shards,
+            format!(
+                "the sweep has {chunks} chunk(s) of {} cases, so at most {chunks} array tasks \
+                 have work: give --shards {chunks} or fewer",
+                crate::stages::sweep::CHUNK_CASES
+            ),
+        ));
+    }
     let logs = absolute(&study.dir.join("slurm"));
     std::fs::create_dir_all(&logs).map_err(|source| SubmitError::Folder {
         path: logs.clone(),

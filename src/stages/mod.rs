@@ -20,6 +20,7 @@ pub mod fingerprint;
 pub mod fit;
 pub mod ims;
 pub mod ingest;
+mod load;
 pub mod lock;
 pub mod pulses;
 pub mod reason;

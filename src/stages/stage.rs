@@ -95,67 +95,15 @@ pub enum LoadError {
     Pipeline(#[from] crate::pipeline::PipelineError),
     #[error("--outputs {}: {} is a file, not a folder", outputs.display(), file.display())]
     OutputsFile { outputs: PathBuf, file: PathBuf },
-    #[error(
-        "{}: `records.table` = {} is inside the study's folder {}, where its stages write their \
-         tables (a sweep's capacities.parquet would overwrite it): keep the records table \
-         outside it",
-        pipeline.display(),
-        table.display(),
-        dir.display()
-    )]
-    TableInOutputs {
+    /// The pipeline's records, or what it writes, as they cannot be:
+    /// an input missing, a set or id no record has, an input inside the
+    /// study's folder.
+    #[error("{}: {problem}", pipeline.display())]
+    Records {
         pipeline: PathBuf,
-        table: PathBuf,
-        dir: PathBuf,
+        /// What is wrong, naming the key.
+        problem: String,
     },
-    #[error("{}: {unknown}", pipeline.display())]
-    UnknownSet {
-        pipeline: PathBuf,
-        /// The set, the manifest and the sets it has, in words.
-        unknown: String,
-    },
-}
-
-/// A set of `records.sets` that the pipeline's manifest does not name: a
-/// typo (`far-feild`) ran the ingest and was refused by the sweep, as the
-/// sweep's failure. Checked on load where the manifest can be read; the
-/// selection itself is the sweep's ([`crate::records::select`]).
-fn known_sets(study: &Study, pipeline: &Path) -> Result<(), LoadError> {
-    let Ok(records) = study.plan.records_study() else {
-        return Ok(());
-    };
-    let (RecordSource::At2 {
-        manifest: Some(manifest),
-        ..
-    }
-    | RecordSource::Text {
-        manifest: Some(manifest),
-        ..
-    }) = &records.records
-    else {
-        return Ok(());
-    };
-    // An unreadable manifest is the ingest's to report, by its line.
-    let Ok(m) = crate::records::collect::load_manifest(manifest) else {
-        return Ok(());
-    };
-    let have: std::collections::BTreeSet<&str> = m
-        .entries
-        .values()
-        .filter_map(|e| e.meta.set.as_deref())
-        .collect();
-    match records.sets.iter().find(|s| !have.contains(s.as_str())) {
-        Some(set) => Err(LoadError::UnknownSet {
-            pipeline: pipeline.into(),
-            unknown: format!(
-                "`records.sets` names \"{set}\", which no record of the manifest {} has; \
-                 available: {}",
-                manifest.display(),
-                have.into_iter().collect::<Vec<_>>().join(", ")
-            ),
-        }),
-        None => Ok(()),
-    }
 }
 
 impl Study {
@@ -167,36 +115,7 @@ impl Study {
         })?;
         let plan = crate::pipeline::load_str(&text, pipeline)?;
         let study = Study::new(plan, pipeline, outputs);
-        // The outputs' root and the study's folder must be folders where
-        // they exist (a file there gave "cannot take the lock: Not a
-        // directory", and `status` called every stage stale).
-        if let Some(file) = [outputs, study.dir.as_path()]
-            .into_iter()
-            .find(|p| p.is_file())
-        {
-            return Err(LoadError::OutputsFile {
-                outputs: outputs.into(),
-                file: file.into(),
-            });
-        }
-        // An input in the folder the stages write to is overwritten by the
-        // first of them that writes its name (or read as its own output).
-        if let Ok(RecordSource::Table(table)) = study.plan.records_study().map(|r| &r.records) {
-            let (t, d) = (
-                std::fs::canonicalize(table),
-                std::fs::canonicalize(&study.dir),
-            );
-            if let (Ok(t), Ok(d)) = (t, d) {
-                if t.starts_with(&d) {
-                    return Err(LoadError::TableInOutputs {
-                        pipeline: pipeline.into(),
-                        table: table.clone(),
-                        dir: study.dir.clone(),
-                    });
-                }
-            }
-        }
-        known_sets(&study, pipeline)?;
+        super::load::check(&study, outputs)?;
         Ok(study)
     }
 

@@ -173,6 +173,14 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
 /// Prepares the cases, makes the parts folder, and picks this run's chunks
 /// (all, or one shard's), removing the temporaries a killed run left of
 /// their parts.
+/// How many chunks of [`CHUNK_CASES`] cases the sweep of `study` has: the
+/// most shards that have work (`submit` refuses an array of more tasks
+/// than that before submitting it). Reads the records table.
+pub fn chunks(study: &Study) -> Result<usize, SweepError> {
+    let records = crate::records::select(&study.plan, &study.records_table())?;
+    Ok((records.len() * study.plan.blocks().len()).div_ceil(CHUNK_CASES))
+}
+
 fn prepare(cx: &Context) -> Result<Setup, SweepError> {
     let study = cx.study;
     let plan = &study.plan;
