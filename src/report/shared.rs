@@ -22,7 +22,7 @@ pub(super) fn heading(
     let _ = writeln!(
         md,
         "Pipeline `{pipeline}`, rocking {version}. Tables beside this report{tables}; columns are \
-         documented in the rocking README.\n"
+         documented in rocking's docs/tables.md.\n"
     );
 }
 

@@ -35,7 +35,7 @@ mod wall;
         corners when the ground shakes and may overturn. rocking runs incremental dynamic analysis \
         over a suite of ground-motion records and reduces it to capacity fractiles, a regression \
         and fragility curves, as a pipeline of stages over Parquet tables.",
-    after_help = "Each stage reads and writes Parquet tables: their columns are documented in the README's \"Tables\" section (README.md at the repository root), which files each command writes and how to query them in outputs/README.md."
+    after_help = "Each stage reads and writes Parquet tables: their columns are documented in docs/tables.md (at the repository root), which files each command writes and how to query them in outputs/README.md."
 )]
 struct Cli {
     #[command(subcommand)]
