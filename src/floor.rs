@@ -299,7 +299,14 @@ impl<'de> serde::Deserialize<'de> for Mode {
             Numbers(f64, f64, f64),
             Text(String),
         }
-        match Given::deserialize(d)? {
+        let given = Given::deserialize(d).map_err(|_| {
+            serde::de::Error::custom(
+                "floor: a mode is three numbers [T, ζ, Γφ] (period in s, damping ratio, \
+                 participation at the floor) or the text \"T,ZETA,GAMMA_PHI\", and the floor a \
+                 list of modes: [[0.5, 0.05, 1.3]]",
+            )
+        })?;
+        match given {
             Given::Numbers(period_s, zeta, gamma_phi) => Ok(Mode {
                 period_s,
                 zeta,

@@ -19,6 +19,38 @@ pub const MAX_DT_S: f64 = 1.0;
 /// stretch the record's seconds by as much.
 pub const MIN_DT_S: f64 = 1e-5;
 
+/// Why samples (g) at a step (s) are no motion a block can be run under:
+/// fewer than two, a step outside [`MIN_DT_S`]–[`MAX_DT_S`], a sample past
+/// [`MAX_ACCEL_G`], or none but 0 (nothing to scale to a PGA). Files are
+/// held to the same limits where their lines are read (`at2`, `columns`),
+/// to name the line; samples given as numbers (Python's arrays) here.
+pub fn check(accel_g: &[f64], dt_s: f64) -> Result<(), String> {
+    if accel_g.len() < 2 {
+        return Err(format!(
+            "{} sample(s): a motion needs two at least",
+            accel_g.len()
+        ));
+    }
+    if !(MIN_DT_S..=MAX_DT_S).contains(&dt_s) {
+        return Err(format!(
+            "a time step of {dt_s:e} s: a motion is sampled every 0.001–0.05 s (accepted: \
+             {MIN_DT_S:e} to {MAX_DT_S} s); is it in seconds?"
+        ));
+    }
+    if let Some(i) = accel_g.iter().position(|a| !(a.abs() <= MAX_ACCEL_G)) {
+        return Err(format!(
+            "sample {} is {:e} g, past {MAX_ACCEL_G} g: no ground motion is that strong; are \
+             the samples in g?",
+            i + 1,
+            accel_g[i]
+        ));
+    }
+    if accel_g.iter().all(|&a| a == 0.0) {
+        return Err("every sample is 0: no motion to scale to a PGA".into());
+    }
+    Ok(())
+}
+
 /// Peak ground acceleration of a record.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Peak {

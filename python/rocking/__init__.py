@@ -170,6 +170,9 @@ def capacity(
             raise ValueError("pair: give the record as an AT2 path, and the angle (degrees)")
         many = isinstance(angle, (list, tuple))
         angles = [float(a) for a in angle] if many else [float(angle)]
+        if not angles:
+            # An empty list gave an empty list without a word.
+            raise ValueError("angle: none given; give an angle in degrees, or a list of them")
         found = _core.capacities([blk], [os.fspath(record)], [], False, pair=os.fspath(pair),
                                  angles=angles, **search)
         return found if many or len(blk) > 1 else found[0]
@@ -207,6 +210,9 @@ def _records(records: Any) -> Tuple[List[str], List[Tuple[str, bytes, float]]]:
             )
     if paths and arrays:
         raise ValueError("records: give paths or arrays, not both")
+    if not paths and not arrays:
+        # An empty list gave an empty table without a word.
+        raise ValueError("records: none given; give AT2 paths or folders, or arrays")
     return paths, arrays
 
 

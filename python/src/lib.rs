@@ -66,7 +66,28 @@ fn ask<T: serde::de::DeserializeOwned>(
     for (k, v) in kwargs.into_iter().flat_map(|d| d.iter()) {
         plain.set_item(k, plain_value(&v)?)?;
     }
-    depythonize(plain.as_any()).map_err(|e| PyValueError::new_err(e.to_string()))
+    let mut de = pythonize::Depythonizer::from_object(plain.as_any());
+    serde_path_to_error::deserialize(&mut de).map_err(|e| {
+        let key = e.path().to_string();
+        PyValueError::new_err(keyword_error(&key, &e.into_inner().to_string()))
+    })
+}
+
+/// A keyword's value refused as Python's conversions word it (a negative
+/// count, a float for an integer), in the keyword's words; the library's
+/// own refusals, which name their key, as they are.
+fn keyword_error(key: &str, why: &str) -> String {
+    let key = key.split(['.', '[']).next().unwrap_or(key);
+    if key.is_empty() || why.starts_with(key) || why.contains(&format!("`{key}`")) {
+        return why.to_string();
+    }
+    if why.contains("negative int to unsigned") {
+        format!("{key}: a whole number, 0 or more (it was negative)")
+    } else if why.contains("cannot be interpreted as an integer") {
+        format!("{key}: a whole number (it was a float)")
+    } else {
+        format!("{key}: {why}")
+    }
 }
 
 /// A keyword's value as pythonize reads it: a numpy array or scalar as its

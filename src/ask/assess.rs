@@ -109,6 +109,7 @@ pub struct FragilityAsk {
     #[serde(deserialize_with = "super::spelling::strict_direct")]
     pub direct: bool,
     pub auto_tol: f64,
+    #[serde(deserialize_with = "super::block::some_modes")]
     pub floor: Vec<Mode>,
     /// A building with its modes' shapes at every floor, and the floor
     /// the block stands on (instead of `floor`).
@@ -337,6 +338,7 @@ pub struct RiskAsk {
     pub years: f64,
     pub beyond: Beyond,
     pub auto_tol: f64,
+    #[serde(deserialize_with = "super::block::some_modes")]
     pub floor: Vec<Mode>,
     /// A building with its modes' shapes at every floor, and the floor
     /// the block stands on (instead of `floor`).

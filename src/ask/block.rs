@@ -57,6 +57,7 @@ pub struct BlockAsk {
     /// the slide-rock model.
     pub mu_k: Option<f64>,
     /// The building whose floor the block stands on, mode by mode.
+    #[serde(deserialize_with = "some_modes")]
     pub floor: Vec<Mode>,
     /// A building with its modes' shapes at every floor, and the floor
     /// the block stands on (instead of `floor`).
@@ -373,6 +374,18 @@ fn pairs(
         )));
     }
     Ok(a.iter().copied().zip(b.iter().copied()).collect())
+}
+
+/// A floor's modes, where given: a list of none is refused (it ran the
+/// block on the ground without a word); not given, the ground.
+pub(super) fn some_modes<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<Mode>, D::Error> {
+    match Option::<Vec<Mode>>::deserialize(d)? {
+        Some(modes) if modes.is_empty() => Err(serde::de::Error::custom(
+            "floor: no mode given ([]): give one mode or more, [T, ζ, Γφ] each, or leave floor \
+             out for a block on the ground",
+        )),
+        modes => Ok(modes.unwrap_or_default()),
+    }
 }
 
 /// A list, or one value standing for a list of one; refused naming `key`

@@ -42,6 +42,7 @@ pub struct ExportKw {
     pub angle_step: f64,
     #[serde(deserialize_with = "super::spelling::strict_direct")]
     pub direct: bool,
+    #[serde(deserialize_with = "super::block::some_modes")]
     pub floor: Vec<Mode>,
     /// A building with its modes' shapes at every floor, and the floor
     /// the block stands on (instead of `floor`).

@@ -49,8 +49,7 @@ pub fn hazard(
 /// A site's hazard: a file (OpenQuake's hazard-curve CSV or a plain CSV),
 /// or one curve given as its levels (in `im`'s unit) and annual rates of
 /// exceedance.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(untagged)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum HazardAsk {
     File(PathBuf),
     Arrays {
@@ -58,6 +57,40 @@ pub enum HazardAsk {
         levels: Vec<f64>,
         rates: Vec<f64>,
     },
+}
+
+/// A path, or `{im, levels, rates}`; refused in these words (an untagged
+/// reading's own message names neither form), an IM it has no name for
+/// by the IM's own refusal.
+impl<'de> Deserialize<'de> for HazardAsk {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Given {
+            File(PathBuf),
+            Arrays {
+                im: String,
+                levels: Vec<f64>,
+                rates: Vec<f64>,
+            },
+        }
+        let given = Given::deserialize(d).map_err(|_| {
+            serde::de::Error::custom(
+                "hazard: a hazard file's path, or one curve as its levels and annual rates of \
+                 exceedance (two lists of numbers)",
+            )
+        })?;
+        Ok(match given {
+            Given::File(path) => HazardAsk::File(path),
+            Given::Arrays { im, levels, rates } => HazardAsk::Arrays {
+                im: im
+                    .parse()
+                    .map_err(|e| serde::de::Error::custom(format!("hazard_im = \"{im}\": {e}")))?,
+                levels,
+                rates,
+            },
+        })
+    }
 }
 
 impl HazardAsk {

@@ -147,6 +147,8 @@ pub fn load_on(path: &Path, building: Option<&Building>) -> Result<LoadedRecord,
 /// Why samples cannot be a record.
 #[derive(Debug, thiserror::Error)]
 pub enum SampleError {
+    #[error("{0}")]
+    Motion(String),
     #[error(transparent)]
     Samples(PhysicsError),
     #[error("its floor motion")]
@@ -157,6 +159,10 @@ impl SampleError {
     /// The error of the record read from `path`.
     fn of(self, path: &Path) -> RecordError {
         match self {
+            SampleError::Motion(why) => RecordError::Samples {
+                path: path.into(),
+                source: PhysicsError::BadInput(why),
+            },
             SampleError::Samples(source) => RecordError::Samples {
                 path: path.into(),
                 source,
@@ -177,6 +183,7 @@ pub fn from_samples(
     ground_dt_s: f64,
     building: Option<&Building>,
 ) -> Result<LoadedRecord, SampleError> {
+    crate::motion::check(&ground, ground_dt_s).map_err(SampleError::Motion)?;
     let peak = |a: &[f64], dt| crate::motion::peak(a, dt).map_or(0.0, |p| p.pga_g);
     let (accel_g, dt_s, floor) = match building {
         None => (ground, ground_dt_s, None),
