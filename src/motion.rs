@@ -37,7 +37,10 @@ pub fn check(accel_g: &[f64], dt_s: f64) -> Result<(), String> {
              {MIN_DT_S:e} to {MAX_DT_S} s); is it in seconds?"
         ));
     }
-    if let Some(i) = accel_g.iter().position(|a| !(a.abs() <= MAX_ACCEL_G)) {
+    if let Some(i) = accel_g.iter().position(|a| !a.is_finite()) {
+        return Err(format!("sample {} is {}: not a number", i + 1, accel_g[i]));
+    }
+    if let Some(i) = accel_g.iter().position(|a| a.abs() > MAX_ACCEL_G) {
         return Err(format!(
             "sample {} is {:e} g, past {MAX_ACCEL_G} g: no ground motion is that strong; are \
              the samples in g?",
@@ -85,6 +88,28 @@ pub fn duration_s(npts: usize, dt_s: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Each limit by a case on each side of it.
+    #[test]
+    fn samples_are_held_to_a_motions_limits() {
+        let ok = [0.1, -0.2, 0.0];
+        assert_eq!(check(&ok, 0.01), Ok(()));
+        assert_eq!(check(&ok, MIN_DT_S), Ok(()));
+        assert_eq!(check(&ok, MAX_DT_S), Ok(()));
+        assert_eq!(check(&[0.0, MAX_ACCEL_G], 0.01), Ok(()));
+        for (accel, dt, says) in [
+            (&[0.1][..], 0.01, "1 sample(s)"),
+            (&ok[..], 0.0, "a time step of 0e0 s"),
+            (&ok[..], 1.5 * MAX_DT_S, "a time step of 1.5e0 s"),
+            (&ok[..], 0.5 * MIN_DT_S, "a time step of 5e-6 s"),
+            (&[0.0, -10.5][..], 0.01, "sample 2 is -1.05e1 g, past 10 g"),
+            (&[0.0, f64::NAN][..], 0.01, "sample 2 is NaN"),
+            (&[0.0, 0.0, 0.0][..], 0.01, "every sample is 0"),
+        ] {
+            let e = check(accel, dt).unwrap_err();
+            assert!(e.starts_with(says), "{e}");
+        }
+    }
 
     #[test]
     fn peak_takes_the_first_largest_absolute_sample() {

@@ -21,7 +21,7 @@ use interrupt::interruptible;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
-use pythonize::{depythonize, pythonize};
+use pythonize::pythonize;
 
 use rocking::ask::{AskedBlock, BlockAsk, ExportKw, FragilityAsk, RiskAsk, SearchAsk, Spelling};
 use rocking::floor::Building;

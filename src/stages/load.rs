@@ -9,44 +9,49 @@
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
-use super::stage::{LoadError, Study};
-use crate::pipeline::RecordSource;
+use crate::pipeline::{Plan, RecordSource};
 use crate::records::collect;
 
+/// A loaded pipeline as the checks see it: its plan, its file and the
+/// study's folder.
+pub(super) struct Loaded<'a> {
+    pub plan: &'a Plan,
+    pub pipeline: &'a Path,
+    pub dir: &'a Path,
+}
+
+/// Why a pipeline is refused on load.
+pub(super) enum Refusal {
+    /// A file where the outputs' root or the study's folder should be.
+    OutputsFile(PathBuf),
+    /// An input, in words that name its key.
+    Records(String),
+}
+
 /// Every check of a loaded pipeline, in order.
-pub(super) fn check(study: &Study, outputs: &Path) -> Result<(), LoadError> {
+pub(super) fn check(study: &Loaded<'_>, outputs: &Path) -> Result<(), Refusal> {
     // The outputs' root and the study's folder must be folders where
     // they exist (a file there gave "cannot take the lock: Not a
     // directory", and `status` called every stage stale).
-    if let Some(file) = [outputs, study.dir.as_path()]
-        .into_iter()
-        .find(|p| p.is_file())
-    {
-        return Err(LoadError::OutputsFile {
-            outputs: outputs.into(),
-            file: file.into(),
-        });
+    if let Some(file) = [outputs, study.dir].into_iter().find(|p| p.is_file()) {
+        return Err(Refusal::OutputsFile(file.into()));
     }
-    let refuse = |problem: String| LoadError::Records {
-        pipeline: study.pipeline.clone(),
-        problem,
-    };
     let inputs = inputs(study);
-    outside(study, &inputs).map_err(refuse)?;
+    outside(study, &inputs).map_err(Refusal::Records)?;
     if let Some((key, path)) = inputs.iter().find(|(_, p)| !p.exists()) {
-        return Err(refuse(format!(
+        return Err(Refusal::Records(format!(
             "`{key}` = {}: no such file or folder",
             path.display()
         )));
     }
-    known_sets(study).map_err(refuse)?;
-    known_ids(study).map_err(refuse)
+    known_sets(study).map_err(Refusal::Records)?;
+    known_ids(study).map_err(Refusal::Records)
 }
 
 /// The files and folders the pipeline's records are read from, each with
 /// its key (a records table is the sweep's to find, or to say how to
 /// write: only where it lies is checked here).
-fn inputs(study: &Study) -> Vec<(&'static str, PathBuf)> {
+fn inputs(study: &Loaded<'_>) -> Vec<(&'static str, PathBuf)> {
     let Ok(records) = study.plan.records_study() else {
         return Vec::new();
     };
@@ -94,8 +99,8 @@ fn resolved(path: &Path) -> PathBuf {
 /// No input inside the study's folder, where the stages write their
 /// tables, `report.md`, `report.html` and `figures/` (the first stage to
 /// write a name overwrites it), the pipeline file included.
-fn outside(study: &Study, inputs: &[(&'static str, PathBuf)]) -> Result<(), String> {
-    let dir = resolved(&study.dir);
+fn outside(study: &Loaded<'_>, inputs: &[(&'static str, PathBuf)]) -> Result<(), String> {
+    let dir = resolved(study.dir);
     let table = match study.plan.records_study().map(|r| &r.records) {
         Ok(RecordSource::Table(t)) => Some(("records.table", t.clone())),
         _ => None,
@@ -113,7 +118,7 @@ fn outside(study: &Study, inputs: &[(&'static str, PathBuf)]) -> Result<(), Stri
             ));
         }
     }
-    if resolved(&study.pipeline).starts_with(&dir) {
+    if resolved(study.pipeline).starts_with(&dir) {
         return Err(format!(
             "the pipeline file is inside the study's folder {}, where its stages write their \
              tables, report.md, report.html and figures/: keep it outside, or give --outputs \
@@ -128,7 +133,7 @@ fn outside(study: &Study, inputs: &[(&'static str, PathBuf)]) -> Result<(), Stri
 /// typo (`far-feild`) ran the ingest and was refused by the sweep, as the
 /// sweep's failure. Checked where the manifest can be read (an unreadable
 /// one is the ingest's to report, by its line).
-fn known_sets(study: &Study) -> Result<(), String> {
+fn known_sets(study: &Loaded<'_>) -> Result<(), String> {
     let Ok(records) = study.plan.records_study() else {
         return Ok(());
     };
@@ -165,7 +170,7 @@ fn known_sets(study: &Study) -> Result<(), String> {
 /// An id of `records.ids` that no file of `records.at2` or `records.text`
 /// bears (a record's id is its file's stem): it ran the ingest and failed
 /// the sweep, without the pipeline's name.
-fn known_ids(study: &Study) -> Result<(), String> {
+fn known_ids(study: &Loaded<'_>) -> Result<(), String> {
     let Ok(records) = study.plan.records_study() else {
         return Ok(());
     };

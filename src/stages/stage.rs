@@ -115,7 +115,21 @@ impl Study {
         })?;
         let plan = crate::pipeline::load_str(&text, pipeline)?;
         let study = Study::new(plan, pipeline, outputs);
-        super::load::check(&study, outputs)?;
+        let loaded = super::load::Loaded {
+            plan: &study.plan,
+            pipeline,
+            dir: &study.dir,
+        };
+        super::load::check(&loaded, outputs).map_err(|r| match r {
+            super::load::Refusal::OutputsFile(file) => LoadError::OutputsFile {
+                outputs: outputs.into(),
+                file,
+            },
+            super::load::Refusal::Records(problem) => LoadError::Records {
+                pipeline: pipeline.into(),
+                problem,
+            },
+        })?;
         Ok(study)
     }
 

@@ -439,17 +439,15 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
     }
 
     /// After the record: free rocking, settled by energy; an overturning
-    /// still to come is followed (no forcing) to time it.
+    /// still to come is followed (no forcing) to time it. It starts where
+    /// the record ends, or on a base with friction where the slip after it
+    /// runs out.
     fn after_record(&mut self) {
-        // The free motion starts where the record ends, or on a base with
-        // friction where the slip after it runs out.
         let start = match self.coupled {
-            Some(_) => match self.after_record_coupled() {
-                Some(t) => t,
-                None => return,
-            },
-            None => self.exc.duration_s(),
+            Some(_) => self.after_record_coupled(),
+            None => Some(self.exc.duration_s()),
         };
+        let Some(start) = start else { return };
         let Some(mut st) = self.state else { return };
         let fate = self
             .spec
