@@ -1087,6 +1087,28 @@ fn export_refusals_name_what_is_wrong() {
         &[&block[..], &["--format", "nrml", "--states", "a=0.5,b=0.1"]].concat(),
         "`b` (θmax/α ≥ 0.1) follows `a` (θmax/α ≥ 0.5)",
     );
+    // Every record slides 1 cm, several at the first level: the records'
+    // curve jumps there (it was refused as "stops below 1", beside "44 of
+    // 44 records reach it").
+    fails(
+        &[
+            "export",
+            "--format",
+            "pelicun",
+            "--b",
+            "0.3",
+            "--h",
+            "1.0",
+            "--mu",
+            "0.2",
+            "--direct",
+            "--states",
+            "slide=0.01m,overturned=overturned",
+            "--out",
+            "x",
+        ],
+        "records reach `slide` first at one level",
+    );
     fails(
         &[
             &block[..],

@@ -409,7 +409,10 @@ fn bad_pipelines_fail_before_any_run_naming_the_key() {
             format!("sets = [\"mars\"]\n{grid}"),
             "available: far-field, near-field-no-pulse, near-field-pulse",
         ),
-        (format!("ids = [\"NOPE\"]\n{grid}"), "no record NOPE"),
+        (
+            format!("ids = [\"NOPE\"]\n{grid}"),
+            "bad5.toml: `records.ids` names NOPE, which no file of `records.at2` bears",
+        ),
     ];
     for (i, (body, expected)) in cases.iter().enumerate() {
         let name = format!("bad{i}");

@@ -113,6 +113,24 @@ impl Curve {
         self.x.len() >= 2 && self.p[0] == 0.0 && self.limit() == 1.0
     }
 
+    /// Why the records' curve of `n` records is not [`Curve::complete`],
+    /// in words naming `state` (levels in `unit`); `None` where it is. A
+    /// curve that reaches 1 falls short by jumping at its first level,
+    /// where several records reach the state at once.
+    pub fn shortfall(&self, state: &str, unit: &str, n: usize) -> Option<String> {
+        if self.complete() {
+            return None;
+        }
+        Some(match self.points().next() {
+            Some((first, p)) if self.limit() >= 1.0 => format!(
+                "{} of {n} records reach `{state}` first at one level ({first:.4} {unit}), so the \
+                 records' curve jumps there instead of rising from 0",
+                (p * n.saturating_sub(1) as f64).round() as usize + 1
+            ),
+            _ => format!("some records never reach `{state}`, so the records' curve stops below 1"),
+        })
+    }
+
     /// The points (level, P), in order.
     pub fn points(&self) -> impl ExactSizeIterator<Item = (f64, f64)> + '_ {
         self.x.iter().copied().zip(self.p.iter().copied())
@@ -141,6 +159,32 @@ impl Curve {
 mod tests {
     use super::*;
     use crate::stats::{fractile, FractileDef};
+
+    /// By hand: of 4 capacities 0.3, 0.3, 0.3, 0.5 the curve is 2/3 at
+    /// 0.3 (P = i/(n − 1) at the last of a tie) and 1 at 0.5: complete in
+    /// its limit, but it jumps, three records at once; of 0.1, 0.2 and one
+    /// that never comes it stops at 1/2. The export's refusal said "stops
+    /// below 1" of the first.
+    #[test]
+    fn a_curve_says_why_it_is_short() {
+        let jumps = Curve::of_capacities(&[0.3, 0.3, 0.3, 0.5]);
+        assert_eq!(jumps.limit(), 1.0);
+        assert_eq!(
+            jumps.shortfall("slide", "g", 4).unwrap(),
+            "3 of 4 records reach `slide` first at one level (0.3000 g), so the records' curve \
+             jumps there instead of rising from 0"
+        );
+        let stops = Curve::of_capacities(&[0.1, 0.2, f64::INFINITY]);
+        assert_eq!(stops.limit(), 0.5);
+        assert!(stops
+            .shortfall("s", "g", 3)
+            .unwrap()
+            .contains("stops below 1"));
+        assert_eq!(
+            Curve::of_capacities(&[0.1, 0.2, 0.4]).shortfall("s", "g", 3),
+            None
+        );
+    }
 
     /// The curve's quantiles are the type-7 fractiles of the capacities
     /// (its definition, checked against the fractile function written

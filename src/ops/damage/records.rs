@@ -272,25 +272,12 @@ pub(super) fn curve_where_not_lognormal(f: &mut DamageFragility) {
     let unit = f.unit;
     let short = f.states.iter().find_map(|s| {
         let Some(c) = s.capacities.as_ref() else {
-            return Some(format!("the records' capacities of `{}` are not known", s.name));
+            return Some(format!(
+                "the records' capacities of `{}` are not known",
+                s.name
+            ));
         };
-        let curve = Curve::of_capacities(c);
-        if curve.complete() {
-            return None;
-        }
-        let first = curve.points().next();
-        Some(match (curve.limit() < 1.0, first) {
-            (false, Some((first, p))) => format!(
-                "{} records reach `{}` first at one level ({first:.4} {unit}), so the records' curve \
-                 jumps there instead of rising from 0",
-                (p * (c.len() - 1) as f64).round() as usize + 1,
-                s.name
-            ),
-            _ => format!(
-                "some records never reach `{}`, so the records' curve stops below 1",
-                s.name
-            ),
-        })
+        Curve::of_capacities(c).shortfall(&s.name, unit, c.len())
     });
     match short {
         None => {

@@ -37,11 +37,13 @@ pub(super) fn entry(
                     state: s.name.clone(),
                     slides_first: e.slides_first == Some(true) && f.slides_on_mu.is_some(),
                 })),
-                Some(_) => Err(refuse(FragilityError::CurveShort {
+                Some(crate::risk::Fragility::Curve(c)) => Err(refuse(FragilityError::CurveShort {
                     state: s.name.clone(),
-                    reached: s.reached.unwrap_or(0),
-                    records: f.records.unwrap_or(0),
+                    why: c
+                        .shortfall(&s.name, f.unit, f.records.unwrap_or(0))
+                        .unwrap_or_default(),
                 })),
+                Some(_) => Err(refuse(damage::no_fit(f, s, method))),
                 None => Err(refuse(damage::no_fit(f, s, method))),
             })
             .collect::<Result<Vec<_>, _>>()?;

@@ -104,14 +104,13 @@ pub enum FragilityError {
     )]
     NeverReached { state: String, slides_first: bool },
     #[error(
-        "damage state `{state}`: {reached} of {records} records reach it, so the records' curve \
-         stops below 1, which no engine's curve can; export a lognormal (--method fractile or \
-         mle)"
+        "damage state `{state}`: {why}, which no engine's curve can; export a lognormal \
+         (--method fractile or mle)"
     )]
     CurveShort {
         state: String,
-        reached: usize,
-        records: usize,
+        /// [`crate::damage::Curve::shortfall`]'s words.
+        why: String,
     },
     #[error("damage state `{state}` has no {method} fit ({why}); try --method {other}")]
     NoStateFit {
