@@ -1195,3 +1195,40 @@ fn a_pipeline_inside_its_studys_folder_is_refused() {
     );
     assert_eq!(fs::read_dir(&own).unwrap().count(), 2);
 }
+
+/// Two pipelines of one name share a study folder; the second, without an
+/// `[example]`, dropped the example stage's note but left its tables,
+/// which an analyst of the folder took for the study's. A stage the
+/// pipeline no longer needs takes its tables with it, those still as it
+/// wrote them: one the user has changed since stays.
+#[test]
+fn a_stage_no_longer_needed_takes_its_own_tables_with_it() {
+    let dir = tempdir();
+    let d = dir.path();
+    let pipe = mini(d);
+    let plain = fs::read_to_string(&pipe).unwrap();
+    let with_example = format!("{plain}[example]\np = 2.0\neps = 0.7\n");
+    let example = |name: &str| d.join("out/mini").join(name);
+    for keep_one in [false, true] {
+        fs::write(&pipe, &with_example).unwrap();
+        let out = rocking(d, &["run", "mini.toml", "--outputs", "out"]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let tables = rocking::stages::example::OUTPUTS;
+        assert!(tables.iter().all(|t| example(t).exists()));
+        if keep_one {
+            fs::write(example(tables[0]), b"the user's own notes").unwrap();
+        }
+        fs::write(&pipe, &plain).unwrap();
+        let out = rocking(d, &["run", "mini.toml", "--outputs", "out"]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        for (i, t) in tables.iter().enumerate() {
+            assert_eq!(
+                example(t).exists(),
+                keep_one && i == 0,
+                "{t}, kept one: {keep_one}"
+            );
+        }
+        assert!(example("capacities.parquet").exists());
+        let _ = fs::remove_file(example(tables[0]));
+    }
+}

@@ -262,7 +262,7 @@ pub fn run(
             let fresh = fingerprint::freshness(stage, study, None);
             let reason = match fresh {
                 Freshness::NotNeeded(why) => {
-                    fingerprint::forget(study, stage.name());
+                    fingerprint::forget(study, stage);
                     skip(&mut results, reporter, stage, Skip::NotNeeded(why));
                     continue;
                 }

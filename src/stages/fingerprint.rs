@@ -215,9 +215,22 @@ pub fn save(
 }
 
 /// Removes the whole stage's note: one left from when the pipeline needed
-/// the stage is not this study's.
-pub fn forget(study: &Study, stage: &str) {
-    let _ = std::fs::remove_file(note_path(study, stage, None));
+/// the stage is not this study's. So are the stage's outputs the note
+/// records that are still as it wrote them (a file changed since is left
+/// alone): another pipeline of the same name writing into the folder, or
+/// the pipeline without the stage's section, left its tables beside the
+/// study's, to be read as the study's.
+pub fn forget(study: &Study, stage: &dyn Stage) {
+    let path = note_path(study, stage.name(), None);
+    if let Ok(note) = read_note(study, &path) {
+        for file in stage.outputs(study, None) {
+            let recorded = note.outputs.get(&study.name_of(&file));
+            if recorded.is_some_and(|h| hash::file_sha256(&file).is_ok_and(|now| &now == h)) {
+                let _ = fs::remove_file(&file);
+            }
+        }
+    }
+    let _ = std::fs::remove_file(path);
 }
 
 /// The version part: the tool's version, which is raised with any change of
