@@ -4,7 +4,7 @@
 //!
 //! ```text
 //! # comments (#, %, //) and blank lines anywhere; one header line of
-//! # names at the top is skipped
+//! # names at the top (its first token no number) is skipped
 //! 0.01   0.0012   -0.0031   0.0008      time, then one column per value
 //! 0.02   0.0025   -0.0060   0.0011
 //! ```
@@ -212,8 +212,10 @@ pub fn parse(text: &str, spec: &TextRecords) -> Result<ColumnMotion, ColumnsErro
             .filter(|t| !t.is_empty())
             .collect();
         let parsed: Vec<Option<f64>> = tokens.iter().map(|t| t.parse::<f64>().ok()).collect();
-        // A first line with names (not numbers) is a header.
-        if times.is_empty() && header.is_none() && parsed.iter().any(Option::is_none) {
+        // A first line of names is a header: its first token, where a data
+        // line has its time, is no number. A first data line with a bad
+        // value is refused at its line, not skipped as a header.
+        if times.is_empty() && header.is_none() && parsed.first().is_some_and(Option::is_none) {
             header = Some(body.to_string());
             continue;
         }
@@ -387,6 +389,10 @@ mod tests {
     #[test]
     fn bad_files_are_refused_at_their_line() {
         let g = spec(AccelUnit::G, 1);
+        // A first data line with a bad value was skipped as a header.
+        let e = parse("0 np.float64(0.1)\n0.01 0.2\n0.02 0.1\n", &g).unwrap_err();
+        assert_eq!(e.line, 1);
+        assert!(e.kind.contains("`np.float64(0.1)`"), "{e}");
         let e = parse("0 0.1\n0.01 abc\n", &g).unwrap_err();
         assert_eq!(e.line, 2);
         assert!(e.kind.contains("`abc`"), "{e}");
