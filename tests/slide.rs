@@ -1429,3 +1429,34 @@ fn a_block_overturning_after_the_record_overturns_when_the_padded_record_says() 
         "{after} {slipping_after}"
     );
 }
+
+/// A history has an `impact` row for each impact its run counts: the
+/// impact that settles the block was written as a `rest` row alone (336
+/// impacts counted, 332 `impact` rows and 4 `rest` ones, on Kobe at p = 2,
+/// ε = 0.8, η = 0.3), so the history's impacts fell short of the summary's.
+#[test]
+fn a_history_has_a_row_for_every_impact_counted() {
+    let exc = far("RSN1111_KOBE_NIS000");
+    let mut settled = 0;
+    for (model, eps, eta) in [
+        (Model::LINEARIZED, 0.8, 0.3),
+        (Model::LINEARIZED, 0.5, 0.2),
+        (Model::nonlinear(0.2, Solver::default()), 0.9, 0.25),
+        (slide_rock(0.25, 0.3), 0.9, 0.2),
+        (slide_rock(0.2, 0.15), 0.8, 0.3),
+    ] {
+        let spec = RunSpec::new(2.0, eps, eta, model);
+        let (out, points) = history(&exc, &spec);
+        let rows = |kind| points.iter().filter(|q| q.kind == kind).count();
+        assert_eq!(
+            rows(EventKind::Impact) as u64,
+            out.impacts,
+            "{model:?} ε {eps} η {eta}"
+        );
+        settled += points
+            .windows(2)
+            .filter(|w| w[0].kind == EventKind::Impact && w[1].kind == EventKind::Rest)
+            .count();
+    }
+    assert!(settled > 4, "{settled}");
+}

@@ -33,7 +33,10 @@ table! {
         /// The base's velocity relative to the ground (m/s).
         pub slide_velocity_m_per_s: f64,
         /// What the row is: `sample` (a kept sample) or an event: `start`, `uplift`,
-        /// `impact` (the state after it), `rest`, `overturn`, `record_end`, and for the
+        /// `impact` (the state after it; one row for each impact the run counts),
+        /// `rest` (the block settles: after the `impact` row of an impact too slow
+        /// to rebound, or alone where a lift dies out), `overturn`, `record_end`,
+        /// and for the
         /// slide-rock model `slip` (the base or the pivot starts to slip), `stick` (it
         /// stops) and `flight` (the pivot's normal force reached 0).
         pub event: EventKind,

@@ -227,6 +227,16 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
             }
             EventKind::Impact
         };
+        self.emit_impact(t_s, psi, kind);
+    }
+
+    /// An impact's row, and where it settles the block the `rest` row
+    /// after it: the history has an `impact` row for each impact the run
+    /// counts (the settling one was written as `rest` alone).
+    pub(super) fn emit_impact(&mut self, t_s: f64, psi: f64, kind: EventKind) {
+        if kind == EventKind::Rest {
+            self.emit(t_s, psi, EventKind::Impact);
+        }
         self.emit(t_s, psi, kind);
     }
 

@@ -435,7 +435,7 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
             });
             EventKind::Impact
         };
-        self.emit(t_s, psi, kind);
+        self.emit_impact(t_s, psi, kind);
     }
 
     /// After the record: free rocking, settled by energy; an overturning
