@@ -695,6 +695,25 @@ fn contents_refuses_its_own_options_by_name_before_running() {
             vec!["contents", "--set", &set, "--zeta", "1.5", "--periods", "1"],
             "the building of --periods 1 s, --zeta 1.5, --gamma-phi 1.3".to_string(),
         ),
+        // A negative number was refused by the parser as "unexpected
+        // argument '-0'", a token never typed.
+        (
+            vec![
+                "contents",
+                "--set",
+                &set,
+                "--zeta",
+                "-0.1",
+                "--periods",
+                "1",
+            ],
+            "the building of --periods 1 s, --zeta -0.1, --gamma-phi 1.3".to_string(),
+        ),
+        // A repeated period ran twice (one table column, two JSON rows).
+        (
+            vec!["contents", "--set", &set, "--periods", "0.5,1,0.5"],
+            "--periods: 0.5 s is given twice (the 3rd and an earlier one)".to_string(),
+        ),
     ] {
         let out = rocking(d, &args);
         assert!(!out.status.success(), "{args:?}");

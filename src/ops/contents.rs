@@ -58,8 +58,21 @@ pub struct Row {
     pub ratio: f64,
 }
 
+/// "1st", "2nd", "3rd", "4th", ….
+fn ordinal(n: usize) -> String {
+    let suffix = match (n % 10, n % 100) {
+        (1, x) if x != 11 => "st",
+        (2, x) if x != 12 => "nd",
+        (3, x) if x != 13 => "rd",
+        _ => "th",
+    };
+    format!("{n}{suffix}")
+}
+
 #[derive(Debug, thiserror::Error)]
 pub enum ContentsError {
+    #[error("{0}")]
+    Repeated(String),
     #[error("--auto-tol {0}: {1}")]
     AutoTol(f64, String),
     #[error("the building of --periods {period} s, --zeta {zeta}, --gamma-phi {gamma_phi}")]
@@ -152,8 +165,21 @@ type Scene<'a> = (
     Option<&'a (f64, Building)>,
 );
 
-/// The modal buildings of `req.periods`, each with its period (s).
+/// The modal buildings of `req.periods`, each with its period (s). A
+/// period given twice is refused (it ran twice: one column in the table,
+/// two rows per item in the JSON).
 fn roofs(req: &Request) -> Result<Vec<(f64, Building)>, ContentsError> {
+    if let Some((i, t)) = req
+        .periods
+        .iter()
+        .enumerate()
+        .find(|&(i, t)| req.periods[..i].contains(t))
+    {
+        return Err(ContentsError::Repeated(format!(
+            "--periods: {t} s is given twice (the {} and an earlier one); give each period once",
+            ordinal(i + 1)
+        )));
+    }
     req.periods
         .iter()
         .map(|&t| {

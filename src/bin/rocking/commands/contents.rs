@@ -12,6 +12,7 @@ use super::args::direct_progress;
 /// fragilities of the same blocks in Peak Floor Velocity.
 #[derive(Debug, clap::Args)]
 #[command(
+    allow_negative_numbers = true,
     long_about = "FEMA P-58's unanchored bookcases and filing cabinets (E.20.22.102a–125a of its \
     component database, as pelicun's DLML carries it: lognormal in Peak Floor Velocity, β = 0.5) \
     beside the tool's fragility of the same rigid blocks (their depth and height from the \
