@@ -384,6 +384,14 @@ fn read_one(path: &Path) -> Result<RecordRow, BadFile> {
     ))
 }
 
+/// A record's id: its file's name without the extension (the stem), as
+/// every reader names it and `records.ids` selects it.
+pub fn record_id(path: &Path) -> String {
+    path.file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
 /// A record's row: its id (the file stem), source, hash, samples and
 /// peak, with the header lines and their layout.
 fn row(
@@ -397,10 +405,7 @@ fn row(
     // Both readers refuse a file without samples.
     let peak = motion::peak(&accel_g, dt_s).expect("a record has samples");
     RecordRow {
-        record_id: path
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default(),
+        record_id: record_id(path),
         source: path.display().to_string(),
         sha256: crate::hash::sha256_hex(bytes),
         dt_s,

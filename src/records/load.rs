@@ -137,10 +137,7 @@ pub fn load(path: &Path) -> Result<LoadedRecord, RecordError> {
 /// `building` under it.
 pub fn load_on(path: &Path, building: Option<&Building>) -> Result<LoadedRecord, RecordError> {
     let (ground, dt_s) = read_samples(path)?;
-    let record_id = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
+    let record_id = super::collect::record_id(path);
     from_samples(record_id, ground, dt_s, building).map_err(|e| e.of(path))
 }
 
@@ -229,10 +226,7 @@ pub fn pair_at(
         b: b.into(),
         source,
     })?;
-    let stem = a
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
+    let stem = super::collect::record_id(a);
     angles_deg
         .iter()
         .map(|&theta| {

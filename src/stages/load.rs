@@ -184,10 +184,7 @@ fn known_ids(study: &Loaded<'_>) -> Result<(), String> {
     };
     // No files at all is the ingest's to report.
     let Ok(files) = files else { return Ok(()) };
-    let stems: BTreeSet<String> = files
-        .iter()
-        .filter_map(|f| f.file_stem().map(|s| s.to_string_lossy().into_owned()))
-        .collect();
+    let stems: BTreeSet<String> = files.iter().map(|f| collect::record_id(f)).collect();
     let missing: Vec<&str> = records
         .ids
         .iter()
