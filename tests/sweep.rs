@@ -1,7 +1,7 @@
 //! `rocking sweep`: shipped pipelines load, bad pipelines fail before any run,
 //! capacities equal direct `rocking capacity` calls, output is byte-identical
 //! at 1 and 2 threads, shards merge to the unsharded result, and a sweep
-//! killed mid-way resumes to the same tables.
+//! killed or interrupted mid-way resumes to the same tables.
 
 use std::fs;
 use std::path::Path;
@@ -9,7 +9,7 @@ use std::path::Path;
 use rocking::ida::{ImGrid, Spacing};
 use rocking::physics::{simulate, Excitation, Model, RunSpec};
 use rocking::pipeline::{self, StudyKind};
-use rocking::stages::sweep::{read_capacities, read_ida, FAULT_ENV, HOLD_ENV};
+use rocking::stages::sweep::{read_capacities, read_ida, FAULT_ENV, HOLD_ENV, INTERRUPT_ENV};
 
 use crate::util::{direct_capacity, rocking, root, stderr, tempdir, write_pipeline, TempDir};
 
@@ -445,4 +445,106 @@ fn bad_pipelines_fail_before_any_run_naming_the_key() {
     // The name of an unknown key comes with the file.
     let out = sweep(&dir, &dir.path().join("bad0.toml"), &[]);
     assert!(stderr(&out).contains("bad0.toml"), "{}", stderr(&out));
+}
+
+/// What the command prints when Ctrl-C stopped it.
+const INTERRUPTED: &str = "interrupted (Ctrl-C): every file written is whole";
+
+/// A sweep stopped as Ctrl-C stops it, once its first chunk is complete
+/// and before the 10 s after which chunks are saved as they complete,
+/// keeps that chunk as parts (it was lost before: the rerun started
+/// over), says it was interrupted with the shell's code for SIGINT, and
+/// the rerun resumes to the uninterrupted sweep's tables, to the byte.
+#[test]
+fn an_interrupted_sweep_keeps_its_completed_chunks_and_resumes_to_the_same_tables() {
+    let reference = tempdir();
+    let ref_pipe = write_pipeline(reference.path(), "i", THREE_CHUNKS);
+    assert!(sweep(&reference, &ref_pipe, &[]).status.success());
+
+    let dir = tempdir();
+    let pipe = write_pipeline(dir.path(), "i", THREE_CHUNKS);
+    let stopped = crash(&dir, &pipe, &[(INTERRUPT_ENV, "1")]);
+    assert_eq!(stopped.status.code(), Some(130), "{}", stderr(&stopped));
+    assert!(
+        stderr(&stopped).contains(INTERRUPTED),
+        "{}",
+        stderr(&stopped)
+    );
+    let folder = dir.path().join("out/i");
+    assert!(!folder.join("capacities.parquet").exists());
+    // Two workers are on the second chunk's first cases when the first
+    // completes: it alone is whole.
+    assert_eq!(
+        part_files(&folder),
+        ["cap-000000.parquet", "ida-000000.parquet"]
+    );
+    let resumed = sweep(&dir, &pipe, &[]);
+    assert!(resumed.status.success(), "{}", stderr(&resumed));
+    let text = String::from_utf8_lossy(&resumed.stdout);
+    assert!(text.contains("(32 resumed from an earlier run)"), "{text}");
+    assert_same_tables(&folder, &reference.path().join("out/i"));
+    assert!(
+        temporaries(&folder).is_empty(),
+        "{:?}",
+        temporaries(&folder)
+    );
+}
+
+/// 10 records × 64 blocks = 640 cases: twenty chunks, a few seconds.
+const TWENTY_CHUNKS: &str = r#"ids = ["RSN1111_KOBE_NIS000", "RSN953_NORTHR_MUL009", "RSN1633_MANJIL_ABBAR--L", "RSN1158_KOCAELI_DZC180", "RSN1148_KOCAELI_ARC000", "RSN169_IMPVALL_H-DLT262", "RSN174_IMPVALL_H-E11140", "RSN1244_CHICHI_CHY101-E", "RSN1485_CHICHI_TCU045-E", "RSN721_SUPERST_B-ICC000"]
+[blocks]
+p = { from = 0.5, to = 8.0, count = 8, spacing = "log" }
+eps = { from = 0.6, to = 0.95, count = 8 }
+[im]
+count = 100
+eta_min = 0.005
+"#;
+
+/// Ctrl-C itself (SIGINT from outside, as a terminal sends it) reaches the
+/// runs: the sweep stops early, says so, exits with 130, and resumes from
+/// what it saved to the uninterrupted tables.
+#[test]
+fn ctrl_c_stops_a_sweep_that_then_resumes_to_the_same_tables() {
+    let reference = tempdir();
+    let ref_pipe = write_pipeline(reference.path(), "c", TWENTY_CHUNKS);
+    assert!(sweep(&reference, &ref_pipe, &[]).status.success());
+
+    let dir = tempdir();
+    let pipe = write_pipeline(dir.path(), "c", TWENTY_CHUNKS);
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_rocking"))
+        .args(["sweep", pipe.to_str().unwrap(), "--outputs", "out"])
+        .env(HOLD_ENV, "0")
+        .current_dir(dir.path())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let folder = dir.path().join("out/c");
+    let first = folder.join("parts/cap-000000.parquet");
+    let t0 = std::time::Instant::now();
+    while !first.exists() && t0.elapsed() < std::time::Duration::from_secs(60) {
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    let kill = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let stopped = child.wait_with_output().unwrap();
+    assert_eq!(stopped.status.code(), Some(130), "{}", stderr(&stopped));
+    assert!(
+        stderr(&stopped).contains(INTERRUPTED),
+        "{}",
+        stderr(&stopped)
+    );
+    assert!(!folder.join("capacities.parquet").exists());
+    let kept = part_files(&folder).len() / 2;
+    assert!((1..20).contains(&kept), "{kept} chunks saved");
+
+    let resumed = sweep(&dir, &pipe, &[]);
+    assert!(resumed.status.success(), "{}", stderr(&resumed));
+    let text = String::from_utf8_lossy(&resumed.stdout);
+    let note = format!("({} resumed from an earlier run)", kept * 32);
+    assert!(text.contains(&note), "{note}: {text}");
+    assert_same_tables(&folder, &reference.path().join("out/c"));
 }

@@ -18,5 +18,28 @@ fn main() -> std::process::ExitCode {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
+    #[cfg(unix)]
+    // SAFETY: as above; the handler only stores to an atomic and restores
+    // the default action, both async-signal-safe.
+    unsafe {
+        libc::signal(
+            libc::SIGINT,
+            on_interrupt as extern "C" fn(libc::c_int) as libc::sighandler_t,
+        );
+    }
     commands::main()
+}
+
+/// Ctrl-C: every run under way ends and none starts
+/// ([`rocking::physics::interrupt`]), so the command fails at its next run
+/// with its tables whole or absent and says so; a second Ctrl-C ends the
+/// process at once (the default action, restored here), for work that
+/// runs no simulation to hear the first.
+#[cfg(unix)]
+extern "C" fn on_interrupt(_: libc::c_int) {
+    rocking::physics::interrupt::request();
+    // SAFETY: signal(2) is async-signal-safe; SIG_DFL is a valid action.
+    unsafe {
+        libc::signal(libc::SIGINT, libc::SIG_DFL);
+    }
 }

@@ -47,7 +47,7 @@ pub use layout::{
     plan_hash, SweepMeta, CHUNK_CASES, META_CHUNK, META_PLAN, META_PLAN_HASH, META_SETTINGS,
     META_SHARD,
 };
-pub use writer::{CHECKPOINT_AFTER, FAULT_ENV, HOLD_ENV, MAX_HELD_ROWS};
+pub use writer::{CHECKPOINT_AFTER, FAULT_ENV, HOLD_ENV, INTERRUPT_ENV, MAX_HELD_ROWS};
 
 use super::stage::{BoxError, Context, Progress, Shard, Stage, Study, Summary};
 use crate::tables;
@@ -115,7 +115,12 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
     let study = cx.study;
     let plan = &study.plan;
     let setup = prepare(cx)?;
-    let fault_after: Option<usize> = std::env::var(FAULT_ENV).ok().and_then(|v| v.parse().ok());
+    let after = |var: &str| {
+        std::env::var(var)
+            .ok()
+            .and_then(|v| v.parse::<usize>().ok())
+    };
+    let (fault_after, interrupt_after) = (after(FAULT_ENV), after(INTERRUPT_ENV));
     let hold = match std::env::var(HOLD_ENV).ok().and_then(|v| v.parse().ok()) {
         Some(n) => Hold::Chunks(n),
         None => Hold::Until(started + CHECKPOINT_AFTER),
@@ -153,6 +158,7 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
             plan,
             parts,
             fault_after,
+            interrupt_after,
             report,
             order: mine.iter().copied().collect(),
             resumed,
@@ -306,7 +312,12 @@ fn run_chunks<'a, R: Fn(&Tally) + 'a>(
             let saved = (|| {
                 let mut chunks = writer()?;
                 for (i, result) in rx.iter() {
-                    chunks.take(cases[i], result?)?;
+                    match result {
+                        Ok(r) => chunks.take(cases[i], r)?,
+                        // A failed or interrupted sweep keeps the chunks it
+                        // completed, however early: a rerun resumes there.
+                        Err(e) => return Err(chunks.keep_completed(e)),
+                    }
                 }
                 chunks.finish()
             })();

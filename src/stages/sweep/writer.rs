@@ -19,6 +19,10 @@ use crate::tables::sweep::{CapacityRow, IdaRow};
 /// crash would) once this many chunks are complete (and those due saved).
 pub const FAULT_ENV: &str = "ROCKING_FAULT_AFTER_CHUNKS";
 
+/// Environment variable for tests: ask every run to stop, as Ctrl-C does
+/// ([`crate::physics::interrupt`]), once this many chunks are complete.
+pub const INTERRUPT_ENV: &str = "ROCKING_INTERRUPT_AFTER_CHUNKS";
+
 /// How long a sweep runs before it saves its first parts. Saving a chunk
 /// (two Parquet files created, encoded, synced and renamed, then deleted at
 /// the end) costs the writer thread about 2 ms of CPU, taken from the
@@ -54,6 +58,8 @@ pub(super) struct ChunkWriter<'a, R> {
     /// Fault injection: abort once this many chunks are complete (and
     /// those due saved).
     pub(super) fault_after: Option<usize>,
+    /// Ctrl-C's stop asked for once this many chunks are complete.
+    pub(super) interrupt_after: Option<usize>,
     pub(super) report: &'a R,
     /// The chunks still to add to the final tables, in order.
     pub(super) order: VecDeque<usize>,
@@ -121,6 +127,21 @@ impl<R: Fn(&Tally)> ChunkWriter<'_, R> {
         if self.held.is_empty() || !self.hold.due(self.completed, held_rows, Instant::now()) {
             return Ok(());
         }
+        self.save_held()
+    }
+
+    /// The sweep's end at a case's `error` (Ctrl-C's among them): the
+    /// chunks completed and held are saved as parts now, whatever
+    /// [`Hold`] says, so that a rerun resumes from them; `error` is
+    /// returned (a failure to save is the lesser news, and leaves what
+    /// any failure leaves: whole parts or none).
+    pub(super) fn keep_completed(mut self, error: SweepError) -> SweepError {
+        let _ = self.save_held();
+        error
+    }
+
+    /// Saves every held chunk as parts, in order.
+    fn save_held(&mut self) -> Result<(), SweepError> {
         for h in self.held.drain(..) {
             let (ida_part, cap_part) = part_paths(self.parts, h.chunk);
             let meta = self.prep.metadata(self.plan, Some(h.chunk), None);
@@ -197,6 +218,9 @@ impl<R: Fn(&Tally)> ChunkWriter<'_, R> {
         if self.fault_after.is_some_and(|n| self.completed >= n) {
             // Fault injection for the resume tests: die as a crash would.
             std::process::abort();
+        }
+        if self.interrupt_after.is_some_and(|n| self.completed >= n) {
+            crate::physics::interrupt::request();
         }
         Ok(())
     }

@@ -96,10 +96,16 @@ pub fn main() -> ExitCode {
     exit(result)
 }
 
-/// The exit code of a command's result, its error printed with its causes.
+/// The exit code of a command's result, its error printed with its causes;
+/// a command stopped by Ctrl-C says what it left, with the shell's code for
+/// a process ended by SIGINT (130).
 fn exit(result: anyhow::Result<()>) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(_) if rocking::physics::interrupt::requested() => {
+            eprintln!("{INTERRUPTED}");
+            ExitCode::from(130)
+        }
         Err(e) => {
             eprintln!("error: {e}");
             for cause in e.chain().skip(1) {
@@ -109,6 +115,10 @@ fn exit(result: anyhow::Result<()>) -> ExitCode {
         }
     }
 }
+
+/// What a command stopped by Ctrl-C prints.
+const INTERRUPTED: &str = "interrupted (Ctrl-C): every file written is whole and nothing is \
+half-written; a study's sweep keeps the chunks it finished, and `rocking run` resumes from them";
 
 /// A number of a printed table in `width` columns: four decimals, or four
 /// significant digits in scientific form where four decimals would print
