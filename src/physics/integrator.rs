@@ -311,8 +311,7 @@ pub enum ModelChoice {
     Nonlinear,
     /// The linearised model where its error for the block's α is within the
     /// tolerance ([`LINEARIZATION_ERROR_PER_ALPHA2`]·α² ≤ tol), else the
-    /// nonlinear one; with the base's friction, the slide-rock model where
-    /// the block can slide.
+    /// nonlinear one; with the base's friction, the slide-rock model.
     Auto,
     /// The nonlinear equation on a base with Coulomb friction (rest, slide,
     /// rock, slide-rock); needs α and μ.
@@ -374,11 +373,11 @@ impl ModelChoice {
     }
 
     /// The model to run and a sentence saying why. `friction`, the base's
-    /// where known, makes `auto` choose the slide-rock model wherever the
-    /// block can slide: where it slides first (μₛ < b/h), and wherever the
-    /// nonlinear model would run (its friction is then checked at every
-    /// interval, and the runs are the nonlinear model's to the bit until it
-    /// binds); a block slender enough for the linearised model keeps it.
+    /// where known, makes `auto` choose the slide-rock model, whose rocking
+    /// is the nonlinear model's: a block with μ can slide, whether it slides
+    /// first (μₛ < b/h) or slips as it rocks (its friction is checked at
+    /// every interval, and the runs are the nonlinear model's to the bit
+    /// until it binds).
     pub fn resolve(
         self,
         alpha_rad: Option<f64>,
@@ -402,26 +401,12 @@ impl ModelChoice {
             (ModelChoice::SlideRock, Some(_), None) => Err(PhysicsError::BadInput(
                 "the slide-rock model needs the base's friction coefficient μ (--mu)".into(),
             )),
-            (ModelChoice::Auto, Some(a), Some(f)) => {
-                let (rocking, why) = ModelChoice::Auto.resolve(Some(a), None, solver, auto_tol)?;
-                let slides_first = crate::block::slides_first(f.mu_s, a);
-                if slides_first || rocking.equation != Equation::Linearized {
-                    Ok((
-                        Model::slide_rock(a, f, solver),
-                        format!("slide-rock model: {}", sliding_reason(a, f)),
-                    ))
-                } else {
-                    Ok((
-                        rocking,
-                        format!(
-                            "{why}; at μ = {} ≥ b/h = {:.4} such a slender block is taken not \
-                             to slide",
-                            f.mu_s,
-                            a.tan()
-                        ),
-                    ))
-                }
-            }
+            // Any block with μ can slide, a slender one too: its friction
+            // demand while rocking is not bounded by tan α (MODEL.md §21).
+            (ModelChoice::Auto, Some(a), Some(f)) => Ok((
+                Model::slide_rock(a, f, solver),
+                format!("slide-rock model: {}", sliding_reason(a, f)),
+            )),
             (choice, alpha, _) => choice.resolve_rocking(alpha, solver, auto_tol),
         }
     }

@@ -247,8 +247,9 @@ pub struct SceneArgs {
     #[command(flatten)]
     pub floor: FloorArgs,
     /// Static friction coefficient μ between the block and its base: a block
-    /// with μ below b/h slides before it rocks; `--model auto` (and
-    /// `--direct`) then runs it sliding (the slide-rock model).
+    /// with μ below b/h slides before it rocks, and one above may slip as it
+    /// rocks; `--model auto` (and `--direct`) runs a block with μ on its
+    /// friction (the slide-rock model).
     #[arg(long, value_name = "μ")]
     pub mu: Option<f64>,
 }
