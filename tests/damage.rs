@@ -849,3 +849,93 @@ fn a_lighter_state_kept_lognormal_is_said() {
     assert_eq!(alone["method"], "empirical", "{alone}");
     assert!(!said.contains("decides the kind"), "{said}");
 }
+
+/// A study whose grid has blocks without a fit in one method only: with a
+/// strong cut (η ≥ 0.3) no record overturns the p = 1, ε = 0.7 block, so
+/// it has no likelihood fit, and at p = 2 and 3 too few overturn for the
+/// fractile fit. `--method mle` for a block in the cell p = 2–3,
+/// ε = 0.7–0.9, whose four corners all have their likelihood fits, is the
+/// bilinear value of those four in (ln p, ε), worked here from the table
+/// (it was refused for the fractile fit's holes, with "try --method
+/// mle"); the fractile fit is refused naming the corners without one.
+#[test]
+fn a_fit_is_carried_where_its_own_corners_have_one() {
+    let dir = tempdir();
+    let body = "sets = [\"far-field\"]\n[model]\nkind = \"linearized\"\n[blocks]\n\
+                p = [1.0, 2.0, 3.0]\neps = [0.7, 0.9]\n[im]\ncount = 60\neta_min = 0.3\n";
+    let pipeline = write_pipeline(dir.path(), "holes", body);
+    let outputs = dir.path().join("out");
+    let out = rocking(dir.path(), &["run", s(&pipeline), "--outputs", s(&outputs)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let table: Vec<DamageStateRow> = read(&outputs.join("holes"), "damage_states.parquet");
+    let node = |p: f64, eps: f64, method: FitMethod| {
+        table
+            .iter()
+            .find(|r| {
+                r.p == p
+                    && r.eps == eps
+                    && r.state == "overturned"
+                    && r.im == "pga"
+                    && r.method == method
+            })
+            .and_then(|r| Some((r.median_dimensionless?.ln(), r.beta?)))
+    };
+    // The holes this test is about.
+    assert!(node(1.0, 0.7, FitMethod::MaxLikelihood).is_none());
+    assert!(node(2.0, 0.7, FitMethod::Fractile).is_none());
+    let (alpha, p, eps) = (0.15_f64, 2.5_f64, 0.8);
+    let (b, h) = (
+        (9.80665 * alpha.sin() * 3.0 / (4.0 * p * p)).to_string(),
+        (9.80665 * alpha.cos() * 3.0 / (4.0 * p * p)).to_string(),
+    );
+    let fragility = |method: &str| {
+        let args = [
+            "fragility",
+            "--b",
+            &b,
+            "--h",
+            &h,
+            "--eps",
+            "0.8",
+            "--from",
+            s(&pipeline),
+            "--outputs",
+            s(&outputs),
+            "--method",
+            method,
+            "--pga",
+            "0.3",
+            "--json",
+        ];
+        rocking(dir.path(), &args)
+    };
+    let out = fragility("mle");
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&out)).unwrap();
+    let (got_alpha, got_p) = (v["alpha_rad"].as_f64().unwrap(), v["p"].as_f64().unwrap());
+    let tp = (got_p.ln() - 2f64.ln()) / (3f64.ln() - 2f64.ln());
+    let te = (eps - 0.7) / (0.9 - 0.7);
+    let mle = |p, e| node(p, e, FitMethod::MaxLikelihood).unwrap();
+    let (a, b2, c, d) = (mle(2.0, 0.7), mle(2.0, 0.9), mle(3.0, 0.7), mle(3.0, 0.9));
+    let mix = |f: fn((f64, f64)) -> f64| {
+        let low = f(a) * (1.0 - te) + f(b2) * te;
+        let high = f(c) * (1.0 - te) + f(d) * te;
+        low * (1.0 - tp) + high * tp
+    };
+    let median = got_alpha * mix(|x| x.0).exp();
+    let beta = mix(|x| x.1);
+    let got = v["median"].as_f64().unwrap();
+    assert!((got / median - 1.0).abs() < 1e-12, "{got} against {median}");
+    assert!((v["beta"].as_f64().unwrap() - beta).abs() < 1e-12);
+    assert!((got_p - p).abs() < 1e-9 && (got_alpha - alpha).abs() < 1e-9);
+
+    let refused = fragility("fractile");
+    assert!(!refused.status.success());
+    let e = stderr(&refused);
+    assert!(
+        e.contains(
+            "(p = 2.000 1/s, ε = 0.700; p = 2.000 1/s, ε = 0.900; p = 3.000 1/s, ε = 0.700)"
+        ) && e.contains("try --method mle"),
+        "{e}"
+    );
+}

@@ -44,15 +44,18 @@ pub enum ImTableError {
         pipeline: String,
     },
     #[error(
-        "damage state `{state}` in {im} by the {method} method: some blocks of the study's grid \
-         have no fit (too few records reach the state), so it cannot be carried to other blocks; \
-         try --method {other}, or --direct"
+        "{what} by the {method} method: the study's blocks around this one ({corners}) have no \
+         fit (too few records reach the state), so it cannot be carried here; try --method \
+         {other}, or --direct"
     )]
     StateHoles {
-        state: String,
-        im: String,
+        /// The state and the IM: "damage state `overturned` in pga".
+        what: String,
         method: &'static str,
         other: &'static str,
+        /// The grid's blocks the block's fit would be carried from that
+        /// have none.
+        corners: String,
     },
     #[error(
         "{what} of {pipeline}: the study's blocks ({blocks}) are not a grid of p × ε, so they \
@@ -180,10 +183,10 @@ impl ImTable {
                 ),
                 &self.table,
                 (
-                    || {
+                    |corners| {
                         ImTableError::Bad(format!(
-                            "some blocks of the study's grid have no median in {}, so it \
-                             cannot be carried to other blocks; use --direct",
+                            "the study's blocks around this one ({corners}) have no median in \
+                             {}, so it cannot be carried here; use --direct",
                             self.im.name()
                         ))
                     },
@@ -292,11 +295,11 @@ impl DamageTable {
                 ),
                 table,
                 (
-                    || ImTableError::StateHoles {
-                        state: state.name.clone(),
-                        im: self.im.name(),
+                    |corners| ImTableError::StateHoles {
+                        what: format!("damage state `{}` in {}", state.name, self.im.name()),
                         method: self.method.name(),
                         other: self.method.other().name(),
+                        corners,
                     },
                     format!("try --method {}, or --direct", self.method.other().name()),
                 ),
@@ -328,8 +331,9 @@ struct Table {
 enum Gap {
     /// Named blocks, not a grid of p × ε; none of them is the block asked.
     NotAGrid,
-    /// A grid of p × ε with blocks that have no fit.
-    Holes,
+    /// A grid of p × ε whose blocks around the one asked (those its value
+    /// would be carried from) have no fit: them, as text.
+    Holes(String),
     /// The study's own block, run sliding on its friction: its fits are
     /// not those of a block asked without it.
     Slides { block: String, mu: f64 },
@@ -372,8 +376,7 @@ impl Table {
             };
         }
         match &self.grid {
-            Some(g) => Ok(g.at(p, eps)),
-            None if Grid::complete(self.nodes.iter().map(|n| n.1)) => Err(Gap::Holes),
+            Some(g) => g.at(p, eps),
             None => Err(Gap::NotAGrid),
         }
     }
@@ -398,11 +401,11 @@ impl Gap {
         self,
         (what, pipeline): (String, &str),
         table: &Table,
-        (holes, try_instead): (impl FnOnce() -> ImTableError, String),
+        (holes, try_instead): (impl FnOnce(String) -> ImTableError, String),
     ) -> ImTableError {
         let pipeline = pipeline.to_string();
         match self {
-            Gap::Holes => holes(),
+            Gap::Holes(corners) => holes(corners),
             Gap::NotAGrid => ImTableError::NotAGrid {
                 what,
                 pipeline,
@@ -423,25 +426,18 @@ impl Gap {
     }
 }
 
-/// A study's p × ε grid of one IM: ln of the dimensionless median and β.
+/// A study's p × ε grid of one IM: ln of the dimensionless median and β,
+/// where the block has a fit.
 struct Grid {
     ps: Vec<f64>,
     es: Vec<f64>,
     /// Row-major by p then ε.
-    values: Vec<(f64, f64)>,
+    values: Vec<Option<(f64, f64)>>,
 }
 
 impl Grid {
-    /// Whether the nodes hold every pair of their p and ε (with a fit or
-    /// not).
-    fn complete(nodes: impl Iterator<Item = Node> + Clone) -> bool {
-        nodes.clone().all(|(p, _, _, _)| {
-            nodes
-                .clone()
-                .all(|(_, e, _, _)| nodes.clone().any(|n| n.0 == p && n.1 == e))
-        })
-    }
-
+    /// The grid the nodes make, if they hold every pair of their p and ε
+    /// (with a fit or not).
     fn of(rows: &[Node]) -> Option<Grid> {
         let mut ps: Vec<f64> = rows.iter().map(|r| r.0).collect();
         let mut es: Vec<f64> = rows.iter().map(|r| r.1).collect();
@@ -453,15 +449,17 @@ impl Grid {
         for &p in &ps {
             for &e in &es {
                 let r = rows.iter().find(|r| r.0 == p && r.1 == e)?;
-                values.push((r.2?.ln(), r.3?));
+                values.push(r.2.zip(r.3).map(|(m, b)| (m.ln(), b)));
             }
         }
         (!values.is_empty()).then_some(Grid { ps, es, values })
     }
 
     /// Bilinear in (ln p, ε), clamped to the grid, with what was clamped.
-    /// An axis of one value is used as it is.
-    fn at(&self, p: f64, eps: f64) -> (f64, f64, Vec<String>) {
+    /// An axis of one value is used as it is. A block of the grid without a
+    /// fit is a [`Gap::Holes`] where its weight is not zero, and nothing
+    /// where it is (its term is then 0, as any block's would be).
+    fn at(&self, p: f64, eps: f64) -> Result<(f64, f64, Vec<String>), Gap> {
         let mut warnings = Vec::new();
         let lnp: Vec<f64> = self.ps.iter().map(|v| v.ln()).collect();
         let (ip, jp, tp) = bracket(&lnp, p.ln());
@@ -469,13 +467,26 @@ impl Grid {
         warnings.extend(outside("p", " 1/s", &self.ps, p));
         warnings.extend(outside("ε", "", &self.es, eps));
         let n = self.es.len();
-        let v = |i: usize, j: usize| self.values[i * n + j];
+        let mut holes = Vec::new();
+        for (i, wp) in [(ip, 1.0 - tp), (jp, tp)] {
+            for (j, we) in [(ie, 1.0 - te), (je, te)] {
+                let line = format!("p = {:.3} 1/s, ε = {:.3}", self.ps[i], self.es[j]);
+                let hole = wp != 0.0 && we != 0.0 && self.values[i * n + j].is_none();
+                if hole && !holes.contains(&line) {
+                    holes.push(line);
+                }
+            }
+        }
+        if !holes.is_empty() {
+            return Err(Gap::Holes(holes.join("; ")));
+        }
+        let v = |i: usize, j: usize| self.values[i * n + j].unwrap_or((0.0, 0.0));
         let mix = |f: fn((f64, f64)) -> f64| {
             let a = f(v(ip, ie)) * (1.0 - te) + f(v(ip, je)) * te;
             let b = f(v(jp, ie)) * (1.0 - te) + f(v(jp, je)) * te;
             a * (1.0 - tp) + b * tp
         };
-        (mix(|x| x.0), mix(|x| x.1), warnings)
+        Ok((mix(|x| x.0), mix(|x| x.1), warnings))
     }
 }
 
@@ -561,16 +572,30 @@ mod tests {
         let refs = nodes(&rows);
         let g = Grid::of(&refs).unwrap();
         for (p, e) in [(0.7, 0.55), (1.3, 0.81), (3.9, 0.5), (0.5, 0.9)] {
-            let (m, b, w) = g.at(p, e);
+            let (m, b, w) = g.at(p, e).unwrap();
             let (wm, wb) = f(p, e);
             assert!((m - wm).abs() < 1e-12 && (b - wb).abs() < 1e-12, "{p} {e}");
             assert!(w.is_empty());
         }
-        let (m, _, w) = g.at(8.0, 0.95);
+        let (m, _, w) = g.at(8.0, 0.95).unwrap();
         assert!((m - f(4.0, 0.9).0).abs() < 1e-12);
         assert_eq!(w.len(), 2, "{w:?}");
-        // A grid with a hole is not a grid.
+        // A grid missing a block is not a grid.
         assert!(Grid::of(&refs[1..]).is_none());
+        // A block without a fit leaves the cells it is no corner of as
+        // they were: (0.5, 0.5) has none, and (2, 0.6), (3.9, 0.8) and
+        // (1, 0.7), on its cell's far edge, are answered to the bit; a
+        // block whose cell it is a corner of is refused, naming it.
+        let mut holed = refs.clone();
+        holed[0].2 = None;
+        let h = Grid::of(&holed).unwrap();
+        for (p, e) in [(2.0, 0.6), (3.9, 0.8), (1.0, 0.7)] {
+            assert_eq!(h.at(p, e), g.at(p, e).map_err(|_| Gap::NotAGrid), "{p} {e}");
+        }
+        assert_eq!(
+            h.at(0.7, 0.55),
+            Err(Gap::Holes("p = 0.500 1/s, ε = 0.500".into()))
+        );
     }
 
     /// A study of named blocks is no grid: a block asked is answered by
@@ -627,7 +652,10 @@ mod tests {
             ],
             &none,
         );
-        assert_eq!(holed.at(2.0, 0.7), Err(Gap::Holes));
+        assert_eq!(
+            holed.at(2.0, 0.7),
+            Err(Gap::Holes("p = 1.000 1/s, ε = 0.900".into()))
+        );
         assert_eq!(holed.at(4.0, 0.9), Ok((3f64.ln(), 0.3, Vec::new())));
     }
 
@@ -642,10 +670,10 @@ mod tests {
             .collect();
         let refs = nodes(&rows);
         let g = Grid::of(&refs).unwrap();
-        let (m, b, w) = g.at(2.0, 0.7);
+        let (m, b, w) = g.at(2.0, 0.7).unwrap();
         assert!((m - f(2.0).0).abs() < 1e-12 && (b - f(2.0).1).abs() < 1e-12);
         assert!(w.is_empty(), "{w:?}");
-        let (m, _, w) = g.at(2.0, 0.75);
+        let (m, _, w) = g.at(2.0, 0.75).unwrap();
         assert!((m - f(2.0).0).abs() < 1e-12);
         assert_eq!(w.len(), 1);
         assert!(w[0].contains("only ε = 0.700"), "{w:?}");

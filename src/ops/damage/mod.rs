@@ -44,7 +44,7 @@ pub fn of_block(
         None if model.choice != ModelChoice::Auto => {
             return Err(FragilityError::ModelNeedsRuns(model.choice.label()))
         }
-        None => from_regression(block, states, im, laws, model.auto_tol)?,
+        None => from_regression(block, states, im, laws, (model.auto_tol, fit.method))?,
     };
     f.method = fit.method;
     f.warnings.extend(crate::block::size_warning(block));
@@ -197,57 +197,72 @@ fn damage_tables(
 /// Overturning from the regression (in PGA) or the study's IM table, as
 /// `fragility` and `risk` take it; the other states, and overturning's
 /// maximum-likelihood fit, from the study's damage table carried to the
-/// block. The paper's regression gives overturning only.
+/// block. The paper's regression gives overturning only. The fit by
+/// `method` (the fractile one for the records' curve, which a study does
+/// not carry) must be there; the other is given where the study has it
+/// for the block (its grid may have holes in one fit and not the other:
+/// an MLE asked for was refused for the fractile fit's holes).
 fn from_regression(
     block: &Block,
     states: &DamageStates,
     im: Im,
     laws: &Laws,
-    auto_tol: f64,
+    (auto_tol, method): (f64, FitMethod),
 ) -> Result<DamageFragility, FragilityError> {
     let [fractile_table, mle_table] = damage_tables(states, im, laws)?;
     let study = laws.plan.as_ref().map(|p| p.blocks());
     let mut warnings = super::fragility::model_warning(block, study, auto_tol)
         .into_iter()
         .collect::<Vec<_>>();
+    let required = match method {
+        FitMethod::MaxLikelihood => FitMethod::MaxLikelihood,
+        _ => FitMethod::Fractile,
+    };
     let mut out = Vec::with_capacity(states.states().len());
     for s in states.states() {
-        let from_table =
-            |t: &Option<DamageTable>, w: &mut Vec<String>| -> Result<_, FragilityError> {
-                let Some(t) = t else { return Ok(None) };
-                let l = t.capacity(block, s)?;
-                w.extend(l.warnings);
-                Ok(Some(Lognormal {
-                    median: l.median,
-                    beta: l.beta,
-                }))
-            };
+        let from_table = |m: FitMethod,
+                          t: &Option<DamageTable>,
+                          w: &mut Vec<String>|
+         -> Result<Option<Lognormal>, FragilityError> {
+            let Some(t) = t else { return Ok(None) };
+            match t.capacity(block, s) {
+                Ok(l) => {
+                    w.extend(l.warnings);
+                    Ok(Some(Lognormal {
+                        median: l.median,
+                        beta: l.beta,
+                    }))
+                }
+                Err(e) if m == required => Err(e.into()),
+                Err(_) => Ok(None),
+            }
+        };
         let (fractile, mle, kind) = match s.criterion {
             Criterion::Overturned => {
                 let (l, kind) = match overturning(block, im, laws, auto_tol, &mut warnings) {
-                    Ok(l) => l,
+                    Ok((l, kind)) => (Some(l), kind),
                     // A study too small for a regression: its damage table.
                     Err(FragilityError::NoFit { .. }) if fractile_table.is_some() => (
-                        from_table(&fractile_table, &mut warnings)?.expect("a table"),
+                        from_table(FitMethod::Fractile, &fractile_table, &mut warnings)?,
                         "fractile",
                     ),
                     Err(e) => return Err(e),
                 };
                 // The table's overturning by maximum likelihood, where it has one.
-                let mle = from_table(&mle_table, &mut Vec::new()).ok().flatten();
-                (Some(l), mle, kind)
+                let mle = from_table(FitMethod::MaxLikelihood, &mle_table, &mut Vec::new())?;
+                (l, mle, kind)
             }
             // States on the slide are refused before ([`for_states`]).
             Criterion::Rotation(_) | Criterion::Slide(_) => {
-                let Some(f) = from_table(&fractile_table, &mut warnings)? else {
+                if fractile_table.is_none() {
                     return Err(FragilityError::StatesNeedRecords {
                         from: laws.name.clone(),
                         state: s.name.clone(),
                     });
-                };
+                }
                 (
-                    Some(f),
-                    from_table(&mle_table, &mut Vec::new()).ok().flatten(),
+                    from_table(FitMethod::Fractile, &fractile_table, &mut warnings)?,
+                    from_table(FitMethod::MaxLikelihood, &mle_table, &mut Vec::new())?,
                     "fractile",
                 )
             }
