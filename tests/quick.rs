@@ -210,9 +210,10 @@ fn reads_as_prose(folder: &Path) {
 }
 
 /// Fig. 7's horizontal capacity q-fractile is, exactly, the grid level at
-/// which the k-th most fragile record first overturned, k = ⌈1 + (n − 1)q⌉
-/// (type 7): the q-fractile of θmax/α given η is +∞ once k records are
-/// (+∞ in an interpolation is +∞ whatever its weight). Both it and the
+/// which the k-th least fragile record (the k-th smallest such level) first
+/// overturned, k = ⌈1 + (n − 1)q⌉ (type 7): the q-fractile of θmax/α given
+/// η is +∞ once all records but k − 1 are (+∞ in an interpolation is +∞
+/// whatever its weight). Both it and the
 /// vertical fractile (between the (k − 1)-th and k-th capacities) are at
 /// most the k-th capacity (a record's η_c is at least the level it first
 /// overturned at); which is larger depends on the gap between the records.

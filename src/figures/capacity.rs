@@ -78,8 +78,8 @@ fn horizontal_caption(d: &StudyData, e: f64) -> String {
          lowest intensity at which the same fractile of θmax/α given η reaches overturning \
          (horizontal statistics under the resurrection rule, points) (paper Fig. 7). They \
          are not the same statistic. With {n} records and {} fractiles, the horizontal \
-         q-fractile is +∞ as soon as the k-th most fragile record has overturned (k = {} for \
-         16, 50, 84 %), since an interpolation with +∞ is +∞ whatever its weight; so each \
+         q-fractile is +∞ as soon as the k-th least fragile record (the k-th smallest η_c) has \
+         overturned (k = {} for 16, 50, 84 %), since an interpolation with +∞ is +∞ whatever its weight; so each \
          point is that record's first overturning level, at grid resolution. The vertical \
          fractile interpolates between two records' capacities. They differ where those two \
          records lie far apart; the largest differences here: {}.",

@@ -72,16 +72,8 @@ pub(super) fn ims_section(w: &mut String, d: &StudyData) {
             f(beta(p, VECTOR)),
         );
     }
-    if let (Some(first), Some(last)) = (periods.first(), periods.last()) {
-        let _ = writeln!(
-            w,
-            "\nThe best SA period moves from {} s at p = {:.2} 1/s to {} s at p = {:.2} 1/s: \
-             a larger block (smaller p) is overturned by the record's longer periods.",
-            crate::im::period_text(first.1),
-            first.0,
-            crate::im::period_text(last.1),
-            last.0
-        );
+    if let Some(line) = best_period_line(&periods) {
+        let _ = writeln!(w, "\n{line}");
     }
     let lower = rows
         .iter()
@@ -99,4 +91,61 @@ pub(super) fn ims_section(w: &mut String, d: &StudyData) {
          in PGA can be conditioned on it: ln PGA_c regressed on ln(PGV/PGA)) has a smaller \
          dispersion than the best single IM in {lower} of {total} blocks.\n"
     );
+}
+
+/// How the best SA period changes with p (`best`: p, the period, β, by p),
+/// where the study has two p or more: it moves, or stays.
+fn best_period_line(best: &[(f64, f64, f64)]) -> Option<String> {
+    let (first, last) = (best.first()?, best.last()?);
+    if first.0 == last.0 {
+        return None;
+    }
+    let (t0, t1) = (
+        crate::im::period_text(first.1),
+        crate::im::period_text(last.1),
+    );
+    Some(match first.1.total_cmp(&last.1) {
+        std::cmp::Ordering::Equal => format!(
+            "The best SA period is {t0} s from p = {:.2} to {:.2} 1/s.",
+            first.0, last.0
+        ),
+        std::cmp::Ordering::Greater => format!(
+            "The best SA period moves from {t0} s at p = {:.2} 1/s to {t1} s at p = {:.2} 1/s: \
+             a larger block (smaller p) is overturned by the record's longer periods.",
+            first.0, last.0
+        ),
+        std::cmp::Ordering::Less => format!(
+            "The best SA period moves from {t0} s at p = {:.2} 1/s to {t1} s at p = {:.2} 1/s.",
+            first.0, last.0
+        ),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::best_period_line;
+
+    /// One block says nothing (it said the period "moves from 1.0 s at
+    /// p = 2.82 1/s to 1.0 s at p = 2.82 1/s"); a period that stays is said
+    /// to stay; the larger block's longer period is explained, a shorter
+    /// one is not.
+    #[test]
+    fn the_best_period_line_says_what_the_periods_do() {
+        assert_eq!(best_period_line(&[(2.82, 1.0, 0.3)]), None);
+        assert_eq!(best_period_line(&[]), None);
+        assert_eq!(
+            best_period_line(&[(1.0, 1.0, 0.3), (4.0, 1.0, 0.2)]).unwrap(),
+            "The best SA period is 1.0 s from p = 1.00 to 4.00 1/s."
+        );
+        let longer = best_period_line(&[(1.0, 2.0, 0.3), (4.0, 0.5, 0.2)]).unwrap();
+        assert!(
+            longer.ends_with("overturned by the record's longer periods."),
+            "{longer}"
+        );
+        let shorter = best_period_line(&[(1.0, 0.5, 0.3), (4.0, 2.0, 0.2)]).unwrap();
+        assert_eq!(
+            shorter,
+            "The best SA period moves from 0.5 s at p = 1.00 1/s to 2.0 s at p = 4.00 1/s."
+        );
+    }
 }

@@ -127,8 +127,9 @@ table! {
         /// The fractile of the records' η_c (a record that never overturned counts as 0).
         pub eta_c: f64,
         /// The largest grid level (η) at which the EDP fractile of the same quantile is +∞
-        /// or ≥ 1: the level at which the k-th most fragile record first overturned,
-        /// k = ⌈h⌉ with h the fractile's position, e.g. ⌈1 + (n − 1)q⌉ for type 7. It
+        /// or ≥ 1: the level at which the k-th least fragile record (the k-th smallest
+        /// η_c) first overturned, k = ⌈h⌉ with h the fractile's position, e.g.
+        /// ⌈1 + (n − 1)q⌉ for type 7. It
         /// differs from `eta_c`, which interpolates between two records, where those
         /// records lie far apart. Empty if that fractile reaches 1 at no grid level.
         pub eta_c_horizontal: Option<f64>,
