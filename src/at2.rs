@@ -327,7 +327,9 @@ fn too_many(body: &str, line_no: usize, npts: usize) -> At2Error {
 /// non-ASCII separator, which is decoded where met.
 fn parse_samples(body: &str, npts: usize) -> Result<Vec<f64>, At2Error> {
     let bytes = body.as_bytes();
-    let mut accel_g = Vec::with_capacity(npts);
+    // Each value takes a byte and a separator: a header's NPTS (4e9, or
+    // 2⁶¹) reserves no more than the file can hold.
+    let mut accel_g = Vec::with_capacity(npts.min(bytes.len() / 2 + 1));
     let mut line_no = HEADER_LINES + 1;
     let mut i = 0;
     while i < bytes.len() {
@@ -623,6 +625,21 @@ mod tests {
         ];
         for (line, want) in cases {
             assert_eq!(npts_dt(line), Ok(want), "{line}");
+        }
+    }
+
+    /// A header claiming billions of samples is read as any short file:
+    /// refused for the values it lacks (4e9 reserved 32 GB first, and
+    /// aborted; 2⁶¹ overflowed the reservation and panicked).
+    #[test]
+    fn a_huge_npts_is_refused_for_the_values_the_file_lacks() {
+        for npts in ["4000000000", "2305843009213693952", "18446744073709551615"] {
+            let text = file(&format!("NPTS= {npts}, DT= .0100 SEC"), "0.1 0.2\n");
+            let e = parse_str(&text).unwrap_err();
+            assert!(
+                matches!(e.kind, At2ErrorKind::TooFewValues { found: 2, .. }),
+                "{npts}: {e}"
+            );
         }
     }
 
