@@ -266,6 +266,12 @@ fn a_pair_at_the_axes_is_its_components_and_mirrors_agree() {
             vec!["--pair", b.as_str(), "--angle-step", "0"],
             "--angle-step 0",
         ),
+        // Finer than a degree: 1e-9° held 1.8e11 motions at once, and the
+        // process was killed.
+        (
+            vec!["--pair", b.as_str(), "--angle-step", "1e-9"],
+            "--angle-step 0.000000001: the angle step is in degrees, in [1, 180]",
+        ),
         (vec!["--angle", "30"], "--pair"),
     ] {
         let mut args = vec!["capacity", "--record", a.as_str()];

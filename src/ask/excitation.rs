@@ -169,3 +169,16 @@ pub fn check_angles(angles: &[f64], sp: Spelling) -> Result<(), AskError> {
         None => Ok(()),
     }
 }
+
+/// A step between a pair's angles (degrees), in [1, 180]: finer than a
+/// degree is finer than a pair's RotD (180 angles), and a step of 1e-9°
+/// asked for 1.8e11 motions held at once (the process was killed).
+pub fn check_angle_step(step: f64, sp: Spelling) -> Result<(), AskError> {
+    if (1.0..=180.0).contains(&step) {
+        return Ok(());
+    }
+    Err(AskError(format!(
+        "{}: the angle step is in degrees, in [1, 180]",
+        sp.set_number("angle_step", step)
+    )))
+}

@@ -55,14 +55,8 @@ impl Default for LawAsk {
 impl LawAsk {
     /// The orientations `direct` runs the records at, checked.
     pub fn orient(&self, direct: bool, sp: Spelling) -> Result<fragility::Orient, AskError> {
-        // Finer than a degree is finer than a pair's RotD (180 angles) and
-        // holds every motion at once: 0.01° asked for about 80 GB.
-        if !(self.angle_step >= 1.0 && self.angle_step <= 180.0) {
-            return Err(AskError(format!(
-                "{}: the angle step is in degrees, in [1, 180]",
-                sp.set_number("angle_step", self.angle_step)
-            )));
-        }
+        // Every motion is held at once: 0.01° asked for about 80 GB.
+        super::check_angle_step(self.angle_step, sp)?;
         if self.angle_step != crate::pair::ANGLE_STEP_DEG
             && self.orientation == Orientation::AsRecorded
         {

@@ -31,7 +31,7 @@ mod tree;
 
 pub use assess::{BlocksAsk, FragilityAsk, RiskAsk, StatesAsk};
 pub use block::{AskedBlock, BlockAsk};
-pub use excitation::{check_angles, PulseAsk, SearchAsk};
+pub use excitation::{check_angle_step, check_angles, PulseAsk, SearchAsk};
 pub use export::{ExportAsk, ExportKw};
 pub use gmf::HazardAsk;
 pub use law::LawAsk;

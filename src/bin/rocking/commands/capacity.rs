@@ -167,9 +167,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// The angles asked with --pair, checked.
 fn pair_angles(args: &Args) -> anyhow::Result<Vec<f64>> {
     if let Some(step) = args.angle_step {
-        if !(step > 0.0 && step <= 180.0) {
-            anyhow::bail!("--angle-step {step}: a step in degrees in (0, 180]");
-        }
+        rocking::ask::check_angle_step(step, Spelling::Cli)?;
         return Ok(rocking::pair::angles(step));
     }
     if args.angle.is_empty() {
