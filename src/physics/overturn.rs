@@ -44,6 +44,18 @@ impl Overturn {
     pub fn limit(self, alpha_rad: Option<f64>) -> Result<f64, PhysicsError> {
         match self {
             Overturn::Static => Ok(1.0),
+            // Past θ = π/2 the block lies on its side: no state of the
+            // nonlinear model reaches the cap (cap:100 at α = 0.2 reported
+            // θmax/α = 100, 20 rad, "overturned no").
+            Overturn::Cap(c) if alpha_rad.is_some_and(|a| c * a > std::f64::consts::FRAC_PI_2) => {
+                let a = alpha_rad.unwrap_or(1.0);
+                Err(PhysicsError::BadInput(format!(
+                    "overturning cap {c} is past the block's side: c·α = {:.4} rad > π/2; the \
+                     nonlinear model's largest cap is π/(2α) = {:.4} (`on-side`)",
+                    c * a,
+                    std::f64::consts::FRAC_PI_2 / a
+                )))
+            }
             Overturn::Cap(c) if c.is_finite() && c >= 1.0 => Ok(c),
             Overturn::Cap(c) => Err(PhysicsError::BadInput(format!(
                 "overturning cap {c} must be a finite number ≥ 1 (in units of α)"
@@ -106,3 +118,32 @@ impl fmt::Display for Overturn {
 }
 
 crate::deserialize_by_from_str!(Overturn);
+
+#[cfg(test)]
+mod tests {
+    use super::Overturn;
+    use std::f64::consts::FRAC_PI_2;
+
+    /// A cap is in units of α: the linearised model has no side to lie on
+    /// and takes any cap ≥ 1; the nonlinear one takes caps up to π/(2α),
+    /// where the block lies on its side, and refuses beyond.
+    #[test]
+    fn a_cap_past_the_side_is_refused_for_the_nonlinear_model() {
+        assert_eq!(Overturn::Cap(100.0).limit(None).unwrap(), 100.0);
+        let alpha = 0.2;
+        let side = FRAC_PI_2 / alpha;
+        assert_eq!(Overturn::Cap(7.5).limit(Some(alpha)).unwrap(), 7.5);
+        assert_eq!(Overturn::Cap(side).limit(Some(alpha)).unwrap(), side);
+        let e = Overturn::Cap(100.0)
+            .limit(Some(alpha))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("past the block's side") && e.contains("7.8540"),
+            "{e}"
+        );
+        assert!(Overturn::Cap(side * (1.0 + 1e-15))
+            .limit(Some(alpha))
+            .is_err());
+    }
+}
