@@ -409,13 +409,17 @@ def test_where_a_lognormal_does_not_fit_both_take_the_records_curve():
 
 
 def test_a_floor_demand_is_the_commands():
-    """PFV on a floor, from the block's runs: Python's is the command's."""
-    same(
-        rocking.fragility(0.2, 0.9, im="pfv", at=[40, 80], direct=True, records=FAR,
-                          floor=[(0.5, 0.05, 1.3)]),
-        cli_json("fragility", "--b", "0.2", "--h", "0.9", "--im", "pfv", "--at", "40,80",
-                 "--direct", "--records", FAR, "--floor", "0.5,0.05,1.3"),
-    )
+    """PFV on a floor, from the block's runs: Python's is the command's,
+    the floor given as a list of modes or as the command's text (which was
+    read as a list of its characters and refused for its first, `0`)."""
+    cli = cli_json("fragility", "--b", "0.2", "--h", "0.9", "--im", "pfv", "--at", "40,80",
+                   "--direct", "--records", FAR, "--floor", "0.5,0.05,1.3")
+    for floor in ([(0.5, 0.05, 1.3)], "0.5,0.05,1.3"):
+        same(
+            rocking.fragility(0.2, 0.9, im="pfv", at=[40, 80], direct=True, records=FAR,
+                              floor=floor),
+            cli,
+        )
 
 
 def test_bad_input_raises_value_errors_with_the_librarys_message(tmp_path):
@@ -445,6 +449,11 @@ def test_bad_input_raises_value_errors_with_the_librarys_message(tmp_path):
         rocking.capacities(FAR, [dict(p=2, eps=0.7, colour="red")])
     with pytest.raises(ValueError, match="unknown field `colour`"):
         rocking.fragility(0.2, 0.9, pga=[0.3], colour="red")
+    with pytest.raises(ValueError, match="mu_k is the kinetic friction beside mu: give both"):
+        rocking.simulate(KOBE, b=0.2, h=1.0, eps=0.9, pga=0.3, mu_k=0.2)
+    with pytest.raises(ValueError, match=re.escape("give a block's b and h (half sizes, m), "
+                                                   "or inventory: h is missing")):
+        rocking.risk(HAZARD, b=0.2)
     with pytest.raises(ValueError, match="hazard: point 2: levels must increase"):
         rocking.risk(([0.1, 0.05], [1e-2, 1e-3]), b=0.2, h=0.9)
     with pytest.raises(ValueError, match='eps="housner" needs the block\'s dimensions'):

@@ -65,10 +65,21 @@ impl BlocksAsk {
                 eps: self.eps,
                 mu,
             }),
-            _ => Err(AskError(format!(
+            (Some(_), _, _) => Err(AskError(format!(
                 "give one block's {}, or {}, not both",
                 sp.keys(&["b", "h"]),
                 sp.key("inventory")
+            ))),
+            // Neither, or half a block: both of its sizes, or an inventory.
+            (None, b, h) => Err(AskError(format!(
+                "give a block's {} (half sizes, m), or {}{}",
+                sp.keys(&["b", "h"]),
+                sp.key("inventory"),
+                match (b, h) {
+                    (Some(_), None) => format!(": {} is missing", sp.key("h")),
+                    (None, Some(_)) => format!(": {} is missing", sp.key("b")),
+                    _ => String::new(),
+                }
             ))),
         }
     }
@@ -113,6 +124,7 @@ pub struct FragilityAsk {
     pub floor: Vec<Mode>,
     /// A building with its modes' shapes at every floor, and the floor
     /// the block stands on (instead of `floor`).
+    #[serde(deserialize_with = "super::block::some_shaped")]
     pub building: Vec<ShapedMode>,
     pub level: Option<usize>,
     pub mu: Option<f64>,
@@ -342,6 +354,7 @@ pub struct RiskAsk {
     pub floor: Vec<Mode>,
     /// A building with its modes' shapes at every floor, and the floor
     /// the block stands on (instead of `floor`).
+    #[serde(deserialize_with = "super::block::some_shaped")]
     pub building: Vec<ShapedMode>,
     pub level: Option<usize>,
     pub states: Option<DamageStates>,
@@ -572,5 +585,54 @@ impl RiskAsk {
             )));
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{BlocksAsk, Spelling};
+    use crate::block::Restitution;
+
+    /// A block half given, or none at all, is asked for as such (Python
+    /// said "give one block's b and h, or inventory, not both" when no
+    /// block was given, or b alone); both a block and an inventory are
+    /// "not both".
+    #[test]
+    fn a_missing_block_is_asked_for_and_two_are_refused_as_both() {
+        let ask = |b: Option<f64>, h: Option<f64>, inventory: Option<&str>| {
+            BlocksAsk {
+                b,
+                h,
+                eps: Restitution::Housner,
+                inventory: inventory.map(Into::into),
+                mu: None,
+            }
+            .resolve(Spelling::Python)
+            .unwrap_err()
+            .to_string()
+        };
+        assert_eq!(
+            ask(None, None, None),
+            "give a block's b and h (half sizes, m), or inventory"
+        );
+        assert_eq!(
+            ask(Some(0.2), None, None),
+            "give a block's b and h (half sizes, m), or inventory: h is missing"
+        );
+        assert!(ask(Some(0.2), Some(0.9), Some("museum.csv")).ends_with("not both"));
+        let cli = BlocksAsk {
+            b: None,
+            h: Some(0.9),
+            eps: Restitution::Housner,
+            inventory: None,
+            mu: None,
+        }
+        .resolve(Spelling::Cli)
+        .unwrap_err()
+        .to_string();
+        assert_eq!(
+            cli,
+            "give a block's --b --h (half sizes, m), or --inventory: --b is missing"
+        );
     }
 }

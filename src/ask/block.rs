@@ -61,6 +61,7 @@ pub struct BlockAsk {
     pub floor: Vec<Mode>,
     /// A building with its modes' shapes at every floor, and the floor
     /// the block stands on (instead of `floor`).
+    #[serde(deserialize_with = "some_shaped")]
     pub building: Vec<ShapedMode>,
     pub level: Option<usize>,
 }
@@ -283,7 +284,7 @@ impl BlockAsk {
             (None, Some(_)) => {
                 return Err(AskError(format!(
                     "{} is the kinetic friction beside {}: give both",
-                    sp.key("mu-k"),
+                    sp.key("mu_k"),
                     sp.key("mu")
                 )))
             }
@@ -376,16 +377,49 @@ fn pairs(
     Ok(a.iter().copied().zip(b.iter().copied()).collect())
 }
 
-/// A floor's modes, where given: a list of none is refused (it ran the
-/// block on the ground without a word); not given, the ground.
+/// A floor's modes, where given: a list of modes, or one mode (its text
+/// `"T,ZETA,GAMMA_PHI"` as the command line takes it, or its numbers); a
+/// list of none is refused (it ran the block on the ground without a
+/// word); not given, the ground.
 pub(super) fn some_modes<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<Mode>, D::Error> {
-    match Option::<Vec<Mode>>::deserialize(d)? {
+    match modes(d)? {
         Some(modes) if modes.is_empty() => Err(serde::de::Error::custom(
             "floor: no mode given ([]): give one mode or more, [T, ζ, Γφ] each, or leave floor \
              out for a block on the ground",
         )),
         modes => Ok(modes.unwrap_or_default()),
     }
+}
+
+/// A building's shaped modes: a list, or one mode (its text
+/// `"T,ZETA,GAMMA,PHI…"` as the command line takes it, or its numbers).
+pub(super) fn some_shaped<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<Vec<ShapedMode>, D::Error> {
+    Ok(modes(d)?.unwrap_or_default())
+}
+
+/// Modes given as a list of modes or as one mode, each read by its own
+/// reader (a text such as "0.5,0.05,1.3" was read as a list of its
+/// characters, and refused for its first, `0`).
+fn modes<'de, D, M>(d: D) -> Result<Option<Vec<M>>, D::Error>
+where
+    D: serde::Deserializer<'de>,
+    M: serde::de::DeserializeOwned,
+{
+    use serde::de::Error;
+    use serde_json::Value;
+    let Some(given) = Option::<Value>::deserialize(d)? else {
+        return Ok(None);
+    };
+    let one = |v: Value| M::deserialize(v).map_err(D::Error::custom);
+    Ok(Some(match given {
+        Value::Array(items) if !items.is_empty() && items.iter().all(Value::is_number) => {
+            vec![one(Value::Array(items))?]
+        }
+        Value::Array(items) => items.into_iter().map(one).collect::<Result<_, _>>()?,
+        single => vec![one(single)?],
+    }))
 }
 
 /// A list, or one value standing for a list of one; refused naming `key`
@@ -441,6 +475,42 @@ mod tests {
 
     fn ask(json: &str) -> Result<BlockAsk, serde_json::Error> {
         serde_json::from_str(json)
+    }
+
+    /// A floor is a list of modes or one mode, each as numbers or as the
+    /// command line's text; a building likewise; a text mode that does not
+    /// read is refused by its own reader.
+    #[test]
+    fn a_floor_is_one_mode_or_a_list_of_them_as_numbers_or_text() {
+        let mode = |t: f64, z: f64, g: f64| Mode {
+            period_s: t,
+            zeta: z,
+            gamma_phi: g,
+        };
+        for (floor, want) in [
+            (r#""0.5,0.05,1.3""#, vec![mode(0.5, 0.05, 1.3)]),
+            ("[0.5, 0.05, 1.3]", vec![mode(0.5, 0.05, 1.3)]),
+            (r#"["0.5,0.05,1.3"]"#, vec![mode(0.5, 0.05, 1.3)]),
+            (
+                r#"[[0.5, 0.05, 1.3], "0.2,0.05,0.3"]"#,
+                vec![mode(0.5, 0.05, 1.3), mode(0.2, 0.05, 0.3)],
+            ),
+        ] {
+            let a = ask(&format!(r#"{{"b": 0.2, "h": 1, "floor": {floor}}}"#)).unwrap();
+            assert_eq!(a.floor, want, "{floor}");
+        }
+        let e = ask(r#"{"b": 0.2, "h": 1, "floor": "0.5,0.05"}"#)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("0.5,0.05"), "{e}");
+        let e = ask(r#"{"b": 0.2, "h": 1, "floor": []}"#)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("no mode given"), "{e}");
+        let one = ask(r#"{"b": 0.2, "h": 1, "building": "0.8,0.05,1.3,0.4,1"}"#).unwrap();
+        let list = ask(r#"{"b": 0.2, "h": 1, "building": [[0.8, 0.05, 1.3, 0.4, 1]]}"#).unwrap();
+        assert_eq!(one.building, list.building);
+        assert_eq!(one.building.len(), 1);
     }
 
     /// A value of the wrong type is refused naming its keyword and what it

@@ -46,6 +46,7 @@ pub struct ExportKw {
     pub floor: Vec<Mode>,
     /// A building with its modes' shapes at every floor, and the floor
     /// the block stands on (instead of `floor`).
+    #[serde(deserialize_with = "super::block::some_shaped")]
     pub building: Vec<ShapedMode>,
     pub level: Option<usize>,
     pub states: Option<DamageStates>,
