@@ -1251,3 +1251,52 @@ fn a_stage_no_longer_needed_takes_its_own_tables_with_it() {
         let _ = fs::remove_file(example(tables[0]));
     }
 }
+
+/// A list or a mode that starts with a minus sign reaches the command's
+/// own check: the parser took `-0.5,0.05,1.3` for an option and said
+/// "unexpected argument '-0' found", a token never typed (Python gave the
+/// library's refusal all along).
+#[test]
+fn lists_starting_with_a_minus_sign_reach_their_own_checks() {
+    let d = &root();
+    let kobe = "records/fema-p695/far-field/RSN1111_KOBE_NIS000.AT2";
+    let sim = [
+        "simulate", "--record", kobe, "--b", "0.2", "--h", "1", "--eps", "0.9", "--pga", "0.3",
+    ];
+    let with = |base: &[&'static str], more: &[&'static str]| {
+        let mut a = base.to_vec();
+        a.extend(more);
+        a
+    };
+    let frag = ["fragility", "--b", "0.2", "--h", "0.9"];
+    for (args, says) in [
+        (
+            with(&sim, &["--floor", "-0.5,0.05,1.3"]),
+            "--floor: mode 1: period T = -0.5 s",
+        ),
+        (
+            with(&sim, &["--building", "-0.5,0.05,1.3,1", "--level", "1"]),
+            "--building: mode 1: period T = -0.5 s",
+        ),
+        (
+            with(&frag, &["--pga", "-0.3,0.5"]),
+            "--pga -0.3: levels must be positive",
+        ),
+        (
+            with(&frag, &["--at", "-0.3,0.5"]),
+            "--at -0.3: levels must be positive",
+        ),
+        (
+            vec!["ims", "--record", kobe, "--period", "-1"],
+            "--period -1: a period must be a positive number of seconds",
+        ),
+    ] {
+        let out = rocking(d, &args);
+        assert!(!out.status.success(), "{args:?}");
+        let e = stderr(&out);
+        assert!(
+            e.contains(says) && !e.contains("unexpected argument"),
+            "{args:?}: {e}"
+        );
+    }
+}

@@ -168,23 +168,48 @@ pub struct BlockArgs {
           requires = "pulse")]
     pub td: f64,
     /// Frequency parameter p = sqrt(3g/(4R)) of the block (1/s).
-    #[arg(long, value_name = "1/s", value_delimiter = ',')]
+    #[arg(
+        long,
+        value_name = "1/s",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
     pub p: Vec<f64>,
     /// Half-width b of the block (m); with --h, instead of --p (α = atan(b/h)).
-    #[arg(long, value_name = "m", value_delimiter = ',')]
+    #[arg(
+        long,
+        value_name = "m",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
     pub b: Vec<f64>,
     /// Half-height h of the block (m), with --b.
-    #[arg(long, value_name = "m", value_delimiter = ',')]
+    #[arg(
+        long,
+        value_name = "m",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
     pub h: Vec<f64>,
     /// Full width 2b of the block (m); with --height, instead of --p.
-    #[arg(long, value_name = "m", value_delimiter = ',')]
+    #[arg(
+        long,
+        value_name = "m",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
     pub width: Vec<f64>,
     /// Full height 2h of the block (m), with --width.
-    #[arg(long, value_name = "m", value_delimiter = ',')]
+    #[arg(
+        long,
+        value_name = "m",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
     pub height: Vec<f64>,
     /// Coefficient of restitution ε in (0, 1], or `housner` (1 − 1.5 sin²α;
     /// needs the block's dimensions).
-    #[arg(long, value_name = "ε", value_delimiter = ',', required = true, value_parser = parsed::<Restitution>)]
+    #[arg(long, value_name = "ε", value_delimiter = ',', allow_hyphen_values = true, required = true, value_parser = parsed::<Restitution>)]
     pub eps: Vec<Restitution>,
     /// Equation of motion.
     #[arg(long, value_parser = label::<ModelChoice>(), default_value = "linearized")]
@@ -226,13 +251,18 @@ pub struct FloorArgs {
     /// T,ZETA,GAMMA_PHI (period in s, damping ratio, participation factor ×
     /// mode shape at the floor); repeat for each mode. The records are the
     /// ground's; the block feels the floor's absolute acceleration.
-    #[arg(long = "floor", value_name = "T,ZETA,GAMMA_PHI", value_parser = parsed::<Mode>)]
+    #[arg(long = "floor", value_name = "T,ZETA,GAMMA_PHI", value_parser = parsed::<Mode>, allow_hyphen_values = true)]
     pub floor: Vec<Mode>,
     /// Or a building with every floor: one mode as T,ZETA,GAMMA,PHI1,…,PHIn
     /// (period in s, damping ratio, participation factor, the mode's shape
     /// at each floor, lowest first); repeat for each mode. --level picks
     /// the block's floor (Γφ = Γ·φ there).
-    #[arg(long = "building", value_name = "T,ZETA,GAMMA,PHI…", value_parser = parsed::<ShapedMode>)]
+    #[arg(
+        long = "building",
+        value_name = "T,ZETA,GAMMA,PHI…",
+        value_parser = parsed::<ShapedMode>,
+        allow_hyphen_values = true
+    )]
     pub building: Vec<ShapedMode>,
     /// The floor of --building the block stands on (1 = the lowest its
     /// shapes give).

@@ -54,6 +54,7 @@ pub struct Args {
         long,
         value_name = "DEG",
         value_delimiter = ',',
+        allow_hyphen_values = true,
         requires = "pair",
         conflicts_with = "angle_step"
     )]

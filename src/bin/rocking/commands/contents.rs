@@ -28,7 +28,12 @@ pub struct Args {
     #[arg(long = "set", value_name = "NAME=DIR", value_parser = parse_set)]
     sets: Vec<(String, PathBuf)>,
     /// The buildings' first-mode periods (s), comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "0.25,0.5,1,1.5,2")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        default_value = "0.25,0.5,1,1.5,2"
+    )]
     periods: Vec<f64>,
     /// Their damping ratio.
     #[arg(long, default_value_t = 0.05)]

@@ -42,7 +42,12 @@ pub struct Args {
     #[arg(long, default_value = "housner", value_parser = parsed::<Restitution>)]
     eps: Restitution,
     /// Peak ground accelerations (g), comma-separated: the same as --im pga --at ….
-    #[arg(long, value_name = "g[,g…]", value_delimiter = ',')]
+    #[arg(
+        long,
+        value_name = "g[,g…]",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
     pga: Vec<f64>,
     /// The intensity measure: pga, pgv (cm/s), pgd (cm), sa(T) (g, T in s), avgsa (g), arias (m/s), cav (g·s);
     /// or a demand of the motion the block stands on, pfa (g), pfv (cm/s) or fsa(T) (g, the floor's
@@ -50,7 +55,12 @@ pub struct Args {
     #[arg(long, default_value = "pga", value_parser = parse_im)]
     im: Im,
     /// Levels of --im in its unit, comma-separated.
-    #[arg(long, value_name = "IML[,IML…]", value_delimiter = ',')]
+    #[arg(
+        long,
+        value_name = "IML[,IML…]",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
     at: Vec<f64>,
     #[command(flatten)]
     law: LawArgs,

@@ -11,6 +11,7 @@ use rocking::records;
 /// Intensity measures of one record.
 #[derive(Debug, clap::Args)]
 #[command(
+    allow_negative_numbers = true,
     long_about = "Intensity measures of one AT2 record: PGA (g), PGV (cm/s) and PGD (cm) by exact \
     integration of the piecewise-linear record from rest (no baseline correction), SA (g, 5 % \
     damping) at 0.05–4 s and any --period, AvgSA (geometric mean of SA over 0.1–2 s), Arias \
