@@ -354,6 +354,26 @@ fn tolerances_too_tight_to_certify_are_refused() {
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let note = v["certification"].as_str().unwrap();
     assert!(note.contains("1e-14") && !note.contains("1e-15"), "{v}");
+    // The Taylor stepper likewise: its tightest check is 1e-16, so 1e-16
+    // itself is refused (its check was the run again, "agreeing at
+    // 1e-16"), and 1e-15 is checked at 1e-16.
+    let taylor = |rtol: &'static str| {
+        let mut a = args(rtol);
+        a[a.iter().position(|x| x == "dp5").unwrap()] = "taylor".into();
+        rocking(d, &a.iter().map(String::as_str).collect::<Vec<_>>())
+    };
+    let out = taylor("1e-16");
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("tolerance 1e-16 must be in [1e-15, 0.01)"),
+        "{}",
+        stderr(&out)
+    );
+    let out = taylor("1e-15");
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let note = v["certification"].as_str().unwrap();
+    assert!(note.contains("1e-16"), "{v}");
 }
 
 /// The convergence study shares one record's runs between its
