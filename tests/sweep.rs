@@ -463,7 +463,19 @@ fn an_interrupted_sweep_keeps_its_completed_chunks_and_resumes_to_the_same_table
 
     let dir = tempdir();
     let pipe = write_pipeline(dir.path(), "i", THREE_CHUNKS);
-    let stopped = crash(&dir, &pipe, &[(INTERRUPT_ENV, "1")]);
+    let stopped = std::process::Command::new(env!("CARGO_BIN_EXE_rocking"))
+        .args([
+            "sweep",
+            pipe.to_str().unwrap(),
+            "--outputs",
+            "out",
+            "--threads",
+            "2",
+        ])
+        .env(INTERRUPT_ENV, "1")
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
     assert_eq!(stopped.status.code(), Some(130), "{}", stderr(&stopped));
     assert!(
         stderr(&stopped).contains(INTERRUPTED),

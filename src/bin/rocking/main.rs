@@ -20,12 +20,16 @@ fn main() -> std::process::ExitCode {
     }
     #[cfg(unix)]
     // SAFETY: as above; the handler only stores to an atomic and restores
-    // the default action, both async-signal-safe.
+    // the default action, both async-signal-safe. A SIGINT inherited as
+    // ignored (`nohup`, a background job of a script) stays ignored.
     unsafe {
-        libc::signal(
+        let before = libc::signal(
             libc::SIGINT,
             on_interrupt as extern "C" fn(libc::c_int) as libc::sighandler_t,
         );
+        if before == libc::SIG_IGN {
+            libc::signal(libc::SIGINT, libc::SIG_IGN);
+        }
     }
     commands::main()
 }

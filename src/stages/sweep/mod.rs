@@ -311,12 +311,13 @@ fn run_chunks<'a, R: Fn(&Tally) + 'a>(
         let writer = ts.spawn(move || {
             let saved = (|| {
                 let mut chunks = writer()?;
-                for (i, result) in rx.iter() {
+                let mut results = rx.iter().map(|(i, r)| (cases[i], r));
+                while let Some((case, result)) = results.next() {
                     match result {
-                        Ok(r) => chunks.take(cases[i], r)?,
+                        Ok(r) => chunks.take(case, r)?,
                         // A failed or interrupted sweep keeps the chunks it
                         // completed, however early: a rerun resumes there.
-                        Err(e) => return Err(chunks.keep_completed(e)),
+                        Err(e) => return Err(chunks.keep_completed(e, results)),
                     }
                 }
                 chunks.finish()

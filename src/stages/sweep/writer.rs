@@ -111,14 +111,19 @@ impl<R: Fn(&Tally)> ChunkWriter<'_, R> {
     /// tables, and saves the held chunks as parts if that is due (also
     /// while a slow case holds the next chunk back).
     pub(super) fn take(&mut self, case: usize, result: CaseResult) -> Result<(), SweepError> {
+        self.slot(case, result);
+        self.flush()?;
+        self.checkpoint()
+    }
+
+    /// Puts one case's result in its chunk's slot.
+    fn slot(&mut self, case: usize, result: CaseResult) {
         let c = case / CHUNK_CASES;
         let range = self.prep.chunk_cases(c);
         self.pending
             .entry(c)
             .or_insert_with(|| range.clone().map(|_| None).collect())[case - range.start] =
             Some(result);
-        self.flush()?;
-        self.checkpoint()
     }
 
     /// Saves the held chunks as parts, in order, if [`Hold`] says so.
@@ -131,11 +136,33 @@ impl<R: Fn(&Tally)> ChunkWriter<'_, R> {
     }
 
     /// The sweep's end at a case's `error` (Ctrl-C's among them): the
-    /// chunks completed and held are saved as parts now, whatever
-    /// [`Hold`] says, so that a rerun resumes from them; `error` is
-    /// returned (a failure to save is the lesser news, and leaves what
-    /// any failure leaves: whole parts or none).
-    pub(super) fn keep_completed(mut self, error: SweepError) -> SweepError {
+    /// results still coming (`rest`, as the workers stop) are taken, and
+    /// every chunk complete, in order or beyond a gap, is saved as parts
+    /// now, whatever [`Hold`] says, so that a rerun resumes from them (it
+    /// trusts each part by its content); `error` is returned (a failure to
+    /// save is the lesser news, and leaves what any failure leaves: whole
+    /// parts or none).
+    pub(super) fn keep_completed(
+        mut self,
+        error: SweepError,
+        rest: impl Iterator<Item = (usize, Result<CaseResult, SweepError>)>,
+    ) -> SweepError {
+        for (case, result) in rest {
+            if let Ok(r) = result {
+                self.slot(case, r);
+            }
+        }
+        let _ = self.flush();
+        let complete: Vec<usize> = (self.pending.iter())
+            .filter(|(_, slots)| slots.iter().all(Option::is_some))
+            .map(|(&c, _)| c)
+            .collect();
+        for c in complete {
+            let results = self.pending.remove(&c).into_iter().flatten().flatten();
+            if self.save(c, results).is_err() {
+                return error;
+            }
+        }
         let _ = self.save_held();
         error
     }

@@ -102,17 +102,32 @@ pub fn main() -> ExitCode {
 fn exit(result: anyhow::Result<()>) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(_) if rocking::physics::interrupt::requested() => {
+        Err(e) if rocking::physics::interrupt::requested() => {
+            // An error of its own (a full disk) is said too.
+            let stopped = e.chain().any(|c| {
+                matches!(
+                    c.downcast_ref::<rocking::physics::PhysicsError>(),
+                    Some(rocking::physics::PhysicsError::Interrupted)
+                )
+            });
+            if !stopped && !format!("{e:#}").contains("interrupted") {
+                print_error(&e);
+            }
             eprintln!("{INTERRUPTED}");
             ExitCode::from(130)
         }
         Err(e) => {
-            eprintln!("error: {e}");
-            for cause in e.chain().skip(1) {
-                eprintln!("  caused by: {cause}");
-            }
+            print_error(&e);
             ExitCode::FAILURE
         }
+    }
+}
+
+/// An error with its causes, on standard error.
+fn print_error(e: &anyhow::Error) {
+    eprintln!("error: {e}");
+    for cause in e.chain().skip(1) {
+        eprintln!("  caused by: {cause}");
     }
 }
 
