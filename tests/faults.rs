@@ -1290,6 +1290,16 @@ fn lists_starting_with_a_minus_sign_reach_their_own_checks() {
             vec!["ims", "--record", kobe, "--period", "-1"],
             "--period -1: a period must be a positive number of seconds",
         ),
+        // Taking values with a minus sign, an option takes the next option
+        // for its value when its own is missing: said as such.
+        (
+            with(&sim, &["--floor", "--json"]),
+            "a value is missing: `--json` is the next option",
+        ),
+        (
+            vec!["fragility", "--b", "0.2", "--h", "--pga", "0.3"],
+            "a value is required for '--h <m>'",
+        ),
     ] {
         let out = rocking(d, &args);
         assert!(!out.status.success(), "{args:?}");

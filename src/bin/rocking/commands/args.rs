@@ -46,7 +46,29 @@ where
     T: std::str::FromStr,
     T::Err: std::fmt::Display,
 {
+    not_an_option(text)?;
     text.parse::<T>().map_err(|e| e.to_string())
+}
+
+/// A number of a list option (`--pga 0.3,0.5`), which, taking values that
+/// start with a minus sign, would take the next option for its value.
+pub fn number(text: &str) -> Result<f64, String> {
+    not_an_option(text)?;
+    text.trim()
+        .parse::<f64>()
+        .map_err(|_| format!("`{text}` is not a number"))
+}
+
+/// Refuses the next option taken for a value (`--floor --json`: an option
+/// that takes a value starting with a minus sign takes whatever follows).
+fn not_an_option(text: &str) -> Result<(), String> {
+    let option = text
+        .strip_prefix("--")
+        .is_some_and(|rest| rest.starts_with(|c: char| c.is_ascii_alphabetic()));
+    match option {
+        true => Err(format!("a value is missing: `{text}` is the next option")),
+        false => Ok(()),
+    }
 }
 
 /// A pipeline and where its outputs go.
@@ -172,7 +194,8 @@ pub struct BlockArgs {
         long,
         value_name = "1/s",
         value_delimiter = ',',
-        allow_hyphen_values = true
+        allow_hyphen_values = true,
+        value_parser = number
     )]
     pub p: Vec<f64>,
     /// Half-width b of the block (m); with --h, instead of --p (α = atan(b/h)).
@@ -180,7 +203,8 @@ pub struct BlockArgs {
         long,
         value_name = "m",
         value_delimiter = ',',
-        allow_hyphen_values = true
+        allow_hyphen_values = true,
+        value_parser = number
     )]
     pub b: Vec<f64>,
     /// Half-height h of the block (m), with --b.
@@ -188,7 +212,8 @@ pub struct BlockArgs {
         long,
         value_name = "m",
         value_delimiter = ',',
-        allow_hyphen_values = true
+        allow_hyphen_values = true,
+        value_parser = number
     )]
     pub h: Vec<f64>,
     /// Full width 2b of the block (m); with --height, instead of --p.
@@ -196,7 +221,8 @@ pub struct BlockArgs {
         long,
         value_name = "m",
         value_delimiter = ',',
-        allow_hyphen_values = true
+        allow_hyphen_values = true,
+        value_parser = number
     )]
     pub width: Vec<f64>,
     /// Full height 2h of the block (m), with --width.
@@ -204,7 +230,8 @@ pub struct BlockArgs {
         long,
         value_name = "m",
         value_delimiter = ',',
-        allow_hyphen_values = true
+        allow_hyphen_values = true,
+        value_parser = number
     )]
     pub height: Vec<f64>,
     /// Coefficient of restitution ε in (0, 1], or `housner` (1 − 1.5 sin²α;

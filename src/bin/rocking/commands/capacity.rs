@@ -12,7 +12,7 @@ use rocking::ops::reports::{self};
 use rocking::records::LoadedRecord;
 use rocking::stages::{Progress, Reporter};
 
-use super::args::{label, BlockArgs};
+use super::args::{label, number, BlockArgs};
 use crate::reporter::Terminal;
 
 /// Find a record's overturning capacity η_c by incremental dynamic analysis.
@@ -55,6 +55,7 @@ pub struct Args {
         value_name = "DEG",
         value_delimiter = ',',
         allow_hyphen_values = true,
+        value_parser = number,
         requires = "pair",
         conflicts_with = "angle_step"
     )]

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use rocking::contents::FEMA_P58;
 use rocking::ops::contents::{self, Request, Row};
 
-use super::args::direct_progress;
+use super::args::{direct_progress, number};
 
 /// FEMA P-58's bookcases and filing cabinets beside the tool's own
 /// fragilities of the same blocks in Peak Floor Velocity.
@@ -32,6 +32,7 @@ pub struct Args {
         long,
         value_delimiter = ',',
         allow_hyphen_values = true,
+        value_parser = number,
         default_value = "0.25,0.5,1,1.5,2"
     )]
     periods: Vec<f64>,

@@ -8,7 +8,7 @@ use rocking::im::Im;
 use rocking::ops::damage;
 use rocking::ops::fragility::{self, Request};
 
-use super::args::{direct_progress, parse_im, parsed, LawArgs, SceneArgs, StatesArgs};
+use super::args::{direct_progress, number, parse_im, parsed, LawArgs, SceneArgs, StatesArgs};
 use super::states::print_fits;
 
 /// Probability that a real block overturns at given PGAs.
@@ -46,7 +46,8 @@ pub struct Args {
         long,
         value_name = "g[,g…]",
         value_delimiter = ',',
-        allow_hyphen_values = true
+        allow_hyphen_values = true,
+        value_parser = number
     )]
     pga: Vec<f64>,
     /// The intensity measure: pga, pgv (cm/s), pgd (cm), sa(T) (g, T in s), avgsa (g), arias (m/s), cav (g·s);
@@ -59,7 +60,8 @@ pub struct Args {
         long,
         value_name = "IML[,IML…]",
         value_delimiter = ',',
-        allow_hyphen_values = true
+        allow_hyphen_values = true,
+        value_parser = number
     )]
     at: Vec<f64>,
     #[command(flatten)]
