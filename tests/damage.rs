@@ -938,4 +938,56 @@ fn a_fit_is_carried_where_its_own_corners_have_one() {
         ) && e.contains("try --method mle"),
         "{e}"
     );
+
+    // In PGV the fractile fit comes from the IM table, whose holes refused
+    // the likelihood fit too: p·PGV/(αg) carried as in PGA, in cm/s.
+    let args = [
+        "fragility",
+        "--b",
+        &b,
+        "--h",
+        &h,
+        "--eps",
+        "0.8",
+        "--from",
+        s(&pipeline),
+        "--outputs",
+        s(&outputs),
+        "--method",
+        "mle",
+        "--im",
+        "pgv",
+        "--at",
+        "30",
+        "--json",
+    ];
+    let out = rocking(dir.path(), &args);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&out)).unwrap();
+    let pgv = |p: f64, e: f64| {
+        table
+            .iter()
+            .find(|r| {
+                r.p == p
+                    && r.eps == e
+                    && r.state == "overturned"
+                    && r.im == "pgv"
+                    && r.method == FitMethod::MaxLikelihood
+            })
+            .and_then(|r| Some((r.median_dimensionless?.ln(), r.beta?)))
+            .unwrap()
+    };
+    let (a, b2, c, d) = (pgv(2.0, 0.7), pgv(2.0, 0.9), pgv(3.0, 0.7), pgv(3.0, 0.9));
+    let mix = |f: fn((f64, f64)) -> f64| {
+        let low = f(a) * (1.0 - te) + f(b2) * te;
+        let high = f(c) * (1.0 - te) + f(d) * te;
+        low * (1.0 - tp) + high * tp
+    };
+    let median = mix(|x| x.0).exp() * 100.0 * got_alpha * 9.80665 / got_p;
+    let got = v["median"].as_f64().unwrap();
+    assert!(
+        (got / median - 1.0).abs() < 1e-12,
+        "{got} against {median} cm/s"
+    );
+    assert!((v["beta"].as_f64().unwrap() - mix(|x| x.1)).abs() < 1e-12);
 }

@@ -220,22 +220,8 @@ fn from_regression(
     };
     let mut out = Vec::with_capacity(states.states().len());
     for s in states.states() {
-        let from_table = |m: FitMethod,
-                          t: &Option<DamageTable>,
-                          w: &mut Vec<String>|
-         -> Result<Option<Lognormal>, FragilityError> {
-            let Some(t) = t else { return Ok(None) };
-            match t.capacity(block, s) {
-                Ok(l) => {
-                    w.extend(l.warnings);
-                    Ok(Some(Lognormal {
-                        median: l.median,
-                        beta: l.beta,
-                    }))
-                }
-                Err(e) if m == required => Err(e.into()),
-                Err(_) => Ok(None),
-            }
+        let from_table = |m: FitMethod, t: &Option<DamageTable>, w: &mut Vec<String>| {
+            carried(t, block, s, m == required, w)
         };
         let (fractile, mle, kind) = match s.criterion {
             Criterion::Overturned => {
@@ -246,6 +232,11 @@ fn from_regression(
                         from_table(FitMethod::Fractile, &fractile_table, &mut warnings)?,
                         "fractile",
                     ),
+                    // The likelihood fit asked for does not need the IM
+                    // table's fractile fit (its holes refused it in PGV).
+                    Err(_) if required == FitMethod::MaxLikelihood && mle_table.is_some() => {
+                        (None, "fractile")
+                    }
                     Err(e) => return Err(e),
                 };
                 // The table's overturning by maximum likelihood, where it has one.
@@ -298,6 +289,30 @@ fn from_regression(
         warnings,
         per_record: None,
     })
+}
+
+/// State `s`'s fit for `block`, carried from a study's table where it has
+/// one (its warnings into `w`); a gap refuses it only where the fit is
+/// `required`.
+fn carried(
+    t: &Option<DamageTable>,
+    block: &Block,
+    s: &crate::damage::LimitState,
+    required: bool,
+    w: &mut Vec<String>,
+) -> Result<Option<Lognormal>, FragilityError> {
+    let Some(t) = t else { return Ok(None) };
+    match t.capacity(block, s) {
+        Ok(l) => {
+            w.extend(l.warnings);
+            Ok(Some(Lognormal {
+                median: l.median,
+                beta: l.beta,
+            }))
+        }
+        Err(e) if required => Err(e.into()),
+        Err(_) => Ok(None),
+    }
 }
 
 /// Overturning's lognormal from the regression (PGA) or the IM table, and
