@@ -798,6 +798,11 @@ fn a_study_over_orientations_runs_every_pair_at_every_angle() {
             "orientation = \"random\"\nangle_step = 0\n",
             "`records.angle_step` = 0",
         ),
+        // 1e-9° would hold 1.8e11 motions.
+        (
+            "orientation = \"random\"\nangle_step = 1e-9\n",
+            "`records.angle_step` = 0.000000001: the angle step is in degrees, in [1, 180]",
+        ),
         (
             "orientation = \"sideways\"\n",
             "`records.orientation`: unknown orientation",

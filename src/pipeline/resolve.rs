@@ -190,9 +190,11 @@ fn orientation(raw: &crate::pipeline::raw::RawRecords) -> Result<Option<f64>, St
                 .into(),
         ),
         Orientation::AsRecorded => Ok(None),
-        Orientation::Random if step > 0.0 && step <= 180.0 => Ok(Some(step)),
+        // As --direct's and capacity's (`ask::check_angle_step`): 1e-9°
+        // would hold 1.8e11 motions.
+        Orientation::Random if (1.0..=180.0).contains(&step) => Ok(Some(step)),
         Orientation::Random => Err(format!(
-            "`records.angle_step` = {step}: the angle step is in degrees, in (0, 180]"
+            "`records.angle_step` = {step}: the angle step is in degrees, in [1, 180]"
         )),
         Orientation::Worst => Err(
             "`records.orientation` = \"worst\": a study holds every motion's capacity, and the \
