@@ -4,7 +4,7 @@ library's request types, answers as Python objects or Parquet bytes; see
 
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
-Mode = Tuple[float, float, float]
+Mode = Union[Tuple[float, float, float], str]
 Number = Union[float, int]
 
 class Block:
@@ -17,7 +17,8 @@ class Block:
     ``rtol``; ``auto_tol``; ``overturn`` (``static``, ``cap:<c>``,
     ``on-side``, ``escape``); ``mu`` and ``mu_k`` (the base's static and
     kinetic friction: ``slide-rock`` and ``auto`` run the block on them);
-    ``floor`` (the building's modes ``[(T, zeta, gamma_phi), …]``)."""
+    ``floor`` (the building's modes ``[(T, zeta, gamma_phi), …]``, or one
+    mode, as numbers or as the command line's text ``"T,ZETA,GAMMA_PHI"``)."""
 
     def __init__(
         self,
@@ -36,7 +37,7 @@ class Block:
         overturn: str = "static",
         mu: Optional[float] = None,
         mu_k: Optional[float] = None,
-        floor: Optional[Sequence[Mode]] = None,
+        floor: Union[Mode, Sequence[Mode], None] = None,
     ) -> None: ...
     def __len__(self) -> int: ...
     @property

@@ -396,7 +396,13 @@ pub(super) fn some_modes<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<M
 pub(super) fn some_shaped<'de, D: serde::Deserializer<'de>>(
     d: D,
 ) -> Result<Vec<ShapedMode>, D::Error> {
-    Ok(modes(d)?.unwrap_or_default())
+    match modes(d)? {
+        Some(modes) if modes.is_empty() => Err(serde::de::Error::custom(
+            "building: no mode given ([]): give one mode or more, [T, ζ, Γ, φ…] each, or leave \
+             building out",
+        )),
+        modes => Ok(modes.unwrap_or_default()),
+    }
 }
 
 /// Modes given as a list of modes or as one mode, each read by its own
@@ -511,6 +517,10 @@ mod tests {
         let list = ask(r#"{"b": 0.2, "h": 1, "building": [[0.8, 0.05, 1.3, 0.4, 1]]}"#).unwrap();
         assert_eq!(one.building, list.building);
         assert_eq!(one.building.len(), 1);
+        let e = ask(r#"{"b": 0.2, "h": 1, "building": []}"#)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("building: no mode given"), "{e}");
     }
 
     /// A value of the wrong type is refused naming its keyword and what it

@@ -104,6 +104,21 @@ fn best_period_line(best: &[(f64, f64, f64)]) -> Option<String> {
         crate::im::period_text(first.1),
         crate::im::period_text(last.1),
     );
+    let (low, high) = best
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), b| {
+            (lo.min(b.1), hi.max(b.1))
+        });
+    if low < high && first.1 == last.1 {
+        return Some(format!(
+            "The best SA period varies with p between {} and {} s ({t0} s at p = {:.2} and \
+             {:.2} 1/s).",
+            crate::im::period_text(low),
+            crate::im::period_text(high),
+            first.0,
+            last.0
+        ));
+    }
     Some(match first.1.total_cmp(&last.1) {
         std::cmp::Ordering::Equal => format!(
             "The best SA period is {t0} s from p = {:.2} to {:.2} 1/s.",
@@ -141,6 +156,11 @@ mod tests {
         assert!(
             longer.ends_with("overturned by the record's longer periods."),
             "{longer}"
+        );
+        assert_eq!(
+            best_period_line(&[(1.0, 1.0, 0.3), (2.0, 2.0, 0.3), (4.0, 1.0, 0.2)]).unwrap(),
+            "The best SA period varies with p between 1.0 and 2.0 s (1.0 s at p = 1.00 and \
+             4.00 1/s)."
         );
         let shorter = best_period_line(&[(1.0, 0.5, 0.3), (4.0, 2.0, 0.2)]).unwrap();
         assert_eq!(
