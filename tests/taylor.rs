@@ -350,7 +350,7 @@ fn the_command_line_and_pipelines_choose_the_integrator() {
     let out = capacity(&["--rtol", "1e-17"]);
     assert_eq!(out.status.code(), Some(1));
     assert!(
-        stderr(&out).contains("--rtol") && stderr(&out).contains("1e-16"),
+        stderr(&out).contains("--rtol") && stderr(&out).contains("1e-15"),
         "{}",
         stderr(&out)
     );

@@ -345,7 +345,7 @@ impl crate::label::Label for ModelChoice {
             ModelChoice::Nonlinear => "paper Eq. 7, by the integrator asked; needs α",
             ModelChoice::Auto => {
                 "linearised where its error for α is within the accepted one, else nonlinear; \
-                 slide-rock where μ is given and the block can slide"
+                 slide-rock for every block whose μ is given"
             }
             ModelChoice::SlideRock => {
                 "paper Eq. 7 on a base with friction μ: rest, slide, rock and slide-rock; needs α and μ"

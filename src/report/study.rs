@@ -87,7 +87,7 @@ pub(super) fn model_text(m: crate::physics::ModelChoice) -> &'static str {
         Nonlinear => crate::physics::EquationKind::Nonlinear.describe(),
         Auto => {
             "linearised equation where its error 0.45·α² is within `auto_tol`, else nonlinear; \
-             with sliding wherever a block with μ can slide"
+             with sliding for every block with μ"
         }
         SlideRock => crate::physics::EquationKind::SlideRock.describe(),
     }

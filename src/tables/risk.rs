@@ -36,7 +36,7 @@ table! {
         /// μ is not given.
         pub slides_first: bool,
         /// With `--direct`: the equation the records ran, `linearized`, `nonlinear` or
-        /// `slide-rock` (a block with μ that can slide, docs/MODEL.md §21); empty for a
+        /// `slide-rock` (a block with μ under `auto`, docs/MODEL.md §21); empty for a
         /// regression.
         pub model: Option<String>,
         /// With `--floor`, or `--from` a `[floor]` study (both with `--direct`): the

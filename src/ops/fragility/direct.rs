@@ -28,7 +28,7 @@ pub struct RunModel {
     pub solver: Solver,
     pub auto_tol: f64,
     /// The base's friction, where known: `auto` then runs the slide-rock
-    /// model wherever the block can slide.
+    /// model.
     pub friction: Option<Friction>,
     /// Whether it is a pipeline's `[model]`: its notes then name the
     /// pipeline's keys, not `capacity`'s options.

@@ -49,8 +49,8 @@ pub struct FragilityInfo {
     /// With `--direct`: the records folder (or pipeline) they came from.
     pub records_folder: Option<String>,
     /// With `--direct`: the equation the records ran (`linearized`,
-    /// `nonlinear`, `slide-rock`: `auto` runs a block with μ sliding where
-    /// it can slide), and why.
+    /// `nonlinear`, `slide-rock`: `auto` runs a block with μ on its
+    /// friction), and why.
     pub equation: Option<&'static str>,
     pub model: Option<String>,
     /// With `--tree`: each branch's fragility, the mixture's median and

@@ -358,7 +358,7 @@ fn site_rates(p: &[f64], n_sites: usize, eff_years: f64) -> Vec<f64> {
 }
 
 /// The block of inventory line `e`, its one fragility for `states` (on its
-/// μ where it can slide) and the level below which `risk` counts nothing.
+/// μ) and the level below which `risk` counts nothing.
 fn fragility_at(
     req: &Request,
     e: &super::InventoryBlock,

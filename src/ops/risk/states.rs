@@ -57,7 +57,7 @@ pub struct StatesAssessment {
     pub records_folder: Option<String>,
     pub records: Option<usize>,
     /// With `--direct`: the equation the records ran (`slide-rock` for a
-    /// block with μ that can slide).
+    /// block with μ).
     pub equation: Option<&'static str>,
     pub years: f64,
     pub beyond: &'static str,
