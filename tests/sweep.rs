@@ -9,7 +9,9 @@ use std::path::Path;
 use rocking::ida::{ImGrid, Spacing};
 use rocking::physics::{simulate, Excitation, Model, RunSpec};
 use rocking::pipeline::{self, StudyKind};
-use rocking::stages::sweep::{read_capacities, read_ida, FAULT_ENV, HOLD_ENV, INTERRUPT_ENV};
+use rocking::stages::sweep::{
+    read_capacities, read_ida, CASE_DELAY_ENV, FAULT_ENV, HOLD_ENV, INTERRUPT_ENV,
+};
 
 use crate::util::{direct_capacity, rocking, root, stderr, tempdir, write_pipeline, TempDir};
 
@@ -502,7 +504,7 @@ fn an_interrupted_sweep_keeps_its_completed_chunks_and_resumes_to_the_same_table
     );
 }
 
-/// 10 records × 64 blocks = 640 cases: twenty chunks, a few seconds.
+/// 10 records × 64 blocks = 640 cases: twenty chunks.
 const TWENTY_CHUNKS: &str = r#"ids = ["RSN1111_KOBE_NIS000", "RSN953_NORTHR_MUL009", "RSN1633_MANJIL_ABBAR--L", "RSN1158_KOCAELI_DZC180", "RSN1148_KOCAELI_ARC000", "RSN169_IMPVALL_H-DLT262", "RSN174_IMPVALL_H-E11140", "RSN1244_CHICHI_CHY101-E", "RSN1485_CHICHI_TCU045-E", "RSN721_SUPERST_B-ICC000"]
 [blocks]
 p = { from = 0.5, to = 8.0, count = 8, spacing = "log" }
@@ -526,6 +528,9 @@ fn ctrl_c_stops_a_sweep_that_then_resumes_to_the_same_tables() {
     let child = std::process::Command::new(env!("CARGO_BIN_EXE_rocking"))
         .args(["sweep", pipe.to_str().unwrap(), "--outputs", "out"])
         .env(HOLD_ENV, "0")
+        // 640 cases 10 ms apart on each worker: 3 s at least, time for
+        // the signal to find the sweep running on a loaded machine.
+        .env(CASE_DELAY_ENV, "10")
         .current_dir(dir.path())
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())

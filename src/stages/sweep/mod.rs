@@ -47,7 +47,9 @@ pub use layout::{
     plan_hash, SweepMeta, CHUNK_CASES, META_CHUNK, META_PLAN, META_PLAN_HASH, META_SETTINGS,
     META_SHARD,
 };
-pub use writer::{CHECKPOINT_AFTER, FAULT_ENV, HOLD_ENV, INTERRUPT_ENV, MAX_HELD_ROWS};
+pub use writer::{
+    CASE_DELAY_ENV, CHECKPOINT_AFTER, FAULT_ENV, HOLD_ENV, INTERRUPT_ENV, MAX_HELD_ROWS,
+};
 
 use super::stage::{BoxError, Context, Progress, Shard, Stage, Study, Summary};
 use crate::tables;
@@ -121,6 +123,7 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
             .and_then(|v| v.parse::<usize>().ok())
     };
     let (fault_after, interrupt_after) = (after(FAULT_ENV), after(INTERRUPT_ENV));
+    let delay = after(CASE_DELAY_ENV).map(|ms| std::time::Duration::from_millis(ms as u64));
     let hold = match std::env::var(HOLD_ENV).ok().and_then(|v| v.parse().ok()) {
         Some(n) => Hold::Chunks(n),
         None => Hold::Until(started + CHECKPOINT_AFTER),
@@ -171,7 +174,7 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
             tally,
         })
     };
-    let tally = run_chunks(&cases, prep, writer)?;
+    let tally = run_chunks(&cases, prep, writer, delay)?;
     clean_up(study, &setup.mine, cx.shard)?;
     Ok(summary(cx, &setup, &tally, started, ida_path, cap_path))
 }
@@ -302,6 +305,7 @@ fn run_chunks<'a, R: Fn(&Tally) + 'a>(
     cases: &[usize],
     prep: &Prepared,
     writer: impl FnOnce() -> Result<ChunkWriter<'a, R>, SweepError> + Send,
+    delay: Option<std::time::Duration>,
 ) -> Result<Tally, SweepError> {
     let next = AtomicUsize::new(0);
     let stop = AtomicBool::new(false);
@@ -335,6 +339,9 @@ fn run_chunks<'a, R: Fn(&Tally) + 'a>(
                     while !stop.load(Ordering::Relaxed) {
                         let i = next.fetch_add(1, Ordering::Relaxed);
                         let Some(&case) = cases.get(i) else { break };
+                        if let Some(d) = delay {
+                            std::thread::sleep(d);
+                        }
                         let result = run_case(case, prep);
                         let failed = result.is_err();
                         if tx.send((i, result)).is_err() || failed {

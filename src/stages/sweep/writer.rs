@@ -23,6 +23,11 @@ pub const FAULT_ENV: &str = "ROCKING_FAULT_AFTER_CHUNKS";
 /// ([`crate::physics::interrupt`]), once this many chunks are complete.
 pub const INTERRUPT_ENV: &str = "ROCKING_INTERRUPT_AFTER_CHUNKS";
 
+/// Environment variable for tests: each worker waits this many
+/// milliseconds before each case, so that a sweep lasts long enough for a
+/// signal sent from outside to find it running, however loaded the machine.
+pub const CASE_DELAY_ENV: &str = "ROCKING_CASE_DELAY_MS";
+
 /// How long a sweep runs before it saves its first parts. Saving a chunk
 /// (two Parquet files created, encoded, synced and renamed, then deleted at
 /// the end) costs the writer thread about 2 ms of CPU, taken from the
