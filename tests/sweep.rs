@@ -518,6 +518,7 @@ eta_min = 0.005
 /// runs: the sweep stops early, says so, exits with 130, and resumes from
 /// what it saved to the uninterrupted tables.
 #[test]
+#[cfg(unix)]
 fn ctrl_c_stops_a_sweep_that_then_resumes_to_the_same_tables() {
     let reference = tempdir();
     let ref_pipe = write_pipeline(reference.path(), "c", TWENTY_CHUNKS);
@@ -525,7 +526,19 @@ fn ctrl_c_stops_a_sweep_that_then_resumes_to_the_same_tables() {
 
     let dir = tempdir();
     let pipe = write_pipeline(dir.path(), "c", TWENTY_CHUNKS);
-    let child = std::process::Command::new(env!("CARGO_BIN_EXE_rocking"))
+    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_rocking"));
+    // A SIGINT the tests inherit as ignored (a background job of a script)
+    // would stay ignored in the command, as it should: the child starts
+    // with the default action, as a terminal's foreground job does.
+    // SAFETY: signal(2) is async-signal-safe, as pre_exec requires.
+    unsafe {
+        use std::os::unix::process::CommandExt;
+        command.pre_exec(|| {
+            libc::signal(libc::SIGINT, libc::SIG_DFL);
+            Ok(())
+        });
+    }
+    let child = command
         .args(["sweep", pipe.to_str().unwrap(), "--outputs", "out"])
         .env(HOLD_ENV, "0")
         // 640 cases 10 ms apart on each worker: 3 s at least, time for
