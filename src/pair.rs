@@ -220,6 +220,11 @@ crate::deserialize_by_label!(Component);
 /// the `orientations` section).
 pub const ANGLE_STEP_DEG: f64 = 10.0;
 
+/// The angle steps (°) a pair may be run at, by every door: finer than a
+/// degree is finer than a pair's RotD (180 angles), and every motion is
+/// held at once (1e-9° asked for 1.8e11 motions, 0.01° for about 80 GB).
+pub const ANGLE_STEPS_DEG: std::ops::RangeInclusive<f64> = 1.0..=180.0;
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -868,28 +868,29 @@ fn a_fit_is_carried_where_its_own_corners_have_one() {
     let out = rocking(dir.path(), &["run", s(&pipeline), "--outputs", s(&outputs)]);
     assert!(out.status.success(), "{}", stderr(&out));
     let table: Vec<DamageStateRow> = read(&outputs.join("holes"), "damage_states.parquet");
-    let node = |p: f64, eps: f64, method: FitMethod| {
+    // (ln of the dimensionless median, β) of the grid block (p, ε).
+    let node = |p: f64, eps: f64, im: &str, method: FitMethod| {
         table
             .iter()
             .find(|r| {
                 r.p == p
                     && r.eps == eps
                     && r.state == "overturned"
-                    && r.im == "pga"
+                    && r.im == im
                     && r.method == method
             })
             .and_then(|r| Some((r.median_dimensionless?.ln(), r.beta?)))
     };
     // The holes this test is about.
-    assert!(node(1.0, 0.7, FitMethod::MaxLikelihood).is_none());
-    assert!(node(2.0, 0.7, FitMethod::Fractile).is_none());
+    assert!(node(1.0, 0.7, "pga", FitMethod::MaxLikelihood).is_none());
+    assert!(node(2.0, 0.7, "pga", FitMethod::Fractile).is_none());
     let (alpha, p, eps) = (0.15_f64, 2.5_f64, 0.8);
     let (b, h) = (
         (9.80665 * alpha.sin() * 3.0 / (4.0 * p * p)).to_string(),
         (9.80665 * alpha.cos() * 3.0 / (4.0 * p * p)).to_string(),
     );
-    let fragility = |method: &str| {
-        let args = [
+    let fragility = |method: &str, levels: &[&str]| {
+        let mut args = vec![
             "fragility",
             "--b",
             &b,
@@ -903,33 +904,39 @@ fn a_fit_is_carried_where_its_own_corners_have_one() {
             s(&outputs),
             "--method",
             method,
-            "--pga",
-            "0.3",
             "--json",
         ];
+        args.extend(levels);
         rocking(dir.path(), &args)
     };
-    let out = fragility("mle");
-    assert!(out.status.success(), "{}", stderr(&out));
-    let v: serde_json::Value = serde_json::from_str(&stdout(&out)).unwrap();
+    let answer = |out: std::process::Output| -> serde_json::Value {
+        assert!(out.status.success(), "{}", stderr(&out));
+        serde_json::from_str(&stdout(&out)).unwrap()
+    };
+    let v = answer(fragility("mle", &["--pga", "0.3"]));
     let (got_alpha, got_p) = (v["alpha_rad"].as_f64().unwrap(), v["p"].as_f64().unwrap());
     let tp = (got_p.ln() - 2f64.ln()) / (3f64.ln() - 2f64.ln());
     let te = (eps - 0.7) / (0.9 - 0.7);
-    let mle = |p, e| node(p, e, FitMethod::MaxLikelihood).unwrap();
-    let (a, b2, c, d) = (mle(2.0, 0.7), mle(2.0, 0.9), mle(3.0, 0.7), mle(3.0, 0.9));
-    let mix = |f: fn((f64, f64)) -> f64| {
-        let low = f(a) * (1.0 - te) + f(b2) * te;
-        let high = f(c) * (1.0 - te) + f(d) * te;
-        low * (1.0 - tp) + high * tp
+    // The likelihood fit in `im` at the block, bilinear between the four
+    // corners of its cell: (ln of the dimensionless median, β).
+    let carried = |im: &str| {
+        let at = |p, e| node(p, e, im, FitMethod::MaxLikelihood).unwrap();
+        let (a, b, c, d) = (at(2.0, 0.7), at(2.0, 0.9), at(3.0, 0.7), at(3.0, 0.9));
+        let mix = |f: fn((f64, f64)) -> f64| {
+            let low = f(a) * (1.0 - te) + f(b) * te;
+            let high = f(c) * (1.0 - te) + f(d) * te;
+            low * (1.0 - tp) + high * tp
+        };
+        (mix(|x| x.0), mix(|x| x.1))
     };
-    let median = got_alpha * mix(|x| x.0).exp();
-    let beta = mix(|x| x.1);
+    let (ln_median, beta) = carried("pga");
+    let median = got_alpha * ln_median.exp();
     let got = v["median"].as_f64().unwrap();
     assert!((got / median - 1.0).abs() < 1e-12, "{got} against {median}");
     assert!((v["beta"].as_f64().unwrap() - beta).abs() < 1e-12);
     assert!((got_p - p).abs() < 1e-9 && (got_alpha - alpha).abs() < 1e-9);
 
-    let refused = fragility("fractile");
+    let refused = fragility("fractile", &["--pga", "0.3"]);
     assert!(!refused.status.success());
     let e = stderr(&refused);
     assert!(
@@ -941,53 +948,13 @@ fn a_fit_is_carried_where_its_own_corners_have_one() {
 
     // In PGV the fractile fit comes from the IM table, whose holes refused
     // the likelihood fit too: p·PGV/(αg) carried as in PGA, in cm/s.
-    let args = [
-        "fragility",
-        "--b",
-        &b,
-        "--h",
-        &h,
-        "--eps",
-        "0.8",
-        "--from",
-        s(&pipeline),
-        "--outputs",
-        s(&outputs),
-        "--method",
-        "mle",
-        "--im",
-        "pgv",
-        "--at",
-        "30",
-        "--json",
-    ];
-    let out = rocking(dir.path(), &args);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let v: serde_json::Value = serde_json::from_str(&stdout(&out)).unwrap();
-    let pgv = |p: f64, e: f64| {
-        table
-            .iter()
-            .find(|r| {
-                r.p == p
-                    && r.eps == e
-                    && r.state == "overturned"
-                    && r.im == "pgv"
-                    && r.method == FitMethod::MaxLikelihood
-            })
-            .and_then(|r| Some((r.median_dimensionless?.ln(), r.beta?)))
-            .unwrap()
-    };
-    let (a, b2, c, d) = (pgv(2.0, 0.7), pgv(2.0, 0.9), pgv(3.0, 0.7), pgv(3.0, 0.9));
-    let mix = |f: fn((f64, f64)) -> f64| {
-        let low = f(a) * (1.0 - te) + f(b2) * te;
-        let high = f(c) * (1.0 - te) + f(d) * te;
-        low * (1.0 - tp) + high * tp
-    };
-    let median = mix(|x| x.0).exp() * 100.0 * got_alpha * 9.80665 / got_p;
+    let v = answer(fragility("mle", &["--im", "pgv", "--at", "30"]));
+    let (ln_median, beta) = carried("pgv");
+    let median = ln_median.exp() * 100.0 * got_alpha * 9.80665 / got_p;
     let got = v["median"].as_f64().unwrap();
     assert!(
         (got / median - 1.0).abs() < 1e-12,
         "{got} against {median} cm/s"
     );
-    assert!((v["beta"].as_f64().unwrap() - mix(|x| x.1)).abs() < 1e-12);
+    assert!((v["beta"].as_f64().unwrap() - beta).abs() < 1e-12);
 }

@@ -382,25 +382,33 @@ fn pairs(
 /// list of none is refused (it ran the block on the ground without a
 /// word); not given, the ground.
 pub(super) fn some_modes<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<Mode>, D::Error> {
-    match modes(d)? {
-        Some(modes) if modes.is_empty() => Err(serde::de::Error::custom(
-            "floor: no mode given ([]): give one mode or more, [T, ζ, Γφ] each, or leave floor \
-             out for a block on the ground",
-        )),
-        modes => Ok(modes.unwrap_or_default()),
-    }
+    some(
+        d,
+        "floor: no mode given ([]): give one mode or more, [T, ζ, Γφ] each, or leave floor \
+         out for a block on the ground",
+    )
 }
 
-/// A building's shaped modes: a list, or one mode (its text
-/// `"T,ZETA,GAMMA,PHI…"` as the command line takes it, or its numbers).
+/// A building's shaped modes, as [`some_modes`] a floor's (the text
+/// `"T,ZETA,GAMMA,PHI…"`).
 pub(super) fn some_shaped<'de, D: serde::Deserializer<'de>>(
     d: D,
 ) -> Result<Vec<ShapedMode>, D::Error> {
+    some(
+        d,
+        "building: no mode given ([]): give one mode or more, [T, ζ, Γ, φ…] each, or leave \
+         building out",
+    )
+}
+
+/// [`modes`], none where not given, and a list of none refused with `empty`.
+fn some<'de, D, M>(d: D, empty: &'static str) -> Result<Vec<M>, D::Error>
+where
+    D: serde::Deserializer<'de>,
+    M: serde::de::DeserializeOwned,
+{
     match modes(d)? {
-        Some(modes) if modes.is_empty() => Err(serde::de::Error::custom(
-            "building: no mode given ([]): give one mode or more, [T, ζ, Γ, φ…] each, or leave \
-             building out",
-        )),
+        Some(modes) if modes.is_empty() => Err(serde::de::Error::custom(empty)),
         modes => Ok(modes.unwrap_or_default()),
     }
 }

@@ -170,11 +170,10 @@ pub fn check_angles(angles: &[f64], sp: Spelling) -> Result<(), AskError> {
     }
 }
 
-/// A step between a pair's angles (degrees), in [1, 180]: finer than a
-/// degree is finer than a pair's RotD (180 angles), and a step of 1e-9°
-/// asked for 1.8e11 motions held at once (the process was killed).
+/// A step between a pair's angles (degrees), in
+/// [`crate::pair::ANGLE_STEPS_DEG`].
 pub fn check_angle_step(step: f64, sp: Spelling) -> Result<(), AskError> {
-    if (1.0..=180.0).contains(&step) {
+    if crate::pair::ANGLE_STEPS_DEG.contains(&step) {
         return Ok(());
     }
     Err(AskError(format!(

@@ -55,7 +55,6 @@ impl Default for LawAsk {
 impl LawAsk {
     /// The orientations `direct` runs the records at, checked.
     pub fn orient(&self, direct: bool, sp: Spelling) -> Result<fragility::Orient, AskError> {
-        // Every motion is held at once: 0.01° asked for about 80 GB.
         super::check_angle_step(self.angle_step, sp)?;
         if self.angle_step != crate::pair::ANGLE_STEP_DEG
             && self.orientation == Orientation::AsRecorded

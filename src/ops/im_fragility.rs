@@ -470,10 +470,11 @@ impl Grid {
         let mut holes = Vec::new();
         for (i, wp) in [(ip, 1.0 - tp), (jp, tp)] {
             for (j, we) in [(ie, 1.0 - te), (je, te)] {
-                let line = format!("p = {:.3} 1/s, ε = {:.3}", self.ps[i], self.es[j]);
-                let hole = wp != 0.0 && we != 0.0 && self.values[i * n + j].is_none();
-                if hole && !holes.contains(&line) {
-                    holes.push(line);
+                if wp != 0.0 && we != 0.0 && self.values[i * n + j].is_none() {
+                    let line = format!("p = {:.3} 1/s, ε = {:.3}", self.ps[i], self.es[j]);
+                    if !holes.contains(&line) {
+                        holes.push(line);
+                    }
                 }
             }
         }

@@ -190,9 +190,7 @@ fn orientation(raw: &crate::pipeline::raw::RawRecords) -> Result<Option<f64>, St
                 .into(),
         ),
         Orientation::AsRecorded => Ok(None),
-        // As --direct's and capacity's (`ask::check_angle_step`): 1e-9°
-        // would hold 1.8e11 motions.
-        Orientation::Random if (1.0..=180.0).contains(&step) => Ok(Some(step)),
+        Orientation::Random if crate::pair::ANGLE_STEPS_DEG.contains(&step) => Ok(Some(step)),
         Orientation::Random => Err(format!(
             "`records.angle_step` = {step}: the angle step is in degrees, in [1, 180]"
         )),
