@@ -153,8 +153,26 @@ pub fn check_mu(mu: f64) -> Result<f64, BlockError> {
 /// before it slips, so the block slides first when μ < b/h = tan α
 /// (Ishiyama 1982, EESD 10(5); Shenton 1996, J. Eng. Mech. 122(7)). Then
 /// the rocking model, which assumes no sliding, does not apply.
+///
+/// At μ = b/h both thresholds are crossed together, and the block slides:
+/// once lifted it needs more friction than tan α at once (the rotation's
+/// inertia adds to the demand), so its pivot slips, and a slip at
+/// μₖ = tan α does not tip it (the resultant passes through the corner).
+/// So a tie slides, as every μ below it does. A μ within [`TIE_REL`] of
+/// tan α is that tie (b/h given as μ, and tan α of the block's own α,
+/// differ by rounding).
 pub fn slides_first(mu: f64, alpha_rad: f64) -> bool {
-    mu < alpha_rad.tan()
+    let tan = alpha_rad.tan();
+    mu < tan || ties(mu, tan)
+}
+
+/// How close (relative) a friction coefficient and tan α are to count as
+/// equal: a few ulps, the rounding of tan(atan(b/h)).
+pub const TIE_REL: f64 = 16.0 * f64::EPSILON;
+
+/// Whether `mu` is `tan_alpha` within rounding ([`TIE_REL`]).
+pub fn ties(mu: f64, tan_alpha: f64) -> bool {
+    (mu - tan_alpha).abs() <= TIE_REL * tan_alpha
 }
 
 /// The largest half size (m) of a free-standing object the tool expects: a
@@ -179,7 +197,7 @@ pub fn size_warning(block: &Block) -> Option<String> {
 /// What every command says of a block that slides before it rocks.
 pub fn sliding_warning(mu: f64, alpha_rad: f64) -> String {
     format!(
-        "the block slides before it rocks: friction μ = {mu} is below b/h = tan α = {:.4} \
+        "the block slides before it rocks: friction μ = {mu} does not exceed b/h = tan α = {:.4} \
          (Ishiyama 1982; Shenton 1996); the rocking results assume it does not slide, so \
          they hold only if it is restrained against sliding",
         alpha_rad.tan()
@@ -232,8 +250,7 @@ mod tests {
 
     /// The issue's two blocks of b/h = 0.4: μ = 0.2 slides first (a base
     /// slipping at 0.2 g cannot give the 0.4 g uplift needs), μ = 0.6 rocks;
-    /// the boundary is μ = b/h itself, where both start together and the
-    /// block is taken to rock.
+
     #[test]
     fn a_block_slides_first_when_friction_is_below_its_aspect_ratio() {
         let block = Block::new(0.4, 1.0, Restitution::Value(0.9)).unwrap();

@@ -51,7 +51,7 @@ pub struct BlockAsk {
     /// the warnings of a regression).
     pub auto_tol: f64,
     pub overturn: Overturn,
-    /// The base's static friction coefficient: μ < b/h slides first.
+    /// The base's static friction coefficient: μ ≤ b/h slides first.
     pub mu: Option<f64>,
     /// The base's kinetic friction coefficient (≤ μ; μ when not given), for
     /// the slide-rock model.
@@ -570,7 +570,7 @@ mod tests {
         assert_eq!(one.named.slides_first, Some(false));
         assert!(
             one.why
-                .starts_with("slide-rock model: μ = 0.5 ≥ b/h = 0.2500"),
+                .starts_with("slide-rock model: μ = 0.5 > b/h = 0.2500"),
             "{}",
             one.why
         );

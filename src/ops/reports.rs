@@ -45,7 +45,7 @@ pub struct SimulateReport {
     pub pfa_over_pga: Option<f64>,
     /// The base's friction coefficient, with --mu.
     pub mu: Option<f64>,
-    /// With --mu: whether the block slides before it rocks (μ < b/h).
+    /// With --mu: whether the block slides before it rocks (μ ≤ b/h).
     pub slides_first: Option<bool>,
     /// The slide-rock model's run: the base's slide and the time in each mode.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -157,7 +157,7 @@ pub struct CapacityReport {
     pub ground_pga_c_g: Option<f64>,
     /// The base's friction coefficient, with --mu.
     pub mu: Option<f64>,
-    /// With --mu: whether the block slides before it rocks (μ < b/h).
+    /// With --mu: whether the block slides before it rocks (μ ≤ b/h).
     pub slides_first: Option<bool>,
     pub eta_survived: f64,
     pub level_survived: f64,

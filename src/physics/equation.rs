@@ -130,7 +130,7 @@ impl Equation {
     /// A block at rest leaves it where |ψ̈| exceeds `η · uplift_factor()`:
     /// 1 for the linearised equation, tan α / α for the nonlinear one, and
     /// for a block that may slide the smaller of that and μₛ/α (it slides
-    /// first where μₛ < tan α).
+    /// first where μₛ ≤ tan α).
     pub fn uplift_factor(self) -> f64 {
         match self {
             Equation::Linearized => 1.0,

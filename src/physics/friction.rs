@@ -75,7 +75,6 @@ pub enum Onset {
 pub struct Contact {
     pub friction: Friction,
     pub alpha: f64,
-    tan_alpha: f64,
     /// R (m): the half-diagonal, `3g/(4p²)`.
     pub r: f64,
     /// A = αg/η (m/s²): the ground's acceleration at ψ̈ = 1.
@@ -104,7 +103,6 @@ impl Contact {
         Contact {
             friction,
             alpha,
-            tan_alpha: alpha.tan(),
             r: 0.75 * G / (p * p),
             a_scale: alpha * G / eta,
             p2: p * p,
@@ -113,12 +111,14 @@ impl Contact {
 
     /// Whether a flat block slides rather than tips while its base slips:
     /// the base's friction `μₖ g` keeps the resultant within the base
-    /// (`μₖ ≤ tan α`).
+    /// (`μₖ ≤ tan α`, the tie within rounding as in
+    /// [`crate::block::slides_first`]: at equality it passes through the
+    /// corner, and tips nothing).
     pub fn slides_flat(&self) -> bool {
-        self.friction.mu_k <= self.tan_alpha
+        crate::block::slides_first(self.friction.mu_k, self.alpha)
     }
 
-    /// Whether a block at rest slides before it rocks (`μₛ < tan α`).
+    /// Whether a block at rest slides before it rocks (`μₛ ≤ tan α`, [`crate::block::slides_first`]).
     pub fn slides_first(&self) -> bool {
         crate::block::slides_first(self.friction.mu_s, self.alpha)
     }
@@ -171,7 +171,7 @@ impl Contact {
             return Onset::Rock { s };
         }
         let slip = -forces.f.signum();
-        // Slipping, it must also tip (at μ = b/h exactly it need not): else
+        // Slipping, it must also tip (with μₖ up to tan α it need not): else
         // it slides flat.
         let (xdd, _, _) = self.slide_rock_accel(s, slip, 0.0, 0.0, psi);
         if s * xdd > 0.0 || !self.slides_flat() {
@@ -299,5 +299,56 @@ mod tests {
         let f = c.rock_forces(1.0, 0.0, 0.0, psi);
         assert!((f.f.abs() / f.n - alpha.tan()).abs() < 1e-14);
         assert!((f.n - G).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_block_lifted_at_mu_equal_to_b_over_h_needs_more_than_mu() {
+        // Why a tie slides (MODEL.md §17): just past rest's threshold, by
+        // δ = a − g tan α, the lifted block asks F/N = tan α + δ/(4g) to
+        // first order (R θ̈ = ¾ δ cos α from Eq. 7 with R p² = ¾ g), so a
+        // pivot with μₛ = tan α slips at once.
+        let alpha = 0.25f64;
+        let c = Contact::new(2.0, 1.0, alpha, Friction::new(alpha.tan()));
+        for delta in [1e-4, 1e-3, 1e-2] {
+            let psi = (G * alpha.tan() + delta) / c.a_scale;
+            let f = c.rock_forces(1.0, 0.0, 0.0, psi);
+            let excess = f.f.abs() / f.n - alpha.tan();
+            let first_order = delta / (4.0 * G);
+            assert!(
+                (excess - first_order).abs() < 2.0 * first_order * delta / G,
+                "δ = {delta}: {excess} against {first_order}"
+            );
+            assert!(f.margin(alpha.tan()) < 0.0);
+        }
+    }
+
+    #[test]
+    fn at_mu_equal_to_b_over_h_the_block_slides_flat() {
+        // μ = b/h as a user gives it, an ulp either side, tan α of the
+        // block's own α: each is the tie, which slides first (its slip does
+        // not tip it). A part in 1e9 above b/h rocks first.
+        for (b, h) in [(0.2, 0.9), (0.25, 1.0), (0.3, 0.7), (0.1, 1.3)] {
+            let alpha = f64::atan(b / h);
+            let ratio: f64 = b / h;
+            for mu in [ratio, ratio.next_up(), ratio.next_down(), alpha.tan()] {
+                assert!(
+                    crate::block::slides_first(mu, alpha),
+                    "μ = {mu}, b/h = {b}/{h}"
+                );
+                let c = Contact::new(2.0, 0.3, alpha, Friction::new(mu));
+                assert!(c.slides_flat(), "μₖ = {mu}");
+                let psi = 0.3 * alpha.tan() / alpha;
+                for side in [1.0, -1.0] {
+                    assert_eq!(c.onset(side * psi, side), Onset::Slide { dir: side });
+                }
+            }
+            let above = ratio * (1.0 + 1e-9);
+            assert!(!crate::block::slides_first(above, alpha));
+            let c = Contact::new(2.0, 0.3, alpha, Friction::new(above));
+            assert!(!c.slides_flat());
+            // At rest's threshold the demand is tan α, within μ: held.
+            let psi = 0.3 * alpha.tan() / alpha;
+            assert_eq!(c.onset(psi, 1.0), Onset::Rock { s: 1.0 });
+        }
     }
 }

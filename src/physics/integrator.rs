@@ -477,10 +477,10 @@ fn sliding_reason(alpha_rad: f64, friction: Friction) -> String {
     let b_over_h = alpha_rad.tan();
     let mu = friction.mu_s;
     if crate::block::slides_first(mu, alpha_rad) {
-        format!("the block slides before it rocks (μ = {mu} < b/h = {b_over_h:.4})")
+        format!("the block slides before it rocks (μ = {mu} ≤ b/h = {b_over_h:.4})")
     } else {
         format!(
-            "μ = {mu} ≥ b/h = {b_over_h:.4}: it rocks first, and slides where its friction \
+            "μ = {mu} > b/h = {b_over_h:.4}: it rocks first, and slides where its friction \
              demand reaches μN"
         )
     }

@@ -198,7 +198,7 @@ fn floor_modes<S: serde::Serializer>(b: &Option<Building>, s: S) -> Result<S::Ok
 }
 
 impl BlockSpec {
-    /// Whether the block slides before it rocks (μ < b/h), when its μ and
+    /// Whether the block slides before it rocks (μ ≤ b/h), when its μ and
     /// α are known.
     pub fn slides_first(&self) -> bool {
         self.mu

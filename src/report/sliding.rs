@@ -90,7 +90,7 @@ pub(super) fn sliding_section(w: &mut String, d: &StudyData) {
         let _ = writeln!(w, "## Blocks that slide first, run rocking\n");
         let _ = writeln!(
             w,
-            "{}: the base's friction coefficient μ is below b/h, so the base slips before the \
+            "{}: the base's friction coefficient μ does not exceed b/h, so the base slips before the \
              shaking can lift a corner (Ishiyama 1982; Shenton 1996; docs/MODEL.md §17), but \
              the study's model rocks them. Their capacities hold only for a block restrained \
              against sliding; `[model] kind = \"auto\"` or `\"slide-rock\"` runs them sliding. \

@@ -30,7 +30,7 @@ table! {
         /// The base's friction coefficient μ (`--mu`, the inventory's `mu`); empty when not
         /// given.
         pub mu: Option<f64>,
-        /// Whether μ is below b/h: the block slides before it rocks (docs/MODEL.md §17).
+        /// Whether μ is at most b/h: the block slides before it rocks (docs/MODEL.md §17).
         /// With `--direct` its runs are then the slide-rock model's (`model`); from a
         /// regression its rate holds only if it is restrained against sliding. False when
         /// μ is not given.

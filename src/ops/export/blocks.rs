@@ -53,7 +53,7 @@ pub(super) fn entry(
     };
     let slides = match (e.mu, e.slides_first) {
         (Some(mu), Some(true)) => format!(
-            "; slides before it rocks (μ = {mu} < b/h = {:.4}): these fragilities assume it \
+            "; slides before it rocks (μ = {mu} ≤ b/h = {:.4}): these fragilities assume it \
              does not",
             e.b_m / e.h_m
         ),

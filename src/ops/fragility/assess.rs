@@ -74,7 +74,7 @@ pub struct Assessment {
     pub floor: Option<String>,
     /// The base's friction coefficient, when given.
     pub mu: Option<f64>,
-    /// With `mu`: whether the block slides before it rocks (μ < b/h).
+    /// With `mu`: whether the block slides before it rocks (μ ≤ b/h).
     pub slides_first: Option<bool>,
     /// Where the regression is stretched for this block (none with
     /// `--direct`), and a block that slides first.

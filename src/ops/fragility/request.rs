@@ -33,7 +33,7 @@ pub struct Request {
     /// The building whose floor the block stands on (`--direct` only);
     /// `None`: the ground.
     pub floor: Option<Building>,
-    /// The base's friction coefficient, checked: a block with μ < b/h is warned of.
+    /// The base's friction coefficient, checked: a block with μ ≤ b/h is warned of.
     pub mu: Option<f64>,
     /// How the fragility is made from the capacities: a lognormal by the
     /// fractiles (the default) or by likelihood, or the records' curve.

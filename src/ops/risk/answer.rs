@@ -18,7 +18,7 @@ pub struct BlockInfo {
     pub eps_housner: bool,
     /// The base's friction coefficient, when given.
     pub mu: Option<f64>,
-    /// With `mu`: whether the block slides before it rocks (μ < b/h).
+    /// With `mu`: whether the block slides before it rocks (μ ≤ b/h).
     pub slides_first: Option<bool>,
     /// On a floor: the building's modes (`T,ζ,Γφ; …`).
     pub floor: Option<String>,
