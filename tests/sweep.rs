@@ -520,6 +520,24 @@ eta_min = 0.005
 #[test]
 #[cfg(unix)]
 fn ctrl_c_stops_a_sweep_that_then_resumes_to_the_same_tables() {
+    signal_stops_a_sweep_that_then_resumes(libc::SIGINT, "-INT", INTERRUPTED);
+}
+
+/// SIGTERM, what Slurm sends at a time limit, on preemption and on
+/// `scancel` (the generated script requeues the task): the same stop, with
+/// the shell's code for it (143), so the requeued task resumes.
+#[test]
+#[cfg(unix)]
+fn sigterm_stops_a_sweep_as_ctrl_c_does() {
+    signal_stops_a_sweep_that_then_resumes(
+        libc::SIGTERM,
+        "-TERM",
+        "interrupted (SIGTERM): every file written is whole",
+    );
+}
+
+#[cfg(unix)]
+fn signal_stops_a_sweep_that_then_resumes(signal: libc::c_int, kill_flag: &str, says: &str) {
     let reference = tempdir();
     let ref_pipe = write_pipeline(reference.path(), "c", TWENTY_CHUNKS);
     assert!(sweep(&reference, &ref_pipe, &[]).status.success());
@@ -533,8 +551,8 @@ fn ctrl_c_stops_a_sweep_that_then_resumes_to_the_same_tables() {
     // SAFETY: signal(2) is async-signal-safe, as pre_exec requires.
     unsafe {
         use std::os::unix::process::CommandExt;
-        command.pre_exec(|| {
-            libc::signal(libc::SIGINT, libc::SIG_DFL);
+        command.pre_exec(move || {
+            libc::signal(signal, libc::SIG_DFL);
             Ok(())
         });
     }
@@ -556,17 +574,18 @@ fn ctrl_c_stops_a_sweep_that_then_resumes_to_the_same_tables() {
         std::thread::sleep(std::time::Duration::from_millis(2));
     }
     let kill = std::process::Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
+        .args([kill_flag, &child.id().to_string()])
         .status()
         .unwrap();
     assert!(kill.success());
     let stopped = child.wait_with_output().unwrap();
-    assert_eq!(stopped.status.code(), Some(130), "{}", stderr(&stopped));
-    assert!(
-        stderr(&stopped).contains(INTERRUPTED),
+    assert_eq!(
+        stopped.status.code(),
+        Some(128 + signal),
         "{}",
         stderr(&stopped)
     );
+    assert!(stderr(&stopped).contains(says), "{}", stderr(&stopped));
     assert!(!folder.join("capacities.parquet").exists());
     let kept = part_files(&folder).len() / 2;
     assert!((1..20).contains(&kept), "{kept} chunks saved");

@@ -126,7 +126,7 @@ table! {
         /// ground record's, PFA/PGA (dimensionless); every η of the row is then the
         /// floor's, and the ground's is η·PFA/PGA. Empty on the ground.
         pub pfa_over_pga: Option<f64>,
-        /// Whether the block slides before it rocks, its `mu` below b/h (docs/MODEL.md
+        /// Whether the block slides before it rocks, its `mu` at most b/h (docs/MODEL.md
         /// §17): the row then holds only for a block restrained against sliding. False
         /// when no `mu` is given.
         pub slides_first: bool,

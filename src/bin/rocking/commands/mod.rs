@@ -97,8 +97,9 @@ pub fn main() -> ExitCode {
 }
 
 /// The exit code of a command's result, its error printed with its causes;
-/// a command stopped by Ctrl-C says what it left, with the shell's code for
-/// a process ended by SIGINT (130).
+/// a command stopped by a signal (Ctrl-C, SIGTERM, SIGHUP) says what it
+/// left, with the shell's code for a process ended by that signal (128 + its
+/// number: 130 for SIGINT, 143 for SIGTERM).
 fn exit(result: anyhow::Result<()>) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -108,8 +109,9 @@ fn exit(result: anyhow::Result<()>) -> ExitCode {
             if !format!("{e:#}").contains("interrupted") {
                 print_error(&e);
             }
-            eprintln!("{INTERRUPTED}");
-            ExitCode::from(130)
+            let (code, name) = crate::stopped_by().unwrap_or((130, "Ctrl-C"));
+            eprintln!("{}", interrupted(name));
+            ExitCode::from(code)
         }
         Err(e) => {
             print_error(&e);
@@ -126,9 +128,13 @@ fn print_error(e: &anyhow::Error) {
     }
 }
 
-/// What a command stopped by Ctrl-C prints.
-const INTERRUPTED: &str = "interrupted (Ctrl-C): every file written is whole and nothing is \
-half-written; a study's sweep keeps the chunks it finished, and `rocking run` resumes from them";
+/// What a command stopped by the signal `name` prints.
+fn interrupted(name: &str) -> String {
+    format!(
+        "interrupted ({name}): every file written is whole and nothing is half-written; a \
+         study's sweep keeps the chunks it finished, and `rocking run` resumes from them"
+    )
+}
 
 /// A number of a printed table in `width` columns: four decimals, or four
 /// significant digits in scientific form where four decimals would print
