@@ -704,6 +704,124 @@ fn outputs_never_overwrite_inputs() {
     }
 }
 
+/// An output inside a study folder is refused before any run, however
+/// deep and whether the study is at rest (its fingerprints) or running (its
+/// lock, which marks it): `risk --from … --out <study>/fit_coefficients.parquet` once
+/// replaced the fit it had just read, and `ingest --out` a running study's
+/// records table. So is a folder given for a file, and a place that cannot
+/// be written (a read-only folder's refusal came after every run, and the
+/// runs were lost).
+#[test]
+fn outputs_stay_out_of_study_folders_and_are_checked_before_the_runs() {
+    let dir = tempdir();
+    let d = dir.path();
+    let at_rest = d.join("out/quick");
+    std::fs::create_dir_all(at_rest.join(".fingerprints")).unwrap();
+    std::fs::write(at_rest.join("capacities.parquet"), "the sweep").unwrap();
+    std::fs::create_dir_all(d.join("folder.parquet")).unwrap();
+    let kobe = root().join(KOBE);
+    let kobe = kobe.to_str().unwrap();
+    let capacity = |out: &str| {
+        let o = rocking(
+            d,
+            &[
+                "capacity", "--record", kobe, "--p", "2", "--eps", "0.7", "--out", out,
+            ],
+        );
+        assert!(!o.status.success(), "{out}");
+        stderr(&o)
+    };
+    for (out, says) in [
+        ("out/quick/capacities.parquet", "inside the study folder"),
+        ("out/quick/figures/new/c.parquet", "inside the study folder"),
+        ("folder.parquet", "it is a folder"),
+        ("/proc/c.parquet", "cannot write in /proc"),
+    ] {
+        let e = capacity(out);
+        assert!(
+            e.contains(&format!("--out {out}: ")) && e.contains(says),
+            "{out}: {e}"
+        );
+    }
+    assert_eq!(
+        std::fs::read(at_rest.join("capacities.parquet")).unwrap(),
+        b"the sweep"
+    );
+    let history = rocking(
+        d,
+        &[
+            "simulate",
+            "--record",
+            kobe,
+            "--p",
+            "2",
+            "--eps",
+            "0.7",
+            "--eta",
+            "0.3",
+            "--history",
+            "out/quick/h.csv",
+        ],
+    );
+    assert!(
+        stderr(&history).contains("inside the study folder"),
+        "{}",
+        stderr(&history)
+    );
+    let export = rocking(
+        d,
+        &[
+            "export",
+            "--format",
+            "pelicun",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--out",
+            "out/quick/x",
+        ],
+    );
+    assert!(
+        stderr(&export).contains("inside the study folder"),
+        "{}",
+        stderr(&export)
+    );
+    let mut left: Vec<String> = std::fs::read_dir(&at_rest)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    left.sort();
+    assert_eq!(left, [".fingerprints", "capacities.parquet"]);
+    // A study a run made (its folder is marked when the run takes its lock).
+    let pipeline = root().join("pipelines/quick.toml");
+    let run = rocking(
+        d,
+        &[
+            "run",
+            pipeline.to_str().unwrap(),
+            "--to",
+            "ingest",
+            "--outputs",
+            "studies",
+        ],
+    );
+    assert!(run.status.success(), "{}", stderr(&run));
+    let table = d.join("studies/quick/records.parquet");
+    let before = std::fs::read(&table).unwrap();
+    let ingest = rocking(
+        d,
+        &["ingest", kobe, "--out", "studies/quick/records.parquet"],
+    );
+    assert!(
+        stderr(&ingest).contains("inside the study folder"),
+        "{}",
+        stderr(&ingest)
+    );
+    assert_eq!(std::fs::read(&table).unwrap(), before);
+}
+
 /// A history shows the fate its run reports when the block overturns after
 /// the record has ended (it once stopped at `record_end`, x = 0.51, while
 /// the run said "overturned at 1.48 s"). After the record the linearised

@@ -42,6 +42,8 @@ pub enum RunError {
         n: usize,
         pipeline: String,
     },
+    #[error("cannot mark {} as a study's folder", .0.display())]
+    Mark(std::path::PathBuf, #[source] std::io::Error),
     #[error("this pipeline does not need `{stage}`: {why}")]
     NotNeeded { stage: &'static str, why: String },
     #[error("--from {from} comes after --to {to}: nothing would be forced")]
@@ -252,6 +254,7 @@ pub fn run(
         return run_shard(study, &stages, shard, opts, reporter);
     }
     let _lock = Lock::take(&study.dir, Scope::Exclusive, &opts.command)?;
+    mark_study(&study.dir)?;
     with_threads(opts.threads, || {
         let mut results = Vec::new();
         let mut forced_from = false;
@@ -335,6 +338,7 @@ fn run_shard(
         return Err(RunError::NotShardable(target.name()));
     }
     let _lock = Lock::take(&study.dir, Scope::Shard(shard), &opts.command)?;
+    mark_study(&study.dir)?;
     with_threads(opts.threads, || {
         let mut results = Vec::new();
         for &stage in before {
@@ -441,4 +445,12 @@ where
             .map_err(|source| RunError::Threads { threads: n, source })?
             .install(f),
     }
+}
+
+/// Marks `dir` as a study's folder from the moment a run holds it (its
+/// fingerprints' folder, which every stage writes into), so that no
+/// command's own output is written into it ([`crate::outpath`]).
+fn mark_study(dir: &std::path::Path) -> Result<(), RunError> {
+    let mark = dir.join(crate::outpath::STUDY_MARK);
+    std::fs::create_dir_all(&mark).map_err(|e| RunError::Mark(mark, e))
 }

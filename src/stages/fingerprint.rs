@@ -245,7 +245,7 @@ fn note_path(study: &Study, stage: &str, shard: Option<Shard>) -> PathBuf {
         None => format!("{stage}.json"),
         Some(s) => format!("{stage}.{}.json", s.tag()),
     };
-    study.dir.join(".fingerprints").join(file)
+    study.dir.join(crate::outpath::STUDY_MARK).join(file)
 }
 
 /// Reads a note; `Err` is why the stage counts as stale.
@@ -373,7 +373,7 @@ pub fn recorded_seconds(
 
 /// Shard notes present for `stage`: (shard, path), in shard order.
 fn shard_notes(study: &Study, stage: &str) -> Vec<(Shard, PathBuf)> {
-    let dir = study.dir.join(".fingerprints");
+    let dir = study.dir.join(crate::outpath::STUDY_MARK);
     let Ok(entries) = fs::read_dir(&dir) else {
         return Vec::new();
     };
@@ -399,7 +399,7 @@ fn shard_notes(study: &Study, stage: &str) -> Vec<(Shard, PathBuf)> {
 /// Seconds of every whole-stage note in the study's folder, by stage name
 /// (for a stage whose output shows the others' run times).
 pub fn seconds_in_folder(study: &Study) -> BTreeMap<String, f64> {
-    let dir = study.dir.join(".fingerprints");
+    let dir = study.dir.join(crate::outpath::STUDY_MARK);
     let Ok(entries) = fs::read_dir(&dir) else {
         return BTreeMap::new();
     };

@@ -182,7 +182,7 @@ pub struct IngestReport {
 pub fn run(config: &IngestConfig) -> Result<IngestReport, IngestError> {
     let mut inputs: Vec<&Path> = config.paths.iter().map(PathBuf::as_path).collect();
     inputs.extend(config.manifest.as_deref());
-    crate::outpath::check("--out", &config.out, "parquet", &inputs)?;
+    crate::outpath::check_is_no_input("--out", &config.out, "parquet", &inputs)?;
     let collected = crate::records::collect_as(
         &config.paths,
         config.manifest.as_deref(),

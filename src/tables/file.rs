@@ -330,30 +330,50 @@ impl Drop for AtomicTableWriter {
 /// Writes `bytes` to `dest` through a temporary sibling and a rename (for
 /// the few outputs that are not Parquet).
 pub fn atomic_write(dest: &Path, bytes: &[u8]) -> Result<(), TableError> {
+    atomic_write_all(&[(dest, bytes)])
+}
+
+/// Writes a set of files that belong together (an engine's job): every one
+/// to a temporary sibling first, each synced, then all renamed into place
+/// one after the other, so that a failure or a kill while writing leaves
+/// the earlier set whole, and only the instants of the renames could mix
+/// the two.
+pub fn atomic_write_all(files: &[(&Path, &[u8])]) -> Result<(), TableError> {
     use std::io::Write;
     let io_err = |path: &Path, source| TableError::Io {
         path: path.to_path_buf(),
         source,
     };
-    if let Some(parent) = dest.parent().filter(|p| !p.as_os_str().is_empty()) {
-        fs::create_dir_all(parent).map_err(|e| io_err(dest, e))?;
-    }
-    let name = dest
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = dest.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
-    let result = (|| {
-        let mut f = File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        fs::rename(&tmp, dest)
+    let mut temps: Vec<PathBuf> = Vec::new();
+    let written = (|| {
+        for (dest, bytes) in files {
+            if let Some(parent) = dest.parent().filter(|p| !p.as_os_str().is_empty()) {
+                fs::create_dir_all(parent).map_err(|e| io_err(dest, e))?;
+            }
+            let name = dest
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let tmp = dest.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
+            temps.push(tmp.clone());
+            (|| {
+                let mut f = File::create(&tmp)?;
+                f.write_all(bytes)?;
+                f.sync_all()
+            })()
+            .map_err(|e| io_err(dest, e))?;
+        }
+        for ((dest, _), tmp) in files.iter().zip(&temps) {
+            fs::rename(tmp, dest).map_err(|e| io_err(dest, e))?;
+        }
+        Ok(())
     })();
-    if let Err(e) = result {
-        let _ = fs::remove_file(&tmp);
-        return Err(io_err(dest, e));
+    if written.is_err() {
+        for tmp in &temps {
+            let _ = fs::remove_file(tmp);
+        }
     }
-    Ok(())
+    written
 }
 
 /// A table read back whole: its batches and its key-value metadata.
@@ -445,4 +465,28 @@ pub fn read_table(path: &Path, kind: TableKind) -> Result<TableContents, TableEr
             source,
         })?;
     Ok(TableContents { batches, metadata })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_set_that_fails_part_way_leaves_the_earlier_set_whole() {
+        let dir = std::env::temp_dir().join(format!("rocking-set-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(&dir).unwrap();
+        let (a, b) = (dir.join("a.xml"), dir.join("b.csv"));
+        atomic_write_all(&[(&a, b"old a"), (&b, b"old b")]).unwrap();
+        // The third file cannot be made (its folder is a file): neither of
+        // the first two is replaced, and no temporary file is left.
+        let blocked = dir.join("b.csv").join("c.ini");
+        assert!(atomic_write_all(&[(&a, b"new a"), (&b, b"new b"), (&blocked, b"c")]).is_err());
+        assert_eq!(fs::read(&a).unwrap(), b"old a");
+        assert_eq!(fs::read(&b).unwrap(), b"old b");
+        assert_eq!(fs::read_dir(&dir).unwrap().count(), 2);
+        atomic_write_all(&[(&a, b"new a"), (&b, b"new b")]).unwrap();
+        assert_eq!(fs::read(&b).unwrap(), b"new b");
+        fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use super::request::{Entries, ExportOpError, Format, HazardSites, Request};
 use crate::export::{nrml, pelicun};
 use crate::im::Im;
-use crate::tables::atomic_write;
+use crate::tables::{atomic_write, atomic_write_all};
 
 /// Writes the engine's files into `req.out`, and says which.
 pub(super) fn write_files(
@@ -78,12 +78,7 @@ pub(super) fn write_files(
             why: format!("it holds {name}, which no export wrote; export into a folder of its own"),
         });
     }
-    let mut files = Vec::new();
-    for (name, text) in &planned {
-        let path = req.out.join(name);
-        atomic_write(&path, text.as_bytes())?;
-        files.push(path);
-    }
+    let files = write_set(&req.out, &earlier, &planned)?;
     // The earlier export's files this one did not write are stale (another
     // format, or a job without --hazard now): removed, so that the folder
     // is one consistent set; then the list of this one's.
@@ -100,6 +95,30 @@ pub(super) fn write_files(
         .filter_map(|f| f.file_name().map(|n| n.to_string_lossy().into_owned()))
         .collect();
     atomic_write(&req.out.join(MANIFEST), names.join("\n").as_bytes())?;
+    Ok(files)
+}
+
+/// Writes `planned` into `out` as one set ([`atomic_write_all`]), the list
+/// of the folder's files first holding them beside the `earlier` export's,
+/// so that an export stopped while writing can be redone there.
+fn write_set(
+    out: &Path,
+    earlier: &[String],
+    planned: &[(&str, String)],
+) -> Result<Vec<PathBuf>, ExportOpError> {
+    let listed: Vec<&str> = earlier
+        .iter()
+        .map(String::as_str)
+        .chain(planned.iter().map(|(name, _)| *name))
+        .collect();
+    atomic_write(&out.join(MANIFEST), listed.join("\n").as_bytes())?;
+    let files: Vec<PathBuf> = planned.iter().map(|(name, _)| out.join(name)).collect();
+    let set: Vec<(&Path, &[u8])> = files
+        .iter()
+        .zip(planned)
+        .map(|(path, (_, text))| (path.as_path(), text.as_bytes()))
+        .collect();
+    atomic_write_all(&set)?;
     Ok(files)
 }
 

@@ -361,6 +361,7 @@ fn check_out(out: &Path, req: &Request) -> Result<(), ExportOpError> {
             why: "a file, not a folder".into(),
         });
     }
+    crate::outpath::check_folder("--out", out)?;
     let resolved = |p: &Path| std::fs::canonicalize(p).ok();
     let inputs: Vec<&Path> = [req.hazard.as_deref()]
         .into_iter()

@@ -86,6 +86,8 @@ pub enum ExportOpError {
     Fragility(#[from] FragilityError),
     #[error(transparent)]
     Format(#[from] ExportError),
+    #[error(transparent)]
+    OutPath(#[from] crate::outpath::OutPathError),
     #[error(
         "--method empirical is the records' own curve, which needs their runs: add --direct, or \
          export a lognormal (--method fractile or mle)"
