@@ -143,6 +143,13 @@ fn history_files_hold_every_event_in_time_order() {
                 Some("t_s,x,v_per_s,pivot,psi,slide_m,slide_velocity_m_per_s,event")
             );
             let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+            // Every real column reads as a float, never as an integer (a
+            // bare `0` made polars and pandas guess a column of integers).
+            for r in &rows {
+                for k in [0, 1, 2, 4, 5, 6] {
+                    assert!(r[k].parse::<i64>().is_err(), "{}: {r:?}", r[k]);
+                }
+            }
             let times: Vec<f64> = rows.iter().map(|r| r[0].parse().unwrap()).collect();
             assert!(
                 times.windows(2).all(|w| w[1] >= w[0]),

@@ -94,21 +94,54 @@ fn every_table_is_in_the_reference() {
 }
 
 /// Every stage of the registry appears wherever stages are listed: the
-/// README's stage table, the library's module map, the code map, and (for
-/// a stage with a command) the command-line reference.
+/// README's and the guide's stage tables, the guide's order of a run, the
+/// library's module map, the code map's row of the stages, and (for a
+/// stage with a command) the command-line reference and the guide's list
+/// of the stage commands.
 #[test]
 fn every_stage_appears_wherever_stages_are_listed() {
     use rocking::stages::STAGES;
     let readme = fs::read_to_string(root().join("README.md")).unwrap();
+    let guide = fs::read_to_string(root().join("docs/guide.md")).unwrap();
     let lib = fs::read_to_string(root().join("src/lib.rs")).unwrap();
     let arch = fs::read_to_string(root().join("ARCHITECTURE.md")).unwrap();
     let cli = fs::read_to_string(root().join("docs/cli.md")).unwrap();
+    let between = |text: &str, from: &str, to: &str| -> String {
+        let start = text.find(from).unwrap_or_else(|| panic!("{from}"));
+        let rest = &text[start..];
+        rest[..rest.find(to).unwrap_or_else(|| panic!("{to}"))].replace('\n', " ")
+    };
+    let order = between(&guide, "`rocking run PIPELINE.toml` runs", "Run it again");
+    let commands = between(
+        &guide,
+        "Each stage after ingest is also a command",
+        "[--outputs",
+    );
+    let stages_row = between(&arch, "| `src/stages/` |", "\n");
     for s in STAGES {
         let name = s.name();
         assert!(
             readme.contains(&format!("| **{name}** |")),
             "README's stage table: {name}"
         );
+        assert!(
+            guide.contains(&format!("| **{name}** |")),
+            "the guide's stage table: {name}"
+        );
+        assert!(
+            order.contains(&format!(" {name}")),
+            "the guide's order of a run: {name}"
+        );
+        assert!(
+            stages_row.contains(&format!("`{name}`")),
+            "ARCHITECTURE.md's row of src/stages/: {name}"
+        );
+        if s.has_command() {
+            assert!(
+                commands.contains(&format!("{name}|")) || commands.contains(&format!("|{name} ")),
+                "the guide's stage commands: {name}"
+            );
+        }
         assert!(
             lib.contains(&format!("**{name}**")),
             "src/lib.rs's stages: {name}"

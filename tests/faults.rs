@@ -514,7 +514,8 @@ fn an_incomplete_or_resharded_sweep_is_not_redone_behind_the_users_back() {
     let err = stderr(&out);
     assert!(!out.status.success());
     assert!(
-        err.contains("run in 2 shards and shard 2/2 is missing") && err.contains("--shard K/2"),
+        err.contains("run in 2 shards and shard 2/2 is missing")
+            && err.contains(&format!("`rocking sweep {p} --outputs out --shard K/2`")),
         "{err}"
     );
     assert!(d.join("out/s/capacities.shard-1-of-2.parquet").exists());

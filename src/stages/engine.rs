@@ -288,7 +288,11 @@ pub fn run(
                             }
                             .to_string(),
                             n: *n,
-                            pipeline: study.pipeline.display().to_string(),
+                            pipeline: format!(
+                                "{} --outputs {}",
+                                study.pipeline.display(),
+                                study.dir.parent().unwrap_or(&study.dir).display()
+                            ),
                         });
                     }
                     Reason::Stale(why)

@@ -75,10 +75,12 @@ pub fn write(
             let mut text = header.join(",");
             text.push('\n');
             for r in &rows {
-                // `{}` prints the shortest decimal that reads back to the same f64.
+                // `{:?}` prints the shortest decimal that reads back to the
+                // same f64, always as a float (`0.0`, `1e-7`): a bare `0`
+                // made readers that guess types take a column for integers.
                 let _ = writeln!(
                     text,
-                    "{},{},{},{},{},{},{},{}",
+                    "{:?},{:?},{:?},{},{:?},{:?},{:?},{}",
                     r.t_s,
                     r.x,
                     r.v_per_s,
