@@ -374,6 +374,46 @@ fn a_copied_output_folder_and_another_working_folder_stay_fresh() {
     assert!(stdout(&out).contains("nothing to do"), "{}", stderr(&out));
 }
 
+/// The temporary files a killed writer left before its rename (a table's,
+/// a figure's, a fingerprint's) are removed by the next run of the study,
+/// which holds its lock; one whose writer lives is kept. They survived
+/// every later run, `--force` too.
+#[test]
+fn a_killed_writers_temporaries_are_removed_by_the_next_run() {
+    let dir = tempdir();
+    let d = dir.path();
+    mini(d);
+    let run = || {
+        rocking(
+            d,
+            &["run", "mini.toml", "--outputs", "out", "--to", "ingest"],
+        )
+    };
+    assert!(run().status.success());
+    let study = d.join("out/mini");
+    // A pid above Linux's largest (2²² = 4,194,304): no process has it.
+    let dead = [
+        study.join(".records.parquet.tmp-4194305"),
+        study.join("figures/.fig05_ida_curves.svg.tmp-4194305"),
+        study.join(".fingerprints/.ingest.json.tmp-4194305"),
+    ];
+    let alive = study.join(format!(".blocks.parquet.tmp-{}", std::process::id()));
+    for path in dead.iter().chain([&alive]) {
+        fs::create_dir_all(path.parent().unwrap()).unwrap();
+        fs::write(path, "half").unwrap();
+    }
+    let again = run();
+    assert!(
+        stdout(&again).contains("nothing to do"),
+        "{}",
+        stderr(&again)
+    );
+    for path in &dead {
+        assert!(!path.exists(), "{}", path.display());
+    }
+    assert!(alive.exists());
+}
+
 #[test]
 fn a_figure_deleted_or_edited_by_hand_is_drawn_again() {
     let dir = tempdir();

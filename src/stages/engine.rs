@@ -255,6 +255,7 @@ pub fn run(
     }
     let _lock = Lock::take(&study.dir, Scope::Exclusive, &opts.command)?;
     mark_study(&study.dir)?;
+    remove_dead_temporaries(&study.dir);
     with_threads(opts.threads, || {
         let mut results = Vec::new();
         let mut forced_from = false;
@@ -457,4 +458,30 @@ where
 fn mark_study(dir: &std::path::Path) -> Result<(), RunError> {
     let mark = dir.join(crate::outpath::STUDY_MARK);
     std::fs::create_dir_all(&mark).map_err(|e| RunError::Mark(mark, e))
+}
+
+/// Removes the temporary files (`.NAME.tmp-PID`) that writers killed before
+/// their rename left in the study's folder, its figures and its
+/// fingerprints: under the study's exclusive lock no one else writes there,
+/// and a writer still alive keeps its file. (The sweep's parts are the
+/// sweep's to clean, shard by shard.)
+fn remove_dead_temporaries(dir: &std::path::Path) {
+    for folder in [
+        dir.to_path_buf(),
+        dir.join("figures"),
+        dir.join(crate::outpath::STUDY_MARK),
+    ] {
+        let Ok(entries) = std::fs::read_dir(&folder) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            let dead = crate::tables::temporary_of(&name).is_some_and(|(_, pid)| {
+                !name.starts_with(".lock") && !std::path::Path::new("/proc").join(pid).exists()
+            });
+            if dead && entry.file_type().is_ok_and(|t| t.is_file()) {
+                let _ = std::fs::remove_file(entry.path());
+            }
+        }
+    }
 }

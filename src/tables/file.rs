@@ -327,6 +327,12 @@ impl Drop for AtomicTableWriter {
     }
 }
 
+/// The file a hidden temporary was being written as and its writer's pid
+/// (`.NAME.tmp-PID` → `(NAME, PID)`), as the writers here name them.
+pub fn temporary_of(name: &str) -> Option<(&str, &str)> {
+    name.strip_prefix('.')?.rsplit_once(".tmp-")
+}
+
 /// Writes `bytes` to `dest` through a temporary sibling and a rename (for
 /// the few outputs that are not Parquet).
 pub fn atomic_write(dest: &Path, bytes: &[u8]) -> Result<(), TableError> {

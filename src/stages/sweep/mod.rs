@@ -56,8 +56,7 @@ use crate::tables;
 use cases::Tally;
 use layout::final_names;
 use parts::{
-    clean_up, part_paths, remove_stale_temporaries, remove_where, temporary_of, verify_part,
-    PartProblem,
+    clean_up, part_paths, remove_stale_temporaries, remove_where, verify_part, PartProblem,
 };
 use writer::{ChunkWriter, Hold};
 
@@ -150,7 +149,7 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
     // A killed run's temporaries of this run's tables (the lock refuses any
     // other writer of them).
     remove_where(&study.dir, |name| {
-        temporary_of(name).is_some_and(|(t, _pid)| t == ida_name || t == cap_name)
+        crate::tables::temporary_of(name).is_some_and(|(t, _pid)| t == ida_name || t == cap_name)
     })?;
     let final_meta = setup.prep.metadata(plan, None, cx.shard);
     let (prep, parts, mine, report) = (&setup.prep, &setup.parts, &setup.mine, &report);

@@ -46,14 +46,8 @@ pub(super) fn clean_up(
         }
     };
     remove_where(&study.dir, |name| {
-        superseded(temporary_of(name).map_or(name, |(table, _pid)| table))
+        superseded(crate::tables::temporary_of(name).map_or(name, |(table, _pid)| table))
     })
-}
-
-/// The file a hidden temporary was being written as and its writer's pid
-/// (`.NAME.tmp-PID` → `(NAME, PID)`).
-pub(super) fn temporary_of(name: &str) -> Option<(&str, &str)> {
-    name.strip_prefix('.')?.rsplit_once(".tmp-")
 }
 
 pub(super) fn part_paths(parts: &Path, c: usize) -> (PathBuf, PathBuf) {
@@ -157,7 +151,7 @@ pub(super) fn remove_stale_temporaries(dir: &Path, mine: &[usize]) -> Result<(),
     let mine: BTreeSet<usize> = mine.iter().copied().collect();
     remove_where(dir, |name| {
         // The writer's PID ends the name: a live writer's file is not stale.
-        let Some((part, pid)) = temporary_of(name) else {
+        let Some((part, pid)) = crate::tables::temporary_of(name) else {
             return false;
         };
         let chunk = part
