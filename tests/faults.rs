@@ -414,6 +414,49 @@ fn a_killed_writers_temporaries_are_removed_by_the_next_run() {
     assert!(alive.exists());
 }
 
+/// `status` while a run holds the study says who runs it (the stages it
+/// lists are as the last finished stage left them), and says nothing of the
+/// kind once the holder is gone.
+#[test]
+#[cfg(target_os = "linux")]
+fn status_names_a_run_under_way() {
+    let dir = tempdir();
+    let d = dir.path();
+    mini(d);
+    let status = || stdout(&rocking(d, &["status", "mini.toml", "--outputs", "out"]));
+    let study = d.join("out/mini");
+    fs::create_dir_all(&study).unwrap();
+    let mut holder = std::process::Command::new("sleep")
+        .arg("30")
+        .spawn()
+        .unwrap();
+    let stat = fs::read_to_string(format!("/proc/{}/stat", holder.id())).unwrap();
+    let ticks: u64 = stat[stat.rfind(')').unwrap() + 1..]
+        .split_whitespace()
+        .nth(19)
+        .unwrap()
+        .parse()
+        .unwrap();
+    let host = fs::read_to_string("/proc/sys/kernel/hostname").unwrap();
+    let lock = serde_json::json!({
+        "pid": holder.id(), "host": host.trim(), "started_ticks": ticks,
+        "since_unix_s": 0, "command": "rocking run mini.toml", "process": "sleep"
+    });
+    fs::write(study.join(".lock"), lock.to_string()).unwrap();
+    let text = status();
+    holder.kill().unwrap();
+    holder.wait().unwrap();
+    assert!(
+        text.contains(&format!(
+            "running now: `rocking run mini.toml` (pid {} on {}",
+            holder.id(),
+            host.trim()
+        )),
+        "{text}"
+    );
+    assert!(!status().contains("running now"));
+}
+
 #[test]
 fn a_figure_deleted_or_edited_by_hand_is_drawn_again() {
     let dir = tempdir();

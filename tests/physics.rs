@@ -796,3 +796,34 @@ fn every_compilation_of_the_taylor_stepper_agrees_to_the_bit() {
         "{overturned} of {runs}"
     );
 }
+
+/// A block whose rocking grows many e-folds within one sample interval:
+/// under a constant forcing just past the uplift threshold (ψ̈ = 1, η near
+/// 1) the linearised block leaves rest at once and x = (1/η − 1)(cosh pt − 1),
+/// so it overturns (x = 1) at t = acosh(1/(1 − η))/p, here p·t = 14.5 within
+/// the first one-second interval, with p·Δt up to the stepper's bound
+/// (`MAX_P_DT` = 100). Past the bound the run is refused, naming p·Δt: there
+/// located events lost their digits (an overturning 0.02 s late at
+/// p·Δt = 300) and past 709 e^{p·Δt} overflowed into a block that
+/// "survived" though it overturns.
+#[test]
+fn the_exact_step_takes_long_intervals_up_to_its_bound_and_refuses_beyond() {
+    let step = Excitation::new(&[1.0; 6], 1.0).unwrap();
+    let eta = 1.0 - 1e-6;
+    for p in [5.0, 20.0, 50.0, 100.0] {
+        let out = run(&step, p, 0.9, eta, LIN);
+        let t = out.overturn_time_s.expect("it overturns");
+        let truth = (1.0 / (1.0 - eta)).acosh() / p;
+        assert!(
+            (t - truth).abs() <= 1e-12 * truth,
+            "p = {p}: {t} against {truth}"
+        );
+    }
+    for p in [100.5, 300.0, 1000.0] {
+        let e = simulate(&step, &RunSpec::new(p, 0.9, eta, LIN)).unwrap_err();
+        assert!(e.to_string().contains("is above 100"), "p = {p}: {e}");
+        // The nonlinear model cuts its own steps, and takes it.
+        let nonlinear = Model::nonlinear(0.01, rocking::physics::Solver::default());
+        assert!(simulate(&step, &RunSpec::new(p, 0.9, eta, nonlinear)).is_ok());
+    }
+}

@@ -237,6 +237,19 @@ impl Drop for Lock {
 }
 
 /// The first live lock in `dir` whose file name passes `which`, other than ours.
+/// Who holds `dir` now, if a live process does (its exclusive lock or a
+/// shard's), in words: `rocking run … (pid N on HOST, for S s)`.
+pub fn holder(dir: &Path) -> Option<String> {
+    let (_, owner) = live_locks(dir, |n| n == EXCLUSIVE || n.starts_with(SHARD_PREFIX))?;
+    Some(format!(
+        "`{}` (pid {} on {}, for {})",
+        owner.command,
+        owner.pid,
+        owner.host,
+        age(owner.since_unix_s)
+    ))
+}
+
 fn live_locks(dir: &Path, which: impl Fn(&str) -> bool) -> Option<(PathBuf, Owner)> {
     let (me, here) = (std::process::id(), hostname());
     fs::read_dir(dir).ok()?.flatten().find_map(|e| {

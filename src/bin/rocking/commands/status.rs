@@ -28,6 +28,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             args.pipeline.pipeline.display()
         );
     }
+    if let Some(who) = rocking::stages::lock::holder(&study.dir) {
+        println!(
+            "running now: {who} holds the study; the stages below are as its last finished \
+             stage left them"
+        );
+    }
     for (stage, fresh) in engine::status(&study) {
         println!("{stage:<12} {fresh}");
     }
