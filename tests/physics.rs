@@ -798,9 +798,10 @@ fn every_compilation_of_the_taylor_stepper_agrees_to_the_bit() {
 }
 
 /// A block whose rocking grows many e-folds within one sample interval:
-/// under a constant forcing just past the uplift threshold (ψ̈ = 1, η near
-/// 1) the linearised block leaves rest at once and x = (1/η − 1)(cosh pt − 1),
-/// so it overturns (x = 1) at t = acosh(1/(1 − η))/p, here p·t = 14.5 within
+/// under a constant forcing just past the uplift threshold (ψ̈ = 1, η just
+/// below one) the linearised block leaves rest at once and
+/// x = (1/η − 1)(cosh pt − 1), so it overturns (x = 1) at
+/// t = acosh(1/(1 − η))/p, here p·t = 14.5 within
 /// the first one-second interval, with p·Δt up to the stepper's bound
 /// (`MAX_P_DT` = 100). Past the bound the run is refused, naming p·Δt: there
 /// located events lost their digits (an overturning 0.02 s late at
