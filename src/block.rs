@@ -167,7 +167,7 @@ pub fn slides_first(mu: f64, alpha_rad: f64) -> bool {
 }
 
 /// How close (relative) a friction coefficient and tan α are to count as
-/// equal: a few ulps, the rounding of tan(atan(b/h)).
+/// equal: 16 machine epsilons, a few times the rounding of tan(atan(b/h)).
 pub const TIE_REL: f64 = 16.0 * f64::EPSILON;
 
 /// Whether `mu` is `tan_alpha` within rounding ([`TIE_REL`]).
@@ -248,9 +248,9 @@ impl<'de> serde::Deserialize<'de> for Restitution {
 mod tests {
     use super::*;
 
-    /// The two blocks of b/h = 0.4: μ = 0.2 slides first (a base
-    /// slipping at 0.2 g cannot give the 0.4 g uplift needs), μ = 0.6 rocks;
-
+    /// Two blocks of b/h = 0.4: μ = 0.2 slides first (a base slipping at
+    /// 0.2 g cannot give the 0.4 g uplift needs), μ = 0.6 rocks; so does
+    /// μ = 0.5 at b/h a part in 1e12 below it (the tie is some 1e-15).
     #[test]
     fn a_block_slides_first_when_friction_is_below_its_aspect_ratio() {
         let block = Block::new(0.4, 1.0, Restitution::Value(0.9)).unwrap();

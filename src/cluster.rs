@@ -38,6 +38,21 @@ fn quote_path(p: &Path) -> String {
     quote(&p.to_string_lossy())
 }
 
+/// A path as one word of a command a message suggests: as it is where it
+/// holds only letters, digits and `/._-+,:@=`, else quoted ([`quote`]).
+pub fn shell_word(p: &Path) -> String {
+    let text = p.to_string_lossy();
+    let plain = !text.is_empty()
+        && text
+            .chars()
+            .all(|c| c.is_alphanumeric() || "/._-+,:@=".contains(c));
+    if plain {
+        text.into_owned()
+    } else {
+        quote(&text)
+    }
+}
+
 impl Jobs {
     fn header(&self, what: &str, lines: &[String]) -> String {
         let mut s = String::from("#!/bin/sh\n");

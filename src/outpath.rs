@@ -144,17 +144,15 @@ fn writable(folder: &Path) -> std::io::Result<()> {
             "it is a file, not a folder",
         ));
     }
-    let probe = folder.join(format!(".rocking-probe-{}", std::process::id()));
-    match std::fs::OpenOptions::new()
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.subsec_nanos());
+    let probe = folder.join(format!(".rocking-probe-{}-{nanos}", std::process::id()));
+    std::fs::OpenOptions::new()
         .write(true)
         .create_new(true)
-        .open(&probe)
-    {
-        Ok(_) => std::fs::remove_file(&probe),
-        // A probe of a killed process of the same id: made there once.
-        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Ok(()),
-        Err(e) => Err(e),
-    }
+        .open(&probe)?;
+    std::fs::remove_file(&probe)
 }
 
 #[cfg(test)]
@@ -235,6 +233,11 @@ mod tests {
         ));
         let left: Vec<_> = std::fs::read_dir(&dir).unwrap().flatten().collect();
         assert_eq!(left.len(), 3, "no probe is left: {left:?}");
+        let left: Vec<_> = std::fs::read_dir(dir.join("outputs"))
+            .unwrap()
+            .flatten()
+            .collect();
+        assert_eq!(left.len(), 1, "no probe is left: {left:?}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

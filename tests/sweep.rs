@@ -515,29 +515,36 @@ eta_min = 0.005
 "#;
 
 /// Ctrl-C itself (SIGINT from outside, as a terminal sends it) reaches the
-/// runs: the sweep stops early, says so, exits with 130, and resumes from
-/// what it saved to the uninterrupted tables.
+/// runs: the sweep stops early, says so, ends by SIGINT (the shell's 130),
+/// and resumes from what it saved to the uninterrupted tables.
 #[test]
 #[cfg(unix)]
 fn ctrl_c_stops_a_sweep_that_then_resumes_to_the_same_tables() {
-    signal_stops_a_sweep_that_then_resumes(libc::SIGINT, "-INT", INTERRUPTED);
+    signal_stops_a_sweep_that_then_resumes(libc::SIGINT, "-INT", Some(INTERRUPTED));
 }
 
 /// SIGTERM, what Slurm sends at a time limit, on preemption and on
-/// `scancel` (the generated script requeues the task): the same stop, with
-/// the shell's code for it (143), so the requeued task resumes.
+/// `scancel` (the generated script requeues a preempted task), and SIGHUP,
+/// a closed terminal: the same stop, so that the next run resumes. After
+/// SIGHUP nothing is said (the terminal is gone: the output goes to
+/// /dev/null, where a print would have panicked).
 #[test]
 #[cfg(unix)]
-fn sigterm_stops_a_sweep_as_ctrl_c_does() {
+fn sigterm_and_sighup_stop_a_sweep_as_ctrl_c_does() {
     signal_stops_a_sweep_that_then_resumes(
         libc::SIGTERM,
         "-TERM",
-        "interrupted (SIGTERM): every file written is whole",
+        Some("interrupted (SIGTERM): every file written is whole"),
     );
+    signal_stops_a_sweep_that_then_resumes(libc::SIGHUP, "-HUP", None);
 }
 
 #[cfg(unix)]
-fn signal_stops_a_sweep_that_then_resumes(signal: libc::c_int, kill_flag: &str, says: &str) {
+fn signal_stops_a_sweep_that_then_resumes(
+    signal: libc::c_int,
+    kill_flag: &str,
+    says: Option<&str>,
+) {
     let reference = tempdir();
     let ref_pipe = write_pipeline(reference.path(), "c", TWENTY_CHUNKS);
     assert!(sweep(&reference, &ref_pipe, &[]).status.success());
@@ -579,13 +586,22 @@ fn signal_stops_a_sweep_that_then_resumes(signal: libc::c_int, kill_flag: &str, 
         .unwrap();
     assert!(kill.success());
     let stopped = child.wait_with_output().unwrap();
+    use std::os::unix::process::ExitStatusExt;
     assert_eq!(
-        stopped.status.code(),
-        Some(128 + signal),
-        "{}",
+        stopped.status.signal(),
+        Some(signal),
+        "{:?}: {}",
+        stopped.status,
         stderr(&stopped)
     );
-    assert!(stderr(&stopped).contains(says), "{}", stderr(&stopped));
+    match says {
+        Some(says) => assert!(stderr(&stopped).contains(says), "{}", stderr(&stopped)),
+        None => assert!(
+            !stderr(&stopped).contains("interrupted"),
+            "after SIGHUP nothing more is printed: {}",
+            stderr(&stopped)
+        ),
+    }
     assert!(!folder.join("capacities.parquet").exists());
     let kept = part_files(&folder).len() / 2;
     assert!((1..20).contains(&kept), "{kept} chunks saved");
@@ -596,4 +612,59 @@ fn signal_stops_a_sweep_that_then_resumes(signal: libc::c_int, kill_flag: &str, 
     let note = format!("({} resumed from an earlier run)", kept * 32);
     assert!(text.contains(&note), "{note}: {text}");
     assert_same_tables(&folder, &reference.path().join("out/c"));
+}
+
+/// Work that runs no simulation does not hear the stop (here `ims` of a
+/// long record, whose mean period is a DFT over every bin): the watch ends
+/// it by the signal five seconds after it, saying so, where SIGTERM once
+/// waited for the work to finish and then exited 0.
+#[test]
+#[cfg(unix)]
+fn a_command_deaf_to_the_stop_is_ended_by_the_signal_after_a_grace() {
+    use std::os::unix::process::{CommandExt, ExitStatusExt};
+    let dir = tempdir();
+    let record = dir.path().join("long.AT2");
+    // 200,000 samples: a minute of the DFT, far beyond the grace.
+    let accel: Vec<f64> = (0..200_000)
+        .map(|k| 0.1 * (k as f64 * 0.01).sin())
+        .collect();
+    crate::util::write_at2(&record, &accel, 0.005);
+    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_rocking"));
+    // SAFETY: signal(2) is async-signal-safe, as pre_exec requires.
+    unsafe {
+        command.pre_exec(|| {
+            libc::signal(libc::SIGTERM, libc::SIG_DFL);
+            Ok(())
+        });
+    }
+    let child = command
+        .args(["ims", "--record", record.to_str().unwrap()])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    let t0 = std::time::Instant::now();
+    let kill = std::process::Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let stopped = child.wait_with_output().unwrap();
+    let waited = t0.elapsed().as_secs_f64();
+    assert_eq!(
+        stopped.status.signal(),
+        Some(libc::SIGTERM),
+        "{}",
+        stderr(&stopped)
+    );
+    assert!(
+        stderr(&stopped).contains(
+            "interrupted (SIGTERM): work that runs no simulation did not stop within 5 s"
+        ),
+        "{}",
+        stderr(&stopped)
+    );
+    // The grace, and no more than a loaded machine's delay past it.
+    assert!((4.9..30.0).contains(&waited), "{waited} s");
 }

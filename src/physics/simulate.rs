@@ -234,9 +234,10 @@ fn fits_the_step(exc: &Excitation, spec: &RunSpec) -> Result<(), PhysicsError> {
         return Ok(());
     }
     Err(PhysicsError::BadInput(format!(
-        "p·Δt = {p_dt} (p = {} 1/s, Δt = {} s) is above {MAX_P_DT}: within one sample the \
-         linearised block's motion grows e^{{p·Δt}}, past what the exact step resolves; give \
-         the record at a step of {} s or less, or run the nonlinear model",
+        "p·Δt = {p_dt} (p = {} 1/s, a sample step Δt = {} s) is above {MAX_P_DT}: within one \
+         step the linearised block's motion grows e^{{p·Δt}}, past what the exact step \
+         resolves; give the motion at a step of {} s or less (a record sampled finer, a pulse \
+         in more intervals), or run the nonlinear model",
         spec.p,
         exc.dt_s,
         MAX_P_DT / spec.p

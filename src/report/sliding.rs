@@ -42,7 +42,7 @@ pub(super) fn sliding_section(w: &mut String, d: &StudyData) {
         let _ = writeln!(
             w,
             "These blocks ran on their base's friction (the slide-rock model, docs/MODEL.md §21): \
-             a block with μ below b/h slides before it rocks and, under horizontal shaking, never \
+             a block with μ up to b/h slides before it rocks and, under horizontal shaking, never \
              overturns; one above it rocks first and slips where its friction demand reaches μN. \
              Each record's capacity for a slide of 5 or 30 cm (or overturning, whichever comes \
              first) is where its IDA's slide first reaches it, interpolated in 1/η as the damage \

@@ -33,14 +33,15 @@ pub enum RunError {
         source: BoxError,
     },
     #[error(
-        "`{stage}`: {why}; run them with `rocking {stage} {pipeline} --shard K/{n}`, \
+        "`{stage}`: {why}; run them with `rocking {stage} {args} --shard K/{n}`, \
          or recompute the whole stage unsharded with --force"
     )]
     ShardsIncomplete {
         stage: &'static str,
         why: String,
         n: usize,
-        pipeline: String,
+        /// The pipeline and `--outputs`, as a shell reads them.
+        args: String,
     },
     #[error("cannot mark {} as a study's folder", .0.display())]
     Mark(std::path::PathBuf, #[source] std::io::Error),
@@ -255,6 +256,7 @@ pub fn run(
     }
     let _lock = Lock::take(&study.dir, Scope::Exclusive, &opts.command)?;
     mark_study(&study.dir)?;
+    #[cfg(target_os = "linux")]
     remove_dead_temporaries(&study.dir);
     with_threads(opts.threads, || {
         let mut results = Vec::new();
@@ -289,10 +291,12 @@ pub fn run(
                             }
                             .to_string(),
                             n: *n,
-                            pipeline: format!(
+                            args: format!(
                                 "{} --outputs {}",
-                                study.pipeline.display(),
-                                study.dir.parent().unwrap_or(&study.dir).display()
+                                crate::cluster::shell_word(&study.pipeline),
+                                crate::cluster::shell_word(
+                                    study.dir.parent().unwrap_or(&study.dir)
+                                )
                             ),
                         });
                     }
@@ -463,8 +467,10 @@ fn mark_study(dir: &std::path::Path) -> Result<(), RunError> {
 /// Removes the temporary files (`.NAME.tmp-PID`) that writers killed before
 /// their rename left in the study's folder, its figures and its
 /// fingerprints: under the study's exclusive lock no one else writes there,
-/// and a writer still alive keeps its file. (The sweep's parts are the
-/// sweep's to clean, shard by shard.)
+/// and a writer still alive here (/proc) keeps its file. A shard's tables
+/// are left alone: a shard may run on another node. (The sweep's parts are
+/// the sweep's to clean, shard by shard.)
+#[cfg(target_os = "linux")]
 fn remove_dead_temporaries(dir: &std::path::Path) {
     for folder in [
         dir.to_path_buf(),
@@ -476,8 +482,10 @@ fn remove_dead_temporaries(dir: &std::path::Path) {
         };
         for entry in entries.flatten() {
             let name = entry.file_name().to_string_lossy().into_owned();
-            let dead = crate::tables::temporary_of(&name).is_some_and(|(_, pid)| {
-                !name.starts_with(".lock") && !std::path::Path::new("/proc").join(pid).exists()
+            let dead = crate::tables::temporary_of(&name).is_some_and(|(table, pid)| {
+                !name.starts_with(".lock")
+                    && !table.contains(".shard-")
+                    && !std::path::Path::new("/proc").join(pid).exists()
             });
             if dead && entry.file_type().is_ok_and(|t| t.is_file()) {
                 let _ = std::fs::remove_file(entry.path());

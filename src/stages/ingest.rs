@@ -178,11 +178,19 @@ pub struct IngestReport {
     pub ignored_manifest_columns: Vec<String>,
 }
 
-/// Runs the ingest stage.
+impl IngestConfig {
+    /// The files and folders it reads: its output must be none of them.
+    pub fn inputs(&self) -> Vec<&Path> {
+        let mut inputs: Vec<&Path> = self.paths.iter().map(PathBuf::as_path).collect();
+        inputs.extend(self.manifest.as_deref());
+        inputs
+    }
+}
+
+/// Runs the ingest stage (the `ingest` command checks where its `--out`
+/// lies first, [`crate::outpath::check`]).
 pub fn run(config: &IngestConfig) -> Result<IngestReport, IngestError> {
-    let mut inputs: Vec<&Path> = config.paths.iter().map(PathBuf::as_path).collect();
-    inputs.extend(config.manifest.as_deref());
-    crate::outpath::check_is_no_input("--out", &config.out, "parquet", &inputs)?;
+    crate::outpath::check_is_no_input("--out", &config.out, "parquet", &config.inputs())?;
     let collected = crate::records::collect_as(
         &config.paths,
         config.manifest.as_deref(),

@@ -64,9 +64,9 @@ pub const REMOTE_TTL: Duration = Duration::from_secs(600);
 #[derive(Debug, thiserror::Error)]
 pub enum LockError {
     #[error(
-        "{dir} is in use: `{}` (pid {} on {}, for {}) holds {}; wait for it to finish, \
-         or remove that file if the process is gone",
-        .owner.command, .owner.pid, .owner.host, age(.owner.since_unix_s), .lock.display()
+        "{dir} is in use: {owner} holds {}; wait for it to finish, or remove that file if \
+         the process is gone",
+        .lock.display()
     )]
     Held {
         dir: PathBuf,
@@ -79,6 +79,20 @@ pub enum LockError {
         #[source]
         source: io::Error,
     },
+}
+
+impl std::fmt::Display for Owner {
+    /// `` `rocking run …` (pid N on HOST, for S s) ``.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "`{}` (pid {} on {}, for {})",
+            self.command,
+            self.pid,
+            self.host,
+            age(self.since_unix_s)
+        )
+    }
 }
 
 fn age(since: u64) -> String {
@@ -236,20 +250,14 @@ impl Drop for Lock {
     }
 }
 
-/// The first live lock in `dir` whose file name passes `which`, other than ours.
 /// Who holds `dir` now, if a live process does (its exclusive lock or a
 /// shard's), in words: `rocking run … (pid N on HOST, for S s)`.
 pub fn holder(dir: &Path) -> Option<String> {
     let (_, owner) = live_locks(dir, |n| n == EXCLUSIVE || n.starts_with(SHARD_PREFIX))?;
-    Some(format!(
-        "`{}` (pid {} on {}, for {})",
-        owner.command,
-        owner.pid,
-        owner.host,
-        age(owner.since_unix_s)
-    ))
+    Some(owner.to_string())
 }
 
+/// The first live lock in `dir` whose file name passes `which`, other than ours.
 fn live_locks(dir: &Path, which: impl Fn(&str) -> bool) -> Option<(PathBuf, Owner)> {
     let (me, here) = (std::process::id(), hostname());
     fs::read_dir(dir).ok()?.flatten().find_map(|e| {

@@ -254,17 +254,13 @@ impl AtomicTableWriter {
         if let Some(parent) = dest.parent().filter(|p| !p.as_os_str().is_empty()) {
             fs::create_dir_all(parent).map_err(io_err)?;
         }
-        let file_name = dest.file_name().ok_or_else(|| {
-            io_err(io::Error::new(
+        if dest.file_name().is_none() {
+            return Err(io_err(io::Error::new(
                 io::ErrorKind::InvalidInput,
                 "not a file path",
-            ))
-        })?;
-        let tmp = dest.with_file_name(format!(
-            ".{}.tmp-{}",
-            file_name.to_string_lossy(),
-            std::process::id()
-        ));
+            )));
+        }
+        let tmp = temporary_path(dest);
         let file = File::create(&tmp).map_err(|source| TableError::Io {
             path: tmp.clone(),
             source,
@@ -327,8 +323,18 @@ impl Drop for AtomicTableWriter {
     }
 }
 
+/// The hidden sibling `dest` is written as before its rename:
+/// `.NAME.tmp-PID` ([`temporary_of`] reads it back).
+pub fn temporary_path(dest: &Path) -> PathBuf {
+    let name = dest
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    dest.with_file_name(format!(".{name}.tmp-{}", std::process::id()))
+}
+
 /// The file a hidden temporary was being written as and its writer's pid
-/// (`.NAME.tmp-PID` → `(NAME, PID)`), as the writers here name them.
+/// (`.NAME.tmp-PID` → `(NAME, PID)`), as [`temporary_path`] names them.
 pub fn temporary_of(name: &str) -> Option<(&str, &str)> {
     name.strip_prefix('.')?.rsplit_once(".tmp-")
 }
@@ -356,11 +362,7 @@ pub fn atomic_write_all(files: &[(&Path, &[u8])]) -> Result<(), TableError> {
             if let Some(parent) = dest.parent().filter(|p| !p.as_os_str().is_empty()) {
                 fs::create_dir_all(parent).map_err(|e| io_err(dest, e))?;
             }
-            let name = dest
-                .file_name()
-                .map(|n| n.to_string_lossy().into_owned())
-                .unwrap_or_default();
-            let tmp = dest.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
+            let tmp = temporary_path(dest);
             temps.push(tmp.clone());
             (|| {
                 let mut f = File::create(&tmp)?;

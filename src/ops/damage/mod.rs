@@ -121,7 +121,7 @@ pub fn resampled(f: &DamageFragility, state: usize, draw: &[usize]) -> Option<St
 /// and other IMs have no such level: no cut).
 /// docs/MODEL.md §13.
 /// A block whose runs slid on a base of friction `slides_on_mu` moves from
-/// the smaller of g·tan α and μg (it slides first below b/h).
+/// the smaller of g·tan α and μg (it slides first up to b/h).
 pub fn zero_below(
     block: &Block,
     im: Im,

@@ -126,7 +126,7 @@ pub(super) fn never_reached(f: &mut DamageFragility, block: &Block) {
     f.method = FitMethod::Empirical;
     let why = if slides_first {
         " — the block slides before it rocks (μ ≤ b/h), and a base that slips passes it at \
-         most μg, below the g·b/h that lifts a corner (docs/MODEL.md §21)"
+         most μg, not above the g·b/h that lifts a corner (docs/MODEL.md §21)"
     } else {
         ""
     };

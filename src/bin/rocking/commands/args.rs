@@ -304,7 +304,7 @@ pub struct SceneArgs {
     #[command(flatten)]
     pub floor: FloorArgs,
     /// Static friction coefficient μ between the block and its base: a block
-    /// with μ below b/h slides before it rocks, and one above may slip as it
+    /// with μ up to b/h slides before it rocks, and one above may slip as it
     /// rocks; `--model auto` (and `--direct`) runs a block with μ on its
     /// friction (the slide-rock model).
     #[arg(long, value_name = "μ")]
@@ -405,7 +405,7 @@ pub struct BlocksArgs {
     #[arg(long, value_name = "BLOCKS.csv")]
     pub inventory: Option<PathBuf>,
     /// Static friction coefficient μ between the block and its base: a block
-    /// with μ below b/h slides before it rocks, and is warned of (an
+    /// with μ up to b/h slides before it rocks, and is warned of (an
     /// inventory gives it in its `mu` column).
     #[arg(long, value_name = "μ")]
     pub mu: Option<f64>,

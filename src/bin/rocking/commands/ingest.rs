@@ -51,9 +51,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             OnBad::Refuse(SKIP_BAD_HINT)
         },
     };
-    let mut inputs: Vec<&std::path::Path> = config.paths.iter().map(|p| p.as_path()).collect();
-    inputs.extend(config.manifest.as_deref());
-    rocking::outpath::check("--out", &config.out, "parquet", &inputs)?;
+    rocking::outpath::check("--out", &config.out, "parquet", &config.inputs())?;
     let report = ingest::run(&config)?;
     for b in &report.skipped {
         eprintln!("skipped: {b}");

@@ -98,8 +98,9 @@ pub fn main() -> ExitCode {
 
 /// The exit code of a command's result, its error printed with its causes;
 /// a command stopped by a signal (Ctrl-C, SIGTERM, SIGHUP) says what it
-/// left, with the shell's code for a process ended by that signal (128 + its
-/// number: 130 for SIGINT, 143 for SIGTERM).
+/// left and ends by that signal (the shell reports 128 + its number: 130
+/// for SIGINT, 143 for SIGTERM); stopped by the library's request alone
+/// (a test's hook), it exits with 130.
 fn exit(result: anyhow::Result<()>) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -109,8 +110,9 @@ fn exit(result: anyhow::Result<()>) -> ExitCode {
             if !format!("{e:#}").contains("interrupted") {
                 print_error(&e);
             }
-            let (code, name) = crate::stopped_by().unwrap_or((130, "Ctrl-C"));
+            let (code, name) = crate::signals::stopped_by().unwrap_or((130, "Ctrl-C"));
             eprintln!("{}", interrupted(name));
+            crate::signals::end_by_it();
             ExitCode::from(code)
         }
         Err(e) => {
