@@ -329,12 +329,12 @@ pub fn full_cycle_eq6(f: f64) -> f64 {
 /// ```
 ///
 /// evaluated in logarithms (no overflow for |β| ≤ 500), with its removable
-/// singularities bridged: at β = 0 by the straight line through points
-/// 1e-5 to either side (error of order 1e-12); at f = 2β, where B → 1 and
-/// its power's logarithm e = 2β·ln B/(f − 2β) → 2β·(ln B)′ = β + (e^{−2β} − 1)/2
-/// (worked from B's derivative in f), by the parabola of e through that
-/// limit and the points 1e-5·f to either side (the straight line there
-/// was 1.3e-10 off). NaN for f ≤ 0.
+/// singularities: at β = 0 bridged by the straight line through points
+/// 1e-5 to either side (error of order 1e-12); within 1 of f = 2β, where
+/// B → 1 and its power's logarithm 2β·ln B/(f − 2β) is 0/0, written without
+/// the cancellation ([`eq5_exponent_near_line`]; the straight line across
+/// it was 1.3e-10 off, the formula as it stands up to 1e-8 at large β).
+/// NaN for f ≤ 0.
 pub fn exponential_eq5(beta: f64, f: f64) -> f64 {
     if f.is_nan() || f <= 0.0 {
         return f64::NAN;
@@ -344,20 +344,45 @@ pub fn exponential_eq5(beta: f64, f: f64) -> f64 {
         let (a, b) = (eq5_direct(-h, f), eq5_direct(h, f));
         return a + (b - a) * (beta + h) / (2.0 * h);
     }
-    let gap = f - 2.0 * beta;
-    let hf = h * f.max(1.0);
-    if gap.abs() < hf {
-        let (a, b) = (
-            eq5_exponent(beta, 2.0 * beta - hf),
-            eq5_exponent(beta, 2.0 * beta + hf),
-        );
-        let limit = beta + (-2.0 * beta).exp_m1() / 2.0;
-        // The parabola through (−hf, a), (0, limit), (hf, b) at gap.
-        let t = gap / hf;
-        let e = limit + t * (b - a) / 2.0 + t * t * ((a + b) / 2.0 - limit);
-        return eq5_of_exponent(beta, e);
+    if beta > 0.0 && (f - 2.0 * beta).abs() < 1.0 {
+        return eq5_of_exponent(beta, eq5_exponent_near_line(beta, f));
     }
     eq5_direct(beta, f)
+}
+
+/// Eq. 5's power's logarithm e = 2β·ln B/u near the line u = f − 2β = 0
+/// (β > 0), where B → 1. Worked by hand from B: with N = e^f(f + 2β) − D
+/// and D = 2f e^{f/2+β} − u, B − 1 = N/D = u·n/d, where (after dividing by
+/// e^{2β})
+///
+/// ```text
+/// n = 4β·(e^{u/2}(e^{u/2} − 1)/u − ½) + (2β + e^{−2β} − 1) + (e^{u/2} − 1)²
+/// d = 2f·e^{u/2} − u·e^{−2β}
+/// ```
+///
+/// so e = 2β·(n/d)·ln(1 + x)/x with x = u·n/d: no difference of near
+/// equals but 2β + e^{−2β} − 1, taken by its series for small β. At u = 0
+/// it is β + (e^{−2β} − 1)/2.
+fn eq5_exponent_near_line(beta: f64, f: f64) -> f64 {
+    let u = f - 2.0 * beta;
+    let half = (u / 2.0).exp_m1();
+    let grow = if u == 0.0 {
+        0.0
+    } else {
+        (u / 2.0).exp() * half / u - 0.5
+    };
+    let y = 2.0 * beta;
+    // y + e^{−y} − 1 = y²/2 − y³/6 + y⁴/24 − …
+    let lead = if y < 1e-2 {
+        y * y * (0.5 - y * (1.0 / 6.0 - y * (1.0 / 24.0 - y * (1.0 / 120.0 - y / 720.0))))
+    } else {
+        y + (-y).exp_m1()
+    };
+    let n = 4.0 * beta * grow + lead + half * half;
+    let d = 2.0 * f * (u / 2.0).exp() - u * (-y).exp();
+    let x = u * n / d;
+    let ln1p_over = if x == 0.0 { 1.0 } else { x.ln_1p() / x };
+    y * (n / d) * ln1p_over
 }
 
 /// ln(e^a − c) for e^a > c, without forming e^a when it would overflow.
@@ -587,6 +612,19 @@ mod tests {
             (1.0, 0.05, 0.020394857500877988),
             (-2.0, 0.3, 0.17090858847445738),
             (10.0, 20.0, 0.60651279604628792),
+            // Beside the line f = 2β, from 1e-7 to ½ of it.
+            (1.0, 2.0000002, 0.44471614309153575),
+            (1.0, 2.001, 0.44484029830914506),
+            (1.0, 2.00002, 0.44471860236589465),
+            (1.0, 1.99999, 0.44471487618459021),
+            (1.0, 2.5, 0.50089502816125014),
+            (1.0, 1.6, 0.3904300553698321),
+            (5.0, 10.0001, 0.60387765039890422),
+            (100.0, 200.001, 0.60653179695426395),
+            (499.0, 998.5, 0.60664457842715375),
+            (0.01, 0.02001, 0.0098894641425687382),
+            (0.001, 0.002002, 0.00099983241797735567),
+            (3.0, 6.9, 0.6193656513181404),
         ];
         for (beta, f, want) in cases {
             let got = exponential_eq5(beta, f);
@@ -595,10 +633,11 @@ mod tests {
                 "β = {beta}, f = {f}: {got}, mpmath {want}"
             );
         }
-        // Near the singular lines, the bridge joins the direct formula.
-        for (beta, f) in [(1e-5 * 1.01, 2.0), (2.0, 4.0 + 4e-5 * 1.01)] {
+        // Near the singular lines, the bridge and the form without the
+        // cancellation join the direct formula.
+        for (beta, f, tol) in [(1e-5 * 1.01, 2.0, 1e-9), (2.0, 4.999, 1e-13)] {
             let (a, b) = (exponential_eq5(beta, f), eq5_direct(beta, f));
-            assert!((a - b).abs() < 1e-9, "β = {beta}, f = {f}: {a} vs {b}");
+            assert!((a - b).abs() < tol, "β = {beta}, f = {f}: {a} vs {b}");
         }
         // f = −2β: numerator and denominator of B vanish together; the
         // limit B = e^f/(1 + f) and exponent 2β/(f − 2β) = −1/2 give

@@ -9,10 +9,13 @@
 //! a shell and a scheduler expect of a process a signal stopped. Work that
 //! runs no simulation does not hear the request: a watch ends the process
 //! by the signal [`GRACE`] after it, and the same signal again ends it at
-//! once. After SIGHUP the terminal is gone, and the command's output goes
-//! to /dev/null rather than failing (a print to a hung-up terminal panics).
+//! once; such work that ends within the grace exits as it ends (0 when it
+//! succeeds: its files are whole). After SIGHUP the terminal is gone, and
+//! the output that went to it goes to /dev/null rather than failing (a
+//! print to a hung-up terminal panics); output to a file or a pipe goes on
+//! there.
 
-use std::sync::atomic::{AtomicI32, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
 use std::time::Duration;
 
 /// How long a command may take to stop after the first signal before the
@@ -24,6 +27,10 @@ pub const GRACE: Duration = Duration::from_secs(5);
 /// The signal that stopped the command (0: none).
 static STOPPED_BY: AtomicI32 = AtomicI32::new(0);
 
+/// Whether standard output and standard error are a terminal (read once,
+/// at start: the handler may only redirect those).
+static TERMINAL: [AtomicBool; 2] = [AtomicBool::new(false), AtomicBool::new(false)];
+
 /// Installs the handlers (a signal inherited as ignored, under `nohup` or
 /// as a script's background job, stays ignored) and the watch.
 pub fn install() {
@@ -32,6 +39,8 @@ pub fn install() {
     // handler does only async-signal-safe things (atomics, open, dup2,
     // signal).
     unsafe {
+        TERMINAL[0].store(libc::isatty(1) == 1, Ordering::Release);
+        TERMINAL[1].store(libc::isatty(2) == 1, Ordering::Release);
         // A reader that stops early (`rocking risk … | head`) ends the
         // command quietly, as it ends `cat`: Rust starts with SIGPIPE
         // ignored, so every later print would fail and `println!` panicked.
@@ -89,39 +98,59 @@ pub fn end_by_it() {
 
 #[cfg(unix)]
 extern "C" fn on_stop(signal: libc::c_int) {
-    let first = STOPPED_BY
-        .compare_exchange(0, signal, Ordering::AcqRel, Ordering::Acquire)
-        .is_ok();
+    let _ = STOPPED_BY.compare_exchange(0, signal, Ordering::AcqRel, Ordering::Acquire);
     rocking::physics::interrupt::request();
-    // SAFETY: open(2), dup2(2) and signal(2) are async-signal-safe; the
-    // path is a NUL-terminated literal; SIG_DFL is a valid action.
+    // SAFETY: open(2), dup2(2), close(2) and signal(2) are async-signal-safe;
+    // the path is a NUL-terminated literal; SIG_DFL is a valid action;
+    // errno is restored for the code the signal interrupted.
     unsafe {
-        if first && signal == libc::SIGHUP {
+        #[cfg(target_os = "linux")]
+        let errno = *libc::__errno_location();
+        if signal == libc::SIGHUP {
             let null = libc::open(c"/dev/null".as_ptr(), libc::O_WRONLY);
             if null >= 0 {
-                libc::dup2(null, 1);
-                libc::dup2(null, 2);
+                for fd in [1, 2] {
+                    if TERMINAL[fd as usize - 1].load(Ordering::Acquire) {
+                        libc::dup2(null, fd);
+                    }
+                }
+                libc::close(null);
             }
         }
         libc::signal(signal, libc::SIG_DFL);
+        #[cfg(target_os = "linux")]
+        {
+            *libc::__errno_location() = errno;
+        }
     }
 }
 
 /// Waits for a stop; a command still running [`GRACE`] after it is ended
-/// by the signal, saying so.
+/// by the signal, saying so (stdout is not flushed: a reader that stopped
+/// reading must not hold the end up). Where the signal cannot end it (the
+/// first process of a container ignores signals' default actions), it
+/// exits with the shell's code for the signal.
 #[cfg(unix)]
 fn watch() {
     while STOPPED_BY.load(Ordering::Acquire) == 0 {
         std::thread::sleep(Duration::from_millis(50));
     }
     std::thread::sleep(GRACE);
-    if let Some((_, name)) = stopped_by() {
-        eprintln!(
-            "interrupted ({name}): work that runs no simulation did not stop within {} s; \
-             ended now (every file written is whole; one being written is left as a temporary \
-             file, which the next run removes)",
-            GRACE.as_secs()
-        );
+    let Some((code, name)) = stopped_by() else {
+        return;
+    };
+    eprintln!(
+        "interrupted ({name}): work that runs no simulation did not stop within {} s; ended \
+         now (every file written is whole; one being written is left as a temporary file, \
+         which the next run removes)",
+        GRACE.as_secs()
+    );
+    let signal = STOPPED_BY.load(Ordering::Acquire);
+    // SAFETY: raise(3) with the default action ends the process as the
+    // signal does; _exit(2) ends it where that did not.
+    unsafe {
+        libc::signal(signal, libc::SIG_DFL);
+        libc::raise(signal);
+        libc::_exit(i32::from(code));
     }
-    end_by_it();
 }
