@@ -461,6 +461,27 @@ fn status_names_a_run_under_way() {
     assert!(!status().contains("running now"));
 }
 
+/// A pipeline that is not UTF-8 is refused naming the line of its first
+/// bad byte (it said only "stream did not contain valid UTF-8").
+#[test]
+fn a_pipeline_not_in_utf8_is_refused_at_its_line() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(
+        d.join("latin1.toml"),
+        b"name = \"x\"\n[records]\n# Z\xfcrich\nat2 = [\"r\"]\n",
+    )
+    .unwrap();
+    let out = rocking(d, &["status", "latin1.toml"]);
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("latin1.toml: cannot read the pipeline")
+            && stderr(&out).contains("line 3: not UTF-8 text"),
+        "{}",
+        stderr(&out)
+    );
+}
+
 #[test]
 fn a_figure_deleted_or_edited_by_hand_is_drawn_again() {
     let dir = tempdir();

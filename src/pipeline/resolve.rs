@@ -19,8 +19,19 @@ pub fn load_str(text: &str, path: &Path) -> Result<Plan, PipelineError> {
         path: path.to_path_buf(),
         message,
     };
-    let raw: RawPipeline =
-        toml::from_str(text).map_err(|e| err(e.to_string().trim_end().to_string()))?;
+    let raw: RawPipeline = toml::from_str(text).map_err(|e| {
+        let mut message = e.to_string().trim_end().to_string();
+        // `[block]` where `[[block]]` is meant: a table for a list of them.
+        let at = e.span().and_then(|s| text.get(s)).unwrap_or("");
+        if message.ends_with("expected a sequence") && at.starts_with('[') && !at.starts_with("[[")
+        {
+            let name = at.trim_matches(|c| c == '[' || c == ']');
+            message.push_str(&format!(
+                "\n`{at}` is one table; a list of them is written `[[{name}]]`, one per item"
+            ));
+        }
+        err(message)
+    })?;
     resolve(raw, path)
 }
 
@@ -707,6 +718,23 @@ mod tests {
             assert!(!b.model_why.is_empty());
         }
         assert_ne!(slender.model_why, stocky.model_why);
+    }
+
+    #[test]
+    fn a_table_written_for_a_list_of_tables_is_named_with_the_fix() {
+        let text =
+            "name = \"x\"\n[records]\nat2 = [\"r\"]\n[block]\nb = 0.2\nh = 0.9\neps = 0.85\n";
+        let e = load_str(text, Path::new("p.toml")).unwrap_err().to_string();
+        assert!(e.contains("line 4"), "{e}");
+        assert!(
+            e.contains("`[block]` is one table; a list of them is written `[[block]]`"),
+            "{e}"
+        );
+        // Where a table is right, no such hint.
+        let e = load_str("name = \"x\"\n[records]\nat2 = 3\n", Path::new("p.toml"))
+            .unwrap_err()
+            .to_string();
+        assert!(!e.contains("a list of them"), "{e}");
     }
 
     #[test]

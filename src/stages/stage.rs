@@ -109,9 +109,20 @@ pub enum LoadError {
 impl Study {
     /// Reads and resolves a pipeline file; its outputs go to `<outputs>/<name>/`.
     pub fn load(pipeline: &Path, outputs: &Path) -> Result<Study, LoadError> {
-        let text = std::fs::read_to_string(pipeline).map_err(|source| LoadError::Read {
+        let bytes = std::fs::read(pipeline).map_err(|source| LoadError::Read {
             path: pipeline.into(),
             source,
+        })?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            let good = &e.as_bytes()[..e.utf8_error().valid_up_to()];
+            let line = 1 + good.iter().filter(|&&b| b == b'\n').count();
+            LoadError::Read {
+                path: pipeline.into(),
+                source: std::io::Error::new(
+                    std::io::ErrorKind::InvalidData,
+                    format!("line {line}: not UTF-8 text (a pipeline is TOML, which is UTF-8)"),
+                ),
+            }
         })?;
         let plan = crate::pipeline::load_str(&text, pipeline)?;
         let study = Study::new(plan, pipeline, outputs);
