@@ -168,10 +168,10 @@ pub fn slides_first(mu: f64, alpha_rad: f64) -> bool {
 
 /// How close (relative) a friction coefficient and tan α are to count as
 /// equal: 16 machine epsilons, a few times the rounding of tan(atan(b/h)).
-pub const TIE_REL: f64 = 16.0 * f64::EPSILON;
+const TIE_REL: f64 = 16.0 * f64::EPSILON;
 
 /// Whether `mu` is `tan_alpha` within rounding ([`TIE_REL`]).
-pub fn ties(mu: f64, tan_alpha: f64) -> bool {
+fn ties(mu: f64, tan_alpha: f64) -> bool {
     (mu - tan_alpha).abs() <= TIE_REL * tan_alpha
 }
 

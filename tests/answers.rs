@@ -732,27 +732,7 @@ fn an_export_folder_is_one_consistent_set() {
     there.sort();
     assert_eq!(there, ["job.ini"]);
     // A folder another export holds (a live process's lock) is refused.
-    let mut holder = std::process::Command::new("sleep")
-        .arg("30")
-        .spawn()
-        .unwrap();
-    let stat = fs::read_to_string(format!("/proc/{}/stat", holder.id())).unwrap();
-    let ticks: u64 = stat[stat.rfind(')').unwrap() + 1..]
-        .split_whitespace()
-        .nth(19)
-        .unwrap()
-        .parse()
-        .unwrap();
-    let host = fs::read_to_string("/proc/sys/kernel/hostname").unwrap();
-    fs::write(
-        d.join("x/.lock"),
-        serde_json::json!({
-            "pid": holder.id(), "host": host.trim(), "started_ticks": ticks,
-            "since_unix_s": 0, "command": "rocking export", "process": "sleep"
-        })
-        .to_string(),
-    )
-    .unwrap();
+    let (mut holder, _) = crate::util::live_lock(&d.join("x/.lock"), "rocking export");
     let out = run(&["--format", "pelicun", "--out", "x"]);
     holder.kill().unwrap();
     holder.wait().unwrap();

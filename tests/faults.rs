@@ -430,23 +430,7 @@ fn status_names_a_run_under_way() {
     let status = || stdout(&rocking(d, &["status", "mini.toml", "--outputs", "out"]));
     let study = d.join("out/mini");
     fs::create_dir_all(&study).unwrap();
-    let mut holder = std::process::Command::new("sleep")
-        .arg("30")
-        .spawn()
-        .unwrap();
-    let stat = fs::read_to_string(format!("/proc/{}/stat", holder.id())).unwrap();
-    let ticks: u64 = stat[stat.rfind(')').unwrap() + 1..]
-        .split_whitespace()
-        .nth(19)
-        .unwrap()
-        .parse()
-        .unwrap();
-    let host = fs::read_to_string("/proc/sys/kernel/hostname").unwrap();
-    let lock = serde_json::json!({
-        "pid": holder.id(), "host": host.trim(), "started_ticks": ticks,
-        "since_unix_s": 0, "command": "rocking run mini.toml", "process": "sleep"
-    });
-    fs::write(study.join(".lock"), lock.to_string()).unwrap();
+    let (mut holder, host) = crate::util::live_lock(&study.join(".lock"), "rocking run mini.toml");
     let text = status();
     holder.kill().unwrap();
     holder.wait().unwrap();
@@ -454,7 +438,7 @@ fn status_names_a_run_under_way() {
         text.contains(&format!(
             "running now: `rocking run mini.toml` (pid {} on {}",
             holder.id(),
-            host.trim()
+            host
         )),
         "{text}"
     );

@@ -365,3 +365,29 @@ pub fn cornell_above(k0: f64, k: f64, m: f64, beta: f64, c: f64) -> f64 {
     }
     phi((c / m).ln() / beta) * k0 * c.powf(-k) + full * phi(((m / c).ln() - k * beta * beta) / beta)
 }
+
+/// A lock at `lock` held by a live process (a `sleep` started here, which
+/// the caller kills) as `command` on this host: what a running `rocking`
+/// leaves, its start time read from /proc as the tool checks it. Returns
+/// the holder and the host's name. (Linux: it reads /proc.)
+pub fn live_lock(lock: &Path, command: &str) -> (std::process::Child, String) {
+    let holder = std::process::Command::new("sleep")
+        .arg("30")
+        .spawn()
+        .unwrap();
+    let stat = std::fs::read_to_string(format!("/proc/{}/stat", holder.id())).unwrap();
+    let ticks: u64 = stat[stat.rfind(')').unwrap() + 1..]
+        .split_whitespace()
+        .nth(19)
+        .unwrap()
+        .parse()
+        .unwrap();
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname").unwrap();
+    let host = host.trim().to_string();
+    let owner = serde_json::json!({
+        "pid": holder.id(), "host": host, "started_ticks": ticks,
+        "since_unix_s": 0, "command": command, "process": "sleep"
+    });
+    std::fs::write(lock, owner.to_string()).unwrap();
+    (holder, host)
+}

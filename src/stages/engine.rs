@@ -482,11 +482,8 @@ fn remove_dead_temporaries(dir: &std::path::Path) {
         };
         for entry in entries.flatten() {
             let name = entry.file_name().to_string_lossy().into_owned();
-            let dead = crate::tables::temporary_of(&name).is_some_and(|(table, pid)| {
-                !name.starts_with(".lock")
-                    && !table.contains(".shard-")
-                    && !std::path::Path::new("/proc").join(pid).exists()
-            });
+            let dead = crate::tables::orphaned_temporary(&name)
+                .is_some_and(|table| !name.starts_with(".lock") && !table.contains(".shard-"));
             if dead && entry.file_type().is_ok_and(|t| t.is_file()) {
                 let _ = std::fs::remove_file(entry.path());
             }

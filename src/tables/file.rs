@@ -339,6 +339,14 @@ pub fn temporary_of(name: &str) -> Option<(&str, &str)> {
     name.strip_prefix('.')?.rsplit_once(".tmp-")
 }
 
+/// The file a temporary named `name` was being written as, if its writer is
+/// no longer alive on this machine (/proc holds no such pid): a killed
+/// writer's leftover.
+pub fn orphaned_temporary(name: &str) -> Option<&str> {
+    let (table, pid) = temporary_of(name)?;
+    (!Path::new("/proc").join(pid).exists()).then_some(table)
+}
+
 /// Writes `bytes` to `dest` through a temporary sibling and a rename (for
 /// the few outputs that are not Parquet).
 pub fn atomic_write(dest: &Path, bytes: &[u8]) -> Result<(), TableError> {

@@ -83,15 +83,20 @@ pub fn end_by_it() {
     let _ = std::io::stdout().flush();
     let _ = std::io::stderr().flush();
     #[cfg(unix)]
-    {
-        let signal = STOPPED_BY.load(Ordering::Acquire);
-        if signal != 0 {
-            // SAFETY: raise(3) with the signal's default action ends the
-            // process as that signal does.
-            unsafe {
-                libc::signal(signal, libc::SIG_DFL);
-                libc::raise(signal);
-            }
+    raise();
+}
+
+/// Raises the signal that stopped the command, with its default action:
+/// it ends the process as that signal does (returns where none did, or
+/// where the process ignores it).
+#[cfg(unix)]
+fn raise() {
+    let signal = STOPPED_BY.load(Ordering::Acquire);
+    if signal != 0 {
+        // SAFETY: signal(2) with SIG_DFL and raise(3) are always valid.
+        unsafe {
+            libc::signal(signal, libc::SIG_DFL);
+            libc::raise(signal);
         }
     }
 }
@@ -145,12 +150,7 @@ fn watch() {
          which the next run removes)",
         GRACE.as_secs()
     );
-    let signal = STOPPED_BY.load(Ordering::Acquire);
-    // SAFETY: raise(3) with the default action ends the process as the
-    // signal does; _exit(2) ends it where that did not.
-    unsafe {
-        libc::signal(signal, libc::SIG_DFL);
-        libc::raise(signal);
-        libc::_exit(i32::from(code));
-    }
+    raise();
+    // SAFETY: _exit(2) ends the process where the signal did not.
+    unsafe { libc::_exit(i32::from(code)) }
 }

@@ -151,7 +151,7 @@ pub(super) fn remove_stale_temporaries(dir: &Path, mine: &[usize]) -> Result<(),
     let mine: BTreeSet<usize> = mine.iter().copied().collect();
     remove_where(dir, |name| {
         // The writer's PID ends the name: a live writer's file is not stale.
-        let Some((part, pid)) = crate::tables::temporary_of(name) else {
+        let Some(part) = crate::tables::orphaned_temporary(name) else {
             return false;
         };
         let chunk = part
@@ -159,7 +159,6 @@ pub(super) fn remove_stale_temporaries(dir: &Path, mine: &[usize]) -> Result<(),
             .or_else(|| part.strip_prefix("cap-"))
             .and_then(|r| r.split('.').next())
             .and_then(|c| c.parse::<usize>().ok());
-        let writer_alive = Path::new("/proc").join(pid).exists();
-        !writer_alive && chunk.is_some_and(|c| mine.contains(&c))
+        chunk.is_some_and(|c| mine.contains(&c))
     })
 }
