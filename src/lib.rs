@@ -61,6 +61,7 @@ pub mod building;
 pub mod cluster;
 pub mod columns;
 pub mod contents;
+pub mod csv_rows;
 pub mod damage;
 pub mod decimal;
 pub mod events;

@@ -12,6 +12,7 @@
 //! CSV line and column. The reader takes any `io::Read`; opening the file is
 //! the caller's business.
 
+use crate::csv_rows;
 use std::collections::BTreeMap;
 use std::fmt;
 use std::io::Read;
@@ -125,18 +126,6 @@ pub const KNOWN_COLUMNS: &[&str] = &[
     "file",
 ];
 
-/// The 1-based line of the file at which the record starting at byte
-/// `byte` begins. Counted here from the bytes: the csv crate's own line
-/// numbers drift after CRLF endings and blank lines.
-fn line_at(bytes: &[u8], byte: u64) -> u64 {
-    let mut at = (byte as usize).min(bytes.len());
-    // A position may point at the line breaks before the record.
-    while at < bytes.len() && (bytes[at] == b'\n' || bytes[at] == b'\r') {
-        at += 1;
-    }
-    1 + bytes[..at].iter().filter(|&&b| b == b'\n').count() as u64
-}
-
 /// Reads a manifest CSV (header row, then one row per record). Errors give
 /// the line in the file, header included.
 pub fn read(mut input: impl Read) -> Result<Manifest, ManifestError> {
@@ -160,10 +149,12 @@ pub fn read(mut input: impl Read) -> Result<Manifest, ManifestError> {
     let mut entries: BTreeMap<String, ManifestEntry> = BTreeMap::new();
     for row in csv.records() {
         let row = row.map_err(|e| ManifestError {
-            line: e.position().map(|p| line_at(&bytes, p.byte())),
-            message: e.to_string(),
+            line: csv_rows::error_line(&bytes, &e),
+            message: csv_rows::message(&e),
         })?;
-        let line = row.position().map_or(0, |p| line_at(&bytes, p.byte()));
+        let line = row
+            .position()
+            .map_or(0, |p| csv_rows::line_at(&bytes, p.byte()));
         let entry = row_entry(&row, line, &column)?;
         let id = entry.record_id();
         if let Some(first) = entries.get(&id) {
@@ -346,6 +337,12 @@ mod tests {
         assert_eq!(e.line, Some(4));
         let e = read("year,file\r\n1999,a.AT2,extra\r\n".as_bytes()).unwrap_err();
         assert_eq!(e.line, Some(2), "{e}");
+        // One line number, the file's: the csv crate's own (1 here) is left out.
+        assert_eq!(
+            e.to_string(),
+            "line 2: 3 fields where the header has 2",
+            "{e}"
+        );
         // A quoted cell spanning two lines: the next record starts on line 4.
         let e = read("year,file\n\"1999\",\"a\nb.AT2\"\n19x9,c.AT2\n".as_bytes()).unwrap_err();
         assert_eq!(e.line, Some(4), "{e}");

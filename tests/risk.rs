@@ -454,6 +454,20 @@ fn an_inventory_becomes_a_table_and_a_ranking() {
         ],
     );
     assert!(stderr(&out).contains("bad2.csv:3"), "{}", stderr(&out));
+    // A row with a field too many, in a file with CRLF endings: its line
+    // (3, counted by hand), once (the csv crate's own count said 2).
+    fs::write(
+        d.join("bad3.csv"),
+        "name,b,h\r\nok,0.2,1\r\nbad,0.2,1,7\r\n",
+    )
+    .unwrap();
+    let args = ["risk", "--hazard", "h.csv", "--inventory", "bad3.csv"];
+    let out = rocking(d, &[&args[..], &["--out", "x.parquet"]].concat());
+    assert!(
+        stderr(&out).contains("bad3.csv:3: 4 fields where the header has 3\n"),
+        "{}",
+        stderr(&out)
+    );
 }
 
 #[test]

@@ -9,6 +9,7 @@ use std::path::Path;
 use super::error::RiskError;
 use super::request::Blocks;
 use crate::block::{Block, BlockError, Restitution};
+use crate::csv_rows;
 
 /// One inventory entry.
 #[derive(Debug, Clone, PartialEq)]
@@ -36,12 +37,6 @@ pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
         line,
         message,
     };
-    let line_of = |byte: u64| {
-        1 + bytes[..(byte as usize).min(bytes.len())]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count() as u64
-    };
     let mut csv = csv::ReaderBuilder::new().from_reader(bytes.as_slice());
     let headers = csv.headers().map_err(|e| bad(1, e.to_string()))?.clone();
     if let Some(message) = repeated_column(&headers) {
@@ -61,16 +56,15 @@ pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
     let cm = col("mu");
     let mut out: Vec<InventoryBlock> = Vec::new();
     for row in csv.records() {
-        let row =
-            row.map_err(|e| bad(e.position().map_or(0, |p| line_of(p.byte())), e.to_string()))?;
-        let line = row.position().map_or(0, |p| {
-            // Skip the line breaks a position may point at.
-            let mut at = p.byte() as usize;
-            while at < bytes.len() && matches!(bytes[at], b'\n' | b'\r') {
-                at += 1;
-            }
-            line_of(at as u64)
-        });
+        let row = row.map_err(|e| {
+            bad(
+                csv_rows::error_line(&bytes, &e).unwrap_or(0),
+                csv_rows::message(&e),
+            )
+        })?;
+        let line = row
+            .position()
+            .map_or(0, |p| csv_rows::line_at(&bytes, p.byte()));
         let cell = |c: usize| row.get(c).map(str::trim).unwrap_or("");
         let num = |c: usize, what: &str| -> Result<f64, RiskError> {
             cell(c)
