@@ -328,7 +328,11 @@ fn wall_command_reports_the_walls_beside_the_closed_forms() {
             "--beta",
         ),
         (vec!["wall", "--pulse", "rect", "--f", "-1"], "--f"),
-        (vec!["wall", "--f", "1"], "--pulse"),
+        // Required, and marked so in the usage line of the help.
+        (
+            vec!["wall", "--f", "1"],
+            "required arguments were not provided:\n  --pulse <PULSE>",
+        ),
         (
             vec!["wall", "--pulse", "rect", "--f", "1", "--overturn", "escap"],
             "escape",
