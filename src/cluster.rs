@@ -10,6 +10,26 @@
 
 use std::path::{Path, PathBuf};
 
+/// The array tasks' log, as the sweep script names it (`%A` the array's
+/// job id, `%a` the task).
+const SWEEP_LOG: &str = "sweep-%A_%a.log";
+/// The later stages' log (`%j` its job id).
+const LATER_LOG: &str = "after-%j.log";
+
+/// The log the sweep script asks for of task `task` of array `job`, in `logs`.
+pub fn sweep_log(logs: &Path, job: u64, task: &str) -> PathBuf {
+    logs.join(
+        SWEEP_LOG
+            .replace("%A", &job.to_string())
+            .replace("%a", task),
+    )
+}
+
+/// The log the later script asks for, job `job`, in `logs`.
+pub fn later_log(logs: &Path, job: u64) -> PathBuf {
+    logs.join(LATER_LOG.replace("%j", &job.to_string()))
+}
+
 /// Everything the two job scripts need, as absolute paths.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Jobs {
@@ -53,6 +73,23 @@ pub fn shell_word(p: &Path) -> String {
     }
 }
 
+/// A value of an `#SBATCH` line, as sbatch reads it: in double quotes, a
+/// backslash before `"`, `\` and `#` (sbatch ends a directive at an
+/// unquoted space and at an unescaped `#`; a path with a space once made
+/// an "Invalid directive").
+fn directive(value: &str) -> String {
+    let mut s = String::with_capacity(value.len() + 2);
+    s.push('"');
+    for c in value.chars() {
+        if matches!(c, '"' | '\\' | '#') {
+            s.push('\\');
+        }
+        s.push(c);
+    }
+    s.push('"');
+    s
+}
+
 impl Jobs {
     fn header(&self, what: &str, lines: &[String]) -> String {
         let mut s = String::from("#!/bin/sh\n");
@@ -64,7 +101,7 @@ impl Jobs {
         }
         s.push_str(&format!(
             "# Written by `rocking submit` for the study `{}`: {what}.\n\
-             # Submit it again by hand with sbatch if needed (README, \"Running on a cluster\").\n",
+             # Submit it again by hand with sbatch if needed (docs/guide.md, \"Running on a cluster\").\n",
             self.name
         ));
         s
@@ -73,14 +110,17 @@ impl Jobs {
     /// The array job: task K of N sweeps the K-th shard.
     pub fn sweep_script(&self) -> String {
         let lines = [
-            format!("--job-name=rocking-{}-sweep", self.name),
+            format!(
+                "--job-name={}",
+                directive(&format!("rocking-{}-sweep", self.name))
+            ),
             format!("--array=1-{}", self.shards),
             format!(
                 "--output={}",
-                self.logs.join("sweep-%A_%a.log").to_string_lossy()
+                directive(&self.logs.join(SWEEP_LOG).to_string_lossy())
             ),
             "--requeue".to_string(),
-            format!("--chdir={}", self.workdir.to_string_lossy()),
+            format!("--chdir={}", directive(&self.workdir.to_string_lossy())),
         ];
         let mut s = self.header(
             &format!(
@@ -104,12 +144,15 @@ impl Jobs {
     /// The job of the later stages, run once the array has succeeded.
     pub fn later_script(&self) -> String {
         let lines = [
-            format!("--job-name=rocking-{}-after", self.name),
+            format!(
+                "--job-name={}",
+                directive(&format!("rocking-{}-after", self.name))
+            ),
             format!(
                 "--output={}",
-                self.logs.join("after-%j.log").to_string_lossy()
+                directive(&self.logs.join(LATER_LOG).to_string_lossy())
             ),
-            format!("--chdir={}", self.workdir.to_string_lossy()),
+            format!("--chdir={}", directive(&self.workdir.to_string_lossy())),
         ];
         let mut s = self.header(
             "the stages after the sweep (rocking run finds the sweep fresh from its shards)",
@@ -242,6 +285,23 @@ mod tests {
         }
     }
 
+    /// A directive's value as sbatch reads it (its `_get_argument`: a
+    /// double quote toggles quoting, a backslash takes the next character
+    /// as it is, an unescaped `#` starts a comment), escaped by hand.
+    #[test]
+    fn directives_quote_spaces_and_escape_what_sbatch_reads() {
+        assert_eq!(directive("/a b/x-%A.log"), r#""/a b/x-%A.log""#);
+        assert_eq!(directive(r##"/it's "#1" \x"##), r##""/it's \"\#1\" \\x""##);
+        assert_eq!(
+            sweep_log(Path::new("/l"), 10, "3"),
+            Path::new("/l/sweep-10_3.log")
+        );
+        assert_eq!(
+            later_log(Path::new("/l o"), 11),
+            Path::new("/l o/after-11.log")
+        );
+    }
+
     /// The scripts as a shell reads them: every path one word, the shard
     /// from the task id, the user's options as directives.
     #[test]
@@ -250,7 +310,12 @@ mod tests {
         assert!(s.starts_with("#!/bin/sh\n"));
         assert!(s.contains("#SBATCH --array=1-10\n"));
         assert!(s.contains("#SBATCH --partition=debug\n#SBATCH --cpus-per-task=8\n"));
-        assert!(s.contains("#SBATCH --output=/scratch/it's/outputs/paper/slurm/sweep-%A_%a.log"));
+        // Directives' values in double quotes (sbatch split them at a space).
+        assert!(
+            s.contains("#SBATCH --output=\"/scratch/it's/outputs/paper/slurm/sweep-%A_%a.log\"\n")
+        );
+        assert!(s.contains("#SBATCH --chdir=\"/home/a b\"\n"));
+        assert!(s.contains("#SBATCH --job-name=\"rocking-paper-sweep\"\n"));
         assert!(s.contains(
             "exec '/opt/rocking/bin/rocking' sweep '/home/a b/paper.toml' \
              --outputs '/scratch/it'\\''s/outputs' --shard \"${SLURM_ARRAY_TASK_ID}/10\""

@@ -341,7 +341,10 @@ fn submit_runs_the_quick_study_on_a_real_slurm() {
 
     // A floor study (`[floor]`) in 2 array tasks: the capacities a local run
     // finds, each record's PFA/PGA and sliding flag included.
-    let floor_out = out.path().join("floor-slurm");
+    // Its outputs in a folder with a space, a quote, a `#` and letters
+    // beyond ASCII: the scripts' directives carry them (sbatch refused an
+    // unquoted space as an "Invalid directive").
+    let floor_out = out.path().join("floor it's #1 ünï");
     let floor_args = [
         "submit",
         "pipelines/floor.toml",
@@ -376,7 +379,9 @@ fn submit_runs_the_quick_study_on_a_real_slurm() {
     // Tasks that crash (the fault-injection hook aborts each task once its
     // first chunk is complete): --wait fails, naming a task and its log, and the later
     // stages never run.
-    let failing = out.path().join("failing");
+    // In a folder with a space: the log named is the task's whole path
+    // (`scontrol -o` cuts a value at its spaces).
+    let failing = out.path().join("fail ing");
     let bad = submit(&failing, &[(FAULT_ENV, "1")]);
     assert!(!bad.status.success());
     let e = stderr(&bad);
@@ -518,4 +523,71 @@ fn more_shards_than_chunks_are_refused_before_submitting() {
     assert!(out.status.success(), "{}", stderr(&out));
     let calls = std::fs::read_to_string(&called).unwrap();
     assert_eq!(calls.lines().count(), 2, "{calls}");
+}
+
+/// Writes an executable shell script `name` into `bin`.
+fn fake(bin: &Path, name: &str, body: &str) {
+    let path = bin.join(name);
+    std::fs::write(&path, format!("#!/bin/sh\n{body}")).unwrap();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+    }
+}
+
+/// `--wait` asked Slurm about the sweep's array at every poll, also after
+/// its tasks were seen done; Slurm forgets a finished job after MinJobAge
+/// (300 s by default), so a study whose later stages ran longer failed
+/// ("Slurm no longer knows job 1001") although it succeeded. A fake
+/// Slurm: the array (1001) completed at the first poll and unknown after,
+/// the later job (1002) running for two polls, then completed.
+#[test]
+fn wait_follows_the_later_job_after_slurm_forgets_the_finished_array() {
+    let dir = tempdir();
+    let bin = dir.path().join("bin");
+    std::fs::create_dir(&bin).unwrap();
+    let d = dir.path().display();
+    fake(
+        &bin,
+        "sbatch",
+        &format!("echo x >> '{d}/sbatch'\nwc -l < '{d}/sbatch' | sed 's/ //g; s/^/100/'\n"),
+    );
+    fake(&bin, "scancel", &format!("echo \"$@\" >> '{d}/scancel'\n"));
+    fake(
+        &bin,
+        "scontrol",
+        &format!(
+            "id=$4\necho x >> \"{d}/asked-$id\"\nn=$(wc -l < \"{d}/asked-$id\" | sed 's/ //g')\n\
+             case \"$id:$n\" in\n\
+             1001:1) echo 'JobId=1003 ArrayJobId=1001 ArrayTaskId=1 JobState=COMPLETED ExitCode=0:0'\n\
+                     echo 'JobId=1004 ArrayJobId=1001 ArrayTaskId=2 JobState=COMPLETED ExitCode=0:0' ;;\n\
+             1001:*) echo 'slurm_load_jobs error: Invalid job id specified' >&2; exit 1 ;;\n\
+             1002:1|1002:2) echo 'JobId=1002 JobState=RUNNING ExitCode=0:0' ;;\n\
+             1002:*) echo 'JobId=1002 JobState=COMPLETED ExitCode=0:0' ;;\n\
+             esac\n"
+        ),
+    );
+    let path = format!("{}:/usr/bin:/bin", bin.display());
+    let out = Command::new(env!("CARGO_BIN_EXE_rocking"))
+        .args(["submit", "pipelines/quick.toml", "--shards", "2", "--wait"])
+        .args(["--poll", "0.05", "--outputs"])
+        .arg(dir.path().join("out"))
+        .current_dir(root())
+        .env("PATH", &path)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", stderr(&out));
+    let said = format!("{}{}", String::from_utf8_lossy(&out.stdout), stderr(&out));
+    assert!(
+        said.contains("later stages (job 1002) completed") && said.contains("done: report"),
+        "{said}"
+    );
+    // The array was asked about once: at the poll that saw it done.
+    let asked = std::fs::read_to_string(dir.path().join("asked-1001")).unwrap();
+    assert_eq!(asked.lines().count(), 1);
+    assert!(
+        !dir.path().join("scancel").exists(),
+        "nothing was cancelled"
+    );
 }

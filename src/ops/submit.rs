@@ -130,7 +130,12 @@ fn slurm(program: &Path, args: &[&str]) -> Result<String, SubmitError> {
         })?;
     if !out.status.success() {
         return Err(SubmitError::Slurm {
-            command: format!("{} {}", program.display(), args.join(" ")),
+            // As a shell would take it back: each word quoted where it must be.
+            command: std::iter::once(program)
+                .chain(args.iter().map(Path::new))
+                .map(cluster::shell_word)
+                .collect::<Vec<_>>()
+                .join(" "),
             stderr: String::from_utf8_lossy(&out.stderr).trim().to_string(),
         });
     }
@@ -235,6 +240,16 @@ pub fn submit(
     })
 }
 
+/// A job's log: the one Slurm names where it is on disk, else the one the
+/// script asked for (`scontrol -o` separates its fields by spaces, so a log
+/// path with a space comes back cut).
+fn log_of(r: &JobRecord, asked: PathBuf) -> String {
+    match &r.stdout {
+        Some(named) if Path::new(named).is_file() => named.clone(),
+        _ => asked.to_string_lossy().into_owned(),
+    }
+}
+
 /// The records of job `id` (every task of an array).
 fn records(scontrol: &Path, id: u64) -> Result<Vec<JobRecord>, SubmitError> {
     match slurm(scontrol, &["show", "job", "-o", &id.to_string()]) {
@@ -253,20 +268,34 @@ pub fn wait(sub: &Submitted, poll: Duration, mut say: impl FnMut(&str)) -> Resul
     let sbatch = on_path("sbatch").ok_or(SubmitError::NoSbatch)?;
     let (scontrol, scancel) = (client("scontrol", &sbatch), client("scancel", &sbatch));
     let mut last = String::new();
+    // Once every task is seen done the array is not asked about again:
+    // Slurm forgets a finished job after its MinJobAge (300 s by default),
+    // while the later stages may run on.
+    let mut swept: Option<cluster::ArrayState> = None;
     loop {
-        let tasks = records(&scontrol, sub.sweep_job)?;
-        let st = cluster::array_state(&tasks, sub.shards);
-        if let Some(bad) = st.failed.first() {
-            let _ = slurm(&scancel, &[&sub.later_job.to_string()]);
-            return Err(SubmitError::TaskFailed {
-                job: sub.sweep_job,
-                task: bad.array_task.clone().unwrap_or_else(|| "?".into()),
-                state: bad.state.clone(),
-                exit_code: bad.exit_code.clone(),
-                log: bad.stdout.clone().unwrap_or_else(|| "(none)".into()),
-                later: sub.later_job,
-            });
-        }
+        let st = match &swept {
+            Some(st) => st.clone(),
+            None => {
+                let tasks = records(&scontrol, sub.sweep_job)?;
+                let st = cluster::array_state(&tasks, sub.shards);
+                if let Some(bad) = st.failed.first() {
+                    let _ = slurm(&scancel, &[&sub.later_job.to_string()]);
+                    let task = bad.array_task.clone().unwrap_or_else(|| "?".into());
+                    return Err(SubmitError::TaskFailed {
+                        job: sub.sweep_job,
+                        log: log_of(bad, cluster::sweep_log(&sub.logs, sub.sweep_job, &task)),
+                        task,
+                        state: bad.state.clone(),
+                        exit_code: bad.exit_code.clone(),
+                        later: sub.later_job,
+                    });
+                }
+                if st.done == sub.shards {
+                    swept = Some(st.clone());
+                }
+                st
+            }
+        };
         let later = records(&scontrol, sub.later_job)?;
         let now = match later.first() {
             Some(r) if r.succeeded() => {
@@ -281,7 +310,7 @@ pub fn wait(sub: &Submitted, poll: Duration, mut say: impl FnMut(&str)) -> Resul
                     job: sub.later_job,
                     state: r.state.clone(),
                     exit_code: r.exit_code.clone(),
-                    log: r.stdout.clone().unwrap_or_else(|| "(none)".into()),
+                    log: log_of(r, cluster::later_log(&sub.logs, sub.later_job)),
                 })
             }
             Some(r) => format!(
