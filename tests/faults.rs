@@ -1403,3 +1403,38 @@ fn lists_starting_with_a_minus_sign_reach_their_own_checks() {
         );
     }
 }
+
+/// A study in which no block overturns (its grid stops at η = 0.9) writes
+/// its report: Fig. 7 has nothing a log axis can show (every fractile 0)
+/// and is left out, where the report stage failed on it ("nothing to
+/// plot"); every figure the report links is on disk.
+#[test]
+fn a_study_where_nothing_overturns_has_its_report() {
+    let dir = tempdir();
+    let d = dir.path();
+    let pipe = write_pipeline(
+        d,
+        "never",
+        "ids = [\"RSN1111_KOBE_NIS000\", \"RSN953_NORTHR_MUL009\", \"RSN1633_MANJIL_ABBAR--L\"]\n\
+         [blocks]\np = [0.5, 1.0]\neps = [0.7, 0.9]\n[im]\ncount = 10\neta_min = 0.9\n",
+    );
+    let out = rocking(d, &["run", pipe.to_str().unwrap(), "--outputs", "out"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let study = d.join("out/never");
+    let caps = read_capacities(&study).unwrap();
+    assert!(caps.iter().all(|c| c.eta_c.is_none()), "a block overturned");
+    let md = fs::read_to_string(study.join("report.md")).unwrap();
+    assert!(!md.contains("fig07"), "{md}");
+    let linked: Vec<&str> = md
+        .split("figures/")
+        .skip(1)
+        .filter_map(|s| s.split(".svg").next())
+        .collect();
+    assert!(!linked.is_empty());
+    for name in linked {
+        assert!(
+            study.join(format!("figures/{name}.svg")).is_file(),
+            "{name}"
+        );
+    }
+}

@@ -26,6 +26,16 @@ pub fn block_study() -> StudyData {
     )
 }
 
+/// A study of two named blocks of their own ε: a vase (b = 0.1, h = 0.4,
+/// ε = 0.8) and an urn (b = 0.2, h = 0.5, ε = 0.6).
+pub fn two_blocks_study() -> StudyData {
+    study(
+        "[records]\nat2 = [\"r\"]\n\
+         [[block]]\nname = \"vase\"\nb = 0.1\nh = 0.4\neps = 0.8\n\
+         [[block]]\nname = \"urn\"\nb = 0.2\nh = 0.5\neps = 0.6\n",
+    )
+}
+
 /// A study of one named block (b = 0.2, h = 1) on the floor of a
 /// one-mode building.
 pub fn floor_study() -> StudyData {

@@ -57,6 +57,19 @@ pub(super) fn fragility_example(d: &StudyData) -> Vec<Figure> {
     if lines.is_empty() {
         return Vec::new();
     }
+    // This study's curve beyond its blocks is an extrapolation: said as
+    // `rocking fragility --from` warns of it.
+    let stretched = match d.laws.is_empty() {
+        true => Vec::new(),
+        false => fragility::stretched(&block, Some(&d.records_plan().blocks)),
+    };
+    let stretched = match stretched.is_empty() {
+        true => String::new(),
+        false => format!(
+            " This study's curve is extrapolated: {}.",
+            stretched.join("; ")
+        ),
+    };
     vec![Figure {
         file: "fragility_example.svg".into(),
         chart: Chart {
@@ -77,7 +90,7 @@ pub(super) fn fragility_example(d: &StudyData) -> Vec<Figure> {
         },
         caption: format!(
             "Probability of overturning of an example block (a 0.5 m × 2 m cabinet, \
-             Housner's ε) from {}{}.",
+             Housner's ε) from {}{}.{stretched}",
             match d.laws.is_empty() {
                 true => "the paper's regression alone: this study has none (a regression \
                          needs a p × ε grid of at least 3 × 3, fitted by the fit stage)",
@@ -180,5 +193,20 @@ mod tests {
         // The study's laws are the paper's: the same curve.
         assert_eq!(c.lines[1].points, c.lines[2].points);
         assert!(figs[0].caption.contains("fit_bands.parquet"));
+        // The example block (ε = 1 − 1.5·sin²(atan 0.25) = 0.912, p = 2.671
+        // 1/s) lies beyond this one-block grid: its curve is extrapolated.
+        assert!(
+            figs[0]
+                .caption
+                .contains("This study's curve is extrapolated: ε = 0.912 is outside the study's 0.5–0.5; p = 2.671 1/s is outside the study's 1–1 1/s."),
+            "{}",
+            figs[0].caption
+        );
+        // Inside a grid that holds it, nothing is said.
+        let mut inside = grid_study(&[1.0, 4.0], &[0.5, 0.95]);
+        inside.laws = fragility::paper().to_vec();
+        assert!(!fragility_example(&inside)[0]
+            .caption
+            .contains("extrapolated"));
     }
 }

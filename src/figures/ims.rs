@@ -42,41 +42,80 @@ pub fn shown_eps(d: &StudyData) -> Option<f64> {
         .min_by(|a, b| (a - 0.75).abs().total_cmp(&(b - 0.75).abs()))
 }
 
-/// (p, β) of one IM at ε, in increasing p.
-fn series(rows: &[EfficiencyRow], im: &str, eps: f64) -> Vec<(f64, f64)> {
+/// The blocks the β-against-p figure and the report's IM table show.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Shown {
+    /// A grid's blocks at one ε ([`shown_eps`]).
+    Eps(f64),
+    /// Every block, each at its own ε: a study of named blocks, whose ε
+    /// differ (at one ε, each would be a line of one point).
+    Every,
+}
+
+impl Shown {
+    /// What a study's IM figures show; `None` without efficiency rows.
+    pub fn of(d: &StudyData) -> Option<Shown> {
+        if d.is_grid() {
+            shown_eps(d).map(Shown::Eps)
+        } else {
+            (!d.efficiency.is_empty()).then_some(Shown::Every)
+        }
+    }
+
+    pub fn holds(self, r: &EfficiencyRow) -> bool {
+        match self {
+            Shown::Eps(e) => r.eps == e,
+            Shown::Every => true,
+        }
+    }
+
+    /// "ε = 0.75", or "each block at its own ε".
+    pub fn text(self) -> String {
+        match self {
+            Shown::Eps(e) => format!("ε = {e}"),
+            Shown::Every => "each block at its own ε".into(),
+        }
+    }
+}
+
+/// (p, β) of one IM over the blocks `shown`, in increasing p.
+fn series(rows: &[EfficiencyRow], im: &str, shown: Shown) -> Vec<(f64, f64)> {
     let mut v: Vec<(f64, f64)> = rows
         .iter()
-        .filter(|r| r.im == im && r.eps == eps)
+        .filter(|r| r.im == im && shown.holds(r))
         .map(|r| (r.p, r.beta))
         .collect();
     v.sort_by(|a, b| a.0.total_cmp(&b.0));
     v
 }
 
-/// The SA period of smallest β for each block at ε, in increasing p.
-pub fn best_periods(rows: &[EfficiencyRow], eps: f64) -> Vec<(f64, f64, f64)> {
-    let mut best: Vec<(f64, f64, f64)> = Vec::new();
-    for r in rows.iter().filter(|r| r.eps == eps) {
+/// The SA period of smallest β for each block `shown`: (its index, p, the
+/// period, β), in increasing p.
+pub fn best_periods(rows: &[EfficiencyRow], shown: Shown) -> Vec<(i64, f64, f64, f64)> {
+    let mut best: Vec<(i64, f64, f64, f64)> = Vec::new();
+    for r in rows.iter().filter(|r| shown.holds(r)) {
         let Ok(Im::Sa(t)) = r.im.parse() else {
             continue;
         };
-        match best.iter_mut().find(|b| b.0 == r.p) {
-            Some(b) if r.beta < b.2 => *b = (r.p, t, r.beta),
+        match best.iter_mut().find(|b| b.0 == r.block_index) {
+            Some(b) if r.beta < b.3 => *b = (r.block_index, r.p, t, r.beta),
             Some(_) => {}
-            None => best.push((r.p, t, r.beta)),
+            None => best.push((r.block_index, r.p, t, r.beta)),
         }
     }
-    best.sort_by(|a, b| a.0.total_cmp(&b.0));
+    best.sort_by(|a, b| a.1.total_cmp(&b.1));
     best
 }
 
-/// β against p for each IM, at one ε; and the best SA period against p,
-/// one line per ε.
+/// β against p for each IM, at one ε of a grid or for every named block;
+/// and the best SA period against p, one line per ε of a grid (one line
+/// of every named block).
 pub(super) fn im_efficiency(d: &StudyData) -> Vec<Figure> {
     let (ps, es) = d.ps_and_eps();
-    let Some(eps) = shown_eps(d) else {
+    let Some(which) = Shown::of(d) else {
         return Vec::new();
     };
+    let at = which.text();
     if d.efficiency.is_empty() || ps.len() < 2 {
         return Vec::new();
     }
@@ -85,7 +124,7 @@ pub(super) fn im_efficiency(d: &StudyData) -> Vec<Figure> {
         .enumerate()
         .map(|(i, im)| Line {
             name: Some(im.short()),
-            points: series(&d.efficiency, &im.name(), eps),
+            points: series(&d.efficiency, &im.name(), which),
             style: Style::Line,
             hue: Hue::Series(i),
         })
@@ -93,7 +132,7 @@ pub(super) fn im_efficiency(d: &StudyData) -> Vec<Figure> {
         .collect();
     lines.push(Line {
         name: Some("PGA | PGV/PGA".into()),
-        points: series(&d.efficiency, crate::im::efficiency::VECTOR, eps),
+        points: series(&d.efficiency, crate::im::efficiency::VECTOR, which),
         style: Style::Dashed,
         hue: Hue::Ink,
     });
@@ -107,7 +146,7 @@ pub(super) fn im_efficiency(d: &StudyData) -> Vec<Figure> {
     let beta = Figure {
         file: "im_efficiency.svg".into(),
         chart: Chart {
-            title: format!("Dispersion of the overturning capacity in each IM, ε = {eps}"),
+            title: format!("Dispersion of the overturning capacity in each IM, {at}"),
             x_desc: "p (1/s)".into(),
             y_desc: "β, standard deviation of ln IM at overturning (dimensionless)".into(),
             x_scale: Scale::Log,
@@ -120,7 +159,7 @@ pub(super) fn im_efficiency(d: &StudyData) -> Vec<Figure> {
         caption: format!(
             "The smaller β, the better the IM predicts overturning: each record's capacity \
              converted into the IM (the record scaled to overturn the block), and β the standard \
-             deviation of its logarithm over the records. ε = {eps}; SA at 5 % damping; the \
+             deviation of its logarithm over the records. {at}; SA at 5 % damping; the \
              dashed black line is PGA given the record's PGV/PGA (a two-parameter fragility)."
         ),
     };
@@ -135,18 +174,7 @@ pub(super) fn im_efficiency(d: &StudyData) -> Vec<Figure> {
             x_range: None,
             y_range: Some((0.04, 5.0)),
             x_ticks: None,
-            lines: es
-                .iter()
-                .map(|&e| Line {
-                    name: Some(format!("ε = {e}")),
-                    points: best_periods(&d.efficiency, e)
-                        .into_iter()
-                        .map(|(p, t, _)| (p, t))
-                        .collect(),
-                    style: Style::Line,
-                    hue: ramp(&es, e),
-                })
-                .collect(),
+            lines: period_lines(d, which, &es),
         },
         caption: "For each block, the period among 0.05–4 s whose SA has the smallest \
                   dispersion of the capacity: larger blocks (small p) follow longer periods."
@@ -155,13 +183,44 @@ pub(super) fn im_efficiency(d: &StudyData) -> Vec<Figure> {
     vec![beta, periods]
 }
 
+/// The best SA period against p: one line per ε of a grid, or one of
+/// every named block.
+fn period_lines(d: &StudyData, shown: Shown, es: &[f64]) -> Vec<Line> {
+    let line = |name: String, shown: Shown, style: Style, hue: Hue| Line {
+        name: Some(name),
+        points: best_periods(&d.efficiency, shown)
+            .into_iter()
+            .map(|(_, p, t, _)| (p, t))
+            .collect(),
+        style,
+        hue,
+    };
+    match shown {
+        Shown::Eps(_) => es
+            .iter()
+            .map(|&e| line(format!("ε = {e}"), Shown::Eps(e), Style::Line, ramp(es, e)))
+            .collect(),
+        Shown::Every => vec![line(
+            "every block".into(),
+            Shown::Every,
+            Style::LinePoints,
+            Hue::Ink,
+        )],
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    /// One block per (p, ε) in these tests.
+    fn index(p: f64, eps: f64) -> i64 {
+        (p * 1000.0).round() as i64 * 1000 + (eps * 1000.0).round() as i64
+    }
+
     fn row(p: f64, eps: f64, im: &str, beta: f64) -> EfficiencyRow {
         EfficiencyRow {
-            block_index: 0,
+            block_index: index(p, eps),
             block: String::new(),
             p,
             eps,
@@ -199,6 +258,43 @@ mod tests {
         assert_eq!(hi, 1.8);
     }
 
+    /// Named blocks each at their own ε are drawn together: at one ε each
+    /// line was one point, and drew nothing (the floor study's figures).
+    #[test]
+    fn named_blocks_of_their_own_eps_are_drawn_together() {
+        let mut d = super::super::fixture::two_blocks_study();
+        let blocks = d.records_plan().blocks.clone();
+        assert_eq!(blocks.len(), 2);
+        for (i, b) in blocks.iter().enumerate() {
+            for (im, beta) in [("pga", 0.5 + 0.1 * i as f64), ("sa(1.0)", 0.4)] {
+                d.efficiency.push(EfficiencyRow {
+                    block_index: i as i64,
+                    block: b.name.clone(),
+                    ..row(b.p, b.eps, im, beta)
+                });
+            }
+        }
+        let figs = im_efficiency(&d);
+        assert_eq!(figs.len(), 2);
+        let pga = figs[0]
+            .chart
+            .lines
+            .iter()
+            .find(|l| l.name.as_deref() == Some("PGA"));
+        let mut want: Vec<(f64, f64)> = blocks
+            .iter()
+            .zip([0.5, 0.6])
+            .map(|(b, v)| (b.p, v))
+            .collect();
+        want.sort_by(|a, b| a.0.total_cmp(&b.0));
+        assert_eq!(pga.expect("a PGA line").points, want);
+        assert!(figs[0].chart.title.ends_with("each block at its own ε"));
+        let periods = &figs[1].chart.lines;
+        assert_eq!(periods.len(), 1);
+        assert_eq!(periods[0].points.len(), 2);
+        assert!(periods[0].points.iter().all(|&(_, t)| t == 1.0));
+    }
+
     #[test]
     fn the_best_period_is_the_smallest_beta() {
         let rows = vec![
@@ -210,8 +306,20 @@ mod tests {
             row(4.0, 0.7, "pgv", 0.1),
         ];
         assert_eq!(
-            best_periods(&rows, 0.7),
-            vec![(1.0, 2.0, 0.3), (4.0, 0.3, 0.2)]
+            best_periods(&rows, Shown::Eps(0.7)),
+            vec![
+                (index(1.0, 0.7), 1.0, 2.0, 0.3),
+                (index(4.0, 0.7), 4.0, 0.3, 0.2)
+            ]
+        );
+        // Every block, each its own: the one at ε = 0.9 too, at the same p.
+        assert_eq!(
+            best_periods(&rows, Shown::Every),
+            vec![
+                (index(1.0, 0.7), 1.0, 2.0, 0.3),
+                (index(4.0, 0.7), 4.0, 0.3, 0.2),
+                (index(4.0, 0.9), 4.0, 0.3, 0.9)
+            ]
         );
     }
 }

@@ -19,7 +19,14 @@ pub(super) fn lognormal_plots(d: &StudyData) -> Vec<Figure> {
         pv(a).total_cmp(&pv(b))
     });
     let mut out = Vec::new();
-    for (tag, row) in [("poor", ranked.first()), ("good", ranked.last())] {
+    // One block tested: one figure (the best and the worst were the same
+    // figure twice).
+    let best = if ranked.len() > 1 {
+        ranked.last()
+    } else {
+        None
+    };
+    for (tag, row) in [("poor", ranked.first()), ("good", best)] {
         let Some(row) = row else { continue };
         let (p, e) = (row.p, row.eps);
         let k = d
@@ -28,13 +35,9 @@ pub(super) fn lognormal_plots(d: &StudyData) -> Vec<Figure> {
             .iter()
             .position(|b| b.p == p && b.eps == e)
             .unwrap_or(0);
-        let mut logs: Vec<f64> = d
-            .caps
-            .iter()
-            .filter(|c| c.case_id as usize % n_blocks == k)
-            .filter_map(|c| c.eta_c)
-            .map(f64::ln)
-            .collect();
+        let of_block = || d.caps.iter().filter(|c| c.case_id as usize % n_blocks == k);
+        let mut logs: Vec<f64> = of_block().filter_map(|c| c.eta_c).map(f64::ln).collect();
+        let records = of_block().count();
         logs.sort_by(|a, b| a.total_cmp(b));
         if logs.len() < 3 {
             continue;
@@ -52,8 +55,8 @@ pub(super) fn lognormal_plots(d: &StudyData) -> Vec<Figure> {
             file: format!("fig09_lognormal_{tag}.svg"),
             chart: Chart {
                 title: format!(
-                    "Normal probability plot of ln η_c, p = {p:.3} 1/s, ε = {e:.2} (Lilliefors p = {:.3})",
-                    row.p_value.unwrap_or(f64::NAN)
+                    "Normal probability plot of ln η_c, p = {p:.3} 1/s, ε = {e:.2} (Lilliefors {})",
+                    p_value_text(row.p_value.unwrap_or(f64::NAN))
                 ),
                 x_desc: "ln η_c".into(),
                 y_desc: "standard normal quantile".into(),
@@ -78,12 +81,36 @@ pub(super) fn lognormal_plots(d: &StudyData) -> Vec<Figure> {
                 ],
             },
             caption: format!(
-                "The {} fitting block by the Lilliefors test: ln η_c of every record against normal quantiles (paper Fig. 9).",
-                if tag == "good" { "best" } else { "worst" }
+                "{}: ln η_c of {} against normal quantiles (paper Fig. 9).",
+                match (tag, best) {
+                    ("good", _) => "The best fitting block by the Lilliefors test",
+                    (_, Some(_)) => "The worst fitting block by the Lilliefors test",
+                    _ => "The one block the Lilliefors test was run on",
+                },
+                if logs.len() == records {
+                    "every record".to_string()
+                } else {
+                    format!(
+                        "the {} of its {records} records that overturned (the others never did \
+                         down to the grid's last level: the sample is cut there, and the test \
+                         sees the cut)",
+                        logs.len()
+                    )
+                }
             ),
         });
     }
     out
+}
+
+/// A Lilliefors p-value as a title shows it: three decimals, or "p < 0.001"
+/// (a p of 4e-5 read "p = 0.000").
+fn p_value_text(p: f64) -> String {
+    if p < 0.001 {
+        "p < 0.001".into()
+    } else {
+        format!("p = {p:.3}")
+    }
 }
 
 #[cfg(test)]
@@ -134,6 +161,34 @@ mod tests {
         let fit = &c.lines[1].points;
         assert!((fit[0].0 + 2.0 * ln2).abs() < 1e-15 && (fit[0].1 + 1.0).abs() < 1e-12);
         assert!(fit[1].0 == 0.0 && (fit[1].1 - 1.0).abs() < 1e-12);
+    }
+
+    /// One block tested: one figure, not the same one twice as the best and
+    /// the worst; a record that never overturned is not among its points,
+    /// and the caption says how many are (3 of 4, by hand).
+    #[test]
+    fn one_block_is_one_figure_and_its_cut_sample_is_said() {
+        let mut d = grid_study(&[1.0], &[0.5]);
+        d.lognormal = vec![lognormal(1.0, 0.5, Some(4e-5))];
+        d.caps = vec![
+            cap(0, Some(0.5)),
+            cap(1, Some(0.25)),
+            cap(2, None),
+            cap(3, Some(1.0)),
+        ];
+        let figs = lognormal_plots(&d);
+        assert_eq!(figs.len(), 1);
+        assert_eq!(figs[0].chart.lines[0].points.len(), 3);
+        assert!(figs[0].chart.title.ends_with("(Lilliefors p < 0.001)"));
+        let caption = &figs[0].caption;
+        assert!(
+            caption.starts_with("The one block the Lilliefors test"),
+            "{caption}"
+        );
+        assert!(
+            caption.contains("the 3 of its 4 records that overturned"),
+            "{caption}"
+        );
     }
 
     #[test]

@@ -116,10 +116,12 @@ pub(super) fn regression_coefficients(d: &StudyData) -> Vec<Figure> {
         let poly = |l: &FractileLaw| -> Vec<f64> { [&l.a, &l.b, &l.c][ci].clone() };
         let mut lines = Vec::new();
         for (qi, &q) in Q_VALUES.iter().enumerate() {
+            // Only the fits that converged, as step 2 takes them: a
+            // diverged fit's a of 4e9 once flattened the others.
             let pts = d
                 .fit_step1
                 .iter()
-                .filter(|r| r.quantile == q)
+                .filter(|r| r.quantile == q && r.converged)
                 .map(|r| (r.eps, [r.a, r.b, r.c][ci].unwrap_or(f64::NAN)))
                 .collect();
             lines.push(Line {
@@ -151,6 +153,17 @@ pub(super) fn regression_coefficients(d: &StudyData) -> Vec<Figure> {
                 hue: Hue::Fractile(qi),
             });
         }
+        let failed = d.fit_step1.iter().filter(|r| !r.converged).count();
+        let left_out = match failed {
+            0 => String::new(),
+            n => format!(
+                " The {n} step-1 fit{} that did not converge (`fit_step1.parquet`) {} not \
+                 drawn, as step 2 leaves {} out.",
+                if n == 1 { "" } else { "s" },
+                if n == 1 { "is" } else { "are" },
+                if n == 1 { "it" } else { "them" }
+            ),
+        };
         out.push(Figure {
             file: format!("regression_coefficient_{coef}.svg"),
             chart: Chart {
@@ -170,7 +183,7 @@ pub(super) fn regression_coefficients(d: &StudyData) -> Vec<Figure> {
             },
             caption: format!(
                 "Step-1 values of {coef} per ε (points), this study's step-2 polynomial (lines) and the \
-                 paper's (dashed), each fractile in its colour as in every figure."
+                 paper's (dashed), each fractile in its colour as in every figure.{left_out}"
             ),
         });
     }
@@ -300,5 +313,35 @@ mod tests {
             .find(|l| l.name.as_deref() == Some("50 % step 1"))
             .unwrap();
         assert!(step1.points[0].1.is_nan());
+        assert!(!figs[0].caption.contains("did not converge"));
+    }
+
+    /// A step-1 fit that diverged (a = 4.2e9 in a one-record study) is
+    /// not drawn among those that converged, and the caption says so.
+    #[test]
+    fn a_diverged_step_1_fit_is_left_out_and_said() {
+        let mut d = study();
+        d.fit_step1.push(FitStep1Row {
+            eps: 0.9,
+            a: Some(4.2e9),
+            stop: Stop::Diverged,
+            converged: false,
+            ..d.fit_step1[0].clone()
+        });
+        let figs = regression_coefficients(&d);
+        let step1 = figs[0]
+            .chart
+            .lines
+            .iter()
+            .find(|l| l.name.as_deref() == Some("50 % step 1"))
+            .unwrap();
+        assert_eq!(step1.points, [(0.5, 0.625)]);
+        assert!(
+            figs[0]
+                .caption
+                .contains("The 1 step-1 fit that did not converge"),
+            "{}",
+            figs[0].caption
+        );
     }
 }

@@ -129,11 +129,17 @@ pub fn ticks(scale: Scale, lo: f64, hi: f64) -> Vec<f64> {
             };
             let every = (decades / 10.0).ceil().max(1.0) as i32;
             let out = log_values(lo, hi, mantissas, every);
-            if out.len() < 2 && mantissas.len() < 9 {
-                // Too few on a short axis: every mantissa.
-                return log_values(lo, hi, &EVERY_MANTISSA, 1);
+            if out.len() >= 2 {
+                return out;
             }
-            out
+            // Too few on a short axis: every mantissa; shorter than the
+            // step between two (2.65 to 2.82), a linear axis's ticks.
+            let every = log_values(lo, hi, &EVERY_MANTISSA, 1);
+            if every.len() >= 2 {
+                every
+            } else {
+                ticks(Scale::Linear, lo, hi)
+            }
         }
     }
 }
@@ -232,6 +238,13 @@ mod tests {
             "every second decade"
         );
         assert!(ticks(Scale::Log, 0.0, 1.0).is_empty());
+        // Shorter than the step between two mantissas (the p of a study's
+        // named blocks, 2.66 to 2.82 1/s): a linear axis's ticks, the span
+        // over 8 = 0.02 apart.
+        assert_eq!(
+            ticks(Scale::Log, 2.66, 2.82),
+            vec![2.66, 2.68, 2.7, 2.72, 2.74, 2.76, 2.78, 2.8, 2.82]
+        );
     }
 
     /// The ramp runs from viridis's dark violet; a fractile's colour is its own.

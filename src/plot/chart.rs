@@ -46,6 +46,14 @@ pub struct Chart {
     pub lines: Vec<Line>,
 }
 
+impl Chart {
+    /// Whether its axes can show any point of it ([`render`](super::render)
+    /// refuses a chart they cannot: every value 0 on a log axis, say).
+    pub fn drawable(&self) -> bool {
+        runs(self).iter().any(|(_, r)| !r.is_empty())
+    }
+}
+
 /// Each line's unbroken runs: what an axis cannot show is dropped, and a
 /// dropped point splits its line.
 pub(super) fn runs(chart: &Chart) -> Vec<(&Line, Vec<Run>)> {

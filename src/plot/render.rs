@@ -196,9 +196,19 @@ pub(super) fn titled<'a>(
 }
 
 /// Draws one unbroken run (in drawn coordinates) of line `l` in its style.
+/// A run of one point, which a line cannot show (one block of its ε, a
+/// series cut by the axis to one point), is drawn as a dot.
 fn draw_run(c: &mut Plot<'_, '_>, l: &Line, run: &Run, title: &str) -> Result<(), PlotError> {
     let err = draw_err(title);
     let color = l.hue.rgb();
+    if let ([p], Style::Line | Style::Dashed | Style::Faint) = (&run[..], l.style) {
+        let dot = match l.style {
+            Style::Faint => Circle::new(*p, 2, RGBColor(190, 190, 190).filled()),
+            _ => Circle::new(*p, 3, color.filled()),
+        };
+        c.draw_series(std::iter::once(dot)).map_err(&err)?;
+        return Ok(());
+    }
     match l.style {
         Style::Band => {
             c.draw_series(std::iter::once(Polygon::new(
@@ -338,6 +348,42 @@ mod tests {
 
     /// A log axis from 0.33 to 10 is labelled 0.5, 1, 2, 5 and 10, each
     /// once (plotters' own log mesh printed "10" twice and nothing below 1).
+    /// A line of one point (each named block its own ε) is drawn as a dot
+    /// where its point is; it was an invisible polyline of one vertex.
+    #[test]
+    fn a_line_of_one_point_is_a_dot() {
+        for style in [Style::Line, Style::Dashed, Style::Faint] {
+            let lone = Line {
+                style,
+                ..line(Some("lone"), vec![(1.0, 1.0)])
+            };
+            let other = line(Some("other"), vec![(0.0, 0.0), (2.0, 2.0)]);
+            let svg = render(&chart(vec![lone, other], Scale::Linear)).unwrap();
+            // The points style draws its two dots; the lone line one more,
+            // midway between them (the plot is linear in both axes).
+            let centres: Vec<(f64, f64)> = svg
+                .split("<circle ")
+                .skip(1)
+                .map(|c| {
+                    let attr = |n: &str| -> f64 {
+                        let from = c.find(&format!("{n}=\"")).unwrap() + n.len() + 2;
+                        c[from..].split('"').next().unwrap().parse().unwrap()
+                    };
+                    (attr("cx"), attr("cy"))
+                })
+                .collect();
+            let near = |c: (f64, f64), a: (f64, f64), b: (f64, f64)| {
+                (c.0 - (a.0 + b.0) / 2.0).abs() <= 1.0 && (c.1 - (a.1 + b.1) / 2.0).abs() <= 1.0
+            };
+            let midway = centres.iter().enumerate().any(|(i, &a)| {
+                centres[i + 1..]
+                    .iter()
+                    .any(|&b| a != b && centres.iter().any(|&c| c != a && c != b && near(c, a, b)))
+            });
+            assert!(midway, "{style:?}: no dot midway among {centres:?}");
+        }
+    }
+
     #[test]
     fn a_log_axis_labels_each_tick_once() {
         let pts = vec![(0.33, 300.0), (10.0, 700.0)];

@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use crate::figures::ims::{best_periods, display_name, shown_eps};
+use crate::figures::ims::{best_periods, display_name, Shown};
 use crate::im::efficiency::VECTOR;
 use crate::study::StudyData;
 use crate::tables::ims::EfficiencyRow;
@@ -12,7 +12,7 @@ use crate::tables::ims::EfficiencyRow;
 /// `## Which IM predicts overturning`, when the ims stage has run.
 pub(super) fn ims_section(w: &mut String, d: &StudyData) {
     let rows = &d.efficiency;
-    let Some(eps) = shown_eps(d) else { return };
+    let Some(shown) = Shown::of(d) else { return };
     if rows.is_empty() {
         return;
     }
@@ -44,34 +44,43 @@ pub(super) fn ims_section(w: &mut String, d: &StudyData) {
         "The IM of smallest β, over the {blocks} blocks: {}.\n",
         text.join(", ")
     );
-    let beta = |p: f64, im: &str| -> Option<&EfficiencyRow> {
-        rows.iter().find(|r| r.p == p && r.eps == eps && r.im == im)
+    let beta = |block: i64, im: &str| -> Option<&EfficiencyRow> {
+        rows.iter().find(|r| r.block_index == block && r.im == im)
     };
-    let periods = best_periods(rows, eps);
-    let _ = writeln!(w, "At ε = {eps}:\n");
+    let periods = best_periods(rows, shown);
+    let _ = writeln!(w, "At {}:\n", shown.text());
+    let first = match shown {
+        Shown::Eps(_) => "p (1/s)",
+        Shown::Every => "block, p (1/s)",
+    };
     let _ = writeln!(
         w,
-        "| p (1/s) | best IM (β) | β of PGA | β of PGV | β of AvgSA | best SA(T): T (s), β | β of PGA given PGV/PGA |"
+        "| {first} | best IM (β) | β of PGA | β of PGV | β of AvgSA | best SA(T): T (s), β | β of PGA given PGV/PGA |"
     );
     let _ = writeln!(w, "|---|---|---|---|---|---|---|");
     let f = |r: Option<&EfficiencyRow>| r.map_or("—".to_string(), |r| format!("{:.3}", r.beta));
-    for &(p, t, b) in &periods {
+    for &(block, p, t, b) in &periods {
         let top = rows
             .iter()
-            .find(|r| r.p == p && r.eps == eps && r.rank == Some(1))
+            .find(|r| r.block_index == block && r.rank == Some(1))
             .map_or("—".to_string(), |r| {
                 format!("{} ({:.3})", display_name(&r.im), r.beta)
             });
+        let name = match (shown, beta(block, "pga")) {
+            (Shown::Every, Some(r)) => format!("{}, ", r.block),
+            _ => String::new(),
+        };
         let _ = writeln!(
             w,
-            "| {p:.3} | {top} | {} | {} | {} | {}, {b:.3} | {} |",
-            f(beta(p, "pga")),
-            f(beta(p, "pgv")),
-            f(beta(p, "avgsa")),
+            "| {name}{p:.3} | {top} | {} | {} | {} | {}, {b:.3} | {} |",
+            f(beta(block, "pga")),
+            f(beta(block, "pgv")),
+            f(beta(block, "avgsa")),
             crate::im::period_text(t),
-            f(beta(p, VECTOR)),
+            f(beta(block, VECTOR)),
         );
     }
+    let periods: Vec<(f64, f64, f64)> = periods.iter().map(|b| (b.1, b.2, b.3)).collect();
     if let Some(line) = best_period_line(&periods) {
         let _ = writeln!(w, "\n{line}");
     }

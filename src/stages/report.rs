@@ -248,14 +248,19 @@ const FIGURE_LIST: &str = ".report-figures";
 
 fn run(cx: &Context) -> Result<Summary, ReportError> {
     let study = cx.study;
+    // A figure with no point its axes can show (every capacity fractile 0,
+    // on a log axis, when no block overturned) is left out of the report.
+    let drawable = |figs: Vec<figures::Figure>| -> Vec<figures::Figure> {
+        figs.into_iter().filter(|f| f.chart.drawable()).collect()
+    };
     let (figs, md) = if study.plan.pulse_map().is_some() {
         let data = load_pulses(study, &cx.stage_seconds)?;
-        let figs = figures::all_pulse(&data);
+        let figs = drawable(figures::all_pulse(&data));
         let md = crate::report::render_pulses(&data, &figs);
         (figs, md)
     } else {
         let data = load(study, &cx.stage_seconds)?;
-        let figs = figures::all(&data);
+        let figs = drawable(figures::all(&data));
         let md = crate::report::render(&data, &figs);
         (figs, md)
     };
