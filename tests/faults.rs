@@ -611,10 +611,20 @@ fn an_incomplete_or_resharded_sweep_is_not_redone_behind_the_users_back() {
         "{err}"
     );
     assert!(d.join("out/s/capacities.shard-1-of-2.parquet").exists());
-    // Re-sharded into three: the shards of two are superseded.
+    // Re-sharded into three: the shards of two are superseded, and the
+    // first shard of three says which tables it removed (they went unsaid).
     for k in 1..=3 {
         let out = sweep(&format!("{k}/3"));
         assert!(out.status.success(), "{}", stderr(&out));
+        let said = format!("{}{}", stdout(&out), stderr(&out));
+        assert_eq!(
+            said.contains(
+                "removed capacities.shard-1-of-2.parquet, ida_points.shard-1-of-2.parquet: \
+                 shard 1/3 supersedes"
+            ),
+            k == 1,
+            "{said}"
+        );
     }
     assert!(!d.join("out/s/capacities.shard-1-of-2.parquet").exists());
     assert!(!d
@@ -627,6 +637,10 @@ fn an_incomplete_or_resharded_sweep_is_not_redone_behind_the_users_back() {
         "{}",
         stderr(&out)
     );
+    // The report's run times have the sweep: its shards' seconds, summed
+    // (it had no row when the sweep was sharded).
+    let md = fs::read_to_string(d.join("out/s/report.md")).unwrap();
+    assert!(md.contains("| sweep (3 shards, summed) | "), "{md}");
     // More shards than chunks, or an absurd count, is refused.
     let out = sweep("4/4");
     assert!(
@@ -1437,4 +1451,49 @@ fn a_study_where_nothing_overturns_has_its_report() {
             "{name}"
         );
     }
+}
+
+/// A sweep run in shards whose settings then changed: `status` said "never
+/// run here (no fingerprint)" and `run` redid the whole sweep here,
+/// unsharded, where one shard of two stale made it refuse. Both shards
+/// stale now read as one stale: the shards' reason, and a refusal that
+/// says how to rerun them (or --force to run it here).
+#[test]
+fn a_sharded_sweep_whose_settings_changed_is_not_redone_here_unasked() {
+    let dir = tempdir();
+    let d = dir.path();
+    let pipe = write_pipeline(d, "s", THREE_CHUNKS);
+    let p = pipe.to_str().unwrap();
+    for shard in ["1/2", "2/2"] {
+        let out = rocking(d, &["sweep", p, "--outputs", "out", "--shard", shard]);
+        assert!(out.status.success(), "{}", stderr(&out));
+    }
+    // The same study with another tolerance.
+    write_pipeline(d, "s", &format!("{THREE_CHUNKS}tol = 2e-4\n"));
+    let out = rocking(d, &["status", p, "--outputs", "out"]);
+    let said = format!("{}{}", stdout(&out), stderr(&out));
+    let sweep_line = said
+        .lines()
+        .find(|l| l.starts_with("sweep"))
+        .expect("a sweep line");
+    assert!(
+        sweep_line.contains("settings changed")
+            && sweep_line.contains("shards 1/2, 2/2 are missing or stale")
+            && !sweep_line.contains("never run here"),
+        "{said}"
+    );
+    let out = rocking(d, &["run", p, "--outputs", "out", "--to", "sweep"]);
+    assert!(!out.status.success());
+    let err = stderr(&out);
+    assert!(
+        err.contains("--shard K/2") && err.contains("--force"),
+        "{err}"
+    );
+    assert!(d.join("out/s/capacities.shard-1-of-2.parquet").exists());
+    // Asked to, it runs here.
+    let out = rocking(
+        d,
+        &["run", p, "--outputs", "out", "--to", "sweep", "--force"],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
 }

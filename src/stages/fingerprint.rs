@@ -100,8 +100,22 @@ pub fn freshness(stage: &dyn Stage, study: &Study, shard: Option<Shard>) -> Fres
         match shard_state(stage, study, &now) {
             Shards::None => {}
             Shards::Complete(n) => return Freshness::FreshShards(n),
-            Shards::Incomplete { n, missing } => {
-                let mut why = why;
+            Shards::Incomplete {
+                n,
+                missing,
+                why: of_shards,
+            } => {
+                // Run in shards, not here: the shards' reasons, not "never
+                // run here".
+                let mut why = match why[..] {
+                    [Stale::NeverRun] => Vec::new(),
+                    _ => why,
+                };
+                for w in of_shards {
+                    if !why.contains(&w) {
+                        why.push(w);
+                    }
+                }
                 why.push(Stale::ShardsIncomplete { n, missing });
                 return Freshness::Stale(why);
             }
@@ -116,8 +130,13 @@ enum Shards {
     None,
     /// Every shard of N is fresh.
     Complete(usize),
-    /// Some shards of N are fresh, these are not.
-    Incomplete { n: usize, missing: Vec<usize> },
+    /// Some shards of N, or none, are fresh; these are not (missing, or
+    /// stale for `why`: the first stale shard's reasons).
+    Incomplete {
+        n: usize,
+        missing: Vec<usize>,
+        why: Vec<Stale>,
+    },
 }
 
 fn shard_state(stage: &dyn Stage, study: &Study, now: &BTreeMap<String, String>) -> Shards {
@@ -125,24 +144,26 @@ fn shard_state(stage: &dyn Stage, study: &Study, now: &BTreeMap<String, String>)
     let Some(n) = notes.last().map(|(s, _)| s.n) else {
         return Shards::None;
     };
-    let fresh: BTreeSet<usize> = notes
-        .iter()
-        .filter(|(s, _)| s.n == n)
-        .filter(|(s, path)| {
-            read_note(study, path).is_ok_and(|note| {
-                let declared = stage.outputs(study, Some(*s));
-                compare(now, &note, study, &declared).is_empty()
-            })
-        })
-        .map(|(s, _)| s.k)
-        .collect();
+    let mut fresh = BTreeSet::new();
+    let mut why = Vec::new();
+    for (s, path) in notes.iter().filter(|(s, _)| s.n == n) {
+        let stale = match read_note(study, path) {
+            Ok(note) => compare(now, &note, study, &stage.outputs(study, Some(*s))),
+            Err(e) => vec![e],
+        };
+        if stale.is_empty() {
+            fresh.insert(s.k);
+        } else if why.is_empty() {
+            why = stale;
+        }
+    }
     match fresh.len() {
-        0 => Shards::None,
         k if k == n => Shards::Complete(n),
         _ => Shards::Incomplete {
             n,
-            // At most N − 1 of them, and N is bounded by the number of chunks.
+            // N is bounded by the number of chunks.
             missing: (1..=n).filter(|k| !fresh.contains(k)).collect(),
+            why,
         },
     }
 }
@@ -394,6 +415,24 @@ fn shard_notes(study: &Study, stage: &str) -> Vec<(Shard, PathBuf)> {
         .collect();
     found.sort_by_key(|(s, _)| (s.n, s.k));
     found
+}
+
+/// The seconds of a stage run in shards, summed over its shards (of the
+/// count with the most notes), and that count; `None` without shard notes.
+pub fn sharded_seconds(study: &Study, stage: &str) -> Option<(f64, usize)> {
+    let notes = shard_notes(study, stage);
+    let mut counts: BTreeMap<usize, usize> = BTreeMap::new();
+    for (shard, _) in &notes {
+        *counts.entry(shard.n).or_default() += 1;
+    }
+    let (&n, _) = counts.iter().max_by_key(|&(n, c)| (*c, *n))?;
+    let total = notes
+        .iter()
+        .filter(|(shard, _)| shard.n == n)
+        .filter_map(|(_, path)| read_note(study, path).ok())
+        .map(|note| note.seconds)
+        .sum();
+    Some((total, n))
 }
 
 /// Seconds of every whole-stage note in the study's folder, by stage name

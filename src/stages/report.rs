@@ -188,7 +188,7 @@ pub fn load(
             Some(_) => Some(tables::read(&dir.join(super::tree::CAPACITIES))?),
             None => None,
         },
-        stage_seconds: other_stages(stage_seconds),
+        stage_seconds: other_stages(study, stage_seconds),
     })
 }
 
@@ -219,12 +219,21 @@ fn read_fit_bands(path: &Path) -> Result<FitBands, ReportError> {
     })
 }
 
-/// The other stages' times, for the report.
-fn other_stages(stage_seconds: &[(&str, Option<f64>)]) -> Vec<(String, Option<f64>)> {
+/// The other stages' times, for the report; a stage run in shards only
+/// (the sweep on a cluster), their sum, named so.
+fn other_stages(
+    study: &Study,
+    stage_seconds: &[(&str, Option<f64>)],
+) -> Vec<(String, Option<f64>)> {
     stage_seconds
         .iter()
         .filter(|(name, _)| *name != "report")
-        .map(|(name, s)| (name.to_string(), *s))
+        .map(
+            |&(name, s)| match (s, fingerprint::sharded_seconds(study, name)) {
+                (None, Some((total, n))) => (format!("{name} ({n} shards, summed)"), Some(total)),
+                _ => (name.to_string(), s),
+            },
+        )
         .collect()
 }
 
@@ -239,7 +248,7 @@ pub fn load_pulses(
         version: env!("CARGO_PKG_VERSION").to_string(),
         walls: tables::read(&study.path(super::pulses::WALLS))?,
         cells: tables::read(&study.path(super::pulses::MAP))?,
-        stage_seconds: other_stages(stage_seconds),
+        stage_seconds: other_stages(study, stage_seconds),
     })
 }
 

@@ -174,8 +174,21 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
         })
     };
     let tally = run_chunks(&cases, prep, writer, delay)?;
-    clean_up(study, &setup.mine, cx.shard)?;
-    Ok(summary(cx, &setup, &tally, started, ida_path, cap_path))
+    let superseded = clean_up(study, &setup.mine, cx.shard)?;
+    let mut done = summary(cx, &setup, &tally, started, ida_path, cap_path);
+    if !superseded.is_empty() {
+        done.lines.push(format!(
+            "removed {}: {} supersedes {}",
+            superseded.join(", "),
+            cx.shard
+                .map_or("the whole sweep".to_string(), |s| format!("shard {s}")),
+            match cx.shard {
+                None => "every shard's tables",
+                Some(_) => "the whole sweep's tables and those of shards of another count",
+            }
+        ));
+    }
+    Ok(done)
 }
 
 /// Prepares the cases, makes the parts folder, and picks this run's chunks

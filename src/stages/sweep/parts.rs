@@ -15,12 +15,13 @@ use crate::tables::{self, TableError};
 
 /// Once the final tables are in place: removes this run's parts, and the
 /// tables the new ones supersede (shards after an unsharded run and the
-/// reverse).
+/// reverse); returns the names of the superseded tables it removed (their
+/// temporaries not counted).
 pub(super) fn clean_up(
     study: &Study,
     mine: &[usize],
     shard: Option<Shard>,
-) -> Result<(), SweepError> {
+) -> Result<Vec<String>, SweepError> {
     let parts = study.path("parts");
     for &c in mine {
         let (ida_part, cap_part) = part_paths(&parts, c);
@@ -45,9 +46,13 @@ pub(super) fn clean_up(
             }
         }
     };
-    remove_where(&study.dir, |name| {
+    let removed = remove_where(&study.dir, |name| {
         superseded(crate::tables::temporary_of(name).map_or(name, |(table, _pid)| table))
-    })
+    })?;
+    Ok(removed
+        .into_iter()
+        .filter(|name| crate::tables::temporary_of(name).is_none())
+        .collect())
 }
 
 pub(super) fn part_paths(parts: &Path, c: usize) -> (PathBuf, PathBuf) {
@@ -132,17 +137,25 @@ fn span(ids: &[i64]) -> String {
 }
 
 /// Removes the files of `dir` whose names `stale` picks.
-pub(super) fn remove_where(dir: &Path, stale: impl Fn(&str) -> bool) -> Result<(), SweepError> {
+/// Removes the files of `dir` whose names are `stale`; returns the names
+/// of those removed, sorted.
+pub(super) fn remove_where(
+    dir: &Path,
+    stale: impl Fn(&str) -> bool,
+) -> Result<Vec<String>, SweepError> {
     let entries = fs::read_dir(dir).map_err(|source| SweepError::Io {
         path: dir.into(),
         source,
     })?;
+    let mut removed = Vec::new();
     for e in entries.flatten() {
-        if stale(&e.file_name().to_string_lossy()) {
-            let _ = fs::remove_file(e.path());
+        let name = e.file_name().to_string_lossy().into_owned();
+        if stale(&name) && fs::remove_file(e.path()).is_ok() {
+            removed.push(name);
         }
     }
-    Ok(())
+    removed.sort();
+    Ok(removed)
 }
 
 /// Removes temporary files left by a killed run (`.ida-000042.parquet.tmp-PID`),
@@ -161,4 +174,5 @@ pub(super) fn remove_stale_temporaries(dir: &Path, mine: &[usize]) -> Result<(),
             .and_then(|c| c.parse::<usize>().ok());
         chunk.is_some_and(|c| mine.contains(&c))
     })
+    .map(drop)
 }

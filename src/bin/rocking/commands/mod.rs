@@ -134,7 +134,7 @@ fn print_error(e: &anyhow::Error) {
 fn interrupted(name: &str) -> String {
     format!(
         "interrupted ({name}): every file written is whole and nothing is half-written; a \
-         study's sweep keeps the chunks it finished, and `rocking run` resumes from them"
+         study's sweep keeps the chunks it finished, and the same command resumes from them"
     )
 }
 

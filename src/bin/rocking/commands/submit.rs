@@ -33,7 +33,8 @@ fn shard_count(text: &str) -> Result<usize, String> {
 pub struct Args {
     #[command(flatten)]
     pipeline: PipelineArgs,
-    /// Array tasks: the sweep's shards (1 or more).
+    /// Array tasks: the sweep's shards, 1 or more and at most its chunks of 32
+    /// cases (a task without a chunk would have no work: refused).
     #[arg(long, value_name = "N", value_parser = shard_count)]
     shards: usize,
     /// Follow the jobs until they end; fail naming a failed task and its log.
