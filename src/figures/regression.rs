@@ -30,6 +30,8 @@ fn regression(d: &StudyData, qi: usize) -> Option<Figure> {
     let paper = &fragility::paper()[qi];
     let bands = d.fit_bands.as_ref();
     let mut lines = Vec::new();
+    // Whether a band leaves the frame's 0–1: η_c cannot (η = 1 is uplift).
+    let mut cut = false;
     for (_, e) in band_eps(&es) {
         if let Some(b) = bands {
             let rows: Vec<(f64, f64, f64)> = b
@@ -37,6 +39,7 @@ fn regression(d: &StudyData, qi: usize) -> Option<Figure> {
                 .iter()
                 .filter_map(|r| Some((r.p, r.lo?, r.hi?)))
                 .collect();
+            cut |= rows.iter().any(|&(_, lo, hi)| lo < 0.0 || hi > 1.0);
             lines.push(Line {
                 name: Some(format!("fit's band, ε = {e:.2}")),
                 points: outline(&rows),
@@ -65,10 +68,21 @@ fn regression(d: &StudyData, qi: usize) -> Option<Figure> {
     }
     let pct = (100.0 * q).round();
     let band_note = bands.map_or(String::new(), |b| {
-        let first = b.rows.first();
+        let level = b.rows.first().map_or(0.9, |r| r.level);
+        let cut_note = match cut {
+            true => format!(
+                " and cut by the frame where it leaves 0–1: there more than {:.0} % of the \
+                 resamples' laws give a value no capacity takes (η_c ≤ 0, or above 1, where \
+                 the block would overturn without uplifting; `fit_bands.parquet` holds them), \
+                 as a refitted a(ε), b(ε), c(ε) can swing between few ε",
+                100.0 * (1.0 - level) / 2.0
+            ),
+            false => String::new(),
+        };
         format!(
-            ", its {:.0} % bootstrap band (shaded: {} of {} resamples refitted through both steps)",
-            100.0 * first.map_or(0.9, |r| r.level),
+            ", its {:.0} % bootstrap band (shaded: {} of {} resamples refitted through both \
+             steps{cut_note})",
+            100.0 * level,
             b.laws_complete.0,
             b.laws_complete.1
         )
@@ -314,6 +328,43 @@ mod tests {
             .unwrap();
         assert!(step1.points[0].1.is_nan());
         assert!(!figs[0].caption.contains("did not converge"));
+    }
+
+    /// A band that leaves 0–1 (a resample's law below 0 at ε = 0.5, by
+    /// hand) is said to be cut by the frame; one inside it is not.
+    #[test]
+    fn a_band_beyond_the_frame_is_said_to_be_cut() {
+        use crate::study::FitBands;
+        use crate::tables::fit::{BandCurve, FitBandRow};
+        let with_band = |lo: f64, hi: f64| {
+            let mut d = study();
+            let row = |p| FitBandRow {
+                curve: BandCurve::EtaC,
+                quantile: Some(0.5),
+                p,
+                eps: 0.5,
+                pga_g: None,
+                value: Some(0.4),
+                lo: Some(lo),
+                hi: Some(hi),
+                used: 10,
+                level: 0.9,
+                resamples: 10,
+            };
+            d.fit_bands = Some(FitBands {
+                rows: vec![row(1.0), row(2.0)],
+                step1_converged: (1, 1),
+                laws_complete: (10, 10),
+            });
+            regressions(&d).remove(0).caption
+        };
+        let cut = with_band(-0.2, 0.6);
+        assert!(
+            cut.contains("cut by the frame") && cut.contains("more than 5 %"),
+            "{cut}"
+        );
+        assert!(with_band(0.1, 1.3).contains("cut by the frame"));
+        assert!(!with_band(0.1, 0.6).contains("cut by the frame"));
     }
 
     /// A step-1 fit that diverged (a = 4.2e9 in a one-record study) is

@@ -109,8 +109,9 @@ pub fn ticks(scale: Scale, lo: f64, hi: f64) -> Vec<f64> {
                 .map(|m| m * mag)
                 .find(|&s| s >= raw)
                 .unwrap_or(10.0 * mag);
-            let first = (lo / step).ceil() as i64;
-            let last = (hi / step).floor() as i64;
+            // Within rounding of a multiple is on it: 1.2/0.2 is 5.999….
+            let first = (lo / step - 1e-9).ceil() as i64;
+            let last = (hi / step + 1e-9).floor() as i64;
             // k·step, rounded to the step's precision so 0.1·3 is 0.3.
             let digits = (-step.log10().floor() + 2.0).max(0.0) as i32;
             let round = |v: f64| {
@@ -219,6 +220,11 @@ mod tests {
         assert_eq!(
             ticks(Scale::Linear, 0.65, 0.88),
             vec![0.65, 0.7, 0.75, 0.8, 0.85]
+        );
+        // The example fragility's 0–1.2 g: its end a tick (1.2/0.2 = 5.999…).
+        assert_eq!(
+            ticks(Scale::Linear, 0.0, 1.2),
+            vec![0.0, 0.2, 0.4, 0.6, 0.8, 1.0, 1.2]
         );
         assert_eq!(
             ticks(Scale::Log, 0.25, 10.0),

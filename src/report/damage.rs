@@ -24,7 +24,9 @@ pub(super) fn damage_section(w: &mut String, d: &StudyData) {
     let _ = writeln!(
         w,
         "For {} (p = {} 1/s, ε = {}), in PGA/(αg):\n",
-        s.which, s.p, s.eps
+        s.which,
+        crate::im::level_text(s.p),
+        crate::im::level_text(s.eps)
     );
     let _ = writeln!(
         w,
