@@ -189,7 +189,13 @@ pub(super) fn machine() -> String {
         })
         .unwrap_or_else(|| "unknown CPU".into());
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    format!("{cpu}, {cores} cores available; one thread; release profile")
+    // The steppers' loops this CPU runs (ROCKING_ISA may cap them).
+    let loops = match rocking::physics::Isa::detected() {
+        rocking::physics::Isa::V4 => "the x86-64-v4 loops (AVX-512)",
+        rocking::physics::Isa::V3 => "the x86-64-v3 loops (AVX2)",
+        rocking::physics::Isa::Baseline => "the baseline loops",
+    };
+    format!("{cpu}, {cores} cores available, {loops}; one thread; release profile")
 }
 
 fn solver_section(
