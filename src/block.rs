@@ -33,9 +33,13 @@ pub enum Restitution {
 /// A block that cannot be built, and why.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum BlockError {
-    #[error("b = {b} m and h = {h} m must be positive and finite")]
+    #[error(
+        "b = {} m and h = {} m must be positive and finite",
+        crate::decimal::shortest(*b),
+        crate::decimal::shortest(*h)
+    )]
     Size { b: f64, h: f64 },
-    #[error("ε = {0}; ε must be in (0, 1]")]
+    #[error("ε = {}; ε must be in (0, 1]", crate::decimal::shortest(*.0))]
     Eps(f64),
     #[error(
         "Housner's ε = 1 − 1.5 sin²α = {eps:.4} is not positive for b/h = {ratio} \

@@ -1,7 +1,8 @@
 //! Correctly rounded reading of decimal numbers (`[±]digits[.digits][(E|D)[±]digits]`)
 //! by Clinger's exact fast path, the digits read eight bytes at a time: the
 //! double nearest each decimal it accepts, the same as any correct parser
-//! gives; it declines the rest, for a general parser to read.
+//! gives; it declines the rest, for a general parser to read. And the
+//! writing of a number a user gave, back in a message ([`shortest`]).
 
 /// Powers of ten that are exact doubles.
 const EXACT_POW10: [f64; 23] = [
@@ -183,6 +184,18 @@ fn decimal_prefix_bytewise(t: &[u8]) -> Option<(f64, usize)> {
         return None;
     }
     with_exponent(t, i, m, fraction, negative)
+}
+
+/// A number as a message echoes it: the shortest text that reads back to
+/// it, in exponent form where the plain one would be long (`1e-300`, not
+/// three hundred zeros; `5e20`), else plain (`0.001`, `2`, `0.7`).
+pub fn shortest(x: f64) -> String {
+    let a = x.abs();
+    if a != 0.0 && a.is_finite() && !(1e-4..1e15).contains(&a) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
 }
 
 #[cfg(test)]
@@ -381,5 +394,24 @@ mod tests {
             assert_eq!(digit_run(text.as_bytes(), 0), Some((want, n)), "{text:?}");
         }
         assert_eq!(digit_run(b"1234567", 0), None);
+    }
+
+    /// Echoed numbers read back to themselves, and are short at the
+    /// extremes (by hand).
+    #[test]
+    fn shortest_echoes_read_back_and_stay_short() {
+        for (x, text) in [
+            (1e-300, "1e-300"),
+            (5e20, "5e20"),
+            (0.001, "0.001"),
+            (2.0, "2"),
+            (0.7, "0.7"),
+            (-3.5e-7, "-3.5e-7"),
+            (0.0, "0"),
+            (f64::INFINITY, "inf"),
+        ] {
+            assert_eq!(shortest(x), text);
+            assert_eq!(text.parse::<f64>().unwrap(), x);
+        }
     }
 }

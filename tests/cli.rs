@@ -224,6 +224,31 @@ fn bad_input_is_named() {
     );
     assert!(!out.status.success() && stderr(&out).contains("nope.AT2"));
     assert!(bundled_records().exists());
+    // An extreme value is echoed short, as typed: three hundred zeros once
+    // stood for 1e-300.
+    let base = ["capacity", "--record", KOBE, "--p", "2"];
+    let out = rocking(
+        &root(),
+        &[&base[..], &["--eps", "0.8", "--eta-min", "1e-300"]].concat(),
+    );
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("--eta-min 1e-300: give an η in [1e-12, 1)"),
+        "{}",
+        stderr(&out)
+    );
+    let out = rocking(
+        &root(),
+        &[
+            "simulate", "--record", KOBE, "--p", "2", "--eps", "1e-300", "--eta", "0.3",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        String::from_utf8_lossy(&out.stdout).contains("p = 2 1/s, ε = 1e-300, η = 0.3 ("),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
 }
 
 /// Options that mean something only beside another did nothing without

@@ -128,7 +128,7 @@ impl SearchAsk {
         if !(self.tol > 0.0 && self.tol.is_finite()) {
             return Err(bad(
                 "tol",
-                self.tol.to_string(),
+                crate::decimal::shortest(self.tol),
                 "give a positive width in η",
             ));
         }
@@ -138,7 +138,7 @@ impl SearchAsk {
         if !(self.eta_min >= crate::physics::ETA_MIN && self.eta_min < 1.0) {
             return Err(bad(
                 "eta_min",
-                self.eta_min.to_string(),
+                crate::decimal::shortest(self.eta_min),
                 &format!("give an η in [{:e}, 1)", crate::physics::ETA_MIN),
             ));
         }

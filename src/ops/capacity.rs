@@ -192,7 +192,11 @@ pub fn rows(
 /// A block as errors name it: its name, or its p and ε.
 fn block_label(block: &NamedSpec) -> String {
     if block.name.is_empty() {
-        format!("p = {} 1/s, ε = {}", block.spec.p, block.spec.eps)
+        format!(
+            "p = {} 1/s, ε = {}",
+            crate::decimal::shortest(block.spec.p),
+            crate::decimal::shortest(block.spec.eps)
+        )
     } else {
         block.name.clone()
     }

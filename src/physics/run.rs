@@ -83,10 +83,16 @@ impl RunSpec {
         let bad = |m: String| Err(PhysicsError::BadInput(m));
         check_p(self.p).map_err(PhysicsError::BadInput)?;
         if !(self.eps > 0.0 && self.eps <= 1.0) {
-            return bad(format!("ε = {} must be in (0, 1]", self.eps));
+            return bad(format!(
+                "ε = {} must be in (0, 1]",
+                crate::decimal::shortest(self.eps)
+            ));
         }
         if !(self.eta > 0.0 && self.eta.is_finite()) {
-            return bad(format!("η = {} must be positive", self.eta));
+            return bad(format!(
+                "η = {} must be positive",
+                crate::decimal::shortest(self.eta)
+            ));
         }
         if self.eta < ETA_MIN {
             return bad(format!(

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use rocking::ask::{AskedBlock, SearchAsk, Spelling};
+use rocking::decimal::shortest;
 use rocking::ida::{Certified, Spacing};
 use rocking::im;
 use rocking::ops::capacity::{self, NamedSpec};
@@ -206,7 +207,9 @@ fn print_text(args: &Args, rec: &LoadedRecord, block: &AskedBlock, certified: &C
     }
     println!(
         "block       p = {} 1/s, ε = {} ({})",
-        spec.p, spec.eps, block.why
+        shortest(spec.p),
+        shortest(spec.eps),
+        block.why
     );
     match cap.eta_c {
         Some(c) => {

@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use rocking::ask::Spelling;
+use rocking::decimal::shortest;
 use rocking::label::Label;
 use rocking::ops::reports::{Scene, SimulateReport};
 use rocking::physics::{self, Recorder};
@@ -149,7 +150,9 @@ fn print_text(
     }
     println!(
         "block       p = {} 1/s, ε = {}, η = {} ({why})",
-        spec.p, spec.eps, spec.eta
+        shortest(spec.p),
+        shortest(spec.eps),
+        shortest(spec.eta)
     );
     println!("overturning {}", spec.overturn);
     println!("θmax/α      {:.12}", out.max_abs_x);
