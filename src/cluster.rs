@@ -90,14 +90,61 @@ fn directive(value: &str) -> String {
     s
 }
 
+/// An `--output` file pattern for a log `name` (holding Slurm's `%A`, `%a`
+/// or `%j`) in the folder `logs`: a `%` of the folder doubled, so that
+/// Slurm does not read it as a replacement symbol.
+fn log_pattern(logs: &Path, name: &str) -> String {
+    format!("{}/{name}", logs.to_string_lossy().replace('%', "%%"))
+}
+
+/// A user's `--sbatch` option as a directive: the value after its first
+/// `=` quoted as [`directive`] quotes ours (`--comment=my run`).
+fn user_directive(option: &str) -> String {
+    match option.split_once('=') {
+        Some((key, value)) => format!("{key}={}", directive(value)),
+        None => option.to_string(),
+    }
+}
+
 impl Jobs {
+    /// Why these paths cannot be written into the scripts, if they cannot:
+    /// a control character (a line break ends a directive, and the rest
+    /// would run as a shell line), or a backslash in the logs' folder
+    /// (Slurm then takes `%A_%a` literally, and every task writes one log).
+    pub fn unwritable(&self) -> Option<String> {
+        let paths = [
+            &self.binary,
+            &self.pipeline,
+            &self.outputs,
+            &self.workdir,
+            &self.logs,
+        ];
+        if let Some(p) = paths
+            .iter()
+            .find(|p| p.to_string_lossy().chars().any(char::is_control))
+        {
+            return Some(format!(
+                "{:?} holds a control character (a line break, say), which a job script \
+                 cannot carry",
+                p.to_string_lossy()
+            ));
+        }
+        self.logs.to_string_lossy().contains('\\').then(|| {
+            format!(
+                "the logs' folder {} holds a backslash, which makes Slurm write every task's \
+                 log to one file: give --outputs a path without one",
+                self.logs.display()
+            )
+        })
+    }
+
     fn header(&self, what: &str, lines: &[String]) -> String {
         let mut s = String::from("#!/bin/sh\n");
         for l in lines {
             s.push_str(&format!("#SBATCH {l}\n"));
         }
         for extra in &self.sbatch {
-            s.push_str(&format!("#SBATCH {extra}\n"));
+            s.push_str(&format!("#SBATCH {}\n", user_directive(extra)));
         }
         s.push_str(&format!(
             "# Written by `rocking submit` for the study `{}`: {what}.\n\
@@ -117,7 +164,7 @@ impl Jobs {
             format!("--array=1-{}", self.shards),
             format!(
                 "--output={}",
-                directive(&self.logs.join(SWEEP_LOG).to_string_lossy())
+                directive(&log_pattern(&self.logs, SWEEP_LOG))
             ),
             "--requeue".to_string(),
             format!("--chdir={}", directive(&self.workdir.to_string_lossy())),
@@ -150,7 +197,7 @@ impl Jobs {
             ),
             format!(
                 "--output={}",
-                directive(&self.logs.join(LATER_LOG).to_string_lossy())
+                directive(&log_pattern(&self.logs, LATER_LOG))
             ),
             format!("--chdir={}", directive(&self.workdir.to_string_lossy())),
         ];
@@ -300,6 +347,20 @@ mod tests {
             later_log(Path::new("/l o"), 11),
             Path::new("/l o/after-11.log")
         );
+        // A % of the folder is doubled (Slurm's %x would be the job name).
+        assert_eq!(
+            log_pattern(Path::new("/a%x"), SWEEP_LOG),
+            "/a%%x/sweep-%A_%a.log"
+        );
+        assert_eq!(user_directive("--comment=my run"), r#"--comment="my run""#);
+        assert_eq!(user_directive("--exclusive"), "--exclusive");
+        let mut bad = jobs();
+        assert_eq!(bad.unwritable(), None);
+        bad.logs = "/s/a\\b".into();
+        assert!(bad.unwritable().unwrap().contains("backslash"));
+        bad.logs = "/s/a".into();
+        bad.outputs = "/s/a\nb".into();
+        assert!(bad.unwritable().unwrap().contains("control character"));
     }
 
     /// The scripts as a shell reads them: every path one word, the shard
@@ -309,7 +370,8 @@ mod tests {
         let s = jobs().sweep_script();
         assert!(s.starts_with("#!/bin/sh\n"));
         assert!(s.contains("#SBATCH --array=1-10\n"));
-        assert!(s.contains("#SBATCH --partition=debug\n#SBATCH --cpus-per-task=8\n"));
+        // The user's values quoted as ours (sbatch strips the quotes).
+        assert!(s.contains("#SBATCH --partition=\"debug\"\n#SBATCH --cpus-per-task=\"8\"\n"));
         // Directives' values in double quotes (sbatch split them at a space).
         assert!(
             s.contains("#SBATCH --output=\"/scratch/it's/outputs/paper/slurm/sweep-%A_%a.log\"\n")

@@ -619,8 +619,7 @@ fn an_incomplete_or_resharded_sweep_is_not_redone_behind_the_users_back() {
         let said = format!("{}{}", stdout(&out), stderr(&out));
         assert_eq!(
             said.contains(
-                "removed capacities.shard-1-of-2.parquet, ida_points.shard-1-of-2.parquet: \
-                 shard 1/3 supersedes"
+                "removed the tables of 1 earlier shard (2 files): superseded by shard 1/3"
             ),
             k == 1,
             "{said}"
@@ -1486,7 +1485,9 @@ fn a_sharded_sweep_whose_settings_changed_is_not_redone_here_unasked() {
     assert!(!out.status.success());
     let err = stderr(&out);
     assert!(
-        err.contains("--shard K/2") && err.contains("--force"),
+        err.contains("settings changed")
+            && err.contains("--shard K/2")
+            && err.contains(&format!("`rocking sweep {p} --outputs out --force`")),
         "{err}"
     );
     assert!(d.join("out/s/capacities.shard-1-of-2.parquet").exists());

@@ -355,6 +355,8 @@ fn submit_runs_the_quick_study_on_a_real_slurm() {
         "0.5",
         "--outputs",
         floor_out.to_str().unwrap(),
+        // A user's option whose value has a space, a quote and a `#`.
+        "--sbatch=--comment=a study's run #1",
     ];
     let run = cluster.rocking(&floor_args, &[], limit);
     assert!(run.status.success(), "{}\n{}", stderr(&run), cluster.logs());
@@ -544,39 +546,10 @@ fn fake(bin: &Path, name: &str, body: &str) {
 /// the later job (1002) running for two polls, then completed.
 #[test]
 fn wait_follows_the_later_job_after_slurm_forgets_the_finished_array() {
-    let dir = tempdir();
-    let bin = dir.path().join("bin");
-    std::fs::create_dir(&bin).unwrap();
-    let d = dir.path().display();
-    fake(
-        &bin,
-        "sbatch",
-        &format!("echo x >> '{d}/sbatch'\nwc -l < '{d}/sbatch' | sed 's/ //g; s/^/100/'\n"),
-    );
-    fake(&bin, "scancel", &format!("echo \"$@\" >> '{d}/scancel'\n"));
-    fake(
-        &bin,
-        "scontrol",
-        &format!(
-            "id=$4\necho x >> \"{d}/asked-$id\"\nn=$(wc -l < \"{d}/asked-$id\" | sed 's/ //g')\n\
-             case \"$id:$n\" in\n\
-             1001:1) echo 'JobId=1003 ArrayJobId=1001 ArrayTaskId=1 JobState=COMPLETED ExitCode=0:0'\n\
-                     echo 'JobId=1004 ArrayJobId=1001 ArrayTaskId=2 JobState=COMPLETED ExitCode=0:0' ;;\n\
-             1001:*) echo 'slurm_load_jobs error: Invalid job id specified' >&2; exit 1 ;;\n\
-             1002:1|1002:2) echo 'JobId=1002 JobState=RUNNING ExitCode=0:0' ;;\n\
-             1002:*) echo 'JobId=1002 JobState=COMPLETED ExitCode=0:0' ;;\n\
-             esac\n"
-        ),
-    );
-    let path = format!("{}:/usr/bin:/bin", bin.display());
-    let out = Command::new(env!("CARGO_BIN_EXE_rocking"))
-        .args(["submit", "pipelines/quick.toml", "--shards", "2", "--wait"])
-        .args(["--poll", "0.05", "--outputs"])
-        .arg(dir.path().join("out"))
-        .current_dir(root())
-        .env("PATH", &path)
-        .output()
-        .unwrap();
+    let done =
+        "1001:1) echo 'JobId=1003 ArrayJobId=1001 ArrayTaskId=1 JobState=COMPLETED ExitCode=0:0'\n\
+                echo 'JobId=1004 ArrayJobId=1001 ArrayTaskId=2 JobState=COMPLETED ExitCode=0:0' ;;";
+    let (dir, out) = wait_on_fake_slurm(done, "1002:1|1002:2");
     assert!(out.status.success(), "{}", stderr(&out));
     let said = format!("{}{}", String::from_utf8_lossy(&out.stdout), stderr(&out));
     assert!(
@@ -590,4 +563,66 @@ fn wait_follows_the_later_job_after_slurm_forgets_the_finished_array() {
         !dir.path().join("scancel").exists(),
         "nothing was cancelled"
     );
+    // Forgotten before its last task was seen done, while the later job
+    // (which starts only after every task succeeded) runs: done, not purged.
+    let half =
+        "1001:1) echo 'JobId=1003 ArrayJobId=1001 ArrayTaskId=1 JobState=COMPLETED ExitCode=0:0'\n\
+                echo 'JobId=1004 ArrayJobId=1001 ArrayTaskId=2 JobState=RUNNING ExitCode=0:0' ;;";
+    let (_dir, out) = wait_on_fake_slurm(half, "1002:1|1002:2|1002:3");
+    assert!(out.status.success(), "{}", stderr(&out));
+    // Forgotten while the later job still waits: that is not known to have
+    // succeeded, and is said.
+    let (_dir, out) = wait_on_fake_slurm(half, "1002:0");
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("Slurm no longer knows job 1001"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+/// `rocking submit pipelines/quick.toml --shards 2 --wait` against a fake
+/// Slurm: `array` is the scontrol case of the array's first answer
+/// (`1001:1) …;;`; asked again, it is unknown), `running` the polls of the
+/// later job (1002) that find it running, after which it is completed
+/// (`1002:0` never running: pending until then).
+fn wait_on_fake_slurm(array: &str, running: &str) -> (TempDir, std::process::Output) {
+    let dir = tempdir();
+    let bin = dir.path().join("bin");
+    std::fs::create_dir(&bin).unwrap();
+    let d = dir.path().display();
+    fake(
+        &bin,
+        "sbatch",
+        &format!("echo x >> '{d}/sbatch'\nwc -l < '{d}/sbatch' | sed 's/ //g; s/^/100/'\n"),
+    );
+    fake(&bin, "scancel", &format!("echo \"$@\" >> '{d}/scancel'\n"));
+    let later = match running {
+        "1002:0" => "1002:*) echo 'JobId=1002 JobState=PENDING ExitCode=0:0' ;;".to_string(),
+        r => format!(
+            "{r}) echo 'JobId=1002 JobState=RUNNING ExitCode=0:0' ;;\n\
+             1002:*) echo 'JobId=1002 JobState=COMPLETED ExitCode=0:0' ;;"
+        ),
+    };
+    fake(
+        &bin,
+        "scontrol",
+        &format!(
+            "id=$4\necho x >> \"{d}/asked-$id\"\nn=$(wc -l < \"{d}/asked-$id\" | sed 's/ //g')\n\
+             case \"$id:$n\" in\n{array}\n\
+             1001:*) echo 'slurm_load_jobs error: Invalid job id specified' >&2; exit 1 ;;\n\
+             {later}\n\
+             esac\n"
+        ),
+    );
+    let path = format!("{}:/usr/bin:/bin", bin.display());
+    let out = Command::new(env!("CARGO_BIN_EXE_rocking"))
+        .args(["submit", "pipelines/quick.toml", "--shards", "2", "--wait"])
+        .args(["--poll", "0.05", "--outputs"])
+        .arg(dir.path().join("out"))
+        .current_dir(root())
+        .env("PATH", &path)
+        .output()
+        .unwrap();
+    (dir, out)
 }

@@ -43,6 +43,8 @@ pub struct Submitted {
 pub enum SubmitError {
     #[error("nothing to submit: {0}; it runs in seconds with `rocking run`")]
     NoSweep(String),
+    #[error("cannot write the job scripts: {0}")]
+    Paths(String),
     #[error(
         "rocking submit needs Slurm's `sbatch` on PATH, and there is none \
          (install Slurm's client commands, or load their module)"
@@ -201,6 +203,9 @@ pub fn submit(
         shards: opts.shards,
         sbatch: opts.sbatch.clone(),
     };
+    if let Some(why) = jobs.unwritable() {
+        return Err(SubmitError::Paths(why));
+    }
     let sweep_script = logs.join("sweep.sbatch");
     let later_script = logs.join("after.sbatch");
     atomic_write(&sweep_script, jobs.sweep_script().as_bytes())?;
@@ -276,8 +281,25 @@ pub fn wait(sub: &Submitted, poll: Duration, mut say: impl FnMut(&str)) -> Resul
         let st = match &swept {
             Some(st) => st.clone(),
             None => {
-                let tasks = records(&scontrol, sub.sweep_job)?;
-                let st = cluster::array_state(&tasks, sub.shards);
+                let (tasks, forgotten) = match records(&scontrol, sub.sweep_job) {
+                    Ok(tasks) => (tasks, false),
+                    // Forgotten before every task was seen done: it
+                    // succeeded if the later job (which starts only after
+                    // every task did) has left its wait.
+                    Err(SubmitError::Vanished(id))
+                        if records(&scontrol, sub.later_job)?
+                            .first()
+                            .is_none_or(|r| r.state == "PENDING") =>
+                    {
+                        return Err(SubmitError::Vanished(id))
+                    }
+                    Err(SubmitError::Vanished(_)) => (Vec::new(), true),
+                    Err(e) => return Err(e),
+                };
+                let mut st = cluster::array_state(&tasks, sub.shards);
+                if forgotten {
+                    st.done = sub.shards;
+                }
                 if let Some(bad) = st.failed.first() {
                     let _ = slurm(&scancel, &[&sub.later_job.to_string()]);
                     let task = bad.array_task.clone().unwrap_or_else(|| "?".into());

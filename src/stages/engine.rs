@@ -34,7 +34,7 @@ pub enum RunError {
     },
     #[error(
         "`{stage}`: {why}; run them with `rocking {stage} {args} --shard K/{n}`, \
-         or recompute the whole stage unsharded with --force"
+         or recompute the whole stage here, unsharded, with `rocking {stage} {args} --force`"
     )]
     ShardsIncomplete {
         stage: &'static str,
@@ -279,17 +279,15 @@ pub fn run(
                     _ => unreachable!("forced_from is set by Force::From only"),
                 }),
                 Freshness::Stale(why) => {
-                    if let Some(Stale::ShardsIncomplete { n, missing }) = why
+                    if let Some(Stale::ShardsIncomplete { n, .. }) = why
                         .iter()
                         .find(|w| matches!(w, Stale::ShardsIncomplete { .. }))
                     {
                         return Err(RunError::ShardsIncomplete {
                             stage: stage.name(),
-                            why: Stale::ShardsIncomplete {
-                                n: *n,
-                                missing: missing.clone(),
-                            }
-                            .to_string(),
+                            // Every reason: the shards' own (settings
+                            // changed, say), then which are not fresh.
+                            why: Reason::Stale(why.clone()).to_string(),
                             n: *n,
                             args: format!(
                                 "{} --outputs {}",

@@ -126,7 +126,7 @@ pub fn freshness(stage: &dyn Stage, study: &Study, shard: Option<Shard>) -> Fres
 
 /// What the shard notes of a sharded stage say.
 enum Shards {
-    /// No shard has a fresh note.
+    /// No shard notes at all.
     None,
     /// Every shard of N is fresh.
     Complete(usize),
@@ -141,7 +141,7 @@ enum Shards {
 
 fn shard_state(stage: &dyn Stage, study: &Study, now: &BTreeMap<String, String>) -> Shards {
     let notes = shard_notes(study, stage.name());
-    let Some(n) = notes.last().map(|(s, _)| s.n) else {
+    let Some(n) = current_count(&notes) else {
         return Shards::None;
     };
     let mut fresh = BTreeSet::new();
@@ -392,6 +392,12 @@ pub fn recorded_seconds(
         .collect()
 }
 
+/// The count of the set of shards the notes speak for: the largest (a set
+/// of another count is superseded once one of the new set finishes).
+fn current_count(notes: &[(Shard, PathBuf)]) -> Option<usize> {
+    notes.iter().map(|(s, _)| s.n).max()
+}
+
 /// Shard notes present for `stage`: (shard, path), in shard order.
 fn shard_notes(study: &Study, stage: &str) -> Vec<(Shard, PathBuf)> {
     let dir = study.dir.join(crate::outpath::STUDY_MARK);
@@ -418,14 +424,11 @@ fn shard_notes(study: &Study, stage: &str) -> Vec<(Shard, PathBuf)> {
 }
 
 /// The seconds of a stage run in shards, summed over its shards (of the
-/// count with the most notes), and that count; `None` without shard notes.
+/// current count, [`current_count`]), and that count; `None` without shard
+/// notes.
 pub fn sharded_seconds(study: &Study, stage: &str) -> Option<(f64, usize)> {
     let notes = shard_notes(study, stage);
-    let mut counts: BTreeMap<usize, usize> = BTreeMap::new();
-    for (shard, _) in &notes {
-        *counts.entry(shard.n).or_default() += 1;
-    }
-    let (&n, _) = counts.iter().max_by_key(|&(n, c)| (*c, *n))?;
+    let n = current_count(&notes)?;
     let total = notes
         .iter()
         .filter(|(shard, _)| shard.n == n)

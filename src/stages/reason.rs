@@ -31,8 +31,8 @@ pub enum Stale {
     OutputChanged(String),
     /// An output it writes now is not in its fingerprint (written by an older version).
     OutputNotRecorded(String),
-    /// It was run in `n` shards, some are done with the current settings,
-    /// and these are missing or stale.
+    /// It was run in `n` shards, and these are missing or stale (all of
+    /// them, after the settings changed, say).
     ShardsIncomplete {
         n: usize,
         missing: Vec<usize>,

@@ -176,17 +176,8 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
     let tally = run_chunks(&cases, prep, writer, delay)?;
     let superseded = clean_up(study, &setup.mine, cx.shard)?;
     let mut done = summary(cx, &setup, &tally, started, ida_path, cap_path);
-    if !superseded.is_empty() {
-        done.lines.push(format!(
-            "removed {}: {} supersedes {}",
-            superseded.join(", "),
-            cx.shard
-                .map_or("the whole sweep".to_string(), |s| format!("shard {s}")),
-            match cx.shard {
-                None => "every shard's tables",
-                Some(_) => "the whole sweep's tables and those of shards of another count",
-            }
-        ));
+    if let Some(line) = superseded_line(&superseded, cx.shard) {
+        done.lines.push(line);
     }
     Ok(done)
 }
@@ -371,6 +362,37 @@ fn run_chunks<'a, R: Fn(&Tally) + 'a>(
 }
 
 /// The sweep's summary: the work done, its speed, and the tables written.
+/// What a sweep says of the tables it superseded and removed (`removed`,
+/// file names): the unsharded tables, or the tables of shards of another
+/// count (how many shards of which counts), by `shard` or the whole sweep.
+fn superseded_line(removed: &[String], shard: Option<crate::stages::Shard>) -> Option<String> {
+    if removed.is_empty() {
+        return None;
+    }
+    let shard_sets: std::collections::BTreeSet<&str> = removed
+        .iter()
+        .filter_map(|n| n.split_once(".shard-").map(|(_, rest)| rest))
+        .collect();
+    let whole = removed.iter().filter(|n| !n.contains(".shard-")).count();
+    let mut what = Vec::new();
+    if whole > 0 {
+        what.push(format!("the unsharded sweep's tables ({whole} files)"));
+    }
+    if !shard_sets.is_empty() {
+        let files = removed.len() - whole;
+        what.push(format!(
+            "the tables of {} earlier shard{} ({files} files)",
+            shard_sets.len(),
+            if shard_sets.len() == 1 { "" } else { "s" }
+        ));
+    }
+    Some(format!(
+        "removed {}: superseded by {}",
+        what.join(" and "),
+        shard.map_or("this whole sweep".to_string(), |s| format!("shard {s}"))
+    ))
+}
+
 fn summary(
     cx: &Context,
     setup: &Setup,

@@ -136,8 +136,7 @@ fn span(ids: &[i64]) -> String {
     }
 }
 
-/// Removes the files of `dir` whose names `stale` picks.
-/// Removes the files of `dir` whose names are `stale`; returns the names
+/// Removes the files of `dir` whose names `stale` picks; returns the names
 /// of those removed, sorted.
 pub(super) fn remove_where(
     dir: &Path,
