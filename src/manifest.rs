@@ -141,7 +141,7 @@ pub fn read(mut input: impl Read) -> Result<Manifest, ManifestError> {
         .headers()
         .map_err(|e| ManifestError {
             line: Some(1),
-            message: format!("cannot read the header: {e}"),
+            message: format!("cannot read the header: {}", csv_rows::message(&e)),
         })?
         .clone();
     let (column, ignored_columns) = columns(&headers)?;

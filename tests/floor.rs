@@ -583,6 +583,30 @@ fn a_floor_study_runs_the_floor_motion_in_every_stage() {
         "{report}"
     );
     assert!(outputs.join("on-floor/figures/floor_capacity.svg").exists());
+    // What the building does to the records' peaks, counted from the
+    // capacities: "amplifies" was said of records whose peak it reduced.
+    let ratios: Vec<f64> = on_floor
+        .iter()
+        .filter(|c| c.block == "rack")
+        .map(|c| c.pfa_over_pga.unwrap())
+        .collect();
+    let below = ratios.iter().filter(|&&r| r < 1.0).count();
+    let said = match below {
+        0 => ": it amplifies every one.".to_string(),
+        n => format!(
+            " (it reduces the peak of {n} of the {} records).",
+            ratios.len()
+        ),
+    };
+    assert!(report.contains(&said), "{said}\n{report}");
+    // Named blocks of their own ε: the IM table lists each, with its ε;
+    // the cabinet, which never overturns, "survives" in the fractiles.
+    assert!(report.contains("Each block at its own ε:"), "{report}");
+    assert!(report.contains("| rack, "), "{report}");
+    assert!(
+        report.contains("| survives | survives | survives |"),
+        "{report}"
+    );
 
     // The study states each block's fragility in the floor's demands beside
     // the ground's IMs. record_ims holds each record's floor motion's PFA,

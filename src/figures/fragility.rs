@@ -9,8 +9,11 @@ use crate::study::StudyData;
 
 /// The fragility of an example block, from this study's fit and the paper's.
 pub(super) fn fragility_example(d: &StudyData) -> Vec<Figure> {
-    // A floor study's capacities are in its floor's peak, not the paper's PGA.
-    if d.records_plan().floor.is_some() {
+    // A floor study's capacities are in its floor's peak, not the paper's
+    // PGA; a study of named blocks has no regression, and its own blocks'
+    // fragilities are in the damage section: the paper's curve of an
+    // example cabinet would speak of neither.
+    if d.records_plan().floor.is_some() || !d.is_grid() {
         return Vec::new();
     }
     let block = fragility::example_block();
@@ -158,6 +161,14 @@ mod tests {
             "{}",
             figs[0].caption
         );
+    }
+
+    /// A study of named blocks has no example fragility: the paper's curve
+    /// of a cabinet it does not hold was drawn in how-sure's report.
+    #[test]
+    fn no_example_for_a_study_of_named_blocks() {
+        let d = crate::figures::fixture::block_study();
+        assert!(fragility_example(&d).is_empty());
     }
 
     #[test]

@@ -125,7 +125,12 @@ pub(super) fn im_efficiency(d: &StudyData) -> Vec<Figure> {
         .map(|(i, im)| Line {
             name: Some(im.short()),
             points: series(&d.efficiency, &im.name(), which),
-            style: Style::Line,
+            // Blocks of their own ε are points: a line would read as a
+            // trend along p at one ε.
+            style: match which {
+                Shown::Eps(_) => Style::Line,
+                Shown::Every => Style::Points,
+            },
             hue: Hue::Series(i),
         })
         .filter(|l| !l.points.is_empty())
@@ -133,7 +138,10 @@ pub(super) fn im_efficiency(d: &StudyData) -> Vec<Figure> {
     lines.push(Line {
         name: Some("PGA | PGV/PGA".into()),
         points: series(&d.efficiency, crate::im::efficiency::VECTOR, which),
-        style: Style::Dashed,
+        style: match which {
+            Shown::Eps(_) => Style::Dashed,
+            Shown::Every => Style::Points,
+        },
         hue: Hue::Ink,
     });
     // Up to 1.2, or to the largest β (Arias's exceeds it at small p: its
@@ -160,7 +168,11 @@ pub(super) fn im_efficiency(d: &StudyData) -> Vec<Figure> {
             "The smaller β, the better the IM predicts overturning: each record's capacity \
              converted into the IM (the record scaled to overturn the block), and β the standard \
              deviation of its logarithm over the records. {at}; SA at 5 % damping; the \
-             dashed black line is PGA given the record's PGV/PGA (a two-parameter fragility)."
+             {vector} PGA given the record's PGV/PGA (a two-parameter fragility).",
+            vector = match which {
+                Shown::Eps(_) => "dashed black line is",
+                Shown::Every => "black points are",
+            }
         ),
     };
     let periods = Figure {
@@ -177,7 +189,7 @@ pub(super) fn im_efficiency(d: &StudyData) -> Vec<Figure> {
             lines: period_lines(d, which, &es),
         },
         caption: "For each block, the period among 0.05–4 s whose SA has the smallest \
-                  dispersion of the capacity: larger blocks (small p) follow longer periods."
+                  dispersion of the capacity (the report's IM section says how it moves with p)."
             .into(),
     };
     vec![beta, periods]
@@ -203,7 +215,7 @@ fn period_lines(d: &StudyData, shown: Shown, es: &[f64]) -> Vec<Line> {
         Shown::Every => vec![line(
             "every block".into(),
             Shown::Every,
-            Style::LinePoints,
+            Style::Points,
             Hue::Ink,
         )],
     }

@@ -80,27 +80,36 @@ pub(super) fn lognormal_plots(d: &StudyData) -> Vec<Figure> {
                     },
                 ],
             },
-            caption: format!(
-                "{}: ln η_c of {} against normal quantiles (paper Fig. 9).",
-                match (tag, best) {
-                    ("good", _) => "The best fitting block by the Lilliefors test",
-                    (_, Some(_)) => "The worst fitting block by the Lilliefors test",
-                    _ => "The one block the Lilliefors test was run on",
-                },
-                if logs.len() == records {
-                    "every record".to_string()
-                } else {
-                    format!(
-                        "the {} of its {records} records that overturned (the others never did \
-                         down to the grid's last level: the sample is cut there, and the test \
-                         sees the cut)",
-                        logs.len()
-                    )
-                }
-            ),
+            caption: caption(tag, best.is_some(), logs.len(), records, row.p_value),
         });
     }
     out
+}
+
+/// Fig. 9's caption: which block, and of how many of its records (a sample
+/// cut where some never overturned); the best of blocks that all fail the
+/// test is said to fail it too.
+fn caption(tag: &str, two: bool, plotted: usize, records: usize, p_value: Option<f64>) -> String {
+    let which = match (tag, two) {
+        ("good", _) => "The best fitting block by the Lilliefors test",
+        (_, true) => "The worst fitting block by the Lilliefors test",
+        _ => "The one block the Lilliefors test was run on",
+    };
+    let sample = if plotted == records {
+        "every record".to_string()
+    } else {
+        format!(
+            "the {plotted} of its {records} records that overturned (the others never did \
+             down to the grid's last level: the sample is cut there, and the test sees the cut)"
+        )
+    };
+    let fails = match (tag, p_value) {
+        ("good", Some(pv)) if pv < 0.05 => {
+            " Lognormality is rejected at 5 % for this block too: no block passes."
+        }
+        _ => "",
+    };
+    format!("{which}: ln η_c of {sample} against normal quantiles (paper Fig. 9).{fails}")
 }
 
 /// A Lilliefors p-value as a title shows it: three decimals, or "p < 0.001"
@@ -189,6 +198,29 @@ mod tests {
             caption.contains("the 3 of its 4 records that overturned"),
             "{caption}"
         );
+    }
+
+    /// The best of two blocks that both fail the test (p 0.01 and 0.02)
+    /// is said to fail it too: "best fitting" read as a pass.
+    #[test]
+    fn the_best_block_that_fails_too_is_said_to() {
+        let mut d = study();
+        d.lognormal[1] = lognormal(2.0, 0.5, Some(0.02));
+        d.caps[5] = cap(5, Some(0.3));
+        let figs = lognormal_plots(&d);
+        assert_eq!(figs.len(), 2);
+        assert!(
+            figs[1]
+                .caption
+                .contains("rejected at 5 % for this block too"),
+            "{}",
+            figs[1].caption
+        );
+        assert!(!figs[0].caption.contains("rejected"));
+        // Passing (p 0.6): nothing said.
+        let mut d = study();
+        d.caps[5] = cap(5, Some(0.3));
+        assert!(!lognormal_plots(&d)[1].caption.contains("rejected"));
     }
 
     #[test]

@@ -346,8 +346,6 @@ mod tests {
         );
     }
 
-    /// A log axis from 0.33 to 10 is labelled 0.5, 1, 2, 5 and 10, each
-    /// once (plotters' own log mesh printed "10" twice and nothing below 1).
     /// A line of one point (each named block its own ε) is drawn as a dot
     /// where its point is; it was an invisible polyline of one vertex.
     #[test]
@@ -384,6 +382,8 @@ mod tests {
         }
     }
 
+    /// A log axis from 0.33 to 10 is labelled 0.5, 1, 2, 5 and 10, each
+    /// once (plotters' own log mesh printed "10" twice and nothing below 1).
     #[test]
     fn a_log_axis_labels_each_tick_once() {
         let pts = vec![(0.33, 300.0), (10.0, 700.0)];

@@ -95,9 +95,17 @@ pub(super) fn scene_section(w: &mut String, d: &StudyData) {
             ratios.iter().copied().reduce(f64::min),
             ratios.iter().copied().reduce(f64::max),
         ) {
+            let below = ratios.iter().filter(|&&r| r < 1.0).count();
             let _ = writeln!(
                 w,
-                "The building amplifies the records' peaks by PFA/PGA = {lo:.2} to {hi:.2}.\n"
+                "The building scales the records' peaks by PFA/PGA = {lo:.2} to {hi:.2}{}.\n",
+                match below {
+                    0 => ": it amplifies every one".to_string(),
+                    n => format!(
+                        " (it reduces the peak of {n} of the {} records)",
+                        ratios.len()
+                    ),
+                }
             );
         }
         let _ = writeln!(

@@ -48,11 +48,11 @@ pub(super) fn ims_section(w: &mut String, d: &StudyData) {
         rows.iter().find(|r| r.block_index == block && r.im == im)
     };
     let periods = best_periods(rows, shown);
-    let _ = writeln!(w, "At {}:\n", shown.text());
-    let first = match shown {
-        Shown::Eps(_) => "p (1/s)",
-        Shown::Every => "block, p (1/s)",
+    let (head, first) = match shown {
+        Shown::Eps(e) => (format!("At ε = {e}:"), "p (1/s)"),
+        Shown::Every => ("Each block at its own ε:".to_string(), "block, ε, p (1/s)"),
     };
+    let _ = writeln!(w, "{head}\n");
     let _ = writeln!(
         w,
         "| {first} | best IM (β) | β of PGA | β of PGV | β of AvgSA | best SA(T): T (s), β | β of PGA given PGV/PGA |"
@@ -67,7 +67,7 @@ pub(super) fn ims_section(w: &mut String, d: &StudyData) {
                 format!("{} ({:.3})", display_name(&r.im), r.beta)
             });
         let name = match (shown, beta(block, "pga")) {
-            (Shown::Every, Some(r)) => format!("{}, ", r.block),
+            (Shown::Every, Some(r)) => format!("{}, {}, ", r.block, r.eps),
             _ => String::new(),
         };
         let _ = writeln!(
@@ -81,7 +81,12 @@ pub(super) fn ims_section(w: &mut String, d: &StudyData) {
         );
     }
     let periods: Vec<(f64, f64, f64)> = periods.iter().map(|b| (b.1, b.2, b.3)).collect();
-    if let Some(line) = best_period_line(&periods) {
+    // Blocks of their own ε differ in more than size: no rule along p.
+    let line = match shown {
+        Shown::Eps(_) => best_period_line(&periods),
+        Shown::Every => None,
+    };
+    if let Some(line) = line {
         let _ = writeln!(w, "\n{line}");
     }
     let lower = rows

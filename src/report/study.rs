@@ -129,7 +129,7 @@ fn runtime(w: &mut String, d: &StudyData) {
     if chaotic + flips > 0 {
         let _ = write!(
             w,
-            "; not certified: {chaotic} chaotic (a decisive verdict changes when η moves by 1e-9) and {flips} whose verdict still flips at the tightest tolerance. Their η_c is one edge of a chaotic band, not a converged value (column `certification` of capacities.parquet)"
+            "; not certified: {chaotic} chaotic (a decisive verdict changes when η moves by 1e-9: η_c is one edge of a chaotic band) and {flips} whose verdict still flips at the tightest tolerance (η_c is not converged); column `certification` of capacities.parquet"
         );
     }
     let _ = writeln!(
@@ -162,16 +162,17 @@ fn capacity_fractiles(w: &mut String, d: &StudyData) {
             };
             let _ = writeln!(
                 w,
-                "| {} | {:.3} | {:.3} | {:.4} | {:.4} | {:.4} |",
+                "| {} | {:.3} | {:.3} | {} | {} | {} |",
                 b.name,
                 b.p,
                 b.eps,
-                at(0.16),
-                at(0.5),
-                at(0.84)
+                eta_cell(at(0.16)),
+                eta_cell(at(0.5)),
+                eta_cell(at(0.84))
             );
         }
         let _ = writeln!(w);
+        survives_note(w, d);
         return;
     }
     let (ps, es) = d.ps_and_eps();
@@ -183,12 +184,13 @@ fn capacity_fractiles(w: &mut String, d: &StudyData) {
         for &p in &ps {
             let cells: Vec<String> = es
                 .iter()
-                .map(|&e| fractile_at(d, p, e, q).map_or(String::new(), |v| format!("{v:.4}")))
+                .map(|&e| fractile_at(d, p, e, q).map_or(String::new(), eta_cell))
                 .collect();
             let _ = writeln!(w, "| {p:.3} | {} |", cells.join(" | "));
         }
         let _ = writeln!(w);
     }
+    survives_note(w, d);
     // Against the paper's Eq. 10.
     let law = &fragility::paper()[1];
     let ratios: Vec<f64> = d
@@ -203,6 +205,29 @@ fn capacity_fractiles(w: &mut String, d: &StudyData) {
             "Against the paper's Eq. 10: mean |η_c,50 / Eq. 10 − 1| = {:.1} % over the {} blocks with p ≥ 0.5 1/s.\n",
             100.0 * ratios.iter().sum::<f64>() / ratios.len() as f64,
             ratios.len()
+        );
+    }
+}
+
+/// A capacity fractile as the tables show it: η_c, or "survives" where
+/// the fractile falls among the records that never overturned the block
+/// (η_c = 0 in `capacity_fractiles.parquet`).
+fn eta_cell(v: f64) -> String {
+    if v == 0.0 {
+        "survives".into()
+    } else {
+        format!("{v:.4}")
+    }
+}
+
+/// What "survives" means, under a table that shows it.
+fn survives_note(w: &mut String, d: &StudyData) {
+    if d.capacity_fractiles.iter().any(|r| r.eta_c == 0.0) {
+        let _ = writeln!(
+            w,
+            "\"survives\": the fractile falls among the records that never overturned the block \
+             down to the grid's last level, η = {} (η_c = 0 in `capacity_fractiles.parquet`).\n",
+            d.records_plan().grid.eta_min
         );
     }
 }

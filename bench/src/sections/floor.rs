@@ -113,7 +113,7 @@ pub(super) fn floor_table(
         search * 1e3,
         100.0 * (search / alone - 1.0),
         100.0 * (1.0 - alone / search),
-        search_intervals - alone_intervals,
+        search_intervals.saturating_sub(alone_intervals),
         search_intervals
     );
     Ok(s)

@@ -38,7 +38,10 @@ pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
         message,
     };
     let mut csv = csv::ReaderBuilder::new().from_reader(bytes.as_slice());
-    let headers = csv.headers().map_err(|e| bad(1, e.to_string()))?.clone();
+    let headers = csv
+        .headers()
+        .map_err(|e| bad(1, csv_rows::message(&e)))?
+        .clone();
     if let Some(message) = repeated_column(&headers) {
         return Err(bad(1, message));
     }

@@ -13,7 +13,7 @@ use super::args::{label, label_among, parsed, PulseArgs};
 #[derive(Debug, clap::Args)]
 #[command(
     allow_negative_numbers = true,
-    mut_arg("pulse", |a| a.required(true)),
+    mut_arg("pulse", |a| a.required(true).help("The pulse whose wall is found")),
     long_about = "Find a pulse's safety wall by simulation: the largest η = αg/A_p at which the \
     block overturns (η_w), and the largest at which it overturns with no impact (η_w,0, Mode 0).\n\n\
     The pulse has lobes of t_d = 1 s, so the block's p is f. The search runs a log grid of 500 \
