@@ -49,10 +49,14 @@ pub(super) fn pulse_waveforms(d: &PulseData) -> Vec<Figure> {
             x_ticks: None,
             lines,
         },
-        caption: "The pulse shapes of this map: the paper's exponential pulse (Eq. 4) for each β \
-                  (β → −∞ the rectangle, β = 0 the triangle, β → +∞ a spike), one lobe of \
-                  duration t_d, or the lobe followed by its negative (paper Fig. 2)."
-            .into(),
+        caption: format!(
+            "The pulse shapes of this map: the paper's exponential pulse (Eq. 4) for each β \
+             (β → −∞ the rectangle, β = 0 the triangle, β → +∞ a spike), {} (paper Fig. 2).",
+            match lobes {
+                1 => "one lobe of duration t_d (a half cycle)",
+                _ => "a lobe of duration t_d followed by its negative (a full cycle)",
+            }
+        ),
     }]
 }
 
@@ -175,6 +179,7 @@ pub(super) fn pulse_modes(d: &PulseData) -> Vec<Figure> {
             None => format!("eps{eps:.2}"),
         };
         let eta_min = cells.iter().map(|c| c.eta).fold(f64::INFINITY, f64::min);
+        let caption = modes_caption(&label, &lines);
         figs.push(Figure {
             file: format!("fig04_modes_{slug}.svg"),
             chart: Chart {
@@ -188,15 +193,40 @@ pub(super) fn pulse_modes(d: &PulseData) -> Vec<Figure> {
                 x_ticks: None,
                 lines,
             },
-            caption: format!(
-                "Each point of the map where the block overturns, by the impacts before it does \
-                 (Mode 0: forward, no impact; Mode 1: after one impact and reversal), for {label}; \
-                 unmarked points are safe. The line is the Mode 0 wall found by simulation, \
-                 Eq. 6 dashed where it applies (paper Fig. 4)."
-            ),
+            caption,
         });
     }
     figs
+}
+
+/// Fig. 4's caption: what each mode drawn means (only those on the map),
+/// and Eq. 6 where it is drawn.
+fn modes_caption(label: &str, lines: &[Line]) -> String {
+    let drawn = |prefix: &str| {
+        lines
+            .iter()
+            .any(|l| l.name.as_deref().is_some_and(|n| n.starts_with(prefix)))
+    };
+    let mut modes = Vec::new();
+    if drawn("Mode 0") {
+        modes.push("Mode 0: forward, no impact");
+    }
+    if drawn("Mode 1") {
+        modes.push("Mode 1: after one impact and reversal");
+    }
+    if drawn("Mode 2") {
+        modes.push("Mode 2 or more: after two impacts or more");
+    }
+    let eq6 = match drawn("Eq. 6") {
+        true => ", Eq. 6 dashed",
+        false => "",
+    };
+    format!(
+        "Each point of the map where the block overturns, by the impacts before it does ({}), \
+         for {label}; unmarked points are safe. The line is the Mode 0 wall found by \
+         simulation{eq6} (paper Fig. 4).",
+        modes.join("; ")
+    )
 }
 
 #[cfg(test)]
@@ -334,6 +364,26 @@ mod tests {
         // The η axis from 10 % below the lowest point of the map to 1.
         assert_eq!((c.x_scale, c.y_scale), (Scale::Log, Scale::Log));
         assert_eq!(c.y_range, Some((0.1 * 0.9, 1.0)));
+        assert!(
+            figs[0].caption.contains("Mode 1: after one impact")
+                && figs[0].caption.contains("Eq. 6 dashed")
+        );
+        // A map of Mode 0 alone, no Eq. 6 (an exponential half cycle): the
+        // caption speaks of what is drawn, not of Mode 1 and Eq. 6.
+        d.walls = vec![wall(b, 0.7, 0.5, Some(0.6), None)];
+        d.cells = vec![cell(b, 0.7, 0.5, 0.5, true, 0)];
+        let caption = &pulse_modes(&d)[0].caption;
+        assert!(
+            caption.contains("(Mode 0: forward, no impact)"),
+            "{caption}"
+        );
+        assert!(
+            !caption.contains("Mode 1") && !caption.contains("Eq. 6"),
+            "{caption}"
+        );
+        // The waveforms of a half cycle say so.
+        let w = &pulse_waveforms(&d)[0].caption;
+        assert!(w.contains("one lobe of duration t_d (a half cycle)"), "{w}");
     }
 
     #[test]
