@@ -11,6 +11,11 @@ pub fn line_at(bytes: &[u8], byte: u64) -> u64 {
     while at < bytes.len() && matches!(bytes[at], b'\n' | b'\r') {
         at += 1;
     }
+    line_of_byte(bytes, at)
+}
+
+/// The 1-based line of `bytes` that holds byte `at`.
+fn line_of_byte(bytes: &[u8], at: usize) -> u64 {
     1 + bytes[..at].iter().filter(|&&b| b == b'\n').count() as u64
 }
 
@@ -20,8 +25,7 @@ pub fn line_at(bytes: &[u8], byte: u64) -> u64 {
 pub fn error_line(bytes: &[u8], e: &csv::Error) -> Option<u64> {
     if let csv::ErrorKind::Utf8 { .. } = e.kind() {
         if let Err(bad) = std::str::from_utf8(bytes) {
-            let at = bad.valid_up_to();
-            return Some(1 + bytes[..at].iter().filter(|&&b| b == b'\n').count() as u64);
+            return Some(line_of_byte(bytes, bad.valid_up_to()));
         }
     }
     e.position().map(|p| line_at(bytes, p.byte()))

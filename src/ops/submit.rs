@@ -266,6 +266,46 @@ fn records(scontrol: &Path, id: u64) -> Result<Vec<JobRecord>, SubmitError> {
     }
 }
 
+/// Where the sweep's array stands, from Slurm; fails naming the first
+/// failed task and its log (and cancels the later stages, which can then
+/// never start). An array Slurm forgot before every task was seen done
+/// succeeded if the later job (which starts only after every task did) has
+/// left its wait.
+fn array_progress(
+    sub: &Submitted,
+    scontrol: &Path,
+    scancel: &Path,
+) -> Result<cluster::ArrayState, SubmitError> {
+    let tasks = match records(scontrol, sub.sweep_job) {
+        Ok(tasks) => tasks,
+        Err(SubmitError::Vanished(id)) => {
+            let later = records(scontrol, sub.later_job)?;
+            if later.first().is_none_or(|r| r.state == "PENDING") {
+                return Err(SubmitError::Vanished(id));
+            }
+            return Ok(cluster::ArrayState {
+                done: sub.shards,
+                ..Default::default()
+            });
+        }
+        Err(e) => return Err(e),
+    };
+    let st = cluster::array_state(&tasks, sub.shards);
+    if let Some(bad) = st.failed.first() {
+        let _ = slurm(scancel, &[&sub.later_job.to_string()]);
+        let task = bad.array_task.clone().unwrap_or_else(|| "?".into());
+        return Err(SubmitError::TaskFailed {
+            job: sub.sweep_job,
+            log: log_of(bad, cluster::sweep_log(&sub.logs, sub.sweep_job, &task)),
+            task,
+            state: bad.state.clone(),
+            exit_code: bad.exit_code.clone(),
+            later: sub.later_job,
+        });
+    }
+    Ok(st)
+}
+
 /// Follows the jobs to the end, polling every `poll`; `say` hears each
 /// change. Fails naming the first failed task and its log (and cancels the
 /// later stages, which can then never start), or the later job's failure.
@@ -276,48 +316,16 @@ pub fn wait(sub: &Submitted, poll: Duration, mut say: impl FnMut(&str)) -> Resul
     // Once every task is seen done the array is not asked about again:
     // Slurm forgets a finished job after its MinJobAge (300 s by default),
     // while the later stages may run on.
-    let mut swept: Option<cluster::ArrayState> = None;
+    let mut swept = false;
     loop {
-        let st = match &swept {
-            Some(st) => st.clone(),
-            None => {
-                let (tasks, forgotten) = match records(&scontrol, sub.sweep_job) {
-                    Ok(tasks) => (tasks, false),
-                    // Forgotten before every task was seen done: it
-                    // succeeded if the later job (which starts only after
-                    // every task did) has left its wait.
-                    Err(SubmitError::Vanished(id))
-                        if records(&scontrol, sub.later_job)?
-                            .first()
-                            .is_none_or(|r| r.state == "PENDING") =>
-                    {
-                        return Err(SubmitError::Vanished(id))
-                    }
-                    Err(SubmitError::Vanished(_)) => (Vec::new(), true),
-                    Err(e) => return Err(e),
-                };
-                let mut st = cluster::array_state(&tasks, sub.shards);
-                if forgotten {
-                    st.done = sub.shards;
-                }
-                if let Some(bad) = st.failed.first() {
-                    let _ = slurm(&scancel, &[&sub.later_job.to_string()]);
-                    let task = bad.array_task.clone().unwrap_or_else(|| "?".into());
-                    return Err(SubmitError::TaskFailed {
-                        job: sub.sweep_job,
-                        log: log_of(bad, cluster::sweep_log(&sub.logs, sub.sweep_job, &task)),
-                        task,
-                        state: bad.state.clone(),
-                        exit_code: bad.exit_code.clone(),
-                        later: sub.later_job,
-                    });
-                }
-                if st.done == sub.shards {
-                    swept = Some(st.clone());
-                }
-                st
-            }
+        let st = match swept {
+            true => cluster::ArrayState {
+                done: sub.shards,
+                ..Default::default()
+            },
+            false => array_progress(sub, &scontrol, &scancel)?,
         };
+        swept = st.done == sub.shards;
         let later = records(&scontrol, sub.later_job)?;
         let now = match later.first() {
             Some(r) if r.succeeded() => {

@@ -49,7 +49,7 @@ pub(super) fn ims_section(w: &mut String, d: &StudyData) {
     };
     let periods = best_periods(rows, shown);
     let (head, first) = match shown {
-        Shown::Eps(e) => (format!("At ε = {e}:"), "p (1/s)"),
+        Shown::Eps(_) => (format!("At {}:", shown.text()), "p (1/s)"),
         Shown::Every => ("Each block at its own ε:".to_string(), "block, ε, p (1/s)"),
     };
     let _ = writeln!(w, "{head}\n");
@@ -66,7 +66,7 @@ pub(super) fn ims_section(w: &mut String, d: &StudyData) {
             .map_or("—".to_string(), |r| {
                 format!("{} ({:.3})", display_name(&r.im), r.beta)
             });
-        let name = match (shown, beta(block, "pga")) {
+        let name = match (shown, rows.iter().find(|r| r.block_index == block)) {
             (Shown::Every, Some(r)) => format!("{}, {}, ", r.block, r.eps),
             _ => String::new(),
         };
