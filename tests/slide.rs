@@ -1562,3 +1562,30 @@ fn auto_with_mu_lets_a_slender_rocking_block_slip_where_its_demand_passes_mu() {
         "first slip at {slip} s, the demand passes μ in ({from}, {to}] s"
     );
 }
+
+/// A slip that stopped with the block at its impact (x within rounding of
+/// 0, on the wrong side, moving into it) started again there, and its stop
+/// was located before the impact: stop and slip alternated at one instant
+/// without end (the first 116 samples of Superstition Hills' POE270 at η =
+/// 0.3661; the whole record's capacity search never ended). The impact now
+/// comes first, and the run reaches its verdict: it survives, as the
+/// record's 0.045 g cannot overturn this block, with a handful of slips.
+/// The bug guard (events at one instant) would stop it as `EventLimit`.
+#[test]
+fn a_slip_that_stops_on_the_impact_does_not_stall() {
+    let path = crate::util::bundled_records().join("far-field/RSN725_SUPERST_B-POE270.AT2");
+    let samples = crate::util::plain_at2_values(&path);
+    let spec = RunSpec::new(1.0, 0.85, 0.3661, slide_rock(0.2, 0.25));
+    let head = Excitation::new(&samples[..116], 0.01).unwrap();
+    let out = simulate(&head, &spec).unwrap();
+    assert_eq!(out.stop, Stop::Survived, "{out:?}");
+    assert!(out.slips < 20 && out.impacts > 0, "{out:?}");
+    // The whole record at the level where a capacity search stalled.
+    let whole = Excitation::new(&samples, 0.01).unwrap();
+    let spec = RunSpec {
+        eta: 0.036866027018437636,
+        ..spec
+    };
+    let out = simulate(&whole, &spec).unwrap();
+    assert_ne!(out.stop, Stop::EventLimit, "{out:?}");
+}

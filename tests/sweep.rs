@@ -653,9 +653,8 @@ fn a_command_deaf_to_the_stop_is_ended_by_the_signal_after_a_grace() {
         stderr(&stopped)
     );
     assert!(
-        stderr(&stopped).contains(
-            "interrupted (SIGTERM): work that runs no simulation did not stop within 5 s"
-        ),
+        stderr(&stopped)
+            .contains("interrupted (SIGTERM): the work under way did not stop within 5 s"),
         "{}",
         stderr(&stopped)
     );

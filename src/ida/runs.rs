@@ -218,7 +218,8 @@ impl<'a> Runs<'a> {
     fn remember(&mut self, spec: &RunSpec, out: Outcome) -> Result<Outcome, PhysicsError> {
         if out.stop == crate::physics::Stop::EventLimit {
             return Err(PhysicsError::BadInput(format!(
-                "the run at η = {} hit the limit of {} events without a verdict",
+                "the run at η = {} hit the limit of {} events, or of events at one instant, \
+                 without a verdict (a fault of the tool: please report the record and the block)",
                 spec.eta,
                 crate::physics::MAX_EVENTS
             )));

@@ -175,6 +175,16 @@ impl SlideRock {
     ) -> SlideRockEnd {
         let (s, dir) = (state.st.s, state.dir);
         let mut y: Y = [state.st.x, state.st.v, state.u, state.w];
+        if s * y[0] <= 0.0 && s * y[1] < 0.0 {
+            // On the impact already (past it within rounding: a slip that
+            // stopped at x ≈ 0 starts again there) and moving into it: the
+            // impact is now. Located, it was at the start's rounding, where
+            // the slip's stop came first: stop and slip alternated at one
+            // instant without end.
+            y[0] = 0.0;
+            self.store(state, &y);
+            return SlideRockEnd::Impact { sigma: 0.0 };
+        }
         let mut k1 = self.rhs(s, dir, stretch.g_a, &y).0;
         let mut sigma = 0.0;
         while sigma < stretch.len {

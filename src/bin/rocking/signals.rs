@@ -145,7 +145,7 @@ fn watch() {
         return;
     };
     eprintln!(
-        "interrupted ({name}): work that runs no simulation did not stop within {} s; ended \
+        "interrupted ({name}): the work under way did not stop within {} s; ended \
          now (every file written is whole; one being written is left as a temporary file, \
          which the next run removes)",
         GRACE.as_secs()

@@ -48,7 +48,15 @@ pub(in crate::physics) struct Coupled {
     mode: Mode,
     /// The record is over: the time in modes is booked.
     closed: bool,
+    /// Events in a row that did not move time on ([`MAX_STILL`]).
+    pub(super) still: u32,
 }
+
+/// Events in a row at one instant of a sliding run that stop it as
+/// [`super::Stop::EventLimit`] (a bug guard, as [`crate::physics::MAX_EVENTS`]
+/// is): a slip's stop and start, or an impact and a stop, come at one
+/// instant a few times, never thousands.
+pub(super) const MAX_STILL: u32 = 10_000;
 
 impl Coupled {
     pub(in crate::physics) fn new(contact: Contact, p: f64, limit: f64, rtol: f64) -> Self {
@@ -63,6 +71,7 @@ impl Coupled {
             since_s: 0.0,
             mode: Mode::Rest,
             closed: false,
+            still: 0,
         }
     }
 
@@ -85,6 +94,7 @@ impl Coupled {
 }
 
 /// What a coupled arm did to the interval walk.
+#[derive(Debug, Clone, Copy)]
 pub(super) enum Arm {
     /// The interval is done.
     End,

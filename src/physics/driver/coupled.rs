@@ -5,7 +5,7 @@
 //! a run has a [`Coupled`] part; a rocking run has none and never enters
 //! them.
 
-use super::base::{Arm, Coupled, Mode};
+use super::base::{Arm, Coupled, Mode, MAX_STILL};
 use super::event_loop::{Driver, Stop};
 use crate::physics::friction::Onset;
 use crate::physics::history::{EventKind, Observer};
@@ -81,8 +81,10 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
 
     /// A slipping block from offset `tau` of the interval starting at
     /// `t_k` (forcing `g_a + g1 σ`, length `dt`): flat or on its pivot.
+    /// A run whose events stop moving time on ([`MAX_STILL`] of them in a
+    /// row) is stopped as [`Stop::EventLimit`].
     pub(super) fn slipping_arm(&mut self, t_k: f64, tau: f64, g_a: f64, g1: f64, dt: f64) -> Arm {
-        match self.state {
+        let arm = match self.state {
             None => self.slide_arm(t_k, tau, g_a, g1, dt),
             Some(_) => {
                 let stretch = Stretch {
@@ -93,7 +95,17 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
                 };
                 self.slide_rock_arm(t_k, tau, stretch)
             }
+        };
+        let c = self.c();
+        c.still = match arm {
+            Arm::At(at) if at <= tau => c.still + 1,
+            _ => 0,
+        };
+        if c.still > MAX_STILL {
+            self.out.stop = Stop::EventLimit;
+            return Arm::Stopped;
         }
+        arm
     }
 
     /// The flat slide from offset `tau` to the interval's end or the

@@ -18,7 +18,7 @@ pub enum Stop {
     Overturned,
     /// At rest, and the rest of the record stays below the uplift threshold.
     RestForGood,
-    /// Hit [`MAX_EVENTS`] (a bug guard; never expected).
+    /// Hit [`MAX_EVENTS`], or a sliding run stalled at one instant (bug guards).
     EventLimit,
     /// A block that slides: the normal force at its pivot reached 0, so it
     /// would leave the base, which the model does not follow.
