@@ -1074,6 +1074,58 @@ fn a_block_the_size_of_a_building_is_warned_of() {
         warned[0].contains("block `statue_cm`: half-width 20 m, half-height 90 m: a block 180 m"),
         "{all}"
     );
+    // `simulate` and `capacity` ran such a block without a word: they say
+    // it once, however many ε it is run at; a statue's size is not.
+    let kobe = root().join("records/fema-p695/far-field/RSN1111_KOBE_NIS000.AT2");
+    let kobe = kobe.to_str().unwrap();
+    for (b, h, warns) in [("20", "90", 1), ("0.2", "0.9", 0)] {
+        let block = ["--record", kobe, "--b", b, "--h", h];
+        let sim = [&["simulate"][..], &block, &["--eps", "0.9", "--pga", "0.3"]].concat();
+        let cap = [
+            &["capacity"][..],
+            &block,
+            &["--eps", "0.8,0.9", "--levels", "20"],
+        ]
+        .concat();
+        for args in [sim, cap] {
+            let out = rocking(d, &args);
+            assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+            let e = stderr(&out);
+            let said = e.matches("a block 180 m tall is a building's size").count();
+            assert_eq!(said, warns, "{args:?}: {e}");
+        }
+    }
+}
+
+/// Levels given in another unit than the IM's: `fragility --pga` in m/s²
+/// (P = 1 without a word) and `--im pgv --at` in m/s (P = 0), and a hazard
+/// curve in m/s² under a `pga_g` header (a rate 180 times too high). Each
+/// is warned of, with the factor; levels in the IM's unit are not.
+#[test]
+fn levels_in_another_unit_are_warned_of() {
+    let dir = tempdir();
+    let d = dir.path();
+    let says = |args: &[&str], what: &str| {
+        let out = rocking(d, args);
+        assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+        stderr(&out).contains(what)
+    };
+    let m_s2 = "are they in m/s²? Divide them by 9.81 for g";
+    let frag = ["fragility", "--b", "0.2", "--h", "0.9", "--pga"];
+    assert!(says(&[&frag[..], &["2.94,9.8"]].concat(), m_s2));
+    assert!(!says(&[&frag[..], &["0.3,0.5,1"]].concat(), m_s2));
+    // A PGA hazard in m/s² (0.98 to 49 m/s², i.e. 0.1 to 5 g).
+    let mut curve = String::from("pga_g,annual_rate\n");
+    for (a, rate) in [(0.98, 1e-2), (4.9, 1e-3), (9.8, 2e-4), (49.0, 1e-6)] {
+        curve.push_str(&format!("{a},{rate}\n"));
+    }
+    fs::write(d.join("m_s2.csv"), curve).unwrap();
+    let risk = ["risk", "--hazard", "m_s2.csv", "--b", "0.2", "--h", "0.9"];
+    assert!(says(&risk, m_s2));
+    let pgv = [&frag[..5], &["--im", "pgv", "--direct", "--at"]].concat();
+    let m_s = "are they in m/s? Multiply them by 100 for cm/s";
+    assert!(says(&[&pgv[..], &["0.3,0.5"]].concat(), m_s));
+    assert!(!says(&[&pgv[..], &["30,50"]].concat(), m_s));
 }
 
 /// One record under two names (a copied AT2 file) ran twice and counted

@@ -84,10 +84,10 @@ fn a_capacity_on_a_floor_is_that_of_the_floor_motion_as_a_record() {
     let peak = |v: &[f64]| v.iter().fold(0.0f64, |m, a| m.max(a.abs()));
     let ratio = peak(&floor.accel_g) / peak(&ground);
     assert_eq!(a["pfa_over_pga"].as_f64().unwrap(), ratio);
-    let pga_c = a["pga_c_g"].as_f64().unwrap();
+    let pfa_c = a["pfa_c_g"].as_f64().unwrap();
     let alpha = a["alpha_rad"].as_f64().unwrap();
-    assert_eq!(pga_c, alpha / a["eta_c"].as_f64().unwrap());
-    assert_eq!(a["ground_pga_c_g"].as_f64().unwrap(), pga_c / ratio);
+    assert_eq!(pfa_c, alpha / a["eta_c"].as_f64().unwrap());
+    assert_eq!(a["pga_c_g"].as_f64().unwrap(), pfa_c / ratio);
 }
 
 /// `simulate --floor --pga` scales the ground: η is the floor's, α over the
@@ -124,6 +124,48 @@ fn simulate_on_a_floor_scales_the_ground() {
         "first_uplift_s",
     ] {
         assert_eq!(n[key], g[key], "{key}");
+    }
+}
+
+/// `capacity --json`'s `pga_c_g` on a floor is the ground's PGA, the one
+/// `simulate --pga` takes: run there, the block overturns, and at the PGA
+/// of the bracket's surviving end it survives (it was the floor's peak,
+/// 5.3 times the ground's, under the same name).
+#[test]
+fn a_floor_capacity_s_pga_is_the_one_simulate_takes() {
+    let record = kobe();
+    let rec = record.to_str().unwrap();
+    let block = [
+        "--b",
+        "0.2",
+        "--h",
+        "0.9",
+        "--eps",
+        "0.9",
+        "--floor",
+        "0.5,0.05,1.3",
+    ];
+    let mut args = vec!["capacity", "--record", rec, "--json"];
+    args.extend(block);
+    let c = json(&rocking(&root(), &args));
+    let (pga_c, pfa_c) = (
+        c["pga_c_g"].as_f64().unwrap(),
+        c["pfa_c_g"].as_f64().unwrap(),
+    );
+    let ratio = c["pfa_over_pga"].as_f64().unwrap();
+    assert!(ratio > 2.0, "{ratio}");
+    assert!(
+        (pfa_c / pga_c / ratio - 1.0).abs() < 1e-15,
+        "{pfa_c} {pga_c} {ratio}"
+    );
+    let alpha = c["alpha_rad"].as_f64().unwrap();
+    let survived_pga = alpha / c["eta_survived"].as_f64().unwrap() / ratio;
+    for (pga, overturns) in [(pga_c, true), (survived_pga, false)] {
+        let level = format!("{pga}");
+        let mut args = vec!["simulate", "--record", rec, "--json", "--pga", &level];
+        args.extend(block);
+        let s = json(&rocking(&root(), &args));
+        assert_eq!(s["overturned"].as_bool(), Some(overturns), "PGA {pga} g");
     }
 }
 
@@ -278,7 +320,7 @@ fn fragility_on_a_floor_counts_the_records_by_their_ground_capacity() {
         .lines()
         .map(|l| {
             let v: Value = serde_json::from_str(l).unwrap();
-            v["ground_pga_c_g"].as_f64().unwrap_or(f64::INFINITY)
+            v["pga_c_g"].as_f64().unwrap_or(f64::INFINITY)
         })
         .collect();
     assert_eq!(caps.len(), 44);

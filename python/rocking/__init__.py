@@ -148,7 +148,9 @@ def capacity(
 
     Returns the command's JSON object as a dict: ``eta_c`` (``None`` when
     the block survives every level), ``pga_c_g``, the bracket, the runs,
-    the certification, and on a floor ``pfa_over_pga`` and ``ground_pga_c_g``.
+    the certification, and on a floor ``pfa_over_pga`` and ``pfa_c_g`` (the
+    floor's peak at the capacity; ``pga_c_g`` is the ground's PGA, as
+    ``simulate(pga=…)`` takes it).
 
     With ``pair`` (the other horizontal component's AT2 file, 90° from
     ``record``) and ``angle`` (degrees, or a list of them): the block

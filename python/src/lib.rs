@@ -163,13 +163,13 @@ impl Block {
         self.blocks.iter().map(|b| b.why.clone()).collect()
     }
 
-    /// What the library says of a block that slides before it rocks.
+    /// What the library says of a block: one that slides before it rocks,
+    /// or of sizes in another unit.
     #[getter]
     fn warnings(&self) -> Vec<String> {
-        self.blocks
+        AskedBlock::warnings_of(&self.blocks)
             .iter()
-            .filter_map(AskedBlock::sliding_warning)
-            .map(|w| Spelling::Python.respell(&w))
+            .map(|w| Spelling::Python.respell(w))
             .collect()
     }
 

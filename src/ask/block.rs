@@ -97,19 +97,37 @@ impl Default for BlockAsk {
 pub struct AskedBlock {
     pub named: NamedSpec,
     pub why: String,
+    /// A block given by sizes too large for an object's
+    /// ([`crate::block::size_warning`]).
+    pub size_warning: Option<String>,
 }
 
 impl AskedBlock {
-    /// What every front end says of a block that slides before it rocks.
-    pub fn sliding_warning(&self) -> Option<String> {
+    /// What every front end says of the block: sizes that look like
+    /// another unit's, and a block that slides before it rocks (under a
+    /// model that does not slide).
+    pub fn warnings(&self) -> Vec<String> {
         let n = &self.named;
-        if n.spec.model.equation.friction().is_some() {
-            return None;
-        }
-        match (n.slides_first, n.mu, n.alpha_rad) {
-            (Some(true), Some(mu), Some(alpha)) => Some(crate::block::sliding_warning(mu, alpha)),
+        let rocks_only = n.spec.model.equation.friction().is_none();
+        let sliding = match (n.slides_first, n.mu, n.alpha_rad) {
+            (Some(true), Some(mu), Some(alpha)) if rocks_only => {
+                Some(crate::block::sliding_warning(mu, alpha))
+            }
             _ => None,
+        };
+        self.size_warning.iter().cloned().chain(sliding).collect()
+    }
+
+    /// Every block's [`AskedBlock::warnings`], each said once (the ε of
+    /// one size share its warnings).
+    pub fn warnings_of(blocks: &[AskedBlock]) -> Vec<String> {
+        let mut said: Vec<String> = Vec::new();
+        for w in blocks.iter().flat_map(AskedBlock::warnings) {
+            if !said.contains(&w) {
+                said.push(w);
+            }
         }
+        said
     }
 }
 
@@ -182,7 +200,7 @@ impl BlockAsk {
             for &eps in &self.eps {
                 let block = Block::new(b_m, h_m, eps).map_err(|e| AskError(e.to_string()))?;
                 let name = format!("b{b_m}xh{h_m}");
-                out.push(self.one(
+                let mut asked_block = self.one(
                     sp,
                     name,
                     block.p(),
@@ -190,7 +208,9 @@ impl BlockAsk {
                     Some(block.alpha()),
                     &asked,
                     mu,
-                )?);
+                )?;
+                asked_block.size_warning = crate::block::size_warning(&block);
+                out.push(asked_block);
             }
         }
         Ok(out)
@@ -310,7 +330,11 @@ impl BlockAsk {
         };
         named.mu = mu;
         named.slides_first = slides_first;
-        Ok(AskedBlock { named, why })
+        Ok(AskedBlock {
+            named,
+            why,
+            size_warning: None,
+        })
     }
 }
 

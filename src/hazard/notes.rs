@@ -64,15 +64,22 @@ pub fn statistic_note(curve: &HazardCurve) -> Option<String> {
 
 /// A warning where levels of `im` that start at `lo` and reach `hi` (as
 /// `range` says, in words) look like another unit than the IM's: PGA or SA
-/// in cm/s² given as g (nothing shakes the ground at 5 g), PGV in m/s
-/// given as cm/s (all below 5 cm/s, where nothing rocks). The one rule of
-/// the hazard's IMLs and of OpenQuake's fields.
+/// in cm/s² given as g (nothing shakes the ground at 5 g), PGA in m/s²
+/// (levels past 5 g: the strongest ground motions recorded are about 4 g),
+/// PGV in m/s given as cm/s (all below 5 cm/s, where nothing rocks). The
+/// one rule of the hazard's IMLs, OpenQuake's fields and `fragility`'s
+/// levels.
 pub fn unit_slip(im: Im, lo: f64, hi: f64, range: &str) -> Option<String> {
     match im {
         Im::Pga | Im::Sa(_) | Im::AvgSa if lo >= 5.0 => Some(format!(
             "{range}: no earthquake shakes the ground at {} g and more; are they in cm/s² \
              (gal)? Divide them by 981 for g",
             crate::im::level_text(lo)
+        )),
+        Im::Pga if hi > 5.0 => Some(format!(
+            "{range}: no earthquake has shaken the ground at more than about 4 g, and these \
+             reach {} g; are they in m/s²? Divide them by 9.81 for g",
+            crate::im::level_text(hi)
         )),
         Im::Pgv if hi <= 5.0 => Some(format!(
             "{range}: all below 5 cm/s, where nothing rocks; are they in m/s? Multiply them by \

@@ -145,16 +145,17 @@ pub struct CapacityReport {
     pub eta_c: Option<f64>,
     /// A_g at the capacity in units of αg (= 1/η_c).
     pub pga_scale_c: Option<f64>,
-    /// The peak acceleration the block feels at the capacity (g), α/η_c,
-    /// when α is known: the PGA, or on a floor the PFA.
+    /// The ground's PGA at the capacity (g), when α is known: α/η_c, or on
+    /// a floor α/η_c over `pfa_over_pga` (the PGA `simulate --pga` and the
+    /// hazard are in).
     pub pga_c_g: Option<f64>,
+    /// On a floor: the floor motion's peak at the capacity (g), α/η_c.
+    pub pfa_c_g: Option<f64>,
     /// On a floor: the building's modes as --floor takes them.
     pub floor: Option<String>,
     /// On a floor: the floor motion's peak over the ground record's,
     /// PFA/PGA, as recorded (the same at every scale).
     pub pfa_over_pga: Option<f64>,
-    /// On a floor: the ground's PGA at the capacity (g), pga_c_g / pfa_over_pga.
-    pub ground_pga_c_g: Option<f64>,
     /// The base's friction coefficient, with --mu.
     pub mu: Option<f64>,
     /// With --mu: whether the block slides before it rocks (μ ≤ b/h).
@@ -188,11 +189,16 @@ impl CapacityReport {
         scene: &Scene,
     ) -> CapacityReport {
         let (spec, cap) = (&block.spec, &certified.capacity);
-        let pga_c_g = cap
+        // The peak of the motion the block stands on at the capacity.
+        let peak_c_g = cap
             .eta_c
             .zip(block.alpha_rad)
             .map(|(e, a)| im::pga_of_eta(e, a));
         let on_floor = rec.floor;
+        let pga_c_g = match on_floor {
+            Some(f) => peak_c_g.map(|peak| peak / f.pfa_over_pga),
+            None => peak_c_g,
+        };
         CapacityReport {
             record_id: rec.record_id.clone(),
             angle_deg: rec.angle_deg,
@@ -205,9 +211,9 @@ impl CapacityReport {
             eta_c: cap.eta_c,
             pga_scale_c: cap.eta_c.map(|e| 1.0 / e),
             pga_c_g,
+            pfa_c_g: on_floor.and(peak_c_g),
             floor: on_floor.and(scene.floor.clone()),
             pfa_over_pga: on_floor.map(|f| f.pfa_over_pga),
-            ground_pga_c_g: on_floor.zip(pga_c_g).map(|(f, pga)| pga / f.pfa_over_pga),
             mu: scene.mu,
             slides_first: scene.slides_first,
             eta_survived: cap.eta_survived,

@@ -220,6 +220,7 @@ fn one(
         })
         .collect();
     let mut warnings = f.warnings.clone();
+    warnings.extend(levels_slip(im, &req.levels));
     let slides_first = req.mu.map(|mu| crate::block::slides_first(mu, alpha));
     warnings.extend(f.unmodelled_sliding(req.mu, alpha));
     Ok((
@@ -250,4 +251,17 @@ fn one(
         },
         fragility,
     ))
+}
+
+/// Where the levels asked look like another unit than the IM's (PGA in
+/// m/s² or cm/s², PGV in m/s): the hazard's rule ([`crate::hazard::unit_slip`]).
+fn levels_slip(im: Im, levels: &[f64]) -> Option<String> {
+    let lo = levels.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = levels.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if !(lo.is_finite() && hi.is_finite()) {
+        return None;
+    }
+    let t = crate::im::level_text;
+    let range = format!("the levels {}–{} {}", t(lo), t(hi), im.unit());
+    crate::hazard::unit_slip(im, lo, hi, &range)
 }

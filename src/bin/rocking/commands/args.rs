@@ -336,10 +336,10 @@ impl BlockArgs {
     }
 
     /// The blocks asked, in order, each checked, at η = 1; a block that
-    /// slides first is warned of on stderr.
+    /// slides first, or of sizes in another unit, is warned of on stderr.
     pub fn blocks(&self) -> anyhow::Result<Vec<AskedBlock>> {
         let blocks = self.ask().resolve(Spelling::Cli)?;
-        for w in blocks.iter().filter_map(AskedBlock::sliding_warning) {
+        for w in AskedBlock::warnings_of(&blocks) {
             eprintln!("warning: {w}");
         }
         Ok(blocks)
