@@ -958,3 +958,188 @@ fn a_fit_is_carried_where_its_own_corners_have_one() {
     );
     assert!((v["beta"].as_f64().unwrap() - beta).abs() < 1e-12);
 }
+
+/// A study's fragility in PGV (`fragility --im pgv --from`) of a grid block
+/// some of whose records never overturn it: the paper's fractiles by hand,
+/// those records beyond every level (+∞), not left out. It was the
+/// moments of the records that overturn the block alone (the IM table's),
+/// which put a block 16 of whose 44 records never overturn it at P = 0.85
+/// at a PGV 55 % of the records overturn it at. A block with more than 16 %
+/// of its records never overturning it has no fractile fit: refused, as
+/// the regression refuses it in PGA, with the likelihood fit and --direct
+/// named.
+#[test]
+fn a_study_s_pgv_fragility_counts_the_records_that_never_overturn() {
+    let dir = tempdir();
+    let body = "sets = [\"far-field\"]\n[model]\nkind = \"linearized\"\n[blocks]\n\
+                p = [0.5, 1.0]\neps = [0.7]\n[im]\nspacing = \"log\"\ncount = 100\n\
+                eta_max = 1.0\neta_min = 0.02\ntol = 1e-4\n";
+    let pipeline = write_pipeline(dir.path(), "cens", body);
+    let outputs = dir.path().join("out");
+    let (pipe, outs) = (s(&pipeline), s(&outputs));
+    let out = rocking(dir.path(), &["run", pipe, "--outputs", outs]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let caps: Vec<CapacityRow> = read(&outputs.join("cens"), "capacities.parquet");
+    let ims: Vec<RecordImRow> = read(&outputs.join("cens"), "record_ims.parquet");
+    let of = |id: &str, im: &str| {
+        ims.iter()
+            .find(|r| r.record_id == id && r.im == im)
+            .unwrap()
+            .value
+    };
+    // The block p = 1 1/s at α = atan(1/4): its records' PGV at capacity
+    // (cm/s), the records that never overturn it at +∞.
+    let (g, p) = (9.80665, 1.0f64);
+    let r = 3.0 * g / (4.0 * p * p);
+    let h = r / (1.0f64 + 1.0 / 16.0).sqrt();
+    let (b, alpha) = (h / 4.0, (0.25f64).atan());
+    let mut pgv_c: Vec<f64> = caps
+        .iter()
+        .filter(|c| c.p == 1.0)
+        .map(|c| match c.eta_c {
+            Some(eta) => of(&c.record_id, "pgv") * (alpha / eta) / of(&c.record_id, "pga"),
+            None => f64::INFINITY,
+        })
+        .collect();
+    pgv_c.sort_by(f64::total_cmp);
+    let never = pgv_c.iter().filter(|x| x.is_infinite()).count();
+    assert!(
+        never > 0 && never * 100 <= 16 * pgv_c.len(),
+        "the test needs a block some, not too many, of whose records never overturn it: {never}"
+    );
+    let median = type7(&pgv_c, 0.5);
+    let beta = 0.5 * (type7(&pgv_c, 0.84) / type7(&pgv_c, 0.16)).ln();
+    let (bs, hs) = (format!("{b}"), format!("{h}"));
+    let f = rocking(
+        dir.path(),
+        &[
+            "fragility",
+            "--b",
+            &bs,
+            "--h",
+            &hs,
+            "--eps",
+            "0.7",
+            "--im",
+            "pgv",
+            "--at",
+            "50",
+            "--from",
+            pipe,
+            "--outputs",
+            outs,
+            "--json",
+        ],
+    );
+    assert!(f.status.success(), "{}", stderr(&f));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&f)).unwrap();
+    assert_eq!(v["fit"], "fractile");
+    let (m, bt) = (v["median"].as_f64().unwrap(), v["beta"].as_f64().unwrap());
+    assert!(
+        (m / median - 1.0).abs() < 1e-9,
+        "median {m} against {median} by hand"
+    );
+    assert!(
+        (bt / beta - 1.0).abs() < 1e-9,
+        "β {bt} against {beta} by hand"
+    );
+    // p = 0.5 1/s: more than 16 % of the records never overturn it.
+    let never_half = caps
+        .iter()
+        .filter(|c| c.p == 0.5 && c.eta_c.is_none())
+        .count();
+    assert!(never_half * 100 > 16 * 44, "{never_half}");
+    let r = 3.0 * g / (4.0 * 0.25);
+    let h = r / (1.0f64 + 1.0 / 16.0).sqrt();
+    let (bs, hs) = (format!("{}", h / 4.0), format!("{h}"));
+    let f = rocking(
+        dir.path(),
+        &[
+            "fragility",
+            "--b",
+            &bs,
+            "--h",
+            &hs,
+            "--eps",
+            "0.7",
+            "--im",
+            "pgv",
+            "--at",
+            "50",
+            "--from",
+            pipe,
+            "--outputs",
+            outs,
+        ],
+    );
+    assert!(!f.status.success());
+    let e = stderr(&f);
+    assert!(e.contains("--method mle") && e.contains("--direct"), "{e}");
+}
+
+/// Two states' fitted curves that cross below the PGA the block lifts at
+/// (g·tan α), the heavier the less likely above it, cross where every
+/// command counts P = 0: no warning (the statue's `large_rocking` and
+/// `overturned` by the fractiles, at 0.205 g against 0.222 g). A crossing
+/// above it, or one below it with the heavier state likelier above, is
+/// still said. By hand from the fits printed: ln x* = (β_h ln θ_l − β_l ln
+/// θ_h)/(β_h − β_l).
+#[test]
+fn curves_that_cross_where_nothing_moves_are_not_warned_of() {
+    let dir = tempdir();
+    let states = "rocking=0.1,large_rocking=0.5,overturned=overturned";
+    let out = rocking(
+        dir.path(),
+        &[
+            "fragility",
+            "--b",
+            "0.2",
+            "--h",
+            "0.9",
+            "--eps",
+            "housner",
+            "--states",
+            states,
+            "--dispersion",
+            "each",
+            "--direct",
+            "--pga",
+            "0.3",
+            "--json",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&out)).unwrap();
+    let f = &v["fragility"];
+    let cut = (0.2f64 / 0.9).atan().tan();
+    let fit = |i: usize| {
+        let s = &f["states"][i]["fractile"];
+        (s["median"].as_f64().unwrap(), s["beta"].as_f64().unwrap())
+    };
+    let phi = |x: f64, (m, b): (f64, f64)| crate::util::phi((x / m).ln() / b);
+    let warned: Vec<&str> = f["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|w| w.as_str())
+        .filter(|w| w.contains("cross at"))
+        .collect();
+    let names = ["rocking", "large_rocking", "overturned"];
+    let mut below = 0;
+    for i in 0..2 {
+        let ((ml, bl), (mh, bh)) = (fit(i), fit(i + 1));
+        let x = ((bh * ml.ln() - bl * mh.ln()) / (bh - bl)).exp();
+        let inverted_above = phi(cut, (mh, bh)) > phi(cut, (ml, bl));
+        let said = warned
+            .iter()
+            .any(|w| w.contains(&format!("`{}` and `{}` cross", names[i], names[i + 1])));
+        assert_eq!(
+            said,
+            x >= cut || inverted_above,
+            "{} at {x} g: {warned:?}",
+            names[i]
+        );
+        below += usize::from(x < cut && !inverted_above);
+    }
+    assert_eq!(below, 1, "the statue has one pair crossing below the cut");
+}

@@ -256,3 +256,28 @@ fn documents_commands_are_read_with_their_outputs() {
         ]
     );
 }
+
+/// The key reference of pipelines/README.md, copied as it is into a
+/// pipeline file beside the bundled ones, is a pipeline the tool accepts
+/// (it set the linearised model beside the nonlinear model's integrator,
+/// which is refused, and named its study `quick`).
+#[test]
+fn the_pipelines_key_reference_is_a_pipeline() {
+    let readme = fs::read_to_string(root().join("pipelines/README.md")).unwrap();
+    let block = readme
+        .split("```toml\n")
+        .nth(1)
+        .and_then(|b| b.split("\n```").next())
+        .expect("pipelines/README.md has a ```toml block");
+    let dir = tempdir();
+    let pipelines = dir.path().join("pipelines");
+    fs::create_dir_all(&pipelines).unwrap();
+    // Its relative paths are the bundled pipelines' (../records).
+    std::os::unix::fs::symlink(root().join("records"), dir.path().join("records")).unwrap();
+    let file = pipelines.join("keys.toml");
+    fs::write(&file, block).unwrap();
+    let out = rocking(dir.path(), &["status", file.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.starts_with("outputs of `my-study`"), "{text}");
+}

@@ -855,16 +855,23 @@ fn pgv_hazard_gives_cornells_closed_form() {
     let got = v["sites"][0]["annual_rate"].as_f64().unwrap();
     let expected = k0 * m.powf(-k) * (k * k * beta * beta / 2.0).exp();
     assert!((got / expected - 1.0).abs() < 1e-9, "{got} vs {expected}");
-    // The node's values, by hand from the table.
-    let eff: Vec<rocking::tables::ims::EfficiencyRow> =
-        read(&outputs.join("pgvgrid/im_efficiency.parquet")).unwrap();
-    let node = eff
+    // The node's values, by hand from the study's damage table (the
+    // overturned state's fractile fit in PGV).
+    let states: Vec<rocking::tables::damage::DamageStateRow> =
+        read(&outputs.join("pgvgrid/damage_states.parquet")).unwrap();
+    let node = states
         .iter()
-        .find(|e| e.im == "pgv" && (e.p - p).abs() < 1e-12 && e.eps == 0.7)
+        .find(|e| {
+            e.im == "pgv"
+                && e.state == "overturned"
+                && e.method == rocking::damage::FitMethod::Fractile
+                && (e.p - p).abs() < 1e-12
+                && e.eps == 0.7
+        })
         .unwrap();
     let by_hand = node.median_dimensionless.unwrap() * alpha * 9.80665 * 100.0 / p;
     assert!((m / by_hand - 1.0).abs() < 1e-9, "{m} vs {by_hand}");
-    assert!((beta - node.beta).abs() < 1e-9);
+    assert!((beta - node.beta.unwrap()).abs() < 1e-9);
     let f = json(&rocking(
         d,
         &[&["fragility", "--im", "pgv", "--at", "30,60"][..], &common].concat(),

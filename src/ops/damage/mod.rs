@@ -13,7 +13,7 @@ mod records;
 pub use answer::{DamageFragility, StateFragility, DIRECT_FRACTILE};
 
 use super::fragility::{DirectRecords, FragilityError, Laws, Request, RunModel};
-use super::im_fragility::DamageTable;
+use super::im_fragility::{DamageTable, ImTableError};
 use crate::block::Block;
 use crate::damage::{
     self, Criterion, DamageStates, Dispersion, FitChoice, FitMethod, IfNotLognormal, Lognormal,
@@ -225,19 +225,30 @@ fn from_regression(
         };
         let (fractile, mle, kind) = match s.criterion {
             Criterion::Overturned => {
-                let (l, kind) = match overturning(block, im, laws, auto_tol, &mut warnings) {
-                    Ok((l, kind)) => (Some(l), kind),
-                    // A study too small for a regression: its damage table.
-                    Err(FragilityError::NoFit { .. }) if fractile_table.is_some() => (
-                        from_table(FitMethod::Fractile, &fractile_table, &mut warnings)?,
-                        "fractile",
-                    ),
-                    // The likelihood fit asked for does not need the IM
-                    // table's fractile fit (its holes refused it in PGV).
-                    Err(_) if required == FitMethod::MaxLikelihood && mle_table.is_some() => {
-                        (None, "fractile")
-                    }
-                    Err(e) => return Err(e),
+                let in_table = in_damage_table(
+                    block,
+                    s,
+                    im,
+                    &fractile_table,
+                    required == FitMethod::Fractile,
+                    &mut warnings,
+                )?;
+                let (l, kind) = match in_table {
+                    Some(found) => found,
+                    None => match overturning(block, im, laws, auto_tol, &mut warnings) {
+                        Ok((l, kind)) => (Some(l), kind),
+                        // A study too small for a regression: its damage table.
+                        Err(FragilityError::NoFit { .. }) if fractile_table.is_some() => (
+                            from_table(FitMethod::Fractile, &fractile_table, &mut warnings)?,
+                            "fractile",
+                        ),
+                        // The likelihood fit asked for does not need the IM
+                        // table's fractile fit (its holes refused it in PGV).
+                        Err(_) if required == FitMethod::MaxLikelihood && mle_table.is_some() => {
+                            (None, "fractile")
+                        }
+                        Err(e) => return Err(e),
+                    },
                 };
                 // The table's overturning by maximum likelihood, where it has one.
                 let mle = from_table(FitMethod::MaxLikelihood, &mle_table, &mut Vec::new())?;
@@ -315,8 +326,43 @@ fn carried(
     }
 }
 
-/// Overturning's lognormal from the regression (PGA) or the IM table, and
-/// which it is.
+/// Overturning in an IM other than PGA by the study's damage table's
+/// fractile fit, where the study has the state: the records that never
+/// overturn the block counted (above every level), as the regression counts
+/// them in PGA, and a block too many of whose records never overturn left
+/// without a fit, as there. `None` where the table or the state is not
+/// the study's (then the IM table's moments, [`overturning`]); `Some(None)`
+/// where the block has no fractile fit and it is not `required`.
+fn in_damage_table(
+    block: &Block,
+    s: &crate::damage::LimitState,
+    im: Im,
+    table: &Option<DamageTable>,
+    required: bool,
+    w: &mut Vec<String>,
+) -> Result<Option<(Option<Lognormal>, &'static str)>, FragilityError> {
+    let Some(t) = table.as_ref().filter(|_| im != Im::Pga) else {
+        return Ok(None);
+    };
+    match t.capacity(block, s) {
+        Ok(l) => {
+            w.extend(l.warnings);
+            let l = Lognormal {
+                median: l.median,
+                beta: l.beta,
+            };
+            Ok(Some((Some(l), "fractile")))
+        }
+        Err(ImTableError::NoState { .. }) => Ok(None),
+        Err(e) if required => Err(e.into()),
+        Err(_) => Ok(Some((None, "fractile"))),
+    }
+}
+
+/// Overturning's lognormal from the regression (PGA) or the IM table (the
+/// moments of the records that overturn the block, which leave out those
+/// that do not: a study without a damage table of the state), and which
+/// it is.
 fn overturning(
     block: &Block,
     im: Im,
@@ -352,12 +398,18 @@ fn overturning(
 }
 
 /// Warnings where a heavier state's fitted curve (by `method`) rises above
-/// a lighter one's.
-pub fn crossings(f: &DamageFragility, method: FitMethod) -> Vec<String> {
+/// a lighter one's where the block can move: not where they cross below
+/// `cut` ([`zero_below`]: there every state's P is 0, as every command
+/// counts it) with the heavier state the less likely above it.
+pub fn crossings(f: &DamageFragility, method: FitMethod, cut: Option<f64>) -> Vec<String> {
     f.states
         .windows(2)
         .filter_map(|w| {
-            let (x, p) = crate::damage::crossing(&w[0].by(method)?, &w[1].by(method)?)?;
+            let (lighter, heavier) = (w[0].by(method)?, w[1].by(method)?);
+            let (x, p) = crate::damage::crossing(&lighter, &heavier)?;
+            if cut.is_some_and(|c| x < c && heavier.cdf(c) <= lighter.cdf(c)) {
+                return None;
+            }
             Some(format!(
                 "the fitted curves of `{}` and `{}` cross at {} {} (P = {:.2} %): on one side \
                  the heavier state is the likelier, which no record is; there OpenQuake gives a \
@@ -424,16 +476,16 @@ pub fn assess(
         },
     )?;
     let method = fragility.method;
-    let crossed = crossings(&fragility, method);
-    fragility.warnings.extend(crossed);
-    let sliding = fragility.unmodelled_sliding(req.mu, block.alpha());
-    fragility.warnings.extend(sliding);
     let cut = zero_below(
         &block,
         req.im,
         records.as_ref().and_then(|r| r.floor()),
         fragility.slides_on_mu,
     );
+    let crossed = crossings(&fragility, method, cut);
+    fragility.warnings.extend(crossed);
+    let sliding = fragility.unmodelled_sliding(req.mu, block.alpha());
+    fragility.warnings.extend(sliding);
     let points = req
         .levels
         .iter()

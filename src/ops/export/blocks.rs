@@ -170,7 +170,8 @@ pub(super) fn of_block(
         let mut f = damage::of_block(&block, &req.states, at.im, at.laws, at.records, model, fit)?;
         let info = risk::block_info(e, &block, floor);
         let entry = entry(&info, &f, at.im, &block, floor)?;
-        f.warnings.extend(damage::crossings(&f, f.method));
+        let cut = damage::zero_below(&block, at.im, floor, f.slides_on_mu);
+        f.warnings.extend(damage::crossings(&f, f.method, cut));
         let sliding = f.unmodelled_sliding(info.mu, info.alpha_rad);
         f.warnings.extend(sliding);
         branches.push((path, block, info, entry, f));

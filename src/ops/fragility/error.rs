@@ -132,7 +132,11 @@ pub enum FragilityError {
     /// The records do not come in pairs where an orientation or a pair's IM needs them.
     #[error("{0}")]
     Pairs(String),
-    #[error("the regression gives no valid capacity fractiles at p = {p:.3}, ε = {eps:.3}")]
+    #[error(
+        "the regression gives no valid capacity fractiles at p = {p:.3}, ε = {eps:.3} (its \
+         polynomials in ε leave their valid range there); run the block itself through the \
+         records with --direct"
+    )]
     NoFractiles { p: f64, eps: f64 },
     #[error(transparent)]
     Pipeline(#[from] LoadError),

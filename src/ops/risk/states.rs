@@ -101,8 +101,9 @@ pub fn assess_states(
         .map_err(in_block)?;
         let method = f.method;
         let floor = records.as_ref().and_then(|r| r.floor());
-        let cut = damage::zero_below(&block, im, floor, f.slides_on_mu).unwrap_or(0.0);
-        let crossed = damage::crossings(&f, method);
+        let cut = damage::zero_below(&block, im, floor, f.slides_on_mu);
+        let crossed = damage::crossings(&f, method, cut);
+        let cut = cut.unwrap_or(0.0);
         f.warnings.extend(crossed);
         let unit = im.unit();
         let mut tail_notes = Vec::new();

@@ -30,8 +30,8 @@ use super::states::print_fits;
     thresholds, then overturning) come from the block's runs under the records (--direct), each \
     record's capacity the first crossing as intensity rises; the lognormal by the paper's \
     fractiles (--method fractile) or censored maximum likelihood (--method mle). With --from \
-    PIPELINE.toml, overturning comes from the study's regression (in PGA) or IM table, as in \
-    `fragility` and `risk`, and the other states from its damage table (`damage_states.parquet`, \
+    PIPELINE.toml, overturning comes from the study's regression in PGA, as in `fragility` and \
+    `risk`, and every other fit from its damage table (`damage_states.parquet`, \
     the pipeline's [damage] states) carried over p and ε; the paper's regression (--from paper, \
     the default) gives overturning only."
 )]

@@ -19,8 +19,8 @@ use super::states::print_fits;
     In PGA (--pga, the default IM): P(overturn | PGA) = Φ((ln η_c,50 − ln η)/β), η = αg/PGA, with \
     the capacity fractiles from the paper's regression (--from paper, the default) or a pipeline's \
     own fit (--from PIPELINE.toml). In another IM (--im pgv|pgd|sa(T)|avgsa|arias|cav --at …): \
-    lognormal, from a study's IM table carried over p and ε (--from PIPELINE.toml) or from the \
-    records' own capacities (--direct). --direct also runs the block through a record suite (the \
+    lognormal, from a study's damage table (its overturned state's fractile fit) carried over p \
+    and ε (--from PIPELINE.toml) or from the records' own capacities (--direct). --direct also runs the block through a record suite (the \
     pipeline's, run and searched as its stages run them: its [model] (kind, integrator, rtol, \
     auto_tol, overturn), its [im] grid and tolerance; or the bundled far-field set, searched as `rocking capacity` searches by default) \
     and prints the share of records whose capacity it exceeds at each level. In FEMA P-58's floor demands (--im pfa|pfv --direct), the capacity is \
@@ -28,8 +28,8 @@ use super::states::print_fits;
     floor motion's own (not restated in the ground's IMs); on the ground, its PGA or PGV.\n\n\
     --states gives several damage states instead (θmax/α thresholds, then overturning; \
     docs/MODEL.md §15): from the records' runs (--direct), or from a study (--from \
-    PIPELINE.toml: overturning from its regression or IM table, the other states from its \
-    damage table carried over p and ε); the paper's regression knows overturning only."
+    PIPELINE.toml: overturning from its regression in PGA, every state from its damage table \
+    carried over p and ε); the paper's regression knows overturning only."
 )]
 pub struct Args {
     /// Half-width of the block (m).
@@ -66,7 +66,9 @@ pub struct Args {
     at: Vec<f64>,
     #[command(flatten)]
     law: LawArgs,
-    /// Also run the block through the record suite and report the empirical fraction.
+    /// Run the block itself through the records (a pipeline's with --from, else --records)
+    /// and fit its fragility to their capacities, instead of the regression or a study's
+    /// tables; each level also gets the share of records that overturn it there.
     #[arg(long)]
     direct: bool,
     #[command(flatten)]

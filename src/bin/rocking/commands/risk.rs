@@ -20,8 +20,8 @@ use super::args::{direct_progress, label, parse_im, BlocksArgs, FloorArgs, LawAr
     sites of a hazard curve in PGA, PGV, SA(T) or AvgSA.\n\n\
     λ_OT = ∫ P(OT | a) |dλ(a)|, the hazard interpolated log-log between its points (closed form on \
     each segment), P(OT | a) in the hazard's IM: in PGA from the paper's regression (default) or a \
-    pipeline's fit (--from PIPELINE.toml); in another IM from a study's IM table (--from \
-    PIPELINE.toml); or from the block's own capacities under the records (--direct). The hazard is \
+    pipeline's fit (--from PIPELINE.toml); in another IM from a study's damage table (its overturned \
+    state's fit, --from PIPELINE.toml); or from the block's own capacities under the records (--direct). The hazard is \
     an OpenQuake hazard-curve CSV (poe within investigation_time, several sites; imt='PGA', 'PGV' \
     (cm/s), 'SA(T)' or 'AvgSA') or a plain CSV `pga_g,annual_rate` (or `pgv_cm_s`, `sa(1.0)_g`, \
     `avgsa_g`; one site). Prints per site the annual rate, the return period, the probability of \
