@@ -463,6 +463,15 @@ def test_bad_input_raises_value_errors_with_the_librarys_message(tmp_path):
     assert r["slides_first"] is True
 
 
+def test_a_block_the_size_of_a_building_is_warned_of_once():
+    # Sizes in cm ran as a 180 m block without a word in simulate and
+    # capacity: Block warns, as the commands do, once for its two ε.
+    big = rocking.Block(b=20, h=90, eps=[0.8, 0.9])
+    assert big.warnings == [w for w in big.warnings if "building's size" in w]
+    assert len(big.warnings) == 1 and "a block 180 m tall" in big.warnings[0]
+    assert rocking.Block(b=0.2, h=0.9, eps=0.9).warnings == []
+
+
 def test_the_gil_is_released_while_a_batch_computes():
     count = [0]
     running = threading.Event()

@@ -28,7 +28,7 @@ pub(super) fn orientation_section(w: &mut String, d: &StudyData) {
     );
     let _ = writeln!(
         w,
-        "| block | p (1/s) | ε | as recorded 16/50/84 % | random 16/50/84 % | worst 16/50/84 % | random/recorded median | worst/recorded median |\n|---|---|---|---|---|---|---|---|"
+        "| block | p (1/s) | ε | as recorded 16/50/84 % (g) | random 16/50/84 % (g) | worst 16/50/84 % (g) | random/recorded median | worst/recorded median |\n|---|---|---|---|---|---|---|---|"
     );
     let f = |v: f64| {
         if v.is_finite() {
@@ -78,7 +78,7 @@ fn pulse_table(w: &mut String, d: &StudyData) {
     );
     let _ = writeln!(
         w,
-        "| block | p (1/s) | ε | pairs | along: median RotD50 PGA_c | across | along/across |\n|---|---|---|---|---|---|---|"
+        "| block | p (1/s) | ε | pairs | along: median RotD50 PGA_c (g) | across (g) | along/across |\n|---|---|---|---|---|---|---|"
     );
     for r in &rows {
         let _ = writeln!(
@@ -127,7 +127,7 @@ fn rotd_table(
     );
     let _ = writeln!(
         w,
-        "| block | p (1/s) | ε | as recorded, PGA: median, β | random, RotD50 PGA: median, β | median ratio | β change |\n|---|---|---|---|---|---|---|"
+        "| block | p (1/s) | ε | as recorded, PGA: median (g), β | random, RotD50 PGA: median (g), β | median ratio | β change |\n|---|---|---|---|---|---|---|"
     );
     for r in rows {
         let (Some((m0, b0)), Some((m1, b1))) = (r.as_recorded_lognormal, rotd(r)) else {

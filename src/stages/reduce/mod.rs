@@ -161,9 +161,19 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
     Ok(Summary {
         lines: vec![
             format!(
-                "reduced {n_records} records × {n_blocks} blocks ({} fractiles): lognormality of η_c not rejected at 5 % in {kept} of {tested} blocks ({:.0} %)",
+                "reduced {n_records} records × {n_blocks} blocks ({} fractiles): lognormality of η_c not rejected at 5 % in {kept} of {tested} blocks ({:.0} %){}",
                 plan.fractile.name(),
-                100.0 * kept as f64 / tested.max(1) as f64
+                100.0 * kept as f64 / tested.max(1) as f64,
+                match n_blocks.saturating_sub(tested) {
+                    0 => String::new(),
+                    1 => "; 1 block untested (fewer than five of its records overturn it, or \
+                          all at one level)"
+                        .to_string(),
+                    k => format!(
+                        "; {k} blocks untested (fewer than five of their records overturn \
+                         them, or all at one level)"
+                    ),
+                }
             ),
             format!(
                 "wrote fractiles_horizontal, fractiles_vertical, capacity_fractiles, lognormal, overturn_fraction, blocks{} in {}",

@@ -106,8 +106,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 
 fn print_rows(rows: &[Row]) {
     println!(
-        "median PFV at overturning (m/s) and β: FEMA P-58's, and the tool's from the records' runs \
-         (on a roof: a building of first period T, ζ and Γφ as given)"
+        "median PFV at overturning (m/s, FEMA P-58's unit; fragility and export state PFV in cm/s) \
+         and β: FEMA P-58's, and the tool's from the records' runs (on a roof: a building of first \
+         period T, ζ and Γφ as given); b and h are half the width and half the height"
     );
     let mut scenes: Vec<(String, Option<f64>)> = Vec::new();
     for r in rows {
