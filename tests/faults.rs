@@ -1098,9 +1098,10 @@ fn a_block_the_size_of_a_building_is_warned_of() {
 }
 
 /// Levels given in another unit than the IM's: `fragility --pga` in m/s²
-/// (P = 1 without a word) and `--im pgv --at` in m/s (P = 0), and a hazard
-/// curve in m/s² under a `pga_g` header (a rate 180 times too high). Each
-/// is warned of, with the factor; levels in the IM's unit are not.
+/// (P = 1 without a word), also with `--states`, and `--im pgv --at` in
+/// m/s (P = 0). Each is warned of, with the factor; levels in the IM's unit
+/// are not, nor a hazard curve whose tail runs past 5 g (its levels cover
+/// the tail, where levels asked of `fragility` do not).
 #[test]
 fn levels_in_another_unit_are_warned_of() {
     let dir = tempdir();
@@ -1114,14 +1115,16 @@ fn levels_in_another_unit_are_warned_of() {
     let frag = ["fragility", "--b", "0.2", "--h", "0.9", "--pga"];
     assert!(says(&[&frag[..], &["2.94,9.8"]].concat(), m_s2));
     assert!(!says(&[&frag[..], &["0.3,0.5,1"]].concat(), m_s2));
-    // A PGA hazard in m/s² (0.98 to 49 m/s², i.e. 0.1 to 5 g).
+    let states = ["--direct", "--states", "rocking=0.1,overturned=overturned"];
+    assert!(says(&[&frag[..], &["2.94,9.8"], &states].concat(), m_s2));
+    // A PGA hazard in g whose tail reaches 8 g.
     let mut curve = String::from("pga_g,annual_rate\n");
-    for (a, rate) in [(0.98, 1e-2), (4.9, 1e-3), (9.8, 2e-4), (49.0, 1e-6)] {
+    for (a, rate) in [(0.05, 1e-2), (0.5, 1e-3), (2.0, 2e-5), (8.0, 1e-8)] {
         curve.push_str(&format!("{a},{rate}\n"));
     }
-    fs::write(d.join("m_s2.csv"), curve).unwrap();
-    let risk = ["risk", "--hazard", "m_s2.csv", "--b", "0.2", "--h", "0.9"];
-    assert!(says(&risk, m_s2));
+    fs::write(d.join("tail.csv"), curve).unwrap();
+    let risk = ["risk", "--hazard", "tail.csv", "--b", "0.2", "--h", "0.9"];
+    assert!(!says(&risk, m_s2));
     let pgv = [&frag[..5], &["--im", "pgv", "--direct", "--at"]].concat();
     let m_s = "are they in m/s? Multiply them by 100 for cm/s";
     assert!(says(&[&pgv[..], &["0.3,0.5"]].concat(), m_s));

@@ -32,7 +32,7 @@ use crate::im::Im;
 mod curve;
 mod notes;
 pub use curve::HazardCurve;
-pub use notes::{plausibility, statistic_note, unit_slip};
+pub use notes::{levels_slip, plausibility, statistic_note, unit_slip};
 
 /// A hazard file that cannot be used, and where.
 #[derive(Debug, Clone, PartialEq)]

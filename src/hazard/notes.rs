@@ -64,11 +64,9 @@ pub fn statistic_note(curve: &HazardCurve) -> Option<String> {
 
 /// A warning where levels of `im` that start at `lo` and reach `hi` (as
 /// `range` says, in words) look like another unit than the IM's: PGA or SA
-/// in cm/s² given as g (nothing shakes the ground at 5 g), PGA in m/s²
-/// (levels past 5 g: the strongest ground motions recorded are about 4 g),
-/// PGV in m/s given as cm/s (all below 5 cm/s, where nothing rocks). The
-/// one rule of the hazard's IMLs, OpenQuake's fields and `fragility`'s
-/// levels.
+/// in cm/s² given as g (nothing shakes the ground at 5 g), PGV in m/s
+/// given as cm/s (all below 5 cm/s, where nothing rocks). The one rule of
+/// the hazard's IMLs, OpenQuake's fields and `fragility`'s levels.
 pub fn unit_slip(im: Im, lo: f64, hi: f64, range: &str) -> Option<String> {
     match im {
         Im::Pga | Im::Sa(_) | Im::AvgSa if lo >= 5.0 => Some(format!(
@@ -76,15 +74,34 @@ pub fn unit_slip(im: Im, lo: f64, hi: f64, range: &str) -> Option<String> {
              (gal)? Divide them by 981 for g",
             crate::im::level_text(lo)
         )),
-        Im::Pga if hi > 5.0 => Some(format!(
-            "{range}: no earthquake has shaken the ground at more than about 4 g, and these \
-             reach {} g; are they in m/s²? Divide them by 9.81 for g",
-            crate::im::level_text(hi)
-        )),
         Im::Pgv if hi <= 5.0 => Some(format!(
             "{range}: all below 5 cm/s, where nothing rocks; are they in m/s? Multiply them by \
              100 for cm/s"
         )),
         _ => None,
     }
+}
+
+/// Where the levels asked look like another unit than the IM's: the
+/// hazard's rule ([`unit_slip`]: PGA in cm/s², PGV in m/s),
+/// and PGA levels past 5 g, which no earthquake has shaken the ground at
+/// (the strongest records reach about 4 g), as m/s² (a hazard curve's
+/// tail may run there; levels asked of `fragility` do not).
+pub fn levels_slip(im: Im, levels: &[f64]) -> Option<String> {
+    let lo = levels.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = levels.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if !(lo.is_finite() && hi.is_finite()) {
+        return None;
+    }
+    let t = crate::im::level_text;
+    let range = format!("the levels {}–{} {}", t(lo), t(hi), im.unit());
+    unit_slip(im, lo, hi, &range).or_else(|| {
+        (im == Im::Pga && hi > 5.0).then(|| {
+            format!(
+                "{range}: no earthquake has shaken the ground at more than about 4 g, and these \
+                 reach {} g; are they in m/s²? Divide them by 9.81 for g",
+                t(hi)
+            )
+        })
+    })
 }

@@ -263,13 +263,20 @@ impl DamageTable {
     }
 
     /// The block's lognormal capacity for `state`, its median in the IM's
-    /// unit; the state must be the study's, by name and criterion.
+    /// unit; the state must be the study's, by name and criterion
+    /// (overturning by its criterion alone: a study's one overturning state
+    /// under any name).
     pub fn capacity(&self, block: &Block, state: &LimitState) -> Result<Lognormal, ImTableError> {
         let criterion = state.describe();
+        let overturning = state.criterion == crate::damage::Criterion::Overturned;
         let found = self
             .states
             .iter()
-            .find(|s| s.0 == state.name && s.1 == criterion);
+            .find(|s| s.0 == state.name && s.1 == criterion)
+            .or_else(|| {
+                let by_criterion = self.states.iter().find(|s| s.1 == criterion);
+                by_criterion.filter(|_| overturning)
+            });
         let Some((_, _, table)) = found else {
             let have: Vec<String> = self
                 .states

@@ -28,7 +28,7 @@ pub(super) fn orientation_section(w: &mut String, d: &StudyData) {
     );
     let _ = writeln!(
         w,
-        "| block | p (1/s) | ε | as recorded 16/50/84 % (g) | random 16/50/84 % (g) | worst 16/50/84 % (g) | random/recorded median | worst/recorded median |\n|---|---|---|---|---|---|---|---|"
+        "| block | p (1/s) | ε | as recorded 16/50/84 % ({unit}) | random 16/50/84 % ({unit}) | worst 16/50/84 % ({unit}) | random/recorded median | worst/recorded median |\n|---|---|---|---|---|---|---|---|"
     );
     let f = |v: f64| {
         if v.is_finite() {
@@ -67,6 +67,9 @@ fn pulse_table(w: &mut String, d: &StudyData) {
     if rows.is_empty() {
         return;
     }
+    // In g for blocks of α; in αg for the p × ε grid.
+    let with_alpha = d.records_plan().blocks.first().and_then(|b| b.alpha_rad);
+    let unit = if with_alpha.is_some() { "g" } else { "αg" };
     let _ = writeln!(
         w,
         "Along the strongest velocity and across it: for each pair, the angle of the study's \
@@ -78,7 +81,7 @@ fn pulse_table(w: &mut String, d: &StudyData) {
     );
     let _ = writeln!(
         w,
-        "| block | p (1/s) | ε | pairs | along: median RotD50 PGA_c (g) | across (g) | along/across |\n|---|---|---|---|---|---|---|"
+        "| block | p (1/s) | ε | pairs | along: median RotD50 PGA_c ({unit}) | across ({unit}) | along/across |\n|---|---|---|---|---|---|---|"
     );
     for r in &rows {
         let _ = writeln!(
@@ -125,9 +128,10 @@ fn rotd_table(
          and β over the motions that overturn the block, in {}; `im_efficiency.parquet`).\n",
         if rows[0].in_g { "g" } else { "αg: PGA/(αg)" }
     );
+    let unit = if rows[0].in_g { "g" } else { "αg" };
     let _ = writeln!(
         w,
-        "| block | p (1/s) | ε | as recorded, PGA: median (g), β | random, RotD50 PGA: median (g), β | median ratio | β change |\n|---|---|---|---|---|---|---|"
+        "| block | p (1/s) | ε | as recorded, PGA: median ({unit}), β | random, RotD50 PGA: median ({unit}), β | median ratio | β change |\n|---|---|---|---|---|---|---|"
     );
     for r in rows {
         let (Some((m0, b0)), Some((m1, b1))) = (r.as_recorded_lognormal, rotd(r)) else {

@@ -52,8 +52,9 @@ table! {
         /// Where the fragility comes from: `paper`, the pipeline file, or `direct`.
         pub fragility: String,
         /// How the fragility the rate integrates is made: `regression` (the paper's or a
-        /// study's, PGA), `moments` (a study's IM table), `fractile` or `mle` (lognormals of
-        /// the records' capacities), `empirical` (the records' own curve, `--method
+        /// study's, PGA), `fractile` or `mle` (lognormals of the records' capacities, or of a
+        /// study's damage table in another IM), `moments` (a study's IM table, where its
+        /// damage states hold no overturning), `empirical` (the records' own curve, `--method
         /// empirical`: no β) or `mixture` (a logic tree's).
         pub fit: String,
         /// The IM of the hazard and the fragility (`pga`, `pgv`, `sa(1.0)`, `avgsa`): every

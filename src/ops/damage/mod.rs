@@ -169,8 +169,9 @@ pub fn no_fit(f: &DamageFragility, state: &StateFragility, method: FitMethod) ->
 }
 
 /// The study's damage tables by fractiles and by likelihood, carried to
-/// blocks: needed where a state other than overturning is asked (refused
-/// without them); otherwise read where the study has them, for
+/// blocks: needed where a state other than overturning is asked, or any
+/// state in an IM other than PGA (refused without them); otherwise read
+/// where the study has them, for
 /// overturning's likelihood fit (and its fractile fit where the study has
 /// no regression), which do not depend on the other states asked (with
 /// overturning alone they were "—" or refused, beside a lighter state
@@ -180,10 +181,14 @@ fn damage_tables(
     im: Im,
     laws: &Laws,
 ) -> Result<[Option<DamageTable>; 2], FragilityError> {
-    let needed = states
-        .states()
-        .iter()
-        .any(|s| s.criterion != Criterion::Overturned);
+    // Overturning in an IM other than PGA is the table's too
+    // ([`in_damage_table`]): a stale or missing table is said, not passed
+    // over for the IM table's biased moments.
+    let needed = im != Im::Pga
+        || states
+            .states()
+            .iter()
+            .any(|s| s.criterion != Criterion::Overturned);
     let table = |m| match needed {
         true => laws.damage_table(im, m),
         false => Ok(laws.damage_table(im, m).ok().flatten()),
@@ -384,6 +389,12 @@ fn overturning(
     } else {
         let l = laws.im_table(im)?.capacity(block)?;
         warnings.extend(l.warnings);
+        warnings.push(format!(
+            "the study's damage table has no fit of overturning in {}: its IM table's median \
+             and β are taken, over the records that overturn the block only, which overstate \
+             P where some never do; run the study's damage stage, or use --direct",
+            im.name()
+        ));
         // The study's table rests on its model, as the regression does.
         let study = laws.plan.as_ref().map(|p| p.blocks());
         warnings.extend(super::fragility::model_warning(block, study, auto_tol));
@@ -484,6 +495,8 @@ pub fn assess(
     );
     let crossed = crossings(&fragility, method, cut);
     fragility.warnings.extend(crossed);
+    let slip = crate::hazard::levels_slip(req.im, &req.levels);
+    fragility.warnings.extend(slip);
     let sliding = fragility.unmodelled_sliding(req.mu, block.alpha());
     fragility.warnings.extend(sliding);
     let points = req

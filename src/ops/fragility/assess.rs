@@ -43,7 +43,8 @@ pub struct Assessment {
     pub source: String,
     /// How the fragility is made: `fractile`, `mle`, `empirical` (the
     /// records' curve), `regression` (the paper's or a study's) or
-    /// `moments` (a study's IM table: exp(mean ln), the standard deviation).
+    /// `moments` (a study's IM table, where its damage states hold no
+    /// overturning: exp(mean ln), the standard deviation).
     pub fit: String,
     /// With `--direct`: the records folder (or pipeline) the block ran through.
     pub records_folder: Option<String>,
@@ -220,7 +221,7 @@ fn one(
         })
         .collect();
     let mut warnings = f.warnings.clone();
-    warnings.extend(levels_slip(im, &req.levels));
+    warnings.extend(crate::hazard::levels_slip(im, &req.levels));
     let slides_first = req.mu.map(|mu| crate::block::slides_first(mu, alpha));
     warnings.extend(f.unmodelled_sliding(req.mu, alpha));
     Ok((
@@ -251,17 +252,4 @@ fn one(
         },
         fragility,
     ))
-}
-
-/// Where the levels asked look like another unit than the IM's (PGA in
-/// m/s² or cm/s², PGV in m/s): the hazard's rule ([`crate::hazard::unit_slip`]).
-fn levels_slip(im: Im, levels: &[f64]) -> Option<String> {
-    let lo = levels.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = levels.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    if !(lo.is_finite() && hi.is_finite()) {
-        return None;
-    }
-    let t = crate::im::level_text;
-    let range = format!("the levels {}–{} {}", t(lo), t(hi), im.unit());
-    crate::hazard::unit_slip(im, lo, hi, &range)
 }

@@ -48,8 +48,10 @@ pub(in crate::physics) struct Coupled {
     mode: Mode,
     /// The record is over: the time in modes is booked.
     closed: bool,
-    /// Events in a row that did not move time on ([`MAX_STILL`]).
+    /// Slipping arms in a row that ended at one instant, `still_at` (s)
+    /// ([`MAX_STILL`]).
     pub(super) still: u32,
+    pub(super) still_at: f64,
 }
 
 /// Events in a row at one instant of a sliding run that stop it as
@@ -72,6 +74,7 @@ impl Coupled {
             mode: Mode::Rest,
             closed: false,
             still: 0,
+            still_at: f64::NAN,
         }
     }
 

@@ -96,10 +96,13 @@ impl<S: Stepper, O: Observer> Driver<'_, S, O> {
                 self.slide_rock_arm(t_k, tau, stretch)
             }
         };
+        // Counted where an arm ends at the instant the one before it ended
+        // (whatever moved time on between them resets it).
         let c = self.c();
-        c.still = match arm {
-            Arm::At(at) if at <= tau => c.still + 1,
-            _ => 0,
+        (c.still, c.still_at) = match arm {
+            Arm::At(at) if t_k + at == c.still_at => (c.still + 1, c.still_at),
+            Arm::At(at) => (0, t_k + at),
+            _ => (0, f64::NAN),
         };
         if c.still > MAX_STILL {
             self.out.stop = Stop::EventLimit;

@@ -161,19 +161,9 @@ fn run(study: &Study) -> Result<Summary, ReduceError> {
     Ok(Summary {
         lines: vec![
             format!(
-                "reduced {n_records} records × {n_blocks} blocks ({} fractiles): lognormality of η_c not rejected at 5 % in {kept} of {tested} blocks ({:.0} %){}",
+                "reduced {n_records} records × {n_blocks} blocks ({} fractiles): {}",
                 plan.fractile.name(),
-                100.0 * kept as f64 / tested.max(1) as f64,
-                match n_blocks.saturating_sub(tested) {
-                    0 => String::new(),
-                    1 => "; 1 block untested (fewer than five of its records overturn it, or \
-                          all at one level)"
-                        .to_string(),
-                    k => format!(
-                        "; {k} blocks untested (fewer than five of their records overturn \
-                         them, or all at one level)"
-                    ),
-                }
+                lognormal_count(kept, tested, n_blocks)
             ),
             format!(
                 "wrote fractiles_horizontal, fractiles_vertical, capacity_fractiles, lognormal, overturn_fraction, blocks{} in {}",
@@ -261,4 +251,20 @@ pub(super) fn load(study: &Study) -> Result<(Vec<CapacityRow>, Vec<IdaRow>), Red
 /// Reads a reduce table of a study folder (for fit, the report and tests).
 pub fn read<T: tables::Table>(dir: &Path, file: &str) -> Result<Vec<T>, TableError> {
     tables::read(&dir.join(file))
+}
+
+/// How many blocks' η_c passed the lognormal check, of those it could test.
+fn lognormal_count(kept: usize, tested: usize, n_blocks: usize) -> String {
+    let why = "fewer than five of their records overturn them, or all at one level";
+    if tested == 0 {
+        return format!("lognormality of η_c untested in every block ({why})");
+    }
+    let untested = match n_blocks.saturating_sub(tested) {
+        0 => String::new(),
+        k => format!("; {k} untested ({why})"),
+    };
+    format!(
+        "lognormality of η_c not rejected at 5 % in {kept} of {tested} blocks ({:.0} %){untested}",
+        100.0 * kept as f64 / tested as f64
+    )
 }
