@@ -204,10 +204,10 @@ fn efficiency_is_the_capacities_dispersion_by_hand() {
         assert!((e.beta - l.beta_sample.unwrap()).abs() < 1e-12);
     }
 
-    // A fragility in PGV from this study's IM table (the study is too small
-    // for the regression, which PGV does not need), and the table refused
-    // once it is no longer the pipeline's: reduce reruns after an edit, the
-    // ims stage not.
+    // A fragility in PGV from this study's damage table (the study is too
+    // small for the regression, which PGV does not need), and the table
+    // refused once it is no longer the pipeline's: the fractile definition
+    // edited, reduce reruns, the damage stage not.
     let (p, o) = (pipeline.to_str().unwrap(), outputs.to_str().unwrap());
     let fragility = |im: &[&str]| {
         let block = ["fragility", "--b", "0.25", "--h", "1.0", "--eps", "0.7"];
@@ -243,7 +243,8 @@ fn efficiency_is_the_capacities_dispersion_by_hand() {
     let r = fragility(&pgv);
     assert!(!r.status.success());
     assert!(
-        stderr(&r).contains("the IM table in") && stderr(&r).contains(&format!("rocking run {p}")),
+        stderr(&r).contains("the damage table in")
+            && stderr(&r).contains(&format!("rocking run {p}")),
         "{}",
         stderr(&r)
     );

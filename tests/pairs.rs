@@ -691,7 +691,10 @@ fn a_study_over_orientations_runs_every_pair_at_every_angle() {
         (row.median.unwrap() / m - 1.0).abs() < 1e-9,
         "{row:?} {direct}"
     );
-    assert!(report.contains("random, RotD50 PGA: median, β"), "{report}");
+    assert!(
+        report.contains("random, RotD50 PGA: median (g), β"),
+        "{report}"
+    );
     let caps = rocking::stages::sweep::read_capacities(&outputs.join("turned")).unwrap();
     let ids: Vec<&str> = caps.iter().map(|c| c.record_id.as_str()).collect();
     assert_eq!(
