@@ -987,12 +987,37 @@ fn a_study_s_pgv_fragility_counts_the_records_that_never_overturn() {
             .unwrap()
             .value
     };
-    // The block p = 1 1/s at α = atan(1/4): its records' PGV at capacity
-    // (cm/s), the records that never overturn it at +∞.
-    let (g, p) = (9.80665, 1.0f64);
-    let r = 3.0 * g / (4.0 * p * p);
-    let h = r / (1.0f64 + 1.0 / 16.0).sqrt();
-    let (b, alpha) = (h / 4.0, (0.25f64).atan());
+    // The grid's block of frequency `p` (1/s) at α = atan(1/4), its
+    // fragility in PGV from the study (R = 3g/(4p²), b = h/4).
+    let alpha = (0.25f64).atan();
+    let fragility = |p: f64, json: bool| {
+        let r = 3.0 * 9.80665 / (4.0 * p * p);
+        let h = r / (1.0f64 + 1.0 / 16.0).sqrt();
+        let (bs, hs) = (format!("{}", h / 4.0), format!("{h}"));
+        let mut args = vec![
+            "fragility",
+            "--b",
+            &bs,
+            "--h",
+            &hs,
+            "--eps",
+            "0.7",
+            "--im",
+            "pgv",
+            "--at",
+            "50",
+            "--from",
+            pipe,
+            "--outputs",
+            outs,
+        ];
+        if json {
+            args.push("--json");
+        }
+        rocking(dir.path(), &args)
+    };
+    // The block p = 1 1/s: its records' PGV at capacity (cm/s), the
+    // records that never overturn it at +∞.
     let mut pgv_c: Vec<f64> = caps
         .iter()
         .filter(|c| c.p == 1.0)
@@ -1009,28 +1034,7 @@ fn a_study_s_pgv_fragility_counts_the_records_that_never_overturn() {
     );
     let median = type7(&pgv_c, 0.5);
     let beta = 0.5 * (type7(&pgv_c, 0.84) / type7(&pgv_c, 0.16)).ln();
-    let (bs, hs) = (format!("{b}"), format!("{h}"));
-    let f = rocking(
-        dir.path(),
-        &[
-            "fragility",
-            "--b",
-            &bs,
-            "--h",
-            &hs,
-            "--eps",
-            "0.7",
-            "--im",
-            "pgv",
-            "--at",
-            "50",
-            "--from",
-            pipe,
-            "--outputs",
-            outs,
-            "--json",
-        ],
-    );
+    let f = fragility(1.0, true);
     assert!(f.status.success(), "{}", stderr(&f));
     let v: serde_json::Value = serde_json::from_str(&stdout(&f)).unwrap();
     assert_eq!(v["fit"], "fractile");
@@ -1049,29 +1053,7 @@ fn a_study_s_pgv_fragility_counts_the_records_that_never_overturn() {
         .filter(|c| c.p == 0.5 && c.eta_c.is_none())
         .count();
     assert!(never_half * 100 > 16 * 44, "{never_half}");
-    let r = 3.0 * g / (4.0 * 0.25);
-    let h = r / (1.0f64 + 1.0 / 16.0).sqrt();
-    let (bs, hs) = (format!("{}", h / 4.0), format!("{h}"));
-    let f = rocking(
-        dir.path(),
-        &[
-            "fragility",
-            "--b",
-            &bs,
-            "--h",
-            &hs,
-            "--eps",
-            "0.7",
-            "--im",
-            "pgv",
-            "--at",
-            "50",
-            "--from",
-            pipe,
-            "--outputs",
-            outs,
-        ],
-    );
+    let f = fragility(0.5, false);
     assert!(!f.status.success());
     let e = stderr(&f);
     assert!(e.contains("--method mle") && e.contains("--direct"), "{e}");

@@ -262,22 +262,31 @@ impl DamageTable {
         })
     }
 
-    /// The block's lognormal capacity for `state`, its median in the IM's
-    /// unit; the state must be the study's, by name and criterion
-    /// (overturning by its criterion alone: a study's one overturning state
-    /// under any name).
-    pub fn capacity(&self, block: &Block, state: &LimitState) -> Result<Lognormal, ImTableError> {
+    /// The study's blocks of `state`: by name and criterion (overturning by
+    /// its criterion alone: a study's one overturning state under any name).
+    fn of_state(&self, state: &LimitState) -> Option<&Table> {
         let criterion = state.describe();
         let overturning = state.criterion == crate::damage::Criterion::Overturned;
-        let found = self
-            .states
+        self.states
             .iter()
             .find(|s| s.0 == state.name && s.1 == criterion)
             .or_else(|| {
                 let by_criterion = self.states.iter().find(|s| s.1 == criterion);
                 by_criterion.filter(|_| overturning)
-            });
-        let Some((_, _, table)) = found else {
+            })
+            .map(|s| &s.2)
+    }
+
+    /// Whether the study fitted `state` ([`DamageTable::capacity`] finds it).
+    pub fn holds(&self, state: &LimitState) -> bool {
+        self.of_state(state).is_some()
+    }
+
+    /// The block's lognormal capacity for `state`, its median in the IM's
+    /// unit; the state must be the study's ([`DamageTable::holds`]).
+    pub fn capacity(&self, block: &Block, state: &LimitState) -> Result<Lognormal, ImTableError> {
+        let Some(table) = self.of_state(state) else {
+            let criterion = state.describe();
             let have: Vec<String> = self
                 .states
                 .iter()

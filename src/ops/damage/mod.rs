@@ -13,7 +13,7 @@ mod records;
 pub use answer::{DamageFragility, StateFragility, DIRECT_FRACTILE};
 
 use super::fragility::{DirectRecords, FragilityError, Laws, Request, RunModel};
-use super::im_fragility::{DamageTable, ImTableError};
+use super::im_fragility::DamageTable;
 use crate::block::Block;
 use crate::damage::{
     self, Criterion, DamageStates, Dispersion, FitChoice, FitMethod, IfNotLognormal, Lognormal,
@@ -346,21 +346,11 @@ fn in_damage_table(
     required: bool,
     w: &mut Vec<String>,
 ) -> Result<Option<(Option<Lognormal>, &'static str)>, FragilityError> {
-    let Some(t) = table.as_ref().filter(|_| im != Im::Pga) else {
-        return Ok(None);
-    };
-    match t.capacity(block, s) {
-        Ok(l) => {
-            w.extend(l.warnings);
-            let l = Lognormal {
-                median: l.median,
-                beta: l.beta,
-            };
-            Ok(Some((Some(l), "fractile")))
+    match table {
+        Some(t) if im != Im::Pga && t.holds(s) => {
+            Ok(Some((carried(table, block, s, required, w)?, "fractile")))
         }
-        Err(ImTableError::NoState { .. }) => Ok(None),
-        Err(e) if required => Err(e.into()),
-        Err(_) => Ok(Some((None, "fractile"))),
+        _ => Ok(None),
     }
 }
 

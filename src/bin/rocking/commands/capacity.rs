@@ -7,9 +7,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use rocking::ask::{AskedBlock, SearchAsk, Spelling};
 use rocking::decimal::shortest;
 use rocking::ida::{Certified, Spacing};
-use rocking::im;
 use rocking::ops::capacity::{self, NamedSpec};
-use rocking::ops::reports::{self};
+use rocking::ops::reports::{self, CapacityReport};
 use rocking::records::LoadedRecord;
 use rocking::stages::{Progress, Reporter};
 
@@ -147,23 +146,24 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         )];
         rocking::tables::write(out, &capacity::rows(&records, &named, &results), &settings)?;
     }
+    let reports = rocking::ops::reports::capacity_reports(
+        &records,
+        &named,
+        &results,
+        &search,
+        building.as_ref(),
+    );
     if args.block.json || total > 1 {
         if !args.block.json {
             eprintln!("{total} capacities, one JSON object a line (--json says so explicitly)");
         }
         let mut stdout = std::io::stdout().lock();
-        for report in rocking::ops::reports::capacity_reports(
-            &records,
-            &named,
-            &results,
-            &search,
-            building.as_ref(),
-        ) {
+        for report in reports {
             writeln!(stdout, "{}", serde_json::to_string(&report)?)?;
         }
         return Ok(());
     }
-    print_text(&args, &records[0], &blocks[0], &results[0]);
+    print_text(&args, &records[0], &blocks[0], (&results[0], &reports[0]));
     Ok(())
 }
 
@@ -182,8 +182,13 @@ fn pair_angles(args: &Args) -> anyhow::Result<Vec<f64>> {
     Ok(args.angle.clone())
 }
 
-/// One capacity as text.
-fn print_text(args: &Args, rec: &LoadedRecord, block: &AskedBlock, certified: &Certified) {
+/// One capacity as text: its peaks at the capacity are its JSON's.
+fn print_text(
+    args: &Args,
+    rec: &LoadedRecord,
+    block: &AskedBlock,
+    (certified, report): (&Certified, &CapacityReport),
+) {
     let (spec, cap) = (&block.named.spec, &certified.capacity);
     if let Some(theta) = rec.angle_deg {
         println!("direction   {theta}° from the pair's first component towards its second");
@@ -214,21 +219,17 @@ fn print_text(args: &Args, rec: &LoadedRecord, block: &AskedBlock, certified: &C
     match cap.eta_c {
         Some(c) => {
             let peak = if rec.floor.is_some() { "PFA" } else { "PGA" };
-            let pga = block
-                .named
-                .alpha_rad
-                .map(|a| format!(", {peak} {:.4} g", im::pga_of_eta(c, a)))
+            let peak_g = report.pfa_c_g.or(report.pga_c_g);
+            let pga = peak_g
+                .map(|g| format!(", {peak} {g:.4} g"))
                 .unwrap_or_default();
             println!(
                 "η_c         {c:.6} ({peak} = {:.4} αg{pga}), survives at η = {:.6}",
                 1.0 / c,
                 cap.eta_survived
             );
-            if let (Some(f), Some(a)) = (rec.floor, block.named.alpha_rad) {
-                println!(
-                    "ground      PGA {:.4} g at the capacity",
-                    im::pga_of_eta(c, a) / f.pfa_over_pga
-                );
+            if let (Some(ground), Some(_)) = (report.pga_c_g, report.pfa_c_g) {
+                println!("ground      PGA {ground:.4} g at the capacity");
             }
             println!(
                 "bracket     grid levels {:.6} (survived) → {:.6} (overturned), refined to {:e}",
