@@ -616,13 +616,17 @@ fn signal_stops_a_sweep_that_then_resumes(signal: libc::c_int, kill_flag: &str, 
 fn a_command_deaf_to_the_stop_is_ended_by_the_signal_after_a_grace() {
     use std::os::unix::process::{CommandExt, ExitStatusExt};
     let dir = tempdir();
-    let record = dir.path().join("long.AT2");
-    // 500,000 samples: some 14 s of the DFT at 200,000, quadratic in the
-    // count, so far beyond the grace on any machine.
-    let accel: Vec<f64> = (0..500_000)
-        .map(|k| 0.1 * (k as f64 * 0.01).sin())
-        .collect();
-    crate::util::write_at2(&record, &accel, 0.005);
+    // A pair of 1,000,000 samples each: its RotD (15 periods × 180 angles,
+    // linear in the count) takes some 27 s on the project's machine, far
+    // beyond the grace on any machine, and the oscillators do not listen
+    // for the stop.
+    let (record, pair) = (dir.path().join("long.AT2"), dir.path().join("long-90.AT2"));
+    for (path, phase) in [(&record, 0.0), (&pair, 1.0)] {
+        let accel: Vec<f64> = (0..1_000_000)
+            .map(|k| 0.1 * (k as f64 * 0.01 + phase).sin())
+            .collect();
+        crate::util::write_at2(path, &accel, 0.005);
+    }
     let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_rocking"));
     // SAFETY: signal(2) is async-signal-safe, as pre_exec requires.
     unsafe {
@@ -633,6 +637,7 @@ fn a_command_deaf_to_the_stop_is_ended_by_the_signal_after_a_grace() {
     }
     let child = command
         .args(["ims", "--record", record.to_str().unwrap()])
+        .args(["--pair", pair.to_str().unwrap()])
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
         .spawn()

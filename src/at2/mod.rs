@@ -28,13 +28,12 @@
 //! This module does no I/O: the caller reads the file and adds its path to
 //! the error.
 
-use std::fmt;
-
 use crate::decimal::{decimal_prefix, exact_decimal};
 pub use crate::motion::{MAX_ACCEL_G, MAX_DT_S, MIN_DT_S};
 
-/// Number of header lines before the samples.
-pub const HEADER_LINES: usize = 4;
+mod error;
+use error::err;
+pub use error::{At2Error, At2ErrorKind, HEADER_LINES};
 
 /// Layout of the NPTS/DT line (line 4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -67,184 +66,6 @@ pub struct At2 {
     pub accel_g: Vec<f64>,
 }
 
-/// Why a file was refused, and on which line (1-based).
-#[derive(Debug, Clone, PartialEq)]
-pub struct At2Error {
-    pub line: usize,
-    pub kind: At2ErrorKind,
-}
-
-#[derive(Debug, Clone, PartialEq)]
-pub enum At2ErrorKind {
-    Empty,
-    ShortHeader {
-        lines: usize,
-    },
-    NotAcceleration {
-        units_line: String,
-    },
-    MissingNpts {
-        text: String,
-    },
-    MissingDt {
-        text: String,
-    },
-    BadNpts {
-        token: String,
-    },
-    BadDt {
-        token: String,
-    },
-    NonPositiveDt {
-        dt: f64,
-    },
-    FineDt {
-        dt: f64,
-    },
-    CoarseDt {
-        dt: f64,
-    },
-    NotANumber {
-        token: String,
-    },
-    NotFinite {
-        token: String,
-    },
-    TooFewValues {
-        npts: usize,
-        found: usize,
-    },
-    TooManyValues {
-        npts: usize,
-    },
-    /// More values than NPTS where a token of whitespace-separated values
-    /// holds a comma between digits (`1,5E-04`): a decimal comma, read as
-    /// two values.
-    DecimalComma {
-        token: String,
-        npts: usize,
-    },
-    /// DT in a unit other than seconds (`MSEC`).
-    DtUnit {
-        unit: String,
-    },
-    /// One sample: no time step to run.
-    OneSample,
-    /// Every sample 0.
-    NoMotion,
-    /// A sample beyond [`MAX_ACCEL_G`] (the `index`-th, from 1).
-    Implausible {
-        index: usize,
-        value: f64,
-    },
-}
-
-impl fmt::Display for At2Error {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "line {}: {}", self.line, self.kind)
-    }
-}
-
-/// File content shown in a message: control characters (NUL, escape
-/// sequences that would recolour or clear a terminal, stray carriage
-/// returns) are written as escapes, so a hostile or broken file cannot
-/// garble the error that names it.
-fn shown(text: &str) -> String {
-    text.chars()
-        .flat_map(|c| {
-            let escaped: Vec<char> = if c.is_control() {
-                c.escape_default().collect()
-            } else {
-                vec![c]
-            };
-            escaped
-        })
-        .collect()
-}
-
-impl fmt::Display for At2ErrorKind {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        use At2ErrorKind::*;
-        match self {
-            Empty => write!(f, "the file is empty"),
-            ShortHeader { lines } => write!(
-                f,
-                "the file ends after {lines} line(s); an AT2 file has {HEADER_LINES} header lines before the samples"
-            ),
-            NotAcceleration { units_line } => write!(
-                f,
-                "the units line `{}` does not describe an acceleration history in units of g \
-                 (velocity .VT2 and displacement .DT2 files share the AT2 layout; give the .AT2 file)",
-                shown(units_line)
-            ),
-            MissingNpts { text } => write!(
-                f,
-                "no NPTS in `{}`; expected `NPTS=  2999, DT= .0100 SEC` or `2999  0.0100  NPTS, DT`",
-                shown(text)
-            ),
-            MissingDt { text } => write!(
-                f,
-                "no DT in `{}`; expected `NPTS=  2999, DT= .0100 SEC` or `2999  0.0100  NPTS, DT`",
-                shown(text)
-            ),
-            BadNpts { token } => write!(
-                f,
-                "NPTS `{}` is not a positive whole number",
-                shown(token)
-            ),
-            BadDt { token } => write!(f, "DT `{}` is not a number", shown(token)),
-            NonPositiveDt { dt } => write!(f, "DT = {dt} s; the time step must be positive"),
-            FineDt { dt } => write!(
-                f,
-                "DT = {dt:e} s: an accelerogram is sampled every 0.001–0.05 s; below {MIN_DT_S:e} \
-                 s the header's time step is wrong"
-            ),
-            CoarseDt { dt } => write!(
-                f,
-                "DT = {dt} s: an accelerogram is sampled every 0.001–0.05 s; above {MAX_DT_S} s \
-                 it cannot resolve shaking (is DT in ms?)"
-            ),
-            NotANumber { token } => write!(f, "`{}` is not a number", shown(token)),
-            NotFinite { token } => write!(f, "`{}` is not a finite number", shown(token)),
-            TooFewValues { npts, found } => {
-                write!(f, "the header says NPTS = {npts} but the file ends after {found} value(s)")
-            }
-            TooManyValues { npts } => write!(
-                f,
-                "more values than NPTS = {npts}: the header and the data disagree"
-            ),
-            DecimalComma { token, npts } => write!(
-                f,
-                "`{}` reads as two values, and the file has more than NPTS = {npts}: is its comma \
-                 a decimal point? Samples take a point (`1.5E-04`)",
-                shown(token)
-            ),
-            DtUnit { unit } => write!(
-                f,
-                "DT is given in `{}`: an AT2 file's time step is in seconds (SEC); convert it",
-                shown(unit)
-            ),
-            OneSample => write!(
-                f,
-                "NPTS = 1: a record needs two samples at least (one time step to run)"
-            ),
-            NoMotion => write!(f, "every sample is 0: the record has no motion"),
-            Implausible { index, value } => write!(
-                f,
-                "sample {index} is {value:e} g, past {MAX_ACCEL_G} g: no ground motion on record \
-                 comes near (the strongest, Iwate-Miyagi 2008 at IWTH25, about 4 g); is the file \
-                 in cm/s² (gal) under a units line of g?"
-            ),
-        }
-    }
-}
-
-impl std::error::Error for At2Error {}
-
-fn err(line: usize, kind: At2ErrorKind) -> At2Error {
-    At2Error { line, kind }
-}
-
 /// Parses an AT2 file from its bytes. Non-UTF-8 bytes in the header (old
 /// files carry Latin-1 station names) are replaced, not refused.
 pub fn parse(bytes: &[u8]) -> Result<At2, At2Error> {
@@ -274,7 +95,7 @@ pub fn parse_str(text: &str) -> Result<At2, At2Error> {
     check_units(&header[2]).map_err(|kind| err(3, kind))?;
     let (npts, dt_s, layout) = parse_npts_dt(&header[3]).map_err(|kind| err(4, kind))?;
     let accel_g = parse_samples(rest, npts)?;
-    check_motion(&accel_g)?;
+    check_motion(&accel_g, rest)?;
     Ok(At2 {
         header,
         layout,
@@ -446,20 +267,44 @@ fn check_units(line: &str) -> Result<(), At2ErrorKind> {
     }
 }
 
-/// A record's samples as a motion: two at least, not all 0, none past
-/// [`MAX_ACCEL_G`] (the units line is where such a file goes wrong).
-fn check_motion(accel_g: &[f64]) -> Result<(), At2Error> {
+/// A record's samples (read from `body`, the text after the header) as a
+/// motion: two at least, not all 0, none past [`MAX_ACCEL_G`] (the first
+/// such blamed on its line, with how many there are: one is a typo, many a
+/// file in gal under a units line of g).
+fn check_motion(accel_g: &[f64], body: &str) -> Result<(), At2Error> {
     if accel_g.len() < 2 {
         return Err(err(4, At2ErrorKind::OneSample));
     }
-    if let Some(i) = accel_g.iter().position(|a| a.abs() > MAX_ACCEL_G) {
-        let (index, value) = (i + 1, accel_g[i]);
-        return Err(err(3, At2ErrorKind::Implausible { index, value }));
+    let beyond = |a: &f64| a.abs() > MAX_ACCEL_G;
+    if let Some(i) = accel_g.iter().position(beyond) {
+        let kind = At2ErrorKind::Implausible {
+            index: i + 1,
+            value: accel_g[i],
+            past: accel_g.iter().filter(|a| beyond(a)).count(),
+            of: accel_g.len(),
+        };
+        return Err(err(line_of_sample(body, i), kind));
     }
     if accel_g.iter().all(|&a| a == 0.0) {
         return Err(err(HEADER_LINES + 1, At2ErrorKind::NoMotion));
     }
     Ok(())
+}
+
+/// The file's line of the `i`-th sample (from 0) of `body`, which starts
+/// on the line after the header; separators as [`parse_samples`] reads them.
+fn line_of_sample(body: &str, i: usize) -> usize {
+    let mut seen = 0;
+    for (k, line) in body.split('\n').enumerate() {
+        seen += line
+            .split(|c: char| c.is_whitespace() || c == ',')
+            .filter(|t| !t.is_empty())
+            .count();
+        if seen > i {
+            return HEADER_LINES + 1 + k;
+        }
+    }
+    HEADER_LINES + 1
 }
 
 /// Line 4: NPTS and DT in the keyed or positional layout.
@@ -963,8 +808,10 @@ mod tests {
     }
 
     /// A file of one sample, of zeros, or with a sample past 10 g (a file
-    /// in gal under a units line of g: 499.7 "g") is no motion to run: each
-    /// ran as a record that never overturns, or overturns on one spike.
+    /// in gal under a units line of g: 499.7 "g", or a typo) is no motion
+    /// to run: each ran as a record that never overturns, or overturns on
+    /// one spike. The first sample past 10 g is blamed on its own line
+    /// (counted by hand: header lines 1–4, then a blank line among them).
     #[test]
     fn samples_that_are_no_ground_motion_are_refused() {
         for (npts, body, line, want) in [
@@ -978,10 +825,23 @@ mod tests {
             (
                 "NPTS= 3, DT= .01 SEC",
                 "0.1 -499.7 2\n",
-                3,
+                5,
                 At2ErrorKind::Implausible {
                     index: 2,
                     value: -499.7,
+                    past: 1,
+                    of: 3,
+                },
+            ),
+            (
+                "NPTS= 7, DT= .01 SEC",
+                "0.1, 0.2\n0.3 0.4\n\n0.5\t12.5 -30\n",
+                8,
+                At2ErrorKind::Implausible {
+                    index: 6,
+                    value: 12.5,
+                    past: 2,
+                    of: 7,
                 },
             ),
         ] {
