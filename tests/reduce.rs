@@ -206,6 +206,7 @@ fn reduce_and_fit_follow_the_definitions_and_rerun_only_on_change() {
         shard: None,
         reporter: &Silent,
         stage_seconds: Vec::new(),
+        forced: false,
     };
     let e = rocking::stages::reduce::Reduce.run(&cx).unwrap_err();
     assert!(e.to_string().contains("other settings"), "{e}");

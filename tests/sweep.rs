@@ -13,7 +13,10 @@ use rocking::stages::sweep::{
     read_capacities, read_ida, CASE_DELAY_ENV, FAULT_ENV, HOLD_ENV, INTERRUPT_ENV,
 };
 
-use crate::util::{direct_capacity, rocking, root, stderr, tempdir, write_pipeline, TempDir};
+use crate::util::{
+    direct_capacity, plain_at2_values, rocking, root, stderr, tempdir, write_at2, write_pipeline,
+    TempDir,
+};
 
 #[test]
 fn every_shipped_pipeline_loads() {
@@ -665,4 +668,104 @@ fn a_command_deaf_to_the_stop_is_ended_by_the_signal_after_a_grace() {
     );
     // The grace, and no more than a loaded machine's delay past it.
     assert!((4.9..30.0).contains(&waited), "{waited} s");
+}
+
+/// A rerun after records were added, removed and edited computes only the
+/// changed records' cases and takes the rest from the previous sweep's
+/// tables; the tables equal, byte for byte, those of a sweep of the same
+/// records from scratch (the independent truth: every case computed). The
+/// added record sorts first, so every kept case's number moves. Forced, or
+/// with the previous tables not as the sweep wrote them, nothing is taken.
+#[test]
+fn a_rerun_computes_only_the_records_that_changed() {
+    let dir = tempdir();
+    let recs = dir.path().join("recs");
+    fs::create_dir(&recs).unwrap();
+    let far = root().join("records/fema-p695/far-field");
+    let values = |stem: &str| plain_at2_values(&far.join(format!("{stem}.AT2")));
+    let scaled = |stem: &str, k: f64| -> Vec<f64> { values(stem).iter().map(|a| k * a).collect() };
+    let stems = [
+        "RSN1111_KOBE_NIS000",
+        "RSN953_NORTHR_MUL009",
+        "RSN848_LANDERS_CLW-LN",
+    ];
+    for stem in stems {
+        write_at2(&recs.join(format!("{stem}.AT2")), &values(stem), 0.01);
+    }
+    let body = "[records]\nat2 = [\"recs\"]\n[blocks]\np = [1.5, 4.0]\neps = [0.8]\n\
+                [im]\ncount = 60\neta_min = 0.01\n";
+    let pipe = dir.path().join("inc.toml");
+    fs::write(&pipe, format!("name = \"inc\"\n{body}")).unwrap();
+    let run = |extra: &[&str]| {
+        let mut args = vec!["run", "inc.toml", "--outputs", "out", "--to", "sweep"];
+        args.extend_from_slice(extra);
+        let out = rocking(dir.path(), &args);
+        assert!(out.status.success(), "{}", stderr(&out));
+        crate::util::stdout(&out) + &stderr(&out)
+    };
+    let first = run(&[]);
+    assert!(!first.contains("from the previous sweep"), "{first}");
+    let study = dir.path().join("out/inc");
+    let kept = fs::read(study.join("capacities.parquet")).unwrap();
+    // Added (first by id), removed, edited in place.
+    write_at2(
+        &recs.join("A_KOBE_SCALED.AT2"),
+        &scaled(stems[0], 0.9),
+        0.01,
+    );
+    fs::remove_file(recs.join(format!("{}.AT2", stems[1]))).unwrap();
+    write_at2(
+        &recs.join(format!("{}.AT2", stems[2])),
+        &scaled(stems[2], 1.1),
+        0.01,
+    );
+    let second = run(&[]);
+    assert!(
+        second.contains("took the rows of 1 of 3 records (2 cases) from the previous sweep"),
+        "{second}"
+    );
+    // The same records from scratch, in another folder.
+    let fresh = tempdir();
+    let fresh_recs = fresh.path().join("recs");
+    fs::create_dir(&fresh_recs).unwrap();
+    for entry in fs::read_dir(&recs).unwrap() {
+        let path = entry.unwrap().path();
+        fs::copy(&path, fresh_recs.join(path.file_name().unwrap())).unwrap();
+    }
+    fs::write(
+        fresh.path().join("inc.toml"),
+        format!("name = \"inc\"\n{body}"),
+    )
+    .unwrap();
+    let out = rocking(
+        fresh.path(),
+        &["run", "inc.toml", "--outputs", "out", "--to", "sweep"],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    for table in ["capacities.parquet", "ida_points.parquet"] {
+        let (a, b) = (study.join(table), fresh.path().join("out/inc").join(table));
+        assert!(
+            fs::read(&a).unwrap() == fs::read(&b).unwrap(),
+            "{table} differs"
+        );
+    }
+    let caps = read_capacities(&study).unwrap();
+    assert_eq!(caps.len(), 6);
+    assert!(caps.iter().enumerate().all(|(i, c)| c.case_id == i as i64));
+    // Forced: everything computed, the same tables.
+    let forced = run(&["--force"]);
+    assert!(!forced.contains("from the previous sweep"), "{forced}");
+    let b = fresh.path().join("out/inc/capacities.parquet");
+    assert!(fs::read(study.join("capacities.parquet")).unwrap() == fs::read(&b).unwrap());
+    // The first sweep's table put back in place of the last one's: readable,
+    // its keys those of records unchanged since, but not what the last
+    // sweep wrote, so nothing is taken from it.
+    fs::write(study.join("capacities.parquet"), &kept).unwrap();
+    write_at2(
+        &recs.join("A_KOBE_SCALED.AT2"),
+        &scaled(stems[0], 0.8),
+        0.01,
+    );
+    let tampered = run(&[]);
+    assert!(!tampered.contains("from the previous sweep"), "{tampered}");
 }

@@ -395,6 +395,7 @@ fn run_one(
         shard,
         reporter,
         stage_seconds: fingerprint::recorded_seconds(study, STAGES),
+        forced: matches!(reason, Reason::Forced | Reason::From(_)),
     };
     let started = Instant::now();
     let summary = stage.run(&cx).map_err(|source| RunError::Stage {

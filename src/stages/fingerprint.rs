@@ -254,6 +254,19 @@ pub fn forget(study: &Study, stage: &dyn Stage) {
     let _ = std::fs::remove_file(path);
 }
 
+/// Whether every output of `stage`'s last unsharded run is still as it
+/// wrote it (each file's hash the one its note recorded): tables the stage
+/// may take rows from again. No note, an output missing or changed: no.
+pub fn outputs_as_written(study: &Study, stage: &dyn Stage) -> bool {
+    let Ok(note) = read_note(study, &note_path(study, stage.name(), None)) else {
+        return false;
+    };
+    stage.outputs(study, None).iter().all(|file| {
+        let recorded = note.outputs.get(&study.name_of(file));
+        recorded.is_some_and(|h| hash::file_sha256(file).is_ok_and(|now| &now == h))
+    })
+}
+
 /// The version part: the tool's version, which is raised with any change of
 /// a table's schema (ARCHITECTURE.md, "How to add a table").
 fn versions() -> String {

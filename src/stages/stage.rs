@@ -187,6 +187,9 @@ pub struct Context<'a> {
     /// Seconds each stage took when it last succeeded here, in run order
     /// (for the report).
     pub stage_seconds: Vec<(&'static str, Option<f64>)>,
+    /// Run because `--force` or `--from` asked (not because it was stale):
+    /// everything is computed again, nothing taken from its last outputs.
+    pub forced: bool,
 }
 
 /// What a stage did, for the caller to show.

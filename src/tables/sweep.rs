@@ -18,9 +18,10 @@ table! {
     /// stronger levels change neither the capacity nor the horizontal statistics. The
     /// metadata holds `rocking.sweep.plan_hash`, `rocking.sweep.settings` (the settings
     /// that determine the results) and `rocking.sweep.plan` (the resolved pipeline as JSON,
-    /// record paths relative to the pipeline's folder); shard tables also hold
-    /// `rocking.sweep.shard`, part files `rocking.sweep.chunk`, and the example's table
-    /// `rocking.example.settings`.
+    /// record paths relative to the pipeline's folder); the sweep's final tables also
+    /// hold `rocking.sweep.record_keys` (each record's key, by id: a rerun takes the rows
+    /// of the records whose key is unchanged), shard tables `rocking.sweep.shard`, part
+    /// files `rocking.sweep.chunk`, and the example's table `rocking.example.settings`.
     pub struct IdaRow = "ida_points" v 2 {
         /// Index of the (record, block) case: records by id, then blocks in pipeline order.
         pub case_id: i64,
@@ -66,8 +67,9 @@ table! {
     /// by `rocking capacity --out`. Version 4 added `pfa_over_pga` and `slides_first`;
     /// version 3 `integrator`; version 2 the four certification columns before it; the
     /// others are as in version 1. The sweep's metadata is that of `ida_points`
-    /// (`rocking.sweep.plan_hash`, `rocking.sweep.settings`, `rocking.sweep.plan`;
-    /// `rocking.sweep.shard` in shard tables, `rocking.sweep.chunk` in part files); the
+    /// (`rocking.sweep.plan_hash`, `rocking.sweep.settings`, `rocking.sweep.plan`,
+    /// `rocking.sweep.record_keys`; `rocking.sweep.shard` in shard tables,
+    /// `rocking.sweep.chunk` in part files); the
     /// example's holds `rocking.example.settings`, the tree's `rocking.tree.settings`, that
     /// of `rocking capacity --out` `rocking.capacity.command`.
     pub struct CapacityRow = "capacities" v 4 {

@@ -8,7 +8,8 @@ use rayon::prelude::*;
 
 use super::error::SweepError;
 use super::layout::{
-    plan_hash, CHUNK_CASES, META_CHUNK, META_PLAN, META_PLAN_HASH, META_SETTINGS, META_SHARD,
+    plan_hash, record_key, CHUNK_CASES, META_CHUNK, META_PLAN, META_PLAN_HASH, META_RECORD_KEYS,
+    META_SETTINGS, META_SHARD,
 };
 use crate::ida;
 use crate::physics::Excitation;
@@ -31,11 +32,13 @@ pub(in crate::stages) struct Prepared {
     excitations: Vec<Excitation>,
     /// On a floor: each record's PFA/PGA.
     amplification: Vec<Option<f64>>,
-    blocks: Vec<BlockSpec>,
+    pub(super) blocks: Vec<BlockSpec>,
     grid: ida::ImGrid,
     tol: f64,
     trace: ida::Trace,
     pub(super) hash: String,
+    /// Each record's [`record_key`], in record order.
+    pub(super) record_keys: Vec<String>,
     plan_json: String,
     pub(in crate::stages) n_cases: usize,
 }
@@ -63,6 +66,7 @@ impl Prepared {
             .unzip();
         let prepared = Prepared {
             hash: plan_hash(plan, &records),
+            record_keys: records.par_iter().map(|r| record_key(plan, r)).collect(),
             plan_json: plan.portable_json().to_string(),
             n_cases: records.len() * blocks.len(),
             records,
@@ -92,6 +96,16 @@ impl Prepared {
             (META_PLAN.to_string(), self.plan_json.clone()),
             (META_SETTINGS.to_string(), plan.sweep_settings()),
         ];
+        if chunk.is_none() {
+            let keys: serde_json::Map<String, serde_json::Value> = (self.records.iter())
+                .zip(&self.record_keys)
+                .map(|(r, k)| (r.record_id.clone(), k.clone().into()))
+                .collect();
+            s.push((
+                META_RECORD_KEYS.to_string(),
+                serde_json::Value::Object(keys).to_string(),
+            ));
+        }
         if let Some(c) = chunk {
             s.push((META_CHUNK.to_string(), c.to_string()));
         }
@@ -107,6 +121,8 @@ impl Prepared {
 pub(super) struct Tally {
     pub(super) cases_done: usize,
     pub(super) cases_resumed: usize,
+    /// Cases whose rows were taken from the previous sweep's tables.
+    pub(super) cases_reused: usize,
     pub(super) runs: u64,
     /// Runs the certification added (not in the IDA table).
     pub(super) check_runs: u64,
@@ -114,12 +130,14 @@ pub(super) struct Tally {
 }
 
 /// A case's IDA points and capacity, the runs its certification added,
-/// and the sample intervals the search and its certification took.
+/// and the sample intervals the search and its certification took (none
+/// for a case `reused` from the previous sweep).
 pub(in crate::stages) struct CaseResult {
     pub(in crate::stages) ida: Vec<IdaRow>,
     pub(in crate::stages) capacity: CapacityRow,
     pub(super) check_runs: usize,
     pub(super) intervals: u64,
+    pub(super) reused: bool,
 }
 
 pub(in crate::stages) fn run_case(case: usize, prep: &Prepared) -> Result<CaseResult, SweepError> {
@@ -182,6 +200,7 @@ pub(in crate::stages) fn run_case(case: usize, prep: &Prepared) -> Result<CaseRe
         capacity: row,
         check_runs: certified.extra.runs,
         intervals: cap.work().intervals + certified.extra.intervals,
+        reused: false,
     })
 }
 

@@ -22,6 +22,9 @@ pub const META_SHARD: &str = "rocking.sweep.shard";
 pub const META_SETTINGS: &str = "rocking.sweep.settings";
 /// The chunk a part file holds.
 pub const META_CHUNK: &str = "rocking.sweep.chunk";
+/// Each record's [`record_key`], a JSON object by record id: a rerun
+/// reuses the rows of the records whose key is unchanged.
+pub const META_RECORD_KEYS: &str = "rocking.sweep.record_keys";
 
 /// What a sweep table's metadata says about how it was made.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -55,6 +58,31 @@ pub(super) fn final_names(shard: Option<Shard>) -> (String, String) {
             format!("capacities.{}.parquet", s.tag()),
         ),
     }
+}
+
+/// Hash of everything that determines one record's cases: the version and
+/// the tables' schemas, the settings but for which records are selected
+/// (`sets`, `ids`), the record's id and the motion its blocks feel (its
+/// step and samples, bit for bit; a floor is in the settings).
+pub(super) fn record_key(plan: &Plan, record: &RecordRow) -> String {
+    let mut settings = plan.sweep_settings_json();
+    if let Some(o) = settings.as_object_mut() {
+        o.remove("sets");
+        o.remove("ids");
+    }
+    let mut bytes = format!(
+        "{} ida_points/{} capacities/{} {settings} {}\n",
+        env!("CARGO_PKG_VERSION"),
+        <IdaRow as tables::Table>::KIND.schema_version,
+        <CapacityRow as tables::Table>::KIND.schema_version,
+        record.record_id,
+    )
+    .into_bytes();
+    bytes.extend(record.dt_s.to_bits().to_le_bytes());
+    for a in &record.accel_g {
+        bytes.extend(a.to_bits().to_le_bytes());
+    }
+    crate::hash::sha256_hex(&bytes)
 }
 
 /// Hash of everything that determines the sweep's output.

@@ -31,6 +31,7 @@ mod dataset;
 mod error;
 mod layout;
 mod parts;
+mod reuse;
 mod writer;
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -134,16 +135,21 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
             stage: "sweep",
             done: t.cases_done as u64,
             total: setup.cases_total as u64,
-            resumed: t.cases_resumed as u64,
+            resumed: (t.cases_resumed + t.cases_reused) as u64,
             runs: t.runs,
         })
     };
     report(&tally);
     let (todo, resumed) = resume(cx, &setup, &mut tally, &report);
-    let cases: Vec<usize> = todo
+    let mut cases: Vec<usize> = todo
         .iter()
         .flat_map(|&c| setup.prep.chunk_cases(c))
         .collect();
+    let reused = reused(cx, &setup.prep, &cases);
+    if !reused.is_empty() {
+        let taken: BTreeSet<usize> = reused.iter().map(|(c, _)| *c).collect();
+        cases.retain(|c| !taken.contains(c));
+    }
     let (ida_name, cap_name) = final_names(cx.shard);
     let (ida_path, cap_path) = (study.path(&ida_name), study.path(&cap_name));
     // A killed run's temporaries of this run's tables (the lock refuses any
@@ -173,7 +179,7 @@ fn run(cx: &Context) -> Result<Summary, SweepError> {
             tally,
         })
     };
-    let tally = run_chunks(&cases, prep, writer, delay)?;
+    let tally = run_chunks(&cases, prep, writer, reused, delay)?;
     let superseded = clean_up(study, &setup.mine, cx.shard)?;
     let mut done = summary(cx, &setup, &tally, started, ida_path, cap_path);
     if let Some(line) = superseded_line(&superseded, cx.shard) {
@@ -299,7 +305,37 @@ fn resume(
     (todo, resumed)
 }
 
-/// Runs `cases` and returns the writer's tally. Workers take cases in order
+/// The results of the cases among `cases` that the previous sweep's
+/// tables hold for unchanged records ([`reuse::previous`]), said in a note;
+/// none (said too) where those tables cannot be read.
+fn reused(cx: &Context, prep: &Prepared, cases: &[usize]) -> Vec<(usize, CaseResult)> {
+    match reuse::previous(cx, prep, cases) {
+        Ok((taken, 0)) => taken,
+        Ok((taken, records)) => {
+            cx.reporter.note(
+                "sweep",
+                &format!(
+                    "took the rows of {} of {} records ({} cases) from the previous sweep: \
+                     records, blocks and settings unchanged",
+                    records,
+                    prep.records.len(),
+                    taken.len()
+                ),
+            );
+            taken
+        }
+        Err(e) => {
+            cx.reporter.note(
+                "sweep",
+                &format!("computing every case: the previous sweep's tables cannot be read ({e})"),
+            );
+            Vec::new()
+        }
+    }
+}
+
+/// Runs `cases` (after handing the writer the `reused` results) and
+/// returns the writer's tally. Workers take cases in order
 /// from one counter and hand each result to a writer thread, which adds a
 /// chunk to the final tables as soon as its last case is in (and saves it
 /// as parts once its [`Hold`] says so): no worker waits for a chunk's
@@ -308,6 +344,7 @@ fn run_chunks<'a, R: Fn(&Tally) + 'a>(
     cases: &[usize],
     prep: &Prepared,
     writer: impl FnOnce() -> Result<ChunkWriter<'a, R>, SweepError> + Send,
+    reused: Vec<(usize, CaseResult)>,
     delay: Option<std::time::Duration>,
 ) -> Result<Tally, SweepError> {
     let next = AtomicUsize::new(0);
@@ -318,6 +355,9 @@ fn run_chunks<'a, R: Fn(&Tally) + 'a>(
         let writer = ts.spawn(move || {
             let saved = (|| {
                 let mut chunks = writer()?;
+                for (case, result) in reused {
+                    chunks.take(case, result)?;
+                }
                 let mut results = rx.iter().map(|(i, r)| (cases[i], r));
                 while let Some((case, result)) = results.next() {
                     match result {
@@ -405,7 +445,7 @@ fn summary(
     let secs = started.elapsed().as_secs_f64();
     let threads = rayon::current_num_threads();
     let mut lines = vec![format!(
-        "swept {} records × {} blocks = {} cases{} ({} resumed from an earlier run): {} runs \
+        "swept {} records × {} blocks = {} cases{} ({} resumed from an earlier run{}): {} runs \
          (and {} more to certify them) in {:.1} s ({:.0} runs/s; {} sample intervals, {:.0} ns each \
          per thread)",
         setup.prep.records.len(),
@@ -413,6 +453,10 @@ fn summary(
         setup.cases_total,
         cx.shard.map_or(String::new(), |s| format!(" in shard {s}")),
         tally.cases_resumed,
+        match tally.cases_reused {
+            0 => String::new(),
+            n => format!(", {n} taken from the previous sweep"),
+        },
         tally.runs,
         tally.check_runs,
         secs,

@@ -234,9 +234,13 @@ impl<R: Fn(&Tally)> ChunkWriter<'_, R> {
         let mut ida_rows = Vec::new();
         let mut cap_rows = Vec::with_capacity(CHUNK_CASES);
         for r in results {
-            self.tally.runs += r.ida.len() as u64;
-            self.tally.check_runs += r.check_runs as u64;
-            self.tally.intervals += r.intervals;
+            if r.reused {
+                self.tally.cases_reused += 1;
+            } else {
+                self.tally.runs += r.ida.len() as u64;
+                self.tally.check_runs += r.check_runs as u64;
+                self.tally.intervals += r.intervals;
+            }
             ida_rows.extend(r.ida);
             cap_rows.push(r.capacity);
         }
