@@ -671,11 +671,14 @@ fn a_command_deaf_to_the_stop_is_ended_by_the_signal_after_a_grace() {
 }
 
 /// A rerun after records were added, removed and edited computes only the
-/// changed records' cases and takes the rest from the previous sweep's
-/// tables; the tables equal, byte for byte, those of a sweep of the same
-/// records from scratch (the independent truth: every case computed). The
-/// added record sorts first, so every kept case's number moves. Forced, or
-/// with the previous tables not as the sweep wrote them, nothing is taken.
+/// changed records' cases, in the sweep and in the convergence stage, and
+/// takes the rest from the previous tables; the tables equal, byte for
+/// byte, those of a study of the same records from scratch (the
+/// independent truth: every case computed). The added record sorts first,
+/// so every kept case's number moves. Forced, or with the previous tables
+/// not as the stage wrote them, nothing is taken. The convergence stage's
+/// capacities at the sweep's own resolution are the sweep's (another
+/// stage's search), and its medians are those of its records' capacities.
 #[test]
 fn a_rerun_computes_only_the_records_that_changed() {
     let dir = tempdir();
@@ -693,18 +696,18 @@ fn a_rerun_computes_only_the_records_that_changed() {
         write_at2(&recs.join(format!("{stem}.AT2")), &values(stem), 0.01);
     }
     let body = "[records]\nat2 = [\"recs\"]\n[blocks]\np = [1.5, 4.0]\neps = [0.8]\n\
-                [im]\ncount = 60\neta_min = 0.01\n";
+                [im]\ncount = 60\neta_min = 0.01\n[convergence]\nlevels = [30, 60]\n";
     let pipe = dir.path().join("inc.toml");
     fs::write(&pipe, format!("name = \"inc\"\n{body}")).unwrap();
     let run = |extra: &[&str]| {
-        let mut args = vec!["run", "inc.toml", "--outputs", "out", "--to", "sweep"];
+        let mut args = vec!["run", "inc.toml", "--outputs", "out", "--to", "convergence"];
         args.extend_from_slice(extra);
         let out = rocking(dir.path(), &args);
         assert!(out.status.success(), "{}", stderr(&out));
         crate::util::stdout(&out) + &stderr(&out)
     };
     let first = run(&[]);
-    assert!(!first.contains("from the previous sweep"), "{first}");
+    assert!(!first.contains("from the previous"), "{first}");
     let study = dir.path().join("out/inc");
     let kept = fs::read(study.join("capacities.parquet")).unwrap();
     // Added (first by id), removed, edited in place.
@@ -720,10 +723,12 @@ fn a_rerun_computes_only_the_records_that_changed() {
         0.01,
     );
     let second = run(&[]);
-    assert!(
-        second.contains("took the rows of 1 of 3 records (2 cases) from the previous sweep"),
-        "{second}"
-    );
+    for said in [
+        "sweep: took the rows of 1 of 3 records (2 cases) from the previous sweep",
+        "convergence: took the capacities of 1 of 3 records from the previous run",
+    ] {
+        assert!(second.contains(said), "{second}");
+    }
     // The same records from scratch, in another folder.
     let fresh = tempdir();
     let fresh_recs = fresh.path().join("recs");
@@ -737,26 +742,52 @@ fn a_rerun_computes_only_the_records_that_changed() {
         format!("name = \"inc\"\n{body}"),
     )
     .unwrap();
-    let out = rocking(
-        fresh.path(),
-        &["run", "inc.toml", "--outputs", "out", "--to", "sweep"],
-    );
+    let args = ["run", "inc.toml", "--outputs", "out", "--to", "convergence"];
+    let out = rocking(fresh.path(), &args);
     assert!(out.status.success(), "{}", stderr(&out));
-    for table in ["capacities.parquet", "ida_points.parquet"] {
+    let tables = [
+        "capacities.parquet",
+        "ida_points.parquet",
+        "convergence_capacities.parquet",
+        "capacity_convergence.parquet",
+    ];
+    let same = |table: &str| {
         let (a, b) = (study.join(table), fresh.path().join("out/inc").join(table));
-        assert!(
-            fs::read(&a).unwrap() == fs::read(&b).unwrap(),
-            "{table} differs"
-        );
+        fs::read(a).unwrap() == fs::read(b).unwrap()
+    };
+    for table in tables {
+        assert!(same(table), "{table} differs");
     }
     let caps = read_capacities(&study).unwrap();
     assert_eq!(caps.len(), 6);
     assert!(caps.iter().enumerate().all(|(i, c)| c.case_id == i as i64));
+    // The convergence stage's capacities at 60 levels are the sweep's; its
+    // median over the 3 records (type 7: the middle one) is theirs.
+    let conv: Vec<rocking::tables::convergence::ConvergenceCaseRow> =
+        rocking::tables::read(&study.join("convergence_capacities.parquet")).unwrap();
+    assert_eq!(conv.len(), 3 * 2 * 2);
+    let at_60: Vec<_> = conv.iter().filter(|r| r.levels == 60).collect();
+    for (c, r) in caps.iter().zip(&at_60) {
+        assert_eq!((&c.record_id, c.p, c.eta_c), (&r.record_id, r.p, r.eta_c));
+    }
+    let summary: Vec<rocking::tables::convergence::ConvergenceRow> =
+        rocking::tables::read(&study.join("capacity_convergence.parquet")).unwrap();
+    for s in &summary {
+        let mut etas: Vec<f64> = conv
+            .iter()
+            .filter(|r| (r.p, r.levels) == (s.p, s.levels))
+            .map(|r| r.eta_c.unwrap_or(0.0))
+            .collect();
+        etas.sort_by(f64::total_cmp);
+        assert_eq!(etas.len(), 3);
+        assert_eq!(s.eta_c_q50, etas[1], "p = {}, {} levels", s.p, s.levels);
+    }
     // Forced: everything computed, the same tables.
     let forced = run(&["--force"]);
-    assert!(!forced.contains("from the previous sweep"), "{forced}");
-    let b = fresh.path().join("out/inc/capacities.parquet");
-    assert!(fs::read(study.join("capacities.parquet")).unwrap() == fs::read(&b).unwrap());
+    assert!(!forced.contains("from the previous"), "{forced}");
+    for table in tables {
+        assert!(same(table), "{table} differs after --force");
+    }
     // The first sweep's table put back in place of the last one's: readable,
     // its keys those of records unchanged since, but not what the last
     // sweep wrote, so nothing is taken from it.
@@ -767,5 +798,5 @@ fn a_rerun_computes_only_the_records_that_changed() {
         0.01,
     );
     let tampered = run(&[]);
-    assert!(!tampered.contains("from the previous sweep"), "{tampered}");
+    assert!(!tampered.contains("sweep: took the rows"), "{tampered}");
 }

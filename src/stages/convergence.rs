@@ -10,19 +10,27 @@
 //! grid (by more than twice the refinement tolerance), with the mean and
 //! largest move.
 
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use rayon::prelude::*;
 
+use super::fingerprint;
 use super::reduce::QUANTILES;
 use super::stage::{BoxError, Context, Progress, Shard, Stage, Study, Summary};
 use crate::ida::{self, ImGrid};
 use crate::physics::{Excitation, PhysicsError, RunSpec};
-use crate::pipeline::{BlockSpec, RecordsPlan};
+use crate::pipeline::{BlockSpec, Plan, RecordsPlan};
 use crate::records::{self, SelectError};
 use crate::stats;
-use crate::tables::convergence::ConvergenceRow;
+use crate::tables::convergence::{ConvergenceCaseRow, ConvergenceRow};
+use crate::tables::records::RecordRow;
 use crate::tables::{self, TableError};
+
+/// The table of every search's capacity, and its metadata key of the
+/// records' keys.
+const CASES: &str = "convergence_capacities.parquet";
+const META_RECORD_KEYS: &str = "rocking.convergence.record_keys";
 
 /// The convergence stage.
 pub struct Convergence;
@@ -64,7 +72,10 @@ impl Stage for Convergence {
     }
 
     fn outputs(&self, study: &Study, _shard: Option<Shard>) -> Vec<PathBuf> {
-        vec![study.path("capacity_convergence.parquet")]
+        vec![
+            study.path(CASES),
+            study.path("capacity_convergence.parquet"),
+        ]
     }
 
     fn run(&self, cx: &Context) -> Result<Summary, BoxError> {
@@ -97,6 +108,11 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
     let plan = &cx.study.plan;
     let records = records::select(plan, &cx.study.records_table())?;
     let rs = plan.records_study().map_err(SelectError::from)?;
+    let keys: Vec<String> = records
+        .par_iter()
+        .map(|r| record_key(plan, &rs.convergence, r))
+        .collect();
+    let known = known(cx, rs, &records, &keys);
     let excitations = records
         .par_iter()
         .map(|r| {
@@ -125,19 +141,31 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
     let n_blocks = rs.blocks.len();
     let n_groups = n_blocks.div_ceil(BLOCKS_PER_GROUP);
     let mut per_block: Vec<Vec<ConvergenceRow>> = vec![Vec::new(); n_blocks];
+    // η_c by record, block and resolution (plan order).
+    let mut etas = vec![vec![Vec::new(); n_blocks]; n_records];
     for group in 0..n_groups {
         let members: Vec<usize> = (group..n_blocks).step_by(n_groups).collect();
         let pairs: Vec<(usize, usize)> = members
             .iter()
             .flat_map(|&bi| (0..n_records).map(move |ri| (bi, ri)))
+            .filter(|(_, ri)| !known.contains_key(ri))
             .collect();
-        let results = search_pairs(rs, &excitations, &order, &pairs)?;
-        for (k, &bi) in members.iter().enumerate() {
-            let per_record = &results[k * n_records..(k + 1) * n_records];
-            runs += per_record.iter().map(|r| r.1).sum::<u64>();
-            shared += per_record.iter().map(|r| r.2).sum::<u64>();
+        for ((bi, ri), r) in pairs
+            .iter()
+            .zip(search_pairs(rs, &excitations, &order, &pairs)?)
+        {
+            runs += r.1;
+            shared += r.2;
+            etas[*ri][*bi] = r.0;
+        }
+        for (&ri, found) in &known {
+            for &bi in &members {
+                etas[ri][bi] = found[bi].clone();
+            }
+        }
+        for &bi in &members {
             let per_grid: Vec<Vec<f64>> = (0..rs.convergence.len())
-                .map(|gi| per_record.iter().map(|r| r.0[gi]).collect())
+                .map(|gi| etas.iter().map(|e| e[bi][gi]).collect())
                 .collect();
             per_block[bi] = block_rows(rs, &rs.blocks[bi], &per_grid);
         }
@@ -151,25 +179,169 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
         });
     }
     let rows: Vec<ConvergenceRow> = per_block.into_iter().flatten().collect();
-    let dest = cx.study.path("capacity_convergence.parquet");
-    tables::write(
-        &dest,
-        &rows,
-        &[(
-            "rocking.convergence.levels".into(),
-            format!("{:?}", rs.convergence),
-        )],
-    )?;
+    let (dest, cases) = write(cx, rs, (&records, &keys), &etas, &rows)?;
     Ok(Summary {
         lines: vec![format!(
             "capacity search at {:?} levels: {runs} simulations (the searches' {shared} runs \
-             share the levels the grids have in common); wrote {}",
+             share the levels the grids have in common); wrote {} and {}",
             rs.convergence,
-            dest.display()
+            dest.display(),
+            cases.display()
         )],
         headline: 0,
         also_wrote: Vec::new(),
     })
+}
+
+/// Writes the stage's two tables: every search's capacity (`etas` by
+/// record, block and resolution, with the `records`' keys) and the blocks'
+/// `rows`; returns their paths (the summary's, the capacities').
+fn write(
+    cx: &Context,
+    rs: &RecordsPlan,
+    (records, keys): (&[RecordRow], &[String]),
+    etas: &[Vec<Vec<f64>>],
+    rows: &[ConvergenceRow],
+) -> Result<(PathBuf, PathBuf), TableError> {
+    let levels = format!("{:?}", rs.convergence);
+    let levels_meta = ("rocking.convergence.levels".to_string(), levels);
+    let cases = cx.study.path(CASES);
+    let key_map: serde_json::Map<String, serde_json::Value> = (records.iter())
+        .zip(keys)
+        .map(|(r, k)| (r.record_id.clone(), k.clone().into()))
+        .collect();
+    let keys_meta = (
+        META_RECORD_KEYS.to_string(),
+        serde_json::Value::Object(key_map).to_string(),
+    );
+    let metadata = [levels_meta.clone(), keys_meta];
+    tables::write(&cases, &case_rows(rs, records, etas), &metadata)?;
+    let dest = cx.study.path("capacity_convergence.parquet");
+    tables::write(&dest, rows, &[levels_meta])?;
+    Ok((dest, cases))
+}
+
+/// A record's key for this stage: the sweep's (its motion bit for bit, the
+/// settings but for the selection) and the resolutions.
+fn record_key(plan: &Plan, levels: &[usize], r: &RecordRow) -> String {
+    let text = format!("{} {levels:?}", super::sweep::record_key(plan, r));
+    crate::hash::sha256_hex(text.as_bytes())
+}
+
+/// η_c by block and resolution of the records the previous run searched
+/// as they are now (their key unchanged), by record index, said in a
+/// note; none when forced (`--force`, `--from`) or when the previous
+/// tables are not as the stage wrote them.
+fn known(
+    cx: &Context,
+    rs: &RecordsPlan,
+    records: &[RecordRow],
+    keys: &[String],
+) -> BTreeMap<usize, Vec<Vec<f64>>> {
+    if cx.forced || !fingerprint::outputs_as_written(cx.study, &Convergence) {
+        return BTreeMap::new();
+    }
+    match previous(&cx.study.path(CASES), rs, records, keys) {
+        Ok(known) => {
+            if !known.is_empty() {
+                cx.reporter.note(
+                    "convergence",
+                    &format!(
+                        "took the capacities of {} of {} records from the previous run: \
+                         records, blocks and settings unchanged",
+                        known.len(),
+                        records.len()
+                    ),
+                );
+            }
+            known
+        }
+        Err(e) => {
+            cx.reporter.note(
+                "convergence",
+                &format!("searching every record: the previous {CASES} cannot be read ({e})"),
+            );
+            BTreeMap::new()
+        }
+    }
+}
+
+/// [`known`] from the previous table at `path`: a record is taken if its
+/// key is the one the table holds and its rows are its blocks' and
+/// resolutions' in order.
+fn previous(
+    path: &std::path::Path,
+    rs: &RecordsPlan,
+    records: &[RecordRow],
+    keys: &[String],
+) -> Result<BTreeMap<usize, Vec<Vec<f64>>>, TableError> {
+    let meta = tables::read_metadata(path)?;
+    let Some(old) = meta
+        .iter()
+        .find(|(k, _)| k == META_RECORD_KEYS)
+        .and_then(|(_, v)| serde_json::from_str::<BTreeMap<String, String>>(v).ok())
+    else {
+        return Ok(BTreeMap::new());
+    };
+    let unchanged: Vec<usize> = (0..records.len())
+        .filter(|&ri| old.get(&records[ri].record_id) == Some(&keys[ri]))
+        .collect();
+    if unchanged.is_empty() {
+        return Ok(BTreeMap::new());
+    }
+    let rows: Vec<ConvergenceCaseRow> = tables::read(path)?;
+    let mut by_record: BTreeMap<&str, Vec<&ConvergenceCaseRow>> = BTreeMap::new();
+    for row in &rows {
+        by_record.entry(&row.record_id).or_default().push(row);
+    }
+    let (nb, ng) = (rs.blocks.len(), rs.convergence.len());
+    let mut out = BTreeMap::new();
+    for ri in unchanged {
+        let Some(rows) = by_record.get(records[ri].record_id.as_str()) else {
+            continue;
+        };
+        let fits = rows.len() == nb * ng
+            && rows.iter().enumerate().all(|(k, r)| {
+                let b = &rs.blocks[k / ng];
+                (&r.block, r.p, r.eps) == (&b.name, b.p, b.eps)
+                    && r.levels == rs.convergence[k % ng] as i64
+            });
+        if fits {
+            let etas = (0..nb)
+                .map(|bi| {
+                    (0..ng)
+                        .map(|gi| rows[bi * ng + gi].eta_c.unwrap_or(0.0))
+                        .collect()
+                })
+                .collect();
+            out.insert(ri, etas);
+        }
+    }
+    Ok(out)
+}
+
+/// The rows of [`ConvergenceCaseRow`]: records, blocks, resolutions.
+fn case_rows(
+    rs: &RecordsPlan,
+    records: &[RecordRow],
+    etas: &[Vec<Vec<f64>>],
+) -> Vec<ConvergenceCaseRow> {
+    let mut rows = Vec::new();
+    for (r, per_block) in records.iter().zip(etas) {
+        for (b, per_grid) in rs.blocks.iter().zip(per_block) {
+            for (&levels, &eta) in rs.convergence.iter().zip(per_grid) {
+                rows.push(ConvergenceCaseRow {
+                    record_id: r.record_id.clone(),
+                    block: b.name.clone(),
+                    p: b.p,
+                    eps: b.eps,
+                    levels: levels as i64,
+                    eta_c: (eta > 0.0).then_some(eta),
+                });
+            }
+        }
+    }
+    rows
 }
 
 /// The error of a block's physics.

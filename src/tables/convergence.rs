@@ -39,3 +39,30 @@ table! {
         pub max_abs_change: f64,
     }
 }
+
+table! {
+    /// One row per record × block × grid resolution: the capacity each search found.
+    ///
+    /// Written by the convergence stage beside `capacity_convergence.parquet`, in
+    /// `outputs/<name>/convergence_capacities.parquet`, records by id, then blocks in
+    /// pipeline order, then resolutions as `[convergence] levels` lists them: the values
+    /// `capacity_convergence` sums up, for a query of which records' capacities move with
+    /// the grid. Its metadata holds `rocking.convergence.levels` and
+    /// `rocking.convergence.record_keys` (each record's key, by id: a rerun searches again
+    /// only the records whose key changed).
+    pub struct ConvergenceCaseRow = "convergence_capacities" v 1 {
+        /// The record (its AT2 file stem).
+        pub record_id: String,
+        /// The block's label; empty for the p × ε grid.
+        pub block: String,
+        /// The block's frequency parameter p (1/s).
+        pub p: f64,
+        /// The block's coefficient of restitution ε.
+        pub eps: f64,
+        /// Number of IM levels of this grid (the same range and spacing as the pipeline's).
+        pub levels: i64,
+        /// The capacity at this resolution (as `capacities.eta_c`); empty if the block
+        /// survived every level (counted as 0 in `capacity_convergence`).
+        pub eta_c: Option<f64>,
+    }
+}

@@ -42,6 +42,7 @@ pub fn catalog() -> Vec<TableDoc> {
         of::<sweep::IdaRow>(),
         of::<sweep::CapacityRow>(),
         of::<convergence::ConvergenceRow>(),
+        of::<convergence::ConvergenceCaseRow>(),
         of::<reduce::BlockRow>(),
         of::<reduce::HorizontalRow>(),
         of::<reduce::VerticalRow>(),

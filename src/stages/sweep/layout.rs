@@ -64,7 +64,7 @@ pub(super) fn final_names(shard: Option<Shard>) -> (String, String) {
 /// the tables' schemas, the settings but for which records are selected
 /// (`sets`, `ids`), the record's id and the motion its blocks feel (its
 /// step and samples, bit for bit; a floor is in the settings).
-pub(super) fn record_key(plan: &Plan, record: &RecordRow) -> String {
+pub(in crate::stages) fn record_key(plan: &Plan, record: &RecordRow) -> String {
     let mut settings = plan.sweep_settings_json();
     if let Some(o) = settings.as_object_mut() {
         o.remove("sets");

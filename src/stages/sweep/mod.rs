@@ -44,6 +44,7 @@ use std::time::Instant;
 pub(super) use cases::{run_blocks, run_case, CaseResult, Prepared};
 pub use dataset::{dataset, is_level, read_capacities, read_ida, DatasetError};
 pub use error::SweepError;
+pub(super) use layout::record_key;
 pub use layout::{
     plan_hash, SweepMeta, CHUNK_CASES, META_CHUNK, META_PLAN, META_PLAN_HASH, META_SETTINGS,
     META_SHARD,
