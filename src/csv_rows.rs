@@ -7,11 +7,41 @@
 /// The 1-based line of `bytes` at which the record starting at byte `byte`
 /// begins (a position may point at the line breaks before the record).
 pub fn line_at(bytes: &[u8], byte: u64) -> u64 {
+    line_of_byte(bytes, record_start(bytes, byte))
+}
+
+/// Where the record at byte `byte` starts: past the line breaks before it.
+fn record_start(bytes: &[u8], byte: u64) -> usize {
     let mut at = usize::try_from(byte).map_or(bytes.len(), |b| b.min(bytes.len()));
     while at < bytes.len() && matches!(bytes[at], b'\n' | b'\r') {
         at += 1;
     }
-    line_of_byte(bytes, at)
+    at
+}
+
+/// [`line_at`] for every row of one file: its line breaks found once, each
+/// row's line by bisection (a count from the file's start for every row
+/// made reading a manifest or an inventory quadratic: 10 s for 16,000 rows).
+pub struct Lines<'a> {
+    bytes: &'a [u8],
+    /// The byte offsets of the file's '\n's, ascending.
+    breaks: Vec<usize>,
+}
+
+impl<'a> Lines<'a> {
+    pub fn new(bytes: &'a [u8]) -> Self {
+        let breaks = (bytes.iter().enumerate())
+            .filter(|(_, &b)| b == b'\n')
+            .map(|(i, _)| i)
+            .collect();
+        Lines { bytes, breaks }
+    }
+
+    /// [`line_at`] of this file.
+    pub fn line_at(&self, byte: u64) -> u64 {
+        let at = record_start(self.bytes, byte);
+        1 + self.breaks.partition_point(|&b| b < at) as u64
+    }
 }
 
 /// The 1-based line of `bytes` that holds byte `at`.
@@ -70,5 +100,26 @@ mod tests {
         let e = csv.records().find_map(Result::err).expect("not UTF-8");
         assert_eq!(error_line(bad, &e), Some(3));
         assert_eq!(message(&e), "field 2 is not UTF-8");
+    }
+
+    /// Every row's line by the index is its line counted by hand: a quoted
+    /// cell over two lines, CRLF endings, blank lines between rows.
+    #[test]
+    fn each_row_s_line_by_the_index() {
+        let text = "n,x\r\na,1\r\n\r\nb,\"two\r\nlines\"\r\nc,3\n\n\nd,4";
+        let lines = Lines::new(text.as_bytes());
+        let mut csv = csv::ReaderBuilder::new().from_reader(text.as_bytes());
+        let found: Vec<(String, u64)> = csv
+            .records()
+            .map(|r| {
+                let r = r.unwrap();
+                let byte = r.position().unwrap().byte();
+                assert_eq!(lines.line_at(byte), line_at(text.as_bytes(), byte));
+                (r[0].to_string(), lines.line_at(byte))
+            })
+            .collect();
+        let want = [("a", 2), ("b", 4), ("c", 6), ("d", 9)];
+        let want: Vec<(String, u64)> = want.iter().map(|(n, l)| (n.to_string(), *l)).collect();
+        assert_eq!(found, want);
     }
 }

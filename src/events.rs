@@ -56,7 +56,9 @@ pub fn count_pmf(p: &[f64], together: Together) -> Vec<f64> {
         Together::Independent => {
             let mut pmf = vec![0.0; n + 1];
             pmf[0] = 1.0;
-            for (i, &q) in p.iter().enumerate() {
+            // An item of pᵢ = 0 leaves the pmf as it is, to the bit (×1,
+            // +0): skipped, so that an event few items feel costs little.
+            for (i, &q) in p.iter().filter(|&&q| q != 0.0).enumerate() {
                 for k in (0..=i + 1).rev() {
                     let stay = pmf[k] * (1.0 - q);
                     let from = if k > 0 { pmf[k - 1] * q } else { 0.0 };

@@ -147,14 +147,13 @@ pub fn read(mut input: impl Read) -> Result<Manifest, ManifestError> {
     let (column, ignored_columns) = columns(&headers)?;
 
     let mut entries: BTreeMap<String, ManifestEntry> = BTreeMap::new();
+    let lines = csv_rows::Lines::new(&bytes);
     for row in csv.records() {
         let row = row.map_err(|e| ManifestError {
             line: csv_rows::error_line(&bytes, &e),
             message: csv_rows::message(&e),
         })?;
-        let line = row
-            .position()
-            .map_or(0, |p| csv_rows::line_at(&bytes, p.byte()));
+        let line = row.position().map_or(0, |p| lines.line_at(p.byte()));
         let entry = row_entry(&row, line, &column)?;
         let id = entry.record_id();
         if let Some(first) = entries.get(&id) {

@@ -92,12 +92,13 @@ pub fn check_entries(entries: &[Entry]) -> Result<(), ExportError> {
     if entries.is_empty() {
         return Err(ExportError::Empty);
     }
-    for (k, e) in entries.iter().enumerate() {
+    let mut seen = std::collections::HashSet::new();
+    for e in entries {
         let ok = |c: char| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.');
         if e.id.is_empty() || !e.id.chars().all(ok) {
             return Err(ExportError::Taxonomy(e.id.clone()));
         }
-        if entries[..k].iter().any(|o| o.id == e.id) {
+        if !seen.insert(e.id.as_str()) {
             return Err(ExportError::Repeated(e.id.clone()));
         }
         let good = |x: f64| x.is_finite() && x > 0.0;

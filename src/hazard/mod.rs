@@ -183,6 +183,7 @@ pub fn parse_openquake(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
     let (lon_c, lat_c) = (col("lon"), col("lat"));
     let imls = header_imls(header_line, &header)?;
     let mut sites = Vec::new();
+    let mut located = Located::new();
     for (line, row) in lines {
         if row.trim().is_empty() {
             continue;
@@ -219,7 +220,7 @@ pub fn parse_openquake(text: &str) -> Result<Vec<HazardCurve>, HazardError> {
         curve.lon = coordinate(lon_c, "lon")?;
         curve.lat = coordinate(lat_c, "lat")?;
         curve.kind = kind.clone();
-        new_site(line, &sites, &curve)?;
+        new_site(line, &mut located, sites.len(), &curve)?;
         sites.push(curve);
     }
     if sites.is_empty() {
@@ -267,17 +268,29 @@ pub fn openquake_input(text: &str) -> Option<String> {
 /// A header's columns, each once: of a column given twice the first was
 /// read, the second passed over.
 fn once_each(line: usize, header: &[&str]) -> Result<(), HazardError> {
-    match (0..header.len()).find(|&k| header[..k].contains(&header[k])) {
-        Some(k) => Err(err(line, format!("column `{}` is given twice", header[k]))),
+    let mut seen = std::collections::HashSet::new();
+    match header.iter().find(|h| !seen.insert(**h)) {
+        Some(h) => Err(err(line, format!("column `{h}` is given twice"))),
         None => Ok(()),
     }
 }
 
+/// The sites read so far by their lon and lat (bits, −0 as 0), to the
+/// first site's index.
+type Located = std::collections::HashMap<(Option<u64>, Option<u64>), usize>;
+
 /// One curve a site: a second at the same lon and lat would be counted as
-/// another site.
-fn new_site(line: usize, sites: &[HazardCurve], curve: &HazardCurve) -> Result<(), HazardError> {
+/// another site. `located` holds the sites before it, `index` is its own.
+fn new_site(
+    line: usize,
+    located: &mut Located,
+    index: usize,
+    curve: &HazardCurve,
+) -> Result<(), HazardError> {
     let here = (curve.lon, curve.lat);
-    match sites.iter().position(|s| (s.lon, s.lat) == here) {
+    let bits = |c: Option<f64>| c.map(|x| (x + 0.0).to_bits());
+    let first = *located.entry((bits(here.0), bits(here.1))).or_insert(index);
+    match (first != index).then_some(first) {
         Some(k) if here.0.is_some() => Err(err(
             line,
             format!(

@@ -390,9 +390,10 @@ fn check_out(out: &Path, req: &Request) -> Result<(), ExportOpError> {
 /// statue` and `marble_statue`), refused naming both lines before anything
 /// runs: the engines would read one block's curves as the other's.
 fn same_taxonomy(path: &std::path::Path, entries: &[InventoryBlock]) -> Result<(), ExportOpError> {
-    for (k, e) in entries.iter().enumerate() {
+    let mut firsts: std::collections::HashMap<String, &InventoryBlock> = Default::default();
+    for e in entries {
         let key = taxonomy(&e.name);
-        if let Some(first) = entries[..k].iter().find(|o| taxonomy(&o.name) == key) {
+        if let Some(first) = firsts.get(&key) {
             return Err(ExportOpError::SameTaxonomy {
                 path: path.to_path_buf(),
                 line: e.line,
@@ -402,6 +403,7 @@ fn same_taxonomy(path: &std::path::Path, entries: &[InventoryBlock]) -> Result<(
                 taxonomy: key,
             });
         }
+        firsts.insert(key, e);
     }
     Ok(())
 }

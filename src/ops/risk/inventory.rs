@@ -58,6 +58,8 @@ pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
     let ce = col("eps");
     let cm = col("mu");
     let mut out: Vec<InventoryBlock> = Vec::new();
+    let mut names = std::collections::HashSet::new();
+    let lines = csv_rows::Lines::new(&bytes);
     for row in csv.records() {
         let row = row.map_err(|e| {
             bad(
@@ -65,9 +67,7 @@ pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
                 csv_rows::message(&e),
             )
         })?;
-        let line = row
-            .position()
-            .map_or(0, |p| csv_rows::line_at(&bytes, p.byte()));
+        let line = row.position().map_or(0, |p| lines.line_at(p.byte()));
         let cell = |c: usize| row.get(c).map(str::trim).unwrap_or("");
         let num = |c: usize, what: &str| -> Result<f64, RiskError> {
             cell(c)
@@ -80,7 +80,7 @@ pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
         if name.is_empty() {
             return Err(bad(line, "a block needs a name".into()));
         }
-        if out.iter().any(|b| b.name == name) {
+        if !names.insert(name.clone()) {
             return Err(bad(line, format!("block `{name}` is listed twice")));
         }
         let eps = restitution(ce.map(cell)).map_err(|m| bad(line, m))?;
