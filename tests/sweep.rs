@@ -799,4 +799,81 @@ fn a_rerun_computes_only_the_records_that_changed() {
     );
     let tampered = run(&[]);
     assert!(!tampered.contains("sweep: took the rows"), "{tampered}");
+    // A changed block with a record added: nothing taken; nor with --from.
+    fs::write(
+        &pipe,
+        format!(
+            "name = \"inc\"\n{}",
+            body.replace("eps = [0.8]", "eps = [0.7]")
+        ),
+    )
+    .unwrap();
+    write_at2(
+        &recs.join("B_LANDERS_SCALED.AT2"),
+        &scaled(stems[2], 0.7),
+        0.01,
+    );
+    let edited = run(&[]);
+    assert!(!edited.contains("from the previous"), "{edited}");
+    write_at2(
+        &recs.join("C_LANDERS_SCALED.AT2"),
+        &scaled(stems[2], 0.6),
+        0.01,
+    );
+    let from = run(&["--from", "sweep"]);
+    assert!(!from.contains("from the previous"), "{from}");
+}
+
+/// Every key that changes a sweep's rows makes it stale, and so keeps a
+/// rerun from taking rows computed under the old value: a block's kinetic
+/// friction `mu_k` (it changes every slide), the orientation's `angle_step`
+/// (it changes which rotated motions the study has). Each run from scratch
+/// in another folder gives the tables the edited study's rerun gives.
+#[test]
+fn editing_mu_k_or_the_angle_step_reruns_the_sweep() {
+    let cases = [
+        (
+            "ids = [\"RSN1111_KOBE_NIS000\", \"RSN848_LANDERS_CLW-LN\"]\n[model]\n\
+             kind = \"slide-rock\"\n[[block]]\nname = \"rack\"\nb = 0.3\nh = 1.0\neps = 0.75\n\
+             mu = 0.2\n[im]\ncount = 40\n",
+            ("mu = 0.2\n", "mu = 0.2\nmu_k = 0.12\n"),
+        ),
+        (
+            "ids = [\"RSN1111_KOBE_NIS000\", \"RSN1111_KOBE_NIS090\"]\norientation = \"random\"\n\
+             angle_step = 60\n[[block]]\nname = \"statue\"\nb = 0.2\nh = 0.9\neps = 0.9\n\
+             [im]\ncount = 40\n",
+            ("angle_step = 60\n", "angle_step = 45\n"),
+        ),
+    ];
+    for (body, (from, to)) in cases {
+        let dir = tempdir();
+        let pipe = write_pipeline(dir.path(), "edit", body);
+        let run = |cwd: &Path, pipe: &Path| {
+            let args = [
+                "run",
+                pipe.to_str().unwrap(),
+                "--outputs",
+                "out",
+                "--to",
+                "sweep",
+            ];
+            let out = rocking(cwd, &args);
+            assert!(out.status.success(), "{}", stderr(&out));
+            crate::util::stdout(&out) + &stderr(&out)
+        };
+        run(dir.path(), &pipe);
+        let text = fs::read_to_string(&pipe).unwrap();
+        assert!(text.contains(from), "{text}");
+        fs::write(&pipe, text.replace(from, to)).unwrap();
+        let again = run(dir.path(), &pipe);
+        assert!(again.contains("settings changed"), "{to}: {again}");
+        let fresh = tempdir();
+        let fresh_pipe = write_pipeline(fresh.path(), "edit", &body.replace(from, to));
+        run(fresh.path(), &fresh_pipe);
+        for table in ["capacities.parquet", "ida_points.parquet"] {
+            let a = fs::read(dir.path().join("out/edit").join(table)).unwrap();
+            let b = fs::read(fresh.path().join("out/edit").join(table)).unwrap();
+            assert!(a == b, "{to}: {table} differs from a study from scratch");
+        }
+    }
 }

@@ -336,8 +336,9 @@ pub fn significant_duration_s(accel_g: &[f64], dt_s: f64, from: f64, to: f64) ->
 /// amplitudes of the samples. The record is padded with zeros to at least
 /// 1/0.05 Hz = 20 s, so the step between frequencies is at most 0.05 Hz as
 /// Rathje et al. ask. One FFT of that length (any length: rustfft's mixed
-/// radix, Rader and Bluestein plans), O(m log m): a DFT bin by bin is
-/// O(m²), 10 s for a record of 120,000 samples.
+/// radix, Rader and Bluestein plans, scalar so that every machine gets the
+/// same bits), O(m log m): a DFT bin by bin is O(m²), 10 s for a record of
+/// 120,000 samples.
 pub fn mean_period_s(accel_g: &[f64], dt_s: f64) -> f64 {
     let n = accel_g.len();
     let m = n.max((1.0 / (TM_MAX_STEP_HZ * dt_s)).ceil() as usize);
@@ -363,14 +364,18 @@ pub fn mean_period_s(accel_g: &[f64], dt_s: f64) -> f64 {
 /// |Σⱼ xⱼ e^{−2πi jk/m}|² for k = 0..m, the samples `x` padded with zeros
 /// to `m ≥ x.len()`.
 fn dft_power(x: &[f64], m: usize) -> Vec<f64> {
-    use rustfft::{num_complex::Complex, FftPlanner};
+    use rustfft::{num_complex::Complex, FftPlannerScalar};
     let mut buffer: Vec<Complex<f64>> = x
         .iter()
         .map(|&re| Complex { re, im: 0.0 })
         .chain(std::iter::repeat(Complex { re: 0.0, im: 0.0 }))
         .take(m)
         .collect();
-    FftPlanner::new().plan_fft_forward(m).process(&mut buffer);
+    // The scalar plans: the same bits on every CPU (the SIMD plans, chosen
+    // at run time, round differently).
+    FftPlannerScalar::new()
+        .plan_fft_forward(m)
+        .process(&mut buffer);
     buffer.iter().map(|c| c.norm_sqr()).collect()
 }
 
@@ -493,14 +498,14 @@ mod tests {
         }
     }
 
-    /// A record of 200,000 samples (33 min at 0.01 s) takes one FFT: the
-    /// mean period of a sinusoid on a bin is its period, in well under the
-    /// minutes a bin-by-bin DFT would take (not timed: a wrong complexity
-    /// shows as a test that does not end).
+    /// A record of 1,000,000 samples (2.8 h at 0.01 s) takes one FFT: the
+    /// mean period of a sinusoid on a bin is its period, in a fraction of a
+    /// second where a bin-by-bin DFT would take some ten minutes (not
+    /// timed: a wrong complexity shows as a test that does not end).
     #[test]
     fn the_mean_period_of_a_long_record() {
-        let (dt, n) = (0.01, 200_000);
-        let f = 1.25; // 2,500 cycles: on a bin of the 2,000 s record
+        let (dt, n) = (0.01, 1_000_000);
+        let f = 1.25; // 12,500 cycles: on a bin of the 10,000 s record
         let x: Vec<f64> = (0..n)
             .map(|k| (std::f64::consts::TAU * f * k as f64 * dt).sin())
             .collect();

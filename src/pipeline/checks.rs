@@ -194,6 +194,7 @@ pub(super) fn block_run(
         eps: b.eps,
         alpha_rad: b.alpha_rad,
         mu: b.mu,
+        mu_k: b.mu_k,
         run,
         model_why: why,
     })

@@ -106,6 +106,10 @@ pub struct BlockSpec {
     /// The base's friction coefficient (`[[block]]`'s `mu`), when given.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub mu: Option<f64>,
+    /// The kinetic one (`[[block]]`'s `mu_k`), when given apart from `mu`:
+    /// in the settings, so that editing it reruns the sweep.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mu_k: Option<f64>,
     /// The block's run at η = 1, its model resolved and the whole checked
     /// when the plan is built (the IDA sets η).
     #[serde(skip)]
@@ -359,6 +363,10 @@ impl Plan {
         });
         if let Some(b) = &r.floor {
             v["floor"] = serde_json::Value::String(b.to_string());
+        }
+        if let Some(step) = r.random_orientation {
+            // The angles the pairs are run at: which records the study has.
+            v["random_orientation_step_deg"] = step.into();
         }
         v
     }

@@ -1,6 +1,7 @@
 //! Convergence stage: the capacity search repeated at several IM-grid
 //! resolutions (pipeline key `[convergence] levels`) →
-//! `capacity_convergence.parquet`.
+//! `convergence_capacities.parquet` (each search's capacity) and
+//! `capacity_convergence.parquet` (each block's summary).
 //!
 //! The capacity is the first overturning met as intensity rises, and the set
 //! of intensities at which a block overturns can have thin islands: a finer
@@ -20,7 +21,7 @@ use super::reduce::QUANTILES;
 use super::stage::{BoxError, Context, Progress, Shard, Stage, Study, Summary};
 use crate::ida::{self, ImGrid};
 use crate::physics::{Excitation, PhysicsError, RunSpec};
-use crate::pipeline::{BlockSpec, Plan, RecordsPlan};
+use crate::pipeline::{BlockSpec, RecordsPlan};
 use crate::records::{self, SelectError};
 use crate::stats;
 use crate::tables::convergence::{ConvergenceCaseRow, ConvergenceRow};
@@ -108,9 +109,10 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
     let plan = &cx.study.plan;
     let records = records::select(plan, &cx.study.records_table())?;
     let rs = plan.records_study().map_err(SelectError::from)?;
+    let sweep_keys = super::sweep::RecordKeys::new(plan);
     let keys: Vec<String> = records
         .par_iter()
-        .map(|r| record_key(plan, &rs.convergence, r))
+        .map(|r| record_key(&sweep_keys, &rs.convergence, r))
         .collect();
     let known = known(cx, rs, &records, &keys);
     let excitations = records
@@ -223,8 +225,8 @@ fn write(
 
 /// A record's key for this stage: the sweep's (its motion bit for bit, the
 /// settings but for the selection) and the resolutions.
-fn record_key(plan: &Plan, levels: &[usize], r: &RecordRow) -> String {
-    let text = format!("{} {levels:?}", super::sweep::record_key(plan, r));
+fn record_key(sweep: &super::sweep::RecordKeys, levels: &[usize], r: &RecordRow) -> String {
+    let text = format!("{} {levels:?}", sweep.of(r));
     crate::hash::sha256_hex(text.as_bytes())
 }
 
@@ -248,7 +250,7 @@ fn known(
                     "convergence",
                     &format!(
                         "took the capacities of {} of {} records from the previous run: \
-                         records, blocks and settings unchanged",
+                         their motions, the blocks and the settings of the searches are as then",
                         known.len(),
                         records.len()
                     ),

@@ -412,6 +412,12 @@ pub fn read_metadata(path: &Path) -> Result<Vec<(String, String)>, TableError> {
     Ok(open(path)?.1)
 }
 
+/// How many rows a table holds, from its footer.
+pub fn row_count(path: &Path) -> Result<usize, TableError> {
+    let rows = open(path)?.0.metadata().file_metadata().num_rows();
+    Ok(usize::try_from(rows).unwrap_or(0))
+}
+
 /// Key-value metadata of a file, as (key, value) pairs.
 type KeyValues = Vec<(String, String)>;
 

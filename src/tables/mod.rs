@@ -38,7 +38,7 @@ pub use column::{read_column, Column};
 pub use error::TableError;
 pub use file::{
     atomic_write, atomic_write_all, orphaned_temporary, read, read_all, read_metadata, read_table,
-    temporary_of, to_bytes, write, write_batches, Appender, AtomicTableWriter, Batches,
+    row_count, temporary_of, to_bytes, write, write_batches, Appender, AtomicTableWriter, Batches,
     TableContents, META_CRATE_VERSION, META_SCHEMA_VERSION, META_TABLE, READ_BATCH_ROWS,
 };
 pub use table::{Table, TableKind, ROW_GROUP_ROWS};

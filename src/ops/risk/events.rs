@@ -459,7 +459,10 @@ fn counts(
     }
     let stated = |site: Option<usize>, pmfs: &[Vec<f64>], n: usize| {
         let mut rates = events::exceedance_rates(pmfs, eff_years);
-        rates.resize(n + 1, 0.0);
+        if !pmfs.is_empty() {
+            // As long as the untrimmed pmfs' (no events: one rate, of 0).
+            rates.resize(n + 1, 0.0);
+        }
         let mean_per_event: f64 = pmfs
             .iter()
             .map(|pmf| {

@@ -8,7 +8,7 @@ use rayon::prelude::*;
 
 use super::error::SweepError;
 use super::layout::{
-    plan_hash, record_key, CHUNK_CASES, META_CHUNK, META_PLAN, META_PLAN_HASH, META_RECORD_KEYS,
+    plan_hash, RecordKeys, CHUNK_CASES, META_CHUNK, META_PLAN, META_PLAN_HASH, META_RECORD_KEYS,
     META_SETTINGS, META_SHARD,
 };
 use crate::ida;
@@ -37,7 +37,7 @@ pub(in crate::stages) struct Prepared {
     tol: f64,
     trace: ida::Trace,
     pub(super) hash: String,
-    /// Each record's [`record_key`], in record order.
+    /// Each record's key ([`RecordKeys`]), in record order.
     pub(super) record_keys: Vec<String>,
     plan_json: String,
     pub(in crate::stages) n_cases: usize,
@@ -66,7 +66,10 @@ impl Prepared {
             .unzip();
         let prepared = Prepared {
             hash: plan_hash(plan, &records),
-            record_keys: records.par_iter().map(|r| record_key(plan, r)).collect(),
+            record_keys: {
+                let keys = RecordKeys::new(plan);
+                records.par_iter().map(|r| keys.of(r)).collect()
+            },
             plan_json: plan.portable_json().to_string(),
             n_cases: records.len() * blocks.len(),
             records,

@@ -60,29 +60,42 @@ pub(super) fn final_names(shard: Option<Shard>) -> (String, String) {
     }
 }
 
-/// Hash of everything that determines one record's cases: the version and
-/// the tables' schemas, the settings but for which records are selected
-/// (`sets`, `ids`), the record's id and the motion its blocks feel (its
-/// step and samples, bit for bit; a floor is in the settings).
-pub(in crate::stages) fn record_key(plan: &Plan, record: &RecordRow) -> String {
-    let mut settings = plan.sweep_settings_json();
-    if let Some(o) = settings.as_object_mut() {
-        o.remove("sets");
-        o.remove("ids");
+/// Hash of everything that determines one record's cases: the build of
+/// the tool (its version and a hash of its sources: the physics changes
+/// without the version) and the tables' schemas, the settings but for
+/// which records are selected (`sets`, `ids`), the record's id and the
+/// motion its blocks feel (its step and samples, bit for bit; a floor is in
+/// the settings). The settings are written once for every record.
+pub(in crate::stages) struct RecordKeys {
+    prefix: String,
+}
+
+impl RecordKeys {
+    pub(in crate::stages) fn new(plan: &Plan) -> Self {
+        let mut settings = plan.sweep_settings_json();
+        if let Some(o) = settings.as_object_mut() {
+            o.remove("sets");
+            o.remove("ids");
+        }
+        let prefix = format!(
+            "{} {} ida_points/{} capacities/{} {settings}",
+            env!("CARGO_PKG_VERSION"),
+            env!("ROCKING_SOURCE_HASH"),
+            <IdaRow as tables::Table>::KIND.schema_version,
+            <CapacityRow as tables::Table>::KIND.schema_version,
+        );
+        RecordKeys { prefix }
     }
-    let mut bytes = format!(
-        "{} ida_points/{} capacities/{} {settings} {}\n",
-        env!("CARGO_PKG_VERSION"),
-        <IdaRow as tables::Table>::KIND.schema_version,
-        <CapacityRow as tables::Table>::KIND.schema_version,
-        record.record_id,
-    )
-    .into_bytes();
-    bytes.extend(record.dt_s.to_bits().to_le_bytes());
-    for a in &record.accel_g {
-        bytes.extend(a.to_bits().to_le_bytes());
+
+    /// The key of `record`'s cases.
+    pub(in crate::stages) fn of(&self, record: &RecordRow) -> String {
+        let mut bytes = format!("{} {}\n", self.prefix, record.record_id).into_bytes();
+        bytes.extend(record.dt_s.to_bits().to_le_bytes());
+        for a in &record.accel_g {
+            bytes.extend(a.to_bits().to_le_bytes());
+        }
+        crate::hash::sha256_hex(&bytes)
     }
-    crate::hash::sha256_hex(&bytes)
 }
 
 /// Hash of everything that determines the sweep's output.

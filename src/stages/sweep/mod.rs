@@ -44,7 +44,7 @@ use std::time::Instant;
 pub(super) use cases::{run_blocks, run_case, CaseResult, Prepared};
 pub use dataset::{dataset, is_level, read_capacities, read_ida, DatasetError};
 pub use error::SweepError;
-pub(super) use layout::record_key;
+pub(super) use layout::RecordKeys;
 pub use layout::{
     plan_hash, SweepMeta, CHUNK_CASES, META_CHUNK, META_PLAN, META_PLAN_HASH, META_SETTINGS,
     META_SHARD,
@@ -317,7 +317,7 @@ fn reused(cx: &Context, prep: &Prepared, cases: &[usize]) -> Vec<(usize, CaseRes
                 "sweep",
                 &format!(
                     "took the rows of {} of {} records ({} cases) from the previous sweep: \
-                     records, blocks and settings unchanged",
+                     their motions, the blocks and the settings of the runs are as then",
                     records,
                     prep.records.len(),
                     taken.len()
@@ -325,10 +325,21 @@ fn reused(cx: &Context, prep: &Prepared, cases: &[usize]) -> Vec<(usize, CaseRes
             );
             taken
         }
-        Err(e) => {
+        Err(reuse::NotTaken::Unreadable(e)) => {
             cx.reporter.note(
                 "sweep",
                 &format!("computing every case: the previous sweep's tables cannot be read ({e})"),
+            );
+            Vec::new()
+        }
+        Err(reuse::NotTaken::TooLarge(rows)) => {
+            cx.reporter.note(
+                "sweep",
+                &format!(
+                    "computing every case: the previous sweep's {rows} IDA rows are more than \
+                     the {} a rerun takes into memory",
+                    reuse::MAX_TAKEN_ROWS
+                ),
             );
             Vec::new()
         }

@@ -1,6 +1,6 @@
 //! The previous sweep's rows for the records it ran as they are now: a
 //! rerun after records were added, removed or edited computes only the
-//! cases of the records whose [`record_key`] is new. A case's rows depend
+//! cases of the records whose key ([`RecordKeys`]) is new. A case's rows depend
 //! on nothing but its record's motion, its block and the settings, all in
 //! the key, so the rows taken are the ones a computation would give, to
 //! the bit (only the case's number moves, with the records before it).
@@ -8,8 +8,10 @@
 //! Taken only from the unsharded tables of the last unsharded sweep, as
 //! that sweep wrote them (their hashes in its fingerprint), and never when
 //! the stage is forced (`--force`, `--from`): then everything is computed.
+//! The rows taken are held in memory until written (about 200 bytes an
+//! IDA row), so tables of more than [`MAX_TAKEN_ROWS`] are not read.
 //!
-//! [`record_key`]: super::layout::record_key
+//! [`RecordKeys`]: super::layout::RecordKeys
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -20,15 +22,32 @@ use crate::stages::stage::Context;
 use crate::tables::sweep::{CapacityRow, IdaRow};
 use crate::tables::{self, TableError};
 
+/// The most IDA rows a rerun takes from the previous table (about 1 GB
+/// held): past them, every case is computed, as before the rows were
+/// taken, with the sweep's bounded memory.
+pub(super) const MAX_TAKEN_ROWS: usize = 5_000_000;
+
+/// Why the previous tables were not read.
+pub(super) enum NotTaken {
+    Unreadable(TableError),
+    TooLarge(usize),
+}
+
+impl From<TableError> for NotTaken {
+    fn from(e: TableError) -> Self {
+        NotTaken::Unreadable(e)
+    }
+}
+
 /// The results of the cases among `todo` that the previous sweep's tables
 /// hold for an unchanged record, by case, and how many records they are;
 /// empty where nothing can be taken. `Err` says why tables that looked
-/// reusable could not be read (the cases are then computed).
+/// reusable were not read (the cases are then computed).
 pub(super) fn previous(
     cx: &Context,
     prep: &Prepared,
     todo: &[usize],
-) -> Result<(Vec<(usize, CaseResult)>, usize), TableError> {
+) -> Result<(Vec<(usize, CaseResult)>, usize), NotTaken> {
     let study = cx.study;
     if cx.shard.is_some() || cx.forced || !fingerprint::outputs_as_written(study, &super::Sweep) {
         return Ok((Vec::new(), 0));
@@ -51,6 +70,10 @@ pub(super) fn previous(
         .collect();
     if unchanged.is_empty() {
         return Ok((Vec::new(), 0));
+    }
+    let rows = tables::row_count(&ida_path)?;
+    if rows > MAX_TAKEN_ROWS {
+        return Err(NotTaken::TooLarge(rows));
     }
     let caps: Vec<CapacityRow> = tables::read(&cap_path)?;
     let mut ida_by_case: BTreeMap<i64, Vec<IdaRow>> = BTreeMap::new();
