@@ -147,6 +147,29 @@ fn stages_rerun_only_when_something_they_read_changed() {
         "{log}"
     );
     assert!(line(&log, "sweep").contains("fresh"), "{log}");
+
+    // A study made by a build of other sources (the physics can change
+    // within a version): the note holds this build's sources' hash, and a
+    // note of another build's reruns its stage.
+    let sweep_note = notes.join("sweep.json");
+    let note = fs::read_to_string(&sweep_note).unwrap();
+    let ours = format!(
+        "rocking {} (sources {})",
+        env!("CARGO_PKG_VERSION"),
+        env!("ROCKING_SOURCE_HASH")
+    );
+    assert!(note.contains(&ours), "{note}");
+    let theirs = format!(
+        "rocking {} (sources 0123456789abcdef)",
+        env!("CARGO_PKG_VERSION")
+    );
+    fs::write(&sweep_note, note.replace(&ours, &theirs)).unwrap();
+    let (_, log) = run(d, &pipe);
+    assert!(
+        line(&log, "sweep").contains("the tool changed (its version or its sources)"),
+        "{log}"
+    );
+    assert!(line(&log, "ingest").contains("fresh"), "{log}");
 }
 
 /// A pipeline over all 44 far-field records with enough work (a few

@@ -268,9 +268,15 @@ pub fn outputs_as_written(study: &Study, stage: &dyn Stage) -> bool {
 }
 
 /// The version part: the tool's version, which is raised with any change of
-/// a table's schema (ARCHITECTURE.md, "How to add a table").
+/// a table's schema (ARCHITECTURE.md, "How to add a table"), and a hash of
+/// its sources (`build.rs`): the physics can change within a version, and
+/// a study made by another build is computed again.
 fn versions() -> String {
-    format!("rocking {}", env!("CARGO_PKG_VERSION"))
+    format!(
+        "rocking {} (sources {})",
+        env!("CARGO_PKG_VERSION"),
+        env!("ROCKING_SOURCE_HASH")
+    )
 }
 
 /// Where a stage's note lives.

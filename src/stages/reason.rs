@@ -47,7 +47,7 @@ impl fmt::Display for Stale {
                 write!(f, "its fingerprint {note} is unreadable ({problem})")
             }
             Stale::SettingsChanged => write!(f, "settings changed"),
-            Stale::VersionsChanged => write!(f, "the tool's version changed"),
+            Stale::VersionsChanged => write!(f, "the tool changed (its version or its sources)"),
             Stale::InputChanged(n) => write!(f, "input {n} changed"),
             Stale::InputNew(n) => write!(f, "input {n} is new"),
             Stale::InputGone(n) => write!(f, "input {n} is gone"),

@@ -100,7 +100,12 @@ impl RecordKeys {
 
 /// Hash of everything that determines the sweep's output.
 pub fn plan_hash(plan: &Plan, records: &[RecordRow]) -> String {
-    let mut text = String::from(env!("CARGO_PKG_VERSION"));
+    // The build too: a part saved by a build of other sources is not resumed.
+    let mut text = format!(
+        "{} {}",
+        env!("CARGO_PKG_VERSION"),
+        env!("ROCKING_SOURCE_HASH")
+    );
     text.push_str(&format!(
         "ida_points/{} capacities/{}",
         <IdaRow as tables::Table>::KIND.schema_version,
