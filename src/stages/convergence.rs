@@ -19,6 +19,7 @@ use rayon::prelude::*;
 use super::fingerprint;
 use super::reduce::QUANTILES;
 use super::stage::{BoxError, Context, Progress, Shard, Stage, Study, Summary};
+use super::sweep::RecordKeys;
 use crate::ida::{self, ImGrid};
 use crate::physics::{Excitation, PhysicsError, RunSpec};
 use crate::pipeline::{BlockSpec, RecordsPlan};
@@ -109,7 +110,7 @@ fn run(cx: &Context) -> Result<Summary, ConvergenceError> {
     let plan = &cx.study.plan;
     let records = records::select(plan, &cx.study.records_table())?;
     let rs = plan.records_study().map_err(SelectError::from)?;
-    let sweep_keys = super::sweep::RecordKeys::new(plan);
+    let sweep_keys = RecordKeys::new(plan);
     let keys: Vec<String> = records
         .par_iter()
         .map(|r| record_key(&sweep_keys, &rs.convergence, r))
@@ -208,14 +209,7 @@ fn write(
     let levels = format!("{:?}", rs.convergence);
     let levels_meta = ("rocking.convergence.levels".to_string(), levels);
     let cases = cx.study.path(CASES);
-    let key_map: serde_json::Map<String, serde_json::Value> = (records.iter())
-        .zip(keys)
-        .map(|(r, k)| (r.record_id.clone(), k.clone().into()))
-        .collect();
-    let keys_meta = (
-        META_RECORD_KEYS.to_string(),
-        serde_json::Value::Object(key_map).to_string(),
-    );
+    let keys_meta = RecordKeys::entry(META_RECORD_KEYS, records, keys);
     let metadata = [levels_meta.clone(), keys_meta];
     tables::write(&cases, &case_rows(rs, records, etas), &metadata)?;
     let dest = cx.study.path("capacity_convergence.parquet");
@@ -225,7 +219,7 @@ fn write(
 
 /// A record's key for this stage: the sweep's (its motion bit for bit, the
 /// settings but for the selection) and the resolutions.
-fn record_key(sweep: &super::sweep::RecordKeys, levels: &[usize], r: &RecordRow) -> String {
+fn record_key(sweep: &RecordKeys, levels: &[usize], r: &RecordRow) -> String {
     let text = format!("{} {levels:?}", sweep.of(r));
     crate::hash::sha256_hex(text.as_bytes())
 }
@@ -277,12 +271,7 @@ fn previous(
     records: &[RecordRow],
     keys: &[String],
 ) -> Result<BTreeMap<usize, Vec<Vec<f64>>>, TableError> {
-    let meta = tables::read_metadata(path)?;
-    let Some(old) = meta
-        .iter()
-        .find(|(k, _)| k == META_RECORD_KEYS)
-        .and_then(|(_, v)| serde_json::from_str::<BTreeMap<String, String>>(v).ok())
-    else {
+    let Some(old) = RecordKeys::written(path, META_RECORD_KEYS)? else {
         return Ok(BTreeMap::new());
     };
     let unchanged: Vec<usize> = (0..records.len())

@@ -245,8 +245,7 @@ pub fn forget(study: &Study, stage: &dyn Stage) {
     let path = note_path(study, stage.name(), None);
     if let Ok(note) = read_note(study, &path) {
         for file in stage.outputs(study, None) {
-            let recorded = note.outputs.get(&study.name_of(&file));
-            if recorded.is_some_and(|h| hash::file_sha256(&file).is_ok_and(|now| &now == h)) {
+            if as_written(study, &note, &file) {
                 let _ = fs::remove_file(&file);
             }
         }
@@ -261,10 +260,14 @@ pub fn outputs_as_written(study: &Study, stage: &dyn Stage) -> bool {
     let Ok(note) = read_note(study, &note_path(study, stage.name(), None)) else {
         return false;
     };
-    stage.outputs(study, None).iter().all(|file| {
-        let recorded = note.outputs.get(&study.name_of(file));
-        recorded.is_some_and(|h| hash::file_sha256(file).is_ok_and(|now| &now == h))
-    })
+    (stage.outputs(study, None).iter()).all(|file| as_written(study, &note, file))
+}
+
+/// Whether `file` is as the stage whose `note` this is wrote it: its hash
+/// the one the note recorded.
+fn as_written(study: &Study, note: &Note, file: &Path) -> bool {
+    let recorded = note.outputs.get(&study.name_of(file));
+    recorded.is_some_and(|h| hash::file_sha256(file).is_ok_and(|now| &now == h))
 }
 
 /// The version part: the tool's version, which is raised with any change of

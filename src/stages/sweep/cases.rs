@@ -100,13 +100,10 @@ impl Prepared {
             (META_SETTINGS.to_string(), plan.sweep_settings()),
         ];
         if chunk.is_none() {
-            let keys: serde_json::Map<String, serde_json::Value> = (self.records.iter())
-                .zip(&self.record_keys)
-                .map(|(r, k)| (r.record_id.clone(), k.clone().into()))
-                .collect();
-            s.push((
-                META_RECORD_KEYS.to_string(),
-                serde_json::Value::Object(keys).to_string(),
+            s.push(RecordKeys::entry(
+                META_RECORD_KEYS,
+                &self.records,
+                &self.record_keys,
             ));
         }
         if let Some(c) = chunk {

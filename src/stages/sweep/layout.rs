@@ -87,6 +87,36 @@ impl RecordKeys {
         RecordKeys { prefix }
     }
 
+    /// The metadata entry `meta_key` of the `records`' `keys` (one each,
+    /// in order): a JSON object by record id.
+    pub(in crate::stages) fn entry(
+        meta_key: &str,
+        records: &[RecordRow],
+        keys: &[String],
+    ) -> (String, String) {
+        let map: serde_json::Map<String, serde_json::Value> = (records.iter())
+            .zip(keys)
+            .map(|(r, k)| (r.record_id.clone(), k.clone().into()))
+            .collect();
+        (
+            meta_key.to_string(),
+            serde_json::Value::Object(map).to_string(),
+        )
+    }
+
+    /// The records' keys a table at `path` holds under `meta_key`, by
+    /// record id; `None` if it holds none (written by an older version).
+    pub(in crate::stages) fn written(
+        path: &Path,
+        meta_key: &str,
+    ) -> Result<Option<std::collections::BTreeMap<String, String>>, TableError> {
+        let meta = tables::read_metadata(path)?;
+        Ok(meta
+            .iter()
+            .find(|(k, _)| k == meta_key)
+            .and_then(|(_, v)| serde_json::from_str(v).ok()))
+    }
+
     /// The key of `record`'s cases.
     pub(in crate::stages) fn of(&self, record: &RecordRow) -> String {
         let mut bytes = format!("{} {}\n", self.prefix, record.record_id).into_bytes();

@@ -16,7 +16,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::cases::{CaseResult, Prepared};
-use super::layout::{final_names, META_RECORD_KEYS};
+use super::layout::{final_names, RecordKeys, META_RECORD_KEYS};
 use crate::stages::fingerprint;
 use crate::stages::stage::Context;
 use crate::tables::sweep::{CapacityRow, IdaRow};
@@ -54,12 +54,7 @@ pub(super) fn previous(
     }
     let (ida_name, cap_name) = final_names(None);
     let (ida_path, cap_path) = (study.path(&ida_name), study.path(&cap_name));
-    let meta = tables::read_metadata(&cap_path)?;
-    let Some(keys) = meta
-        .iter()
-        .find(|(k, _)| k == META_RECORD_KEYS)
-        .and_then(|(_, v)| serde_json::from_str::<BTreeMap<String, String>>(v).ok())
-    else {
+    let Some(keys) = RecordKeys::written(&cap_path, META_RECORD_KEYS)? else {
         return Ok((Vec::new(), 0));
     };
     let n_blocks = prep.blocks.len();
