@@ -54,6 +54,23 @@
 //! The command line is the `rocking` binary (`src/bin/rocking/`); the library
 //! does not know clap.
 
+/// The tool's version, raised with any change of a table's schema
+/// (ARCHITECTURE.md, "How to add a table").
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// A hash of the library's sources (`build.rs`): the physics can change
+/// within a version, and a study's notes name the build that made them.
+pub const SOURCES: &str = env!("ROCKING_SOURCE_HASH");
+
+/// The build as a study's notes and `rocking --version` name it:
+/// `0.7.0 (sources 0123456789abcdef)`.
+pub const BUILD: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (sources ",
+    env!("ROCKING_SOURCE_HASH"),
+    ")"
+);
+
 pub mod ask;
 pub mod at2;
 pub mod block;

@@ -159,6 +159,10 @@ fn stages_rerun_only_when_something_they_read_changed() {
         env!("ROCKING_SOURCE_HASH")
     );
     assert!(note.contains(&ours), "{note}");
+    // `rocking --version` names the same build, so a user can tell which
+    // build made a study.
+    let version = rocking(d, &["--version"]);
+    assert_eq!(String::from_utf8_lossy(&version.stdout).trim(), ours);
     let theirs = format!(
         "rocking {} (sources 0123456789abcdef)",
         env!("CARGO_PKG_VERSION")

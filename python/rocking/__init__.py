@@ -43,9 +43,13 @@ __all__ = [
     "load",
     "ims",
     "__version__",
+    "__build__",
 ]
 
 __version__: str = _core.version()
+# The version and a hash of the library's sources: `rocking --version`
+# prints the same, and a study's notes (outputs/<name>/.rocking/) name it.
+__build__: str = _core.build()
 
 PathLike = Union[str, "os.PathLike[str]"]
 Record = Union[PathLike, np.ndarray, Sequence[float]]

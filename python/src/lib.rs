@@ -491,7 +491,14 @@ fn ims(py: Python<'_>) -> PyResult<Py<PyAny>> {
 /// The library's version.
 #[pyfunction]
 fn version() -> &'static str {
-    env!("CARGO_PKG_VERSION")
+    rocking::VERSION
+}
+
+/// The build, as `rocking --version` and a study's notes name it: the
+/// version and a hash of the library's sources.
+#[pyfunction]
+fn build() -> &'static str {
+    rocking::BUILD
 }
 
 #[pymodule]
@@ -507,5 +514,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(study_dir, m)?)?;
     m.add_function(wrap_pyfunction!(ims, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
+    m.add_function(wrap_pyfunction!(build, m)?)?;
     Ok(())
 }

@@ -543,6 +543,11 @@ def test_run_and_load_give_the_commands_tables(tmp_path):
     for name in ours:
         assert ours[name].equals(theirs[name]), name
     assert ours["capacities"].height == 12
+    # One build, named alike by the package, the command and the study's notes.
+    assert cli("--version").strip() == f"rocking {rocking.__build__}"
+    assert rocking.__build__.startswith(rocking.__version__ + " (sources ")
+    note = json.loads((tmp_path / "py" / "tiny" / ".fingerprints" / "sweep.json").read_text())
+    assert f"rocking {rocking.__build__}" in json.dumps(note)
     with pytest.raises(ValueError, match="no study here yet"):
         rocking.load(pipeline, tmp_path / "nowhere")
 

@@ -275,11 +275,7 @@ fn as_written(study: &Study, note: &Note, file: &Path) -> bool {
 /// its sources (`build.rs`): the physics can change within a version, and
 /// a study made by another build is computed again.
 fn versions() -> String {
-    format!(
-        "rocking {} (sources {})",
-        env!("CARGO_PKG_VERSION"),
-        env!("ROCKING_SOURCE_HASH")
-    )
+    format!("rocking {}", crate::BUILD)
 }
 
 /// Where a stage's note lives.

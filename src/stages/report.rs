@@ -136,7 +136,7 @@ pub fn load(
     Ok(StudyData {
         plan: plan.clone(),
         pipeline: pipeline_name(&study.pipeline),
-        version: env!("CARGO_PKG_VERSION").to_string(),
+        version: crate::BUILD.to_string(),
         caps: sweep::read_capacities(dir)?,
         ida: sweep::read_ida(dir)?,
         horizontal: tables::read(&dir.join("fractiles_horizontal.parquet"))?,
@@ -245,7 +245,7 @@ pub fn load_pulses(
     Ok(PulseData {
         plan: study.plan.clone(),
         pipeline: pipeline_name(&study.pipeline),
-        version: env!("CARGO_PKG_VERSION").to_string(),
+        version: crate::BUILD.to_string(),
         walls: tables::read(&study.path(super::pulses::WALLS))?,
         cells: tables::read(&study.path(super::pulses::MAP))?,
         stage_seconds: other_stages(study, stage_seconds),

@@ -79,8 +79,8 @@ impl RecordKeys {
         }
         let prefix = format!(
             "{} {} ida_points/{} capacities/{} {settings}",
-            env!("CARGO_PKG_VERSION"),
-            env!("ROCKING_SOURCE_HASH"),
+            crate::VERSION,
+            crate::SOURCES,
             <IdaRow as tables::Table>::KIND.schema_version,
             <CapacityRow as tables::Table>::KIND.schema_version,
         );
@@ -131,11 +131,7 @@ impl RecordKeys {
 /// Hash of everything that determines the sweep's output.
 pub fn plan_hash(plan: &Plan, records: &[RecordRow]) -> String {
     // The build too: a part saved by a build of other sources is not resumed.
-    let mut text = format!(
-        "{} {}",
-        env!("CARGO_PKG_VERSION"),
-        env!("ROCKING_SOURCE_HASH")
-    );
+    let mut text = format!("{} {}", crate::VERSION, crate::SOURCES);
     text.push_str(&format!(
         "ida_points/{} capacities/{}",
         <IdaRow as tables::Table>::KIND.schema_version,

@@ -28,7 +28,7 @@ mod wall;
 #[derive(Debug, Parser)]
 #[command(
     name = "rocking",
-    version,
+    version = rocking::BUILD,
     about = "Overturning capacity and fragility of free-standing rigid blocks under earthquake records",
     long_about = "Overturning capacity and fragility of free-standing rigid blocks under earthquake records.\n\n\
         A block (statue, cabinet, transformer, server rack) resting on a rigid base rocks about its \
