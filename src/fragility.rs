@@ -93,16 +93,14 @@ pub fn median_beta(laws: &[FractileLaw], p: f64, eps: f64) -> Option<(f64, f64)>
 /// and β: the lognormal in PGA (g) of median α/η50, and 0 below the PGA
 /// that lifts the block, g·tan α = b/h (it cannot move there; MODEL.md
 /// §13): as `fragility`, `risk` and the exports count it, the same
-/// function ([`crate::risk::Fragility::probability`]) and the same cut.
+/// functions ([`crate::cut::zero_below`], [`crate::cut::probability_above`]).
 pub fn probability(median: f64, beta: f64, block: &Block, pga_g: f64) -> f64 {
-    if pga_g < block.uplift_pga_g() {
-        return 0.0;
-    }
-    crate::risk::Fragility::Lognormal {
+    let f = crate::risk::Fragility::Lognormal {
         median: crate::im::pga_of_eta(median, block.alpha()),
         beta,
-    }
-    .probability(pga_g)
+    };
+    let cut = crate::cut::zero_below(block, crate::im::Im::Pga, None, None);
+    crate::cut::probability_above(&f, pga_g, cut)
 }
 
 /// Where a regression is stretched for `block`: its ε or p beyond the

@@ -38,8 +38,9 @@
 //! - [`pipeline`]: pipeline files (TOML text) → a typed plan, no I/O;
 //! - [`stats`], [`fit`]: fractiles (+∞ allowed), Lilliefors, the bootstrap;
 //!   the two-step regression, no I/O;
-//! - [`fragility`], [`hazard`], [`risk`]: P(overturn | PGA) from the
-//!   regression; hazard curves; the annual rate of overturning, no I/O;
+//! - [`fragility`], [`hazard`], [`risk`], [`cut`]: P(overturn | PGA) from the
+//!   regression; hazard curves; the annual rate of overturning; the level
+//!   below which a block cannot move, no I/O;
 //! - [`study`], [`figures`], [`report`], [`plot`]: a study's results, its
 //!   figures as chart specifications, its report, SVG, no I/O;
 //! - [`label`], [`hash`], [`cluster`], [`outpath`]: closed sets' labels;
@@ -79,6 +80,7 @@ pub mod cluster;
 pub mod columns;
 pub mod contents;
 pub mod csv_rows;
+pub mod cut;
 pub mod damage;
 pub mod decimal;
 pub mod events;

@@ -3,21 +3,26 @@
 //! the tornado of which branch set moves its median capacity most.
 
 use super::figure::Figure;
+use crate::block::{Block, Restitution};
+use crate::cut;
 use crate::damage::{fractile_method, Lognormal};
+use crate::im::Im;
 use crate::plot::{Chart, Hue, Line, Scale, Style};
 use crate::risk::Fragility;
 use crate::stats::FractileDef;
 use crate::study::StudyData;
 use crate::tree::{self, Mixture};
 
-/// The example block on each branch: its weight, label, capacities in PGA
-/// (g; +∞ where it survives every level) and their lognormal by the
-/// fractiles, and the PGA's axis name. `None` without a tree, its
-/// capacities or the example's α.
+/// The example block on each branch: its weight, label, the lognormal by
+/// the fractiles of its capacities in PGA (g; +∞ where it survives every
+/// level), and the PGA below which it cannot move (its probability 0
+/// there, as `fragility --tree` and `risk --tree` count it; 0: no cut).
+/// `None` without a tree, its capacities or the example's α.
 pub struct Branches {
     pub weights: Vec<f64>,
     pub labels: Vec<String>,
     pub fits: Vec<Lognormal>,
+    pub below: Vec<f64>,
 }
 
 /// [`Branches`] of a study with a tree (cases numbered record × branch).
@@ -40,10 +45,22 @@ pub fn branches(d: &StudyData) -> Option<Branches> {
             fractile_method(&in_pga, FractileDef::Type7)
         })
         .collect::<Option<Vec<_>>>()?;
+    let floor = d.plan.records_study().ok()?.floor.as_ref();
+    let below = t
+        .branches
+        .iter()
+        .map(|br| {
+            let alpha = br.block.alpha_rad.unwrap_or(alpha);
+            let block = Block::of_p_alpha(br.block.p, alpha, Restitution::Value(br.block.eps));
+            let mu = br.block.run.model.equation.friction().map(|f| f.mu_s);
+            Some(cut::zero_below(&block.ok()?, Im::Pga, floor, mu).unwrap_or(0.0))
+        })
+        .collect::<Option<Vec<_>>>()?;
     Some(Branches {
         weights: t.branches.iter().map(|b| b.weight).collect(),
         labels: t.branches.iter().map(|b| b.label.clone()).collect(),
         fits,
+        below,
     })
 }
 
@@ -64,6 +81,15 @@ impl Branches {
             })
             .collect()
     }
+
+    /// Each branch's probability at `x`, 0 below its cut.
+    pub fn probabilities(&self, x: f64) -> Vec<f64> {
+        self.parts()
+            .iter()
+            .zip(&self.below)
+            .map(|((_, f), &c)| cut::probability_above(f, x, Some(c)))
+            .collect()
+    }
 }
 
 /// The branches' fragilities (faint), their mean (the mixture) and the 5,
@@ -75,7 +101,7 @@ pub(super) fn tree_fragility(d: &StudyData) -> Vec<Figure> {
     let parts = b.parts();
     let mix = Mixture {
         parts: &parts,
-        below: &[],
+        below: &b.below,
     };
     let top = b
         .fits
@@ -83,11 +109,11 @@ pub(super) fn tree_fragility(d: &StudyData) -> Vec<Figure> {
         .map(|l| l.median * (2.5 * l.beta).exp())
         .fold(0.0, f64::max);
     let xs: Vec<f64> = (1..=120).map(|k| top * k as f64 / 120.0).collect();
-    let mut lines: Vec<Line> = parts
-        .iter()
-        .map(|(_, f)| Line {
+    let each: Vec<Vec<f64>> = xs.iter().map(|&x| b.probabilities(x)).collect();
+    let mut lines: Vec<Line> = (0..parts.len())
+        .map(|i| Line {
             name: None,
-            points: xs.iter().map(|&x| (x, f.probability(x))).collect(),
+            points: xs.iter().zip(&each).map(|(&x, ps)| (x, ps[i])).collect(),
             style: Style::Faint,
             hue: Hue::Ink,
         })
@@ -97,10 +123,8 @@ pub(super) fn tree_fragility(d: &StudyData) -> Vec<Figure> {
             name: Some(format!("{:.0} % over the branches", 100.0 * q)),
             points: xs
                 .iter()
-                .map(|&x| {
-                    let ps: Vec<f64> = parts.iter().map(|(_, f)| f.probability(x)).collect();
-                    (x, tree::weighted_quantile(&ps, &b.weights, q))
-                })
+                .zip(&each)
+                .map(|(&x, ps)| (x, tree::weighted_quantile(ps, &b.weights, q)))
                 .collect(),
             style: Style::Dashed,
             hue: Hue::Fractile(k),
@@ -132,10 +156,11 @@ pub(super) fn tree_fragility(d: &StudyData) -> Vec<Figure> {
             lines,
         },
         caption: "The example block's fragility on each branch of the tree (grey: a lognormal \
-                  by the fractiles of its capacities, `tree_capacities.parquet`), their weighted \
-                  mean (black: the mixture, which is what the tree's rate integrates) and the 5, \
-                  50 and 95 % weighted quantiles over the branches at each PGA (OpenQuake's \
-                  rule; docs/MODEL.md §19)."
+                  by the fractiles of its capacities, `tree_capacities.parquet`; 0 below the PGA \
+                  that lifts the block, g·tan α, as `fragility --tree` and `risk --tree` count \
+                  it), their weighted mean (black: the mixture, which is what the tree's rate \
+                  integrates) and the 5, 50 and 95 % weighted quantiles over the branches at each \
+                  PGA (OpenQuake's rule; docs/MODEL.md §19)."
             .into(),
     }]
 }
@@ -240,6 +265,33 @@ mod tests {
         assert!((b.fits[2].median - 3.0 * alpha / 0.8).abs() < 1e-12);
         let figs = tree_fragility(&d);
         assert_eq!(figs[0].file, "tree_fragility.svg");
+        // The mean is the cut mixture `fragility --tree` and `risk --tree`
+        // count: 0 below the uplift PGA g·tan α, Σ wᵢ Φ(ln(x/mᵢ)/βᵢ) above
+        // (Φ by statrs here).
+        use statrs::distribution::{ContinuousCDF, Normal};
+        let phi = Normal::new(0.0, 1.0).unwrap();
+        let mean = figs[0].chart.lines.last().unwrap();
+        assert_eq!(mean.name.as_deref(), Some("mean (the mixture)"));
+        let uplift = alpha.tan();
+        let (mut below, mut above) = (0, 0);
+        for &(x, y) in &mean.points {
+            let want: f64 = if x < uplift {
+                below += 1;
+                0.0
+            } else {
+                above += 1;
+                [0.5, 0.3, 0.2]
+                    .iter()
+                    .zip(&b.fits)
+                    .map(|(w, l)| w * phi.cdf((x / l.median).ln() / l.beta))
+                    .sum()
+            };
+            assert!((y - want).abs() < 1e-12, "x {x}: {y} vs {want}");
+        }
+        assert!(below > 0 && above > 0, "{below} {above}");
+        // Each branch's own line is cut too.
+        let first = &figs[0].chart.lines[0].points;
+        assert!(first.iter().all(|&(x, y)| x >= uplift || y == 0.0));
         let t = tree_tornado(&d);
         let seg = &t[0].chart.lines[0].points;
         assert!(

@@ -10,6 +10,7 @@
 mod answer;
 mod records;
 
+pub use crate::cut::{probability_above, zero_below};
 pub use answer::{DamageFragility, StateFragility, DIRECT_FRACTILE};
 
 use super::fragility::{DirectRecords, FragilityError, Laws, Request, RunModel};
@@ -18,7 +19,6 @@ use crate::block::Block;
 use crate::damage::{
     self, Criterion, DamageStates, Dispersion, FitChoice, FitMethod, IfNotLognormal, Lognormal,
 };
-use crate::floor::Building;
 use crate::im::Im;
 use crate::label::Label;
 use crate::physics::ModelChoice;
@@ -111,40 +111,6 @@ pub fn resampled(f: &DamageFragility, state: usize, draw: &[usize]) -> Option<St
         ..f.states[state].clone()
     };
     s.fragility(f.method).is_some().then_some(s)
-}
-
-/// The IM level below which every state's probability is 0, the same for
-/// `risk` and the OpenQuake export (its `noDamageLimit`): a block on the
-/// ground cannot move below its uplift PGA, g·tan α, nor any block below a
-/// PFA of g·tan α (in PGA and PFA only; on a floor that moves otherwise
-/// than the ground, the ground's PGA at uplift varies record to record,
-/// and other IMs have no such level: no cut).
-/// docs/MODEL.md §13.
-/// A block whose runs slid on a base of friction `slides_on_mu` moves from
-/// the smaller of g·tan α and μg (it slides first up to b/h).
-pub fn zero_below(
-    block: &Block,
-    im: Im,
-    floor: Option<&Building>,
-    slides_on_mu: Option<f64>,
-) -> Option<f64> {
-    let moves = slides_on_mu.map_or(block.uplift_pga_g(), |mu| mu.min(block.uplift_pga_g()));
-    match im {
-        // The motion the block feels lifts it at g·tan α, floor or not.
-        Im::Pfa => Some(moves),
-        Im::Pga if floor.is_none_or(Building::moves_as_ground) => Some(moves),
-        _ => None,
-    }
-}
-
-/// P(state | IM = x) of a fragility cut below `cut` ([`zero_below`]): what
-/// `fragility` prints at a level, as `risk` and the OpenQuake export count it.
-pub fn probability_above(f: &crate::risk::Fragility, x: f64, cut: Option<f64>) -> f64 {
-    if cut.is_some_and(|c| x < c) {
-        0.0
-    } else {
-        f.probability(x)
-    }
 }
 
 /// Why `state` has no fragility by `method`, as a refusal.

@@ -339,10 +339,10 @@ fn probabilities(values: &[f64], cut: f64, frag: &crate::risk::Fragility) -> Vec
     values
         .iter()
         .map(|&x| {
-            if x < cut || x <= 0.0 {
+            if x <= 0.0 {
                 0.0
             } else {
-                frag.probability(x)
+                crate::cut::probability_above(frag, x, Some(cut))
             }
         })
         .collect()
