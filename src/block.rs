@@ -13,6 +13,12 @@ use std::str::FromStr;
 /// Standard gravity (m/s²).
 pub const G: f64 = 9.80665;
 
+/// The semi-diagonal R (m) of a block of frequency parameter `p` (1/s):
+/// [`Block::p`] undone, R = 3g/(4p²).
+pub fn r_of_p(p: f64) -> f64 {
+    3.0 * G / (4.0 * p * p)
+}
+
 /// A real block: half-width and half-height (m), restitution.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Block {
@@ -104,7 +110,7 @@ impl Block {
     /// The block of frequency parameter `p` (1/s) and slenderness
     /// `alpha_rad`: [`Block::p`] and [`Block::alpha`] undone, R = 3g/(4p²).
     pub fn of_p_alpha(p: f64, alpha_rad: f64, eps: Restitution) -> Result<Block, BlockError> {
-        let r_m = 3.0 * G / (4.0 * p * p);
+        let r_m = r_of_p(p);
         Block::new(r_m * alpha_rad.sin(), r_m * alpha_rad.cos(), eps)
     }
 

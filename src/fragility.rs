@@ -86,7 +86,7 @@ pub fn median_beta(laws: &[FractileLaw], p: f64, eps: f64) -> Option<(f64, f64)>
     if !(q16 > 0.0 && q50 > 0.0 && q84 > q16) {
         return None;
     }
-    Some((q50, 0.5 * (q84.ln() - q16.ln())))
+    Some((q50, crate::stats::beta_of_fractiles(q16, q84)))
 }
 
 /// P(overturn | PGA) for `block` on the ground from its η_c,50 (`median`)

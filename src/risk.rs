@@ -70,7 +70,11 @@ impl Fragility {
     /// P(overturn | PGA = a).
     pub fn probability(&self, a: f64) -> f64 {
         match self {
-            Fragility::Lognormal { median, beta } => normal_cdf((a / median).ln() / beta),
+            Fragility::Lognormal { median, beta } => crate::damage::Lognormal {
+                median: *median,
+                beta: *beta,
+            }
+            .cdf(a),
             Fragility::Curve(c) => c.probability(a),
         }
     }

@@ -143,6 +143,13 @@ pub fn normal_quantile(p: f64) -> f64 {
     Normal::standard().inverse_cdf(p)
 }
 
+/// The lognormal dispersion of the 16 and 84 % fractiles, the paper's
+/// fractile method: β = ln(q₈₄/q₁₆)/2. Every fit by fractiles (a study's
+/// lognormal table, `--direct`, the regression's laws) takes it here.
+pub fn beta_of_fractiles(q16: f64, q84: f64) -> f64 {
+    0.5 * (q84 / q16).ln()
+}
+
 /// Mean and sample standard deviation (n − 1).
 pub fn mean_sd(x: &[f64]) -> (f64, f64) {
     let n = x.len() as f64;

@@ -224,7 +224,7 @@ fn likely_unit_slips_are_warned_of() {
     warned(
         "gal.csv",
         false,
-        "are they in cm/s² (gal)? Divide them by 981",
+        "are they in cm/s² (gal)? Divide them by 980.665",
     );
     warned("ms.csv", true, "are they in m/s? Multiply them by 100");
     warned(

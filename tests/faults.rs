@@ -1111,7 +1111,7 @@ fn levels_in_another_unit_are_warned_of() {
         assert!(out.status.success(), "{args:?}: {}", stderr(&out));
         stderr(&out).contains(what)
     };
-    let m_s2 = "are they in m/s²? Divide them by 9.81 for g";
+    let m_s2 = "are they in m/s²? Divide them by 9.80665 for g";
     let frag = ["fragility", "--b", "0.2", "--h", "0.9", "--pga"];
     assert!(says(&[&frag[..], &["2.94,9.8"]].concat(), m_s2));
     assert!(!says(&[&frag[..], &["0.3,0.5,1"]].concat(), m_s2));

@@ -226,7 +226,7 @@ pub fn fractile_method(capacities: &[f64], def: FractileDef) -> Option<Lognormal
     let (q16, q50, q84) = (q(0.16)?, q(0.5)?, q(0.84)?);
     Some(Lognormal {
         median: q50,
-        beta: 0.5 * (q84 / q16).ln(),
+        beta: stats::beta_of_fractiles(q16, q84),
     })
 }
 

@@ -71,7 +71,7 @@ pub fn unit_slip(im: Im, lo: f64, hi: f64, range: &str) -> Option<String> {
     match im {
         Im::Pga | Im::Sa(_) | Im::AvgSa if lo >= 5.0 => Some(format!(
             "{range}: no earthquake shakes the ground at {} g and more; are they in cm/s² \
-             (gal)? Divide them by 981 for g",
+             (gal)? Divide them by 980.665 for g",
             crate::im::level_text(lo)
         )),
         Im::Pgv if hi <= 5.0 => Some(format!(
@@ -99,7 +99,7 @@ pub fn levels_slip(im: Im, levels: &[f64]) -> Option<String> {
         (im == Im::Pga && hi > 5.0).then(|| {
             format!(
                 "{range}: no earthquake has shaken the ground at more than about 4 g, and these \
-                 reach {} g; are they in m/s²? Divide them by 9.81 for g",
+                 reach {} g; are they in m/s²? Divide them by 9.80665 for g",
                 t(hi)
             )
         })

@@ -10,7 +10,7 @@
 //! shift of every ln IM_c), so blocks of the linearised model, which have
 //! no α, are ranked too; their medians are given in dimensionless form.
 
-use super::{Im, RecordIms};
+use super::{pgv_pga_s, Im, RecordIms};
 use crate::stats;
 
 /// One IM's capacities for one block.
@@ -168,15 +168,13 @@ impl VectorFit {
         if !(pga_g > 0.0 && pgv_cm_s > 0.0) {
             return 0.0;
         }
-        let m = self.median_pga(alpha_rad, pgv_pga_s(pga_g, pgv_cm_s));
-        stats::normal_cdf((pga_g / m).ln() / self.beta)
+        let median = self.median_pga(alpha_rad, pgv_pga_s(pga_g, pgv_cm_s));
+        crate::damage::Lognormal {
+            median,
+            beta: self.beta,
+        }
+        .cdf(pga_g)
     }
-}
-
-/// PGV/PGA in s (as [`Im::PgvPga`]) of a motion's PGA in g and PGV in
-/// cm/s, OpenQuake's units.
-pub fn pgv_pga_s(pga_g: f64, pgv_cm_s: f64) -> f64 {
-    (pgv_cm_s / 100.0) / (pga_g * crate::block::G)
 }
 
 /// [`VectorFit`] of one block from each record's η_c (`None`: never

@@ -8,8 +8,15 @@
 use std::fmt;
 use std::str::FromStr;
 
-/// Standard gravity (m/s²), the g of every IM in g.
-pub const G_M_S2: f64 = 9.806_65;
+/// Standard gravity (m/s²), the g of every IM in g: the block's
+/// ([`crate::block::G`]), one value for the tool.
+pub const G_M_S2: f64 = crate::block::G;
+
+/// PGV/PGA in s (as [`Im::PgvPga`]) of a motion's PGA in g and PGV in
+/// cm/s, OpenQuake's units.
+pub fn pgv_pga_s(pga_g: f64, pgv_cm_s: f64) -> f64 {
+    (pgv_cm_s / 100.0) / (pga_g * G_M_S2)
+}
 
 /// Damping ratio of every spectral IM.
 pub const SPECTRAL_DAMPING: f64 = 0.05;

@@ -19,7 +19,8 @@ pub mod rotd;
 pub mod scale;
 
 pub use measure::{
-    level_text, period_text, Im, Rotated, AVGSA_PERIODS_S, G_M_S2, PERIODS_S, SPECTRAL_DAMPING,
+    level_text, period_text, pgv_pga_s, Im, Rotated, AVGSA_PERIODS_S, G_M_S2, PERIODS_S,
+    SPECTRAL_DAMPING,
 };
 pub use record::{RecordIms, RecordImsError};
 pub use scale::{eta_of_pga, of_eta, pga_of_eta};

@@ -64,7 +64,7 @@ impl Im {
             Im::Arias => arias_m_s(s.accel_g, s.dt_s),
             Im::Cav => cav_g_s(s.accel_g, s.dt_s),
             Im::D5_95 => significant_duration_s(s.accel_g, s.dt_s, 0.05, 0.95),
-            Im::PgvPga => s.peaks.0 / 100.0 / (s.pga_g * G_M_S2),
+            Im::PgvPga => super::measure::pgv_pga_s(s.pga_g, s.peaks.0),
             Im::Tm => mean_period_s(s.accel_g, s.dt_s),
             // The record as the motion the block feels.
             Im::Pfa => s.pga_g,

@@ -103,7 +103,7 @@ impl Contact {
         Contact {
             friction,
             alpha,
-            r: 0.75 * G / (p * p),
+            r: crate::block::r_of_p(p),
             a_scale: alpha * G / eta,
             p2: p * p,
         }

@@ -511,7 +511,7 @@ fn extrapolation(
         if a <= 0.0 || g <= 0.0 {
             continue;
         }
-        let r = crate::im::efficiency::pgv_pga_s(a, g);
+        let r = crate::im::pgv_pga_s(a, g);
         all += 1;
         total += p;
         if !(lo..=hi).contains(&r) {

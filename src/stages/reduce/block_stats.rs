@@ -280,10 +280,10 @@ pub(super) fn lognormal(
     };
     let ok = |v: f64| (v.is_finite() && v > 0.0).then_some(v);
     let beta_fr = match (ok(q_eta[0]), ok(q_eta[2])) {
-        (Some(a), Some(b)) => Some(0.5 * (b.ln() - a.ln())),
+        (Some(a), Some(b)) => Some(stats::beta_of_fractiles(a, b)),
         _ => None,
     };
-    let rejected = test.is_some_and(|t| t.p_value < 0.05);
+    let rejected = test.is_some_and(|t| t.p_value < crate::damage::LOGNORMAL_CHECK_LEVEL);
     if test.is_some() {
         out.pass.1 += 1;
         out.pass.0 += usize::from(!rejected);
