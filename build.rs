@@ -1,15 +1,23 @@
-//! The library's source identity: a hash of every file under `src/`, so
-//! that the rows a sweep wrote are taken again (a rerun after records were
-//! added) only by a build of the same sources: the crate's version is
-//! raised with a table's schema, not with every change of the physics.
+//! The library's source identity: a hash of every file under `src/`, of
+//! `Cargo.lock` (the dependencies' versions) and of the compiler's
+//! version, so that a study's stages are fresh, and the rows a sweep wrote
+//! are taken again (a rerun after records were added), only for a build
+//! of the same sources: the crate's version is raised with a table's
+//! schema, not with every change of the physics.
 
 use std::path::{Path, PathBuf};
 
 fn main() {
     println!("cargo:rerun-if-changed=src");
+    println!("cargo:rerun-if-changed=Cargo.lock");
     let mut files = Vec::new();
     walk(Path::new("src"), &mut files);
     files.sort();
+    // The dependencies' versions (rustfft, statrs, nalgebra compute too),
+    // where the build has a lock file.
+    if Path::new("Cargo.lock").is_file() {
+        files.push(PathBuf::from("Cargo.lock"));
+    }
     // FNV-1a over each file's path and bytes: an identity, not a seal.
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     for f in &files {
@@ -24,6 +32,17 @@ fn main() {
             h ^= u64::from(b);
             h = h.wrapping_mul(0x0100_0000_01b3);
         }
+    }
+    // The compiler too: another one may round a loop differently.
+    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
+    let version = std::process::Command::new(rustc)
+        .arg("-vV")
+        .output()
+        .map(|o| o.stdout)
+        .unwrap_or_default();
+    for &b in &version {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0100_0000_01b3);
     }
     println!("cargo:rustc-env=ROCKING_SOURCE_HASH={h:016x}");
 }

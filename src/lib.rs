@@ -59,7 +59,8 @@
 /// (ARCHITECTURE.md, "How to add a table").
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 
-/// A hash of the library's sources (`build.rs`): the physics can change
+/// A hash of the library's sources, its lock file and the compiler's version
+/// (`build.rs`): the physics can change
 /// within a version, and a study's notes name the build that made them.
 pub const SOURCES: &str = env!("ROCKING_SOURCE_HASH");
 
