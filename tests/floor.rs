@@ -1458,6 +1458,17 @@ fn relative_floor_motions_take_their_ground_back() {
     assert!(
         (alone["median"].as_f64().unwrap() / on["median"].as_f64().unwrap() - 1.0).abs() > 1e-3
     );
+    // Without the ground the answer warns that the files were read as
+    // absolute accelerations; with it, it does not.
+    let warned = |v: &serde_json::Value| {
+        v["warnings"].as_array().unwrap().iter().any(|w| {
+            w.as_str()
+                .unwrap()
+                .contains("read as absolute accelerations")
+        })
+    };
+    assert!(warned(&alone), "{alone}");
+    assert!(!warned(&back), "{back}");
     let partial = dir.path().join("partial");
     std::fs::create_dir(&partial).unwrap();
     std::fs::copy(

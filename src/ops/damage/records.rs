@@ -61,8 +61,11 @@ pub(super) fn from_records(
     };
     let fits = fit_states(n, &in_im).ok_or(FragilityError::NoPeriod(im.name()))?;
     let mut warnings = few_records(states, &fits);
-    if records.text().is_some() {
+    if let Some(text) = records.text() {
         warnings.push(TEXT_RECORDS_NOTE.into());
+        if text.ground.is_none() {
+            warnings.push(TEXT_ABSOLUTE_NOTE.into());
+        }
     }
     let out = states
         .states()
@@ -224,6 +227,14 @@ pub const TEXT_RECORDS_NOTE: &str = "the records are motions as given (text colu
     scaled itself: a capacity in PFA or PFV is of that motion's shape, which holds for a linear \
     building; a nonlinear one's floor motion changes shape with the ground's intensity, so run \
     its motions near the intensity of interest";
+
+/// What text records without their ground motions are taken to be: an
+/// engine's relative accelerations read as absolute give a capacity off
+/// by the ground's part, with no sign of it in the numbers.
+pub const TEXT_ABSOLUTE_NOTE: &str = "the text records were read as absolute accelerations \
+    (the floor's own motion); if they are relative to the ground (an OpenSees Node recorder \
+    without -timeSeries), give the ground motions they were run with (--records-ground), or \
+    every capacity is of the wrong motion";
 
 /// Below this many records reaching a state, its fit is warned of as
 /// rough.

@@ -90,7 +90,8 @@ impl RunModel {
 }
 
 /// What `--direct` says about bad files in `--records`.
-const RECORDS_HINT: &str = "fix them, or point --records at a folder of good AT2 files";
+const RECORDS_HINT: &str =
+    "fix them, or point --records at a folder of good records (AT2 files, or text with --records-unit)";
 
 /// Where `--direct` reports the records it has run: the CLI's reporter, or
 /// nowhere (the default).

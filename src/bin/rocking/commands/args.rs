@@ -427,7 +427,8 @@ impl BlocksArgs {
 #[derive(Debug, Clone, clap::Args)]
 pub struct StatesArgs {
     /// Damage states instead of overturning alone, lightest first: NAME=X
-    /// (θmax/α ≥ X) or NAME=overturned, e.g.
+    /// (θmax/α ≥ X), NAME=Xm (the base slides X metres: the slide-rock
+    /// model, --mu) or NAME=overturned, e.g.
     /// rocking=0.1,large_rocking=0.5,overturned=overturned.
     #[arg(long, value_parser = parsed::<DamageStates>)]
     pub states: Option<DamageStates>,

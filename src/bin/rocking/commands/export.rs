@@ -49,7 +49,8 @@ pub struct Args {
     /// With --direct: the blocks stand on a building's floor (see `--floor` below).
     #[command(flatten)]
     floor: super::args::FloorArgs,
-    /// The limit states, lightest first: NAME=X (θmax/α ≥ X) or NAME=overturned
+    /// The limit states, lightest first: NAME=X (θmax/α ≥ X), NAME=Xm (the
+    /// base slides X metres: the slide-rock model, --mu) or NAME=overturned
     /// [default: rocking=0.1,large_rocking=0.5,overturned=overturned; from the
     /// paper's regression, overturned=overturned alone].
     #[arg(long, value_parser = parsed::<DamageStates>)]

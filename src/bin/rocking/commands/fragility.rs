@@ -22,7 +22,8 @@ use super::states::print_fits;
     lognormal, from a study's damage table (its overturned state's fractile fit) carried over p \
     and ε (--from PIPELINE.toml) or from the records' own capacities (--direct). --direct also runs the block through a record suite (the \
     pipeline's, run and searched as its stages run them: its [model] (kind, integrator, rtol, \
-    auto_tol, overturn), its [im] grid and tolerance; or the bundled far-field set, searched as `rocking capacity` searches by default) \
+    auto_tol, overturn), its [im] grid and tolerance; or the bundled far-field set, on `rocking capacity`'s default grid and tolerance, with the \
+    model `--model auto` chooses: `rocking capacity` runs the linearised one unless told) \
     and prints the share of records whose capacity it exceeds at each level. In FEMA P-58's floor demands (--im pfa|pfv --direct), the capacity is \
     in the peak acceleration or velocity of the motion the block stands on: with --floor, the \
     floor motion's own (not restated in the ground's IMs); on the ground, its PGA or PGV.\n\n\
