@@ -193,7 +193,7 @@ pub const LARGEST_HALF_SIZE_M: f64 = 10.0;
 /// an inventory in cm (`statue,20,90`) ran as a 90 m block without a word.
 pub fn size_warning(block: &Block) -> Option<String> {
     (block.b_m.max(block.h_m) > LARGEST_HALF_SIZE_M).then(|| {
-        let m = crate::im::level_text;
+        let m = crate::decimal::level_text;
         format!(
             "half-width {} m, half-height {} m: a block {} m tall is a building's size; sizes \
              are in metres (were they given in cm?)",

@@ -2,7 +2,8 @@
 //! by Clinger's exact fast path, the digits read eight bytes at a time: the
 //! double nearest each decimal it accepts, the same as any correct parser
 //! gives; it declines the rest, for a general parser to read. And the
-//! writing of a number a user gave, back in a message ([`shortest`]).
+//! writing of a number a user gave, back in a message ([`shortest`]), and of
+//! a level as printed ([`level_text`]).
 
 /// Powers of ten that are exact doubles.
 const EXACT_POW10: [f64; 23] = [
@@ -195,6 +196,28 @@ pub fn shortest(x: f64) -> String {
         format!("{x:e}")
     } else {
         format!("{x}")
+    }
+}
+
+/// A level of an IM (or any quantity a message states) as printed: four significant digits, trailing zeros
+/// dropped (0.05 g, 2 g, 48.31 cm/s, 300 cm/s).
+pub fn level_text(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    if !(1e-3..1e7).contains(&v.abs()) {
+        // Four significant digits in exponent form, not hundreds of zeros.
+        let text = format!("{v:.3e}");
+        let (mantissa, exp) = text.split_once('e').expect("exponent form");
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        return format!("{mantissa}e{exp}");
+    }
+    let decimals = (3 - v.abs().log10().floor() as i32).max(0) as usize;
+    let text = format!("{v:.decimals$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
     }
 }
 

@@ -468,27 +468,7 @@ pub fn period_text(t: f64) -> String {
     }
 }
 
-/// A level of an IM as printed: four significant digits, trailing zeros
-/// dropped (0.05 g, 2 g, 48.31 cm/s, 300 cm/s).
-pub fn level_text(v: f64) -> String {
-    if v == 0.0 || !v.is_finite() {
-        return format!("{v}");
-    }
-    if !(1e-3..1e7).contains(&v.abs()) {
-        // Four significant digits in exponent form, not hundreds of zeros.
-        let text = format!("{v:.3e}");
-        let (mantissa, exp) = text.split_once('e').expect("exponent form");
-        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
-        return format!("{mantissa}e{exp}");
-    }
-    let decimals = (3 - v.abs().log10().floor() as i32).max(0) as usize;
-    let text = format!("{v:.decimals$}");
-    if text.contains('.') {
-        text.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        text
-    }
-}
+pub use crate::decimal::level_text;
 
 impl fmt::Display for Im {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
