@@ -1580,6 +1580,7 @@ fn a_pipeline_reads_a_structural_models_floor_motions() {
         path
     };
     let a = write("as-at2", format!("at2 = [\"{}\"]\n", at2.display()));
+    let a_path = a.clone();
     let t = write(
         "as-text",
         format!(
@@ -1614,6 +1615,54 @@ fn a_pipeline_reads_a_structural_models_floor_motions() {
             x.record_id
         );
     }
+    // The pipeline's text records are floor motions as `--records` text
+    // is: a ground IM of them is refused through the study (its runs or its
+    // tables) as through the folder, and its PFA fragility is the folder's.
+    let block = ["--b", "0.3", "--h", "1.0", "--eps", "0.75"];
+    let out_s = outputs.to_str().unwrap();
+    let ask = |source: &[&str], rest: &[&str]| {
+        let mut args = vec!["fragility"];
+        args.extend(source);
+        args.extend(block);
+        args.extend(rest);
+        rocking(dir.path(), &args)
+    };
+    let (t_s, text_s) = (t.to_str().unwrap(), text.to_str().unwrap());
+    let study = ["--from", t_s, "--outputs", out_s];
+    let folder = [
+        "--records",
+        text_s,
+        "--records-unit",
+        "g",
+        "--records-column",
+        "2",
+    ];
+    for rest in [
+        &["--direct", "--pga", "0.5"][..],
+        &["--im", "pgv", "--at", "20"][..],
+    ] {
+        let out = ask(&study, rest);
+        assert!(!out.status.success(), "{rest:?}");
+        assert!(
+            stderr(&out).contains("text records are the motions the block stands on"),
+            "{rest:?}: {}",
+            stderr(&out)
+        );
+    }
+    let pfa = ["--direct", "--im", "pfa", "--at", "0.3,0.6", "--json"];
+    let (through_study, through_folder) = (ask(&study, &pfa), ask(&folder, &pfa));
+    assert!(through_study.status.success(), "{}", stderr(&through_study));
+    let (a, b) = (json(&through_study), json(&through_folder));
+    for key in ["median", "beta", "points"] {
+        assert_eq!(a[key], b[key], "{key}");
+    }
+    // The same motions as AT2 files are ground motions: PGA is theirs.
+    let a_s = a_path.to_str().unwrap();
+    let at2_study = ask(
+        &["--from", a_s, "--outputs", out_s],
+        &["--direct", "--pga", "0.5"],
+    );
+    assert!(at2_study.status.success(), "{}", stderr(&at2_study));
     let bad = write("no-unit", format!("text = [\"{}\"]\n", text.display()));
     let out = rocking(
         dir.path(),

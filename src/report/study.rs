@@ -18,6 +18,7 @@ pub fn render(d: &StudyData, figures: &[Figure]) -> String {
     let mut md = String::new();
     let plan = &d.plan;
     heading(&mut md, "Study", plan, &d.pipeline, &d.version, "");
+    text_records(&mut md, d);
     settings(&mut md, d);
     runtime(&mut md, d);
     capacity_fractiles(&mut md, d);
@@ -33,6 +34,22 @@ pub fn render(d: &StudyData, figures: &[Figure]) -> String {
     super::tree::tree_section(&mut md, d);
     figures_section(&mut md, figures);
     md
+}
+
+/// What the IMs of text records are: the motion's own, the floor's.
+fn text_records(w: &mut String, d: &StudyData) {
+    if d.records_plan().records.text().is_none() {
+        return;
+    }
+    let _ = writeln!(
+        w,
+        "**The records are text columns** (`[records] text`: a structural model's floor motions \
+         as given, each scaled itself). Every PGA, PGV, SA(T) and other IM in this report and \
+         its tables (`record_ims`, `im_efficiency`, `damage_states`) is of that motion: the \
+         floor's PFA, PFV and FSA(T), not the ground's. `rocking fragility`, `risk` and \
+         `export --from` this pipeline refuse a ground IM of them; `--direct --im pfa|pfv|fsa(T)` \
+         states the fragility in the floor's demands (docs/MODEL.md §16).\n"
+    );
 }
 
 fn settings(w: &mut String, d: &StudyData) {

@@ -265,9 +265,12 @@ impl DirectRecords {
                 })
             })
             .collect::<Result<_, FragilityError>>()?;
+        // A pipeline's text records are floor motions as `--records` text is.
         let text = match from {
             Source::Paper { text, .. } => text.clone(),
-            Source::Pipeline { .. } => None,
+            Source::Pipeline { .. } => plan
+                .and_then(|p| p.records_study().ok())
+                .and_then(|r| r.records.text()),
         };
         Ok(DirectRecords {
             records,

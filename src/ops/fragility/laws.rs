@@ -82,6 +82,10 @@ pub struct Laws {
     ims_stale: Option<String>,
     /// The same of its damage table.
     damage_stale: Option<String>,
+    /// The pipeline's records are text columns (a structural model's floor
+    /// motions): its tables' PGA, PGV and SA are the floor's, and a ground
+    /// IM of them is refused as `--direct` on text records refuses it.
+    text: bool,
 }
 
 /// Why a pipeline's regression cannot be used.
@@ -98,6 +102,7 @@ enum NoRegression {
 impl Laws {
     /// η_c,50 and β of a block.
     pub fn median_beta(&self, block: &Block) -> Result<(f64, f64), FragilityError> {
+        self.ground_im(Im::Pga)?;
         let laws = self.regression.as_ref().map_err(|no| match no {
             NoRegression::NotApplicable(why) => FragilityError::NoFit {
                 pipeline: PathBuf::from(&self.name),
@@ -120,6 +125,7 @@ impl Laws {
     /// The study's capacities in `im` (not PGA), to carry to any block;
     /// the paper's regression has none.
     pub fn im_table(&self, im: Im) -> Result<ImTable, FragilityError> {
+        self.ground_im(im)?;
         match &self.dir {
             Some(dir) => {
                 if let Some(why) = &self.ims_stale {
@@ -146,6 +152,7 @@ impl Laws {
         let Some(dir) = &self.dir else {
             return Ok(None);
         };
+        self.ground_im(im)?;
         if let Some(why) = &self.damage_stale {
             return Err(FragilityError::Stale {
                 what: "damage table",
@@ -160,6 +167,15 @@ impl Laws {
             (im, method),
             &|b| self.slid(b),
         )?))
+    }
+
+    /// `im` refused where the study's records are text and it is a
+    /// measure of the ground (the one rule of `--direct` on text records).
+    fn ground_im(&self, im: Im) -> Result<(), FragilityError> {
+        if self.text && !im.floor() {
+            return Err(FragilityError::TextGroundIm(im.short()));
+        }
+        Ok(())
     }
 
     /// The friction the study's block `name` ran sliding on (the
@@ -189,6 +205,7 @@ pub fn laws(from: &Source) -> Result<Laws, FragilityError> {
             name: "paper".to_string(),
             ims_stale: None,
             damage_stale: None,
+            text: false,
         }),
         Source::Pipeline { file, outputs } => {
             let study = Study::load(file, outputs)?;
@@ -205,6 +222,10 @@ pub fn laws(from: &Source) -> Result<Laws, FragilityError> {
             };
             let ims_stale = staleness(&study, &status, ims::Ims.name(), ims::IM_EFFICIENCY);
             let damage_stale = staleness(&study, &status, damage::Damage.name(), damage::STATES);
+            let text = study
+                .plan
+                .records_study()
+                .is_ok_and(|r| r.records.text().is_some());
             Ok(Laws {
                 regression,
                 plan: Some(study.plan),
@@ -212,6 +233,7 @@ pub fn laws(from: &Source) -> Result<Laws, FragilityError> {
                 name,
                 ims_stale,
                 damage_stale,
+                text,
             })
         }
     }
