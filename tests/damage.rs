@@ -799,6 +799,30 @@ fn the_records_curve_states_no_beta() {
     ]);
     assert_eq!(l["fit"], "fractile", "{l}");
     assert!(l["beta"].as_f64().is_some_and(|b| b > 0.0), "{l}");
+    // The states' table says which fragility it is, above the lognormal
+    // fits it shows for comparison; not where the lognormal is kept.
+    let curve_line = "the fragility: the records' own curve";
+    let text = |extra: &[&str]| {
+        let args = [
+            &[
+                "fragility",
+                "--pga",
+                "0.3",
+                "--states",
+                "rocking=0.1,overturned=overturned",
+            ][..],
+            &block[..],
+            extra,
+        ]
+        .concat();
+        let out = rocking(d, &args);
+        assert!(out.status.success(), "{}", stderr(&out));
+        stdout(&out)
+    };
+    let curve = text(&[]);
+    assert!(curve.contains(curve_line), "{curve}");
+    let kept = text(&["--if-not-lognormal", "lognormal"]);
+    assert!(!kept.contains(curve_line), "{kept}");
 }
 
 /// The heaviest state decides the kind of every state's fragility

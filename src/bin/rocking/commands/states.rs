@@ -17,6 +17,13 @@ pub fn print_fits(f: &DamageFragility) {
             }
         );
     }
+    if f.method == rocking::damage::FitMethod::Empirical {
+        // The lognormals below are what the records were checked against.
+        println!(
+            "  the fragility: the records' own curve, linear between their capacities (the \
+             lognormal fits are shown for comparison)"
+        );
+    }
     let wide = f
         .states
         .iter()
