@@ -9,13 +9,14 @@ use std::path::{Path, PathBuf};
 
 fn main() {
     println!("cargo:rerun-if-changed=src");
-    println!("cargo:rerun-if-changed=Cargo.lock");
     let mut files = Vec::new();
     walk(Path::new("src"), &mut files);
     files.sort();
     // The dependencies' versions (rustfft, statrs, nalgebra compute too),
     // where the build has a lock file.
+    // (A path that does not exist would rerun this script on every build.)
     if Path::new("Cargo.lock").is_file() {
+        println!("cargo:rerun-if-changed=Cargo.lock");
         files.push(PathBuf::from("Cargo.lock"));
     }
     // FNV-1a over each file's path and bytes: an identity, not a seal.

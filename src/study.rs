@@ -46,6 +46,10 @@ pub struct StudyData {
     pub tree_caps: Option<Vec<CapacityRow>>,
     /// Seconds each stage took when it last ran, in run order.
     pub stage_seconds: Vec<(String, Option<f64>)>,
+    /// The blocks stand on the records themselves, text columns with no
+    /// building ([`crate::records::stood_on`]): the tables' PGA, PGV and
+    /// SA are the floor's.
+    pub stood_on: bool,
 }
 
 /// The report's example block (`[example]`) over every record: its runs,

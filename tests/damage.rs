@@ -825,6 +825,66 @@ fn the_records_curve_states_no_beta() {
     assert!(!kept.contains(curve_line), "{kept}");
 }
 
+/// One block, one kind of fragility through both doors of a study: the
+/// statue (ε = 0.85) whose capacities over the far-field records fail the
+/// lognormal check is the records' own curve with `--direct`, and through
+/// the study's tables (which carry its lognormal) the answer says so.
+#[test]
+fn a_study_says_when_its_lognormal_is_not_the_records_curve() {
+    let dir = tempdir();
+    let d = dir.path();
+    let pipe = crate::util::write_pipeline(
+        d,
+        "statue",
+        "sets = [\"far-field\"]\n[model]\nkind = \"auto\"\n[[block]]\nname = \"statue\"\n\
+         b = 0.2\nh = 0.9\neps = 0.85\n",
+    );
+    let (pipe_s, out) = (pipe.to_str().unwrap(), d.join("out"));
+    let out_s = out.to_str().unwrap();
+    let run = rocking(d, &["run", pipe_s, "--outputs", out_s]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let rows: Vec<rocking::tables::reduce::LognormalRow> =
+        rocking::tables::read(&out.join("statue/lognormal.parquet")).unwrap();
+    assert!(rows[0].rejected_5pct, "{:?}", rows[0]);
+    let ask = |extra: &[&str]| {
+        let base = [
+            "fragility",
+            "--from",
+            pipe_s,
+            "--outputs",
+            out_s,
+            "--b",
+            "0.2",
+            "--h",
+        ];
+        let args = [
+            &base[..],
+            &["0.9", "--eps", "0.85", "--pga", "0.3", "--json"],
+            extra,
+        ]
+        .concat();
+        let o = rocking(d, &args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        serde_json::from_str::<serde_json::Value>(&stdout(&o)).unwrap()
+    };
+    let said = |v: &serde_json::Value| {
+        v["warnings"].as_array().unwrap().iter().any(|w| {
+            w.as_str()
+                .unwrap()
+                .contains("the study's capacities of this block fail the lognormal check")
+        })
+    };
+    let carried = ask(&[]);
+    assert_eq!(carried["fit"], "fractile", "{carried}");
+    assert!(said(&carried), "{carried}");
+    let direct = ask(&["--direct"]);
+    assert_eq!(direct["fit"], "empirical", "{direct}");
+    assert!(!said(&direct), "{direct}");
+    // Kept lognormal through the records, the doors agree on the kind.
+    let kept = ask(&["--direct", "--if-not-lognormal", "lognormal"]);
+    assert_eq!(kept["fit"], "fractile", "{kept}");
+}
+
 /// The heaviest state decides the kind of every state's fragility
 /// (docs/MODEL.md §15): a lighter state whose capacities fail the
 /// lognormal check was kept lognormal without a word, while asked alone it

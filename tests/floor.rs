@@ -1656,6 +1656,16 @@ fn a_pipeline_reads_a_structural_models_floor_motions() {
     for key in ["median", "beta", "points"] {
         assert_eq!(a[key], b[key], "{key}");
     }
+    // A pipeline over the text study's records table has the same records.
+    let table = outputs.join("as-text/records.parquet");
+    let via = write("via-table", format!("table = \"{}\"\n", table.display()));
+    let via_study = ["--from", via.to_str().unwrap(), "--outputs", out_s];
+    let out = ask(&via_study, &["--direct", "--pga", "0.5"]);
+    assert!(
+        stderr(&out).contains("text records are the motions the block stands on"),
+        "{}",
+        stderr(&out)
+    );
     // The same motions as AT2 files are ground motions: PGA is theirs.
     let a_s = a_path.to_str().unwrap();
     let at2_study = ask(

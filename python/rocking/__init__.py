@@ -48,7 +48,7 @@ __all__ = [
 
 __version__: str = _core.version()
 # The version and a hash of the library's sources: `rocking --version`
-# prints the same, and a study's notes (outputs/<name>/.rocking/) name it.
+# prints the same, and a study's notes (outputs/<name>/.fingerprints/) name it.
 __build__: str = _core.build()
 
 PathLike = Union[str, "os.PathLike[str]"]

@@ -67,6 +67,7 @@ fn study(text: &str) -> StudyData {
         record_ims: Vec::new(),
         tree_caps: None,
         stage_seconds: Vec::new(),
+        stood_on: false,
     }
 }
 

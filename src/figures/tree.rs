@@ -14,8 +14,8 @@ use crate::study::StudyData;
 use crate::tree::{self, Mixture};
 
 /// The example block on each branch: its weight, label, the lognormal by
-/// the fractiles of its capacities in PGA (g; +∞ where it survives every
-/// level), and the PGA below which it cannot move (its probability 0
+/// the fractiles of its capacities in [`Branches::im`] (g; +∞ where it
+/// survives every level), and the level below which it cannot move (its probability 0
 /// there, as `fragility --tree` and `risk --tree` count it; 0: no cut).
 /// `None` without a tree, its capacities or the example's α.
 pub struct Branches {
@@ -23,6 +23,10 @@ pub struct Branches {
     pub labels: Vec<String>,
     pub fits: Vec<Lognormal>,
     pub below: Vec<f64>,
+    /// The IM the fits are in: the peak of the motion the block stands on,
+    /// PFA on a floor (the tree's capacities are in the floor motion's η)
+    /// or on text records, else PGA.
+    pub im: Im,
 }
 
 /// [`Branches`] of a study with a tree (cases numbered record × branch).
@@ -46,6 +50,11 @@ pub fn branches(d: &StudyData) -> Option<Branches> {
         })
         .collect::<Option<Vec<_>>>()?;
     let floor = d.plan.records_study().ok()?.floor.as_ref();
+    let im = if d.stood_on || floor.is_some_and(|b| !b.moves_as_ground()) {
+        Im::Pfa
+    } else {
+        Im::Pga
+    };
     let below = t
         .branches
         .iter()
@@ -53,7 +62,7 @@ pub fn branches(d: &StudyData) -> Option<Branches> {
             let alpha = br.block.alpha_rad.unwrap_or(alpha);
             let block = Block::of_p_alpha(br.block.p, alpha, Restitution::Value(br.block.eps));
             let mu = br.block.run.model.equation.friction().map(|f| f.mu_s);
-            Some(cut::zero_below(&block.ok()?, Im::Pga, floor, mu).unwrap_or(0.0))
+            Some(cut::zero_below(&block.ok()?, im, floor, mu).unwrap_or(0.0))
         })
         .collect::<Option<Vec<_>>>()?;
     Some(Branches {
@@ -61,6 +70,7 @@ pub fn branches(d: &StudyData) -> Option<Branches> {
         labels: t.branches.iter().map(|b| b.label.clone()).collect(),
         fits,
         below,
+        im,
     })
 }
 
@@ -93,7 +103,8 @@ impl Branches {
 }
 
 /// The branches' fragilities (faint), their mean (the mixture) and the 5,
-/// 50 and 95 % weighted quantiles over them, against PGA.
+/// 50 and 95 % weighted quantiles over them, against the peak of the
+/// motion the block stands on.
 pub(super) fn tree_fragility(d: &StudyData) -> Vec<Figure> {
     let Some(b) = branches(d) else {
         return Vec::new();
@@ -146,8 +157,8 @@ pub(super) fn tree_fragility(d: &StudyData) -> Vec<Figure> {
                 block.p,
                 block.alpha_rad.unwrap_or(f64::NAN)
             ),
-            x_desc: "PGA (g)".into(),
-            y_desc: "P(overturn | PGA)".into(),
+            x_desc: format!("{} (g)", b.im.short()),
+            y_desc: format!("P(overturn | {})", b.im.short()),
             x_scale: Scale::Linear,
             y_scale: Scale::Linear,
             x_range: Some((0.0, top)),
@@ -155,13 +166,15 @@ pub(super) fn tree_fragility(d: &StudyData) -> Vec<Figure> {
             x_ticks: None,
             lines,
         },
-        caption: "The example block's fragility on each branch of the tree (grey: a lognormal \
-                  by the fractiles of its capacities, `tree_capacities.parquet`; 0 below the PGA \
-                  that lifts the block, g·tan α, as `fragility --tree` and `risk --tree` count \
-                  it), their weighted mean (black: the mixture, which is what the tree's rate \
-                  integrates) and the 5, 50 and 95 % weighted quantiles over the branches at each \
-                  PGA (OpenQuake's rule; docs/MODEL.md §19)."
-            .into(),
+        caption: format!(
+            "The example block's fragility on each branch of the tree (grey: a lognormal by the \
+             fractiles of its capacities in {im}, `tree_capacities.parquet`; 0 below the {im} \
+             that lifts the block, g·tan α, as `fragility --tree` and `risk --tree` count it), \
+             their weighted mean (black: the mixture, which is what the tree's rate integrates) \
+             and the 5, 50 and 95 % weighted quantiles over the branches at each {im} \
+             (OpenQuake's rule; docs/MODEL.md §19).",
+            im = b.im.short()
+        ),
     }]
 }
 
@@ -217,7 +230,7 @@ pub(super) fn tree_tornado(d: &StudyData) -> Vec<Figure> {
         file: "tree_tornado.svg".into(),
         chart: Chart {
             title: "Which branch set moves the example block's median capacity most".into(),
-            x_desc: "median capacity, PGA (g)".into(),
+            x_desc: format!("median capacity, {} (g)", b.im.short()),
             y_desc: "branch set (widest on top)".into(),
             x_scale: Scale::Linear,
             y_scale: Scale::Linear,
@@ -292,10 +305,41 @@ mod tests {
         // Each branch's own line is cut too.
         let first = &figs[0].chart.lines[0].points;
         assert!(first.iter().all(|&(x, y)| x >= uplift || y == 0.0));
+        assert_eq!(figs[0].chart.x_desc, "PGA (g)");
         let t = tree_tornado(&d);
         let seg = &t[0].chart.lines[0].points;
         assert!(
             (seg[0].0 - 3.0 * alpha).abs() < 1e-12 && (seg[1].0 - 3.0 * alpha / 0.8).abs() < 1e-12
         );
+    }
+
+    /// On a building's floor the tree's capacities are in the floor
+    /// motion's η: the figure is in PFA, cut at the PFA that lifts the
+    /// block (g·tan α), as `fragility --tree --im pfa` counts it; in PGA a
+    /// floor has no cut, and the axis said PGA.
+    #[test]
+    fn on_a_floor_the_tree_is_in_pfa() {
+        let mut d = tree_study(
+            "[floor]\nmodes = [[0.5, 0.05, 1.3]]\n[[tree.eps]]\nratio = 1.0\nweight = 0.6\n\
+             [[tree.eps]]\nratio = 0.9\nweight = 0.4\n",
+        );
+        let alpha = d.plan.example().unwrap().alpha_rad.unwrap();
+        let mut caps = Vec::new();
+        for r in 0..5 {
+            for (b, s) in [1.0, 0.9].into_iter().enumerate() {
+                caps.push(cap((2 * r + b) as i64, Some(s / (r as f64 + 1.0))));
+            }
+        }
+        d.tree_caps = Some(caps);
+        let b = branches(&d).unwrap();
+        assert_eq!(b.im, Im::Pfa);
+        let figs = tree_fragility(&d);
+        assert_eq!(figs[0].chart.x_desc, "PFA (g)");
+        let mean = figs[0].chart.lines.last().unwrap();
+        let uplift = alpha.tan();
+        assert!(mean.points.iter().any(|&(x, _)| x < uplift));
+        for &(x, y) in &mean.points {
+            assert!(x >= uplift || y == 0.0, "x {x}: {y}");
+        }
     }
 }

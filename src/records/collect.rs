@@ -419,6 +419,10 @@ fn row(
     }
 }
 
+/// The header layout of a record read from text columns (a structural
+/// model's motion), as the records table keeps it.
+pub const TEXT_LAYOUT: &str = "columns";
+
 /// One text file of columns, read as `spec` says.
 fn read_text(path: &Path, spec: &TextRecords) -> Result<RecordRow, BadFile> {
     let bad = |problem| BadFile {
@@ -462,7 +466,7 @@ fn read_text(path: &Path, spec: &TextRecords) -> Result<RecordRow, BadFile> {
         parsed.accel_g,
         parsed.dt_s,
         header,
-        "columns".into(),
+        TEXT_LAYOUT.into(),
     ))
 }
 

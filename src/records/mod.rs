@@ -16,11 +16,11 @@ pub mod select;
 
 pub use collect::{
     collect, collect_as, discover, discover_text, BadFile, CollectError, Collected, OnBad, Problem,
-    PIPELINE_HINT, TEXT_EXTENSIONS,
+    PIPELINE_HINT, TEXT_EXTENSIONS, TEXT_LAYOUT,
 };
 pub use load::{
     excitation, from_pulse, from_samples, load, load_on, pair_at, read_samples, LoadedRecord,
     OnFloor, RecordError, SampleError,
 };
 pub use pairs::{pair_up, rotated_rows, RowPair};
-pub use select::{felt, of_plan, select, select_pairs, SelectError};
+pub use select::{felt, of_plan, select, select_pairs, stood_on, SelectError};

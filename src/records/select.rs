@@ -62,6 +62,19 @@ pub fn select(plan: &Plan, table: &Path) -> Result<Vec<RecordRow>, SelectError> 
     filter(plan.records_study()?, tables::records::read(table)?)
 }
 
+/// Whether the blocks stand on the records themselves, given as text
+/// columns (a structural model's floor motions, each scaled itself), not
+/// on the ground they shake: records read from text (`[records] text`, or
+/// a records table of such rows) with no `[floor]` to run them through.
+/// Their PGA, PGV and SA are then the floor's PFA, PFV and FSA(T).
+pub fn stood_on(plan: &RecordsPlan, rows: &[RecordRow]) -> bool {
+    plan.floor.is_none()
+        && (plan.records.text().is_some()
+            || rows
+                .iter()
+                .any(|r| r.header_layout == super::collect::TEXT_LAYOUT))
+}
+
 /// The plan's record pairs (the components its selection holds, before a
 /// random orientation turns them), from the table at `table`.
 pub fn select_pairs(plan: &Plan, table: &Path) -> Result<Vec<super::RowPair>, SelectError> {

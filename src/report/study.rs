@@ -38,13 +38,13 @@ pub fn render(d: &StudyData, figures: &[Figure]) -> String {
 
 /// What the IMs of text records are: the motion's own, the floor's.
 fn text_records(w: &mut String, d: &StudyData) {
-    if d.records_plan().records.text().is_none() {
+    if !d.stood_on {
         return;
     }
     let _ = writeln!(
         w,
-        "**The records are text columns** (`[records] text`: a structural model's floor motions \
-         as given, each scaled itself). Every PGA, PGV, SA(T) and other IM in this report and \
+        "**The records are text columns** (a structural model's floor motions as given, each \
+         scaled itself, with no `[floor]` to run them through). Every PGA, PGV, SA(T) and other IM in this report and \
          its tables (`record_ims`, `im_efficiency`, `damage_states`) is of that motion: the \
          floor's PFA, PFV and FSA(T), not the ground's. `rocking fragility`, `risk` and \
          `export --from` this pipeline refuse a ground IM of them; `--direct --im pfa|pfv|fsa(T)` \

@@ -18,17 +18,24 @@ pub(super) fn tree_section(w: &mut String, d: &StudyData) {
         w,
         "The example block on each of the tree's {} branches, over every record \
          (`tree_capacities.parquet`), each branch's fragility a lognormal by the fractiles of \
-         its capacities in PGA; the mean is their weighted mixture (not a lognormal: stated by \
+         its capacities in {im}; the mean is their weighted mixture (not a lognormal: stated by \
          its median and the β through its Φ(±1) levels, 15.87 and 84.13 %), the dispersion \
          split as FEMA P-58 states it (docs/MODEL.md §19). The same with `rocking fragility \
-         --from PIPELINE.toml --direct --tree … --if-not-lognormal lognormal` for any block \
-         (without it, a branch whose capacities fail the lognormal check is its records' own \
-         curve there).\n",
-        b.weights.len()
+         --from PIPELINE.toml --direct --tree …{flag} --if-not-lognormal lognormal` for any \
+         block (without it, a branch whose capacities fail the lognormal check is its records' \
+         own curve there).\n",
+        b.weights.len(),
+        im = b.im.short(),
+        flag = if b.im == crate::im::Im::Pfa {
+            " --im pfa"
+        } else {
+            ""
+        },
     );
     let _ = writeln!(
         w,
-        "| branch | weight | ε | model | median (g) | β |\n|---|---|---|---|---|---|"
+        "| branch | weight | ε | model | median {} (g) | β |\n|---|---|---|---|---|---|",
+        b.im.short()
     );
     for ((br, fit), label) in t.branches.iter().zip(&b.fits).zip(&b.labels) {
         let _ = writeln!(

@@ -54,6 +54,18 @@ pub fn of_block(
     }
     if fit.if_not_lognormal == IfNotLognormal::Curve {
         curve_where_not_lognormal(&mut f);
+        if direct.is_none() && fit.method != FitMethod::Empirical {
+            f.warnings.extend(laws.rejected_lognormal(block).map(|p| {
+                let p = crate::im::level_text(p);
+                format!(
+                    "the study's capacities of this block fail the lognormal check (Lilliefors \
+                     p = {p:.3} < {}, its lognormal.parquet): this answer \
+                     carries the study's lognormal, where --direct gives the records' own curve \
+                     (with --direct, --if-not-lognormal lognormal keeps the lognormal)",
+                    damage::LOGNORMAL_CHECK_LEVEL
+                )
+            }));
+        }
     }
     f.dispersion = fit.dispersion.label();
     if fit.dispersion == Dispersion::Common && f.states.len() > 1 {

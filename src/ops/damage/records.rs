@@ -22,7 +22,7 @@ pub(super) fn from_records(
 ) -> Result<DamageFragility, FragilityError> {
     // Text records are scaled each to its own peak and have no ground
     // measured beside them: a ground IM of them is the floor's.
-    if records.text().is_some() && !im.floor() {
+    if records.stood_on() && !im.floor() {
         return Err(FragilityError::TextGroundIm(im.short().to_string()));
     }
     // A floor demand (PFA, PFV) is of the floor motion's own scale.
@@ -61,9 +61,9 @@ pub(super) fn from_records(
     };
     let fits = fit_states(n, &in_im).ok_or(FragilityError::NoPeriod(im.name()))?;
     let mut warnings = few_records(states, &fits);
-    if let Some(text) = records.text() {
+    if records.stood_on() {
         warnings.push(TEXT_RECORDS_NOTE.into());
-        if text.ground.is_none() {
+        if records.text().is_some_and(|t| t.ground.is_none()) {
             warnings.push(TEXT_ABSOLUTE_NOTE.into());
         }
     }

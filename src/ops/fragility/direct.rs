@@ -9,45 +9,17 @@ use rayon::prelude::*;
 
 use super::error::FragilityError;
 use super::laws::Source;
+use super::model::RunModel;
 use crate::block::Block;
 use crate::floor::Building;
 use crate::ida::{self, ImGrid};
 use crate::im::{Im, RecordIms};
-use crate::physics::friction::Friction;
-use crate::physics::{Excitation, Model, ModelChoice, RunSpec, Solver};
+use crate::physics::{Excitation, RunSpec};
 use crate::pipeline::Plan;
 use crate::records::{self, OnBad};
 use crate::stages::{Progress, Reporter};
 
-/// The model the records' runs use: the choice, and the linearised
-/// model's accepted error in η_c that `auto` chooses by.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RunModel {
-    pub choice: ModelChoice,
-    /// The nonlinear equation's integrator and tolerance.
-    pub solver: Solver,
-    pub auto_tol: f64,
-    /// The base's friction, where known: `auto` then runs the slide-rock
-    /// model.
-    pub friction: Option<Friction>,
-    /// Whether it is a pipeline's `[model]`: its notes then name the
-    /// pipeline's keys, not `capacity`'s options.
-    pub of_pipeline: bool,
-}
-
 impl RunModel {
-    /// `auto` at `auto_tol`: what every command runs unless a tree's
-    /// branch chooses.
-    pub fn auto(auto_tol: f64) -> Self {
-        RunModel {
-            choice: ModelChoice::Auto,
-            solver: Solver::default(),
-            auto_tol,
-            friction: None,
-            of_pipeline: false,
-        }
-    }
-
     /// What a command runs its records with: the `[model]` of the pipeline
     /// they come from (its kind, integrator, tolerance and `auto_tol`), as
     /// the study's stages run its blocks; else `auto` at `auto_tol`.
@@ -55,37 +27,6 @@ impl RunModel {
         records
             .and_then(|r| r.search.model)
             .unwrap_or(RunModel::auto(auto_tol))
-    }
-
-    /// The model for `block` and why: the one function `--direct`'s runs
-    /// and the answers that describe them resolve it by.
-    pub fn resolve(&self, block: &Block) -> Result<(Model, String), FragilityError> {
-        let (model, why) = self
-            .choice
-            .resolve(
-                Some(block.alpha()),
-                self.friction,
-                self.solver,
-                self.auto_tol,
-            )
-            .map_err(FragilityError::Model)?;
-        let why = match self.of_pipeline {
-            true => why.replace(
-                "--model auto or nonlinear",
-                "kind = \"auto\" or \"nonlinear\" in the pipeline's [model]",
-            ),
-            false => why,
-        };
-        Ok((model, why))
-    }
-
-    /// The same on a base of friction coefficient `mu` (static and
-    /// kinetic), where known.
-    pub fn on(self, mu: Option<f64>) -> Self {
-        RunModel {
-            friction: mu.map(Friction::new),
-            ..self
-        }
     }
 }
 
@@ -150,6 +91,9 @@ pub struct DirectRecords {
     floor: Option<Building>,
     /// How text records were read (a structural model's floor motions).
     text: Option<crate::columns::TextRecords>,
+    /// The blocks stand on the records themselves, text columns with no
+    /// building to run them through ([`crate::records::stood_on`]).
+    stood_on: bool,
     progress: DirectProgress,
     counts: Counts,
     /// Each record's intensity measures, in the same order, computed the
@@ -225,6 +169,11 @@ impl DirectRecords {
             Source::Pipeline { file, .. } => format!("the records of {}", file.display()),
         };
         let rows = rows_of(from, plan, &orient, &folder)?;
+        let stood_on = match (from, plan.and_then(|p| p.records_study().ok())) {
+            (Source::Pipeline { .. }, Some(rs)) => records::stood_on(rs, &rows),
+            (Source::Paper { text, .. }, _) => text.is_some() && floor.is_none(),
+            (Source::Pipeline { .. }, None) => false,
+        };
         let (motions, pairs, rotd) = super::pairs::motions(rows, &orient)?;
         let records = motions
             .into_par_iter()
@@ -277,6 +226,7 @@ impl DirectRecords {
             folder,
             floor: floor.cloned(),
             text,
+            stood_on,
             progress,
             counts: Counts::default(),
             ims: std::sync::OnceLock::new(),
@@ -469,6 +419,12 @@ impl DirectRecords {
     /// How the records were read, where they are text columns.
     pub fn text(&self) -> Option<&crate::columns::TextRecords> {
         self.text.as_ref()
+    }
+
+    /// Whether the blocks stand on the records themselves (text columns,
+    /// no building): their ground IMs are the floor's.
+    pub fn stood_on(&self) -> bool {
+        self.stood_on
     }
 
     /// The orientations the records are run at.

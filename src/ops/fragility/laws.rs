@@ -82,9 +82,10 @@ pub struct Laws {
     ims_stale: Option<String>,
     /// The same of its damage table.
     damage_stale: Option<String>,
-    /// The pipeline's records are text columns (a structural model's floor
-    /// motions): its tables' PGA, PGV and SA are the floor's, and a ground
-    /// IM of them is refused as `--direct` on text records refuses it.
+    /// The blocks stand on the pipeline's records, text columns (a
+    /// structural model's floor motions; [`crate::records::stood_on`]):
+    /// its tables' PGA, PGV and SA are the floor's, and a ground IM of
+    /// them is refused as `--direct` on text records refuses it.
     text: bool,
 }
 
@@ -169,6 +170,21 @@ impl Laws {
         )?))
     }
 
+    /// Lilliefors' p of the study's own block at `block`'s p and ε (to
+    /// rounding) where the study's lognormal check rejects its capacities
+    /// (`lognormal.parquet`): its tables carry a lognormal where `--direct`
+    /// would give the records' own curve.
+    pub fn rejected_lognormal(&self, block: &Block) -> Option<f64> {
+        let dir = self.dir.as_ref()?;
+        let rows: Vec<crate::tables::reduce::LognormalRow> =
+            crate::tables::read(&dir.join("lognormal.parquet")).ok()?;
+        let same = |a: f64, b: f64| (a - b).abs() <= 1e-12 * a.abs().max(b.abs());
+        let own = rows
+            .iter()
+            .find(|r| same(r.p, block.p()) && same(r.eps, block.eps))?;
+        own.p_value.filter(|_| own.rejected_5pct)
+    }
+
     /// `im` refused where the study's records are text and it is a
     /// measure of the ground (the one rule of `--direct` on text records).
     fn ground_im(&self, im: Im) -> Result<(), FragilityError> {
@@ -222,10 +238,12 @@ pub fn laws(from: &Source) -> Result<Laws, FragilityError> {
             };
             let ims_stale = staleness(&study, &status, ims::Ims.name(), ims::IM_EFFICIENCY);
             let damage_stale = staleness(&study, &status, damage::Damage.name(), damage::STATES);
-            let text = study
-                .plan
-                .records_study()
-                .is_ok_and(|r| r.records.text().is_some());
+            // The records as the study ran them (a records table may hold
+            // text columns too).
+            let text = study.plan.records_study().is_ok_and(|rs| {
+                let rows = crate::records::select(&study.plan, &study.records_table());
+                crate::records::stood_on(rs, &rows.unwrap_or_default())
+            });
             Ok(Laws {
                 regression,
                 plan: Some(study.plan),

@@ -18,13 +18,15 @@ mod assess;
 mod direct;
 mod error;
 mod laws;
+mod model;
 mod pairs;
 mod request;
 
 pub use assess::{assess, Assessment, Point};
-pub use direct::{DirectProgress, DirectRecords, RunModel};
+pub use direct::{DirectProgress, DirectRecords};
 pub use error::FragilityError;
 pub use laws::{default_records, laws, Laws, Source};
+pub use model::RunModel;
 pub use pairs::Orient;
 pub use request::{
     alpha_warning, block, check, laws_and_records, model_warning, warnings, Request,
