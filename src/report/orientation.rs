@@ -125,7 +125,11 @@ fn rotd_table(
         "Against the hazard: the paper's per-component fragility (as recorded, in each \
          component's own PGA) and the random orientation's in its pair's RotD50 PGA, the \
          component of the ground-motion models behind a hazard curve (the median exp(mean ln) \
-         and β over the motions that overturn the block, in {}; `im_efficiency.parquet`).\n",
+         and β over the motions that overturn the block, in {}; `im_efficiency.parquet`). \
+         These are moment fits, as the IM comparison's: `rocking fragility --direct \
+         --orientation random --im rotd50_pga` fits the same capacities by the paper's \
+         fractiles (or draws the records' own curve where the lognormal check fails), so its \
+         median differs from this table's by the fit, a few per cent.\n",
         if rows[0].in_g { "g" } else { "αg: PGA/(αg)" }
     );
     let unit = if rows[0].in_g { "g" } else { "αg" };
