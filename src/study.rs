@@ -110,6 +110,17 @@ impl StudyData {
             .expect("StudyData is built for records studies")
     }
 
+    /// The peak of the motion the blocks stand on, which the study's η is
+    /// of: PFA on a building's floor (`[floor]`) or on text records stood
+    /// on ([`crate::records::stood_on`]), else the ground's PGA.
+    pub fn peak(&self) -> crate::im::Im {
+        if self.stood_on || self.records_plan().floor.is_some() {
+            crate::im::Im::Pfa
+        } else {
+            crate::im::Im::Pga
+        }
+    }
+
     /// Whether the blocks are the dimensionless p × ε grid (not physical blocks).
     pub fn is_grid(&self) -> bool {
         self.records_plan().is_grid()

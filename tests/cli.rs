@@ -602,6 +602,41 @@ fn capacity_and_simulate_take_a_physical_block_and_a_pga() {
     assert!(stderr(&out).contains("2 blocks given"), "{}", stderr(&out));
 }
 
+/// A block of known α run with the linearised model (`capacity`'s and
+/// `simulate`'s default) where its error, 0.45·α², exceeds `--auto-tol`
+/// is warned of on stderr, JSON or not (the other answers run `auto`,
+/// which would run the nonlinear equation there): for b/h = 0.2,
+/// α = 0.1974 rad and 0.45·α² = 1.75e-2 > 1e-2; not at b/h = 0.1
+/// (4.4e-3), not under `--model auto`, not for p and ε alone.
+#[test]
+fn the_linearised_model_beyond_its_accepted_error_is_warned_of() {
+    let said = |args: &[&str]| {
+        let out = rocking(
+            &root(),
+            &[&["capacity", "--record", KOBE, "--json"][..], args].concat(),
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+        stderr(&out).contains("the linearised model errs by about 1.8e-2 in η_c at α = 0.1974")
+    };
+    assert!(said(&["--b", "0.2", "--h", "1", "--eps", "0.8"]));
+    assert!(!said(&["--b", "0.1", "--h", "1", "--eps", "0.8"]));
+    assert!(!said(&[
+        "--b", "0.2", "--h", "1", "--eps", "0.8", "--model", "auto"
+    ]));
+    assert!(!said(&["--p", "2", "--eps", "0.8"]));
+    let loose = [
+        "--b",
+        "0.2",
+        "--h",
+        "1",
+        "--eps",
+        "0.8",
+        "--auto-tol",
+        "0.02",
+    ];
+    assert!(!said(&loose));
+}
+
 /// `--out` never overwrites a record it reads, and must be a Parquet file.
 #[test]
 fn capacity_out_refuses_an_input_and_a_wrong_extension() {

@@ -877,6 +877,13 @@ fn a_study_says_when_its_lognormal_is_not_the_records_curve() {
     let carried = ask(&[]);
     assert_eq!(carried["fit"], "fractile", "{carried}");
     assert!(said(&carried), "{carried}");
+    // Its p as the study's table has it.
+    let p = rocking::im::level_text(rows[0].p_value.unwrap());
+    let text = carried["warnings"].to_string();
+    assert!(
+        text.contains(&format!("Lilliefors p = {p} < 0.05")),
+        "{p}: {text}"
+    );
     let direct = ask(&["--direct"]);
     assert_eq!(direct["fit"], "empirical", "{direct}");
     assert!(!said(&direct), "{direct}");

@@ -100,12 +100,17 @@ pub struct AskedBlock {
     /// A block given by sizes too large for an object's
     /// ([`crate::block::size_warning`]).
     pub size_warning: Option<String>,
+    /// A block of known α run with the linearised model where its error is
+    /// more than `auto_tol` accepts: what `auto`, the other answers'
+    /// default, would not run.
+    pub linearised: Option<String>,
 }
 
 impl AskedBlock {
     /// What every front end says of the block: sizes that look like
-    /// another unit's, and a block that slides before it rocks (under a
-    /// model that does not slide).
+    /// another unit's, the linearised model beyond its accepted error, and
+    /// a block that slides before it rocks (under a model that does not
+    /// slide).
     pub fn warnings(&self) -> Vec<String> {
         let n = &self.named;
         let rocks_only = n.spec.model.equation.friction().is_none();
@@ -115,7 +120,13 @@ impl AskedBlock {
             }
             _ => None,
         };
-        self.size_warning.iter().cloned().chain(sliding).collect()
+        let linearised = self.linearised.iter().cloned();
+        self.size_warning
+            .iter()
+            .cloned()
+            .chain(linearised)
+            .chain(sliding)
+            .collect()
     }
 
     /// Every block's [`AskedBlock::warnings`], each said once (the ε of
@@ -330,10 +341,27 @@ impl BlockAsk {
         };
         named.mu = mu;
         named.slides_first = slides_first;
+        let linearised = match (named.spec.model.equation, alpha) {
+            (crate::physics::Equation::Linearized, Some(a)) => {
+                let err = crate::physics::LINEARIZATION_ERROR_PER_ALPHA2 * a * a;
+                (err > self.auto_tol).then(|| {
+                    format!(
+                        "the linearised model errs by about {err:.1e} in η_c at α = {a:.4} rad, \
+                         more than {} accepts ({:e}); {} runs the nonlinear equation here, as \
+                         the fragility, risk and export answers do by default",
+                        sp.key("auto_tol"),
+                        self.auto_tol,
+                        sp.set("model", "auto")
+                    )
+                })
+            }
+            _ => None,
+        };
         Ok(AskedBlock {
             named,
             why,
             size_warning: None,
+            linearised,
         })
     }
 }

@@ -216,6 +216,18 @@ pub fn crossing(a: &Lognormal, b: &Lognormal) -> Option<(f64, f64)> {
     (1e-3..=1.0 - 1e-3).contains(&p).then_some((x, p))
 }
 
+/// [`crossing`] where the block can move: none where the curves cross
+/// below `cut` (the level below which every state's P is 0,
+/// [`crate::cut::zero_below`]) and the heavier state `b` is the less
+/// likely above it. What every command warns of and the report states.
+pub fn crossing_above(a: &Lognormal, b: &Lognormal, cut: Option<f64>) -> Option<(f64, f64)> {
+    let (x, p) = crossing(a, b)?;
+    if cut.is_some_and(|c| x < c && b.cdf(c) <= a.cdf(c)) {
+        return None;
+    }
+    Some((x, p))
+}
+
 /// The fractile method on capacities (+∞ for a record that never reaches
 /// the state). `None` when the 84 % fractile is +∞ (more records never
 /// reach it than the fractile allows) or a fractile is not positive.
@@ -290,6 +302,33 @@ fn inverse_mills(w: f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
+
+    /// Curves that cross below the cut, the heavier state the less likely
+    /// above it, are not said to cross (every state is 0 there); with no
+    /// cut, or a cut below the crossing, they are.
+    #[test]
+    fn a_crossing_below_the_cut_is_not_one() {
+        let lighter = Lognormal {
+            median: 1.0,
+            beta: 0.2,
+        };
+        let heavier = Lognormal {
+            median: 1.5,
+            beta: 0.6,
+        };
+        let (x, _) = crossing(&lighter, &heavier).unwrap();
+        // ln x = (0.6·0 − 0.2·ln 1.5)/(0.6 − 0.2): below the lighter median.
+        assert!((x.ln() + 0.5 * 1.5f64.ln()).abs() < 1e-12, "{x}");
+        assert_eq!(
+            crossing_above(&lighter, &heavier, None),
+            crossing(&lighter, &heavier)
+        );
+        assert_eq!(
+            crossing_above(&lighter, &heavier, Some(0.5 * x)),
+            crossing(&lighter, &heavier)
+        );
+        assert_eq!(crossing_above(&lighter, &heavier, Some(1.0)), None);
+    }
     use super::*;
 
     /// The heaviest state is never moved, whatever the lighter ones: a

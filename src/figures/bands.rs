@@ -75,7 +75,7 @@ pub(super) fn capacity_bands(d: &StudyData) -> Vec<Figure> {
                         (100.0 * q).round()
                     ),
                     x_desc: "p (1/s)".into(),
-                    y_desc: eta_axis(&format!("η_c,{}", (100.0 * q).round())),
+                    y_desc: eta_axis(d, &format!("η_c,{}", (100.0 * q).round())),
                     x_scale: Scale::Log,
                     y_scale: Scale::Linear,
                     x_range: None,

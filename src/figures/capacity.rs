@@ -33,7 +33,7 @@ pub(super) fn horizontal_vs_vertical(d: &StudyData) -> Vec<Figure> {
         chart: Chart {
             title: format!("Capacity fractiles, horizontal against vertical, ε = {e_mid:.2}"),
             x_desc: "p (1/s)".into(),
-            y_desc: eta_axis("η_c"),
+            y_desc: eta_axis(d, "η_c"),
             x_scale: Scale::Log,
             y_scale: Scale::Log,
             x_range: None,
@@ -126,7 +126,7 @@ pub(super) fn capacity_curves(d: &StudyData) -> Vec<Figure> {
         chart: Chart {
             title: "Median capacity η_c,50 against p".into(),
             x_desc: "p (1/s)".into(),
-            y_desc: eta_axis("η_c,50"),
+            y_desc: eta_axis(d, "η_c,50"),
             x_scale: Scale::Log,
             y_scale: Scale::Log,
             x_range: None,

@@ -25,9 +25,25 @@ pub struct Shown<'a> {
     /// floor's η of its state capacities into the ground's (the fits'); empty
     /// on the ground.
     pub pfa_over_pga: Vec<(&'a str, f64)>,
+    /// The level (PGA/(αg), the fits' unit) below which the block cannot
+    /// move, every state's P 0 as the commands count it
+    /// ([`crate::cut::zero_below`]; α → 0 on the grid without α: η = 1);
+    /// none on a floor that moves otherwise than the ground.
+    pub cut: Option<f64>,
+    /// The peak the fits' unit is of: PGA, or PFA on text records stood on.
+    pub peak: &'static str,
 }
 
 impl Shown<'_> {
+    /// The probability of `l` at `x`, 0 below the cut.
+    pub fn probability(&self, l: &Lognormal, x: f64) -> f64 {
+        let f = crate::risk::Fragility::Lognormal {
+            median: l.median,
+            beta: l.beta,
+        };
+        crate::cut::probability_above(&f, x, self.cut)
+    }
+
     /// The lognormal of `state` by `method`, in PGA/(αg).
     pub fn lognormal(&self, state: &str, method: FitMethod) -> Option<Lognormal> {
         let r = self
@@ -74,19 +90,20 @@ impl Shown<'_> {
 /// The example block's damage rows when the pipeline names one, else the
 /// grid's middle block's; `None` without damage tables.
 pub fn shown(d: &StudyData) -> Option<Shown<'_>> {
-    let (which, p, eps, data, index): (_, _, _, &DamageData, Option<i64>) = match &d.example {
+    let (which, spec, data, index): (_, _, &DamageData, Option<i64>) = match &d.example {
         Some(x) => (
             "the pipeline's example block".to_string(),
-            x.block.p,
-            x.block.eps,
+            &x.block,
             &x.damage,
             None,
         ),
         None => {
-            let (bi, p, e) = middle(d);
-            (middle_name(d, bi), p, e, &d.damage, Some(bi as i64))
+            let (bi, _, _) = middle(d);
+            let spec = &d.records_plan().blocks[bi];
+            (middle_name(d, bi), spec, &d.damage, Some(bi as i64))
         }
     };
+    let (p, eps) = (spec.p, spec.eps);
     let caps = d.example.as_ref().map_or(&d.caps, |x| &x.caps);
     let pfa_over_pga = caps
         .iter()
@@ -119,7 +136,23 @@ pub fn shown(d: &StudyData) -> Option<Shown<'_>> {
             .filter(|c| of_block(c.block_index))
             .collect(),
         pfa_over_pga,
+        cut: cut_of(d, spec),
+        peak: if d.stood_on { "PFA" } else { "PGA" },
     })
+}
+
+/// [`Shown::cut`] of the block `spec`.
+fn cut_of(d: &StudyData, spec: &crate::pipeline::BlockSpec) -> Option<f64> {
+    let floor = d.records_plan().floor.as_ref();
+    let Some(alpha) = spec.alpha_rad else {
+        // The grid's α → 0: the linearised block lifts at η = 1.
+        return floor.is_none_or(|b| b.moves_as_ground()).then_some(1.0);
+    };
+    let block =
+        crate::block::Block::of_p_alpha(spec.p, alpha, crate::block::Restitution::Value(spec.eps))
+            .ok()?;
+    let mu = spec.run.model.equation.friction().map(|f| f.mu_s);
+    crate::cut::zero_below(&block, crate::im::Im::Pga, floor, mu).map(|g| g / alpha)
 }
 
 /// The states' fragility curves of the shown block.
@@ -171,7 +204,7 @@ pub(super) fn damage_states(d: &StudyData) -> Vec<Figure> {
                 points: (1..=200)
                     .map(|i| {
                         let x = x_max * i as f64 / 200.0;
-                        (x, l.cdf(x))
+                        (x, s.probability(l, x))
                     })
                     .collect(),
                 style: Style::Line,
@@ -187,10 +220,10 @@ pub(super) fn damage_states(d: &StudyData) -> Vec<Figure> {
                 s.which, s.p, s.eps
             ),
             x_desc: match s.pfa_over_pga.is_empty() {
-                true => "PGA/(αg) = 1/η (dimensionless)".into(),
+                true => format!("{}/(αg) = 1/η (dimensionless)", s.peak),
                 false => "the ground's PGA/(αg) (dimensionless)".into(),
             },
-            y_desc: "P(state reached | PGA)".into(),
+            y_desc: format!("P(state reached | {})", s.peak),
             x_scale: Scale::Linear,
             y_scale: Scale::Linear,
             x_range: Some((0.0, x_max)),
@@ -287,6 +320,42 @@ mod tests {
         // The other default states have neither capacities nor fits.
         assert_eq!(c.lines.len(), 2);
         assert!(damage_states(&grid_study(&[1.0], &[0.5])).is_empty());
+    }
+
+    /// The curves are 0 below the PGA that lifts the block, g·tan α (in
+    /// PGA/(αg): tan α/α), as every command counts them, and the state's
+    /// lognormal above it (Φ by statrs); the grid's α → 0 block lifts at 1.
+    #[test]
+    fn the_curves_are_cut_where_the_block_cannot_move() {
+        use statrs::distribution::{ContinuousCDF, Normal};
+        let mut d = crate::figures::fixture::block_study();
+        let alpha = (0.1f64 / 0.4).atan();
+        d.damage.states = vec![fit("rocking", FitMethod::Fractile, 1.05, 0.5)];
+        let s = shown(&d).unwrap();
+        let cut = s.cut.unwrap();
+        assert!((cut - 0.25 / alpha).abs() < 1e-12, "{cut}");
+        let figs = damage_states(&d);
+        let line = &figs[0].chart.lines[0].points;
+        let phi = Normal::new(0.0, 1.0).unwrap();
+        let (mut below, mut above) = (0, 0);
+        for &(x, y) in line {
+            let want = if x < cut {
+                below += 1;
+                0.0
+            } else {
+                above += 1;
+                phi.cdf((x / 1.05).ln() / 0.5)
+            };
+            assert!((y - want).abs() < 1e-12, "{x}: {y} vs {want}");
+        }
+        assert!(below > 0 && above > 0);
+        assert_eq!(shown(&grid_with_fit()).unwrap().cut, Some(1.0));
+    }
+
+    fn grid_with_fit() -> StudyData {
+        let mut d = grid_study(&[1.0], &[0.5]);
+        d.damage.states = vec![fit("rocking", FitMethod::Fractile, 2.0, 0.5)];
+        d
     }
 
     /// On a building's floor the state capacities' η is the floor's and

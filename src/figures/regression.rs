@@ -96,7 +96,7 @@ fn regression(d: &StudyData, qi: usize) -> Option<Figure> {
         chart: Chart {
             title: format!("η_c,{pct}: data, this study's regression and the paper's"),
             x_desc: "p (1/s)".into(),
-            y_desc: eta_axis(&format!("η_c,{pct}")),
+            y_desc: eta_axis(d, &format!("η_c,{pct}")),
             x_scale: Scale::Log,
             y_scale: Scale::Linear,
             x_range: None,

@@ -32,9 +32,10 @@ pub(super) fn middle_name(d: &StudyData, bi: usize) -> String {
 /// What 1/η is of in a study's η tables: the ground's PGA, or on a
 /// building's floor (`[floor]`) the floor motion's peak, PFA.
 pub(super) fn one_over_eta(d: &StudyData) -> &'static str {
-    match d.records_plan().floor {
-        Some(_) => "PFA / (α g) = 1/η, on the floor",
-        None => "PGA / (α g) = 1/η",
+    match (d.records_plan().floor.is_some(), d.peak()) {
+        (true, _) => "PFA / (α g) = 1/η, on the floor",
+        (false, crate::im::Im::Pfa) => "PFA / (α g) = 1/η, the text records' own peak",
+        _ => "PGA / (α g) = 1/η",
     }
 }
 
@@ -67,9 +68,10 @@ pub(super) fn law_at(law: &FractileLaw, p: f64, e: f64) -> f64 {
     )
 }
 
-/// The description of a capacity axis: `name` (η_c, η_c,50…) and what it is.
-pub(super) fn eta_axis(name: &str) -> String {
-    format!("{name} = α g / PGA (dimensionless)")
+/// The description of a capacity axis: `name` (η_c, η_c,50…) and what it
+/// is: of the peak of the motion the blocks stand on ([`StudyData::peak`]).
+pub(super) fn eta_axis(d: &StudyData, name: &str) -> String {
+    format!("{name} = α g / {} (dimensionless)", d.peak().short())
 }
 
 /// The colour of `v`, one of the grid's `values` (its ε or p), on the

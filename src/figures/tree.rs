@@ -50,11 +50,7 @@ pub fn branches(d: &StudyData) -> Option<Branches> {
         })
         .collect::<Option<Vec<_>>>()?;
     let floor = d.plan.records_study().ok()?.floor.as_ref();
-    let im = if d.stood_on || floor.is_some_and(|b| !b.moves_as_ground()) {
-        Im::Pfa
-    } else {
-        Im::Pga
-    };
+    let im = d.peak();
     let below = t
         .branches
         .iter()

@@ -19,14 +19,20 @@ pub(super) fn damage_section(w: &mut String, d: &StudyData) {
          lognormal is fitted by the paper's fractile method (16/50/84 %, records that never \
          reach the state counting as +∞) and by maximum likelihood with those records censored \
          at their strongest run (Baker 2015). Definitions: docs/MODEL.md §15; every block, state \
-         and IM in `damage_states.parquet`, every record's capacity in `state_capacities.parquet`.\n"
+         and IM in `damage_states.parquet`, every record's capacity in `state_capacities.parquet`. \
+         Each state has its own β here, as the table holds them; `rocking fragility --states`, \
+         `risk` and `export` give every state one β, the heaviest state's, by default \
+         (`--dispersion common`: their curves never cross), and these with `--dispersion each`; \
+         both are 0 below the level that lifts the block (g·tan α, or μg where it slides \
+         first).\n"
     );
     let _ = writeln!(
         w,
-        "For {} (p = {} 1/s, ε = {}), in PGA/(αg):\n",
+        "For {} (p = {} 1/s, ε = {}), in {}/(αg):\n",
         s.which,
         crate::im::level_text(s.p),
-        crate::im::level_text(s.eps)
+        crate::im::level_text(s.eps),
+        s.peak
     );
     let _ = writeln!(
         w,
@@ -54,11 +60,14 @@ pub(super) fn damage_section(w: &mut String, d: &StudyData) {
     for pair in s.names.windows(2) {
         let fit = |n: &str| s.lognormal(n, FitMethod::Fractile);
         if let (Some(a), Some(b)) = (fit(&pair[0]), fit(&pair[1])) {
-            if let Some((x, p)) = damage::crossing(&a, &b) {
+            // As the commands warn of it: not below the level where the
+            // block cannot move, with the heavier state the less likely above.
+            if let Some((x, p)) = damage::crossing_above(&a, &b, s.cut) {
                 crossings.push(format!(
-                    "`{}` rises above `{}` at PGA/(αg) = {x:.3} (P = {:.1} %)",
+                    "`{}` rises above `{}` at {}/(αg) = {x:.3} (P = {:.1} %)",
                     pair[1],
                     pair[0],
+                    s.peak,
                     100.0 * p
                 ));
             }

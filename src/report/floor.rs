@@ -42,7 +42,10 @@ fn demands_table(w: &mut String, d: &StudyData) {
         "Each block's fragility in the floor's demands (FEMA P-58's, of the motion it stands \
          on) and in the ground's IMs (the hazard's): the median exp(mean ln IM_c) and the \
          dispersion β over the records that overturn it (`im_efficiency.parquet`, which holds \
-         FSA(T) too; `rocking fragility --im pfa|pfv|fsa(T) --direct` fits the same records).\n"
+         FSA(T) too). These are moment fits: `rocking fragility --im pfa|pfv|fsa(T) --direct` \
+         runs the same records but fits them by the paper's fractiles (or draws their own \
+         curve where the lognormal check fails), so its medians differ from these by the fit, \
+         by up to some 15 % where the capacities are skewed.\n"
     );
     let head: Vec<String> = DEMANDS
         .iter()

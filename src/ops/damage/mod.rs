@@ -59,7 +59,7 @@ pub fn of_block(
                 let p = crate::im::level_text(p);
                 format!(
                     "the study's capacities of this block fail the lognormal check (Lilliefors \
-                     p = {p:.3} < {}, its lognormal.parquet): this answer \
+                     p = {p} < {}, its lognormal.parquet): this answer \
                      carries the study's lognormal, where --direct gives the records' own curve \
                      (with --direct, --if-not-lognormal lognormal keeps the lognormal)",
                     damage::LOGNORMAL_CHECK_LEVEL
@@ -385,10 +385,7 @@ pub fn crossings(f: &DamageFragility, method: FitMethod, cut: Option<f64>) -> Ve
         .windows(2)
         .filter_map(|w| {
             let (lighter, heavier) = (w[0].by(method)?, w[1].by(method)?);
-            let (x, p) = crate::damage::crossing(&lighter, &heavier)?;
-            if cut.is_some_and(|c| x < c && heavier.cdf(c) <= lighter.cdf(c)) {
-                return None;
-            }
+            let (x, p) = crate::damage::crossing_above(&lighter, &heavier, cut)?;
             Some(format!(
                 "the fitted curves of `{}` and `{}` cross at {} {} (P = {:.2} %): on one side \
                  the heavier state is the likelier, which no record is; there OpenQuake gives a \
