@@ -64,7 +64,7 @@ def read_at2(path: PathLike) -> Tuple[np.ndarray, float]:
     Returns its acceleration samples (g) as a 1-D float64 array and its time
     step (s). A malformed file raises ``ValueError`` naming its line.
     """
-    data, dt = _core.read_at2(os.fspath(path))
+    data, dt = _core.read_at2(_path(path, "path"))
     return np.frombuffer(data, dtype="<f8").copy(), dt
 
 
@@ -83,6 +83,13 @@ def _samples(acc: Any, dt: Any, what: str = "the record") -> Tuple[bytes, float]
 
 def _is_path(x: Any) -> bool:
     return isinstance(x, (str, os.PathLike))
+
+
+def _path(x: Any, key: str) -> str:
+    """``x`` as a path, or a ValueError naming the keyword it came as."""
+    if not _is_path(x):
+        raise ValueError(f"{key}: give a path (a str or an os.PathLike), not {type(x).__name__}")
+    return os.fspath(x)
 
 
 def _block(block: Optional[Block], kw: Dict[str, Any]) -> Block:
@@ -179,7 +186,7 @@ def capacity(
         if not angles:
             # An empty list gave an empty list without a word.
             raise ValueError("angle: none given; give an angle in degrees, or a list of them")
-        found = _core.capacities([blk], [os.fspath(record)], [], False, pair=os.fspath(pair),
+        found = _core.capacities([blk], [os.fspath(record)], [], False, pair=_path(pair, "pair"),
                                  angles=angles, **search)
         return found if many or len(blk) > 1 else found[0]
     if _is_path(record):
@@ -304,8 +311,15 @@ def risk(
     ``direct=True``) and ``seed``: a 90 % ``annual_rate_band`` from the
     records' pairs. Other keywords as the command's options.
     """
-    if isinstance(hazard, tuple):
-        levels, rates = (np.asarray(x, dtype=np.float64) for x in hazard)
+    if isinstance(hazard, (tuple, list)):
+        if len(hazard) != 2:
+            raise ValueError(
+                f"hazard: give a file, or (levels, annual_rates): two arrays, not {len(hazard)}"
+            )
+        try:
+            levels, rates = (np.asarray(x, dtype=np.float64) for x in hazard)
+        except (TypeError, ValueError) as e:
+            raise ValueError(f"hazard: levels and annual rates must be numbers ({e})") from None
         if levels.ndim != 1 or rates.ndim != 1:
             raise ValueError("hazard: give levels and annual rates as 1-D arrays")
         given: Any = {"im": hazard_im or "pga", "levels": levels.tolist(), "rates": rates.tolist()}
@@ -315,7 +329,7 @@ def risk(
             "hazard_im is the IM of levels given as arrays (to ask for the fragility's IM, give im=)"
         )
     else:
-        given = os.fspath(hazard)
+        given = _path(hazard, "hazard")
     return _core.risk(hazard=given, **kw)
 
 
@@ -334,7 +348,7 @@ def risk_events(gmf: PathLike, **kw: Any) -> Dict[str, Any]:
     """
     import polars as pl
 
-    a = _core.risk(gmf=os.fspath(gmf), **kw)
+    a = _core.risk(gmf=_path(gmf, "gmf"), **kw)
     rows = [
         {
             "block": b["block"]["name"],
@@ -370,7 +384,7 @@ def export(out: PathLike, **kw: Any) -> Dict[str, Any]:
     mapping, pelicun the mean). Returns ``{"files": [...], "blocks": [...]}``, the blocks
     as ``rocking export --json`` prints them.
     """
-    return _core.export(out=os.fspath(out), **kw)
+    return _core.export(out=_path(out, "out"), **kw)
 
 
 def ims() -> List[Dict[str, Any]]:
@@ -391,7 +405,9 @@ def run(pipeline: PathLike, outputs: PathLike = "outputs", *, force: bool = Fals
     Returns one dict per stage: ``stage``, ``ran``, ``seconds``, ``why``.
     The tables are then in ``outputs/<name>/``: :func:`load` reads them.
     """
-    rows, _ = _core.run(os.fspath(pipeline), os.fspath(outputs), force)
+    if not isinstance(force, bool):
+        raise ValueError(f"force: give True or False, not {force!r}")
+    rows, _ = _core.run(_path(pipeline, "pipeline"), _path(outputs, "outputs"), force)
     return rows
 
 
@@ -403,7 +419,7 @@ def load(pipeline: PathLike, outputs: PathLike = "outputs") -> Dict[str, "polars
     """
     import polars as pl
 
-    folder = Path(_core.study_dir(os.fspath(pipeline), os.fspath(outputs)))
+    folder = Path(_core.study_dir(_path(pipeline, "pipeline"), _path(outputs, "outputs")))
     if not folder.is_dir():
         raise ValueError(f"{folder}: no study here yet; run the pipeline first (rocking.run)")
     tables: Dict[str, List[Path]] = {}

@@ -467,9 +467,15 @@ def test_a_block_the_size_of_a_building_is_warned_of_once():
     # Sizes in cm ran as a 180 m block without a word in simulate and
     # capacity: Block warns, as the commands do, once for its two ε.
     big = rocking.Block(b=20, h=90, eps=[0.8, 0.9])
-    assert big.warnings == [w for w in big.warnings if "building's size" in w]
-    assert len(big.warnings) == 1 and "a block 180 m tall" in big.warnings[0]
-    assert rocking.Block(b=0.2, h=0.9, eps=0.9).warnings == []
+    sized = [w for w in big.warnings if "building's size" in w]
+    assert len(sized) == 1 and "a block 180 m tall" in sized[0]
+    # Beside it, once too, the linearised model (capacity's and simulate's
+    # default) beyond its accepted error at this α, in Python's words.
+    linear = [w for w in big.warnings if "the linearised model errs by about" in w]
+    assert len(linear) == 1 and 'auto_tol' in linear[0] and 'model="auto"' in linear[0], linear
+    assert len(big.warnings) == 2
+    assert rocking.Block(b=0.2, h=0.9, eps=0.9, model="auto").warnings == []
+    assert rocking.Block(b=0.1, h=0.9, eps=0.9).warnings == []
 
 
 def test_the_gil_is_released_while_a_batch_computes():
@@ -670,3 +676,25 @@ def test_inputs_that_ran_as_something_else_are_refused_by_keyword():
         rocking.risk(hazard, b=0.2, h=0.9, site=1.5)
     with pytest.raises(ValueError, match=r"^levels: a whole number, 0 or more"):
         rocking.capacity(KOBE, p=2.0, eps=0.7, levels=-1)
+
+
+def test_paths_flags_and_hazards_of_the_wrong_kind_are_refused_by_keyword(tmp_path):
+    # A path of another type, a flag that is not a bool and a hazard of
+    # three arrays raised TypeErrors of Python's own, naming no keyword.
+    with pytest.raises(ValueError, match=r"^out: give a path"):
+        rocking.export(None, format="pelicun", b=0.2, h=0.9)
+    with pytest.raises(ValueError, match=r"^pipeline: give a path"):
+        rocking.run(None, tmp_path)
+    with pytest.raises(ValueError, match=r"^force: give True or False"):
+        rocking.run(ROOT / "pipelines" / "quick.toml", tmp_path, force="no")
+    levels, rates = [0.1, 0.5, 1.0], [1e-2, 1e-3, 1e-4]
+    with pytest.raises(ValueError, match=r"^hazard: give a file, or \(levels, annual_rates\)"):
+        rocking.risk((levels, rates, rates), b=0.2, h=0.9)
+    with pytest.raises(ValueError, match=r"^hazard: levels and annual rates must be numbers"):
+        rocking.risk((["a", "b"], [0.1, 0.2]), b=0.2, h=0.9)
+    # Two arrays in a list are the same hazard as in a tuple.
+    assert rocking.risk([levels, rates], b=0.2, h=0.9) == rocking.risk((levels, rates), b=0.2, h=0.9)
+    # The command's --from is Python's source (from is a word Python reserves).
+    with pytest.raises(ValueError) as e:
+        rocking.fragility(0.2, 0.9, pga=[0.3], outputs=tmp_path)
+    assert "source=" in str(e.value) and "from=" not in str(e.value), str(e.value)

@@ -19,7 +19,7 @@ impl Spelling {
     pub fn key(self, key: &str) -> String {
         match self {
             Spelling::Cli => format!("--{}", key.replace('_', "-")),
-            Spelling::Python => key.to_string(),
+            Spelling::Python => python_keyword(key).to_string(),
         }
     }
 
@@ -27,7 +27,7 @@ impl Spelling {
     pub fn set(self, key: &str, value: &str) -> String {
         match self {
             Spelling::Cli => format!("{} {value}", self.key(key)),
-            Spelling::Python => format!("{key}={value:?}"),
+            Spelling::Python => format!("{}={value:?}", python_keyword(key)),
         }
     }
 
@@ -68,6 +68,15 @@ impl Spelling {
         if self == Spelling::Python {
             pythonic_warnings(answer);
         }
+    }
+}
+
+/// The Python keyword of the option `key`: its own name, but `from`
+/// (a word Python reserves), which Python calls `source`.
+fn python_keyword(key: &str) -> &str {
+    match key {
+        "from" => "source",
+        k => k,
     }
 }
 
