@@ -1649,6 +1649,19 @@ fn a_pipeline_reads_a_structural_models_floor_motions() {
             stderr(&out)
         );
     }
+    // Run through a building they are its ground motions, PGA theirs, as
+    // through the folder.
+    let through = [
+        "--direct",
+        "--pga",
+        "0.5",
+        "--floor",
+        "0.5,0.05,1.3",
+        "--json",
+    ];
+    let (s_floor, f_floor) = (ask(&study, &through), ask(&folder, &through));
+    assert!(s_floor.status.success(), "{}", stderr(&s_floor));
+    assert_eq!(json(&s_floor)["median"], json(&f_floor)["median"]);
     let pfa = ["--direct", "--im", "pfa", "--at", "0.3,0.6", "--json"];
     let (through_study, through_folder) = (ask(&study, &pfa), ask(&folder, &pfa));
     assert!(through_study.status.success(), "{}", stderr(&through_study));

@@ -311,7 +311,10 @@ def risk(
     ``direct=True``) and ``seed``: a 90 % ``annual_rate_band`` from the
     records' pairs. Other keywords as the command's options.
     """
-    if isinstance(hazard, (tuple, list)):
+    if isinstance(hazard, list):
+        # A list could be two arrays or a list of (level, rate) pairs.
+        raise ValueError("hazard: give a file, or a tuple (levels, annual_rates) of two arrays")
+    if isinstance(hazard, tuple):
         if len(hazard) != 2:
             raise ValueError(
                 f"hazard: give a file, or (levels, annual_rates): two arrays, not {len(hazard)}"
@@ -405,8 +408,9 @@ def run(pipeline: PathLike, outputs: PathLike = "outputs", *, force: bool = Fals
     Returns one dict per stage: ``stage``, ``ran``, ``seconds``, ``why``.
     The tables are then in ``outputs/<name>/``: :func:`load` reads them.
     """
-    if not isinstance(force, bool):
+    if not isinstance(force, (bool, np.bool_)):
         raise ValueError(f"force: give True or False, not {force!r}")
+    force = bool(force)
     rows, _ = _core.run(_path(pipeline, "pipeline"), _path(outputs, "outputs"), force)
     return rows
 

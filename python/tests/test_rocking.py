@@ -692,8 +692,9 @@ def test_paths_flags_and_hazards_of_the_wrong_kind_are_refused_by_keyword(tmp_pa
         rocking.risk((levels, rates, rates), b=0.2, h=0.9)
     with pytest.raises(ValueError, match=r"^hazard: levels and annual rates must be numbers"):
         rocking.risk((["a", "b"], [0.1, 0.2]), b=0.2, h=0.9)
-    # Two arrays in a list are the same hazard as in a tuple.
-    assert rocking.risk([levels, rates], b=0.2, h=0.9) == rocking.risk((levels, rates), b=0.2, h=0.9)
+    # A list could be two arrays or (level, rate) pairs: refused, not guessed.
+    with pytest.raises(ValueError, match=r"^hazard: give a file, or a tuple"):
+        rocking.risk([levels, rates], b=0.2, h=0.9)
     # The command's --from is Python's source (from is a word Python reserves).
     with pytest.raises(ValueError) as e:
         rocking.fragility(0.2, 0.9, pga=[0.3], outputs=tmp_path)

@@ -347,11 +347,16 @@ impl BlockAsk {
                 (err > self.auto_tol).then(|| {
                     format!(
                         "the linearised model errs by about {err:.1e} in η_c at α = {a:.4} rad, \
-                         more than {} accepts ({:e}); {} runs the nonlinear equation here, as \
-                         the fragility, risk and export answers do by default",
+                         more than {} accepts ({:e}); {} runs {} here, as the fragility, risk \
+                         and export answers do by default",
                         sp.key("auto_tol"),
                         self.auto_tol,
-                        sp.set("model", "auto")
+                        sp.set("model", "auto"),
+                        if mu.is_some() {
+                            "the slide-rock model (the base's friction given)"
+                        } else {
+                            "the nonlinear equation"
+                        }
                     )
                 })
             }

@@ -236,7 +236,7 @@ pub(super) fn damage_states(d: &StudyData) -> Vec<Figure> {
              (the share of the {} records whose first crossing of the state lies at or below \
              that intensity; `state_capacities.parquet`{}), the line its lognormal by the \
              paper's fractile method (`damage_states.parquet`, which also holds the censored \
-             maximum likelihood fit and every other IM). In PGA multiply the axis by αg.",
+             maximum likelihood fit and every other IM). In {} multiply the axis by αg.",
             s.which,
             s.capacities.len() / n.max(1),
             match s.pfa_over_pga.is_empty() {
@@ -245,6 +245,7 @@ pub(super) fn damage_states(d: &StudyData) -> Vec<Figure> {
                     ", whose η is the floor's: here each is divided by its record's \
                           PFA/PGA, into the ground's PGA as the fits are",
             },
+            s.peak,
         ),
     }]
 }

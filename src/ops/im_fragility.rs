@@ -126,13 +126,12 @@ pub struct ImTable {
 impl ImTable {
     /// The table of `im` in the study folder `dir` (its
     /// `im_efficiency.parquet`); `study` names the pipeline in messages.
-    /// `slid(name)`: the friction the study's block of that name ran
-    /// sliding on, if it did.
+    /// `study_block(name)`: what the study says of its block of that name.
     pub fn load(
         dir: &Path,
         study: &str,
         im: Im,
-        slid: &dyn Fn(&str) -> Option<f64>,
+        study_block: &dyn Fn(&str) -> StudyBlock,
     ) -> Result<ImTable, ImTableError> {
         let name = im.name();
         if im.dimensionless(1.0, 1.0).is_none() {
@@ -164,7 +163,7 @@ impl ImTable {
         Ok(ImTable {
             im,
             pipeline: study.to_string(),
-            table: Table::of(&nodes, slid),
+            table: Table::of(&nodes, study_block),
         })
     }
 
@@ -175,25 +174,26 @@ impl ImTable {
             .im
             .dimensionless(block.alpha(), p)
             .ok_or_else(|| ImTableError::NoDimensionless(self.im.name()))?;
-        let (ln_median, beta, warnings) = self.table.at(p, eps).map_err(|gap| {
-            gap.error(
-                (
-                    format!("the capacity in {}", self.im.name()),
-                    &self.pipeline,
-                ),
-                &self.table,
-                (
-                    |corners| {
-                        ImTableError::Bad(format!(
-                            "the study's blocks around this one ({corners}) have no median in \
+        let (ln_median, beta, warnings) =
+            self.table.at(p, eps, Some(block.alpha())).map_err(|gap| {
+                gap.error(
+                    (
+                        format!("the capacity in {}", self.im.name()),
+                        &self.pipeline,
+                    ),
+                    &self.table,
+                    (
+                        |corners| {
+                            ImTableError::Bad(format!(
+                                "the study's blocks around this one ({corners}) have no median in \
                              {}, so it cannot be carried here; use --direct",
-                            self.im.name()
-                        ))
-                    },
-                    "use --direct".to_string(),
-                ),
-            )
-        })?;
+                                self.im.name()
+                            ))
+                        },
+                        "use --direct".to_string(),
+                    ),
+                )
+            })?;
         Ok(Lognormal {
             median: ln_median.exp() / factor,
             beta,
@@ -215,12 +215,12 @@ pub struct DamageTable {
 impl DamageTable {
     /// The fits of `im` by `method` in the study folder `dir`; `study`
     /// names the pipeline in messages.
-    /// `slid(name)` as [`ImTable::load`]'s.
+    /// `study_block(name)` as [`ImTable::load`]'s.
     pub fn load(
         dir: &Path,
         study: &str,
         (im, method): (Im, FitMethod),
-        slid: &dyn Fn(&str) -> Option<f64>,
+        study_block: &dyn Fn(&str) -> StudyBlock,
     ) -> Result<Self, ImTableError> {
         if im.dimensionless(1.0, 1.0).is_none() {
             return Err(ImTableError::NoDimensionless(im.name()));
@@ -250,7 +250,7 @@ impl DamageTable {
                 states.push((
                     r.state.clone(),
                     r.criterion.clone(),
-                    Table::of(&nodes, slid),
+                    Table::of(&nodes, study_block),
                 ));
             }
         }
@@ -303,24 +303,26 @@ impl DamageTable {
             .im
             .dimensionless(block.alpha(), block.p())
             .ok_or_else(|| ImTableError::NoDimensionless(self.im.name()))?;
-        let (ln_median, beta, warnings) = table.at(block.p(), block.eps).map_err(|gap| {
-            gap.error(
-                (
-                    format!("damage state `{}` in {}", state.name, self.im.name()),
-                    &self.pipeline,
-                ),
-                table,
-                (
-                    |corners| ImTableError::StateHoles {
-                        what: format!("damage state `{}` in {}", state.name, self.im.name()),
-                        method: self.method.name(),
-                        other: self.method.other().name(),
-                        corners,
-                    },
-                    format!("try --method {}, or --direct", self.method.other().name()),
-                ),
-            )
-        })?;
+        let (ln_median, beta, warnings) = table
+            .at(block.p(), block.eps, Some(block.alpha()))
+            .map_err(|gap| {
+                gap.error(
+                    (
+                        format!("damage state `{}` in {}", state.name, self.im.name()),
+                        &self.pipeline,
+                    ),
+                    table,
+                    (
+                        |corners| ImTableError::StateHoles {
+                            what: format!("damage state `{}` in {}", state.name, self.im.name()),
+                            method: self.method.name(),
+                            other: self.method.other().name(),
+                            corners,
+                        },
+                        format!("try --method {}, or --direct", self.method.other().name()),
+                    ),
+                )
+            })?;
         Ok(Lognormal {
             median: ln_median.exp() / factor,
             beta,
@@ -333,11 +335,20 @@ impl DamageTable {
 /// has no fit).
 type Node = (f64, f64, Option<f64>, Option<f64>);
 
+/// What a study says of its block of a name beyond its table's row.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StudyBlock {
+    /// The friction it ran sliding on (the slide-rock model), if it did.
+    pub slid: Option<f64>,
+    /// Its slenderness α (rad); none for the p × ε grid.
+    pub alpha: Option<f64>,
+}
+
 /// A study's blocks in one IM: their nodes, named, and the grid they make
 /// when they make one.
 struct Table {
-    /// Each block's name, node and the friction it ran sliding on, if it did.
-    nodes: Vec<(String, Node, Option<f64>)>,
+    /// Each block's name, node and what the study says of it.
+    nodes: Vec<(String, Node, StudyBlock)>,
     /// `None`: the blocks are not a full p × ε grid, or some have no fit.
     grid: Option<Grid>,
 }
@@ -358,14 +369,14 @@ enum Gap {
 }
 
 impl Table {
-    /// The study's blocks; `slid(name)` the friction the block of that
-    /// name ran sliding on, if it did.
-    fn of(nodes: &[(&str, Node)], slid: &dyn Fn(&str) -> Option<f64>) -> Table {
+    /// The study's blocks; `study_block(name)` what the study says of the
+    /// block of that name.
+    fn of(nodes: &[(&str, Node)], study_block: &dyn Fn(&str) -> StudyBlock) -> Table {
         let bare: Vec<Node> = nodes.iter().map(|n| n.1).collect();
         Table {
             nodes: nodes
                 .iter()
-                .map(|(b, n)| (b.to_string(), *n, slid(b)))
+                .map(|(b, n)| (b.to_string(), *n, study_block(b)))
                 .collect(),
             grid: Grid::of(&bare),
         }
@@ -373,14 +384,15 @@ impl Table {
 
     /// The study's own block at `(p, ε)` (to rounding) with its fit, as it
     /// is; else the grid's value there ([`Grid::at`]).
-    fn at(&self, p: f64, eps: f64) -> Result<(f64, f64, Vec<String>), Gap> {
+    fn at(&self, p: f64, eps: f64, alpha: Option<f64>) -> Result<(f64, f64, Vec<String>), Gap> {
         let same = |a: f64, b: f64| (a - b).abs() <= 1e-12 * a.abs().max(b.abs());
-        let own = self
-            .nodes
-            .iter()
-            .find(|(_, (np, ne, ..), _)| same(*np, p) && same(*ne, eps));
-        if let Some((block, (_, _, median, beta), slid)) = own {
-            return match (slid, median.zip(*beta)) {
+        // Its own block: p and ε, and α where both have one (two blocks of
+        // one R and ε, but of other shapes, share p and ε).
+        let own = self.nodes.iter().find(|(_, (np, ne, ..), sb)| {
+            same(*np, p) && same(*ne, eps) && sb.alpha.zip(alpha).is_none_or(|(a, b)| same(a, b))
+        });
+        if let Some((block, (_, _, median, beta), sb)) = own {
+            return match (&sb.slid, median.zip(*beta)) {
                 (Some(mu), _) => Err(Gap::Slides {
                     block: block.clone(),
                     mu: *mu,
@@ -460,6 +472,10 @@ impl Grid {
         for v in [&mut ps, &mut es] {
             v.sort_by(f64::total_cmp);
             v.dedup();
+        }
+        // Two blocks of one p and ε (named blocks of other shapes) are no grid.
+        if rows.len() != ps.len() * es.len() {
+            return None;
         }
         let mut values = Vec::with_capacity(ps.len() * es.len());
         for &p in &ps {
@@ -621,7 +637,7 @@ mod tests {
     /// is refused for its holes, not as not a grid.
     #[test]
     fn named_blocks_answer_for_themselves() {
-        let none = |_: &str| None;
+        let none = |_: &str| StudyBlock::default();
         let named = Table::of(
             &[
                 ("statue", (2.8245, 0.9294, Some(1.3), Some(0.12))),
@@ -631,10 +647,10 @@ mod tests {
             &none,
         );
         assert_eq!(
-            named.at(2.8245, 0.9294),
+            named.at(2.8245, 0.9294, None),
             Ok((1.3f64.ln(), 0.12, Vec::new()))
         );
-        assert_eq!(named.at(2.7, 0.8), Err(Gap::NotAGrid));
+        assert_eq!(named.at(2.7, 0.8, None), Err(Gap::NotAGrid));
         assert_eq!(
             named.blocks(),
             "statue at p = 2.825 1/s, ε = 0.929; cabinet at p = 2.654 1/s, ε = 0.750; \
@@ -643,18 +659,21 @@ mod tests {
         // Its own block without a fit, named; a block that ran sliding is
         // not answered for a block asked (its fits are of its friction).
         assert_eq!(
-            named.at(3.1, 0.8),
+            named.at(3.1, 0.8, None),
             Err(Gap::Unfitted {
                 block: "vase".into()
             })
         );
-        let slid = |b: &str| (b == "statue").then_some(0.15);
+        let slid = |b: &str| StudyBlock {
+            slid: (b == "statue").then_some(0.15),
+            alpha: None,
+        };
         let sliding = Table::of(
             &[("statue", (2.8245, 0.9294, Some(1.3), Some(0.12)))],
             &slid,
         );
         assert_eq!(
-            sliding.at(2.8245, 0.9294),
+            sliding.at(2.8245, 0.9294, None),
             Err(Gap::Slides {
                 block: "statue".into(),
                 mu: 0.15
@@ -670,10 +689,37 @@ mod tests {
             &none,
         );
         assert_eq!(
-            holed.at(2.0, 0.7),
+            holed.at(2.0, 0.7, None),
             Err(Gap::Holes("p = 1.000 1/s, ε = 0.900".into()))
         );
-        assert_eq!(holed.at(4.0, 0.9), Ok((3f64.ln(), 0.3, Vec::new())));
+        assert_eq!(holed.at(4.0, 0.9, None), Ok((3f64.ln(), 0.3, Vec::new())));
+    }
+
+    /// Two named blocks of one R and ε (so one p) but other shapes: each
+    /// answers for the block of its own α, neither for a third α (the
+    /// first of them answered for every block of that p and ε).
+    #[test]
+    fn twins_of_one_p_and_eps_answer_by_their_alpha() {
+        let alpha = |b: &str| StudyBlock {
+            slid: None,
+            alpha: Some(if b == "a" { 0.2 } else { 0.5 }),
+        };
+        let twins = Table::of(
+            &[
+                ("a", (2.7, 0.8, Some(1.3), Some(0.12))),
+                ("c", (2.7, 0.8, Some(2.1), Some(0.3))),
+            ],
+            &alpha,
+        );
+        assert_eq!(
+            twins.at(2.7, 0.8, Some(0.2)),
+            Ok((1.3f64.ln(), 0.12, Vec::new()))
+        );
+        assert_eq!(
+            twins.at(2.7, 0.8, Some(0.5)),
+            Ok((2.1f64.ln(), 0.3, Vec::new()))
+        );
+        assert_eq!(twins.at(2.7, 0.8, Some(0.3)), Err(Gap::NotAGrid));
     }
 
     /// A study of one ε: linear in ln p along it, its value at any ε, and a

@@ -23,4 +23,4 @@ pub use load::{
     OnFloor, RecordError, SampleError,
 };
 pub use pairs::{pair_up, rotated_rows, RowPair};
-pub use select::{felt, of_plan, select, select_pairs, stood_on, SelectError};
+pub use select::{felt, of_plan, rows_if_table, select, select_pairs, stood_on, SelectError};

@@ -75,6 +75,18 @@ pub fn stood_on(plan: &RecordsPlan, rows: &[RecordRow]) -> bool {
                 .any(|r| r.header_layout == super::collect::TEXT_LAYOUT))
 }
 
+/// The rows [`stood_on`] needs to read: a records table's (`[records]
+/// table`, the one source whose rows can be text columns without the plan
+/// saying so), at `table`; none for the other sources.
+pub fn rows_if_table(plan: &Plan, table: &Path) -> Vec<RecordRow> {
+    match plan.records_study().map(|r| &r.records) {
+        Ok(RecordSource::Table(_)) if plan.records_study().is_ok_and(|r| r.floor.is_none()) => {
+            select(plan, table).unwrap_or_default()
+        }
+        _ => Vec::new(),
+    }
+}
+
 /// The plan's record pairs (the components its selection holds, before a
 /// random orientation turns them), from the table at `table`.
 pub fn select_pairs(plan: &Plan, table: &Path) -> Result<Vec<super::RowPair>, SelectError> {

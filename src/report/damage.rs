@@ -64,9 +64,9 @@ pub(super) fn damage_section(w: &mut String, d: &StudyData) {
             // block cannot move, with the heavier state the less likely above.
             if let Some((x, p)) = damage::crossing_above(&a, &b, s.cut) {
                 crossings.push(format!(
-                    "`{}` rises above `{}` at {}/(αg) = {x:.3} (P = {:.1} %)",
-                    pair[1],
+                    "`{}` and `{}` at {}/(αg) = {x:.3} (P = {:.1} %)",
                     pair[0],
+                    pair[1],
                     s.peak,
                     100.0 * p
                 ));
@@ -77,9 +77,10 @@ pub(super) fn damage_section(w: &mut String, d: &StudyData) {
     if !crossings.is_empty() {
         let _ = writeln!(
             w,
-            "The fitted curves of unequal β cross: {}. Below that point the heavier state's \
-             fitted probability exceeds the lighter one's, which no record does; an engine that \
-             takes differences of the curves as damage-state shares gets a negative share there.\n",
+            "The fitted curves of unequal β cross: {}. On one side of each crossing the \
+             heavier state's fitted probability exceeds the lighter one's, which no record does \
+             (below it where the heavier state's β is the larger); an engine that takes \
+             differences of the curves as damage-state shares gets a negative share there.\n",
             crossings.join("; ")
         );
     }

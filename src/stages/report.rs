@@ -190,8 +190,10 @@ pub fn load(
         },
         stage_seconds: other_stages(study, stage_seconds),
         stood_on: plan.records_study().is_ok_and(|rs| {
-            let rows = crate::records::select(plan, &study.records_table());
-            crate::records::stood_on(rs, &rows.unwrap_or_default())
+            crate::records::stood_on(
+                rs,
+                &crate::records::rows_if_table(plan, &study.records_table()),
+            )
         }),
     })
 }

@@ -54,13 +54,19 @@ pub fn of_block(
     }
     if fit.if_not_lognormal == IfNotLognormal::Curve {
         curve_where_not_lognormal(&mut f);
-        if direct.is_none() && fit.method != FitMethod::Empirical {
+        // The study's check is of η_c, overturning's capacity in the peak
+        // the block stands on: where `--direct` checks the same.
+        let overturning = states
+            .states()
+            .last()
+            .is_some_and(|s| s.criterion == Criterion::Overturned);
+        let in_peak = matches!(im, Im::Pga | Im::Pfa);
+        if direct.is_none() && fit.method != FitMethod::Empirical && overturning && in_peak {
             f.warnings.extend(laws.rejected_lognormal(block).map(|p| {
-                let p = crate::im::level_text(p);
                 format!(
                     "the study's capacities of this block fail the lognormal check (Lilliefors \
-                     p = {p} < {}, its lognormal.parquet): this answer \
-                     carries the study's lognormal, where --direct gives the records' own curve \
+                     p = {p:.2e} < {}, its lognormal.parquet): this answer is a lognormal (the \
+                     study's fit or regression), where --direct gives the records' own curve \
                      (with --direct, --if-not-lognormal lognormal keeps the lognormal)",
                     damage::LOGNORMAL_CHECK_LEVEL
                 )

@@ -170,7 +170,9 @@ impl DirectRecords {
         };
         let rows = rows_of(from, plan, &orient, &folder)?;
         let stood_on = match (from, plan.and_then(|p| p.records_study().ok())) {
-            (Source::Pipeline { .. }, Some(rs)) => records::stood_on(rs, &rows),
+            // Run through a building (the pipeline's or the one asked),
+            // text records are its ground motions.
+            (Source::Pipeline { .. }, Some(rs)) => records::stood_on(rs, &rows) && floor.is_none(),
             (Source::Paper { text, .. }, _) => text.is_some() && floor.is_none(),
             (Source::Pipeline { .. }, None) => false,
         };

@@ -10,7 +10,7 @@ use crate::columns::TextRecords;
 use crate::damage::FitMethod;
 use crate::fragility::{self, FractileLaw};
 use crate::im::Im;
-use crate::ops::im_fragility::{DamageTable, ImTable};
+use crate::ops::im_fragility::{DamageTable, ImTable, StudyBlock};
 use crate::pipeline::Plan;
 use crate::stages::fingerprint::Freshness;
 use crate::stages::fit::{self, FitError};
@@ -137,7 +137,9 @@ impl Laws {
                         why: why.clone(),
                     });
                 }
-                Ok(ImTable::load(dir, &self.name, im, &|b| self.slid(b))?)
+                Ok(ImTable::load(dir, &self.name, im, &|b| {
+                    self.study_block(b)
+                })?)
             }
             None => Err(FragilityError::PaperIsPga(im.name())),
         }
@@ -166,7 +168,7 @@ impl Laws {
             dir,
             &self.name,
             (im, method),
-            &|b| self.slid(b),
+            &|b| self.study_block(b),
         )?))
     }
 
@@ -175,13 +177,19 @@ impl Laws {
     /// (`lognormal.parquet`): its tables carry a lognormal where `--direct`
     /// would give the records' own curve.
     pub fn rejected_lognormal(&self, block: &Block) -> Option<f64> {
-        let dir = self.dir.as_ref()?;
+        let (dir, plan) = (self.dir.as_ref()?, self.plan.as_ref()?);
+        let same = |a: f64, b: f64| (a - b).abs() <= 1e-12 * a.abs().max(b.abs());
+        // The study's own block: its p, ε and α (a grid block has no α).
+        let spec = plan.blocks().iter().find(|b| {
+            same(b.p, block.p())
+                && same(b.eps, block.eps)
+                && b.alpha_rad.is_none_or(|a| same(a, block.alpha()))
+        })?;
         let rows: Vec<crate::tables::reduce::LognormalRow> =
             crate::tables::read(&dir.join("lognormal.parquet")).ok()?;
-        let same = |a: f64, b: f64| (a - b).abs() <= 1e-12 * a.abs().max(b.abs());
         let own = rows
             .iter()
-            .find(|r| same(r.p, block.p()) && same(r.eps, block.eps))?;
+            .find(|r| r.block == spec.name && r.p == spec.p && r.eps == spec.eps)?;
         own.p_value.filter(|_| own.rejected_5pct)
     }
 
@@ -194,20 +202,24 @@ impl Laws {
         Ok(())
     }
 
-    /// The friction the study's block `name` ran sliding on (the
-    /// slide-rock model), if it did.
-    fn slid(&self, name: &str) -> Option<f64> {
-        let block = self
+    /// What the study says of its block `name`: the friction it ran
+    /// sliding on (the slide-rock model), if it did, and its α.
+    fn study_block(&self, name: &str) -> StudyBlock {
+        let Some(block) = self
             .plan
-            .as_ref()?
-            .blocks()
-            .iter()
-            .find(|b| b.name == name)?;
+            .as_ref()
+            .and_then(|p| p.blocks().iter().find(|b| b.name == name))
+        else {
+            return StudyBlock::default();
+        };
         let sliding = matches!(
             block.run.model.equation,
             crate::physics::Equation::SlideRock { .. }
         );
-        block.mu.filter(|_| sliding)
+        StudyBlock {
+            slid: block.mu.filter(|_| sliding),
+            alpha: block.alpha_rad,
+        }
     }
 }
 
@@ -241,8 +253,10 @@ pub fn laws(from: &Source) -> Result<Laws, FragilityError> {
             // The records as the study ran them (a records table may hold
             // text columns too).
             let text = study.plan.records_study().is_ok_and(|rs| {
-                let rows = crate::records::select(&study.plan, &study.records_table());
-                crate::records::stood_on(rs, &rows.unwrap_or_default())
+                crate::records::stood_on(
+                    rs,
+                    &crate::records::rows_if_table(&study.plan, &study.records_table()),
+                )
             });
             Ok(Laws {
                 regression,
