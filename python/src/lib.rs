@@ -82,9 +82,12 @@ fn keyword_error(key: &str, why: &str) -> String {
         return why.to_string();
     }
     if why.contains("negative int to unsigned") {
-        format!("{key}: a whole number, 0 or more (it was negative)")
+        // Some keys take 0, some start at 1: their own checks say which.
+        format!("{key}: a whole number (it was negative)")
     } else if why.contains("cannot be interpreted as an integer") {
-        format!("{key}: a whole number (it was a float)")
+        // Python's words: "'str' object cannot be …".
+        let kind = why.split('\'').nth(1).unwrap_or("float");
+        format!("{key}: a whole number (it was a {kind})")
     } else {
         format!("{key}: {why}")
     }

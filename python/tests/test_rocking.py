@@ -670,11 +670,13 @@ def test_inputs_that_ran_as_something_else_are_refused_by_keyword():
     hazard = ([0.1, 0.5, 1.0], [1e-2, 1e-3, 1e-4])
     with pytest.raises(ValueError, match=r'^hazard_im = "foo"'):
         rocking.risk(hazard, hazard_im="foo", b=0.2, h=0.9)
-    with pytest.raises(ValueError, match=r"^site: a whole number, 0 or more"):
+    with pytest.raises(ValueError, match=r"^site: a whole number \(it was negative\)"):
         rocking.risk(hazard, b=0.2, h=0.9, site=-1)
+    with pytest.raises(ValueError, match=r"^site: a whole number \(it was a str\)"):
+        rocking.risk(hazard, b=0.2, h=0.9, site="1")
     with pytest.raises(ValueError, match=r"^site: a whole number \(it was a float\)"):
         rocking.risk(hazard, b=0.2, h=0.9, site=1.5)
-    with pytest.raises(ValueError, match=r"^levels: a whole number, 0 or more"):
+    with pytest.raises(ValueError, match=r"^levels: a whole number \(it was negative\)"):
         rocking.capacity(KOBE, p=2.0, eps=0.7, levels=-1)
 
 
