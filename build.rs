@@ -23,16 +23,9 @@ fn main() {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     for f in &files {
         let bytes = std::fs::read(f).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
-        let name = f.to_string_lossy();
-        for &b in name
-            .as_bytes()
-            .iter()
-            .chain([0u8].iter())
-            .chain(bytes.iter())
-        {
-            h ^= u64::from(b);
-            h = h.wrapping_mul(0x0100_0000_01b3);
-        }
+        fnv(&mut h, f.to_string_lossy().as_bytes());
+        fnv(&mut h, &[0]);
+        fnv(&mut h, &bytes);
     }
     // The compiler too: another one may round a loop differently.
     let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
@@ -41,11 +34,16 @@ fn main() {
         .output()
         .map(|o| o.stdout)
         .unwrap_or_default();
-    for &b in &version {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0100_0000_01b3);
-    }
+    fnv(&mut h, &version);
     println!("cargo:rustc-env=ROCKING_SOURCE_HASH={h:016x}");
+}
+
+/// FNV-1a's step over `bytes`.
+fn fnv(h: &mut u64, bytes: &[u8]) {
+    for &b in bytes {
+        *h ^= u64::from(b);
+        *h = h.wrapping_mul(0x0100_0000_01b3);
+    }
 }
 
 fn walk(dir: &Path, out: &mut Vec<PathBuf>) {

@@ -343,7 +343,7 @@ impl BlockAsk {
         named.slides_first = slides_first;
         let linearised = match (named.spec.model.equation, alpha) {
             (crate::physics::Equation::Linearized, Some(a)) => {
-                let err = crate::physics::LINEARIZATION_ERROR_PER_ALPHA2 * a * a;
+                let err = crate::physics::linearization_error(a);
                 (err > self.auto_tol).then(|| {
                     format!(
                         "the linearised model errs by about {err:.1e} in η_c at α = {a:.4} rad, \

@@ -36,7 +36,7 @@ impl Spelling {
     pub fn set_number(self, key: &str, value: impl std::fmt::Display) -> String {
         match self {
             Spelling::Cli => format!("{} {value}", self.key(key)),
-            Spelling::Python => format!("{key}={value}"),
+            Spelling::Python => format!("{}={value}", python_keyword(key)),
         }
     }
 

@@ -302,33 +302,6 @@ fn inverse_mills(w: f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
-
-    /// Curves that cross below the cut, the heavier state the less likely
-    /// above it, are not said to cross (every state is 0 there); with no
-    /// cut, or a cut below the crossing, they are.
-    #[test]
-    fn a_crossing_below_the_cut_is_not_one() {
-        let lighter = Lognormal {
-            median: 1.0,
-            beta: 0.2,
-        };
-        let heavier = Lognormal {
-            median: 1.5,
-            beta: 0.6,
-        };
-        let (x, _) = crossing(&lighter, &heavier).unwrap();
-        // ln x = (0.6·0 − 0.2·ln 1.5)/(0.6 − 0.2): below the lighter median.
-        assert!((x.ln() + 0.5 * 1.5f64.ln()).abs() < 1e-12, "{x}");
-        assert_eq!(
-            crossing_above(&lighter, &heavier, None),
-            crossing(&lighter, &heavier)
-        );
-        assert_eq!(
-            crossing_above(&lighter, &heavier, Some(0.5 * x)),
-            crossing(&lighter, &heavier)
-        );
-        assert_eq!(crossing_above(&lighter, &heavier, Some(1.0)), None);
-    }
     use super::*;
 
     /// The heaviest state is never moved, whatever the lighter ones: a
@@ -414,6 +387,33 @@ mod tests {
         let inf = f64::INFINITY;
         assert!(fractile_method(&[1.0, 2.0, 4.0, inf, inf], FractileDef::Type7).is_none());
         assert!((l.cdf(4.0) - 0.5).abs() < 1e-15);
+    }
+
+    /// Curves that cross below the cut, the heavier state the less likely
+    /// above it, are not said to cross (every state is 0 there); with no
+    /// cut, or a cut below the crossing, they are.
+    #[test]
+    fn a_crossing_below_the_cut_is_not_one() {
+        let lighter = Lognormal {
+            median: 1.0,
+            beta: 0.2,
+        };
+        let heavier = Lognormal {
+            median: 1.5,
+            beta: 0.6,
+        };
+        let (x, _) = crossing(&lighter, &heavier).unwrap();
+        // ln x = (0.6·0 − 0.2·ln 1.5)/(0.6 − 0.2): below the lighter median.
+        assert!((x.ln() + 0.5 * 1.5f64.ln()).abs() < 1e-12, "{x}");
+        assert_eq!(
+            crossing_above(&lighter, &heavier, None),
+            crossing(&lighter, &heavier)
+        );
+        assert_eq!(
+            crossing_above(&lighter, &heavier, Some(0.5 * x)),
+            crossing(&lighter, &heavier)
+        );
+        assert_eq!(crossing_above(&lighter, &heavier, Some(1.0)), None);
     }
 
     /// Two curves crossing by hand: medians 1 and 2, β 0.2 and 0.6 meet

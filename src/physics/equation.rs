@@ -228,3 +228,10 @@ impl Rhs for NonlinearRhs {
 /// docs/BENCHMARKS.md), rounded up. Single records can differ more, because a
 /// capacity is the first of possibly several overturning islands.
 pub const LINEARIZATION_ERROR_PER_ALPHA2: f64 = 0.45;
+
+/// The linearised model's expected relative error in η_c at slenderness
+/// `alpha_rad`: [`LINEARIZATION_ERROR_PER_ALPHA2`]·α², what `auto` and
+/// every warning of the model compare with `auto_tol`.
+pub fn linearization_error(alpha_rad: f64) -> f64 {
+    LINEARIZATION_ERROR_PER_ALPHA2 * alpha_rad * alpha_rad
+}

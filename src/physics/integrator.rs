@@ -12,7 +12,7 @@
 //! stepper's construction in `simulate.rs` (`drive`); the compiler points
 //! at each.
 
-use super::equation::{Equation, LINEARIZATION_ERROR_PER_ALPHA2};
+use super::equation::{linearization_error, Equation};
 use super::error::PhysicsError;
 use super::friction::Friction;
 
@@ -315,7 +315,7 @@ pub enum ModelChoice {
     Linearized,
     Nonlinear,
     /// The linearised model where its error for the block's α is within the
-    /// tolerance ([`LINEARIZATION_ERROR_PER_ALPHA2`]·α² ≤ tol), else the
+    /// tolerance ([`linearization_error`] ≤ tol), else the
     /// nonlinear one; with the base's friction, the slide-rock model.
     Auto,
     /// The nonlinear equation on a base with Coulomb friction (rest, slide,
@@ -430,7 +430,7 @@ impl ModelChoice {
             (ModelChoice::Linearized, None) => Ok((Model::LINEARIZED, "linearised model".into())),
             // Chosen or defaulted, it says what it costs at this α.
             (ModelChoice::Linearized, Some(a)) => {
-                let err = LINEARIZATION_ERROR_PER_ALPHA2 * a * a;
+                let err = linearization_error(a);
                 let hint = if err > auto_tol {
                     "; --model auto or nonlinear runs the nonlinear equation"
                 } else {
@@ -455,7 +455,7 @@ impl ModelChoice {
                 "linearised model: no α given, so the α → 0 limit".into(),
             )),
             (ModelChoice::Auto, Some(a)) => {
-                let err = LINEARIZATION_ERROR_PER_ALPHA2 * a * a;
+                let err = linearization_error(a);
                 if err <= auto_tol {
                     Ok((
                         Model::LINEARIZED,

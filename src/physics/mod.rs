@@ -54,7 +54,8 @@ pub mod taylor;
 pub use dispatch::Isa;
 pub use driver::{Mode, Outcome, Stop};
 pub use equation::{
-    check_alpha, Equation, EquationKind, ALPHA_MIN, LINEARIZATION_ERROR_PER_ALPHA2,
+    check_alpha, linearization_error, Equation, EquationKind, ALPHA_MIN,
+    LINEARIZATION_ERROR_PER_ALPHA2,
 };
 pub use history::{EventKind, HistoryPoint, Observer, Recorder};
 pub use integrator::{

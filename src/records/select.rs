@@ -80,9 +80,7 @@ pub fn stood_on(plan: &RecordsPlan, rows: &[RecordRow]) -> bool {
 /// saying so), at `table`; none for the other sources.
 pub fn rows_if_table(plan: &Plan, table: &Path) -> Vec<RecordRow> {
     match plan.records_study().map(|r| &r.records) {
-        Ok(RecordSource::Table(_)) if plan.records_study().is_ok_and(|r| r.floor.is_none()) => {
-            select(plan, table).unwrap_or_default()
-        }
+        Ok(RecordSource::Table(_)) => select(plan, table).unwrap_or_default(),
         _ => Vec::new(),
     }
 }

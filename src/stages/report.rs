@@ -189,12 +189,7 @@ pub fn load(
             None => None,
         },
         stage_seconds: other_stages(study, stage_seconds),
-        stood_on: plan.records_study().is_ok_and(|rs| {
-            crate::records::stood_on(
-                rs,
-                &crate::records::rows_if_table(plan, &study.records_table()),
-            )
-        }),
+        stood_on: study.stood_on(),
     })
 }
 

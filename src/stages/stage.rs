@@ -158,6 +158,20 @@ impl Study {
         self.dir.join(name)
     }
 
+    /// Whether the blocks stand on the study's records themselves
+    /// ([`crate::records::stood_on`]); its records table is read only
+    /// where it is the records' source and no `[floor]` decides first.
+    pub fn stood_on(&self) -> bool {
+        let Ok(rs) = self.plan.records_study() else {
+            return false;
+        };
+        rs.floor.is_none()
+            && crate::records::stood_on(
+                rs,
+                &crate::records::rows_if_table(&self.plan, &self.records_table()),
+            )
+    }
+
     /// The records table the sweep reads: the pipeline's own table, or the
     /// one the ingest stage writes into the study's folder.
     pub fn records_table(&self) -> PathBuf {

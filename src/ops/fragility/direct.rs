@@ -169,13 +169,14 @@ impl DirectRecords {
             Source::Pipeline { file, .. } => format!("the records of {}", file.display()),
         };
         let rows = rows_of(from, plan, &orient, &folder)?;
-        let stood_on = match (from, plan.and_then(|p| p.records_study().ok())) {
-            // Run through a building (the pipeline's or the one asked),
-            // text records are its ground motions.
-            (Source::Pipeline { .. }, Some(rs)) => records::stood_on(rs, &rows) && floor.is_none(),
-            (Source::Paper { text, .. }, _) => text.is_some() && floor.is_none(),
-            (Source::Pipeline { .. }, None) => false,
-        };
+        // Run through a building (the pipeline's or the one asked), text
+        // records are its ground motions.
+        let stood_on = floor.is_none()
+            && match (from, plan.and_then(|p| p.records_study().ok())) {
+                (Source::Pipeline { .. }, Some(rs)) => records::stood_on(rs, &rows),
+                (Source::Paper { text, .. }, _) => text.is_some(),
+                (Source::Pipeline { .. }, None) => false,
+            };
         let (motions, pairs, rotd) = super::pairs::motions(rows, &orient)?;
         let records = motions
             .into_par_iter()

@@ -86,7 +86,7 @@ pub struct Laws {
     /// structural model's floor motions; [`crate::records::stood_on`]):
     /// its tables' PGA, PGV and SA are the floor's, and a ground IM of
     /// them is refused as `--direct` on text records refuses it.
-    text: bool,
+    stood_on: bool,
 }
 
 /// Why a pipeline's regression cannot be used.
@@ -193,10 +193,10 @@ impl Laws {
         own.p_value.filter(|_| own.rejected_5pct)
     }
 
-    /// `im` refused where the study's records are text and it is a
+    /// `im` refused where the blocks stand on the study's records and it is a
     /// measure of the ground (the one rule of `--direct` on text records).
     fn ground_im(&self, im: Im) -> Result<(), FragilityError> {
-        if self.text && !im.floor() {
+        if self.stood_on && !im.floor() {
             return Err(FragilityError::TextGroundIm(im.short()));
         }
         Ok(())
@@ -233,7 +233,7 @@ pub fn laws(from: &Source) -> Result<Laws, FragilityError> {
             name: "paper".to_string(),
             ims_stale: None,
             damage_stale: None,
-            text: false,
+            stood_on: false,
         }),
         Source::Pipeline { file, outputs } => {
             let study = Study::load(file, outputs)?;
@@ -250,14 +250,7 @@ pub fn laws(from: &Source) -> Result<Laws, FragilityError> {
             };
             let ims_stale = staleness(&study, &status, ims::Ims.name(), ims::IM_EFFICIENCY);
             let damage_stale = staleness(&study, &status, damage::Damage.name(), damage::STATES);
-            // The records as the study ran them (a records table may hold
-            // text columns too).
-            let text = study.plan.records_study().is_ok_and(|rs| {
-                crate::records::stood_on(
-                    rs,
-                    &crate::records::rows_if_table(&study.plan, &study.records_table()),
-                )
-            });
+            let stood_on = study.stood_on();
             Ok(Laws {
                 regression,
                 plan: Some(study.plan),
@@ -265,7 +258,7 @@ pub fn laws(from: &Source) -> Result<Laws, FragilityError> {
                 name,
                 ims_stale,
                 damage_stale,
-                text,
+                stood_on,
             })
         }
     }

@@ -130,7 +130,7 @@ pub fn check(req: &Request) -> Result<Block, FragilityError> {
 /// by more than `auto_tol` for the block's α.
 pub fn alpha_warning(block: &Block, auto_tol: f64) -> Option<String> {
     let alpha = block.alpha();
-    let err = LINEARIZATION_ERROR_PER_ALPHA2 * alpha * alpha;
+    let err = crate::physics::linearization_error(alpha);
     (err > auto_tol).then(|| format!(
         "α = {alpha:.3} rad: the regression rests on the linearised model, which errs by about {err:.1e} > {auto_tol:e} in η_c here; use --direct (the nonlinear model)"
     ))
