@@ -47,8 +47,8 @@ pub struct StudyData {
     /// Seconds each stage took when it last ran, in run order.
     pub stage_seconds: Vec<(String, Option<f64>)>,
     /// The blocks stand on the records themselves, text columns with no
-    /// building ([`crate::records::stood_on`]): the tables' PGA, PGV and
-    /// SA are the floor's.
+    /// building ([`crate::records::stood_on`]): the tables' measures are
+    /// the floor's (PFA, PFV, FSA(T)).
     pub stood_on: bool,
 }
 
@@ -119,6 +119,13 @@ impl StudyData {
         } else {
             crate::im::Im::Pga
         }
+    }
+
+    /// The measures a block's capacity is stated in by the ims and damage
+    /// stages: the floor's (PFA, PFV, FSA(T)) where the blocks stand on
+    /// the records ([`crate::records::stood_on`]), else the ground's.
+    pub fn capacity_measures(&self) -> Vec<crate::im::Im> {
+        crate::im::Im::capacity_measures_of(self.stood_on)
     }
 
     /// Whether the blocks are the dimensionless p × ε grid (not physical blocks).

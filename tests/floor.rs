@@ -1547,6 +1547,10 @@ fn floor_spectral_acceleration_is_the_floor_motions_sa() {
 /// motions written as AT2 files (`at2 = [...]`): every capacity and η equal
 /// to the bit (the text in g, read back exactly); the records table says
 /// how each was read; `unit` is required and refused with the valid ones.
+/// The text study's tables name its measures the floor's: `record_ims`,
+/// `im_efficiency` and `damage_states` hold `pfa`, `pfv` and `fsa(T)` only,
+/// each equal to the AT2 study's `pga`, `pgv` and `sa(T)` of the same
+/// motions (to 1e-12), and its report says PFA where the AT2 one says PGA.
 #[test]
 fn a_pipeline_reads_a_structural_models_floor_motions() {
     let dir = tempdir();
@@ -1597,12 +1601,11 @@ fn a_pipeline_reads_a_structural_models_floor_motions() {
                 p.to_str().unwrap(),
                 "--outputs",
                 outputs.to_str().unwrap(),
-                "--to",
-                "sweep",
             ],
         );
         assert!(out.status.success(), "{}", stderr(&out));
     }
+    floor_names_of_text_studies(&outputs.join("as-at2"), &outputs.join("as-text"));
     let caps = |name: &str| rocking::stages::sweep::read_capacities(&outputs.join(name)).unwrap();
     let (from_at2, from_text) = (caps("as-at2"), caps("as-text"));
     assert_eq!(from_at2.len(), 3);
@@ -1701,6 +1704,75 @@ fn a_pipeline_reads_a_structural_models_floor_motions() {
         stderr(&out).contains("`records.text` needs `unit`"),
         "{}",
         stderr(&out)
+    );
+}
+
+/// The text study `text`'s tables against the AT2 study `at2` of the same
+/// motions: every measure renamed to the floor's, each value and fit equal.
+fn floor_names_of_text_studies(at2: &std::path::Path, text: &std::path::Path) {
+    use rocking::im::Im;
+    use rocking::tables::{damage::DamageStateRow, ims::EfficiencyRow, ims::RecordImRow};
+    let close = |a: f64, b: f64, what: &str| {
+        assert!((a - b).abs() <= 1e-12 * b.abs(), "{what}: {a} against {b}")
+    };
+    let floor_of = |name: &str| -> String {
+        let im: Im = name.parse().unwrap();
+        im.felt().map_or(String::new(), |f| f.name())
+    };
+    let ims: [Vec<RecordImRow>; 2] =
+        [at2, text].map(|d| rocking::tables::read(&d.join("record_ims.parquet")).unwrap());
+    assert!(ims[1].iter().all(|r| r.im.parse::<Im>().unwrap().floor()));
+    let wanted: Vec<&RecordImRow> = ims[0]
+        .iter()
+        .filter(|r| !floor_of(&r.im).is_empty())
+        .collect();
+    assert_eq!(wanted.len(), ims[1].len());
+    for (g, f) in wanted.iter().zip(&ims[1]) {
+        assert_eq!(
+            (floor_of(&g.im), &g.record_id, &g.unit),
+            (f.im.clone(), &f.record_id, &f.unit)
+        );
+        close(f.value, g.value, &f.im);
+    }
+    let eff: [Vec<EfficiencyRow>; 2] =
+        [at2, text].map(|d| rocking::tables::read(&d.join("im_efficiency.parquet")).unwrap());
+    assert!(!eff[1].is_empty());
+    for f in &eff[1] {
+        let g = eff[0]
+            .iter()
+            .find(|g| g.block == f.block && floor_of(&g.im) == f.im)
+            .unwrap_or_else(|| panic!("{} {}", f.block, f.im));
+        close(f.beta, g.beta, &f.im);
+        close(f.median.unwrap(), g.median.unwrap(), &f.im);
+    }
+    // Ranked among the floor's measures: rank 1 is the smallest β.
+    for f in eff[1].iter().filter(|f| f.rank == Some(1)) {
+        let least = eff[1].iter().filter(|o| o.block == f.block).map(|o| o.beta);
+        assert_eq!(least.fold(f64::INFINITY, f64::min), f.beta);
+    }
+    let states: [Vec<DamageStateRow>; 2] =
+        [at2, text].map(|d| rocking::tables::read(&d.join("damage_states.parquet")).unwrap());
+    assert!(!states[1].is_empty());
+    assert!(states[1]
+        .iter()
+        .all(|r| r.im.parse::<Im>().unwrap().floor()));
+    for f in &states[1] {
+        let g = states[0]
+            .iter()
+            .find(|g| g.state == f.state && g.method == f.method && floor_of(&g.im) == f.im)
+            .unwrap();
+        match (f.median, g.median) {
+            (Some(a), Some(b)) => close(a, b, &f.im),
+            (a, b) => assert_eq!(a, b, "{} {}", f.state, f.im),
+        }
+    }
+    let report = |d: &std::path::Path| std::fs::read_to_string(d.join("report.md")).unwrap();
+    let (g, f) = (report(at2), report(text));
+    assert!(g.contains("β of PGA") && !g.contains("β of PFA"));
+    assert!(f.contains("β of PFA") && !f.contains("β of PGA"), "{f}");
+    assert!(
+        f.contains("in PFA/(αg)") && !f.contains("in PGA/(αg)"),
+        "{f}"
     );
 }
 

@@ -6,6 +6,7 @@
 use super::figure::Figure;
 use super::shared::{middle, middle_name};
 use crate::damage::{FitMethod, Lognormal};
+use crate::im::Im;
 use crate::plot::{Chart, Hue, Line, Scale, Style};
 use crate::study::{DamageData, StudyData};
 use crate::tables::damage::{DamageStateRow, StateCapacityRow};
@@ -30,8 +31,9 @@ pub struct Shown<'a> {
     /// ([`crate::cut::zero_below`]; α → 0 on the grid without α: η = 1);
     /// none on a floor that moves otherwise than the ground.
     pub cut: Option<f64>,
-    /// The peak the fits' unit is of: PGA, or PFA on text records stood on.
-    pub peak: &'static str,
+    /// The peak the fits are in: PGA (the ground's, on a `[floor]` too), or
+    /// PFA on text records stood on, whose tables name their measures so.
+    pub peak: String,
 }
 
 impl Shown<'_> {
@@ -110,10 +112,11 @@ pub fn shown(d: &StudyData) -> Option<Shown<'_>> {
         .filter_map(|c| Some((c.record_id.as_str(), c.pfa_over_pga?)))
         .collect();
     let of_block = move |i: i64| index.is_none_or(|b| b == i);
+    let peak = if d.stood_on { Im::Pfa } else { Im::Pga };
     let fits: Vec<&DamageStateRow> = data
         .states
         .iter()
-        .filter(|r| of_block(r.block_index) && r.im == "pga")
+        .filter(|r| of_block(r.block_index) && r.im == peak.name())
         .collect();
     if fits.is_empty() {
         return None;
@@ -137,7 +140,7 @@ pub fn shown(d: &StudyData) -> Option<Shown<'_>> {
             .collect(),
         pfa_over_pga,
         cut: cut_of(d, spec),
-        peak: if d.stood_on { "PFA" } else { "PGA" },
+        peak: peak.short(),
     })
 }
 
@@ -152,7 +155,7 @@ fn cut_of(d: &StudyData, spec: &crate::pipeline::BlockSpec) -> Option<f64> {
         crate::block::Block::of_p_alpha(spec.p, alpha, crate::block::Restitution::Value(spec.eps))
             .ok()?;
     let mu = spec.run.model.equation.friction().map(|f| f.mu_s);
-    crate::cut::zero_below(&block, crate::im::Im::Pga, floor, mu).map(|g| g / alpha)
+    crate::cut::zero_below(&block, Im::Pga, floor, mu).map(|g| g / alpha)
 }
 
 /// The states' fragility curves of the shown block.

@@ -12,16 +12,27 @@ use crate::tables::ims::EfficiencyRow;
 /// drawn.
 pub const SHOWN_PERIODS_S: [f64; 3] = [0.3, 1.0, 3.0];
 
-/// The IMs drawn against p, in legend order: every capacity measure, SA at
-/// [`SHOWN_PERIODS_S`] only.
-pub fn shown() -> Vec<Im> {
-    Im::capacity_measures()
+/// The IMs drawn against p, in legend order: every capacity measure of
+/// the study (the floor's where the blocks stand on the records), SA or
+/// FSA at [`SHOWN_PERIODS_S`] only.
+pub fn shown(d: &StudyData) -> Vec<Im> {
+    d.capacity_measures()
         .into_iter()
         .filter(|im| match im {
-            Im::Sa(t) => SHOWN_PERIODS_S.contains(t),
+            Im::Sa(t) | Im::Fsa(t) => SHOWN_PERIODS_S.contains(t),
             _ => true,
         })
         .collect()
+}
+
+/// The spectral measure a study's capacities are stated in, by period:
+/// FSA(T) where the blocks stand on the records, else SA(T).
+fn spectral(stood_on: bool, t: f64) -> Im {
+    if stood_on {
+        Im::Fsa(t)
+    } else {
+        Im::Sa(t)
+    }
 }
 
 /// An IM's name as a reader writes it ([`Im::short`]: PGA, SA(1.0),
@@ -89,13 +100,23 @@ fn series(rows: &[EfficiencyRow], im: &str, shown: Shown) -> Vec<(f64, f64)> {
     v
 }
 
-/// The SA period of smallest β for each block `shown`: (its index, p, the
-/// period, β), in increasing p.
-pub fn best_periods(rows: &[EfficiencyRow], shown: Shown) -> Vec<(i64, f64, f64, f64)> {
+/// The SA period (FSA where the blocks stand on the records, `stood_on`)
+/// of smallest β for each block `shown`: (its index, p, the period, β), in
+/// increasing p. A floor study's FSA rows, its floor's demands, are not
+/// the SA of its ground records.
+pub fn best_periods(
+    rows: &[EfficiencyRow],
+    shown: Shown,
+    stood_on: bool,
+) -> Vec<(i64, f64, f64, f64)> {
     let mut best: Vec<(i64, f64, f64, f64)> = Vec::new();
     for r in rows.iter().filter(|r| shown.holds(r)) {
-        let Ok(Im::Sa(t)) = r.im.parse() else {
+        let Ok(im) = r.im.parse::<Im>() else {
             continue;
+        };
+        let t = match im {
+            Im::Sa(t) | Im::Fsa(t) if im == spectral(stood_on, t) => t,
+            _ => continue,
         };
         match best.iter_mut().find(|b| b.0 == r.block_index) {
             Some(b) if r.beta < b.3 => *b = (r.block_index, r.p, t, r.beta),
@@ -119,7 +140,7 @@ pub(super) fn im_efficiency(d: &StudyData) -> Vec<Figure> {
     if d.efficiency.is_empty() || ps.len() < 2 {
         return Vec::new();
     }
-    let mut lines: Vec<Line> = shown()
+    let mut lines: Vec<Line> = shown(d)
         .into_iter()
         .enumerate()
         .map(|(i, im)| Line {
@@ -135,15 +156,22 @@ pub(super) fn im_efficiency(d: &StudyData) -> Vec<Figure> {
         })
         .filter(|l| !l.points.is_empty())
         .collect();
-    lines.push(Line {
-        name: Some("PGA | PGV/PGA".into()),
-        points: series(&d.efficiency, crate::im::efficiency::VECTOR, which),
-        style: match which {
-            Shown::Eps(_) => Style::Dashed,
-            Shown::Every => Style::Points,
-        },
-        hue: Hue::Ink,
-    });
+    // The vector of the ground's PGA and PGV/PGA (none of text records).
+    let vector = series(&d.efficiency, crate::im::efficiency::VECTOR, which);
+    let has_vector = !vector.is_empty();
+    if has_vector {
+        lines.push(Line {
+            name: Some("PGA | PGV/PGA".into()),
+            points: vector,
+            style: match which {
+                Shown::Eps(_) => Style::Dashed,
+                Shown::Every => Style::Points,
+            },
+            hue: Hue::Ink,
+        });
+    }
+    let sa = spectral(d.stood_on, 1.0).short();
+    let sa = sa.split('(').next().unwrap_or("SA");
     // Up to 1.2, or to the largest β (Arias's exceeds it at small p: its
     // line once ran clipped along the top of the frame).
     let top = lines
@@ -167,20 +195,26 @@ pub(super) fn im_efficiency(d: &StudyData) -> Vec<Figure> {
         caption: format!(
             "The smaller β, the better the IM predicts overturning: each record's capacity \
              converted into the IM (the record scaled to overturn the block), and β the standard \
-             deviation of its logarithm over the records. {at}; SA at 5 % damping; the \
-             {vector} PGA given the record's PGV/PGA (a two-parameter fragility).",
-            vector = match which {
-                Shown::Eps(_) => "dashed black line is",
-                Shown::Every => "black points are",
+             deviation of its logarithm over the records. {at}; {sa} at 5 % damping{vector}.",
+            vector = match (has_vector, which) {
+                (false, _) => "",
+                (true, Shown::Eps(_)) => {
+                    "; the dashed black line is PGA given the record's PGV/PGA (a two-parameter \
+                     fragility)"
+                }
+                (true, Shown::Every) => {
+                    "; the black points are PGA given the record's PGV/PGA (a two-parameter \
+                     fragility)"
+                }
             }
         ),
     };
     let periods = Figure {
         file: "im_best_sa_period.svg".into(),
         chart: Chart {
-            title: "The SA period that predicts overturning best".into(),
+            title: format!("The {sa} period that predicts overturning best"),
             x_desc: "p (1/s)".into(),
-            y_desc: "period T of the smallest β of SA(T) (s)".into(),
+            y_desc: format!("period T of the smallest β of {sa}(T) (s)"),
             x_scale: Scale::Log,
             y_scale: Scale::Log,
             x_range: None,
@@ -188,9 +222,10 @@ pub(super) fn im_efficiency(d: &StudyData) -> Vec<Figure> {
             x_ticks: None,
             lines: period_lines(d, which, &es),
         },
-        caption: "For each block, the period among 0.05–4 s whose SA has the smallest \
-                  dispersion of the capacity (the report's IM section says how it moves with p)."
-            .into(),
+        caption: format!(
+            "For each block, the period among 0.05–4 s whose {sa} has the smallest dispersion of \
+             the capacity (the report's IM section says how it moves with p)."
+        ),
     };
     vec![beta, periods]
 }
@@ -200,7 +235,7 @@ pub(super) fn im_efficiency(d: &StudyData) -> Vec<Figure> {
 fn period_lines(d: &StudyData, shown: Shown, es: &[f64]) -> Vec<Line> {
     let line = |name: String, shown: Shown, style: Style, hue: Hue| Line {
         name: Some(name),
-        points: best_periods(&d.efficiency, shown)
+        points: best_periods(&d.efficiency, shown, d.stood_on)
             .into_iter()
             .map(|(_, p, t, _)| (p, t))
             .collect(),
@@ -318,7 +353,7 @@ mod tests {
             row(4.0, 0.7, "pgv", 0.1),
         ];
         assert_eq!(
-            best_periods(&rows, Shown::Eps(0.7)),
+            best_periods(&rows, Shown::Eps(0.7), false),
             vec![
                 (index(1.0, 0.7), 1.0, 2.0, 0.3),
                 (index(4.0, 0.7), 4.0, 0.3, 0.2)
@@ -326,11 +361,27 @@ mod tests {
         );
         // Every block, each its own: the one at ε = 0.9 too, at the same p.
         assert_eq!(
-            best_periods(&rows, Shown::Every),
+            best_periods(&rows, Shown::Every, false),
             vec![
                 (index(1.0, 0.7), 1.0, 2.0, 0.3),
                 (index(4.0, 0.7), 4.0, 0.3, 0.2),
                 (index(4.0, 0.9), 4.0, 0.3, 0.9)
+            ]
+        );
+        // A floor study's FSA rows (its floor's demands) are not its
+        // ground's SA; text records' (stood on) are the only spectral ones.
+        let mut floor = rows.clone();
+        floor.push(row(1.0, 0.7, "fsa(0.5)", 0.01));
+        floor.push(row(4.0, 0.7, "fsa(3.0)", 0.3));
+        assert_eq!(
+            best_periods(&floor, Shown::Eps(0.7), false),
+            best_periods(&rows, Shown::Eps(0.7), false)
+        );
+        assert_eq!(
+            best_periods(&floor, Shown::Eps(0.7), true),
+            vec![
+                (index(1.0, 0.7), 1.0, 0.5, 0.01),
+                (index(4.0, 0.7), 4.0, 3.0, 0.3)
             ]
         );
     }

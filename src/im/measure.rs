@@ -170,6 +170,17 @@ impl Im {
         Im::expand(|im| im.scales() && !im.floor() && !im.pair())
     }
 
+    /// [`Im::capacity_measures`], or for blocks standing on the records
+    /// themselves (text records, a structural model's floor motions;
+    /// `stood_on`) the same measures' floor names, [`Im::floor_measures`].
+    pub fn capacity_measures_of(stood_on: bool) -> Vec<Im> {
+        if stood_on {
+            Im::floor_measures()
+        } else {
+            Im::capacity_measures()
+        }
+    }
+
     /// The floor demands a block on a building's floor has its capacity
     /// stated in beside the ground's (a floor study's ims stage): PFA, PFV
     /// and FSA at every period of [`PERIODS_S`], each of the motion the
@@ -425,6 +436,18 @@ impl Im {
             Im::Pfv => Im::Pgv,
             Im::Fsa(t) => Im::Sa(t),
             other => other,
+        }
+    }
+
+    /// The floor demand that is this measure of the motion a block feels
+    /// (PFA for PGA, PFV for PGV, FSA(T) for SA(T)): the inverse of
+    /// [`Im::of_motion`]; `None` for a measure with no floor name.
+    pub fn felt(self) -> Option<Im> {
+        match self {
+            Im::Pga => Some(Im::Pfa),
+            Im::Pgv => Some(Im::Pfv),
+            Im::Sa(t) => Some(Im::Fsa(t)),
+            _ => None,
         }
     }
 

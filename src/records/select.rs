@@ -66,7 +66,8 @@ pub fn select(plan: &Plan, table: &Path) -> Result<Vec<RecordRow>, SelectError> 
 /// columns (a structural model's floor motions, each scaled itself), not
 /// on the ground they shake: records read from text (`[records] text`, or
 /// a records table of such rows) with no `[floor]` to run them through.
-/// Their PGA, PGV and SA are then the floor's PFA, PFV and FSA(T).
+/// Their PGA, PGV and SA are then the floor's PFA, PFV and FSA(T), and the
+/// ims and damage stages name them so.
 pub fn stood_on(plan: &RecordsPlan, rows: &[RecordRow]) -> bool {
     plan.floor.is_none()
         && (plan.records.text().is_some()

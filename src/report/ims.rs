@@ -47,17 +47,34 @@ pub(super) fn ims_section(w: &mut String, d: &StudyData) {
     let beta = |block: i64, im: &str| -> Option<&EfficiencyRow> {
         rows.iter().find(|r| r.block_index == block && r.im == im)
     };
-    let periods = best_periods(rows, shown);
+    let periods = best_periods(rows, shown, d.stood_on);
     let (head, first) = match shown {
         Shown::Eps(_) => (format!("At {}:", shown.text()), "p (1/s)"),
         Shown::Every => ("Each block at its own ε:".to_string(), "block, ε, p (1/s)"),
     };
+    // The columns: the ground's PGA, PGV and AvgSA and the vector, or of
+    // text records the floor's PFA and PFV (the tables hold only those).
+    let (named, sa, vector): (&[(&str, &str)], &str, bool) = if d.stood_on {
+        (&[("PFA", "pfa"), ("PFV", "pfv")], "FSA", false)
+    } else {
+        (
+            &[("PGA", "pga"), ("PGV", "pgv"), ("AvgSA", "avgsa")],
+            "SA",
+            true,
+        )
+    };
     let _ = writeln!(w, "{head}\n");
-    let _ = writeln!(
-        w,
-        "| {first} | best IM (β) | β of PGA | β of PGV | β of AvgSA | best SA(T): T (s), β | β of PGA given PGV/PGA |"
-    );
-    let _ = writeln!(w, "|---|---|---|---|---|---|---|");
+    let mut header = format!("| {first} | best IM (β) |");
+    for (name, _) in named {
+        let _ = write!(header, " β of {name} |");
+    }
+    let _ = write!(header, " best {sa}(T): T (s), β |");
+    if vector {
+        header.push_str(" β of PGA given PGV/PGA |");
+    }
+    let _ = writeln!(w, "{header}");
+    let columns = named.len() + 3 + usize::from(vector);
+    let _ = writeln!(w, "|{}", "---|".repeat(columns));
     let f = |r: Option<&EfficiencyRow>| r.map_or("—".to_string(), |r| format!("{:.3}", r.beta));
     for &(block, p, t, b) in &periods {
         let top = rows
@@ -70,25 +87,32 @@ pub(super) fn ims_section(w: &mut String, d: &StudyData) {
             (Shown::Every, Some(r)) => format!("{}, {}, ", r.block, r.eps),
             _ => String::new(),
         };
-        let _ = writeln!(
-            w,
-            "| {name}{p:.3} | {top} | {} | {} | {} | {}, {b:.3} | {} |",
-            f(beta(block, "pga")),
-            f(beta(block, "pgv")),
-            f(beta(block, "avgsa")),
-            crate::im::period_text(t),
-            f(beta(block, VECTOR)),
-        );
+        let mut line = format!("| {name}{p:.3} | {top} |");
+        for (_, im) in named {
+            let _ = write!(line, " {} |", f(beta(block, im)));
+        }
+        let _ = write!(line, " {}, {b:.3} |", crate::im::period_text(t));
+        if vector {
+            let _ = write!(line, " {} |", f(beta(block, VECTOR)));
+        }
+        let _ = writeln!(w, "{line}");
     }
     let periods: Vec<(f64, f64, f64)> = periods.iter().map(|b| (b.1, b.2, b.3)).collect();
     // Blocks of their own ε differ in more than size: no rule along p.
     let line = match shown {
-        Shown::Eps(_) => best_period_line(&periods),
+        Shown::Eps(_) => best_period_line(&periods, sa),
         Shown::Every => None,
     };
     if let Some(line) = line {
         let _ = writeln!(w, "\n{line}");
     }
+    if vector {
+        vector_line(w, rows);
+    }
+}
+
+/// How often PGA given PGV/PGA beats the best single IM.
+fn vector_line(w: &mut String, rows: &[EfficiencyRow]) {
     let lower = rows
         .iter()
         .filter(|r| r.im == VECTOR)
@@ -107,9 +131,9 @@ pub(super) fn ims_section(w: &mut String, d: &StudyData) {
     );
 }
 
-/// How the best SA period changes with p (`best`: p, the period, β, by p),
+/// How the best `sa` (SA or FSA) period changes with p (`best`: p, the period, β, by p),
 /// where the study has two p or more: it moves, or stays.
-fn best_period_line(best: &[(f64, f64, f64)]) -> Option<String> {
+fn best_period_line(best: &[(f64, f64, f64)], sa: &str) -> Option<String> {
     let (first, last) = (best.first()?, best.last()?);
     if first.0 == last.0 {
         return None;
@@ -125,7 +149,7 @@ fn best_period_line(best: &[(f64, f64, f64)]) -> Option<String> {
         });
     if low < high && first.1 == last.1 {
         return Some(format!(
-            "The best SA period varies with p between {} and {} s ({t0} s at p = {:.2} and \
+            "The best {sa} period varies with p between {} and {} s ({t0} s at p = {:.2} and \
              {:.2} 1/s).",
             crate::im::period_text(low),
             crate::im::period_text(high),
@@ -135,16 +159,16 @@ fn best_period_line(best: &[(f64, f64, f64)]) -> Option<String> {
     }
     Some(match first.1.total_cmp(&last.1) {
         std::cmp::Ordering::Equal => format!(
-            "The best SA period is {t0} s from p = {:.2} to {:.2} 1/s.",
+            "The best {sa} period is {t0} s from p = {:.2} to {:.2} 1/s.",
             first.0, last.0
         ),
         std::cmp::Ordering::Greater => format!(
-            "The best SA period moves from {t0} s at p = {:.2} 1/s to {t1} s at p = {:.2} 1/s: \
+            "The best {sa} period moves from {t0} s at p = {:.2} 1/s to {t1} s at p = {:.2} 1/s: \
              a larger block (smaller p) is overturned by the record's longer periods.",
             first.0, last.0
         ),
         std::cmp::Ordering::Less => format!(
-            "The best SA period moves from {t0} s at p = {:.2} 1/s to {t1} s at p = {:.2} 1/s.",
+            "The best {sa} period moves from {t0} s at p = {:.2} 1/s to {t1} s at p = {:.2} 1/s.",
             first.0, last.0
         ),
     })
@@ -160,26 +184,31 @@ mod tests {
     /// one is not.
     #[test]
     fn the_best_period_line_says_what_the_periods_do() {
-        assert_eq!(best_period_line(&[(2.82, 1.0, 0.3)]), None);
-        assert_eq!(best_period_line(&[]), None);
+        assert_eq!(best_period_line(&[(2.82, 1.0, 0.3)], "SA"), None);
+        assert_eq!(best_period_line(&[], "SA"), None);
         assert_eq!(
-            best_period_line(&[(1.0, 1.0, 0.3), (4.0, 1.0, 0.2)]).unwrap(),
+            best_period_line(&[(1.0, 1.0, 0.3), (4.0, 1.0, 0.2)], "SA").unwrap(),
             "The best SA period is 1.0 s from p = 1.00 to 4.00 1/s."
         );
-        let longer = best_period_line(&[(1.0, 2.0, 0.3), (4.0, 0.5, 0.2)]).unwrap();
+        let longer = best_period_line(&[(1.0, 2.0, 0.3), (4.0, 0.5, 0.2)], "SA").unwrap();
         assert!(
             longer.ends_with("overturned by the record's longer periods."),
             "{longer}"
         );
         assert_eq!(
-            best_period_line(&[(1.0, 1.0, 0.3), (2.0, 2.0, 0.3), (4.0, 1.0, 0.2)]).unwrap(),
+            best_period_line(&[(1.0, 1.0, 0.3), (2.0, 2.0, 0.3), (4.0, 1.0, 0.2)], "SA").unwrap(),
             "The best SA period varies with p between 1.0 and 2.0 s (1.0 s at p = 1.00 and \
              4.00 1/s)."
         );
-        let shorter = best_period_line(&[(1.0, 0.5, 0.3), (4.0, 2.0, 0.2)]).unwrap();
+        let shorter = best_period_line(&[(1.0, 0.5, 0.3), (4.0, 2.0, 0.2)], "SA").unwrap();
         assert_eq!(
             shorter,
             "The best SA period moves from 0.5 s at p = 1.00 1/s to 2.0 s at p = 4.00 1/s."
+        );
+        // Text records' spectral measure is the floor's.
+        assert_eq!(
+            best_period_line(&[(1.0, 1.0, 0.3), (4.0, 1.0, 0.2)], "FSA").unwrap(),
+            "The best FSA period is 1.0 s from p = 1.00 to 4.00 1/s."
         );
     }
 }

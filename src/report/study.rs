@@ -44,11 +44,12 @@ fn text_records(w: &mut String, d: &StudyData) {
     let _ = writeln!(
         w,
         "**The records are text columns** (a structural model's floor motions as given, each \
-         scaled itself, with no `[floor]` to run them through). Every PGA, PGV, SA(T) and other IM in this report and \
-         its tables (`record_ims`, `im_efficiency`, `damage_states`) is of that motion: the \
-         floor's PFA, PFV and FSA(T), not the ground's. `rocking fragility`, `risk` and \
-         `export --from` this pipeline refuse a ground IM of them; `--direct --im pfa|pfv|fsa(T)` \
-         states the fragility in the floor's demands (docs/MODEL.md §16).\n"
+         scaled itself, with no `[floor]` to run them through). η is of each record's own \
+         peak, the floor's PFA, and this report and its tables (`record_ims`, `im_efficiency`, \
+         `damage_states`) state the capacities in the floor's demands of that motion, PFA, PFV \
+         and FSA(T), not in the ground's measures. `rocking fragility`, `risk` and `export \
+         --from` this pipeline refuse a ground IM of them; `--direct --im pfa|pfv|fsa(T)` states \
+         the fragility in the floor's demands (docs/MODEL.md §16).\n"
     );
 }
 

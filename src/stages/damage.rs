@@ -111,7 +111,11 @@ fn run(study: &Study) -> Result<Summary, DamageStageError> {
     let states = &plan.damage;
     let (caps, ida) = reduce::load(study)?;
     let by_case = reduce::split_by_case(&ida, caps.len())?;
-    let record_ims = ims::read_record_ims(&study.dir)?;
+    // Text records' measures are the floor's (PFA, PFV, FSA(T)), the
+    // states fitted in those.
+    let stood_on = study.stood_on();
+    let record_ims = ims::read_record_ims(&study.dir, stood_on)?;
+    let measures = Im::capacity_measures_of(stood_on);
     let n_blocks = plan.blocks.len();
     let n_records = caps.len() / n_blocks;
     let of = |k: usize| &by_case[k];
@@ -126,7 +130,7 @@ fn run(study: &Study) -> Result<Summary, DamageStageError> {
                 &plan.blocks[bi],
                 &records,
                 &record_ims,
-                states,
+                (states, &measures),
                 plan.fractile,
             )
         })
@@ -145,7 +149,14 @@ fn run(study: &Study) -> Result<Summary, DamageStageError> {
             .zip(&by_case)
             .map(|(c, r)| (c, r.as_slice()))
             .collect();
-        let found = of_block(0, block, &records, &record_ims, states, plan.fractile)?;
+        let found = of_block(
+            0,
+            block,
+            &records,
+            &record_ims,
+            (states, &measures),
+            plan.fractile,
+        )?;
         let (c, s) = flatten(vec![found]);
         tables::write(&study.path(EXAMPLE_CAPACITIES), &c, &meta)?;
         tables::write(&study.path(EXAMPLE_STATES), &s, &meta)?;
@@ -165,7 +176,7 @@ fn run(study: &Study) -> Result<Summary, DamageStageError> {
             format!(
                 "limit states of {n_blocks} blocks × {n_records} records, fitted in {} IMs; \
                  capacities reached within the grid: {}",
-                Im::capacity_measures().len(),
+                measures.len(),
                 shares.join(", ")
             ),
             format!("wrote {} in {}", wrote.join(", "), study.dir.display()),
@@ -191,7 +202,7 @@ fn flatten(blocks: Vec<BlockDamage>) -> (Vec<StateCapacityRow>, Vec<DamageStateR
 }
 
 /// The states' capacities of one block under each record (its capacity row
-/// and runs, in record order), and their fits in every IM. Fits are made at
+/// and runs, in record order), and their fits in each of `measures`. Fits are made at
 /// α = 1 and stated in the IM's dimensionless form; a block with α also
 /// gets its medians in the IM's unit (ln IM_c shifts by power·ln α).
 fn of_block(
@@ -199,7 +210,7 @@ fn of_block(
     block: &BlockSpec,
     records: &[(&CapacityRow, &[&IdaRow])],
     record_ims: &BTreeMap<String, RecordIms>,
-    states: &DamageStates,
+    (states, measures): (&DamageStates, &[Im]),
     def: FractileDef,
 ) -> Result<BlockDamage, DamageStageError> {
     let mut ims = Vec::with_capacity(records.len());
@@ -246,7 +257,7 @@ fn of_block(
         .collect();
     let n = states.states().len();
     let mut rows = Vec::new();
-    for im in Im::capacity_measures() {
+    for &im in measures {
         // On a floor, the ground's η (the IMs are the ground record's).
         let at_unit_alpha = |k: usize, eta: f64| im::of_eta(im, eta * amp[k], 1.0, ims[k]);
         let Some(fits) = damage::fit_states(n, &per_record, at_unit_alpha, def) else {

@@ -108,6 +108,10 @@ fn run(study: &Study) -> Result<Summary, ImsError> {
     }
     let floor = study.plan.records_study()?.floor.as_ref();
     let felt = floor.map(|b| felt_ims(b, &rows)).transpose()?;
+    // Text records are the motions the blocks stand on: their measures are
+    // the floor's, named so (PFA, PFV, FSA(T)), and ranked among themselves.
+    let stood_on = study.stood_on();
+    let floors = Im::floor_measures();
     let caps = sweep::read_capacities(&study.dir).map_err(ReduceError::from)?;
     let blocks: Vec<BlockRow> = reduce::read(&study.dir, "blocks.parquet")?;
     let n_blocks = blocks.len();
@@ -122,17 +126,14 @@ fn run(study: &Study) -> Result<Summary, ImsError> {
     let mut best: BTreeMap<String, usize> = BTreeMap::new();
     for (bi, b) in blocks.iter().enumerate() {
         let eta = ground_eta(&caps, &rows, n_blocks, bi)?;
-        let mut found = efficiency::of_block(&eta, &ims, b.p, b.alpha_rad);
-        let mut order: Vec<usize> = (0..found.len())
-            .filter(|&i| found[i].slope.is_none())
-            .collect();
-        order.sort_by(|&i, &j| found[i].beta.total_cmp(&found[j].beta));
-        if let Some(&first) = order.first() {
+        let mut found = if stood_on {
+            efficiency::of_measures(&eta, &ims, &floors, b.p, b.alpha_rad)
+        } else {
+            efficiency::of_block(&eta, &ims, b.p, b.alpha_rad)
+        };
+        let mut ranks = ranks(&found);
+        if let Some(first) = ranks.iter().position(|&r| r == Some(1)) {
             *best.entry(found[first].im.clone()).or_default() += 1;
-        }
-        let mut ranks = vec![None; found.len()];
-        for (r, &i) in order.iter().enumerate() {
-            ranks[i] = Some(r as i64 + 1);
         }
         if turned {
             let demands =
@@ -145,8 +146,7 @@ fn run(study: &Study) -> Result<Summary, ImsError> {
             let on_floor: Vec<Option<f64>> = (0..rows.len())
                 .map(|ri| caps[ri * n_blocks + bi].eta_c)
                 .collect();
-            let demands =
-                efficiency::of_measures(&on_floor, felt, &Im::floor_measures(), b.p, b.alpha_rad);
+            let demands = efficiency::of_measures(&on_floor, felt, &floors, b.p, b.alpha_rad);
             ranks.extend(demands.iter().map(|_| None));
             found.extend(demands);
         }
@@ -161,7 +161,11 @@ fn run(study: &Study) -> Result<Summary, ImsError> {
         "rocking.ims.damping".to_string(),
         crate::im::SPECTRAL_DAMPING.to_string(),
     )];
-    let mut im_table = im_rows(&rows, &ims);
+    let mut im_table = if stood_on {
+        floor_rows(&rows, &ims)
+    } else {
+        im_rows(&rows, &ims)
+    };
     if let Some(felt) = &felt {
         im_table.extend(floor_rows(&rows, felt));
     }
@@ -188,6 +192,20 @@ fn run(study: &Study) -> Result<Summary, ImsError> {
         headline: 0,
         also_wrote: Vec::new(),
     })
+}
+
+/// Each measure's rank by β among `found` (1: the smallest), the vector's
+/// (which has a slope) none.
+fn ranks(found: &[efficiency::Efficiency]) -> Vec<Option<i64>> {
+    let mut order: Vec<usize> = (0..found.len())
+        .filter(|&i| found[i].slope.is_none())
+        .collect();
+    order.sort_by(|&i, &j| found[i].beta.total_cmp(&found[j].beta));
+    let mut ranks = vec![None; found.len()];
+    for (r, &i) in order.iter().enumerate() {
+        ranks[i] = Some(r as i64 + 1);
+    }
+    ranks
 }
 
 /// Block `bi`'s η_c under each record (`None`: never overturned), checked
@@ -283,8 +301,13 @@ fn floor_rows(rows: &[RecordRow], felt: &[RecordIms]) -> Vec<RecordImRow> {
 }
 
 /// The records' IMs as the stage wrote them (`record_ims` of the study
-/// folder `dir`), by record id.
-pub fn read_record_ims(dir: &std::path::Path) -> Result<BTreeMap<String, RecordIms>, ImsError> {
+/// folder `dir`), by record id: the records' own measures, which for a
+/// study whose blocks stand on its records (`stood_on`: text records, whose
+/// rows are the floor's PFA, PFV and FSA(T)) are its floor rows.
+pub fn read_record_ims(
+    dir: &std::path::Path,
+    stood_on: bool,
+) -> Result<BTreeMap<String, RecordIms>, ImsError> {
     let rows: Vec<RecordImRow> = reduce::read(dir, RECORD_IMS)?;
     let mut values: BTreeMap<String, Vec<(Im, f64)>> = BTreeMap::new();
     for r in rows {
@@ -292,17 +315,22 @@ pub fn read_record_ims(dir: &std::path::Path) -> Result<BTreeMap<String, RecordI
             .im
             .parse::<Im>()
             .map_err(|e| ImsError::RecordIms(format!("record_ims: record {}: {e}", r.record_id)))?;
-        if im.floor() {
-            // A floor study's floor demands: of the floor motion, not the record.
+        if im.floor() != stood_on {
+            // A floor study's floor demands are of the floor motion, not
+            // the record; text records' are the records' own.
             continue;
         }
-        values.entry(r.record_id).or_default().push((im, r.value));
+        values
+            .entry(r.record_id)
+            .or_default()
+            .push((im.of_motion(), r.value));
     }
     values
         .into_iter()
         .map(|(id, v)| {
             let ims = RecordIms::from_values(v).ok_or_else(|| {
-                ImsError::RecordIms(format!("record_ims: record {id} has no PGA"))
+                let peak = if stood_on { "PFA" } else { "PGA" };
+                ImsError::RecordIms(format!("record_ims: record {id} has no {peak}"))
             })?;
             Ok((id, ims))
         })

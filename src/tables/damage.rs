@@ -62,10 +62,11 @@ table! {
         /// The criterion's θmax/α threshold x; empty for overturning.
         pub threshold: Option<f64>,
         /// The IM: `pga`, `pgv`, `pgd`, `avgsa`, `arias`, `cav`, or `sa(T)` with T the
-        /// period in s (e.g. `sa(1.0)`).
+        /// period in s (e.g. `sa(1.0)`); over text records (a structural model's floor
+        /// motions, no `[floor]`) the floor's `pfa`, `pfv` or `fsa(T)`.
         pub im: String,
-        /// The IM's unit: g (PGA, SA, AvgSA), cm/s (PGV), cm (PGD), m/s (Arias intensity)
-        /// or g·s (CAV).
+        /// The IM's unit: g (PGA, SA, AvgSA, PFA, FSA), cm/s (PGV, PFV), cm (PGD), m/s
+        /// (Arias intensity) or g·s (CAV).
         pub unit: String,
         /// `fractile` (the paper's 16/50/84 % fractiles, records not reaching the state at
         /// +∞) or `mle` (censored maximum likelihood, records not reaching the state

@@ -33,7 +33,9 @@ table! {
         /// `cav` the cumulative absolute velocity, `d5_95` the 5–95 % significant duration,
         /// `pgv_pga` PGV/PGA, `tm` the mean period (Rathje et al. 1998), `sa(T)` the
         /// pseudo-spectral acceleration at 5 % damping at period T; `pfa`, `pfv` and `fsa(T)`
-        /// the same peak acceleration, peak velocity and SA(T) of the floor motion.
+        /// the same peak acceleration, peak velocity and SA(T) of the floor motion. Text
+        /// records (a structural model's floor motions, no `[floor]`) are the floor's
+        /// motions: their rows are `pfa`, `pfv` and `fsa(T)` only.
         pub im: String,
         /// The measure's unit: g (PGA, SA, AvgSA, PFA, FSA), cm/s (PGV, PFV), cm (PGD), m/s
         /// (Arias intensity), g·s (CAV) or s (D5–95, PGV/PGA, Tm).
@@ -56,7 +58,9 @@ table! {
     /// `pga | pgv/pga`; on a building's floor (`[floor]`) they are followed by the floor
     /// demands `pfa`, `pfv` and `fsa(T)`, the block's capacity stated in its floor motion's
     /// own measures (FEMA P-58's PFA and PFV); in a study over orientations by a pair's
-    /// RotD50 and RotD100 (`rotd50_pga`, …: the hazard's component). A block with fewer
+    /// RotD50 and RotD100 (`rotd50_pga`, …: the hazard's component). Over text records (a
+    /// structural model's floor motions, no `[floor]`) the IMs are the floor's `pfa`, `pfv`
+    /// and `fsa(T)` only, ranked among themselves. A block with fewer
     /// than three capacities has no rows; the vector
     /// needs four. The metadata holds `rocking.ims.damping` (0.05).
     pub struct EfficiencyRow = "im_efficiency" v 1 {

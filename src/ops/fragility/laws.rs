@@ -84,8 +84,8 @@ pub struct Laws {
     damage_stale: Option<String>,
     /// The blocks stand on the pipeline's records, text columns (a
     /// structural model's floor motions; [`crate::records::stood_on`]):
-    /// its tables' PGA, PGV and SA are the floor's, and a ground IM of
-    /// them is refused as `--direct` on text records refuses it.
+    /// its tables state capacities in the floor's PFA, PFV and FSA(T), and a
+    /// ground IM of them is refused as `--direct` on text records refuses it.
     stood_on: bool,
 }
 
