@@ -289,7 +289,9 @@ fn a_duplicated_inventory_column_is_refused() {
 /// An inventory column misspelt or renamed (`epsilon`, `friction`, `Mu`)
 /// was passed over: every block took Housner's ε, or no friction, and the
 /// rates changed without a word (the kouros 4.63e-3/yr against 2.58e-3).
-/// The user's own columns are still passed over.
+/// So were `e`, `ε`, `restitution_coefficient`, `mu_static` and `fric`:
+/// a column is read as restitution or friction by its stem too. The
+/// user's own columns are still passed over.
 #[test]
 fn a_misnamed_inventory_column_is_refused() {
     let dir = tempdir();
@@ -303,6 +305,18 @@ fn a_misnamed_inventory_column_is_refused() {
         ("name,b,h,eps.", "eps.", "eps"),
         ("name,b,h,epss", "epss", "eps"),
         ("id,b,h", "id", "name"),
+        ("name,b,h,e", "e", "eps"),
+        ("name,b,h,E", "E", "eps"),
+        ("name,b,h,ε", "ε", "eps"),
+        (
+            "name,b,h,restitution_coefficient",
+            "restitution_coefficient",
+            "eps",
+        ),
+        ("name,b,h,coeff_restitution", "coeff_restitution", "eps"),
+        ("name,b,h,rest", "rest", "eps"),
+        ("name,b,h,eps,mu_static", "mu_static", "mu"),
+        ("name,b,h,eps,fric", "fric", "mu"),
     ] {
         fs::write(
             d.join("inv.csv"),
@@ -344,7 +358,12 @@ fn a_misnamed_inventory_column_is_refused() {
         );
     }
     // Columns of the user's own, or a near name beside the known one.
-    for header in ["name,b,h,eps,room", "name,b,h,eps,epsilon"] {
+    for header in [
+        "name,b,h,eps,room",
+        "name,b,h,eps,epsilon",
+        "name,b,h,eps,museum",
+        "name,b,h,eps,era",
+    ] {
         fs::write(
             d.join("inv.csv"),
             format!("{header}\nstatue,0.2,0.9,0.7,x\n"),

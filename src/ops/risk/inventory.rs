@@ -205,9 +205,13 @@ fn misnamed_column(headers: &csv::StringRecord) -> Option<String> {
                  ignored)"
             ));
         }
-        let (known, _) = KNOWN.iter().find(|(k, others)| {
-            *k == p || others.contains(&p.as_str()) || (k.len() >= 3 && one_letter_off(k, &p))
-        })?;
+        let known = KNOWN
+            .iter()
+            .find(|(k, others)| {
+                *k == p || others.contains(&p.as_str()) || (k.len() >= 3 && one_letter_off(k, &p))
+            })
+            .map(|(k, _)| k)
+            .or_else(|| named_as(&p))?;
         // A column the file also has under its own name is the user's own.
         if given.contains(known) {
             return None;
@@ -218,6 +222,26 @@ fn misnamed_column(headers: &csv::StringRecord) -> Option<String> {
              would be ignored: rename it"
         ))
     })
+}
+
+/// The known column a plain name `p` reads as by its stem: restitution
+/// (`e`, `ε`, `rest`, `restitution_coefficient`, `coeff_restitution`,
+/// `eps_0`) or friction (`fric`, `mu_static`, `μs`, `friction_coef`).
+fn named_as(p: &str) -> Option<&'static &'static str> {
+    let eps = p.contains("restitution")
+        || p.starts_with("coefrest")
+        || p.starts_with("coeffrest")
+        || p.starts_with("eps")
+        || p.starts_with('ε')
+        || matches!(p, "e" | "rest");
+    // `mu` then a word is the user's own (`museum`, `multiplier`).
+    let mu = p.contains("fric") || matches!(p, "mus" | "mustatic" | "mu0") || p.starts_with('μ');
+    let at = |name: &str| KNOWN.iter().map(|(k, _)| k).find(|k| **k == name);
+    match (eps, mu) {
+        (true, false) => at("eps"),
+        (false, true) => at("mu"),
+        _ => None,
+    }
 }
 
 /// Whether `a` and `b` differ by one letter changed, added or removed.
