@@ -1486,6 +1486,54 @@ fn relative_floor_motions_take_their_ground_back() {
         "{}",
         stderr(&out)
     );
+    // A ground of its name twice (AT2 and text) is ambiguous, and one whose
+    // times start after the record's would be 0 before them: both refused
+    // (the doubled text was passed over; the offset halved a capacity).
+    let twice = dir.path().join("twice");
+    std::fs::create_dir(&twice).unwrap();
+    for id in &FEW[..3] {
+        let name = format!("{id}.AT2");
+        std::fs::copy(few.join(&name), twice.join(&name)).unwrap();
+    }
+    let record = few.join(format!("{}.AT2", FEW[0]));
+    let (_, dt) = rocking::records::read_samples(&record).unwrap();
+    let as_text = |t0: f64| -> String {
+        let values = plain_at2_values(&record);
+        let rows = values.iter().enumerate();
+        rows.map(|(i, a)| format!("{} {}\n", t0 + i as f64 * dt, a * 9.80665))
+            .collect()
+    };
+    std::fs::write(twice.join(format!("{}.txt", FEW[0])), as_text(0.0)).unwrap();
+    let out = fragility(&[&text[..], &["--records-ground", twice.to_str().unwrap()]].concat());
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("two ground motions of its name in"),
+        "{}",
+        stderr(&out)
+    );
+    let late = dir.path().join("late");
+    std::fs::create_dir(&late).unwrap();
+    for id in &FEW[1..3] {
+        let name = format!("{id}.AT2");
+        std::fs::copy(few.join(&name), late.join(&name)).unwrap();
+    }
+    std::fs::write(late.join(format!("{}.txt", FEW[0])), as_text(5.0)).unwrap();
+    let out = fragility(&[&text[..], &["--records-ground", late.to_str().unwrap()]].concat());
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("its ground starts at 5"),
+        "{}",
+        stderr(&out)
+    );
+    // The same ground as text from time 0 is the AT2's.
+    std::fs::write(late.join(format!("{}.txt", FEW[0])), as_text(0.0)).unwrap();
+    let out = fragility(&[&text[..], &["--records-ground", late.to_str().unwrap()]].concat());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let (a, b) = (
+        json(&out)["median"].as_f64().unwrap(),
+        on["median"].as_f64().unwrap(),
+    );
+    assert!((a - b).abs() <= 1e-9 * b, "median: {a} against {b}");
 }
 
 /// The floor's spectral acceleration, FSA(T): on a floor it is the SA of

@@ -435,6 +435,16 @@ fn read_text(path: &Path, spec: &TextRecords) -> Result<RecordRow, BadFile> {
     if let Some(dir) = &spec.ground {
         let (ground, t0, dt) =
             read_ground(dir, path, spec).map_err(|what| bad(Problem::Ground(what)))?;
+        // A ground that starts after the motion would be taken as 0 before
+        // it: times offset between the two files, a wrong answer silently.
+        if t0 > parsed.t0_s + dt * (1.0 + 1e-6) {
+            return Err(bad(Problem::Ground(format!(
+                "its ground starts at {t0} s, after the record's first time {} s: the two files' \
+                 times must be of one clock (the ground applied from time 0, as OpenSees' `Path` \
+                 applies it)",
+                parsed.t0_s
+            ))));
+        }
         columns::add_ground(&mut parsed, &ground, t0, dt);
     }
     // Run as a motion, it never lifts a block: a wrong column (a node's
@@ -479,11 +489,11 @@ fn read_ground(
     spec: &TextRecords,
 ) -> Result<(Vec<f64>, f64, f64), String> {
     let stem = record.file_stem().unwrap_or_default();
-    let found = fs::read_dir(dir)
+    let mut found: Vec<std::path::PathBuf> = fs::read_dir(dir)
         .map_err(|e| format!("its ground, in {}: {e}", dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.file_stem() == Some(stem) && p.is_file())
-        .find(|p| {
+        .filter(|p| {
             p.extension().is_some_and(|e| {
                 ["at2"]
                     .iter()
@@ -491,13 +501,27 @@ fn read_ground(
                     .any(|x| e.eq_ignore_ascii_case(x))
             })
         })
-        .ok_or_else(|| {
-            format!(
+        .collect();
+    found.sort();
+    let found = match &found[..] {
+        [one] => one.clone(),
+        [] => {
+            return Err(format!(
                 "no ground motion of the same name in {} (an AT2 or text file): a relative \
                  acceleration needs the ground it was run with",
                 dir.display()
-            )
-        })?;
+            ))
+        }
+        [a, b, ..] => {
+            return Err(format!(
+                "two ground motions of its name in {}, {} and {}: which one it was run with is \
+                 not known; keep one",
+                dir.display(),
+                a.display(),
+                b.display()
+            ))
+        }
+    };
     let bytes = fs::read(&found).map_err(|e| format!("{}: {e}", found.display()))?;
     let at2 = found
         .extension()
