@@ -305,7 +305,7 @@ fn check_motion(
             format!(
                 "a time step of {dt:e} s: the first column is the time in seconds, and a motion \
                  is sampled every 0.001–0.05 s (accepted: {MIN_DT_S:e} to {MAX_DT_S} s); is the \
-                 time in another unit?"
+                 time in another unit, or the first column a sample number?"
             ),
         ));
     }
@@ -428,7 +428,10 @@ mod tests {
         );
         let e = parse("0 0.1\n1e-6 0.2\n", &g).unwrap_err();
         assert!(e.kind.contains("another unit"), "{e}");
-        assert!(parse("0 0.1\n1 0.2\n", &g).is_ok());
+        // A sample number in the time column: a step of 1 "s".
+        let e = parse("0 0.1\n1 0.2\n2 0.1\n", &g).unwrap_err();
+        assert!(e.kind.contains("a sample number"), "{e}");
+        assert!(parse("0 0.1\n0.1 0.2\n", &g).is_ok());
         assert!(parse("0 0.1\n1e-5 0.2\n", &g).is_ok());
         let e = parse("0 12.5\n0.01 -490.3\n0.02 3\n", &g).unwrap_err();
         assert_eq!(e.line, 1);

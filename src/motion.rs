@@ -11,8 +11,10 @@
 pub const MAX_ACCEL_G: f64 = 10.0;
 
 /// The coarsest sampling accepted (s): strong-motion records are sampled
-/// every 0.001–0.05 s; 1 s resolves nothing a block responds to.
-pub const MAX_DT_S: f64 = 1.0;
+/// every 0.001–0.05 s, and a step of 0.1 s (5 Hz at most) already misses
+/// the shaking a block rocks under. Past it is a sample number taken for
+/// a time (a step of exactly 1) or a time in other units.
+pub const MAX_DT_S: f64 = 0.1;
 
 /// The finest sampling accepted (s): a hundred times finer than any
 /// strong-motion record's; below it a header's DT is wrong, and would
@@ -100,7 +102,8 @@ mod tests {
         for (accel, dt, says) in [
             (&[0.1][..], 0.01, "1 sample(s)"),
             (&ok[..], 0.0, "a time step of 0e0 s"),
-            (&ok[..], 1.5 * MAX_DT_S, "a time step of 1.5e0 s"),
+            (&ok[..], 2.0 * MAX_DT_S, "a time step of 2e-1 s"),
+            (&ok[..], 1.0, "a time step of 1e0 s"),
             (&ok[..], 0.5 * MIN_DT_S, "a time step of 5e-6 s"),
             (&[0.0, -10.5][..], 0.01, "sample 2 is -1.05e1 g, past 10 g"),
             (&[0.0, f64::NAN][..], 0.01, "sample 2 is NaN"),

@@ -66,6 +66,10 @@ pub enum At2ErrorKind {
         token: String,
         npts: usize,
     },
+    /// DT written with a decimal comma (`DT= 0,01 SEC`).
+    DtComma {
+        token: String,
+    },
     /// DT in a unit other than seconds (`MSEC`).
     DtUnit {
         unit: String,
@@ -162,6 +166,11 @@ impl fmt::Display for At2ErrorKind {
                 f,
                 "`{}` reads as two values, and the file has more than NPTS = {npts}: is its comma \
                  a decimal point? Samples take a point (`1.5E-04`)",
+                shown(token)
+            ),
+            DtComma { token } => write!(
+                f,
+                "DT `{}` has a decimal comma: write it with a point (`DT= 0.01 SEC`)",
                 shown(token)
             ),
             DtUnit { unit } => write!(

@@ -317,6 +317,13 @@ fn parse_npts_dt(line: &str) -> Result<(usize, f64, HeaderLayout), At2ErrorKind>
         let (dt, after) = keyed_value(&upper, "DT").ok_or_else(|| At2ErrorKind::MissingDt {
             text: line.to_string(),
         })?;
+        // `DT= 1,5 SEC` is a decimal comma, not DT = 1 then more text.
+        if after.starts_with(',') && after[1..].starts_with(|c: char| c.is_ascii_digit()) {
+            let digits = after[1..].split(|c: char| !c.is_ascii_digit()).next();
+            return Err(At2ErrorKind::DtComma {
+                token: format!("{dt},{}", digits.unwrap_or_default()),
+            });
+        }
         // The unit word after DT's value, if any ("SEC"; "MSEC" is ms).
         if let Some(unit) = unit_word(after) {
             if !matches!(unit, "SEC" | "S" | "SECS" | "SECONDS" | "SECOND") {
@@ -530,6 +537,20 @@ mod tests {
              header's time step is wrong"
         );
         assert!(npts_dt("NPTS= 10, DT=0.00001").is_ok());
+        // A decimal comma read DT = 1 s and gave PGV 100 times too large.
+        for comma in ["NPTS= 20, DT= 1,5 SEC", "NPTS= 20, DT= 0,01 SEC"] {
+            let e = npts_dt(comma).unwrap_err();
+            assert!(matches!(e, At2ErrorKind::DtComma { .. }), "{comma}: {e}");
+            assert!(e.to_string().contains("decimal comma"), "{e}");
+        }
+        // The trailing text after a comma is no decimal (`DT= .01 SEC,`).
+        assert!(npts_dt("NPTS= 20, DT= .01, 0 POLE").is_ok());
+        // A step of 0.2 s or 1 s misses the shaking; 0.1 s is the last taken.
+        assert!(npts_dt("NPTS= 20, DT= 0.1 SEC").is_ok());
+        for coarse in ["0.2", "1"] {
+            let e = npts_dt(&format!("NPTS= 20, DT= {coarse} SEC")).unwrap_err();
+            assert!(matches!(e, At2ErrorKind::CoarseDt { .. }), "{coarse}");
+        }
         assert!(matches!(
             npts_dt("NPTS= 10, DT=-.01"),
             Err(At2ErrorKind::NonPositiveDt { .. })
