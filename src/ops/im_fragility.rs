@@ -68,6 +68,21 @@ pub enum ImTableError {
         blocks: String,
     },
     #[error(
+        "{what} of {pipeline}: the study has one {axis}, and the block asked has {asked}: its \
+         capacity would be another block's; run this block (--direct), or a study of several \
+         {name} around it"
+    )]
+    OneValue {
+        what: String,
+        pipeline: String,
+        /// The study's one value: "p = 2.654 1/s".
+        axis: String,
+        /// The block's: "p = 8.394 1/s".
+        asked: String,
+        /// `p` or `ε`.
+        name: &'static str,
+    },
+    #[error(
         "{what} of {pipeline}: the study's block `{block}` ran sliding on its base (mu = {mu}), \
          and its fits are of that friction; use --direct (with --mu) to run this block"
     )]
@@ -358,6 +373,13 @@ struct Table {
 enum Gap {
     /// Named blocks, not a grid of p × ε; none of them is the block asked.
     NotAGrid,
+    /// The grid has one value of `name` (the study's, as text), and the
+    /// block asked another (as text): nothing to carry it by.
+    OneValue {
+        name: &'static str,
+        study: String,
+        asked: String,
+    },
     /// A grid of p × ε whose blocks around the one asked (those its value
     /// would be carried from) have no fit: them, as text.
     Holes(String),
@@ -439,6 +461,13 @@ impl Gap {
                 pipeline,
                 blocks: table.blocks(),
             },
+            Gap::OneValue { name, study, asked } => ImTableError::OneValue {
+                what,
+                pipeline,
+                axis: study,
+                asked,
+                name,
+            },
             Gap::Slides { block, mu } => ImTableError::Slides {
                 what,
                 pipeline,
@@ -492,6 +521,18 @@ impl Grid {
     /// fit is a [`Gap::Holes`] where its weight is not zero, and nothing
     /// where it is (its term is then 0, as any block's would be).
     fn at(&self, p: f64, eps: f64) -> Result<(f64, f64, Vec<String>), Gap> {
+        // One p carries nothing to another size (a study of one block
+        // gave its capacity to a block ten times smaller); one ε is used
+        // at another with a warning, as the edge of a grid is.
+        if let [only] = self.ps[..] {
+            if (p - only).abs() > 1e-9 * only {
+                return Err(Gap::OneValue {
+                    name: "p",
+                    study: format!("p = {only:.4} 1/s"),
+                    asked: format!("p = {p:.4} 1/s"),
+                });
+            }
+        }
         let mut warnings = Vec::new();
         let lnp: Vec<f64> = self.ps.iter().map(|v| v.ln()).collect();
         let (ip, jp, tp) = bracket(&lnp, p.ln());
@@ -526,7 +567,8 @@ impl Grid {
 /// A warning when `x` lies outside the study's sorted values `xs` of `name`.
 fn outside(name: &str, unit: &str, xs: &[f64], x: f64) -> Option<String> {
     let (lo, hi) = (xs[0], xs[xs.len() - 1]);
-    if (lo..=hi).contains(&x) {
+    if (lo..=hi).contains(&x) || (xs.len() == 1 && name == "p") {
+        // One p is the block's own, to rounding (another is refused).
         None
     } else if xs.len() == 1 {
         Some(format!(
@@ -629,6 +671,38 @@ mod tests {
             h.at(0.7, 0.55),
             Err(Gap::Holes("p = 0.500 1/s, ε = 0.500".into()))
         );
+    }
+
+    /// One p carries nothing to another: a study of one block (a 1 × 1
+    /// grid) gave its capacity to any block, a tenth of its size too, with
+    /// a warning; now another p is refused, its own answered (one ε is
+    /// used at another with a warning: `one_eps_is_used_as_it_is`). A grid
+    /// of one p and three ε carries along ε only.
+    #[test]
+    fn an_axis_of_one_value_carries_nothing() {
+        let one = Grid::of(&[(2.0, 0.7, Some(1.3), Some(0.2))]).unwrap();
+        assert_eq!(one.at(2.0, 0.7), Ok((1.3f64.ln(), 0.2, Vec::new())));
+        assert_eq!(
+            one.at(2.0 * 10f64.sqrt(), 0.7),
+            Err(Gap::OneValue {
+                name: "p",
+                study: "p = 2.0000 1/s".into(),
+                asked: "p = 6.3246 1/s".into()
+            })
+        );
+        let (m, _, w) = one.at(2.0, 0.5).unwrap();
+        assert!(m == 1.3f64.ln() && w.len() == 1 && w[0].contains("only ε = 0.700"));
+        let along: Vec<Node> = [0.5, 0.7, 0.9]
+            .iter()
+            .map(|&e| (2.0, e, Some(1.0 + e), Some(0.2)))
+            .collect();
+        let g = Grid::of(&along).unwrap();
+        let (m, _, w) = g.at(2.0, 0.6).unwrap();
+        assert!((m - (0.5 * 1.5f64.ln() + 0.5 * 1.7f64.ln())).abs() < 1e-12 && w.is_empty());
+        assert!(matches!(
+            g.at(2.5, 0.6),
+            Err(Gap::OneValue { name: "p", .. })
+        ));
     }
 
     /// A study of named blocks is no grid: a block asked is answered by
