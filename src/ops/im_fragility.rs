@@ -68,19 +68,14 @@ pub enum ImTableError {
         blocks: String,
     },
     #[error(
-        "{what} of {pipeline}: the study has one {axis}, and the block asked has {asked}: its \
-         capacity would be another block's; run this block (--direct), or a study of several \
-         {name} around it"
+        "{what} of {pipeline}: the study has {values}: its capacity would be another block's; \
+         run this block (--direct), or a study of several p around it"
     )]
-    OneValue {
+    OneP {
         what: String,
         pipeline: String,
-        /// The study's one value: "p = 2.654 1/s".
-        axis: String,
-        /// The block's: "p = 8.394 1/s".
-        asked: String,
-        /// `p` or `ε`.
-        name: &'static str,
+        /// "one p = 2.654 1/s, and the block asked has p = 8.394 1/s".
+        values: String,
     },
     #[error(
         "{what} of {pipeline}: the study's block `{block}` ran sliding on its base (mu = {mu}), \
@@ -373,13 +368,9 @@ struct Table {
 enum Gap {
     /// Named blocks, not a grid of p × ε; none of them is the block asked.
     NotAGrid,
-    /// The grid has one value of `name` (the study's, as text), and the
-    /// block asked another (as text): nothing to carry it by.
-    OneValue {
-        name: &'static str,
-        study: String,
-        asked: String,
-    },
+    /// The grid has one p (the first), and the block asked another: nothing
+    /// to carry it by.
+    OneP(f64, f64),
     /// A grid of p × ε whose blocks around the one asked (those its value
     /// would be carried from) have no fit: them, as text.
     Holes(String),
@@ -461,12 +452,10 @@ impl Gap {
                 pipeline,
                 blocks: table.blocks(),
             },
-            Gap::OneValue { name, study, asked } => ImTableError::OneValue {
+            Gap::OneP(only, p) => ImTableError::OneP {
                 what,
                 pipeline,
-                axis: study,
-                asked,
-                name,
+                values: format!("one p = {only:.4} 1/s, and the block asked has p = {p:.4} 1/s"),
             },
             Gap::Slides { block, mu } => ImTableError::Slides {
                 what,
@@ -526,11 +515,7 @@ impl Grid {
         // at another with a warning, as the edge of a grid is.
         if let [only] = self.ps[..] {
             if (p - only).abs() > 1e-9 * only {
-                return Err(Gap::OneValue {
-                    name: "p",
-                    study: format!("p = {only:.4} 1/s"),
-                    asked: format!("p = {p:.4} 1/s"),
-                });
+                return Err(Gap::OneP(only, p));
             }
         }
         let mut warnings = Vec::new();
@@ -682,14 +667,8 @@ mod tests {
     fn an_axis_of_one_value_carries_nothing() {
         let one = Grid::of(&[(2.0, 0.7, Some(1.3), Some(0.2))]).unwrap();
         assert_eq!(one.at(2.0, 0.7), Ok((1.3f64.ln(), 0.2, Vec::new())));
-        assert_eq!(
-            one.at(2.0 * 10f64.sqrt(), 0.7),
-            Err(Gap::OneValue {
-                name: "p",
-                study: "p = 2.0000 1/s".into(),
-                asked: "p = 6.3246 1/s".into()
-            })
-        );
+        let ten = 2.0 * 10f64.sqrt();
+        assert_eq!(one.at(ten, 0.7), Err(Gap::OneP(2.0, ten)));
         let (m, _, w) = one.at(2.0, 0.5).unwrap();
         assert!(m == 1.3f64.ln() && w.len() == 1 && w[0].contains("only ε = 0.700"));
         let along: Vec<Node> = [0.5, 0.7, 0.9]
@@ -699,10 +678,7 @@ mod tests {
         let g = Grid::of(&along).unwrap();
         let (m, _, w) = g.at(2.0, 0.6).unwrap();
         assert!((m - (0.5 * 1.5f64.ln() + 0.5 * 1.7f64.ln())).abs() < 1e-12 && w.is_empty());
-        assert!(matches!(
-            g.at(2.5, 0.6),
-            Err(Gap::OneValue { name: "p", .. })
-        ));
+        assert_eq!(g.at(2.5, 0.6), Err(Gap::OneP(2.0, 2.5)));
     }
 
     /// A study of named blocks is no grid: a block asked is answered by
