@@ -7,7 +7,7 @@ use std::fs;
 use rocking::tables::records;
 
 use crate::util::{
-    at2_text, bundled_records, plain_at2_values, rocking, root, stderr, tempdir, TempDir,
+    at2_text, bundled_records, plain_at2_values, rocking, root, stderr, stdout, tempdir, TempDir,
 };
 
 /// Manifest rows keyed by file stem, read with the csv crate by column name
@@ -33,6 +33,63 @@ fn manifest_by_stem() -> HashMap<String, HashMap<String, String>> {
             (stem, row)
         })
         .collect()
+}
+
+/// A record the manifest lists in a set whose files are ingested, but
+/// without a file of its own, was passed over without a word (a pair run
+/// on one component): `ingest` and a pipeline's run name it; the sets of
+/// no file ingested (the near-field ones, beside a far-field folder) are
+/// not named.
+#[test]
+fn a_manifest_record_without_its_file_is_named() {
+    let dir = tempdir();
+    let far = dir.path().join("far-field");
+    std::fs::create_dir(&far).unwrap();
+    let gone = "RSN953_NORTHR_MUL279";
+    for e in std::fs::read_dir(bundled_records().join("far-field")).unwrap() {
+        let path = e.unwrap().path();
+        if path.file_stem().unwrap() != gone {
+            std::fs::copy(&path, far.join(path.file_name().unwrap())).unwrap();
+        }
+    }
+    let manifest = bundled_records().join("manifest.csv");
+    let out = dir.path().join("records.parquet");
+    let run = rocking(
+        dir.path(),
+        &[
+            "ingest",
+            far.to_str().unwrap(),
+            "--manifest",
+            manifest.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(run.status.success(), "{}", stderr(&run));
+    let err = stderr(&run);
+    assert!(
+        err.contains("warning: 1 record(s) the manifest lists in a set ingested have no file")
+            && err.contains(gone),
+        "{err}"
+    );
+    assert!(!err.contains("RSN1063"), "a near-field record named: {err}");
+    let pipeline = dir.path().join("p.toml");
+    std::fs::write(
+        &pipeline,
+        format!(
+            "name = \"p\"\n[records]\nat2 = [\"{}\"]\nmanifest = \"{}\"\n[blocks]\np = [2.0]\neps = [0.8]\n",
+            far.display(),
+            manifest.display()
+        ),
+    )
+    .unwrap();
+    let run = rocking(
+        dir.path(),
+        &["run", pipeline.to_str().unwrap(), "--to", "ingest"],
+    );
+    assert!(run.status.success(), "{}", stderr(&run));
+    let all = format!("{}{}", stdout(&run), stderr(&run));
+    assert!(all.contains(gone) && all.contains("have no file"), "{all}");
 }
 
 #[test]

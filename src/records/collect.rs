@@ -132,6 +132,10 @@ pub struct Collected {
     pub rows: Vec<RecordRow>,
     pub skipped: Vec<BadFile>,
     pub not_in_manifest: Vec<String>,
+    /// Records the manifest lists in a set the files have, with no file
+    /// (a file missing from a set; sorted): a set's other records pass
+    /// without them, a pair without its other component.
+    pub no_file: Vec<String>,
     pub ignored_manifest_columns: Vec<String>,
 }
 
@@ -221,6 +225,10 @@ pub fn collect_as(
         rows = joined;
     }
 
+    let no_file = manifest
+        .as_ref()
+        .map(|(_, m)| without_file(m, &rows, &bad))
+        .unwrap_or_default();
     bad.sort_by(|a, b| a.path.cmp(&b.path));
     if let (false, OnBad::Refuse(hint)) = (bad.is_empty(), on_bad) {
         return Err(CollectError::BadFiles { files: bad, hint });
@@ -232,8 +240,34 @@ pub fn collect_as(
         rows,
         skipped: bad,
         not_in_manifest,
+        no_file,
         ignored_manifest_columns: manifest.map(|(_, m)| m.ignored_columns).unwrap_or_default(),
     })
+}
+
+/// The records `manifest` lists in a set some of `rows` are of, with
+/// neither a row nor a bad file of their id: files missing from a set.
+fn without_file(manifest: &Manifest, rows: &[RecordRow], bad: &[BadFile]) -> Vec<String> {
+    let sets: std::collections::BTreeSet<&str> =
+        rows.iter().filter_map(|r| r.meta.set.as_deref()).collect();
+    let seen: std::collections::BTreeSet<&str> = rows
+        .iter()
+        .map(|r| r.record_id.as_str())
+        .chain(
+            bad.iter()
+                .filter_map(|b| b.path.file_stem().and_then(|s| s.to_str())),
+        )
+        .collect();
+    let mut out: Vec<String> = manifest
+        .entries
+        .iter()
+        .filter(|(id, e)| {
+            e.meta.set.as_deref().is_some_and(|s| sets.contains(s)) && !seen.contains(id.as_str())
+        })
+        .map(|(id, _)| id.clone())
+        .collect();
+    out.sort();
+    out
 }
 
 /// `rows` (sorted by id) without those whose motion (time step and every

@@ -125,6 +125,9 @@ impl Stage for Ingest {
             cx.reporter
                 .note("ingest", &format!("manifest column `{col}` is not stored"));
         }
+        for line in report.warnings() {
+            cx.reporter.note("ingest", &line);
+        }
         Ok(Summary {
             lines: vec![format!(
                 "ingested {} records ({} samples) into {}",
@@ -174,8 +177,35 @@ pub struct IngestReport {
     pub skipped: Vec<BadFile>,
     /// Ingested records the manifest does not list.
     pub not_in_manifest: Vec<String>,
+    /// Records the manifest lists in an ingested set, with no file.
+    pub no_file: Vec<String>,
     /// Manifest columns that were not understood and so not stored.
     pub ignored_manifest_columns: Vec<String>,
+}
+
+impl IngestReport {
+    /// What a user should hear of the records and the manifest: records
+    /// it does not list, and records it lists in an ingested set that
+    /// have no file.
+    pub fn warnings(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        if !self.not_in_manifest.is_empty() {
+            out.push(format!(
+                "{} record(s) not in the manifest (their metadata columns are empty): {}",
+                self.not_in_manifest.len(),
+                self.not_in_manifest.join(", ")
+            ));
+        }
+        if !self.no_file.is_empty() {
+            out.push(format!(
+                "{} record(s) the manifest lists in a set ingested have no file, and the set is \
+                 run without them (a pair without its other component): {}",
+                self.no_file.len(),
+                self.no_file.join(", ")
+            ));
+        }
+        out
+    }
 }
 
 impl IngestConfig {
@@ -223,6 +253,7 @@ pub fn run(config: &IngestConfig) -> Result<IngestReport, IngestError> {
         per_set,
         skipped: collected.skipped,
         not_in_manifest: collected.not_in_manifest,
+        no_file: collected.no_file,
         ignored_manifest_columns: collected.ignored_manifest_columns,
     })
 }

@@ -62,12 +62,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             report.ignored_manifest_columns.join(", ")
         );
     }
-    if !report.not_in_manifest.is_empty() {
-        eprintln!(
-            "warning: {} record(s) not in the manifest (their metadata columns are empty): {}",
-            report.not_in_manifest.len(),
-            report.not_in_manifest.join(", ")
-        );
+    for line in report.warnings() {
+        eprintln!("warning: {line}");
     }
     let sets: Vec<String> = report
         .per_set
