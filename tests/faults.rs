@@ -92,7 +92,8 @@ fn a_part_copied_over_another_chunk_is_recomputed() {
     let dir = tempdir();
     let d = dir.path();
     let pipe = write_pipeline(d, "r", THREE_CHUNKS);
-    // Crash after two chunks are saved, then copy chunk 0's parts over chunk 1's.
+    // Crash after two chunks are saved, then copy chunk 0's IDA part over
+    // chunk 1's (the message named chunk 1's untouched capacity part).
     let crashed = std::process::Command::new(env!("CARGO_BIN_EXE_rocking"))
         .args(["sweep", pipe.to_str().unwrap(), "--outputs", "out"])
         .env(FAULT_ENV, "2")
@@ -102,18 +103,17 @@ fn a_part_copied_over_another_chunk_is_recomputed() {
         .unwrap();
     assert!(!crashed.status.success());
     let parts = d.join("out/r/parts");
-    for kind in ["cap", "ida"] {
-        fs::copy(
-            parts.join(format!("{kind}-000000.parquet")),
-            parts.join(format!("{kind}-000001.parquet")),
-        )
-        .unwrap();
-    }
+    fs::copy(
+        parts.join("ida-000000.parquet"),
+        parts.join("ida-000001.parquet"),
+    )
+    .unwrap();
     let resumed = rocking(d, &["sweep", pipe.to_str().unwrap(), "--outputs", "out"]);
     assert!(resumed.status.success(), "{}", stderr(&resumed));
     let log = stderr(&resumed);
     assert!(
-        log.contains("chunk 1 is not that chunk's") && log.contains("recomputing"),
+        log.contains("ida-000001.parquet of chunk 1 is not that chunk's")
+            && log.contains("recomputing"),
         "the corrupt part is logged: {log}"
     );
     assert!(

@@ -293,11 +293,11 @@ fn resume(
             }
             Err(PartProblem::Absent) => {}
             Err(PartProblem::Stale) => {}
-            Err(PartProblem::Corrupt(why)) => cx.reporter.note(
+            Err(PartProblem::Corrupt(part, why)) => cx.reporter.note(
                 "sweep",
                 &format!(
                     "part {} of chunk {c} is not that chunk's ({why}); recomputing it",
-                    cap_part.display()
+                    part.display()
                 ),
             ),
         }

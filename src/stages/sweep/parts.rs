@@ -67,8 +67,9 @@ pub(super) enum PartProblem {
     Absent,
     /// From another plan (the settings changed): recomputed silently.
     Stale,
-    /// Current plan, wrong content (copied over, truncated): recomputed and logged.
-    Corrupt(String),
+    /// Current plan, wrong content (copied over, truncated): recomputed and
+    /// logged, naming the part file at fault.
+    Corrupt(std::path::PathBuf, String),
 }
 
 /// Trusts a chunk's parts by what they hold: the current plan's hash, this
@@ -85,46 +86,55 @@ pub(super) fn verify_part(
         return Err(PartProblem::Absent);
     }
     for p in [ida_part, cap_part] {
-        let meta =
-            SweepMeta::read(p).map_err(|e| PartProblem::Corrupt(format!("unreadable: {e}")))?;
+        let meta = SweepMeta::read(p)
+            .map_err(|e| PartProblem::Corrupt(p.into(), format!("unreadable: {e}")))?;
         if meta.plan_hash.as_deref() != Some(hash) {
             return Err(PartProblem::Stale);
         }
         if meta.chunk != Some(chunk.to_string()) {
-            return Err(PartProblem::Corrupt(format!(
-                "its metadata says chunk {}",
-                meta.chunk.as_deref().unwrap_or("(none)")
-            )));
+            return Err(PartProblem::Corrupt(
+                p.into(),
+                format!(
+                    "its metadata says chunk {}",
+                    meta.chunk.as_deref().unwrap_or("(none)")
+                ),
+            ));
         }
     }
-    let corrupt = |e: TableError| PartProblem::Corrupt(e.to_string());
-    let caps: Vec<CapacityRow> = tables::read(cap_part).map_err(corrupt)?;
+    let corrupt = |p: &Path, e: TableError| PartProblem::Corrupt(p.into(), e.to_string());
+    let caps: Vec<CapacityRow> = tables::read(cap_part).map_err(|e| corrupt(cap_part, e))?;
     let expected: Vec<i64> = cases.map(|c| c as i64).collect();
     let got: Vec<i64> = caps.iter().map(|c| c.case_id).collect();
     if got != expected {
-        return Err(PartProblem::Corrupt(format!(
-            "it holds cases {}, expected {}",
-            span(&got),
-            span(&expected)
-        )));
+        return Err(PartProblem::Corrupt(
+            cap_part.into(),
+            format!(
+                "it holds cases {}, expected {}",
+                span(&got),
+                span(&expected)
+            ),
+        ));
     }
-    let ida: Vec<IdaRow> = tables::read(ida_part).map_err(corrupt)?;
+    let ida: Vec<IdaRow> = tables::read(ida_part).map_err(|e| corrupt(ida_part, e))?;
     let mut counts = vec![0i64; caps.len()];
     for r in &ida {
         let k = r.case_id - expected[0];
         if k < 0 || k as usize >= counts.len() {
-            return Err(PartProblem::Corrupt(format!(
-                "its IDA points include case {}",
-                r.case_id
-            )));
+            return Err(PartProblem::Corrupt(
+                ida_part.into(),
+                format!("its IDA points include case {}", r.case_id),
+            ));
         }
         counts[k as usize] += 1;
     }
     if let Some((c, n)) = caps.iter().zip(&counts).find(|(c, n)| c.runs != **n) {
-        return Err(PartProblem::Corrupt(format!(
-            "case {} counts {} runs but has {n} IDA points",
-            c.case_id, c.runs
-        )));
+        return Err(PartProblem::Corrupt(
+            ida_part.into(),
+            format!(
+                "case {} counts {} runs but has {n} IDA points",
+                c.case_id, c.runs
+            ),
+        ));
     }
     Ok(())
 }
