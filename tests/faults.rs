@@ -466,6 +466,41 @@ fn a_pipeline_not_in_utf8_is_refused_at_its_line() {
     );
 }
 
+/// A table deleted reruns the stage that writes it, and the report after
+/// it, which prints the stages' run times: it said "settings changed",
+/// which no setting had; it says why, and its settings are still checked.
+#[test]
+fn the_report_says_it_reruns_for_the_run_times_it_shows() {
+    let dir = tempdir();
+    let d = dir.path();
+    mini(d);
+    let run = |d: &Path| rocking(d, &["run", "mini.toml", "--outputs", "out"]);
+    assert!(run(d).status.success());
+    fs::remove_file(d.join("out/mini/capacity_fractiles.parquet")).unwrap();
+    let out = run(d);
+    let err = stderr(&out);
+    assert!(
+        err.contains("reduce       running: output capacity_fractiles.parquet is missing")
+            && err.contains(
+                "report       running: another stage ran again, and the run times it shows \
+                 changed"
+            )
+            && !err.contains("settings changed"),
+        "{err}"
+    );
+    let toml = fs::read_to_string(d.join("mini.toml")).unwrap();
+    fs::write(
+        d.join("mini.toml"),
+        format!("description = \"another\"\n{toml}"),
+    )
+    .unwrap();
+    let err = stderr(&run(d));
+    assert!(
+        err.contains("report       running: settings changed"),
+        "{err}"
+    );
+}
+
 #[test]
 fn a_figure_deleted_or_edited_by_hand_is_drawn_again() {
     let dir = tempdir();

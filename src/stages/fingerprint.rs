@@ -305,11 +305,23 @@ fn read_note(study: &Study, path: &Path) -> Result<Note, Stale> {
     })
 }
 
+/// The key of a stage's settings that holds the other stages' run times
+/// it shows (the report's table of them): fingerprinted on its own.
+pub const TIMES: &str = "times";
+
 /// The fingerprint parts of `stage` as things stand, or why it cannot run yet.
 fn parts(stage: &dyn Stage, study: &Study) -> Result<BTreeMap<String, String>, Vec<Stale>> {
     let mut p = BTreeMap::new();
     p.insert("versions".to_string(), versions());
-    let settings = stage.settings(study);
+    let mut settings = stage.settings(study);
+    // The other stages' run times a stage prints (the report's) are a part
+    // of their own, so that a rerun for them says so, not "settings".
+    if let Some(times) = settings.as_object_mut().and_then(|o| o.remove(TIMES)) {
+        p.insert(
+            TIMES.to_string(),
+            hash::sha256_hex(times.to_string().as_bytes()),
+        );
+    }
     if !settings.is_null() {
         p.insert(
             "settings".to_string(),
@@ -351,6 +363,7 @@ fn compare(
             Some(old) if old == v => {}
             old => why.push(match (k.as_str(), input_name(k), old) {
                 ("settings", _, _) => Stale::SettingsChanged,
+                (TIMES, _, _) => Stale::TimesChanged,
                 ("versions", _, _) => Stale::VersionsChanged,
                 (_, Some(n), Some(_)) => Stale::InputChanged(n),
                 (_, Some(n), None) => Stale::InputNew(n),

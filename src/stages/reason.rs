@@ -16,6 +16,9 @@ pub enum Stale {
         problem: String,
     },
     SettingsChanged,
+    /// The other stages' run times it shows (the report) changed: one of
+    /// them ran again.
+    TimesChanged,
     VersionsChanged,
     /// An input file's bytes differ from when the stage last ran.
     InputChanged(String),
@@ -47,6 +50,10 @@ impl fmt::Display for Stale {
                 write!(f, "its fingerprint {note} is unreadable ({problem})")
             }
             Stale::SettingsChanged => write!(f, "settings changed"),
+            Stale::TimesChanged => write!(
+                f,
+                "another stage ran again, and the run times it shows changed"
+            ),
             Stale::VersionsChanged => write!(f, "the tool changed (its version or its sources)"),
             Stale::InputChanged(n) => write!(f, "input {n} changed"),
             Stale::InputNew(n) => write!(f, "input {n} is new"),

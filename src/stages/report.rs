@@ -40,7 +40,7 @@ impl Stage for Report {
         serde_json::json!({
             "plan": study.plan.portable_json(),
             "pipeline": pipeline_name(&study.pipeline),
-            "times": times,
+            fingerprint::TIMES: times,
         })
     }
 
