@@ -14,8 +14,8 @@ use rocking::stages::sweep::{
 };
 
 use crate::util::{
-    direct_capacity, plain_at2_values, rocking, root, stderr, tempdir, write_at2, write_pipeline,
-    TempDir,
+    direct_capacity, plain_at2_values, rocking, root, stderr, stdout, tempdir, write_at2,
+    write_pipeline, TempDir,
 };
 
 #[test]
@@ -601,6 +601,17 @@ fn signal_stops_a_sweep_that_then_resumes(signal: libc::c_int, kill_flag: &str, 
     assert!(!folder.join("capacities.parquet").exists());
     let kept = part_files(&folder).len() / 2;
     assert!((1..20).contains(&kept), "{kept} chunks saved");
+    // `status` says what the interrupted run saved (it said "never run").
+    let status = rocking(
+        dir.path(),
+        &["status", pipe.to_str().unwrap(), "--outputs", "out"],
+    );
+    let said = format!("never finished here: an interrupted run saved {kept} chunk(s)");
+    assert!(
+        stdout(&status).contains(&said),
+        "{said}: {}",
+        stdout(&status)
+    );
 
     let resumed = sweep(&dir, &pipe, &[]);
     assert!(resumed.status.success(), "{}", stderr(&resumed));

@@ -94,6 +94,10 @@ pub fn freshness(stage: &dyn Stage, study: &Study, shard: Option<Shard>) -> Fres
             }
             why
         }
+        Err(Stale::NeverRun) => match stage.interrupted(study) {
+            Some(what) => vec![Stale::Interrupted(what)],
+            None => vec![Stale::NeverRun],
+        },
         Err(why) => vec![why],
     };
     if stage.shardable() {
@@ -108,7 +112,7 @@ pub fn freshness(stage: &dyn Stage, study: &Study, shard: Option<Shard>) -> Fres
                 // Run in shards, not here: the shards' reasons, not "never
                 // run here".
                 let mut why = match why[..] {
-                    [Stale::NeverRun] => Vec::new(),
+                    [Stale::NeverRun | Stale::Interrupted(_)] => Vec::new(),
                     _ => why,
                 };
                 for w in of_shards {

@@ -10,6 +10,9 @@ use std::fmt;
 pub enum Stale {
     /// No fingerprint: the stage never succeeded in this folder.
     NeverRun,
+    /// Never finished here, but an interrupted run left work a rerun
+    /// resumes (what, in words).
+    Interrupted(String),
     /// The fingerprint file exists but cannot be read or parsed.
     NoteUnreadable {
         note: String,
@@ -46,6 +49,7 @@ impl fmt::Display for Stale {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Stale::NeverRun => write!(f, "never run here (no fingerprint)"),
+            Stale::Interrupted(what) => write!(f, "never finished here: {what}"),
             Stale::NoteUnreadable { note, problem } => {
                 write!(f, "its fingerprint {note} is unreadable ({problem})")
             }

@@ -39,6 +39,12 @@ pub trait Stage: Sync {
         false
     }
 
+    /// What an interrupted run of it left that a rerun resumes (the sweep's
+    /// saved chunks), in words, for a stage that never finished here.
+    fn interrupted(&self, _study: &Study) -> Option<String> {
+        None
+    }
+
     /// Why this pipeline does not need the stage, if it does not.
     fn not_needed(&self, _study: &Study) -> Option<String> {
         None

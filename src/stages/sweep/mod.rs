@@ -82,6 +82,16 @@ impl Stage for Sweep {
         true
     }
 
+    fn interrupted(&self, study: &Study) -> Option<String> {
+        let saved = parts::saved_chunks(&study.path("parts"));
+        (saved > 0).then(|| {
+            format!(
+                "an interrupted run saved {saved} chunk(s) in parts/, which a rerun resumes if \
+                 the settings are the same"
+            )
+        })
+    }
+
     fn settings(&self, study: &Study) -> serde_json::Value {
         study.plan.sweep_settings_json()
     }

@@ -55,6 +55,22 @@ pub(super) fn clean_up(
         .collect())
 }
 
+/// How many chunks have a capacity part in `parts` (none without the
+/// folder): what an interrupted sweep saved, checked only when resumed.
+pub(super) fn saved_chunks(parts: &Path) -> usize {
+    let Ok(entries) = fs::read_dir(parts) else {
+        return 0;
+    };
+    entries
+        .filter_map(|e| e.ok())
+        .filter(|e| {
+            let name = e.file_name();
+            let name = name.to_string_lossy();
+            name.starts_with("cap-") && name.ends_with(".parquet")
+        })
+        .count()
+}
+
 pub(super) fn part_paths(parts: &Path, c: usize) -> (PathBuf, PathBuf) {
     (
         parts.join(format!("ida-{c:06}.parquet")),
