@@ -208,16 +208,22 @@ pub fn parse(text: &str, spec: &TextRecords) -> Result<ColumnMotion, ColumnsErro
             continue;
         }
         let tokens: Vec<&str> = body
-            .split(|c: char| c.is_whitespace() || c == ',')
+            .split(|c: char| c.is_whitespace() || c == ',' || c == ';')
             .filter(|t| !t.is_empty())
             .collect();
-        let parsed: Vec<Option<f64>> = tokens.iter().map(|t| t.parse::<f64>().ok()).collect();
+        let parsed: Vec<Option<f64>> = tokens.iter().map(|t| number(t)).collect();
         // A first line of names is a header: its first token, where a data
         // line has its time, is no number. A first data line with a bad
         // value is refused at its line, not skipped as a header.
         if times.is_empty() && header.is_none() && parsed.first().is_some_and(Option::is_none) {
             header = Some(body.to_string());
             continue;
+        }
+        if let Some(token) = decimal_comma(body) {
+            return Err(err(
+                line,
+                format!("`{token}` has a decimal comma: write the numbers with a point (`0.01`)"),
+            ));
         }
         let numbers: Result<Vec<f64>, &str> = parsed
             .iter()
@@ -270,6 +276,32 @@ pub fn parse(text: &str, spec: &TextRecords) -> Result<ColumnMotion, ColumnsErro
     })
 }
 
+/// A number, Fortran's `1.0D-02` too (as the AT2 reader takes it).
+fn number(token: &str) -> Option<f64> {
+    token.parse::<f64>().ok().or_else(|| {
+        let fortran = token.contains(['D', 'd']) && token.starts_with(|c: char| c != 'd');
+        fortran
+            .then(|| token.replace(['D', 'd'], "E").parse::<f64>().ok())
+            .flatten()
+    })
+}
+
+/// The first field of `line` written with a decimal comma (`0,01` where the
+/// fields are apart by blanks or semicolons and no number has a point),
+/// which the comma would split into two numbers.
+fn decimal_comma(line: &str) -> Option<&str> {
+    let apart = line.contains(';') || line.split_whitespace().nth(1).is_some();
+    if !apart || line.contains('.') {
+        return None;
+    }
+    line.split(|c: char| c.is_whitespace() || c == ';')
+        .find(|field| {
+            let b = field.as_bytes();
+            (1..b.len().saturating_sub(1))
+                .any(|i| b[i] == b',' && b[i - 1].is_ascii_digit() && b[i + 1].is_ascii_digit())
+        })
+}
+
 /// The motion's mean step (s), checked: times increasing evenly by a step
 /// a motion has (seconds, not milliseconds), and values no motion passes.
 fn check_motion(
@@ -287,6 +319,16 @@ fn check_motion(
     let first = times[1] - times[0];
     for i in 1..n {
         let step = times[i] - times[i - 1];
+        if step == 0.0 {
+            return Err(err(
+                lines_of[i],
+                format!(
+                    "time {} s repeats the line before's: each line is one sample, the times \
+                     increasing by one step",
+                    times[i]
+                ),
+            ));
+        }
         if (step - first).abs() > 0.01 * first {
             return Err(err(
                 lines_of[i],
@@ -417,6 +459,31 @@ mod tests {
     /// 1000 times too slow; values in gal read as g made a motion of
     /// hundreds of g. Both are refused at the line that shows it; the
     /// limits themselves (1 s, 1e-5 s, 10 g) are motions.
+    /// European files: a decimal comma among blanks or semicolons is named
+    /// (it split each number in two, and the message spoke of time steps);
+    /// semicolons with points are fields apart; a repeated first time is
+    /// said to repeat; Fortran's D exponent is read, as in AT2 files.
+    #[test]
+    fn decimal_commas_semicolons_repeats_and_fortran_exponents() {
+        let g = spec(AccelUnit::G, 1);
+        for text in ["0,00 0,10\n0,01 0,20\n", "0,00;0,10\n0,01;0,20\n"] {
+            let e = parse(text, &g).unwrap_err();
+            assert_eq!(e.line, 1, "{e}");
+            assert!(e.kind.contains("`0,00` has a decimal comma"), "{e}");
+        }
+        let m = parse("t;a\n0.00;0.10\n0.01;0.20\n0.02;0.1\n", &g).unwrap();
+        assert_eq!((m.accel_g.len(), m.header.as_deref()), (3, Some("t;a")));
+        // Commas as the separator (CSV) stay fields apart.
+        let m = parse("0,1\n0.01,2\n0.02, 3\n", &g).unwrap();
+        assert_eq!(m.accel_g, vec![1.0, 2.0, 3.0]);
+        let e = parse("0 0.1\n0 0.2\n0.01 0.1\n0.02 0.3\n", &g).unwrap_err();
+        assert_eq!(e.line, 2);
+        assert!(e.kind.contains("time 0 s repeats the line before's"), "{e}");
+        let m = parse("0.0D+00 1.0D-02\n1.0D-02 -2.5d-02\n", &g).unwrap();
+        assert_eq!(m.accel_g, vec![0.01, -0.025]);
+        assert_eq!(m.dt_s, 0.01);
+    }
+
     #[test]
     fn a_time_in_milliseconds_or_a_unit_mistaken_is_refused() {
         let g = spec(AccelUnit::G, 1);
