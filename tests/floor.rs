@@ -2074,6 +2074,22 @@ fn text_records_are_not_stated_in_a_ground_im() {
     };
     let pfa = fragility(&[&as_text[..], &["--im", "pfa", "--at", "0.3"]].concat());
     let pga = fragility(&["--records", few_s, "--pga", "0.3"]);
+    // The folder without its unit: no AT2 files, and the text ones named.
+    let out = rocking(
+        &root(),
+        &[
+            &["fragility", "--pga", "0.3"][..],
+            &block,
+            &["--records", text_s],
+        ]
+        .concat(),
+    );
+    assert!(
+        stderr(&out).contains("but 3 text motion file(s)")
+            && stderr(&out).contains("--records-unit"),
+        "{}",
+        stderr(&out)
+    );
     for key in ["median", "beta"] {
         let (a, b) = (pfa[key].as_f64().unwrap(), pga[key].as_f64().unwrap());
         assert!((a - b).abs() <= 1e-9 * b, "{key}: {a} against {b}");

@@ -103,8 +103,8 @@ pub enum CollectError {
         #[source]
         source: io::Error,
     },
-    #[error("no AT2 files found in {0}")]
-    NoFiles(String),
+    #[error("no AT2 files found in {0}{1}")]
+    NoFiles(String, String),
     #[error("no text motion files (*.out, *.txt, *.dat, *.csv) found in {0}")]
     NoTextFiles(String),
     #[error("manifest {path}")]
@@ -329,7 +329,23 @@ pub const TEXT_EXTENSIONS: &[&str] = &["out", "txt", "dat", "csv"];
 /// The AT2 files named by `paths`: files as given, folders walked recursively
 /// for `*.AT2` in any case. Sorted, without duplicates.
 pub fn discover(paths: &[PathBuf]) -> Result<Vec<PathBuf>, CollectError> {
-    discover_with(paths, &["at2"], CollectError::NoFiles)
+    discover_with(paths, &["at2"], |names| {
+        CollectError::NoFiles(names, String::new())
+    })
+    .map_err(|e| match (e, discover_text(paths)) {
+        // Text motions where AT2 files were looked for: their unit is
+        // what reads them.
+        (CollectError::NoFiles(names, _), Ok(text)) => CollectError::NoFiles(
+            names,
+            format!(
+                ", but {} text motion file(s) (*.out, *.txt, *.dat, *.csv): text records are \
+                     read with their unit (--records-unit, or a pipeline's `[records] text` with \
+                     `unit`)",
+                text.len()
+            ),
+        ),
+        (e, _) => e,
+    })
 }
 
 /// The text motion files named by `paths` (folders walked for
