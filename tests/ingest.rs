@@ -406,6 +406,31 @@ fn duplicate_stems_and_manifest_mismatches_are_refused() {
         err.contains("manifest.csv:2") && err.contains("npts = 3"),
         "{err}"
     );
+    // The PGA is held to its printing: 2.01 g passes for the file's 2 g,
+    // 10 g (another record's, or another unit) is refused.
+    for (pga, passes) in [("2.01", true), ("10", false)] {
+        let manifest = format!("set,npts,pga_g,file\ntest,2,{pga},A.AT2\n");
+        let dir = folder(&[("A.AT2", &a), ("manifest.csv", &manifest)]);
+        let run = rocking(
+            dir.path(),
+            &[
+                "ingest",
+                "A.AT2",
+                "--manifest",
+                "manifest.csv",
+                "--out",
+                "r.parquet",
+            ],
+        );
+        assert_eq!(run.status.success(), passes, "{pga}: {}", stderr(&run));
+        if !passes {
+            let err = stderr(&run);
+            assert!(
+                err.contains("manifest pga_g = 10 g, the file's peak 2 g"),
+                "{err}"
+            );
+        }
+    }
 
     let dir = folder(&[
         ("A.AT2", &a),

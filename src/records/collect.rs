@@ -593,8 +593,18 @@ fn read_ground(
 }
 
 /// NPTS must match exactly; DT to 1e-9 relative (a manifest may print 0.01
-/// where the file says .0100).
+/// where the file says .0100); the PGA to its printing (0.5 % and half a
+/// thousandth of a g: `0.416` for 0.415783), where it was not compared at
+/// all (another record's file, or another unit, passed).
 fn check_against_manifest(row: &RecordRow, entry: &manifest::ManifestEntry) -> Option<String> {
+    if let Some(pga) = entry.pga_g {
+        if (pga - row.pga_g).abs() > 0.005 * row.pga_g + 5e-4 {
+            return Some(format!(
+                "manifest pga_g = {pga} g, the file's peak {} g",
+                row.pga_g
+            ));
+        }
+    }
     if let Some(n) = entry.npts {
         if n as usize != row.accel_g.len() {
             return Some(format!(
