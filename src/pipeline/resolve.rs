@@ -537,6 +537,13 @@ fn grid(im: &RawIm) -> Result<ImGrid, String> {
     if !(im.tol > 0.0 && im.tol.is_finite()) {
         return Err(format!("`im.tol` = {} must be positive", im.tol));
     }
+    if im.tol >= im.eta_max {
+        return Err(format!(
+            "`im.tol` = {} is the step the capacity is refined to (Δη), and must be below \
+             `im.eta_max` = {} (the paper's is 1e-4)",
+            im.tol, im.eta_max
+        ));
+    }
     Ok(grid)
 }
 
@@ -637,6 +644,25 @@ mod tests {
         let physical_nonlinear =
             format!("{physical}[model]\nkind = \"nonlinear\"\nintegrator = \"dp5\"\n");
         assert!(load_str(&physical_nonlinear, Path::new("x.toml")).is_ok());
+    }
+
+    /// `im.tol` is Δη, the capacity's refinement: 10 was taken (no
+    /// refinement at all, without a word); at or past η_max it is refused.
+    #[test]
+    fn a_refinement_past_the_grid_is_refused() {
+        for (tol, ok) in [("1e-4", true), ("0.5", true), ("1.0", false), ("10", false)] {
+            let text = format!("{MINIMAL}[im]\ntol = {tol}\n");
+            match load_str(&text, Path::new("x.toml")) {
+                Ok(_) => assert!(ok, "{tol} taken"),
+                Err(e) => {
+                    assert!(!ok, "{tol}: {e}");
+                    assert!(
+                        e.to_string().contains("must be below `im.eta_max` = 1"),
+                        "{e}"
+                    );
+                }
+            }
+        }
     }
 
     #[test]
