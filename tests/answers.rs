@@ -357,6 +357,13 @@ fn a_misnamed_inventory_column_is_refused() {
             &format!("inv.csv:1: column `{column}`: an inventory's friction is one coefficient"),
         );
     }
+    // A comment line before the header: said why the header is not found.
+    fs::write(d.join("inv.csv"), "# museum\nname,b,h\nstatue,0.2,0.9\n").unwrap();
+    fails(
+        d,
+        &["risk", "--hazard", "h.csv", "--inventory", "inv.csv"],
+        "a `#` comment line is not skipped",
+    );
     // Columns of the user's own, or a near name beside the known one.
     for header in [
         "name,b,h,eps,room",

@@ -50,9 +50,19 @@ pub fn read_inventory(path: &Path) -> Result<Vec<InventoryBlock>, RiskError> {
     }
     let col = |name: &str| headers.iter().position(|h| h.trim() == name);
     let (Some(cn), Some(cb), Some(ch)) = (col("name"), col("b"), col("h")) else {
+        let comment = bytes.trim_ascii_start().starts_with(b"#");
         return Err(bad(
             1,
-            "the header needs `name`, `b` and `h` (half-width and half-height, m), and may have `eps`".into(),
+            format!(
+                "the header needs `name`, `b` and `h` (half-width and half-height, m), and may \
+                 have `eps`{}",
+                if comment {
+                    "; an inventory's first line is its header (a `#` comment line is not \
+                     skipped: remove it)"
+                } else {
+                    ""
+                }
+            ),
         ));
     };
     let ce = col("eps");
