@@ -173,17 +173,18 @@ pub fn read(mut input: impl Read) -> Result<Manifest, ManifestError> {
     })
 }
 
-/// The header row (line 1): the index of each known column, and the
-/// unknown columns' names. A known column named twice, or no `file`
-/// column, is refused.
+/// The header row (line 1): the index of each known column (its name in
+/// any case: `FILE`, `NPTS`), and the unknown columns' names. A known
+/// column named twice, or no `file` column, is refused.
 fn columns(
     headers: &csv::StringRecord,
-) -> Result<(BTreeMap<&str, usize>, Vec<String>), ManifestError> {
+) -> Result<(BTreeMap<&'static str, usize>, Vec<String>), ManifestError> {
     let mut column = BTreeMap::new();
     let mut ignored_columns = Vec::new();
-    for (i, name) in headers.iter().enumerate() {
-        let name = name.trim();
-        if KNOWN_COLUMNS.contains(&name) {
+    for (i, given) in headers.iter().enumerate() {
+        let given = given.trim();
+        let known = KNOWN_COLUMNS.iter().find(|k| k.eq_ignore_ascii_case(given));
+        if let Some(&name) = known {
             if column.insert(name, i).is_some() {
                 return Err(ManifestError {
                     line: Some(1),
@@ -191,15 +192,22 @@ fn columns(
                 });
             }
         } else {
-            ignored_columns.push(name.to_string());
+            ignored_columns.push(given.to_string());
         }
     }
     if !column.contains_key("file") {
+        let semicolons = headers.len() == 1 && headers.as_slice().contains(';');
         return Err(ManifestError {
             line: Some(1),
             message: format!(
-                "no `file` column; a manifest needs `file` (the AT2 path relative to the manifest) \
-                 and may have any of: {}",
+                "no `file` column{}; a manifest needs `file` (the AT2 path relative to the \
+                 manifest) and may have any of: {}",
+                if semicolons {
+                    " (its header reads as one column: a manifest's columns are apart by commas, \
+                     not semicolons)"
+                } else {
+                    ""
+                },
                 KNOWN_COLUMNS.join(", ")
             ),
         });
@@ -317,6 +325,30 @@ mod tests {
 
         let e = read("dt,file\nnan,a.AT2\n".as_bytes()).unwrap_err();
         assert!(e.message.contains("`dt`"), "{e}");
+    }
+
+    /// Column names in capitals are the known ones (`FILE,NPTS,DT` was "no
+    /// `file` column"); a header of semicolons is said to be one.
+    #[test]
+    fn headers_in_any_case_and_semicolons_named() {
+        let m = read(
+            "FILE,NPTS,Dt
+a.AT2,20,0.01
+"
+            .as_bytes(),
+        )
+        .unwrap();
+        let e = &m.entries["a"];
+        assert_eq!((e.npts, e.dt_s), (Some(20), Some(0.01)));
+        assert!(m.ignored_columns.is_empty());
+        let e = read(
+            "file;npts
+a.AT2;20
+"
+            .as_bytes(),
+        )
+        .unwrap_err();
+        assert!(e.message.contains("not semicolons"), "{e}");
     }
 
     #[test]
