@@ -59,6 +59,11 @@ pub enum At2ErrorKind {
     TooManyValues {
         npts: usize,
     },
+    /// Text after the NPTS samples (`END OF DATA`, a Ctrl-Z, NUL padding).
+    AfterSamples {
+        token: String,
+        npts: usize,
+    },
     /// More values than NPTS where a token of whitespace-separated values
     /// holds a comma between digits (`1,5E-04`): a decimal comma, read as
     /// two values.
@@ -99,7 +104,12 @@ impl fmt::Display for At2Error {
 /// returns) are written as escapes, so a hostile or broken file cannot
 /// garble the error that names it.
 fn shown(text: &str) -> String {
-    text.chars()
+    // A binary file's "token" runs to hundreds of bytes: its start shows it.
+    const SHOWN: usize = 40;
+    let more = text.chars().nth(SHOWN).is_some();
+    let start: String = text
+        .chars()
+        .take(SHOWN)
         .flat_map(|c| {
             let escaped: Vec<char> = if c.is_control() {
                 c.escape_default().collect()
@@ -108,7 +118,12 @@ fn shown(text: &str) -> String {
             };
             escaped
         })
-        .collect()
+        .collect();
+    if more {
+        format!("{start}…")
+    } else {
+        start
+    }
 }
 
 impl fmt::Display for At2ErrorKind {
@@ -161,6 +176,12 @@ impl fmt::Display for At2ErrorKind {
             TooManyValues { npts } => write!(
                 f,
                 "more values than NPTS = {npts}: the header and the data disagree"
+            ),
+            AfterSamples { token, npts } => write!(
+                f,
+                "the file goes on after its NPTS = {npts} samples with `{}`, which is no \
+                 sample: remove what follows the samples",
+                shown(token)
             ),
             DecimalComma { token, npts } => write!(
                 f,

@@ -136,9 +136,24 @@ fn too_many(body: &str, line_no: usize, npts: usize) -> At2Error {
             .find(decimal_comma)?;
         Some((HEADER_LINES + 1 + k, token.to_string()))
     });
-    match found {
-        Some((line, token)) => err(line, At2ErrorKind::DecimalComma { token, npts }),
-        None => err(line_no, At2ErrorKind::TooManyValues { npts }),
+    if let Some((line, token)) = found {
+        return err(line, At2ErrorKind::DecimalComma { token, npts });
+    }
+    // The first token past the samples: text (`END OF DATA`, a Ctrl-Z, NUL
+    // padding) is named as what follows them, not as more values.
+    let extra = body
+        .split(|c: char| c.is_whitespace() || c == ',')
+        .filter(|t| !t.is_empty())
+        .nth(npts);
+    match extra {
+        Some(token) if parse_value(token).is_err() => err(
+            line_no,
+            At2ErrorKind::AfterSamples {
+                token: token.to_string(),
+                npts,
+            },
+        ),
+        _ => err(line_no, At2ErrorKind::TooManyValues { npts }),
     }
 }
 
@@ -659,6 +674,22 @@ mod tests {
         let many = e(&file("NPTS= 3, DT= .01 SEC", "0.1,0.2\n0.3,0.4\n"));
         assert_eq!(many.kind, At2ErrorKind::TooManyValues { npts: 3 });
 
+        // Text after the samples is named as such, not as more values; a
+        // long binary run is shown by its start.
+        for tail in ["END OF DATA", "\u{1a}"] {
+            let after = e(&file("NPTS= 3, DT= .01 SEC", &format!("1 2 3\n{tail}\n")));
+            assert!(
+                matches!(after.kind, At2ErrorKind::AfterSamples { npts: 3, .. }),
+                "{after}"
+            );
+            assert!(after
+                .to_string()
+                .contains("goes on after its NPTS = 3 samples"));
+        }
+        let junk = "\u{1}".repeat(300);
+        let binary = e(&file("NPTS= 3, DT= .01 SEC", &format!("1 2 3\n{junk}\n")));
+        assert!(binary.to_string().len() < 400, "{binary}");
+        assert!(binary.to_string().contains("…"), "{binary}");
         let vel = e("A\nB\nVELOCITY TIME HISTORY IN UNITS OF CM/SEC\nNPTS= 1, DT= .01 SEC\n1\n");
         assert_eq!(vel.line, 3);
         assert!(vel.to_string().contains(".VT2"));
