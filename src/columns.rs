@@ -341,7 +341,7 @@ fn check_motion(
     }
     // The first column is seconds: a step of 5 is a time in milliseconds
     // (a record 1000 times too slow), one of 5e-6 a time in other units.
-    if !(MIN_DT_S..=MAX_DT_S).contains(&dt) {
+    if !crate::motion::dt_accepted(dt) {
         return Err(err(
             lines_of[1],
             format!(

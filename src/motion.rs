@@ -21,6 +21,13 @@ pub const MAX_DT_S: f64 = 0.1;
 /// stretch the record's seconds by as much.
 pub const MIN_DT_S: f64 = 1e-5;
 
+/// Whether a time step (s) is within [`MIN_DT_S`]–[`MAX_DT_S`], to
+/// rounding: a mean step of times printed in decimals (0.1 plus an ulp, by
+/// `(t_last − t_0)/(n − 1)`) is the limit itself.
+pub fn dt_accepted(dt_s: f64) -> bool {
+    dt_s >= MIN_DT_S * (1.0 - 1e-9) && dt_s <= MAX_DT_S * (1.0 + 1e-9)
+}
+
 /// Why samples (g) at a step (s) are no motion a block can be run under:
 /// fewer than two, a step outside [`MIN_DT_S`]–[`MAX_DT_S`], a sample past
 /// [`MAX_ACCEL_G`], or none but 0 (nothing to scale to a PGA). Files are
@@ -33,7 +40,7 @@ pub fn check(accel_g: &[f64], dt_s: f64) -> Result<(), String> {
             accel_g.len()
         ));
     }
-    if !(MIN_DT_S..=MAX_DT_S).contains(&dt_s) {
+    if !dt_accepted(dt_s) {
         return Err(format!(
             "a time step of {dt_s:e} s: a motion is sampled every 0.001–0.05 s (accepted: \
              {MIN_DT_S:e} to {MAX_DT_S} s); is it in seconds?"
@@ -98,6 +105,10 @@ mod tests {
         assert_eq!(check(&ok, 0.01), Ok(()));
         assert_eq!(check(&ok, MIN_DT_S), Ok(()));
         assert_eq!(check(&ok, MAX_DT_S), Ok(()));
+        // The limit to rounding (the mean step of 642 times printed from 0.1
+        // by 0.1 s is 0.1 and an ulp).
+        assert_eq!((64.2 - 0.1) / 641.0, MAX_DT_S.next_up());
+        assert_eq!(check(&ok, MAX_DT_S.next_up()), Ok(()));
         assert_eq!(check(&[0.0, MAX_ACCEL_G], 0.01), Ok(()));
         for (accel, dt, says) in [
             (&[0.1][..], 0.01, "1 sample(s)"),

@@ -149,6 +149,8 @@ impl SearchAsk {
             spacing: self.spacing,
         };
         grid.levels().map_err(|e| AskError(e.to_string()))?;
+        grid.check_tol(self.tol)
+            .map_err(|e| bad("tol", crate::decimal::shortest(self.tol), &e.to_string()))?;
         Ok(Search {
             grid,
             tol: self.tol,

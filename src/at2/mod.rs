@@ -408,10 +408,10 @@ fn parse_npts_dt(line: &str) -> Result<(usize, f64, HeaderLayout), At2ErrorKind>
     if dt <= 0.0 {
         return Err(At2ErrorKind::NonPositiveDt { dt });
     }
-    if dt > MAX_DT_S || !dt.is_finite() {
+    if !dt.is_finite() || (dt > MAX_DT_S && !crate::motion::dt_accepted(dt)) {
         return Err(At2ErrorKind::CoarseDt { dt });
     }
-    if dt < MIN_DT_S {
+    if !crate::motion::dt_accepted(dt) {
         return Err(At2ErrorKind::FineDt { dt });
     }
     Ok((npts, dt, layout))

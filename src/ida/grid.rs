@@ -106,11 +106,46 @@ impl ImGrid {
             })
             .collect())
     }
+
+    /// Whether a capacity refined to `tol` (Δη) is refined at all on this
+    /// grid: below the widest gap between its levels (η_max the first
+    /// bound). A wider one returns the levels' own bracket everywhere, a
+    /// capacity unrefined without a word.
+    pub fn check_tol(&self, tol: f64) -> Result<(), PhysicsError> {
+        let levels = self.levels()?;
+        let widest = std::iter::once(self.eta_max)
+            .chain(levels.iter().copied())
+            .zip(levels.iter().copied())
+            .map(|(a, b)| a - b)
+            .fold(0.0, f64::max);
+        if tol >= widest {
+            return Err(PhysicsError::BadInput(format!(
+                "a refinement of Δη = {} refines nothing: the grid's levels are up to {widest:.3} \
+                 apart (the paper's is 1e-4)",
+                crate::decimal::shortest(tol),
+            )));
+        }
+        Ok(())
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Δη at or past the widest gap (the default grid's first, 1 − 0.966)
+    /// refines nothing and is refused; below it, taken.
+    #[test]
+    fn a_refinement_wider_than_the_grid_is_refused() {
+        let g = ImGrid::default();
+        let first = g.levels().unwrap()[0];
+        assert!(g.check_tol(1e-4).is_ok());
+        assert!(g.check_tol(0.99 * (1.0 - first)).is_ok());
+        for tol in [1.0 - first, 0.05, 0.5, 10.0] {
+            let e = g.check_tol(tol).unwrap_err().to_string();
+            assert!(e.contains("refines nothing"), "{tol}: {e}");
+        }
+    }
 
     #[test]
     fn a_grid_below_the_smallest_eta_is_refused() {

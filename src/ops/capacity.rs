@@ -107,7 +107,7 @@ pub fn load_records(
     paths: &[PathBuf],
     building: Option<&crate::floor::Building>,
 ) -> Result<Vec<LoadedRecord>, CapacityError> {
-    let files = crate::records::discover(paths)?;
+    let files = crate::records::discover(paths).map_err(crate::records::CollectError::from)?;
     // A record's id is its file stem, as in a records table: two files of
     // one stem (in two folders) would be two records of one id.
     let mut seen = std::collections::BTreeMap::new();

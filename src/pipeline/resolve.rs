@@ -3,12 +3,12 @@
 
 use std::path::{Path, PathBuf};
 
-use super::checks::{block_run, check_eps, model, refuse_repeats, values, Unresolved};
+use super::checks::{block_run, check_eps, convergence, grid, model, values, Unresolved};
 use super::plan::*;
 use super::raw::*;
 use crate::block::{Block, BlockError, Restitution};
 use crate::damage::DamageStates;
-use crate::ida::{ImGrid, Trace, MAX_LEVELS};
+use crate::ida::Trace;
 use crate::physics::{ModelChoice, Overturn};
 use crate::stats::{FractileDef, ResampleUnit};
 
@@ -519,56 +519,6 @@ fn physical(key: &str, b: &RawBlock) -> Result<Unresolved, String> {
     })
 }
 
-/// `[im]`: the grid of intensity levels and the refinement tolerance.
-fn grid(im: &RawIm) -> Result<ImGrid, String> {
-    if im.count > MAX_LEVELS {
-        return Err(format!(
-            "`im.count` = {} is more than {MAX_LEVELS} levels (each is a simulation per record and block; the paper used 100–200)",
-            im.count
-        ));
-    }
-    let grid = ImGrid {
-        eta_max: im.eta_max,
-        eta_min: im.eta_min,
-        count: im.count,
-        spacing: im.spacing,
-    };
-    grid.levels().map_err(|e| format!("`im`: {e}"))?;
-    if !(im.tol > 0.0 && im.tol.is_finite()) {
-        return Err(format!("`im.tol` = {} must be positive", im.tol));
-    }
-    if im.tol >= im.eta_max {
-        return Err(format!(
-            "`im.tol` = {} is the step the capacity is refined to (Δη), and must be below \
-             `im.eta_max` = {} (the paper's is 1e-4)",
-            im.tol, im.eta_max
-        ));
-    }
-    Ok(grid)
-}
-
-/// `[convergence] levels`: ascending, without repeats.
-fn convergence(raw: Option<&RawConvergence>) -> Result<Vec<usize>, String> {
-    let Some(c) = raw else {
-        return Ok(Vec::new());
-    };
-    if let Some(&n) = c.levels.iter().find(|&&n| n > MAX_LEVELS) {
-        return Err(format!(
-            "`convergence.levels` holds {n}, more than {MAX_LEVELS} levels"
-        ));
-    }
-    if c.levels.len() < 2 || c.levels.iter().any(|&n| n < 2) {
-        return Err(format!(
-            "`convergence.levels` = {:?}: give at least two level counts, each at least 2",
-            c.levels
-        ));
-    }
-    refuse_repeats("convergence.levels", &c.levels)?;
-    let mut levels = c.levels.clone();
-    levels.sort_unstable();
-    Ok(levels)
-}
-
 fn uncertainty(raw: Option<&RawUncertainty>) -> Result<Option<Uncertainty>, String> {
     use crate::label::Label;
     let Some(u) = raw else {
@@ -646,20 +596,24 @@ mod tests {
         assert!(load_str(&physical_nonlinear, Path::new("x.toml")).is_ok());
     }
 
-    /// `im.tol` is Δη, the capacity's refinement: 10 was taken (no
-    /// refinement at all, without a word); at or past η_max it is refused.
+    /// `im.tol` is Δη, the capacity's refinement: 10 or 0.05 was taken (no
+    /// refinement at all, without a word); at or past the grid's widest gap
+    /// (0.034 for the default 200 levels) it is refused naming the key.
     #[test]
     fn a_refinement_past_the_grid_is_refused() {
-        for (tol, ok) in [("1e-4", true), ("0.5", true), ("1.0", false), ("10", false)] {
+        for (tol, ok) in [
+            ("1e-4", true),
+            ("0.03", true),
+            ("0.05", false),
+            ("10", false),
+        ] {
             let text = format!("{MINIMAL}[im]\ntol = {tol}\n");
             match load_str(&text, Path::new("x.toml")) {
                 Ok(_) => assert!(ok, "{tol} taken"),
                 Err(e) => {
                     assert!(!ok, "{tol}: {e}");
-                    assert!(
-                        e.to_string().contains("must be below `im.eta_max` = 1"),
-                        "{e}"
-                    );
+                    let says = format!("`im.tol` = {tol}: a refinement");
+                    assert!(e.to_string().contains(&says), "{e}");
                 }
             }
         }
@@ -685,7 +639,7 @@ mod tests {
                 manifest: Some(PathBuf::from("pipelines/../records/fema-p695/manifest.csv")),
             }
         );
-        assert_eq!(rs.grid, ImGrid::default());
+        assert_eq!(rs.grid, crate::ida::ImGrid::default());
         assert_eq!(rs.fractile, FractileDef::Type7);
     }
 

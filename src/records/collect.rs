@@ -18,6 +18,8 @@ use crate::manifest::{self, Manifest, RecordMeta};
 use crate::motion;
 use crate::tables::records::RecordRow;
 
+use super::discover::{discover, discover_text, DiscoverError, TEXT_EXTENSIONS};
+
 /// What to say when a pipeline's AT2 files are bad.
 pub const PIPELINE_HINT: &str =
     "fix them, or take them out of the folders the pipeline's `records.at2` names";
@@ -103,10 +105,8 @@ pub enum CollectError {
         #[source]
         source: io::Error,
     },
-    #[error("no AT2 files found in {0}{1}")]
-    NoFiles(String, String),
-    #[error("no text motion files (*.out, *.txt, *.dat, *.csv) found in {0}")]
-    NoTextFiles(String),
+    #[error(transparent)]
+    Discover(#[from] DiscoverError),
     #[error("manifest {path}")]
     Manifest {
         path: PathBuf,
@@ -158,7 +158,7 @@ pub fn collect_as(
 ) -> Result<Collected, CollectError> {
     let files = match text {
         None => discover(paths)?,
-        Some(_) => discover_with(paths, TEXT_EXTENSIONS, CollectError::NoTextFiles)?,
+        Some(_) => discover_text(paths)?,
     };
     let manifest = match manifest_path {
         Some(path) => Some((path.to_path_buf(), load_manifest(path)?)),
@@ -321,99 +321,6 @@ pub fn load_manifest(path: &Path) -> Result<Manifest, CollectError> {
         path: path.into(),
         source,
     })
-}
-
-/// The extensions of text motion files in a folder.
-pub const TEXT_EXTENSIONS: &[&str] = &["out", "txt", "dat", "csv"];
-
-/// The AT2 files named by `paths`: files as given, folders walked recursively
-/// for `*.AT2` in any case. Sorted, without duplicates.
-pub fn discover(paths: &[PathBuf]) -> Result<Vec<PathBuf>, CollectError> {
-    discover_with(paths, &["at2"], |names| {
-        CollectError::NoFiles(names, String::new())
-    })
-    .map_err(|e| match (e, discover_text(paths)) {
-        // Text motions where AT2 files were looked for: their unit is
-        // what reads them.
-        (CollectError::NoFiles(names, _), Ok(text)) => CollectError::NoFiles(
-            names,
-            format!(
-                ", but {} text motion file(s) (*.out, *.txt, *.dat, *.csv): text records are \
-                     read with their unit (--records-unit, or a pipeline's `[records] text` with \
-                     `unit`)",
-                text.len()
-            ),
-        ),
-        (e, _) => e,
-    })
-}
-
-/// The text motion files named by `paths` (folders walked for
-/// [`TEXT_EXTENSIONS`]).
-pub fn discover_text(paths: &[PathBuf]) -> Result<Vec<PathBuf>, CollectError> {
-    discover_with(paths, TEXT_EXTENSIONS, CollectError::NoTextFiles)
-}
-
-/// The files named by `paths`: files as given, folders walked recursively
-/// for the `extensions` in any case (a `manifest.csv` skipped). Sorted,
-/// without duplicates.
-fn discover_with(
-    paths: &[PathBuf],
-    extensions: &[&str],
-    none: fn(String) -> CollectError,
-) -> Result<Vec<PathBuf>, CollectError> {
-    let mut found = Vec::new();
-    for path in paths {
-        let meta = fs::metadata(path).map_err(|source| CollectError::Path {
-            path: path.clone(),
-            source,
-        })?;
-        if meta.is_dir() {
-            walk(path, extensions, &mut found)?;
-        } else {
-            found.push(path.clone());
-        }
-    }
-    found.sort();
-    found.dedup();
-    if found.is_empty() {
-        let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
-        return Err(none(names.join(", ")));
-    }
-    Ok(found)
-}
-
-fn walk(dir: &Path, extensions: &[&str], found: &mut Vec<PathBuf>) -> Result<(), CollectError> {
-    let entries = fs::read_dir(dir).map_err(|source| CollectError::Path {
-        path: dir.into(),
-        source,
-    })?;
-    for entry in entries {
-        let entry = entry.map_err(|source| CollectError::Path {
-            path: dir.into(),
-            source,
-        })?;
-        let path = entry.path();
-        let meta = fs::metadata(&path).map_err(|source| CollectError::Path {
-            path: path.clone(),
-            source,
-        })?;
-        let manifest = path
-            .file_name()
-            .is_some_and(|n| n.eq_ignore_ascii_case("manifest.csv"));
-        if meta.is_dir() {
-            walk(&path, extensions, found)?;
-        } else if !manifest
-            && path.extension().is_some_and(|e| {
-                extensions
-                    .iter()
-                    .any(|x| e.eq_ignore_ascii_case(std::ffi::OsStr::new(x)))
-            })
-        {
-            found.push(path);
-        }
-    }
-    Ok(())
 }
 
 fn read_one(path: &Path) -> Result<RecordRow, BadFile> {

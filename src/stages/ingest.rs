@@ -84,9 +84,9 @@ impl Stage for Ingest {
             _ => return Ok(Vec::new()),
         };
         let mut files = match &text {
-            None => discover(paths).map_err(IngestError::from)?,
+            None => discover(paths).map_err(CollectError::from)?,
             Some(t) => {
-                let mut all = crate::records::discover_text(paths).map_err(IngestError::from)?;
+                let mut all = crate::records::discover_text(paths).map_err(CollectError::from)?;
                 if let Some(g) = &t.ground {
                     let g = std::slice::from_ref(g);
                     all.extend(discover(g).unwrap_or_default());

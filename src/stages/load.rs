@@ -178,8 +178,8 @@ fn known_ids(study: &Loaded<'_>) -> Result<(), String> {
         return Ok(());
     }
     let (key, files) = match &records.records {
-        RecordSource::At2 { paths, .. } => ("records.at2", collect::discover(paths)),
-        RecordSource::Text { paths, .. } => ("records.text", collect::discover_text(paths)),
+        RecordSource::At2 { paths, .. } => ("records.at2", crate::records::discover(paths)),
+        RecordSource::Text { paths, .. } => ("records.text", crate::records::discover_text(paths)),
         RecordSource::Table(_) => return Ok(()),
     };
     // No files at all is the ingest's to report.
