@@ -25,7 +25,7 @@ pub const MIN_DT_S: f64 = 1e-5;
 /// rounding: a mean step of times printed in decimals (0.1 plus an ulp, by
 /// `(t_last − t_0)/(n − 1)`) is the limit itself.
 pub fn dt_accepted(dt_s: f64) -> bool {
-    dt_s >= MIN_DT_S * (1.0 - 1e-9) && dt_s <= MAX_DT_S * (1.0 + 1e-9)
+    (MIN_DT_S * (1.0 - 1e-9)..=MAX_DT_S * (1.0 + 1e-9)).contains(&dt_s)
 }
 
 /// Why samples (g) at a step (s) are no motion a block can be run under:
