@@ -210,6 +210,51 @@ pub(super) struct Unresolved {
     pub(super) mu_k: Option<f64>,
 }
 
+/// `[im]`: the grid of intensity levels and the refinement tolerance.
+pub(super) fn grid(im: &RawIm) -> Result<ImGrid, String> {
+    if im.count > MAX_LEVELS {
+        return Err(format!(
+            "`im.count` = {} is more than {MAX_LEVELS} levels (each is a simulation per record and block; the paper used 100–200)",
+            im.count
+        ));
+    }
+    let grid = ImGrid {
+        eta_max: im.eta_max,
+        eta_min: im.eta_min,
+        count: im.count,
+        spacing: im.spacing,
+    };
+    grid.levels().map_err(|e| format!("`im`: {e}"))?;
+    if !(im.tol > 0.0 && im.tol.is_finite()) {
+        return Err(format!("`im.tol` = {} must be positive", im.tol));
+    }
+    grid.check_tol(im.tol)
+        .map_err(|e| format!("`im.tol` = {}: {e}", im.tol))?;
+    Ok(grid)
+}
+
+/// `[convergence] levels`: ascending, without repeats.
+pub(super) fn convergence(raw: Option<&RawConvergence>) -> Result<Vec<usize>, String> {
+    let Some(c) = raw else {
+        return Ok(Vec::new());
+    };
+    if let Some(&n) = c.levels.iter().find(|&&n| n > MAX_LEVELS) {
+        return Err(format!(
+            "`convergence.levels` holds {n}, more than {MAX_LEVELS} levels"
+        ));
+    }
+    if c.levels.len() < 2 || c.levels.iter().any(|&n| n < 2) {
+        return Err(format!(
+            "`convergence.levels` = {:?}: give at least two level counts, each at least 2",
+            c.levels
+        ));
+    }
+    refuse_repeats("convergence.levels", &c.levels)?;
+    let mut levels = c.levels.clone();
+    levels.sort_unstable();
+    Ok(levels)
+}
+
 #[cfg(test)]
 mod decimal_tests {
     use super::*;
@@ -259,49 +304,4 @@ mod decimal_tests {
         );
         assert_eq!(expand("eps", &r(0.7, 0.7)).unwrap(), vec![0.7]);
     }
-}
-
-/// `[im]`: the grid of intensity levels and the refinement tolerance.
-pub(super) fn grid(im: &RawIm) -> Result<ImGrid, String> {
-    if im.count > MAX_LEVELS {
-        return Err(format!(
-            "`im.count` = {} is more than {MAX_LEVELS} levels (each is a simulation per record and block; the paper used 100–200)",
-            im.count
-        ));
-    }
-    let grid = ImGrid {
-        eta_max: im.eta_max,
-        eta_min: im.eta_min,
-        count: im.count,
-        spacing: im.spacing,
-    };
-    grid.levels().map_err(|e| format!("`im`: {e}"))?;
-    if !(im.tol > 0.0 && im.tol.is_finite()) {
-        return Err(format!("`im.tol` = {} must be positive", im.tol));
-    }
-    grid.check_tol(im.tol)
-        .map_err(|e| format!("`im.tol` = {}: {e}", im.tol))?;
-    Ok(grid)
-}
-
-/// `[convergence] levels`: ascending, without repeats.
-pub(super) fn convergence(raw: Option<&RawConvergence>) -> Result<Vec<usize>, String> {
-    let Some(c) = raw else {
-        return Ok(Vec::new());
-    };
-    if let Some(&n) = c.levels.iter().find(|&&n| n > MAX_LEVELS) {
-        return Err(format!(
-            "`convergence.levels` holds {n}, more than {MAX_LEVELS} levels"
-        ));
-    }
-    if c.levels.len() < 2 || c.levels.iter().any(|&n| n < 2) {
-        return Err(format!(
-            "`convergence.levels` = {:?}: give at least two level counts, each at least 2",
-            c.levels
-        ));
-    }
-    refuse_repeats("convergence.levels", &c.levels)?;
-    let mut levels = c.levels.clone();
-    levels.sort_unstable();
-    Ok(levels)
 }
