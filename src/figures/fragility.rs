@@ -10,10 +10,10 @@ use crate::study::StudyData;
 /// The fragility of an example block, from this study's fit and the paper's.
 pub(super) fn fragility_example(d: &StudyData) -> Vec<Figure> {
     // A floor study's capacities are in its floor's peak, not the paper's
-    // PGA; a study of named blocks has no regression, and its own blocks'
-    // fragilities are in the damage section: the paper's curve of an
-    // example cabinet would speak of neither.
-    if d.records_plan().floor.is_some() || !d.is_grid() {
+    // PGA, and text records' in their own peak; a study of named blocks has
+    // no regression, and its own blocks' fragilities are in the damage
+    // section: the paper's curve of an example cabinet would speak of none.
+    if d.peak() != crate::im::Im::Pga || !d.is_grid() {
         return Vec::new();
     }
     let block = fragility::example_block();
@@ -168,6 +168,17 @@ mod tests {
     #[test]
     fn no_example_for_a_study_of_named_blocks() {
         let d = crate::figures::fixture::block_study();
+        assert!(fragility_example(&d).is_empty());
+    }
+
+    /// Nor for a grid over text records, whose η is of their own peak (a
+    /// floor's PFA): it was drawn against PGA beside the paper's ground
+    /// curve.
+    #[test]
+    fn no_example_for_a_grid_over_text_records() {
+        let mut d = grid_study(&[1.0, 2.0], &[0.5, 0.9]);
+        assert!(!fragility_example(&d).is_empty());
+        d.stood_on = true;
         assert!(fragility_example(&d).is_empty());
     }
 

@@ -149,8 +149,9 @@ pub(super) fn fit_bands(w: &mut String, d: &StudyData) {
     let block = fragility::example_block();
     let paper_median =
         fragility::median_beta(&paper, block.p(), block.eps).map(|(m, _)| block.alpha() / m);
-    // A floor study's fit is in its floor's peak, not the paper's PGA.
-    let on_ground = d.records_plan().floor.is_none();
+    // A floor study's fit is in its floor's peak, not the paper's PGA, and
+    // text records' in their own peak.
+    let on_ground = d.peak() == crate::im::Im::Pga;
     if let (true, Some(mid), Some(lo), Some(hi)) = (
         on_ground,
         crossing(&|r| r.value),
