@@ -56,6 +56,9 @@ pub struct ManifestEntry {
     pub dt_s: Option<f64>,
     /// PGA of the component as tabulated (g); the table's `pga_g` comes from the samples.
     pub pga_g: Option<f64>,
+    /// Half a unit in the last digit `pga_g` is printed to (g): how far it
+    /// may lie from the file's peak (`0.42` for 0.415783: 0.005).
+    pub pga_g_half_unit: Option<f64>,
     pub meta: RecordMeta,
 }
 
@@ -283,8 +286,22 @@ fn row_entry(
         npts,
         dt_s: real("dt")?,
         pga_g: real("pga_g")?,
+        pga_g_half_unit: cell("pga_g").map(half_unit),
         meta,
     })
+}
+
+/// Half a unit in the last digit of a number as printed: `0.42` → 0.005,
+/// `4.2e-1` → 0.005, `1` → 0.5.
+fn half_unit(printed: &str) -> f64 {
+    let (mantissa, exponent) = match printed.find(['e', 'E']) {
+        Some(k) => (&printed[..k], printed[k + 1..].parse::<i32>().unwrap_or(0)),
+        None => (printed, 0),
+    };
+    let decimals = mantissa.split_once('.').map_or(0, |(_, d)| {
+        d.chars().filter(char::is_ascii_digit).count() as i32
+    });
+    0.5 * 10f64.powi(exponent - decimals)
 }
 
 #[cfg(test)]
@@ -325,6 +342,20 @@ mod tests {
 
         let e = read("dt,file\nnan,a.AT2\n".as_bytes()).unwrap_err();
         assert!(e.message.contains("`dt`"), "{e}");
+    }
+
+    #[test]
+    fn half_a_unit_in_the_last_printed_digit() {
+        for (printed, half) in [
+            ("0.42", 0.005),
+            ("0.415783", 5e-7),
+            ("4.2e-1", 0.005),
+            ("1", 0.5),
+            ("12.", 0.5),
+        ] {
+            let h = half_unit(printed);
+            assert!((h - half).abs() <= 1e-12 * half, "{printed}: {h}");
+        }
     }
 
     /// Column names in capitals are the known ones (`FILE,NPTS,DT` was "no

@@ -500,12 +500,15 @@ fn read_ground(
 }
 
 /// NPTS must match exactly; DT to 1e-9 relative (a manifest may print 0.01
-/// where the file says .0100); the PGA to its printing (0.5 % and half a
-/// thousandth of a g: `0.416` for 0.415783), where it was not compared at
-/// all (another record's file, or another unit, passed).
+/// where the file says .0100); an AT2 file's PGA to the manifest's printing
+/// (half a unit in its last digit: `0.42` for 0.415783), where it was not
+/// compared at all (another record's file, the pair's other component,
+/// another unit, passed). A text record's is not held to it: its manifest
+/// row may be its ground motion's.
 fn check_against_manifest(row: &RecordRow, entry: &manifest::ManifestEntry) -> Option<String> {
-    if let Some(pga) = entry.pga_g {
-        if (pga - row.pga_g).abs() > 0.005 * row.pga_g + 5e-4 {
+    let text = row.header_layout == TEXT_LAYOUT;
+    if let (Some(pga), Some(half), false) = (entry.pga_g, entry.pga_g_half_unit, text) {
+        if (pga - row.pga_g).abs() > half + 1e-9 * row.pga_g {
             return Some(format!(
                 "manifest pga_g = {pga} g, the file's peak {} g",
                 row.pga_g
