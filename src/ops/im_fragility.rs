@@ -384,14 +384,18 @@ enum Gap {
 impl Table {
     /// The study's blocks; `study_block(name)` what the study says of the
     /// block of that name.
+    /// Named blocks (`[[block]]`) are no grid, whatever their p and ε:
+    /// they answer for themselves only (a study of one such block gave its
+    /// capacity to any block of its p, of another ε or shape too).
     fn of(nodes: &[(&str, Node)], study_block: &dyn Fn(&str) -> StudyBlock) -> Table {
         let bare: Vec<Node> = nodes.iter().map(|n| n.1).collect();
+        let named = nodes.iter().any(|(b, _)| !b.is_empty());
         Table {
             nodes: nodes
                 .iter()
                 .map(|(b, n)| (b.to_string(), *n, study_block(b)))
                 .collect(),
-            grid: Grid::of(&bare),
+            grid: if named { None } else { Grid::of(&bare) },
         }
     }
 
@@ -510,11 +514,12 @@ impl Grid {
     /// fit is a [`Gap::Holes`] where its weight is not zero, and nothing
     /// where it is (its term is then 0, as any block's would be).
     fn at(&self, p: f64, eps: f64) -> Result<(f64, f64, Vec<String>), Gap> {
-        // One p carries nothing to another size (a study of one block
-        // gave its capacity to a block ten times smaller); one ε is used
-        // at another with a warning, as the edge of a grid is.
+        // One p carries nothing to a block of another size (a grid of one p
+        // gave its capacity to a block ten times smaller), but to one within
+        // 5 % of it, with a warning; one ε is used at another with a
+        // warning, as the edge of a grid is.
         if let [only] = self.ps[..] {
-            if (p - only).abs() > 1e-9 * only {
+            if (p - only).abs() > ONE_P_REACH * only {
                 return Err(Gap::OneP(only, p));
             }
         }
@@ -549,15 +554,19 @@ impl Grid {
     }
 }
 
+/// How far (relative) a grid of one p carries its capacity: a measured
+/// block's p is never the grid's to the digit.
+const ONE_P_REACH: f64 = 0.05;
+
 /// A warning when `x` lies outside the study's sorted values `xs` of `name`.
 fn outside(name: &str, unit: &str, xs: &[f64], x: f64) -> Option<String> {
     let (lo, hi) = (xs[0], xs[xs.len() - 1]);
-    if (lo..=hi).contains(&x) || (xs.len() == 1 && name == "p") {
-        // One p is the block's own, to rounding (another is refused).
+    // One value: the block's own to four digits (a measured block's).
+    if (lo..=hi).contains(&x) || (xs.len() == 1 && (x - lo).abs() <= 1e-4 * lo.abs()) {
         None
     } else if xs.len() == 1 {
         Some(format!(
-            "{name} = {x:.3}{unit} is not the study's only {name} = {lo:.3}{unit}: its capacity is used"
+            "{name} = {x:.4}{unit} is not the study's only {name} = {lo:.4}{unit}: its capacity is used"
         ))
     } else {
         Some(format!(
@@ -669,8 +678,14 @@ mod tests {
         assert_eq!(one.at(2.0, 0.7), Ok((1.3f64.ln(), 0.2, Vec::new())));
         let ten = 2.0 * 10f64.sqrt();
         assert_eq!(one.at(ten, 0.7), Err(Gap::OneP(2.0, ten)));
+        // A measured block of that p to four digits, or within 5 % with a
+        // warning, is answered; at 6 % refused.
+        assert_eq!(one.at(2.00003, 0.7), Ok((1.3f64.ln(), 0.2, Vec::new())));
+        let (m, _, w) = one.at(2.08, 0.7).unwrap();
+        assert!(m == 1.3f64.ln() && w.len() == 1 && w[0].contains("only p = 2.0000"));
+        assert_eq!(one.at(2.12, 0.7), Err(Gap::OneP(2.0, 2.12)));
         let (m, _, w) = one.at(2.0, 0.5).unwrap();
-        assert!(m == 1.3f64.ln() && w.len() == 1 && w[0].contains("only ε = 0.700"));
+        assert!(m == 1.3f64.ln() && w.len() == 1 && w[0].contains("only ε = 0.7000"));
         let along: Vec<Node> = [0.5, 0.7, 0.9]
             .iter()
             .map(|&e| (2.0, e, Some(1.0 + e), Some(0.2)))
@@ -743,6 +758,26 @@ mod tests {
             Err(Gap::Holes("p = 1.000 1/s, ε = 0.900".into()))
         );
         assert_eq!(holed.at(4.0, 0.9, None), Ok((3f64.ln(), 0.3, Vec::new())));
+        // One named block is no 1 × 1 grid: another ε, or another p near
+        // its own, is refused (it was given the statue's capacity).
+        let one = Table::of(
+            &[("statue", (2.8245, 0.9294, Some(1.3), Some(0.12)))],
+            &none,
+        );
+        assert_eq!(one.at(2.8245, 0.5, None), Err(Gap::NotAGrid));
+        assert_eq!(one.at(2.83, 0.9294, None), Err(Gap::NotAGrid));
+        // Named blocks of a full 2 × 2 of p and ε are no grid either.
+        let four = Table::of(
+            &[
+                ("a", (1.0, 0.5, Some(1.0), Some(0.3))),
+                ("b", (1.0, 0.9, Some(1.5), Some(0.3))),
+                ("c", (4.0, 0.5, Some(2.0), Some(0.3))),
+                ("d", (4.0, 0.9, Some(3.0), Some(0.3))),
+            ],
+            &none,
+        );
+        assert_eq!(four.at(2.0, 0.7, None), Err(Gap::NotAGrid));
+        assert_eq!(four.at(4.0, 0.9, None), Ok((3f64.ln(), 0.3, Vec::new())));
     }
 
     /// Two named blocks of one R and ε (so one p) but other shapes: each
@@ -789,7 +824,7 @@ mod tests {
         let (m, _, w) = g.at(2.0, 0.75).unwrap();
         assert!((m - f(2.0).0).abs() < 1e-12);
         assert_eq!(w.len(), 1);
-        assert!(w[0].contains("only ε = 0.700"), "{w:?}");
+        assert!(w[0].contains("only ε = 0.7000"), "{w:?}");
     }
 
     #[test]
