@@ -345,7 +345,14 @@ fn a_misnamed_inventory_column_is_refused() {
     }
     // A kinetic coefficient beside `mu` was passed over, the block run
     // with μk = μ: it is refused, pointing to where one is run.
-    for column in ["mu_k", "Mu-kinetic", "dynamic friction"] {
+    for column in [
+        "mu_k",
+        "Mu-kinetic",
+        "dynamic friction",
+        "kinetic_friction_coefficient",
+        "friction_kinetic",
+        "μ_k",
+    ] {
         fs::write(
             d.join("inv.csv"),
             format!("name,b,h,eps,mu,{column}\nrack,0.3,1.0,0.75,0.5,0.3\n"),
@@ -370,6 +377,8 @@ fn a_misnamed_inventory_column_is_refused() {
         "name,b,h,eps,epsilon",
         "name,b,h,eps,museum",
         "name,b,h,eps,era",
+        "name,b,h,eps,african_provenance",
+        "name,b,h,eps,friction_angle_deg",
     ] {
         fs::write(
             d.join("inv.csv"),

@@ -207,7 +207,7 @@ fn misnamed_column(headers: &csv::StringRecord) -> Option<String> {
             return None;
         }
         let p = plain(h);
-        if KINETIC.contains(&p.as_str()) {
+        if KINETIC.contains(&p.as_str()) || kinetic(&p) {
             return Some(format!(
                 "column `{h}`: an inventory's friction is one coefficient, `mu`, static and \
                  kinetic alike; a kinetic coefficient of its own is run by `rocking capacity \
@@ -244,14 +244,29 @@ fn named_as(p: &str) -> Option<&'static &'static str> {
         || p.starts_with("eps")
         || p.starts_with('ε')
         || matches!(p, "e" | "rest");
-    // `mu` then a word is the user's own (`museum`, `multiplier`).
-    let mu = p.contains("fric") || matches!(p, "mus" | "mustatic" | "mu0") || p.starts_with('μ');
+    // `mu` then a word is the user's own (`museum`, `multiplier`), and so is
+    // a friction angle (degrees) or a word holding "fric" (`african`).
+    let friction = (p.starts_with("fric") || p.contains("friction")) && !p.contains("angle");
+    let mu = friction || matches!(p, "mus" | "mustatic" | "mu0") || p.starts_with('μ');
     let at = |name: &str| KNOWN.iter().map(|(k, _)| k).find(|k| **k == name);
     match (eps, mu) {
         (true, false) => at("eps"),
         (false, true) => at("mu"),
         _ => None,
     }
+}
+
+/// Whether a plain column name is a kinetic friction coefficient by its
+/// stem (`kinetic_friction_coefficient`, `friction_kinetic`, `μ_k`,
+/// `mu_dyn`), which the exact names of [`KINETIC`] miss.
+fn kinetic(p: &str) -> bool {
+    let friction = p.starts_with("mu") || p.starts_with('μ') || p.contains("fric");
+    let moving = p.contains("kinetic")
+        || p.contains("dynamic")
+        || p.contains("dyn")
+        || p.contains("sliding")
+        || matches!(p, "μk" | "μd" | "muk" | "mud");
+    friction && moving && !p.contains("angle")
 }
 
 /// Whether `a` and `b` differ by one letter changed, added or removed.
