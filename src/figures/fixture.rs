@@ -37,11 +37,12 @@ pub fn two_blocks_study() -> StudyData {
 }
 
 /// A study of three named blocks listed in the order `names` (of vase,
-/// urn and rack: p = 4.2, 3.7 and 2.7 1/s).
+/// urn and rack: p = 4.2, 3.7 and 2.7 1/s; urn2 is urn's twin).
 pub fn three_blocks_study(names: [&str; 3]) -> StudyData {
     let block = |name: &str| match name {
         "vase" => "[[block]]\nname = \"vase\"\nb = 0.1\nh = 0.4\neps = 0.8\n",
         "urn" => "[[block]]\nname = \"urn\"\nb = 0.2\nh = 0.5\neps = 0.6\n",
+        "urn2" => "[[block]]\nname = \"urn2\"\nb = 0.2\nh = 0.5\neps = 0.6\n",
         _ => "[[block]]\nname = \"rack\"\nb = 0.3\nh = 1.0\neps = 0.75\n",
     };
     let blocks: String = names.iter().map(|n| block(n)).collect();

@@ -15,19 +15,23 @@ pub(super) fn middle(d: &StudyData) -> (usize, f64, f64) {
     let (ps, es) = d.ps_and_eps();
     let (p, e) = (ps[ps.len() / 2], es[es.len() / 2]);
     let blocks = &d.records_plan().blocks;
-    let bi = blocks
-        .iter()
-        .position(|b| b.p == p && b.eps == e)
-        .unwrap_or_else(|| {
-            let mut order: Vec<usize> = (0..blocks.len()).collect();
-            order.sort_by(|&i, &j| {
-                let (a, b) = (&blocks[i], &blocks[j]);
-                (a.p.total_cmp(&b.p))
-                    .then(a.eps.total_cmp(&b.eps))
-                    .then(a.name.cmp(&b.name))
-            });
-            order[order.len() / 2]
+    let by_order = || {
+        let mut order: Vec<usize> = (0..blocks.len()).collect();
+        order.sort_by(|&i, &j| {
+            let (a, b) = (&blocks[i], &blocks[j]);
+            (a.p.total_cmp(&b.p))
+                .then(a.eps.total_cmp(&b.eps))
+                .then(a.name.cmp(&b.name))
         });
+        order[order.len() / 2]
+    };
+    let bi = match d.is_grid() {
+        true => blocks
+            .iter()
+            .position(|b| b.p == p && b.eps == e)
+            .unwrap_or_else(by_order),
+        false => by_order(),
+    };
     (bi, blocks[bi].p, blocks[bi].eps)
 }
 
@@ -107,6 +111,12 @@ mod tests {
     #[test]
     fn the_middle_named_block_is_the_middle_p_in_any_order() {
         for names in [["vase", "urn", "rack"], ["rack", "vase", "urn"]] {
+            let d = crate::figures::fixture::three_blocks_study(names);
+            let (bi, _, _) = middle(&d);
+            assert_eq!(middle_name(&d, bi), "block `urn`", "{names:?}");
+        }
+        // Twins of one p and ε: by name, whichever is listed first.
+        for names in [["rack", "urn", "urn2"], ["urn2", "rack", "urn"]] {
             let d = crate::figures::fixture::three_blocks_study(names);
             let (bi, _, _) = middle(&d);
             assert_eq!(middle_name(&d, bi), "block `urn`", "{names:?}");

@@ -59,8 +59,9 @@ pub enum FragilityError {
     #[error(
         "{0} is a measure of the ground's motion, and text records are the motions the block \
          stands on (a structural model's floors, each scaled itself): their {0} would be the \
-         floor's, labelled the ground's. State the fragility in a demand of those motions \
-         (pfa, pfv or fsa(T); for ground motions given as text, pfa is their PGA); a hazard in \
+         floor's, labelled the ground's. State the fragility in a demand of those motions, from \
+         the block's own runs (--direct --im pfa, pfv or fsa(T); for ground motions given as \
+         text, pfa is their PGA); a hazard in \
          a ground IM needs the floor's relation to the ground (--floor or --building over AT2 \
          ground records)"
     )]
