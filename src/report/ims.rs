@@ -108,6 +108,9 @@ pub(super) fn ims_section(w: &mut String, d: &StudyData) {
     }
     if vector {
         vector_line(w, rows);
+    } else {
+        // The next section's heading a paragraph of its own.
+        let _ = writeln!(w);
     }
 }
 
