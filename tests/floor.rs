@@ -1822,6 +1822,9 @@ fn floor_names_of_text_studies(at2: &std::path::Path, text: &std::path::Path) {
         f.contains("in PFA/(αg)") && !f.contains("in PGA/(αg)"),
         "{f}"
     );
+    // Its IM section ends in a blank line, as the AT2 one does (Markdown
+    // read the next heading as text).
+    assert!(f.contains("\n\n## Damage states"), "{f}");
 }
 
 /// A pipeline's `[floor]` given as a building and the blocks' level is the

@@ -52,17 +52,7 @@ pub(super) fn ims_section(w: &mut String, d: &StudyData) {
         Shown::Eps(_) => (format!("At {}:", shown.text()), "p (1/s)"),
         Shown::Every => ("Each block at its own ε:".to_string(), "block, ε, p (1/s)"),
     };
-    // The columns: the ground's PGA, PGV and AvgSA and the vector, or of
-    // text records the floor's PFA and PFV (the tables hold only those).
-    let (named, sa, vector): (&[(&str, &str)], &str, bool) = if d.stood_on {
-        (&[("PFA", "pfa"), ("PFV", "pfv")], "FSA", false)
-    } else {
-        (
-            &[("PGA", "pga"), ("PGV", "pgv"), ("AvgSA", "avgsa")],
-            "SA",
-            true,
-        )
-    };
+    let (named, sa, vector) = columns(d);
     let _ = writeln!(w, "{head}\n");
     let mut header = format!("| {first} | best IM (β) |");
     for (name, _) in named {
@@ -111,6 +101,23 @@ pub(super) fn ims_section(w: &mut String, d: &StudyData) {
     } else {
         // The next section's heading a paragraph of its own.
         let _ = writeln!(w);
+    }
+}
+
+/// The IM table's columns: the ground's PGA, PGV and AvgSA, SA and the
+/// vector, or of text records the floor's PFA and PFV and FSA (the tables
+/// hold only those).
+type Columns = (&'static [(&'static str, &'static str)], &'static str, bool);
+
+fn columns(d: &StudyData) -> Columns {
+    if d.stood_on {
+        (&[("PFA", "pfa"), ("PFV", "pfv")], "FSA", false)
+    } else {
+        (
+            &[("PGA", "pga"), ("PGV", "pgv"), ("AvgSA", "avgsa")],
+            "SA",
+            true,
+        )
     }
 }
 
