@@ -439,6 +439,12 @@ impl Im {
         }
     }
 
+    /// Whether its name says nothing of the ground (Arias intensity, CAV,
+    /// D5–95, Tm): a measure of any motion, a floor's as well.
+    pub fn of_any_motion(self) -> bool {
+        matches!(self, Im::Arias | Im::Cav | Im::D5_95 | Im::Tm)
+    }
+
     /// The floor demand that is this measure of the motion a block feels
     /// (PFA for PGA, PFV for PGV, FSA(T) for SA(T)): the inverse of
     /// [`Im::of_motion`]; `None` for a measure with no floor name.

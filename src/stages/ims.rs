@@ -161,10 +161,18 @@ fn run(study: &Study) -> Result<Summary, ImsError> {
         "rocking.ims.damping".to_string(),
         crate::im::SPECTRAL_DAMPING.to_string(),
     )];
-    let mut im_table = if stood_on {
-        floor_rows(&rows, &ims)
-    } else {
-        im_rows(&rows, &ims)
+    let mut im_table = match stood_on {
+        false => im_rows(&rows, &ims),
+        // Text records' rows: the floor's demands, then the measures that
+        // name no ground (Arias, CAV, D5–95, Tm: the records' properties).
+        true => (0..rows.len())
+            .flat_map(|k| {
+                let (r, m) = (&rows[k..=k], &ims[k..=k]);
+                let any = im_rows(r, m).into_iter();
+                let any = any.filter(|r| r.im.parse().is_ok_and(|im: Im| im.of_any_motion()));
+                floor_rows(r, m).into_iter().chain(any)
+            })
+            .collect(),
     };
     if let Some(felt) = &felt {
         im_table.extend(floor_rows(&rows, felt));

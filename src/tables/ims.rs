@@ -35,7 +35,8 @@ table! {
         /// pseudo-spectral acceleration at 5 % damping at period T; `pfa`, `pfv` and `fsa(T)`
         /// the same peak acceleration, peak velocity and SA(T) of the floor motion. Text
         /// records (a structural model's floor motions, no `[floor]`) are the floor's
-        /// motions: their rows are `pfa`, `pfv` and `fsa(T)` only.
+        /// motions: their rows are `pfa`, `pfv` and `fsa(T)`, and the measures that name no
+        /// ground, `arias`, `cav`, `d5_95` and `tm`.
         pub im: String,
         /// The measure's unit: g (PGA, SA, AvgSA, PFA, FSA), cm/s (PGV, PFV), cm (PGD), m/s
         /// (Arias intensity), g·s (CAV) or s (D5–95, PGV/PGA, Tm).
