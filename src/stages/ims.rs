@@ -163,16 +163,7 @@ fn run(study: &Study) -> Result<Summary, ImsError> {
     )];
     let mut im_table = match stood_on {
         false => im_rows(&rows, &ims),
-        // Text records' rows: the floor's demands, then the measures that
-        // name no ground (Arias, CAV, D5–95, Tm: the records' properties).
-        true => (0..rows.len())
-            .flat_map(|k| {
-                let (r, m) = (&rows[k..=k], &ims[k..=k]);
-                let any = im_rows(r, m).into_iter();
-                let any = any.filter(|r| r.im.parse().is_ok_and(|im: Im| im.of_any_motion()));
-                floor_rows(r, m).into_iter().chain(any)
-            })
-            .collect(),
+        true => stood_on_rows(&rows, &ims),
     };
     if let Some(felt) = &felt {
         im_table.extend(floor_rows(&rows, felt));
@@ -304,6 +295,20 @@ fn floor_rows(rows: &[RecordRow], felt: &[RecordIms]) -> Vec<RecordImRow> {
                     value: m.value(im)?,
                 })
             })
+        })
+        .collect()
+}
+
+/// Text records' rows, records in order: the floor's demands, then the
+/// measures that name no ground (Arias, CAV, D5–95, Tm: the records'
+/// properties).
+fn stood_on_rows(rows: &[RecordRow], ims: &[RecordIms]) -> Vec<RecordImRow> {
+    (0..rows.len())
+        .flat_map(|k| {
+            let (r, m) = (&rows[k..=k], &ims[k..=k]);
+            let any = im_rows(r, m).into_iter();
+            let any = any.filter(|r| r.im.parse().is_ok_and(|im: Im| im.of_any_motion()));
+            floor_rows(r, m).into_iter().chain(any)
         })
         .collect()
 }
