@@ -107,22 +107,20 @@ impl ImGrid {
             .collect())
     }
 
-    /// Whether a capacity refined to `tol` (Δη) is refined at all on this
-    /// grid: below the widest gap between its levels (η_max the first
-    /// bound). A wider one returns the levels' own bracket everywhere, a
-    /// capacity unrefined without a word.
+    /// Whether `tol` (Δη) can be a capacity's refinement on this grid:
+    /// below its whole span η_max − η_min. One as wide (10 for 1e-4, say)
+    /// is no refinement but a slip, refused; one wider than the grid's
+    /// gaps merely leaves the levels' own bracket (a grid finer than the
+    /// paper's 1e-4 needs none).
     pub fn check_tol(&self, tol: f64) -> Result<(), PhysicsError> {
-        let levels = self.levels()?;
-        let widest = std::iter::once(self.eta_max)
-            .chain(levels.iter().copied())
-            .zip(levels.iter().copied())
-            .map(|(a, b)| a - b)
-            .fold(0.0, f64::max);
-        if tol >= widest {
+        let span = self.eta_max - self.eta_min;
+        if tol >= span {
             return Err(PhysicsError::BadInput(format!(
-                "a refinement of Δη = {} refines nothing: the grid's levels are up to {widest:.3} \
-                 apart (the paper's is 1e-4)",
+                "a refinement of Δη = {} is as wide as the grid itself (η from {} to {}): give \
+                 the width a capacity is refined to (the paper's is 1e-4)",
                 crate::decimal::shortest(tol),
+                crate::decimal::shortest(self.eta_min),
+                crate::decimal::shortest(self.eta_max),
             )));
         }
         Ok(())
@@ -133,18 +131,26 @@ impl ImGrid {
 mod tests {
     use super::*;
 
-    /// Δη at or past the widest gap (the default grid's first, 1 − 0.966)
-    /// refines nothing and is refused; below it, taken.
+    /// Δη as wide as the grid (10, or 0.999 for η from 0.001 to 1) is a
+    /// slip and refused; a coarse one (0.05) leaves the levels' bracket,
+    /// and the paper's 1e-4 on a grid finer than it is no error (it was
+    /// refused on 10,000 linear levels).
     #[test]
-    fn a_refinement_wider_than_the_grid_is_refused() {
+    fn a_refinement_as_wide_as_the_grid_is_refused() {
         let g = ImGrid::default();
-        let first = g.levels().unwrap()[0];
-        assert!(g.check_tol(1e-4).is_ok());
-        assert!(g.check_tol(0.99 * (1.0 - first)).is_ok());
-        for tol in [1.0 - first, 0.05, 0.5, 10.0] {
-            let e = g.check_tol(tol).unwrap_err().to_string();
-            assert!(e.contains("refines nothing"), "{tol}: {e}");
+        for tol in [1e-4, 0.05, 0.5] {
+            assert!(g.check_tol(tol).is_ok(), "{tol}");
         }
+        for tol in [0.999, 10.0] {
+            let e = g.check_tol(tol).unwrap_err().to_string();
+            assert!(e.contains("as wide as the grid itself"), "{tol}: {e}");
+        }
+        let fine = ImGrid {
+            count: 10_000,
+            spacing: Spacing::Linear,
+            ..ImGrid::default()
+        };
+        assert!(fine.check_tol(1e-4).is_ok());
     }
 
     #[test]

@@ -596,15 +596,15 @@ mod tests {
         assert!(load_str(&physical_nonlinear, Path::new("x.toml")).is_ok());
     }
 
-    /// `im.tol` is Δη, the capacity's refinement: 10 or 0.05 was taken (no
-    /// refinement at all, without a word); at or past the grid's widest gap
-    /// (0.034 for the default 200 levels) it is refused naming the key.
+    /// `im.tol` is Δη, the capacity's refinement: 10 was taken (no
+    /// refinement at all, without a word); as wide as the grid (η from
+    /// 0.001 to 1) it is refused naming the key.
     #[test]
     fn a_refinement_past_the_grid_is_refused() {
         for (tol, ok) in [
             ("1e-4", true),
-            ("0.03", true),
-            ("0.05", false),
+            ("0.05", true),
+            ("0.999", false),
             ("10", false),
         ] {
             let text = format!("{MINIMAL}[im]\ntol = {tol}\n");
