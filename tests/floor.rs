@@ -1534,6 +1534,24 @@ fn relative_floor_motions_take_their_ground_back() {
         on["median"].as_f64().unwrap(),
     );
     assert!((a - b).abs() <= 1e-9 * b, "median: {a} against {b}");
+    // Relative floor motions with their ground, and a building besides:
+    // they went through it twice (a PFA median three times the floor's),
+    // refused; absolute text through a building is its ground, warned.
+    let ground = ["--records-ground", few.to_str().unwrap()];
+    let out = fragility(&[&text[..], &ground, &["--floor", mode]].concat());
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("they would go through it twice"),
+        "{}",
+        stderr(&out)
+    );
+    let as_ground = json(&fragility(&[&text[..], &["--floor", mode]].concat()));
+    let warned = as_ground["warnings"].as_array().unwrap().iter().any(|w| {
+        w.as_str()
+            .unwrap()
+            .contains("run through the building (--floor or --building) as its ground motions")
+    });
+    assert!(warned, "{as_ground}");
 }
 
 /// The floor's spectral acceleration, FSA(T): on a floor it is the SA of

@@ -58,6 +58,14 @@ pub fn floor_study() -> StudyData {
     )
 }
 
+/// Text records (in g) run through a one-mode building: its ground.
+pub fn text_floor_study() -> StudyData {
+    study(
+        "[records]\ntext = [\"t\"]\nunit = \"g\"\n[floor]\nmodes = [[0.5, 0.05, 1.3]]\n\
+         [[block]]\nname = \"rack\"\nb = 0.2\nh = 1.0\neps = 0.8\n",
+    )
+}
+
 fn study(text: &str) -> StudyData {
     let plan = load_str(text, std::path::Path::new("t.toml")).expect("a valid pipeline");
     StudyData {

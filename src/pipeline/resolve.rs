@@ -104,6 +104,9 @@ pub fn resolve(raw: RawPipeline, path: &Path) -> Result<Plan, PipelineError> {
     let damage = damage(raw.damage.as_ref()).map_err(err)?;
     let uncertainty = uncertainty(raw.uncertainty.as_ref()).map_err(err)?;
     let floor = raw.floor.as_ref().map(floor).transpose().map_err(err)?;
+    if floor.is_some() && raw_records.ground.is_some() {
+        return Err(err(TEXT_FLOOR_TWICE.into()));
+    }
     if let Some(u) = &uncertainty {
         check_uncertainty(u, &records, blocks.len()).map_err(err)?;
     }
@@ -216,6 +219,13 @@ fn orientation(raw: &crate::pipeline::raw::RawRecords) -> Result<Option<f64>, St
 
 /// `[floor]`: the floor's modes, each `[T, ζ, Γφ]`, or a building's modes
 /// `[T, ζ, Γ, φ1, …, φn]` and the floor's `level`, checked.
+/// Relative floor motions given with their ground are a floor's motions,
+/// which a `[floor]` would run through the building a second time.
+const TEXT_FLOOR_TWICE: &str = "`records.ground` makes the text records relative floor \
+    motions, the floor's own once their ground is added, and `[floor]` runs records through \
+    the building as its ground motions: they would go through it twice; drop `[floor]`, or \
+    give the ground motions as the records (`at2`) with `[floor]`";
+
 fn floor(raw: &crate::pipeline::raw::RawFloor) -> Result<crate::floor::Building, String> {
     use crate::building::BuildingError as E;
     let modes = raw
@@ -617,6 +627,19 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Relative text floor motions with their ground are the floor's: a
+    /// `[floor]` beside them would run them through the building again.
+    #[test]
+    fn a_floor_beside_relative_text_records_is_refused() {
+        let text = "[records]\ntext = [\"t\"]\nunit = \"g\"\nground = \"g\"\n\
+             [floor]\nmodes = [[0.5, 0.05, 1.3]]\n\
+             [[block]]\nname = \"s\"\nb = 0.2\nh = 0.9\neps = 0.8\n";
+        let e = load_str(text, Path::new("x.toml")).unwrap_err().to_string();
+        assert!(e.contains("they would go through it twice"), "{e}");
+        let without = text.replace("ground = \"g\"\n", "");
+        assert!(load_str(&without, Path::new("x.toml")).is_ok());
     }
 
     #[test]

@@ -38,6 +38,16 @@ pub fn render(d: &StudyData, figures: &[Figure]) -> String {
 
 /// What the IMs of text records are: the motion's own, the floor's.
 fn text_records(w: &mut String, d: &StudyData) {
+    let rs = d.records_plan();
+    if !d.stood_on && rs.records.text().is_some() && rs.floor.is_some() {
+        let _ = writeln!(
+            w,
+            "**The records are text columns run through the building** (`[floor]`): they are \
+             taken as its ground motions, their PGA the ground's. If they are a structural \
+             model's floor motions already, drop `[floor]`: each capacity here is of a floor's \
+             floor.\n"
+        );
+    }
     if !d.stood_on {
         return;
     }
@@ -391,6 +401,21 @@ fn convergence(w: &mut String, d: &StudyData) {
 mod tests {
     use super::*;
     use crate::figures::fixture::{fractile, grid_study};
+
+    /// Text records through a `[floor]` are its ground motions: the report
+    /// says so first (it said nothing, and a structural model's floor
+    /// motions passed through the building twice); over AT2 records, not.
+    #[test]
+    fn text_records_through_a_floor_are_said_to_be_its_ground() {
+        let said = |d: &StudyData| {
+            let mut w = String::new();
+            text_records(&mut w, d);
+            w
+        };
+        let through = said(&crate::figures::fixture::text_floor_study());
+        assert!(through.contains("taken as its ground motions"), "{through}");
+        assert!(said(&crate::figures::fixture::floor_study()).is_empty());
+    }
 
     /// Two blocks at p = 1: one median 10 % above Eq. 10, one that never
     /// overturns (0): the mean is 10 % over one block, the other said

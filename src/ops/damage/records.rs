@@ -66,6 +66,8 @@ pub(super) fn from_records(
         if records.text().is_some_and(|t| t.ground.is_none()) {
             warnings.push(TEXT_ABSOLUTE_NOTE.into());
         }
+    } else if records.text().is_some() && records.floor().is_some() {
+        warnings.push(TEXT_AS_GROUND_NOTE.into());
     }
     let out = states
         .states()
@@ -235,6 +237,12 @@ pub const TEXT_ABSOLUTE_NOTE: &str = "the text records were read as absolute acc
     (the floor's own motion); if they are relative to the ground (an OpenSees Node recorder \
     without -timeSeries), give the ground motions they were run with (--records-ground), or \
     every capacity is of the wrong motion";
+
+/// What text records run through a building are taken to be: its ground
+/// motions; a structural model's floor motions would pass through it twice.
+pub const TEXT_AS_GROUND_NOTE: &str = "the text records are run through the building (--floor \
+    or --building) as its ground motions; if they are a structural model's floor motions \
+    already, drop the building, or every capacity is of a floor's floor";
 
 /// Below this many records reaching a state, its fit is warned of as
 /// rough.

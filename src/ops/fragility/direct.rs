@@ -224,6 +224,9 @@ impl DirectRecords {
                 .and_then(|p| p.records_study().ok())
                 .and_then(|r| r.records.text()),
         };
+        if floor.is_some() && text.as_ref().is_some_and(|t| t.ground.is_some()) {
+            return Err(FragilityError::TextFloorTwice);
+        }
         Ok(DirectRecords {
             records,
             folder,

@@ -67,6 +67,13 @@ pub enum FragilityError {
     )]
     TextGroundIm(String),
     #[error(
+        "--records-ground makes the text records relative floor motions, the floor's own once \
+         their ground is added, and --floor (or --building) runs records through the building \
+         as its ground motions: they would go through it twice; drop --floor, or give the ground \
+         motions as the records with --floor"
+    )]
+    TextFloorTwice,
+    #[error(
         "the {0} model is chosen (a tree's [[model]] branch), but a regression or a study's \
          tables are of the model they were made by: add --direct to run the records"
     )]
