@@ -379,6 +379,8 @@ fn a_misnamed_inventory_column_is_refused() {
         "name,b,h,eps,era",
         "name,b,h,eps,african_provenance",
         "name,b,h,eps,friction_angle_deg",
+        "name,b,h,eps,african_dynasty",
+        "name,b,h,eps,mural_sliding_panel",
     ] {
         fs::write(
             d.join("inv.csv"),

@@ -38,7 +38,7 @@ pub fn discover(paths: &[PathBuf]) -> Result<Vec<PathBuf>, DiscoverError> {
             names,
             format!(
                 ", but {} text motion file(s) (*.out, *.txt, *.dat, *.csv): text records are \
-                     read with their unit (--records-unit of fragility, risk, export or capacity, or a \
+                     read with their unit (--records-unit of fragility, risk or export, or a \
                      pipeline's `[records] text` with \
                      `unit`)",
                 text.len()

@@ -178,7 +178,7 @@ impl Laws {
     /// would give the records' own curve.
     pub fn rejected_lognormal(&self, block: &Block) -> Option<f64> {
         let (dir, plan) = (self.dir.as_ref()?, self.plan.as_ref()?);
-        let same = |a: f64, b: f64| (a - b).abs() <= 1e-12 * a.abs().max(b.abs());
+        let same = crate::ops::im_fragility::own_value;
         // The study's own block: its p, ε and α (a grid block has no α).
         let spec = plan.blocks().iter().find(|b| {
             same(b.p, block.p())

@@ -354,6 +354,13 @@ pub struct StudyBlock {
     pub alpha: Option<f64>,
 }
 
+/// Whether a block's p, ε or α is a study block's own: to four digits, as
+/// the tool prints them (`--eps 0.9294` for Housner's 0.92948…, b and h
+/// as measured), where it had to be the same to the bit.
+pub(crate) fn own_value(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-4 * a.abs().max(b.abs())
+}
+
 /// A study's blocks in one IM: their nodes, named, and the grid they make
 /// when they make one.
 struct Table {
@@ -384,7 +391,7 @@ impl Table {
     /// The study's own block at `(p, ε)` (to rounding) with its fit, as it
     /// is; else the grid's value there ([`Grid::at`]).
     fn at(&self, p: f64, eps: f64, alpha: Option<f64>) -> Result<(f64, f64, Vec<String>), Gap> {
-        let same = |a: f64, b: f64| (a - b).abs() <= 1e-12 * a.abs().max(b.abs());
+        let same = own_value;
         // Its own block: p and ε, and α where both have one (two blocks of
         // one R and ε, but of other shapes, share p and ε).
         let own = self.nodes.iter().find(|(_, (np, ne, ..), sb)| {
@@ -588,6 +595,12 @@ mod tests {
             Ok((1.3f64.ln(), 0.12, Vec::new()))
         );
         assert_eq!(named.at(2.7, 0.8, None), Err(Gap::NotAGrid));
+        // Its own block as printed, to four digits (Housner's ε 0.92948…
+        // given as 0.9294 was refused).
+        assert_eq!(
+            named.at(2.8246, 0.92948, None),
+            Ok((1.3f64.ln(), 0.12, Vec::new()))
+        );
         assert_eq!(
             named.blocks(),
             "statue at p = 2.825 1/s, ε = 0.929; cabinet at p = 2.654 1/s, ε = 0.750; \

@@ -260,13 +260,18 @@ fn named_as(p: &str) -> Option<&'static &'static str> {
 /// stem (`kinetic_friction_coefficient`, `friction_kinetic`, `μ_k`,
 /// `mu_dyn`), which the exact names of [`KINETIC`] miss.
 fn kinetic(p: &str) -> bool {
-    let friction = p.starts_with("mu") || p.starts_with('μ') || p.contains("fric");
-    let moving = p.contains("kinetic")
-        || p.contains("dynamic")
-        || p.contains("dyn")
-        || p.contains("sliding")
-        || matches!(p, "μk" | "μd" | "muk" | "mud");
-    friction && moving && !p.contains("angle")
+    let of_mu = p.strip_prefix("mu").or_else(|| p.strip_prefix('μ'));
+    let mu = of_mu.is_some_and(|s| {
+        matches!(
+            s,
+            "k" | "d" | "kin" | "kinetic" | "dyn" | "dynamic" | "slide" | "sliding"
+        )
+    });
+    let friction = (p.starts_with("fric") || p.contains("friction"))
+        && ["kinetic", "dynamic", "sliding"]
+            .iter()
+            .any(|w| p.contains(w));
+    (mu || friction) && !p.contains("angle")
 }
 
 /// Whether `a` and `b` differ by one letter changed, added or removed.
