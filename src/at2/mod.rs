@@ -94,6 +94,9 @@ pub fn parse_str(text: &str) -> Result<At2, At2Error> {
     }
     check_units(&header[2]).map_err(|kind| err(3, kind))?;
     let (npts, dt_s, layout) = parse_npts_dt(&header[3]).map_err(|kind| err(4, kind))?;
+    // A DOS end-of-file mark (Ctrl-Z), and NUL padding, after the last
+    // sample end the file.
+    let rest = rest.trim_end_matches(|c: char| c == '\u{1a}' || c == '\0' || c.is_whitespace());
     let accel_g = parse_samples(rest, npts)?;
     check_motion(&accel_g, rest)?;
     Ok(At2 {
@@ -146,13 +149,18 @@ fn too_many(body: &str, line_no: usize, npts: usize) -> At2Error {
         .filter(|t| !t.is_empty())
         .nth(npts);
     match extra {
-        Some(token) if parse_value(token).is_err() => err(
-            line_no,
-            At2ErrorKind::AfterSamples {
-                token: token.to_string(),
-                npts,
-            },
-        ),
+        Some(token) if parse_value(token).is_err() => {
+            // The text to the end of its line (`END OF DATA`, not `END`).
+            let at = token.as_ptr() as usize - body.as_ptr() as usize;
+            let line = body[at..].lines().next().unwrap_or(token).trim_end();
+            err(
+                line_no,
+                At2ErrorKind::AfterSamples {
+                    token: line.to_string(),
+                    npts,
+                },
+            )
+        }
         _ => err(line_no, At2ErrorKind::TooManyValues { npts }),
     }
 }
@@ -676,15 +684,18 @@ mod tests {
 
         // Text after the samples is named as such, not as more values; a
         // long binary run is shown by its start.
-        for tail in ["END OF DATA", "\u{1a}"] {
-            let after = e(&file("NPTS= 3, DT= .01 SEC", &format!("1 2 3\n{tail}\n")));
-            assert!(
-                matches!(after.kind, At2ErrorKind::AfterSamples { npts: 3, .. }),
-                "{after}"
-            );
-            assert!(after
-                .to_string()
-                .contains("goes on after its NPTS = 3 samples"));
+        let after = e(&file("NPTS= 3, DT= .01 SEC", "1 2 3\nEND OF DATA\n"));
+        assert!(
+            matches!(after.kind, At2ErrorKind::AfterSamples { npts: 3, .. }),
+            "{after}"
+        );
+        let says = "NPTS = 3 samples with `END OF DATA`";
+        assert!(after.to_string().contains(says), "{after}");
+        // A DOS end-of-file mark, and NUL padding, end the file.
+        for tail in ["\u{1a}", "\u{1a}\n", "\0\0\0"] {
+            let text = file("NPTS= 3, DT= .01 SEC", &format!("1 2 3\n{tail}"));
+            let at2 = parse_str(&text).unwrap_or_else(|e| panic!("{tail:?}: {e}"));
+            assert_eq!(at2.accel_g, vec![1.0, 2.0, 3.0]);
         }
         let junk = "\u{1}".repeat(300);
         let binary = e(&file("NPTS= 3, DT= .01 SEC", &format!("1 2 3\n{junk}\n")));

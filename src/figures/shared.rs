@@ -115,7 +115,7 @@ mod tests {
             let (bi, _, _) = middle(&d);
             assert_eq!(middle_name(&d, bi), "block `urn`", "{names:?}");
         }
-        // Twins of one p and ε: by name, whichever is listed first.
+        // Twins of one p and ε: by name, in either order listed.
         for names in [["rack", "urn", "urn2"], ["urn2", "rack", "urn"]] {
             let d = crate::figures::fixture::three_blocks_study(names);
             let (bi, _, _) = middle(&d);

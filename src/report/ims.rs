@@ -74,7 +74,7 @@ pub(super) fn ims_section(w: &mut String, d: &StudyData) {
                 format!("{} ({:.3})", display_name(&r.im), r.beta)
             });
         let name = match (shown, rows.iter().find(|r| r.block_index == block)) {
-            (Shown::Every, Some(r)) => format!("{}, {}, ", r.block, r.eps),
+            (Shown::Every, Some(r)) => format!("{}, {}, ", r.block, crate::im::level_text(r.eps)),
             _ => String::new(),
         };
         let mut line = format!("| {name}{p:.3} | {top} |");

@@ -59,11 +59,11 @@ pub enum FragilityError {
     #[error(
         "{0} is a measure of the ground's motion, and text records are the motions the block \
          stands on (a structural model's floors, each scaled itself): their {0} would be the \
-         floor's, labelled the ground's. State the fragility in a demand of those motions, from \
-         the block's own runs (--direct --im pfa, pfv or fsa(T); for ground motions given as \
-         text, pfa is their PGA); a hazard in \
-         a ground IM needs the floor's relation to the ground (--floor or --building over AT2 \
-         ground records)"
+         floor's, labelled the ground's. A hazard (risk, an NRML export) is in a ground IM, \
+         which text records cannot give: run the building (--floor or --building) over AT2 \
+         ground records. A fragility alone is stated in a demand of these motions, from the \
+         block's own runs (fragility or a pelicun export with --direct --im pfa, pfv or fsa(T); \
+         for ground motions given as text, pfa is their PGA)"
     )]
     TextGroundIm(String),
     #[error(
