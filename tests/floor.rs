@@ -2129,6 +2129,27 @@ fn text_records_are_not_stated_in_a_ground_im() {
         "{}",
         stderr(&out)
     );
+    // One of them given to `capacity`, which reads AT2 files: said so.
+    let one = text.join(format!("{}.txt", FEW[0]));
+    let out = rocking(
+        &root(),
+        &[
+            &[
+                "capacity",
+                "--record",
+                one.to_str().unwrap(),
+                "--eps",
+                "0.8",
+            ][..],
+            &block[..4],
+        ]
+        .concat(),
+    );
+    assert!(
+        stderr(&out).contains("a text motion file? this command reads AT2 files"),
+        "{}",
+        stderr(&out)
+    );
     for key in ["median", "beta"] {
         let (a, b) = (pfa[key].as_f64().unwrap(), pga[key].as_f64().unwrap());
         assert!((a - b).abs() <= 1e-9 * b, "{key}: {a} against {b}");

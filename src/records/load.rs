@@ -62,8 +62,9 @@ pub enum RecordError {
         #[source]
         source: std::io::Error,
     },
-    /// The parse error's line and text are in the message.
-    #[error("{path}:{}: {}", .error.line, .error.kind)]
+    /// The parse error's line and text are in the message, and where the
+    /// file is named as text (`.txt`, `.out`, …) which reader takes it.
+    #[error("{path}:{}: {}{}", .error.line, .error.kind, text_hint(.path))]
     Parse { path: PathBuf, error: At2Error },
     #[error("{path}")]
     Samples {
@@ -112,6 +113,21 @@ pub fn excitation(
         (None, None, _) => Err(RecordError::Asked(
             "give a record (--record FILE.AT2) or a pulse (--pulse rect|exp)".into(),
         )),
+    }
+}
+
+/// For a text motion file given where an AT2 file is read: what reads it.
+fn text_hint(path: &Path) -> &'static str {
+    let text = path.extension().is_some_and(|e| {
+        super::TEXT_EXTENSIONS
+            .iter()
+            .any(|x| e.eq_ignore_ascii_case(x))
+    });
+    if text {
+        " (a text motion file? this command reads AT2 files; text records are read by \
+         fragility, risk and export with --records-unit, or a pipeline's `[records] text`)"
+    } else {
+        ""
     }
 }
 
