@@ -1861,6 +1861,15 @@ fn floor_names_of_text_studies(at2: &std::path::Path, text: &std::path::Path) {
     // Its IM section ends in a blank line, as the AT2 one does (Markdown
     // read the next heading as text).
     assert!(f.contains("\n\n## Damage states"), "{f}");
+    // Each block's PFA and PFV median and β, as a floor study's report
+    // gives them, without the ground's columns (there is no ground).
+    assert!(
+        f.contains("## In the floor's demands")
+            && f.contains("| PFA (g): median, β | PFV (cm/s): median, β |")
+            && !f.contains("ground PGA"),
+        "{f}"
+    );
+    assert!(!g.contains("## In the floor's demands"));
 }
 
 /// A pipeline's `[floor]` given as a building and the blocks' level is the

@@ -18,8 +18,14 @@ const DEMANDS: [(&str, &str); 4] = [
 ];
 
 /// Each block's lognormal fragility in the floor's demands beside the
-/// ground's IMs, from the ims stage's `im_efficiency`.
+/// ground's IMs (text records, stood on, have no ground: the floor's
+/// alone), from the ims stage's `im_efficiency`.
 fn demands_table(w: &mut String, d: &StudyData) {
+    let demands = if d.stood_on {
+        &DEMANDS[..2]
+    } else {
+        &DEMANDS[..]
+    };
     let blocks: Vec<(i64, &str, f64)> = {
         let mut seen: Vec<(i64, &str, f64)> = Vec::new();
         for r in &d.efficiency {
@@ -40,14 +46,19 @@ fn demands_table(w: &mut String, d: &StudyData) {
     let _ = writeln!(
         w,
         "Each block's fragility in the floor's demands (FEMA P-58's, of the motion it stands \
-         on) and in the ground's IMs (the hazard's): the median exp(mean ln IM_c) and the \
+         on){}: the median exp(mean ln IM_c) and the \
          dispersion β over the records that overturn it (`im_efficiency.parquet`, which holds \
          FSA(T) too). These are moment fits: `rocking fragility --im pfa|pfv|fsa(T) --direct` \
          runs the same records but fits them by the paper's fractiles (or draws their own \
          curve where the lognormal check fails), so its medians differ from these by the fit, \
-         by up to some 15 % where the capacities are skewed.\n"
+         by up to some 15 % where the capacities are skewed.\n",
+        if d.stood_on {
+            ""
+        } else {
+            " and in the ground's IMs (the hazard's)"
+        }
     );
-    let head: Vec<String> = DEMANDS
+    let head: Vec<String> = demands
         .iter()
         .map(|(_, name)| format!("{name}: median, β"))
         .collect();
@@ -55,10 +66,10 @@ fn demands_table(w: &mut String, d: &StudyData) {
         w,
         "| block | p (1/s) | {} |\n|---|---|{}",
         head.join(" | "),
-        "---|".repeat(DEMANDS.len())
+        "---|".repeat(demands.len())
     );
     for &(bi, name, p) in &blocks {
-        let cells: Vec<String> = DEMANDS
+        let cells: Vec<String> = demands
             .iter()
             .map(|(im, _)| {
                 find(bi, im).map_or("—".into(), |r| match r.median {
@@ -134,6 +145,9 @@ pub(super) fn scene_section(w: &mut String, d: &StudyData) {
             );
         }
         let _ = writeln!(w);
+        demands_table(w, d);
+    } else if d.stood_on {
+        let _ = writeln!(w, "## In the floor's demands\n");
         demands_table(w, d);
     }
     super::sliding::sliding_section(w, d);
