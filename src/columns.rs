@@ -211,7 +211,10 @@ pub fn parse(text: &str, spec: &TextRecords) -> Result<ColumnMotion, ColumnsErro
             .split(|c: char| c.is_whitespace() || c == ',' || c == ';')
             .filter(|t| !t.is_empty())
             .collect();
-        let parsed: Vec<Option<f64>> = tokens.iter().map(|t| number(t)).collect();
+        let parsed: Vec<Option<f64>> = tokens
+            .iter()
+            .map(|t| crate::decimal::read_number(t))
+            .collect();
         // A first line of names is a header: its first token, where a data
         // line has its time, is no number. A first data line with a bad
         // value is refused at its line, not skipped as a header.
@@ -276,16 +279,6 @@ pub fn parse(text: &str, spec: &TextRecords) -> Result<ColumnMotion, ColumnsErro
     })
 }
 
-/// A number, Fortran's `1.0D-02` too (as the AT2 reader takes it).
-fn number(token: &str) -> Option<f64> {
-    token.parse::<f64>().ok().or_else(|| {
-        let fortran = token.contains(['D', 'd']) && token.starts_with(|c: char| c != 'd');
-        fortran
-            .then(|| token.replace(['D', 'd'], "E").parse::<f64>().ok())
-            .flatten()
-    })
-}
-
 /// The first field of `line` written with a decimal comma (`0,01` where the
 /// fields are apart by blanks or semicolons and no number has a point),
 /// which the comma would split into two numbers.
@@ -295,11 +288,7 @@ fn decimal_comma(line: &str) -> Option<&str> {
         return None;
     }
     line.split(|c: char| c.is_whitespace() || c == ';')
-        .find(|field| {
-            let b = field.as_bytes();
-            (1..b.len().saturating_sub(1))
-                .any(|i| b[i] == b',' && b[i - 1].is_ascii_digit() && b[i + 1].is_ascii_digit())
-        })
+        .find(|field| crate::decimal::comma_between_digits(field))
 }
 
 /// The motion's mean step (s), checked: times increasing evenly by a step

@@ -187,6 +187,27 @@ fn decimal_prefix_bytewise(t: &[u8]) -> Option<(f64, usize)> {
     with_exponent(t, i, m, fraction, negative)
 }
 
+/// A number as a file writes it, Fortran's `1.0D-02` too: the fast path
+/// first, else the general parser (which also reads `inf` and `NaN`: the
+/// callers refuse what is not finite, each in its own words).
+pub fn read_number(token: &str) -> Option<f64> {
+    if let Some(v) = exact_decimal(token.as_bytes()) {
+        return Some(v);
+    }
+    match token.bytes().any(|b| b == b'D' || b == b'd') {
+        true => token.replace(['D', 'd'], "E").parse::<f64>().ok(),
+        false => token.parse::<f64>().ok(),
+    }
+}
+
+/// Whether a token holds a comma between two digits (`1,5E-04`, `0,01`):
+/// a decimal comma, where the files' numbers take a point.
+pub fn comma_between_digits(token: &str) -> bool {
+    let b = token.as_bytes();
+    (1..b.len().saturating_sub(1))
+        .any(|i| b[i] == b',' && b[i - 1].is_ascii_digit() && b[i + 1].is_ascii_digit())
+}
+
 /// A number as a message echoes it: the shortest text that reads back to
 /// it, in exponent form where the plain one would be long (`1e-300`, not
 /// three hundred zeros; `5e20`), else plain (`0.001`, `2`, `0.7`).

@@ -121,6 +121,16 @@ impl StudyData {
         }
     }
 
+    /// The name the study's IM and damage tables give a measure of its
+    /// records: the floor's (PFA for PGA, FSA(T) for SA(T)) where the
+    /// blocks stand on them ([`crate::im::Im::felt`]), else its own.
+    pub fn named(&self, im: crate::im::Im) -> crate::im::Im {
+        match self.stood_on {
+            true => im.felt().unwrap_or(im),
+            false => im,
+        }
+    }
+
     /// The measures a block's capacity is stated in by the ims and damage
     /// stages: the floor's (PFA, PFV, FSA(T)) where the blocks stand on
     /// the records ([`crate::records::stood_on`]), else the ground's.

@@ -385,21 +385,20 @@ fn duplicate_stems_and_manifest_mismatches_are_refused() {
     assert!(!run.status.success());
     assert!(stderr(&run).contains("same record id"), "{}", stderr(&run));
 
-    let dir = folder(&[
-        ("A.AT2", &a),
-        ("manifest.csv", "set,npts,dt,file\ntest,3,0.01,A.AT2\n"),
-    ]);
-    let run = rocking(
-        dir.path(),
-        &[
+    // One record, A.AT2, ingested with the manifest given.
+    let with_manifest = |manifest: &str| {
+        let dir = folder(&[("A.AT2", &a), ("manifest.csv", manifest)]);
+        let args = [
             "ingest",
             "A.AT2",
             "--manifest",
             "manifest.csv",
             "--out",
             "r.parquet",
-        ],
-    );
+        ];
+        rocking(dir.path(), &args)
+    };
+    let run = with_manifest("set,npts,dt,file\ntest,3,0.01,A.AT2\n");
     assert!(!run.status.success());
     let err = stderr(&run);
     assert!(
@@ -417,19 +416,7 @@ fn duplicate_stems_and_manifest_mismatches_are_refused() {
         ("1.99", false),
         ("10", false),
     ] {
-        let manifest = format!("set,npts,pga_g,file\ntest,2,{pga},A.AT2\n");
-        let dir = folder(&[("A.AT2", &a), ("manifest.csv", &manifest)]);
-        let run = rocking(
-            dir.path(),
-            &[
-                "ingest",
-                "A.AT2",
-                "--manifest",
-                "manifest.csv",
-                "--out",
-                "r.parquet",
-            ],
-        );
+        let run = with_manifest(&format!("set,npts,pga_g,file\ntest,2,{pga},A.AT2\n"));
         assert_eq!(run.status.success(), passes, "{pga}: {}", stderr(&run));
         if !passes {
             let err = stderr(&run);
@@ -438,21 +425,7 @@ fn duplicate_stems_and_manifest_mismatches_are_refused() {
         }
     }
 
-    let dir = folder(&[
-        ("A.AT2", &a),
-        ("manifest.csv", "set,npts,file\ntest,2x,A.AT2\n"),
-    ]);
-    let run = rocking(
-        dir.path(),
-        &[
-            "ingest",
-            "A.AT2",
-            "--manifest",
-            "manifest.csv",
-            "--out",
-            "r.parquet",
-        ],
-    );
+    let run = with_manifest("set,npts,file\ntest,2x,A.AT2\n");
     assert!(!run.status.success());
     let err = stderr(&run);
     assert!(

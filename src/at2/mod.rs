@@ -28,7 +28,7 @@
 //! This module does no I/O: the caller reads the file and adds its path to
 //! the error.
 
-use crate::decimal::{decimal_prefix, exact_decimal};
+use crate::decimal::decimal_prefix;
 pub use crate::motion::{MAX_ACCEL_G, MAX_DT_S, MIN_DT_S};
 
 mod error;
@@ -126,11 +126,7 @@ fn separator_at(text: &str, i: usize) -> usize {
 /// comma if the samples hold one (a value `1,5E-04` among values separated
 /// by spaces), which made the extra values, or else on `line_no`.
 fn too_many(body: &str, line_no: usize, npts: usize) -> At2Error {
-    let decimal_comma = |token: &&&str| {
-        let b = token.as_bytes();
-        (1..b.len().saturating_sub(1))
-            .any(|k| b[k] == b',' && b[k - 1].is_ascii_digit() && b[k + 1].is_ascii_digit())
-    };
+    let decimal_comma = |token: &&&str| crate::decimal::comma_between_digits(token);
     let found = body.split('\n').enumerate().find_map(|(k, line)| {
         let tokens: Vec<&str> = line.split_whitespace().collect();
         let token = tokens
@@ -244,21 +240,13 @@ fn parse_samples(body: &str, npts: usize) -> Result<Vec<f64>, At2Error> {
 
 /// Parses one sample: a finite decimal, `D` accepted as exponent marker.
 fn parse_value(token: &str) -> Result<f64, At2ErrorKind> {
-    if let Some(v) = exact_decimal(token.as_bytes()) {
-        return Ok(v);
-    }
-    let value = if token.bytes().any(|b| b == b'D' || b == b'd') {
-        token.replace(['D', 'd'], "E").parse::<f64>()
-    } else {
-        token.parse::<f64>()
-    };
-    match value {
+    match crate::decimal::read_number(token) {
         // Rust also accepts "inf", "NaN" and overflowing exponents: refuse those.
-        Ok(v) if v.is_finite() => Ok(v),
-        Ok(_) => Err(At2ErrorKind::NotFinite {
+        Some(v) if v.is_finite() => Ok(v),
+        Some(_) => Err(At2ErrorKind::NotFinite {
             token: token.to_string(),
         }),
-        Err(_) => Err(At2ErrorKind::NotANumber {
+        None => Err(At2ErrorKind::NotANumber {
             token: token.to_string(),
         }),
     }

@@ -112,7 +112,7 @@ pub fn shown(d: &StudyData) -> Option<Shown<'_>> {
         .filter_map(|c| Some((c.record_id.as_str(), c.pfa_over_pga?)))
         .collect();
     let of_block = move |i: i64| index.is_none_or(|b| b == i);
-    let peak = if d.stood_on { Im::Pfa } else { Im::Pga };
+    let peak = d.named(Im::Pga);
     let fits: Vec<&DamageStateRow> = data
         .states
         .iter()

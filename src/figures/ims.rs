@@ -25,16 +25,6 @@ pub fn shown(d: &StudyData) -> Vec<Im> {
         .collect()
 }
 
-/// The spectral measure a study's capacities are stated in, by period:
-/// FSA(T) where the blocks stand on the records, else SA(T).
-fn spectral(stood_on: bool, t: f64) -> Im {
-    if stood_on {
-        Im::Fsa(t)
-    } else {
-        Im::Sa(t)
-    }
-}
-
 /// An IM's name as a reader writes it ([`Im::short`]: PGA, SA(1.0),
 /// AvgSA, Arias, CAV), or the efficiency table's vector row in capitals.
 pub fn display_name(im: &str) -> String {
@@ -100,14 +90,14 @@ fn series(rows: &[EfficiencyRow], im: &str, shown: Shown) -> Vec<(f64, f64)> {
     v
 }
 
-/// The SA period (FSA where the blocks stand on the records, `stood_on`)
-/// of smallest β for each block `shown`: (its index, p, the period, β), in
-/// increasing p. A floor study's FSA rows, its floor's demands, are not
-/// the SA of its ground records.
+/// The SA period (of the measure `named` calls SA: FSA where the blocks
+/// stand on the records) of smallest β for each block `shown`: (its index,
+/// p, the period, β), in increasing p. A floor study's FSA rows, its
+/// floor's demands, are not the SA of its ground records.
 pub fn best_periods(
     rows: &[EfficiencyRow],
     shown: Shown,
-    stood_on: bool,
+    named: impl Fn(Im) -> Im,
 ) -> Vec<(i64, f64, f64, f64)> {
     let mut best: Vec<(i64, f64, f64, f64)> = Vec::new();
     for r in rows.iter().filter(|r| shown.holds(r)) {
@@ -115,7 +105,7 @@ pub fn best_periods(
             continue;
         };
         let t = match im {
-            Im::Sa(t) | Im::Fsa(t) if im == spectral(stood_on, t) => t,
+            Im::Sa(t) | Im::Fsa(t) if im == named(Im::Sa(t)) => t,
             _ => continue,
         };
         match best.iter_mut().find(|b| b.0 == r.block_index) {
@@ -170,7 +160,7 @@ pub(super) fn im_efficiency(d: &StudyData) -> Vec<Figure> {
             hue: Hue::Ink,
         });
     }
-    let sa = spectral(d.stood_on, 1.0).short();
+    let sa = d.named(Im::Sa(1.0)).short();
     let sa = sa.split('(').next().unwrap_or("SA");
     // Up to 1.2, or to the largest β (Arias's exceeds it at small p: its
     // line once ran clipped along the top of the frame).
@@ -235,7 +225,7 @@ pub(super) fn im_efficiency(d: &StudyData) -> Vec<Figure> {
 fn period_lines(d: &StudyData, shown: Shown, es: &[f64]) -> Vec<Line> {
     let line = |name: String, shown: Shown, style: Style, hue: Hue| Line {
         name: Some(name),
-        points: best_periods(&d.efficiency, shown, d.stood_on)
+        points: best_periods(&d.efficiency, shown, |im| d.named(im))
             .into_iter()
             .map(|(_, p, t, _)| (p, t))
             .collect(),
@@ -353,7 +343,7 @@ mod tests {
             row(4.0, 0.7, "pgv", 0.1),
         ];
         assert_eq!(
-            best_periods(&rows, Shown::Eps(0.7), false),
+            best_periods(&rows, Shown::Eps(0.7), |im| im),
             vec![
                 (index(1.0, 0.7), 1.0, 2.0, 0.3),
                 (index(4.0, 0.7), 4.0, 0.3, 0.2)
@@ -361,7 +351,7 @@ mod tests {
         );
         // Every block, each its own: the one at ε = 0.9 too, at the same p.
         assert_eq!(
-            best_periods(&rows, Shown::Every, false),
+            best_periods(&rows, Shown::Every, |im| im),
             vec![
                 (index(1.0, 0.7), 1.0, 2.0, 0.3),
                 (index(4.0, 0.7), 4.0, 0.3, 0.2),
@@ -374,11 +364,11 @@ mod tests {
         floor.push(row(1.0, 0.7, "fsa(0.5)", 0.01));
         floor.push(row(4.0, 0.7, "fsa(3.0)", 0.3));
         assert_eq!(
-            best_periods(&floor, Shown::Eps(0.7), false),
-            best_periods(&rows, Shown::Eps(0.7), false)
+            best_periods(&floor, Shown::Eps(0.7), |im| im),
+            best_periods(&rows, Shown::Eps(0.7), |im| im)
         );
         assert_eq!(
-            best_periods(&floor, Shown::Eps(0.7), true),
+            best_periods(&floor, Shown::Eps(0.7), |im: Im| im.felt().unwrap_or(im)),
             vec![
                 (index(1.0, 0.7), 1.0, 0.5, 0.01),
                 (index(4.0, 0.7), 4.0, 3.0, 0.3)

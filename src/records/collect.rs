@@ -18,7 +18,7 @@ use crate::manifest::{self, Manifest, RecordMeta};
 use crate::motion;
 use crate::tables::records::RecordRow;
 
-use super::discover::{discover, discover_text, DiscoverError, TEXT_EXTENSIONS};
+use super::discover::{discover, discover_text, has_extension, DiscoverError, TEXT_EXTENSIONS};
 
 /// What to say when a pipeline's AT2 files are bad.
 pub const PIPELINE_HINT: &str =
@@ -450,14 +450,7 @@ fn read_ground(
         .map_err(|e| format!("its ground, in {}: {e}", dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.file_stem() == Some(stem) && p.is_file())
-        .filter(|p| {
-            p.extension().is_some_and(|e| {
-                ["at2"]
-                    .iter()
-                    .chain(TEXT_EXTENSIONS)
-                    .any(|x| e.eq_ignore_ascii_case(x))
-            })
-        })
+        .filter(|p| has_extension(p, &["at2"]) || has_extension(p, TEXT_EXTENSIONS))
         .collect();
     found.sort();
     let found = match &found[..] {
@@ -480,10 +473,7 @@ fn read_ground(
         }
     };
     let bytes = fs::read(&found).map_err(|e| format!("{}: {e}", found.display()))?;
-    let at2 = found
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("at2"));
-    if at2 {
+    if has_extension(&found, &["at2"]) {
         let g = at2::parse(&bytes)
             .map_err(|e| format!("{}:{}: {}", found.display(), e.line, e.kind))?;
         return Ok((g.accel_g, 0.0, g.dt_s));

@@ -103,15 +103,15 @@ fn walk(dir: &Path, extensions: &[&str], found: &mut Vec<PathBuf>) -> Result<(),
             .is_some_and(|n| n.eq_ignore_ascii_case("manifest.csv"));
         if meta.is_dir() {
             walk(&path, extensions, found)?;
-        } else if !manifest
-            && path.extension().is_some_and(|e| {
-                extensions
-                    .iter()
-                    .any(|x| e.eq_ignore_ascii_case(std::ffi::OsStr::new(x)))
-            })
-        {
+        } else if !manifest && has_extension(&path, extensions) {
             found.push(path);
         }
     }
     Ok(())
+}
+
+/// Whether `path` ends in one of `extensions` (without the dot, any case).
+pub fn has_extension(path: &Path, extensions: &[&str]) -> bool {
+    path.extension()
+        .is_some_and(|e| extensions.iter().any(|x| e.eq_ignore_ascii_case(x)))
 }

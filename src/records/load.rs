@@ -118,12 +118,7 @@ pub fn excitation(
 
 /// For a text motion file given where an AT2 file is read: what reads it.
 fn text_hint(path: &Path) -> &'static str {
-    let text = path.extension().is_some_and(|e| {
-        super::TEXT_EXTENSIONS
-            .iter()
-            .any(|x| e.eq_ignore_ascii_case(x))
-    });
-    if text {
+    if super::discover::has_extension(path, super::TEXT_EXTENSIONS) {
         " (a text motion file? this command reads AT2 files; text records are read by \
          fragility, risk and export with --records-unit, or a pipeline's `[records] text`)"
     } else {

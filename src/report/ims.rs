@@ -47,7 +47,7 @@ pub(super) fn ims_section(w: &mut String, d: &StudyData) {
     let beta = |block: i64, im: &str| -> Option<&EfficiencyRow> {
         rows.iter().find(|r| r.block_index == block && r.im == im)
     };
-    let periods = best_periods(rows, shown, d.stood_on);
+    let periods = best_periods(rows, shown, |im| d.named(im));
     let (head, first) = match shown {
         Shown::Eps(_) => (format!("At {}:", shown.text()), "p (1/s)"),
         Shown::Every => ("Each block at its own ε:".to_string(), "block, ε, p (1/s)"),

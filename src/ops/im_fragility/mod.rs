@@ -152,15 +152,7 @@ impl ImTable {
             return Err(ImTableError::NoDimensionless(name));
         }
         let path = dir.join("im_efficiency.parquet");
-        if !path.exists() {
-            return Err(ImTableError::Missing {
-                what: "IM table",
-                pipeline: study.to_string(),
-                path,
-            });
-        }
-        let rows: Vec<EfficiencyRow> =
-            crate::tables::read(&path).map_err(|e| ImTableError::Bad(e.to_string()))?;
+        let rows: Vec<EfficiencyRow> = study_table(&path, "IM table", study)?;
         let nodes: Vec<(&str, Node)> = rows
             .iter()
             .filter(|r| r.im == name)
@@ -240,15 +232,7 @@ impl DamageTable {
             return Err(ImTableError::NoDimensionless(im.name()));
         }
         let path = dir.join(crate::stages::damage::STATES);
-        if !path.exists() {
-            return Err(ImTableError::Missing {
-                what: "damage table",
-                pipeline: study.to_string(),
-                path,
-            });
-        }
-        let rows: Vec<DamageStateRow> =
-            crate::tables::read(&path).map_err(|e| ImTableError::Bad(e.to_string()))?;
+        let rows: Vec<DamageStateRow> = study_table(&path, "damage table", study)?;
         let name = im.name();
         if !rows.iter().any(|r| r.im == name) {
             return Err(ImTableError::NotInStudy { im: name, path });
@@ -352,6 +336,23 @@ pub struct StudyBlock {
     pub slid: Option<f64>,
     /// Its slenderness α (rad); none for the p × ε grid.
     pub alpha: Option<f64>,
+}
+
+/// A study's table `what` at `path`, refused as missing (the study has not
+/// run the stage) or unreadable.
+fn study_table<T: crate::tables::Table>(
+    path: &Path,
+    what: &'static str,
+    study: &str,
+) -> Result<Vec<T>, ImTableError> {
+    if !path.exists() {
+        return Err(ImTableError::Missing {
+            what,
+            pipeline: study.to_string(),
+            path: path.to_path_buf(),
+        });
+    }
+    crate::tables::read(path).map_err(|e| ImTableError::Bad(e.to_string()))
 }
 
 /// Whether a block's p, ε or α is a study block's own: to four digits, as

@@ -178,17 +178,6 @@ const KNOWN: [(&str, &[&str]); 5] = [
     ),
 ];
 
-/// Names of a kinetic friction coefficient (plain, as `misnamed_column`
-/// compares them), which an inventory does not take.
-const KINETIC: [&str; 6] = [
-    "muk",
-    "mukinetic",
-    "kineticfriction",
-    "mud",
-    "mudynamic",
-    "dynamicfriction",
-];
-
 /// A column that is not one the reader knows but looks like one (the same
 /// but for case, spacing or punctuation; a usual other name; one letter
 /// off a name of three or more): the message naming both. Such a column
@@ -207,7 +196,7 @@ fn misnamed_column(headers: &csv::StringRecord) -> Option<String> {
             return None;
         }
         let p = plain(h);
-        if KINETIC.contains(&p.as_str()) || kinetic(&p) {
+        if kinetic(&p) {
             return Some(format!(
                 "column `{h}`: an inventory's friction is one coefficient, `mu`, static and \
                  kinetic alike; a kinetic coefficient of its own is run by `rocking capacity \
@@ -256,9 +245,10 @@ fn named_as(p: &str) -> Option<&'static &'static str> {
     }
 }
 
-/// Whether a plain column name is a kinetic friction coefficient by its
-/// stem (`kinetic_friction_coefficient`, `friction_kinetic`, `μ_k`,
-/// `mu_dyn`), which the exact names of [`KINETIC`] miss.
+/// Whether a plain column name (as `misnamed_column` compares them) is a
+/// kinetic friction coefficient, which an inventory does not take: `mu`
+/// with a kinetic suffix (`mu_k`, `μ_d`, `mu_dynamic`) or a friction word
+/// with a kinetic one (`kinetic_friction_coefficient`, `friction_kinetic`).
 fn kinetic(p: &str) -> bool {
     let of_mu = p.strip_prefix("mu").or_else(|| p.strip_prefix('μ'));
     let mu = of_mu.is_some_and(|s| {
