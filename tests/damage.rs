@@ -1200,21 +1200,26 @@ fn curves_that_cross_where_nothing_moves_are_not_warned_of() {
         .filter(|w| w.contains("cross at"))
         .collect();
     let names = ["rocking", "large_rocking", "overturned"];
-    let mut below = 0;
-    for i in 0..2 {
-        let ((ml, bl), (mh, bh)) = (fit(i), fit(i + 1));
+    let (mut below, mut said_all) = (0, 0);
+    // Every pair, not only neighbours: `rocking` and `overturned` cross
+    // where no neighbours do.
+    for (i, j) in [(0, 1), (0, 2), (1, 2)] {
+        let ((ml, bl), (mh, bh)) = (fit(i), fit(j));
         let x = ((bh * ml.ln() - bl * mh.ln()) / (bh - bl)).exp();
+        let p = phi(x, (ml, bl));
         let inverted_above = phi(cut, (mh, bh)) > phi(cut, (ml, bl));
         let said = warned
             .iter()
-            .any(|w| w.contains(&format!("`{}` and `{}` cross", names[i], names[i + 1])));
+            .any(|w| w.contains(&format!("`{}` and `{}` cross", names[i], names[j])));
+        let expected = (x >= cut || inverted_above) && (1e-3..=1.0 - 1e-3).contains(&p);
         assert_eq!(
-            said,
-            x >= cut || inverted_above,
-            "{} at {x} g: {warned:?}",
-            names[i]
+            said, expected,
+            "{} and {} at {x} g: {warned:?}",
+            names[i], names[j]
         );
         below += usize::from(x < cut && !inverted_above);
+        said_all += usize::from(said);
     }
     assert_eq!(below, 1, "the statue has one pair crossing below the cut");
+    assert_eq!(warned.len(), said_all, "{warned:?}");
 }

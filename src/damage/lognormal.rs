@@ -228,6 +228,28 @@ pub fn crossing_above(a: &Lognormal, b: &Lognormal, cut: Option<f64>) -> Option<
     Some((x, p))
 }
 
+/// Every pair of states, lighter `i` before heavier `j` (not only
+/// neighbours: two neighbours may cross well away from where the lightest
+/// and the heaviest do), whose fitted curves cross where the block can move
+/// ([`crossing_above`]): `(i, j, x, P)`. States without a fit are skipped.
+/// What every command warns of and the report states.
+pub fn crossed_pairs(
+    fits: &[Option<Lognormal>],
+    cut: Option<f64>,
+) -> Vec<(usize, usize, f64, f64)> {
+    let mut out = Vec::new();
+    for (i, a) in fits.iter().enumerate() {
+        for (j, b) in fits.iter().enumerate().skip(i + 1) {
+            if let (Some(a), Some(b)) = (a, b) {
+                if let Some((x, p)) = crossing_above(a, b, cut) {
+                    out.push((i, j, x, p));
+                }
+            }
+        }
+    }
+    out
+}
+
 /// The fractile method on capacities (+∞ for a record that never reaches
 /// the state). `None` when the 84 % fractile is +∞ (more records never
 /// reach it than the fractile allows) or a fractile is not positive.

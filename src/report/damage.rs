@@ -56,23 +56,25 @@ pub(super) fn damage_section(w: &mut String, d: &StudyData) {
             f(ml.map(|l| l.beta)),
         );
     }
-    let mut crossings = Vec::new();
-    for pair in s.names.windows(2) {
-        let fit = |n: &str| s.lognormal(n, FitMethod::Fractile);
-        if let (Some(a), Some(b)) = (fit(&pair[0]), fit(&pair[1])) {
-            // As the commands warn of it: not below the level where the
-            // block cannot move, with the heavier state the less likely above.
-            if let Some((x, p)) = damage::crossing_above(&a, &b, s.cut) {
-                crossings.push(format!(
-                    "`{}` and `{}` at {}/(αg) = {x:.3} (P = {:.1} %)",
-                    pair[0],
-                    pair[1],
-                    s.peak,
-                    100.0 * p
-                ));
-            }
-        }
-    }
+    // As the commands warn of it: every pair, not below the level where the
+    // block cannot move with the heavier state the less likely above.
+    let fits: Vec<_> = s
+        .names
+        .iter()
+        .map(|n| s.lognormal(n, FitMethod::Fractile))
+        .collect();
+    let crossings: Vec<String> = damage::crossed_pairs(&fits, s.cut)
+        .into_iter()
+        .map(|(i, j, x, p)| {
+            format!(
+                "`{}` and `{}` at {}/(αg) = {x:.3} (P = {:.1} %)",
+                s.names[i],
+                s.names[j],
+                s.peak,
+                100.0 * p
+            )
+        })
+        .collect();
     let _ = writeln!(w);
     if !crossings.is_empty() {
         let _ = writeln!(

@@ -387,22 +387,21 @@ fn overturning(
 /// `cut` ([`zero_below`]: there every state's P is 0, as every command
 /// counts it) with the heavier state the less likely above it.
 pub fn crossings(f: &DamageFragility, method: FitMethod, cut: Option<f64>) -> Vec<String> {
-    f.states
-        .windows(2)
-        .filter_map(|w| {
-            let (lighter, heavier) = (w[0].by(method)?, w[1].by(method)?);
-            let (x, p) = crate::damage::crossing_above(&lighter, &heavier, cut)?;
-            Some(format!(
+    let fits: Vec<_> = f.states.iter().map(|s| s.by(method)).collect();
+    crate::damage::crossed_pairs(&fits, cut)
+        .into_iter()
+        .map(|(i, j, x, p)| {
+            format!(
                 "the fitted curves of `{}` and `{}` cross at {} {} (P = {:.2} %): on one side \
                  the heavier state is the likelier, which no record is; there OpenQuake gives a \
                  state a negative share and pelicun (capacities sampled together) counts it in \
                  the heavier state",
-                w[0].name,
-                w[1].name,
+                f.states[i].name,
+                f.states[j].name,
                 crate::im::level_text(x),
                 f.unit,
                 100.0 * p
-            ))
+            )
         })
         .collect()
 }
