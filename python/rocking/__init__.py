@@ -107,6 +107,31 @@ def _warn(block: Block) -> None:
         warnings.warn(w, stacklevel=3)
 
 
+def _warn_answer(answer: Any) -> Any:
+    """Warn, as the command line prints them, of every ``warnings`` list in
+    a command's answer (nested ones too: a block's, a site's), each text
+    once; the answer keeps them. Returns the answer."""
+    said: set = set()
+
+    def walk(x: Any) -> None:
+        if isinstance(x, dict):
+            for k, v in x.items():
+                if k == "warnings" and isinstance(v, list):
+                    for w in v:
+                        if isinstance(w, str) and w not in said:
+                            said.add(w)
+                            warnings.warn(w, stacklevel=4)
+                else:
+                    walk(v)
+        elif isinstance(x, list):
+            for v in x:
+                if isinstance(v, (dict, list)):
+                    walk(v)
+
+    walk(answer)
+    return answer
+
+
 def _record_args(record: Record, dt: Optional[float], record_id: Optional[str]) -> Dict[str, Any]:
     if _is_path(record):
         if dt is not None:
@@ -288,7 +313,7 @@ def fragility(b: float, h: float, **kw: Any) -> Dict[str, Any]:
     logic tree over ε and the model (a TOML file, or ``"restitution-tests"``):
     each branch's fragility, their mean (the mixture) and quantiles.
     """
-    return _core.fragility(b=b, h=h, **kw)
+    return _warn_answer(_core.fragility(b=b, h=h, **kw))
 
 
 def risk(
@@ -301,7 +326,8 @@ def risk(
 
     ``hazard``: an OpenQuake hazard-curve CSV or a plain ``pga_g,annual_rate``
     CSV, or arrays ``(levels, annual_rates)`` in ``hazard_im`` (``pga`` in g,
-    the default, ``pgv`` in cm/s, ``sa(T)``, ``avgsa``), handed to the library
+    ``pgv`` in cm/s, ``sa(T)``, ``avgsa``; required with arrays, which
+    carry no unit), handed to the library
     as values; a file declares its IM itself, so ``hazard_im`` with a file is
     refused.
     One block (``b``, ``h``, ``eps``, ``mu``) gives a dict, an ``inventory``
@@ -325,7 +351,14 @@ def risk(
             raise ValueError(f"hazard: levels and annual rates must be numbers ({e})") from None
         if levels.ndim != 1 or rates.ndim != 1:
             raise ValueError("hazard: give levels and annual rates as 1-D arrays")
-        given: Any = {"im": hazard_im or "pga", "levels": levels.tolist(), "rates": rates.tolist()}
+        if hazard_im is None:
+            # Arrays carry no unit: a PGV curve in cm/s or PGA in m/s² read
+            # as PGA in g is off by orders of magnitude without a word.
+            raise ValueError(
+                "hazard_im: levels given as arrays carry no unit; say which IM they are in "
+                "(hazard_im=\"pga\" for PGA in g, \"pgv\" in cm/s, \"sa(1.0)\" in g, …)"
+            )
+        given: Any = {"im": hazard_im, "levels": levels.tolist(), "rates": rates.tolist()}
     elif hazard_im is not None:
         raise ValueError(
             f"hazard_im={hazard_im!r}: a hazard file declares its own IM (its header); "
@@ -333,7 +366,7 @@ def risk(
         )
     else:
         given = _path(hazard, "hazard")
-    return _core.risk(hazard=given, **kw)
+    return _warn_answer(_core.risk(hazard=given, **kw))
 
 
 def risk_events(gmf: PathLike, **kw: Any) -> Dict[str, Any]:
@@ -351,7 +384,7 @@ def risk_events(gmf: PathLike, **kw: Any) -> Dict[str, Any]:
     """
     import polars as pl
 
-    a = _core.risk(gmf=_path(gmf, "gmf"), **kw)
+    a = _warn_answer(_core.risk(gmf=_path(gmf, "gmf"), **kw))
     rows = [
         {
             "block": b["block"]["name"],
@@ -387,7 +420,7 @@ def export(out: PathLike, **kw: Any) -> Dict[str, Any]:
     mapping, pelicun the mean). Returns ``{"files": [...], "blocks": [...]}``, the blocks
     as ``rocking export --json`` prints them.
     """
-    return _core.export(out=_path(out, "out"), **kw)
+    return _warn_answer(_core.export(out=_path(out, "out"), **kw))
 
 
 def ims() -> List[Dict[str, Any]]:

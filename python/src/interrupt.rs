@@ -6,10 +6,21 @@
 //! the exception is raised once it has (nothing is left running behind
 //! the notebook's back, and a stage's writes are whole or absent, as on
 //! any failure).
+//!
+//! The library's stop is process-wide, as a signal is, so Ctrl-C in one
+//! thread also stops the calls of other threads under way. Python delivers
+//! signals to its main thread only: a call in another thread was never
+//! interrupted itself, and runs again from its start once the stop is
+//! withdrawn (its answer is the same, runs being deterministic), instead
+//! of failing with an interruption nobody asked it for. A panic in the
+//! work (a fault of the library) is raised as a `RuntimeError` rather
+//! than leaving the caller waiting for a result that never comes.
 
+use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::{Condvar, Mutex, PoisonError};
 use std::time::Duration;
 
+use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use rocking::physics::interrupt;
 
@@ -18,13 +29,30 @@ const TICK: Duration = Duration::from_millis(50);
 
 /// `work`'s result, the GIL released meanwhile; a signal handler's
 /// exception (Ctrl-C's `KeyboardInterrupt`) instead, raised when `work`
-/// has stopped.
-pub fn interruptible<T: Send>(py: Python<'_>, work: impl FnOnce() -> T + Send) -> PyResult<T> {
+/// has stopped. Run again when another call's interruption stopped it.
+pub fn interruptible<T: Send>(py: Python<'_>, work: impl Fn() -> T + Sync) -> PyResult<T> {
+    loop {
+        let stops = interrupt::requests();
+        let value = once(py, &work)?;
+        if interrupt::requests() == stops {
+            return Ok(value);
+        }
+        // Another thread's Ctrl-C stopped every run while this one ran:
+        // run again once that stop is withdrawn.
+        while interrupt::requested() {
+            py.detach(|| std::thread::sleep(TICK));
+            py.check_signals()?;
+        }
+    }
+}
+
+/// One attempt of [`interruptible`].
+fn once<T: Send>(py: Python<'_>, work: &(impl Fn() -> T + Sync)) -> PyResult<T> {
     let slot = Mutex::new(None);
     let ready = Condvar::new();
-    std::thread::scope(|s| {
+    let outcome = std::thread::scope(|s| {
         s.spawn(|| {
-            let value = work();
+            let value = catch_unwind(AssertUnwindSafe(work));
             *slot.lock().unwrap_or_else(PoisonError::into_inner) = Some(value);
             ready.notify_one();
         });
@@ -54,5 +82,15 @@ pub fn interruptible<T: Send>(py: Python<'_>, work: impl FnOnce() -> T + Send) -
                 return Err(signal);
             }
         }
+    })?;
+    outcome.map_err(|panic| {
+        let what = panic
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| panic.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "a panic".into());
+        PyRuntimeError::new_err(format!(
+            "a fault of rocking (please report it, with the call that gave it): {what}"
+        ))
     })
 }

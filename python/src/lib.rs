@@ -317,7 +317,7 @@ fn capacities(
             (None, []) => Vec::new(),
             (None, _) => batch::load_records(&paths, building.as_ref()).map_err(|e| message(&e))?,
         };
-        for (id, accel, dt) in arrays {
+        for (id, accel, dt) in arrays.iter().cloned() {
             records.push(
                 records::from_samples(id, accel, dt, building.as_ref()).map_err(|e| message(&e))?,
             );

@@ -199,6 +199,15 @@ def test_messages_name_the_keywords_python_wrote():
     w = rocking.fragility(0.2, 0.9, pga=[0.3])["warnings"]
     assert any("use direct=True" in x for x in w), w
     assert not any("--" in x for x in w), w
+    # An answer's warnings are also Python's, as the command prints them:
+    # the block slides before it rocks (μ = 0.1 < b/h = 0.22, a statics
+    # fact), said once though the answer holds it in two places.
+    with pytest.warns(UserWarning) as said:
+        f = rocking.fragility(0.2, 0.9, pga=[0.3], mu=0.1)
+    texts = [str(x.message) for x in said]
+    assert any("slides before it rocks" in t for t in texts), texts
+    assert sorted(set(texts)) == sorted(texts), texts
+    assert set(texts) <= set(f["warnings"]) | {w for s in f.get("states", []) for w in s.get("warnings", [])}
     # A hazard file declares its IM: hazard_im was ignored.
     assert "hazard_im='pgv'" in refusal(lambda: rocking.risk(HAZARD, b=0.2, h=0.9, hazard_im="pgv"))
 
@@ -314,7 +323,7 @@ def test_fragility_and_risk_are_the_commands():
     assert text[0].startswith("pga_g,annual_rate")
     pts = [tuple(map(float, line.split(","))) for line in text[1:] if line.strip()]
     levels, rates = zip(*pts)
-    arr = rocking.risk((np.array(levels), np.array(rates)), b=0.2, h=0.9, eps=0.85)
+    arr = rocking.risk((np.array(levels), np.array(rates)), hazard_im="pga", b=0.2, h=0.9, eps=0.85)
     one = rocking.risk(HAZARD, b=0.2, h=0.9, eps=0.85)
     assert arr["sites"][0]["annual_rate"] == one["sites"][0]["annual_rate"]
 
@@ -455,7 +464,11 @@ def test_bad_input_raises_value_errors_with_the_librarys_message(tmp_path):
                                                    "or inventory: h is missing")):
         rocking.risk(HAZARD, b=0.2)
     with pytest.raises(ValueError, match="hazard: point 2: levels must increase"):
-        rocking.risk(([0.1, 0.05], [1e-2, 1e-3]), b=0.2, h=0.9)
+        rocking.risk(([0.1, 0.05], [1e-2, 1e-3]), hazard_im="pga", b=0.2, h=0.9)
+    # Arrays carry no unit: a PGV curve (cm/s) taken for PGA (g) would be
+    # 600 times the rate.
+    with pytest.raises(ValueError, match="hazard_im: levels given as arrays carry no unit"):
+        rocking.risk(([20.0, 40.0], [1e-2, 1e-3]), b=0.2, h=0.9)
     with pytest.raises(ValueError, match='eps="housner" needs the block\'s dimensions'):
         rocking.Block(p=2, eps="housner")
     with pytest.warns(UserWarning, match="slides before it rocks"):
@@ -526,6 +539,41 @@ def test_ctrl_c_stops_a_long_call_and_the_next_call_runs():
     # The stop is withdrawn: the next call runs, and gives the command's answer.
     one = rocking.capacity(KOBE, p=2, eps=0.7)
     same(one, cli_json("capacity", "--record", KOBE, "--p", 2, "--eps", 0.7))
+
+
+def test_ctrl_c_in_the_main_thread_leaves_another_threads_call_its_answer():
+    # Python delivers Ctrl-C to its main thread; the library's stop is
+    # process-wide, so a call in another thread was stopped with it, and
+    # failed with an interruption nobody asked for. It now runs again, to
+    # the answer of a call never stopped.
+    blocks = [dict(p=float(p), eps=0.7) for p in np.geomspace(0.5, 10.0, 1000)]
+    small = [dict(p=float(p), eps=0.7) for p in (1.0, 2.0, 4.0)]
+    expected = rocking.capacities(FAR, small)
+    got = {}
+
+    def worker():
+        try:
+            got["table"] = rocking.capacities(FAR, small * 40)
+        except BaseException as e:  # noqa: BLE001 - the finding is what it raised
+            got["error"] = e
+
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+    t = threading.Thread(target=worker)
+    timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+    t.start()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            rocking.capacities(FAR, blocks)
+    finally:
+        timer.cancel()
+        t.join()
+    assert "error" not in got, got
+    table = got["table"]
+    assert table.height == 40 * expected.height
+    # Every case's answer (its number in the batch aside) is the lone call's.
+    keep = [c for c in expected.columns if c != "case_id"]
+    assert table.select(keep).unique().sort(keep).equals(expected.select(keep).sort(keep))
 
 
 def test_run_and_load_give_the_commands_tables(tmp_path):
@@ -671,11 +719,11 @@ def test_inputs_that_ran_as_something_else_are_refused_by_keyword():
     with pytest.raises(ValueError, match=r'^hazard_im = "foo"'):
         rocking.risk(hazard, hazard_im="foo", b=0.2, h=0.9)
     with pytest.raises(ValueError, match=r"^site: a whole number \(it was negative\)"):
-        rocking.risk(hazard, b=0.2, h=0.9, site=-1)
+        rocking.risk(hazard, hazard_im="pga", b=0.2, h=0.9, site=-1)
     with pytest.raises(ValueError, match=r"^site: a whole number \(it was a str\)"):
-        rocking.risk(hazard, b=0.2, h=0.9, site="1")
+        rocking.risk(hazard, hazard_im="pga", b=0.2, h=0.9, site="1")
     with pytest.raises(ValueError, match=r"^site: a whole number \(it was a float\)"):
-        rocking.risk(hazard, b=0.2, h=0.9, site=1.5)
+        rocking.risk(hazard, hazard_im="pga", b=0.2, h=0.9, site=1.5)
     with pytest.raises(ValueError, match=r"^levels: a whole number \(it was negative\)"):
         rocking.capacity(KOBE, p=2.0, eps=0.7, levels=-1)
 

@@ -7,13 +7,23 @@
 //! request stops every computation of the process, whichever thread asked
 //! for it, until [`clear`].
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 static REQUESTED: AtomicBool = AtomicBool::new(false);
 
+/// How many stops have been asked for since the process started.
+static REQUESTS: AtomicU64 = AtomicU64::new(0);
+
 /// Asks every run from now on to refuse to start.
 pub fn request() {
+    REQUESTS.fetch_add(1, Ordering::AcqRel);
     REQUESTED.store(true, Ordering::Release);
+}
+
+/// How many stops have been asked for so far: a computation that finds
+/// the count changed while it ran may have been stopped by another's.
+pub fn requests() -> u64 {
+    REQUESTS.load(Ordering::Acquire)
 }
 
 /// Withdraws the request: runs start again.
