@@ -871,7 +871,7 @@ fn a_study_says_when_its_lognormal_is_not_the_records_curve() {
         v["warnings"].as_array().unwrap().iter().any(|w| {
             w.as_str()
                 .unwrap()
-                .contains("the study's capacities of this block fail the lognormal check")
+                .contains("the study's capacities of this block in ")
         })
     };
     let carried = ask(&[]);
@@ -880,8 +880,28 @@ fn a_study_says_when_its_lognormal_is_not_the_records_curve() {
     // Its p as the study's table has it.
     let p = format!("{:.2e}", rows[0].p_value.unwrap());
     let text = carried["warnings"].to_string();
-    // Not in another IM: `--direct` checks the capacities in that IM.
-    assert!(!said(&ask(&["--im", "pgv", "--at", "30"])));
+    // In another IM, the study's damage table checks the capacities in that
+    // IM, as `--direct` does from its own runs: the two doors say the same,
+    // with the same p (the statue's SA(0.2) capacities fail, its PGV pass).
+    let mut failed = 0;
+    for (im, at) in [("pgv", "30"), ("sa(0.2)", "0.4"), ("pgd", "5")] {
+        let study = ask(&["--im", im, "--at", at]);
+        let direct = ask(&["--im", im, "--at", at, "--direct"]);
+        let rejected = direct["fit"] == "empirical";
+        assert_eq!(said(&study), rejected, "{im}: {study} {direct}");
+        if rejected {
+            failed += 1;
+            let p = format!("{:.2e}", direct["lognormal_p"].as_f64().unwrap());
+            let text = study["warnings"].to_string();
+            assert!(
+                text.contains(&format!(
+                    "in {im} fail the lognormal check (Lilliefors p = {p} "
+                )),
+                "{im} {p}: {text}"
+            );
+        }
+    }
+    assert!(failed >= 1, "an IM whose capacities fail the check");
     assert!(
         text.contains(&format!("Lilliefors p = {p} < 0.05")),
         "{p}: {text}"

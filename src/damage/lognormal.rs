@@ -250,6 +250,21 @@ pub fn crossed_pairs(
     out
 }
 
+/// Lilliefors' p of the logarithms of `capacities` (sorted) where every
+/// record reaches the state (5 or more) at two levels at least: capacities
+/// all equal (to [`super::Curve`]'s ties: a state every record reaches as it
+/// lifts, say) are a step, not a spread to test.
+pub fn lognormal_p(capacities: &[f64]) -> Option<f64> {
+    if capacities.iter().any(|c| !c.is_finite() || *c <= 0.0) {
+        return None;
+    }
+    if super::Curve::of_capacities(capacities).levels().len() < 2 {
+        return None;
+    }
+    let logs: Vec<f64> = capacities.iter().map(|c| c.ln()).collect();
+    crate::stats::lilliefors(&logs).map(|l| l.p_value)
+}
+
 /// The fractile method on capacities (+∞ for a record that never reaches
 /// the state). `None` when the 84 % fractile is +∞ (more records never
 /// reach it than the fractile allows) or a fractile is not positive.

@@ -24,8 +24,9 @@ mod states;
 pub use curve::Curve;
 pub use fit::{fit_states, StateFit};
 pub use lognormal::{
-    common_dispersion, crossed_pairs, crossing, crossing_above, fractile_method, max_likelihood,
-    Dispersion, FitChoice, FitMethod, IfNotLognormal, Lognormal, LOGNORMAL_CHECK_LEVEL,
+    common_dispersion, crossed_pairs, crossing, crossing_above, fractile_method, lognormal_p,
+    max_likelihood, Dispersion, FitChoice, FitMethod, IfNotLognormal, Lognormal,
+    LOGNORMAL_CHECK_LEVEL,
 };
 pub use states::{
     capacities, Criterion, DamageError, DamageStates, LimitState, StateCapacity, StateRun, DEFAULT,

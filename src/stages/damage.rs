@@ -265,7 +265,18 @@ fn of_block(
         };
         let dimensionless = im.dimensionless(1.0, block.p);
         let power = f64::from(im.power());
-        for (s, fit) in states.states().iter().zip(fits) {
+        for (k, (s, fit)) in states.states().iter().zip(fits).enumerate() {
+            // The records' capacities in the IM, as `--direct` checks them.
+            let mut in_im: Vec<f64> = per_record
+                .iter()
+                .enumerate()
+                .map(|(r, found)| match found[k] {
+                    StateCapacity::Reached(eta) => at_unit_alpha(r, eta).unwrap_or(f64::NAN),
+                    StateCapacity::NotReached(_) => f64::INFINITY,
+                })
+                .collect();
+            in_im.sort_by(f64::total_cmp);
+            let lognormal_p = damage::lognormal_p(&in_im);
             for method in FitMethod::LOGNORMAL {
                 let l = match method {
                     FitMethod::Fractile => fit.fractile,
@@ -289,6 +300,7 @@ fn of_block(
                     median_dimensionless: l.and_then(|l| Some(l.median * dimensionless?.0)),
                     dimensionless: dimensionless.map(|d| d.1.to_string()),
                     beta: l.map(|l| l.beta),
+                    lognormal_p,
                 });
             }
         }

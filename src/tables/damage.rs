@@ -46,7 +46,7 @@ table! {
     /// likelihood. On a building's floor the IMs are the ground record's. With `[example]`,
     /// `example_damage_states.parquet` holds the same of the example block (`block_index`
     /// 0). The metadata holds `rocking.damage.states`.
-    pub struct DamageStateRow = "damage_states" v 1 {
+    pub struct DamageStateRow = "damage_states" v 2 {
         /// The block's row in `blocks.parquet` (0 for the example block).
         pub block_index: i64,
         /// The block's label; empty for the p × ε grid.
@@ -88,5 +88,10 @@ table! {
         /// (the 84 % fractile beyond the runs, or fewer than two records reaching the
         /// state).
         pub beta: Option<f64>,
+        /// Lilliefors' p of the logarithms of the records' capacities in this IM (the
+        /// same in both methods' rows); below 0.05 the lognormal is rejected, and
+        /// `fragility --direct` gives the records' own curve there. Empty where some
+        /// record does not reach the state, or fewer than 5 records do.
+        pub lognormal_p: Option<f64>,
     }
 }

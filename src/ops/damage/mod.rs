@@ -54,23 +54,29 @@ pub fn of_block(
     }
     if fit.if_not_lognormal == IfNotLognormal::Curve {
         curve_where_not_lognormal(&mut f);
-        // The study's check is of η_c, overturning's capacity in the peak
-        // the block stands on: where `--direct` checks the same.
+        // The study's check of overturning's capacities in the IM (η_c's in
+        // the peak the block stands on): where `--direct` checks the same.
         let overturning = states
             .states()
             .last()
             .is_some_and(|s| s.criterion == Criterion::Overturned);
-        let in_peak = matches!(im, Im::Pga | Im::Pfa);
-        if direct.is_none() && fit.method != FitMethod::Empirical && overturning && in_peak {
-            f.warnings.extend(laws.rejected_lognormal(block).map(|p| {
-                format!(
-                    "the study's capacities of this block fail the lognormal check (Lilliefors \
-                     p = {p:.2e} < {}, its lognormal.parquet): this answer is a lognormal (the \
-                     study's fit or regression), where --direct gives the records' own curve \
-                     (with --direct, --if-not-lognormal lognormal keeps the lognormal)",
-                    damage::LOGNORMAL_CHECK_LEVEL
-                )
-            }));
+        if direct.is_none() && fit.method != FitMethod::Empirical && overturning {
+            let table = if matches!(im, Im::Pga | Im::Pfa) {
+                "lognormal.parquet"
+            } else {
+                "damage_states.parquet"
+            };
+            f.warnings
+                .extend(laws.rejected_lognormal_in(block, im).map(|p| {
+                    format!(
+                        "the study's capacities of this block in {} fail the lognormal check \
+                     (Lilliefors p = {p:.2e} < {}, its {table}): this answer is a lognormal \
+                     (the study's fit or regression), where --direct gives the records' own \
+                     curve (with --direct, --if-not-lognormal lognormal keeps the lognormal)",
+                        im.name(),
+                        damage::LOGNORMAL_CHECK_LEVEL
+                    )
+                }));
         }
     }
     f.dispersion = fit.dispersion.label();

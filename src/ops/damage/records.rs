@@ -81,7 +81,7 @@ pub(super) fn from_records(
             mle: f.mle,
             reached: Some(f.reached),
             fractile_kind: "fractile",
-            lognormal_p: lognormal_p(&f.capacities),
+            lognormal_p: crate::damage::lognormal_p(&f.capacities),
             capacities: Some(f.capacities),
         })
         .collect();
@@ -206,21 +206,6 @@ fn worst_by_pair(
         }
     }
     worst
-}
-
-/// Lilliefors' p of the logarithms of `capacities` (sorted) where every
-/// record reaches the state (5 or more) at two levels at least: capacities
-/// all equal (to [`Curve`]'s ties: a state every record reaches as it
-/// lifts, say) are a step, not a spread to test.
-fn lognormal_p(capacities: &[f64]) -> Option<f64> {
-    if capacities.iter().any(|c| !c.is_finite() || *c <= 0.0) {
-        return None;
-    }
-    if Curve::of_capacities(capacities).levels().len() < 2 {
-        return None;
-    }
-    let logs: Vec<f64> = capacities.iter().map(|c| c.ln()).collect();
-    crate::stats::lilliefors(&logs).map(|l| l.p_value)
 }
 
 /// What text records (a structural model's floor motions) mean for the

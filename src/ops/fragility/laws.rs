@@ -193,6 +193,35 @@ impl Laws {
         own.p_value.filter(|_| own.rejected_5pct)
     }
 
+    /// [`Laws::rejected_lognormal`] in any IM: in the peak the block stands
+    /// on (η_c's check, `lognormal.parquet`), in another the damage table's
+    /// check of the records' overturning capacities in that IM.
+    pub fn rejected_lognormal_in(&self, block: &Block, im: Im) -> Option<f64> {
+        if matches!(im, Im::Pga | Im::Pfa) {
+            return self.rejected_lognormal(block);
+        }
+        let (dir, plan) = (self.dir.as_ref()?, self.plan.as_ref()?);
+        let same = crate::ops::im_fragility::own_value;
+        let spec = plan.blocks().iter().find(|b| {
+            same(b.p, block.p())
+                && same(b.eps, block.eps)
+                && b.alpha_rad.is_none_or(|a| same(a, block.alpha()))
+        })?;
+        let rows: Vec<crate::tables::damage::DamageStateRow> =
+            crate::tables::read(&dir.join("damage_states.parquet")).ok()?;
+        let name = im.name();
+        rows.iter()
+            .find(|r| {
+                r.block == spec.name
+                    && r.p == spec.p
+                    && r.eps == spec.eps
+                    && r.threshold.is_none()
+                    && r.im == name
+            })?
+            .lognormal_p
+            .filter(|&p| p < crate::damage::LOGNORMAL_CHECK_LEVEL)
+    }
+
     /// `im` refused where the blocks stand on the study's records and it is a
     /// measure of the ground (the one rule of `--direct` on text records).
     fn ground_im(&self, im: Im) -> Result<(), FragilityError> {
