@@ -289,6 +289,7 @@ mod tests {
             median_dimensionless: Some(median),
             dimensionless: Some("PGA/(αg)".into()),
             beta: Some(beta),
+            lognormal_p: None,
         }
     }
 

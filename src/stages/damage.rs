@@ -201,6 +201,25 @@ fn flatten(blocks: Vec<BlockDamage>) -> (Vec<StateCapacityRow>, Vec<DamageStateR
     (c, s)
 }
 
+/// Lilliefors' p of state `k`'s capacities over the records in an IM
+/// (`in_im` of a record's index and η), as `--direct` checks them.
+fn lognormal_p_in(
+    per_record: &[Vec<StateCapacity>],
+    k: usize,
+    in_im: &dyn Fn(usize, f64) -> Option<f64>,
+) -> Option<f64> {
+    let mut caps: Vec<f64> = per_record
+        .iter()
+        .enumerate()
+        .map(|(r, found)| match found[k] {
+            StateCapacity::Reached(eta) => in_im(r, eta).unwrap_or(f64::NAN),
+            StateCapacity::NotReached(_) => f64::INFINITY,
+        })
+        .collect();
+    caps.sort_by(f64::total_cmp);
+    damage::lognormal_p(&caps)
+}
+
 /// The states' capacities of one block under each record (its capacity row
 /// and runs, in record order), and their fits in each of `measures`. Fits are made at
 /// α = 1 and stated in the IM's dimensionless form; a block with α also
@@ -266,17 +285,7 @@ fn of_block(
         let dimensionless = im.dimensionless(1.0, block.p);
         let power = f64::from(im.power());
         for (k, (s, fit)) in states.states().iter().zip(fits).enumerate() {
-            // The records' capacities in the IM, as `--direct` checks them.
-            let mut in_im: Vec<f64> = per_record
-                .iter()
-                .enumerate()
-                .map(|(r, found)| match found[k] {
-                    StateCapacity::Reached(eta) => at_unit_alpha(r, eta).unwrap_or(f64::NAN),
-                    StateCapacity::NotReached(_) => f64::INFINITY,
-                })
-                .collect();
-            in_im.sort_by(f64::total_cmp);
-            let lognormal_p = damage::lognormal_p(&in_im);
+            let lognormal_p = lognormal_p_in(&per_record, k, &at_unit_alpha);
             for method in FitMethod::LOGNORMAL {
                 let l = match method {
                     FitMethod::Fractile => fit.fractile,
