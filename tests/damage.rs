@@ -305,11 +305,17 @@ fn states_from_a_study_carried_to_a_block() {
     // Lowered to the next heavier state's where above it; the heaviest
     // (overturning) as its own fit.
     let mut ceiling = f64::INFINITY;
+    let names = ["light", "heavy", "overturned"];
+    let warned = v["fragility"]["warnings"].to_string();
     for j in (0..3).rev() {
         let state = &v["fragility"]["states"][j];
-        ceiling = ceiling.min(each[j]["fractile"]["median"].as_f64().unwrap());
+        let own = each[j]["fractile"]["median"].as_f64().unwrap();
+        ceiling = ceiling.min(own);
         assert_eq!(state["fractile"]["median"].as_f64(), Some(ceiling));
         assert_eq!(state["fractile"]["beta"].as_f64(), Some(heaviest));
+        // A median lowered is said, one kept is not.
+        let said = warned.contains(&format!("the median of `{}`", names[j]));
+        assert_eq!(said, ceiling < own, "{}: {warned}", names[j]);
     }
     // risk --states on a power-law hazard λ(a) = k0 a^−k: each state's rate
     // is Cornell's closed form k0 m^−k exp(k²β²/2) of its lognormal.
@@ -1242,4 +1248,72 @@ fn curves_that_cross_where_nothing_moves_are_not_warned_of() {
     }
     assert_eq!(below, 1, "the statue has one pair crossing below the cut");
     assert_eq!(warned.len(), said_all, "{warned:?}");
+}
+
+/// Overturning from a study's regression and the lighter states from its
+/// damage table: beyond the study's p the regression's law is extrapolated
+/// while the table holds at its edge, and a lighter state's median can lie
+/// above overturning's. Kept in order, it is lowered to it, and said, where
+/// and only where `--dispersion each` (each state's own fit) shows it above.
+#[test]
+fn a_lighter_median_lowered_to_keep_the_states_in_order_is_said() {
+    let dir = tempdir();
+    let body = format!(
+        "sets = [\"far-field\"]\n[model]\nkind = \"linearized\"\n[blocks]\n\
+         p = [0.5, 1.0, 2.0, 5.0]\neps = [0.5, 0.7, 0.9]\n[damage]\nstates = \"{STATES}\"\n"
+    );
+    let pipeline = write_pipeline(dir.path(), "fitted", &body);
+    let outputs = dir.path().join("out");
+    let out = rocking(dir.path(), &["run", s(&pipeline), "--outputs", s(&outputs)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let run = |args: Vec<String>| {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        rocking(dir.path(), &args)
+    };
+    let names = ["light", "heavy", "overturned"];
+    let mut lowered = 0;
+    for (b, h) in [("0.02", "0.2"), ("0.03", "0.15"), ("0.5", "8.0")] {
+        let mut args: Vec<String> = ["fragility", "--b", b, "--h", h, "--eps", "0.7", "--from"]
+            .iter()
+            .map(|x| x.to_string())
+            .collect();
+        args.extend(
+            [s(&pipeline), "--outputs", s(&outputs), "--states", STATES]
+                .iter()
+                .map(|x| x.to_string()),
+        );
+        let (e, c) = (
+            run([
+                args.clone(),
+                vec![
+                    "--pga".into(),
+                    "0.1".into(),
+                    "--dispersion".into(),
+                    "each".into(),
+                    "--json".into(),
+                ],
+            ]
+            .concat()),
+            run([args, vec!["--pga".into(), "0.1".into(), "--json".into()]].concat()),
+        );
+        assert!(e.status.success() && c.status.success(), "{}", stderr(&c));
+        let (e, c): (serde_json::Value, serde_json::Value) = (
+            serde_json::from_str(&stdout(&e)).unwrap(),
+            serde_json::from_str(&stdout(&c)).unwrap(),
+        );
+        let warned = c["fragility"]["warnings"].to_string();
+        for (j, name) in names.iter().enumerate() {
+            let median =
+                |v: &serde_json::Value| v["fragility"]["states"][j]["fractile"]["median"].as_f64();
+            let (own, kept) = (median(&e), median(&c));
+            let said = warned.contains(&format!("the median of `{name}`"));
+            assert_eq!(
+                said,
+                kept < own,
+                "{b}×{h} {name}: {own:?} {kept:?} {warned}"
+            );
+            lowered += usize::from(said);
+        }
+    }
+    assert!(lowered > 0, "a lighter median lowered");
 }

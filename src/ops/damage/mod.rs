@@ -83,7 +83,11 @@ pub fn of_block(
     if fit.dispersion == Dispersion::Common && f.states.len() > 1 {
         for method in FitMethod::LOGNORMAL {
             let mut fits: Vec<Option<Lognormal>> = f.states.iter().map(|s| s.by(method)).collect();
+            let before = fits.clone();
             damage::common_dispersion(&mut fits);
+            if method == fit.method {
+                f.warnings.extend(lowered(&f, &before, &fits));
+            }
             for (s, l) in f.states.iter_mut().zip(fits) {
                 match method {
                     FitMethod::Fractile => s.fractile = l,
@@ -93,6 +97,34 @@ pub fn of_block(
         }
     }
     Ok(f)
+}
+
+/// Where keeping the states in order lowered a lighter state's median to a
+/// heavier one's (their fits from different sources: overturning from the
+/// regression, the lighter states from a study's table, say): said, as it
+/// changes the answer.
+fn lowered(
+    f: &DamageFragility,
+    before: &[Option<Lognormal>],
+    after: &[Option<Lognormal>],
+) -> Vec<String> {
+    let mut said = Vec::new();
+    for (i, (b, a)) in before.iter().zip(after).enumerate() {
+        let (Some(b), Some(a)) = (b, a) else { continue };
+        if a.median < b.median * (1.0 - 1e-9) {
+            said.push(format!(
+                "the median of `{}` ({} {unit}) lay above a heavier state's: it is lowered to \
+                 {} {unit} to keep the states in order (a heavier state never the likelier); \
+                 their fits come from different sources here (--dispersion each keeps each \
+                 state's own)",
+                f.states[i].name,
+                crate::im::level_text(b.median),
+                crate::im::level_text(a.median),
+                unit = f.unit
+            ));
+        }
+    }
+    said
 }
 
 /// The model the states need: states on the slide need the records' runs

@@ -187,7 +187,13 @@ pub fn warnings(
     blocks: Option<&[crate::pipeline::BlockSpec]>,
     auto_tol: f64,
 ) -> Vec<String> {
-    let mut w = crate::fragility::stretched(block, blocks);
+    // The regression's law continues beyond the grid (a study's IM tables
+    // instead hold at their nearest edge, and say so): said, as the two
+    // can stand side by side in one answer.
+    let mut w: Vec<String> = crate::fragility::stretched(block, blocks)
+        .into_iter()
+        .map(|s| format!("{s}: the regression's law is extrapolated there"))
+        .collect();
     w.extend(model_warning(block, blocks, auto_tol));
     w
 }
