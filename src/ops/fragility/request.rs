@@ -192,7 +192,7 @@ pub fn warnings(
     // can stand side by side in one answer.
     let mut w: Vec<String> = crate::fragility::stretched(block, blocks)
         .into_iter()
-        .map(|s| format!("{s}: the regression's law is extrapolated there"))
+        .map(|s| format!("{s}: the fitted law is extrapolated there"))
         .collect();
     w.extend(model_warning(block, blocks, auto_tol));
     w
