@@ -1589,3 +1589,32 @@ fn a_slip_that_stops_on_the_impact_does_not_stall() {
     let out = simulate(&whole, &spec).unwrap();
     assert_ne!(out.stop, Stop::EventLimit, "{out:?}");
 }
+
+/// A friction given to an answer that does not model it is said: below b/h
+/// the block slides before it rocks (statics: it slips at |a| = μg before
+/// it lifts at g·tan α), above it the friction is simply unused by the
+/// regression and the study's tables; the records' runs (`--direct`) run
+/// the slide-rock model and say neither.
+#[test]
+fn a_friction_the_answer_does_not_model_is_said() {
+    let dir = crate::util::tempdir();
+    let said = |extra: &[&str]| {
+        let args = [
+            &["fragility", "--b", "0.2", "--h", "0.9", "--pga", "0.3"][..],
+            extra,
+        ]
+        .concat();
+        let out = crate::util::rocking(dir.path(), &args);
+        assert!(out.status.success(), "{}", crate::util::stderr(&out));
+        let e = crate::util::stderr(&out);
+        (
+            e.contains("is not used"),
+            e.contains("slides before it rocks"),
+        )
+    };
+    // b/h = 0.222.
+    assert_eq!(said(&["--mu", "0.4"]), (true, false));
+    assert_eq!(said(&["--mu", "0.1"]), (false, true));
+    assert_eq!(said(&[]), (false, false));
+    assert_eq!(said(&["--mu", "0.4", "--direct"]), (false, false));
+}

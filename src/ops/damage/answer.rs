@@ -126,14 +126,25 @@ pub struct DamageFragility {
 }
 
 impl DamageFragility {
-    /// The warning of a block on a base of friction `mu` that slides
-    /// before it rocks where these fragilities are the rocking model's (a
-    /// regression's, or runs that did not slide); none where the runs slid.
+    /// The warning of a block on a base of friction `mu` where these
+    /// fragilities are the rocking model's (a regression's, a study's
+    /// tables, or runs that did not slide): it slides before it rocks, or
+    /// the friction given is not used at all; none where the runs slid.
     pub fn unmodelled_sliding(&self, mu: Option<f64>, alpha_rad: f64) -> Option<String> {
-        let mu = mu.filter(|&mu| crate::block::slides_first(mu, alpha_rad))?;
-        self.slides_on_mu
-            .is_none()
-            .then(|| crate::block::sliding_warning(mu, alpha_rad))
+        let mu = mu?;
+        if self.slides_on_mu.is_some() {
+            return None;
+        }
+        if crate::block::slides_first(mu, alpha_rad) {
+            return Some(crate::block::sliding_warning(mu, alpha_rad));
+        }
+        Some(format!(
+            "friction μ = {mu} is not used: this fragility ({}) is of a block that rocks on a \
+             base it never slips on; it rocks before it slides (μ > b/h = {:.4}), but may slip \
+             while rocking, which the slide-rock model of --direct runs",
+            self.source,
+            alpha_rad.tan()
+        ))
     }
 
     /// The fit `method` stands for (its first state's; one for overturning).
