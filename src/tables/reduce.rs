@@ -224,7 +224,8 @@ table! {
         pub n: i64,
         /// exp of the mean of ln η_c; empty with fewer than two values.
         pub median_sample: Option<f64>,
-        /// The sample standard deviation of ln η_c; empty with fewer than two values.
+        /// The sample standard deviation of ln η_c (divided by n − 1; the likelihood's β of
+        /// `--method mle` divides by n); empty with fewer than two values.
         pub beta_sample: Option<f64>,
         /// η_c,50, the 50 % capacity fractile; empty where it is 0 (too many records never
         /// overturned).

@@ -308,6 +308,10 @@ fn run_states(
             for s in &site.states {
                 let fit = match (s.median, s.beta) {
                     (Some(m), Some(b)) => format!("{} {}, {b:.3}", level_text(m), a.unit),
+                    // Integrated all the same: a curve has no median and β.
+                    _ if s.fit == "empirical" && s.annual_rate.is_some() => {
+                        "the records' curve".to_string()
+                    }
                     _ => "no fit".to_string(),
                 };
                 println!(
@@ -427,12 +431,14 @@ fn print_one(a: &Assessment) {
             ),
             (
                 "hazard curve used".into(),
-                format!(
-                    "{}–{} {u} ({} IML(s) with poe = 1 dropped below)",
-                    lv(s.first_iml),
-                    lv(s.last_iml),
-                    s.imls_dropped
-                ),
+                match s.imls_dropped {
+                    0 => format!("{}–{} {u}", lv(s.first_iml), lv(s.last_iml)),
+                    n => format!(
+                        "{}–{} {u} ({n} IML(s) with poe = 1 dropped below)",
+                        lv(s.first_iml),
+                        lv(s.last_iml)
+                    ),
+                },
             ),
             (
                 format!("P(OT | {} {u}), below the curve", lv(s.first_iml)),
