@@ -106,7 +106,7 @@ pub fn markdown() -> String {
          Rewrite it with `ROCKING_BLESS=1 cargo test --release tables::`. -->\n\n\
          Every table is Parquet with zstd compression and key-value metadata:\n\
          `rocking.table` (its name), `rocking.schema_version`, `rocking.crate_version`,\n\
-         and the settings that produced it. Tables are written to a temporary\n\
+         and the settings that produced it, where the stage has any. Tables are written to a temporary\n\
          file and renamed, so a crash never leaves a half-written table. A reader\n\
          refuses a file of another table or schema version. Types are Arrow's;\n\
          `?` marks a column that may be empty (null).\n\n",

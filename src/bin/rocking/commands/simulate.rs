@@ -34,7 +34,8 @@ pub struct Args {
     /// η = α/(PGA · PFA/PGA).
     #[arg(long, value_name = "g")]
     pga: Option<f64>,
-    /// Write the response history (t, x, ẋ, pivot, ψ̈, event) to a .parquet or .csv file.
+    /// Write the response history (t, x, ẋ, pivot, ψ̈, event, and the slide and its velocity) to a
+    /// .parquet or .csv file (columns: docs/tables.md, `history`).
     #[arg(long, value_name = "FILE")]
     history: Option<PathBuf>,
     /// With --history: keep every N-th sample (events are always kept).

@@ -21,8 +21,9 @@ fn shard_count(text: &str) -> Result<usize, String> {
 /// stages as one job after it.
 ///
 /// Ingests the records here, writes the job scripts into
-/// <outputs>/<name>/slurm/ (sweep.sbatch, after.sbatch; kept and readable,
-/// the tasks' logs go beside them), submits the sweep with `sbatch
+/// <outputs>/<name>/slurm/ (sweep.sbatch, after.sbatch; kept and readable
+/// once submitted, the tasks' logs beside them; a submission sbatch refuses
+/// leaves none, and its error says why), submits the sweep with `sbatch
 /// --array=1-N` (task K runs `rocking sweep --shard K/N` with one thread per
 /// CPU Slurm gives it; a requeued task resumes from the parts it wrote) and
 /// `rocking run` with `--dependency=afterok:<array>`, and prints both job
