@@ -247,7 +247,15 @@ impl<'de> serde::Deserialize<'de> for Restitution {
             Number(f64),
             Text(String),
         }
-        match Given::deserialize(d)? {
+        // serde's own message ("did not match any variant of untagged
+        // enum Given") names neither the key nor what it takes.
+        let given = Given::deserialize(d).map_err(|_| {
+            serde::de::Error::custom(
+                "eps: give a number in (0, 1] or \"housner\" (one block's; a list is a \
+                 logic tree's, `tree`)",
+            )
+        })?;
+        match given {
             Given::Number(e) => Ok(Restitution::Value(e)),
             Given::Text(t) => t.parse().map_err(serde::de::Error::custom),
         }

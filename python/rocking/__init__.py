@@ -58,6 +58,11 @@ Record = Union[PathLike, np.ndarray, Sequence[float]]
 _SEARCH = ("tol", "levels", "eta_min", "spacing")
 
 
+def _block_from(kw: Dict[str, Any]) -> Block:
+    """A Block made again from its keywords (how a Block pickles)."""
+    return Block(**kw)
+
+
 def read_at2(path: PathLike) -> Tuple[np.ndarray, float]:
     """Read a PEER AT2 record.
 
@@ -78,7 +83,43 @@ def _samples(acc: Any, dt: Any, what: str = "the record") -> Tuple[bytes, float]
         raise ValueError(f"{what} holds a non-finite sample {a[bad[0]]} at index {bad[0]}")
     if dt is None:
         raise ValueError(f"{what} is an array: give its time step dt (s)")
-    return np.ascontiguousarray(a, dtype="<f8").tobytes(), float(dt)
+    return np.ascontiguousarray(a, dtype="<f8").tobytes(), _number(dt, "dt")
+
+
+def _number(x: Any, key: str) -> float:
+    """``x`` as one real number (a NumPy scalar or a 1-element array too),
+    or a ValueError naming the keyword it came as."""
+    if isinstance(x, (bool, np.bool_)) or isinstance(x, (str, bytes)):
+        raise ValueError(f"{key}: give one number, not {x!r}")
+    a = np.asarray(x)
+    if a.size != 1 or not np.issubdtype(a.dtype, np.number) or np.iscomplexobj(a):
+        raise ValueError(f"{key}: give one number, not {type(x).__name__} {x!r}")
+    return float(a.reshape(()))
+
+
+def _record_id(record_id: Any) -> Optional[str]:
+    """An array record's id: a str (or a whole number, written out); not empty."""
+    if record_id is None:
+        return None
+    if isinstance(record_id, (int, np.integer)) and not isinstance(record_id, (bool, np.bool_)):
+        record_id = str(int(record_id))
+    if not isinstance(record_id, str):
+        raise ValueError(f"record_id: give a str, not {type(record_id).__name__}")
+    if not record_id.strip():
+        raise ValueError("record_id: give a name, not an empty string")
+    return record_id
+
+
+def _file_args(record: Any, dt: Any, record_id: Any) -> None:
+    """A record given as a file names itself and carries its own dt: either
+    given beside it is refused (each was ignored)."""
+    if dt is not None:
+        raise ValueError("dt comes from the AT2 file; give it only with an array")
+    if record_id is not None:
+        raise ValueError(
+            "record_id names an array record; a file's id is its name "
+            f"({Path(os.fspath(record)).stem})"
+        )
 
 
 def _is_path(x: Any) -> bool:
@@ -92,11 +133,16 @@ def _path(x: Any, key: str) -> str:
     return os.fspath(x)
 
 
-def _block(block: Optional[Block], kw: Dict[str, Any]) -> Block:
-    """The block given, or one made of the block keywords."""
+def _block(block: Any, kw: Dict[str, Any]) -> Block:
+    """The block given (a Block, or a dict of its keywords), or one made of
+    the block keywords."""
     if block is not None:
         if kw:
             raise ValueError(f"give a Block or its keywords, not both (got {sorted(kw)})")
+        if isinstance(block, dict):
+            return Block(**block)
+        if not isinstance(block, Block):
+            raise ValueError(f"block: give a Block or a dict of its keywords, not {type(block).__name__}")
         return block
     return Block(**kw)
 
@@ -132,13 +178,25 @@ def _warn_answer(answer: Any) -> Any:
     return answer
 
 
+def _options(kw: Dict[str, Any]) -> Dict[str, Any]:
+    """A command's keywords as the library reads them: ``None`` is a keyword
+    not given (its default), and ``states`` may be a list of
+    ``name=criterion`` strings as well as the command's comma-separated text."""
+    kw = {k: v for k, v in kw.items() if v is not None}
+    states = kw.get("states")
+    if isinstance(states, (list, tuple)):
+        if not all(isinstance(x, str) for x in states):
+            raise ValueError('states: give "name=criterion" strings, e.g. ["rocking=0.1", "overturned=overturned"]')
+        kw["states"] = ",".join(states)
+    return kw
+
+
 def _record_args(record: Record, dt: Optional[float], record_id: Optional[str]) -> Dict[str, Any]:
     if _is_path(record):
-        if dt is not None:
-            raise ValueError("dt comes from the AT2 file; give it only with an array")
+        _file_args(record, dt, record_id)
         return {"path": os.fspath(record)}
     data, step = _samples(record, dt)
-    return {"accel": data, "dt": step, "record_id": record_id or "record"}
+    return {"accel": data, "dt": step, "record_id": _record_id(record_id) or "record"}
 
 
 def simulate(
@@ -163,6 +221,8 @@ def simulate(
     """
     blk = _block(block, block_kw)
     _warn(blk)
+    eta = None if eta is None else _number(eta, "eta")
+    pga = None if pga is None else _number(pga, "pga")
     return _core.simulate(blk, eta=eta, pga=pga, **_record_args(record, dt, record_id))
 
 
@@ -206,8 +266,12 @@ def capacity(
     if pair is not None:
         if not _is_path(record) or angle is None:
             raise ValueError("pair: give the record as an AT2 path, and the angle (degrees)")
-        many = isinstance(angle, (list, tuple))
-        angles = [float(a) for a in angle] if many else [float(angle)]
+        # A list, tuple, range or NumPy array of angles, or one angle.
+        many = not isinstance(angle, (str, bytes)) and np.ndim(angle) > 0
+        if many:
+            angles = [_number(a, "angle") for a in np.asarray(angle, dtype=object).ravel()]
+        else:
+            angles = [_number(angle, "angle")]
         if not angles:
             # An empty list gave an empty list without a word.
             raise ValueError("angle: none given; give an angle in degrees, or a list of them")
@@ -215,10 +279,11 @@ def capacity(
                                  angles=angles, **search)
         return found if many or len(blk) > 1 else found[0]
     if _is_path(record):
+        _file_args(record, dt, record_id)
         paths, arrays = [os.fspath(record)], []
     else:
         data, step = _samples(record, dt)
-        paths, arrays = [], [(record_id or "record", data, step)]
+        paths, arrays = [], [(_record_id(record_id) or "record", data, step)]
     found = _core.capacities([blk], paths, arrays, False, **search)
     # Several blocks, or a folder of records: every one, as the command
     # prints them (a folder of one record is still a list).
@@ -274,6 +339,9 @@ def capacities(
     """
     import polars as pl
 
+    if isinstance(blocks, (Block, dict)):
+        # One block, not in a list.
+        blocks = [blocks]
     made = []
     for i, b in enumerate(blocks):
         if isinstance(b, Block):
@@ -313,7 +381,7 @@ def fragility(b: float, h: float, **kw: Any) -> Dict[str, Any]:
     logic tree over ε and the model (a TOML file, or ``"restitution-tests"``):
     each branch's fragility, their mean (the mixture) and quantiles.
     """
-    return _warn_answer(_core.fragility(b=b, h=h, **kw))
+    return _warn_answer(_core.fragility(b=b, h=h, **_options(kw)))
 
 
 def risk(
@@ -366,7 +434,7 @@ def risk(
         )
     else:
         given = _path(hazard, "hazard")
-    return _warn_answer(_core.risk(hazard=given, **kw))
+    return _warn_answer(_core.risk(hazard=given, **_options(kw)))
 
 
 def risk_events(gmf: PathLike, **kw: Any) -> Dict[str, Any]:
@@ -384,7 +452,7 @@ def risk_events(gmf: PathLike, **kw: Any) -> Dict[str, Any]:
     """
     import polars as pl
 
-    a = _warn_answer(_core.risk(gmf=_path(gmf, "gmf"), **kw))
+    a = _warn_answer(_core.risk(gmf=_path(gmf, "gmf"), **_options(kw)))
     rows = [
         {
             "block": b["block"]["name"],
@@ -420,7 +488,7 @@ def export(out: PathLike, **kw: Any) -> Dict[str, Any]:
     mapping, pelicun the mean). Returns ``{"files": [...], "blocks": [...]}``, the blocks
     as ``rocking export --json`` prints them.
     """
-    return _warn_answer(_core.export(out=_path(out, "out"), **kw))
+    return _warn_answer(_core.export(out=_path(out, "out"), **_options(kw)))
 
 
 def ims() -> List[Dict[str, Any]]:

@@ -18,7 +18,11 @@ class Block:
     ``on-side``, ``escape``); ``mu`` and ``mu_k`` (the base's static and
     kinetic friction: ``slide-rock`` and ``auto`` run the block on them);
     ``floor`` (the building's modes ``[(T, zeta, gamma_phi), …]``, or one
-    mode, as numbers or as the command line's text ``"T,ZETA,GAMMA_PHI"``)."""
+    mode, as numbers or as the command line's text ``"T,ZETA,GAMMA_PHI"``),
+    or ``building`` (modes ``[(T, zeta, gamma, phi1, …, phin), …]``) with
+    ``level`` (the floor, 1 to n). Equal when made of the same options;
+    pickles and copies as its keywords; ``blocks`` lists each block it
+    stands for."""
 
     def __init__(
         self,
@@ -38,8 +42,13 @@ class Block:
         mu: Optional[float] = None,
         mu_k: Optional[float] = None,
         floor: Union[Mode, Sequence[Mode], None] = None,
+        building: Union[Sequence[Number], Sequence[Sequence[Number]], str, None] = None,
+        level: Optional[int] = None,
     ) -> None: ...
     def __len__(self) -> int: ...
+    def __eq__(self, other: object) -> bool: ...
+    @property
+    def blocks(self) -> List[Dict[str, Any]]: ...
     @property
     def why(self) -> List[str]: ...
     @property

@@ -142,6 +142,8 @@ fn samples(bytes: &[u8]) -> Vec<f64> {
 struct Block {
     ask: BlockAsk,
     blocks: Vec<AskedBlock>,
+    /// The keywords it was made of, for its repr and for pickling.
+    kwargs: Py<PyDict>,
 }
 
 #[pymethods]
@@ -152,7 +154,45 @@ impl Block {
         let ask: BlockAsk = ask(py, kwargs)?;
         let blocks = ask.resolve(Spelling::Python).map_err(ask_error)?;
         ask.building(Spelling::Python).map_err(ask_error)?;
-        Ok(Block { ask, blocks })
+        let kept = PyDict::new(py);
+        if let Some(k) = kwargs {
+            kept.update(k.as_mapping())?;
+        }
+        Ok(Block {
+            ask,
+            blocks,
+            kwargs: kept.unbind(),
+        })
+    }
+
+    /// Equal when made of the same block options, however spelt (one
+    /// number or a list of one, a NumPy scalar or a float).
+    fn __eq__(&self, other: PyRef<'_, Self>) -> bool {
+        self.ask == other.ask
+    }
+
+    /// Pickled (and copied) as its keywords, made again on loading.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (Py<PyDict>,))> {
+        let make = py.import("rocking")?.getattr("_block_from")?;
+        Ok((make, (self.kwargs.clone_ref(py),)))
+    }
+
+    /// Each block it stands for: `name`, `p` (1/s), `eps`, `alpha_rad`
+    /// (None for a block given by p alone), `mu` and `slides_first`.
+    #[getter]
+    fn blocks(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        let rows: Vec<serde_json::Value> = self
+            .blocks
+            .iter()
+            .map(|b| {
+                let n = &b.named;
+                serde_json::json!({
+                    "name": n.name, "p": n.spec.p, "eps": n.spec.eps,
+                    "alpha_rad": n.alpha_rad, "mu": n.mu, "slides_first": n.slides_first,
+                })
+            })
+            .collect();
+        to_py(py, &rows)
     }
 
     /// How many blocks it stands for (p × ε, or each size × ε).
@@ -176,8 +216,13 @@ impl Block {
             .collect()
     }
 
-    fn __repr__(&self) -> String {
-        format!("Block({:?})", self.ask)
+    /// As it was made: `Block(b=0.2, h=0.9, eps=0.85)`.
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        let mut parts = Vec::new();
+        for (k, v) in self.kwargs.bind(py).iter() {
+            parts.push(format!("{}={}", k.str()?, v.repr()?));
+        }
+        Ok(format!("Block({})", parts.join(", ")))
     }
 }
 

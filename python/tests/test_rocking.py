@@ -215,7 +215,7 @@ def test_messages_name_the_keywords_python_wrote():
 def test_a_block_takes_numpy_arrays_as_lists():
     arrays = rocking.Block(b=np.array([0.2, 0.3]), h=np.array([0.9, 1.2]), eps=np.float64(0.8))
     lists = rocking.Block(b=[0.2, 0.3], h=[0.9, 1.2], eps=0.8)
-    assert len(arrays) == 2 and repr(arrays) == repr(lists)
+    assert len(arrays) == 2 and arrays == lists
     a = rocking.capacities([KOBE], [arrays])
     b = rocking.capacities([KOBE], [lists])
     assert a.equals(b)
@@ -749,3 +749,66 @@ def test_paths_flags_and_hazards_of_the_wrong_kind_are_refused_by_keyword(tmp_pa
     with pytest.raises(ValueError) as e:
         rocking.fragility(0.2, 0.9, pga=[0.3], outputs=tmp_path)
     assert "source=" in str(e.value) and "from=" not in str(e.value), str(e.value)
+
+
+def test_a_block_pickles_compares_and_shows_its_blocks():
+    import copy
+    import pickle
+
+    blk = rocking.Block(b=0.2, h=0.9, eps=0.85)
+    again = pickle.loads(pickle.dumps(blk))
+    assert again == blk and copy.deepcopy(blk) == blk
+    assert repr(blk) == "Block(b=0.2, h=0.9, eps=0.85)"
+    # One number or a list of one: the same block.
+    assert rocking.Block(b=[0.2], h=0.9, eps=0.85) == blk
+    assert rocking.Block(b=0.2, h=0.9, eps=0.8) != blk
+    # α = atan(b/h) and p = sqrt(3g/(4R)), R = sqrt(b² + h²), by hand.
+    (one,) = blk.blocks
+    r = (0.2**2 + 0.9**2) ** 0.5
+    assert abs(one["alpha_rad"] - np.arctan(0.2 / 0.9)) < 1e-15
+    assert abs(one["p"] / (3 * 9.80665 / (4 * r)) ** 0.5 - 1) < 1e-15  # standard gravity
+    assert one["eps"] == 0.85 and one["mu"] is None
+    # A pickled block runs as the original.
+    assert rocking.capacity(KOBE, block=again) == rocking.capacity(KOBE, block=blk)
+    assert len(rocking.Block(p=[1, 2, 4], eps=[0.7, 0.9]).blocks) == 6
+
+
+def test_python_arguments_are_read_or_refused_by_name():
+    acc, dt = rocking.read_at2(KOBE)
+    # A dict as the block, an int record_id, a 1-element dt, angles as a
+    # range or an array: read as the command reads them.
+    by_dict = rocking.capacity(KOBE, block=dict(p=2.0, eps=0.7))
+    assert by_dict["eta_c"] == rocking.capacity(KOBE, p=2.0, eps=0.7)["eta_c"]
+    named = rocking.capacity(acc, np.array([dt]), p=2.0, eps=0.7, record_id=5)
+    assert named["record_id"] == "5" and named["eta_c"] == by_dict["eta_c"]
+    pair = FAR / "RSN1111_KOBE_NIS090.AT2"
+    listed = rocking.capacity(KOBE, pair=pair, angle=[0, 60, 120], p=2.0, eps=0.7)
+    assert rocking.capacity(KOBE, pair=pair, angle=range(0, 180, 60), p=2.0, eps=0.7) == listed
+    assert rocking.capacity(KOBE, pair=pair, angle=np.array([0, 60, 120]), p=2.0, eps=0.7) == listed
+    # One block, not in a list.
+    one = rocking.capacities([KOBE], dict(p=2.0, eps=0.7))
+    assert one["eta_c"][0] == by_dict["eta_c"]
+    # Arguments that were ignored are refused.
+    with pytest.raises(ValueError, match="dt comes from the AT2 file"):
+        rocking.capacity(KOBE, 0.02, p=2.0, eps=0.7)
+    with pytest.raises(ValueError, match="record_id names an array record"):
+        rocking.capacity(KOBE, p=2.0, eps=0.7, record_id="x")
+    with pytest.raises(ValueError, match="record_id names an array record"):
+        rocking.simulate(KOBE, p=2.0, eps=0.7, eta=0.3, record_id="x")
+    with pytest.raises(ValueError, match="record_id: give a name"):
+        rocking.capacity(acc, dt, p=2.0, eps=0.7, record_id="")
+    # Wrong types, named.
+    with pytest.raises(ValueError, match="^eta: give one number"):
+        rocking.simulate(KOBE, p=2.0, eps=0.7, eta=[0.3, 0.4])
+    with pytest.raises(ValueError, match="^dt: give one number"):
+        rocking.capacity(acc, np.array([0.01, 0.02]), p=2.0, eps=0.7)
+    with pytest.raises(ValueError, match="^block: give a Block or a dict"):
+        rocking.capacity(KOBE, block=[2.0, 0.7])
+    with pytest.raises(ValueError, match=r'^eps: give a number in \(0, 1\] or "housner"'):
+        rocking.risk(HAZARD, b=0.2, h=0.9, eps=[0.8, 0.9])
+    # None is a keyword not given; states as a list.
+    assert rocking.fragility(0.2, 0.9, pga=[0.3], eps=None) == rocking.fragility(0.2, 0.9, pga=[0.3])
+    listed = rocking.fragility(0.2, 0.9, pga=[0.3], direct=True,
+                               states=["rocking=0.1", "overturned=overturned"])
+    text = rocking.fragility(0.2, 0.9, pga=[0.3], direct=True, states="rocking=0.1,overturned=overturned")
+    assert listed == text
