@@ -42,6 +42,7 @@ __all__ = [
     "run",
     "load",
     "ims",
+    "record_ims",
     "__version__",
     "__build__",
 ]
@@ -501,6 +502,43 @@ def ims() -> List[Dict[str, Any]]:
     ``pair``'s measure (of the records' pairs, ``direct=True`` only), and
     its ``openquake`` and ``pelicun`` names (``None``: none)."""
     return _core.ims()
+
+
+def record_ims(
+    record: Record,
+    dt: Optional[float] = None,
+    *,
+    pair: Optional[Record] = None,
+    pair_dt: Optional[float] = None,
+    periods: Sequence[float] = (),
+) -> Dict[str, Any]:
+    """A record's intensity measures: ``rocking ims --json``, by the same
+    function. ``record`` (and ``pair``, the other horizontal component, 90°
+    from it) an AT2 path, or an array of accelerations (g) with its
+    ``dt`` (``pair_dt``) in s; ``periods``: SA also at these (s).
+
+    Returns ``pga_g``, ``pgv_cm_s``, ``pgd_cm``, ``sa_g`` (period → SA, 5 %
+    damping), ``avgsa_g``, ``arias_m_s``, ``cav_g_s``, ``d5_95_s``,
+    ``pgv_pga_s`` and ``tm_s``; with ``pair`` also ``rotd50`` and
+    ``rotd100`` (PGA, PGV and SA over the angles)."""
+    def samples(r: Any, step: Any, key: str, what: str) -> Tuple[bytes, float]:
+        if _is_path(r):
+            if step is not None:
+                raise ValueError(f"{key} comes from the AT2 file; give it only with an array")
+            data, step = _core.read_at2(os.fspath(r))
+            return data, step
+        return _samples(r, step, what)
+
+    data, step = samples(record, dt, "dt", "the record")
+    if isinstance(periods, (int, float)):
+        periods = [periods]
+    ts = [_number(t, "periods") for t in periods]
+    if pair is None:
+        if pair_dt is not None:
+            raise ValueError("pair_dt: give pair too")
+        return _core.record_ims(data, step, periods=ts)
+    b, b_step = samples(pair, pair_dt, "pair_dt", "the pair")
+    return _core.record_ims(data, step, pair=b, pair_dt=b_step, periods=ts)
 
 
 def run(pipeline: PathLike, outputs: PathLike = "outputs", *, force: bool = False) -> List[Dict[str, Any]]:

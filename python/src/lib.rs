@@ -273,6 +273,36 @@ fn read_at2(py: Python<'_>, path: PathBuf) -> PyResult<(Py<PyBytes>, f64)> {
     Ok((PyBytes::new(py, &bytes).unbind(), dt))
 }
 
+/// A record's intensity measures (and with a pair's other component, the
+/// pair's RotD50 and RotD100): the object of `rocking ims --json`, by the
+/// same function.
+#[pyfunction]
+#[pyo3(signature = (accel, dt, pair=None, pair_dt=None, periods=Vec::new()))]
+fn record_ims(
+    py: Python<'_>,
+    accel: &Bound<'_, PyBytes>,
+    dt: f64,
+    pair: Option<&Bound<'_, PyBytes>>,
+    pair_dt: Option<f64>,
+    periods: Vec<f64>,
+) -> PyResult<Py<PyAny>> {
+    let a = samples(accel.as_bytes());
+    let b = pair.map(|b| samples(b.as_bytes()));
+    let with = match (&b, pair_dt) {
+        (Some(b), Some(t)) => Some((&b[..], t)),
+        (None, _) => None,
+        (Some(_), None) => return Err(PyValueError::new_err("pair: give its dt too")),
+    };
+    let m =
+        rocking::ops::record_ims::Measures::of(&a, dt, with, &periods).map_err(|e| match e {
+            rocking::ops::record_ims::MeasuresError::Period(t) => {
+                PyValueError::new_err(format!("periods: {t} is not a positive number of seconds"))
+            }
+            e => value_error(e),
+        })?;
+    to_py(py, &m.json())
+}
+
 /// One run at `eta` (or at the record's `pga` after scaling, g): the object
 /// of `rocking simulate --json`.
 #[pyfunction]
@@ -561,6 +591,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(study_dir, m)?)?;
     m.add_function(wrap_pyfunction!(ims, m)?)?;
+    m.add_function(wrap_pyfunction!(record_ims, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
     m.add_function(wrap_pyfunction!(build, m)?)?;
     Ok(())

@@ -812,3 +812,20 @@ def test_python_arguments_are_read_or_refused_by_name():
                                states=["rocking=0.1", "overturned=overturned"])
     text = rocking.fragility(0.2, 0.9, pga=[0.3], direct=True, states="rocking=0.1,overturned=overturned")
     assert listed == text
+
+
+def test_record_ims_are_the_commands():
+    pair = FAR / "RSN1111_KOBE_NIS090.AT2"
+    ours = rocking.record_ims(KOBE, pair=pair, periods=[0.37])
+    theirs = cli_json("ims", "--record", KOBE, "--pair", pair, "--period", 0.37)
+    assert ours == theirs
+    # From arrays, the same numbers; PGA is the largest |sample| (a record's
+    # peak, read off the samples independently).
+    acc, dt = rocking.read_at2(KOBE)
+    alone = rocking.record_ims(acc, dt)
+    assert alone == cli_json("ims", "--record", KOBE)
+    assert alone["pga_g"] == float(np.max(np.abs(acc)))
+    with pytest.raises(ValueError, match="periods: -1 is not a positive number"):
+        rocking.record_ims(KOBE, periods=[-1])
+    with pytest.raises(ValueError, match="dt comes from the AT2 file"):
+        rocking.record_ims(KOBE, 0.01)

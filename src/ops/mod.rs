@@ -11,6 +11,7 @@ pub mod export;
 pub mod fragility;
 pub mod im_fragility;
 pub mod pool;
+pub mod record_ims;
 pub mod reports;
 pub mod risk;
 pub mod submit;

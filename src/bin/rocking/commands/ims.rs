@@ -2,10 +2,8 @@
 
 use std::path::PathBuf;
 
-use anyhow::Context;
-use rocking::im::rotd::PairIms;
-use rocking::im::{self, Im, RecordIms, SPECTRAL_DAMPING};
-use rocking::pair::Pair;
+use rocking::im::{self, Im, SPECTRAL_DAMPING};
+use rocking::ops::record_ims::{Measures, MeasuresError};
 use rocking::records;
 
 /// Intensity measures of one record.
@@ -43,31 +41,32 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    if let Some(bad) = args.periods.iter().find(|t| !(**t > 0.0 && t.is_finite())) {
-        anyhow::bail!("--period {bad}: a period must be a positive number of seconds");
-    }
     let (accel, dt) = records::read_samples(&args.record)?;
-    let ims = RecordIms::try_of_record(&accel, dt, &args.periods)
-        .with_context(|| args.record.display().to_string())?;
-    let rotd = match &args.pair {
-        Some(b) => {
-            let (b_accel, b_dt) = records::read_samples(b)?;
-            let pair = Pair::new(accel.clone(), dt, b_accel, b_dt)
-                .with_context(|| format!("{} and {}", args.record.display(), b.display()))?;
-            Some(PairIms::of_pair(&pair, &args.periods).with_context(|| b.display().to_string())?)
-        }
+    let pair = match &args.pair {
+        Some(b) => Some(records::read_samples(b)?),
         None => None,
     };
-    if args.json {
-        // Through a JSON value: its keys sorted, as they always were.
-        let mut value = serde_json::to_value(&ims)?;
-        if let Some(r) = &rotd {
-            value["rotd50"] = r.json(|m| m.d50);
-            value["rotd100"] = r.json(|m| m.d100);
+    let what = match &args.pair {
+        Some(b) => format!("{} and {}", args.record.display(), b.display()),
+        None => args.record.display().to_string(),
+    };
+    let measures = Measures::of(
+        &accel,
+        dt,
+        pair.as_ref().map(|(b, b_dt)| (&b[..], *b_dt)),
+        &args.periods,
+    )
+    .map_err(|e| match e {
+        MeasuresError::Period(t) => {
+            anyhow::anyhow!("--period {t}: a period must be a positive number of seconds")
         }
-        println!("{value}");
+        e => anyhow::Error::new(e).context(what),
+    })?;
+    if args.json {
+        println!("{}", measures.json());
         return Ok(());
     }
+    let (ims, rotd) = (&measures.ims, &measures.rotd);
     println!(
         "{} ({} samples at {} s)",
         args.record.display(),
