@@ -208,6 +208,7 @@ def simulate(
     pga: Optional[float] = None,
     block: Optional[Block] = None,
     record_id: Optional[str] = None,
+    history: Union[bool, int] = False,
     **block_kw: Any,
 ) -> Dict[str, Any]:
     """Run one record at one intensity: ``rocking simulate --json``.
@@ -218,13 +219,29 @@ def simulate(
     :class:`Block`, or its keywords here (see :class:`Block`).
 
     Returns the command's JSON object as a dict (θmax/α, overturning and
-    its time, impacts, first uplift, …).
+    its time, impacts, first uplift, …). With ``history`` (``True``, or
+    ``N``: every N-th sample), also ``"history"``: the response at every
+    event and every (N-th) sample as a polars DataFrame, the table
+    ``simulate --history FILE.parquet --history-every N`` writes (t, x, ẋ,
+    pivot, ψ̈, the slide and its velocity, the event; docs/tables.md).
     """
     blk = _block(block, block_kw)
     _warn(blk)
     eta = None if eta is None else _number(eta, "eta")
     pga = None if pga is None else _number(pga, "pga")
-    return _core.simulate(blk, eta=eta, pga=pga, **_record_args(record, dt, record_id))
+    if isinstance(history, (bool, np.bool_)):
+        every = 1 if history else None
+    elif isinstance(history, (int, np.integer)) and history >= 1:
+        every = int(history)
+    else:
+        raise ValueError(f"history: give True, False or a whole number of samples ≥ 1, not {history!r}")
+    answer, table = _core.simulate(blk, eta=eta, pga=pga, history=every,
+                                   **_record_args(record, dt, record_id))
+    if table is not None:
+        import polars as pl
+
+        answer["history"] = pl.read_parquet(io.BytesIO(table))
+    return answer
 
 
 def capacity(

@@ -72,7 +72,8 @@ def simulate(
     accel: Optional[bytes] = None,
     dt: Optional[float] = None,
     record_id: Optional[str] = None,
-) -> Dict[str, Any]: ...
+    history: Optional[int] = None,
+) -> Tuple[Dict[str, Any], Optional[bytes]]: ...
 def capacities(
     blocks: List[Block],
     paths: List[str],

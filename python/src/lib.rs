@@ -306,7 +306,7 @@ fn record_ims(
 /// One run at `eta` (or at the record's `pga` after scaling, g): the object
 /// of `rocking simulate --json`.
 #[pyfunction]
-#[pyo3(signature = (block, eta=None, pga=None, path=None, accel=None, dt=None, record_id=None))]
+#[pyo3(signature = (block, eta=None, pga=None, path=None, accel=None, dt=None, record_id=None, history=None))]
 #[allow(clippy::too_many_arguments)]
 fn simulate(
     py: Python<'_>,
@@ -317,9 +317,11 @@ fn simulate(
     accel: Option<&Bound<'_, PyBytes>>,
     dt: Option<f64>,
     record_id: Option<String>,
-) -> PyResult<Py<PyAny>> {
+    history: Option<usize>,
+) -> PyResult<(Py<PyAny>, Option<Py<PyBytes>>)> {
     let named = &block.one()?.named;
     let building = block.building()?;
+    let shown = path.as_ref().map(|p| p.display().to_string());
     let rec = load_record(path, accel, dt, record_id, building.as_ref())?;
     let amplification = rec.floor.map_or(1.0, |f| f.pfa_over_pga);
     let eta =
@@ -327,17 +329,37 @@ fn simulate(
             .map_err(ask_error)?;
     let spec = RunSpec { eta, ..named.spec };
     spec.validate().map_err(value_error)?;
-    let out =
-        interruptible(py, || rocking::physics::simulate(&rec.exc, &spec))?.map_err(value_error)?;
+    // With `history`: every event and every `history`-th sample, as
+    // `simulate --history FILE --history-every N` writes them.
+    let (out, points) = interruptible(py, || match history {
+        Some(every) => {
+            let mut recorder = rocking::physics::Recorder::new(every);
+            rocking::physics::simulate_observed(&rec.exc, &spec, &mut recorder)
+                .map(|o| (o, Some(recorder.points)))
+        }
+        None => rocking::physics::simulate(&rec.exc, &spec).map(|o| (o, None)),
+    })?
+    .map_err(value_error)?;
+    let table = match points {
+        Some(points) => {
+            let record = shown.unwrap_or_else(|| rec.record_id.clone());
+            let settings = rocking::tables::history::settings(&record, &spec);
+            let bytes =
+                rocking::tables::history::to_bytes(&points, &settings).map_err(value_error)?;
+            Some(PyBytes::new(py, &bytes).unbind())
+        }
+        None => None,
+    };
     let scene = Scene {
         floor: None,
         mu: named.mu,
         slides_first: named.slides_first,
     };
-    to_py(
+    let report = to_py(
         py,
         &SimulateReport::new(&rec, &spec, named.alpha_rad, &out, &scene),
-    )
+    )?;
+    Ok((report, table))
 }
 
 /// The certified capacity of every record × block, records outer, on every

@@ -829,3 +829,22 @@ def test_record_ims_are_the_commands():
         rocking.record_ims(KOBE, periods=[-1])
     with pytest.raises(ValueError, match="dt comes from the AT2 file"):
         rocking.record_ims(KOBE, 0.01)
+
+
+def test_a_history_is_the_commands_table(tmp_path):
+    import polars as pl
+
+    path = tmp_path / "h.parquet"
+    cli("simulate", "--record", KOBE, "--p", 2, "--eps", 0.7, "--eta", 0.4,
+        "--history", path, "--history-every", 5)
+    ours = rocking.simulate(KOBE, p=2.0, eps=0.7, eta=0.4, history=5)
+    theirs = pl.read_parquet(path)
+    assert ours["history"].equals(theirs)
+    h = ours["history"]
+    # Every impact of the answer is an event row of the history.
+    assert h.filter(pl.col("event") == "impact").height == ours["impacts"]
+    # Time runs forward; the samples kept are every 5th.
+    assert (h["t_s"].diff().drop_nulls() >= 0).all()
+    assert "history" not in rocking.simulate(KOBE, p=2.0, eps=0.7, eta=0.4)
+    with pytest.raises(ValueError, match="^history: give True, False or a whole number"):
+        rocking.simulate(KOBE, p=2.0, eps=0.7, eta=0.4, history=0)

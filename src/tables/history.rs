@@ -58,6 +58,25 @@ impl From<&HistoryPoint> for HistoryRow {
     }
 }
 
+/// A history table's settings: the record it ran (its path, or its id) and
+/// the run's specification.
+pub fn settings(record: &str, spec: &crate::physics::RunSpec) -> Vec<(String, String)> {
+    vec![
+        ("rocking.simulate.record".to_string(), record.to_string()),
+        ("rocking.simulate.spec".to_string(), format!("{spec:?}")),
+    ]
+}
+
+/// The points as the bytes of the Parquet file [`write`] writes (for a
+/// front end that hands the table on in memory: Python).
+pub fn to_bytes(
+    points: &[HistoryPoint],
+    settings: &[(String, String)],
+) -> Result<Vec<u8>, TableError> {
+    let rows: Vec<HistoryRow> = points.iter().map(HistoryRow::from).collect();
+    super::to_bytes(&rows, settings)
+}
+
 /// Writes the points to `dest`: Parquet for `.parquet`, CSV for `.csv` (same
 /// columns, the header from the same schema).
 pub fn write(

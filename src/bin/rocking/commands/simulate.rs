@@ -87,16 +87,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         physics::simulate(&rec.exc, &spec)?
     };
     if let Some(path) = &args.history {
-        let settings = vec![
-            (
-                "rocking.simulate.record".to_string(),
-                match &args.record {
-                    Some(path) => path.display().to_string(),
-                    None => rec.record_id.clone(),
-                },
-            ),
-            ("rocking.simulate.spec".to_string(), format!("{spec:?}")),
-        ];
+        let record = match &args.record {
+            Some(path) => path.display().to_string(),
+            None => rec.record_id.clone(),
+        };
+        let settings = tables::history::settings(&record, &spec);
         tables::history::write(path, &recorder.points, &settings)?;
     }
     let scene = Scene {
