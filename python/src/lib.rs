@@ -15,232 +15,23 @@
 
 use std::path::PathBuf;
 
+mod block;
+mod convert;
 mod interrupt;
+use block::Block;
+use convert::{ask, ask_error, message, samples, to_py, value_error};
 use interrupt::interruptible;
 
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
-use pythonize::pythonize;
 
-use rocking::ask::{AskedBlock, BlockAsk, ExportKw, FragilityAsk, RiskAsk, SearchAsk, Spelling};
+use rocking::ask::{ExportKw, FragilityAsk, RiskAsk, SearchAsk, Spelling};
 use rocking::floor::Building;
 use rocking::ops::capacity::{self as batch, NamedSpec};
 use rocking::ops::reports::{Scene, SimulateReport};
 use rocking::physics::RunSpec;
 use rocking::records::{self, LoadedRecord};
-
-/// The error and its causes, as the command line prints them, on one line,
-/// the options named as Python's keywords ([`Spelling::respell`]).
-fn message(e: &(dyn std::error::Error + 'static)) -> String {
-    let mut text = e.to_string();
-    let mut cause = e.source();
-    while let Some(c) = cause {
-        let next = c.to_string();
-        if !text.contains(&next) {
-            text.push_str(": ");
-            text.push_str(&next);
-        }
-        cause = c.source();
-    }
-    Spelling::Python.respell(&text)
-}
-
-/// A refusal of the ask layer, in Python's words (its own parts already
-/// are; an inner message of the library's may name a command-line option).
-fn ask_error(e: rocking::ask::AskError) -> PyErr {
-    PyValueError::new_err(Spelling::Python.respell(&e.0))
-}
-
-fn value_error<E: std::error::Error + 'static>(e: E) -> PyErr {
-    PyValueError::new_err(message(&e))
-}
-
-/// Keyword arguments into a request type, unknown keys refused; numpy's
-/// arrays and scalars, and paths, read as the Python values they stand for.
-fn ask<T: serde::de::DeserializeOwned>(
-    py: Python<'_>,
-    kwargs: Option<&Bound<'_, PyDict>>,
-) -> PyResult<T> {
-    let plain = PyDict::new(py);
-    for (k, v) in kwargs.into_iter().flat_map(|d| d.iter()) {
-        plain.set_item(k, plain_value(&v)?)?;
-    }
-    let mut de = pythonize::Depythonizer::from_object(plain.as_any());
-    serde_path_to_error::deserialize(&mut de).map_err(|e| {
-        let key = e.path().to_string();
-        PyValueError::new_err(keyword_error(&key, &e.into_inner().to_string()))
-    })
-}
-
-/// A keyword's value refused as Python's conversions word it (a negative
-/// count, a float for an integer), in the keyword's words; the library's
-/// own refusals, which name their key, as they are.
-fn keyword_error(key: &str, why: &str) -> String {
-    let key = key.split(['.', '[']).next().unwrap_or(key);
-    if key.is_empty() || why.starts_with(key) || why.contains(&format!("`{key}`")) {
-        return why.to_string();
-    }
-    if why.contains("negative int to unsigned") {
-        // Some keys take 0, some start at 1: their own checks say which.
-        format!("{key}: a whole number (it was negative)")
-    } else if why.contains("cannot be interpreted as an integer") {
-        // Python's words: "'str' object cannot be …".
-        let kind = why.split('\'').nth(1).unwrap_or("float");
-        format!("{key}: a whole number (it was a {kind})")
-    } else {
-        format!("{key}: {why}")
-    }
-}
-
-/// A keyword's value as pythonize reads it: a numpy array or scalar as its
-/// `tolist()` (a list of floats, a float), a path as its text, each item
-/// of a list or tuple so too; anything else as it is.
-fn plain_value<'py>(v: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-    use pyo3::types::{PyList, PyString, PyTuple};
-    if v.is_instance_of::<PyString>() {
-        return Ok(v.clone());
-    }
-    if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
-        let items = v
-            .try_iter()?
-            .map(|item| plain_value(&item?))
-            .collect::<PyResult<Vec<_>>>()?;
-        return Ok(PyList::new(v.py(), items)?.into_any());
-    }
-    if v.hasattr("__fspath__")? {
-        return v.call_method0("__fspath__");
-    }
-    let numpy = v
-        .get_type()
-        .module()
-        .is_ok_and(|m| m.to_string_lossy().starts_with("numpy"));
-    if numpy && v.hasattr("tolist")? {
-        return v.call_method0("tolist");
-    }
-    Ok(v.clone())
-}
-
-/// A value as the Python object its JSON would be (dicts, lists, floats).
-fn to_py<T: serde::Serialize>(py: Python<'_>, value: &T) -> PyResult<Py<PyAny>> {
-    Ok(pythonize(py, value)
-        .map_err(|e| PyValueError::new_err(e.to_string()))?
-        .unbind())
-}
-
-/// Samples from little-endian f64 bytes.
-fn samples(bytes: &[u8]) -> Vec<f64> {
-    bytes
-        .chunks_exact(8)
-        .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
-        .collect()
-}
-
-/// A block (or a grid of blocks) and how to run it: the library's
-/// `BlockAsk`, checked when made.
-#[pyclass(frozen, module = "rocking._core")]
-struct Block {
-    ask: BlockAsk,
-    blocks: Vec<AskedBlock>,
-    /// The keywords it was made of, for its repr and for pickling.
-    kwargs: Py<PyDict>,
-}
-
-#[pymethods]
-impl Block {
-    #[new]
-    #[pyo3(signature = (**kwargs))]
-    fn new(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Block> {
-        let ask: BlockAsk = ask(py, kwargs)?;
-        let blocks = ask.resolve(Spelling::Python).map_err(ask_error)?;
-        ask.building(Spelling::Python).map_err(ask_error)?;
-        let kept = PyDict::new(py);
-        if let Some(k) = kwargs {
-            kept.update(k.as_mapping())?;
-        }
-        Ok(Block {
-            ask,
-            blocks,
-            kwargs: kept.unbind(),
-        })
-    }
-
-    /// Equal when made of the same block options, however spelt (one
-    /// number or a list of one, a NumPy scalar or a float).
-    fn __eq__(&self, other: PyRef<'_, Self>) -> bool {
-        self.ask == other.ask
-    }
-
-    /// Pickled (and copied) as its keywords, made again on loading.
-    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (Py<PyDict>,))> {
-        let make = py.import("rocking")?.getattr("_block_from")?;
-        Ok((make, (self.kwargs.clone_ref(py),)))
-    }
-
-    /// Each block it stands for: `name`, `p` (1/s), `eps`, `alpha_rad`
-    /// (None for a block given by p alone), `mu` and `slides_first`.
-    #[getter]
-    fn blocks(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        let rows: Vec<serde_json::Value> = self
-            .blocks
-            .iter()
-            .map(|b| {
-                let n = &b.named;
-                serde_json::json!({
-                    "name": n.name, "p": n.spec.p, "eps": n.spec.eps,
-                    "alpha_rad": n.alpha_rad, "mu": n.mu, "slides_first": n.slides_first,
-                })
-            })
-            .collect();
-        to_py(py, &rows)
-    }
-
-    /// How many blocks it stands for (p × ε, or each size × ε).
-    fn __len__(&self) -> usize {
-        self.blocks.len()
-    }
-
-    /// Why each block runs with its model.
-    #[getter]
-    fn why(&self) -> Vec<String> {
-        self.blocks.iter().map(|b| b.why.clone()).collect()
-    }
-
-    /// What the library says of a block: one that slides before it rocks,
-    /// or of sizes in another unit.
-    #[getter]
-    fn warnings(&self) -> Vec<String> {
-        AskedBlock::warnings_of(&self.blocks)
-            .iter()
-            .map(|w| Spelling::Python.respell(w))
-            .collect()
-    }
-
-    /// As it was made: `Block(b=0.2, h=0.9, eps=0.85)`.
-    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
-        let mut parts = Vec::new();
-        for (k, v) in self.kwargs.bind(py).iter() {
-            parts.push(format!("{}={}", k.str()?, v.repr()?));
-        }
-        Ok(format!("Block({})", parts.join(", ")))
-    }
-}
-
-impl Block {
-    fn one(&self) -> PyResult<&AskedBlock> {
-        match &self.blocks[..] {
-            [one] => Ok(one),
-            many => Err(PyValueError::new_err(format!(
-                "{} blocks given; this runs one (give one value to each block option)",
-                many.len()
-            ))),
-        }
-    }
-
-    fn building(&self) -> PyResult<Option<Building>> {
-        self.ask.building(Spelling::Python).map_err(ask_error)
-    }
-}
 
 /// A record from its file, or from its samples and step.
 fn load_record(
