@@ -558,8 +558,19 @@ def record_ims(
     return _core.record_ims(data, step, pair=b, pair_dt=b_step, periods=ts)
 
 
-def run(pipeline: PathLike, outputs: PathLike = "outputs", *, force: bool = False) -> List[Dict[str, Any]]:
-    """Run a pipeline as ``rocking run`` does (stale stages only; every stage with ``force``).
+def run(
+    pipeline: PathLike,
+    outputs: PathLike = "outputs",
+    *,
+    force: bool = False,
+    from_: Optional[str] = None,
+    to: Optional[str] = None,
+    threads: Optional[int] = None,
+) -> List[Dict[str, Any]]:
+    """Run a pipeline as ``rocking run`` does: its stale stages; every stage
+    with ``force``; ``from_`` (``--from``) that stage and every later one;
+    through ``to`` (``--to``) only; on ``threads`` workers (``--threads``,
+    default one per core).
 
     Returns one dict per stage: ``stage``, ``ran``, ``seconds``, ``why``.
     The tables are then in ``outputs/<name>/``: :func:`load` reads them.
@@ -567,7 +578,15 @@ def run(pipeline: PathLike, outputs: PathLike = "outputs", *, force: bool = Fals
     if not isinstance(force, (bool, np.bool_)):
         raise ValueError(f"force: give True or False, not {force!r}")
     force = bool(force)
-    rows, _ = _core.run(_path(pipeline, "pipeline"), _path(outputs, "outputs"), force)
+    for key, v in (("from_", from_), ("to", to)):
+        if v is not None and not isinstance(v, str):
+            raise ValueError(f"{key}: give a stage's name, not {type(v).__name__}")
+    if threads is not None:
+        if isinstance(threads, (bool, np.bool_)) or not isinstance(threads, (int, np.integer)) or threads < 0:
+            raise ValueError(f"threads: give a whole number of worker threads, not {threads!r}")
+        threads = int(threads)
+    rows, _ = _core.run(_path(pipeline, "pipeline"), _path(outputs, "outputs"), force,
+                        from_=from_, to=to, threads=threads)
     return rows
 
 

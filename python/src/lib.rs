@@ -306,25 +306,36 @@ fn export(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Py<PyA
     to_py(py, &answer)
 }
 
-/// Runs a pipeline's stale stages (every stage with `force`), the GIL
-/// released: `[{"stage", "ran", "seconds", "why"}]`, and the study's folder.
+/// Runs a pipeline's stale stages (every stage with `force`, `from_` and
+/// every later one, through `to`) on `threads` workers, the GIL released,
+/// as `rocking run` does: `[{"stage", "ran", "seconds", "why"}]`, and the
+/// study's folder.
 #[pyfunction]
-#[pyo3(signature = (pipeline, outputs, force=false))]
+#[pyo3(signature = (pipeline, outputs, force=false, from_=None, to=None, threads=None))]
 fn run(
     py: Python<'_>,
     pipeline: PathBuf,
     outputs: PathBuf,
     force: bool,
+    from_: Option<String>,
+    to: Option<String>,
+    threads: Option<usize>,
 ) -> PyResult<(Py<PyAny>, String)> {
-    use rocking::stages::engine::{self, Force, Outcome, RunOptions, Target};
-    let study = rocking::stages::Study::load(&pipeline, &outputs).map_err(value_error)?;
-    let opts = RunOptions {
-        target: Target::All,
-        force: if force { Force::All } else { Force::Nothing },
-        shard: None,
-        threads: None,
-        command: "rocking.run (Python)".into(),
+    use rocking::stages::engine::{self, Outcome, RunOptions};
+    let stage = |key: &str, name: Option<String>| -> PyResult<_> {
+        name.map(|n| {
+            engine::find(&n).ok_or_else(|| {
+                PyValueError::new_err(format!(
+                    "{key}: unknown stage `{n}`; valid: {}",
+                    engine::names()
+                ))
+            })
+        })
+        .transpose()
     };
+    let (from, to) = (stage("from_", from_)?, stage("to", to)?);
+    let study = rocking::stages::Study::load(&pipeline, &outputs).map_err(value_error)?;
+    let opts = RunOptions::run(to, from, force, threads, "rocking.run (Python)".into());
     let results = interruptible(py, || engine::run(&study, &opts, &rocking::stages::Silent))?
         .map_err(value_error)?;
     let rows: Vec<serde_json::Value> = results

@@ -848,3 +848,32 @@ def test_a_history_is_the_commands_table(tmp_path):
     assert "history" not in rocking.simulate(KOBE, p=2.0, eps=0.7, eta=0.4)
     with pytest.raises(ValueError, match="^history: give True, False or a whole number"):
         rocking.simulate(KOBE, p=2.0, eps=0.7, eta=0.4, history=0)
+
+
+def test_run_takes_the_commands_stage_options(tmp_path):
+    rec = ROOT / "records" / "fema-p695"
+    pipeline = tmp_path / "tiny.toml"
+    pipeline.write_text(
+        'name = "tiny"\n[records]\n'
+        f'at2 = ["{rec}"]\nmanifest = "{rec / "manifest.csv"}"\n'
+        'ids = ["RSN1111_KOBE_NIS000", "RSN1116_KOBE_SHI000", "RSN1148_KOCAELI_ARC000"]\n'
+        "[blocks]\np = [1.0, 3.0]\neps = [0.7, 0.9]\n"
+    )
+    out = tmp_path / "py"
+    # Through the sweep only: the later stages wait.
+    ran = rocking.run(pipeline, out, to="sweep", threads=1)
+    assert [r["stage"] for r in ran if r["ran"]] == ["ingest", "sweep"]
+    assert [r["stage"] for r in ran] == ["ingest", "sweep"]
+    # From the reduce stage, forced, and what it needs only.
+    again = rocking.run(pipeline, out, from_="reduce")
+    assert "reduce" in [r["stage"] for r in again if r["ran"]]
+    assert not any(r["ran"] for r in again if r["stage"] in ("ingest", "sweep"))
+    # The command's tables, to the bit.
+    cli("run", pipeline, "--outputs", tmp_path / "cli")
+    ours, theirs = rocking.load(pipeline, out), rocking.load(pipeline, tmp_path / "cli")
+    for name in ("capacities", "capacity_fractiles"):
+        assert ours[name].equals(theirs[name]), name
+    with pytest.raises(ValueError, match="^to: unknown stage `swep`; valid: ingest"):
+        rocking.run(pipeline, out, to="swep")
+    with pytest.raises(ValueError, match="0: give one worker thread or more"):
+        rocking.run(pipeline, out, force=True, threads=0)

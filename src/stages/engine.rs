@@ -102,6 +102,30 @@ pub struct RunOptions {
     pub command: String,
 }
 
+impl RunOptions {
+    /// `rocking run`'s options (and Python's `run`): every stage through
+    /// `to`, forcing all of them, or `from` and every later one.
+    pub fn run(
+        to: Option<&'static dyn Stage>,
+        from: Option<&'static dyn Stage>,
+        force: bool,
+        threads: Option<usize>,
+        command: String,
+    ) -> RunOptions {
+        RunOptions {
+            target: to.map_or(Target::All, Target::Through),
+            force: match (force, from) {
+                (true, _) => Force::All,
+                (false, Some(f)) => Force::From(f),
+                (false, None) => Force::Nothing,
+            },
+            shard: None,
+            threads,
+            command,
+        }
+    }
+}
+
 /// What `--force` and `--from` ask.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub enum Force {

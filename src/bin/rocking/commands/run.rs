@@ -2,7 +2,7 @@
 
 use std::time::Instant;
 
-use rocking::stages::engine::{self, Force, Outcome, RunOptions, StageResult, Target};
+use rocking::stages::engine::{self, Outcome, RunOptions, StageResult};
 use rocking::stages::{Stage, Study};
 
 use super::args::PipelineArgs;
@@ -55,20 +55,7 @@ pub fn parse_stage(s: &str) -> Result<&'static dyn Stage, String> {
 pub fn run(args: Args) -> anyhow::Result<()> {
     let started = Instant::now();
     let study = args.pipeline.study()?;
-    let opts = RunOptions {
-        target: match args.to {
-            Some(stage) => Target::Through(stage),
-            None => Target::All,
-        },
-        force: match (args.force, args.from) {
-            (true, _) => Force::All,
-            (false, Some(f)) => Force::From(f),
-            (false, None) => Force::Nothing,
-        },
-        shard: None,
-        threads: args.threads,
-        command: command_line(),
-    };
+    let opts = RunOptions::run(args.to, args.from, args.force, args.threads, command_line());
     let results = engine::run(&study, &opts, &Terminal::new())?;
     print_results(&study, &results, started);
     Ok(())
