@@ -1590,3 +1590,34 @@ fn a_sharded_sweep_whose_settings_changed_is_not_redone_here_unasked() {
     );
     assert!(out.status.success(), "{}", stderr(&out));
 }
+
+/// At ε = 1 no impact loses energy, so a block that barely lifts hops
+/// without end; at p ≈ 855 1/s (a 10 µm block) the hops are so short that
+/// a record's run reaches the event cap. That is the physics of ε = 1, not
+/// a fault of the tool, and the refusal says so (it asked for a bug report).
+#[test]
+fn an_endless_chatter_at_eps_1_is_named_not_called_a_fault() {
+    let dir = tempdir();
+    let kobe = bundled_records().join("far-field/RSN1111_KOBE_NIS000.AT2");
+    let args = [
+        "capacity",
+        "--record",
+        kobe.to_str().unwrap(),
+        "--b",
+        "1e-6",
+        "--h",
+        "1e-5",
+        "--model",
+        "nonlinear",
+        "--eps",
+    ];
+    let out = rocking(dir.path(), &[&args[..], &["1"]].concat());
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(e.contains("ε = 1 loses no energy at an impact"), "{e}");
+    assert!(!e.contains("a fault of the tool"), "{e}");
+    // With energy lost at each impact, the same block has a capacity.
+    let out = rocking(dir.path(), &[&args[..], &["0.9", "--json"]].concat());
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(stdout(&out).contains("\"eta_c\""));
+}

@@ -217,9 +217,22 @@ impl<'a> Runs<'a> {
     /// refused.
     fn remember(&mut self, spec: &RunSpec, out: Outcome) -> Result<Outcome, PhysicsError> {
         if out.stop == crate::physics::Stop::EventLimit {
+            // At ε = 1 no impact loses energy: a block that barely lifts
+            // hops for ever, each hop the shorter the larger p; a real
+            // run can then reach the cap, which is no fault of the tool.
+            let why = if spec.eps >= 1.0 {
+                format!(
+                    "ε = 1 loses no energy at an impact, so a block that barely lifts keeps \
+                     hopping, each hop the shorter the larger p (here {} 1/s); give ε < 1, as \
+                     every real impact loses energy",
+                    crate::im::level_text(spec.p)
+                )
+            } else {
+                "a fault of the tool: please report the record and the block".to_string()
+            };
             return Err(PhysicsError::BadInput(format!(
                 "the run at η = {} hit the limit of {} events, or of events at one instant, \
-                 without a verdict (a fault of the tool: please report the record and the block)",
+                 without a verdict ({why})",
                 spec.eta,
                 crate::physics::MAX_EVENTS
             )));

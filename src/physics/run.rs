@@ -42,8 +42,10 @@ pub fn check_p(p: f64) -> Result<(), String> {
 }
 
 /// Hard cap on events in one run; a run that reaches it is reported as
-/// [`Stop::EventLimit`] instead of looping. No physical run comes close:
-/// a Zeno sequence from `ẋ/p = 1` to rest at ε = 0.99 has about 2,100 impacts.
+/// [`Stop::EventLimit`] instead of looping. No physical run with ε < 1
+/// comes close: a Zeno sequence from `ẋ/p = 1` to rest at ε = 0.99 has
+/// about 2,100 impacts; at ε = 1 a block that barely lifts hops without
+/// end, and a large p can reach it within a record.
 pub const MAX_EVENTS: u64 = 50_000_000;
 
 /// The block and the run: everything except the record.
