@@ -55,8 +55,9 @@ pub enum BlockError {
     #[error("`{0}`: give a number in (0, 1] or `housner`")]
     Restitution(String),
     #[error(
-        "friction coefficient μ = {0} must be in (0, {max}]: above it the sliding pivot's \
+        "friction coefficient μ = {} must be in (0, {max}]: above it the sliding pivot's \
          equations lose uniqueness (Painlevé), and such a base never lets a block slide",
+        crate::decimal::shortest(*.0),
         max = MU_MAX
     )]
     Mu(f64),

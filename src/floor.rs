@@ -75,16 +75,18 @@ pub enum FloorError {
     #[error("a floor needs at least one mode (T, ζ, Γφ)")]
     NoModes,
     #[error(
-        "mode {mode}: period T = {period} s: a building's modal period lies within {}–{} s",
+        "mode {mode}: period T = {} s: a building's modal period lies within {}–{} s",
+        crate::decimal::shortest(*period),
         PERIOD_RANGE_S.0,
         PERIOD_RANGE_S.1
     )]
     Period { mode: usize, period: f64 },
-    #[error("mode {mode}: damping ratio ζ = {zeta} must be in [0, 1)")]
+    #[error("mode {mode}: damping ratio ζ = {} must be in [0, 1)", crate::decimal::shortest(*zeta))]
     Damping { mode: usize, zeta: f64 },
     #[error(
-        "mode {mode}: Γφ = {gamma_phi}: a mode's participation factor times its shape at a floor \
-         is of order 1 (1.2–1.6 at a roof in the first mode); |Γφ| ≤ {GAMMA_PHI_MAX} is accepted"
+        "mode {mode}: Γφ = {}: a mode's participation factor times its shape at a floor \
+         is of order 1 (1.2–1.6 at a roof in the first mode); |Γφ| ≤ {GAMMA_PHI_MAX} is accepted",
+        crate::decimal::shortest(*gamma_phi)
     )]
     GammaPhi { mode: usize, gamma_phi: f64 },
     #[error(

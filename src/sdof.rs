@@ -14,11 +14,11 @@
 /// Why an oscillator cannot be stepped.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SdofError {
-    #[error("period T = {0} s must be positive and finite")]
+    #[error("period T = {} s must be positive and finite", crate::decimal::shortest(*.0))]
     Period(f64),
-    #[error("damping ratio ζ = {0} must be in [0, 1)")]
+    #[error("damping ratio ζ = {} must be in [0, 1)", crate::decimal::shortest(*.0))]
     Damping(f64),
-    #[error("time step Δt = {0} s must be positive and finite")]
+    #[error("time step Δt = {} s must be positive and finite", crate::decimal::shortest(*.0))]
     Step(f64),
     #[error(
         "period T = {} s is below Δt/{} (Δt = {dt_s} s, the record's step): the oscillator is \

@@ -1047,3 +1047,42 @@ fn a_closed_pipe_ends_the_command_quietly() {
         );
     }
 }
+
+/// A refused number is echoed as given, in exponent form where the plain
+/// one runs to hundreds of digits (`1e300`, not 301 of them): each message
+/// stays a line.
+#[test]
+fn refused_extreme_numbers_are_echoed_short() {
+    let dir = crate::util::tempdir();
+    let kobe = crate::util::bundled_records().join("far-field/RSN1111_KOBE_NIS000.AT2");
+    let base = [
+        "capacity",
+        "--record",
+        kobe.to_str().unwrap(),
+        "--p",
+        "2",
+        "--eps",
+        "0.7",
+        "--model",
+        "nonlinear",
+    ];
+    for (extra, echo) in [
+        (&["--alpha", "1e-300"][..], "α = 1e-300 rad"),
+        (&["--alpha", "0.2", "--floor", "0.5,1e300,1"], "ζ = 1e300"),
+        (
+            &["--alpha", "0.2", "--overturn", "cap:1e300"],
+            "c·α = 2e299 rad",
+        ),
+        (&["--alpha", "0.2", "--mu", "1e300"], "μ = 1e300"),
+        (
+            &["--alpha", "0.2", "--floor", "1e300,0.05,1"],
+            "T = 1e300 s",
+        ),
+    ] {
+        let out = crate::util::rocking(dir.path(), &[&base[..], extra].concat());
+        assert!(!out.status.success());
+        let e = crate::util::stderr(&out);
+        assert!(e.contains(echo), "{extra:?}: {e}");
+        assert!(e.lines().all(|l| l.chars().count() < 400), "{extra:?}: {e}");
+    }
+}

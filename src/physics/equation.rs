@@ -39,8 +39,9 @@ pub fn check_alpha(a: f64) -> Result<(), String> {
         Ok(())
     } else {
         Err(format!(
-            "α = {a} rad is outside [{ALPHA_MIN}, π/2): the nonlinear equation takes a block \
-             no more slender than b/h = 0.001 (use the linearised model below)"
+            "α = {} rad is outside [{ALPHA_MIN}, π/2): the nonlinear equation takes a block \
+             no more slender than b/h = 0.001 (use the linearised model below)",
+            crate::decimal::shortest(a)
         ))
     }
 }

@@ -50,15 +50,17 @@ impl Overturn {
             Overturn::Cap(c) if alpha_rad.is_some_and(|a| c * a > std::f64::consts::FRAC_PI_2) => {
                 let a = alpha_rad.unwrap_or(1.0);
                 Err(PhysicsError::BadInput(format!(
-                    "overturning cap {c} is past the block's side: c·α = {:.4} rad > π/2; the \
+                    "overturning cap {} is past the block's side: c·α = {} rad > π/2; the \
                      nonlinear model's largest cap is π/(2α) = {:.4} (`on-side`)",
-                    c * a,
+                    crate::decimal::shortest(c),
+                    crate::decimal::level_text(c * a),
                     std::f64::consts::FRAC_PI_2 / a
                 )))
             }
             Overturn::Cap(c) if c.is_finite() && c >= 1.0 => Ok(c),
             Overturn::Cap(c) => Err(PhysicsError::BadInput(format!(
-                "overturning cap {c} must be a finite number ≥ 1 (in units of α)"
+                "overturning cap {} must be a finite number ≥ 1 (in units of α)",
+                crate::decimal::shortest(c)
             ))),
             Overturn::OnSide => match alpha_rad {
                 Some(a) => Ok(std::f64::consts::FRAC_PI_2 / a),
