@@ -157,17 +157,15 @@ def _warn(block: Block) -> None:
 def _warn_answer(answer: Any) -> Any:
     """Warn, as the command line prints them, of every ``warnings`` list in
     a command's answer (nested ones too: a block's, a site's), each text
-    once; the answer keeps them. Returns the answer."""
-    said: set = set()
+    once, attributed to the caller of the public function; the answer keeps
+    them. Returns the answer."""
+    said: List[str] = []
 
     def walk(x: Any) -> None:
         if isinstance(x, dict):
             for k, v in x.items():
                 if k == "warnings" and isinstance(v, list):
-                    for w in v:
-                        if isinstance(w, str) and w not in said:
-                            said.add(w)
-                            warnings.warn(w, stacklevel=4)
+                    said.extend(w for w in v if isinstance(w, str) and w not in said)
                 else:
                     walk(v)
         elif isinstance(x, list):
@@ -176,6 +174,9 @@ def _warn_answer(answer: Any) -> Any:
                     walk(v)
 
     walk(answer)
+    for w in said:
+        # The public function, then its caller.
+        warnings.warn(w, stacklevel=3)
     return answer
 
 
@@ -544,12 +545,14 @@ def record_ims(
                 raise ValueError(f"{key} comes from the AT2 file; give it only with an array")
             data, step = _core.read_at2(os.fspath(r))
             return data, step
+        if step is None:
+            raise ValueError(f"{what} is an array: give its time step {key} (s)")
         return _samples(r, step, what)
 
     data, step = samples(record, dt, "dt", "the record")
-    if isinstance(periods, (int, float)):
-        periods = [periods]
-    ts = [_number(t, "periods") for t in periods]
+    if isinstance(periods, (str, bytes)):
+        raise ValueError(f"periods: give numbers (s), not the text {periods!r}")
+    ts = [_number(t, "periods") for t in np.atleast_1d(np.asarray(periods, dtype=object)).ravel()]
     if pair is None:
         if pair_dt is not None:
             raise ValueError("pair_dt: give pair too")

@@ -9,7 +9,7 @@ use pyo3::types::PyDict;
 use rocking::ask::{AskedBlock, BlockAsk, Spelling};
 use rocking::floor::Building;
 
-use crate::convert::{ask, ask_error, to_py};
+use crate::convert::{ask, ask_error, plain_value, to_py};
 
 /// A block (or a grid of blocks) and how to run it: the library's
 /// `BlockAsk`, checked when made.
@@ -29,9 +29,12 @@ impl Block {
         let ask: BlockAsk = ask(py, kwargs)?;
         let blocks = ask.resolve(Spelling::Python).map_err(ask_error)?;
         ask.building(Spelling::Python).map_err(ask_error)?;
+        // Fresh values (lists for arrays and lists), not the caller's
+        // objects: a list changed after the block is made changes neither
+        // its repr nor its pickle.
         let kept = PyDict::new(py);
-        if let Some(k) = kwargs {
-            kept.update(k.as_mapping())?;
+        for (k, v) in kwargs.into_iter().flat_map(|d| d.iter()) {
+            kept.set_item(k, plain_value(&v)?)?;
         }
         Ok(Block {
             ask,
@@ -44,6 +47,14 @@ impl Block {
     /// number or a list of one, a NumPy scalar or a float).
     fn __eq__(&self, other: PyRef<'_, Self>) -> bool {
         self.ask == other.ask
+    }
+
+    /// Consistent with `==` (a dict's key, a set's member).
+    fn __hash__(&self) -> u64 {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        format!("{:?}", self.ask).hash(&mut h);
+        h.finish()
     }
 
     /// Pickled (and copied) as its keywords, made again on loading.

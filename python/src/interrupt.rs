@@ -9,12 +9,16 @@
 //!
 //! The library's stop is process-wide, as a signal is, so Ctrl-C in one
 //! thread also stops the calls of other threads under way. Python delivers
-//! signals to its main thread only: a call in another thread was never
-//! interrupted itself, and runs again from its start once the stop is
-//! withdrawn (its answer is the same, runs being deterministic), instead
-//! of failing with an interruption nobody asked it for. A panic in the
-//! work (a fault of the library) is raised as a `RuntimeError` rather
-//! than leaving the caller waiting for a result that never comes.
+//! signals to its main thread only: a computation in another thread was
+//! never interrupted itself, and when a stop asked for while it ran made it
+//! fail, it runs again from its start once the stop is withdrawn (the same
+//! answer, runs being deterministic) instead of failing with an
+//! interruption nobody asked it for; one that finished is kept. A call
+//! starts only once no stop is asked for. A pipeline's run
+//! ([`interruptible_once`]) is not run again: its stages resume at its
+//! next call, as after any failure. A panic in the work (a fault of the
+//! library) is raised as a `RuntimeError` rather than leaving the caller
+//! waiting for a result that never comes.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::{Condvar, Mutex, PoisonError};
@@ -29,20 +33,43 @@ const TICK: Duration = Duration::from_millis(50);
 
 /// `work`'s result, the GIL released meanwhile; a signal handler's
 /// exception (Ctrl-C's `KeyboardInterrupt`) instead, raised when `work`
-/// has stopped. Run again when another call's interruption stopped it.
-pub fn interruptible<T: Send>(py: Python<'_>, work: impl Fn() -> T + Sync) -> PyResult<T> {
+/// has stopped. Run again when it failed while another call's
+/// interruption stopped every run.
+pub fn interruptible<X: Send, E: Send>(
+    py: Python<'_>,
+    work: impl Fn() -> Result<X, E> + Sync,
+) -> PyResult<Result<X, E>> {
     loop {
+        let stops = withdrawn(py)?;
+        let result = once(py, &work)?;
+        if result.is_ok() || interrupt::requests() == stops {
+            return Ok(result);
+        }
+    }
+}
+
+/// [`interruptible`] without running again: a pipeline's run, which a
+/// stop leaves resumable and whose answer (what ran) a second attempt
+/// would change.
+pub fn interruptible_once<T: Send>(py: Python<'_>, work: impl Fn() -> T + Sync) -> PyResult<T> {
+    withdrawn(py)?;
+    once(py, &work)
+}
+
+/// Waits while a stop is asked for (another call's Ctrl-C, its work
+/// still ending), hearing this thread's own signals; the count of stops
+/// asked for so far.
+fn withdrawn(py: Python<'_>) -> PyResult<u64> {
+    loop {
+        // The count before the flag: a stop raises the flag first, so a
+        // count read before a stop's flag is seen to be down is that
+        // stop's predecessor, and the stop shows as a changed count.
         let stops = interrupt::requests();
-        let value = once(py, &work)?;
-        if interrupt::requests() == stops {
-            return Ok(value);
+        if !interrupt::requested() {
+            return Ok(stops);
         }
-        // Another thread's Ctrl-C stopped every run while this one ran:
-        // run again once that stop is withdrawn.
-        while interrupt::requested() {
-            py.detach(|| std::thread::sleep(TICK));
-            py.check_signals()?;
-        }
+        py.detach(|| std::thread::sleep(TICK));
+        py.check_signals()?;
     }
 }
 

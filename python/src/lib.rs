@@ -20,7 +20,7 @@ mod convert;
 mod interrupt;
 use block::Block;
 use convert::{ask, ask_error, message, samples, to_py, value_error};
-use interrupt::interruptible;
+use interrupt::{interruptible, interruptible_once};
 
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -336,7 +336,7 @@ fn run(
     let (from, to) = (stage("from_", from_)?, stage("to", to)?);
     let study = rocking::stages::Study::load(&pipeline, &outputs).map_err(value_error)?;
     let opts = RunOptions::run(to, from, force, threads, "rocking.run (Python)".into());
-    let results = interruptible(py, || engine::run(&study, &opts, &rocking::stages::Silent))?
+    let results = interruptible_once(py, || engine::run(&study, &opts, &rocking::stages::Silent))?
         .map_err(value_error)?;
     let rows: Vec<serde_json::Value> = results
         .iter()

@@ -205,6 +205,8 @@ def test_messages_name_the_keywords_python_wrote():
     with pytest.warns(UserWarning) as said:
         f = rocking.fragility(0.2, 0.9, pga=[0.3], mu=0.1)
     texts = [str(x.message) for x in said]
+    # Attributed to this file, the caller's, however deep in the answer.
+    assert all(x.filename == __file__ for x in said), [x.filename for x in said]
     assert any("slides before it rocks" in t for t in texts), texts
     assert sorted(set(texts)) == sorted(texts), texts
     assert set(texts) <= set(f["warnings"]) | {w for s in f.get("states", []) for w in s.get("warnings", [])}
@@ -762,6 +764,12 @@ def test_a_block_pickles_compares_and_shows_its_blocks():
     # One number or a list of one: the same block.
     assert rocking.Block(b=[0.2], h=0.9, eps=0.85) == blk
     assert rocking.Block(b=0.2, h=0.9, eps=0.8) != blk
+    assert len({blk, again, rocking.Block(b=0.2, h=0.9, eps=0.8)}) == 2
+    # The caller's list changed after: the block, its repr and pickle not.
+    ps = [1.0]
+    grid = rocking.Block(p=ps, eps=0.7)
+    ps.append(2.0)
+    assert repr(grid) == "Block(p=[1.0], eps=0.7)" and len(pickle.loads(pickle.dumps(grid))) == 1
     # α = atan(b/h) and p = sqrt(3g/(4R)), R = sqrt(b² + h²), by hand.
     (one,) = blk.blocks
     r = (0.2**2 + 0.9**2) ** 0.5
@@ -829,6 +837,14 @@ def test_record_ims_are_the_commands():
         rocking.record_ims(KOBE, periods=[-1])
     with pytest.raises(ValueError, match="dt comes from the AT2 file"):
         rocking.record_ims(KOBE, 0.01)
+    # One period as a NumPy integer; a text refused whole; a pair's array
+    # without its step named as pair_dt.
+    assert rocking.record_ims(KOBE, periods=np.int64(1))["sa_g"]["1.0"] == alone["sa_g"]["1.0"]
+    with pytest.raises(ValueError, match="^periods: give numbers"):
+        rocking.record_ims(KOBE, periods="1.0")
+    b, _ = rocking.read_at2(pair)
+    with pytest.raises(ValueError, match="^the pair is an array: give its time step pair_dt"):
+        rocking.record_ims(KOBE, pair=b)
 
 
 def test_a_history_is_the_commands_table(tmp_path):

@@ -16,14 +16,16 @@ static REQUESTS: AtomicU64 = AtomicU64::new(0);
 
 /// Asks every run from now on to refuse to start.
 pub fn request() {
-    REQUESTS.fetch_add(1, Ordering::AcqRel);
-    REQUESTED.store(true, Ordering::Release);
+    // The flag first, then the count: a reader of the count, then the
+    // flag, never misses both (see the Python binding's `withdrawn`).
+    REQUESTED.store(true, Ordering::SeqCst);
+    REQUESTS.fetch_add(1, Ordering::SeqCst);
 }
 
 /// How many stops have been asked for so far: a computation that finds
 /// the count changed while it ran may have been stopped by another's.
 pub fn requests() -> u64 {
-    REQUESTS.load(Ordering::Acquire)
+    REQUESTS.load(Ordering::SeqCst)
 }
 
 /// Withdraws the request: runs start again.
@@ -33,5 +35,5 @@ pub fn clear() {
 
 /// Whether a stop has been asked for.
 pub fn requested() -> bool {
-    REQUESTED.load(Ordering::Acquire)
+    REQUESTED.load(Ordering::SeqCst)
 }

@@ -177,14 +177,7 @@ impl Laws {
     /// (`lognormal.parquet`): its tables carry a lognormal where `--direct`
     /// would give the records' own curve.
     pub fn rejected_lognormal(&self, block: &Block) -> Option<f64> {
-        let (dir, plan) = (self.dir.as_ref()?, self.plan.as_ref()?);
-        let same = crate::ops::im_fragility::own_value;
-        // The study's own block: its p, ε and α (a grid block has no α).
-        let spec = plan.blocks().iter().find(|b| {
-            same(b.p, block.p())
-                && same(b.eps, block.eps)
-                && b.alpha_rad.is_none_or(|a| same(a, block.alpha()))
-        })?;
+        let (dir, spec) = (self.dir.as_ref()?, self.own_block(block)?);
         let rows: Vec<crate::tables::reduce::LognormalRow> =
             crate::tables::read(&dir.join("lognormal.parquet")).ok()?;
         let own = rows
@@ -200,26 +193,32 @@ impl Laws {
         if matches!(im, Im::Pga | Im::Pfa) {
             return self.rejected_lognormal(block);
         }
-        let (dir, plan) = (self.dir.as_ref()?, self.plan.as_ref()?);
-        let same = crate::ops::im_fragility::own_value;
-        let spec = plan.blocks().iter().find(|b| {
-            same(b.p, block.p())
-                && same(b.eps, block.eps)
-                && b.alpha_rad.is_none_or(|a| same(a, block.alpha()))
-        })?;
+        let (dir, spec) = (self.dir.as_ref()?, self.own_block(block)?);
         let rows: Vec<crate::tables::damage::DamageStateRow> =
             crate::tables::read(&dir.join("damage_states.parquet")).ok()?;
-        let name = im.name();
+        // The overturning state's row (`criterion` as docs/tables.md has it).
+        let (name, overturned) = (im.name(), "overturned");
         rows.iter()
             .find(|r| {
                 r.block == spec.name
                     && r.p == spec.p
                     && r.eps == spec.eps
-                    && r.threshold.is_none()
+                    && r.criterion == overturned
                     && r.im == name
             })?
             .lognormal_p
             .filter(|&p| p < crate::damage::LOGNORMAL_CHECK_LEVEL)
+    }
+
+    /// The study's own block at `block`'s p, ε and α (to the rounding of
+    /// [`crate::ops::im_fragility::own_value`]; a grid block has no α).
+    fn own_block(&self, block: &Block) -> Option<&crate::pipeline::BlockSpec> {
+        let same = crate::ops::im_fragility::own_value;
+        self.plan.as_ref()?.blocks().iter().find(|b| {
+            same(b.p, block.p())
+                && same(b.eps, block.eps)
+                && b.alpha_rad.is_none_or(|a| same(a, block.alpha()))
+        })
     }
 
     /// `im` refused where the blocks stand on the study's records and it is a

@@ -118,7 +118,9 @@ fn outside(name: &str, unit: &str, xs: &[f64], x: f64) -> Option<String> {
         ))
     } else {
         Some(format!(
-            "{name} = {x:.3}{unit} is outside the study's {lo:.3}–{hi:.3}{unit}: the capacity of the nearest edge is used"
+            "{name} = {x:.3}{unit} is outside the study's {}–{}{unit}: the capacity of the nearest edge is used",
+            crate::decimal::level_text(lo),
+            crate::decimal::level_text(hi)
         ))
     }
 }
