@@ -2164,3 +2164,43 @@ fn text_records_are_not_stated_in_a_ground_im() {
         assert!((a - b).abs() <= 1e-9 * b, "{key}: {a} against {b}");
     }
 }
+
+/// A pelicun export of a block on a floor says whose motion its IM is of:
+/// the floor's for PFA and PFV (it said "IMs of the ground" whatever the
+/// IM), the ground's for PGA.
+#[test]
+fn a_floor_export_names_whose_motion_its_im_is_of() {
+    let dir = tempdir();
+    let few = few_far_field(dir.path(), &FEW[..3]);
+    for (im, whose) in [
+        ("pfv", "(IMs of the floor's motion)"),
+        ("pfa", "(IMs of the floor's motion)"),
+        ("pga", "(IMs of the ground)"),
+    ] {
+        let out_dir = dir.path().join(im);
+        let out = rocking(
+            &root(),
+            &[
+                "export",
+                "--format",
+                "pelicun",
+                "--b",
+                "0.16",
+                "--h",
+                "0.71",
+                "--direct",
+                "--records",
+                few.to_str().unwrap(),
+                "--floor",
+                "0.8,0.05,1.0",
+                "--im",
+                im,
+                "--out",
+                out_dir.to_str().unwrap(),
+            ],
+        );
+        assert!(out.status.success(), "{im}: {}", stderr(&out));
+        let meta = std::fs::read_to_string(out_dir.join("fragility.json")).unwrap();
+        assert!(meta.contains(whose), "{im}: {meta}");
+    }
+}

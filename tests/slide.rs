@@ -1618,3 +1618,51 @@ fn a_friction_the_answer_does_not_model_is_said() {
     assert_eq!(said(&[]), (false, false));
     assert_eq!(said(&["--mu", "0.4", "--direct"]), (false, false));
 }
+
+/// The slide's sign: along the inertial force of a positive record value,
+/// against the record's axis (docs/MODEL.md §21). Under a rectangular
+/// pulse of A = 0.3 g for 0.5 s a squat block on μ = 0.1 slides, never
+/// rocking (tan α = 1 > μ), and is left behind by Coulomb's law: relative
+/// deceleration (A − μg) during the pulse, μg after it until it stops,
+/// d = (A − μg)t²/2 + ((A − μg)t)²/(2μg) = 0.734 m, which the tool reports
+/// as +d (the ground moved towards the record's +, the block lagged).
+#[test]
+fn a_pulse_leaves_a_sliding_block_behind_by_coulombs_law() {
+    let dir = crate::util::tempdir();
+    let record = dir.path().join("pulse.AT2");
+    let dt = 0.001;
+    let mut accel = vec![0.3; 500];
+    accel.extend(vec![0.0; 3000]);
+    crate::util::write_at2(&record, &accel, dt);
+    let out = crate::util::rocking(
+        dir.path(),
+        &[
+            "simulate",
+            "--record",
+            record.to_str().unwrap(),
+            "--b",
+            "0.5",
+            "--h",
+            "0.5",
+            "--eps",
+            "0.8",
+            "--model",
+            "slide-rock",
+            "--mu",
+            "0.1",
+            "--pga",
+            "0.3",
+            "--json",
+        ],
+    );
+    assert!(out.status.success(), "{}", crate::util::stderr(&out));
+    let v: serde_json::Value = serde_json::from_str(&crate::util::stdout(&out)).unwrap();
+    let residual = v["sliding"]["slide_residual_m"].as_f64().unwrap();
+    // The pulse ends on the ramp from its last sample (t = 0.499 s) to 0 at
+    // 0.5 s: its impulse is that of 0.4995 s at A.
+    let (g, t) = (rocking::block::G, 0.4995);
+    let a = 0.2 * g;
+    let d = a * t * t / 2.0 + (a * t).powi(2) / (2.0 * 0.1 * g);
+    assert!(residual > 0.0, "{residual}");
+    assert!((residual / d - 1.0).abs() < 2e-3, "{residual} against {d}");
+}

@@ -28,9 +28,11 @@ table! {
         /// ψ̈, the record normalised to unit peak, at that instant.
         pub psi: f64,
         /// The base's position relative to the ground (m; 0 for a model that does not
-        /// slide).
+        /// slide), positive along the inertial force of a positive record value (against
+        /// the record's own axis: a positive pulse leaves the block behind at u > 0), the
+        /// axis on which pivot +1 lies (docs/MODEL.md §21).
         pub slide_m: f64,
-        /// The base's velocity relative to the ground (m/s).
+        /// The base's velocity relative to the ground (m/s), on the same axis.
         pub slide_velocity_m_per_s: f64,
         /// What the row is: `sample` (a kept sample) or an event: `start`, `uplift`,
         /// `impact` (the state after it; one row for each impact the run counts),

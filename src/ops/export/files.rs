@@ -171,7 +171,13 @@ fn description(
         ),
     };
     let floor = floor.map_or(String::new(), |b| {
-        format!(" on the floor of a building of modes T,zeta,Gamma-phi = {b} (IMs of the ground)")
+        // PFA, PFV and FSA are the floor's motion's; the others the ground's.
+        let whose = if im.floor() {
+            "the floor's motion"
+        } else {
+            "the ground"
+        };
+        format!(" on the floor of a building of modes T,zeta,Gamma-phi = {b} (IMs of {whose})")
     });
     // Facing any direction, and the component the IM is of.
     let facing = match req.orient.orientation {
