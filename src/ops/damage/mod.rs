@@ -114,9 +114,8 @@ fn lowered(
         if a.median < b.median * (1.0 - 1e-9) {
             said.push(format!(
                 "the median of `{}` ({} {unit}) lay above a heavier state's: it is lowered to \
-                 {} {unit} to keep the states in order (a heavier state never the likelier); \
-                 their fits come from different sources here (--dispersion each keeps each \
-                 state's own)",
+                 {} {unit} to keep the states in order (a heavier state never the likelier; \
+                 --dispersion each keeps each state's own fit)",
                 f.states[i].name,
                 crate::im::level_text(b.median),
                 crate::im::level_text(a.median),
