@@ -173,16 +173,28 @@ pub fn parse_events(text: &str, file: &str) -> Result<Vec<(u64, u32)>, GmfError>
 /// event is in, 1 to `ses_per_logic_tree_path`), where the file has the
 /// column (OpenQuake 3.x writes it).
 pub fn last_event_set(text: &str, file: &str) -> Result<Option<u64>, GmfError> {
+    largest(text, file, "ses_id")
+}
+
+/// The largest `year` of `events_N.csv` (the year within its realisation's
+/// investigation_time × ses_per_logic_tree_path each event falls in), where
+/// the file has the column: the effective time is at least that.
+pub fn last_year(text: &str, file: &str) -> Result<Option<u64>, GmfError> {
+    largest(text, file, "year")
+}
+
+/// The largest whole number in column `column` of `text`, if it has it.
+fn largest(text: &str, file: &str, column: &str) -> Result<Option<u64>, GmfError> {
     let mut lines = data_lines(text);
     let (_, cols, _) = header(file, &mut lines, &[])?;
-    let Some(at) = cols.iter().position(|c| *c == "ses_id") else {
+    let Some(at) = cols.iter().position(|c| *c == column) else {
         return Ok(None);
     };
     let mut last = None;
     for (n, l) in lines {
         let cells = cells(file, n, l, cols.len())?;
-        let ses: u64 = number(file, n, "ses_id", cells.get(at).copied())?;
-        last = last.max(Some(ses));
+        let v: u64 = number(file, n, column, cells.get(at).copied())?;
+        last = last.max(Some(v));
     }
     Ok(last)
 }

@@ -227,6 +227,23 @@ fn likely_unit_slips_are_warned_of() {
         "are they in cm/s² (gal)? Divide them by 980.665",
     );
     warned("ms.csv", true, "are they in m/s? Multiply them by 100");
+    // PGA in m/s² on a usual grid (0.005–5 g × 9.81): it starts at
+    // plausible g, but its tail reaches 49 "g", past any grid in g.
+    let mut ms2 = String::from("pga_g,annual_rate\n");
+    for k in 0..20 {
+        let g = 0.005 * (1000f64).powf(k as f64 / 19.0);
+        ms2.push_str(&format!(
+            "{},{:e}\n",
+            g * 9.80665,
+            1e-2 * g.powf(-2.0) / 200.0
+        ));
+    }
+    fs::write(d.join("ms2.csv"), ms2).unwrap();
+    warned(
+        "ms2.csv",
+        false,
+        "are they in m/s² (divide by 9.80665 for g)",
+    );
     warned(
         "avgsa.csv",
         true,

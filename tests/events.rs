@@ -749,3 +749,56 @@ fn fields_in_gal_are_warned_of_as_a_hazards_are() {
         }
     }
 }
+
+/// Without a job.ini, `--eff-years` is held to the events' own years (each
+/// event's year lies within its realisation's investigation_time ×
+/// ses_per_logic_tree_path, so the effective time is at least the largest):
+/// a time of 20 years over events up to year 395 made every rate 20× too
+/// high, silently. Events of several realisations without their weights
+/// are pooled equally, and said so.
+#[test]
+fn an_effective_time_shorter_than_the_events_years_is_refused() {
+    let dir = tempdir();
+    let d = dir.path();
+    fields(&d.join("g"), 4, |e, _| 0.1 * (e + 1) as f64);
+    let events = d.join("g/events_1.csv");
+    let text = fs::read_to_string(&events).unwrap();
+    // Years 1, 101, 201, 395; realisations 0 and 1.
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    for (k, year) in [1, 101, 201, 395].iter().enumerate() {
+        lines[2 + k] = format!("{k},{k},{},{year},1", k % 2);
+    }
+    fs::write(&events, lines.join("\n") + "\n").unwrap();
+    let run = |t: &str| {
+        rocking(
+            d,
+            &[
+                "risk",
+                "--gmf",
+                "g",
+                "--b",
+                "0.2",
+                "--h",
+                "0.9",
+                "--eff-years",
+                t,
+                "--json",
+            ],
+        )
+    };
+    let short = run("20");
+    assert!(!short.status.success());
+    let e = stderr(&short);
+    assert!(
+        e.contains("has events in year 395") && e.contains("2 realisation(s)"),
+        "{e}"
+    );
+    let enough = run("800");
+    assert!(enough.status.success(), "{}", stderr(&enough));
+    let v = json(&enough);
+    let said = v["warnings"].to_string();
+    assert!(
+        said.contains("of 2 realisations and no realizations_*.csv"),
+        "{said}"
+    );
+}

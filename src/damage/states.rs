@@ -93,6 +93,12 @@ pub enum DamageError {
          pelicun's CSV take it as a key)"
     )]
     Name(String),
+    #[error(
+        "limit state name `{0}`: OpenQuake names the state below the first `no_damage` itself \
+         (its damage outputs' first column), so a state of that name breaks its job; name it \
+         otherwise"
+    )]
+    Reserved(String),
     #[error("limit state `{0}` is given twice")]
     Repeated(String),
     #[error(
@@ -138,6 +144,9 @@ impl DamageStates {
             let key_like = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-';
             if s.name.is_empty() || !s.name.chars().all(key_like) {
                 return Err(DamageError::Name(s.name.clone()));
+            }
+            if s.name.eq_ignore_ascii_case("no_damage") {
+                return Err(DamageError::Reserved(s.name.clone()));
             }
             if states[..k].iter().any(|o| o.name == s.name) {
                 return Err(DamageError::Repeated(s.name.clone()));
@@ -388,6 +397,10 @@ mod tests {
         assert!(e("a=1.2").contains("strictly between 0 and 1"));
         assert!(e("a=lots").contains("NAME=X"));
         assert!(e("").contains("no limit states"));
+        // OpenQuake's own first state (its job failed on the duplicate
+        // column `contents-no_damage`).
+        assert!(e("no_damage=0.1,overturned=overturned").contains("OpenQuake names the state"));
+        assert!(e("No_Damage=0.1").contains("OpenQuake names the state"));
     }
 
     /// An IDA curve worked by hand: θmax/α 0, 0.05, 0.3, 0.7 at η 1, 0.5,

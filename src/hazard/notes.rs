@@ -20,6 +20,16 @@ pub fn plausibility(curve: &HazardCurve) -> Option<String> {
     if let Some(slip) = unit_slip(curve.im, lo, hi, &range) {
         return Some(slip);
     }
+    // A curve in m/s² (or cm/s²) on a usual grid starts at plausible g
+    // (0.005 g × 9.81 = 0.049), but its tail runs past anything a grid in
+    // g reaches (OpenQuake's go to 3–10 g).
+    if matches!(curve.im, Im::Pga | Im::Sa(_) | Im::AvgSa) && hi > 20.0 {
+        return Some(format!(
+            "{range}: a hazard grid in g ends by about 10 g, and this one reaches {} g; are \
+             they in m/s² (divide by 9.80665 for g) or cm/s² (by 980.665)?",
+            crate::im::level_text(hi)
+        ));
+    }
     match curve.im {
         Im::AvgSa => Some(format!(
             "AvgSA: a hazard file does not state its periods; this tool's AvgSA is the geometric \

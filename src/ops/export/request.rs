@@ -110,7 +110,7 @@ pub enum ExportOpError {
     TreeMean(String),
     #[error(
         "{}:{line}: block `{name}` is keyed `{taxonomy}` in the engines' files, as block \
-         `{first}` (line {first_line}) is: a taxonomy keeps letters, digits, `_`, `-` and `.` \
+         `{first}` (line {first_line}) is: a taxonomy keeps ASCII letters, digits, `_`, `-` and `.` \
          and makes `_` of the rest; rename one",
         .path.display()
     )]

@@ -69,6 +69,7 @@ pub fn read_fields(ask: &EventsAsk) -> Result<ReadFields, RiskError> {
     let fields =
         gmf::parse_fields(&read(&gmf_path)?, &name(&gmf_path), sites, events).map_err(gerr)?;
     let (realizations, listed) = realizations(dir, &fields)?;
+    let weights_listed = listed.is_some();
     let job = [dir.join("job.ini"), dir.join("../job.ini")]
         .into_iter()
         .find(|p| p.is_file());
@@ -110,6 +111,21 @@ pub fn read_fields(ask: &EventsAsk) -> Result<ReadFields, RiskError> {
                  × {realizations} realisation(s)): give one"
             )))
         }
+        (Some(t), None) => {
+            // No job to check it against: the events' years bound it.
+            let last = gmf::last_year(&events_text, &name(&events_path)).map_err(gerr)?;
+            if let Some(y) = last.filter(|&y| y as f64 > t) {
+                return Err(RiskError::Gmf(format!(
+                    "--eff-years {t}, but {} has events in year {y}: the effective time \
+                     (investigation_time × ses_per_logic_tree_path × {realizations} \
+                     realisation(s)) is {y} years or more (every rate would be {}× too high \
+                     at least)",
+                    events_path.display(),
+                    crate::im::level_text(y as f64 / t)
+                )));
+            }
+            (t, "--eff-years".to_string())
+        }
         (Some(t), _) => (t, "--eff-years".to_string()),
         (None, Some((j, p))) => (j, p),
         (None, None) => {
@@ -121,6 +137,14 @@ pub fn read_fields(ask: &EventsAsk) -> Result<ReadFields, RiskError> {
             )))
         }
     };
+    if realizations > 1 && !weights_listed {
+        warnings.push(format!(
+            "the events are of {realizations} realisations and no realizations_*.csv beside \
+             them gives their weights: they are pooled as equally weighted (OpenQuake's \
+             sampling), which a full enumeration's unequal weights would not be (export the \
+             realisations with the fields to have them checked)"
+        ));
+    }
     Ok(ReadFields {
         fields,
         eff_years: eff,
