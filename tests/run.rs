@@ -536,3 +536,60 @@ fn a_records_table_in_the_studys_own_folder_is_refused() {
         stderr(&out)
     );
 }
+
+/// A section taken out of the pipeline takes its tables with it: the
+/// bands of `[uncertainty]` (written by reduce and fit, stages that still
+/// run) and the example's damage tables (written by damage) stayed beside
+/// the study's, the bands of a grid the study no longer had, and
+/// `--force` kept them too. The folder now holds what a fresh run of the
+/// pipeline writes, file for file; a table changed by hand is left alone.
+#[test]
+fn a_section_taken_out_takes_its_tables_with_it() {
+    let dir = tempdir();
+    let d = dir.path();
+    let pipe = study(d, "0.9");
+    let plain = fs::read_to_string(&pipe).unwrap();
+    let extra =
+        "[uncertainty]\nresamples = 20\nunit = \"record\"\n[example]\np = 3.0\neps = 0.75\n";
+    fs::write(&pipe, format!("{plain}{extra}")).unwrap();
+    run(d, &pipe);
+    let folder = d.join("out/mini");
+    let tables = |folder: &Path| -> Vec<String> {
+        let mut names: Vec<String> = fs::read_dir(folder)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.ends_with(".parquet"))
+            .collect();
+        names.sort();
+        names
+    };
+    let with = tables(&folder);
+    for t in ["capacity_bands.parquet", "example_damage_states.parquet"] {
+        assert!(with.contains(&t.to_string()), "{with:?}");
+    }
+    // Taken out, with ε changed so that every stage reruns.
+    fs::write(&pipe, plain.replace("0.9]", "0.92]")).unwrap();
+    run(d, &pipe);
+    let out = rocking(d, &["run", pipe.to_str().unwrap(), "--outputs", "fresh"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let fresh = tables(&d.join("fresh/mini"));
+    assert_eq!(tables(&folder), fresh);
+    for t in [
+        "capacity_bands.parquet",
+        "capacity_resamples.parquet",
+        "example_damage_states.parquet",
+    ] {
+        assert!(!fresh.contains(&t.to_string()), "{fresh:?}");
+    }
+    // Back in, then out again with one of its tables edited since: kept.
+    fs::write(&pipe, format!("{plain}{extra}")).unwrap();
+    run(d, &pipe);
+    let bands = folder.join("capacity_bands.parquet");
+    let mut bytes = fs::read(&bands).unwrap();
+    bytes.push(0);
+    fs::write(&bands, &bytes).unwrap();
+    fs::write(&pipe, &plain).unwrap();
+    run(d, &pipe);
+    assert!(bands.exists(), "a table changed by hand is the user's");
+    assert!(!folder.join("example_damage_states.parquet").exists());
+}

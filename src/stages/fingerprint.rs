@@ -209,6 +209,9 @@ pub fn save(
     let mut written = stage.outputs(study, shard);
     written.extend(also_wrote.iter().cloned());
     let outputs = hash_outputs(study, &written)?;
+    if shard.is_none() {
+        retire(study, &note_path(study, name, None), &outputs);
+    }
     let note = Note {
         stage: name.into(),
         shard: shard.map(|s| s.to_string()),
@@ -237,6 +240,29 @@ pub fn save(
         }
     }
     Ok(())
+}
+
+/// Removes the files the stage's last run wrote (its note at `note`) that
+/// this run did not (`now`): a table of a section since taken out of the
+/// pipeline (`[uncertainty]`'s bands, `[example]`'s damage tables), which
+/// would otherwise stay beside the study's, to be read as its own. Only a
+/// file still as the stage wrote it, inside the study's folder; a file
+/// changed since is left alone, as [`forget`] leaves it.
+fn retire(study: &Study, note: &Path, now: &BTreeMap<String, String>) {
+    let Ok(before) = read_note(study, note) else {
+        return;
+    };
+    for name in before.outputs.keys().filter(|n| !now.contains_key(*n)) {
+        let rel = Path::new(name);
+        let inside = rel.is_relative()
+            && rel
+                .components()
+                .all(|c| matches!(c, std::path::Component::Normal(_)));
+        let file = study.dir.join(rel);
+        if inside && as_written(study, &before, &file) {
+            let _ = fs::remove_file(&file);
+        }
+    }
 }
 
 /// Removes the whole stage's note: one left from when the pipeline needed
