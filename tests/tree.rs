@@ -546,6 +546,50 @@ fn a_studys_tree_runs_the_example_on_every_branch() {
         "{hi}\n{report}"
     );
     assert!(out.join("t/figures/tree_tornado.svg").is_file());
+
+    // A study of other fractiles fits its branches by them, as its damage
+    // states (the report gave type 7 beside the damage section's type 5):
+    // Hyndman–Fan type 5, h = nq + 1/2 (1-based), written here.
+    let text = std::fs::read_to_string(&pipe).unwrap();
+    std::fs::write(&pipe, format!("{text}[reduce]\nfractile = \"type5\"\n")).unwrap();
+    let r = rocking(
+        &root(),
+        &[
+            "run",
+            pipe.to_str().unwrap(),
+            "--outputs",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(r.status.success(), "{}", stderr(&r));
+    let report = std::fs::read_to_string(out.join("t/report.md")).unwrap();
+    assert!(report.contains("(the study's fractiles, type5"), "{report}");
+    for b in 0..2 {
+        let mut pga: Vec<f64> = caps
+            .iter()
+            .skip(b)
+            .step_by(2)
+            .map(|c| c.eta_c.map_or(f64::INFINITY, |x| 0.1 / x))
+            .collect();
+        pga.sort_by(f64::total_cmp);
+        let n = pga.len();
+        let q = |q: f64| {
+            let h = n as f64 * q + 0.5;
+            if h <= 1.0 {
+                return pga[0];
+            }
+            if h >= n as f64 {
+                return pga[n - 1];
+            }
+            let lo = h.floor() as usize;
+            pga[lo - 1] + (h - lo as f64) * (pga[lo] - pga[lo - 1])
+        };
+        let (m, beta) = (q(0.5), 0.5 * (q(0.84) / q(0.16)).ln());
+        assert!(
+            report.contains(&format!("| {m:.4} | {beta:.3} |")),
+            "type 5: {m} {beta}\n{report}"
+        );
+    }
 }
 
 /// pelicun takes one function per state: the export writes the tree's mean

@@ -9,12 +9,12 @@ use crate::damage::{fractile_method, Lognormal};
 use crate::im::Im;
 use crate::plot::{Chart, Hue, Line, Scale, Style};
 use crate::risk::Fragility;
-use crate::stats::FractileDef;
 use crate::study::StudyData;
 use crate::tree::{self, Mixture};
 
 /// The example block on each branch: its weight, label, the lognormal by
-/// the fractiles of its capacities in [`Branches::im`] (g; +∞ where it
+/// the study's fractiles (`[reduce] fractile`, as its damage states) of
+/// its capacities in [`Branches::im`] (g; +∞ where it
 /// survives every level), and the level below which it cannot move (its probability 0
 /// there, as `fragility --tree` and `risk --tree` count it; 0: no cut).
 /// `None` without a tree, its capacities or the example's α.
@@ -35,6 +35,8 @@ pub fn branches(d: &StudyData) -> Option<Branches> {
     let caps = d.tree_caps.as_ref()?;
     let alpha = d.plan.example()?.alpha_rad?;
     let n = t.branches.len();
+    // The study's fractiles, as its damage states are fitted by.
+    let def = d.plan.records_study().ok()?.fractile;
     let fits = (0..n)
         .map(|b| {
             let in_pga: Vec<f64> = caps
@@ -46,7 +48,7 @@ pub fn branches(d: &StudyData) -> Option<Branches> {
                         .map_or(f64::INFINITY, |e| crate::im::pga_of_eta(e, alpha))
                 })
                 .collect();
-            fractile_method(&in_pga, FractileDef::Type7)
+            fractile_method(&in_pga, def)
         })
         .collect::<Option<Vec<_>>>()?;
     let floor = d.plan.records_study().ok()?.floor.as_ref();

@@ -18,7 +18,7 @@ pub(super) fn tree_section(w: &mut String, d: &StudyData) {
         w,
         "The example block on each of the tree's {} branches, over every record \
          (`tree_capacities.parquet`), each branch's fragility a lognormal by the fractiles of \
-         its capacities in {im}; the mean is their weighted mixture (not a lognormal: stated by \
+         its capacities in {im}{def}; the mean is their weighted mixture (not a lognormal: stated by \
          its median and the β through its Φ(±1) levels, 15.87 and 84.13 %), the dispersion \
          split as FEMA P-58 states it (docs/MODEL.md §19). The same with `rocking fragility \
          --from PIPELINE.toml --direct --tree …{flag} --if-not-lognormal lognormal` for any \
@@ -26,6 +26,15 @@ pub(super) fn tree_section(w: &mut String, d: &StudyData) {
          own curve there).\n",
         b.weights.len(),
         im = b.im.short(),
+        // `fragility --direct` fits by type 7: said where the study differs.
+        def = match d.plan.records_study().map(|p| p.fractile) {
+            Ok(def) if def != crate::stats::FractileDef::Type7 => format!(
+                " (the study's fractiles, {}, as its damage states; `fragility --direct` takes \
+                 type 7)",
+                def.name()
+            ),
+            _ => String::new(),
+        },
         flag = if b.im == crate::im::Im::Pfa {
             " --im pfa"
         } else {
