@@ -167,10 +167,14 @@ fn slides_need_sliding(damage: &DamageStates, blocks: &[BlockSpec]) -> Result<()
         .find(|b| b.run.model.equation.friction().is_none())
     {
         Some(b) => Err(format!(
-            "`damage.states`: `{}` is on the slide, but block `{}` runs the {} (give it `mu`, \
+            "`damage.states`: `{}` is on the slide, but {} runs the {} (give it `mu`, \
              with `[model] kind = \"auto\"` or `\"slide-rock\"`)",
             state.name,
-            b.name,
+            match b.name.is_empty() {
+                // A grid block has no name: its p and ε.
+                true => format!("the block of p = {} 1/s, ε = {}", b.p, b.eps),
+                false => format!("block `{}`", b.name),
+            },
             b.run.model.equation.kind().describe()
         )),
         None => Ok(()),
@@ -762,6 +766,11 @@ mod tests {
             (
                 format!("{MINIMAL}\n[convergence]\nlevels = [60, 60]\n"),
                 "`convergence.levels` holds 60 twice",
+            ),
+            // A grid block has no name: named by its p and ε.
+            (
+                format!("{MINIMAL}\n[damage]\nstates = \"walks=0.05m,overturned=overturned\"\n"),
+                "but the block of p = 0.33 1/s, ε = 0.5 runs the",
             ),
             (
                 format!("{records}{}{}", block("a"), block("a")),
