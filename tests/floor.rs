@@ -2204,3 +2204,90 @@ fn a_floor_export_names_whose_motion_its_im_is_of() {
         assert!(meta.contains(whose), "{im}: {meta}");
     }
 }
+
+/// A relative text record whose times start well after its ground's, the
+/// ground already moving before them: a model's recorder starts with its
+/// analysis, so the two clocks are likely offset, and the floor motion
+/// (record plus ground at the same times) shifted by it. Said, with the
+/// file, by `--direct` and by a pipeline's ingest; the same files with one
+/// clock say nothing.
+#[test]
+fn a_relative_record_whose_clock_looks_offset_is_said() {
+    use crate::util::{write_at2, write_pipeline};
+    let dir = tempdir();
+    let d = dir.path();
+    let dt = 0.01;
+    let (ground, late, same) = (d.join("ground"), d.join("late"), d.join("same"));
+    for f in [&ground, &late, &same] {
+        std::fs::create_dir_all(f).unwrap();
+    }
+    for k in 1..=5 {
+        let g: Vec<f64> = (0..1000)
+            .map(|i| 0.3 * (2.0 * std::f64::consts::PI * k as f64 * i as f64 * dt).sin())
+            .collect();
+        write_at2(&ground.join(format!("R{k}.AT2")), &g, dt);
+        for (folder, t0) in [(&late, 1.0), (&same, 0.0)] {
+            let text: String = g
+                .iter()
+                .enumerate()
+                .map(|(i, a)| format!("{:?} {:?}\n", t0 + i as f64 * dt, 0.5 * a))
+                .collect();
+            std::fs::write(folder.join(format!("R{k}.txt")), text).unwrap();
+        }
+    }
+    let says = "are the two files' times of one clock";
+    for (folder, offset) in [(&late, true), (&same, false)] {
+        let out = rocking(
+            d,
+            &[
+                "fragility",
+                "--b",
+                "0.2",
+                "--h",
+                "0.9",
+                "--direct",
+                "--records",
+                folder.to_str().unwrap(),
+                "--records-unit",
+                "g",
+                "--records-ground",
+                ground.to_str().unwrap(),
+                "--im",
+                "pfa",
+                "--at",
+                "0.3",
+            ],
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+        let e = stderr(&out);
+        assert_eq!(e.contains(says), offset, "{e}");
+        if offset {
+            assert!(e.contains("R1.txt: its first time 1 s is 1 s after"), "{e}");
+        }
+    }
+    // A pipeline's ingest says it too.
+    let pipe = write_pipeline(d, "late", "");
+    let body = format!(
+        "name = \"late\"\n[records]\ntext = [\"{}\"]\nunit = \"g\"\nground = \"{}\"\n[[block]]\nname = \"s\"\nb = 0.2\nh = 0.9\neps = 0.8\n",
+        late.display(),
+        ground.display()
+    );
+    std::fs::write(&pipe, body).unwrap();
+    let out = rocking(
+        d,
+        &[
+            "run",
+            pipe.to_str().unwrap(),
+            "--outputs",
+            "out",
+            "--to",
+            "ingest",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains(says) || stdout(&out).contains(says),
+        "{}",
+        stderr(&out)
+    );
+}

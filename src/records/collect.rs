@@ -137,6 +137,9 @@ pub struct Collected {
     /// without them, a pair without its other component.
     pub no_file: Vec<String>,
     pub ignored_manifest_columns: Vec<String>,
+    /// What the files suggest without being refused (a relative text
+    /// record whose clock looks offset from its ground's).
+    pub warnings: Vec<String>,
 }
 
 /// Reads, checks and joins the records, without writing: the part of ingest
@@ -165,18 +168,22 @@ pub fn collect_as(
         None => None,
     };
 
-    let results: Vec<Result<RecordRow, BadFile>> = files
+    let results: Vec<Result<(RecordRow, Option<String>), BadFile>> = files
         .par_iter()
         .map(|p| match text {
-            None => read_one(p),
+            None => read_one(p).map(|row| (row, None)),
             Some(spec) => read_text(p, spec),
         })
         .collect();
     let mut rows = Vec::with_capacity(results.len());
     let mut bad = Vec::new();
+    let mut warnings = Vec::new();
     for r in results {
         match r {
-            Ok(row) => rows.push(row),
+            Ok((row, said)) => {
+                rows.push(row);
+                warnings.extend(said);
+            }
             Err(b) => bad.push(b),
         }
     }
@@ -242,6 +249,7 @@ pub fn collect_as(
         not_in_manifest,
         no_file,
         ignored_manifest_columns: manifest.map(|(_, m)| m.ignored_columns).unwrap_or_default(),
+        warnings,
     })
 }
 
@@ -381,7 +389,7 @@ fn row(
 pub const TEXT_LAYOUT: &str = "columns";
 
 /// One text file of columns, read as `spec` says.
-fn read_text(path: &Path, spec: &TextRecords) -> Result<RecordRow, BadFile> {
+fn read_text(path: &Path, spec: &TextRecords) -> Result<(RecordRow, Option<String>), BadFile> {
     let bad = |problem| BadFile {
         path: path.to_path_buf(),
         problem,
@@ -389,6 +397,7 @@ fn read_text(path: &Path, spec: &TextRecords) -> Result<RecordRow, BadFile> {
     let bytes = fs::read(path).map_err(|e| bad(Problem::Read(e)))?;
     let text = String::from_utf8_lossy(&bytes);
     let mut parsed = columns::parse(&text, spec).map_err(|e| bad(Problem::Text(e)))?;
+    let mut late = None;
     if let Some(dir) = &spec.ground {
         let (ground, t0, dt) =
             read_ground(dir, path, spec).map_err(|what| bad(Problem::Ground(what)))?;
@@ -402,6 +411,7 @@ fn read_text(path: &Path, spec: &TextRecords) -> Result<RecordRow, BadFile> {
                 parsed.t0_s
             ))));
         }
+        late = late_start(path, &parsed, &ground, t0, dt);
         columns::add_ground(&mut parsed, &ground, t0, dt);
     }
     // Run as a motion, it never lifts a block: a wrong column (a node's
@@ -427,14 +437,52 @@ fn read_text(path: &Path, spec: &TextRecords) -> Result<RecordRow, BadFile> {
         format!("first time {} s", parsed.t0_s),
         format!("NPTS= {}, DT= {} SEC", parsed.accel_g.len(), parsed.dt_s),
     ];
-    Ok(row(
-        path,
-        &bytes,
-        parsed.accel_g,
-        parsed.dt_s,
-        header,
-        TEXT_LAYOUT.into(),
+    Ok((
+        row(
+            path,
+            &bytes,
+            parsed.accel_g,
+            parsed.dt_s,
+            header,
+            TEXT_LAYOUT.into(),
+        ),
+        late,
     ))
+}
+
+/// A relative record whose first time lies well after its ground's first
+/// (more than two of the ground's steps), with the ground already moving
+/// before it (a tenth of its peak or more): a structural model's recorder
+/// starts with its analysis, so the two clocks are likely offset (a time
+/// column shifted), and the floor motion, the relative values plus the
+/// ground at the same times, would be wrong by a shift (+10 % in PFV
+/// seen). Said, not refused: a recorder started late is possible.
+fn late_start(
+    path: &Path,
+    record: &columns::ColumnMotion,
+    ground: &[f64],
+    t0: f64,
+    dt: f64,
+) -> Option<String> {
+    let gap = record.t0_s - t0;
+    if gap <= 2.0 * dt * (1.0 + 1e-6) {
+        return None;
+    }
+    let peak = ground.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+    let before = ((gap / dt).floor() as usize).min(ground.len());
+    let early = ground[..before].iter().fold(0.0f64, |m, a| m.max(a.abs()));
+    (peak > 0.0 && early >= 0.1 * peak).then(|| {
+        format!(
+            "{}: its first time {} s is {} s after its ground's first, {t0} s, and the ground \
+             already moves before it ({:.0} % of its peak): a model's recorder starts with its \
+             analysis, so are the two files' times of one clock? (the floor motion is the \
+             record plus the ground at the same times)",
+            path.display(),
+            record.t0_s,
+            crate::im::level_text(gap),
+            100.0 * early / peak
+        )
+    })
 }
 
 /// The ground motion a relative record was run with: the file of its stem

@@ -181,6 +181,9 @@ pub struct IngestReport {
     pub no_file: Vec<String>,
     /// Manifest columns that were not understood and so not stored.
     pub ignored_manifest_columns: Vec<String>,
+    /// What the files suggest without being refused (a relative text
+    /// record's clock offset from its ground's).
+    pub files: Vec<String>,
 }
 
 impl IngestReport {
@@ -204,6 +207,7 @@ impl IngestReport {
                 self.no_file.join(", ")
             ));
         }
+        out.extend(self.files.iter().cloned());
         out
     }
 }
@@ -255,5 +259,6 @@ pub fn run(config: &IngestConfig) -> Result<IngestReport, IngestError> {
         not_in_manifest: collected.not_in_manifest,
         no_file: collected.no_file,
         ignored_manifest_columns: collected.ignored_manifest_columns,
+        files: collected.warnings,
     })
 }

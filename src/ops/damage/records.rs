@@ -61,6 +61,7 @@ pub(super) fn from_records(
     };
     let fits = fit_states(n, &in_im).ok_or(FragilityError::NoPeriod(im.name()))?;
     let mut warnings = few_records(states, &fits);
+    warnings.extend(records.notes().iter().cloned());
     if records.stood_on() {
         warnings.push(TEXT_RECORDS_NOTE.into());
         if records.text().is_some_and(|t| t.ground.is_none()) {

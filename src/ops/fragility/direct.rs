@@ -91,6 +91,9 @@ pub struct DirectRecords {
     floor: Option<Building>,
     /// How text records were read (a structural model's floor motions).
     text: Option<crate::columns::TextRecords>,
+    /// What reading the files said without refusing them (a relative text
+    /// record's clock offset from its ground's).
+    notes: Vec<String>,
     /// The blocks stand on the records themselves, text columns with no
     /// building to run them through ([`crate::records::stood_on`]).
     stood_on: bool,
@@ -168,7 +171,7 @@ impl DirectRecords {
             } => format!("{} ({t})", records.display()),
             Source::Pipeline { file, .. } => format!("the records of {}", file.display()),
         };
-        let rows = rows_of(from, plan, &orient, &folder)?;
+        let (rows, notes) = rows_of(from, plan, &orient, &folder)?;
         // Run through a building (the pipeline's or the one asked), text
         // records are its ground motions.
         let stood_on = floor.is_none()
@@ -232,6 +235,7 @@ impl DirectRecords {
             folder,
             floor: floor.cloned(),
             text,
+            notes,
             stood_on,
             progress,
             counts: Counts::default(),
@@ -427,6 +431,11 @@ impl DirectRecords {
         self.text.as_ref()
     }
 
+    /// What reading the files said without refusing them.
+    pub fn notes(&self) -> &[String] {
+        &self.notes
+    }
+
     /// Whether the blocks stand on the records themselves (text columns,
     /// no building): their ground IMs are the floor's.
     pub fn stood_on(&self) -> bool {
@@ -489,13 +498,14 @@ impl DirectRecords {
 
 /// The records' rows: the pipeline's (refused with an orientation on a
 /// study that already turns its pairs), or the `--records` folder's, with
-/// its manifest where the orientation needs pairs.
+/// its manifest where the orientation needs pairs; and what reading the
+/// folder's files said (a pipeline's ingest says it).
 fn rows_of(
     from: &Source,
     plan: Option<&Plan>,
     orient: &super::Orient,
     folder: &str,
-) -> Result<Vec<crate::tables::records::RecordRow>, FragilityError> {
+) -> Result<(Vec<crate::tables::records::RecordRow>, Vec<String>), FragilityError> {
     Ok(match (from, plan) {
         (_, Some(plan)) => {
             let rotated = plan
@@ -510,7 +520,10 @@ fn rows_of(
                      bundled pairs (--direct --orientation random, in RotD50 too)"
                 )));
             }
-            records::of_plan(plan).map_err(FragilityError::Records)?
+            (
+                records::of_plan(plan).map_err(FragilityError::Records)?,
+                Vec::new(),
+            )
         }
         (Source::Paper { records, text }, None) => {
             if !records.is_dir() {
@@ -527,14 +540,14 @@ fn rows_of(
                 })?),
                 false => None,
             };
-            records::collect_as(
+            let c = records::collect_as(
                 std::slice::from_ref(records),
                 manifest.as_deref(),
                 OnBad::Refuse(RECORDS_HINT),
                 text.as_ref(),
             )
-            .map_err(FragilityError::Ingest)?
-            .rows
+            .map_err(FragilityError::Ingest)?;
+            (c.rows, c.warnings)
         }
         (Source::Pipeline { .. }, None) => unreachable!("a pipeline source has a plan"),
     })
