@@ -182,7 +182,17 @@ pub(super) fn block_run(
             solver,
             auto_tol,
         )
-        .map_err(|e| format!("{}: {e}", what()))?;
+        // The physics names the command line's `--alpha`: in the file's keys.
+        .map_err(|e| {
+            let e = e
+                .to_string()
+                .replace(
+                    "--alpha, in rad, or its sizes",
+                    "its `b` and `h`, or `model.alpha`",
+                )
+                .replace("--alpha, in rad", "its `b` and `h`, or `model.alpha`");
+            format!("{}: {e}", what())
+        })?;
     let run = RunSpec {
         overturn,
         ..RunSpec::new(b.p, b.eps, 1.0, model)

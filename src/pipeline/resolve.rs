@@ -767,6 +767,13 @@ mod tests {
                 format!("{MINIMAL}\n[convergence]\nlevels = [60, 60]\n"),
                 "`convergence.levels` holds 60 twice",
             ),
+            // The physics' `--alpha` said in the file's keys.
+            (
+                format!(
+                    "{MINIMAL}\n[example]\np = 2.0\neps = 0.7\n[[tree.model]]\nname = \"nonlinear\"\nweight = 1.0\n"
+                ),
+                "slenderness α (its `b` and `h`, or `model.alpha`)",
+            ),
             // A grid block has no name: named by its p and ε.
             (
                 format!("{MINIMAL}\n[damage]\nstates = \"walks=0.05m,overturned=overturned\"\n"),
