@@ -578,7 +578,8 @@ def test_ctrl_c_in_the_main_thread_leaves_another_threads_call_its_answer():
     assert table.select(keep).unique().sort(keep).equals(expected.select(keep).sort(keep))
 
 
-def test_run_and_load_give_the_commands_tables(tmp_path):
+def tiny_pipeline(tmp_path):
+    """Three records' study of 2 × 2 blocks, written into tmp_path."""
     rec = ROOT / "records" / "fema-p695"
     pipeline = tmp_path / "tiny.toml"
     pipeline.write_text(
@@ -587,6 +588,11 @@ def test_run_and_load_give_the_commands_tables(tmp_path):
         'ids = ["RSN1111_KOBE_NIS000", "RSN1116_KOBE_SHI000", "RSN1148_KOCAELI_ARC000"]\n'
         "[blocks]\np = [1.0, 3.0]\neps = [0.7, 0.9]\n"
     )
+    return pipeline
+
+
+def test_run_and_load_give_the_commands_tables(tmp_path):
+    pipeline = tiny_pipeline(tmp_path)
     ran = rocking.run(pipeline, tmp_path / "py")
     assert [r["stage"] for r in ran if r["ran"]][:2] == ["ingest", "sweep"]
     again = rocking.run(pipeline, tmp_path / "py")
@@ -867,14 +873,7 @@ def test_a_history_is_the_commands_table(tmp_path):
 
 
 def test_run_takes_the_commands_stage_options(tmp_path):
-    rec = ROOT / "records" / "fema-p695"
-    pipeline = tmp_path / "tiny.toml"
-    pipeline.write_text(
-        'name = "tiny"\n[records]\n'
-        f'at2 = ["{rec}"]\nmanifest = "{rec / "manifest.csv"}"\n'
-        'ids = ["RSN1111_KOBE_NIS000", "RSN1116_KOBE_SHI000", "RSN1148_KOCAELI_ARC000"]\n'
-        "[blocks]\np = [1.0, 3.0]\neps = [0.7, 0.9]\n"
-    )
+    pipeline = tiny_pipeline(tmp_path)
     out = tmp_path / "py"
     # Through the sweep only: the later stages wait.
     ran = rocking.run(pipeline, out, to="sweep", threads=1)

@@ -64,27 +64,23 @@ fn beyond_the_curve(
             (*k, r.share_beyond_last_iml, r.last_iml)
         })
         .collect();
-    let (site, share, last) = *shares.iter().max_by(|a, b| a.1.total_cmp(&b.1))?;
-    (share >= 0.01).then(|| {
-        (
-            share,
-            format!(
-                "OpenQuake's job counts nothing beyond the hazard's last IML ({last} {}): at site \
-             {site}, {:.1} % of the rate of `{}` that `risk` gives by default comes from beyond \
-             it{} (`risk --beyond stop` leaves it out, as the job does)",
-                h.im.unit(),
-                100.0 * share,
-                name(b, state),
-                others(shares.iter().map(|s| s.1), shares.len())
-            ),
-        )
-    })
+    let &(site, share, last) = worst(&shares, |s| s.1)?;
+    let text = format!(
+        "OpenQuake's job counts nothing beyond the hazard's last IML ({last} {}): at site \
+         {site}, {:.1} % of the rate of `{}` that `risk` gives by default comes from beyond \
+         it{} (`risk --beyond stop` leaves it out, as the job does)",
+        h.im.unit(),
+        100.0 * share,
+        name(b, state),
+        others(shares.iter().map(|s| s.1), shares.len())
+    );
+    Some((share, text))
 }
 
 /// OpenQuake's job sums the hazard at its IMLs by a midpoint rule
 /// ([`crate::export::reading::midpoint_rate`]), where `risk` integrates
 /// the log-log curve between them: on a coarse curve (the 14 IMLs of a
-/// typical hazard export) the job's rate of a block's heaviest state
+/// typical hazard export) the job's rate of a block's state
 /// differs from `risk --beyond stop`'s by several per cent. Where it
 /// differs by 1 % or more at a site, the warning gives both rates and what
 /// brings them together.
@@ -112,24 +108,27 @@ fn coarse_sum(
             (ours > 0.0).then(|| (*k, job / ours - 1.0, job, ours, imls))
         })
         .collect();
-    let &(site, gap, job, ours, imls) =
-        gaps.iter().max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))?;
-    (gap.abs() >= 0.01).then(|| {
-        (
-            gap.abs(),
-            format!(
-            "OpenQuake's job sums the hazard at its {imls} IMLs by a midpoint rule, where `risk` \
-             integrates the curve between them: at site {site} the job counts {job:.3e}/yr of \
-             `{}`, {:.1} % {} the {ours:.3e}/yr of `risk --beyond stop`{} (give the hazard at \
-             more IMLs: the gap falls with the square of their spacing, to 0.1 % at about 20 \
-             per factor of 2)",
-            name(b, state),
-            100.0 * gap.abs(),
-            if gap > 0.0 { "above" } else { "below" },
-            others(gaps.iter().map(|g| g.1.abs()), gaps.len())
-        ),
-        )
-    })
+    let &(site, gap, job, ours, imls) = worst(&gaps, |g| g.1.abs())?;
+    let text = format!(
+        "OpenQuake's job sums the hazard at its {imls} IMLs by a midpoint rule, where `risk` \
+         integrates the curve between them: at site {site} the job counts {job:.3e}/yr of \
+         `{}`, {:.1} % {} the {ours:.3e}/yr of `risk --beyond stop`{} (give the hazard at \
+         more IMLs: the gap falls with the square of their spacing, to 0.1 % at about 20 \
+         per factor of 2)",
+        name(b, state),
+        100.0 * gap.abs(),
+        if gap > 0.0 { "above" } else { "below" },
+        others(gaps.iter().map(|g| g.1.abs()), gaps.len())
+    );
+    Some((gap.abs(), text))
+}
+
+/// The site where `size` is largest, where it reaches 1 %: the one a
+/// warning names.
+fn worst<T>(at: &[T], size: impl Fn(&T) -> f64) -> Option<&T> {
+    at.iter()
+        .max_by(|a, b| size(a).total_cmp(&size(b)))
+        .filter(|x| size(x) >= 0.01)
 }
 
 /// ", and 1 % or more at N other sites of M" where a warning that names
@@ -177,27 +176,23 @@ fn read_as_certain(
             ))
         })
         .collect();
-    let (site, share, s) = *shares.iter().max_by(|a, b| a.1.total_cmp(&b.1))?;
-    (share >= 0.01).then(|| {
-        (
-            share,
-            format!(
-                "OpenQuake's job reads the hazard's poes in single precision: at site {site} its \
-             first {} IMLs (to {} {}) read as poe = 1, which it counts at a rate of {:.3}/yr: \
-             that adds {:.3e}/yr to the rate of `{}` the job counts, {:.1} % of `risk`'s rate{} \
-             (give the job a curve whose poes fall below 1 - 6e-8 where the fragility is still \
-             near 0)",
-                s.imls,
-                crate::im::level_text(s.up_to),
-                h.im.unit(),
-                s.certain_rate,
-                s.excess_rate,
-                name(b, state),
-                100.0 * share,
-                others(shares.iter().map(|s| s.1), h.curves.len()),
-            ),
-        )
-    })
+    let &(site, share, s) = worst(&shares, |s| s.1)?;
+    let text = format!(
+        "OpenQuake's job reads the hazard's poes in single precision: at site {site} its \
+         first {} IMLs (to {} {}) read as poe = 1, which it counts at a rate of {:.3}/yr: \
+         that adds {:.3e}/yr to the rate of `{}` the job counts, {:.1} % of `risk`'s rate{} \
+         (give the job a curve whose poes fall below 1 - 6e-8 where the fragility is still \
+         near 0)",
+        s.imls,
+        crate::im::level_text(s.up_to),
+        h.im.unit(),
+        s.certain_rate,
+        s.excess_rate,
+        name(b, state),
+        100.0 * share,
+        others(shares.iter().map(|s| s.1), h.curves.len()),
+    );
+    Some((share, text))
 }
 
 /// State `state`'s fragility of a block with its weight 1, or of each
